@@ -1,0 +1,256 @@
+"""The one frozen, validated parameter set shared by ``dptbd.model`` and ``dptbd.hw``.
+
+Every width and parameter of the direction-weighted DP of paper 001 (eqs (8)-(11))
+lives here. ``docs/arithmetic.md`` defines what each one means bit for bit.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+from typing import Any, Mapping
+
+import numpy as np
+
+__all__ = [
+    "DPConfig",
+    "ConfigError",
+    "EnergyWidthWarning",
+    "ROUNDING_MODES",
+    "move_offsets",
+    "paper_weights",
+    "plain_weights",
+]
+
+#: Rounding modes of the weight multiplier (``docs/arithmetic.md`` §4).
+ROUNDING_MODES = ("truncate", "half_up")
+
+_RANGES = {
+    "width": (3, 4096),
+    "height": (3, 4096),
+    "segment_frames": (1, 65535),
+    "input_bits": (1, 16),
+    "energy_bits": (1, 32),
+    "weight_frac_bits": (0, 16),
+    "radius": (1, 2),
+}
+
+
+class ConfigError(ValueError):
+    """A parameter is outside its allowed range; the message names both."""
+
+
+class EnergyWidthWarning(UserWarning):
+    """``energy_bits`` is too narrow to accumulate K full-scale frames without saturating."""
+
+
+def move_offsets(radius: int) -> np.ndarray:
+    """The moves of the search window, in move-index order.
+
+    Move index ``m = (dy + r) * (2r + 1) + (dx + r)``: the target moved by ``(dy, dx)``
+    (rows, columns) from its predecessor at ``(y - dy, x - dx)`` to the pixel ``(y, x)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``int64`` array of shape ``((2r+1)**2, 2)`` holding ``(dy, dx)`` per move.
+    """
+    span = np.arange(-radius, radius + 1)
+    dy, dx = np.meshgrid(span, span, indexing="ij")
+    return np.stack([dy.ravel(), dx.ravel()], axis=1).astype(np.int64)
+
+
+def paper_weights(radius: int = 1) -> np.ndarray:
+    """Paper 001 eq (11): ``w(theta) = 1`` for ``|theta| <= 90 deg``, else 0.
+
+    ``theta`` is the angle between the predecessor's arrival move ``v1`` (its direction
+    ``d``) and the candidate move ``v2``; ``|theta| <= 90 deg`` is ``v1 . v2 >= 0``.
+    A zero move on either side has no angle and gets weight 1, and so does every move
+    from a pixel in its segment's first frame (direction code ``START``, the last row).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``float64`` LUT of shape ``(M + 1, M)`` indexed ``[predecessor d, move]``.
+    """
+    moves = move_offsets(radius)
+    n_moves = len(moves)
+    lut = np.ones((n_moves + 1, n_moves))
+    dots = moves @ moves.T
+    lut[:n_moves] = (dots >= 0).astype(np.float64)
+    return lut
+
+
+def plain_weights(radius: int = 1) -> np.ndarray:
+    """An all-ones LUT: the direction-weighted DP becomes paper 001 eq (8), plain DP."""
+    n_moves = (2 * radius + 1) ** 2
+    return np.ones((n_moves + 1, n_moves))
+
+
+def _check_int(name: str, value: Any) -> int:
+    lo, hi = _RANGES[name]
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ConfigError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
+    if not lo <= value <= hi:
+        raise ConfigError(f"{name} must be in [{lo}, {hi}], got {value}")
+    return int(value)
+
+
+@dataclasses.dataclass(frozen=True)
+class DPConfig:
+    """Parameters of the direction-weighted DP, shared by the golden model and the gateware.
+
+    Parameters
+    ----------
+    width, height : int
+        Frame size W x H in pixels, each in [3, 4096].
+    segment_frames : int
+        K, frames accumulated per segment (paper 001 eq (10)), in [1, 65535].
+    segment_stride : int or None
+        Frames between the starts of consecutive segments, in [1, K]; ``None`` means K
+        (non-overlapping segments, the only scheme the gateware implements).
+    input_bits : int
+        B_in, width of an unsigned input pixel, in [1, 16].
+    energy_bits : int
+        B_E, width of the unsigned accumulated energy E, in [B_in, 32].
+    weight_frac_bits : int
+        F, fractional bits of a weight code; a code ``c`` in [0, 2**F] means ``c / 2**F``.
+    radius : int
+        Search window radius r (1: 3 x 3, paper 001; 2: 5 x 5, paper 000's scenario).
+    rounding : str
+        How the weighted predecessor ``E * c`` is scaled back by ``2**-F``:
+        ``"truncate"`` (floor) or ``"half_up"`` (round half up).
+    weights : tuple of tuple of float or None
+        The weight LUT, shape ``(M + 1, M)`` with ``M = (2r + 1)**2``, indexed
+        ``[predecessor direction, move]``, each in [0, 1]; ``None`` means paper 001
+        eq (11) (:func:`paper_weights`).
+    """
+
+    width: int = 128
+    height: int = 128
+    segment_frames: int = 4
+    segment_stride: int | None = None
+    input_bits: int = 8
+    energy_bits: int = 16
+    weight_frac_bits: int = 8
+    radius: int = 1
+    rounding: str = "truncate"
+    weights: tuple | None = None
+
+    def __post_init__(self) -> None:
+        for name in _RANGES:
+            object.__setattr__(self, name, _check_int(name, getattr(self, name)))
+        k = self.segment_frames
+        stride = k if self.segment_stride is None else self.segment_stride
+        if isinstance(stride, bool) or not isinstance(stride, (int, np.integer)) or not 1 <= stride <= k:
+            raise ConfigError(
+                f"segment_stride must be an integer in [1, segment_frames={k}], got {stride!r}")
+        object.__setattr__(self, "segment_stride", int(stride))
+        if self.energy_bits < self.input_bits:
+            raise ConfigError(
+                f"energy_bits must be in [input_bits={self.input_bits}, 32] so that E can "
+                f"hold one input pixel, got {self.energy_bits}")
+        if self.rounding not in ROUNDING_MODES:
+            raise ConfigError(f"rounding must be one of {ROUNDING_MODES}, got {self.rounding!r}")
+        lut = paper_weights(self.radius) if self.weights is None else self.weights
+        object.__setattr__(self, "weights", _validate_weights(lut, self.radius))
+        full_scale = self.segment_frames * ((1 << self.input_bits) - 1)
+        if full_scale > self.e_max:
+            warnings.warn(
+                f"energy_bits={self.energy_bits} saturates: K={self.segment_frames} full-scale "
+                f"{self.input_bits}-bit pixels sum to {full_scale} > {self.e_max}; "
+                f"energy_bits >= {self.energy_bits_needed} never saturates",
+                EnergyWidthWarning, stacklevel=3)
+
+    # ---- derived quantities -------------------------------------------------------
+    @property
+    def n_moves(self) -> int:
+        """M, the number of moves in the search window, ``(2r + 1)**2``."""
+        return (2 * self.radius + 1) ** 2
+
+    @property
+    def start_code(self) -> int:
+        """Direction code of a pixel in its segment's first frame (no arrival move): ``M``."""
+        return self.n_moves
+
+    @property
+    def direction_bits(self) -> int:
+        """Width of the direction field d: enough for codes 0..M."""
+        return int(self.n_moves).bit_length()
+
+    @property
+    def weight_bits(self) -> int:
+        """Width of a weight code: F + 1 bits, so that 1.0 (``2**F``) is representable."""
+        return self.weight_frac_bits + 1
+
+    @property
+    def e_max(self) -> int:
+        """Largest E, ``2**B_E - 1``; the accumulator saturates here."""
+        return (1 << self.energy_bits) - 1
+
+    @property
+    def pixel_max(self) -> int:
+        """Largest input pixel, ``2**B_in - 1``."""
+        return (1 << self.input_bits) - 1
+
+    @property
+    def energy_bits_needed(self) -> int:
+        """The smallest B_E that accumulates K full-scale pixels without saturating."""
+        return max(self.input_bits, (self.segment_frames * self.pixel_max).bit_length())
+
+    @property
+    def moves(self) -> np.ndarray:
+        """``(M, 2)`` array of ``(dy, dx)`` per move index (:func:`move_offsets`)."""
+        return move_offsets(self.radius)
+
+    @property
+    def weight_array(self) -> np.ndarray:
+        """The weight LUT as a ``float64`` array of shape ``(M + 1, M)``."""
+        return np.array(self.weights, dtype=np.float64)
+
+    @property
+    def weight_codes(self) -> np.ndarray:
+        """The LUT quantised to F fractional bits, round half up: ``uint32`` codes in [0, 2**F]."""
+        scaled = self.weight_array * (1 << self.weight_frac_bits)
+        return np.floor(scaled + 0.5).astype(np.uint32)
+
+    @property
+    def weights_exact(self) -> bool:
+        """True when every weight is exactly representable with F fractional bits."""
+        codes = self.weight_codes.astype(np.float64) / (1 << self.weight_frac_bits)
+        return bool(np.array_equal(codes, self.weight_array))
+
+    def n_segments(self, n_frames: int) -> int:
+        """Number of whole segments in a sequence of ``n_frames`` frames."""
+        if n_frames < self.segment_frames:
+            return 0
+        return (n_frames - self.segment_frames) // self.segment_stride + 1
+
+    def replace(self, **changes: Any) -> "DPConfig":
+        """A copy with some parameters changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    @classmethod
+    def from_mapping(cls, values: Mapping[str, Any]) -> "DPConfig":
+        """Build from a mapping (e.g. a TOML table); unknown keys are refused by name."""
+        known = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(values) - known)
+        if unknown:
+            raise ConfigError(f"unknown parameter(s) {unknown}; allowed: {sorted(known)}")
+        return cls(**dict(values))
+
+
+def _validate_weights(lut: Any, radius: int) -> tuple:
+    n_moves = (2 * radius + 1) ** 2
+    try:
+        arr = np.asarray(lut, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"weights must be a numeric table, got {type(lut).__name__}") from exc
+    if arr.shape != (n_moves + 1, n_moves):
+        raise ConfigError(
+            f"weights must have shape ({n_moves + 1}, {n_moves}) for radius={radius} "
+            f"([predecessor direction 0..{n_moves}, move 0..{n_moves - 1}]), got {arr.shape}")
+    if not np.all(np.isfinite(arr)) or arr.min() < 0.0 or arr.max() > 1.0:
+        bad = arr[~(np.isfinite(arr) & (arr >= 0) & (arr <= 1))]
+        raise ConfigError(f"weights must be finite and in [0, 1], found {bad.ravel()[:3].tolist()}")
+    return tuple(tuple(float(v) for v in row) for row in arr)  # hashable and immutable

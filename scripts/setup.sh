@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Set up dptbd on a fresh Debian machine, then run one job.
+#   bash scripts/setup.sh run    # the main job on the built-in scenario
+#   bash scripts/setup.sh test   # the default test suite (what .ci/run calls)
+# Installs the Debian packages that are missing (as root, or through sudo) and a
+# virtualenv .venv with dptbd and its pinned dependencies. Idempotent.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+job=${1:-}
+case "$job" in run|test|setup) ;; *) echo "usage: bash scripts/setup.sh {run|test|setup} [args…]" >&2; exit 2;; esac
+shift || true
+
+# Debian packages: Icarus (cocotb simulator), Verilator (lint), Yosys + nextpnr + icestorm
+# (synthesis / timing estimates of the generated Verilog), and what a venv needs.
+debs=(iverilog verilator yosys nextpnr-ice40 fpga-icestorm python3 python3-venv python3-pip)
+missing=()
+for p in "${debs[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
+# A Python that already has venv (pyenv, …) does not need Debian's.
+if python3 -c 'import ensurepip, venv' >/dev/null 2>&1; then
+  missing=($(printf '%s\n' "${missing[@]:-}" | grep -v -E '^python3(-venv|-pip)?$' || true))
+fi
+if [ ${#missing[@]} -gt 0 ]; then
+  sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  echo "setup: installing Debian packages: ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+
+stamp=.venv/.dptbd-installed
+if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
+  echo "setup: creating .venv with dptbd and its dependencies"
+  [ -x .venv/bin/python ] || python3 -m venv .venv
+  .venv/bin/python -m pip install -q --upgrade pip
+  .venv/bin/python -m pip install -q -e ".[test]"
+  touch "$stamp"
+fi
+
+case "$job" in
+  setup) ;;
+  run) exec .venv/bin/dptbd run "$@" ;;
+  test)
+    set +e
+    .venv/bin/python -m pytest -n 2 "$@"
+    rc=$?
+    if [ $rc -eq 5 ]; then echo "setup: pytest collected no tests: failing" >&2; exit 1; fi
+    exit $rc ;;
+esac

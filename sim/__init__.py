@@ -1,0 +1,1 @@
+"""RTL simulation: generated Verilog, cocotb testbenches on Icarus."""
