@@ -1,0 +1,362 @@
+"""Scene generators of ``dptbd.model.scenes``: papers 001 §4 and 000 §3/§5."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from dptbd.model import scenes
+from dptbd.model.scenes import (
+    Scene,
+    SceneError,
+    Target,
+    Turn,
+    amplitude_from_snr,
+    amplitude_from_snr_db,
+    make_noise,
+    make_scene,
+    quantise,
+    snr_db_from_amplitude,
+    target_truth,
+)
+
+
+def _one(start=(5.0, 5.0), velocity=(0.0, 0.0), amplitude=10.0, **kw):
+    return Target(start, velocity, amplitude, **kw)
+
+
+# ---- reproducibility ----------------------------------------------------------------------
+
+def test_same_seed_identical_scene():
+    a = make_scene((16, 20), 5, [_one()], mu=3.0, sigma=2.0, seed=7)
+    b = make_scene((16, 20), 5, [_one()], mu=3.0, sigma=2.0, seed=7)
+    assert a.frames.dtype == np.float64
+    assert np.array_equal(a.frames, b.frames)
+    assert a.params["seed"] == 7
+
+
+def test_different_seeds_differ():
+    a = make_noise((16, 16), 3, seed=1)
+    b = make_noise((16, 16), 3, seed=2)
+    assert not np.any(a == b)
+
+
+def test_seed_none_records_entropy_that_reproduces():
+    a = make_scene((8, 8), 2, seed=None)
+    b = make_scene((8, 8), 2, seed=a.params["seed"])
+    assert np.array_equal(a.frames, b.frames)
+
+
+def test_noise_statistics():
+    x = make_noise((256, 256), 4, mu=30.0, sigma=math.sqrt(3.0), seed=3)
+    # 262144 samples: standard error of the mean 0.0034, of the std ~0.0024
+    assert abs(x.mean() - 30.0) < 0.02
+    assert abs(x.std() - math.sqrt(3.0)) < 0.02
+    # independent frames and pixels
+    assert abs(np.corrcoef(x[0].ravel(), x[1].ravel())[0, 1]) < 0.02
+    assert abs(np.corrcoef(x[0, :, :-1].ravel(), x[0, :, 1:].ravel())[0, 1]) < 0.02
+
+
+def test_float32_option():
+    a = make_noise((32, 32), 2, mu=30.0, sigma=2.0, seed=4, dtype=np.float32)
+    assert a.dtype == np.float32
+    assert abs(a.mean() - 30.0) < 0.2
+
+
+# ---- targets: separability, amplitude, motion ------------------------------------------
+
+def test_noise_free_target_pixel_is_background_plus_snr_sigma():
+    sigma = math.sqrt(3.0)
+    amp = amplitude_from_snr(2.3, sigma)
+    assert amp == 2.3 * sigma
+    sc = make_scene((12, 12), 4, [_one(start=(3, 4), velocity=(1, 2), amplitude=amp)],
+                    mu=30.0, sigma=sigma, noise=False)
+    for t in range(4):
+        r, c = 3 + t, 4 + 2 * t
+        assert sc.frames[t, r, c] == 30.0 + 2.3 * sigma
+        frame = sc.frames[t].copy()
+        frame[r, c] = 30.0
+        assert np.all(frame == 30.0)
+
+
+def test_scene_minus_noise_is_target_signal():
+    target = _one(start=(2, 2), velocity=(1, 1), amplitude=4.5)
+    sc = make_scene((10, 10), 6, [target], mu=30.0, sigma=1.5, seed=11, trials=3)
+    noise = make_noise((10, 10), 6, mu=30.0, sigma=1.5, seed=11, trials=3)
+    diff = sc.frames - noise
+    expected = np.where(sc.target_mask(), 4.5, 0.0)
+    np.testing.assert_allclose(diff, np.broadcast_to(expected, diff.shape), atol=1e-12)
+
+
+def test_subpixel_motion_rounds_to_nearest_pixel():
+    target = _one(start=(30.0, 100.0), velocity=(0.8, -0.4))
+    tr = target_truth(target, (128, 128), 100)
+    t = np.arange(100)
+    np.testing.assert_allclose(tr.position[:, 0], 30.0 + 0.8 * t, atol=1e-9)
+    np.testing.assert_allclose(tr.position[:, 1], 100.0 - 0.4 * t, atol=1e-9)
+    assert np.array_equal(tr.pixel, np.rint(tr.position).astype(np.int64))
+    assert tr.pixel.dtype == np.int64
+    # frame 1: (30.8, 99.6) -> (31, 100); frame 2: (31.6, 99.2) -> (32, 99)
+    assert tr.pixel[1].tolist() == [31, 100]
+    assert tr.pixel[2].tolist() == [32, 99]
+    assert tr.visible.all()
+    # the target stays on a pixel some frames (0.4 px/frame)
+    assert np.any(np.diff(tr.pixel[:, 1]) == 0)
+
+
+def test_birth_and_death():
+    target = _one(start=(4.0, 1.0), velocity=(0.0, 1.0), birth=2, death=5)
+    sc = make_scene((10, 10), 8, [target], mu=0.0, noise=False)
+    tr = sc.truth[0]
+    assert tr.alive.tolist() == [False, False, True, True, True, False, False, False]
+    assert np.array_equal(tr.visible, tr.alive)
+    # start is the position at the birth frame
+    assert tr.position[2].tolist() == [4.0, 1.0]
+    assert tr.position[0].tolist() == [4.0, -1.0]  # extrapolated, not drawn
+    drawn = [int(np.count_nonzero(sc.frames[t])) for t in range(8)]
+    assert drawn == [0, 0, 1, 1, 1, 0, 0, 0]
+    assert sc.frames[4, 4, 3] == 10.0
+
+
+def test_target_leaving_image_is_not_drawn():
+    target = _one(start=(1.0, 1.0), velocity=(-1.0, 0.0))
+    sc = make_scene((5, 5), 4, [target], noise=False)
+    tr = sc.truth[0]
+    assert tr.alive.all()
+    assert tr.visible.tolist() == [True, True, False, False]
+    assert tr.pixel[3].tolist() == [-2, 1]
+    assert np.count_nonzero(sc.frames[2:]) == 0
+
+
+def test_two_targets_on_one_pixel_add():
+    targets = [_one(amplitude=2.0), _one(amplitude=3.0)]
+    sc = make_scene((10, 10), 1, targets, mu=1.0, noise=False)
+    assert sc.frames[0, 5, 5] == 6.0
+
+
+def test_turn_by_angle():
+    target = _one(start=(10.0, 2.0), velocity=(0.0, 1.0), turns=Turn(frame=4, degrees=90.0))
+    tr = target_truth(target, (20, 20), 8)
+    # moves right until frame 4, then up (counter-clockwise as displayed)
+    assert tr.pixel[:5].tolist() == [[10, 2], [10, 3], [10, 4], [10, 5], [10, 6]]
+    assert tr.pixel[5:].tolist() == [[9, 6], [8, 6], [7, 6]]
+    np.testing.assert_allclose(tr.position[7], [7.0, 6.0], atol=1e-12)
+
+
+def test_turn_to_new_velocity_and_two_turns():
+    turns = (Turn(frame=3, velocity=(1.0, 0.0)), Turn(frame=5, degrees=-90.0))
+    target = _one(start=(0.0, 0.0), velocity=(0.0, 1.0), turns=turns)
+    tr = target_truth(target, (20, 20), 8)
+    # right to (0, 3), down to (2, 3), then turned clockwise
+    assert tr.pixel[3].tolist() == [0, 3]
+    assert tr.pixel[5].tolist() == [2, 3]
+    # down = (+1, 0); turning it by -90 (clockwise as displayed) points left (0, -1)
+    assert tr.pixel[7].tolist() == [2, 1]
+
+
+def test_rotation_keeps_speed():
+    target = _one(velocity=(0.8, -0.4), turns=Turn(frame=1, degrees=37.0))
+    v_after = target.velocities()[1][1]
+    assert math.hypot(*v_after) == pytest.approx(math.hypot(0.8, -0.4))
+
+
+# ---- batches --------------------------------------------------------------------------
+
+def test_batch_shape_and_independence():
+    target = _one(start=(3, 3), velocity=(1, 0), amplitude=5.0)
+    sc = make_scene((8, 9), 4, [target], mu=30.0, sigma=1.0, seed=5, trials=3)
+    assert sc.frames.shape == (3, 4, 8, 9)
+    assert sc.trials == 3 and sc.n_frames == 4 and sc.shape == (8, 9)
+    assert not np.any(sc.frames[0] == sc.frames[1])
+    single = make_scene((8, 9), 4, [target], mu=30.0, sigma=1.0, seed=5)
+    assert single.frames.shape == (4, 8, 9)
+    assert np.array_equal(single.frames, sc.frames[0])
+
+
+def test_batch_chunks_match_one_batch():
+    whole = make_noise((6, 6), 3, seed=9, trials=5)
+    parts = [make_noise((6, 6), 3, seed=9, trials=2, first_trial=0),
+             make_noise((6, 6), 3, seed=9, trials=3, first_trial=2)]
+    assert np.array_equal(whole, np.concatenate(parts))
+
+
+# ---- quantisation --------------------------------------------------------------------------
+
+def test_quantise_rounds_and_clips():
+    x = np.array([-3.0, -0.4, 0.4, 0.6, 1.5, 2.5, 254.4, 254.6, 300.0])
+    q = quantise(x, 8)
+    assert q.dtype == np.uint16
+    assert q.tolist() == [0, 0, 0, 1, 2, 2, 254, 255, 255]
+    assert quantise(np.array([70000.0]), 16).tolist() == [65535]
+    assert quantise(np.array([0.6, 1.4, 5.0]), 1).tolist() == [1, 1, 1]
+
+
+def test_quantise_gain_offset_and_scene_method():
+    sc = scenes.paper000_scenario(noise=False)
+    q = sc.quantised(8, gain=10.0, offset=100.0)
+    assert q.shape == (20, 64, 64) and q.dtype == np.uint16
+    r, c = sc.truth[0].pixel[0]
+    assert q[0, r, c] == 116  # rint(10 * 1.5996 + 100)
+    assert q[0, 0, 0] == 100
+
+
+def test_quantise_table1_in_range():
+    sc = scenes.table1_scenario(2.3, seed=1)
+    q = sc.quantised(8)
+    assert q.min() >= 0 and q.max() <= 255
+    assert abs(q.astype(float).mean() - 30.0) < 0.1
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_quantise_refuses_non_finite(bad):
+    with pytest.raises(ValueError, match="finite"):
+        quantise(np.array([1.0, bad]), 8)
+
+
+@pytest.mark.parametrize("bits", [0, 17, -1, 8.0, True])
+def test_quantise_refuses_bad_bits(bits):
+    with pytest.raises(ValueError, match=r"input_bits.*\[1, 16\]"):
+        quantise(np.zeros(3), bits)
+
+
+# ---- SNR ----------------------------------------------------------------------------------
+
+def test_amplitude_from_snr_db_paper000():
+    assert amplitude_from_snr_db(4.08, 1.0) == pytest.approx(1.6, abs=1e-3)
+    assert amplitude_from_snr_db(6.0, 1.0) == pytest.approx(2.0, abs=0.01)  # 000 §5.2
+    assert amplitude_from_snr_db(0.0, 2.5) == 2.5
+    assert snr_db_from_amplitude(amplitude_from_snr_db(3.3, 1.7), 1.7) == pytest.approx(3.3)
+    with pytest.raises(ValueError, match="amplitude"):
+        snr_db_from_amplitude(0.0, 1.0)
+
+
+# ---- built-in scenarios --------------------------------------------------------------------
+
+def test_table1_scenario_default_start_keeps_target_inside():
+    sc = scenes.table1_scenario(2.0, (1, 1), noise=False)
+    tr = sc.truth[0]
+    assert sc.frames.shape == (100, 128, 128)
+    assert tr.position[0].tolist() == [14.0, 14.0]
+    assert tr.position[99].tolist() == [113.0, 113.0]
+    assert tr.visible.all()
+    assert sc.params["mu"] == 30.0 and sc.params["sigma"] == math.sqrt(3.0)
+    assert sc.frames[0, 14, 14] == 30.0 + 2.0 * math.sqrt(3.0)
+    for v in [(0.8, -0.4), (0.4, 0.6)]:
+        assert scenes.table1_scenario(2.3, v, noise=False).truth[0].visible.all()
+
+
+def test_paper001_two_targets():
+    sc = scenes.paper001_two_targets(noise=False)
+    assert sc.frames.shape == (100, 128, 128)
+    a, b = sc.truth
+    assert a.position[0].tolist() == [30.0, 100.0]
+    assert b.position[0].tolist() == [54.0, 40.0]
+    np.testing.assert_allclose(a.position[99], [30 + 0.8 * 99, 100 - 0.4 * 99])
+    np.testing.assert_allclose(b.position[99], [54 + 0.4 * 99, 40 + 0.6 * 99])
+    assert a.visible.all() and b.visible.all()
+    assert a.amplitude == 2.0 * math.sqrt(3.0)
+    assert scenes.paper001_one_target(noise=False).truth[0].visible.all()
+
+
+def test_paper000_scenario():
+    sc = scenes.paper000_scenario(seed=2, trials=2)
+    assert sc.frames.shape == (2, 20, 64, 64)
+    tr = sc.truth[0]
+    assert tr.pixel[0].tolist() == [12, 52]
+    assert tr.pixel[19].tolist() == [50, 14]
+    assert tr.visible.all()
+    assert tr.amplitude == pytest.approx(1.6, abs=1e-3)
+    assert sc.params["mu"] == 0.0 and sc.params["sigma"] == 1.0
+
+
+def test_paper_motion_helpers():
+    assert scenes.paper001_motion((30, 100), (0.8, -0.4)) == ((30.0, 100.0), (0.8, -0.4))
+    assert scenes.paper000_motion((12, 52), vx=-2, vy=2) == ((12.0, 52.0), (2.0, -2.0))
+
+
+def test_scene_is_a_scene():
+    sc = make_scene((4, 4), 1)
+    assert isinstance(sc, Scene) and sc.truth == () and sc.target_mask().shape == (1, 4, 4)
+
+
+# ---- bad input -------------------------------------------------------------------------
+
+@pytest.mark.parametrize("kwargs, pattern", [
+    (dict(shape=(0, 5)), r"height.*\[1, 65535\]"),
+    (dict(shape=(5, -2)), r"width.*\[1, 65535\]"),
+    (dict(shape=(5,)), r"shape.*\(height, width\)"),
+    (dict(shape=(5, 5, 5)), r"shape"),
+    (dict(shape=(5.0, 5)), r"height.*integer"),
+    (dict(frames=0), r"frames.*\[1, "),
+    (dict(sigma=0.0), r"sigma.*\(0, inf\)"),
+    (dict(sigma=-1.0), r"sigma.*\(0, inf\)"),
+    (dict(sigma=np.nan), r"sigma"),
+    (dict(mu=np.inf), r"mu.*finite"),
+    (dict(trials=0), r"trials.*\[1, "),
+    (dict(first_trial=-1), r"first_trial.*\[0, inf\)"),
+    (dict(seed=-3), r"seed.*\[0, inf\)"),
+    (dict(seed=1.5), r"seed.*integer"),
+    (dict(dtype=np.int32), r"dtype.*float32 or float64"),
+    (dict(noise="yes"), r"noise"),
+])
+def test_make_scene_refuses_bad_parameters(kwargs, pattern):
+    args = dict(shape=(5, 5), frames=2)
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=pattern):
+        make_scene(args.pop("shape"), args.pop("frames"), **args)
+
+
+@pytest.mark.parametrize("kwargs, pattern", [
+    (dict(start=(np.nan, 1.0)), r"start.*finite"),
+    (dict(start=(1.0, 2.0, 3.0)), r"start.*shape \(2,\)"),
+    (dict(velocity=(np.inf, 0.0)), r"velocity.*finite"),
+    (dict(velocity="fast"), r"velocity"),
+    (dict(amplitude=np.nan), r"amplitude.*finite"),
+    (dict(birth=-1), r"birth.*\[0, inf\)"),
+    (dict(birth=3, death=3), r"death.*\[4, inf\)"),
+    (dict(birth=3, death=1), r"death.*\[4, inf\)"),
+    (dict(birth=2, turns=Turn(frame=2, degrees=10.0)), r"turn frame.*\[3, inf\)"),
+    (dict(turns=(Turn(frame=5, degrees=1.0), Turn(frame=4, degrees=1.0))), r"turn frame.*\[6, inf\)"),
+    (dict(turns=("left",)), r"turns.*Turn"),
+])
+def test_target_refuses_bad_parameters(kwargs, pattern):
+    args = dict(start=(1.0, 1.0), velocity=(0.5, 0.5), amplitude=1.0)
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=pattern):
+        Target(**args)
+
+
+def test_turn_refuses_bad_parameters():
+    with pytest.raises(SceneError, match="exactly one of degrees or velocity"):
+        Turn(frame=3)
+    with pytest.raises(SceneError, match="exactly one of degrees or velocity"):
+        Turn(frame=3, degrees=5.0, velocity=(1.0, 0.0))
+    with pytest.raises(SceneError, match="turn degrees.*finite"):
+        Turn(frame=3, degrees=np.nan)
+    with pytest.raises(SceneError, match=r"turn frame.*\[1, inf\)"):
+        Turn(frame=0, degrees=5.0)
+
+
+def test_snr_helpers_refuse_bad_parameters():
+    with pytest.raises(ValueError, match=r"sigma.*\(0, inf\)"):
+        amplitude_from_snr_db(4.0, 0.0)
+    with pytest.raises(ValueError, match="snr_db.*finite"):
+        amplitude_from_snr_db(np.nan, 1.0)
+    with pytest.raises(ValueError, match="snr.*finite"):
+        amplitude_from_snr(np.inf, 1.0)
+
+
+def test_quantise_refuses_bad_frames():
+    with pytest.raises(ValueError, match="frames.*real numeric"):
+        quantise(np.array(["a"]), 8)
+    with pytest.raises(ValueError, match="gain.*finite"):
+        quantise(np.zeros(2), 8, gain=np.nan)
+
+
+def test_target_truth_refuses_non_target():
+    with pytest.raises(ValueError, match="Target"):
+        make_scene((4, 4), 2, [(1, 1)])
+    with pytest.raises(ValueError, match="targets.*iterable"):
+        make_scene((4, 4), 2, 5)
