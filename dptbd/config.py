@@ -30,7 +30,6 @@ _RANGES = {
     "height": (3, 4096),
     "segment_frames": (1, 65535),
     "input_bits": (1, 16),
-    "energy_bits": (1, 32),
     "weight_frac_bits": (0, 16),
     "radius": (1, 2),
 }
@@ -87,12 +86,14 @@ def plain_weights(radius: int = 1) -> np.ndarray:
     return np.ones((n_moves + 1, n_moves))
 
 
-def _check_int(name: str, value: Any) -> int:
-    lo, hi = _RANGES[name]
+def _check_int(name: str, value: Any, bounds: tuple[int, int] | None = None,
+               lo_name: str = "") -> int:
+    lo, hi = _RANGES[name] if bounds is None else bounds
+    allowed = f"[{lo_name}{lo}, {hi}]"
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ConfigError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
+        raise ConfigError(f"{name} must be an integer in {allowed}, got {value!r}")
     if not lo <= value <= hi:
-        raise ConfigError(f"{name} must be in [{lo}, {hi}], got {value}")
+        raise ConfigError(f"{name} must be in {allowed}, got {value}")
     return int(value)
 
 
@@ -140,16 +141,14 @@ class DPConfig:
     def __post_init__(self) -> None:
         for name in _RANGES:
             object.__setattr__(self, name, _check_int(name, getattr(self, name)))
+        object.__setattr__(self, "energy_bits", _check_int(
+            "energy_bits", self.energy_bits, (self.input_bits, 32), "input_bits="))
         k = self.segment_frames
         stride = k if self.segment_stride is None else self.segment_stride
         if isinstance(stride, bool) or not isinstance(stride, (int, np.integer)) or not 1 <= stride <= k:
             raise ConfigError(
                 f"segment_stride must be an integer in [1, segment_frames={k}], got {stride!r}")
         object.__setattr__(self, "segment_stride", int(stride))
-        if self.energy_bits < self.input_bits:
-            raise ConfigError(
-                f"energy_bits must be in [input_bits={self.input_bits}, 32] so that E can "
-                f"hold one input pixel, got {self.energy_bits}")
         if self.rounding not in ROUNDING_MODES:
             raise ConfigError(f"rounding must be one of {ROUNDING_MODES}, got {self.rounding!r}")
         lut = paper_weights(self.radius) if self.weights is None else self.weights
@@ -210,9 +209,14 @@ class DPConfig:
 
     @property
     def weight_codes(self) -> np.ndarray:
-        """The LUT quantised to F fractional bits, round half up: ``uint32`` codes in [0, 2**F]."""
+        """The LUT quantised to F fractional bits, round half up: ``uint32`` codes in [0, 2**F].
+
+        ``floor(w * 2**F + 1/2)`` evaluated exactly: scaling by a power of two and taking
+        the fraction are exact in float64, adding 0.5 is not.
+        """
         scaled = self.weight_array * (1 << self.weight_frac_bits)
-        return np.floor(scaled + 0.5).astype(np.uint32)
+        whole = np.floor(scaled)
+        return (whole + (scaled - whole >= 0.5)).astype(np.uint32)
 
     @property
     def weights_exact(self) -> bool:
@@ -227,7 +231,13 @@ class DPConfig:
         return (n_frames - self.segment_frames) // self.segment_stride + 1
 
     def replace(self, **changes: Any) -> "DPConfig":
-        """A copy with some parameters changed (validated again)."""
+        """A copy with some parameters changed (validated again).
+
+        A stride that was left at its default (= K) follows a new ``segment_frames``.
+        """
+        if ("segment_frames" in changes and "segment_stride" not in changes
+                and self.segment_stride == self.segment_frames):
+            changes["segment_stride"] = None
         return dataclasses.replace(self, **changes)
 
     @classmethod

@@ -51,7 +51,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, paper_weights, plain_weights
+from dptbd.config import DPConfig, EnergyWidthWarning, paper_weights, plain_weights
 from dptbd.model.fixed import run_fixed
 from dptbd.model.reference import run_float
 
@@ -340,7 +340,7 @@ def test_max_over_paths_with_saturation(rounding):
     (which tie at E_max only when they are equal, never because the sum saturates)."""
     rng = np.random.default_rng(5)
     for weights in (plain_weights(1), row_independent_lut(rng, 1, [0.5, 0.75, 1.0])):
-        with pytest.warns(Warning):
+        with pytest.warns(EnergyWidthWarning):
             cfg = make_cfg(5, 5, 4, 1, input_bits=3, energy_bits=3, weight_frac_bits=2,
                            rounding=rounding, weights=weights)
         for _ in range(4):

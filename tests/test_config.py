@@ -1,0 +1,357 @@
+"""``dptbd.config.DPConfig`` against ``docs/arithmetic.md`` (parameter table, §2, §3, §5)."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from dptbd import ConfigError, DPConfig, EnergyWidthWarning
+from dptbd.config import ROUNDING_MODES, move_offsets, paper_weights, plain_weights
+
+# move indices for r = 1 (docs §2 table)
+UL, U, UR, L, C, R, DL, D, DR = range(9)
+START = 9
+
+
+# ---------------------------------------------------------------------------------------
+# defaults and derived quantities
+# ---------------------------------------------------------------------------------------
+
+def test_defaults_match_the_parameter_table():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the defaults must not warn
+        cfg = DPConfig()
+    assert (cfg.width, cfg.height) == (128, 128)
+    assert cfg.segment_frames == 4
+    assert cfg.segment_stride == 4  # None means K
+    assert cfg.input_bits == 8
+    assert cfg.energy_bits == 16
+    assert cfg.weight_frac_bits == 8
+    assert cfg.radius == 1
+    assert cfg.rounding == "truncate"
+    assert ROUNDING_MODES == ("truncate", "half_up")
+    np.testing.assert_array_equal(cfg.weight_array, paper_weights(1))
+    # derived
+    assert cfg.n_moves == 9 and cfg.start_code == 9
+    assert cfg.direction_bits == 4
+    assert cfg.weight_bits == 9
+    assert cfg.e_max == 2**16 - 1
+    assert cfg.pixel_max == 255
+    assert cfg.energy_bits_needed == (4 * 255).bit_length() == 10
+
+
+def test_direction_bits_and_moves_per_radius():
+    """B_d = bit length of M: 4 for r = 1 (codes 0..9), 5 for r = 2 (codes 0..25)."""
+    r1, r2 = DPConfig(radius=1), DPConfig(radius=2)
+    assert (r1.n_moves, r1.direction_bits, r1.start_code) == (9, 4, 9)
+    assert (r2.n_moves, r2.direction_bits, r2.start_code) == (25, 5, 25)
+    assert r2.weight_array.shape == (26, 25)  # weights=None follows the radius
+    assert r2.moves.shape == (25, 2)
+
+
+@pytest.mark.parametrize("frac_bits", [0, 1, 8, 16])
+def test_weight_bits_hold_one(frac_bits):
+    cfg = DPConfig(weight_frac_bits=frac_bits)
+    assert cfg.weight_bits == frac_bits + 1
+    assert int(cfg.weight_codes.max()) == 2**frac_bits < 2**cfg.weight_bits
+
+
+def test_numpy_integers_are_accepted_as_plain_ints():
+    cfg = DPConfig(width=np.int64(5), height=np.int32(6), segment_frames=np.uint8(3))
+    assert (cfg.width, cfg.height, cfg.segment_frames) == (5, 6, 3)
+    assert all(type(v) is int for v in (cfg.width, cfg.height, cfg.segment_frames, cfg.segment_stride))
+
+
+# ---------------------------------------------------------------------------------------
+# §2 move order
+# ---------------------------------------------------------------------------------------
+
+def test_move_offsets_match_the_doc_table():
+    table = [(-1, -1), (-1, 0), (-1, +1), (0, -1), (0, 0), (0, +1), (+1, -1), (+1, 0), (+1, +1)]
+    moves = move_offsets(1)
+    assert moves.dtype == np.int64 and moves.shape == (9, 2)
+    assert [tuple(int(v) for v in mv) for mv in moves] == table
+    np.testing.assert_array_equal(DPConfig().moves, moves)
+
+
+@pytest.mark.parametrize("radius", [1, 2])
+def test_move_index_formula(radius):
+    """m = (dy + r)(2r + 1) + (dx + r) for every move."""
+    moves = move_offsets(radius)
+    assert len(moves) == (2 * radius + 1) ** 2
+    for m, (dy, dx) in enumerate(moves):
+        assert (dy + radius) * (2 * radius + 1) + (dx + radius) == m
+        assert abs(dy) <= radius and abs(dx) <= radius
+    assert tuple(moves[len(moves) // 2]) == (0, 0)  # centre in the middle
+
+
+# ---------------------------------------------------------------------------------------
+# §3 weight LUT
+# ---------------------------------------------------------------------------------------
+
+def test_paper_weights_explicit_entries():
+    """eq (11) read as w = 1 iff v1 . v2 >= 0 (v1 = predecessor's move d, v2 = candidate)."""
+    w = paper_weights(1)
+    assert w.shape == (10, 9) and w.dtype == np.float64
+    # predecessor moved right (0,+1)
+    assert w[R, L] == 0.0    # U-turn, 180 deg
+    assert w[R, UR] == 1.0   # 45 deg
+    assert w[R, U] == 1.0    # 90 deg: dot = 0 -> weight 1 (|theta| <= 90)
+    assert w[R, D] == 1.0    # -90 deg
+    assert w[R, UL] == 0.0   # 135 deg
+    assert w[R, DL] == 0.0   # 135 deg
+    assert w[R, R] == 1.0    # straight on
+    assert w[R, C] == 1.0    # zero move: no angle, weight 1
+    # predecessor moved up-left (-1,-1)
+    assert w[UL, DR] == 0.0  # 180 deg
+    assert w[UL, R] == 0.0   # (-1,-1).(0,1) = -1: 135 deg
+    assert w[UL, UR] == 1.0  # (-1,-1).(-1,1) = 0: 90 deg
+    assert w[UL, U] == 1.0
+    # zero-move predecessor and START: every move allowed
+    assert np.all(w[C] == 1.0)
+    assert np.all(w[START] == 1.0)
+    assert np.all(w[:, C] == 1.0)
+
+
+@pytest.mark.parametrize("radius", [1, 2])
+def test_paper_weights_from_angles(radius):
+    """Independent derivation with angles: w = 1 iff |theta| <= 90 deg, zero moves and
+    START weight 1."""
+    moves = [tuple(int(v) for v in mv) for mv in move_offsets(radius)]
+    w = paper_weights(radius)
+    n_moves = len(moves)
+    assert w.shape == (n_moves + 1, n_moves)
+    for p, v1 in enumerate(moves):
+        for m, v2 in enumerate(moves):
+            if v1 == (0, 0) or v2 == (0, 0):
+                expected = 1.0
+            else:
+                theta = math.degrees(abs(math.atan2(v1[0], v1[1]) - math.atan2(v2[0], v2[1])))
+                theta = min(theta, 360.0 - theta)
+                expected = 1.0 if theta <= 90.0 + 1e-9 else 0.0
+            assert w[p, m] == expected, (v1, v2)
+    assert np.all(w[n_moves] == 1.0)
+    assert set(np.unique(w)) <= {0.0, 1.0}
+
+
+@pytest.mark.parametrize("radius", [1, 2])
+def test_plain_weights_all_ones(radius):
+    n_moves = (2 * radius + 1) ** 2
+    w = plain_weights(radius)
+    assert w.shape == (n_moves + 1, n_moves) and np.all(w == 1.0)
+
+
+def lut_with(value, radius=1):
+    w = plain_weights(radius)
+    w[0, 0] = value
+    return w
+
+
+def exact_code(w, frac_bits):
+    return math.floor(Fraction(w) * 2**frac_bits + Fraction(1, 2))
+
+
+@pytest.mark.parametrize("value, frac_bits, code", [
+    (0.25, 1, 1),     # 0.5 -> 1: half goes up, not to even (0)
+    (0.75, 1, 2),     # 1.5 -> 2
+    (0.125, 2, 1),    # 0.5 -> 1
+    (0.375, 2, 2),    # 1.5 -> 2
+    (0.625, 2, 3),    # 2.5 -> 3 (round-half-even would give 2)
+    (0.3, 8, 77),     # 76.8
+    (0.3, 0, 0),
+    (0.5, 0, 1),      # 0.5 -> 1 with F = 0
+    (0.4, 0, 0),
+    (1.0, 16, 65536),
+    (0.0, 16, 0),
+])
+def test_weight_codes_round_half_up(value, frac_bits, code):
+    cfg = DPConfig(weight_frac_bits=frac_bits, weights=lut_with(value))
+    codes = cfg.weight_codes
+    assert codes.dtype == np.uint32
+    assert int(codes[0, 0]) == code == exact_code(value, frac_bits)
+    assert np.all(codes[1:] == 2**frac_bits)
+
+
+@pytest.mark.parametrize("frac_bits", [0, 1, 3, 8, 16])
+def test_weight_codes_random_against_fractions(frac_bits):
+    rng = np.random.default_rng(frac_bits)
+    lut = rng.uniform(0, 1, size=(10, 9))
+    # sprinkle exact half points k + 1/2 (in units of 2^-F)
+    halves = (rng.integers(0, 2**frac_bits, size=9) + 0.5) / 2**frac_bits
+    lut[3, :] = np.minimum(halves, 1.0)
+    cfg = DPConfig(weight_frac_bits=frac_bits, weights=lut)
+    expected = np.array([[exact_code(w, frac_bits) for w in row] for row in lut])
+    np.testing.assert_array_equal(cfg.weight_codes, expected)
+
+
+@pytest.mark.parametrize("frac_bits", [0, 1, 8])
+def test_weight_codes_just_below_a_half(frac_bits):
+    value = math.nextafter(0.5, 0.0) / 2**frac_bits  # w * 2^F = 0.49999999999999994
+    cfg = DPConfig(weight_frac_bits=frac_bits, weights=lut_with(value))
+    assert int(cfg.weight_codes[0, 0]) == exact_code(value, frac_bits) == 0
+
+
+def test_weights_exact():
+    for frac_bits in range(17):  # the default LUT is exact for every F >= 0
+        assert DPConfig(weight_frac_bits=frac_bits).weights_exact
+        assert DPConfig(weight_frac_bits=frac_bits, weights=plain_weights(1)).weights_exact
+    assert not DPConfig(weight_frac_bits=8, weights=lut_with(0.3)).weights_exact
+    assert not DPConfig(weight_frac_bits=0, weights=lut_with(0.5)).weights_exact
+    assert DPConfig(weight_frac_bits=1, weights=lut_with(0.5)).weights_exact
+    assert not DPConfig(weight_frac_bits=2, weights=lut_with(0.125)).weights_exact
+    assert DPConfig(weight_frac_bits=3, weights=lut_with(0.125)).weights_exact
+
+
+def test_weights_are_stored_immutable_and_hashable():
+    cfg = DPConfig(weights=np.ones((10, 9)))
+    assert isinstance(cfg.weights, tuple) and isinstance(cfg.weights[0], tuple)
+    assert hash(cfg) == hash(DPConfig(weights=plain_weights(1).tolist()))
+    assert cfg == DPConfig(weights=plain_weights(1))
+
+
+# ---------------------------------------------------------------------------------------
+# §5 segments
+# ---------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("k, stride, n_frames, n_seg", [
+    (4, None, 100, 25),
+    (5, 4, 100, 24),   # Table 1's 24 outputs
+    (8, 4, 100, 24),
+    (4, 4, 3, 0),      # shorter than one segment
+    (4, 4, 4, 1),
+    (4, 4, 7, 1),      # trailing frames produce nothing
+    (4, 1, 7, 4),
+    (1, 1, 5, 5),
+])
+def test_n_segments(k, stride, n_frames, n_seg):
+    cfg = DPConfig(segment_frames=k, segment_stride=stride)
+    assert cfg.n_segments(n_frames) == n_seg
+    assert n_seg == (0 if n_frames < k else (n_frames - k) // cfg.segment_stride + 1)
+
+
+# ---------------------------------------------------------------------------------------
+# frozen, replace, from_mapping
+# ---------------------------------------------------------------------------------------
+
+def test_frozen():
+    cfg = DPConfig()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        cfg.width = 64
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        cfg.weights = None
+
+
+def test_replace_validates_again():
+    cfg = DPConfig()
+    assert cfg.replace(width=64).width == 64
+    with pytest.raises(ConfigError, match=r"width.*\[3, 4096\]"):
+        cfg.replace(width=2)
+
+
+def test_replace_segment_frames_keeps_default_stride():
+    cfg = DPConfig()  # stride left at its default (= K)
+    assert cfg.replace(segment_frames=8).segment_stride == 8
+    assert cfg.replace(segment_frames=2).segment_stride == 2
+
+
+def test_from_mapping():
+    values = {"width": 64, "height": 32, "segment_frames": 5, "segment_stride": 4,
+              "rounding": "half_up"}
+    assert DPConfig.from_mapping(values) == DPConfig(**values)
+
+
+@pytest.mark.parametrize("bad", [{"widht": 64}, {"width": 64, "energy": 16, "Radius": 1}])
+def test_from_mapping_rejects_unknown_keys_by_name(bad):
+    with pytest.raises(ConfigError, match="unknown parameter") as info:
+        DPConfig.from_mapping(bad)
+    for key in set(bad) - {f.name for f in dataclasses.fields(DPConfig)}:
+        assert repr(key) in str(info.value)
+    assert "width" in str(info.value)  # the allowed names are listed too
+
+
+def test_from_mapping_validates_values():
+    with pytest.raises(ConfigError, match=r"radius.*\[1, 2\]"):
+        DPConfig.from_mapping({"radius": 3})
+
+
+# ---------------------------------------------------------------------------------------
+# out-of-range parameters: ConfigError naming the parameter and its range
+# ---------------------------------------------------------------------------------------
+
+BAD = [
+    # (overrides, regex the message must match)
+    *[({f: v}, rf"{f}.*\[3, 4096\]") for f in ("width", "height")
+      for v in (2, 0, -1, 4097, 3.0, True, "8", None)],
+    *[({"segment_frames": v}, r"segment_frames.*\[1, 65535\]") for v in (0, -4, 65536, 4.0, None)],
+    *[({"segment_stride": v}, r"segment_stride.*\[1, segment_frames=4\]")
+      for v in (0, 5, -1, 2.0, True)],
+    ({"segment_frames": 2, "segment_stride": 3}, r"segment_stride.*\[1, segment_frames=2\]"),
+    *[({"input_bits": v}, r"input_bits.*\[1, 16\]") for v in (0, 17, 8.0)],
+    *[({"energy_bits": v}, r"energy_bits.*32\]") for v in (7, 1, 0, 33, 64, 16.0)],
+    ({"energy_bits": 7}, r"energy_bits.*\[input_bits=8, 32\]"),
+    ({"input_bits": 12, "energy_bits": 11}, r"energy_bits.*\[input_bits=12, 32\]"),
+    *[({"weight_frac_bits": v}, r"weight_frac_bits.*\[0, 16\]") for v in (-1, 17, 1.5)],
+    *[({"radius": v}, r"radius.*\[1, 2\]") for v in (0, 3, 1.0)],
+    *[({"rounding": v}, r"rounding.*truncate.*half_up") for v in ("round", "", "TRUNCATE", None, 0)],
+    ({"weights": np.ones((9, 9))}, r"weights.*shape \(10, 9\)"),
+    ({"weights": np.ones((10, 9)), "radius": 2}, r"weights.*shape \(26, 25\)"),
+    ({"weights": np.ones(90)}, r"weights.*shape \(10, 9\)"),
+    ({"weights": lut_with(1.5)}, r"weights.*\[0, 1\].*1\.5"),
+    ({"weights": lut_with(-0.1)}, r"weights.*\[0, 1\].*-0\.1"),
+    ({"weights": lut_with(np.nan)}, r"weights.*finite.*\[0, 1\].*nan"),
+    ({"weights": lut_with(np.inf)}, r"weights.*finite.*\[0, 1\].*inf"),
+    ({"weights": "abc"}, r"weights must be a numeric table"),
+    ({"weights": [[1.0, 1.0], [1.0]]}, r"weights must be a numeric table"),
+]
+
+
+@pytest.mark.parametrize("overrides, pattern", BAD, ids=[f"{o}" for o, _ in BAD])
+def test_out_of_range_raises_config_error(overrides, pattern):
+    with pytest.raises(ConfigError, match=pattern):
+        DPConfig(**overrides)
+    assert issubclass(ConfigError, ValueError)
+
+
+@pytest.mark.parametrize("energy_bits", [0, 33])
+def test_energy_bits_message_states_the_real_lower_bound(energy_bits):
+    with pytest.raises(ConfigError, match=r"energy_bits.*\[input_bits=8, 32\]"):
+        DPConfig(input_bits=8, energy_bits=energy_bits)
+
+
+def test_boundary_values_are_accepted():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        for kw in ({"width": 3, "height": 4096}, {"width": 4096, "height": 3},
+                   {"segment_frames": 1}, {"segment_frames": 65535, "energy_bits": 32},
+                   {"segment_frames": 5, "segment_stride": 1}, {"segment_frames": 5, "segment_stride": 5},
+                   {"input_bits": 1, "energy_bits": 1}, {"input_bits": 16, "energy_bits": 16},
+                   {"energy_bits": 32}, {"weight_frac_bits": 0}, {"weight_frac_bits": 16},
+                   {"radius": 2}, {"rounding": "half_up"},
+                   {"weights": np.zeros((10, 9))}, {"weights": plain_weights(1)}):
+            DPConfig(**kw)
+
+
+# ---------------------------------------------------------------------------------------
+# EnergyWidthWarning
+# ---------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("input_bits, k", [(8, 4), (8, 5), (1, 1), (4, 16), (16, 2), (12, 100)])
+def test_energy_width_warning_exactly_below_needed(input_bits, k):
+    needed = max(input_bits, (k * (2**input_bits - 1)).bit_length())
+    for energy_bits in range(input_bits, 33):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            cfg = DPConfig(input_bits=input_bits, segment_frames=k, energy_bits=energy_bits)
+        hits = [w for w in caught if issubclass(w.category, EnergyWidthWarning)]
+        assert cfg.energy_bits_needed == needed
+        if energy_bits < needed:
+            assert len(hits) == 1, energy_bits
+            assert "energy_bits" in str(hits[0].message)
+            assert f">= {needed}" in str(hits[0].message)
+        else:
+            assert not hits, energy_bits
