@@ -1,0 +1,133 @@
+"""Frame and segment controller: where each accepted pixel sits in its frame and segment.
+
+The controller counts accepted pixels in raster order (column, row, frame within the
+segment), produces the read-ahead address of the state store in the accepting cycle, and
+one cycle later the pixel's position and its start/end flags, which then travel down the
+pipeline with the data.
+
+Resynchronisation: the input marks the first pixel of every frame with ``first``. The
+counters, not ``first``, define positions; ``first`` is only checked. A pixel with
+``first`` set where the counters do not expect a frame start restarts the counters: that
+pixel becomes pixel (0, 0) of frame 0 of a new segment (the interrupted frame's pixels
+already accepted are processed and output without end flags). A missing ``first`` at an
+expected frame start is ignored.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Mux, Signal, unsigned
+from amaranth.lib import data, wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import DPConfig
+from dptbd.hw.schedule import read_ahead_distance
+
+__all__ = ["position_layout", "Controller"]
+
+
+def position_layout(cfg: DPConfig) -> data.StructLayout:
+    """Position and flags of one pixel, as output by the controller.
+
+    ``start_of_frame`` marks pixel (0, 0) and ``segment_start`` every pixel of a segment's
+    first frame; ``end_of_line`` / ``end_of_frame`` / ``end_of_segment`` as in
+    :func:`dptbd.hw.layouts.state_layout`.
+    """
+    return data.StructLayout({
+        "row": unsigned(max(1, (cfg.height - 1).bit_length())),
+        "col": unsigned(max(1, (cfg.width - 1).bit_length())),
+        "start_of_frame": unsigned(1),
+        "segment_start": unsigned(1),
+        "end_of_line": unsigned(1),
+        "end_of_frame": unsigned(1),
+        "end_of_segment": unsigned(1),
+    })
+
+
+class Controller(wiring.Component):
+    """Raster, frame-in-segment and read-ahead counters.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        Frame size W x H, segment length K and radius r.
+
+    Members
+    -------
+    accept : In(1)
+        A pixel is accepted in this cycle (cycle 0).
+    first : In(1)
+        The accepted pixel's ``first`` (start-of-frame) flag.
+    read_addr : Out(range(W*H))
+        Cycle 0, combinational: the state-store address to read for the accepted pixel,
+        ``(p + r*(W+1)) mod (W*H)`` for its raster position p.
+    resync : Out(1)
+        Cycle 0, combinational: the accepted pixel restarts the counters.
+    valid : Out(1)
+        Cycle 1: a pixel was accepted in cycle 0.
+    position : Out(position_layout(cfg))
+        Cycle 1: that pixel's position and flags.
+    """
+
+    def __init__(self, cfg: DPConfig):
+        self._cfg = cfg
+        super().__init__({
+            "accept": In(1),
+            "first": In(1),
+            "read_addr": Out(range(cfg.width * cfg.height)),
+            "resync": Out(1),
+            "valid": Out(1),
+            "position": Out(position_layout(cfg)),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg = self._cfg
+        width, height, frames = cfg.width, cfg.height, cfg.segment_frames
+        pixels = width * height
+        ahead_start = read_ahead_distance(cfg) % pixels
+
+        col = Signal(range(width))
+        row = Signal(range(height))
+        frame = Signal(range(frames))              # frame within the segment
+        ahead = Signal(range(pixels), init=ahead_start)
+        at_start = Signal(init=1)                   # the next pixel is expected at (0, 0)
+
+        # Effective position of the pixel accepted now: the counters, or (0, 0) of a new
+        # segment on an unexpected `first`.
+        m.d.comb += self.resync.eq(self.first & ~at_start)
+        eff_col = Mux(self.resync, 0, col)
+        eff_row = Mux(self.resync, 0, row)
+        eff_frame = Mux(self.resync, 0, frame)
+        eff_ahead = Mux(self.resync, ahead_start, ahead)
+        last_col = eff_col == width - 1
+        last_row = eff_row == height - 1
+        last_frame = eff_frame == frames - 1
+        end_of_frame = last_col & last_row
+        m.d.comb += self.read_addr.eq(eff_ahead)
+
+        with m.If(self.accept):
+            m.d.sync += [
+                col.eq(Mux(last_col, 0, eff_col + 1)),
+                ahead.eq(Mux(eff_ahead == pixels - 1, 0, eff_ahead + 1)),
+                at_start.eq(end_of_frame),
+            ]
+            with m.If(last_col):
+                m.d.sync += row.eq(Mux(last_row, 0, eff_row + 1))
+            with m.Else():
+                m.d.sync += row.eq(eff_row)
+            with m.If(end_of_frame):
+                m.d.sync += frame.eq(Mux(last_frame, 0, eff_frame + 1))
+            with m.Else():
+                m.d.sync += frame.eq(eff_frame)
+
+        m.d.sync += [
+            self.valid.eq(self.accept),
+            self.position.row.eq(eff_row),
+            self.position.col.eq(eff_col),
+            self.position.start_of_frame.eq(at_start | self.resync),
+            self.position.segment_start.eq(eff_frame == 0),
+            self.position.end_of_line.eq(last_col),
+            self.position.end_of_frame.eq(end_of_frame),
+            self.position.end_of_segment.eq(end_of_frame & last_frame),
+        ]
+        return m

@@ -1,0 +1,231 @@
+"""The DP pipeline without its state store: streams in, streams out, a state-store port.
+
+Use :class:`~dptbd.hw.dp_pipeline.DPPipeline` for the complete design with on-chip state
+memory; use :class:`DPCore` directly when the W*H-word state store lives elsewhere (an
+external SRAM, a larger block RAM), attached to the ``state_store`` port
+(:class:`~dptbd.hw.state_store.StateStoreSignature`). ``docs/gateware.md`` describes the
+pipeline stage by stage; :class:`~dptbd.hw.schedule.PipelineSchedule` gives its timing.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Mux, Signal
+from amaranth.lib import data, fifo, stream, wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import DPConfig
+from dptbd.hw.accumulator import Accumulator
+from dptbd.hw.controller import Controller
+from dptbd.hw.delay import delayed
+from dptbd.hw.layouts import pixel_layout, state_layout, state_word_layout
+from dptbd.hw.line_buffer import LineBuffer
+from dptbd.hw.max_tree import MaxTree
+from dptbd.hw.schedule import PipelineSchedule, check_supported
+from dptbd.hw.state_store import StateStoreSignature
+from dptbd.hw.weight_lut import WeightLUT
+from dptbd.hw.weighted_candidate import WeightedCandidate
+from dptbd.hw.window import Window
+
+__all__ = ["DPCore", "lut_write_members"]
+
+
+def lut_write_members(cfg: DPConfig) -> dict:
+    """The LUT write port members shared by :class:`DPCore` and ``DPPipeline``."""
+    moves = cfg.n_moves
+    return {
+        "lut_addr": In(range((moves + 1) * moves)),
+        "lut_data": In(cfg.weight_bits),
+        "lut_we": In(1),
+    }
+
+
+class DPCore(wiring.Component):
+    """Streaming direction-weighted DP, one pixel per clock, with an external state store.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        The configuration; refused with :class:`~dptbd.config.ConfigError` when the
+        gateware does not implement it (:func:`~dptbd.hw.schedule.check_supported`).
+    output_fifo_depth : int or None
+        Entries of the output FIFO. ``None`` (default) is ``latency + 1``, the least that
+        sustains one pixel per clock without back-pressure; at least 3.
+
+    Members
+    -------
+    pixels : In(stream.Signature(pixel_layout(cfg)))
+        Input pixels in raster order; ``first`` marks pixel (0, 0) of a frame.
+        ``pixels.ready`` is a register (it does not depend on ``pixels.valid`` or
+        ``states.ready`` combinationally).
+    states : Out(stream.Signature(state_layout(cfg)))
+        The new (E, d) of every accepted pixel, in acceptance order, with end flags.
+        ``states.valid`` and ``states.payload`` come from registers.
+    lut_addr, lut_data, lut_we : In
+        Weight LUT write port (:class:`~dptbd.hw.weight_lut.WeightLUT`).
+    state_store : Out(StateStoreSignature(cfg))
+        The state store.
+    """
+
+    def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None):
+        self._schedule = check_supported(cfg)
+        self._cfg = cfg
+        if output_fifo_depth is None:
+            output_fifo_depth = self._schedule.latency + 1
+        if output_fifo_depth < 3:
+            raise ValueError(f"output_fifo_depth must be >= 3, got {output_fifo_depth}")
+        self._fifo_depth = output_fifo_depth
+        super().__init__({
+            "pixels": In(stream.Signature(pixel_layout(cfg))),
+            "states": Out(stream.Signature(state_layout(cfg))),
+            **lut_write_members(cfg),
+            "state_store": Out(StateStoreSignature(cfg)),
+        })
+
+    @property
+    def config(self) -> DPConfig:
+        """The configuration this core was built for."""
+        return self._cfg
+
+    @property
+    def schedule(self) -> PipelineSchedule:
+        """Cycle offsets of every stage."""
+        return self._schedule
+
+    @property
+    def latency(self) -> int:
+        """Cycles from a pixel's acceptance to its result on ``states`` (no back-pressure)."""
+        return self._schedule.latency
+
+    @property
+    def output_fifo_depth(self) -> int:
+        """Entries of the output FIFO."""
+        return self._fifo_depth
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg = self._cfg
+        sched = self._schedule
+        moves = cfg.n_moves
+
+        # ---- cycle 0: handshake, position, read-ahead -------------------------------
+        input_ready = Signal()
+        m.d.comb += self.pixels.ready.eq(input_ready)
+        accept = self.pixels.valid & input_ready
+
+        m.submodules.controller = controller = Controller(cfg)
+        m.d.comb += [
+            controller.accept.eq(accept),
+            controller.first.eq(self.pixels.payload.first),
+            self.state_store.read_addr.eq(controller.read_addr),
+            self.state_store.read_en.eq(accept),
+        ]
+        m.submodules.line_buffer = line_buffer = LineBuffer(
+            state_word_layout(cfg), depth=cfg.width, taps=2 * cfg.radius)
+        m.d.comb += line_buffer.advance.eq(accept)
+
+        # ---- cycle 1 (fetch): new window column --------------------------------------
+        pixel = delayed(m, self.pixels.payload.pixel, sched.fetch, name="pixel")
+        m.d.comb += line_buffer.data_in.eq(self.state_store.read_data)
+        m.submodules.window = window = Window(cfg)
+        m.d.comb += [
+            window.column[0].eq(self.state_store.read_data),
+            *[window.column[k + 1].eq(line_buffer.taps[k]) for k in range(2 * cfg.radius)],
+            window.shift.eq(controller.valid),
+            window.row.eq(controller.position.row),
+            window.col.eq(controller.position.col),
+        ]
+
+        # Side-band travelling with the pixel from the fetch stage to the accumulator.
+        sideband = Signal(data.StructLayout({
+            "valid": 1, "pixel": cfg.input_bits, "start_of_frame": 1, "segment_start": 1,
+            "end_of_line": 1, "end_of_frame": 1, "end_of_segment": 1,
+        }))
+        m.d.comb += [
+            sideband.valid.eq(controller.valid),
+            sideband.pixel.eq(pixel),
+            sideband.start_of_frame.eq(controller.position.start_of_frame),
+            sideband.segment_start.eq(controller.position.segment_start),
+            sideband.end_of_line.eq(controller.position.end_of_line),
+            sideband.end_of_frame.eq(controller.position.end_of_frame),
+            sideband.end_of_segment.eq(controller.position.end_of_segment),
+        ]
+
+        # ---- cycle 2 (window) -> 3 (code): weight lookup -----------------------------
+        m.submodules.weight_lut = lut = WeightLUT(cfg)
+        m.d.comb += [
+            lut.write_addr.eq(self.lut_addr),
+            lut.write_data.eq(self.lut_data),
+            lut.write_en.eq(self.lut_we),
+        ]
+        for move in range(moves):
+            m.d.comb += lut.direction[move].eq(window.cells[move].direction)
+
+        # ---- cycles 3 .. weighted: multipliers ---------------------------------------
+        m.submodules.max_tree = tree = MaxTree(moves, cfg.energy_bits)
+        inside = delayed(m, window.inside, sched.weighted - sched.window, name="inside",
+                         reset_less=True)
+        m.d.comb += tree.valid.eq(inside)
+        for move in range(moves):
+            candidate = WeightedCandidate(cfg)
+            m.submodules[f"weighted_{move}"] = candidate
+            energy = delayed(m, window.cells[move].energy, sched.code - sched.window,
+                             name=f"energy_{move}", reset_less=True)
+            m.d.comb += [
+                candidate.energy.eq(energy),
+                candidate.code.eq(lut.code[move]),
+                tree.values[move].eq(candidate.weighted),
+            ]
+
+        # ---- best -> state: accumulator -----------------------------------------------
+        at_best = delayed(m, sideband, sched.best - sched.fetch, name="sideband")
+        m.submodules.accumulator = accumulator = Accumulator(cfg)
+        m.d.comb += [
+            accumulator.best.eq(tree.best.value),
+            accumulator.move.eq(tree.best.index),
+            accumulator.pixel.eq(at_best.pixel),
+            accumulator.segment_start.eq(at_best.segment_start),
+        ]
+        at_state = delayed(m, at_best, 1, name="sideband_state")
+        # Raster address of the pixel leaving the accumulator: pixels come out in
+        # acceptance order, so it is 0 at a frame start (also after a resync) and the
+        # previous address + 1 otherwise.
+        write_addr = Signal(range(cfg.width * cfg.height))
+        with m.If(at_best.valid):
+            m.d.sync += write_addr.eq(Mux(at_best.start_of_frame, 0, write_addr + 1))
+
+        # ---- cycle `state`: write back and queue for output ---------------------------
+        m.d.comb += [
+            self.state_store.write_addr.eq(write_addr),
+            self.state_store.write_data.energy.eq(accumulator.energy),
+            self.state_store.write_data.direction.eq(accumulator.direction),
+            self.state_store.write_en.eq(at_state.valid),
+        ]
+        result = Signal(state_layout(cfg))
+        m.d.comb += [
+            result.energy.eq(accumulator.energy),
+            result.direction.eq(accumulator.direction),
+            result.end_of_line.eq(at_state.end_of_line),
+            result.end_of_frame.eq(at_state.end_of_frame),
+            result.end_of_segment.eq(at_state.end_of_segment),
+        ]
+        m.submodules.output_fifo = output_fifo = fifo.SyncFIFOBuffered(
+            width=len(result.as_value()), depth=self._fifo_depth)
+        m.d.comb += [
+            output_fifo.w_data.eq(result),
+            output_fifo.w_en.eq(at_state.valid),
+            self.states.payload.eq(output_fifo.r_data),
+            self.states.valid.eq(output_fifo.r_rdy),
+            output_fifo.r_en.eq(self.states.ready),
+        ]
+
+        # ---- credits: accept only what the FIFO is sure to have room for -------------
+        # `committed` counts pixels accepted but not yet handed out on `states`: those in
+        # flight plus those in the FIFO. Input ready is registered from its next value.
+        committed = Signal(range(self._fifo_depth + 1))
+        handed_out = self.states.valid & self.states.ready
+        committed_next = committed + accept - handed_out
+        m.d.sync += [
+            committed.eq(committed_next),
+            input_ready.eq(committed_next < self._fifo_depth),
+        ]
+        return m

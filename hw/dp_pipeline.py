@@ -1,0 +1,92 @@
+"""The complete DP pipeline: :class:`~dptbd.hw.dp_core.DPCore` plus its on-chip state store.
+
+This is the top level that ``dptbd.hw.verilog`` converts to Verilog (module
+``dptbd_dp``) and that the cocotb harness drives. ``docs/gateware.md`` documents its ports.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module
+from amaranth.lib import stream, wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import DPConfig
+from dptbd.hw.dp_core import DPCore, lut_write_members
+from dptbd.hw.layouts import pixel_layout, state_layout
+from dptbd.hw.schedule import PipelineSchedule
+from dptbd.hw.state_store import StateStore
+
+__all__ = ["DPPipeline"]
+
+
+class DPPipeline(wiring.Component):
+    """Streaming direction-weighted DP (paper 001 eqs (8)-(11)), one pixel per clock.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        The configuration (refused with :class:`~dptbd.config.ConfigError` if the gateware
+        does not implement it, see :func:`~dptbd.hw.schedule.check_supported`).
+    output_fifo_depth : int or None
+        See :class:`~dptbd.hw.dp_core.DPCore`.
+
+    Members
+    -------
+    pixels : In(stream.Signature(pixel_layout(cfg)))
+        Input pixels, raster order, ``first`` on pixel (0, 0) of each frame.
+    states : Out(stream.Signature(state_layout(cfg)))
+        New (E, d) of every pixel of every frame, raster order, with end flags.
+    lut_addr : In(range((M+1)*M))
+        Weight LUT entry ``p * M + m`` to write.
+    lut_data : In(F+1)
+        Code to write.
+    lut_we : In(1)
+        Write enable; a write in cycle c applies to every pixel accepted in cycle c or later.
+    """
+
+    def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None):
+        self._core = DPCore(cfg, output_fifo_depth=output_fifo_depth)
+        self._cfg = cfg
+        super().__init__({
+            "pixels": In(stream.Signature(pixel_layout(cfg))),
+            "states": Out(stream.Signature(state_layout(cfg))),
+            **lut_write_members(cfg),
+        })
+
+    @property
+    def config(self) -> DPConfig:
+        """The configuration this pipeline was built for."""
+        return self._cfg
+
+    @property
+    def schedule(self) -> PipelineSchedule:
+        """Cycle offsets of every stage."""
+        return self._core.schedule
+
+    @property
+    def latency(self) -> int:
+        """Cycles from a pixel's acceptance to its result on ``states`` (no back-pressure).
+
+        ``L = 6 + ceil(log2(F + 2)) + ceil(log2(M))`` for F >= 1 (``7 + ceil(log2(M))``
+        for F = 0); 14 for r = 1, F = 8 and 15 for r = 2, F = 8.
+        """
+        return self._core.latency
+
+    @property
+    def output_fifo_depth(self) -> int:
+        """Entries of the output FIFO."""
+        return self._core.output_fifo_depth
+
+    def elaborate(self, platform):
+        m = Module()
+        m.submodules.core = core = self._core
+        m.submodules.state_store = store = StateStore(self._cfg)
+        wiring.connect(m, core.state_store, store.bus)
+        wiring.connect(m, wiring.flipped(self.pixels), core.pixels)
+        wiring.connect(m, core.states, wiring.flipped(self.states))
+        m.d.comb += [
+            core.lut_addr.eq(self.lut_addr),
+            core.lut_data.eq(self.lut_data),
+            core.lut_we.eq(self.lut_we),
+        ]
+        return m

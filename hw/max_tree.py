@@ -1,0 +1,104 @@
+"""Max/argmax tree over the M weighted candidates, lowest index winning ties.
+
+``docs/arithmetic.md`` §4.4 (operator ``argmax_lowest_index``). A binary tree of
+compare-and-select nodes over the candidates in index order, registered after every level.
+A node keeps its left (lower-index) input unless the right one is valid and either strictly
+greater or the left one is invalid; the node compares ``(valid, value)`` as one unsigned
+number with ``valid`` on top, which is that rule in one carry chain. Since every left subtree holds only lower indices than
+its right sibling, the root is the lowest index attaining the maximum over the valid
+candidates. On an odd level the last node passes through a register unchanged.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Cat, Module, Mux, Signal, unsigned
+from amaranth.lib import data, wiring
+from amaranth.lib.wiring import In, Out
+
+__all__ = ["candidate_layout", "tree_levels", "MaxTree"]
+
+
+def candidate_layout(value_bits: int, index_bits: int) -> data.StructLayout:
+    """A candidate in the tree: ``valid``, ``value`` and its ``index``."""
+    return data.StructLayout({
+        "valid": unsigned(1),
+        "value": unsigned(value_bits),
+        "index": unsigned(index_bits),
+    })
+
+
+def tree_levels(count: int) -> int:
+    """Register levels of a tree over ``count`` candidates: ``ceil(log2(count))``."""
+    return (count - 1).bit_length()
+
+
+class MaxTree(wiring.Component):
+    """Pipelined max/argmax of ``count`` candidates.
+
+    Parameters
+    ----------
+    count : int
+        Number of candidates (M), >= 1.
+    value_bits : int
+        Width of a candidate value (B_E).
+
+    Members
+    -------
+    valid : In(count)
+        Bit m: candidate m takes part. Invalid candidates never win against a valid one.
+    values : In(value_bits).array(count)
+        Candidate values.
+    best : Out(candidate_layout(value_bits, index_bits))
+        :attr:`latency` cycles later: the winner. ``best.valid`` is 0 only if no candidate
+        was valid (then ``value`` and ``index`` are those of candidate 0).
+    """
+
+    def __init__(self, count: int, value_bits: int):
+        if count < 1:
+            raise ValueError(f"count must be >= 1, got {count}")
+        self._count = count
+        self._value_bits = value_bits
+        self._index_bits = max(1, (count - 1).bit_length())
+        super().__init__({
+            "valid": In(count),
+            "values": In(value_bits).array(count),
+            "best": Out(candidate_layout(value_bits, self._index_bits)),
+        })
+
+    @property
+    def latency(self) -> int:
+        """Register levels, ``ceil(log2(count))`` (0 for a single candidate)."""
+        return tree_levels(self._count)
+
+    def elaborate(self, platform):
+        m = Module()
+        layout = candidate_layout(self._value_bits, self._index_bits)
+        nodes = []
+        for index in range(self._count):
+            leaf = Signal(layout, name=f"leaf_{index}")
+            m.d.comb += [
+                leaf.valid.eq(self.valid[index]),
+                leaf.value.eq(self.values[index]),
+                leaf.index.eq(index),
+            ]
+            nodes.append(leaf)
+
+        level = 0
+        while len(nodes) > 1:
+            level += 1
+            merged = []
+            for pair in range(0, len(nodes), 2):
+                node = Signal(layout, name=f"node_l{level}_{pair // 2}", reset_less=True)
+                if pair + 1 == len(nodes):
+                    m.d.sync += node.eq(nodes[pair])
+                else:
+                    left, right = nodes[pair], nodes[pair + 1]
+                    # right.valid & (~left.valid | right.value > left.value), as one
+                    # comparison with `valid` as the most significant bit: one carry chain.
+                    # (When both are invalid either may pass; the result stays invalid.)
+                    take_right = Cat(right.value, right.valid) > Cat(left.value, left.valid)
+                    m.d.sync += node.eq(Mux(take_right, right, left))
+                merged.append(node)
+            nodes = merged
+        m.d.comb += self.best.eq(nodes[0])
+        return m

@@ -1,0 +1,125 @@
+"""The cycle schedule of the DP pipeline, and which configurations the gateware accepts.
+
+Everything downstream of the input handshake advances every clock cycle, so the cycle on
+which each stage holds a pixel's data is a fixed offset from the cycle on which that pixel
+was accepted. :class:`PipelineSchedule` computes those offsets from a
+:class:`~dptbd.config.DPConfig`; the gateware is built from them, and the documentation
+(``docs/gateware.md``), the Verilog manifest and the tests quote them.
+
+Cycle 0 is the cycle in which a pixel is accepted (``pixels.valid`` and ``pixels.ready``
+both high at the rising edge that ends it). "Stage at cycle n" means: the registers holding
+that pixel's data at this stage are visible during cycle n.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from dptbd.config import ConfigError, DPConfig
+
+__all__ = ["PipelineSchedule", "read_ahead_distance", "check_supported"]
+
+
+def _ceil_log2(n: int) -> int:
+    return max(0, (n - 1).bit_length())
+
+
+@dataclasses.dataclass(frozen=True)
+class PipelineSchedule:
+    """Cycle offsets of the pipeline stages, relative to the accepting cycle 0.
+
+    Attributes
+    ----------
+    fetch : int
+        Previous state (from the state store and the line buffers) and the pixel's position
+        are available: 1.
+    window : int
+        The (2r+1) x (2r+1) window and its edge flags are registered: 2.
+    code : int
+        The M weight codes are out of the LUT: 3.
+    multiplier_levels : int
+        Register levels of each weight multiplier's adder tree:
+        ``ceil(log2(F + 2))`` for F >= 1 (F + 1 partial products plus the rounding
+        constant), 1 for F = 0.
+    weighted : int
+        The M weighted candidates C are registered: ``code + multiplier_levels``.
+    tree_levels : int
+        Register levels of the max/argmax tree: ``ceil(log2(M))``.
+    best : int
+        The best candidate and its move index are registered: ``weighted + tree_levels``.
+    state : int
+        The new (E, d) is registered and presented to the state store's write port and to
+        the output FIFO: ``best + 1``. This is also the *write latency*.
+    fifo : int
+        Cycles through the output FIFO (:class:`amaranth.lib.fifo.SyncFIFOBuffered`): 2.
+    latency : int
+        Cycles from accepting a pixel to its result being valid on ``states`` when the
+        output is not back-pressured: ``state + fifo``.
+    """
+
+    fetch: int
+    window: int
+    code: int
+    multiplier_levels: int
+    weighted: int
+    tree_levels: int
+    best: int
+    state: int
+    fifo: int
+    latency: int
+
+    @classmethod
+    def from_config(cls, cfg: DPConfig) -> "PipelineSchedule":
+        """The schedule of the pipeline built for ``cfg``."""
+        frac = cfg.weight_frac_bits
+        rows = frac + 1 + (1 if frac >= 1 else 0)  # partial products + rounding constant
+        multiplier_levels = max(1, _ceil_log2(rows))
+        tree_levels = _ceil_log2(cfg.n_moves)  # = max_tree.tree_levels(M)
+        fetch, window, code = 1, 2, 3
+        weighted = code + multiplier_levels
+        best = weighted + tree_levels
+        state = best + 1
+        fifo = 2
+        return cls(fetch=fetch, window=window, code=code, multiplier_levels=multiplier_levels,
+                   weighted=weighted, tree_levels=tree_levels, best=best, state=state,
+                   fifo=fifo, latency=state + fifo)
+
+    @property
+    def write_latency(self) -> int:
+        """Cycles from accepting a pixel to the cycle its new state is written: ``state``."""
+        return self.state
+
+
+def read_ahead_distance(cfg: DPConfig) -> int:
+    """How far ahead of the accepted pixel the state store is read: ``r * (W + 1)``."""
+    return cfg.radius * (cfg.width + 1)
+
+
+def check_supported(cfg: DPConfig) -> PipelineSchedule:
+    """Refuse configurations the gateware does not implement; return the schedule otherwise.
+
+    Raises
+    ------
+    dptbd.config.ConfigError
+        * ``segment_stride != segment_frames``: overlapping segments need one state store
+          per live segment; the gateware has one.
+        * ``W * H - r * (W + 1) <= write_latency``: the frame is too small for the
+          read-ahead. The state of position q is read for the next frame
+          ``W*H - r*(W+1)`` accepted pixels after q itself was accepted, and must have been
+          written by then (``docs/gateware.md``, "Read-ahead").
+    """
+    if cfg.segment_stride != cfg.segment_frames:
+        raise ConfigError(
+            f"segment_stride={cfg.segment_stride} is not supported by the gateware: only "
+            f"non-overlapping segments (segment_stride == segment_frames == "
+            f"{cfg.segment_frames}) are implemented, with a single state store")
+    schedule = PipelineSchedule.from_config(cfg)
+    pixels = cfg.width * cfg.height
+    ahead = read_ahead_distance(cfg)
+    if pixels - ahead <= schedule.write_latency:
+        raise ConfigError(
+            f"width={cfg.width} x height={cfg.height} is too small for the read-ahead of "
+            f"radius={cfg.radius}: the gateware needs width*height - radius*(width+1) = "
+            f"{pixels - ahead} > write latency {schedule.write_latency} cycles, so that each "
+            f"state is written before the next frame reads it; use a larger frame")
+    return schedule

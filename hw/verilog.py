@@ -1,0 +1,157 @@
+"""Verilog generation of the DP pipeline, with a JSON manifest for the HDL testbenches.
+
+``generate_verilog(cfg)`` converts :class:`~dptbd.hw.dp_pipeline.DPPipeline` (or, with
+``external_state_store=True``, :class:`~dptbd.hw.dp_core.DPCore`) to one Verilog module and
+describes it in a manifest: the configuration, the derived widths, every port with its
+direction and width, the latency, and the bit fields of the stream payloads. A cocotb
+testbench reads the manifest instead of hard-coding any of these.
+
+Command line::
+
+    python -m dptbd.hw.verilog --out build/dptbd_dp.v [--width 128 --height 128 …]
+
+writes ``build/dptbd_dp.v`` and ``build/dptbd_dp.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import pathlib
+
+from amaranth.back import verilog
+from amaranth.hdl import Shape
+from amaranth.lib import wiring
+
+from dptbd.config import DPConfig
+from dptbd.hw.dp_core import DPCore
+from dptbd.hw.dp_pipeline import DPPipeline
+from dptbd.hw.layouts import field_offsets, pixel_layout, state_layout, state_word_layout
+
+__all__ = ["MODULE_NAME", "VERILATOR_LINT_FLAGS", "build_top", "port_list", "manifest",
+           "generate_verilog", "main"]
+
+#: Name of the generated Verilog module.
+MODULE_NAME = "dptbd_dp"
+
+#: Verilator options under which the generated Verilog lints clean; each waiver is justified
+#: in ``docs/gateware.md`` ("Verilog").
+VERILATOR_LINT_FLAGS = (
+    "--lint-only", "-Wall",
+    "-Wno-WIDTH",          # Yosys' write_verilog extends/truncates operands implicitly
+    "-Wno-UNUSEDSIGNAL",   # Amaranth keeps a named wire for every signal/field, used or not
+    "-Wno-DECLFILENAME",   # submodules are named dptbd_dp.core, … in the same file
+)
+
+
+def build_top(cfg: DPConfig, *, external_state_store: bool = False):
+    """The top-level component: ``DPPipeline(cfg)``, or ``DPCore(cfg)`` without a store."""
+    return DPCore(cfg) if external_state_store else DPPipeline(cfg)
+
+
+def port_list(top: wiring.Component) -> list[dict]:
+    """Ports of ``top`` as Verilog sees them: ``clk``, ``rst``, then every member.
+
+    Member paths are joined with ``__`` (``pixels.payload`` becomes ``pixels__payload``),
+    which is how :func:`amaranth.back.verilog.convert` names them.
+    """
+    ports = [
+        {"name": "clk", "direction": "input", "width": 1},
+        {"name": "rst", "direction": "input", "width": 1},
+    ]
+    for path, member, _value in top.signature.flatten(top):
+        ports.append({
+            "name": "__".join(map(str, path)),
+            "direction": "input" if member.flow == wiring.In else "output",
+            "width": Shape.cast(member.shape).width,
+        })
+    return ports
+
+
+def manifest(cfg: DPConfig, top) -> dict:
+    """Machine-readable description of the generated module (JSON-serialisable)."""
+    schedule = top.schedule
+    return {
+        "module": MODULE_NAME,
+        "top": type(top).__name__,
+        "parameters": {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)
+                       if f.name != "weights"},
+        "derived": {
+            "n_moves": cfg.n_moves,
+            "start_code": cfg.start_code,
+            "direction_bits": cfg.direction_bits,
+            "weight_bits": cfg.weight_bits,
+            "e_max": cfg.e_max,
+            "lut_entries": (cfg.n_moves + 1) * cfg.n_moves,
+        },
+        "weight_codes": cfg.weight_codes.tolist(),
+        "clock": {"name": "clk", "edge": "rising"},
+        "reset": {"name": "rst", "polarity": "active_high", "kind": "synchronous"},
+        "latency": schedule.latency,
+        "write_latency": schedule.write_latency,
+        "schedule": dataclasses.asdict(schedule),
+        "output_fifo_depth": top.output_fifo_depth,
+        "ports": port_list(top),
+        "layouts": {
+            "pixel": field_offsets(pixel_layout(cfg)),
+            "state": field_offsets(state_layout(cfg)),
+            "state_word": field_offsets(state_word_layout(cfg)),
+        },
+    }
+
+
+def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
+                     manifest_path: str | pathlib.Path | None = None) -> tuple[str, dict]:
+    """Convert the pipeline for ``cfg`` to Verilog.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        The configuration (refused if the gateware does not support it).
+    external_state_store : bool
+        Convert :class:`DPCore` (state-store port on the module boundary) instead of
+        :class:`DPPipeline` (on-chip state store).
+    manifest_path : path-like, optional
+        Also write the manifest there as JSON.
+
+    Returns
+    -------
+    tuple of (str, dict)
+        The Verilog text of module ``dptbd_dp`` and its manifest.
+    """
+    top = build_top(cfg, external_state_store=external_state_store)
+    text = verilog.convert(top, name=MODULE_NAME, emit_src=False)
+    info = manifest(cfg, top)
+    if manifest_path is not None:
+        pathlib.Path(manifest_path).write_text(json.dumps(info, indent=2) + "\n")
+    return text, info
+
+
+def main(argv=None) -> int:
+    """Command-line entry point: write ``<out>.v`` and ``<out>.json``."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", required=True, help="Verilog file to write")
+    parser.add_argument("--external-state-store", action="store_true",
+                        help="convert DPCore (state store outside the module)")
+    defaults = DPConfig()
+    for f in dataclasses.fields(DPConfig):
+        if f.name in ("weights", "segment_stride"):
+            continue
+        kind = str if f.name == "rounding" else int
+        parser.add_argument("--" + f.name.replace("_", "-"), type=kind,
+                            default=getattr(defaults, f.name))
+    args = parser.parse_args(argv)
+    cfg = DPConfig(**{f.name: getattr(args, f.name) for f in dataclasses.fields(DPConfig)
+                      if f.name not in ("weights", "segment_stride")})
+    out = pathlib.Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    text, _ = generate_verilog(cfg, external_state_store=args.external_state_store,
+                               manifest_path=out.with_suffix(".json"))
+    out.write_text(text)
+    print(f"wrote {out} and {out.with_suffix('.json')}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

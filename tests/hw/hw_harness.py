@@ -1,0 +1,203 @@
+"""Shared Amaranth-simulator harness for the gateware tests: drive streams, score results.
+
+``run_stream`` drives a component with ``pixels``/``states`` streams and LUT write members
+(``DPPipeline`` or ``DPCore`` plus a store model) cycle by cycle, with random input gaps and
+random output back-pressure; ``reference_states`` computes what must come out with the
+golden model ``dptbd.model.fixed``; ``assert_states_equal`` compares bit for bit and names
+the first mismatching frame, row, column and field.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import random
+
+import numpy as np
+import pytest
+from amaranth.hdl import Elaboratable
+from amaranth.sim import Simulator
+
+from dptbd.config import DPConfig
+from dptbd.hw.layouts import pack_pixel, unpack_state
+from dptbd.model.fixed import dp_step, segment_start
+
+FIELDS = ("energy", "direction", "end_of_line", "end_of_frame", "end_of_segment")
+
+
+@dataclasses.dataclass
+class StreamRun:
+    """What a simulation produced."""
+
+    outputs: list            # unpacked `states` payloads (dicts), in order
+    accept_cycles: list      # cycle of each accepted pixel
+    output_cycles: list      # cycle of each output transfer
+    cycles: int              # cycles simulated
+
+
+def frames_to_stream(frames: np.ndarray) -> list[tuple[int, bool]]:
+    """(pixel, first) in raster order, ``first`` on pixel (0, 0) of every frame."""
+    out = []
+    for frame in frames:
+        for index, value in enumerate(np.asarray(frame).ravel()):
+            out.append((int(value), index == 0))
+    return out
+
+
+def lut_writes_for(old: np.ndarray, new: np.ndarray) -> list[tuple[int, int]]:
+    """(address, code) writes turning LUT ``old`` into ``new`` (address ``p * M + m``)."""
+    moves = old.shape[1]
+    return [(p * moves + m, int(new[p, m]))
+            for p in range(old.shape[0]) for m in range(moves) if old[p, m] != new[p, m]]
+
+
+def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_probability=1.0,
+               ready_probability=1.0, seed=0, lut_writes=None, timed_lut_writes=None,
+               processes=(), max_cycles=None, expected_outputs=None) -> StreamRun:
+    """Simulate ``dut`` until every pixel of ``stream`` has come out.
+
+    Parameters
+    ----------
+    lut_writes : dict of int to list of (address, code), optional
+        Writes to issue just before the pixel with that index is offered: the input is held
+        idle while they are written, one per cycle, so that pixel and all later ones use
+        the new codes and no earlier pixel does.
+    timed_lut_writes : dict of int to (address, code), optional
+        Writes presented in exactly that cycle (cycle 0 is the first after reset),
+        whatever the input does; they take precedence over ``lut_writes``.
+    processes : sequence of callables
+        Extra async testbenches (e.g. an external state-store model), ``f(ctx)``.
+    """
+    rng = random.Random(seed)
+    pending = {k: list(v) for k, v in (lut_writes or {}).items()}
+    n_out = len(stream) if expected_outputs is None else expected_outputs
+    if max_cycles is None:
+        slow = max(valid_probability, 0.05) * max(ready_probability, 0.05)
+        max_cycles = int((len(stream) + 100) / slow * 3) + 200
+    result = StreamRun([], [], [], 0)
+    payload_in = dut.pixels.payload.as_value()
+    payload_out = dut.states.payload.as_value()
+
+    async def bench(ctx):
+        accepted = 0
+        offering = False
+        cycle = 0
+        while len(result.outputs) < n_out:
+            if cycle >= max_cycles:
+                raise AssertionError(
+                    f"timeout after {cycle} cycles: {accepted}/{len(stream)} pixels accepted, "
+                    f"{len(result.outputs)}/{n_out} states out")
+            writes = pending.get(accepted)
+            timed = (timed_lut_writes or {}).get(cycle)
+            if timed is not None:
+                write = timed
+            elif writes and not offering:
+                write = writes.pop(0)
+            else:
+                write = None
+            ctx.set(dut.lut_we, write is not None)
+            if write is not None:
+                ctx.set(dut.lut_addr, write[0])
+                ctx.set(dut.lut_data, write[1])
+            hold_input = write is not None and timed is None  # queued writes idle the input
+            if not hold_input and not offering and accepted < len(stream):
+                offering = rng.random() < valid_probability
+                if offering:
+                    pixel, first = stream[accepted]
+                    ctx.set(payload_in, pack_pixel(cfg, pixel, first))
+            ctx.set(dut.pixels.valid, offering)
+            taking = rng.random() < ready_probability
+            ctx.set(dut.states.ready, taking)
+            if offering and ctx.get(dut.pixels.ready):
+                result.accept_cycles.append(cycle)
+                accepted += 1
+                offering = False
+            if taking and ctx.get(dut.states.valid):
+                result.outputs.append(unpack_state(cfg, ctx.get(payload_out)))
+                result.output_cycles.append(cycle)
+            await ctx.tick()
+            cycle += 1
+        result.cycles = cycle
+
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    for process in processes:
+        sim.add_testbench(process, background=True)
+    sim.run()
+    return result
+
+
+def config_with_codes(cfg: DPConfig, codes: np.ndarray) -> DPConfig:
+    """``cfg`` whose quantised LUT is exactly ``codes`` (each in [0, 2**F])."""
+    return cfg.replace(weights=np.asarray(codes, dtype=np.float64) / (1 << cfg.weight_frac_bits))
+
+
+def reference_states(cfg: DPConfig, frames: np.ndarray, lut_changes=()) -> np.ndarray:
+    """Expected ``states`` of every pixel: array ``(T, H, W, 5)`` in :data:`FIELDS` order.
+
+    Frames are grouped into segments of K from frame 0 (``segment_start`` on frames
+    0, K, 2K, …, ``dp_step`` on the others). ``lut_changes`` is a sequence of
+    ``(pixel_index, codes)``: from that global pixel index on, the LUT is ``codes``.
+    """
+    frames = np.asarray(frames)
+    n_frames, height, width = frames.shape
+    k = cfg.segment_frames
+    tables = [(0, cfg)] + [(index, config_with_codes(cfg, codes)) for index, codes in lut_changes]
+    out = np.zeros((n_frames, height, width, len(FIELDS)), dtype=np.int64)
+    energy = direction = None
+    for t in range(n_frames):
+        if t % k == 0:
+            energy, direction = segment_start(frames[t], cfg)
+        else:
+            first_pixel = t * height * width
+            index = first_pixel + np.arange(height * width).reshape(height, width)
+            new_e = np.zeros((height, width), dtype=np.int64)
+            new_d = np.zeros((height, width), dtype=np.int64)
+            for n, (start, table) in enumerate(tables):
+                stop = tables[n + 1][0] if n + 1 < len(tables) else None
+                mask = index >= start if stop is None else (index >= start) & (index < stop)
+                if mask.any():
+                    e, d = dp_step(energy, direction, frames[t], table)
+                    new_e[mask] = e[mask]
+                    new_d[mask] = d[mask]
+            energy, direction = new_e, new_d
+        out[t, ..., 0] = energy
+        out[t, ..., 1] = direction
+        out[t, :, -1, 2] = 1
+        out[t, -1, -1, 3] = 1
+        out[t, -1, -1, 4] = int(t % k == k - 1)
+    return out
+
+
+def assert_states_equal(outputs: list, expected: np.ndarray) -> None:
+    """Compare the unpacked outputs with ``expected`` (``(T, H, W, 5)``) bit for bit."""
+    n_frames, height, width, _ = expected.shape
+    flat = expected.reshape(-1, len(FIELDS))
+    assert len(outputs) == len(flat), f"{len(outputs)} states out, expected {len(flat)}"
+    for n, (got, want) in enumerate(zip(outputs, flat)):
+        for f, name in enumerate(FIELDS):
+            if got[name] != want[f]:
+                t, rest = divmod(n, height * width)
+                y, x = divmod(rest, width)
+                raise AssertionError(
+                    f"first mismatch at frame {t}, row {y}, col {x}, field {name}: "
+                    f"got {got[name]}, expected {int(want[f])} "
+                    f"(got {got}, expected {dict(zip(FIELDS, map(int, want)))})")
+
+
+@contextlib.contextmanager
+def refused(exception, match):
+    """``pytest.raises`` for a component constructor that refuses its arguments.
+
+    The half-built components on the traceback are never elaborated; mark them so that
+    Amaranth does not warn ``UnusedElaboratable`` when they are collected later.
+    """
+    with pytest.raises(exception, match=match) as info:
+        yield info
+    traceback = info.tb
+    while traceback is not None:
+        obj = traceback.tb_frame.f_locals.get("self")
+        if isinstance(obj, Elaboratable):
+            obj._MustUse__silence = True  # private Amaranth flag: "not using it is fine"
+        traceback = traceback.tb_next

@@ -1,0 +1,101 @@
+"""Frame/segment controller: positions, flags, read-ahead addresses and resynchronisation."""
+
+import random
+
+from amaranth.sim import Simulator
+
+from dptbd.config import DPConfig
+from dptbd.hw.controller import Controller
+
+
+def reference_positions(cfg, firsts):
+    """Expected (read_addr, resync, row, col, flags…) for each accepted pixel."""
+    width, height, k = cfg.width, cfg.height, cfg.segment_frames
+    pixels = width * height
+    ahead = cfg.radius * (width + 1)
+    position, frame = 0, 0
+    out = []
+    for first in firsts:
+        resync = bool(first) and position != 0
+        if resync:
+            position, frame = 0, 0
+        row, col = divmod(position, width)
+        eol = col == width - 1
+        eof = eol and row == height - 1
+        out.append({
+            "read_addr": (position + ahead) % pixels, "resync": int(resync),
+            "row": row, "col": col, "start_of_frame": int(position == 0),
+            "segment_start": int(frame == 0), "end_of_line": int(eol),
+            "end_of_frame": int(eof), "end_of_segment": int(eof and frame == k - 1),
+        })
+        position = (position + 1) % pixels
+        if eof:
+            frame = (frame + 1) % k
+    return out
+
+
+def run_controller(cfg, firsts, seed=0):
+    dut = Controller(cfg)
+    rng = random.Random(seed)
+    got = []
+
+    async def bench(ctx):
+        pending = None
+        index = 0
+        while index < len(firsts) or pending is not None:
+            accept = index < len(firsts) and rng.random() < 0.7
+            ctx.set(dut.accept, accept)
+            ctx.set(dut.first, firsts[index] if accept else rng.random() < 0.5)
+            if pending is not None:
+                assert ctx.get(dut.valid) == 1
+                position = ctx.get(dut.position)
+                pending.update({name: getattr(position, name) for name in (
+                    "row", "col", "start_of_frame", "segment_start", "end_of_line",
+                    "end_of_frame", "end_of_segment")})
+                got.append(pending)
+                pending = None
+            else:
+                assert ctx.get(dut.valid) == 0
+            if accept:
+                pending = {"read_addr": ctx.get(dut.read_addr), "resync": ctx.get(dut.resync)}
+                index += 1
+            await ctx.tick()
+
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    sim.run()
+    return got
+
+
+def test_counts_frames_and_segments():
+    cfg = DPConfig(width=4, height=3, segment_frames=3)
+    firsts = [index % 12 == 0 for index in range(12 * 7)]
+    assert run_controller(cfg, firsts) == reference_positions(cfg, firsts)
+
+
+def test_missing_first_flags_are_ignored():
+    cfg = DPConfig(width=5, height=4, segment_frames=2, radius=1)
+    firsts = [False] * (20 * 3)
+    assert run_controller(cfg, firsts, seed=1) == reference_positions(cfg, firsts)
+
+
+def test_unexpected_first_restarts_the_segment():
+    cfg = DPConfig(width=5, height=4, segment_frames=3, radius=2)
+    # A full frame, 7 pixels of a second one, then frames with `first` again.
+    firsts = [i == 0 for i in range(20)] + [i == 0 for i in range(7)] \
+        + [i % 20 == 0 for i in range(20 * 4)]
+    got = run_controller(cfg, firsts, seed=2)
+    want = reference_positions(cfg, firsts)
+    assert got == want
+    assert [n for n, g in enumerate(got) if g["resync"]] == [27]
+    assert got[27]["segment_start"] == 1 and got[27]["read_addr"] == 12
+
+
+def test_single_frame_segments():
+    cfg = DPConfig(width=3, height=3, segment_frames=1)
+    firsts = [i % 9 == 0 for i in range(9 * 3)]
+    got = run_controller(cfg, firsts, seed=3)
+    assert got == reference_positions(cfg, firsts)
+    assert all(g["segment_start"] for g in got)
+    assert sum(g["end_of_segment"] for g in got) == 3

@@ -1,0 +1,221 @@
+"""The complete pipeline against the golden model ``dptbd.model.fixed``, bit for bit.
+
+Every test streams whole frames through ``DPPipeline`` in the Amaranth simulator (random
+input gaps and output back-pressure unless timing is the point), collects every output and
+compares it with ``segment_start`` / ``dp_step`` frame by frame.
+"""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning, plain_weights
+from dptbd.hw.dp_pipeline import DPPipeline
+from hw_harness import (
+    FIELDS,
+    assert_states_equal,
+    frames_to_stream,
+    lut_writes_for,
+    reference_states,
+    refused,
+    run_stream,
+)
+
+
+def make_config(**kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        return DPConfig(**kw)
+
+
+def random_frames(cfg, n_frames, seed, high=None):
+    rng = np.random.default_rng(seed)
+    top = cfg.pixel_max if high is None else high
+    return rng.integers(0, top + 1, size=(n_frames, cfg.height, cfg.width))
+
+
+SCOREBOARD_CASES = {
+    "5x4-r1-k3-truncate": (dict(width=5, height=4, segment_frames=3), 7, None),
+    "7x6-r2-k2-half_up": (dict(width=7, height=6, segment_frames=2, radius=2,
+                               rounding="half_up"), 5, None),
+    "7x6-r1-k3-half_up-f3": (dict(width=7, height=6, segment_frames=3, rounding="half_up",
+                                  weight_frac_bits=3), 6, None),
+    "5x4-r1-k2-f0": (dict(width=5, height=4, segment_frames=2, weight_frac_bits=0), 5, None),
+    "5x4-r1-k1": (dict(width=5, height=4, segment_frames=1), 3, None),
+    "6x5-r1-k3-saturating": (dict(width=6, height=5, segment_frames=3, input_bits=4,
+                                  energy_bits=5), 6, None),
+    "7x6-r2-k3-saturating": (dict(width=7, height=6, segment_frames=3, input_bits=6,
+                                  energy_bits=7, rounding="half_up"), 4, None),
+    "5x4-r1-k3-ties": (dict(width=5, height=4, segment_frames=3), 6, 1),
+    "7x6-r2-k2-ties": (dict(width=7, height=6, segment_frames=2, radius=2), 4, 1),
+    "3x8-r2-k2-narrow": (dict(width=3, height=8, segment_frames=2, radius=2), 4, None),
+    "6x5-r1-k2-plain": (dict(width=6, height=5, segment_frames=2, weights=plain_weights(1)), 4, 2),
+}
+
+
+@pytest.mark.parametrize("name", list(SCOREBOARD_CASES))
+def test_matches_golden_model(name):
+    kw, n_frames, high = SCOREBOARD_CASES[name]
+    cfg = make_config(**kw)
+    frames = random_frames(cfg, n_frames, seed=len(name), high=high)
+    dut = DPPipeline(cfg)
+    run = run_stream(dut, cfg, frames_to_stream(frames), valid_probability=0.75,
+                     ready_probability=0.6, seed=n_frames)
+    expected = reference_states(cfg, frames)
+    assert_states_equal(run.outputs, expected)
+    if "saturating" in name:
+        assert (expected[..., 0] == cfg.e_max).any(), "the test must reach saturation"
+
+
+def test_random_fractional_weights_half_up():
+    rng = np.random.default_rng(5)
+    weights = rng.random((10, 9))
+    cfg = make_config(width=6, height=5, segment_frames=4, weight_frac_bits=4,
+                      rounding="half_up", weights=weights)
+    assert not cfg.weights_exact
+    frames = random_frames(cfg, 5, seed=9)
+    run = run_stream(DPPipeline(cfg), cfg, frames_to_stream(frames), valid_probability=0.9,
+                     ready_probability=0.8, seed=1)
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+
+
+@pytest.mark.parametrize("radius", [1, 2])
+def test_lut_written_at_run_time(radius):
+    """Write new codes through the LUT port between frames and again inside a frame."""
+    cfg = make_config(width=7, height=6, segment_frames=4, radius=radius, weight_frac_bits=5)
+    pixels = cfg.width * cfg.height
+    rng = np.random.default_rng(radius)
+    moves = cfg.n_moves
+    old = cfg.weight_codes.astype(np.int64)
+    between = rng.integers(0, 33, size=(moves + 1, moves))
+    inside = between.copy()
+    inside[:, : moves // 2] = rng.integers(0, 33, size=(moves + 1, moves // 2))
+    switch_between = 1 * pixels            # before frame 1's first pixel
+    switch_inside = 2 * pixels + 17        # before pixel 17 of frame 2
+    writes = {switch_between: lut_writes_for(old, between),
+              switch_inside: lut_writes_for(between, inside)}
+    frames = random_frames(cfg, 4, seed=radius + 10)
+    run = run_stream(DPPipeline(cfg), cfg, frames_to_stream(frames), valid_probability=0.8,
+                     ready_probability=0.7, seed=radius, lut_writes=writes)
+    expected = reference_states(cfg, frames, [(switch_between, between), (switch_inside, inside)])
+    assert_states_equal(run.outputs, expected)
+    # The write really changed results (the test would be vacuous otherwise).
+    assert not np.array_equal(expected, reference_states(cfg, frames))
+
+
+def test_lut_write_clamps_codes_above_one():
+    cfg = make_config(width=5, height=4, segment_frames=2, weight_frac_bits=3)
+    old = cfg.weight_codes.astype(np.int64)
+    writes = {0: [(address, 15) for address in range(cfg.n_moves * (cfg.n_moves + 1))]}
+    frames = random_frames(cfg, 2, seed=4)
+    run = run_stream(DPPipeline(cfg), cfg, frames_to_stream(frames), lut_writes=writes)
+    ones = np.full_like(old, 8)
+    assert_states_equal(run.outputs, reference_states(cfg, frames, [(0, ones)]))
+
+
+@pytest.mark.parametrize("kw, n_frames", [
+    (dict(width=5, height=4, segment_frames=3), 4),
+    (dict(width=7, height=6, segment_frames=2, radius=2), 3),
+])
+def test_exact_cycle_count(kw, n_frames):
+    """Valid and ready always high: one pixel per cycle in, one per cycle out, after L."""
+    cfg = make_config(**kw)
+    dut = DPPipeline(cfg)
+    latency = dut.latency
+    assert latency == {1: 14, 2: 15}[cfg.radius]
+    frames = random_frames(cfg, n_frames, seed=3)
+    run = run_stream(dut, cfg, frames_to_stream(frames))
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+    total = n_frames * cfg.width * cfg.height
+    first_in = run.accept_cycles[0]
+    assert first_in == 1                         # ready rises one cycle after reset
+    assert run.accept_cycles == list(range(first_in, first_in + total))   # no bubbles
+    assert run.output_cycles[0] - first_in == latency
+    assert run.output_cycles == list(range(first_in + latency, first_in + latency + total))
+    assert run.output_cycles[-1] - first_in + 1 == total + latency
+    assert total + latency == {1: 94, 2: 141}[cfg.radius]   # 4*20 + 14, 3*42 + 15
+
+
+def test_back_pressure_never_loses_or_stalls_data():
+    cfg = make_config(width=6, height=5, segment_frames=2)
+    frames = random_frames(cfg, 4, seed=8)
+    run = run_stream(DPPipeline(cfg), cfg, frames_to_stream(frames), ready_probability=0.15,
+                     seed=2)
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+    # Output stalls throttle the input instead of overflowing the FIFO.
+    assert run.accept_cycles[-1] > 4 * 30 * 3
+
+
+def test_unexpected_first_resynchronises():
+    """A frame cut short, then frames with `first`: a new segment starts at the `first`."""
+    cfg = make_config(width=5, height=4, segment_frames=3)
+    frames = random_frames(cfg, 6, seed=12)
+    cut = 7
+    stream = frames_to_stream(frames[:1]) + frames_to_stream(frames[1:2])[:cut] \
+        + frames_to_stream(frames[2:])
+    run = run_stream(DPPipeline(cfg), cfg, stream, valid_probability=0.7,
+                     ready_probability=0.7, seed=4)
+    head = reference_states(cfg, frames[:2])
+    truncated = head[1].reshape(-1, len(FIELDS))[:cut].copy()
+    truncated[:, 3:] = 0                          # the cut frame never ends
+    tail = reference_states(cfg, frames[2:])      # a new segment from frame 2
+    expected = np.concatenate([head[0].reshape(-1, len(FIELDS)), truncated,
+                               tail.reshape(-1, len(FIELDS))])
+    assert len(run.outputs) == len(expected)
+    for n, (got, want) in enumerate(zip(run.outputs, expected)):
+        assert [got[f] for f in FIELDS] == want.tolist(), f"output {n}"
+
+
+def test_first_flags_are_optional():
+    cfg = make_config(width=5, height=4, segment_frames=2)
+    frames = random_frames(cfg, 4, seed=13)
+    stream = [(pixel, False) for pixel, _ in frames_to_stream(frames)]
+    run = run_stream(DPPipeline(cfg), cfg, stream, valid_probability=0.8, seed=5)
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+
+
+def test_refuses_overlapping_segments():
+    cfg = DPConfig(width=8, height=8, segment_frames=4, segment_stride=2)
+    with refused(ConfigError, match="segment_stride"):
+        DPPipeline(cfg)
+
+
+def test_refuses_frames_too_small_for_the_read_ahead():
+    cfg = DPConfig(width=5, height=4, radius=2)
+    with refused(ConfigError, match="too small for the read-ahead"):
+        DPPipeline(cfg)
+
+
+def test_refuses_a_too_small_output_fifo():
+    cfg = DPConfig(width=5, height=4)
+    with refused(ValueError, match="output_fifo_depth"):
+        DPPipeline(cfg, output_fifo_depth=2)
+
+
+def test_deeper_output_fifo_works():
+    cfg = make_config(width=5, height=4, segment_frames=2)
+    frames = random_frames(cfg, 3, seed=14)
+    dut = DPPipeline(cfg, output_fifo_depth=32)
+    run = run_stream(dut, cfg, frames_to_stream(frames), ready_probability=0.5, seed=6)
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+
+
+def test_lut_write_applies_from_the_pixel_accepted_in_the_same_cycle():
+    """Write (START, move 0) := 0 in the cycle pixel n is accepted: n uses it, n - 1 does not.
+
+    Frame 0 is flat, so in frame 1 every valid candidate ties and plain weights pick move 0
+    wherever it is valid; with its weight at 0 the tie goes to move 1 instead.
+    """
+    cfg = make_config(width=5, height=4, segment_frames=2, weights=plain_weights(1))
+    frames = random_frames(cfg, 2, seed=15)
+    frames[0] = 100
+    n = 20 + 1 * 5 + 1                        # frame 1, pixel (1, 1)
+    address = cfg.start_code * cfg.n_moves + 0
+    run = run_stream(DPPipeline(cfg), cfg, frames_to_stream(frames),
+                     timed_lut_writes={n + 1: (address, 0)})   # pixel k is accepted in cycle k+1
+    assert run.accept_cycles[n] == n + 1
+    new = cfg.weight_codes.astype(np.int64)
+    new[cfg.start_code, 0] = 0
+    assert_states_equal(run.outputs, reference_states(cfg, frames, [(n, new)]))
+    assert run.outputs[n - 1]["direction"] == 0 and run.outputs[n]["direction"] == 1

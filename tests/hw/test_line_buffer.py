@@ -1,0 +1,49 @@
+"""Line buffers: tap k delays the entry stream by (k + 1) * depth advances."""
+
+import random
+
+import pytest
+from amaranth.hdl import unsigned
+from amaranth.sim import Simulator
+
+from dptbd.hw.line_buffer import LineBuffer
+from hw_harness import refused
+
+
+@pytest.mark.parametrize("depth, taps", [(5, 2), (7, 4), (2, 1)])
+def test_taps_are_delayed_rows(depth, taps):
+    dut = LineBuffer(unsigned(10), depth=depth, taps=taps)
+    rng = random.Random(depth * 10 + taps)
+    entries = [rng.randrange(1 << 10) for _ in range(depth * (taps + 3))]
+    seen = []
+
+    async def bench(ctx):
+        index = 0
+        advanced = False
+        while index < len(entries) or advanced:
+            if advanced:  # the cycle after an advance: present the entry, read the taps
+                ctx.set(dut.data_in, entries[index])
+                seen.append([ctx.get(dut.taps[k]) for k in range(taps)])
+                index += 1
+            else:
+                ctx.set(dut.data_in, rng.randrange(1 << 10))  # ignored
+            advance = index < len(entries) and not advanced and rng.random() < 0.8
+            ctx.set(dut.advance, advance)
+            advanced = advance
+            await ctx.tick()
+
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    sim.run()
+    for n, taps_out in enumerate(seen):
+        for k, value in enumerate(taps_out):
+            back = n - (k + 1) * depth
+            assert value == (entries[back] if back >= 0 else 0), f"entry {n}, tap {k}"
+
+
+def test_refuses_degenerate_sizes():
+    with refused(ValueError, match="depth"):
+        LineBuffer(unsigned(4), depth=1, taps=2)
+    with refused(ValueError, match="taps"):
+        LineBuffer(unsigned(4), depth=4, taps=0)

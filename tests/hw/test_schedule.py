@@ -1,0 +1,52 @@
+"""Pipeline schedule (latency formula) and the configurations the gateware refuses."""
+
+import pytest
+
+from dptbd.config import ConfigError, DPConfig
+from dptbd.hw.schedule import PipelineSchedule, check_supported, read_ahead_distance
+
+
+@pytest.mark.parametrize("radius, frac, latency", [
+    (1, 8, 14),   # 6 + ceil(log2(10)) + ceil(log2(9))
+    (2, 8, 15),   # 6 + 4 + ceil(log2(25))
+    (1, 0, 11),   # 7 + 4: F = 0 has a single multiplier register
+    (1, 1, 12),   # 6 + ceil(log2(3)) + 4
+    (1, 2, 12),   # 6 + ceil(log2(4)) + 4
+    (1, 3, 13),   # 6 + ceil(log2(5)) + 4
+    (1, 16, 15),  # 6 + ceil(log2(18)) + 4
+])
+def test_latency_formula(radius, frac, latency):
+    cfg = DPConfig(radius=radius, weight_frac_bits=frac)
+    schedule = PipelineSchedule.from_config(cfg)
+    assert schedule.latency == latency
+    assert schedule.write_latency == schedule.state == latency - 2
+    assert schedule.weighted == schedule.code + schedule.multiplier_levels
+    assert schedule.best == schedule.weighted + schedule.tree_levels
+
+
+def test_latency_does_not_depend_on_rounding_or_widths():
+    a = PipelineSchedule.from_config(DPConfig(rounding="truncate", energy_bits=10))
+    b = PipelineSchedule.from_config(DPConfig(rounding="half_up", energy_bits=32))
+    assert a == b
+
+
+def test_overlapping_segments_are_refused():
+    with pytest.raises(ConfigError, match="segment_stride=2"):
+        check_supported(DPConfig(segment_frames=4, segment_stride=2))
+
+
+def test_frame_too_small_for_read_ahead_is_refused():
+    # 5 x 4 with r = 2: 20 - 2 * 6 = 8 <= write latency 13.
+    cfg = DPConfig(width=5, height=4, radius=2)
+    assert read_ahead_distance(cfg) == 12
+    with pytest.raises(ConfigError, match="too small for the read-ahead"):
+        check_supported(cfg)
+
+
+def test_smallest_accepted_frames():
+    # r = 1, write latency 12: W*H - (W+1) must exceed 12.
+    check_supported(DPConfig(width=5, height=4))          # 20 - 6 = 14
+    check_supported(DPConfig(width=3, height=8))          # 24 - 4 = 20
+    with pytest.raises(ConfigError):
+        check_supported(DPConfig(width=3, height=5))      # 15 - 4 = 11
+    check_supported(DPConfig(width=7, height=6, radius=2))  # 42 - 16 = 26 > 13
