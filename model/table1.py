@@ -84,7 +84,7 @@ def _setting_counts(snr: float, velocity: tuple[float, float], cfg: DPConfig, tr
     yield from totals.items()
 
 
-def table1_rows(trials: int = 50, *, segment_frames: int = 5, segment_stride: int = 4,
+def table1_rows(trials: int = 50, *, segment_frames: int = 6, segment_stride: int = 4,
                 seed: int = 2003, chunk: int = 10, progress: bool = False) -> list[Table1Row]:
     """Run every Table 1 setting; ``trials`` seeded scenes per setting."""
     if trials < 1:

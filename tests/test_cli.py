@@ -10,8 +10,8 @@ from dptbd.model.table1 import DETECTORS, SETTINGS, table1_rows
 def test_run_prints_the_first_level_table(capsys):
     assert main(["run", "--seed", "1"]) == 0
     out = capsys.readouterr().out
-    assert "| 1 | (30, 100) | (0.8, -0.4) | 12 |" in out
-    assert "| 2 | (54, 40) | (0.4, 0.6) | 12 |" in out
+    assert "| 1 | (30, 100) | (0.8, -0.4) | 16 |" in out
+    assert "| 2 | (54, 40) | (0.4, 0.6) | 16 |" in out
 
 
 def test_table1_one_trial_dp_beats_single_frame():

@@ -22,7 +22,7 @@ from dptbd.model.table1 import ADC_GAIN, FALSE_ALARM_RATE, INPUT_BITS
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="scene seed (default 0)")
     parser.add_argument("--snr", type=float, default=2.0, help="SNR as paper 001 defines it (default 2.0)")
-    parser.add_argument("--segment-frames", type=int, default=8, metavar="K", help="frames per segment (default 8)")
+    parser.add_argument("--segment-frames", type=int, default=6, metavar="K", help="frames per segment (default 6)")
     parser.add_argument("--segment-stride", type=int, default=None, metavar="S",
                         help="frames between segment starts (default K: what the gateware does)")
 

@@ -12,8 +12,8 @@ from dptbd.model.table1 import DETECTORS, PAPER_TABLE1, Table1Row, table1_rows
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--trials", type=int, default=50, help="seeded scenes per setting (default 50)")
-    parser.add_argument("--segment-frames", type=int, default=8, metavar="K",
-                        help="frames per segment (default 8)")
+    parser.add_argument("--segment-frames", type=int, default=6, metavar="K",
+                        help="frames per segment (default 6, see docs/table1.md)")
     parser.add_argument("--segment-stride", type=int, default=4, metavar="S",
                         help="frames between segment starts (default 4: 24 outputs from 100 frames)")
     parser.add_argument("--seed", type=int, default=2003, help="base seed (default 2003)")
