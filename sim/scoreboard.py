@@ -1,0 +1,245 @@
+"""What the ``states`` stream must carry, and the comparison that reports the first mismatch.
+
+Plain numpy and Python (no cocotb import), so that pytest can unit-test the comparison and
+the report without a simulator. Every word is packed and unpacked with the field offsets of
+:func:`dptbd.hw.layouts.state_layout`, never with hand-written bit positions.
+
+The expected stream is computed frame by frame with the golden model
+(:mod:`dptbd.model.fixed`): :func:`~dptbd.model.fixed.segment_start` on the first frame of
+every segment (frames 0, K, 2K, … counted from the first frame after reset) and
+:func:`~dptbd.model.fixed.dp_step` on the others; ``end_of_line`` on column W-1,
+``end_of_frame`` on the last pixel of a frame, ``end_of_segment`` on the last pixel of a
+segment's last frame (``docs/arithmetic.md`` §5, ``docs/gateware.md``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Callable, Iterator
+
+import numpy as np
+
+from dptbd.config import DPConfig
+from dptbd.hw.layouts import field_offsets, state_layout
+from dptbd.model.fixed import dp_step, segment_start
+
+__all__ = [
+    "state_fields",
+    "pack_states",
+    "unpack_fields",
+    "config_with_codes",
+    "model_frames",
+    "expected_words",
+    "Mismatch",
+    "compare_word",
+    "Scoreboard",
+]
+
+
+def state_fields(cfg: DPConfig) -> dict[str, dict[str, int]]:
+    """``{field: {"offset", "width"}}`` of a ``states`` payload, from the layout."""
+    return field_offsets(state_layout(cfg))
+
+
+def pack_states(cfg: DPConfig, **fields: np.ndarray) -> np.ndarray:
+    """Pack arrays of field values (all of one shape) into ``states`` payload words.
+
+    Every field of :func:`~dptbd.hw.layouts.state_layout` must be given; a value that does
+    not fit its field is refused.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``uint64`` words (the payload is at most 32 + 5 + 3 = 40 bits).
+    """
+    layout = state_fields(cfg)
+    missing = sorted(set(layout) - set(fields))
+    extra = sorted(set(fields) - set(layout))
+    if missing or extra:
+        raise ValueError(f"state fields missing {missing}, unknown {extra}; "
+                         f"the layout has {list(layout)}")
+    shape = np.shape(next(iter(fields.values())))
+    word = np.zeros(shape, dtype=np.uint64)
+    for name, place in layout.items():
+        value = np.asarray(fields[name], dtype=np.int64)
+        if value.shape != shape:
+            raise ValueError(f"field {name} has shape {value.shape}, expected {shape}")
+        if value.size and (value.min() < 0 or value.max() >= (1 << place["width"])):
+            raise ValueError(f"field {name} has values outside {place['width']} unsigned bits")
+        word |= value.astype(np.uint64) << np.uint64(place["offset"])
+    return word
+
+
+def unpack_fields(cfg: DPConfig, word: int) -> dict[str, int]:
+    """Split one payload word into its fields (in layout order)."""
+    return {name: (int(word) >> place["offset"]) & ((1 << place["width"]) - 1)
+            for name, place in state_fields(cfg).items()}
+
+
+def config_with_codes(cfg: DPConfig, codes) -> DPConfig:
+    """``cfg`` whose quantised LUT (:attr:`~dptbd.config.DPConfig.weight_codes`) is ``codes``.
+
+    Used to model a LUT written at run time through ``lut_addr``/``lut_data``/``lut_we``:
+    each code ``c`` in [0, 2**F] becomes the weight ``c / 2**F``, which quantises back to
+    exactly ``c``.
+    """
+    arr = np.asarray(codes, dtype=np.int64)
+    unity = 1 << cfg.weight_frac_bits
+    shape = (cfg.n_moves + 1, cfg.n_moves)
+    if arr.shape != shape:
+        raise ValueError(f"LUT codes must have shape {shape} for radius={cfg.radius}, "
+                         f"got {arr.shape}")
+    if arr.min() < 0 or arr.max() > unity:
+        raise ValueError(f"LUT codes must be in [0, 2**F = {unity}], found "
+                         f"{arr[(arr < 0) | (arr > unity)][:3].tolist()}")
+    out = cfg.replace(weights=arr.astype(np.float64) / unity)
+    assert np.array_equal(out.weight_codes, arr)
+    return out
+
+
+def model_frames(cfg: DPConfig, frames: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """The golden model's state (E, d) after every frame of ``frames`` ``(T, H, W)``.
+
+    Segments of K frames start at frame 0 (the first frame after reset); a trailing
+    incomplete segment is still processed (the gateware outputs every frame).
+    """
+    energy = direction = None
+    for t, frame in enumerate(frames):
+        if t % cfg.segment_frames == 0:
+            energy, direction = segment_start(frame, cfg)
+        else:
+            energy, direction = dp_step(energy, direction, frame, cfg)
+        yield energy, direction
+
+
+def expected_words(cfg: DPConfig, frames: np.ndarray) -> np.ndarray:
+    """Every ``states`` word the pipeline must output for ``frames``, in stream order.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        The configuration, with the LUT the gateware uses (see :func:`config_with_codes`).
+    frames : numpy.ndarray
+        ``(T, H, W)`` integer pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(T, H, W)`` ``uint64`` packed payloads.
+    """
+    frames = np.asarray(frames)
+    n_frames, height, width = frames.shape
+    k = cfg.segment_frames
+    out = np.zeros(frames.shape, dtype=np.uint64)
+    eol = np.zeros((height, width), dtype=np.int64)
+    eol[:, -1] = 1
+    eof = np.zeros((height, width), dtype=np.int64)
+    eof[-1, -1] = 1
+    for t, (energy, direction) in enumerate(model_frames(cfg, frames)):
+        out[t] = pack_states(cfg, energy=energy, direction=direction, end_of_line=eol,
+                             end_of_frame=eof, end_of_segment=eof * int(t % k == k - 1))
+    return out
+
+
+@dataclasses.dataclass(frozen=True)
+class Mismatch:
+    """The first output word that differs from the model."""
+
+    index: int                 # position in the output stream (0 = first word)
+    frame: int
+    row: int
+    col: int
+    fields: tuple[str, ...]    # the differing fields, layout order
+    got: dict                  # every field of the word that came out
+    expected: dict             # every field of the model's word
+
+    def __str__(self) -> str:
+        first = self.fields[0]
+        return (f"first mismatch at output {self.index}: frame {self.frame}, row {self.row}, "
+                f"col {self.col}, field {first}: expected {self.expected[first]}, got "
+                f"{self.got[first]} (differing fields {list(self.fields)}; expected "
+                f"{self.expected}, got {self.got})")
+
+
+def compare_word(cfg: DPConfig, index: int, got: int, expected: int) -> Mismatch | None:
+    """Compare output word number ``index`` with the model's; ``None`` if equal bit for bit.
+
+    ``index`` counts words from the first output after reset, in raster order frame by
+    frame, which locates the frame, row and column.
+    """
+    if int(got) == int(expected):
+        return None
+    got_f = unpack_fields(cfg, got)
+    want_f = unpack_fields(cfg, expected)
+    differing = tuple(name for name in want_f if got_f[name] != want_f[name])
+    if not differing:  # bits outside every field: cannot happen with a correct width
+        differing = ("payload",)
+        got_f["payload"], want_f["payload"] = int(got), int(expected)
+    frame, rest = divmod(index, cfg.width * cfg.height)
+    row, col = divmod(rest, cfg.width)
+    return Mismatch(index, frame, row, col, differing, got_f, want_f)
+
+
+class Scoreboard:
+    """Compares the output stream word by word with the model's; stops at the first mismatch.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        The configuration (field layout, frame size).
+    expected : numpy.ndarray
+        The expected packed words, any shape, consumed in C order (:func:`expected_words`).
+    on_frame : callable, optional
+        ``on_frame(frame_index)`` after the last word of every frame matched.
+    """
+
+    def __init__(self, cfg: DPConfig, expected: np.ndarray,
+                 on_frame: Callable[[int], None] | None = None):
+        self.cfg = cfg
+        self._expected = [int(w) for w in np.asarray(expected).ravel()]
+        self._frame_words = cfg.width * cfg.height
+        self._on_frame = on_frame
+        self.count = 0
+        self.mismatch: Mismatch | None = None
+        self.extra = 0             # words beyond the expected stream
+
+    @property
+    def total(self) -> int:
+        """Number of words expected."""
+        return len(self._expected)
+
+    @property
+    def done(self) -> bool:
+        """Every expected word arrived and matched."""
+        return self.mismatch is None and self.count == self.total and self.extra == 0
+
+    @property
+    def failed(self) -> bool:
+        """A word differed or came beyond the end of the expected stream."""
+        return self.mismatch is not None or self.extra > 0
+
+    def receive(self, word: int) -> bool:
+        """Check the next output word; False once anything went wrong."""
+        if self.failed:
+            return False
+        if self.count >= self.total:
+            self.extra += 1
+            return False
+        self.mismatch = compare_word(self.cfg, self.count, word, self._expected[self.count])
+        if self.mismatch is not None:
+            return False
+        self.count += 1
+        if self._on_frame is not None and self.count % self._frame_words == 0:
+            self._on_frame(self.count // self._frame_words - 1)
+        return True
+
+    def report(self) -> str:
+        """One line: bit-exact, incomplete, or the first mismatch."""
+        if self.mismatch is not None:
+            return str(self.mismatch)
+        if self.extra:
+            return (f"{self.extra} output word(s) beyond the {self.total} expected "
+                    f"({self.total // self._frame_words} frames)")
+        if self.count < self.total:
+            return f"incomplete: {self.count} of {self.total} words received, all bit-exact"
+        return f"bit-exact: {self.count} words ({self.count // self._frame_words} frames)"
