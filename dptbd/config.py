@@ -17,6 +17,7 @@ __all__ = [
     "ConfigError",
     "EnergyWidthWarning",
     "ROUNDING_MODES",
+    "DEFAULT_FALSE_ALARM_RATE",
     "move_offsets",
     "paper_weights",
     "plain_weights",
@@ -24,6 +25,10 @@ __all__ = [
 
 #: Rounding modes of the weight multiplier (``docs/arithmetic.md`` §4).
 ROUNDING_MODES = ("truncate", "half_up")
+
+#: Paper 001's constant false-alarm rate, 0.2 %: the default candidate count per segment is
+#: this fraction of W*H, rounded half up (``docs/arithmetic.md`` §6).
+DEFAULT_FALSE_ALARM_RATE = 0.002
 
 _RANGES = {
     "width": (3, 4096),
@@ -125,6 +130,18 @@ class DPConfig:
         The weight LUT, shape ``(M + 1, M)`` with ``M = (2r + 1)**2``, indexed
         ``[predecessor direction, move]``, each in [0, 1]; ``None`` means paper 001
         eq (11) (:func:`paper_weights`).
+    candidate_count : int or None
+        n, the candidate points wanted per segment (segmentation, ``docs/arithmetic.md``
+        §6), in [0, W*H]; ``None`` means 0.2 % of W*H rounded half up (33 for 128 x 128),
+        see :attr:`n_candidates`.
+    candidate_capacity : int or None
+        C, the most candidate records the segmenter emits per segment, in
+        [n, W*H]; ``None`` means ``min(2n, W*H)``, see :attr:`record_capacity`.
+    histogram_bits : int
+        b, the segmentation histogram has 2**b bins, in [1, 16].
+    histogram_shift : int or None
+        s, a pixel's bin is ``min(E >> s, 2**b - 1)``, in [0, B_E - 1]; ``None`` means the
+        smallest shift whose bins cover every reachable E, see :attr:`bin_shift`.
     """
 
     width: int = 128
@@ -137,6 +154,10 @@ class DPConfig:
     radius: int = 1
     rounding: str = "truncate"
     weights: tuple | None = None
+    candidate_count: int | None = None
+    candidate_capacity: int | None = None
+    histogram_bits: int = 10
+    histogram_shift: int | None = None
 
     def __post_init__(self) -> None:
         for name in _RANGES:
@@ -153,6 +174,7 @@ class DPConfig:
             raise ConfigError(f"rounding must be one of {ROUNDING_MODES}, got {self.rounding!r}")
         lut = paper_weights(self.radius) if self.weights is None else self.weights
         object.__setattr__(self, "weights", _validate_weights(lut, self.radius))
+        self._validate_segmentation()
         full_scale = self.segment_frames * ((1 << self.input_bits) - 1)
         if full_scale > self.e_max:
             warnings.warn(
@@ -223,6 +245,66 @@ class DPConfig:
         """True when every weight is exactly representable with F fractional bits."""
         codes = self.weight_codes.astype(np.float64) / (1 << self.weight_frac_bits)
         return bool(np.array_equal(codes, self.weight_array))
+
+    # ---- segmentation (docs/arithmetic.md §6) --------------------------------------
+    def _validate_segmentation(self) -> None:
+        pixels = self.width * self.height
+        if self.candidate_count is not None:
+            object.__setattr__(self, "candidate_count", _check_int(
+                "candidate_count", self.candidate_count, (0, pixels), ""))
+        n = self.n_candidates
+        if self.candidate_capacity is not None:
+            object.__setattr__(self, "candidate_capacity", _check_int(
+                "candidate_capacity", self.candidate_capacity, (n, pixels), "candidate_count="))
+        object.__setattr__(self, "histogram_bits", _check_int(
+            "histogram_bits", self.histogram_bits, (1, 16)))
+        if self.histogram_shift is not None:
+            object.__setattr__(self, "histogram_shift", _check_int(
+                "histogram_shift", self.histogram_shift, (0, self.energy_bits - 1)))
+
+    @property
+    def n_candidates(self) -> int:
+        """n, candidate points per segment: ``candidate_count``, or by default 0.2 % of
+        W*H rounded half up, ``(W*H + 250) // 500`` exactly (33 for 128 x 128)."""
+        if self.candidate_count is not None:
+            return self.candidate_count
+        return (self.width * self.height + 250) // 500
+
+    @property
+    def record_capacity(self) -> int:
+        """C, the most records emitted per segment: ``candidate_capacity`` or ``min(2n, W*H)``."""
+        if self.candidate_capacity is not None:
+            return self.candidate_capacity
+        return min(2 * self.n_candidates, self.width * self.height)
+
+    @property
+    def n_bins(self) -> int:
+        """Bins of the segmentation histogram, ``2**histogram_bits``."""
+        return 1 << self.histogram_bits
+
+    @property
+    def bin_shift(self) -> int:
+        """s, the right shift from E to its histogram bin.
+
+        ``histogram_shift``, or by default ``max(0, B_reach - b)`` with
+        ``B_reach = min(B_E, energy_bits_needed)`` the width of the largest reachable E, so
+        that only E_max-adjacent values could share the clamped top bin.
+        """
+        if self.histogram_shift is not None:
+            return self.histogram_shift
+        reach = min(self.energy_bits, self.energy_bits_needed)
+        return max(0, reach - self.histogram_bits)
+
+    @property
+    def bin_count_bits(self) -> int:
+        """Width of a histogram counter, ``bitlen(n + 1)``; counters saturate at
+        ``2**bits - 1 >= n + 1``, which never changes the threshold (§6)."""
+        return (self.n_candidates + 1).bit_length()
+
+    @property
+    def threshold_bits(self) -> int:
+        """Width of the threshold bin T in 0 … 2**b (2**b: no candidates): b + 1."""
+        return self.histogram_bits + 1
 
     def n_segments(self, n_frames: int) -> int:
         """Number of whole segments in a sequence of ``n_frames`` frames."""

@@ -5,13 +5,25 @@ greater than the (n+1)-th largest E, i.e. the histogram threshold "the smallest 
 whose count from the top does not exceed n". At most n candidates; ties at the
 boundary are excluded, never broken arbitrarily. Works on float and integer images
 alike, with any leading (segment, trial) axes.
+
+The second half is the bit-exact model of the gateware segmenter (``dptbd.hw.segmenter``,
+§6.1 - §6.5): a histogram of ``min(E >> s, 2**b - 1)`` with saturating counters, the
+threshold bin taken from the *previous* segment's histogram, at most C records per segment
+in raster order and a trailer (:func:`segment_fixed`, :func:`segment_sequence` for whole
+images, :func:`segment_stream` for any ``states`` stream).
 """
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-__all__ = ["candidate_dtype", "count_for_rate", "threshold_level", "candidate_mask", "candidates"]
+from dptbd.config import DPConfig
+
+__all__ = ["candidate_dtype", "count_for_rate", "threshold_level", "candidate_mask", "candidates",
+           "TRAILER_FIELDS", "CandidateList", "histogram_bins", "histogram_fixed",
+           "threshold_bin", "segment_fixed", "segment_sequence", "segment_stream"]
 
 
 def candidate_dtype(energy_dtype) -> np.dtype:
@@ -79,4 +91,200 @@ def candidates(energy: np.ndarray, direction: np.ndarray, count: int) -> np.ndar
     out["row"], out["col"] = rows, cols
     out["energy"] = energy[rows, cols]
     out["direction"] = np.asarray(direction)[rows, cols]
+    return out
+
+
+# ---------------------------------------------------------------------------------------
+# Bit-exact model of the gateware segmenter (docs/arithmetic.md §6.2 - §6.5)
+# ---------------------------------------------------------------------------------------
+
+#: Fields of a list's trailer word, in layout order (``dptbd.hw.candidate_layout``).
+TRAILER_FIELDS = ("count", "threshold", "overflow", "primed", "aligned", "missed")
+
+
+@dataclasses.dataclass(frozen=True)
+class CandidateList:
+    """What the segmenter emits for one segment: its records, then a trailer.
+
+    Attributes
+    ----------
+    records : numpy.ndarray
+        :func:`candidate_dtype` (``uint32`` E) records in raster order, at most C of them.
+    count : int
+        Records emitted, ``len(records)``.
+    threshold : int
+        The threshold bin T the records were selected with (``2**b``: none selected).
+    overflow : bool
+        More than C pixels reached T; the ones after the C-th in raster order were dropped.
+    primed : bool
+        T came from a histogram (False for the first segment after reset: T = 2**b).
+    aligned : bool
+        The list's frame ended with ``end_of_segment`` exactly where the segmenter's
+        counters expected (always True for a well-formed stream).
+    missed : bool
+        An ``end_of_segment`` arrived outside a scored frame since the previous list (a
+        segment was lost to a resynchronisation); always False for a well-formed stream.
+    histogram : numpy.ndarray
+        ``(2**b,)`` saturated bin counts of this list's frame: the next list's threshold
+        comes from it.
+    """
+
+    records: np.ndarray
+    count: int
+    threshold: int
+    overflow: bool
+    primed: bool
+    aligned: bool
+    missed: bool
+    histogram: np.ndarray
+
+    @property
+    def trailer(self) -> dict[str, int]:
+        """The trailer word's fields (:data:`TRAILER_FIELDS`) as integers."""
+        return {name: int(getattr(self, name)) for name in TRAILER_FIELDS}
+
+
+def histogram_bins(energy: np.ndarray, cfg: DPConfig) -> np.ndarray:
+    """The histogram bin of each E: ``min(E >> s, 2**b - 1)`` (``int64``), §6.2."""
+    e = np.asarray(energy).astype(np.int64)
+    if e.size and (e.min() < 0 or e.max() > cfg.e_max):
+        raise ValueError(f"energy must be in [0, E_max = {cfg.e_max}]")
+    return np.minimum(e >> cfg.bin_shift, cfg.n_bins - 1)
+
+
+def histogram_fixed(energy: np.ndarray, cfg: DPConfig) -> np.ndarray:
+    """Saturating bin counts of one accumulated image, ``(2**b,)`` ``int64``, §6.2.
+
+    Each counter is ``bin_count_bits`` = bitlen(n + 1) wide and saturates at
+    ``2**bin_count_bits - 1`` (>= n + 1).
+    """
+    counts = np.bincount(histogram_bins(energy, cfg).ravel(), minlength=cfg.n_bins)
+    return np.minimum(counts, (1 << cfg.bin_count_bits) - 1).astype(np.int64)
+
+
+def threshold_bin(histogram: np.ndarray, cfg: DPConfig) -> int:
+    """The threshold bin T of a histogram: the scan of §6.3, bin 2**b - 1 down to 0.
+
+    ``cum`` starts at 0 and becomes ``min(cum + h[a], n + 1)`` at bin a; T is the last
+    (smallest) a with ``cum <= n``, or ``2**b`` if already the top bin has cum > n. This is
+    the smallest T with ``sum(h[T:]) <= n``: at most n pixels of the histogram's image
+    have a bin >= T, and every pixel of the bin T - 1 is excluded (ties are never broken).
+    """
+    h = np.asarray(histogram, dtype=np.int64)
+    if h.shape != (cfg.n_bins,):
+        raise ValueError(f"histogram must have {cfg.n_bins} bins, got shape {h.shape}")
+    n = cfg.n_candidates
+    cum = 0
+    threshold = cfg.n_bins
+    for a in range(cfg.n_bins - 1, -1, -1):
+        cum = min(cum + int(h[a]), n + 1)
+        if cum > n:
+            break
+        threshold = a
+    return threshold
+
+
+def segment_fixed(energy: np.ndarray, direction: np.ndarray, cfg: DPConfig,
+                  prev_hist: np.ndarray | None = None) -> CandidateList:
+    """The segmenter's list for ONE accumulated image (§6.4), bit for bit.
+
+    Parameters
+    ----------
+    energy, direction : numpy.ndarray
+        ``(H, W)`` accumulated image and direction map of the segment.
+    prev_hist : numpy.ndarray or None
+        The previous list's :attr:`CandidateList.histogram` (the threshold comes from the
+        *previous* segment, §6.1); ``None`` for the first segment after reset, which
+        selects nothing (T = 2**b, ``primed`` False).
+
+    Returns
+    -------
+    CandidateList
+        The pixels with ``bin(E) >= T``, the first C of them in raster order; the trailer
+        fields; this image's histogram for the next segment.
+    """
+    energy = np.asarray(energy)
+    if energy.shape != (cfg.height, cfg.width) or np.shape(direction) != energy.shape:
+        raise ValueError(
+            f"energy and direction must both have shape (H, W) = ({cfg.height}, {cfg.width}), "
+            f"got {energy.shape} and {np.shape(direction)}")
+    bins = histogram_bins(energy, cfg)
+    primed = prev_hist is not None
+    threshold = threshold_bin(prev_hist, cfg) if primed else cfg.n_bins
+    rows, cols = np.nonzero(bins >= threshold)          # raster order
+    capacity = cfg.record_capacity
+    overflow = len(rows) > capacity
+    rows, cols = rows[:capacity], cols[:capacity]
+    records = np.zeros(len(rows), dtype=candidate_dtype(np.uint32))
+    records["row"], records["col"] = rows, cols
+    records["energy"] = energy[rows, cols]
+    records["direction"] = np.asarray(direction)[rows, cols]
+    return CandidateList(records, len(records), threshold, bool(overflow), primed, True, False,
+                         histogram_fixed(energy, cfg))
+
+
+def segment_sequence(energy: np.ndarray, direction: np.ndarray,
+                     cfg: DPConfig) -> list[CandidateList]:
+    """The lists of consecutive segments ``(S, H, W)`` after a reset: each thresholded with
+    the previous segment's histogram, the first one unprimed (empty)."""
+    out: list[CandidateList] = []
+    prev = None
+    for e, d in zip(np.asarray(energy), np.asarray(direction)):
+        lst = segment_fixed(e, d, cfg, prev)
+        out.append(lst)
+        prev = lst.histogram
+    return out
+
+
+def segment_stream(states, cfg: DPConfig) -> list[CandidateList]:
+    """The segmenter's lists for ANY ``states`` stream, word by word (§6.5), bit for bit.
+
+    ``states`` is an iterable of ``(E, d, end_of_line, end_of_frame, end_of_segment)`` in
+    stream order from reset (e.g. an ``(N, 5)`` array). This is the gateware's control
+    flow literally: position counters, the scored frame k = K - 1, realignment on
+    ``end_of_segment``, the list end at the counters' last pixel or at an
+    ``end_of_segment`` in a scored frame. For a well-formed stream (whole frames, no
+    resynchronisation) it equals :func:`segment_sequence` of the segments' images.
+    """
+    width, height, k_frames = cfg.width, cfg.height, cfg.segment_frames
+    shift, top = cfg.bin_shift, cfg.n_bins - 1
+    saturate = (1 << cfg.bin_count_bits) - 1
+    capacity = cfg.record_capacity
+    col = row = k = 0
+    primed, threshold = False, cfg.n_bins
+    hist = np.zeros(cfg.n_bins, dtype=np.int64)
+    records: list[tuple[int, int, int, int]] = []
+    overflow = missed = False
+    out: list[CandidateList] = []
+    for word in states:
+        energy, direction, _eol, _eof, eos = (int(v) for v in word)
+        if k == k_frames - 1:                           # scored frame
+            b = min(energy >> shift, top)
+            hist[b] = min(hist[b] + 1, saturate)
+            if b >= threshold:
+                if len(records) < capacity:
+                    records.append((row, col, energy, direction))
+                else:
+                    overflow = True
+            last = row == height - 1 and col == width - 1
+            if last or eos:
+                rec = np.array(records, dtype=np.int64).reshape(-1, 4)
+                arr = np.zeros(len(rec), dtype=candidate_dtype(np.uint32))
+                for f, name in enumerate(("row", "col", "energy", "direction")):
+                    arr[name] = rec[:, f]
+                out.append(CandidateList(arr, len(arr), threshold, overflow, primed,
+                                         bool(last and eos), missed, hist.copy()))
+                threshold, primed = threshold_bin(hist, cfg), True
+                hist[:] = 0
+                records, overflow, missed = [], False, False
+        elif eos:
+            missed = True
+        if eos:
+            col = row = k = 0
+        else:
+            col += 1
+            if col == width:
+                col, row = 0, row + 1
+                if row == height:
+                    row, k = 0, (k + 1) % k_frames
     return out

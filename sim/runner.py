@@ -38,6 +38,7 @@ __all__ = [
     "TOPLEVEL",
     "TEST_MODULE",
     "TIMESCALE",
+    "DESIGNS",
     "SimBuild",
     "SimResult",
     "config_name",
@@ -52,6 +53,15 @@ __all__ = [
 TOPLEVEL = "dptbd_dp"
 TEST_MODULE = "dptbd.sim.tb_dp"
 TIMESCALE = ("1ns", "1ps")
+
+#: What :func:`build` can compile: design name -> (Verilog module, cocotb test module,
+#: build-directory suffix). ``dp`` is the DP pipeline (``dptbd.hw.verilog``), ``segmenter``
+#: the DP pipeline plus segmenter (``dptbd.hw.dp_segmenter_top``, tests in
+#: ``dptbd.sim.tb_segmenter``).
+DESIGNS = {
+    "dp": (TOPLEVEL, TEST_MODULE, ""),
+    "segmenter": ("dptbd_seg", "dptbd.sim.tb_segmenter", "-seg"),
+}
 
 
 def config_to_json(cfg: DPConfig) -> dict:
@@ -91,10 +101,21 @@ class SimBuild:
     manifest: dict
     waves: bool
     seconds: float            # wall time of generation + compilation
+    design: str = "dp"        # a key of DESIGNS
 
     @property
     def latency(self) -> int:
         return int(self.manifest["latency"])
+
+    @property
+    def toplevel(self) -> str:
+        """The Verilog module name."""
+        return DESIGNS[self.design][0]
+
+    @property
+    def test_module(self) -> str:
+        """The cocotb test module run by :func:`simulate`."""
+        return DESIGNS[self.design][1]
 
 
 @contextlib.contextmanager
@@ -123,7 +144,7 @@ def _get_runner():
 
 
 def build(cfg: DPConfig, root: str | os.PathLike = "build/sim", *, waves: bool = False,
-          verbose: bool = False) -> SimBuild:
+          verbose: bool = False, design: str = "dp") -> SimBuild:
     """Generate the Verilog and manifest for ``cfg`` and compile them with Icarus.
 
     Parameters
@@ -136,22 +157,32 @@ def build(cfg: DPConfig, root: str | os.PathLike = "build/sim", *, waves: bool =
         when compiled with waveform dumping).
     waves : bool
         Compile in cocotb's FST dump module (needed for ``simulate(..., waves=path)``).
+    design : str
+        ``"dp"`` (module ``dptbd_dp``) or ``"segmenter"`` (module ``dptbd_seg``, its build
+        directory gets ``-seg`` appended), see :data:`DESIGNS`.
     """
-    from dptbd.hw.verilog import generate_verilog
+    if design not in DESIGNS:
+        raise ValueError(f"unknown design {design!r}; choose one of {', '.join(DESIGNS)}")
+    toplevel, _, suffix = DESIGNS[design]
+    if design == "segmenter":
+        from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog as generate
+    else:
+        from dptbd.hw.verilog import generate_verilog as generate
 
     start = time.perf_counter()
-    directory = pathlib.Path(root).resolve() / (config_name(cfg) + ("-waves" if waves else ""))
+    directory = pathlib.Path(root).resolve() / (config_name(cfg) + suffix
+                                                + ("-waves" if waves else ""))
     with _locked(directory):
-        text, info = generate_verilog(cfg)
-        verilog = directory / f"{TOPLEVEL}.v"
+        text, info = generate(cfg)
+        verilog = directory / f"{toplevel}.v"
         _write_if_changed(verilog, text)
-        _write_if_changed(directory / f"{TOPLEVEL}.json", json.dumps(info, indent=2) + "\n")
+        _write_if_changed(directory / f"{toplevel}.json", json.dumps(info, indent=2) + "\n")
         _write_if_changed(directory / "config.json",
                           json.dumps(config_to_json(cfg), indent=2) + "\n")
         runner = _get_runner()
-        runner.build(sources=[verilog], hdl_toplevel=TOPLEVEL, build_dir=directory,
+        runner.build(sources=[verilog], hdl_toplevel=toplevel, build_dir=directory,
                      timescale=TIMESCALE, waves=waves, verbose=verbose)
-    return SimBuild(cfg, directory, verilog, info, waves, time.perf_counter() - start)
+    return SimBuild(cfg, directory, verilog, info, waves, time.perf_counter() - start, design)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -232,7 +263,9 @@ def write_job(run_dir: pathlib.Path, sim: SimBuild, frames: np.ndarray, **option
 def simulate(sim: SimBuild, frames: np.ndarray, *, testcase: str = "run_scene",
              run_name: str = "run", waves: str | os.PathLike | None = None,
              log_to_file: bool = True, seed: int = 1, **options) -> SimResult:
-    """Run one cocotb test of :mod:`dptbd.sim.tb_dp` on a compiled build.
+    """Run one cocotb test of the build's test module on a compiled build:
+    :mod:`dptbd.sim.tb_dp` for ``design="dp"``, :mod:`dptbd.sim.tb_segmenter` (test
+    ``run_scene``) for ``design="segmenter"``.
 
     Parameters
     ----------
@@ -241,7 +274,8 @@ def simulate(sim: SimBuild, frames: np.ndarray, *, testcase: str = "run_scene",
     frames : array
         Integer frames ``(T, H, W)`` (checked by :func:`check_scene`).
     testcase : str
-        ``run_scene``, ``mid_frame_reset`` or ``truncated_frame_resync``.
+        ``run_scene``, ``mid_frame_reset`` or ``truncated_frame_resync`` (``dp``);
+        ``run_scene`` (``segmenter``).
     run_name : str
         Subdirectory of ``<build>/runs`` for this run's files.
     waves : path, optional
@@ -267,7 +301,8 @@ def simulate(sim: SimBuild, frames: np.ndarray, *, testcase: str = "run_scene",
     runner = _get_runner()
     start = time.perf_counter()
     try:
-        runner.test(test_module=TEST_MODULE, hdl_toplevel=TOPLEVEL, hdl_toplevel_lang="verilog",
+        runner.test(test_module=sim.test_module, hdl_toplevel=sim.toplevel,
+                    hdl_toplevel_lang="verilog",
                     build_dir=sim.directory, test_dir=run_dir, testcase=testcase,
                     extra_env=env, waves=waves is not None, plusargs=plusargs, seed=seed,
                     log_file=log, timescale=TIMESCALE)

@@ -1,0 +1,78 @@
+"""Throughput of ``dptbd compare``'s Monte Carlo on 1 and on 2 worker processes.
+
+    python benchmarks/bench_compare.py                 # the default comparison (240 trials)
+    python benchmarks/bench_compare.py --trials 96 --workers 1 2 4
+    python benchmarks/bench_compare.py --json build/bench_compare.json
+
+The same run (the default :func:`dptbd.model.compare.build_spec`, or ``--config``'s) is
+timed once per worker count, one after the other; each time is
+:attr:`CompareResult.seconds`: the Monte Carlo alone (scenes, both models, counts), after
+the kernels are compiled or loaded from numba's cache, excluding the statistics and the
+figures (about 1 s more). Reported: trials per second per worker count and the speed-up
+over one worker. The runs must give identical counts (checked; the script fails
+otherwise). The machine's load average is printed beside the numbers: on a shared
+machine, other jobs take cores away and the speed-up is then not the code's.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import pathlib
+import platform
+import sys
+import time
+import tomllib
+
+import numpy as np
+
+from dptbd.model.compare import build_spec, run_compare
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--config", type=pathlib.Path, help="a dptbd compare TOML file")
+    ap.add_argument("--trials", type=int, default=None, help="trials (default: the run's, 240)")
+    ap.add_argument("--workers", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--json", metavar="PATH", help="also write the numbers as JSON")
+    args = ap.parse_args(argv)
+    mapping = tomllib.loads(args.config.read_text()) if args.config else {}
+    spec = build_spec(mapping, trials=args.trials, bootstrap=0)
+    rows = []
+    first = None
+    for w in args.workers:
+        load0 = os.getloadavg()[0]
+        res = run_compare(spec, workers=w)
+        load1 = os.getloadavg()[0]
+        if first is None:
+            first = res
+        else:
+            for key in first.counts:
+                if not np.array_equal(first.counts[key], res.counts[key]):
+                    print(f"counts differ between {first.workers} and {w} workers: {key}")
+                    return 1
+        rows.append({"workers": w, "seconds": round(res.seconds, 2),
+                     "trials_per_second": round(res.trials_per_second, 3),
+                     "load_before": round(load0, 2), "load_after": round(load1, 2)})
+    base = rows[0]["trials_per_second"]
+    for r in rows:
+        r["speedup"] = round(r["trials_per_second"] / base, 3)
+    print(f"dptbd compare Monte Carlo: {spec.trials} trials, {spec.size}x{spec.size}, "
+          f"{spec.frames} frames, K={spec.segment_frames}, {len(spec.snr)} SNRs + noise only, "
+          f"{len(spec.configs)} configurations; {os.cpu_count()} CPUs, {platform.processor() or platform.machine()}")
+    print("| workers | seconds | trials/s | speed-up | load avg before/after |")
+    print("|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['workers']} | {r['seconds']:.1f} | {r['trials_per_second']:.2f} | "
+              f"{r['speedup']:.2f} | {r['load_before']:.1f} / {r['load_after']:.1f} |")
+    print("counts identical across worker counts: yes")
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps({
+            "trials": spec.trials, "configs": len(spec.configs), "rows": rows,
+            "cpus": os.cpu_count(), "when": time.strftime("%Y-%m-%d %H:%M:%S")}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,124 @@
+"""The candidate emitter: the record cap, the list trailer and the output FIFO of the
+segmenter (``docs/arithmetic.md`` §6.4, ``docs/gateware.md`` "Segmenter").
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Signal
+from amaranth.lib import data, fifo, stream, wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import DPConfig
+from dptbd.hw.candidate_layout import candidate_layout, record_layout, trailer_layout
+
+__all__ = ["CandidateEmitter"]
+
+
+class CandidateEmitter(wiring.Component):
+    """Turns the scored pixels of one frame into a list of at most C records and a trailer.
+
+    In a cycle with ``valid`` high (one scored pixel, raster order):
+
+    * if ``selected`` and fewer than C records were emitted since the last trailer, the
+      record is written to the output FIFO now; if ``selected`` but C were emitted, the
+      record is dropped and the list's ``overflow`` bit set;
+    * if ``end_of_list``, the trailer — count (including this pixel's record), ``threshold``,
+      ``overflow``, ``primed``, ``aligned``, ``missed`` sampled now — is written to the
+      FIFO in the next cycle, and the count and overflow restart from 0.
+
+    The caller must not present a selected pixel in the cycle after an ``end_of_list`` (the
+    segmenter never does: the next scored pixel waits for the threshold scan), so at most one
+    word is written per cycle.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        Widths, C (``record_capacity``).
+    fifo_depth : int
+        Entries of the output FIFO (``SyncFIFOBuffered``), at least 6.
+
+    Members
+    -------
+    valid, selected, end_of_list, aligned, missed, primed : In(1)
+    record : In(record_layout(cfg))
+        row, col, E, d of the pixel.
+    threshold : In(b + 1)
+    candidates : Out(stream.Signature(candidate_layout(cfg)))
+        Records and trailers; ``valid`` and ``payload`` come from registers.
+    space : Out(1)
+        A register: the FIFO held at most ``fifo_depth - 5`` words in the previous cycle, so
+        it holds at most ``fifo_depth - 4`` now (one write per cycle): room for the words of
+        the pixel in this stage (a record, then a trailer) and of one more pixel. A pixel
+        may be accepted towards this stage only while ``space`` is high.
+    """
+
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8):
+        if fifo_depth < 6:
+            raise ValueError(f"fifo_depth must be >= 6, got {fifo_depth}")
+        self._cfg = cfg
+        self._depth = fifo_depth
+        super().__init__({
+            "valid": In(1),
+            "selected": In(1),
+            "end_of_list": In(1),
+            "aligned": In(1),
+            "missed": In(1),
+            "primed": In(1),
+            "record": In(record_layout(cfg)),
+            "threshold": In(cfg.threshold_bits),
+            "candidates": Out(stream.Signature(candidate_layout(cfg))),
+            "space": Out(1),
+        })
+
+    @property
+    def fifo_depth(self) -> int:
+        return self._depth
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg = self._cfg
+        capacity = cfg.record_capacity
+        layout = candidate_layout(cfg)
+
+        emitted = Signal(range(capacity + 1))
+        overflow = Signal()
+        push = self.valid & self.selected & (emitted < capacity)
+        dropped = self.valid & self.selected & (emitted == capacity)
+
+        trailer = Signal(trailer_layout(cfg))
+        trailer_pending = Signal()
+        m.d.sync += trailer_pending.eq(self.valid & self.end_of_list)
+        with m.If(self.valid & self.end_of_list):
+            m.d.sync += [
+                trailer.count.eq(emitted + push),
+                trailer.threshold.eq(self.threshold),
+                trailer.overflow.eq(overflow | dropped),
+                trailer.primed.eq(self.primed),
+                trailer.aligned.eq(self.aligned),
+                trailer.missed.eq(self.missed),
+                emitted.eq(0),
+                overflow.eq(0),
+            ]
+        with m.Else():
+            with m.If(push):
+                m.d.sync += emitted.eq(emitted + 1)
+            with m.If(dropped):
+                m.d.sync += overflow.eq(1)
+
+        word = Signal(layout)
+        with m.If(trailer_pending):
+            m.d.comb += [word.body.trailer.eq(trailer), word.end_of_list.eq(1)]
+        with m.Else():
+            m.d.comb += word.body.record.eq(self.record)
+
+        m.submodules.fifo = out = fifo.SyncFIFOBuffered(
+            width=data.Layout.cast(layout).size, depth=self._depth)
+        m.d.comb += [
+            out.w_data.eq(word),
+            out.w_en.eq(push | trailer_pending),
+            self.candidates.payload.eq(out.r_data),
+            self.candidates.valid.eq(out.r_rdy),
+            out.r_en.eq(self.candidates.ready),
+        ]
+        m.d.sync += self.space.eq(out.level <= self._depth - 5)
+        return m

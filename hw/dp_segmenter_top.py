@@ -1,0 +1,141 @@
+"""DP pipeline plus segmenter: pixels in, one candidate point list per segment out.
+
+:class:`DPSegmenter` is what the FPGA of paper 001 hands the DSP: instead of every pixel's
+(E, d) it emits, per segment, at most C records (row, col, E, d) and a trailer
+(``docs/gateware.md`` "Segmenter"). ``generate_segmenter_verilog`` converts it to the
+Verilog module ``dptbd_seg`` with a JSON manifest, like :mod:`dptbd.hw.verilog` does for
+``dptbd_dp``; the cocotb harness (:mod:`dptbd.sim.tb_segmenter`) drives that module.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import pathlib
+
+from amaranth.back import verilog
+from amaranth.hdl import Module
+from amaranth.lib import data, stream, wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import DPConfig
+from dptbd.hw.candidate_layout import bits_per_segment, candidate_field_offsets, candidate_layout
+from dptbd.hw.dp_core import lut_write_members
+from dptbd.hw.dp_pipeline import DPPipeline
+from dptbd.hw.layouts import field_offsets, pixel_layout
+from dptbd.hw.segmenter import Segmenter
+from dptbd.hw.verilog import port_list
+
+__all__ = ["SEGMENTER_MODULE_NAME", "DPSegmenter", "segmenter_manifest",
+           "generate_segmenter_verilog"]
+
+#: Name of the generated Verilog module.
+SEGMENTER_MODULE_NAME = "dptbd_seg"
+
+
+class DPSegmenter(wiring.Component):
+    """:class:`~dptbd.hw.dp_pipeline.DPPipeline` feeding a :class:`~dptbd.hw.segmenter.Segmenter`.
+
+    Members
+    -------
+    pixels : In(stream.Signature(pixel_layout(cfg)))
+        As for ``DPPipeline``.
+    candidates : Out(stream.Signature(candidate_layout(cfg)))
+        Records and trailers (:func:`~dptbd.hw.candidate_layout.candidate_layout`).
+    lut_addr, lut_data, lut_we : In
+        The DP pipeline's weight LUT write port.
+    """
+
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8):
+        self._cfg = cfg
+        self._dp = DPPipeline(cfg)
+        self._segmenter = Segmenter(cfg, fifo_depth=fifo_depth)
+        super().__init__({
+            "pixels": In(stream.Signature(pixel_layout(cfg))),
+            "candidates": Out(stream.Signature(candidate_layout(cfg))),
+            **lut_write_members(cfg),
+        })
+
+    @property
+    def config(self) -> DPConfig:
+        return self._cfg
+
+    @property
+    def schedule(self):
+        return self._dp.schedule
+
+    @property
+    def latency(self) -> int:
+        """Cycles from a pixel's acceptance to its record on ``candidates`` (no stalls):
+        the DP pipeline's L plus the segmenter's 3."""
+        return self._dp.latency + Segmenter.RECORD_LATENCY
+
+    @property
+    def scan_cycles(self) -> int:
+        return self._segmenter.scan_cycles
+
+    def elaborate(self, platform):
+        m = Module()
+        m.submodules.dp = dp = self._dp
+        m.submodules.segmenter = seg = self._segmenter
+        wiring.connect(m, wiring.flipped(self.pixels), dp.pixels)
+        wiring.connect(m, dp.states, seg.states)
+        wiring.connect(m, seg.candidates, wiring.flipped(self.candidates))
+        m.d.comb += [
+            dp.lut_addr.eq(self.lut_addr),
+            dp.lut_data.eq(self.lut_data),
+            dp.lut_we.eq(self.lut_we),
+        ]
+        return m
+
+
+def segmenter_manifest(cfg: DPConfig, top: DPSegmenter) -> dict:
+    """Machine-readable description of ``dptbd_seg`` (JSON-serialisable)."""
+    bits = bits_per_segment(cfg)
+    return {
+        "module": SEGMENTER_MODULE_NAME,
+        "top": type(top).__name__,
+        "parameters": {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)
+                       if f.name != "weights"},
+        "derived": {
+            "n_moves": cfg.n_moves,
+            "direction_bits": cfg.direction_bits,
+            "e_max": cfg.e_max,
+            "n_candidates": cfg.n_candidates,
+            "record_capacity": cfg.record_capacity,
+            "n_bins": cfg.n_bins,
+            "bin_shift": cfg.bin_shift,
+            "bin_count_bits": cfg.bin_count_bits,
+            "threshold_bits": cfg.threshold_bits,
+        },
+        "weight_codes": cfg.weight_codes.tolist(),
+        "clock": {"name": "clk", "edge": "rising"},
+        "reset": {"name": "rst", "polarity": "active_high", "kind": "synchronous"},
+        "latency": top.latency,
+        "dp_latency": top.schedule.latency,
+        "scan_cycles": top.scan_cycles,
+        "ports": port_list(top),
+        "layouts": {
+            "pixel": field_offsets(pixel_layout(cfg)),
+            "candidate": candidate_field_offsets(cfg),
+            "candidate_width": data.Layout.cast(candidate_layout(cfg)).size,
+        },
+        "bits_per_segment": dataclasses.asdict(bits),
+    }
+
+
+def generate_segmenter_verilog(cfg: DPConfig, *, manifest_path: str | pathlib.Path | None = None
+                               ) -> tuple[str, dict]:
+    """Convert :class:`DPSegmenter` for ``cfg`` to Verilog module ``dptbd_seg``.
+
+    Returns
+    -------
+    tuple of (str, dict)
+        The Verilog text and its manifest (also written to ``manifest_path`` if given).
+    """
+    top = DPSegmenter(cfg)
+    text = verilog.convert(top, name=SEGMENTER_MODULE_NAME, emit_src=False)
+    info = segmenter_manifest(cfg, top)
+    if manifest_path is not None:
+        pathlib.Path(manifest_path).write_text(json.dumps(info, indent=2) + "\n")
+    return text, info

@@ -1,0 +1,184 @@
+"""The segmenter: from the DP pipeline's ``states`` stream to a candidate point list per
+segment (paper 001 §2, last paragraph; ``docs/arithmetic.md`` §6, ``docs/gateware.md``
+"Segmenter").
+
+Design choice (§6.1): the threshold of segment s comes from the histogram of segment s - 1,
+so the records stream out while segment s's accumulated image passes by — no second pass
+over the state store, no frame buffer, no stall for K >= 2 — at the price of a threshold one
+segment stale (a count near n, not exactly <= n: capped at C) and an empty first list after
+reset.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Mux, Signal
+from amaranth.lib import stream, wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import DPConfig
+from dptbd.hw.candidate_emitter import CandidateEmitter
+from dptbd.hw.candidate_layout import candidate_layout
+from dptbd.hw.histogram import Histogram
+from dptbd.hw.layouts import state_layout
+from dptbd.hw.threshold import ThresholdSearch
+
+__all__ = ["Segmenter", "scan_cycles"]
+
+
+def scan_cycles(cfg: DPConfig) -> int:
+    """Cycles from accepting a list's last pixel to accepting the next scored pixel at the
+    earliest: the histogram scan of 2**b bins plus 4 (``docs/gateware.md`` "Segmenter")."""
+    return cfg.n_bins + 4
+
+
+class Segmenter(wiring.Component):
+    """Histogram threshold segmentation of the accumulated images on a ``states`` stream.
+
+    The segmenter counts the words of ``states`` itself: column, row and frame k within the
+    segment, from reset, realigned to (0, 0, k = 0) after every word with
+    ``end_of_segment``. Frame k = K - 1 is *scored*: each of its pixels is histogrammed
+    (bin ``min(E >> s, 2**b - 1)``) and, if its bin is >= the threshold T, emitted as a
+    record (at most C per list). The list ends at the counters' last pixel of the scored
+    frame, or earlier at an ``end_of_segment`` inside it; then the trailer follows and the
+    histogram is scanned for the next list's T and cleared. Words of the next scored frame
+    wait for the scan (``states.ready`` low, :func:`scan_cycles` = 2**b + 4 cycles from the
+    list's last word); words of other frames pass meanwhile, so with K >= 2 and
+    W*H*(K-1) >= 2**b + 4 the segmenter never stalls.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        Frame size, K, widths and the segmentation parameters (n, C, b, s).
+    fifo_depth : int
+        Entries of the output FIFO (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter`).
+
+    Members
+    -------
+    states : In(stream.Signature(state_layout(cfg)))
+        The DP pipeline's output. ``states.ready`` depends only on registers.
+    candidates : Out(stream.Signature(candidate_layout(cfg)))
+        Records (raster order) and one trailer per list.
+    """
+
+    #: Cycles from accepting a state word to its record being valid on ``candidates``
+    #: (no back-pressure): stage B writes the FIFO, which takes 2 cycles to its output.
+    RECORD_LATENCY = 3
+
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8):
+        self._cfg = cfg
+        self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth)
+        super().__init__({
+            "states": In(stream.Signature(state_layout(cfg))),
+            "candidates": Out(stream.Signature(candidate_layout(cfg))),
+        })
+
+    @property
+    def config(self) -> DPConfig:
+        return self._cfg
+
+    @property
+    def scan_cycles(self) -> int:
+        """:func:`scan_cycles` of this configuration: 2**b + 4."""
+        return scan_cycles(self._cfg)
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg = self._cfg
+        width, height, k_frames = cfg.width, cfg.height, cfg.segment_frames
+
+        m.submodules.histogram = hist = Histogram(cfg)
+        m.submodules.threshold = search = ThresholdSearch(cfg)
+        m.submodules.emitter = emitter = self._emitter
+        wiring.connect(m, emitter.candidates, wiring.flipped(self.candidates))
+        m.d.comb += [
+            search.scan_valid.eq(hist.scan_valid),
+            search.scan_bin.eq(hist.scan_bin),
+            search.scan_count.eq(hist.scan_count),
+            search.scan_last.eq(hist.scan_last),
+        ]
+
+        # ---- position of the next word ---------------------------------------------------
+        col = Signal(range(width))
+        row = Signal(range(height))
+        frame = Signal(range(k_frames))
+        scored = frame == k_frames - 1
+        last = scored & (row == height - 1) & (col == width - 1)
+
+        # ---- control: busy from a list end (or reset) until the scan has loaded T -------
+        busy = Signal(init=1)           # the histogram is not ready for a scored pixel
+        clearing = Signal(init=1)       # the scan under way only clears (after reset)
+        scan_request = Signal(init=1)   # start a scan this cycle
+        missed = Signal()               # an end_of_segment outside a scored frame
+
+        word = self.states.payload
+        ready = emitter.space & ~(busy & scored)
+        m.d.comb += self.states.ready.eq(ready)
+        accept = self.states.valid & ready
+        eos = word.end_of_segment
+        ends = scored & (last | eos)
+
+        # ---- cycle A: histogram read, counters ------------------------------------------
+        # min(E >> s, 2**b - 1) without a comparator: any bit above the bin's b bits clamps
+        shifted = word.energy[cfg.bin_shift:]
+        energy_bin = Signal(range(cfg.n_bins))
+        if len(shifted) > cfg.histogram_bits:
+            m.d.comb += energy_bin.eq(Mux(shifted[cfg.histogram_bits:].any(), cfg.n_bins - 1,
+                                          shifted[:cfg.histogram_bits]))
+        else:
+            m.d.comb += energy_bin.eq(shifted)
+        m.d.comb += [
+            hist.add_bin.eq(energy_bin),
+            hist.add_en.eq(accept & scored),
+            hist.scan_start.eq(scan_request),
+            search.load.eq(~clearing),
+        ]
+        with m.If(accept):
+            with m.If(eos):
+                m.d.sync += [col.eq(0), row.eq(0), frame.eq(0)]
+            with m.Elif(col == width - 1):
+                m.d.sync += col.eq(0)
+                with m.If(row == height - 1):
+                    m.d.sync += [row.eq(0), frame.eq(Mux(scored, 0, frame + 1))]
+                with m.Else():
+                    m.d.sync += row.eq(row + 1)
+            with m.Else():
+                m.d.sync += col.eq(col + 1)
+
+        m.d.sync += scan_request.eq(accept & ends)
+        with m.If(accept & ends):
+            m.d.sync += busy.eq(1)
+        with m.Elif(search.done):                            # T is loaded at this edge
+            m.d.sync += [busy.eq(0), clearing.eq(0)]
+        with m.If(accept & ends):
+            m.d.sync += missed.eq(0)
+        with m.Elif(accept & ~scored & eos):
+            m.d.sync += missed.eq(1)
+
+        # ---- cycle B: emit ----------------------------------------------------------------
+        valid_b = Signal()
+        selected_b = Signal()
+        ends_b = Signal()
+        aligned_b = Signal()
+        missed_b = Signal()
+        m.d.sync += valid_b.eq(accept & scored)
+        with m.If(accept):
+            m.d.sync += [
+                selected_b.eq(energy_bin >= search.threshold),
+                ends_b.eq(ends),
+                aligned_b.eq(last & eos),
+                missed_b.eq(missed),
+                emitter.record.row.eq(row),
+                emitter.record.col.eq(col),
+                emitter.record.energy.eq(word.energy),
+                emitter.record.direction.eq(word.direction),
+            ]
+        m.d.comb += [
+            emitter.valid.eq(valid_b),
+            emitter.selected.eq(selected_b),
+            emitter.end_of_list.eq(ends_b),
+            emitter.aligned.eq(aligned_b),
+            emitter.missed.eq(missed_b),
+            emitter.threshold.eq(search.threshold),
+            emitter.primed.eq(search.primed),
+        ]
+        return m

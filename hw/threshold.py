@@ -1,0 +1,87 @@
+"""The threshold search: the smallest bin T whose count from the top does not exceed n
+(``docs/arithmetic.md`` §6.3), from a histogram scan that delivers the top bin first.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Mux, Signal
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import DPConfig
+
+__all__ = ["ThresholdSearch"]
+
+
+class ThresholdSearch(wiring.Component):
+    """Consume a top-down histogram scan; hold the threshold bin T it yields.
+
+    Equivalent to the model's saturating ``cum = min(cum + h[a], n + 1)`` with ``T = a``
+    while ``cum <= n`` (``dptbd.model.segmentation.threshold_bin``), computed as a budget
+    ``remaining = n - cum`` that each count h[a] must fit: ``h[a] <= remaining`` is one
+    borrow chain, so the loop ``remaining -> remaining - h`` is one carry chain deep. After
+    the first count that does not fit, nothing changes until the end of the scan (the
+    cumulative count only grows). T = 2**b when already the top bin holds more than n
+    pixels.
+
+    The scan inputs are registered first (one cycle), so the block RAM's output does not
+    feed the carry chain directly. At the scanned bin 0 (``scan_last``) the result is
+    loaded into ``threshold`` if ``load`` is high, and the search restarts.
+
+    Members
+    -------
+    scan_valid, scan_last : In(1); scan_bin : In(range(2**b)); scan_count : In(bin_count_bits)
+        From :class:`~dptbd.hw.histogram.Histogram`.
+    load : In(1)
+        Sampled in the ``done`` cycle: 1 loads the result into ``threshold`` and sets
+        ``primed``; 0 discards it (the clearing scan after reset).
+    threshold : Out(b + 1)
+        T, a register; 2**b (select nothing) after reset.
+    primed : Out(1)
+        A threshold has been loaded since reset.
+    done : Out(1)
+        High in the cycle at whose end ``threshold`` is loaded: one cycle after the
+        ``scan_last`` input.
+    """
+
+    def __init__(self, cfg: DPConfig):
+        self._cfg = cfg
+        super().__init__({
+            "scan_valid": In(1),
+            "scan_bin": In(range(cfg.n_bins)),
+            "scan_count": In(cfg.bin_count_bits),
+            "scan_last": In(1),
+            "load": In(1),
+            "threshold": Out(cfg.threshold_bits, init=cfg.n_bins),
+            "primed": Out(1),
+            "done": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg = self._cfg
+        n = cfg.n_candidates
+
+        valid = Signal()
+        last = Signal()
+        bin_ = Signal(range(cfg.n_bins))
+        count = Signal(cfg.bin_count_bits)
+        m.d.sync += [valid.eq(self.scan_valid), last.eq(self.scan_valid & self.scan_last),
+                     bin_.eq(self.scan_bin), count.eq(self.scan_count)]
+
+        remaining = Signal(range(n + 1), init=n)      # n - cum, while cum <= n
+        stopped = Signal()                            # cum has exceeded n
+        best = Signal(cfg.threshold_bits, init=cfg.n_bins)
+        fits = (count <= remaining) & ~stopped
+        best_next = Mux(fits, bin_, best)
+        m.d.comb += self.done.eq(valid & last)
+        with m.If(valid):
+            with m.If(last):
+                m.d.sync += [remaining.eq(n), stopped.eq(0), best.eq(cfg.n_bins)]
+                with m.If(self.load):
+                    m.d.sync += [self.threshold.eq(best_next), self.primed.eq(1)]
+            with m.Elif(fits):
+                m.d.sync += [remaining.eq(remaining - count), best.eq(bin_)]
+            with m.Else():
+                m.d.sync += stopped.eq(1)
+        return m

@@ -1,0 +1,243 @@
+"""Run any set of detectors on the same scenes at the same false-alarm rate: Pd vs SNR.
+
+Two scene families (``docs/detectors.md`` §3):
+
+* ``rd`` — paper 004's range-Doppler magnitudes (:mod:`~dptbd.model.detectors.rd_scenes`):
+  scenario 2's target (geometry of 004 §4.1) on a ``crop`` of the 200 x 500 map around
+  it, Swerling I, Rayleigh noise; the grid filters get the Doppler-implied range drift;
+* ``image`` — paper 000's images (:func:`dptbd.model.scenes.paper000_scenario`): 64 x 64,
+  zero-mean Gaussian noise, a constant target moving (+2, -2) cells per frame.
+
+For each detector the threshold is set on ``noise_trials`` noise-only scenes for
+``false_alarm_rate`` per decision (:func:`~dptbd.model.detectors.interface.calibrate`);
+then ``trials`` scenes per SNR give Pd = detections / opportunities (scored frames from
+``first_frame`` on, the same frames for every detector). Every detector sees the same
+seeded scenes. Work is split into (detector, SNR) tasks over ``jobs`` processes.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import dataclasses
+import math
+import os
+from typing import Any, Iterable
+
+import numpy as np
+
+from dptbd.model import scenes as image_scenes
+from dptbd.model.detectors import interface, rd_scenes
+from dptbd.model.detectors._checks import DetectorError, check_int, check_prob, check_real
+
+__all__ = ["SceneSpec", "CompareResult", "run_comparison", "SCENES"]
+
+SCENES = ("rd", "image")
+#: The rd crop of the 200 x 500 map: delay cells 112..175, Doppler cells 124..251 (64 x 128).
+RD_CROP = (112, 124, 64, 128)
+
+
+@dataclasses.dataclass(frozen=True)
+class SceneSpec:
+    """Which scenes: family, frames, crop and the preset SNR channel of the detectors."""
+
+    kind: str = "rd"
+    frames: int = 20
+    preset_snr_db: float = 10.0
+    crop: tuple[int, int, int, int] = RD_CROP  # (row0, col0, rows, cols) of the 200 x 500 map
+
+    def __post_init__(self) -> None:
+        if self.kind not in SCENES:
+            raise DetectorError(f"scene must be one of {SCENES}, got {self.kind!r}")
+        check_int("frames", self.frames, 2, 1000)
+        check_real("preset_snr_db", self.preset_snr_db, -30.0, 60.0)
+        r0, c0, h, w = self.crop
+        check_int("crop rows", h, 19, 200)
+        check_int("crop cols", w, 3, 500)
+        check_int("crop row0", r0, 0, 200 - h)
+        check_int("crop col0", c0, 0, 500 - w)
+
+    def model(self, snr_db: float | None = None) -> interface.SceneModel:
+        snr = self.preset_snr_db if snr_db is None else snr_db
+        if self.kind == "rd":
+            r0, c0, h, w = self.crop
+            drift = rd_scenes.PassiveRadar().range_drift()[c0:c0 + w]
+            return interface.SceneModel((h, w), "rayleigh", 1.0, snr, 1, drift)
+        return interface.SceneModel((64, 64), "gaussian", 1.0, snr, 2, None)
+
+    def truth(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(pixel (T, 2), visible (T,))`` of the target in scene coordinates."""
+        if self.kind == "rd":
+            r0, c0, h, w = self.crop
+            track = rd_scenes.scenario2_track(frames=self.frames) - np.array([r0, c0])
+            pix = np.rint(track).astype(np.int64)
+            vis = (pix[:, 0] >= 0) & (pix[:, 0] < h) & (pix[:, 1] >= 0) & (pix[:, 1] < w)
+            return pix, vis
+        sc = image_scenes.paper000_scenario(0.0, frames=self.frames, noise=False)
+        return sc.truth[0].pixel, sc.truth[0].visible
+
+    def frames_for(self, snr_db: float | None, trials: int, seed: int, first_trial: int = 0) -> np.ndarray:
+        """``(N, T, H, W)`` scenes; ``snr_db=None`` for noise only (same noise as with a target)."""
+        if self.kind == "rd":
+            r0, c0, h, w = self.crop
+            track = None
+            if snr_db is not None:
+                track = rd_scenes.scenario2_track(frames=self.frames) - np.array([r0, c0])
+            sc = rd_scenes.rd_scene((h, w), self.frames, track, snr_db=0.0 if snr_db is None else snr_db,
+                                    seed=seed, trials=trials, first_trial=first_trial)
+            return sc.frames
+        if snr_db is None:
+            return image_scenes.make_noise((64, 64), self.frames, seed=seed, trials=trials,
+                                           first_trial=first_trial, dtype=np.float32)
+        return image_scenes.paper000_scenario(snr_db, frames=self.frames, seed=seed, trials=trials,
+                                              first_trial=first_trial, dtype=np.float32).frames
+
+
+@dataclasses.dataclass(frozen=True)
+class CompareResult:
+    """Per detector: threshold, noise false alarms and Pd counts per SNR."""
+
+    detectors: tuple[str, ...]
+    snrs_db: tuple[float, ...]
+    thresholds: dict  # name -> threshold (or {snr: threshold} when matched)
+    false_alarms: dict  # name -> Counts (on the calibration scenes)
+    detections: dict  # (name, snr) -> Counts
+    params: dict
+
+
+_CHUNK = 10
+
+
+def _noise_task(args: tuple) -> tuple:
+    """Decision statistics of one detector (at one preset channel) on a chunk of noise-only scenes."""
+    name, spec, channel, lo, n, seed, params = args
+    det = interface.make_detector(name, spec.model(channel), **params.get(name, {}))
+    return name, channel, lo, det.decide(spec.frames_for(None, n, seed + 1, lo)).statistic
+
+
+def _pd_task(args: tuple) -> tuple:
+    """Detections of one detector on the target scenes of one SNR."""
+    name, spec, snr, channel, thr, trials, seed, first_frame, gate, params = args
+    det = interface.make_detector(name, spec.model(channel), **params.get(name, {}))
+    pixel, visible = spec.truth()
+    hits = interface.Counts(0, 0)
+    for lo in range(0, trials, _CHUNK):
+        frames = spec.frames_for(snr, min(_CHUNK, trials - lo), seed, lo)
+        c = interface.count_detections(det.decide(frames), thr, pixel, visible,
+                                       first_frame=first_frame, gate=gate)
+        hits = interface.Counts(hits.hits + c.hits, hits.total + c.total)
+    return name, snr, hits
+
+
+def _map(fn, tasks: list, jobs: int, progress: bool, desc: str) -> list:
+    if jobs == 1 or len(tasks) == 1:
+        it = map(fn, tasks)
+        if progress:
+            from tqdm import tqdm
+            it = tqdm(it, total=len(tasks), desc=desc, unit="task")
+        return list(it)
+    with concurrent.futures.ProcessPoolExecutor(max_workers=min(jobs, os.cpu_count() or 1)) as pool:
+        futures = [pool.submit(fn, t) for t in tasks]
+        it = concurrent.futures.as_completed(futures)
+        if progress:
+            from tqdm import tqdm
+            it = tqdm(it, total=len(tasks), desc=desc, unit="task")
+        return [f.result() for f in it]
+
+
+def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
+                   snrs_db: Iterable[float] = (0.0, 3.0, 6.0, 9.0, 12.0, 15.0),
+                   spec: SceneSpec | None = None, trials: int = 20, noise_trials: int = 50,
+                   false_alarm_rate: float = 0.01, matched: bool = False, seed: int = 6,
+                   first_frame: int | None = None, gate: int = 1, jobs: int = 2,
+                   params: dict | None = None, progress: bool = False) -> CompareResult:
+    """Pd vs SNR of every detector at the same false-alarm rate per decision.
+
+    Parameters
+    ----------
+    detectors : iterable of str
+        Names from :data:`~dptbd.model.detectors.interface.DETECTORS`.
+    snrs_db : iterable of float
+        SNRs in dB (rd: average per-cell SNR; image: paper 000 eq (8)).
+    spec : SceneSpec
+        Scene family and length; default ``SceneSpec()`` (rd, 20 frames).
+    trials, noise_trials : int
+        Target scenes per SNR; noise-only scenes for the thresholds.
+    false_alarm_rate : float
+        Per decision, in (0, 1).
+    matched : bool
+        Set the preset SNR channel of each detector that has one (``uses_channel``: info,
+        grid-bayes, dp-likelihood) to the scene's SNR and recalibrate it per SNR (004's
+        matched case); else the channel is ``spec.preset_snr_db`` for all.
+    first_frame : int or None
+        First scored frame; ``None``: K - 1 of the DPs (7), the same for every detector.
+    gate : int
+        Chebyshev distance of a correct estimate, cells.
+    jobs : int
+        Worker processes (1 = in this process).
+    params : dict
+        ``{detector name: {parameter: value}}`` passed to the detector constructors.
+    """
+    names = interface.parse_detectors(list(detectors))
+    spec = SceneSpec() if spec is None else spec
+    if not isinstance(spec, SceneSpec):
+        raise DetectorError(f"spec must be a SceneSpec, got {spec!r}")
+    snrs = tuple(check_real("snr_db", s, -30.0, 60.0) for s in snrs_db)
+    if not snrs:
+        raise DetectorError("snrs_db must hold at least one SNR")
+    trials = check_int("trials", trials, 1)
+    noise_trials = check_int("noise_trials", noise_trials, 1)
+    pfa = check_prob("false_alarm_rate", false_alarm_rate)
+    jobs = check_int("jobs", jobs, 1, 64)
+    gate = check_int("gate", gate, 0)
+    params = {} if params is None else dict(params)
+    for key in params:
+        interface.parse_detectors([key])
+    k = max([p.get("segment_frames", 8) for n, p in [(n, params.get(n, {})) for n in names]] + [8])
+    first = min(k - 1, spec.frames - 1) if first_frame is None else check_int(
+        "first_frame", first_frame, 0, spec.frames - 1)
+    # fail early, in this process, on bad detector parameters
+    for n in names:
+        interface.make_detector(n, spec.model(), **params.get(n, {}))
+    decisions = (spec.frames - first) * noise_trials
+    if math.floor(pfa * decisions) < 1:
+        raise DetectorError(f"false_alarm_rate={pfa:g} needs at least {math.ceil(1 / pfa)} noise-only "
+                            f"decisions, {noise_trials} noise trials give {decisions}; raise noise_trials")
+    def channels(name: str) -> tuple:
+        matched_here = matched and interface.DETECTORS[name].uses_channel
+        return snrs if matched_here else (spec.preset_snr_db,)
+
+    def channel(name: str, snr: float) -> float:
+        return snr if matched and interface.DETECTORS[name].uses_channel else spec.preset_snr_db
+
+    chunks = [(lo, min(_CHUNK, noise_trials - lo)) for lo in range(0, noise_trials, _CHUNK)]
+    noise = _map(_noise_task, [(n, spec, c, lo, m, seed, params) for n in names for c in channels(n)
+                               for lo, m in chunks], jobs, progress, "thresholds")
+    cal = []
+    for n in names:
+        for c in channels(n):
+            parts = sorted((lo, st) for nn, cc, lo, st in noise if (nn, cc) == (n, c))
+            stat = np.concatenate([st for _, st in parts])
+            t = interface.calibrate(stat[:, first:], pfa)
+            fa = interface.count_false_alarms(interface.Decisions(stat, np.zeros(stat.shape + (2,))), t,
+                                              first_frame=first)
+            cal.append((n, c, t, fa))
+    thr = {(n, c): t for n, c, t, _ in cal}
+    thresholds: dict = {}
+    false_alarms: dict = {}
+    for n, c, t, fa in cal:
+        if len(channels(n)) > 1:
+            thresholds.setdefault(n, {})[c] = t
+        else:
+            thresholds[n] = t
+        prev = false_alarms.get(n, interface.Counts(0, 0))
+        false_alarms[n] = interface.Counts(prev.hits + fa.hits, prev.total + fa.total)
+    tasks = []
+    for n in names:
+        for s in snrs:
+            c = channel(n, s)
+            tasks.append((n, spec, s, c, thr[(n, c)], trials, seed, first, gate, params))
+    detections = {(n, s): h for n, s, h in _map(_pd_task, tasks, jobs, progress, "Pd")}
+    info = dict(scene=spec.kind, frames=spec.frames, preset_snr_db=spec.preset_snr_db, crop=spec.crop,
+                trials=trials, noise_trials=noise_trials, false_alarm_rate=pfa, matched=matched,
+                seed=seed, first_frame=first, gate=gate, params=params)
+    return CompareResult(names, snrs, thresholds, false_alarms, detections, info)

@@ -1,0 +1,201 @@
+"""Paper 004's grid filters: kernel, transition, likelihood, entropy, and both recursions
+against a dense brute-force implementation on tiny grids."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from dptbd.model.detectors import DetectorError
+from dptbd.model.detectors.grid import (
+    GridBayes, InfoAccumulation, Transition, check_kernel, entropy_bits, estimate_alpha,
+    gaussian_kernel, log_i0, rician_log_likelihood)
+
+
+def test_gaussian_kernel_is_normalised_and_symmetric():
+    for sr, sd, r in [(0.5, 0.5, 1), (1.0, 0.3, 2), (0.0, 0.7, 1)]:
+        k = gaussian_kernel(sr, sd, r)
+        assert k.shape == (2 * r + 1, 2 * r + 1)
+        assert math.isclose(k.sum(), 1.0, abs_tol=1e-15)
+        assert np.allclose(k, k[::-1, ::-1])
+    assert np.array_equal(gaussian_kernel(0.0, 0.0, 1), np.pad([[1.0]], 1))
+
+
+@pytest.mark.parametrize("kernel,match", [
+    (np.full((3, 3), 0.1), "sum to 1"),
+    (np.ones((2, 3)) / 6, "odd sides"),
+    (np.ones(9) / 9, "odd sides"),
+    (np.array([[0.5, 0.6, -0.1]]), "non-negative"),
+    (np.array([[np.nan, 1.0, 0.0]]), "non-negative"),
+])
+def test_bad_kernel_is_refused_by_name(kernel, match):
+    with pytest.raises(DetectorError, match=f"kernel.*{match}"):
+        check_kernel(kernel)
+    with pytest.raises(DetectorError, match="kernel"):
+        Transition((4, 4), kernel)
+
+
+def dense_kernel_matrix(shape, kernel):
+    """T from its definition: K[i - m, j - n] / (kernel mass landing inside), raster order."""
+    n_i, n_j = shape
+    ri, rj = kernel.shape[0] // 2, kernel.shape[1] // 2
+    t = np.zeros((n_i * n_j, n_i * n_j))
+    for m in range(n_i):
+        for n in range(n_j):
+            for a in range(-ri, ri + 1):
+                for b in range(-rj, rj + 1):
+                    if 0 <= m + a < n_i and 0 <= n + b < n_j:
+                        t[m * n_j + n, (m + a) * n_j + n + b] = kernel[a + ri, b + rj]
+            t[m * n_j + n] /= t[m * n_j + n].sum()
+    return t
+
+
+def test_transition_matches_its_definition_and_is_row_stochastic():
+    k = gaussian_kernel(0.8, 0.4, 1)
+    tr = Transition((5, 4), k)
+    dense = tr.dense()
+    assert np.allclose(dense, dense_kernel_matrix((5, 4), k))
+    w = np.random.default_rng(0).random((5, 4))
+    assert np.allclose(tr.predict(w).ravel(), dense.T @ w.ravel())  # eq (18)
+
+
+def test_drift_moves_mass_by_the_doppler_range_rate():
+    k = gaussian_kernel(0.0, 0.0, 1)  # no diffusion: only the drift
+    tr = Transition((6, 3), k, drift=np.array([0.25, -1.5, 0.0]))
+    dense = tr.dense()
+    assert np.allclose(dense.sum(axis=1), 1.0)  # eq (16), also at the clamped edges
+    w = np.zeros((6, 3))
+    w[2] = 1.0
+    out = tr.predict(w)
+    assert np.allclose(out[:, 0], [0, 0, 0.75, 0.25, 0, 0])
+    assert np.allclose(out[:, 1], [0.5, 0.5, 0, 0, 0, 0])
+    assert np.allclose(out[:, 2], [0, 0, 1, 0, 0, 0])
+    w = np.zeros((6, 3))
+    w[0, 1] = 1.0  # would leave the grid: clamped to the edge, mass kept
+    assert math.isclose(tr.predict(w)[0, 1], 1.0)
+
+
+def test_entropy_of_uniform_and_delta_posteriors():
+    assert math.isclose(float(entropy_bits(np.full((8, 16), 1 / 128))), 7.0)
+    delta = np.zeros((5, 7))
+    delta[2, 3] = 1.0
+    assert float(entropy_bits(delta)) == 0.0
+    two = np.zeros((3, 3))
+    two[0, 0] = two[2, 2] = 0.5
+    assert math.isclose(float(entropy_bits(two)), 1.0)
+
+
+def test_log_i0_matches_numpy_and_does_not_overflow():
+    x = np.linspace(0, 600, 6001)
+    assert np.max(np.abs(log_i0(x) - np.log(np.i0(x)))) < 5e-7
+    assert np.isfinite(log_i0(np.array([1e4, 1e6]))).all()
+
+
+def test_eq21_by_hand_and_rayleigh_noise_scale():
+    z, a, alpha = 2.0, 1.5, 0.8
+    expect = math.exp(-a * a / (2 * alpha * alpha)) * float(np.i0(a * z / alpha ** 2))
+    assert math.isclose(math.exp(float(rician_log_likelihood(z, a, alpha))), expect, rel_tol=1e-6)
+    assert float(rician_log_likelihood(z, 0.0, alpha)) == 0.0  # no target: ratio 1
+    rng = np.random.default_rng(0)
+    z = np.abs(2.0 * (rng.standard_normal((400, 500)) + 1j * rng.standard_normal((400, 500))))
+    assert abs(float(estimate_alpha(z)) - 2.0) < 0.01
+
+
+def info_dense(frames, tr, snr_db):
+    """Table 1 written out with the dense T and eq (21)'s product over every cell (eq (22))."""
+    dense = tr.dense()
+    n_cells = dense.shape[0]
+    w = np.full(n_cells, 1.0 / n_cells)
+    hs = []
+    for z in frames:
+        alpha = math.sqrt(np.mean(z ** 2) / 2)
+        amp = alpha * math.sqrt(2 * 10 ** (snr_db / 10))
+        pred = dense.T @ w                                               # (18)
+        like = np.empty(n_cells)
+        for c in range(n_cells):                                         # (22): product over cells;
+            a_map = np.zeros(n_cells)                                    # only cell c has A != 0
+            a_map[c] = amp
+            terms = np.exp(-a_map ** 2 / (2 * alpha ** 2)) * np.i0(a_map * z.ravel() / alpha ** 2)
+            like[c] = np.prod(terms)
+        w = pred * like / np.sum(pred * like)                            # (25)
+        hs.append(-np.sum(w[w > 0] * np.log2(w[w > 0])))                 # (26)
+    return w.reshape(frames.shape[1:]), np.array(hs)
+
+
+def tiny_scene(seed=0, shape=(4, 5), n_t=5, target=True):
+    rng = np.random.default_rng(seed)
+    n = rng.standard_normal((n_t,) + shape) + 1j * rng.standard_normal((n_t,) + shape)
+    if target:
+        n[:, 1, 2] += 3.0
+    return np.abs(n)
+
+
+def test_info_accumulation_against_dense_brute_force():
+    tr = Transition((4, 5), gaussian_kernel(0.6, 0.6, 1), drift=np.array([0.3, 0, -0.2, 0, 0.1]))
+    z = tiny_scene()
+    run = InfoAccumulation(tr, snr_db=5.0).run(z)
+    w_ref, h_ref = info_dense(z, tr, 5.0)
+    # the filter's I0 is A&S 9.8.1-2 (relative error < 2e-7), the oracle's numpy.i0
+    assert np.allclose(run.posterior, w_ref, rtol=2e-6, atol=1e-15)
+    assert np.allclose(run.entropy, h_ref, rtol=2e-6)
+    assert np.array_equal(run.statistic, -run.entropy)
+    assert tuple(run.estimate[-1]) == np.unravel_index(np.argmax(w_ref), (4, 5)) == (1, 2)
+    h0 = math.log2(20)
+    found, est = InfoAccumulation(tr, snr_db=5.0, entropy_threshold=h0 / 2).detect(z)
+    assert np.array_equal(found, run.entropy < h0 / 2)
+
+
+def test_grid_bayes_against_dense_brute_force():
+    tr = Transition((4, 5), gaussian_kernel(0.6, 0.6, 1))
+    z = tiny_scene(seed=3)
+    birth, death, snr_db = 0.9, 0.1, 5.0
+    filt = GridBayes(tr, snr_db=snr_db, birth=birth, death=death)
+    run = filt.run(z)
+    # augmented chain: state 0 = no target, 1.. = cells
+    dense = tr.dense()
+    n = dense.shape[0]
+    big = np.zeros((n + 1, n + 1))
+    big[0, 0], big[0, 1:] = 1 - birth, birth / n
+    big[1:, 0], big[1:, 1:] = death, (1 - death) * dense
+    p = np.concatenate([[0.5], np.full(n, 0.5 / n)])
+    for t, frame in enumerate(z):
+        alpha = math.sqrt(np.mean(frame ** 2) / 2)
+        amp = alpha * math.sqrt(2 * 10 ** (snr_db / 10))
+        like = np.concatenate([[1.0], np.exp(rician_log_likelihood(frame.ravel(), amp, alpha))])
+        p = big.T @ p * like
+        p /= p.sum()
+        assert math.isclose(run.statistic[t], math.log(p[1:].sum() / p[0]), rel_tol=1e-9)
+    assert np.allclose(run.posterior.ravel(), p[1:] / p[1:].sum())
+
+
+def test_noise_and_target_separate_on_a_small_grid():
+    tr = Transition((16, 16), gaussian_kernel(0.5, 0.5, 1))
+    info = InfoAccumulation(tr, snr_db=10.0)
+    with_target = info.run(tiny_scene(1, (16, 16), 12, True)).entropy[-1]
+    noise = info.run(tiny_scene(1, (16, 16), 12, False)).entropy[-1]
+    assert with_target < 0.5 < noise
+
+
+@pytest.mark.parametrize("call,name", [
+    (lambda tr: GridBayes(tr, birth=1.0), "birth"),
+    (lambda tr: GridBayes(tr, death=0.0), "death"),
+    (lambda tr: GridBayes(tr, initial_existence=1.5), "initial_existence"),
+    (lambda tr: InfoAccumulation(tr, entropy_threshold=0.0), "entropy_threshold"),
+    (lambda tr: InfoAccumulation(tr, entropy_threshold=math.log2(16) + 0.1), "entropy_threshold"),
+    (lambda tr: InfoAccumulation(tr, snr_db=float("inf")), "snr_db"),
+    (lambda tr: InfoAccumulation(tr, alpha=0.0), "alpha"),
+    (lambda tr: InfoAccumulation(tr, likelihood="poisson"), "likelihood"),
+    (lambda tr: InfoAccumulation("T"), "transition"),
+    (lambda tr: InfoAccumulation(tr).run(np.ones((3, 4, 5))), "frames"),
+    (lambda tr: InfoAccumulation(tr).run(-np.ones((3, 4, 4))), "magnitudes"),
+    (lambda tr: InfoAccumulation(tr).detect(np.ones((3, 4, 4))), "entropy_threshold"),
+    (lambda tr: Transition((0, 4), gaussian_kernel()), "grid shape"),
+    (lambda tr: Transition((4, 4), gaussian_kernel(), drift=np.zeros(3)), "drift"),
+    (lambda tr: gaussian_kernel(-1.0), "sigma_range"),
+])
+def test_bad_input_names_the_parameter(call, name):
+    tr = Transition((4, 4), gaussian_kernel())
+    with pytest.raises(DetectorError, match=name):
+        call(tr)

@@ -1,0 +1,107 @@
+"""Amaranth-simulator harness for the segmentation gateware: drive one input stream with
+random gaps, sink one output stream with random back-pressure, collect every word.
+
+The expectation and the comparison come from :mod:`dptbd.sim.segment_scoreboard` (the
+same scoreboard the cocotb test uses), so a mismatch names the segment, record and field.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import random
+import warnings
+
+import numpy as np
+from amaranth.sim import Simulator
+
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.hw.layouts import pack_pixel, state_layout
+from dptbd.sim.segment_scoreboard import CandidateScoreboard
+
+
+def make_config(**kw) -> DPConfig:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        return DPConfig(**kw)
+
+
+@dataclasses.dataclass
+class Run:
+    outputs: list          # output payload words, in order
+    accept_cycles: list    # cycle of each accepted input word
+    output_cycles: list    # cycle of each output transfer
+    cycles: int
+
+
+def pack_states(cfg: DPConfig, states: np.ndarray) -> list[int]:
+    """``states`` payload words from ``(N, 5)`` rows (E, d, eol, eof, eos)."""
+    layout = state_layout(cfg)
+    names = ("energy", "direction", "end_of_line", "end_of_frame", "end_of_segment")
+    offsets = [layout[n].offset for n in names]
+    return [sum(int(v) << o for v, o in zip(row, offsets)) for row in np.asarray(states)]
+
+
+def pack_frames(cfg: DPConfig, frames: np.ndarray) -> list[int]:
+    """``pixels`` payload words, ``first`` on pixel (0, 0) of every frame."""
+    out = []
+    for frame in np.asarray(frames):
+        for i, v in enumerate(frame.ravel()):
+            out.append(pack_pixel(cfg, int(v), i == 0))
+    return out
+
+
+def run(dut, source, sink, words: list[int], *, n_out: int, valid_probability=1.0,
+        ready_probability=1.0, seed=0, settle=50, max_cycles=None, extra=()) -> Run:
+    """Offer ``words`` on stream ``source`` (gaps), take from ``sink`` (back-pressure) until
+    ``n_out`` words came out and then ``settle`` more cycles (to catch extra words)."""
+    rng = random.Random(seed)
+    if max_cycles is None:
+        slow = max(valid_probability, 0.05) * max(ready_probability, 0.05)
+        max_cycles = int((len(words) + 2000) / slow * 3) + 2000
+    result = Run([], [], [], 0)
+
+    async def bench(ctx):
+        sent = 0
+        offering = False
+        cycle = 0
+        quiet = 0
+        while len(result.outputs) < n_out or quiet < settle:
+            if len(result.outputs) >= n_out:
+                quiet += 1
+            if cycle >= max_cycles:
+                raise AssertionError(f"timeout after {cycle} cycles: {sent}/{len(words)} in, "
+                                     f"{len(result.outputs)}/{n_out} out")
+            if not offering and sent < len(words):
+                offering = rng.random() < valid_probability
+                if offering:
+                    ctx.set(source.payload.as_value(), words[sent])
+            ctx.set(source.valid, offering)
+            taking = rng.random() < ready_probability
+            ctx.set(sink.ready, taking)
+            if offering and ctx.get(source.ready):
+                result.accept_cycles.append(cycle)
+                sent += 1
+                offering = False
+            if taking and ctx.get(sink.valid):
+                result.outputs.append(int(ctx.get(sink.payload.as_value())))
+                result.output_cycles.append(cycle)
+            await ctx.tick()
+            cycle += 1
+        result.cycles = cycle
+
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    for process in extra:
+        sim.add_testbench(process, background=True)
+    sim.run()
+    return result
+
+
+def score(cfg: DPConfig, lists, outputs: list[int]) -> CandidateScoreboard:
+    """Feed ``outputs`` to a scoreboard of ``lists``; assert bit-exact with its report."""
+    board = CandidateScoreboard(cfg, lists)
+    for word in outputs:
+        board.receive(word)
+    assert board.done, board.report()
+    return board

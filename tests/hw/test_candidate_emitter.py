@@ -1,0 +1,98 @@
+"""``CandidateEmitter``: the record cap C, the overflow bit, the trailer, the FIFO (§6.4)."""
+
+import random
+
+import pytest
+from amaranth.sim import Simulator
+
+from dptbd.hw.candidate_emitter import CandidateEmitter
+from dptbd.hw.candidate_layout import pack_record, pack_trailer
+from seg_harness import make_config
+from hw_harness import refused
+
+
+def emit(cfg, pixels, *, ready_probability=1.0, seed=0):
+    """``pixels``: (selected, end_of_list, row, col, energy) per scored pixel; a pixel is
+    presented only while ``space`` is high, with an idle cycle after each list end."""
+    dut = CandidateEmitter(cfg)
+    rng = random.Random(seed)
+    out = []
+
+    async def bench(ctx):
+        queue = list(pixels)
+        idle = 0
+        gap = False
+        while queue or idle < 40:
+            present = False
+            if queue and ctx.get(dut.space) and not gap:
+                sel, eol, row, col, energy = queue.pop(0)
+                present = True
+                ctx.set(dut.selected, sel)
+                ctx.set(dut.end_of_list, eol)
+                ctx.set(dut.record.row, row)
+                ctx.set(dut.record.col, col)
+                ctx.set(dut.record.energy, energy)
+                ctx.set(dut.record.direction, 3)
+                ctx.set(dut.threshold, 5)
+                ctx.set(dut.primed, 1)
+                ctx.set(dut.aligned, 1)
+                ctx.set(dut.missed, 0)
+            ctx.set(dut.valid, present)
+            take = rng.random() < ready_probability
+            ctx.set(dut.candidates.ready, take)
+            if take and ctx.get(dut.candidates.valid):
+                out.append(ctx.get(dut.candidates.payload.as_value()))
+            await ctx.tick()
+            gap = present and eol                     # the segmenter's scan gap
+            idle = 0 if queue else idle + 1
+
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    sim.run()
+    return out
+
+
+def reference(cfg, pixels):
+    words, emitted, overflow = [], 0, False
+    for sel, eol, row, col, energy in pixels:
+        if sel and emitted < cfg.record_capacity:
+            words.append(pack_record(cfg, row, col, energy, 3))
+            emitted += 1
+        elif sel:
+            overflow = True
+        if eol:
+            words.append(pack_trailer(cfg, count=emitted, threshold=5, overflow=overflow,
+                                      primed=1, aligned=1, missed=0))
+            emitted, overflow = 0, False
+    return words
+
+
+@pytest.mark.parametrize("ready", [1.0, 0.3])
+def test_cap_overflow_and_trailer(ready):
+    cfg = make_config(width=8, height=8, candidate_count=3, candidate_capacity=4,
+                      histogram_bits=4)
+    rng = random.Random(7)
+    pixels = []
+    for length, p in [(20, 0.5), (10, 0.0), (15, 0.1), (12, 1.0), (1, 1.0), (4, 1.0)]:
+        for i in range(length):
+            pixels.append((rng.random() < p, i == length - 1, i // 8, i % 8, rng.randrange(256)))
+    want = reference(cfg, pixels)
+    got = emit(cfg, pixels, ready_probability=ready, seed=3)
+    assert got == want
+    # the lists exercised: an overflowing one (12 selected > C = 4), an empty one,
+    # a list whose last pixel is a record
+    assert pixels[-1][0] and pixels[-1][1]
+
+
+def test_zero_capacity_only_trailers():
+    cfg = make_config(width=8, height=8, candidate_count=0, candidate_capacity=0)
+    pixels = [(True, i == 5, 0, i, 9) for i in range(6)]
+    got = emit(cfg, pixels)
+    assert got == [pack_trailer(cfg, count=0, threshold=5, overflow=1, primed=1, aligned=1,
+                                missed=0)]
+
+
+def test_refuses_a_small_fifo():
+    with refused(ValueError, match="fifo_depth"):
+        CandidateEmitter(make_config(width=8, height=8), fifo_depth=5)

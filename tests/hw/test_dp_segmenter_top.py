@@ -1,0 +1,86 @@
+"""``DPSegmenter`` (DP pipeline + segmenter) against the golden models, bit for bit: pixels in,
+candidate lists out, compared with ``dptbd.model.fixed`` + ``segment_sequence``."""
+
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from dptbd.hw.candidate_layout import candidate_layout
+from dptbd.hw.dp_segmenter_top import DPSegmenter, generate_segmenter_verilog
+from dptbd.sim.scenarios import make_frames
+from dptbd.sim.segment_scoreboard import expected_lists, list_words
+from seg_harness import make_config, pack_frames, run, score
+
+CASES = {
+    # name: (config, scenario, frames, seed, (valid, ready))
+    "16x12-k3-table1": (dict(width=16, height=12, segment_frames=3, candidate_count=5,
+                             histogram_bits=6, histogram_shift=1), "table1", 9, 1, (0.8, 0.6)),
+    "8x6-k3-random": (dict(width=8, height=6, segment_frames=3, candidate_count=4,
+                           histogram_bits=5), "random", 12, 2, (0.7, 0.5)),
+    "7x6-r2-k2-half_up-cap": (dict(width=7, height=6, segment_frames=2, radius=2,
+                                   rounding="half_up", candidate_count=3, candidate_capacity=5,
+                                   histogram_bits=5, histogram_shift=4), "random", 9, 3, (0.8, 0.6)),
+    "6x5-k1-random": (dict(width=6, height=5, segment_frames=1, candidate_count=3,
+                           histogram_bits=4), "random", 5, 4, (0.9, 0.7)),
+}
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_matches_golden_model(name):
+    kw, scenario, n_frames, seed, (valid, ready) = CASES[name]
+    cfg = make_config(**kw)
+    frames = make_frames(scenario, cfg, n_frames, seed=seed)
+    lists = expected_lists(cfg, frames)
+    n_out = sum(len(ws) for ws in list_words(cfg, lists))
+    dut = DPSegmenter(cfg)
+    result = run(dut, dut.pixels, dut.candidates, pack_frames(cfg, frames), n_out=n_out,
+                 valid_probability=valid, ready_probability=ready, seed=n_frames)
+    score(cfg, lists, result.outputs)
+    assert len(lists) == n_frames // cfg.segment_frames
+    assert sum(lst.count for lst in lists) >= 7
+    if "cap" in name:
+        assert any(lst.overflow for lst in lists)
+
+
+def test_one_pixel_per_clock_and_latency():
+    """K >= 2, valid and ready high: no bubble; a record comes out L + 3 cycles after its
+    pixel was accepted, the trailer one cycle after the frame's last pixel's record slot."""
+    cfg = make_config(width=8, height=6, segment_frames=2, candidate_count=5,
+                      histogram_bits=5, histogram_shift=4)
+    frames = make_frames("random", cfg, 6, seed=3)
+    lists = expected_lists(cfg, frames)
+    n_out = sum(len(ws) for ws in list_words(cfg, lists))
+    dut = DPSegmenter(cfg)
+    assert dut.latency == 14 + 3
+    result = run(dut, dut.pixels, dut.candidates, pack_frames(cfg, frames), n_out=n_out)
+    score(cfg, lists, result.outputs)
+    accepts = result.accept_cycles
+    assert accepts == list(range(1, 1 + frames.size))
+    frame = cfg.width * cfg.height
+    expected_cycles = []
+    for s, lst in enumerate(lists):
+        base = (s * cfg.segment_frames + cfg.segment_frames - 1) * frame
+        expected_cycles += [accepts[base + int(r["row"]) * cfg.width + int(r["col"])]
+                            + dut.latency for r in lst.records]
+        expected_cycles.append(accepts[base + frame - 1] + dut.latency + 1)
+    assert sum(lst.count for lst in lists) >= 5
+    assert result.output_cycles == expected_cycles
+
+
+def test_verilog_and_manifest(tmp_path):
+    cfg = make_config(width=8, height=6, segment_frames=3, candidate_count=4, histogram_bits=5)
+    text, info = generate_segmenter_verilog(cfg, manifest_path=tmp_path / "dptbd_seg.json")
+    assert "module dptbd_seg(" in text
+    ports = {p["name"]: p for p in info["ports"]}
+    width = candidate_layout(cfg).size
+    assert ports["candidates__payload"] == {"name": "candidates__payload",
+                                            "direction": "output", "width": width}
+    assert info["layouts"]["candidate"]["end_of_list"]["offset"] == width - 1
+    assert info["latency"] == 17 and info["scan_cycles"] == 36
+    assert (tmp_path / "dptbd_seg.json").exists()
+    if shutil.which("iverilog"):
+        (tmp_path / "dptbd_seg.v").write_text(text)
+        subprocess.run(["iverilog", "-g2012", "-o", str(tmp_path / "a.out"),
+                        str(tmp_path / "dptbd_seg.v")], check=True, capture_output=True)

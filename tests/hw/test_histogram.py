@@ -1,0 +1,113 @@
+"""``Histogram`` and ``ThresholdSearch`` against ``dptbd.model.segmentation`` (§6.2, §6.3)."""
+
+import random
+
+import numpy as np
+import pytest
+from amaranth.sim import Simulator
+
+from dptbd.hw.histogram import Histogram
+from dptbd.hw.threshold import ThresholdSearch
+from dptbd.model.segmentation import threshold_bin
+from seg_harness import make_config
+
+
+def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2):
+    """Increment ``bins`` (back to back unless gaps), then scan ``scans`` times.
+
+    Returns the list of scans, each a list of (bin, count) in output order, and the cycles
+    from each scan_start to its last count."""
+    dut = Histogram(cfg)
+    rng = random.Random(seed)
+    scans_out = []
+    spans = []
+
+    async def bench(ctx):
+        for b in bins:
+            while rng.random() < gap_probability:
+                ctx.set(dut.add_en, 0)
+                await ctx.tick()
+            ctx.set(dut.add_bin, int(b))
+            ctx.set(dut.add_en, 1)
+            await ctx.tick()
+        ctx.set(dut.add_en, 0)
+        await ctx.tick()                        # the last write-back
+        for _ in range(scans):
+            ctx.set(dut.scan_start, 1)
+            await ctx.tick()
+            ctx.set(dut.scan_start, 0)
+            out = []
+            cycles = 1
+            while True:
+                assert ctx.get(dut.scanning)
+                if ctx.get(dut.scan_valid):
+                    out.append((ctx.get(dut.scan_bin), ctx.get(dut.scan_count)))
+                    if ctx.get(dut.scan_last):
+                        break
+                await ctx.tick()
+                cycles += 1
+            await ctx.tick()
+            assert not ctx.get(dut.scanning)
+            scans_out.append(out)
+            spans.append(cycles)
+
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    sim.run()
+    return scans_out, spans
+
+
+@pytest.mark.parametrize("gaps", [0.0, 0.4])
+def test_counts_saturate_and_scan_clears(gaps):
+    cfg = make_config(width=16, height=16, histogram_bits=4, candidate_count=5)
+    assert cfg.bin_count_bits == 3                    # saturates at 7 >= n + 1 = 6
+    rng = np.random.default_rng(1)
+    # runs of one bin back to back (read-during-write), a bin far above saturation, bin 0
+    bins = np.concatenate([np.full(5, 3), rng.integers(0, 16, 60), np.full(20, 9),
+                           [0, 0, 15, 15, 15]])
+    scans, spans = simulate_histogram(cfg, bins, gap_probability=gaps, seed=2)
+    want = np.minimum(np.bincount(bins, minlength=16), 7)
+    assert [b for b, _ in scans[0]] == list(range(15, -1, -1))      # top bin first
+    assert [c for _, c in scans[0]][::-1] == want.tolist()
+    assert (np.bincount(bins, minlength=16) > 7).any()
+    assert all(c == 0 for _, c in scans[1])                         # cleared
+    assert spans[0] == 16 + 1                                       # 2**b reads + 1
+
+
+def test_threshold_search_matches_model():
+    cfg = make_config(width=16, height=16, histogram_bits=5, candidate_count=7)
+    rng = np.random.default_rng(4)
+    full = (1 << cfg.bin_count_bits) - 1
+    cases = [rng.integers(0, full + 1, 32) * (rng.random(32) < p) for p in (0.1, 0.3, 1.0)]
+    cases += [np.zeros(32, int), np.eye(32, dtype=int)[31] * full,       # top bin > n: T = 32
+              np.eye(32, dtype=int)[31] * 7, np.full(32, 1)]
+    dut = ThresholdSearch(cfg)
+    got = []
+
+    async def bench(ctx):
+        assert ctx.get(dut.threshold) == 32 and not ctx.get(dut.primed)
+        for index, hist in enumerate(cases):
+            load = index != 1                                  # one discarded scan
+            ctx.set(dut.load, load)
+            for a in range(31, -1, -1):
+                ctx.set(dut.scan_valid, 1)
+                ctx.set(dut.scan_bin, a)
+                ctx.set(dut.scan_count, int(hist[a]))
+                ctx.set(dut.scan_last, a == 0)
+                await ctx.tick()
+            ctx.set(dut.scan_valid, 0)
+            assert ctx.get(dut.done)                   # T is loaded at the end of this cycle
+            await ctx.tick()
+            assert not ctx.get(dut.done)
+            got.append((ctx.get(dut.threshold), ctx.get(dut.primed)))
+
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    sim.run()
+    want = [threshold_bin(h, cfg) for h in cases]
+    assert got[0] == (want[0], 1)
+    assert got[1] == (want[0], 1)                              # load = 0 keeps T
+    assert [t for t, _ in got[2:]] == want[2:]
+    assert want[4] == 32 and want[5] == 0 and want[6] == 32 - 7   # n ones from the top

@@ -1,0 +1,199 @@
+"""``Segmenter`` against the word-by-word model ``segment_stream`` (docs/arithmetic.md §6):
+random state streams with input gaps and output back-pressure, stale thresholds, the cap,
+saturating counters, the clamped top bin, truncated and resynchronised streams, reset,
+and the timing (no stall for K >= 2, the scan stall for K = 1)."""
+
+import numpy as np
+import pytest
+from amaranth.hdl import ResetInserter, Signal
+from amaranth.sim import Simulator
+
+from dptbd.hw.segmenter import Segmenter, scan_cycles
+from dptbd.model.segmentation import segment_stream
+from dptbd.sim.segment_scoreboard import list_words
+from seg_harness import make_config, pack_states, run, score
+
+
+def synthetic_states(cfg, n_frames, rng, *, low=0, high=None, first_k=0, low_fraction=0.0):
+    """``(T*H*W, 5)`` state words with random E in [low, high] (a ``low_fraction`` of them
+    exactly ``low``) and d in [0, M], flags as the DP pipeline sets them (the first frame is
+    frame ``first_k`` of its segment)."""
+    high = cfg.e_max if high is None else high
+    k = cfg.segment_frames
+    h, w = cfg.height, cfg.width
+    out = np.zeros((n_frames, h, w, 5), dtype=np.int64)
+    out[..., 0] = rng.integers(low, high + 1, size=(n_frames, h, w))
+    out[..., 0][rng.random((n_frames, h, w)) < low_fraction] = low
+    out[..., 1] = rng.integers(0, cfg.n_moves + 1, size=(n_frames, h, w))
+    out[:, :, -1, 2] = 1
+    out[:, -1, -1, 3] = 1
+    for t in range(n_frames):
+        out[t, -1, -1, 4] = int((t + first_k) % k == k - 1)
+    return out.reshape(-1, 5)
+
+
+def check(cfg, states, *, valid=0.7, ready=0.5, seed=0):
+    lists = segment_stream(states, cfg)
+    n_out = sum(len(ws) for ws in list_words(cfg, lists))
+    dut = Segmenter(cfg)
+    result = run(dut, dut.states, dut.candidates, pack_states(cfg, states), n_out=n_out,
+                 valid_probability=valid, ready_probability=ready, seed=seed)
+    score(cfg, lists, result.outputs)
+    return lists, result
+
+
+CASES = {
+    # name: (config, frames, (E range, fraction at the bottom))
+    "k3-n4-narrow-E": (dict(width=8, height=6, segment_frames=3, candidate_count=4,
+                            histogram_bits=4, histogram_shift=0), 24, (0, 15, 0.5)),
+    "k2-n6-cap6-shift2": (dict(width=7, height=5, segment_frames=2, candidate_count=6,
+                               candidate_capacity=6, histogram_bits=5, histogram_shift=2),
+                          10, (0, 140)),
+    "k1-n3-ties": (dict(width=6, height=4, segment_frames=1, candidate_count=3,
+                        histogram_bits=3, histogram_shift=0), 6, (0, 4)),
+    "k4-n0": (dict(width=5, height=4, segment_frames=4, candidate_count=0, histogram_bits=3),
+              8, (0, 255)),
+    "k2-e12-clamped-top-bin": (dict(width=8, height=4, segment_frames=2, input_bits=8,
+                                    energy_bits=12, candidate_count=5, histogram_bits=4,
+                                    histogram_shift=3), 10, (100, 4095)),
+    "k2-all-pixels": (dict(width=4, height=4, segment_frames=2, candidate_count=16,
+                           histogram_bits=3), 6, (0, 255)),
+}
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_random_streams_match_model(name):
+    kw, n_frames, (low, high, *bottom) = CASES[name]
+    cfg = make_config(**kw)
+    rng = np.random.default_rng(len(name))
+    states = synthetic_states(cfg, n_frames, rng, low=low, high=high,
+                              low_fraction=bottom[0] if bottom else 0.0)
+    lists, _ = check(cfg, states, seed=len(name))
+    assert len(lists) == n_frames // cfg.segment_frames
+    assert not lists[0].primed and lists[0].count == 0 and lists[0].threshold == cfg.n_bins
+    assert all(lst.primed and lst.aligned and not lst.missed for lst in lists[1:])
+    if name == "k3-n4-narrow-E":      # a one-segment-stale threshold overshoots n …
+        assert any(lst.count > cfg.n_candidates for lst in lists)
+        # … and the counters saturate (3 bits for n = 4: at 7) without changing T
+        assert cfg.bin_count_bits == 3 and lists[1].histogram[0] == 7
+    if name == "k2-n6-cap6-shift2":
+        assert any(lst.overflow for lst in lists) and max(lst.count for lst in lists) == 6
+    if name == "k2-e12-clamped-top-bin":
+        assert (states[:, 0] >> 3 > 15).any()
+    if name == "k2-all-pixels":
+        assert [lst.count for lst in lists[1:]] == [16, 16]
+
+
+def test_heavy_back_pressure():
+    cfg = make_config(width=8, height=6, segment_frames=2, candidate_count=10,
+                      histogram_bits=4, histogram_shift=4)
+    states = synthetic_states(cfg, 8, np.random.default_rng(9), high=255)
+    lists, result = check(cfg, states, valid=0.9, ready=0.08, seed=4)
+    assert sum(lst.count for lst in lists) > 20
+
+
+def truncated_stream(cfg, rng, pre_frames, keep, post_frames, **kw):
+    """What the DP pipeline outputs around a resynchronisation: ``pre_frames`` whole frames,
+    the first ``keep`` words of the next without end_of_frame/end_of_segment, then
+    ``post_frames`` frames of a new segment."""
+    a = synthetic_states(cfg, pre_frames + 1, rng, **kw)
+    cut = a[pre_frames * cfg.width * cfg.height:][:keep].copy()
+    cut[:, 3:] = 0
+    b = synthetic_states(cfg, post_frames, rng, **kw)
+    return np.concatenate([a[: pre_frames * cfg.width * cfg.height], cut, b])
+
+
+def test_resynchronised_streams_match_model():
+    """Truncated frames put the segmenter's counters off; it realigns at the next
+    end_of_segment and flags the lists (aligned = 0, missed = 1) as the model does."""
+    cfg = make_config(width=6, height=4, segment_frames=3, candidate_count=3,
+                      histogram_bits=4, histogram_shift=4)
+    rng = np.random.default_rng(12)
+    flags = set()
+    for pre, keep in [(1, 7), (2, 23), (4, 12), (3, 1), (5, 18)]:
+        states = truncated_stream(cfg, rng, pre, keep, 9, high=255)
+        lists, _ = check(cfg, states, valid=0.8, ready=0.6, seed=pre)
+        flags |= {(lst.aligned, lst.missed) for lst in lists}
+    assert {(False, False), (True, True), (True, False)} <= flags
+
+
+def test_no_stall_for_k2_and_record_latency():
+    """Valid and ready always high: one word per cycle, and each record comes out exactly
+    RECORD_LATENCY cycles after its state word was accepted."""
+    cfg = make_config(width=8, height=6, segment_frames=2, candidate_count=5,
+                      histogram_bits=5)
+    states = synthetic_states(cfg, 8, np.random.default_rng(2), high=255)
+    lists, result = check(cfg, states, valid=1.0, ready=1.0)
+    assert cfg.n_bins + 4 <= cfg.width * cfg.height * (cfg.segment_frames - 1)
+    accepts = result.accept_cycles
+    assert accepts == list(range(accepts[0], accepts[0] + len(states)))
+    frame = cfg.width * cfg.height
+    index = []
+    for s, lst in enumerate(lists):
+        base = (s * cfg.segment_frames + cfg.segment_frames - 1) * frame
+        index += [base + int(r["row"]) * cfg.width + int(r["col"]) for r in lst.records]
+        index.append(base + frame - 1)               # the trailer: one cycle after the last
+    latency = [out - accepts[i] for out, i in zip(result.output_cycles, index)]
+    trailers = np.cumsum([lst.count + 1 for lst in lists]) - 1
+    assert sum(lst.count for lst in lists) > 5
+    for n, lat in enumerate(latency):
+        assert lat == Segmenter.RECORD_LATENCY + (1 if n in trailers else 0), n
+
+
+def test_k1_stalls_for_the_scan():
+    """K = 1: every frame is scored; the next frame waits 2**b + 4 cycles for its threshold."""
+    cfg = make_config(width=6, height=5, segment_frames=1, candidate_count=3,
+                      histogram_bits=4)
+    states = synthetic_states(cfg, 4, np.random.default_rng(3), high=255)
+    _, result = check(cfg, states, valid=1.0, ready=1.0)
+    frame = cfg.width * cfg.height
+    accepts = result.accept_cycles
+    gaps = [accepts[t * frame] - accepts[t * frame - 1] for t in range(1, 4)]
+    assert gaps == [scan_cycles(cfg)] * 3 == [cfg.n_bins + 4] * 3
+    assert accepts[frame - 1] - accepts[0] == frame - 1
+
+
+def test_reset_in_a_scored_frame_clears_the_histogram():
+    """rst in the middle of a scored frame: afterwards the first list is unprimed again and
+    everything matches the model of the stream sent after the reset."""
+    cfg = make_config(width=6, height=4, segment_frames=2, candidate_count=4,
+                      histogram_bits=4, histogram_shift=4)
+    rng = np.random.default_rng(5)
+    before = pack_states(cfg, synthetic_states(cfg, 3, rng, high=255))[: 24 + 17]
+    after_states = synthetic_states(cfg, 6, rng, high=255)
+    after = pack_states(cfg, after_states)
+    lists = segment_stream(after_states, cfg)
+    n_out = sum(len(ws) for ws in list_words(cfg, lists))
+    rst = Signal()
+    dut = Segmenter(cfg)
+    top = ResetInserter({"sync": rst})(dut)
+    outputs = []
+
+    async def bench(ctx):
+        ctx.set(dut.candidates.ready, 1)
+        for phase, words in (("before", before), ("after", after)):
+            sent = 0
+            idle = 0
+            while sent < len(words) or (phase == "after" and idle < 60):
+                ctx.set(dut.states.valid, sent < len(words))
+                if sent < len(words):
+                    ctx.set(dut.states.payload.as_value(), words[sent])
+                took = sent < len(words) and ctx.get(dut.states.ready)
+                if ctx.get(dut.candidates.valid) and phase == "after":
+                    outputs.append(ctx.get(dut.candidates.payload.as_value()))
+                await ctx.tick()
+                sent += took
+                idle = idle + 1 if sent == len(words) else 0
+            if phase == "before":
+                ctx.set(dut.states.valid, 0)
+                ctx.set(rst, 1)
+                await ctx.tick()
+                ctx.set(rst, 0)
+
+    sim = Simulator(top)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    sim.run()
+    assert len(outputs) == n_out
+    score(cfg, lists, outputs)
+    assert not lists[0].primed and lists[1].primed
