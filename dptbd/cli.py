@@ -19,6 +19,10 @@ COMMANDS = {
     "sim": ("dptbd.commands.sim",
             "simulate the generated Verilog on a scene (cocotb + Icarus): bit-exact check and cycle count"),
     "verilog": ("dptbd.commands.verilog", "write the pipeline's Verilog and manifest JSON"),
+    "compare": ("dptbd.commands.compare",
+                "fixed vs float detection: Monte Carlo Pd/Pfa, SNR loss, bit-width sweep with iCE40 cost"),
+    "detectors": ("dptbd.commands.detect_compare",
+                  "papers 000/001/004's detectors and CA-CFAR on the same scenes at equal Pfa (Pd vs SNR)"),
 }
 
 
