@@ -7,8 +7,8 @@ from dptbd.cli import main
 from dptbd.model.table1 import DETECTORS, SETTINGS, table1_rows
 
 
-def test_run_prints_the_first_level_table(capsys):
-    assert main(["run", "--seed", "1"]) == 0
+def test_run_prints_the_first_level_table(tmp_path, capsys):
+    assert main(["run", "--seed", "1", "--no-progress", "--out", str(tmp_path / "r")]) == 0
     out = capsys.readouterr().out
     assert "| 1 | (30, 100) | (0.8, -0.4) | 16 |" in out
     assert "| 2 | (54, 40) | (0.4, 0.6) | 16 |" in out
