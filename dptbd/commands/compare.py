@@ -46,6 +46,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     synth.add_argument("--device", default="hx8k", help="nextpnr-ice40 device (default hx8k)")
     synth.add_argument("--package", default="ct256", help="package (default ct256)")
     synth.add_argument("--freq", type=float, default=100.0, help="nextpnr target MHz (default 100)")
+    synth.add_argument("--synth-size", type=int, default=128, metavar="N",
+                       help="frame width = height the gateware is synthesised at (default 128, "
+                            "the gateware's reference size; the Monte Carlo's scene size does "
+                            "not change the widths, only the line buffers and counters)")
     synth.add_argument("--synth-cache", type=pathlib.Path, default=None,
                        help="cache folder (default ~/.cache/dptbd/synth)")
 
@@ -87,25 +91,53 @@ def prepare(args: argparse.Namespace):
             raise ConfigError(f"--device must be one of {ICE40_DEVICES}, got {args.device!r}")
         if len(set(args.synth_seeds)) != len(args.synth_seeds):
             raise ConfigError(f"--synth-seeds must be distinct, got {args.synth_seeds}")
+        if not 3 <= args.synth_size <= 4096:
+            raise ConfigError(f"--synth-size must be in [3, 4096], got {args.synth_size}")
         check_tools()
     return spec
 
 
+def synth_config(cfg, size: int):
+    """``cfg`` at the synthesis frame size ``size`` x ``size`` (the widths unchanged)."""
+    return cfg.replace(width=size, height=size)
+
+
 def synthesise_all(spec, args, workers: int) -> dict:
-    """Hardware cost of every configuration (cached); name -> HardwareCost."""
+    """Hardware cost of every configuration (cached); name -> HardwareCost.
+
+    Each configuration is synthesised at ``--synth-size`` (:func:`synth_config`). A tool
+    failure on one configuration is recorded in its ``error`` field (its cost columns stay
+    empty) and the others go on; a failure is not cached.
+    """
+    import warnings
+
     from tqdm import tqdm
 
-    from dptbd.model.sweep import hardware_cost
+    from dptbd.config import EnergyWidthWarning
+    from dptbd.hw.synth import SynthToolError
+    from dptbd.model.sweep import HardwareCost, hardware_cost
 
     out = {}
     by_cfg = {}
     for f in tqdm(spec.configs, desc="synthesis", unit="config", disable=args.no_progress):
-        if f.cfg not in by_cfg:
-            by_cfg[f.cfg] = hardware_cost(
-                f.cfg, variant=args.synth_variant, device=args.device, package=args.package,
-                seeds=tuple(args.synth_seeds), target_mhz=args.freq, cache_dir=args.synth_cache,
-                jobs=max(1, min(workers, len(args.synth_seeds))))
-        out[f.name] = by_cfg[f.cfg]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", EnergyWidthWarning)
+            cfg = synth_config(f.cfg, args.synth_size)
+            if cfg not in by_cfg:
+                try:
+                    by_cfg[cfg] = hardware_cost(
+                        cfg, variant=args.synth_variant, device=args.device,
+                        package=args.package, seeds=tuple(args.synth_seeds),
+                        target_mhz=args.freq, cache_dir=args.synth_cache,
+                        jobs=max(1, min(workers, len(args.synth_seeds))))
+                except (SynthToolError, ConfigError) as exc:
+                    print(f"dptbd compare: synthesis of {f.name!r} failed: {exc}", file=sys.stderr)
+                    by_cfg[cfg] = HardwareCost(
+                        lut4=None, ff=None, bram=None, carry=None, fmax_median_mhz=None,
+                        fmax_mhz=(), fits=None, logic_cells=None, device=args.device,
+                        package=args.package, variant=args.synth_variant, width=cfg.width,
+                        height=cfg.height, seconds=0.0, error=str(exc)[-500:])
+        out[f.name] = by_cfg[cfg]
     return out
 
 
@@ -126,7 +158,8 @@ def main(args: argparse.Namespace) -> int:
     summary["run"]["total_seconds"] = time.perf_counter() - start
     summary["run"]["synth"] = None if not args.synth else {
         "variant": args.synth_variant, "device": args.device, "package": args.package,
-        "seeds": list(args.synth_seeds), "target_mhz": args.freq}
+        "seeds": list(args.synth_seeds), "target_mhz": args.freq,
+        "size": args.synth_size}
     args.out.mkdir(parents=True, exist_ok=True)
     paths = write_outputs(summary, args.out)
     print(markdown_tables(summary))
