@@ -3,14 +3,22 @@
 Every detector's threshold is set on the same noise-only scenes for the same false-alarm
 probability per decision; then Pd (detections within one cell of the truth / scored
 frames) is measured on the same seeded target scenes at each SNR. Prints a Markdown table
-(Pd with 95 % Wilson intervals), optionally writes it and a Pd-vs-SNR figure.
-``docs/detectors.md`` §3 defines every choice.
+(Pd with 95 % Wilson intervals). ``--out DIR`` writes table (Markdown, CSV), result JSON
+and figure together into a new folder; ``--markdown`` / ``--figure`` write single files.
+Nothing that exists is overwritten without ``--force``, and every output path is checked
+before the (long) run starts. ``docs/detectors.md`` §3 defines every choice.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import csv
+import json
+import os
 import pathlib
+import shutil
+import tempfile
 import time
 
 from dptbd.model.detectors.compare import SCENES, CompareResult, SceneSpec, run_comparison
@@ -46,9 +54,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="set the SNR channel to each scene SNR and recalibrate per SNR")
     parser.add_argument("--seed", type=int, default=6, help="base seed (default 6)")
     parser.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
-    parser.add_argument("--markdown", type=pathlib.Path, help="also write the table to this Markdown file")
-    parser.add_argument("--figure", type=pathlib.Path, help="write the Pd-vs-SNR figure (PNG) here")
-    parser.add_argument("--force", action="store_true", help="overwrite --markdown/--figure if they exist")
+    parser.add_argument("--out", type=pathlib.Path, metavar="DIR",
+                        help="write table.md, table.csv, result.json and pd_vs_snr.png into this new "
+                             "folder (must not exist unless --force)")
+    parser.add_argument("--markdown", type=pathlib.Path, metavar="FILE.md",
+                        help="also write the table to this Markdown file")
+    parser.add_argument("--figure", type=pathlib.Path, metavar="FILE.png",
+                        help="write the Pd-vs-SNR figure (PNG) here")
+    parser.add_argument("--force", action="store_true",
+                        help="overwrite --markdown/--figure files, and replace an --out folder written "
+                             "by an earlier dptbd detectors run")
 
 
 def format_table(res: CompareResult) -> str:
@@ -95,10 +110,119 @@ def plot(res: CompareResult, path: pathlib.Path) -> None:
     plt.close(fig)
 
 
-def main(args: argparse.Namespace) -> int:
+# ---- outputs ------------------------------------------------------------------------------
+
+#: ``result.json``'s ``tool`` field: marks a folder that ``--force`` may replace
+MARKER = "dptbd detectors"
+OUT_FILES = ("table.md", "table.csv", "result.json", "pd_vs_snr.png")
+
+
+def rows(res: CompareResult) -> list[dict]:
+    """One record per (detector, SNR): counts, Pd, 95 % Wilson interval, threshold, noise false alarms."""
+    out = []
+    for name in res.detectors:
+        fa = res.false_alarms[name]
+        for s in res.snrs_db:
+            c = res.detections[(name, s)]
+            lo, hi = wilson_interval(c.hits, c.total)
+            thr = res.thresholds[name]
+            thr = thr[s] if isinstance(thr, dict) else thr
+            out.append(dict(detector=name, snr_db=s, detections=c.hits, opportunities=c.total, pd=c.rate,
+                            pd_lo=lo, pd_hi=hi, threshold=thr, noise_false_alarms=fa.hits,
+                            noise_decisions=fa.total))
+    return out
+
+
+def _check_file(path: pathlib.Path | None, option: str, force: bool, suffix: str) -> None:
+    if path is None:
+        return
+    if path.suffix.lower() != suffix:
+        raise ValueError(f"{option} {path} must end in {suffix}")
+    if path.is_dir():
+        raise FileExistsError(f"{option} {path} is a folder")
+    if not path.parent.resolve().is_dir():
+        raise FileNotFoundError(f"{option} {path}: the folder {path.parent} does not exist")
+    if (path.exists() or path.is_symlink()) and not force:
+        raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
+
+
+def _is_out_folder(path: pathlib.Path) -> bool:
+    try:
+        return json.loads((path / "result.json").read_text()).get("tool") == MARKER
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
+def check_outputs(args: argparse.Namespace) -> None:
+    """Refuse, before any work, every output that would overwrite something silently."""
+    _check_file(args.markdown, "--markdown", args.force, ".md")
+    _check_file(args.figure, "--figure", args.force, ".png")
+    if args.markdown is not None and args.figure is not None and \
+            args.markdown.resolve() == args.figure.resolve():
+        raise ValueError("--markdown and --figure name the same file")
+    out = args.out
+    if out is None:
+        return
+    if not out.resolve().parent.is_dir():
+        raise FileNotFoundError(f"--out {out}: the folder {out.parent} does not exist")
+    if out.exists() or out.is_symlink():
+        if not args.force:
+            raise FileExistsError(f"--out {out} exists; pass --force to replace it, or choose another folder")
+        if out.is_symlink() or not out.is_dir():
+            raise FileExistsError(f"--out {out} exists and is not a folder; --force replaces only the "
+                                  f"folder of an earlier dptbd detectors run")
+        if any(out.iterdir()) and not _is_out_folder(out):
+            raise FileExistsError(f"--out {out} is not the folder of an earlier dptbd detectors run "
+                                  f"(no result.json from it); --force will not replace it")
     for path in (args.markdown, args.figure):
-        if path is not None and path.exists() and not args.force:
-            raise FileExistsError(f"{path} exists; pass --force to overwrite it")
+        if path is not None and out.resolve() in path.resolve().parents:
+            raise ValueError(f"{path} is inside --out {out}, which is replaced as a whole")
+
+
+@contextlib.contextmanager
+def _staging(out: pathlib.Path):
+    """A temporary folder beside ``out``, renamed to ``out`` only when everything is written."""
+    tmp = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.resolve().parent))
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o777 & ~umask)  # mkdtemp makes it private (0700)
+    try:
+        yield tmp
+        if out.exists():
+            old = out.resolve().parent / f".{out.name}.old-{os.getpid()}"
+            os.rename(out, old)
+            os.rename(tmp, out)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.rename(tmp, out)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+
+
+def write_folder(res: CompareResult, out: pathlib.Path, table: str, note: str, arguments: dict) -> None:
+    """``table.md``, ``table.csv``, ``result.json``, ``pd_vs_snr.png`` into ``out`` (atomically)."""
+    records = rows(res)
+    with _staging(out) as tmp:
+        (tmp / "table.md").write_text(table + "\n\n" + note + "\n")
+        with open(tmp / "table.csv", "w", newline="") as fh:
+            writer = csv.DictWriter(fh, fieldnames=list(records[0]))
+            writer.writeheader()
+            writer.writerows(records)
+        params = {k: (list(v) if isinstance(v, tuple) else v) for k, v in res.params.items()}
+        (tmp / "result.json").write_text(json.dumps(
+            dict(tool=MARKER, arguments=arguments, note=note, params=params, rows=records), indent=1,
+            default=str) + "\n")
+        plot(res, tmp / "pd_vs_snr.png")
+
+
+def _write_text(path: pathlib.Path, text: str, force: bool) -> None:
+    with open(path, "w" if force else "x") as fh:  # "x": never replace a file that appeared meanwhile
+        fh.write(text)
+
+
+def main(args: argparse.Namespace) -> int:
+    check_outputs(args)
     names = parse_detectors(args.detectors)
     snrs = args.snr if args.snr is not None else (
         [0.0, 3.0, 6.0, 9.0, 12.0, 15.0] if args.scene == "rd" else [0.0, 2.0, 4.0, 6.0, 8.0])
@@ -116,8 +240,15 @@ def main(args: argparse.Namespace) -> int:
             f"seed {p['seed']}, {time.perf_counter() - start:.0f} s")
     print(table)
     print(note)
+    if args.out is not None:
+        arguments = {k: (str(v) if isinstance(v, pathlib.Path) else v)
+                     for k, v in vars(args).items() if not k.startswith("_")}
+        write_folder(res, args.out, table, note, arguments)
+        print(f"wrote {args.out}/ ({', '.join(OUT_FILES)})")
     if args.markdown is not None:
-        args.markdown.write_text(table + "\n\n" + note + "\n")
+        _write_text(args.markdown, table + "\n\n" + note + "\n", args.force)
     if args.figure is not None:
+        if args.figure.exists() and not args.force:
+            raise FileExistsError(f"--figure {args.figure} appeared during the run; not overwritten")
         plot(res, args.figure)
     return 0

@@ -197,7 +197,9 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
         "first_frame", first_frame, 0, spec.frames - 1)
     # fail early, in this process, on bad detector parameters
     for n in names:
-        interface.make_detector(n, spec.model(), **params.get(n, {}))
+        det = interface.make_detector(n, spec.model(), **params.get(n, {}))
+        if getattr(det, "k", 0) > spec.frames:
+            raise DetectorError(f"{n}: segment_frames={det.k} is longer than the scenes' frames={spec.frames}")
     decisions = (spec.frames - first) * noise_trials
     if math.floor(pfa * decisions) < 1:
         raise DetectorError(f"false_alarm_rate={pfa:g} needs at least {math.ceil(1 / pfa)} noise-only "

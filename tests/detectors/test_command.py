@@ -1,0 +1,94 @@
+"""``dptbd detectors`` through the real CLI: exit 2 on bad input, ``--out`` and no silent overwrite."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import pytest
+
+from dptbd.cli import main as dptbd
+
+#: the smallest real run: CA-CFAR on 9-frame images, 2 scored frames per scene
+TINY = ["detectors", "--detectors", "ca-cfar", "--scene", "image", "--snr", "12", "--frames", "9",
+        "--trials", "2", "--noise-trials", "5", "--pfa", "0.1", "--jobs", "1"]
+
+
+@pytest.mark.parametrize("extra,name", [
+    (["--detectors", "info,mht"], "unknown detector 'mht'"),
+    (["--detectors", ""], "detectors must name at least one"),
+    (["--pfa", "1.5"], "false_alarm_rate"),
+    (["--pfa", "0.001"], "noise_trials"),
+    (["--frames", "1"], "frames"),
+    (["--trials", "0"], "trials"),
+    (["--noise-trials", "-3"], "noise_trials"),
+    (["--preset-snr-db", "90"], "preset_snr_db"),
+    (["--snr", "nan"], "snr_db"),
+    (["--jobs", "0"], "jobs"),
+    (["--detectors", "dw-dp", "--frames", "6", "--noise-trials", "20"], "segment_frames=8"),
+])
+def test_bad_input_exits_2_naming_the_parameter(extra, name, capsys, tmp_path):
+    md = tmp_path / "t.md"
+    assert dptbd(TINY + extra + ["--markdown", str(md)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("dptbd detectors: error:") and name in err
+    assert not md.exists()
+
+
+def test_out_writes_table_csv_json_and_figure_and_never_overwrites(tmp_path, capsys):
+    out = tmp_path / "cmp"
+    assert dptbd(TINY + ["--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert sorted(p.name for p in out.iterdir()) == ["pd_vs_snr.png", "result.json", "table.csv", "table.md"]
+    table = (out / "table.md").read_text()
+    assert table.splitlines()[0] == "| detector | 12 dB | threshold | noise false alarms |"
+    assert table.split("\n\n")[0] in printed
+    rows = list(csv.DictReader(open(out / "table.csv")))
+    assert [(r["detector"], float(r["snr_db"]), int(r["opportunities"])) for r in rows] == [("ca-cfar", 12.0, 4)]
+    result = json.loads((out / "result.json").read_text())
+    assert result["tool"] == "dptbd detectors" and result["rows"][0]["detections"] == int(rows[0]["detections"])
+    assert f"| `ca-cfar` | {float(rows[0]['pd']):.2f} [" in table
+    assert (out / "pd_vs_snr.png").read_bytes()[:4] == b"\x89PNG"
+
+    # an existing folder is refused before any work, and left as it was
+    (out / "notes.txt").write_text("mine")
+    assert dptbd(TINY + ["--out", str(out)]) == 2
+    assert "exists; pass --force" in capsys.readouterr().err
+    assert (out / "notes.txt").read_text() == "mine"
+    # --force replaces an earlier dptbd detectors folder as a whole
+    assert dptbd(TINY + ["--out", str(out), "--force"]) == 0
+    assert not (out / "notes.txt").exists() and (out / "result.json").exists()
+    # ... but never a folder it did not write
+    foreign = tmp_path / "foreign"
+    foreign.mkdir()
+    (foreign / "data.csv").write_text("precious")
+    assert dptbd(TINY + ["--out", str(foreign), "--force"]) == 2
+    assert "will not replace it" in capsys.readouterr().err
+    assert (foreign / "data.csv").read_text() == "precious"
+    assert not list(tmp_path.glob(".*partial*"))  # no staging folder left behind
+
+
+@pytest.mark.parametrize("option,name,message", [
+    ("--markdown", "t.md", "exists; pass --force"),
+    ("--figure", "f.png", "exists; pass --force"),
+    ("--figure", "f.jpg", "must end in .png"),
+    ("--markdown", "t.txt", "must end in .md"),
+    ("--markdown", "missing/t.md", "does not exist"),
+])
+def test_single_files_are_checked_before_the_run(tmp_path, capsys, option, name, message):
+    path = tmp_path / name
+    if "missing" not in name:
+        path.write_text("user file")
+    assert dptbd(TINY + [option, str(path)]) == 2
+    assert message in capsys.readouterr().err
+    if path.exists():
+        assert path.read_text() == "user file"
+
+
+def test_force_overwrites_single_files(tmp_path):
+    md, png = tmp_path / "t.md", tmp_path / "f.png"
+    md.write_text("old")
+    png.write_text("old")
+    assert dptbd(TINY + ["--markdown", str(md), "--figure", str(png), "--force"]) == 0
+    assert md.read_text().startswith("| detector |") and png.read_bytes()[:4] == b"\x89PNG"
+    assert dptbd(TINY + ["--markdown", str(md), "--figure", str(md)]) == 2
