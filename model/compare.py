@@ -110,7 +110,7 @@ DEFAULT_CONFIGS: tuple[dict, ...] = (
 
 #: The default bit-width sweep: every combination of these axes (``docs/compare.md``).
 DEFAULT_SWEEP: dict[str, Any] = {
-    "input_bits": [3, 4, 5, 6, 8, 10, 12],
+    "input_bits": [3, 4, 5, 6, 7, 8, 10, 12],
     "energy_headroom": [0, -1],
     "weight_frac_bits": [0],
     "rounding": ["truncate"],
