@@ -381,3 +381,77 @@ def test_hardware_cost_is_cached(tmp_path):
     assert len(calls) == 2 and not a.cached and b.cached and not c.cached
     assert (b.lut4, b.ff, b.bram, b.fmax_median_mhz, b.logic_cells) == (100, 50, 3, 101.0, 140)
     assert calls[0][1]["variant"] == "core" and calls[0][1]["device"] == "hx8k"
+
+
+# ---- reproducibility, the command line's exit status, synthesis at --synth-size ------------------
+
+def test_same_seed_same_summary_other_seed_other_counts():
+    from dptbd.model.compare_report import summarise
+    spec = build_spec(SMALL)
+    a = summarise(run_compare(spec, workers=1))
+    b = summarise(run_compare(spec, workers=2))
+    for key in ("pd", "pfa", "configs", "choice", "resolution"):
+        assert json.dumps(a[key], default=str) == json.dumps(b[key], default=str), key
+    other = run_compare(build_spec(dict(SMALL, seed=8)), workers=1)
+    first = run_compare(spec, workers=1)
+    assert not np.array_equal(first.counts["exceed"], other.counts["exceed"])
+
+
+@pytest.mark.parametrize("argv, names", [
+    (["--trials", "0"], ["trials", "[1, inf]"]),
+    (["--snr"], ["snr", "at least 2"]),
+    (["--snr", "2.0", "2.0"], ["snr", "strictly increasing"]),
+    (["--bootstrap", "-1"], ["bootstrap", "[0, 1000000]"]),
+    (["--workers", "0"], ["--workers", ">= 1"]),
+    (["--synth", "--synth-size", "2"], ["--synth-size", "[3, 4096]"]),
+    (["--synth", "--synth-seeds", "1", "1"], ["--synth-seeds", "distinct"]),
+    (["--synth", "--device", "xc7"], ["--device", "hx8k"]),
+])
+def test_cli_exits_2_naming_the_parameter(tmp_path, monkeypatch, capsys, argv, names):
+    from dptbd import cli
+    monkeypatch.setattr(cmp, "run_compare", lambda *a, **k: pytest.fail("work started"))
+    out = tmp_path / "out"
+    assert cli.main(["compare", "--out", str(out)] + argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("dptbd compare: error:")
+    for name in names:
+        assert name in err
+    assert not out.exists()
+
+
+def test_cli_exits_2_on_unknown_keys_and_impossible_widths(tmp_path, monkeypatch, capsys):
+    from dptbd import cli
+    monkeypatch.setattr(cmp, "run_compare", lambda *a, **k: pytest.fail("work started"))
+    for text, names in [("[[config]]\nenergy_bitz = 9\n", ["energy_bitz", "allowed"]),
+                        ("[sweep]\ninput_bits = [0]\n", ["input_bits", "[1, 16]"]),
+                        ("[[config]]\ninput_bits = 8\nweight_frac_bits = -1\n",
+                         ["weight_frac_bits"])]:
+        path = _toml(tmp_path / "c.toml", text)
+        assert cli.main(["compare", "--config", path, "--out", str(tmp_path / "o")]) == 2
+        err = capsys.readouterr().err
+        for name in names:
+            assert name in err, (text, err)
+
+
+def test_synthesis_runs_at_synth_size_and_records_failures(monkeypatch):
+    from dptbd.commands import compare as command
+    from dptbd.hw.synth import SynthToolError
+    spec = build_spec(dict(SMALL, config=SMALL["config"][:2]))
+    seen = []
+
+    def fake(cfg, **kw):
+        seen.append(cfg)
+        if cfg.input_bits == 4:
+            raise SynthToolError("nextpnr died")
+        return sweep.HardwareCost(lut4=10, ff=5, bram=1, carry=2, fmax_median_mhz=100.0,
+                                  fmax_mhz=(100.0,), fits=True, logic_cells=12, device="hx8k",
+                                  package="ct256", variant="core", width=cfg.width,
+                                  height=cfg.height, seconds=1.0)
+
+    monkeypatch.setattr(sweep, "hardware_cost", fake)
+    _, args = _parse(["--synth", "--synth-size", "128", "--no-progress"])
+    hw = command.synthesise_all(spec, args, workers=1)
+    assert [(c.width, c.height) for c in seen] == [(128, 128)] * 2
+    assert [c.input_bits for c in seen] == [8, 4]
+    assert hw["eight"].lut4 == 10 and hw["four"].lut4 is None and "nextpnr died" in hw["four"].error
+    assert spec.configs[0].cfg.width == 16  # the Monte Carlo's configuration is unchanged
