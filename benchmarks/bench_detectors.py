@@ -61,6 +61,12 @@ def bench_paper000(seeds: int, figures: pathlib.Path | None) -> dict:
                 target_rank=float(np.median(r.target_rank)), on_track=float(np.mean(r.on_track)),
                 p_target_is_max=float(np.mean(r.target > r.noise_max)),
                 seed0=(float(r.target[0]), float(r.noise_max[0])), seconds=time.perf_counter() - t0)
+    for case in paper000.CASES[:2]:  # how much of the noise maximum is the window's selection bias
+        r = paper000.run_case(case, range(seeds), radius=1)
+        lines.append(f"| {case.label} | datapath, radius 1 (3 x 3) | - | {np.median(r.target):.2f} | "
+                     f"{np.median(r.noise_max):.2f} | | | | | | |")
+        out[f"{case.label} radius 1"] = dict(seeds=seeds, target_median=float(np.median(r.target)),
+                                             noise_max_median=float(np.median(r.noise_max)))
     print("\n".join(lines))
     if figures is not None:
         _fig_paper000(figures / "p000_tracks.png")

@@ -55,8 +55,8 @@ class Case:
         a = scenes.amplitude_from_snr_db(self.snr_db, 1.0)
         return unified.likelihood_difference_merit(a, self.epsilon, self.sigma)
 
-    def transition(self) -> np.ndarray:
-        return unified.velocity_log_penalty(RADIUS, self.alpha) if self.penalty else unified.no_penalty(RADIUS)
+    def transition(self, radius: int = RADIUS) -> np.ndarray:
+        return unified.velocity_log_penalty(radius, self.alpha) if self.penalty else unified.no_penalty(radius)
 
 
 CASES = (
@@ -104,12 +104,18 @@ class CaseResult:
     on_track: np.ndarray  # fraction of frames the backtracked path from the target cell is within 1 cell of the truth
 
 
-def run_case(case: Case, seeds: Iterable[int] = range(1), *, mode: str = "datapath") -> CaseResult:
-    """Run one of 000's simulations on ``seeds`` (one scene each, seed = scene seed)."""
+def run_case(case: Case, seeds: Iterable[int] = range(1), *, mode: str = "datapath",
+             radius: int = RADIUS) -> CaseResult:
+    """Run one of 000's simulations on ``seeds`` (one scene each, seed = scene seed).
+
+    ``radius`` is the DP window (2: 000's target moves 2 cells per frame; 1 only to show
+    how much of the noise paths' value is the window's selection bias).
+    """
     seeds = [check_int("seed", s, 0) for s in seeds]
     if not seeds:
         raise DetectorError("seeds must hold at least one seed")
-    merit, q = case.merit_fn(), case.transition()
+    radius = check_int("radius", radius, 1, 2)
+    merit, q = case.merit_fn(), case.transition(radius)
     target, noise_max, rank, on_track = [], [], [], []
     cells = {v: [] for v in case.thresholds}
     tracks = {v: [] for v in case.thresholds}
@@ -117,7 +123,7 @@ def run_case(case: Case, seeds: Iterable[int] = range(1), *, mode: str = "datapa
     for seed in seeds:
         sc = scenes.paper000_scenario(case.snr_db, seed=seed)
         truth = sc.truth[0]
-        res = unified.run_unified(sc.frames, merit, q, radius=RADIUS, mode=mode, history=True)
+        res = unified.run_unified(sc.frames, merit, q, radius=radius, mode=mode, history=True)
         y, x = truth.pixel[-1]
         gate = np.zeros(res.value.shape, dtype=bool)
         gate[max(y - 1, 0):y + 2, max(x - 1, 0):x + 2] = True
