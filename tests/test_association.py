@@ -149,8 +149,9 @@ def test_manoeuvre_rule_follows_the_newest_step():
 
 
 def test_heading_agreement_picks_the_candidate_moving_like_the_track():
-    """Two candidates equally far from the prediction: the one heading the same way wins,
-    and one heading backwards is never taken (001 §2: targets do not retreat)."""
+    """Two candidates equally far from the prediction: the one heading the same way wins;
+    with ``reject_reversed`` one heading backwards is never taken (001 §2: targets do not
+    retreat), by default it only costs more (001 §3 ranks by heading, it does not gate)."""
     tr = tracker()
     for s in range(3):
         tr.step(records([cand(30, 10 + 6 * s, row0=30, col0=10 + 6 * s - 5)]))
@@ -158,12 +159,13 @@ def test_heading_agreement_picks_the_candidate_moving_like_the_track():
     tr.step(records([cand(28, 28, row0=28, col0=33), cand(32, 28, row0=32, col0=23)]))
     rec = tr.tracks[tr.tracks["id"] == 1][0]
     assert rec["p_row"][1] == 32 * ONE
-    tr2 = tracker()
-    for s in range(3):
-        tr2.step(records([cand(30, 10 + 6 * s, row0=30, col0=10 + 6 * s - 5)]))
-    tr2.step(records([cand(30, 28, row0=30, col0=33)]))   # on the prediction but reversed
-    rec2 = tr2.tracks[tr2.tracks["id"] == 1][0]
-    assert rec2["misses"] == 1 and rec2["hits"] == 3
+    for reject, hits in ((True, 3), (False, 4)):
+        tr2 = tracker(reject_reversed=reject)
+        for s in range(3):
+            tr2.step(records([cand(30, 10 + 6 * s, row0=30, col0=10 + 6 * s - 5)]))
+        tr2.step(records([cand(30, 28, row0=30, col0=33)]))   # on the prediction but reversed
+        rec2 = tr2.tracks[tr2.tracks["id"] == 1][0]
+        assert rec2["hits"] == hits and rec2["misses"] == (1 if reject else 0)
 
 
 def test_a_cluster_of_candidates_gives_one_track():
@@ -234,13 +236,43 @@ def test_capacity_overflow_drops_the_weakest_new_candidates_and_never_evicts():
     assert tr2.stats["started"] > 4
 
 
+def _state_buffers(tr):
+    arrays = (tr.tracks, tr.history, tr.archive, tr.archive_history, tr.inbuf, tr._keep,
+              tr._claimed, tr._order, tr._head_row, tr._head_col, tr._class, tr._match,
+              tr._order_tracks)
+    return [(id(a), a.__array_interface__["data"][0], a.shape) for a in arrays]
+
+
 def test_no_allocation_per_segment_and_input_capacity():
+    """The state is allocated once: the same buffers, and no memory kept or grown per
+    segment, through starts, confirmations, deletions and archiving in heavy clutter."""
+    import tracemalloc
+
+    tr = tracker(max_candidates=40, capacity=16, output_capacity=4)
+    before = _state_buffers(tr)
+    rng = np.random.default_rng(3)
+    segs = [records([target_cand((20.0, 20.0), (0.8, 0.4), s)] + clutter(rng, 30))
+            for s in range(40)]
+    for c in segs[:5]:                                 # warm-up (numpy caches, ints)
+        tr.step(c)
+    tracemalloc.start()
+    try:
+        base = tracemalloc.get_traced_memory()[0]
+        peaks = []
+        for c in segs[5:]:
+            tracemalloc.reset_peak()
+            tr.step(c)
+            peaks.append(tracemalloc.get_traced_memory()[1] - base)
+        growth = tracemalloc.get_traced_memory()[0] - base
+    finally:
+        tracemalloc.stop()
+    assert _state_buffers(tr) == before
+    assert tr.stats["deleted"] > 0 and tr.stats["started"] > 16      # records were reused
+    state_bytes = sum(a.nbytes for a in (tr.tracks, tr.history, tr.archive, tr.archive_history))
+    # transient Python objects only (a few KiB), far below one copy of the state; no growth
+    assert max(peaks) < min(16384, state_bytes // 2), (max(peaks), state_bytes)
+    assert growth < 8192, growth                   # numpy's small caches; not per segment
     tr = tracker(max_candidates=8)
-    arrays = [tr.tracks, tr.history, tr.archive, tr.inbuf]
-    ids = [id(a) for a in arrays]
-    for s in range(5):
-        tr.step(records([cand(10 + s, 10 + s)]))
-    assert [id(a) for a in [tr.tracks, tr.history, tr.archive, tr.inbuf]] == ids
     with pytest.raises(AssociationError, match="max_candidates=8"):
         tr.step(records([cand(i, i) for i in range(9)]))
     with pytest.raises(AssociationError, match="CANDIDATE_DTYPE"):
@@ -311,3 +343,50 @@ def test_heading_from_direction_code_without_paths():
     rec = tr.tracks[0]
     assert (rec["v_row"], rec["v_col"]) == (0, K * ONE)
     assert rec["pred_col"] == (10 + K) * ONE and math.isclose(rec["gate"] / ONE, 3.0)
+
+
+def test_work_per_segment_is_bounded():
+    """Worst case: every record in use and every candidate inside every gate. Cost
+    evaluations stay <= C x n per segment (each track is in one class), independent of
+    how long the tracks are; the other loops are over C and n only (module docstring)."""
+    cap, n = 12, 20
+    tr = tracker(capacity=cap, max_candidates=n, merge_radius=0, duplicate_radius=0,
+                 seed_gate=200.0, gate_base=200.0, gate_max=200.0, delete_ratio=0.0,
+                 predict_ratio=0.0, confirm_ratio=0.0, max_misses=255)
+    calls = []
+    orig = tr._cost
+
+    def counting(i, j):
+        calls[-1] += 1
+        return orig(i, j)
+
+    tr._cost = counting
+    rng = np.random.default_rng(11)
+    for s in range(30):
+        calls.append(0)
+        tr.step(records([cand(int(r), int(c), int(e)) for r, c, e in
+                         zip(rng.integers(40, 80, n), rng.integers(40, 80, n),
+                             rng.integers(500, 1500, n))]))
+        assert tr.active() <= cap
+    assert tr.active() == cap
+    assert max(calls) <= cap * n
+    # with every record in use, the bound is reached (n >= C: no track is left without a
+    # candidate before the last one is scored) but the work does not grow with time
+    assert calls[-1] >= cap * n - cap * (cap - 1) // 2
+    assert calls[-1] == calls[-10]
+
+
+def test_link_gate_follows_a_turn_the_prediction_missed():
+    """Off by default; with ``link_gate`` a candidate outside the prediction gate whose DP
+    path starts at the track's newest point (the target turned) extends the track."""
+    def run(**kw):
+        tr = tracker(**kw)
+        for s in range(4):
+            tr.step(records([cand(30, 10 + 6 * s, row0=30, col0=10 + 6 * s - 5)]))
+        # predicted (30, 34); the target turned down: path from (30, 28) to (36, 31)
+        tr.step(records([cand(36, 31, row0=30, col0=28)]))
+        return tr.tracks[tr.tracks["id"] == 1][0]
+
+    assert run()["misses"] == 1
+    rec = run(link_gate=2.0)
+    assert rec["misses"] == 0 and rec["hits"] == 5 and rec["p_row"][1] == 36 * ONE
