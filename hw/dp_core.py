@@ -22,7 +22,7 @@ from dptbd.hw.line_buffer import LineBuffer
 from dptbd.hw.max_tree import MaxTree
 from dptbd.hw.schedule import PipelineSchedule, check_supported
 from dptbd.hw.state_store import StateStoreSignature
-from dptbd.hw.weight_lut import WeightLUT
+from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.hw.window import Window
 
@@ -50,6 +50,11 @@ class DPCore(wiring.Component):
     output_fifo_depth : int or None
         Entries of the output FIFO. ``None`` (default) is ``latency + 1``, the least that
         sustains one pixel per clock without back-pressure; at least 3.
+    lut_style : {"auto", "bram", "logic"}
+        Storage of the weight LUT (:class:`~dptbd.hw.weight_lut.WeightLUT`): block RAM,
+        logic (flip-flops and multiplexers, no block RAM), or ``"auto"`` (default: logic for
+        r = 1, block RAM for r = 2). A synthesis choice only: behaviour and latency are the
+        same. Anything else raises ``ValueError``.
 
     Members
     -------
@@ -66,9 +71,11 @@ class DPCore(wiring.Component):
         The state store.
     """
 
-    def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None):
+    def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
+                 lut_style: str = "auto"):
         self._schedule = check_supported(cfg)
         self._cfg = cfg
+        self._lut_style = resolve_lut_style(cfg, lut_style)
         if output_fifo_depth is None:
             output_fifo_depth = self._schedule.latency + 1
         if output_fifo_depth < 3:
@@ -100,6 +107,11 @@ class DPCore(wiring.Component):
     def output_fifo_depth(self) -> int:
         """Entries of the output FIFO."""
         return self._fifo_depth
+
+    @property
+    def lut_style(self) -> str:
+        """The weight LUT's resolved storage: ``"bram"`` or ``"logic"``."""
+        return self._lut_style
 
     def elaborate(self, platform):
         m = Module()
@@ -151,7 +163,7 @@ class DPCore(wiring.Component):
         ]
 
         # ---- cycle 2 (window) -> 3 (code): weight lookup -----------------------------
-        m.submodules.weight_lut = lut = WeightLUT(cfg)
+        m.submodules.weight_lut = lut = WeightLUT(cfg, lut_style=self._lut_style)
         m.d.comb += [
             lut.write_addr.eq(self.lut_addr),
             lut.write_data.eq(self.lut_data),

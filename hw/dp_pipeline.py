@@ -29,6 +29,10 @@ class DPPipeline(wiring.Component):
         does not implement it, see :func:`~dptbd.hw.schedule.check_supported`).
     output_fifo_depth : int or None
         See :class:`~dptbd.hw.dp_core.DPCore`.
+    lut_style : {"auto", "bram", "logic"}
+        Storage of the weight LUT, see :class:`~dptbd.hw.dp_core.DPCore`. The default
+        ``"auto"`` puts the r = 1 table in logic, which is what lets the 64 x 64 top level
+        fit the iCE40-HX8K's 32 block RAMs (``docs/gateware.md``, "Weight LUT storage").
 
     Members
     -------
@@ -44,8 +48,9 @@ class DPPipeline(wiring.Component):
         Write enable; a write in cycle c applies to every pixel accepted in cycle c or later.
     """
 
-    def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None):
-        self._core = DPCore(cfg, output_fifo_depth=output_fifo_depth)
+    def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
+                 lut_style: str = "auto"):
+        self._core = DPCore(cfg, output_fifo_depth=output_fifo_depth, lut_style=lut_style)
         self._cfg = cfg
         super().__init__({
             "pixels": In(stream.Signature(pixel_layout(cfg))),
@@ -76,6 +81,11 @@ class DPPipeline(wiring.Component):
     def output_fifo_depth(self) -> int:
         """Entries of the output FIFO."""
         return self._core.output_fifo_depth
+
+    @property
+    def lut_style(self) -> str:
+        """The weight LUT's resolved storage: ``"bram"`` or ``"logic"``."""
+        return self._core.lut_style
 
     def elaborate(self, platform):
         m = Module()

@@ -11,6 +11,15 @@ non-transparent, so a lookup issued in cycle c+2 or later sees it and one issued
 does not. The pipeline issues a pixel's lookups in cycle 2 after its acceptance, so every
 pixel accepted in cycle c or later uses the new code and every pixel accepted before
 cycle c the old one.
+
+Storage (``lut_style``, :data:`LUT_STYLES`): ``"bram"`` leaves the column memories to the
+synthesis tool's RAM inference (Yosys ``synth_ice40``: one SB_RAM40_4K per column, since
+each column needs its own read port); ``"logic"`` marks them ``(* ram_style = "logic" *)``
+so they become flip-flops and read multiplexers (no block RAM); ``"auto"`` (the default)
+is ``"logic"`` when a column has at most :data:`AUTO_LOGIC_MAX_ENTRIES` entries (r = 1:
+10 entries) and ``"bram"`` otherwise (r = 2: 26). The style changes only the synthesis
+attribute: behaviour and timing are identical. ``docs/gateware.md`` ("Weight LUT storage")
+gives the reasons and the measured cost.
 """
 
 from __future__ import annotations
@@ -22,7 +31,37 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
 
-__all__ = ["WeightLUT"]
+__all__ = ["LUT_STYLES", "AUTO_LOGIC_MAX_ENTRIES", "resolve_lut_style", "WeightLUT"]
+
+#: Accepted values of the ``lut_style`` keyword.
+LUT_STYLES = ("auto", "bram", "logic")
+
+#: ``"auto"`` stores the table in logic when a column has at most this many entries (M+1).
+AUTO_LOGIC_MAX_ENTRIES = 16
+
+
+def resolve_lut_style(cfg: DPConfig, lut_style: str = "auto") -> str:
+    """The storage ``lut_style`` means for ``cfg``: ``"bram"`` or ``"logic"``.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        Gives M, the number of moves (a column has M+1 entries).
+    lut_style : {"auto", "bram", "logic"}
+        ``"auto"``: ``"logic"`` if M+1 <= :data:`AUTO_LOGIC_MAX_ENTRIES` (radius 1),
+        else ``"bram"`` (radius 2).
+
+    Raises
+    ------
+    ValueError
+        ``lut_style`` is not one of :data:`LUT_STYLES`.
+    """
+    if not isinstance(lut_style, str) or lut_style not in LUT_STYLES:
+        raise ValueError(f"lut_style must be one of {', '.join(map(repr, LUT_STYLES))}, "
+                         f"got {lut_style!r}")
+    if lut_style == "auto":
+        return "logic" if cfg.n_moves + 1 <= AUTO_LOGIC_MAX_ENTRIES else "bram"
+    return lut_style
 
 
 class WeightLUT(wiring.Component):
@@ -33,6 +72,9 @@ class WeightLUT(wiring.Component):
     cfg : DPConfig
         Number of moves M, direction width B_d, code width F+1 and the initial codes
         (``cfg.weight_codes``).
+    lut_style : {"auto", "bram", "logic"}
+        Storage of the column memories (module docstring, :func:`resolve_lut_style`);
+        ``ValueError`` for anything else. Behaviour does not depend on it.
 
     Members
     -------
@@ -51,7 +93,8 @@ class WeightLUT(wiring.Component):
         Write in this cycle.
     """
 
-    def __init__(self, cfg: DPConfig):
+    def __init__(self, cfg: DPConfig, *, lut_style: str = "auto"):
+        self._style = resolve_lut_style(cfg, lut_style)
         self._cfg = cfg
         moves = cfg.n_moves
         super().__init__({
@@ -61,6 +104,11 @@ class WeightLUT(wiring.Component):
             "write_data": In(cfg.weight_bits),
             "write_en": In(1),
         })
+
+    @property
+    def lut_style(self) -> str:
+        """The resolved storage: ``"bram"`` or ``"logic"``."""
+        return self._style
 
     @property
     def entries(self) -> int:
@@ -95,9 +143,12 @@ class WeightLUT(wiring.Component):
                 with m.Default():  # address beyond the table: ignored
                     m.d.sync += [write_row.eq(0), write_move.eq(0), write_pending.eq(0)]
 
+        # Yosys honours ram_style = "logic" (also "registers"); without it synth_ice40
+        # maps each column to an SB_RAM40_4K.
+        attrs = {"ram_style": "logic"} if self._style == "logic" else None
         for move in range(moves):
             memory = Memory(shape=unsigned(cfg.weight_bits), depth=moves + 1,
-                            init=[int(c) for c in codes[:, move]])
+                            init=[int(c) for c in codes[:, move]], attrs=attrs)
             m.submodules[f"column_{move}"] = memory
             read = memory.read_port(domain="sync")
             write = memory.write_port(domain="sync")

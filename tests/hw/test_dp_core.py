@@ -3,6 +3,7 @@
 import random
 
 import numpy as np
+import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.dp_core import DPCore
@@ -34,9 +35,11 @@ def sram_model(bus, words, seed):
     return process, collisions
 
 
-def test_external_store_matches_golden_model():
+@pytest.mark.parametrize("style", ["bram", "logic"])
+def test_external_store_matches_golden_model(style):
     cfg = DPConfig(width=6, height=5, segment_frames=3)
-    dut = DPCore(cfg)
+    dut = DPCore(cfg, lut_style=style)
+    assert dut.lut_style == style
     frames = np.random.default_rng(21).integers(0, 256, size=(7, cfg.height, cfg.width))
     process, collisions = sram_model(dut.state_store, cfg.width * cfg.height, seed=3)
     run = run_stream(dut, cfg, frames_to_stream(frames), valid_probability=0.8,

@@ -2,7 +2,10 @@
 
 Every test streams whole frames through ``DPPipeline`` in the Amaranth simulator (random
 input gaps and output back-pressure unless timing is the point), collects every output and
-compares it with ``segment_start`` / ``dp_step`` frame by frame.
+compares it with ``segment_start`` / ``dp_step`` frame by frame. The weight LUT's storage
+(``lut_style``) must not change behaviour: the scoreboard cases use the default ("auto":
+logic for r = 1, block RAM for r = 2) and the LUT, timing and cycle-count tests run with
+both "bram" and "logic" explicitly.
 """
 
 import warnings
@@ -80,8 +83,12 @@ def test_random_fractional_weights_half_up():
     assert_states_equal(run.outputs, reference_states(cfg, frames))
 
 
+STYLES = ("bram", "logic")
+
+
+@pytest.mark.parametrize("style", STYLES)
 @pytest.mark.parametrize("radius", [1, 2])
-def test_lut_written_at_run_time(radius):
+def test_lut_written_at_run_time(radius, style):
     """Write new codes through the LUT port between frames and again inside a frame."""
     cfg = make_config(width=7, height=6, segment_frames=4, radius=radius, weight_frac_bits=5)
     pixels = cfg.width * cfg.height
@@ -96,8 +103,9 @@ def test_lut_written_at_run_time(radius):
     writes = {switch_between: lut_writes_for(old, between),
               switch_inside: lut_writes_for(between, inside)}
     frames = random_frames(cfg, 4, seed=radius + 10)
-    run = run_stream(DPPipeline(cfg), cfg, frames_to_stream(frames), valid_probability=0.8,
-                     ready_probability=0.7, seed=radius, lut_writes=writes)
+    run = run_stream(DPPipeline(cfg, lut_style=style), cfg, frames_to_stream(frames),
+                     valid_probability=0.8, ready_probability=0.7, seed=radius,
+                     lut_writes=writes)
     expected = reference_states(cfg, frames, [(switch_between, between), (switch_inside, inside)])
     assert_states_equal(run.outputs, expected)
     # The write really changed results (the test would be vacuous otherwise).
@@ -114,14 +122,16 @@ def test_lut_write_clamps_codes_above_one():
     assert_states_equal(run.outputs, reference_states(cfg, frames, [(0, ones)]))
 
 
+@pytest.mark.parametrize("style", ["auto", *STYLES])
 @pytest.mark.parametrize("kw, n_frames", [
     (dict(width=5, height=4, segment_frames=3), 4),
     (dict(width=7, height=6, segment_frames=2, radius=2), 3),
 ])
-def test_exact_cycle_count(kw, n_frames):
+def test_exact_cycle_count(kw, n_frames, style):
     """Valid and ready always high: one pixel per cycle in, one per cycle out, after L."""
     cfg = make_config(**kw)
-    dut = DPPipeline(cfg)
+    dut = DPPipeline(cfg, lut_style=style)
+    assert dut.lut_style == {"auto": {1: "logic", 2: "bram"}[cfg.radius]}.get(style, style)
     latency = dut.latency
     assert latency == {1: 14, 2: 15}[cfg.radius]
     frames = random_frames(cfg, n_frames, seed=3)
@@ -193,6 +203,13 @@ def test_refuses_a_too_small_output_fifo():
         DPPipeline(cfg, output_fifo_depth=2)
 
 
+@pytest.mark.parametrize("bad", ["block", "Logic", None])
+def test_refuses_an_unknown_lut_style(bad):
+    cfg = DPConfig(width=5, height=4)
+    with refused(ValueError, match=r"lut_style must be one of 'auto', 'bram', 'logic'"):
+        DPPipeline(cfg, lut_style=bad)
+
+
 def test_deeper_output_fifo_works():
     cfg = make_config(width=5, height=4, segment_frames=2)
     frames = random_frames(cfg, 3, seed=14)
@@ -201,7 +218,8 @@ def test_deeper_output_fifo_works():
     assert_states_equal(run.outputs, reference_states(cfg, frames))
 
 
-def test_lut_write_applies_from_the_pixel_accepted_in_the_same_cycle():
+@pytest.mark.parametrize("style", STYLES)
+def test_lut_write_applies_from_the_pixel_accepted_in_the_same_cycle(style):
     """Write (START, move 0) := 0 in the cycle pixel n is accepted: n uses it, n - 1 does not.
 
     Frame 0 is flat, so in frame 1 every valid candidate ties and plain weights pick move 0
@@ -212,7 +230,7 @@ def test_lut_write_applies_from_the_pixel_accepted_in_the_same_cycle():
     frames[0] = 100
     n = 20 + 1 * 5 + 1                        # frame 1, pixel (1, 1)
     address = cfg.start_code * cfg.n_moves + 0
-    run = run_stream(DPPipeline(cfg), cfg, frames_to_stream(frames),
+    run = run_stream(DPPipeline(cfg, lut_style=style), cfg, frames_to_stream(frames),
                      timed_lut_writes={n + 1: (address, 0)})   # pixel k is accepted in cycle k+1
     assert run.accept_cycles[n] == n + 1
     new = cfg.weight_codes.astype(np.int64)

@@ -1,4 +1,8 @@
-"""Weight LUT: default codes, M lookups per cycle, the write port and its timing."""
+"""Weight LUT: default codes, M lookups per cycle, the write port and its timing.
+
+Every behavioural test runs for both storage styles (``lut_style`` "bram" and "logic"),
+which must behave identically.
+"""
 
 import random
 
@@ -7,7 +11,10 @@ import pytest
 from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig, plain_weights
-from dptbd.hw.weight_lut import WeightLUT
+from dptbd.hw.weight_lut import LUT_STYLES, WeightLUT, resolve_lut_style
+from hw_harness import refused
+
+STYLES = ("bram", "logic")
 
 
 def simulate(dut, bench):
@@ -25,10 +32,12 @@ async def lookup(ctx, dut, cfg, directions):
     return [ctx.get(dut.code[move]) for move in range(cfg.n_moves)]
 
 
+@pytest.mark.parametrize("style", STYLES)
 @pytest.mark.parametrize("radius, frac", [(1, 8), (2, 3)])
-def test_default_contents_are_the_config_codes(radius, frac):
+def test_default_contents_are_the_config_codes(radius, frac, style):
     cfg = DPConfig(radius=radius, weight_frac_bits=frac)
-    dut = WeightLUT(cfg)
+    dut = WeightLUT(cfg, lut_style=style)
+    assert dut.lut_style == style
     codes = cfg.weight_codes
     rng = random.Random(radius)
 
@@ -44,9 +53,10 @@ def test_default_contents_are_the_config_codes(radius, frac):
     simulate(dut, bench)
 
 
-def test_writes_clamp_and_ignore_bad_addresses():
+@pytest.mark.parametrize("style", STYLES)
+def test_writes_clamp_and_ignore_bad_addresses(style):
     cfg = DPConfig(radius=1, weight_frac_bits=4)   # codes 0 … 16, 5 bits
-    dut = WeightLUT(cfg)
+    dut = WeightLUT(cfg, lut_style=style)
     moves = cfg.n_moves
     rng = random.Random(3)
     table = cfg.weight_codes.astype(np.int64).copy()
@@ -70,14 +80,15 @@ def test_writes_clamp_and_ignore_bad_addresses():
     simulate(dut, bench)
 
 
-def test_write_is_seen_by_lookups_two_cycles_later():
+@pytest.mark.parametrize("style", STYLES)
+def test_write_is_seen_by_lookups_two_cycles_later(style):
     """Write in cycle c; lookups issued in c and c+1 see the old code, c+2 the new one.
 
     The pipeline issues a pixel's lookups 2 cycles after accepting it, so a pixel accepted
     in cycle c or later uses the new code.
     """
     cfg = DPConfig(radius=1, weights=plain_weights(1))
-    dut = WeightLUT(cfg)
+    dut = WeightLUT(cfg, lut_style=style)
     address = 4 * cfg.n_moves + 7   # direction 4, move 7
 
     async def bench(ctx):
@@ -93,3 +104,32 @@ def test_write_is_seen_by_lookups_two_cycles_later():
         assert seen == [256, 256, 256, 17, 17]
 
     simulate(dut, bench)
+
+
+def test_auto_style_is_logic_for_radius_1_and_bram_for_radius_2():
+    assert LUT_STYLES == ("auto", "bram", "logic")
+    assert resolve_lut_style(DPConfig(radius=1)) == "logic"        # 10 entries per column
+    assert resolve_lut_style(DPConfig(radius=2)) == "bram"         # 26 entries per column
+    assert resolve_lut_style(DPConfig(radius=2), "logic") == "logic"
+    for radius, style in [(1, "logic"), (2, "bram")]:
+        lut = WeightLUT(DPConfig(radius=radius), lut_style="auto")
+        assert lut.lut_style == style
+
+        async def bench(ctx):
+            await ctx.tick()
+
+        simulate(lut, bench)   # elaborated, so no UnusedElaboratable warning
+
+
+@pytest.mark.parametrize("bad", ["BRAM", "registers", "", None, 1])
+def test_unknown_style_is_refused_naming_the_parameter(bad):
+    with refused(ValueError, match=r"lut_style must be one of 'auto', 'bram', 'logic'"):
+        WeightLUT(DPConfig(), lut_style=bad)
+
+
+@pytest.mark.parametrize("style, attribute", [("bram", False), ("logic", True)])
+def test_style_only_sets_the_ram_style_attribute(style, attribute):
+    from amaranth.back import rtlil
+
+    text = rtlil.convert(WeightLUT(DPConfig(radius=1), lut_style=style))
+    assert ('ram_style "logic"' in text) == attribute
