@@ -98,7 +98,7 @@ def time_one_frame(repeats: int = 5, frames: int = 10) -> dict:
     """Seconds per frame on the 200 x 500 grid (best of ``repeats`` runs of ``frames`` frames).
 
     Keys: ``info``, ``grid-bayes``, ``ca-cfar`` (16/2, one frame), ``dw-dp`` (paper 001
-    fixed point, one DP step; the fused kernel if :mod:`dptbd.model.fast` is there, and
+    fixed point, one DP step; the fused kernel on one thread if :mod:`dptbd.model.fast` is there, and
     ``dw-dp golden`` for the plain numpy golden model), ``dp-000 datapath`` (paper 000
     unified recursion, radius 2, float, one step), ``dp-000 exact`` (expanded state).
     """
@@ -123,8 +123,8 @@ def time_one_frame(repeats: int = 5, frames: int = 10) -> dict:
     cfg = DPConfig(width=500, height=200, segment_frames=frames, input_bits=10, energy_bits=16, radius=1)
     try:
         from dptbd.model.fast import run_fixed_fast
-        run_fixed_fast(codes[:2], cfg.replace(segment_frames=2))
-        out["dw-dp"] = _best_of(lambda: run_fixed_fast(codes, cfg), repeats) / frames
+        run_fixed_fast(codes[:2], cfg.replace(segment_frames=2), threads=1)
+        out["dw-dp"] = _best_of(lambda: run_fixed_fast(codes, cfg, threads=1), repeats) / frames
     except ImportError:  # pragma: no cover
         pass
     out["dw-dp golden"] = _best_of(lambda: run_fixed(codes[:3], cfg.replace(segment_frames=3)), 1) / 3
