@@ -155,11 +155,11 @@ def _is_out_folder(path: pathlib.Path) -> bool:
 
 def check_outputs(args: argparse.Namespace) -> None:
     """Refuse, before any work, every output that would overwrite something silently."""
+    for path in (args.markdown, args.figure):
+        if args.out is not None and path is not None and args.out.resolve() in path.resolve().parents:
+            raise ValueError(f"{path} is inside --out {args.out}, which is written as a whole")
     _check_file(args.markdown, "--markdown", args.force, ".md")
     _check_file(args.figure, "--figure", args.force, ".png")
-    if args.markdown is not None and args.figure is not None and \
-            args.markdown.resolve() == args.figure.resolve():
-        raise ValueError("--markdown and --figure name the same file")
     out = args.out
     if out is None:
         return
@@ -174,9 +174,6 @@ def check_outputs(args: argparse.Namespace) -> None:
         if any(out.iterdir()) and not _is_out_folder(out):
             raise FileExistsError(f"--out {out} is not the folder of an earlier dptbd detectors run "
                                   f"(no result.json from it); --force will not replace it")
-    for path in (args.markdown, args.figure):
-        if path is not None and out.resolve() in path.resolve().parents:
-            raise ValueError(f"{path} is inside --out {out}, which is replaced as a whole")
 
 
 @contextlib.contextmanager

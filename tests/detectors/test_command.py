@@ -91,4 +91,8 @@ def test_force_overwrites_single_files(tmp_path):
     png.write_text("old")
     assert dptbd(TINY + ["--markdown", str(md), "--figure", str(png), "--force"]) == 0
     assert md.read_text().startswith("| detector |") and png.read_bytes()[:4] == b"\x89PNG"
-    assert dptbd(TINY + ["--markdown", str(md), "--figure", str(md)]) == 2
+
+def test_single_file_inside_out_is_refused(tmp_path, capsys):
+    out = tmp_path / "cmp"
+    assert dptbd(TINY + ["--out", str(out), "--markdown", str(out / "t.md")]) == 2
+    assert "inside --out" in capsys.readouterr().err
