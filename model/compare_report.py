@@ -427,12 +427,17 @@ def _fmt_loss(v, lo, hi) -> str:
 
 
 def markdown_tables(summary: dict) -> str:
-    """The configurations table (losses, verdicts, agreement, hardware) and the float Pd row."""
+    """The configurations table (losses, verdicts, agreement, hardware) and the float Pd row.
+
+    "≠ float" is "yes" when a loss interval excludes 0 at some Pd level (the configuration
+    is shown to differ from float), "no" when every interval contains 0.
+    """
     run = summary["run"]
     levels = run["pd_levels"]
     head = ["configuration", "B_in/B_E/F", "σ (LSB)", "cand./frame (noise)"]
     head += [f"loss @Pd={lv:g} dB [95% CI]" for lv in levels]
-    head += [f"verdict (≤{run['tolerance_db']:g} dB)", "identical cand. lists", "agreement"]
+    head += [f"verdict (≤{run['tolerance_db']:g} dB)", "≠ float", "identical cand. lists",
+             "agreement"]
     has_hw = any(r["hw_lut4"] is not None for r in summary["configs"])
     if has_hw:
         head += ["SB_LUT4", "FF", "BRAM", "Fmax MHz"]
@@ -444,7 +449,8 @@ def markdown_tables(summary: dict) -> str:
         for lv in levels:
             tag = f"pd{int(round(lv * 100)):02d}"
             cells.append(_fmt_loss(r[f"loss_{tag}_db"], r[f"loss_{tag}_lo"], r[f"loss_{tag}_hi"]))
-        cells += [r["verdict"], f"{r['identical_images']:.3f}", f"{r['agreement']:.3f}"]
+        cells += [r["verdict"], "yes" if r["differs_from_float"] else "no",
+                  f"{r['identical_images']:.3f}", f"{r['agreement']:.3f}"]
         if has_hw:
             fm = r["hw_fmax_median_mhz"]
             cells += [str(r["hw_lut4"] or "—"), str(r["hw_ff"] or "—"), str(r["hw_bram"] if r["hw_bram"] is not None else "—"),

@@ -455,3 +455,16 @@ def test_synthesis_runs_at_synth_size_and_records_failures(monkeypatch):
     assert [c.input_bits for c in seen] == [8, 4]
     assert hw["eight"].lut4 == 10 and hw["four"].lut4 is None and "nextpnr died" in hw["four"].error
     assert spec.configs[0].cfg.width == 16  # the Monte Carlo's configuration is unchanged
+
+
+def test_the_toml_examples_in_docs_compare_md_are_valid():
+    import pathlib
+    import re
+    import tomllib
+    text = (pathlib.Path(__file__).resolve().parents[1] / "docs" / "compare.md").read_text()
+    blocks = re.findall(r"```toml\n(.*?)```", text, re.S)
+    assert len(blocks) >= 2
+    specs = [build_spec(tomllib.loads(b)) for b in blocks]
+    default = build_spec({})
+    assert [f.name for f in specs[0].configs] == [f.name for f in default.configs]
+    assert len(specs[1].configs) == 1 + 3 + 4 * 2 and specs[1].trials == 2000
