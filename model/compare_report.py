@@ -391,11 +391,13 @@ def draw_figures(summary: dict, out_dir: pathlib.Path) -> list[pathlib.Path]:
     if any(v is not None for v in lut):
         ax2.bar(x, [v or 0 for v in lut], width=0.6, color="grey", alpha=0.25, zorder=0)
         fmax = [r["hw_fmax_median_mhz"] for r in rows]
-        for k, (v, f) in enumerate(zip(lut, fmax)):
+        bram = [r["hw_bram"] for r in rows]
+        for k, (v, f, b) in enumerate(zip(lut, fmax, bram)):
             if v is not None and f is not None:
-                ax2.text(k, v, f"{f:.0f}\nMHz", ha="center", va="bottom", fontsize=6, color="dimgrey")
-        ax2.set_ylabel("SB_LUT4 (grey bars; median Fmax above)")
-        ax2.set_ylim(0, max(v or 0 for v in lut) * 1.35)
+                ax2.text(k, v, f"{f:.0f}\nMHz\n{b} BR", ha="center", va="bottom", fontsize=6,
+                         color="dimgrey")
+        ax2.set_ylabel("SB_LUT4 (grey bars)\nabove: median Fmax, block RAMs (BR)")
+        ax2.set_ylim(0, max(v or 0 for v in lut) * 1.5)
     else:
         ax2.plot(x, [r["state_bits_per_pixel"] for r in rows], color="grey", marker="_", ms=14,
                  ls="none", alpha=0.7)
@@ -405,7 +407,12 @@ def draw_figures(summary: dict, out_dir: pathlib.Path) -> list[pathlib.Path]:
     ax.patch.set_visible(False)
     ax.legend(fontsize=7, loc="lower left")
     ax.grid(alpha=0.3, axis="y")
-    ax.set_title("SNR loss of each configuration and what it costs\n" + subtitle, fontsize=9)
+    hw = run.get("synth") or {}
+    where = (f"\nhardware: {hw.get('variant', '?')} at {hw.get('size', '?')}x{hw.get('size', '?')}, "
+             f"iCE40 {hw.get('device', '?').upper()} {hw.get('package', '')}, Yosys synth_ice40 + "
+             f"nextpnr-ice40, seeds {hw.get('seeds', '?')}" if hw and any(v is not None for v in lut)
+             else "")
+    ax.set_title("SNR loss of each configuration and what it costs\n" + subtitle + where, fontsize=9)
     fig.tight_layout()
     p = out_dir / "compare_loss.png"
     fig.savefig(p, dpi=110)
