@@ -20,7 +20,8 @@ from dptbd.model.table1 import PAPER_TABLE1
 
 __all__ = ["TABLE_COLUMNS", "table_rows", "format_table", "paper_lines", "track_rows",
            "format_tracks", "write_csv", "write_json", "figure_raw_frame",
-           "figure_accumulated", "figure_tracks", "segment_for_frame"]
+           "figure_accumulated", "figure_tracks", "segment_for_frame", "segmentation_bits",
+           "format_segmentation_bits"]
 
 #: Columns of the run table, in the form of 001's Table 1 (per target).
 TABLE_COLUMNS = (
@@ -350,3 +351,56 @@ def iter_track_positions(result, evaluation=None) -> Iterable[dict]:
                    "target": "" if owner is None else (owner + 1 if owner >= 0 else "false"),
                    "frame": int(f), "row": round(float(r), 3), "col": round(float(c), 3),
                    "measured": int(bool(m))}
+
+
+def segmentation_bits(result) -> dict | None:
+    """Bits per segment the FPGA hands the DSP, measured on this run (``docs/arithmetic.md``
+    §6.6), against the whole accumulated image.
+
+    Two lists are measured on the run's accumulated images: the one the DSP stage used
+    (the §6 rule on the segment's own histogram, :func:`dptbd.model.segmentation.candidates`)
+    and the gateware segmenter's (threshold from the previous segment's histogram, §6.1,
+    :func:`dptbd.model.segmentation.segment_sequence`, bit for bit what ``dptbd_seg``
+    emits). Each list costs (records + 1 trailer) payload words of
+    :func:`dptbd.hw.candidate_layout.bits_per_segment`. ``None`` when the gateware layouts
+    cannot be imported (Amaranth missing).
+    """
+    import dataclasses
+
+    from dptbd.model.segmentation import segment_sequence
+
+    try:
+        from dptbd.hw.candidate_layout import bits_per_segment
+    except ImportError:  # pragma: no cover - depends on the installation
+        return None
+    cfg = result.cfg
+    if cfg.candidate_count is None:
+        cfg = dataclasses.replace(cfg, candidate_count=result.count)
+    bits = bits_per_segment(cfg)
+    used = np.array([len(c) for c in result.candidates], dtype=float)
+    lists = segment_sequence(result.segments.energy, result.segments.direction, cfg)
+    gate = np.array([lst.count for lst in lists], dtype=float)
+
+    def per(counts: np.ndarray) -> dict:
+        mean_bits = float((counts.mean() + 1) * bits.word) if counts.size else float(bits.word)
+        return {"records_mean": round(float(counts.mean()), 2) if counts.size else 0.0,
+                "records_max": int(counts.max()) if counts.size else 0,
+                "bits_mean": round(mean_bits, 1),
+                "reduction": round(bits.image / mean_bits, 1)}
+
+    return {"image_bits": bits.image, "word_bits": bits.word, "record_bits": bits.record,
+            "trailer_bits": bits.trailer, "n": cfg.n_candidates, "capacity": cfg.record_capacity,
+            "nominal_bits": bits.nominal, "nominal_reduction": round(bits.image / bits.nominal, 1),
+            "worst_bits": bits.worst, "worst_reduction": round(bits.image / bits.worst, 1),
+            "dsp_lists": per(used), "gateware_lists": per(gate),
+            "gateware_overflows": int(sum(lst.overflow for lst in lists))}
+
+
+def format_segmentation_bits(sb: dict) -> str:
+    """One printed line for :func:`segmentation_bits`."""
+    d, g = sb["dsp_lists"], sb["gateware_lists"]
+    return (f"  FPGA -> DSP: {sb['image_bits']} bits per segment for the whole accumulated image; "
+            f"the candidate lists took {d['bits_mean']:.0f} bits ({d['records_mean']:.1f} "
+            f"records + trailer, {sb['word_bits']}-bit words): {d['reduction']:.0f}x fewer; "
+            f"the gateware segmenter's (previous segment's histogram) {g['bits_mean']:.0f} bits "
+            f"({g['records_mean']:.1f} records): {g['reduction']:.0f}x fewer")

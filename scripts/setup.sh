@@ -37,7 +37,18 @@ fi
 
 case "$job" in
   setup) ;;
-  run) exec .venv/bin/dptbd run "$@" ;;
+  run)
+    # Without --out the main job writes ./dptbd-run and replaces the folder of an earlier
+    # run (dptbd run --force replaces only a folder it wrote itself, with its summary.json),
+    # so the README's command can be run twice. With --out the user's folder is never replaced
+    # unless they pass --force themselves.
+    out_given=0
+    for a in "$@"; do case "$a" in --out|--out=*) out_given=1;; esac; done
+    if [ $out_given -eq 0 ]; then
+      [ -e dptbd-run ] && echo "setup: replacing ./dptbd-run (the output of an earlier run)"
+      set -- --out dptbd-run --force "$@"
+    fi
+    exec .venv/bin/dptbd run "$@" ;;
   test)
     set +e
     .venv/bin/python -m pytest -n 2 "$@"

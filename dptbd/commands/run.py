@@ -257,6 +257,24 @@ def _config_dict(cfg) -> dict:
 
 
 def main(args: argparse.Namespace) -> int:
+    """Run the job; an unreadable file or an unwritable folder is a clear error (exit 2).
+
+    Every other refusal (bad scenario, data or option) raises an exception that the
+    command line turns into ``dptbd run: error: …`` and exit status 2; in every case
+    nothing is left in (or beside) the output folder (:func:`staging`).
+    """
+    try:
+        return _main(args)
+    except (FileNotFoundError, FileExistsError):
+        raise                                 # the command line reports these itself
+    except OSError as exc:                    # permissions, disk full, …: no traceback
+        what = f" {exc.filename}" if getattr(exc, "filename", None) else ""
+        print(f"dptbd run: error: cannot read or write{what}: {exc.strerror or exc}",
+              file=sys.stderr)
+        return 2
+
+
+def _main(args: argparse.Namespace) -> int:
     from dptbd.model.pipeline import run_pipeline
     from dptbd.model.scenes import quantise
     from dptbd.model.sequence_io import load_sequence
@@ -323,6 +341,9 @@ def main(args: argparse.Namespace) -> int:
         evaluation = evaluate_tracks(result.tracks, result.positions, truth, cfg,
                                      len(result.segments.end_frames))
     stats = result.stats
+    seg_bits = report.segmentation_bits(result)
+    if seg_bits is not None:
+        print(report.format_segmentation_bits(seg_bits))
     print(f"  DSP stage: {assoc.capacity} track records, at most {stats['peak_active']} in use; "
           f"{stats['started']} tracks started, {len(result.tracks)} confirmed"
           + ("" if evaluation is None else f" ({evaluation.false_tracks} false)")
@@ -385,6 +406,7 @@ def main(args: argparse.Namespace) -> int:
             "tracks": tracks,
             "false_tracks": None if evaluation is None else evaluation.false_tracks,
             "dsp_stats": stats,
+            "bits_per_segment": seg_bits,
             "rtl": rtl if rtl is not None else {"checked": False},
             "report_frame": report_frame, "report_segment": seg,
             "seconds": round(time.perf_counter() - start, 2),

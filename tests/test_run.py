@@ -1,0 +1,222 @@
+"""``dptbd run``, the main job: what it writes, its options, overwriting, recorded data, and
+bad input refused with a clear message (exit 2) and nothing left in the output folder."""
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from dptbd import report
+from dptbd.cli import main
+
+SMALL = """\
+name = "small"
+[scene]
+size = [32, 32]
+frames = 24
+snr = 5.0
+seed = 3
+[[scene.targets]]
+start = [6.0, 6.0]
+velocity = [0.8, 0.6]
+[segmentation]
+false_alarm_rate = 0.005
+"""
+
+
+@pytest.fixture
+def small(tmp_path):
+    path = tmp_path / "inputs" / "small.toml"
+    path.parent.mkdir()
+    path.write_text(SMALL)
+    return path
+
+
+def leftovers(folder):
+    """Everything in ``folder`` except the inputs folder (partial or output folders)."""
+    return sorted(p.name for p in folder.iterdir() if p.name != "inputs")
+
+
+def test_builtin_scenario_writes_table_figures_and_bits_per_segment(tmp_path, capsys):
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "FPGA -> DSP: 327680 bits per segment" in text
+    for name in ("table.md", "table.csv", "tracks.csv", "candidates.csv", "summary.json",
+                 "scenario.toml", "raw_frame.png", "accumulated.png", "tracks.png"):
+        assert (out / name).stat().st_size > 0, name
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["tool"] == "dptbd run" and len(summary["table"]) == 2
+    bits = summary["bits_per_segment"]
+    assert bits["image_bits"] == 128 * 128 * 20 and bits["word_bits"] == 35
+    assert bits["dsp_lists"]["records_max"] <= 33 and bits["dsp_lists"]["reduction"] > 250
+    assert bits["gateware_lists"]["reduction"] > 100
+    header = (out / "table.csv").read_text().splitlines()[0]
+    assert "frames_until_output" in header and "pd" in header
+    for name in ("raw_frame.png", "accumulated.png", "tracks.png"):
+        with Image.open(out / name) as img:
+            assert img.format == "PNG" and min(img.size) >= 400
+    assert not list(tmp_path.glob(".r.partial-*"))
+
+
+def test_options_seed_snr_target_and_scenario_file(tmp_path, small, capsys):
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(small), "--seed", "5", "--snr", "6",
+                 "--target", "20,4,0.2,0.9", "--out", str(out)]) == 0
+    effective = (out / "scenario.toml").read_text()
+    assert "seed = 5" in effective and "snr = 6.0" in effective
+    assert "start = [20.0, 4.0]" in effective and "velocity = [0.2, 0.9]" in effective
+    rows = json.loads((out / "summary.json").read_text())["table"]
+    assert [r["start"] for r in rows] == [[20.0, 4.0]]
+    # the written scenario reruns the same job
+    again = tmp_path / "again"
+    assert main(["run", "--no-progress", "--scenario", str(out / "scenario.toml"),
+                 "--out", str(again)]) == 0
+    assert (again / "table.md").read_text() == (out / "table.md").read_text()
+
+
+def test_refuses_to_overwrite_unless_forced(tmp_path, small, capsys):
+    out = tmp_path / "r"
+    args = ["run", "--no-progress", "--scenario", str(small), "--out", str(out)]
+    assert main(args) == 0
+    before = (out / "summary.json").read_bytes()
+    capsys.readouterr()
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "exists; pass --force" in err and str(out) in err
+    assert (out / "summary.json").read_bytes() == before
+    assert main(args + ["--seed", "9", "--force"]) == 0
+    assert json.loads((out / "summary.json").read_text())["scenario"]["scene"]["seed"] == 9
+    assert leftovers(tmp_path) == ["r"]
+    # --force never deletes a folder that dptbd run did not write
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("keep")
+    assert main(["run", "--no-progress", "--scenario", str(small), "--out", str(mine),
+                 "--force"]) == 2
+    assert "not the output folder of an earlier dptbd run" in capsys.readouterr().err
+    assert (mine / "notes.txt").read_text() == "keep"
+
+
+def _bad_inputs(inputs):
+    """name -> (extra arguments, message fragment)."""
+    rng = np.random.default_rng(0)
+    cases = {}
+    cases["missing file"] = (["--input", str(inputs / "nope.npy")], "does not exist")
+    (inputs / "broken.npy").write_bytes(b"\x93NUMPY garbage")
+    cases["unreadable file"] = (["--input", str(inputs / "broken.npy")], "cannot read")
+    np.save(inputs / "empty.npy", np.zeros((0, 16, 16), np.uint8))
+    cases["empty sequence"] = (["--input", str(inputs / "empty.npy")], "empty")
+    np.save(inputs / "short.npy", rng.integers(0, 255, (3, 16, 16)).astype(np.uint8))
+    cases["shorter than a segment"] = (["--input", str(inputs / "short.npy")],
+                                       "shorter than one segment")
+    np.save(inputs / "float.npy", rng.random((8, 16, 16)))
+    cases["float data"] = (["--input", str(inputs / "float.npy")], "must be integers")
+    sizes = inputs / "sizes"
+    sizes.mkdir()
+    Image.fromarray(np.zeros((16, 16), np.uint8)).save(sizes / "f0.png")
+    Image.fromarray(np.zeros((16, 18), np.uint8)).save(sizes / "f1.png")
+    cases["mixed sizes"] = (["--input", str(sizes)], "mixed sizes")
+    depths = inputs / "depths"
+    depths.mkdir()
+    Image.fromarray(np.zeros((16, 16), np.uint8)).save(depths / "f0.png")
+    Image.fromarray(np.zeros((16, 16), np.uint16)).save(depths / "f1.png")
+    cases["mixed dtypes"] = (["--input", str(depths)], "mixed bit depths")
+    (inputs / "nothing").mkdir()
+    cases["empty folder"] = (["--input", str(inputs / "nothing")], "empty")
+    (inputs / "unknown.toml").write_text(SMALL.replace("seed = 3", "seed = 3\ncolour = 1"))
+    cases["unknown TOML key"] = (["--scenario", str(inputs / "unknown.toml")],
+                                 "unknown key(s) ['colour'] in [scene]")
+    (inputs / "assoc.toml").write_text(SMALL + "[association]\ngatee = 3\n")
+    cases["unknown association key"] = (["--scenario", str(inputs / "assoc.toml")],
+                                        "unknown key(s) ['gatee'] in [association]")
+    (inputs / "range.toml").write_text(SMALL + "[association]\nmax_misses = 300\n")
+    cases["value out of range"] = (["--scenario", str(inputs / "range.toml")],
+                                   "max_misses must be an integer in [0, 255]")
+    cases["seed with recorded data"] = (["--input", str(inputs / "short.npy"), "--seed", "1"],
+                                        "--seed applies to a simulated scene")
+    return cases
+
+
+def test_bad_input_is_refused_by_name_and_leaves_nothing(tmp_path, capsys):
+    inputs = tmp_path / "inputs"
+    inputs.mkdir()
+    for name, (extra, message) in _bad_inputs(inputs).items():
+        out = tmp_path / "out"
+        assert main(["run", "--no-progress", "--out", str(out)] + extra) == 2, name
+        err = capsys.readouterr().err
+        assert err.startswith("dptbd run: error:") and message in err, (name, err)
+        assert "Traceback" not in err
+        assert leftovers(tmp_path) == [], name
+
+
+def test_a_failure_while_writing_leaves_no_folder(tmp_path, small, capsys, monkeypatch):
+    def disk_full(*args, **kwargs):
+        raise OSError(28, "No space left on device", str(tmp_path / "x.png"))
+
+    monkeypatch.setattr(report, "figure_tracks", disk_full)
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(small), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "No space left on device" in err and "Traceback" not in err
+    assert leftovers(tmp_path) == []
+    # and an existing run folder survives a failed --force run untouched
+    monkeypatch.undo()
+    assert main(["run", "--no-progress", "--scenario", str(small), "--out", str(out)]) == 0
+    before = sorted(p.name for p in out.iterdir())
+    monkeypatch.setattr(report, "figure_tracks", disk_full)
+    assert main(["run", "--no-progress", "--scenario", str(small), "--out", str(out),
+                 "--force"]) == 2
+    assert sorted(p.name for p in out.iterdir()) == before and leftovers(tmp_path) == ["r"]
+
+
+def _bright_sequence(t=24, h=32, w=32, bits=8):
+    """Noise with one bright target moving (0.5, 0.75) px/frame: recorded data, no truth."""
+    rng = np.random.default_rng(2)
+    top = (1 << bits) - 1
+    frames = rng.normal(top * 0.2, top * 0.03, (t, h, w))
+    for k in range(t):
+        frames[k, int(4 + 0.5 * k), int(3 + 0.75 * k)] += top * 0.4
+    return np.clip(np.rint(frames), 0, top).astype(np.uint8 if bits == 8 else np.uint16)
+
+
+@pytest.mark.parametrize("kind", ["npz", "png16"])
+def test_recorded_data_gives_tracks_and_figures_without_truth(tmp_path, capsys, kind):
+    inputs = tmp_path / "inputs"
+    inputs.mkdir()
+    if kind == "npz":
+        seq = _bright_sequence()
+        np.savez(inputs / "seq.npz", frames=seq, other=np.zeros(3))
+        src = ["--input", str(inputs / "seq.npz")]
+    else:
+        seq = _bright_sequence(bits=16)
+        folder = inputs / "frames"
+        folder.mkdir()
+        for i, f in enumerate(seq):
+            Image.fromarray(f).save(folder / f"img{i}.png")
+        src = ["--input", str(folder)]
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--out", str(out)] + src) == 0
+    text = capsys.readouterr().out
+    assert "recorded data" in text and "confirmed tracks (" in text
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["table"] == [] and summary["false_tracks"] is None
+    assert summary["input_bits"] == (8 if kind == "npz" else 16)
+    assert len(summary["tracks"]) >= 1
+    track = summary["tracks"][0]
+    assert track["target"] is None and abs(track["velocity"][0] - 0.5) < 0.3
+    for name in ("raw_frame.png", "accumulated.png", "tracks.png"):
+        assert (out / name).stat().st_size > 0
+
+
+@pytest.mark.skipif(shutil.which("iverilog") is None, reason="Icarus Verilog not installed")
+def test_rtl_checks_the_generated_verilog_against_the_model(tmp_path, small, capsys):
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(small), "--rtl",
+                 "--rtl-build-dir", str(tmp_path / "build"), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "the generated Verilog matches the golden model" in text
+    rtl = json.loads((out / "summary.json").read_text())["rtl"]
+    assert rtl["passed"] and rtl["frames"] == 12
