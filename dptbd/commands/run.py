@@ -16,7 +16,9 @@ at (54, 40) with V = (0.4, 0.6), 0.2 % false-alarm threshold):
 
 It writes, into a new output folder (default ``dptbd-run``): ``table.md``/``table.csv``
 (001's Table 1 form), ``tracks.csv`` (a position per frame of every confirmed track),
-``candidates.csv``, ``summary.json`` (everything, machine-readable), ``scenario.toml``
+``candidates.csv``, ``summary.json`` (everything, machine-readable, including the bits per
+segment the FPGA hands the DSP against the whole image, also printed;
+``docs/arithmetic.md`` §6.6), ``scenario.toml``
 (the effective scenario: rerun with ``--scenario``) and three figures: ``raw_frame.png``,
 ``accumulated.png``, ``tracks.png``. Everything is written into a hidden temporary folder
 beside the output folder and renamed at the end, so an error leaves nothing behind.
