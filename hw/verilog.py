@@ -2,13 +2,15 @@
 
 ``generate_verilog(cfg)`` converts :class:`~dptbd.hw.dp_pipeline.DPPipeline` (or, with
 ``external_state_store=True``, :class:`~dptbd.hw.dp_core.DPCore`) to one Verilog module and
-describes it in a manifest: the configuration, the derived widths, every port with its
-direction and width, the latency, and the bit fields of the stream payloads. A cocotb
+describes it in a manifest: the configuration, the weight LUT's storage (``lut_style``),
+the derived widths, every port with its direction and width, the latency, and the bit
+fields of the stream payloads. A cocotb
 testbench reads the manifest instead of hard-coding any of these.
 
 Command line::
 
     python -m dptbd.hw.verilog --out build/dptbd_dp.v [--width 128 --height 128 …]
+                               [--lut-style {auto,bram,logic}]
 
 writes ``build/dptbd_dp.v`` and ``build/dptbd_dp.json``.
 """
@@ -28,6 +30,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.dp_core import DPCore
 from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.hw.layouts import field_offsets, pixel_layout, state_layout, state_word_layout
+from dptbd.hw.weight_lut import LUT_STYLES
 
 __all__ = ["MODULE_NAME", "VERILATOR_LINT_FLAGS", "build_top", "port_list", "manifest",
            "generate_verilog", "main"]
@@ -45,9 +48,13 @@ VERILATOR_LINT_FLAGS = (
 )
 
 
-def build_top(cfg: DPConfig, *, external_state_store: bool = False):
-    """The top-level component: ``DPPipeline(cfg)``, or ``DPCore(cfg)`` without a store."""
-    return DPCore(cfg) if external_state_store else DPPipeline(cfg)
+def build_top(cfg: DPConfig, *, external_state_store: bool = False, lut_style: str = "auto"):
+    """The top-level component: ``DPPipeline(cfg)``, or ``DPCore(cfg)`` without a store.
+
+    ``lut_style`` (``"auto"``, ``"bram"``, ``"logic"``) is passed on (weight LUT storage).
+    """
+    kind = DPCore if external_state_store else DPPipeline
+    return kind(cfg, lut_style=lut_style)
 
 
 def port_list(top: wiring.Component) -> list[dict]:
@@ -77,6 +84,7 @@ def manifest(cfg: DPConfig, top) -> dict:
         "top": type(top).__name__,
         "parameters": {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)
                        if f.name != "weights"},
+        "lut_style": top.lut_style,
         "derived": {
             "n_moves": cfg.n_moves,
             "start_code": cfg.start_code,
@@ -102,6 +110,7 @@ def manifest(cfg: DPConfig, top) -> dict:
 
 
 def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
+                     lut_style: str = "auto",
                      manifest_path: str | pathlib.Path | None = None) -> tuple[str, dict]:
     """Convert the pipeline for ``cfg`` to Verilog.
 
@@ -112,6 +121,11 @@ def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
     external_state_store : bool
         Convert :class:`DPCore` (state-store port on the module boundary) instead of
         :class:`DPPipeline` (on-chip state store).
+    lut_style : {"auto", "bram", "logic"}
+        Weight LUT storage (:class:`~dptbd.hw.weight_lut.WeightLUT`): ``"logic"`` emits
+        ``(* ram_style = "logic" *)`` on the LUT's column memories, ``"bram"`` leaves them
+        to RAM inference; ``"auto"`` is logic for r = 1, block RAM for r = 2. The manifest
+        records the resolved style under ``lut_style``.
     manifest_path : path-like, optional
         Also write the manifest there as JSON.
 
@@ -120,7 +134,7 @@ def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
     tuple of (str, dict)
         The Verilog text of module ``dptbd_dp`` and its manifest.
     """
-    top = build_top(cfg, external_state_store=external_state_store)
+    top = build_top(cfg, external_state_store=external_state_store, lut_style=lut_style)
     text = verilog.convert(top, name=MODULE_NAME, emit_src=False)
     info = manifest(cfg, top)
     if manifest_path is not None:
@@ -134,6 +148,9 @@ def main(argv=None) -> int:
     parser.add_argument("--out", required=True, help="Verilog file to write")
     parser.add_argument("--external-state-store", action="store_true",
                         help="convert DPCore (state store outside the module)")
+    parser.add_argument("--lut-style", choices=LUT_STYLES, default="auto",
+                        help="weight LUT storage: block RAM, logic, or auto (logic for r = 1, "
+                             "block RAM for r = 2; default)")
     defaults = DPConfig()
     for f in dataclasses.fields(DPConfig):
         if f.name in ("weights", "segment_stride"):
@@ -147,7 +164,7 @@ def main(argv=None) -> int:
     out = pathlib.Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     text, _ = generate_verilog(cfg, external_state_store=args.external_state_store,
-                               manifest_path=out.with_suffix(".json"))
+                               lut_style=args.lut_style, manifest_path=out.with_suffix(".json"))
     out.write_text(text)
     print(f"wrote {out} and {out.with_suffix('.json')}")
     return 0

@@ -2,9 +2,11 @@
 
 Parameters come from options named after the :class:`~dptbd.config.DPConfig` fields, from a
 TOML file of those fields (``--config``; unknown keys are refused), or both (options win).
-The manifest JSON beside the Verilog lists the parameters, derived widths, weight codes,
-every port with direction and width, the latency and the payload bit fields
-(:func:`dptbd.hw.verilog.manifest`).
+The manifest JSON beside the Verilog lists the parameters, the weight LUT storage
+(``lut_style``), derived widths, weight codes, every port with direction and width, the
+latency and the payload bit fields (:func:`dptbd.hw.verilog.manifest`). ``--lut-style``
+chooses the weight LUT's storage (``auto``, the default: logic for r = 1, block RAM for
+r = 2; ``bram``; ``logic``), a synthesis choice that does not change behaviour.
 """
 
 from __future__ import annotations
@@ -106,6 +108,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true", help="overwrite existing files")
     parser.add_argument("--external-state-store", action="store_true",
                         help="convert DPCore: the W*H-word state store outside the module")
+    parser.add_argument("--lut-style", choices=("auto", "bram", "logic"), default="auto",
+                        help="weight LUT storage: auto (default; logic for r = 1, block RAM "
+                             "for r = 2), bram (one block RAM per move), logic (flip-flops and "
+                             "multiplexers, no block RAM; lets the 64x64 top level fit an "
+                             "iCE40-HX8K)")
     add_config_arguments(parser)
 
 
@@ -121,7 +128,8 @@ def main(args: argparse.Namespace) -> int:
     if existing and not args.force:
         raise FileExistsError(f"{', '.join(map(str, existing))} exist(s); pass --force to "
                               f"overwrite")
-    text, info = generate_verilog(cfg, external_state_store=args.external_state_store)
+    text, info = generate_verilog(cfg, external_state_store=args.external_state_store,
+                                  lut_style=args.lut_style)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(text)
     manifest.write_text(json.dumps(info, indent=2) + "\n")
@@ -130,6 +138,6 @@ def main(args: argparse.Namespace) -> int:
           f"and {manifest}")
     print(f"  {cfg.width}x{cfg.height}, K={cfg.segment_frames}, B_in={cfg.input_bits}, "
           f"B_E={cfg.energy_bits}, F={cfg.weight_frac_bits}, r={cfg.radius}, {cfg.rounding}; "
-          f"latency {info['latency']} cycles")
+          f"weight LUT in {info['lut_style']}; latency {info['latency']} cycles")
     print(f"  ports: {ports}")
     return 0

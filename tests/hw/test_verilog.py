@@ -1,5 +1,9 @@
 """Verilog generation: the manifest, Icarus and Verilator on the output, and an Icarus run.
 
+Both weight LUT storage styles are generated (``lut_style``: "small" and "core" use the
+default, logic for r = 1; "small-bram" and "radius2" block RAM; "radius2-logic" logic), and
+each is linted, compiled and, for r = 1, simulated against the golden model.
+
 The Icarus run streams frames through the *generated Verilog* (the artefact the cocotb
 harness will use) with random input gaps and back-pressure, and scores it against the golden
 model like the Amaranth-simulator tests do.
@@ -16,7 +20,7 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_pixel, unpack_state
 from dptbd.hw.verilog import MODULE_NAME, VERILATOR_LINT_FLAGS, generate_verilog
-from hw_harness import assert_states_equal, frames_to_stream, reference_states
+from hw_harness import assert_states_equal, frames_to_stream, reference_states, refused
 
 SMALL = DPConfig(width=5, height=4, segment_frames=3, energy_bits=12)
 RADIUS2 = DPConfig(width=7, height=6, segment_frames=2, radius=2, rounding="half_up")
@@ -24,15 +28,20 @@ RADIUS2 = DPConfig(width=7, height=6, segment_frames=2, radius=2, rounding="half
 needs_iverilog = pytest.mark.skipif(shutil.which("iverilog") is None, reason="iverilog not installed")
 needs_verilator = pytest.mark.skipif(shutil.which("verilator") is None, reason="verilator not installed")
 
+ALL = ["small", "radius2", "core", "small-bram", "radius2-logic"]
+
 
 @pytest.fixture(scope="module")
 def generated(tmp_path_factory):
     """``{name: (path of the .v, manifest)}`` for the configurations under test."""
     out = {}
-    for name, cfg, external in [("small", SMALL, False), ("radius2", RADIUS2, False),
-                                ("core", SMALL, True)]:
+    for name, cfg, external, style in [("small", SMALL, False, "auto"),
+                                       ("radius2", RADIUS2, False, "auto"),
+                                       ("core", SMALL, True, "auto"),
+                                       ("small-bram", SMALL, False, "bram"),
+                                       ("radius2-logic", RADIUS2, False, "logic")]:
         folder = tmp_path_factory.mktemp(name)
-        text, info = generate_verilog(cfg, external_state_store=external,
+        text, info = generate_verilog(cfg, external_state_store=external, lut_style=style,
                                       manifest_path=folder / "dptbd_dp.json")
         path = folder / "dptbd_dp.v"
         path.write_text(text)
@@ -55,7 +64,7 @@ def declared_ports(text):
     return ports
 
 
-@pytest.mark.parametrize("name", ["small", "radius2", "core"])
+@pytest.mark.parametrize("name", ALL)
 def test_manifest_lists_exactly_the_verilog_ports(generated, name):
     path, info = generated[name]
     ports = declared_ports(path.read_text())
@@ -90,8 +99,39 @@ def test_manifest_contents(generated):
     assert generated["radius2"][1]["latency"] == 15
 
 
+#: (* ram_style = "logic" *) on a weight LUT column memory (``reg [8:0] column_N [9:0]``).
+LOGIC_COLUMN = re.compile(r'\(\* ram_style = "logic" \*\)\s*reg \[\d+:0\] column_\d+ \[')
+
+
+@pytest.mark.parametrize("name, style, columns", [
+    ("small", "logic", 9), ("core", "logic", 9), ("small-bram", "bram", 9),
+    ("radius2", "bram", 25), ("radius2-logic", "logic", 25)])
+def test_lut_style_in_verilog_and_manifest(generated, name, style, columns):
+    """"auto" resolves to logic for r = 1 and block RAM for r = 2; only the attribute differs."""
+    path, info = generated[name]
+    text = path.read_text()
+    assert info["lut_style"] == style
+    assert len(re.findall(r"reg \[\d+:0\] column_\d+ \[", text)) == columns
+    assert len(LOGIC_COLUMN.findall(text)) == (columns if style == "logic" else 0)
+    assert text.count("ram_style") == (columns if style == "logic" else 0)
+
+
+def test_lut_styles_differ_only_in_the_attribute(generated):
+    logic = generated["small"][0].read_text()
+    bram = generated["small-bram"][0].read_text()
+    assert re.sub(r'\(\* ram_style = "logic" \*\)\n\s*', "", logic) == bram
+    info_logic, info_bram = generated["small"][1], generated["small-bram"][1]
+    assert {k: v for k, v in info_logic.items() if k != "lut_style"} == \
+        {k: v for k, v in info_bram.items() if k != "lut_style"}
+
+
+def test_unknown_lut_style_is_refused():
+    with refused(ValueError, match="lut_style must be one of 'auto', 'bram', 'logic'"):
+        generate_verilog(SMALL, lut_style="distributed")
+
+
 @needs_iverilog
-@pytest.mark.parametrize("name", ["small", "radius2", "core"])
+@pytest.mark.parametrize("name", ALL)
 def test_icarus_compiles(generated, name, tmp_path):
     path, _ = generated[name]
     run = subprocess.run(["iverilog", "-g2012", "-o", str(tmp_path / "a.vvp"), str(path)],
@@ -100,7 +140,7 @@ def test_icarus_compiles(generated, name, tmp_path):
 
 
 @needs_verilator
-@pytest.mark.parametrize("name", ["small", "radius2", "core"])
+@pytest.mark.parametrize("name", ALL)
 def test_verilator_lints_clean(generated, name):
     path, _ = generated[name]
     run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "--top-module", MODULE_NAME,
@@ -152,8 +192,9 @@ endmodule
 
 
 @needs_iverilog
-def test_icarus_simulation_matches_golden_model(generated, tmp_path):
-    path, info = generated["small"]
+@pytest.mark.parametrize("name", ["small", "small-bram"])
+def test_icarus_simulation_matches_golden_model(generated, name, tmp_path):
+    path, info = generated[name]
     cfg = SMALL
     frames = np.random.default_rng(17).integers(0, 256, size=(5, cfg.height, cfg.width))
     stream = frames_to_stream(frames)

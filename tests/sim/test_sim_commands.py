@@ -77,6 +77,28 @@ def test_verilog_refuses_unknown_toml_keys_and_bad_values(tmp_path):
     assert not list(tmp_path.glob("*.v"))
 
 
+@pytest.mark.parametrize("argv, radius, style", [
+    ([], 1, "logic"), (["--lut-style", "auto", "--radius", 2], 2, "bram"),
+    (["--lut-style", "bram"], 1, "bram"), (["--lut-style", "logic", "--radius", 2], 2, "logic"),
+])
+def test_verilog_lut_style(tmp_path, capsys, argv, radius, style):
+    """--lut-style: the attribute on the LUT's column memories, the manifest, the summary."""
+    out = tmp_path / "dp.v"
+    assert verilog_command.main(parse(verilog_command, ["-o", out, "--width", 9,
+                                                        "--height", 8, *argv])) == 0
+    text = out.read_text()
+    moves = (2 * radius + 1) ** 2
+    assert text.count('(* ram_style = "logic" *)') == (moves if style == "logic" else 0)
+    assert json.loads(out.with_suffix(".json").read_text())["lut_style"] == style
+    assert f"weight LUT in {style}" in capsys.readouterr().out
+
+
+def test_verilog_refuses_an_unknown_lut_style(tmp_path, capsys):
+    with pytest.raises(SystemExit):
+        parse(verilog_command, ["-o", tmp_path / "a.v", "--lut-style", "registers"])
+    assert "invalid choice: 'registers'" in capsys.readouterr().err
+
+
 def test_narrow_energy_width_warns_but_builds(tmp_path, capsys):
     out = tmp_path / "dp.v"
     args = parse(verilog_command, ["-o", out, "--width", 8, "--height", 6, "--input-bits", 6,
