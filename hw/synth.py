@@ -5,11 +5,14 @@
 (``variant="top"``, on-chip state store), synthesises it with Yosys ``synth_ice40``,
 places and routes it with ``nextpnr-ice40`` once per placement seed, and returns a
 :class:`SynthResult`: Yosys cell counts (SB_LUT4, SB_DFF*, SB_RAM40_4K, SB_CARRY), and per
-seed the post-route Fmax, the device utilisation and whether the design fits. ::
+seed the post-route Fmax, the device utilisation and whether the design fits. The weight
+LUT's storage is the gateware's ``lut_style`` (``"auto"``: logic for r = 1, block RAM for
+r = 2; ``"bram"``; ``"logic"``), recorded in ``SynthResult.params["lut_style"]``. ::
 
     from dptbd.config import DPConfig
     from dptbd.hw.synth import synthesize
     res = synthesize(DPConfig(), variant="core", seeds=(1, 2, 3))
+    res_bram = synthesize(DPConfig(), variant="core", lut_style="bram")
     print(res.cells.lut4, res.cells.bram, res.fmax_median_mhz, res.fits)
 
 A design that does not fit the device is a result (``fits`` False, utilisation above 100 %,
@@ -519,6 +522,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (
                package: str = "ct256", target_mhz: float = 100.0, jobs: int = 1,
                yosys: str = "yosys", nextpnr: str = "nextpnr-ice40",
                yosys_timeout: float = 1800, nextpnr_timeout: float = 1800,
+               lut_style: str = "auto",
                verilog_filter: Callable[[str], str] | None = None) -> SynthResult:
     """Generate, synthesise and place-and-route the pipeline for ``cfg``.
 
@@ -545,10 +549,13 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (
         Executables (names on ``PATH`` or paths).
     yosys_timeout, nextpnr_timeout : float
         Seconds per tool call before it is killed (:class:`ToolTimeoutError`).
+    lut_style : {"auto", "bram", "logic"}
+        Weight LUT storage, passed to the gateware
+        (:class:`~dptbd.hw.weight_lut.WeightLUT`); the resolved style is
+        ``SynthResult.params["lut_style"]``. ``ValueError`` for anything else.
     verilog_filter : callable, optional
         Applied to the generated Verilog text before synthesis, e.g. to try a synthesis
-        attribute without changing the gateware (``benchmarks/bench_synth.py``'s
-        ``top64-lutlogic`` case). The file written is the filtered text.
+        attribute the gateware has no option for. The file written is the filtered text.
 
     Raises
     ------
@@ -560,7 +567,9 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (
         The gateware does not support ``cfg``.
     """
     from dptbd.hw.verilog import MODULE_NAME, generate_verilog  # Amaranth import on demand
+    from dptbd.hw.weight_lut import resolve_lut_style
 
+    style = resolve_lut_style(cfg, lut_style)   # ValueError before any tool runs
     if variant not in VARIANTS:
         raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")
     if device not in ICE40_DEVICES:
@@ -586,7 +595,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (
     try:
         start = time.monotonic()
         text, _ = generate_verilog(cfg, external_state_store=(variant == "core"),
-                                   manifest_path=work / "dptbd_dp.json")
+                                   lut_style=lut_style, manifest_path=work / "dptbd_dp.json")
         if verilog_filter is not None:
             text = verilog_filter(text)
         verilog_path = work / VERILOG_NAME
@@ -609,7 +618,8 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (
         if tmp is not None:
             runs = tuple(dataclasses.replace(r, log_path=None) for r in runs)
         return SynthResult(variant=variant, device=device, package=package,
-                           target_mhz=float(target_mhz), params=_config_params(cfg),
+                           target_mhz=float(target_mhz),
+                           params={**_config_params(cfg), "lut_style": style},
                            cells=cells, runs=runs, yosys_seconds=yosys_seconds,
                            verilog_seconds=verilog_seconds, tools=tools,
                            workdir=None if tmp is not None else str(work))

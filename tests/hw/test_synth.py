@@ -228,6 +228,8 @@ def test_bad_arguments():
         synthesize(DPConfig(), variant="board")
     with pytest.raises(ValueError, match="device"):
         synthesize(DPConfig(), device="ecp5")
+    with pytest.raises(ValueError, match="lut_style must be one of 'auto', 'bram', 'logic'"):
+        synthesize(DPConfig(), lut_style="distributed", yosys="/nonexistent/yosys")
 
 
 def fake_nextpnr(folder: pathlib.Path, log: str, rc: int, sleep: float = 0) -> str:
@@ -287,6 +289,26 @@ def test_real_yosys_on_a_tiny_pipeline(tmp_path):
     assert res.runs == () and res.fits is None and res.fmax_median_mhz is None
     assert (tmp_path / "netlist.json").exists() and (tmp_path / "yosys.log").exists()
     assert res.tools["yosys"].startswith("Yosys")
+
+
+@needs_yosys
+def test_lut_style_moves_the_weight_lut_out_of_block_ram(tmp_path):
+    """``lut_style="logic"``: the M = 9 column memories (10 x 9 bits) leave block RAM.
+
+    F = 8 as in the real configurations (Yosys keeps TINY's 1-bit columns in logic anyway);
+    about 30 s of CPU for the two Yosys runs.
+    """
+    cfg = dataclasses.replace(TINY, weight_frac_bits=8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        bram = synthesize(cfg, variant="core", seeds=(), workdir=tmp_path / "bram",
+                          lut_style="bram")
+        auto = synthesize(cfg, variant="core", seeds=(), workdir=tmp_path / "auto")
+    assert bram.params["lut_style"] == "bram" and auto.params["lut_style"] == "logic"
+    assert bram.cells.bram - auto.cells.bram == cfg.n_moves
+    assert auto.cells.dff > bram.cells.dff
+    manifest = json.loads((tmp_path / "auto" / "dptbd_dp.json").read_text())
+    assert manifest["lut_style"] == "logic"
 
 
 @pytest.mark.slow
