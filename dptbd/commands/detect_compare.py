@@ -104,7 +104,7 @@ def plot(res: CompareResult, path: pathlib.Path) -> None:
     ax.grid(alpha=0.3)
     ax.set_title(f"{p['scene']} scenes, {p['frames']} frames, Pfa {p['false_alarm_rate']:g} per decision",
                  fontsize=10)
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
