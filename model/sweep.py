@@ -21,7 +21,9 @@ with :func:`dptbd.hw.synth.synthesize` (Yosys ``synth_ice40``, nextpnr-ice40 on 
 HX8K, ``ct256``, one place-and-route per seed) and caches the result in a JSON file per
 configuration, keyed by a hash of everything that goes into the netlist and the flow
 (all DPConfig fields including the LUT, variant, device, package, seeds, target
-frequency, tool versions): a second run costs nothing.
+frequency, tool versions, and the gateware's source: the ``dptbd.hw`` package's ``.py``
+files, :func:`gateware_hash`): a second run costs nothing, and a changed gateware is
+synthesised again.
 """
 
 from __future__ import annotations
@@ -38,7 +40,7 @@ import numpy as np
 from dptbd.model.snr_loss import LossEstimate, bootstrap_losses
 
 __all__ = ["config_losses", "verdict", "cost_key", "choose", "hardware_key", "hardware_cost",
-           "default_cache_dir", "HardwareCost"]
+           "gateware_hash", "default_cache_dir", "HardwareCost"]
 
 
 def config_losses(result) -> dict[str, list[LossEstimate]]:
@@ -129,13 +131,23 @@ def default_cache_dir() -> pathlib.Path:
     return pathlib.Path(base) / "dptbd" / "synth"
 
 
+def gateware_hash() -> str:
+    """SHA-256 (24 hex digits) of the gateware's source: every ``.py`` file of ``dptbd.hw``."""
+    import dptbd.hw
+    root = pathlib.Path(dptbd.hw.__file__).resolve().parent
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()[:24]
+
+
 def hardware_key(cfg, *, variant: str, device: str, package: str, seeds: Sequence[int],
-                 target_mhz: float, tools: Mapping[str, str]) -> str:
-    """Hash of everything that determines a synthesis result."""
+                 target_mhz: float, tools: Mapping[str, str], gateware: str = "") -> str:
+    """Hash of everything that determines a synthesis result (``gateware``: :func:`gateware_hash`)."""
     params = {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)}
     blob = json.dumps({"params": params, "variant": variant, "device": device,
                        "package": package, "seeds": list(seeds), "target_mhz": target_mhz,
-                       "tools": dict(tools)}, sort_keys=True, default=str)
+                       "tools": dict(tools), "gateware": gateware}, sort_keys=True, default=str)
     return hashlib.sha256(blob.encode()).hexdigest()[:24]
 
 
@@ -155,22 +167,26 @@ def hardware_cost(cfg, *, variant: str = "core", device: str = "hx8k", package: 
                   seeds: Sequence[int] = (1, 2, 3), target_mhz: float = 100.0,
                   cache_dir: str | pathlib.Path | None = None, jobs: int = 1,
                   synthesize: Callable | None = None,
-                  tools: Mapping[str, str] | None = None) -> HardwareCost:
+                  tools: Mapping[str, str] | None = None,
+                  gateware: str | None = None) -> HardwareCost:
     """Synthesise the gateware for ``cfg`` (or read the cache) and summarise the cost.
 
     ``synthesize``: the flow (default :func:`dptbd.hw.synth.synthesize`; a test passes a
     stand-in), called as ``synthesize(cfg, variant=, seeds=, device=, package=,
     target_mhz=, jobs=)`` and returning a ``SynthResult``-like object. ``tools``: tool
-    versions for the cache key (default: asked from the installed tools).
+    versions for the cache key (default: asked from the installed tools). ``gateware``: the
+    gateware's source hash for the key (default: :func:`gateware_hash` with the real flow,
+    ``""`` with a stand-in).
     """
     if synthesize is None:
         from dptbd.hw.synth import synthesize as flow
         synthesize = flow
         tools = _tool_versions() if tools is None else tools
+        gateware = gateware_hash() if gateware is None else gateware
     tools = dict(tools or {})
     cache = pathlib.Path(cache_dir) if cache_dir is not None else default_cache_dir()
     key = hardware_key(cfg, variant=variant, device=device, package=package, seeds=seeds,
-                       target_mhz=target_mhz, tools=tools)
+                       target_mhz=target_mhz, tools=tools, gateware=gateware or "")
     path = cache / f"{key}.json"
     if path.exists():
         data = json.loads(path.read_text())

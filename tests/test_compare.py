@@ -379,6 +379,13 @@ def test_hardware_cost_is_cached(tmp_path):
     c = sweep.hardware_cost(cfg.replace(energy_bits=12), cache_dir=tmp_path, synthesize=fake,
                             tools={"yosys": "x"})
     assert len(calls) == 2 and not a.cached and b.cached and not c.cached
+    # a changed gateware source is a different key: synthesised again, then cached
+    d = sweep.hardware_cost(cfg, cache_dir=tmp_path, synthesize=fake, tools={"yosys": "x"},
+                            gateware="changed")
+    assert len(calls) == 3 and not d.cached
+    assert sweep.hardware_cost(cfg, cache_dir=tmp_path, synthesize=fake, tools={"yosys": "x"},
+                               gateware="changed").cached
+    assert len(sweep.gateware_hash()) == 24
     assert (b.lut4, b.ff, b.bram, b.fmax_median_mhz, b.logic_cells) == (100, 50, 3, 101.0, 140)
     assert calls[0][1]["variant"] == "core" and calls[0][1]["device"] == "hx8k"
 
