@@ -378,7 +378,7 @@ def draw_figures(summary: dict, out_dir: pathlib.Path) -> list[pathlib.Path]:
     ax.set_ylim(-0.5, big * 1.6)
     ax.set_xticks(x)
     ax.set_xticklabels(labels, rotation=60, ha="right", fontsize=8)
-    ax.set_xlabel("configuration B_in/B_E/F, ordered by state bits per pixel")
+    ax.set_xlabel("configuration B_in/B_E/F, ordered by state bits per pixel (then SB_LUT4 when synthesised)")
     ax.set_ylabel("SNR loss vs float (dB, symlog)")
     choice = summary["choice"].get("within")
     if choice is not None:
