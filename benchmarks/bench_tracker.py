@@ -35,9 +35,10 @@ def _value(text: str):
     return text
 
 
-def run_seed(seed: int, association: dict, snr: float | None = None) -> dict:
+def run_seed(seed: int, association: dict, snr: float | None = None, lists: str = "gateware",
+             dp: dict | None = None, headroom: float = 2.0) -> dict:
     """The built-in scenario with one seed through both stages; per-target metrics."""
-    from dptbd.model.pipeline import run_pipeline
+    from dptbd.model.pipeline import run_pipeline, segmenter_settings
     from dptbd.model.scenes import quantise
     from dptbd.model.segmentation import count_for_rate
     from dptbd.model.track_metrics import evaluate_tracks
@@ -46,13 +47,18 @@ def run_seed(seed: int, association: dict, snr: float | None = None) -> dict:
     changes = {"seed": seed, "association": association}
     if snr is not None:
         changes["snr"] = snr
-    sc = default_scenario().replace(**changes)
+    sc = default_scenario()
+    if dp:
+        changes["dp"] = {**sc.dp, **dp}
+    sc = sc.replace(**changes)
     sc.check()
     scene = sc.make_scene()
     frames = quantise(scene.frames, sc.adc_bits, gain=sc.adc_gain, offset=sc.adc_offset)
     cfg = sc.dp_config(height=sc.height, width=sc.width, input_bits=sc.adc_bits)
     count = count_for_rate(sc.false_alarm_rate, sc.height * sc.width)
-    res = run_pipeline(frames, cfg, count, sc.assoc_config())
+    assoc = sc.assoc_config()
+    cfg = segmenter_settings(cfg, frames, count, assoc, headroom)
+    res = run_pipeline(frames, cfg, count, assoc, lists=lists)
     ev = evaluate_tracks(res.tracks, res.positions, scene.truth, cfg, len(res.segments.end_frames))
     return {"seed": seed, "false_tracks": ev.false_tracks, "confirmed": ev.confirmed_tracks,
             "targets": [{"frames_until_output": t.frames_until_output,
@@ -91,16 +97,25 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--snr", type=float, default=None, help="SNR (default the scenario's, 2.0)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="an [association] parameter (repeatable)")
+    p.add_argument("--dp", action="append", default=[], metavar="KEY=VALUE",
+                   help="a [dp] (DPConfig) parameter, e.g. histogram_shift=3 (repeatable)")
+    p.add_argument("--lists", choices=("gateware", "ideal"), default="gateware",
+                   help="candidate lists the DSP receives (default gateware: what the segmenter "
+                        "emits; ideal: each segment's own histogram)")
+    p.add_argument("--headroom", type=float, default=2.0,
+                   help="the gateware segmenter selects for headroom x n points; the DSP trims "
+                        "each list to n (default 2.0, as dptbd run)")
     p.add_argument("--json", metavar="FILE", help="also write the runs and means as JSON")
     args = p.parse_args(argv)
-    assoc = {}
-    for item in args.set:
-        key, _, val = item.partition("=")
-        assoc[key.strip()] = _value(val.strip())
+    assoc, dp = {}, {}
+    for items, into in ((args.set, assoc), (args.dp, dp)):
+        for item in items:
+            key, _, val = item.partition("=")
+            into[key.strip()] = _value(val.strip())
     start = time.perf_counter()
     runs = []
     for seed in range(args.seeds):
-        r = run_seed(seed, assoc, args.snr)
+        r = run_seed(seed, assoc, args.snr, args.lists, dp, args.headroom)
         runs.append(r)
         cells = "  ".join(
             f"T{j + 1}: out {t['frames_until_output'] if t['frames_until_output'] is not None else '—':>3} "
@@ -109,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"seed {seed:>2}: {cells}  false {r['false_tracks']}", flush=True)
     s = summarise(runs)
     print(f"\nmeans over {s['seeds']} seeds ({time.perf_counter() - start:.0f} s), association "
-          f"{assoc or 'defaults'}:")
+          f"{assoc or 'defaults'}, dp {dp or 'defaults'}, {args.lists} lists:")
     for j, t in enumerate(s["targets"]):
         fmt = (lambda v: "—" if v is None else f"{v:.1f}")
         print(f"  target {j + 1}: confirmed in {t['confirmed_in']}/{s['seeds']}, frames until "
@@ -120,7 +135,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"  false tracks per run: {s['false_tracks_mean']:.2f}")
     if args.json:
         with open(args.json, "w") as fh:
-            json.dump({"association": assoc, "runs": runs, "summary": s}, fh, indent=1)
+            json.dump({"association": assoc, "dp": dp, "lists": args.lists, "runs": runs, "summary": s}, fh, indent=1)
     return 0
 
 

@@ -15,7 +15,6 @@ from typing import Any, Iterable
 import numpy as np
 
 from dptbd.model.metrics import first_level_counts
-from dptbd.model.segmentation import candidate_mask
 from dptbd.model.table1 import PAPER_TABLE1
 
 __all__ = ["TABLE_COLUMNS", "table_rows", "format_table", "paper_lines", "track_rows",
@@ -53,6 +52,19 @@ def _fmt(v: Any) -> str:
     return str(v)
 
 
+def received_masks(result) -> np.ndarray:
+    """``(S, H, W)`` bool: the candidate points the DSP received per accumulated frame.
+
+    First-level detections and false points are counted on these lists, i.e. on what the
+    FPGA stage handed over (the gateware segmenter's lists by default, the ideal rule's with
+    ``lists = "ideal"``).
+    """
+    masks = np.zeros(result.segments.energy.shape, dtype=bool)
+    for s, c in enumerate(result.candidates):
+        masks[s, c["row"], c["col"]] = True
+    return masks
+
+
 def table_rows(result, truth, targets, evaluation) -> list[dict]:
     """One row per target: first-level (001 §4) and track (DSP) columns.
 
@@ -64,7 +76,7 @@ def table_rows(result, truth, targets, evaluation) -> list[dict]:
     evaluation : TrackEvaluation
     """
     ends = result.segments.end_frames
-    masks = candidate_mask(result.segments.energy, result.count)
+    masks = received_masks(result)
     if truth:
         every = np.stack([t.pixel[ends] for t in truth], axis=1)
         vis = np.stack([t.visible[ends] for t in truth], axis=1)
@@ -357,9 +369,9 @@ def segmentation_bits(result) -> dict | None:
     """Bits per segment the FPGA hands the DSP, measured on this run (``docs/arithmetic.md``
     §6.6), against the whole accumulated image.
 
-    Two lists are measured on the run's accumulated images: the one the DSP stage used
-    (the §6 rule on the segment's own histogram, :func:`dptbd.model.segmentation.candidates`)
-    and the gateware segmenter's (threshold from the previous segment's histogram, §6.1,
+    Two lists are measured on the run's accumulated images: the ones the DSP stage used
+    (``result.candidates``: the gateware's by default, or the §6 rule on the segment's own
+    histogram with ``lists = "ideal"``) and the gateware segmenter's (threshold from the previous segment's histogram, §6.1,
     :func:`dptbd.model.segmentation.segment_sequence`, bit for bit what ``dptbd_seg``
     emits). Each list costs (records + 1 trailer) payload words of
     :func:`dptbd.hw.candidate_layout.bits_per_segment`. ``None`` when the gateware layouts
@@ -392,6 +404,7 @@ def segmentation_bits(result) -> dict | None:
             "trailer_bits": bits.trailer, "n": cfg.n_candidates, "capacity": cfg.record_capacity,
             "nominal_bits": bits.nominal, "nominal_reduction": round(bits.image / bits.nominal, 1),
             "worst_bits": bits.worst, "worst_reduction": round(bits.image / bits.worst, 1),
+            "lists": getattr(result, "lists", "gateware"), "dsp_count": result.count,
             "dsp_lists": per(used), "gateware_lists": per(gate),
             "gateware_overflows": int(sum(lst.overflow for lst in lists))}
 
@@ -399,6 +412,13 @@ def segmentation_bits(result) -> dict | None:
 def format_segmentation_bits(sb: dict) -> str:
     """One printed line for :func:`segmentation_bits`."""
     d, g = sb["dsp_lists"], sb["gateware_lists"]
+    if sb.get("lists") == "gateware":
+        return (f"  FPGA -> DSP: {sb['image_bits']} bits per segment for the whole accumulated "
+                f"image; the gateware segmenter's lists (selected for n = {sb['n']}) took "
+                f"{g['bits_mean']:.0f} bits ({g['records_mean']:.1f} records + trailer, "
+                f"{sb['word_bits']}-bit words): {g['reduction']:.0f}x fewer; the DSP keeps "
+                f"{d['records_mean']:.1f} records per list after trimming to "
+                f"{sb['dsp_count']}")
     return (f"  FPGA -> DSP: {sb['image_bits']} bits per segment for the whole accumulated image; "
             f"the candidate lists took {d['bits_mean']:.0f} bits ({d['records_mean']:.1f} "
             f"records + trailer, {sb['word_bits']}-bit words): {d['reduction']:.0f}x fewer; "

@@ -33,6 +33,8 @@ of 0.2 %. Its TOML form (``Scenario.to_toml``, also written into every output fo
 
     [segmentation]
     false_alarm_rate = 0.002   # candidates per accumulated frame = round(rate * H * W)
+    lists = "gateware"         # what the DSP receives: "gateware" (the segmenter's lists,
+                               # previous segment's histogram) or "ideal" (own histogram)
 
     [association]              # dptbd.model.association.AssociationConfig fields
     capacity = 64
@@ -58,6 +60,7 @@ import tomllib
 from typing import Any, Mapping
 
 from dptbd.config import ConfigError, DPConfig
+from dptbd.model.pipeline import LISTS
 from dptbd.model import scenes
 from dptbd.model.association import AssociationConfig, AssociationError
 
@@ -120,6 +123,7 @@ class Scenario:
     adc_offset: float = 0.0
     dp: Mapping[str, Any] = dataclasses.field(default_factory=lambda: {"segment_frames": 6})
     false_alarm_rate: float = 0.002
+    lists: str = "gateware"
     association: Mapping[str, Any] = dataclasses.field(default_factory=dict)
     input_path: pathlib.Path | None = None
     input_key: str | None = None
@@ -175,6 +179,9 @@ class Scenario:
             if not 0.0 < self.false_alarm_rate <= 1.0:
                 raise ScenarioError(f"[segmentation] false_alarm_rate must be in (0, 1], got "
                                     f"{self.false_alarm_rate}")
+            if self.lists not in LISTS:
+                raise ScenarioError(f"[segmentation] lists must be one of "
+                                    f"{', '.join(map(repr, LISTS))}, got {self.lists!r}")
         except (ConfigError, AssociationError, scenes.SceneError, TypeError) as exc:
             raise ScenarioError(f"scenario {self.name!r}: {exc}") from exc
 
@@ -191,7 +198,7 @@ class Scenario:
             if self.input_key is not None:
                 out["input"]["key"] = self.input_key
         out["dp"] = {k: (v if k != "weights" else [list(r) for r in v]) for k, v in self.dp.items()}
-        out["segmentation"] = {"false_alarm_rate": self.false_alarm_rate}
+        out["segmentation"] = {"false_alarm_rate": self.false_alarm_rate, "lists": self.lists}
         out["association"] = dict(self.association)
         if self.report_frame is not None:
             out["report"] = {"frame": self.report_frame}
@@ -213,7 +220,7 @@ _SCENE = {"size", "frames", "mu", "sigma", "snr", "seed", "targets"}
 _TARGET = {"start", "velocity", "snr", "birth", "death", "turns"}
 _TURN = {"frame", "degrees", "velocity"}
 _ADC = {"bits", "gain", "offset"}
-_SEG = {"false_alarm_rate"}
+_SEG = {"false_alarm_rate", "lists"}
 _INPUT = {"path", "key"}
 _REPORT = {"frame"}
 _DP_FIXED = {"width", "height", "input_bits"}
@@ -340,6 +347,8 @@ def parse_scenario(data: Mapping[str, Any], base_dir: pathlib.Path | None = None
         if "false_alarm_rate" in seg:
             changes["false_alarm_rate"] = _real("[segmentation] false_alarm_rate",
                                                 seg["false_alarm_rate"], positive=True)
+        if "lists" in seg:
+            changes["lists"] = seg["lists"]
     if "association" in top:
         known = {f.name for f in dataclasses.fields(AssociationConfig)}
         changes["association"] = _check_keys("[association]", top["association"], known)

@@ -110,6 +110,7 @@ __all__ = [
     "Tracker",
     "div_round",
     "make_candidates",
+    "trim_to_count",
 ]
 
 #: Fractional bits of positions and velocities: 1/16 pixel.
@@ -174,8 +175,10 @@ class AssociationConfig:
     """Parameters of the association, in pixels and ratios; quantised once to codes.
 
     Capacities
-        ``capacity`` track records; ``max_candidates`` input records per segment (the
-        FPGA hands at most n; the job checks n <= this); ``max_points`` history points
+        ``capacity`` track records; ``max_candidates`` input records per segment: the
+        DSP's receive buffer, which must hold the gateware segmenter's whole list (at most
+        its capacity C; the job checks C <= this) before :func:`trim_to_count` cuts it
+        to n; ``max_points`` history points
         per record (a ring: a longer track keeps its newest points); ``output_capacity``
         finished confirmed tracks kept for the output.
     Gates (pixels)
@@ -209,7 +212,7 @@ class AssociationConfig:
     """
 
     capacity: int = 64
-    max_candidates: int = 64
+    max_candidates: int = 128
     max_points: int = 64
     output_capacity: int = 64
     max_speed: float = 1.0
@@ -314,6 +317,25 @@ class ConfirmedTrack:
     length: int
     alive: bool
     points: np.ndarray
+
+
+def trim_to_count(records: np.ndarray, count: int) -> np.ndarray:
+    """DSP input stage: the constant-false-alarm-count rule applied to a received list.
+
+    Keeps the records whose E exceeds the (count+1)-th largest E of the list (all of them
+    when the list holds at most ``count``), in the list's (raster) order: the rule of
+    ``docs/arithmetic.md`` §6 applied to the list instead of the image, ties at the
+    boundary excluded. When the FPGA's list holds every pixel with E >= the image's
+    (count+1)-th largest value, the result is exactly the ideal list of the segment's own
+    image. Work: one partial selection over at most ``max_candidates`` records.
+    """
+    if count < 0:
+        raise AssociationError(f"count must be >= 0, got {count}")
+    if len(records) <= count:
+        return records
+    energy = np.asarray(records["energy"])
+    kth = np.partition(energy, len(energy) - count - 1)[len(energy) - count - 1]
+    return records[energy > kth]
 
 
 def make_candidates(candidates: np.ndarray, paths: np.ndarray | None = None) -> np.ndarray:

@@ -5,8 +5,12 @@ the direction-weighted DP runs on an FPGA, the second-level association on a DSP
 
 * **FPGA stage** — the bit-accurate golden model of the DP (``run_fixed_fast``, eqs (8)–(11),
   ``docs/arithmetic.md`` §1–§5) and the constant-false-alarm-count histogram threshold
-  (§6, :func:`dptbd.model.segmentation.candidates`): at most n candidate records
-  (row, col, E, d) per accumulated frame.
+  (§6): candidate records (row, col, E, d) per accumulated frame. ``lists="gateware"``
+  (the default) hands the DSP exactly what the gateware segmenter emits
+  (:func:`dptbd.model.segmentation.segment_sequence`, threshold from the previous segment's
+  histogram, §6.1–§6.4; the first list after reset is empty); ``lists="ideal"`` uses the
+  ideal rule on each segment's own image (:func:`dptbd.model.segmentation.candidates`,
+  at most n records), which no single-pass gateware can produce.
 * **Between the stages** — the direction maps of every frame of each segment (the
   gateware streams every frame's state), used to backtrack each candidate's path
   (:mod:`dptbd.model.backtrack`).
@@ -22,12 +26,13 @@ from typing import Callable, Iterable
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.model.association import AssociationConfig, ConfirmedTrack, Tracker, make_candidates
+from dptbd.model.association import (AssociationConfig, ConfirmedTrack, Tracker, make_candidates,
+                                     trim_to_count)
 from dptbd.model.backtrack import candidate_paths, segment_direction_maps, track_positions
-from dptbd.model.segmentation import candidates as segment_candidates
+from dptbd.model.segmentation import candidates as segment_candidates, segment_sequence
 from dptbd.model.segments import SegmentOutput
 
-__all__ = ["PipelineResult", "run_pipeline"]
+__all__ = ["LISTS", "PipelineResult", "run_pipeline", "segmenter_settings"]
 
 
 @dataclasses.dataclass
@@ -52,6 +57,8 @@ class PipelineResult:
         Track id -> ``(frames, positions, measured)`` (:func:`track_positions`).
     stats : dict
         The tracker's counters.
+    lists : str
+        Which candidate lists the DSP received (:data:`LISTS`).
     """
 
     cfg: DPConfig
@@ -63,6 +70,7 @@ class PipelineResult:
     tracks: list[ConfirmedTrack]
     positions: dict
     stats: dict
+    lists: str = "gateware"
 
 
 def _accumulate(frames: np.ndarray, cfg: DPConfig) -> SegmentOutput:
@@ -73,7 +81,51 @@ def _accumulate(frames: np.ndarray, cfg: DPConfig) -> SegmentOutput:
     return run(frames, cfg)
 
 
+LISTS = ("gateware", "ideal")
+
+
+def segmenter_settings(cfg: DPConfig, frames: np.ndarray, count: int,
+                       assoc: AssociationConfig, headroom: float = 2.0) -> DPConfig:
+    """The segmenter's run-time settings for a sequence, as the host would write them.
+
+    Only fields the user left at ``None`` are set:
+
+    * ``candidate_count`` n_hw = round(``headroom`` x ``count``), at most
+      ``assoc.max_candidates``: the gateware selects with headroom, and the DSP trims each
+      list to ``count`` (:func:`dptbd.model.association.trim_to_count`). The threshold comes
+      from the *previous* segment's histogram (§6.1), so the gateware's count scatters
+      around n_hw; with headroom 2 its list holds the segment's own top ``count`` (the
+      ideal list, after trimming) in 95 % of the built-in scenario's segments, against
+      43 % with headroom 1 (``docs/association.md`` §2);
+    * ``candidate_capacity`` C = min(2 n_hw, ``assoc.max_candidates``): the DSP's receive
+      buffer bounds the list;
+    * ``histogram_shift`` s from the sensor's range in this sequence: the smallest s whose
+      2^b bins reach K times the largest pixel, ``max(0, bitlen(K * max(x)) - b)``
+      (capped at B_E - 1). ``DPConfig``'s own default covers the full input range
+      K (2^B_in - 1); a 12-bit ADC whose noise sits at 480 LSB (001's scenario) then gets
+      bins 32 levels wide, and a tied top bin holds so many pixels that the lists come out
+      half the requested length (``docs/arithmetic.md`` §6.6). Pixels above the range
+      share the top bin, which is kept whenever it holds at most n pixels.
+    """
+    changes = {}
+    n_hw = min(int(round(count * headroom)), assoc.max_candidates,
+               cfg.candidate_capacity if cfg.candidate_capacity is not None else assoc.max_candidates)
+    if cfg.candidate_count is None:
+        changes["candidate_count"] = n_hw
+        n_hw_eff = n_hw
+    else:
+        n_hw_eff = cfg.candidate_count
+    if cfg.candidate_capacity is None:
+        changes["candidate_capacity"] = max(n_hw_eff, min(2 * n_hw_eff, assoc.max_candidates))
+    if cfg.histogram_shift is None:
+        peak = int(np.max(frames)) * cfg.segment_frames
+        changes["histogram_shift"] = min(cfg.energy_bits - 1,
+                                         max(0, peak.bit_length() - cfg.histogram_bits))
+    return dataclasses.replace(cfg, **changes) if changes else cfg
+
+
 def run_pipeline(frames: np.ndarray, cfg: DPConfig, count: int, assoc: AssociationConfig, *,
+                 lists: str = "gateware",
                  progress: Callable[..., Iterable] | None = None) -> PipelineResult:
     """Run the FPGA stage and the DSP stage on integer frames ``(T, H, W)``.
 
@@ -87,13 +139,24 @@ def run_pipeline(frames: np.ndarray, cfg: DPConfig, count: int, assoc: Associati
         n, the constant false-alarm count per accumulated frame (<= ``assoc.max_candidates``).
     assoc : AssociationConfig
         Association parameters.
+    lists : {"gateware", "ideal"}
+        Which candidate lists the DSP receives (module docstring). With ``"gateware"`` the
+        segmenter's n is ``count`` unless ``cfg.candidate_count`` sets it, and its record
+        capacity C (``cfg.record_capacity``) must fit ``assoc.max_candidates``.
     progress : callable, optional
         ``progress(iterable, desc=..., total=...)`` wrapper (``tqdm``) for the per-segment loops.
     """
-    if count > assoc.max_candidates:
-        raise ValueError(f"the segmentation keeps up to {count} candidates per accumulated frame "
-                         f"but the association's input buffer holds max_candidates="
-                         f"{assoc.max_candidates}; raise it or lower the false-alarm rate")
+    if lists not in LISTS:
+        raise ValueError(f"lists must be one of {', '.join(LISTS)}, got {lists!r}")
+    if lists == "gateware" and cfg.candidate_count is None:
+        cfg = dataclasses.replace(cfg, candidate_count=count)
+    limit = cfg.record_capacity if lists == "gateware" else count
+    if limit > assoc.max_candidates:
+        what = (f"the gateware segmenter emits up to candidate_capacity C = {limit} records"
+                if lists == "gateware" else f"the segmentation keeps up to {limit} candidates")
+        raise ValueError(f"{what} per accumulated frame but the association's input buffer "
+                         f"holds max_candidates={assoc.max_candidates}; raise it, lower the "
+                         f"capacity or the false-alarm rate")
     segments = _accumulate(frames, cfg)
     wrap = (lambda it, desc: it) if progress is None else \
         (lambda it, desc: progress(it, desc=desc, leave=False))
@@ -102,12 +165,15 @@ def run_pipeline(frames: np.ndarray, cfg: DPConfig, count: int, assoc: Associati
     tracker = Tracker(assoc, segment_frames=cfg.segment_frames, segment_stride=cfg.segment_stride,
                       height=cfg.height, width=cfg.width, radius=cfg.radius)
     cands = []
+    gateware = (segment_sequence(segments.energy, segments.direction, cfg)
+                if lists == "gateware" else None)
     for s in wrap(range(len(segments.end_frames)), "association"):
-        raw = segment_candidates(segments.energy[s], segments.direction[s], count)
+        raw = (trim_to_count(gateware[s].records, count) if gateware is not None else
+               segment_candidates(segments.energy[s], segments.direction[s], count))
         c = make_candidates(raw, candidate_paths(raw, maps[s], cfg))
         tracker.step(c)
         cands.append(c)
     tracks = tracker.confirmed_tracks()
     positions = {tr.id: track_positions(tr.points, maps, cfg) for tr in tracks}
     return PipelineResult(cfg, assoc, count, segments, maps, cands, tracks, positions,
-                          dict(tracker.stats))
+                          dict(tracker.stats), lists)

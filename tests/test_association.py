@@ -390,3 +390,19 @@ def test_link_gate_follows_a_turn_the_prediction_missed():
     assert run()["misses"] == 1
     rec = run(link_gate=2.0)
     assert rec["misses"] == 0 and rec["hits"] == 5 and rec["p_row"][1] == 36 * ONE
+
+
+def test_trim_to_count_is_the_section_6_rule_on_the_list():
+    from dptbd.model.association import trim_to_count
+    from dptbd.model.segmentation import candidates
+
+    rng = np.random.default_rng(3)
+    energy = rng.integers(0, 60, (12, 16)).astype(np.uint32)   # many ties
+    direction = rng.integers(0, 10, (12, 16)).astype(np.uint8)
+    for n in (0, 1, 5, 17, 40):
+        ideal = candidates(energy, direction, n)
+        superset = candidates(energy, direction, min(3 * n + 4, energy.size - 1))
+        np.testing.assert_array_equal(trim_to_count(superset, n), ideal)
+        assert len(trim_to_count(ideal, n)) == len(ideal)         # short lists pass through
+    with pytest.raises(AssociationError, match="count must be >= 0"):
+        trim_to_count(ideal, -1)

@@ -51,8 +51,9 @@ def test_builtin_scenario_writes_table_figures_and_bits_per_segment(tmp_path, ca
     assert summary["tool"] == "dptbd run" and len(summary["table"]) == 2
     bits = summary["bits_per_segment"]
     assert bits["image_bits"] == 128 * 128 * 20 and bits["word_bits"] == 35
-    assert bits["dsp_lists"]["records_max"] <= 33 and bits["dsp_lists"]["reduction"] > 250
-    assert bits["gateware_lists"]["reduction"] > 100
+    # by default the DSP receives the gateware segmenter's lists (at most C = 64 records)
+    assert summary["lists"] == "gateware" and summary["segmenter"]["candidate_capacity"] == 128
+    assert bits["gateware_lists"]["records_max"] <= 128 and bits["gateware_lists"]["reduction"] > 100
     header = (out / "table.csv").read_text().splitlines()[0]
     assert "frames_until_output" in header and "pd" in header
     for name in ("raw_frame.png", "accumulated.png", "tracks.png"):
@@ -172,13 +173,13 @@ def test_a_failure_while_writing_leaves_no_folder(tmp_path, small, capsys, monke
     assert sorted(p.name for p in out.iterdir()) == before and leftovers(tmp_path) == ["r"]
 
 
-def _bright_sequence(t=24, h=32, w=32, bits=8):
+def _bright_sequence(t=36, h=32, w=32, bits=8):
     """Noise with one bright target moving (0.5, 0.75) px/frame: recorded data, no truth."""
     rng = np.random.default_rng(2)
     top = (1 << bits) - 1
     frames = rng.normal(top * 0.2, top * 0.03, (t, h, w))
     for k in range(t):
-        frames[k, int(4 + 0.5 * k), int(3 + 0.75 * k)] += top * 0.4
+        frames[k, int(4 + 0.5 * k), int(3 + 0.6 * k)] += top * 0.4
     return np.clip(np.rint(frames), 0, top).astype(np.uint8 if bits == 8 else np.uint16)
 
 
@@ -220,3 +221,38 @@ def test_rtl_checks_the_generated_verilog_against_the_model(tmp_path, small, cap
     assert "the generated Verilog matches the golden model" in text
     rtl = json.loads((out / "summary.json").read_text())["rtl"]
     assert rtl["passed"] and rtl["frames"] == 12
+
+
+def test_ideal_lists_option_and_bad_lists_value(tmp_path, small, capsys):
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(small), "--lists", "ideal",
+                 "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    n = summary["candidates_per_frame"]
+    assert summary["lists"] == "ideal"
+    assert summary["bits_per_segment"]["dsp_lists"]["records_max"] <= n
+    assert 'lists = "ideal"' in (out / "scenario.toml").read_text()
+    bad = tmp_path / "inputs" / "bad.toml"
+    bad.write_text(small.read_text().replace("[segmentation]", '[segmentation]\nlists = "two-pass"'))
+    assert main(["run", "--no-progress", "--scenario", str(bad), "--out", str(tmp_path / "b")]) == 2
+    assert "lists must be one of 'gateware', 'ideal'" in capsys.readouterr().err
+    assert leftovers(tmp_path) == ["r"]
+
+
+def test_segmenter_settings_come_from_the_data_unless_given():
+    from dptbd.config import DPConfig
+    from dptbd.model.association import AssociationConfig
+    from dptbd.model.pipeline import segmenter_settings
+
+    cfg = DPConfig(width=128, height=128, segment_frames=6, input_bits=12, energy_bits=16)
+    frames = np.full((6, 128, 128), 600, np.uint16)
+    got = segmenter_settings(cfg, frames, 33, AssociationConfig())
+    # K * max = 3600 needs 12 bits: 2^10 bins reach it with s = 2 (DPConfig's default: 15 - 10)
+    assert cfg.bin_shift == 5 and got.bin_shift == 2
+    # the gateware selects 2n = 66 (headroom 2), the DSP trims to 33; C = min(2 * 66, 128)
+    assert got.n_candidates == 66 and got.record_capacity == 128
+    assert segmenter_settings(cfg, frames, 33, AssociationConfig(), 1.0).n_candidates == 33
+    mine = DPConfig(width=128, height=128, segment_frames=6, input_bits=12, energy_bits=16,
+                    histogram_shift=4, candidate_capacity=40)
+    kept = segmenter_settings(mine, frames, 33, AssociationConfig())
+    assert kept.bin_shift == 4 and kept.record_capacity == 40 and kept.n_candidates == 40

@@ -71,6 +71,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                     help="frames per segment (default 6)")
     dp.add_argument("--segment-stride", type=int, default=None, metavar="S",
                     help="frames between segment starts (default K: what the gateware does)")
+    dp.add_argument("--lists", choices=("gateware", "ideal"), default=None,
+                    help="candidate lists handed to the DSP: gateware (default: what the "
+                         "segmenter emits, threshold from the previous segment's histogram) or "
+                         "ideal (each segment's own histogram, what a two-pass segmenter gives; "
+                         "docs/arithmetic.md §6.1)")
     dp.add_argument("--rtl", action="store_true",
                     help="also simulate the generated Verilog (cocotb + Icarus) on the first "
                          "frames and check it bit for bit against the model")
@@ -142,6 +147,8 @@ def build_scenario(args: argparse.Namespace):
     if args.segment_stride is not None:
         dp["segment_stride"] = args.segment_stride
     changes["dp"] = dp
+    if args.lists is not None:
+        changes["lists"] = args.lists
     scenario = scenario.replace(**changes)
     scenario.check()
     return scenario
@@ -277,7 +284,7 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _main(args: argparse.Namespace) -> int:
-    from dptbd.model.pipeline import run_pipeline
+    from dptbd.model.pipeline import run_pipeline, segmenter_settings
     from dptbd.model.scenes import quantise
     from dptbd.model.sequence_io import load_sequence
     from dptbd.model.track_metrics import evaluate_tracks
@@ -337,7 +344,16 @@ def _main(args: argparse.Namespace) -> int:
               f"{n_frames} frames ({rtl['seconds']:.0f} s)", flush=True)
 
     # ---- the two stages ----
-    result = run_pipeline(frames, cfg, count, assoc, progress=_progress(args.no_progress))
+    cfg = segmenter_settings(cfg, frames, count, assoc)
+    print(f"  segmentation: {scenario.lists} lists — " + (
+        f"the gateware segmenter's, threshold from the previous segment's histogram "
+        f"(2^{cfg.histogram_bits} bins, shift s = {cfg.bin_shift}), selected for "
+        f"{cfg.n_candidates} points, at most C = {cfg.record_capacity} records, trimmed to "
+        f"{count} by the DSP; the first list after reset is empty"
+        if scenario.lists == "gateware" else
+        f"each segment's own histogram (at most {count} records)"), flush=True)
+    result = run_pipeline(frames, cfg, count, assoc, lists=scenario.lists,
+                          progress=_progress(args.no_progress))
     evaluation = None
     if truth:
         evaluation = evaluate_tracks(result.tracks, result.positions, truth, cfg,
@@ -404,6 +420,9 @@ def _main(args: argparse.Namespace) -> int:
             "accumulated_frames": len(result.segments.end_frames),
             "segment_end_frames": result.segments.end_frames,
             "candidates_per_frame": count,
+            "lists": scenario.lists,
+            "segmenter": {"histogram_bits": cfg.histogram_bits, "histogram_shift": cfg.bin_shift,
+                          "candidate_capacity": cfg.record_capacity},
             "table": rows,
             "tracks": tracks,
             "false_tracks": None if evaluation is None else evaluation.false_tracks,
