@@ -221,6 +221,7 @@ def test_rtl_checks_the_generated_verilog_against_the_model(tmp_path, small, cap
     assert "the generated Verilog matches the golden model" in text
     rtl = json.loads((out / "summary.json").read_text())["rtl"]
     assert rtl["passed"] and rtl["frames"] == 12
+    assert rtl["design"] == "segmenter" and rtl["module"] == "dptbd_seg"
 
 
 def test_ideal_lists_option_and_bad_lists_value(tmp_path, small, capsys):

@@ -78,7 +78,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                          "docs/arithmetic.md §6.1)")
     dp.add_argument("--rtl", action="store_true",
                     help="also simulate the generated Verilog (cocotb + Icarus) on the first "
-                         "frames and check it bit for bit against the model")
+                         "frames and check it bit for bit against the model: the whole FPGA "
+                         "stage (dptbd_seg: DP + segmenter, every candidate-list word) with "
+                         "gateware lists, the DP pipeline (dptbd_dp, every (E, d) word) with "
+                         "--lists ideal")
     dp.add_argument("--rtl-frames", type=int, default=None, metavar="N",
                     help="frames to simulate with --rtl (default 2 K; 0: all — about 12 min "
                          "for 100 frames of 128 x 128)")
@@ -216,8 +219,14 @@ class RtlError(RuntimeError):
     """The RTL simulation could not run or disagreed with the model."""
 
 
-def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Path) -> dict:
-    """Simulate the generated Verilog on the first frames; raise unless bit-exact."""
+def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Path,
+            design: str = "segmenter") -> dict:
+    """Simulate the generated Verilog on the first frames; raise unless bit-exact.
+
+    ``design="segmenter"``: the whole FPGA stage (``dptbd_seg``: DP pipeline + segmenter),
+    every candidate list word checked against the golden models; ``"dp"``: the DP pipeline
+    (``dptbd_dp``), every (E, d) word checked.
+    """
     if shutil.which("iverilog") is None or shutil.which("vvp") is None:
         raise RtlError("--rtl needs Icarus Verilog (iverilog, vvp) on the PATH; "
                        "bash scripts/setup.sh installs it")
@@ -234,11 +243,12 @@ def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Pa
     n = min(n, total)
     start = time.perf_counter()
     print(f"  RTL: building the Verilog for this configuration in {build_dir} …", flush=True)
-    sim = build(cfg, build_dir)
-    print(f"  RTL: simulating {n} of {total} frames ({n * cfg.width * cfg.height} pixels) on "
+    sim = build(cfg, build_dir, design=design)
+    print(f"  RTL: simulating {sim.toplevel} on {n} of {total} frames ({n * cfg.width * cfg.height} pixels) on "
           f"Icarus …", flush=True)
     result = simulate(sim, frames[:n], run_name="dptbd-run")
-    info = {"frames": n, "of_frames": total, "passed": result.passed, "report": result.report,
+    info = {"design": design, "module": sim.toplevel, "frames": n, "of_frames": total,
+            "passed": result.passed, "report": result.report,
             "cycles": result.cycles, "latency": sim.latency, "run_dir": str(result.run_dir),
             "seconds": round(time.perf_counter() - start, 1)}
     if not result.passed:
@@ -329,11 +339,21 @@ def _main(args: argparse.Namespace) -> int:
           f"{cfg.n_segments(n_frames)} accumulated frames, {count} candidate points each "
           f"({100 * scenario.false_alarm_rate:g} %)", flush=True)
 
+    cfg = segmenter_settings(cfg, frames, count, assoc)
+    print(f"  segmentation: {scenario.lists} lists — " + (
+        f"the gateware segmenter's, threshold from the previous segment's histogram "
+        f"(2^{cfg.histogram_bits} bins, shift s = {cfg.bin_shift}), selected for "
+        f"{cfg.n_candidates} points, at most C = {cfg.record_capacity} records, trimmed to "
+        f"{count} by the DSP; the first list after reset is empty"
+        if scenario.lists == "gateware" else
+        f"each segment's own histogram (at most {count} records)"), flush=True)
+
     # ---- the RTL, if asked ----
     rtl = None
     if args.rtl:
         try:
-            rtl = run_rtl(frames, cfg, args.rtl_frames, args.rtl_build_dir)
+            rtl = run_rtl(frames, cfg, args.rtl_frames, args.rtl_build_dir,
+                          "segmenter" if scenario.lists == "gateware" else "dp")
         except RtlError as exc:
             print(f"dptbd run: error: {exc}", file=sys.stderr)
             return 1
@@ -344,14 +364,6 @@ def _main(args: argparse.Namespace) -> int:
               f"{n_frames} frames ({rtl['seconds']:.0f} s)", flush=True)
 
     # ---- the two stages ----
-    cfg = segmenter_settings(cfg, frames, count, assoc)
-    print(f"  segmentation: {scenario.lists} lists — " + (
-        f"the gateware segmenter's, threshold from the previous segment's histogram "
-        f"(2^{cfg.histogram_bits} bins, shift s = {cfg.bin_shift}), selected for "
-        f"{cfg.n_candidates} points, at most C = {cfg.record_capacity} records, trimmed to "
-        f"{count} by the DSP; the first list after reset is empty"
-        if scenario.lists == "gateware" else
-        f"each segment's own histogram (at most {count} records)"), flush=True)
     result = run_pipeline(frames, cfg, count, assoc, lists=scenario.lists,
                           progress=_progress(args.no_progress))
     evaluation = None
