@@ -41,7 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--scene", choices=SCENES, default="rd",
                         help="rd: paper 004 range-Doppler magnitudes (default); image: paper 000 64x64 images")
     parser.add_argument("--snr", type=_floats, default=None, metavar="DB,DB,...",
-                        help="SNRs in dB (default rd: 0,3,6,9,12,15; image: 0,2,4,6,8)")
+                        help="SNRs in dB (default rd: 0,3,6,9,12,15; image: 4,6,8,10,12,14)")
     parser.add_argument("--frames", type=int, default=20, help="frames per scene (default 20)")
     parser.add_argument("--trials", type=int, default=25, help="target scenes per SNR (default 25)")
     parser.add_argument("--noise-trials", type=int, default=80,
@@ -222,7 +222,7 @@ def main(args: argparse.Namespace) -> int:
     check_outputs(args)
     names = parse_detectors(args.detectors)
     snrs = args.snr if args.snr is not None else (
-        [0.0, 3.0, 6.0, 9.0, 12.0, 15.0] if args.scene == "rd" else [0.0, 2.0, 4.0, 6.0, 8.0])
+        [0.0, 3.0, 6.0, 9.0, 12.0, 15.0] if args.scene == "rd" else [4.0, 6.0, 8.0, 10.0, 12.0, 14.0])
     spec = SceneSpec(kind=args.scene, frames=args.frames, preset_snr_db=args.preset_snr_db)
     start = time.perf_counter()
     res = run_comparison(names, snrs_db=snrs, spec=spec, trials=args.trials,
