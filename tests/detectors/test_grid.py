@@ -199,3 +199,15 @@ def test_bad_input_names_the_parameter(call, name):
     tr = Transition((4, 4), gaussian_kernel())
     with pytest.raises(DetectorError, match=name):
         call(tr)
+
+
+def test_scenario1_pfa_is_the_fraction_of_frames_below_the_threshold():
+    from dptbd.model.detectors.paper004 import scenario1
+    res = scenario1(2, 6, preset_snr_db=10.0, shape=(20, 30))
+    h0 = math.log2(20 * 30)
+    assert res.entropy.shape == (2, 6) and np.all(res.entropy < h0) and np.all(res.entropy >= 0)
+    thr = np.sort(res.entropy.ravel())
+    pfa = res.pfa([0.0, thr[3], thr[3] + 1e-9, h0])
+    assert pfa.tolist() == [0.0, 3 / 12, 4 / 12, 1.0]  # strictly below H_thr
+    # the same runs again: seeded
+    assert np.array_equal(scenario1(2, 6, preset_snr_db=10.0, shape=(20, 30)).entropy, res.entropy)
