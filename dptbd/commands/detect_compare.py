@@ -22,7 +22,9 @@ import tempfile
 import time
 
 from dptbd.model.detectors.compare import SCENES, CompareResult, SceneSpec, run_comparison
-from dptbd.model.detectors.interface import DETECTORS, DEFAULT_DETECTORS, parse_detectors
+from dptbd.model.detectors._checks import DetectorError
+from dptbd.model.detectors.interface import (
+    DETECTORS, DEFAULT_DETECTORS, detector_parameters, parse_detectors)
 from dptbd.model.stats import wilson_interval
 
 HELP = "compare papers 000/001/004's detectors and CA-CFAR at equal false-alarm rate (Pd vs SNR)"
@@ -52,6 +54,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="SNR channel of the likelihood-based detectors (default 10 dB)")
     parser.add_argument("--matched", action="store_true",
                         help="set the SNR channel to each scene SNR and recalibrate per SNR")
+    parser.add_argument("--set", action="append", default=[], metavar="DETECTOR.PARAM=VALUE",
+                        help="a detector parameter, repeatable; VALUE is JSON (0.5, 8, true, "
+                             "[[0,0.25,0],[0.25,0,0.25],[0,0.25,0]]), e.g. dp-penalty.alpha=0.85, "
+                             "info.kernel=..., ca-cfar.n_ref=32 (docs/detectors.md §3.2)")
     parser.add_argument("--seed", type=int, default=6, help="base seed (default 6)")
     parser.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     parser.add_argument("--out", type=pathlib.Path, metavar="DIR",
@@ -108,6 +114,30 @@ def plot(res: CompareResult, path: pathlib.Path) -> None:
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
+
+
+def parse_settings(items: list[str]) -> dict:
+    """``["dp-penalty.alpha=0.85", ...]`` -> ``{"dp-penalty": {"alpha": 0.85}}``; values are JSON.
+
+    Unknown detectors and parameters are refused here; values are checked by the detectors.
+    """
+    params: dict = {}
+    for item in items:
+        target, sep, raw = item.partition("=")
+        name, dot, key = target.partition(".")
+        if not sep or not dot or not name or not key:
+            raise DetectorError(f"--set {item!r}: expected DETECTOR.PARAMETER=VALUE, e.g. dp-penalty.alpha=0.85")
+        (name,) = parse_detectors([name])
+        allowed = detector_parameters(name)
+        if key not in allowed:
+            raise DetectorError(f"--set {item!r}: detector {name!r} has no parameter {key!r}; "
+                                f"it has: {', '.join(allowed)}")
+        try:
+            value = json.loads(raw)
+        except ValueError:
+            value = raw  # a plain string; the detector names it if it is wrong
+        params.setdefault(name, {})[key] = value
+    return params
 
 
 # ---- outputs ------------------------------------------------------------------------------
@@ -221,20 +251,26 @@ def _write_text(path: pathlib.Path, text: str, force: bool) -> None:
 def main(args: argparse.Namespace) -> int:
     check_outputs(args)
     names = parse_detectors(args.detectors)
+    params = parse_settings(args.set)
+    for name in params:
+        if name not in names:
+            raise DetectorError(f"--set names detector {name!r}, which is not in --detectors")
     snrs = args.snr if args.snr is not None else (
         [0.0, 3.0, 6.0, 9.0, 12.0, 15.0] if args.scene == "rd" else [4.0, 6.0, 8.0, 10.0, 12.0, 14.0])
     spec = SceneSpec(kind=args.scene, frames=args.frames, preset_snr_db=args.preset_snr_db)
     start = time.perf_counter()
     res = run_comparison(names, snrs_db=snrs, spec=spec, trials=args.trials,
                          noise_trials=args.noise_trials, false_alarm_rate=args.pfa,
-                         matched=args.matched, seed=args.seed, jobs=args.jobs, progress=True)
+                         matched=args.matched, seed=args.seed, jobs=args.jobs, params=params,
+                         progress=True)
     table = format_table(res)
     p = res.params
     note = (f"{p['scene']} scenes, {p['frames']} frames, frames {p['first_frame']}..{p['frames'] - 1} scored, "
             f"{p['trials']} target scenes per SNR, {p['noise_trials']} noise-only scenes, "
             f"Pfa {p['false_alarm_rate']:g} per decision, preset SNR channel "
             f"{'matched' if p['matched'] else str(p['preset_snr_db']) + ' dB'}, gate {p['gate']} cell, "
-            f"seed {p['seed']}, {time.perf_counter() - start:.0f} s")
+            f"seed {p['seed']}, {time.perf_counter() - start:.0f} s"
+            + (f"; --set {' '.join(args.set)}" if args.set else ""))
     print(table)
     print(note)
     if args.out is not None:

@@ -29,6 +29,7 @@ sliding segments like 001's, so that every DP decides every frame from frame K-1
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import math
 from typing import Any
 
@@ -46,6 +47,7 @@ __all__ = [
     "DEFAULT_DETECTORS",
     "make_detector",
     "parse_detectors",
+    "detector_parameters",
     "calibrate",
     "Counts",
     "count_detections",
@@ -206,6 +208,7 @@ class UnifiedDP(Detector):
             self.merit = unified.amplitude_merit()
             check_real("epsilon (printed alpha in 000 §5.2)", epsilon, 0.0, 1.0, lo_open=True, hi_open=True)
             check_real("sigma (printed delta in 000 §5.2)", sigma, 0.0, lo_open=True)
+        check_real("alpha (eq (22) coefficient)", alpha, 0.0, 1.0)  # also where unused (eq (15))
         self.q = (unified.no_penalty(self.radius) if self.variant == "plain"
                   else unified.velocity_log_penalty(self.radius, alpha))
 
@@ -333,9 +336,27 @@ def parse_detectors(names: Any) -> tuple[str, ...]:
     return tuple(out)
 
 
-def make_detector(name: str, model: SceneModel, **params: Any) -> Detector:
-    """Build a detector by name (:data:`DETECTORS`); unknown names are refused."""
+def detector_parameters(name: str) -> tuple[str, ...]:
+    """The keyword parameters a detector's constructor accepts (its own and its bases')."""
     (name,) = parse_detectors([name])
+    out: list[str] = []
+    for klass in DETECTORS[name].__mro__:
+        init = klass.__dict__.get("__init__")
+        if init is None or klass is object:
+            continue
+        for p in inspect.signature(init).parameters.values():
+            if p.kind is inspect.Parameter.KEYWORD_ONLY and p.name not in out:
+                out.append(p.name)
+    return tuple(out)
+
+
+def make_detector(name: str, model: SceneModel, **params: Any) -> Detector:
+    """Build a detector by name (:data:`DETECTORS`); unknown names and parameters are refused."""
+    (name,) = parse_detectors([name])
+    allowed = detector_parameters(name)
+    for key in params:
+        if key not in allowed:
+            raise DetectorError(f"detector {name!r} has no parameter {key!r}; it has: {', '.join(allowed)}")
     return DETECTORS[name](model, **params)
 
 

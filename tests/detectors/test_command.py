@@ -26,6 +26,21 @@ TINY = ["detectors", "--detectors", "ca-cfar", "--scene", "image", "--snr", "12"
     (["--snr", "nan"], "snr_db"),
     (["--jobs", "0"], "jobs"),
     (["--detectors", "dw-dp", "--frames", "6", "--noise-trials", "20"], "segment_frames=8"),
+    (["--detectors", "dp-penalty", "--set", "dp-penalty.alpha=1.5"], "alpha (eq (22) coefficient)"),
+    (["--detectors", "dp-amplitude", "--set", "dp-amplitude.alpha=-1"], "alpha (eq (22) coefficient)"),
+    (["--detectors", "dp-likelihood", "--set", "dp-likelihood.epsilon=1"], "epsilon"),
+    (["--detectors", "dp-likelihood", "--set", "dp-likelihood.sigma=0"], "sigma (printed delta"),
+    (["--detectors", "info", "--set", "info.kernel=[[0.1,0.1,0.1],[0.1,0.1,0.1],[0.1,0.1,0.1]]"],
+     "kernel must sum to 1"),
+    (["--detectors", "info", "--set", "info.kernel=[[0.5,0.5]]"], "kernel must be 2-D with odd sides"),
+    (["--detectors", "grid-bayes", "--set", "grid-bayes.birth=1.0"], "birth"),
+    (["--detectors", "grid-bayes", "--set", "grid-bayes.death=0"], "death"),
+    (["--set", "ca-cfar.n_ref=64"], "at least 67"),
+    (["--set", "ca-cfar.n_ref=15"], "even"),
+    (["--set", "ca-cfar.threshold=3"], "detector 'ca-cfar' has no parameter 'threshold'"),
+    (["--set", "ca-cfar"], "expected DETECTOR.PARAMETER=VALUE"),
+    (["--set", "mht.x=1"], "unknown detector 'mht'"),
+    (["--set", "info.known_noise=true"], "not in --detectors"),
 ])
 def test_bad_input_exits_2_naming_the_parameter(extra, name, capsys, tmp_path):
     md = tmp_path / "t.md"
@@ -96,3 +111,14 @@ def test_single_file_inside_out_is_refused(tmp_path, capsys):
     out = tmp_path / "cmp"
     assert dptbd(TINY + ["--out", str(out), "--markdown", str(out / "t.md")]) == 2
     assert "inside --out" in capsys.readouterr().err
+
+
+def test_set_passes_parameters_to_the_detectors(tmp_path):
+    out = tmp_path / "cmp"
+    assert dptbd(TINY + ["--set", "ca-cfar.n_ref=8", "--out", str(out)]) == 0
+    assert "--set ca-cfar.n_ref=8" in (out / "table.md").read_text()
+    assert json.loads((out / "result.json").read_text())["params"]["params"] == {"ca-cfar": {"n_ref": 8}}
+    base = tmp_path / "base"
+    assert dptbd(TINY + ["--out", str(base)]) == 0
+    thr = [float(next(csv.DictReader(open(d / "table.csv")))["threshold"]) for d in (out, base)]
+    assert thr[0] != thr[1]  # 8 reference cells: a different ratio statistic on the same noise

@@ -88,6 +88,8 @@ def test_dw_dp_adapter_is_the_golden_model():
     (lambda m: make_detector("grid-bayes", m, birth=0.0), "birth"),
     (lambda m: make_detector("ca-cfar", m, n_ref=64), "at least 67"),
     (lambda m: make_detector("nope", m), "unknown detector"),
+    (lambda m: make_detector("info", m, entropy=1.0), "'info' has no parameter 'entropy'"),
+    (lambda m: make_detector("dp-amplitude", m, alpha=1.5), "alpha"),
     (lambda m: make_detector("info", m).decide(np.zeros((1, 4, 5, 5))), "frames must be"),
     (lambda m: SceneModel((20, 20), "poisson"), "noise"),
     (lambda m: SceneModel((20, 20), max_speed=3), "max_speed"),
