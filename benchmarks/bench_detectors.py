@@ -1,6 +1,8 @@
 """Long reproductions of papers 000 and 004 (``docs/detectors.md`` quotes their output).
 
-    /tmp/v/bin/python benchmarks/bench_detectors.py --all --json /tmp/bench_detectors.json
+    nice -n 10 .venv/bin/python benchmarks/bench_detectors.py --all --json bench_detectors.json
+
+(from the repository root, with the project's virtual environment; ``--json`` is optional).
 
 Parts (each also on its own): ``--paper000`` (§5.1/§5.2 cases), ``--gain`` (Pd vs SNR of
 000's DPs against single-frame detection), ``--scenario1`` (004 Pfa vs entropy

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["DetectorError", "check_int", "check_real", "check_frames", "check_prob"]
+__all__ = ["DetectorError", "check_int", "check_real", "check_bool", "check_shape", "check_frames", "check_prob"]
 
 
 class DetectorError(ValueError):
@@ -36,6 +36,24 @@ def check_real(name: str, value: Any, lo: float = -math.inf, hi: float = math.in
     if bad:
         raise DetectorError(f"{name} must be a finite real number in {span}, got {value!r}")
     return out
+
+
+def check_bool(name: str, value: Any) -> bool:
+    """A real boolean (``True``/``False``, or a NumPy bool); strings and numbers are refused."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise DetectorError(f"{name} must be true or false, got {value!r}")
+    return bool(value)
+
+
+def check_shape(name: str, value: Any, hi: int | None = None) -> tuple[int, int]:
+    """An ``(H, W)`` pair of integers in ``[1, hi]`` (``hi=None``: unbounded)."""
+    try:
+        pair = not isinstance(value, (str, bytes)) and len(value) == 2
+    except TypeError:
+        pair = False
+    if not pair:
+        raise DetectorError(f"{name} must be an (H, W) pair of positive integers, got {value!r}")
+    return (check_int(f"{name}[0] (H)", value[0], 1, hi), check_int(f"{name}[1] (W)", value[1], 1, hi))
 
 
 def check_prob(name: str, value: Any, *, open_lo: bool = True, open_hi: bool = True) -> float:

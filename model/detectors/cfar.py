@@ -26,7 +26,9 @@ import numpy as np
 
 from dptbd.model.detectors._checks import DetectorError, check_frames, check_int, check_prob
 
-__all__ = ["ca_cfar_factor", "reference_counts", "ca_cfar_ratio", "ca_cfar_detect"]
+__all__ = ["ca_cfar_factor", "check_axis", "reference_counts", "ca_cfar_ratio", "ca_cfar_detect"]
+
+AXES = (-2, -1)
 
 
 def ca_cfar_factor(n_ref: int, pfa: float) -> float:
@@ -34,6 +36,13 @@ def ca_cfar_factor(n_ref: int, pfa: float) -> float:
     n = check_int("n_ref (reference cells)", n_ref, 2)
     pfa = check_prob("pfa", pfa)
     return n * (pfa ** (-1.0 / n) - 1.0)
+
+
+def check_axis(axis: Any) -> int:
+    """The CFAR axis: -2 (range, rows) or -1 (Doppler, columns)."""
+    if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or axis not in AXES:
+        raise DetectorError(f"axis must be -2 (range, rows) or -1 (Doppler, columns), got {axis!r}")
+    return int(axis)
 
 
 def _check_window(n_ref: Any, n_guard: Any, length: int) -> tuple[int, int]:
@@ -69,9 +78,8 @@ def ca_cfar_ratio(frames: Any, *, n_ref: int = 16, n_guard: int = 2, axis: int =
 
     ``axis`` is -2 (rows: delay/range, the default) or -1 (columns: Doppler).
     """
+    axis = check_axis(axis)
     z = check_frames(frames, min_ndim=2, nonnegative=True)
-    if axis not in (-2, -1):
-        raise DetectorError(f"axis must be -2 (range, rows) or -1 (Doppler, columns), got {axis!r}")
     p = np.moveaxis(z * z, axis, -1)
     length = p.shape[-1]
     left, right = reference_counts(length, n_ref, n_guard)

@@ -380,8 +380,6 @@ def _update(pred, z, amp, scale, rician, out):  # pragma: no cover - compiled
                 best = w
                 bi = i
                 bj = j
-    if not rician:
-        c0 = c0 - 0.0
     return math.log(total) + xmax + c0, h, bi, bj
 
 

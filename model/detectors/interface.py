@@ -37,7 +37,8 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.model.detectors import cfar, grid, unified
-from dptbd.model.detectors._checks import DetectorError, check_int, check_prob, check_real
+from dptbd.model.detectors._checks import (
+    DetectorError, check_bool, check_int, check_prob, check_real, check_shape)
 
 __all__ = [
     "SceneModel",
@@ -64,7 +65,7 @@ class SceneModel:
     Attributes
     ----------
     shape : pair of int
-        ``(H, W)`` cells.
+        ``(H, W)`` cells, each an integer in [1, 65535].
     noise : str
         ``"rayleigh"`` (magnitudes of complex Gaussian noise, parameter ``scale``) or
         ``"gaussian"`` (real zero-mean Gaussian, standard deviation ``scale``).
@@ -88,6 +89,7 @@ class SceneModel:
     drift: np.ndarray | None = None
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "shape", check_shape("shape", self.shape, 65535))
         if self.noise not in NOISE_MODELS:
             raise DetectorError(f"noise must be one of {NOISE_MODELS}, got {self.noise!r}")
         check_real("scale (noise)", self.scale, 0.0, lo_open=True)
@@ -248,11 +250,32 @@ class LikelihoodDP(UnifiedDP):
 
 
 class _GridDetector(Detector):
+    """Shared set-up of ``info`` and ``grid-bayes``: the transition and the noise scale.
+
+    Parameters
+    ----------
+    model : SceneModel
+        The scenes.
+    kernel : array_like or None
+        Diffusion kernel (odd sides, non-negative, summing to 1); ``None``: from
+        ``sigma_kernel``, else the default of the scene's ``max_speed``.
+    sigma_kernel : float or None
+        Standard deviation (cells, >= 0) of a Gaussian kernel of radius ``max_speed``, for
+        both axes; not together with ``kernel``.
+    known_noise : bool
+        ``True``: the likelihood uses the model's noise scale; ``False``: estimated per frame.
+    """
+
     uses_channel = True
+
     def __init__(self, model: SceneModel, *, kernel: Any = None, sigma_kernel: float | None = None,
                  known_noise: bool = False) -> None:
         super().__init__(model)
-        if kernel is None and sigma_kernel is not None:
+        known_noise = check_bool("known_noise", known_noise)
+        if sigma_kernel is not None:
+            if kernel is not None:
+                raise DetectorError("give kernel or sigma_kernel, not both")
+            sigma_kernel = check_real("sigma_kernel (kernel standard deviation, cells)", sigma_kernel, 0.0)
             kernel = grid.gaussian_kernel(sigma_kernel, sigma_kernel, radius=model.max_speed)
         elif kernel is None and model.max_speed == 1:
             kernel = grid.gaussian_kernel(0.5, 0.5, radius=1)
@@ -300,8 +323,8 @@ class CACFARDetector(Detector):
 
     def __init__(self, model: SceneModel, *, n_ref: int = 16, n_guard: int = 2, axis: int = -2) -> None:
         super().__init__(model)
-        cfar._check_window(n_ref, n_guard, model.shape[axis])
-        self.n_ref, self.n_guard, self.axis = n_ref, n_guard, axis
+        self.axis = cfar.check_axis(axis)  # before indexing the shape with it
+        self.n_ref, self.n_guard = cfar._check_window(n_ref, n_guard, model.shape[self.axis])
 
     def decide(self, frames: np.ndarray) -> Decisions:
         arr = self._check(frames).astype(np.float64)

@@ -26,17 +26,22 @@ import numpy as np
 
 from dptbd.model import scenes
 from dptbd.model.detectors import cfar, unified
-from dptbd.model.detectors._checks import DetectorError, check_int, check_prob
+from dptbd.model.detectors._checks import DetectorError, check_int, check_prob, check_real
 
 __all__ = ["CASES", "Case", "CaseResult", "run_case", "peak_mask", "snr_gain", "GainResult",
            "crossing_snr"]
 
 RADIUS = 2
+MERITS = ("amplitude", "likelihood")
 
 
 @dataclasses.dataclass(frozen=True)
 class Case:
-    """One of paper 000's simulations."""
+    """One of paper 000's simulations.
+
+    ``merit`` is ``"amplitude"`` or ``"likelihood"``; ``snr_db`` in [-30, 60]; the V_T
+    ``thresholds`` a non-empty sequence of finite reals (refused by name otherwise).
+    """
 
     label: str
     section: str
@@ -48,6 +53,17 @@ class Case:
     sigma: float = 1.0
     alpha: float = 1.0
     paper: str = ""
+
+    def __post_init__(self) -> None:
+        if self.merit not in MERITS:
+            raise DetectorError(f"merit must be one of {MERITS}, got {self.merit!r}")
+        check_real("snr_db", self.snr_db, -30.0, 60.0)
+        if isinstance(self.thresholds, (str, bytes)) or not hasattr(self.thresholds, "__iter__"):
+            raise DetectorError(f"thresholds (V_T) must be a sequence of finite reals, got {self.thresholds!r}")
+        vts = tuple(check_real("thresholds (V_T)", v) for v in self.thresholds)
+        if not vts:
+            raise DetectorError("thresholds (V_T) must hold at least one threshold")
+        object.__setattr__(self, "thresholds", vts)
 
     def merit_fn(self) -> unified.Merit:
         if self.merit == "amplitude":

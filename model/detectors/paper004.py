@@ -15,7 +15,7 @@ from typing import Any, Callable, Iterable
 import numpy as np
 
 from dptbd.model.detectors import cfar, grid, rd_scenes, unified
-from dptbd.model.detectors._checks import check_int
+from dptbd.model.detectors._checks import DetectorError, check_int, check_shape
 
 __all__ = ["default_transition", "scenario1", "Scenario1Result", "time_one_frame", "TABLE2"]
 
@@ -94,21 +94,45 @@ def _best_of(fn: Callable[[], Any], repeats: int) -> float:
     return best
 
 
-def time_one_frame(repeats: int = 5, frames: int = 10) -> dict:
+def time_one_frame(repeats: int = 5, frames: int = 10, *, shape: tuple[int, int] | None = None) -> dict:
     """Seconds per frame on the 200 x 500 grid (best of ``repeats`` runs of ``frames`` frames).
 
-    Keys: ``info``, ``grid-bayes``, ``ca-cfar`` (16/2, one frame), ``dw-dp`` (paper 001
-    fixed point, one DP step; the fused kernel on one thread if :mod:`dptbd.model.fast` is there, and
-    ``dw-dp golden`` for the plain numpy golden model), ``dp-000 datapath`` (paper 000
-    unified recursion, radius 2, float, one step), ``dp-000 exact`` (expanded state).
+    Parameters
+    ----------
+    repeats : int
+        Runs timed per algorithm, >= 1; the best is kept.
+    frames : int
+        Frames per run, >= 3.
+    shape : pair of int or None
+        ``(I, J)`` grid, each side >= 19 (CA-CFAR 16/2 needs 19 range cells); ``None``: 004's
+        200 x 500 with scenario 2's target. A smaller grid (for a quick check) has a
+        target on a straight track from its centre instead.
+
+    Returns
+    -------
+    dict
+        Seconds per frame for ``info``, ``grid-bayes``, ``ca-cfar`` (16/2, one frame),
+        ``dw-dp`` (paper 001 fixed point, one DP step; the fused kernel on one thread if
+        :mod:`dptbd.model.fast` is there), ``dw-dp golden`` (the plain numpy golden model),
+        ``dp-000 datapath`` (paper 000 unified recursion, radius 2, float, one step) and
+        ``dp-000 exact`` (expanded state).
     """
     from dptbd.config import DPConfig
     from dptbd.model.fixed import run_fixed
 
+    repeats = check_int("repeats", repeats, 1)
+    frames = check_int("frames", frames, 3)
     radar = rd_scenes.PassiveRadar()
+    if shape is None:
+        track = rd_scenes.scenario2_track(frames=frames)
+    else:
+        n_i, n_j = check_shape("shape", shape, 65535)
+        if min(n_i, n_j) < 19:
+            raise DetectorError(f"shape must be at least 19 x 19 cells (CA-CFAR 16/2), got {(n_i, n_j)}")
+        radar = dataclasses.replace(radar, range_cells=n_i, doppler_cells=n_j)
+        track = rd_scenes.straight_track((n_i / 2, n_j / 2), (0.1, 0.0), frames)
     tr = default_transition(radar)
-    scene = rd_scenes.rd_scene(radar.shape, frames, rd_scenes.scenario2_track(frames=frames),
-                               snr_db=10.0, seed=1)
+    scene = rd_scenes.rd_scene(radar.shape, frames, track, snr_db=10.0, seed=1)
     z = scene.frames.astype(np.float64)
     info = grid.InfoAccumulation(tr, snr_db=10.0)
     bayes = grid.GridBayes(tr, snr_db=10.0)
@@ -120,7 +144,7 @@ def time_one_frame(repeats: int = 5, frames: int = 10) -> dict:
         "ca-cfar": _best_of(lambda: cfar.ca_cfar_detect(z, 1e-5), repeats) / frames,
     }
     codes = np.clip(np.rint(z * 32), 0, 1023).astype(np.uint16)
-    cfg = DPConfig(width=500, height=200, segment_frames=frames, input_bits=10, energy_bits=16, radius=1)
+    cfg = DPConfig(width=radar.shape[1], height=radar.shape[0], segment_frames=frames, input_bits=10, energy_bits=16, radius=1)
     try:
         from dptbd.model.fast import run_fixed_fast
         run_fixed_fast(codes[:2], cfg.replace(segment_frames=2), threads=1)

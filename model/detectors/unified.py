@@ -456,13 +456,22 @@ class FixedUnified:
     radius: int
 
     def threshold_code(self, v_t: float, n_frames: int) -> int:
-        """The integer threshold equivalent to ``h > v_t`` after ``n_frames`` frames (floor)."""
-        k = n_frames - 1
+        """The integer threshold equivalent to ``h > v_t`` after ``n_frames`` frames (floor).
+
+        Parameters
+        ----------
+        v_t : float
+            The threshold V_T on the float scale of h, a finite real number.
+        n_frames : int
+            Frames accumulated, >= 1.
+        """
+        v_t = check_real("v_t (threshold V_T)", v_t)
+        k = check_int("n_frames", n_frames, 1) - 1
         return int(math.floor(self.scale * (v_t + (k + 1) * self.bias - k * self.q_max)))
 
     def to_float(self, energy: np.ndarray, n_frames: int) -> np.ndarray:
-        """Map accumulated codes back to the float scale of h."""
-        k = n_frames - 1
+        """Map accumulated codes back to the float scale of h (``n_frames >= 1``)."""
+        k = check_int("n_frames", n_frames, 1) - 1
         return np.asarray(energy, dtype=np.float64) / self.scale - (k + 1) * self.bias + k * self.q_max
 
 

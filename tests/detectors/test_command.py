@@ -41,6 +41,15 @@ TINY = ["detectors", "--detectors", "ca-cfar", "--scene", "image", "--snr", "12"
     (["--set", "ca-cfar"], "expected DETECTOR.PARAMETER=VALUE"),
     (["--set", "mht.x=1"], "unknown detector 'mht'"),
     (["--set", "info.known_noise=true"], "not in --detectors"),
+    (["--set", "ca-cfar.axis=5"], "axis must be -2 (range, rows) or -1 (Doppler, columns), got 5"),
+    (["--set", "ca-cfar.axis=0"], "axis must be -2 (range, rows) or -1 (Doppler, columns), got 0"),
+    (["--set", "ca-cfar.axis=-2.0"], "axis must be -2"),
+    (["--detectors", "info", "--set", "info.sigma_kernel=-1"], "sigma_kernel (kernel standard deviation"),
+    (["--detectors", "info", "--set", 'info.sigma_kernel="wide"'], "sigma_kernel (kernel standard deviation"),
+    (["--detectors", "info", "--set", "info.sigma_kernel=0.5", "--set", "info.kernel=[[1]]"],
+     "kernel or sigma_kernel, not both"),
+    (["--detectors", "info", "--set", 'info.known_noise="yes"'], "known_noise must be true or false, got 'yes'"),
+    (["--detectors", "grid-bayes", "--set", "grid-bayes.known_noise=1"], "known_noise must be true or false"),
 ])
 def test_bad_input_exits_2_naming_the_parameter(extra, name, capsys, tmp_path):
     md = tmp_path / "t.md"
@@ -48,6 +57,22 @@ def test_bad_input_exits_2_naming_the_parameter(extra, name, capsys, tmp_path):
     err = capsys.readouterr().err
     assert err.startswith("dptbd detectors: error:") and name in err
     assert not md.exists()
+
+
+@pytest.mark.parametrize("setting", ["ca-cfar.axis=5", "ca-cfar.axis=1"])
+def test_bad_cfar_axis_is_refused_before_any_scene(setting, capsys, tmp_path, monkeypatch):
+    """axis is checked when the detector is built, not after the noise scenes are made."""
+    from dptbd.model.detectors import compare
+
+    def no_scenes(*args, **kwargs):
+        raise AssertionError("scenes were generated before the parameters were checked")
+
+    monkeypatch.setattr(compare, "_map", no_scenes)
+    out = tmp_path / "cmp"
+    assert dptbd(TINY + ["--set", setting, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "axis must be -2 (range, rows) or -1 (Doppler, columns)" in err and "Traceback" not in err
+    assert not out.exists() and not list(tmp_path.iterdir())
 
 
 def test_out_writes_table_csv_json_and_figure_and_never_overwrites(tmp_path, capsys):

@@ -93,10 +93,36 @@ def test_dw_dp_adapter_is_the_golden_model():
     (lambda m: make_detector("info", m).decide(np.zeros((1, 4, 5, 5))), "frames must be"),
     (lambda m: SceneModel((20, 20), "poisson"), "noise"),
     (lambda m: SceneModel((20, 20), max_speed=3), "max_speed"),
+    (lambda m: SceneModel((0, 20)), r"shape\[0\] \(H\) must be in \[1, 65535\], got 0"),
+    (lambda m: SceneModel((20, -4)), r"shape\[1\] \(W\)"),
+    (lambda m: SceneModel((20.5, 20)), r"shape\[0\] \(H\) must be an integer"),
+    (lambda m: SceneModel((20, 20, 3)), r"shape must be an \(H, W\) pair"),
+    (lambda m: SceneModel(20), r"shape must be an \(H, W\) pair"),
+    (lambda m: make_detector("ca-cfar", m, axis=5), r"axis must be -2 \(range, rows\) or -1"),
+    (lambda m: make_detector("ca-cfar", m, axis=0), r"axis must be -2 \(range, rows\) or -1"),
+    (lambda m: make_detector("ca-cfar", m, axis=True), r"axis must be -2"),
+    (lambda m: make_detector("ca-cfar", m, n_guard=-2), r"n_guard \(guard cells\)"),
+    (lambda m: make_detector("info", m, sigma_kernel=-1.0), r"sigma_kernel \(kernel standard deviation"),
+    (lambda m: make_detector("grid-bayes", m, sigma_kernel=float("nan")), r"sigma_kernel \(kernel standard"),
+    (lambda m: make_detector("info", m, kernel=np.ones((1, 1)), sigma_kernel=0.5), "not both"),
+    (lambda m: make_detector("info", m, known_noise="yes"), "known_noise must be true or false, got 'yes'"),
+    (lambda m: make_detector("grid-bayes", m, known_noise=1), "known_noise must be true or false, got 1"),
 ])
 def test_bad_detector_parameters(call, name):
     with pytest.raises(DetectorError, match=name):
         call(SceneModel((20, 20)))
+
+
+def test_scene_model_shape_is_normalised_and_known_noise_reaches_the_filter():
+    m = SceneModel([np.int64(20), 12], scale=2.0)
+    assert m.shape == (20, 12) and all(type(v) is int for v in m.shape)
+    assert make_detector("info", m, known_noise=np.bool_(True)).alpha == 2.0
+    assert make_detector("info", m, known_noise=False).alpha is None
+    # sigma_kernel sets a Gaussian kernel of radius max_speed
+    k = make_detector("grid-bayes", m, sigma_kernel=0.0).transition.kernel
+    assert k.shape == (3, 3) and k[1, 1] == 1.0
+    det = make_detector("ca-cfar", m, axis=np.int64(-1), n_ref=np.int64(8))
+    assert (det.axis, det.n_ref) == (-1, 8) and type(det.axis) is int
 
 
 def test_comparison_equal_pfa_and_order():

@@ -169,6 +169,13 @@ def test_segments_restart_the_recursion():
      "codes"),
     (lambda: run_unified_segments(np.zeros((4, 3, 3)), amplitude_merit(), no_penalty(1), segment_frames=5,
                                   radius=1), "segment_frames"),
+    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).threshold_code(float("nan"), 5),
+     r"v_t \(threshold V_T\)"),
+    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).threshold_code(float("inf"), 5),
+     r"v_t \(threshold V_T\)"),
+    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).threshold_code("30", 5), r"v_t \(threshold V_T\)"),
+    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).threshold_code(30.0, 0), "n_frames"),
+    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).to_float(np.zeros(3), 0), "n_frames"),
 ])
 def test_bad_input_names_the_parameter(call, name):
     with pytest.raises(DetectorError, match=name):
