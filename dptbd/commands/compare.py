@@ -22,12 +22,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--config", type=pathlib.Path, metavar="TOML",
                         help="run parameters, [[config]] list and [sweep] table (docs/compare.md); "
                              "default: the built-in comparison")
+    # The defaults quoted here are model.compare.DEFAULT_RUN's (written out rather than
+    # imported, so that building the CLI does not import numba;
+    # tests/test_compare.py::test_cli_help_quotes_the_real_defaults keeps them equal).
     parser.add_argument("--trials", type=int, help="seeded scenes (default 240, or the file's)")
     parser.add_argument("--seed", type=int, help="base seed (default 2024, or the file's)")
     parser.add_argument("--snr", type=float, nargs="*", metavar="SNR",
-                        help="paper 001 linear SNRs, strictly increasing (default 1.4 … 3.0)")
+                        help="paper 001 linear SNRs, strictly increasing "
+                             "(default 1.5 1.7 1.9 2.1 2.3 2.5 2.7 2.9, or the file's)")
     parser.add_argument("--bootstrap", type=int, metavar="B",
-                        help="bootstrap resamples for the SNR-loss intervals (default 1000)")
+                        help="bootstrap resamples for the SNR-loss intervals "
+                             "(default 1000, or the file's)")
     parser.add_argument("--workers", type=int, default=None,
                         help="worker processes (default: all cores; 1 = in this process)")
     parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("compare-out"),
