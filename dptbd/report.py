@@ -36,7 +36,7 @@ TABLE_COLUMNS = (
     ("track_length", "track length (whole)"),
     ("segments_until_confirmation", "segments until confirmation"),
     ("rms_error", "RMS position error (px)"),
-    ("tracks", "confirmed tracks"),
+    ("track_ids", "confirmed track ids"),
 )
 
 
@@ -100,7 +100,7 @@ def table_rows(result, truth, targets, evaluation) -> list[dict]:
             "track_length": ev.track_frames if ev.track_ids else None,
             "segments_until_confirmation": ev.segments_until_confirmation,
             "rms_error": None if math.isnan(ev.rms_error) else round(ev.rms_error, 3),
-            "tracks": list(ev.track_ids),
+            "track_ids": list(ev.track_ids),
         })
     return rows
 

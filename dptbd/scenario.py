@@ -65,7 +65,7 @@ from dptbd.model import scenes
 from dptbd.model.association import AssociationConfig, AssociationError
 
 __all__ = ["ScenarioError", "TargetSpec", "Scenario", "default_scenario", "load_scenario",
-           "parse_scenario", "parse_target"]
+           "parse_scenario", "parse_target", "check_snr", "DEFAULT_NAME"]
 
 
 class ScenarioError(ValueError):
@@ -102,11 +102,15 @@ class TargetSpec:
         return out
 
 
+#: The built-in scenario's name; recorded data without a name is named after its input.
+DEFAULT_NAME = "paper001-experiment-2"
+
+
 @dataclasses.dataclass(frozen=True)
 class Scenario:
     """Everything ``dptbd run`` needs besides the output folder."""
 
-    name: str = "paper001-experiment-2"
+    name: str = DEFAULT_NAME
     height: int = 128
     width: int = 128
     frames: int = 100
@@ -167,6 +171,10 @@ class Scenario:
         try:
             if self.simulated:
                 self.dp_config(height=self.height, width=self.width, input_bits=self.adc_bits)
+                for where, snr in [("[scene] snr", self.snr)] + [
+                        (f"target {i + 1} snr", t.snr) for i, t in enumerate(self.targets)
+                        if t.snr is not None]:
+                    check_snr(where, snr)
                 for t in self.targets:
                     t.target(self.snr, self.sigma)
                 scenes.quantise([0.0], self.adc_bits, gain=self.adc_gain, offset=self.adc_offset)
@@ -250,6 +258,15 @@ def _real(where: str, v: Any, *, positive: bool = False) -> float:
     return float(v)
 
 
+def check_snr(where: str, snr: Any) -> float:
+    """001's SNR, (target mean - noise mean) / sigma: a finite number > 0, else refused."""
+    if isinstance(snr, bool) or not isinstance(snr, (int, float)) or not math.isfinite(snr) \
+            or snr <= 0:
+        raise ScenarioError(f"{where} must be a finite number > 0 (001's SNR = (target mean - "
+                            f"noise mean) / sigma), got {snr!r}")
+    return float(snr)
+
+
 def _pair(where: str, v: Any) -> tuple[float, float]:
     if not isinstance(v, (list, tuple)) or len(v) != 2:
         raise ScenarioError(f"{where} must be a pair [row, col] of numbers, got {v!r}")
@@ -275,7 +292,7 @@ def parse_target(where: str, table: Any) -> TargetSpec:
         turns.append(tw)
     return TargetSpec(
         start=_pair(f"{where}.start", t["start"]), velocity=_pair(f"{where}.velocity", t["velocity"]),
-        snr=None if "snr" not in t else _real(f"{where}.snr", t["snr"]),
+        snr=None if "snr" not in t else _real(f"{where}.snr", t["snr"], positive=True),
         birth=_int(f"{where}.birth", t.get("birth", 0), 0),
         death=None if "death" not in t else _int(f"{where}.death", t["death"], 1),
         turns=tuple(turns))
@@ -300,6 +317,8 @@ def parse_scenario(data: Mapping[str, Any], base_dir: pathlib.Path | None = None
         if base_dir is not None and not path.is_absolute():
             path = base_dir / path
         changes["input_path"] = path
+        if "name" not in top:
+            changes["name"] = path.name       # recorded data: named after its file or folder
         if "key" in inp:
             if not isinstance(inp["key"], str):
                 raise ScenarioError(f"[input] key must be a string, got {inp['key']!r}")
@@ -319,7 +338,7 @@ def parse_scenario(data: Mapping[str, Any], base_dir: pathlib.Path | None = None
         if "sigma" in sc:
             changes["sigma"] = _real("[scene] sigma", sc["sigma"], positive=True)
         if "snr" in sc:
-            changes["snr"] = _real("[scene] snr", sc["snr"])
+            changes["snr"] = _real("[scene] snr", sc["snr"], positive=True)
         if "seed" in sc:
             changes["seed"] = _int("[scene] seed", sc["seed"], 0)
         if "targets" in sc:

@@ -90,11 +90,33 @@ def _check_array(arr: np.ndarray, where: str) -> tuple[np.ndarray, int]:
     return arr.astype(np.uint16, copy=False), 16
 
 
+_NPY_MAGIC = b"\x93NUMPY"
+
+
 def _load_npy(path: pathlib.Path) -> np.ndarray:
+    # np.load takes any file without the .npy magic string for a pickle and, with pickles
+    # refused, says "contains pickled (object) data": check the magic first
+    try:
+        with open(path, "rb") as fh:
+            magic = fh.read(len(_NPY_MAGIC))
+    except OSError as exc:
+        raise SequenceError(f"cannot read {path}: {exc.strerror or exc}") from exc
+    if magic != _NPY_MAGIC:
+        raise SequenceError(f"cannot read {path} as a .npy array: it is not a NumPy .npy file "
+                            f"(it does not start with the .npy header; save frames with "
+                            f"numpy.save)")
     try:
         return np.load(path, allow_pickle=False)
-    except (ValueError, OSError, EOFError) as exc:
-        raise SequenceError(f"cannot read {path} as a .npy array: {exc}") from exc
+    except ValueError as exc:
+        if "Object arrays" in str(exc) or "pickle" in str(exc):
+            raise SequenceError(f"cannot read {path} as a .npy array: it holds Python objects "
+                                f"(pickled data), not integer frames; pickles are never "
+                                f"loaded") from exc
+        raise SequenceError(f"cannot read {path} as a .npy array: the file is damaged or "
+                            f"truncated ({exc})") from exc
+    except (OSError, EOFError) as exc:
+        raise SequenceError(f"cannot read {path} as a .npy array: the file is damaged or "
+                            f"truncated ({exc})") from exc
 
 
 def _load_npz(path: pathlib.Path, key: str | None) -> tuple[np.ndarray, str]:

@@ -51,11 +51,25 @@ def test_builtin_scenario_writes_table_figures_and_bits_per_segment(tmp_path, ca
     assert summary["tool"] == "dptbd run" and len(summary["table"]) == 2
     bits = summary["bits_per_segment"]
     assert bits["image_bits"] == 128 * 128 * 20 and bits["word_bits"] == 35
-    # by default the DSP receives the gateware segmenter's lists (at most C = 64 records)
-    assert summary["lists"] == "gateware" and summary["segmenter"]["candidate_capacity"] == 128
-    assert bits["gateware_lists"]["records_max"] <= 128 and bits["gateware_lists"]["reduction"] > 100
+    # by default the DSP receives the gateware segmenter's lists, selected for n_hw = 2n = 66
+    # into at most C = 128 records, with s calibrated on the first K frames (s = 2, not
+    # DPConfig's configuration-only s = 5), and trims each to n = 33
+    seg = summary["segmenter"]
+    assert summary["lists"] == "gateware" and summary["candidates_per_frame"] == 33
+    assert (seg["candidate_count"], seg["candidate_capacity"]) == (66, 128)
+    assert seg["histogram_shift"] == 2 and "first K = 6 frames" in seg["histogram_shift_from"]
+    gw, dsp = bits["gateware_lists"], bits["dsp_lists"]
+    # the stale threshold scatters the count around n_hw (seed 0: mean 57.9, max 104); with
+    # s = 5 the lists would average 14.5 records
+    assert 40 <= gw["records_mean"] <= 90 and 33 < gw["records_max"] <= 128
+    assert gw["bits_mean"] == pytest.approx((gw["records_mean"] + 1) * 35, abs=1)
+    assert 100 < gw["reduction"] < 275            # more than n records, fewer than the image
+    # the DSP keeps at most n per list: trimmed (the first list after reset is empty)
+    assert dsp["records_max"] == 33 and 25 <= dsp["records_mean"] <= 33
+    assert "confirmed track ids" in (out / "table.md").read_text()
+    assert summary["rtl"]["checked"] is False
     header = (out / "table.csv").read_text().splitlines()[0]
-    assert "frames_until_output" in header and "pd" in header
+    assert "frames_until_output" in header and "pd" in header and "track_ids" in header
     for name in ("raw_frame.png", "accumulated.png", "tracks.png"):
         with Image.open(out / name) as img:
             assert img.format == "PNG" and min(img.size) >= 400
@@ -107,7 +121,21 @@ def _bad_inputs(inputs):
     cases = {}
     cases["missing file"] = (["--input", str(inputs / "nope.npy")], "does not exist")
     (inputs / "broken.npy").write_bytes(b"\x93NUMPY garbage")
-    cases["unreadable file"] = (["--input", str(inputs / "broken.npy")], "cannot read")
+    cases["unreadable file"] = (["--input", str(inputs / "broken.npy")], "damaged or truncated")
+    (inputs / "text.npy").write_bytes(b"these are not frames\n")
+    cases["not a .npy file"] = (["--input", str(inputs / "text.npy")],
+                                "is not a NumPy .npy file")
+    np.save(inputs / "objects.npy", np.array([{"a": 1}], dtype=object), allow_pickle=True)
+    cases["object array"] = (["--input", str(inputs / "objects.npy")], "holds Python objects")
+    cases["negative --snr"] = (["--snr", "-1"], "--snr must be a finite number > 0")
+    cases["zero --snr"] = (["--snr", "0"], "--snr must be a finite number > 0")
+    cases["nan --snr"] = (["--snr", "nan"], "--snr must be a finite number > 0")
+    cases["inf --snr"] = (["--snr", "inf"], "--snr must be a finite number > 0")
+    cases["negative target SNR"] = (["--target", "20,4,0.2,0.9,-2"],
+                                    "SNR must be a finite number > 0")
+    (inputs / "snr.toml").write_text(SMALL.replace("snr = 5.0", "snr = -5.0"))
+    cases["negative TOML snr"] = (["--scenario", str(inputs / "snr.toml")],
+                                  "[scene] snr must be a finite positive number")
     np.save(inputs / "empty.npy", np.zeros((0, 16, 16), np.uint8))
     cases["empty sequence"] = (["--input", str(inputs / "empty.npy")], "empty")
     np.save(inputs / "short.npy", rng.integers(0, 255, (3, 16, 16)).astype(np.uint8))
@@ -150,6 +178,7 @@ def test_bad_input_is_refused_by_name_and_leaves_nothing(tmp_path, capsys):
         err = capsys.readouterr().err
         assert err.startswith("dptbd run: error:") and message in err, (name, err)
         assert "Traceback" not in err
+        assert "pickled" not in err or name == "object array", (name, err)
         assert leftovers(tmp_path) == [], name
 
 
@@ -203,6 +232,10 @@ def test_recorded_data_gives_tracks_and_figures_without_truth(tmp_path, capsys, 
     text = capsys.readouterr().out
     assert "recorded data" in text and "confirmed tracks (" in text
     summary = json.loads((out / "summary.json").read_text())
+    # named after the input, not after the built-in scenario
+    name = "seq.npz" if kind == "npz" else "frames"
+    assert summary["scenario"]["name"] == name and summary["source"].startswith(f"{name}: ")
+    assert "paper001" not in text and f'name = "{name}"' in (out / "scenario.toml").read_text()
     assert summary["table"] == [] and summary["false_tracks"] is None
     assert summary["input_bits"] == (8 if kind == "npz" else 16)
     assert len(summary["tracks"]) >= 1
@@ -219,8 +252,12 @@ def test_rtl_checks_the_generated_verilog_against_the_model(tmp_path, small, cap
                  "--rtl-build-dir", str(tmp_path / "build"), "--out", str(out)]) == 0
     text = capsys.readouterr().out
     assert "the generated Verilog matches the golden model" in text
+    line = ("RTL (dptbd_seg) checked frames 0-11 of 24: bit-exact; frames 12-23 come from the "
+            "golden model only (--rtl-frames 0 checks all)")
+    assert line in text and line in (out / "table.md").read_text()
     rtl = json.loads((out / "summary.json").read_text())["rtl"]
-    assert rtl["passed"] and rtl["frames"] == 12
+    assert rtl["passed"] and rtl["frames"] == 12 and rtl["summary"] == line
+    assert rtl["checked"] and rtl["checked_frames"] == [0, 11]
     assert rtl["design"] == "segmenter" and rtl["module"] == "dptbd_seg"
 
 
@@ -246,10 +283,17 @@ def test_segmenter_settings_come_from_the_data_unless_given():
     from dptbd.model.pipeline import segmenter_settings
 
     cfg = DPConfig(width=128, height=128, segment_frames=6, input_bits=12, energy_bits=16)
-    frames = np.full((6, 128, 128), 600, np.uint16)
+    frames = np.full((12, 128, 128), 600, np.uint16)
+    frames[8, 5, 5] = 4000                    # after the first segment: not calibrated on
     got = segmenter_settings(cfg, frames, 33, AssociationConfig())
-    # K * max = 3600 needs 12 bits: 2^10 bins reach it with s = 2 (DPConfig's default: 15 - 10)
+    # the first K = 6 frames: K * max = 3600 needs 12 bits: 2^10 bins reach it with s = 2
+    # (DPConfig's configuration-only default: 15 - 10 = 5; the whole sequence: 6 * 4000
+    # needs 15 bits, s = 5 too)
     assert cfg.bin_shift == 5 and got.bin_shift == 2
+    assert segmenter_settings(cfg, frames, 33, AssociationConfig(),
+                              calibration_frames=12).bin_shift == 5
+    with pytest.raises(ValueError, match="calibration_frames"):
+        segmenter_settings(cfg, frames, 33, AssociationConfig(), calibration_frames=0)
     # the gateware selects 2n = 66 (headroom 2), the DSP trims to 33; C = min(2 * 66, 128)
     assert got.n_candidates == 66 and got.record_capacity == 128
     assert segmenter_settings(cfg, frames, 33, AssociationConfig(), 1.0).n_candidates == 33
@@ -257,3 +301,38 @@ def test_segmenter_settings_come_from_the_data_unless_given():
                     histogram_shift=4, candidate_capacity=40)
     kept = segmenter_settings(mine, frames, 33, AssociationConfig())
     assert kept.bin_shift == 4 and kept.record_capacity == 40 and kept.n_candidates == 40
+
+
+def test_rtl_summary_says_which_frames_were_checked(tmp_path, small, capsys, monkeypatch):
+    """Without Icarus: a stand-in for the simulation; the summary names the frames checked."""
+    from dptbd.commands import run as run_cmd
+
+    def fake_rtl(frames, cfg, n_frames, build_dir, design="segmenter"):
+        total = frames.shape[0]
+        n = 2 * cfg.segment_frames if n_frames is None else (total if n_frames == 0 else n_frames)
+        return {"design": design, "module": "dptbd_seg", "frames": min(n, total),
+                "of_frames": total, "passed": True, "report": "bit-exact", "seconds": 0.0}
+
+    monkeypatch.setattr(run_cmd, "run_rtl", fake_rtl)
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(small), "--rtl", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    line = ("RTL (dptbd_seg) checked frames 0-11 of 24: bit-exact; frames 12-23 come from the "
+            "golden model only (--rtl-frames 0 checks all)")
+    assert line in text and line in (out / "table.md").read_text()
+    rtl = json.loads((out / "summary.json").read_text())["rtl"]
+    assert rtl["summary"] == line and rtl["checked_frames"] == [0, 11]
+    assert main(["run", "--no-progress", "--scenario", str(small), "--rtl", "--rtl-frames", "0",
+                 "--out", str(out), "--force"]) == 0
+    text = capsys.readouterr().out
+    assert "RTL (dptbd_seg) checked frames 0-23 of 24: bit-exact\n" in text
+    assert "golden model only" not in text
+
+
+def test_scenario_file_with_recorded_data_is_named_after_it(tmp_path):
+    from dptbd.scenario import parse_scenario
+
+    sc = parse_scenario({"input": {"path": "clip.npz"}}, tmp_path)
+    assert sc.name == "clip.npz" and sc.input_path == tmp_path / "clip.npz"
+    sc = parse_scenario({"name": "mine", "input": {"path": "clip.npz"}}, tmp_path)
+    assert sc.name == "mine"

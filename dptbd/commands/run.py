@@ -8,8 +8,9 @@ at (54, 40) with V = (0.4, 0.6), 0.2 % false-alarm threshold):
    K = 6, segments back to back as the gateware runs them, a 12-bit ADC at 16 LSB per
    grey level as in ``dptbd.model.table1``) and the constant-false-alarm-count histogram
    threshold (33 candidate points per accumulated frame). ``--rtl`` also runs the
-   generated Verilog on Icarus (cocotb) over the first frames and stops unless it is bit
-   for bit identical to the model.
+   generated Verilog on Icarus (cocotb) over the first 2 K frames (``--rtl-frames``; 0: all)
+   and stops unless it is bit for bit identical to the model; the printed summary and
+   ``summary.json`` (``rtl.summary``) say which frames were checked.
 2. **DSP stage** — the fixed-capacity track association of 001 §3
    (:mod:`dptbd.model.association`), candidates' paths recovered by backtracking the
    direction maps (:mod:`dptbd.model.backtrack`).
@@ -24,7 +25,8 @@ segment the FPGA hands the DSP against the whole image, also printed;
 beside the output folder and renamed at the end, so an error leaves nothing behind.
 
 Recorded data (``--input`` or ``[input]`` in a scenario file: ``.npy``, ``.npz``, or a
-folder of 8/16-bit PNG/TIFF frames) has no ground truth: the table lists the tracks.
+folder of 8/16-bit PNG/TIFF frames) has no ground truth: the table lists the tracks. The run
+is named after the input file or folder unless the scenario file names it.
 """
 
 from __future__ import annotations
@@ -78,7 +80,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                          "docs/arithmetic.md §6.1)")
     dp.add_argument("--rtl", action="store_true",
                     help="also simulate the generated Verilog (cocotb + Icarus) on the first "
-                         "frames and check it bit for bit against the model: the whole FPGA "
+                         "2 K frames (--rtl-frames; the rest come from the model only, as the "
+                         "summary says) and check it bit for bit against the model: the whole FPGA "
                          "stage (dptbd_seg: DP + segmenter, every candidate-list word) with "
                          "gateware lists, the DP pipeline (dptbd_dp, every (E, d) word) with "
                          "--lists ideal")
@@ -98,7 +101,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 # ---- the scenario from file and options ------------------------------------------------
 
 def _parse_target(text: str):
-    from dptbd.scenario import ScenarioError, TargetSpec
+    from dptbd.scenario import ScenarioError, TargetSpec, check_snr
 
     parts = text.split(",")
     try:
@@ -109,17 +112,23 @@ def _parse_target(text: str):
         raise ScenarioError(f"--target {text!r}: expected ROW,COL,VROW,VCOL or "
                             f"ROW,COL,VROW,VCOL,SNR (numbers)")
     return TargetSpec((values[0], values[1]), (values[2], values[3]),
-                      snr=values[4] if len(values) == 5 else None)
+                      snr=check_snr(f"--target {text!r}: SNR", values[4]) if len(values) == 5
+                      else None)
 
 
 def build_scenario(args: argparse.Namespace):
     """The effective scenario: file (or built-in) plus command-line options, checked."""
-    from dptbd.scenario import ScenarioError, default_scenario, load_scenario
+    from dptbd.scenario import (DEFAULT_NAME, ScenarioError, check_snr, default_scenario,
+                                load_scenario)
 
     scenario = default_scenario() if args.scenario is None else load_scenario(args.scenario)
     changes: dict = {}
     if args.input is not None:
         changes.update(input_path=args.input, input_key=args.npz_key)
+        # named after the data, unless the scenario file gave a name of its own
+        automatic = {DEFAULT_NAME} | ({scenario.input_path.name} if scenario.input_path else set())
+        if args.scenario is None or scenario.name in automatic:
+            changes["name"] = pathlib.Path(args.input).expanduser().name or str(args.input)
     elif args.npz_key is not None:
         if scenario.simulated:
             raise ScenarioError("--npz-key needs --input (or [input] in the scenario file)")
@@ -136,7 +145,7 @@ def build_scenario(args: argparse.Namespace):
             raise ScenarioError(f"--seed must be >= 0, got {args.seed}")
         changes["seed"] = args.seed
     if args.snr is not None:
-        changes["snr"] = args.snr
+        changes["snr"] = check_snr("--snr", args.snr)
         # an SNR on the command line applies to every target
         changes["targets"] = tuple(dataclasses.replace(t, snr=None) for t in
                                    (scenario.targets if args.target is None else ()))
@@ -257,6 +266,15 @@ def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Pa
     return info
 
 
+def rtl_summary(checked: int, total: int, module: str) -> str:
+    """The line saying which frames the RTL check covered (``--rtl-frames``)."""
+    line = f"RTL ({module}) checked frames 0-{checked - 1} of {total}: bit-exact"
+    if checked < total:
+        line += (f"; frames {checked}-{total - 1} come from the golden model only "
+                 f"(--rtl-frames 0 checks all)")
+    return line
+
+
 # ---- the job --------------------------------------------------------------------------------
 
 def _progress(disabled: bool):
@@ -339,10 +357,13 @@ def _main(args: argparse.Namespace) -> int:
           f"{cfg.n_segments(n_frames)} accumulated frames, {count} candidate points each "
           f"({100 * scenario.false_alarm_rate:g} %)", flush=True)
 
+    calibrated = cfg.histogram_shift is None
     cfg = segmenter_settings(cfg, frames, count, assoc)
+    shift_from = (f"calibrated on the largest pixel of the first K = {cfg.segment_frames} "
+                  f"frames" if calibrated else "from the scenario")
     print(f"  segmentation: {scenario.lists} lists — " + (
         f"the gateware segmenter's, threshold from the previous segment's histogram "
-        f"(2^{cfg.histogram_bits} bins, shift s = {cfg.bin_shift}), selected for "
+        f"(2^{cfg.histogram_bits} bins, shift s = {cfg.bin_shift} {shift_from}), selected for "
         f"{cfg.n_candidates} points, at most C = {cfg.record_capacity} records, trimmed to "
         f"{count} by the DSP; the first list after reset is empty"
         if scenario.lists == "gateware" else
@@ -357,6 +378,9 @@ def _main(args: argparse.Namespace) -> int:
         except RtlError as exc:
             print(f"dptbd run: error: {exc}", file=sys.stderr)
             return 1
+        rtl["checked"] = True
+        rtl["checked_frames"] = [0, rtl["frames"] - 1]
+        rtl["summary"] = rtl_summary(rtl["frames"], n_frames, rtl["module"])
         print(f"  RTL: {rtl['report']} — the generated Verilog matches the golden model on the "
               f"first {rtl['frames']} of {n_frames} frames ({rtl['seconds']:.0f} s); the "
               f"model's output is used for the rest" if rtl["frames"] < n_frames else
@@ -391,6 +415,8 @@ def _main(args: argparse.Namespace) -> int:
             text += ["", paper]
     text += ["", f"confirmed tracks ({len(tracks)}):", report.format_tracks(tracks)
              if tracks else "(none)"]
+    if rtl is not None:
+        text += ["", rtl["summary"]]
     table_text = "\n".join(text).strip("\n")
 
     # ---- the output folder ----
@@ -434,13 +460,17 @@ def _main(args: argparse.Namespace) -> int:
             "candidates_per_frame": count,
             "lists": scenario.lists,
             "segmenter": {"histogram_bits": cfg.histogram_bits, "histogram_shift": cfg.bin_shift,
+                          "histogram_shift_from": shift_from,
+                          "candidate_count": cfg.n_candidates,
                           "candidate_capacity": cfg.record_capacity},
             "table": rows,
             "tracks": tracks,
             "false_tracks": None if evaluation is None else evaluation.false_tracks,
             "dsp_stats": stats,
             "bits_per_segment": seg_bits,
-            "rtl": rtl if rtl is not None else {"checked": False},
+            "rtl": rtl if rtl is not None else {
+                "checked": False, "summary": "RTL not simulated (golden model only; --rtl "
+                                             "checks the generated Verilog)"},
             "report_frame": report_frame, "report_segment": seg,
             "seconds": round(time.perf_counter() - start, 2),
         })
