@@ -27,10 +27,14 @@ What each model sees
     halves the LSB, as in a real ADC whose full scale is fixed by the sensor.
 
 Measured per detector, on the same scenes
-    * first-level Pd at each SNR at a constant false-alarm count (``false_alarm_rate`` of
-      the pixels, :func:`dptbd.model.segmentation.count_for_rate`; a candidate within one
-      pixel of the target's true pixel in the segment's last frame is a detection,
-      :mod:`dptbd.model.metrics`), with the false points and candidates per frame;
+    * first-level Pd at each SNR at a constant false-alarm count: exactly n candidates per
+      accumulated image (n = ``false_alarm_rate`` of the pixels,
+      :func:`dptbd.model.segmentation.count_for_rate`), the n largest E with ties at the
+      n-th largest broken by a pseudo-random priority per (seed, trial, segment, pixel),
+      the same for every detector (:func:`candidate_indices`), so every detector — however
+      coarse its E — runs at the same number of candidates;
+      a candidate within one pixel of the target's true pixel in the segment's last frame
+      is a detection (:mod:`dptbd.model.metrics`), the others are false points;
     * the false-alarm probability per pixel against a threshold, on the noise-only scenes.
       Thresholds are in noise units of a K-frame path, ``z = (E - K mu) / (sqrt(K) sigma)``;
       a fixed configuration's E is mapped back through its ADC,
@@ -64,12 +68,13 @@ from numba import njit
 from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning, move_offsets, paper_weights, plain_weights
 from dptbd.model import scenes
 from dptbd.model.metrics import near_mask
-from dptbd.model.segmentation import count_for_rate, threshold_level
+from dptbd.model.segmentation import count_for_rate
 
 __all__ = [
     "LUTS", "cosine_weights", "lut_weights", "adc_mapping", "FixedSpec", "CompareSpec",
     "DEFAULT_RUN", "DEFAULT_CONFIGS", "DEFAULT_SWEEP", "build_spec", "Plan", "make_plan",
-    "measure_frames", "CompareResult", "run_compare", "default_workers",
+    "measure_frames", "CompareResult", "run_compare", "default_workers", "candidate_indices",
+    "nth_largest", "image_keys",
 ]
 
 #: Built-in weight LUTs (a configuration may instead give ``weights`` as a table).
@@ -611,20 +616,95 @@ def make_plan(spec: CompareSpec) -> Plan:
 
 # ==== one chunk of trials ===============================================================
 
-@njit(cache=True)
-def _select(energy, level, near, n_seg, count, idx, n_cand, hit, near_count):
-    """Candidates of each image (raster order) and how many lie in the detection gate.
+# ---- the candidate rule: exactly n per image, ties at the n-th largest broken at random --
+#
+# Every pixel with E above the image's n-th largest value is a candidate; the pixels AT that
+# value fill the list up to n in the order of a pseudo-random priority per pixel,
+# splitmix64 of (seed, trial, segment, pixel). The priority depends on the scene, never on
+# the detector, so every detector breaks its ties with the same priorities on the same scene
+# (paired), and it is uniform over the frame, so a tied target is kept with the same chance
+# wherever it is (a raster-order tie-break keeps tied pixels near the top of the frame:
+# docs/compare.md measures the bias). Reproducible: no generator state, only the indices.
 
-    ``energy``: ``(images, H*W)``; image ``i`` is segment ``i % n_seg``; ``level[i]``
-    the threshold (docs/arithmetic.md §6: candidates are E > level, at most ``count``).
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+_M1 = np.uint64(0xBF58476D1CE4E5B9)
+_M2 = np.uint64(0x94D049BB133111EB)
+
+
+@njit(cache=True)
+def _mix(z):
+    """splitmix64's finaliser (uint64 -> uint64, a bijection)."""
+    z = (z ^ (z >> np.uint64(30))) * _M1
+    z = (z ^ (z >> np.uint64(27))) * _M2
+    return z ^ (z >> np.uint64(31))
+
+
+def _mix_np(z):
+    """:func:`_mix` in numpy (uint64 scalars or arrays; wraps like the kernel)."""
+    z = np.asarray(z, dtype=np.uint64)
+    with np.errstate(over="ignore"):
+        z = (z ^ (z >> np.uint64(30))) * _M1
+        z = (z ^ (z >> np.uint64(27))) * _M2
+        return z ^ (z >> np.uint64(31))
+
+
+def image_keys(seed: int, first_trial: int, n_trials: int, n_seg: int) -> np.ndarray:
+    """``(n_trials * n_seg,)`` uint64 tie-break keys of the images of trials
+    ``first_trial ..`` (image ``i``: trial ``first_trial + i // n_seg``, segment
+    ``i % n_seg``), the same for every detector and every SNR of a trial."""
+    trial = np.repeat(np.arange(first_trial, first_trial + n_trials, dtype=np.uint64), n_seg)
+    seg = np.tile(np.arange(n_seg, dtype=np.uint64), n_trials)
+    with np.errstate(over="ignore"):
+        base = _mix_np(np.uint64(seed) + _GOLDEN)
+        return _mix_np(_mix_np(base ^ _mix_np(trial + _GOLDEN)) ^ seg)
+
+
+@njit(cache=True)
+def _select(energy, level, keys, near, n_seg, count, idx, n_cand, hit, near_count):
+    """Exactly ``min(count, H*W)`` candidates of each image (raster order) and how many lie
+    in the detection gate.
+
+    ``energy``: ``(images, H*W)``; image ``i`` is segment ``i % n_seg``; ``level[i]`` its
+    ``count``-th largest value (``-inf`` when ``count >= H*W``); ``keys[i]`` its tie-break
+    key (:func:`image_keys`). Every pixel with E > level is a candidate; of the pixels with
+    E == level, the ``count - #(E > level)`` with the smallest priority
+    ``_mix(keys[i] ^ (p * golden))`` (then the lowest index) are too
+    (:func:`candidate_indices` is the same rule in numpy).
     """
+    n_pix = energy.shape[1]
+    prio = np.empty(n_pix, np.uint64)
     for i in range(energy.shape[0]):
         s = i % n_seg
+        lv = level[i]
+        above = 0
+        tied = 0
+        for p in range(n_pix):
+            e = energy[i, p]
+            if e > lv:
+                above += 1
+            elif e == lv:
+                prio[tied] = _mix(keys[i] ^ (np.uint64(p) * _GOLDEN))
+                tied += 1
+        slots = count - above  # tied pixels to take
+        if slots > tied:
+            slots = tied
+        cut = np.uint64(0)
+        if 0 < slots < tied:
+            cut = np.sort(prio[:tied])[slots - 1]  # the slots-th smallest priority
         k = 0
         inside = 0
-        lv = level[i]
-        for p in range(energy.shape[1]):
-            if energy[i, p] > lv:
+        for p in range(n_pix):
+            e = energy[i, p]
+            take = e > lv
+            if not take and e == lv and slots > 0:
+                if slots == tied:
+                    take = True
+                else:
+                    take = _mix(keys[i] ^ (np.uint64(p) * _GOLDEN)) <= cut
+                if take:
+                    slots -= 1
+                tied -= 1
+            if take:
                 idx[i, k] = p
                 k += 1
                 if near[s, p]:
@@ -632,6 +712,32 @@ def _select(energy, level, near, n_seg, count, idx, n_cand, hit, near_count):
         n_cand[i] = k
         near_count[i] = inside
         hit[i] = inside > 0
+
+
+def nth_largest(flat: np.ndarray, count: int) -> np.ndarray:
+    """The ``count``-th largest value of each row of ``flat`` ``(images, pixels)``, with
+    multiplicity, as float64 (``-inf`` when ``count >= pixels``, ``+inf`` when 0)."""
+    n_pix = flat.shape[-1]
+    if count >= n_pix:
+        return np.full(flat.shape[:-1], -np.inf)
+    if count <= 0:
+        return np.full(flat.shape[:-1], np.inf)
+    kth = n_pix - count  # ascending position of the count-th largest
+    return np.partition(flat, kth, axis=-1)[..., kth].astype(np.float64)
+
+
+def candidate_indices(image: np.ndarray, count: int, key: int) -> np.ndarray:
+    """The compare rule, written plainly: the raster indices (ascending) of exactly
+    ``min(count, H*W)`` candidates of ONE image — the first ``count`` pixels sorted by
+    descending E, then ascending tie-break priority ``_mix(key ^ (p * golden))``, then
+    index. ``key``: the image's entry of :func:`image_keys`. The reference of the numba
+    kernel :func:`_select` (``docs/compare.md``)."""
+    flat = np.asarray(image).reshape(-1)
+    pix = np.arange(flat.size, dtype=np.uint64)
+    with np.errstate(over="ignore"):
+        prio = _mix_np(np.uint64(key) ^ (pix * _GOLDEN))
+    order = np.lexsort((np.arange(flat.size), prio, -flat.astype(np.float64)))
+    return np.sort(order[:max(0, min(count, flat.size))])
 
 
 @njit(cache=True)
@@ -667,17 +773,19 @@ class _Candidates:
     direction: np.ndarray  # (images, H*W)
 
 
-def _candidates(energy: np.ndarray, direction: np.ndarray, plan: "Plan") -> _Candidates:
+def _candidates(energy: np.ndarray, direction: np.ndarray, plan: "Plan",
+                keys: np.ndarray) -> _Candidates:
+    """Exactly n candidates per image (:func:`_select`); ``keys``: :func:`image_keys`."""
     count = plan.spec.candidate_count
     n_seg = len(plan.ends)
     flat = energy.reshape(-1, energy.shape[-1] * energy.shape[-2])
-    level = threshold_level(energy, count).reshape(-1)
+    level = nth_largest(flat, count)
     images = flat.shape[0]
     idx = np.zeros((images, max(count, 1)), np.int64)
     n_cand = np.zeros(images, np.int64)
     hit = np.zeros(images, np.bool_)
     near_count = np.zeros(images, np.int64)
-    _select(flat, level.astype(np.float64), plan.near_flat, n_seg, count, idx, n_cand, hit,
+    _select(flat, level, keys, plan.near_flat, n_seg, count, idx, n_cand, hit,
             near_count)
     return _Candidates(idx, n_cand, hit, near_count, direction.reshape(images, -1))
 
@@ -690,17 +798,19 @@ def _exceedances(energy: np.ndarray, levels: np.ndarray) -> np.ndarray:
 
 
 def _evaluate(plan: Plan, float_frames: np.ndarray, codes: Sequence[np.ndarray],
-              with_target: bool, out: dict, kind: int) -> None:
-    """Run every detector on one batch (one SNR, or noise only) and store per-trial counts."""
+              with_target: bool, out: dict, kind: int, first: int) -> None:
+    """Run every detector on one batch (one SNR, or noise only) of trials ``first ..`` and
+    store per-trial counts."""
     from dptbd.model.fast import run_fixed_fast
     from dptbd.model.fast_float import run_float_fast
 
     n_trials = float_frames.shape[0]
     n_seg = len(plan.ends)
+    keys = image_keys(plan.spec.seed, first, n_trials, n_seg)
     refs = []
     for i, cfg in enumerate(plan.floats):
         res = run_float_fast(float_frames, cfg)
-        cand = _candidates(res.energy, res.direction, plan)
+        cand = _candidates(res.energy, res.direction, plan, keys)
         refs.append(cand)
         _store(out, kind, i, cand, None, with_target, n_trials, n_seg)
         if not with_target:
@@ -710,7 +820,7 @@ def _evaluate(plan: Plan, float_frames: np.ndarray, codes: Sequence[np.ndarray],
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", EnergyWidthWarning)
             res = run_fixed_fast(codes[plan.fixed_adc[b]], cfg, threads=1)
-        cand = _candidates(res.energy, res.direction, plan)
+        cand = _candidates(res.energy, res.direction, plan, keys)
         _store(out, kind, d, cand, refs[plan.fixed_float[b]], with_target, n_trials, n_seg)
         if not with_target:
             out["exceed"][:, d] = _exceedances(res.energy, plan.levels[d])
@@ -772,16 +882,18 @@ def _chunk(plan: Plan, first: int, stop: int) -> dict:
         noise[:, t, rows, cols] = lit
         for (bits, g, o), c in zip(plan.adcs, codes):
             c[:, t, rows, cols] = scenes.quantise(lit, bits, gain=g, offset=o)
-        _evaluate(plan, noise, codes, True, out, kind)
+        _evaluate(plan, noise, codes, True, out, kind, first)
     noise[:, t, rows, cols] = background
     for c, bc in zip(codes, background_codes):
         c[:, t, rows, cols] = bc
-    _evaluate(plan, noise, codes, False, out, len(plan.amplitudes))
+    _evaluate(plan, noise, codes, False, out, len(plan.amplitudes), first)
     return out
 
 
-def measure_frames(plan: Plan, frames_by_snr: Sequence[np.ndarray], noise_only: np.ndarray) -> dict:
-    """Per-trial counts for given float frames (one batch per SNR, plus the noise-only batch).
+def measure_frames(plan: Plan, frames_by_snr: Sequence[np.ndarray], noise_only: np.ndarray,
+                   first_trial: int = 0) -> dict:
+    """Per-trial counts for given float frames (one batch per SNR, plus the noise-only batch)
+    of trials ``first_trial ..`` (the index sets the candidates' tie-break keys).
 
     The straightforward path (each batch quantised whole): for tests and for scenes that
     are not the built-in one. Same output layout as a chunk of :func:`run_compare`.
@@ -790,7 +902,7 @@ def measure_frames(plan: Plan, frames_by_snr: Sequence[np.ndarray], noise_only: 
     out = _empty_out(plan, n)
     for kind, frames in enumerate(list(frames_by_snr) + [noise_only]):
         codes = [scenes.quantise(frames, bits, gain=g, offset=o) for bits, g, o in plan.adcs]
-        _evaluate(plan, frames, codes, kind < len(frames_by_snr), out, kind)
+        _evaluate(plan, frames, codes, kind < len(frames_by_snr), out, kind, first_trial)
     return out
 
 
@@ -840,7 +952,7 @@ def _warm(plan: Plan) -> None:
     spec = plan.spec
     frames = np.full((1, spec.frames, spec.size, spec.size), spec.mu, dtype=np.float32)
     _evaluate(plan, frames, [scenes.quantise(frames, b, gain=g, offset=o) for b, g, o in plan.adcs],
-              False, _empty_out(plan, 1), len(spec.snr))
+              False, _empty_out(plan, 1), len(spec.snr), 0)
 
 
 def _worker_init() -> None:

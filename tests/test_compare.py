@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -141,6 +142,84 @@ def test_verdicts():
     assert sweep.verdict([e(-0.05, 0.08), e(0.11, 0.3)], 0.1) == "beyond"
 
 
+def test_cost_key_and_choose_the_smallest_configuration_within_the_tolerance():
+    spec = build_spec({"trials": 1,
+                       "config": [{"name": "tiny", "input_bits": 3, "weight_frac_bits": 0}],
+                       "sweep": {"input_bits": [6, 7, 8], "energy_headroom": [0, -1],
+                                 "weight_frac_bits": [0]}})
+    by = {f.name: f for f in spec.configs}
+    assert not by["tiny"].in_sweep
+    f = by["7/9/0 truncate paper"]
+    assert sweep.cost_key(f) == (9 + 4, 0, 7, 0)               # B_E + B_d (r = 1), LUT4, B_in, F
+    assert sweep.cost_key(f, {"lut4": 745}) == (13, 745, 7, 0)
+    verdicts = {name: "beyond" for name in by}
+    verdicts.update({"tiny": "within",                        # smaller, but not in the sweep
+                     "8/10/0 truncate paper": "within", "8/11/0 truncate paper": "within",
+                     "7/10/0 truncate paper": "within", "7/9/0 truncate paper": "within",
+                     "6/8/0 truncate paper": "undecided"})
+    assert sweep.choose(spec.configs, verdicts) == {"within": "7/9/0 truncate paper",
+                                                   "not_beyond": "6/8/0 truncate paper"}
+    # the state word first: 7/10/0 and 8/10/0 tie at 14 bits; then SB_LUT4 when known, else B_in
+    verdicts["7/9/0 truncate paper"] = "beyond"
+    verdicts["6/8/0 truncate paper"] = "beyond"
+    assert sweep.choose(spec.configs, verdicts)["within"] == "7/10/0 truncate paper"
+    hw = {"7/10/0 truncate paper": {"lut4": 800}, "8/10/0 truncate paper": {"lut4": 780}}
+    assert sweep.choose(spec.configs, verdicts, hw) == {"within": "8/10/0 truncate paper",
+                                                       "not_beyond": "8/10/0 truncate paper"}
+    # nothing within: None; no configuration in a sweep: every configuration is a candidate
+    assert sweep.choose(spec.configs, {n: "beyond" for n in by}) == {"within": None,
+                                                                   "not_beyond": None}
+    alone = build_spec({"trials": 1, "sweep": {},
+                        "config": [{"name": "a", "input_bits": 8}, {"name": "b", "input_bits": 6}]})
+    assert sweep.choose(alone.configs, {"a": "within", "b": "within"})["within"] == "b"
+
+
+def test_paired_difference():
+    from dptbd.model.compare_report import paired_difference
+    # identical detectors: exactly zero, a zero-width interval
+    assert paired_difference([3, 5, 2], [3, 5, 2], [10, 10, 10]) == (0.0, 0.0, 0.0)
+    # by hand: delta = 2/30; residuals (a - b) - delta n = (4/3, -2/3, -2/3), sum of
+    # squares 8/3, times k/(k-1) = 3/2 gives 4: se = 2/30
+    d, lo, hi = paired_difference([3, 5, 2], [1, 5, 2], [10, 10, 10])
+    z = 1.959963984540054
+    assert d == pytest.approx(2 / 30)
+    assert (lo, hi) == pytest.approx((2 / 30 - z * 2 / 30, 2 / 30 + z * 2 / 30))
+    back = paired_difference([1, 5, 2], [3, 5, 2], [10, 10, 10])   # swapped: sign flips
+    assert back == pytest.approx((-d, -hi, -lo))
+    # the same difference in every cluster: no spread, a zero-width interval
+    assert paired_difference([4, 4], [2, 2], [10, 10]) == pytest.approx((0.2, 0.2, 0.2))
+    d1, lo1, hi1 = paired_difference([3], [1], [10])               # one cluster: no interval
+    assert d1 == pytest.approx(0.2) and math.isnan(lo1) and math.isnan(hi1)
+    assert all(math.isnan(v) for v in paired_difference([0], [0], [0]))
+    # pairing: outcomes that move together cancel; the same marginal counts unpaired are wider
+    rng = np.random.default_rng(1)
+    base = rng.binomial(20, 0.5, 200)
+    paired = paired_difference(base + (rng.random(200) < 0.1), base, np.full(200, 21))
+    unpaired = paired_difference(base + (rng.random(200) < 0.1), rng.permutation(base),
+                                 np.full(200, 21))
+    assert paired[2] - paired[1] < 0.3 * (unpaired[2] - unpaired[1])
+
+
+def test_identical_curves_groups_detectors_with_identical_counts():
+    from types import SimpleNamespace
+    from dptbd.model.compare_report import identical_curves
+    rng = np.random.default_rng(0)
+    det = rng.integers(0, 5, (4, 5, 3))      # (trials, detectors, SNR)
+    exc = rng.integers(0, 9, (4, 5, 2))
+    det[:, 3] = det[:, 1]                     # detector 3 == detector 1 in every count ...
+    exc[:, 3] = exc[:, 1]
+    det[:, 2] = det[:, 0]                     # detector 2 == the float model's counts, but a
+    exc[:, 2] = exc[:, 0]                     # fixed detector never joins a float curve
+    agree = rng.random((4, 5, 4))             # agreement does not split a curve
+    counts = {"detections": det, "exceed": exc, "agree_frac": agree, "agree_same": agree}
+    names = ["float paper", "a", "b", "c", "d"]
+    out = identical_curves(SimpleNamespace(counts=counts), names)
+    assert out == {"float paper": "float paper", "a": "a = c", "c": None, "b": "b", "d": "d"}
+    det[2, 3, 1] += 1                         # one count differs on one trial: separate curves
+    out = identical_curves(SimpleNamespace(counts=counts), names)
+    assert out["a"] == "a" and out["c"] == "c"
+
+
 def test_clustered_wilson():
     # one cluster, or clusters with no extra spread: exactly Wilson
     p, lo, hi, deff = clustered_wilson([30], [100])
@@ -226,18 +305,100 @@ def test_chunk_equals_whole_scenes_quantised_and_first_level_counts():
                                      dtype=np.float32).frames for s in spec.snr]
     noise = scenes.make_noise((spec.size, spec.size), spec.frames, mu=spec.mu, sigma=spec.sigma,
                               seed=spec.seed, trials=3, first_trial=2, dtype=np.float32)
-    slow = measure_frames(plan, frames, noise)
+    slow = measure_frames(plan, frames, noise, first_trial=2)
     for key in fast:
         assert np.array_equal(fast[key], slow[key]), key
-    # the float detector's counts are metrics.first_level_counts of the same masks
+    # the float detector's counts are metrics.first_level_counts of the compare rule's masks
+    # (candidate_indices: exactly n per image, the tie-break keyed by trial and segment)
     truth = scenes.table1_scenario(1.0, spec.velocity, frames=spec.frames, size=spec.size,
                                    noise=False).truth[0]
     energy = run_float(frames[1], spec.base_cfg).energy
-    for n, images in enumerate(candidate_mask(energy, spec.candidate_count)):
-        ref = first_level_counts(images, truth.pixel[plan.ends][:, None],
+    n_seg = len(plan.ends)
+    keys = cmp.image_keys(spec.seed, 2, 3, n_seg).reshape(3, n_seg)
+    for n, images in enumerate(energy):
+        masks = np.zeros(images.shape, bool)
+        for s, image in enumerate(images):
+            masks[s].flat[cmp.candidate_indices(image, spec.candidate_count, int(keys[n, s]))] = True
+        assert np.all(masks.sum(axis=(1, 2)) == spec.candidate_count)
+        ref = first_level_counts(masks, truth.pixel[plan.ends][:, None],
                                  truth.visible[plan.ends][:, None])
         assert fast["detections"][n, 0, 1] == ref.detections
         assert fast["false_points"][n, 0, 1] == ref.false_points
+
+
+def test_select_kernel_equals_the_plain_rule_under_heavy_ties():
+    # small-integer images (many pixels share the n-th largest value) and constant images:
+    # the numba kernel keeps exactly min(n, H*W) pixels, the same ones as candidate_indices
+    rng = np.random.default_rng(0)
+    n_seg, h, w = 3, 8, 8
+    near = np.zeros((n_seg, h * w), bool)
+    near[:, 10:13] = True
+    for case in range(120):
+        energy = rng.integers(0, rng.integers(1, 6), (2 * n_seg, h * w)).astype(np.uint32)
+        if case % 7 == 0:
+            energy[:] = 5
+        count = int(rng.integers(1, 70))
+        keys = cmp.image_keys(7, 3, 2, n_seg)
+        idx = np.zeros((len(energy), count), np.int64)
+        n_cand = np.zeros(len(energy), np.int64)
+        hit = np.zeros(len(energy), np.bool_)
+        near_count = np.zeros(len(energy), np.int64)
+        cmp._select(energy, cmp.nth_largest(energy, count), keys, near, n_seg, count, idx,
+                    n_cand, hit, near_count)
+        for i in range(len(energy)):
+            ref = cmp.candidate_indices(energy[i].reshape(h, w), count, int(keys[i]))
+            assert n_cand[i] == len(ref) == min(count, h * w)
+            assert np.array_equal(idx[i, :n_cand[i]], ref)
+            assert near_count[i] == near[i % n_seg][ref].sum() and hit[i] == (near_count[i] > 0)
+            # every pixel kept is >= every pixel dropped
+            kept = np.zeros(h * w, bool)
+            kept[ref] = True
+            if 0 < kept.sum() < h * w:
+                assert energy[i][kept].min() >= energy[i][~kept].max()
+
+
+def test_tie_break_is_keyed_by_the_scene_and_spread_over_the_frame():
+    flat = np.zeros((16, 16))
+    keys = cmp.image_keys(2024, 0, 200, 8)
+    assert len(np.unique(keys)) == keys.size                       # one key per image
+    assert np.array_equal(keys[8:16], cmp.image_keys(2024, 1, 1, 8))  # a trial's keys, any chunk
+    assert not np.array_equal(keys, cmp.image_keys(2025, 0, 200, 8))  # seeded
+    rows = np.concatenate([cmp.candidate_indices(flat, 8, int(k)) // 16 for k in keys])
+    # a constant image: the 8 kept pixels are spread over the frame, not the first rows
+    # (raster order would keep row 0 only); expected fraction in the top half 0.5
+    assert 0.46 < np.mean(rows < 8) < 0.54
+    assert np.array_equal(cmp.candidate_indices(flat, 8, 5), cmp.candidate_indices(flat, 8, 5))
+
+
+def test_every_detector_runs_at_exactly_n_candidates_per_image():
+    # 2- and 3-bit ADCs put sigma at 0.25 / 0.5 LSB: E takes a handful of values and many
+    # pixels tie at the n-th largest. The old rule (E above the (n+1)-th largest,
+    # segmentation.candidate_mask) leaves those configurations far fewer candidates than
+    # float; the compare rule gives every detector exactly n per image, with and without
+    # the target, so the noise-only false points per frame are n for everyone.
+    spec = build_spec(dict(SMALL, config=[{"name": "two", "input_bits": 2},
+                                          {"name": "three", "input_bits": 3},
+                                          {"name": "eight", "input_bits": 8}]))
+    res = run_compare(spec, workers=1)
+    n = spec.candidate_count
+    images = spec.trials * len(res.plan.ends)
+    assert n == 5 and res.plan.n_detectors == 4
+    assert np.all(res.counts["candidates"] == n * len(res.plan.ends))   # every trial, SNR, detector
+    noise_fp = res.counts["false_points"][:, :, -1].sum(axis=0) / images
+    assert np.all(noise_fp == n)
+    # the old rule on the same noise-only scenes: the coarse detector keeps fewer than n
+    from dptbd.model.fast import run_fixed_fast
+    plan = res.plan
+    noise = scenes.make_noise((spec.size, spec.size), spec.frames, mu=spec.mu, sigma=spec.sigma,
+                              seed=spec.seed, trials=spec.trials, dtype=np.float32)
+    bits, gain, offset = plan.adcs[plan.fixed_adc[0]]
+    assert bits == 2
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        energy = run_fixed_fast(scenes.quantise(noise, bits, gain=gain, offset=offset),
+                                plan.fixed[0], threads=1).energy
+    old = candidate_mask(energy, n).sum(axis=(-1, -2))
+    assert old.mean() < 0.8 * n
 
 
 def test_agreement_is_one_when_fixed_point_cannot_differ():
@@ -346,9 +507,55 @@ input_bits = [4, 6]
         assert (out / name).stat().st_size > 0, name
     summary = json.loads((out / "compare_summary.json").read_text())
     assert summary["run"]["trials"] == 4 and len(summary["configs"]) == 3
+    assert summary["run"]["candidate_count"] == 5 and summary["run"]["segments_per_trial"] == 3
     assert {r["verdict"] for r in summary["configs"]} <= {"within", "beyond", "undecided"}
-    assert (out / "compare_pd.png").read_bytes()[:4] == b"\x89PNG"
-    assert "loss @Pd=0.5" in capsys.readouterr().out
+    for name in FIGURES:
+        assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
+    printed = capsys.readouterr().out
+    assert "loss @Pd=0.5" in printed and "loss @Pd=0.8" in printed
+
+    import csv
+    def rows(name):
+        with (out / name).open() as fh:
+            return list(csv.DictReader(fh))
+    detectors = summary["detectors"]
+    assert detectors[0] == "float paper" and len(detectors) == 4   # float + 3 fixed behaviours
+    pd = rows("compare_pd.csv")
+    assert len(pd) == len(detectors) * 3
+    for r in pd:
+        p, lo, hi = float(r["pd"]), float(r["pd_lo"]), float(r["pd_hi"])
+        assert 0 <= lo <= p <= hi <= 1
+        assert float(r["pd"]) == int(r["detections"]) / int(r["opportunities"])
+        assert int(r["opportunities"]) == 4 * 3       # trials x segments (target always visible)
+        assert float(r["candidates_per_frame"]) == 5.0  # exactly n for every detector and SNR
+        assert 0 <= float(r["false_points_per_frame"]) <= 5.0
+        if r["detector"] == "float paper":
+            assert float(r["delta_pd"]) == 0.0
+    pfa = rows("compare_pfa.csv")
+    assert len(pfa) == len(detectors) * 3
+    for d in detectors:
+        curve = [float(r["pfa"]) for r in pfa if r["detector"] == d]
+        assert len(curve) == 3 and curve == sorted(curve, reverse=True)   # a threshold sweep
+    configs = rows("compare_configs.csv")
+    # K = 4 here: the worst-case B_E is B_in + 2; F defaults to 8
+    assert [r["name"] for r in configs] == ["exact-ish", "4/6/8 truncate paper",
+                                            "6/8/8 truncate paper"]
+    assert [r["widths"] for r in configs] == ["10/12/8", "4/6/8", "6/8/8"]
+    assert all(float(r["noise_candidates_per_frame"]) == 5.0 for r in configs)
+    for r, j in zip(configs, summary["configs"]):
+        assert r["verdict"] == j["verdict"] and r["name"] in printed
+        assert r["verdict"] in printed.split(r["name"] + " |", 1)[1].split("\n", 1)[0]
+        for tag in ("pd50", "pd80"):
+            lo, v, hi = (j[f"loss_{tag}_{k}"] for k in ("lo", "db", "hi"))
+            if all(isinstance(x, (int, float)) for x in (lo, v, hi)):
+                assert lo <= v <= hi
+    choice = summary["choice"]
+    by_name = {r["name"]: r for r in summary["configs"]}
+    for key, ok in (("within", {"within"}), ("not_beyond", {"within", "undecided"})):
+        if choice[key] is not None:
+            assert by_name[choice[key]]["in_sweep"] and by_name[choice[key]]["verdict"] in ok
+        else:
+            assert not any(r["in_sweep"] and r["verdict"] in ok for r in summary["configs"])
     # the same folder again needs --force
     with pytest.raises(FileExistsError):
         command.main(_parse(["--config", str(tmp_path / "c.toml"), "--out", str(out)])[1])
@@ -438,6 +645,19 @@ def test_cli_exits_2_on_unknown_keys_and_impossible_widths(tmp_path, monkeypatch
         err = capsys.readouterr().err
         for name in names:
             assert name in err, (text, err)
+        assert not (tmp_path / "o").exists(), "an output folder was created before the error"
+
+
+def test_cli_help_quotes_the_real_defaults():
+    command, _ = _parse([])
+    parser = argparse.ArgumentParser()
+    command.add_arguments(parser)
+    helps = {a.dest: a.help for a in parser._actions}
+    run = cmp.DEFAULT_RUN
+    assert f"default {run['trials']}," in helps["trials"]
+    assert f"default {run['seed']}," in helps["seed"]
+    assert f"default {run['bootstrap']}," in helps["bootstrap"]
+    assert "default " + " ".join(f"{x:g}" for x in run["snr"]) + "," in helps["snr"]
 
 
 def test_synthesis_runs_at_synth_size_and_records_failures(monkeypatch):
