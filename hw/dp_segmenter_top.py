@@ -18,7 +18,7 @@ from amaranth.hdl import Module
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
-from dptbd.config import DPConfig
+from dptbd.config import ConfigError, DPConfig
 from dptbd.hw.candidate_layout import bits_per_segment, candidate_field_offsets, candidate_layout
 from dptbd.hw.dp_core import lut_write_members
 from dptbd.hw.dp_pipeline import DPPipeline
@@ -132,7 +132,20 @@ def generate_segmenter_verilog(cfg: DPConfig, *, manifest_path: str | pathlib.Pa
     -------
     tuple of (str, dict)
         The Verilog text and its manifest (also written to ``manifest_path`` if given).
+
+    Raises
+    ------
+    ConfigError
+        For n = 0 (``DPConfig.n_candidates``): a segmenter that never emits a point, whose
+        Verilog would carry zero-width signals (``wire [-1:0]``). The default n, 0.2 % of
+        W*H, is 0 below 250 pixels; set ``candidate_count``. (The Amaranth component itself
+        accepts n = 0, which the tests use to exercise trailer-only lists.)
     """
+    if cfg.n_candidates == 0:
+        raise ConfigError(
+            f"candidate_count: n = 0 candidate points per segment (0.2 % of {cfg.width}x"
+            f"{cfg.height} = {cfg.width * cfg.height} pixels rounds to 0) gives a segmenter "
+            f"that emits no points; set candidate_count to 1 … {cfg.width * cfg.height}")
     top = DPSegmenter(cfg)
     text = verilog.convert(top, name=SEGMENTER_MODULE_NAME, emit_src=False)
     info = segmenter_manifest(cfg, top)

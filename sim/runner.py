@@ -286,6 +286,11 @@ def simulate(sim: SimBuild, frames: np.ndarray, *, testcase: str = "run_scene",
         Passed to :func:`write_job`.
     """
     frames = check_scene(sim.cfg, frames)
+    if options.get("lut_codes") is not None:
+        # refused here, before anything is written or the simulator starts (shape, range)
+        from dptbd.sim.scoreboard import config_with_codes  # imports Amaranth: only when needed
+
+        config_with_codes(sim.cfg, options["lut_codes"])
     if waves is not None and not sim.waves:
         raise ValueError("waves need a build compiled with waves=True")
     run_dir = sim.directory / "runs" / run_name

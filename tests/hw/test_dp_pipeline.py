@@ -237,3 +237,44 @@ def test_lut_write_applies_from_the_pixel_accepted_in_the_same_cycle(style):
     new[cfg.start_code, 0] = 0
     assert_states_equal(run.outputs, reference_states(cfg, frames, [(n, new)]))
     assert run.outputs[n - 1]["direction"] == 0 and run.outputs[n]["direction"] == 1
+
+
+@pytest.mark.parametrize("style", ["logic", "bram"])
+def test_input_ready_is_registered(style):
+    """``pixels.ready`` comes from a register, not through logic from ``states.ready``.
+
+    Every cycle the testbench flips ``states.ready`` (and ``pixels.valid``) both ways and
+    reads ``pixels.ready`` after each settle: it must not move within the cycle. The run
+    holds the output back long enough that the credit counter does drop ``pixels.ready``,
+    so the check covers both of its values.
+    """
+    from amaranth.sim import Simulator
+
+    from dptbd.hw.layouts import pack_pixel
+
+    cfg = make_config(width=6, height=5, segment_frames=2)
+    dut = DPPipeline(cfg, lut_style=style)
+    rng = np.random.default_rng(7)
+    seen = set()
+
+    async def bench(ctx):
+        ctx.set(dut.pixels.payload.as_value(), pack_pixel(cfg, 5, True))
+        for cycle in range(400):
+            hold = cycle < 120 or rng.random() < 0.5      # a long stall, then random
+            readings = []
+            for ready in (0, 1, 0):
+                for valid in (0, 1):
+                    ctx.set(dut.states.ready, ready)
+                    ctx.set(dut.pixels.valid, valid)
+                    readings.append(ctx.get(dut.pixels.ready))
+            assert len(set(readings)) == 1, f"cycle {cycle}: pixels.ready {readings}"
+            seen.add(readings[0])
+            ctx.set(dut.states.ready, 0 if hold else 1)
+            ctx.set(dut.pixels.valid, int(rng.random() < 0.8))
+            await ctx.tick()
+
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    sim.run()
+    assert seen == {0, 1}, "the run must see pixels.ready both high and low"

@@ -7,8 +7,10 @@ import subprocess
 import numpy as np
 import pytest
 
+from dptbd.config import ConfigError
 from dptbd.hw.candidate_layout import candidate_layout
-from dptbd.hw.dp_segmenter_top import DPSegmenter, generate_segmenter_verilog
+from dptbd.hw.dp_segmenter_top import SEGMENTER_MODULE_NAME, DPSegmenter, generate_segmenter_verilog
+from dptbd.hw.verilog import VERILATOR_LINT_FLAGS
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.segment_scoreboard import expected_lists, list_words
 from seg_harness import make_config, pack_frames, run, score
@@ -84,3 +86,27 @@ def test_verilog_and_manifest(tmp_path):
         (tmp_path / "dptbd_seg.v").write_text(text)
         subprocess.run(["iverilog", "-g2012", "-o", str(tmp_path / "a.out"),
                         str(tmp_path / "dptbd_seg.v")], check=True, capture_output=True)
+
+
+@pytest.mark.skipif(shutil.which("verilator") is None, reason="verilator not installed")
+@pytest.mark.parametrize("kw", [
+    dict(width=8, height=6, segment_frames=3, candidate_count=4, histogram_bits=5),
+    dict(width=13, height=9, segment_frames=3, candidate_count=1),     # C = 2, 1-bit count
+    dict(width=128, height=128, segment_frames=6),                    # dptbd run's FPGA stage
+], ids=["8x6-n4", "13x9-n1", "128x128-default"])
+def test_segmenter_verilog_lints_clean(tmp_path, kw):
+    """``dptbd_seg`` (what ``dptbd run --rtl`` simulates) under the same Verilator flags as
+    ``dptbd_dp`` (``dptbd.hw.verilog.VERILATOR_LINT_FLAGS``, waivers justified there)."""
+    text, _ = generate_segmenter_verilog(make_config(**kw))
+    path = tmp_path / "dptbd_seg.v"
+    path.write_text(text)
+    run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "--top-module",
+                          SEGMENTER_MODULE_NAME, str(path)], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+
+
+def test_segmenter_verilog_refuses_zero_points():
+    """0.2 % of 13 x 9 rounds to n = 0: refused with the parameter named, not emitted as
+    zero-width Verilog."""
+    with pytest.raises(ConfigError, match=r"candidate_count.*13x9 = 117 pixels"):
+        generate_segmenter_verilog(make_config(width=13, height=9, segment_frames=3))

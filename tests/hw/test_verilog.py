@@ -140,6 +140,21 @@ def test_icarus_compiles(generated, name, tmp_path):
 
 
 @needs_verilator
+@pytest.mark.parametrize("external", [False, True], ids=["pipeline", "core"])
+def test_verilator_lints_clean_at_the_default_128x128(tmp_path, external):
+    """The configuration users build first (``dptbd verilog`` with no options), not only the
+    small ones: memory sizes and counter widths differ."""
+    cfg = DPConfig()
+    assert (cfg.width, cfg.height) == (128, 128)
+    text, _ = generate_verilog(cfg, external_state_store=external)
+    path = tmp_path / "dptbd_dp.v"
+    path.write_text(text)
+    run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "--top-module", MODULE_NAME,
+                          str(path)], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+
+
+@needs_verilator
 @pytest.mark.parametrize("name", ALL)
 def test_verilator_lints_clean(generated, name):
     path, _ = generated[name]

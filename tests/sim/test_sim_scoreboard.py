@@ -191,3 +191,19 @@ def test_scenarios_fit_the_configuration(name):
     assert make_frames("ties", small(), 5).max() == 1
     with pytest.raises(ValueError, match="unknown scenario"):
         make_frames("fog", small(), 3)
+
+
+@pytest.mark.parametrize("codes, match", [
+    (np.ones((9, 9), dtype=int), r"shape \(10, 9\)"),          # (M+1) x M for r = 1
+    (np.full((10, 9), 257), r"\[0, 2\*\*F = 256\]"),           # codes above unity
+])
+def test_simulate_refuses_a_bad_lut_before_anything_runs(tmp_path, codes, match):
+    """The Python API checks a run-time LUT before writing the job or starting Icarus."""
+    from dptbd.sim.runner import SimBuild, simulate
+
+    cfg = small()
+    sim = SimBuild(cfg=cfg, directory=tmp_path / "build", verilog=tmp_path / "none.v",
+                   manifest={"latency": 14}, waves=False, seconds=0.0)
+    with pytest.raises(ValueError, match=match):
+        simulate(sim, frames_for(cfg), lut_codes=codes)
+    assert not (tmp_path / "build").exists(), "nothing may be written for a refused LUT"
