@@ -693,17 +693,18 @@ def _select(energy, level, keys, near, n_seg, count, idx, n_cand, hit, near_coun
             cut = np.sort(prio[:tied])[slots - 1]  # the slots-th smallest priority
         k = 0
         inside = 0
+        j = 0  # tied pixels seen: prio[j] is this one's priority (same order as above)
         for p in range(n_pix):
             e = energy[i, p]
             take = e > lv
             if not take and e == lv and slots > 0:
-                if slots == tied:
+                if slots == tied - j:
                     take = True
                 else:
-                    take = _mix(keys[i] ^ (np.uint64(p) * _GOLDEN)) <= cut
+                    take = prio[j] <= cut
                 if take:
                     slots -= 1
-                tied -= 1
+                j += 1
             if take:
                 idx[i, k] = p
                 k += 1
