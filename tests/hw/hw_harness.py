@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import random
+import subprocess
 
 import numpy as np
 import pytest
@@ -20,6 +21,7 @@ from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_pixel, unpack_state
+from dptbd.hw.verilog import VERILATOR_LINT_FLAGS
 from dptbd.model.fixed import dp_step, segment_start
 
 FIELDS = ("energy", "direction", "end_of_line", "end_of_frame", "end_of_segment")
@@ -201,3 +203,11 @@ def refused(exception, match):
         if isinstance(obj, Elaboratable):
             obj._MustUse__silence = True  # private Amaranth flag: "not using it is fine"
         traceback = traceback.tb_next
+
+
+def assert_verilator_lints_clean(path, module: str) -> None:
+    """``verilator`` with the project's lint flags (``VERILATOR_LINT_FLAGS``, each waiver
+    justified there) on ``path``, top module ``module``: no warning, no error."""
+    run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "--top-module", module, str(path)],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr

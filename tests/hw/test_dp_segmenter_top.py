@@ -10,9 +10,9 @@ import pytest
 from dptbd.config import ConfigError
 from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.dp_segmenter_top import SEGMENTER_MODULE_NAME, DPSegmenter, generate_segmenter_verilog
-from dptbd.hw.verilog import VERILATOR_LINT_FLAGS
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.segment_scoreboard import expected_lists, list_words
+from hw_harness import assert_verilator_lints_clean
 from seg_harness import make_config, pack_frames, run, score
 
 CASES = {
@@ -100,9 +100,7 @@ def test_segmenter_verilog_lints_clean(tmp_path, kw):
     text, _ = generate_segmenter_verilog(make_config(**kw))
     path = tmp_path / "dptbd_seg.v"
     path.write_text(text)
-    run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "--top-module",
-                          SEGMENTER_MODULE_NAME, str(path)], capture_output=True, text=True)
-    assert run.returncode == 0, run.stderr
+    assert_verilator_lints_clean(path, SEGMENTER_MODULE_NAME)
 
 
 def test_segmenter_verilog_refuses_zero_points():

@@ -19,8 +19,14 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_pixel, unpack_state
-from dptbd.hw.verilog import MODULE_NAME, VERILATOR_LINT_FLAGS, generate_verilog
-from hw_harness import assert_states_equal, frames_to_stream, reference_states, refused
+from dptbd.hw.verilog import MODULE_NAME, generate_verilog
+from hw_harness import (
+    assert_states_equal,
+    assert_verilator_lints_clean,
+    frames_to_stream,
+    reference_states,
+    refused,
+)
 
 SMALL = DPConfig(width=5, height=4, segment_frames=3, energy_bits=12)
 RADIUS2 = DPConfig(width=7, height=6, segment_frames=2, radius=2, rounding="half_up")
@@ -149,18 +155,14 @@ def test_verilator_lints_clean_at_the_default_128x128(tmp_path, external):
     text, _ = generate_verilog(cfg, external_state_store=external)
     path = tmp_path / "dptbd_dp.v"
     path.write_text(text)
-    run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "--top-module", MODULE_NAME,
-                          str(path)], capture_output=True, text=True)
-    assert run.returncode == 0, run.stderr
+    assert_verilator_lints_clean(path, MODULE_NAME)
 
 
 @needs_verilator
 @pytest.mark.parametrize("name", ALL)
 def test_verilator_lints_clean(generated, name):
     path, _ = generated[name]
-    run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "--top-module", MODULE_NAME,
-                          str(path)], capture_output=True, text=True)
-    assert run.returncode == 0, run.stderr
+    assert_verilator_lints_clean(path, MODULE_NAME)
 
 
 TESTBENCH = """
