@@ -38,6 +38,7 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 
 from dptbd.model.snr_loss import LossEstimate, bootstrap_losses
+from dptbd.hw.source_hash import gateware_hash  # noqa: F401  (re-exported: compare --synth keys)
 
 __all__ = ["config_losses", "verdict", "cost_key", "choose", "hardware_key", "hardware_cost",
            "gateware_hash", "default_cache_dir", "HardwareCost"]
@@ -129,16 +130,6 @@ def default_cache_dir() -> pathlib.Path:
     import os
     base = os.environ.get("XDG_CACHE_HOME") or str(pathlib.Path.home() / ".cache")
     return pathlib.Path(base) / "dptbd" / "synth"
-
-
-def gateware_hash() -> str:
-    """SHA-256 (24 hex digits) of the gateware's source: every ``.py`` file of ``dptbd.hw``."""
-    import dptbd.hw
-    root = pathlib.Path(dptbd.hw.__file__).resolve().parent
-    h = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
-        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
-    return h.hexdigest()[:24]
 
 
 def hardware_key(cfg, *, variant: str, device: str, package: str, seeds: Sequence[int],

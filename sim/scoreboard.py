@@ -161,11 +161,13 @@ class Mismatch:
                 f"{self.expected}, got {self.got})")
 
 
-def compare_word(cfg: DPConfig, index: int, got: int, expected: int) -> Mismatch | None:
+def compare_word(cfg: DPConfig, index: int, got: int, expected: int,
+                 position: tuple[int, int, int] | None = None) -> Mismatch | None:
     """Compare output word number ``index`` with the model's; ``None`` if equal bit for bit.
 
     ``index`` counts words from the first output after reset, in raster order frame by
-    frame, which locates the frame, row and column.
+    frame, which locates the frame, row and column unless ``position`` (frame, row, col)
+    is given (streams whose frames do not all have W·H words: :mod:`dptbd.sim.stream_model`).
     """
     if int(got) == int(expected):
         return None
@@ -175,8 +177,11 @@ def compare_word(cfg: DPConfig, index: int, got: int, expected: int) -> Mismatch
     if not differing:  # bits outside every field: cannot happen with a correct width
         differing = ("payload",)
         got_f["payload"], want_f["payload"] = int(got), int(expected)
-    frame, rest = divmod(index, cfg.width * cfg.height)
-    row, col = divmod(rest, cfg.width)
+    if position is None:
+        frame, rest = divmod(index, cfg.width * cfg.height)
+        row, col = divmod(rest, cfg.width)
+    else:
+        frame, row, col = (int(v) for v in position)
     return Mismatch(index, frame, row, col, differing, got_f, want_f)
 
 
@@ -191,12 +196,17 @@ class Scoreboard:
         The expected packed words, any shape, consumed in C order (:func:`expected_words`).
     on_frame : callable, optional
         ``on_frame(frame_index)`` after the last word of every frame matched.
+    positions : numpy.ndarray, optional
+        ``(N, 3)`` frame, row and column of each expected word, for the report (default:
+        from the word's index, W·H words a frame).
     """
 
     def __init__(self, cfg: DPConfig, expected: np.ndarray,
-                 on_frame: Callable[[int], None] | None = None):
+                 on_frame: Callable[[int], None] | None = None,
+                 positions: np.ndarray | None = None):
         self.cfg = cfg
-        self._expected = [int(w) for w in np.asarray(expected).ravel()]
+        self._words = np.asarray(expected, dtype=np.uint64).ravel()
+        self._positions = None if positions is None else np.asarray(positions)
         self._frame_words = cfg.width * cfg.height
         self._on_frame = on_frame
         self.count = 0
@@ -206,7 +216,7 @@ class Scoreboard:
     @property
     def total(self) -> int:
         """Number of words expected."""
-        return len(self._expected)
+        return len(self._words)
 
     @property
     def done(self) -> bool:
@@ -225,12 +235,38 @@ class Scoreboard:
         if self.count >= self.total:
             self.extra += 1
             return False
-        self.mismatch = compare_word(self.cfg, self.count, word, self._expected[self.count])
+        self.mismatch = compare_word(self.cfg, self.count, word, int(self._words[self.count]),
+                                     self._position(self.count))
         if self.mismatch is not None:
             return False
         self.count += 1
         if self._on_frame is not None and self.count % self._frame_words == 0:
             self._on_frame(self.count // self._frame_words - 1)
+        return True
+
+    def _position(self, index: int):
+        return None if self._positions is None else tuple(self._positions[index])
+
+    def receive_array(self, words: np.ndarray) -> bool:
+        """Check a block of consecutive output words at once (numpy; same outcome as
+        calling :meth:`receive` on each): stops at the first mismatch or extra word."""
+        if self.failed:
+            return False
+        got = np.asarray(words, dtype=np.uint64).ravel()
+        take = min(len(got), self.total - self.count)
+        want = self._words[self.count:self.count + take]
+        bad = np.flatnonzero(got[:take] != want)
+        good = take if bad.size == 0 else int(bad[0])
+        before = self.count
+        self.count += good
+        if self._on_frame is not None:
+            for done in range(before // self._frame_words, self.count // self._frame_words):
+                self._on_frame(done)
+        if bad.size:
+            return self.receive(int(got[good]))
+        if len(got) > take:
+            self.extra += len(got) - take
+            return False
         return True
 
     def report(self) -> str:

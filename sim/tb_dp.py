@@ -46,7 +46,6 @@ from cocotb.simtime import get_sim_time
 from cocotb.triggers import Event, First, RisingEdge, Timer
 
 from dptbd.config import DPConfig, EnergyWidthWarning
-from dptbd.hw.layouts import field_offsets, pixel_layout
 from dptbd.sim.components import (
     Cycles,
     StreamMonitor,
@@ -56,6 +55,7 @@ from dptbd.sim.components import (
     write_lut,
 )
 from dptbd.sim.scoreboard import Scoreboard, config_with_codes, expected_words
+from dptbd.sim.stimulus import lut_writes, pack_pixels
 
 PERIOD_NS = 10
 
@@ -71,23 +71,6 @@ def load_job() -> tuple[dict, DPConfig, np.ndarray]:
     if frames.ndim != 3 or frames.shape[1:] != (cfg.height, cfg.width):
         raise ValueError(f"scene has shape {frames.shape}, expected (T, {cfg.height}, {cfg.width})")
     return job, cfg, frames
-
-
-def pack_pixels(cfg: DPConfig, frames: np.ndarray) -> list[int]:
-    """``pixels`` payloads in raster order, ``first`` on pixel (0, 0) of every frame."""
-    fields = field_offsets(pixel_layout(cfg))
-    first = np.zeros(frames.shape, dtype=np.uint64)
-    first[:, 0, 0] = 1
-    words = (frames.astype(np.uint64) << np.uint64(fields["pixel"]["offset"])) \
-        | (first << np.uint64(fields["first"]["offset"]))
-    return [int(w) for w in words.ravel()]
-
-
-def lut_writes(cfg: DPConfig, codes) -> list[tuple[int, int]]:
-    """(address, code) for every entry of the table, address ``p * M + m``."""
-    arr = np.asarray(codes, dtype=np.int64)
-    moves = cfg.n_moves
-    return [(p * moves + m, int(arr[p, m])) for p in range(moves + 1) for m in range(moves)]
 
 
 class Bench:

@@ -33,8 +33,8 @@ from dptbd.sim.components import Cycles, StreamMonitor, StreamSink, StreamSource
 from dptbd.sim.components import pause_generator
 from dptbd.sim.scoreboard import config_with_codes
 from dptbd.sim.segment_scoreboard import CandidateScoreboard, expected_lists
-from dptbd.sim.tb_dp import PERIOD_NS, _maybe_pause, _pause_probability, load_job, lut_writes
-from dptbd.sim.tb_dp import pack_pixels
+from dptbd.sim.stimulus import lut_writes, pack_pixels
+from dptbd.sim.tb_dp import PERIOD_NS, _maybe_pause, _pause_probability, load_job
 
 
 async def _start(dut, job):

@@ -1,0 +1,307 @@
+// Verilator harness of dptbd's generated Verilog: streams a whole input word sequence
+// through the design, cycle by cycle, with seeded stimulus, and writes every output
+// transfer with its cycle. No Python runs per cycle; dptbd.sim.verilator drives this
+// program with binary files (see docs/gateware.md, "Compiled RTL simulation").
+//
+// One source for three top levels, chosen at compile time:
+//   DPTBD_DESIGN_DP    dptbd_dp  (DPPipeline: on-chip state store, output `states`)
+//   DPTBD_DESIGN_CORE  dptbd_dp  (DPCore: the state store is the C++ model below)
+//   DPTBD_DESIGN_SEG   dptbd_seg (DPSegmenter: DP + segmenter, output `candidates`)
+// DPTBD_TRACE adds an FST waveform (verilator --trace-fst).
+//
+// Usage: dptbd_sim JOB_DIR
+//   JOB_DIR/job.txt   one "key value..." per line:
+//                       words N              input words in in.bin
+//                       valid_gap P          probability of an idle input cycle, [0, 1)
+//                       ready_pause P        probability of output back-pressure, [0, 1)
+//                       seed S               seeds both pause generators (and the store)
+//                       max_cycles N         give up after N cycles (reported as timeout)
+//                       drain N              stop once every word is in and the output
+//                                            has been idle (valid low) for N cycles
+//                       store_init zero|random   DPCore's external store at power-up
+//                       reset C H            hold rst high in cycles C .. C+H-1 (sorted)
+//                       lut I A D            before offering input word I, write code D
+//                                            to LUT entry A (one write per cycle, sorted)
+//                       trace PATH           FST file (DPTBD_TRACE builds only)
+//   JOB_DIR/in.bin    N little-endian uint64 input payloads (pixel | first << B_in)
+// Writes into JOB_DIR:
+//   out.bin           uint64 payload of every output transfer, in order
+//   out_cycles.bin    uint64 cycle of each output transfer
+//   accept_cycles.bin uint64 cycle in which each input word was accepted
+//   result.txt        "key value" lines: status, cycles, accepted, outputs, seconds, ...
+// Cycle 0 is the first simulated cycle; rst is high in cycles 0 and 1 (power-up reset).
+// A transfer is valid & ready sampled before a rising edge at which rst is low: a word
+// on offer while rst is high is not taken, and the source offers it again after reset.
+#include <chrono>
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Vdut.h"
+#include "verilated.h"
+#ifdef DPTBD_TRACE
+#include "verilated_fst_c.h"
+#endif
+
+// Amaranth names stream members `pixels__valid`; Verilator escapes "__" as "___05F".
+#define PORT(group, member) dut->group##___05F##member
+#if defined(DPTBD_DESIGN_SEG)
+#define OUT_PORT(member) PORT(candidates, member)
+#elif defined(DPTBD_DESIGN_DP) || defined(DPTBD_DESIGN_CORE)
+#define OUT_PORT(member) PORT(states, member)
+#else
+#error "define one of DPTBD_DESIGN_DP, DPTBD_DESIGN_CORE, DPTBD_DESIGN_SEG"
+#endif
+
+namespace {
+
+// splitmix64: small, seedable, good enough for pause patterns and power-up garbage.
+struct Rng {
+    uint64_t state;
+    uint64_t next() {
+        uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+        return z ^ (z >> 31);
+    }
+};
+
+// Probability p in [0, 1) as a threshold on a uint64 draw: draw < threshold.
+uint64_t threshold_of(double p) {
+    if (p <= 0.0) return 0;
+    return static_cast<uint64_t>(p * 18446744073709551616.0);  // 2^64
+}
+
+struct Reset { uint64_t cycle, hold; };
+struct LutWrite { uint64_t before_word, addr, data; };
+
+struct Job {
+    uint64_t words = 0, seed = 1, max_cycles = 0, drain = 64;
+    double valid_gap = 0.0, ready_pause = 0.0;
+    std::string store_init = "zero", trace;
+    std::vector<Reset> resets;
+    std::vector<LutWrite> luts;
+};
+
+[[noreturn]] void fail(const std::string& msg) {
+    std::fprintf(stderr, "dptbd_sim: %s\n", msg.c_str());
+    std::exit(2);
+}
+
+Job read_job(const std::string& path) {
+    Job job;
+    FILE* fh = std::fopen(path.c_str(), "r");
+    if (!fh) fail("cannot open " + path);
+    char key[64], rest[4096];
+    while (std::fscanf(fh, "%63s", key) == 1) {
+        if (!std::fgets(rest, sizeof rest, fh)) rest[0] = 0;
+        std::string k(key);
+        if (k == "words") job.words = std::strtoull(rest, nullptr, 10);
+        else if (k == "valid_gap") job.valid_gap = std::strtod(rest, nullptr);
+        else if (k == "ready_pause") job.ready_pause = std::strtod(rest, nullptr);
+        else if (k == "seed") job.seed = std::strtoull(rest, nullptr, 10);
+        else if (k == "max_cycles") job.max_cycles = std::strtoull(rest, nullptr, 10);
+        else if (k == "drain") job.drain = std::strtoull(rest, nullptr, 10);
+        else if (k == "store_init") {
+            char v[64];
+            if (std::sscanf(rest, "%63s", v) != 1) fail("store_init needs a value");
+            job.store_init = v;
+        } else if (k == "trace") {
+            char v[4096];
+            if (std::sscanf(rest, "%4095s", v) != 1) fail("trace needs a path");
+            job.trace = v;
+        } else if (k == "reset") {
+            Reset r{};
+            if (std::sscanf(rest, "%" SCNu64 " %" SCNu64, &r.cycle, &r.hold) != 2)
+                fail("reset needs CYCLE HOLD");
+            job.resets.push_back(r);
+        } else if (k == "lut") {
+            LutWrite w{};
+            if (std::sscanf(rest, "%" SCNu64 " %" SCNu64 " %" SCNu64, &w.before_word,
+                            &w.addr, &w.data) != 3)
+                fail("lut needs WORD ADDR DATA");
+            job.luts.push_back(w);
+        } else fail("unknown job key " + k);
+    }
+    std::fclose(fh);
+    if (job.max_cycles == 0) fail("max_cycles must be given");
+    return job;
+}
+
+std::vector<uint64_t> read_words(const std::string& path, uint64_t n) {
+    std::vector<uint64_t> v(n);
+    FILE* fh = std::fopen(path.c_str(), "rb");
+    if (!fh) fail("cannot open " + path);
+    if (n && std::fread(v.data(), sizeof(uint64_t), n, fh) != n) fail("short read " + path);
+    std::fclose(fh);
+    return v;
+}
+
+void write_words(const std::string& path, const std::vector<uint64_t>& v) {
+    FILE* fh = std::fopen(path.c_str(), "wb");
+    if (!fh) fail("cannot write " + path);
+    if (!v.empty() && std::fwrite(v.data(), sizeof(uint64_t), v.size(), fh) != v.size())
+        fail("short write " + path);
+    std::fclose(fh);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 2) fail("usage: dptbd_sim JOB_DIR");
+    const std::string dir = argv[1];
+    const Job job = read_job(dir + "/job.txt");
+    const std::vector<uint64_t> in = read_words(dir + "/in.bin", job.words);
+
+    auto context = std::make_unique<VerilatedContext>();
+    auto dut = std::make_unique<Vdut>(context.get());
+#ifdef DPTBD_TRACE
+    std::unique_ptr<VerilatedFstC> tfp;
+    if (!job.trace.empty()) {
+        context->traceEverOn(true);
+        tfp = std::make_unique<VerilatedFstC>();
+        dut->trace(tfp.get(), 99);
+        tfp->open(job.trace.c_str());
+    }
+#endif
+
+#ifdef DPTBD_DESIGN_CORE
+    // The external state store: W*H words, one synchronous read port (the word read in
+    // cycle t is on read_data in cycle t+1), one write port, read before write.
+    const uint64_t store_words = DPTBD_STORE_WORDS;
+    const uint64_t store_mask = (DPTBD_STORE_BITS >= 64) ? ~0ULL
+                                                         : ((1ULL << DPTBD_STORE_BITS) - 1);
+    std::vector<uint64_t> store(store_words, 0);
+    if (job.store_init == "random") {
+        Rng garbage{job.seed ^ 0x5A5A5A5A5A5A5A5AULL};
+        for (auto& w : store) w = garbage.next() & store_mask;
+    } else if (job.store_init != "zero") {
+        fail("store_init must be zero or random");
+    }
+    uint64_t read_data = 0, store_faults = 0;
+#endif
+
+    Rng valid_rng{job.seed * 2 + 1}, ready_rng{job.seed * 2 + 2};
+    const uint64_t gap_thr = threshold_of(job.valid_gap);
+    const uint64_t pause_thr = threshold_of(job.ready_pause);
+
+    std::vector<uint64_t> out, out_cycles, accept_cycles(job.words, ~0ULL);
+    out.reserve(job.words + 1024);
+    out_cycles.reserve(job.words + 1024);
+
+    uint64_t next_word = 0;       // index of the next input word to offer
+    bool offering = false;        // valid is high with in[next_word]
+    size_t next_lut = 0, next_reset = 0;
+    uint64_t reset_until = 2;     // power-up reset: cycles 0, 1
+    uint64_t idle = 0, cycle = 0, lut_writes = 0, stalled_in = 0, paused_out = 0;
+    std::string status = "timeout";
+
+    dut->clk = 0;
+    dut->rst = 1;
+    dut->eval();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (; cycle < job.max_cycles; ++cycle) {
+        // ---- drive the inputs of this cycle -------------------------------------
+        if (next_reset < job.resets.size() && job.resets[next_reset].cycle == cycle) {
+            reset_until = cycle + job.resets[next_reset].hold;
+            ++next_reset;
+        }
+        const bool rst = cycle < reset_until;
+        dut->rst = rst;
+        dut->lut_we = 0;
+        const bool lut_due = next_lut < job.luts.size()
+                             && job.luts[next_lut].before_word == next_word;
+        if (!offering && lut_due) {
+            if (!rst) {           // the writes come first; the word waits for them
+                dut->lut_addr = job.luts[next_lut].addr;
+                dut->lut_data = job.luts[next_lut].data;
+                dut->lut_we = 1;
+                ++next_lut;
+                ++lut_writes;
+            }
+        } else if (!offering && next_word < job.words) {
+            offering = !(gap_thr && valid_rng.next() < gap_thr);
+        }
+        PORT(pixels, valid) = offering;
+        PORT(pixels, payload) = offering ? in[next_word] : 0;
+        const bool ready = !(pause_thr && ready_rng.next() < pause_thr);
+        OUT_PORT(ready) = ready;
+#ifdef DPTBD_DESIGN_CORE
+        PORT(state_store, read_data) = read_data;
+#endif
+        dut->clk = 0;
+        dut->eval();
+#ifdef DPTBD_TRACE
+        if (tfp) tfp->dump(2 * cycle);
+#endif
+        // ---- sample the handshakes before the rising edge ----------------------
+        const bool out_valid = OUT_PORT(valid);
+        if (!rst) {
+            if (offering && PORT(pixels, ready)) {
+                accept_cycles[next_word] = cycle;
+                ++next_word;
+                offering = false;
+            } else if (offering) {
+                ++stalled_in;
+            }
+            if (out_valid && ready) {
+                out.push_back(static_cast<uint64_t>(OUT_PORT(payload)));
+                out_cycles.push_back(cycle);
+            } else if (out_valid) {
+                ++paused_out;
+            }
+        }
+#ifdef DPTBD_DESIGN_CORE
+        if (PORT(state_store, read_en)) {
+            const uint64_t a = PORT(state_store, read_addr);
+            if (a < store_words) read_data = store[a];
+            else ++store_faults;
+        }
+        if (PORT(state_store, write_en)) {
+            const uint64_t a = PORT(state_store, write_addr);
+            if (a < store_words) store[a] = static_cast<uint64_t>(PORT(state_store, write_data))
+                                            & store_mask;
+            else ++store_faults;
+        }
+#endif
+        dut->clk = 1;
+        dut->eval();
+#ifdef DPTBD_TRACE
+        if (tfp) tfp->dump(2 * cycle + 1);
+#endif
+        // ---- finished: every word in, the output idle for `drain` cycles --------
+        idle = (out_valid || rst) ? 0 : idle + 1;
+        if (next_word == job.words && next_lut == job.luts.size()
+                && next_reset == job.resets.size() && idle >= job.drain) {
+            status = "done";
+            ++cycle;
+            break;
+        }
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+#ifdef DPTBD_TRACE
+    if (tfp) tfp->close();
+#endif
+    dut->final();
+
+    write_words(dir + "/out.bin", out);
+    write_words(dir + "/out_cycles.bin", out_cycles);
+    write_words(dir + "/accept_cycles.bin", accept_cycles);
+    FILE* fh = std::fopen((dir + "/result.txt").c_str(), "w");
+    if (!fh) fail("cannot write result.txt");
+    std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"
+                 "lut_writes %" PRIu64 "\nstalled_input_cycles %" PRIu64 "\n"
+                 "paused_output_cycles %" PRIu64 "\nseconds %.9f\n",
+                 status.c_str(), cycle, next_word, out.size(), lut_writes, stalled_in,
+                 paused_out, seconds);
+#ifdef DPTBD_DESIGN_CORE
+    std::fprintf(fh, "store_faults %" PRIu64 "\n", store_faults);
+#endif
+    std::fclose(fh);
+    return 0;
+}

@@ -1,0 +1,168 @@
+"""A compiled RTL run scored against the golden model: stimulus in, verdict out.
+
+:func:`check_stream` runs one input stream through a :class:`~dptbd.sim.verilator.VerilatorBuild`
+with a :class:`Stimulus` (pauses, resets, LUT writes, the external store's power-up
+contents), splits what came out at every reset, asks :mod:`dptbd.sim.stream_model` what the
+golden model says for the words accepted since that reset, and compares with the project's
+one pair of in-order checkers: :class:`~dptbd.sim.scoreboard.Scoreboard` (``states``: the
+first mismatching frame, row, column and field) and
+:class:`~dptbd.sim.segment_scoreboard.CandidateScoreboard` (``candidates``: segment,
+record, field).
+
+The promise checked around a reset (``docs/gateware.md``, "Reset and resynchronisation"):
+what comes out before it is a prefix of the model's output for the words accepted before it
+(words in flight are dropped), and everything after it equals the model's output for the
+words accepted after it, counted from a new segment.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Sequence
+
+import numpy as np
+
+from dptbd.config import DPConfig
+from dptbd.sim.scoreboard import Scoreboard
+from dptbd.sim.segment_scoreboard import CandidateScoreboard, stream_lists
+from dptbd.sim.stimulus import lut_writes
+from dptbd.sim.stream_model import expected_stream, split_words
+from dptbd.sim.verilator import RawRun, VerilatorBuild, run
+
+__all__ = ["Stimulus", "CheckResult", "check_stream", "check_frames"]
+
+NEVER = np.uint64(2**64 - 1)
+
+
+@dataclasses.dataclass(frozen=True)
+class Stimulus:
+    """Everything but the input words that a compiled run takes (all seeded).
+
+    Attributes
+    ----------
+    valid_gap, ready_pause : float
+        Probability in [0, 1) of an idle input cycle and of output back-pressure.
+    seed : int
+        Seeds the pause generators and the external store's garbage.
+    resets : tuple of (cycle, hold)
+        ``rst`` high for ``hold`` cycles from ``cycle``.
+    lut_changes : tuple of (word index, codes)
+        The whole (M+1) x M table written just before that input word.
+    store_init : str
+        ``"zero"`` or ``"random"`` (``design="core"``: DPCore's external store at power-up).
+    """
+
+    valid_gap: float = 0.0
+    ready_pause: float = 0.0
+    seed: int = 1
+    resets: tuple[tuple[int, int], ...] = ()
+    lut_changes: tuple[tuple[int, np.ndarray], ...] = ()
+    store_init: str = "zero"
+
+
+@dataclasses.dataclass(frozen=True)
+class CheckResult:
+    """The verdict of one compiled run."""
+
+    passed: bool
+    report: str
+    words_in: int             # input words accepted
+    words_out: int            # output words compared with the model
+    cycles: int | None        # first accepted word to last output, inclusive
+    epochs: int               # 1 + the resets that happened
+    raw: RawRun
+
+    @property
+    def cycles_per_second(self) -> float:
+        return self.raw.cycles_per_second
+
+
+def _checker(cfg: DPConfig, design_output: str, pixels, first, lut_changes):
+    exp = expected_stream(cfg, pixels, first, lut_changes)
+    if design_output == "states":
+        return Scoreboard(cfg, exp.words, positions=exp.positions)
+    return CandidateScoreboard(cfg, stream_lists(cfg, exp.fields))
+
+
+def _feed(board, words: np.ndarray) -> None:
+    if isinstance(board, Scoreboard):
+        board.receive_array(words)
+        return
+    for w in words.tolist():
+        if not board.receive(w):
+            break
+
+
+def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = Stimulus(),
+                 *, trace=None) -> CheckResult:
+    """Run ``words`` through ``sim`` with ``stimulus`` and compare every output word.
+
+    Parameters
+    ----------
+    sim : VerilatorBuild
+    words : numpy.ndarray
+        Packed ``pixels`` payloads (:func:`dptbd.sim.stimulus.pixel_words`), any framing:
+        short, long or misaligned frames are modelled by the counter rule.
+    stimulus : Stimulus
+    trace : path, optional
+        FST waveform (a build with ``waves=True``).
+    """
+    cfg = sim.cfg
+    writes = [(int(i), a, c) for i, codes in stimulus.lut_changes
+              for a, c in lut_writes(cfg, codes)]
+    raw = run(sim, words, valid_gap=stimulus.valid_gap, ready_pause=stimulus.ready_pause,
+              seed=stimulus.seed, resets=stimulus.resets, lut_writes=writes,
+              store_init=stimulus.store_init, trace=trace)
+    accepted = raw.accept_cycles != NEVER
+    n_in = int(np.count_nonzero(accepted))
+    pixels, first = split_words(cfg, np.asarray(words)[:n_in])
+    resets = sorted(c for c, _ in stimulus.resets)
+    # epoch boundaries: words accepted and outputs transferred before each reset cycle
+    in_cuts = [0] + [int(np.searchsorted(raw.accept_cycles[:n_in], c)) for c in resets] + [n_in]
+    out_cuts = [0] + [int(np.searchsorted(raw.out_cycles, c)) for c in resets] + \
+        [len(raw.out_words)]
+    report, passed, compared = "", True, 0
+    for e in range(len(in_cuts) - 1):
+        a, b = in_cuts[e], in_cuts[e + 1]
+        changes = {int(i) - a: codes for i, codes in stimulus.lut_changes}
+        board = _checker(cfg, sim.output, pixels[a:b], first[a:b], changes)
+        got = raw.out_words[out_cuts[e]:out_cuts[e + 1]]
+        _feed(board, got)
+        compared += board.count
+        last = e == len(in_cuts) - 2
+        label = f"after reset {e} (cycle {resets[e - 1]}): " if e else ""
+        if board.failed or (last and not board.done):
+            passed = False
+            report = label + board.report()
+            break
+        if not last:
+            report += f"{label}{board.count} of {board.total} words before reset {e + 1}; "
+    if passed:
+        if raw.status != "done":
+            passed = False
+            report += f"timeout after {raw.cycles} cycles: {n_in} of {len(words)} words in"
+        elif n_in != len(words):
+            passed = False
+            report += f"only {n_in} of {len(words)} words accepted"
+        else:
+            report += board.report()
+    cycles = None
+    if n_in and len(raw.out_words):
+        cycles = int(raw.out_cycles[-1]) - int(raw.accept_cycles[0]) + 1
+    return CheckResult(passed, report, n_in, compared, cycles, len(in_cuts) - 1, raw)
+
+
+def check_frames(sim: VerilatorBuild, frames: np.ndarray, stimulus: Stimulus = Stimulus(),
+                 *, trace=None) -> CheckResult:
+    """:func:`check_stream` on whole frames ``(T, H, W)`` (refused like ``dptbd sim``: wrong
+    frame size, pixels wider than B_in)."""
+    from dptbd.sim.runner import check_scene
+    from dptbd.sim.stimulus import pixel_words
+
+    frames = check_scene(sim.cfg, frames)
+    return check_stream(sim, pixel_words(sim.cfg, frames), stimulus, trace=trace)
+
+
+def lut_change_words(changes: Sequence[tuple[int, np.ndarray]], words_per_frame: int):
+    """``(word index, codes)`` for LUT changes given per frame ``(frame, codes)``."""
+    return tuple((int(f) * words_per_frame, np.asarray(c)) for f, c in changes)
