@@ -74,7 +74,7 @@ __all__ = [
     "LUTS", "cosine_weights", "lut_weights", "adc_mapping", "FixedSpec", "CompareSpec",
     "DEFAULT_RUN", "DEFAULT_CONFIGS", "DEFAULT_SWEEP", "build_spec", "Plan", "make_plan",
     "measure_frames", "CompareResult", "run_compare", "default_workers", "candidate_indices",
-    "nth_largest", "image_keys",
+    "nth_largest", "image_keys", "check_rtl",
 ]
 
 #: Built-in weight LUTs (a configuration may instead give ``weights`` as a table).
@@ -543,6 +543,8 @@ class Plan:
     near_flat: np.ndarray             # (S, H*W) the same, flattened
     visible: np.ndarray               # (S,) target visible at the segment's end
     levels: np.ndarray                # (D, n_thr) thresholds in each detector's E units
+    rtl: tuple = ()                   # RTL in the loop: dptbd.sim.rtl_trials.RTLBuilds per
+    #                                   fixed behaviour (empty: the golden model)
 
     @property
     def n_detectors(self) -> int:
@@ -818,9 +820,17 @@ def _evaluate(plan: Plan, float_frames: np.ndarray, codes: Sequence[np.ndarray],
             out["exceed"][:, i] = _exceedances(res.energy, plan.levels[i])
     for b, cfg in enumerate(plan.fixed):
         d = len(plan.floats) + b
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", EnergyWidthWarning)
-            res = run_fixed_fast(codes[plan.fixed_adc[b]], cfg, threads=1)
+        if plan.rtl:  # the gateware accumulates, every word checked (docs/compare.md)
+            from dptbd.sim.rtl_trials import accumulate_trials
+            scene = (f"SNR {plan.spec.snr[kind]:g}" if with_target else "noise only")
+            res = accumulate_trials(
+                plan.rtl[b], codes[plan.fixed_adc[b]], first_trial=first,
+                label=f"configuration {plan.detector_names()[d]!r}, scene {scene}: ")
+            out["rtl"] = out["rtl"] + res.tally
+        else:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", EnergyWidthWarning)
+                res = run_fixed_fast(codes[plan.fixed_adc[b]], cfg, threads=1)
         cand = _candidates(res.energy, res.direction, plan, keys)
         _store(out, kind, d, cand, refs[plan.fixed_float[b]], with_target, n_trials, n_seg)
         if not with_target:
@@ -851,7 +861,7 @@ def _store(out, kind, d, cand: _Candidates, ref: _Candidates | None, with_target
 
 def _empty_out(plan: Plan, n: int) -> dict:
     d, s = plan.n_detectors, len(plan.spec.snr)
-    return {
+    out = {
         "detections": np.zeros((n, d, s), np.int64),
         "false_points": np.zeros((n, d, s + 1), np.int64),
         "candidates": np.zeros((n, d, s + 1), np.int64),
@@ -859,6 +869,10 @@ def _empty_out(plan: Plan, n: int) -> dict:
         "agree_same": np.zeros((n, d, s + 1), np.int64),
         "exceed": np.zeros((n, d, len(plan.spec.thresholds)), np.int64),
     }
+    if plan.rtl:  # not per trial: summed over chunks by run_compare, not concatenated
+        from dptbd.sim.rtl_trials import RTLTally
+        out["rtl"] = RTLTally()
+    return out
 
 
 def _chunk(plan: Plan, first: int, stop: int) -> dict:
@@ -913,13 +927,16 @@ def measure_frames(plan: Plan, frames_by_snr: Sequence[np.ndarray], noise_only: 
 class CompareResult:
     """Per-trial counts of every detector (see :func:`_empty_out` for the arrays).
 
-    ``counts[name]`` has the trial axis first, trials in index order.
+    ``counts[name]`` has the trial axis first, trials in index order. ``rtl``: with
+    ``run_compare(..., rtl=True)``, what went through the gateware and was checked
+    (:func:`dptbd.sim.rtl_trials.summary`), else None.
     """
 
     plan: Plan
     counts: dict
     seconds: float
     workers: int
+    rtl: dict | None = None
 
     @property
     def spec(self) -> CompareSpec:
@@ -961,14 +978,32 @@ def _worker_init() -> None:
         os.environ.setdefault(var, "1")
 
 
-def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool = False) -> CompareResult:
+def check_rtl(spec: CompareSpec) -> None:
+    """Refuse (``ConfigError`` naming it) a configuration the gateware cannot run."""
+    from dptbd.sim.rtl_trials import check_configs
+
+    check_configs((f.name, f.cfg) for f in spec.configs)
+
+
+def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool = False,
+                rtl: bool = False) -> CompareResult:
     """Run the Monte Carlo: ``spec.trials`` trials in chunks of ``spec.chunk``.
 
     ``workers``: processes (default: :func:`default_workers`); 1 runs in this process.
     The counts do not depend on ``workers``. ``progress``: a tqdm bar on stderr.
+    ``rtl``: the fixed-point configurations' trials are accumulated by the compiled
+    gateware (:func:`dptbd.sim.rtl_trials.accumulate_trials`, every output word checked
+    against the golden model) instead of :func:`dptbd.model.fast.run_fixed_fast`; the
+    float models stay as they are. The counts are the same (``docs/compare.md``, "RTL in
+    the loop"). Configurations the gateware does not implement are refused first.
     """
     workers = default_workers() if workers is None else _as_int("workers", workers, 1, 1024)
+    if rtl:
+        check_rtl(spec)
     plan = make_plan(spec)
+    if rtl:  # build (or find in the cache) every executable here, before the fork
+        from dptbd.sim.rtl_trials import prepare_builds
+        plan = dataclasses.replace(plan, rtl=tuple(prepare_builds(cfg) for cfg in plan.fixed))
     _warm(plan)  # compile (or load) the kernels here, once, before the clock and the fork
     bounds = [(a, min(a + spec.chunk, spec.trials)) for a in range(0, spec.trials, spec.chunk)]
     parts: list[dict | None] = [None] * len(bounds)
@@ -1001,5 +1036,14 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
         if bar is not None:
             bar.close()
     seconds = time.perf_counter() - start
-    counts = {k: np.concatenate([p[k] for p in parts], axis=0) for k in parts[0]}
-    return CompareResult(plan=plan, counts=counts, seconds=seconds, workers=workers)
+    counts = {k: np.concatenate([p[k] for p in parts], axis=0) for k in parts[0] if k != "rtl"}
+    rtl_info = None
+    if plan.rtl:
+        from dptbd.sim.rtl_trials import summary
+        tally = parts[0]["rtl"]
+        for p in parts[1:]:
+            tally = tally + p["rtl"]
+        names = plan.detector_names()[len(plan.floats):]
+        rtl_info = summary(tally, [(n, b.segmenter_missing) for n, b in zip(names, plan.rtl)])
+    return CompareResult(plan=plan, counts=counts, seconds=seconds, workers=workers,
+                         rtl=rtl_info)

@@ -182,7 +182,9 @@ def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
     run.update({"candidate_count": spec.candidate_count, "segments_per_trial": n_seg,
                 "opportunities_per_snr": int(opp.sum(axis=1)[0]),
                 "seconds": result.seconds, "workers": result.workers,
-                "trials_per_second": result.trials_per_second})
+                "trials_per_second": result.trials_per_second,
+                "engine": "rtl" if getattr(result, "rtl", None) else "model",
+                "rtl": getattr(result, "rtl", None)})
     return {"run": run, "detectors": names, "curves": identical_curves(result, names), "pd": pd_rows, "pfa": pfa_rows,
             "configs": config_rows, "choice": choice, "resolution": widths,
             "hardware": hardware}

@@ -39,6 +39,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="output folder for CSV/JSON/PNG (default ./compare-out)")
     parser.add_argument("--force", action="store_true", help="write into a non-empty --out")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument("--rtl", action="store_true",
+                        help="RTL in the loop: accumulate the fixed-point configurations' trials "
+                             "on the compiled gateware (Verilator), every output word and "
+                             "candidate list checked against the golden model "
+                             "(docs/compare.md); the float model stays as it is")
     synth = parser.add_argument_group("hardware cost (slow: minutes per configuration, cached)")
     synth.add_argument("--synth", action="store_true",
                        help="synthesise every configuration (Yosys synth_ice40 + nextpnr-ice40); "
@@ -89,6 +94,11 @@ def prepare(args: argparse.Namespace):
     if args.workers is not None and args.workers < 1:
         raise ConfigError(f"--workers must be >= 1, got {args.workers}")
     _check_out(args.out, args.force)
+    if getattr(args, "rtl", False):
+        from dptbd.model.compare import check_rtl
+        from dptbd.sim.verilator import check_tools as check_verilator
+        check_rtl(spec)
+        check_verilator()
     if args.synth:
         from dptbd.hw.synth import ICE40_DEVICES
         from dptbd.model.sweep import check_tools
@@ -157,7 +167,8 @@ def main(args: argparse.Namespace) -> int:
         return 2
     workers = default_workers() if args.workers is None else args.workers
     start = time.perf_counter()
-    result = run_compare(spec, workers=workers, progress=not args.no_progress)
+    result = run_compare(spec, workers=workers, progress=not args.no_progress,
+                         rtl=getattr(args, "rtl", False))
     hardware = synthesise_all(spec, args, workers) if args.synth else None
     summary = summarise(result, hardware)
     summary["run"]["total_seconds"] = time.perf_counter() - start
@@ -171,6 +182,10 @@ def main(args: argparse.Namespace) -> int:
     print(f"\n{spec.trials} trials x {result.segments} segments x {len(spec.snr)} SNRs (+ noise only), "
           f"{len(spec.configs)} configurations ({len(result.plan.fixed)} distinct), seed {spec.seed}: "
           f"Monte Carlo {result.seconds:.1f} s on {workers} worker(s) "
-          f"({result.trials_per_second:.2f} trials/s), total {summary['run']['total_seconds']:.1f} s")
+          f"({result.trials_per_second:.2f} trials/s), total {summary['run']['total_seconds']:.1f} s"
+          + (" — fixed-point trials on the RTL" if result.rtl else ""))
+    if result.rtl:
+        from dptbd.sim.rtl_trials import summary_line
+        print(summary_line(result.rtl))
     print("wrote " + ", ".join(str(p) for p in paths))
     return 0
