@@ -198,28 +198,48 @@ def _where(label: str, first_trial: int, n_seg: int, k: int, frame: int) -> str:
             f"(frame {segment * k + f} of the trial)")
 
 
-def _check_states(cfg, words, raw, label, first_trial, n_seg) -> int:
+#: Words of expected stream materialised at once (the check walks the run in slices of
+#: whole segments, so a 128 x 128 chunk does not hold every frame's model state at once).
+SLICE_WORDS = 1 << 21
+
+
+def _check_states(cfg, segments, raw, label, first_trial, n_seg) -> int:
+    """Every output word of ``raw`` against the model, slice by slice; the count compared."""
     from dptbd.sim.scoreboard import Scoreboard
 
     k = cfg.segment_frames
-    board = Scoreboard(cfg, words)
+    n_words = segments.size
     n_in = int(np.count_nonzero(raw.accept_cycles != np.uint64(2**64 - 1)))
-    if raw.status != "done" or n_in != len(words):
+    if raw.status != "done" or n_in != n_words:
         raise RTLMismatchError(
-            f"{label}RTL run incomplete: status {raw.status}, {n_in} of {len(words)} input "
+            f"{label}RTL run incomplete: status {raw.status}, {n_in} of {n_words} input "
             f"words accepted, {len(raw.out_words)} output words")
-    board.receive_array(raw.out_words)
-    if board.mismatch is not None:
-        m = board.mismatch
-        field = m.fields[0]
-        raise RTLMismatchError(
-            f"RTL states differ from the golden model: "
-            f"{_where(label, first_trial, n_seg, k, m.frame)}, row {m.row}, col {m.col}, "
-            f"field {field}: expected {m.expected[field]}, got {m.got[field]} "
-            f"(output word {m.index} of the run; differing fields {list(m.fields)})")
-    if not board.done:
-        raise RTLMismatchError(f"{label}RTL states: {board.report()}")
-    return board.count
+    seg_words = segments[0].size
+    step = max(1, SLICE_WORDS // seg_words)
+    compared = 0
+    for s0 in range(0, len(segments), step):
+        part = segments[s0:s0 + step]
+        board = Scoreboard(cfg, expected_state_words(cfg, part))
+        board.receive_array(raw.out_words[s0 * seg_words:s0 * seg_words + part.size])
+        if board.mismatch is not None:
+            m = board.mismatch
+            field = m.fields[0]
+            raise RTLMismatchError(
+                f"RTL states differ from the golden model: "
+                f"{_where(label, first_trial, n_seg, k, s0 * k + m.frame)}, row {m.row}, "
+                f"col {m.col}, field {field}: expected {m.expected[field]}, got "
+                f"{m.got[field]} (output word {s0 * seg_words + m.index} of the run; "
+                f"differing fields {list(m.fields)})")
+        if not board.done:
+            raise RTLMismatchError(
+                f"{label}RTL states: {compared + board.count} of {n_words} words came out "
+                f"(all bit-exact), the run ended before "
+                f"{_where('', first_trial, n_seg, k, s0 * k + board.count // (cfg.width * cfg.height))}")
+        compared += board.count
+    if len(raw.out_words) > n_words:
+        raise RTLMismatchError(f"{label}RTL states: {len(raw.out_words) - n_words} output "
+                               f"word(s) beyond the {n_words} expected")
+    return compared
 
 
 def _unpack_ends(cfg: DPConfig, out_words: np.ndarray, n_trials: int, n_seg: int):
@@ -321,8 +341,7 @@ def accumulate_trials(builds: RTLBuilds | DPConfig, frames: np.ndarray, *,
     segments, n_seg = _segments_view(cfg, frames)
     words = pixel_words(cfg, segments.reshape(-1, cfg.height, cfg.width))
     raw = verilator.run(builds.dp, words)
-    expected = expected_state_words(cfg, segments)
-    compared = _check_states(cfg, expected, raw, label, first_trial, n_seg)
+    compared = _check_states(cfg, segments, raw, label, first_trial, n_seg)
     energy, direction = _unpack_ends(cfg, raw.out_words, n_trials, n_seg)
     tally = RTLTally(pixel_updates=len(words), state_words=compared, runs=1, cycles=raw.cycles,
                      sim_seconds=raw.sim_seconds)

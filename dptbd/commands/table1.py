@@ -6,19 +6,26 @@ import argparse
 import pathlib
 import time
 
+from dptbd.config import ConfigError
 from dptbd.model.stats import wilson_interval
-from dptbd.model.table1 import DETECTORS, PAPER_TABLE1, Table1Row, table1_rows
+from dptbd.model.table1 import DETECTORS, PAPER_TABLE1, Table1Row, run_table1
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--trials", type=int, default=50, help="seeded scenes per setting (default 50)")
     parser.add_argument("--segment-frames", type=int, default=6, metavar="K",
                         help="frames per segment (default 6, see docs/table1.md)")
-    parser.add_argument("--segment-stride", type=int, default=4, metavar="S",
-                        help="frames between segment starts (default 4: 24 outputs from 100 frames)")
+    parser.add_argument("--segment-stride", type=int, default=None, metavar="S",
+                        help="frames between segment starts (default 4: 24 outputs from 100 "
+                             "frames; with --rtl the default is K, the only stride the gateware "
+                             "implements)")
     parser.add_argument("--seed", type=int, default=2003, help="base seed (default 2003)")
     parser.add_argument("--markdown", type=pathlib.Path, help="also write the table to this Markdown file")
     parser.add_argument("--force", action="store_true", help="overwrite --markdown if it exists")
+    parser.add_argument("--rtl", action="store_true",
+                        help="RTL in the loop: the two DP detectors accumulated on the compiled "
+                             "gateware (Verilator), every output word and candidate list checked "
+                             "against the golden model; needs stride = K (docs/table1.md)")
 
 
 def format_table(rows: list[Table1Row]) -> str:
@@ -44,14 +51,35 @@ def format_table(rows: list[Table1Row]) -> str:
 def main(args: argparse.Namespace) -> int:
     if args.markdown is not None and args.markdown.exists() and not args.force:
         raise FileExistsError(f"{args.markdown} exists; pass --force to overwrite it")
+    rtl = getattr(args, "rtl", False)
+    stride = args.segment_stride
+    chosen = ""
+    if stride is None:
+        stride = args.segment_frames if rtl else 4
+        if rtl:
+            chosen = (f" (--rtl: stride = K = {stride}, the gateware has one state store and "
+                      f"implements non-overlapping segments only)")
+    if rtl:
+        from dptbd.sim.verilator import check_tools
+        if stride != args.segment_frames:
+            raise ConfigError(
+                f"--rtl needs --segment-stride equal to --segment-frames "
+                f"({args.segment_frames}): the gateware implements non-overlapping segments "
+                f"only, got --segment-stride {stride}")
+        check_tools()
     start = time.perf_counter()
-    rows = table1_rows(args.trials, segment_frames=args.segment_frames,
-                       segment_stride=args.segment_stride, seed=args.seed, progress=True)
+    run = run_table1(args.trials, segment_frames=args.segment_frames, segment_stride=stride,
+                     seed=args.seed, progress=True, rtl=rtl)
+    rows = run.rows
     table = format_table(rows)
     frames = rows[0].counts.frames // args.trials
     note = (f"{args.trials} trials per setting, K = {args.segment_frames}, stride "
-            f"{args.segment_stride} ({frames} accumulated frames per trial), seed {args.seed}, "
-            f"{time.perf_counter() - start:.0f} s")
+            f"{stride}{chosen} ({frames} accumulated frames per trial), seed {args.seed}, "
+            f"{time.perf_counter() - start:.0f} s"
+            + (", DP detectors on the RTL" if rtl else ""))
+    if run.rtl is not None:
+        from dptbd.sim.rtl_trials import summary_line
+        note += "\n" + summary_line(run.rtl)
     print(table)
     print(note)
     if args.markdown is not None:

@@ -1,0 +1,285 @@
+"""RTL in the loop (``dptbd.sim.rtl_trials``): ``compare --rtl`` and ``table1 --rtl`` give the
+golden model's numbers, a corrupted RTL word is caught and located, unsupported
+configurations are refused up front.
+
+Needs Verilator (skipped otherwise). Builds are cached (``~/.cache/dptbd/verilator``): the
+first run compiles a few small executables (~7 s each), later runs take seconds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import re
+import shutil
+
+import numpy as np
+import pytest
+
+from dptbd.config import ConfigError, DPConfig
+from dptbd.sim import rtl_trials, verilator
+
+pytestmark = pytest.mark.skipif(shutil.which("verilator") is None,
+                                reason="needs Verilator (scripts/setup.sh)")
+
+TOML = """
+trials = 4
+seed = 3
+snr = [1.5, 2.5, 3.5]
+size = 16
+frames = 14
+segment_frames = 4
+false_alarm_rate = 0.02
+chunk = 2
+bootstrap = 40
+thresholds = [2.0, 3.0, 4.0]
+[[config]]
+name = "exact-ish"
+input_bits = 10
+[sweep]
+input_bits = [4]
+energy_headroom = [-1]
+"""
+
+SMALL = DPConfig(width=16, height=16, segment_frames=4, input_bits=6, energy_bits=8)
+
+
+def _frames(n_trials=3, n_frames=10, seed=1):
+    rng = np.random.default_rng(seed)
+    return rng.integers(0, 64, size=(n_trials, n_frames, 16, 16)).astype(np.uint16)
+
+
+def test_expected_words_are_the_reference_models_frame_by_frame():
+    from dptbd.sim.scoreboard import expected_words
+
+    segments, n_seg = rtl_trials._segments_view(SMALL, _frames())
+    assert n_seg == 2 and segments.shape == (6, 4, 16, 16)
+    got = rtl_trials.expected_state_words(SMALL, segments)
+    assert np.array_equal(got, expected_words(SMALL, segments.reshape(-1, 16, 16)).ravel())
+
+
+def test_accumulate_trials_equals_the_model_and_counts_what_it_checked():
+    from dptbd.model.fast import run_fixed_fast
+
+    frames = _frames()
+    res = rtl_trials.accumulate_trials(SMALL, frames)
+    ref = run_fixed_fast(frames, SMALL)
+    assert res.energy.dtype == ref.energy.dtype and res.direction.dtype == ref.direction.dtype
+    assert np.array_equal(res.energy, ref.energy) and np.array_equal(res.direction, ref.direction)
+    assert np.array_equal(res.end_frames, ref.end_frames)
+    t = res.tally
+    # 3 trials x 2 whole segments x 4 frames (the 2 frames after the last segment are not sent)
+    assert t.pixel_updates == t.state_words == t.segmenter_pixels == 3 * 2 * 4 * 256
+    assert t.lists == 6 and t.runs == 2 and t.list_words == t.records + t.lists
+
+
+def _run_command(tmp_path, name, extra):
+    from dptbd.commands import compare as command
+
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(TOML)
+    parser = argparse.ArgumentParser()
+    command.add_arguments(parser)
+    out = tmp_path / name
+    args = parser.parse_args(["--config", str(cfg), "--out", str(out), "--no-progress", *extra])
+    assert command.main(args) == 0
+    return out
+
+
+def test_small_sweep_gives_identical_tables_on_the_model_and_on_the_rtl(tmp_path, capsys):
+    model = _run_command(tmp_path, "model", ["--workers", "1"])
+    printed_model = capsys.readouterr().out
+    rtl = _run_command(tmp_path, "rtl", ["--workers", "2", "--rtl"])
+    printed_rtl = capsys.readouterr().out
+    for name in ("compare_pd.csv", "compare_pfa.csv", "compare_configs.csv"):
+        assert (model / name).read_bytes() == (rtl / name).read_bytes(), name
+    summary = json.loads((rtl / "compare_summary.json").read_text())
+    info = summary["run"]["rtl"]
+    assert summary["run"]["engine"] == "rtl"
+    assert json.loads((model / "compare_summary.json").read_text())["run"]["rtl"] is None
+    # 2 fixed configurations x 4 trials x (3 SNRs + noise only) x 3 segments x 4 frames x 256
+    pixels = 2 * 4 * 4 * 3 * 4 * 256
+    assert info["pixel_updates"] == info["state_words"] == info["segmenter_pixels"] == pixels
+    assert info["lists"] == 2 * 4 * 4 * 3 and info["segmenter_skipped"] == {}
+    assert sorted(info["segmenter_checked"]) == ["4/5/8 truncate paper", "exact-ish"]
+    assert "every candidate list" in info["verdict"]
+    assert "RTL in the loop" not in printed_model
+    line = [ln for ln in printed_rtl.splitlines() if ln.startswith("RTL in the loop: ")]
+    assert len(line) == 1 and f"{pixels:,} pixel updates" in line[0]
+    assert f"every state word ({pixels} compared) equals the golden model's" in line[0]
+    # the tables printed are the same too
+    assert printed_model.split("\n\n")[0] == printed_rtl.split("\n\n")[0]
+
+
+def test_run_compare_counts_identical_per_trial():
+    from dptbd.model.compare import build_spec, run_compare
+    import tomllib
+
+    spec = build_spec(tomllib.loads(TOML))
+    a = run_compare(spec, workers=1)
+    b = run_compare(spec, workers=1, rtl=True)
+    assert a.rtl is None and b.rtl["runs"] > 0
+    assert a.counts.keys() == b.counts.keys()
+    for key in a.counts:
+        assert np.array_equal(a.counts[key], b.counts[key]), key
+
+
+def _corrupting(monkeypatch, design, index, xor):
+    real = verilator.run
+
+    def run(sim, words, **kw):
+        raw = real(sim, words, **kw)
+        if sim.design == design:
+            out = raw.out_words.copy()
+            out[index] ^= np.uint64(xor)
+            raw = dataclasses.replace(raw, out_words=out)
+        return raw
+
+    monkeypatch.setattr(verilator, "run", run)
+
+
+def test_a_flipped_state_bit_is_located_by_trial_segment_frame_row_col_and_field(monkeypatch):
+    frames = _frames()
+    builds = rtl_trials.prepare_builds(SMALL)
+    # trial 1, segment 1, frame 2 of it, row 3, col 5; bit 0 of E
+    index = ((1 * 2 + 1) * 4 + 2) * 256 + 3 * 16 + 5
+    offset = rtl_trials_state_offset("energy")
+    _corrupting(monkeypatch, "dp", index, 1 << offset)
+    with pytest.raises(rtl_trials.RTLMismatchError, match=(
+            r"^RTL states differ from the golden model: configuration 'x', scene SNR 2: "
+            r"trial 8, segment 1, frame 2 of the segment \(frame 6 of the trial\), row 3, "
+            r"col 5, field energy: expected (\d+), got (?!\1)\d+ \(output word "
+            rf"{index} of the run; differing fields \['energy'\]\)$")):
+        rtl_trials.accumulate_trials(builds, frames, first_trial=7,
+                                     label="configuration 'x', scene SNR 2: ")
+
+
+def rtl_trials_state_offset(name):
+    from dptbd.sim.scoreboard import state_fields
+    return state_fields(SMALL)[name]["offset"]
+
+
+def test_a_flipped_candidate_word_is_located_by_trial_segment_record_and_field(monkeypatch):
+    from dptbd.hw.candidate_layout import candidate_field_offsets
+
+    frames = _frames()
+    builds = rtl_trials.prepare_builds(SMALL)
+    assert builds.segmenter is not None, builds.segmenter_missing
+    clean = rtl_trials.accumulate_trials(builds, frames)
+    assert clean.tally.records > 0
+    # the first record of the run: flip the lowest bit of its column
+    col = candidate_field_offsets(SMALL)["record"]["col"]["offset"]
+    real = verilator.run
+    first_record = {}
+
+    def run(sim, words, **kw):
+        raw = real(sim, words, **kw)
+        if sim.design == "segmenter":
+            from dptbd.hw.candidate_layout import unpack_candidate
+            kinds = [unpack_candidate(SMALL, w)[0] for w in raw.out_words.tolist()]
+            i = kinds.index("record")
+            lists_before = kinds[:i].count("trailer")
+            first_record.update(index=i, lists=lists_before)
+            out = raw.out_words.copy()
+            out[i] ^= np.uint64(1 << col)
+            raw = dataclasses.replace(raw, out_words=out)
+        return raw
+
+    monkeypatch.setattr(verilator, "run", run)
+    with pytest.raises(rtl_trials.RTLMismatchError) as info:
+        rtl_trials.accumulate_trials(builds, frames, label="L: ")
+    trial, segment = divmod(first_record["lists"], 2)
+    assert re.fullmatch(
+        rf"RTL candidate list differs from the golden model: L: trial {trial}, segment "
+        rf"{segment}, record 0, field col: expected (\d+), got (?!\1)\d+ \(output word "
+        rf"{first_record['index']} of the run\)", str(info.value)), str(info.value)
+
+
+def test_missing_output_words_are_an_error(monkeypatch):
+    real = verilator.run
+
+    def run(sim, words, **kw):
+        raw = real(sim, words, **kw)
+        return dataclasses.replace(raw, out_words=raw.out_words[:-300])
+
+    monkeypatch.setattr(verilator, "run", run)
+    with pytest.raises(rtl_trials.RTLMismatchError, match=(
+            r"^RTL states: 5844 of 6144 words came out \(all bit-exact\), the run ended "
+            r"before trial 2, segment 1, frame 2 of the segment \(frame 6 of the trial\)$")):
+        rtl_trials.accumulate_trials(rtl_trials.prepare_builds(SMALL), _frames())
+
+
+def test_unsupported_configurations_are_refused_up_front_by_name(monkeypatch):
+    from dptbd.model.compare import build_spec, run_compare
+    import tomllib
+
+    def no_build(*a, **k):  # nothing may be built or simulated before the refusal
+        raise AssertionError("built before refusing")
+
+    monkeypatch.setattr(verilator, "build", no_build)
+    spec = build_spec(dict(tomllib.loads(TOML), segment_stride=2))
+    with pytest.raises(ConfigError, match=(
+            r"^RTL in the loop: configuration 'exact-ish' cannot run on the gateware: "
+            r"segment_stride=2 is not supported by the gateware: only non-overlapping segments "
+            r"\(segment_stride == segment_frames == 4\) are implemented, with a single state "
+            r"store$")):
+        run_compare(spec, workers=1, rtl=True)
+    spec = build_spec(dict(tomllib.loads(TOML), size=4, false_alarm_rate=0.2))
+    with pytest.raises(ConfigError, match=(
+            r"^RTL in the loop: configuration 'exact-ish' cannot run on the gateware: "
+            r"width=4 x height=4 is too small for the read-ahead of radius=1: the gateware "
+            r"needs width\*height - radius\*\(width\+1\) = 11 > write latency 12 cycles, so "
+            r"that each state is written before the next frame reads it; use a larger "
+            r"frame$")):
+        run_compare(spec, workers=1, rtl=True)
+
+
+def test_compare_command_refuses_rtl_before_any_work(tmp_path, monkeypatch, capsys):
+    from dptbd import cli
+
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(TOML.replace("segment_frames = 4", "segment_frames = 4\nsegment_stride = 3"))
+    monkeypatch.setattr(verilator, "build", lambda *a, **k: pytest.fail("built"))
+    assert cli.main(["compare", "--config", str(cfg), "--out", str(tmp_path / "o"),
+                     "--rtl"]) == 2
+    err = capsys.readouterr().err
+    assert re.fullmatch(r"dptbd compare: error: RTL in the loop: configuration 'exact-ish' "
+                        r"cannot run on the gateware: segment_stride=3 is not supported .*\n",
+                        err), err
+    assert not (tmp_path / "o").exists()
+
+
+# ---- table1 --rtl -------------------------------------------------------------------------
+
+def test_table1_rows_identical_on_the_model_and_on_the_rtl():
+    from dptbd.model.table1 import SETTINGS, run_table1
+
+    kw = dict(segment_frames=6, segment_stride=6, seed=5, chunk=2, settings=SETTINGS[:1],
+              size=24)
+    model = run_table1(3, **kw)
+    rtl = run_table1(3, rtl=True, **kw)
+    assert model.rtl is None and model.rows == rtl.rows
+    # 3 trials x 16 segments x 6 frames x 24 x 24, for each of the two DP detectors
+    assert rtl.rtl["pixel_updates"] == 2 * 3 * 16 * 6 * 24 * 24
+    assert rtl.rtl["segmenter_checked"] == ["direction-weighted DP", "plain DP"]
+
+
+def test_table1_rtl_refuses_overlapping_segments():
+    from dptbd.model.table1 import run_table1
+
+    with pytest.raises(ConfigError, match=(
+            r"^RTL in the loop: configuration 'direction-weighted DP' cannot run on the "
+            r"gateware: segment_stride=4 is not supported by the gateware: only "
+            r"non-overlapping segments \(segment_stride == segment_frames == 6\) are "
+            r"implemented, with a single state store$")):
+        run_table1(1, segment_frames=6, segment_stride=4, rtl=True, size=24)
+
+
+def test_table1_command_rtl_stride(capsys):
+    from dptbd import cli
+
+    assert cli.main(["table1", "--rtl", "--segment-stride", "4"]) == 2
+    assert capsys.readouterr().err == (
+        "dptbd table1: error: --rtl needs --segment-stride equal to --segment-frames (6): "
+        "the gateware implements non-overlapping segments only, got --segment-stride 4\n")
