@@ -19,6 +19,8 @@ COMMANDS = {
     "sim": ("dptbd.commands.sim",
             "simulate the generated Verilog on a scene (cocotb + Icarus): bit-exact check and cycle count"),
     "verilog": ("dptbd.commands.verilog", "write the pipeline's Verilog and manifest JSON"),
+    "verify": ("dptbd.commands.verify",
+               "verification campaign: >= 10^8 RTL words on Verilator against the golden model"),
     "compare": ("dptbd.commands.compare",
                 "fixed vs float detection: Monte Carlo Pd/Pfa, SNR loss, bit-width sweep with iCE40 cost"),
     "detectors": ("dptbd.commands.detect_compare",

@@ -77,11 +77,39 @@ class CheckResult:
         return self.raw.cycles_per_second
 
 
-def _checker(cfg: DPConfig, design_output: str, pixels, first, lut_changes):
+def _checker(cfg: DPConfig, design_output: str, pixels, first, lut_changes, *,
+             cut_by_reset: bool):
     exp = expected_stream(cfg, pixels, first, lut_changes)
     if design_output == "states":
         return Scoreboard(cfg, exp.words, positions=exp.positions)
-    return CandidateScoreboard(cfg, stream_lists(cfg, exp.fields))
+    fields = exp.fields
+    if cut_by_reset:
+        # Records of the list in progress stream out before its segment ends: a reset can
+        # come after some of them. The model finishes a list only at a segment end, so the
+        # stream is padded (zero energy) to beyond the next segment end; what came out
+        # before the reset must be a prefix of the padded stream's lists.
+        fields = np.concatenate([fields, _padding(cfg, exp.runs)])
+    return CandidateScoreboard(cfg, stream_lists(cfg, fields))
+
+
+def _padding(cfg: DPConfig, runs) -> np.ndarray:
+    """``states`` rows (E = 0, d = START) completing the last frame of ``runs`` and K more
+    frames, with the counters' end flags."""
+    size, k = cfg.width * cfg.height, cfg.segment_frames
+    last = runs[-1] if runs else None
+    done = 0 if last is None or last.complete else last.stop - last.start
+    frame = 0 if last is None else (last.frame if not last.complete else last.frame + 1)
+    rows = []
+    for extra in range(k + 1):
+        p = np.arange(done if extra == 0 else 0, size)
+        block = np.zeros((len(p), 5), dtype=np.int64)
+        block[:, 1] = cfg.start_code
+        block[:, 2] = (p % cfg.width) == cfg.width - 1
+        if len(p):
+            block[-1, 3] = 1
+            block[-1, 4] = int((frame + extra) % k == k - 1)
+        rows.append(block)
+    return np.concatenate(rows)
 
 
 def _feed(board, words: np.ndarray) -> None:
@@ -125,11 +153,12 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
     for e in range(len(in_cuts) - 1):
         a, b = in_cuts[e], in_cuts[e + 1]
         changes = {int(i) - a: codes for i, codes in stimulus.lut_changes}
-        board = _checker(cfg, sim.output, pixels[a:b], first[a:b], changes)
+        last = e == len(in_cuts) - 2
+        board = _checker(cfg, sim.output, pixels[a:b], first[a:b], changes,
+                         cut_by_reset=not last)
         got = raw.out_words[out_cuts[e]:out_cuts[e + 1]]
         _feed(board, got)
         compared += board.count
-        last = e == len(in_cuts) - 2
         label = f"after reset {e} (cycle {resets[e - 1]}): " if e else ""
         if board.failed or (last and not board.done):
             passed = False
