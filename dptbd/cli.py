@@ -17,7 +17,8 @@ COMMANDS = {
     "run": ("dptbd.commands.run", "run the main job on the built-in scenario (or a scenario file)"),
     "table1": ("dptbd.commands.table1", "reproduce paper 001's Table 1 (Monte Carlo, first-level Pd)"),
     "sim": ("dptbd.commands.sim",
-            "simulate the generated Verilog on a scene (cocotb + Icarus): bit-exact check and cycle count"),
+            "simulate the generated Verilog on a scene (Verilator, or cocotb + Icarus): bit-exact "
+            "check and cycle count"),
     "verilog": ("dptbd.commands.verilog", "write the pipeline's Verilog and manifest JSON"),
     "verify": ("dptbd.commands.verify",
                "verification campaign: >= 10^8 RTL words on Verilator against the golden model"),

@@ -2,6 +2,7 @@
 bad input refused with a clear message (exit 2) and nothing left in the output folder."""
 
 import json
+import re
 import shutil
 
 import numpy as np
@@ -245,20 +246,118 @@ def test_recorded_data_gives_tracks_and_figures_without_truth(tmp_path, capsys, 
         assert (out / name).stat().st_size > 0
 
 
+VERILATOR = pytest.mark.skipif(
+    any(shutil.which(t) is None for t in ("verilator", "g++", "make")),
+    reason="needs Verilator, g++ and make")
+
+
+@VERILATOR
+def test_rtl_checks_every_frame_on_verilator_by_default(tmp_path, small, capsys):
+    out = tmp_path / "r"
+    build = tmp_path / "build"
+    args = ["run", "--no-progress", "--scenario", str(small), "--rtl", "--rtl-build-dir",
+            str(build), "--out", str(out)]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    # 4 segments of 6 frames of 32 x 32: 4 * 6 * 1024 + latency 17 + 1 cycles
+    line = ("RTL (dptbd_seg on Verilator) checked frames 0-23 of 24: bit-exact, 50 "
+            "candidate-list words compared, 24594 cycles")
+    assert f"\n{line}\n" in text and line in (out / "table.md").read_text()
+    assert re.search(r"^  RTL: bit-exact: 4 lists, 46 records, 50 words — the generated Verilog "
+                     r"\(dptbd_seg on Verilator\) matches the golden model on all 24 frames: 50 "
+                     r"candidate-list words compared, 24594 cycles, [0-9.]+ M cycles/s "
+                     r"\([0-9.]+ s in all\)$", text, re.M), text
+    assert "  RTL: build compiled in " in text
+    rtl = json.loads((out / "summary.json").read_text())["rtl"]
+    assert rtl["passed"] and rtl["checked"] and rtl["summary"] == line
+    assert (rtl["frames"], rtl["of_frames"], rtl["checked_frames"]) == (24, 24, [0, 23])
+    assert (rtl["simulator"], rtl["design"], rtl["module"]) == ("verilator", "segmenter",
+                                                                "dptbd_seg")
+    assert (rtl["words_in"], rtl["words_compared"], rtl["cycles"]) == (24 * 1024, 50, 24594)
+    assert rtl["cycles_per_second"] > 0 and rtl["build_cached"] is False
+    # a second run reuses the build
+    assert main(args + ["--force", "--rtl-frames", "12"]) == 0
+    text = capsys.readouterr().out
+    assert "  RTL: build from the cache in " in text
+    line = ("RTL (dptbd_seg on Verilator) checked frames 0-11 of 24: bit-exact, 21 "
+            "candidate-list words compared, 12306 cycles; frames 12-23 come from the golden "
+            "model only (--rtl-frames 0 checks all)")
+    assert f"\n{line}\n" in text
+    assert json.loads((out / "summary.json").read_text())["rtl"]["build_cached"] is True
+
+
 @pytest.mark.skipif(shutil.which("iverilog") is None, reason="Icarus Verilog not installed")
-def test_rtl_checks_the_generated_verilog_against_the_model(tmp_path, small, capsys):
+def test_rtl_on_icarus_checks_the_generated_verilog_against_the_model(tmp_path, small, capsys):
     out = tmp_path / "r"
     assert main(["run", "--no-progress", "--scenario", str(small), "--rtl",
+                 "--rtl-simulator", "icarus", "--rtl-frames", "12",
                  "--rtl-build-dir", str(tmp_path / "build"), "--out", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "the generated Verilog matches the golden model" in text
-    line = ("RTL (dptbd_seg) checked frames 0-11 of 24: bit-exact; frames 12-23 come from the "
-            "golden model only (--rtl-frames 0 checks all)")
+    assert "with cocotb + Icarus" in text
+    assert re.search(r"^  RTL: bit-exact: 2 lists, 19 records, 21 words — the generated Verilog "
+                     r"\(dptbd_seg on Icarus\) matches the golden model on the first 12 of 24 "
+                     r"frames: 21 candidate-list words compared, 12306 cycles, \d+ cycles/s "
+                     r"\([0-9.]+ s in all\); the model's output is used for the rest$", text, re.M)
+    line = ("RTL (dptbd_seg on Icarus) checked frames 0-11 of 24: bit-exact, 21 candidate-list "
+            "words compared, 12306 cycles; frames 12-23 come from the golden model only "
+            "(--rtl-frames 0 checks all)")
     assert line in text and line in (out / "table.md").read_text()
     rtl = json.loads((out / "summary.json").read_text())["rtl"]
     assert rtl["passed"] and rtl["frames"] == 12 and rtl["summary"] == line
     assert rtl["checked"] and rtl["checked_frames"] == [0, 11]
-    assert rtl["design"] == "segmenter" and rtl["module"] == "dptbd_seg"
+    assert (rtl["simulator"], rtl["design"], rtl["module"]) == ("icarus", "segmenter",
+                                                                "dptbd_seg")
+    assert rtl["cycles_per_second"] > 0
+
+
+@pytest.fixture
+def no_verilator(monkeypatch):
+    from dptbd.sim import verilator
+
+    real = shutil.which
+    monkeypatch.setattr(shutil, "which",
+                        lambda name, *a, **k: None if name == "verilator" else real(name, *a, **k))
+    verilator.check_tools.cache_clear()
+    yield
+    verilator.check_tools.cache_clear()
+
+
+def test_rtl_without_verilator_is_refused_before_any_work(tmp_path, small, capsys, no_verilator):
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(small), "--rtl",
+                 "--rtl-build-dir", str(tmp_path / "build"), "--out", str(out)]) == 2
+    captured = capsys.readouterr()
+    assert captured.err == (
+        "dptbd run: error: --rtl: compiled RTL simulation needs verilator (Debian package "
+        "'verilator'); install it (bash scripts/setup.sh setup) or use the Icarus simulator "
+        "instead (--rtl-simulator icarus)\n")
+    assert captured.out == "" and leftovers(tmp_path) == []
+
+
+def test_rtl_without_icarus_is_refused_before_any_work(tmp_path, small, capsys, monkeypatch):
+    real = shutil.which
+    monkeypatch.setattr(shutil, "which",
+                        lambda name, *a, **k: None if name == "iverilog" else real(name, *a, **k))
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(small), "--rtl", "--rtl-simulator",
+                 "icarus", "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (
+        "dptbd run: error: --rtl-simulator icarus needs Icarus Verilog (iverilog not on the "
+        "PATH); install it (bash scripts/setup.sh setup) or use --rtl-simulator verilator\n")
+    assert leftovers(tmp_path) == []
+
+
+def test_rtl_options_are_refused_by_name(tmp_path, small, capsys):
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(small), "--rtl", "--rtl-frames", "-1",
+                 "--out", str(out)]) == 2
+    assert capsys.readouterr().err == "dptbd run: error: --rtl-frames must be >= 0, got -1\n"
+    with pytest.raises(SystemExit):
+        main(["run", "--rtl", "--rtl-simulator", "xsim"])
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        "dptbd run: error: argument --rtl-simulator: invalid choice: 'xsim' (choose from "
+        "'verilator', 'icarus')")
+    assert leftovers(tmp_path) == []
 
 
 def test_ideal_lists_option_and_bad_lists_value(tmp_path, small, capsys):
@@ -304,29 +403,48 @@ def test_segmenter_settings_come_from_the_data_unless_given():
 
 
 def test_rtl_summary_says_which_frames_were_checked(tmp_path, small, capsys, monkeypatch):
-    """Without Icarus: a stand-in for the simulation; the summary names the frames checked."""
+    """A stand-in for the simulation: the options reach run_rtl, the summary names the
+    simulator, the frames checked, the words compared and the cycles."""
     from dptbd.commands import run as run_cmd
 
-    def fake_rtl(frames, cfg, n_frames, build_dir, design="segmenter"):
+    calls = []
+
+    def fake_rtl(frames, cfg, n_frames, build_dir, design="segmenter", simulator="verilator"):
+        calls.append((n_frames, build_dir, design, simulator))
         total = frames.shape[0]
-        n = 2 * cfg.segment_frames if n_frames is None else (total if n_frames == 0 else n_frames)
-        return {"design": design, "module": "dptbd_seg", "frames": min(n, total),
-                "of_frames": total, "passed": True, "report": "bit-exact", "seconds": 0.0}
+        n = total if not n_frames else n_frames
+        return {"simulator": simulator, "design": design, "module": "dptbd_seg",
+                "frames": min(n, total), "of_frames": total, "passed": True,
+                "report": "bit-exact", "words_compared": 7, "cycles": 99,
+                "cycles_per_second": 1234567, "seconds": 0.0}
 
     monkeypatch.setattr(run_cmd, "run_rtl", fake_rtl)
     out = tmp_path / "r"
     assert main(["run", "--no-progress", "--scenario", str(small), "--rtl", "--out", str(out)]) == 0
     text = capsys.readouterr().out
-    line = ("RTL (dptbd_seg) checked frames 0-11 of 24: bit-exact; frames 12-23 come from the "
-            "golden model only (--rtl-frames 0 checks all)")
-    assert line in text and line in (out / "table.md").read_text()
+    # the default: every frame, on Verilator, in its default build root
+    assert calls == [(0, None, "segmenter", "verilator")]
+    line = ("RTL (dptbd_seg on Verilator) checked frames 0-23 of 24: bit-exact, 7 "
+            "candidate-list words compared, 99 cycles")
+    assert f"\n{line}\n" in text and line in (out / "table.md").read_text()
+    assert "golden model only" not in text
+    assert ("  RTL: bit-exact — the generated Verilog (dptbd_seg on Verilator) matches the "
+            "golden model on all 24 frames: 7 candidate-list words compared, 99 cycles, "
+            "1.23 M cycles/s (0.0 s in all)\n") in text
+    rtl = json.loads((out / "summary.json").read_text())["rtl"]
+    assert rtl["summary"] == line and rtl["checked_frames"] == [0, 23]
+    assert main(["run", "--no-progress", "--scenario", str(small), "--rtl", "--rtl-frames", "12",
+                 "--rtl-simulator", "icarus", "--out", str(out), "--force"]) == 0
+    text = capsys.readouterr().out
+    assert calls[-1] == (12, None, "segmenter", "icarus")
+    line = ("RTL (dptbd_seg on Icarus) checked frames 0-11 of 24: bit-exact, 7 candidate-list "
+            "words compared, 99 cycles; frames 12-23 come from the golden model only "
+            "(--rtl-frames 0 checks all)")
+    assert f"\n{line}\n" in text
+    assert "on the first 12 of 24 frames: " in text
+    assert "; the model's output is used for the rest\n" in text
     rtl = json.loads((out / "summary.json").read_text())["rtl"]
     assert rtl["summary"] == line and rtl["checked_frames"] == [0, 11]
-    assert main(["run", "--no-progress", "--scenario", str(small), "--rtl", "--rtl-frames", "0",
-                 "--out", str(out), "--force"]) == 0
-    text = capsys.readouterr().out
-    assert "RTL (dptbd_seg) checked frames 0-23 of 24: bit-exact\n" in text
-    assert "golden model only" not in text
 
 
 def test_scenario_file_with_recorded_data_is_named_after_it(tmp_path):

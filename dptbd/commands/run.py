@@ -8,9 +8,13 @@ at (54, 40) with V = (0.4, 0.6), 0.2 % false-alarm threshold):
    K = 6, segments back to back as the gateware runs them, a 12-bit ADC at 16 LSB per
    grey level as in ``dptbd.model.table1``) and the constant-false-alarm-count histogram
    threshold (33 candidate points per accumulated frame). ``--rtl`` also runs the
-   generated Verilog on Icarus (cocotb) over the first 2 K frames (``--rtl-frames``; 0: all)
-   and stops unless it is bit for bit identical to the model; the printed summary and
-   ``summary.json`` (``rtl.summary``) say which frames were checked.
+   generated Verilog of the whole FPGA stage (``dptbd_seg``: DP pipeline + segmenter) on
+   every frame (``--rtl-frames N``: the first N only) and stops unless every output word is
+   bit for bit identical to the model. The simulator is Verilator by default
+   (:mod:`dptbd.sim.verilator`, a cached compiled build: a few seconds for the built-in
+   scene once built); ``--rtl-simulator icarus`` keeps the cocotb + Icarus bench (about
+   12 min for it). The printed summary and ``summary.json`` (``rtl``) say which simulator,
+   which frames, the words compared, the cycles and the simulator's speed.
 2. **DSP stage** — the fixed-capacity track association of 001 §3
    (:mod:`dptbd.model.association`), candidates' paths recovered by backtracking the
    direction maps (:mod:`dptbd.model.backtrack`).
@@ -79,17 +83,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                          "ideal (each segment's own histogram, what a two-pass segmenter gives; "
                          "docs/arithmetic.md §6.1)")
     dp.add_argument("--rtl", action="store_true",
-                    help="also simulate the generated Verilog (cocotb + Icarus) on the first "
-                         "2 K frames (--rtl-frames; the rest come from the model only, as the "
-                         "summary says) and check it bit for bit against the model: the whole FPGA "
-                         "stage (dptbd_seg: DP + segmenter, every candidate-list word) with "
-                         "gateware lists, the DP pipeline (dptbd_dp, every (E, d) word) with "
-                         "--lists ideal")
-    dp.add_argument("--rtl-frames", type=int, default=None, metavar="N",
-                    help="frames to simulate with --rtl (default 2 K; 0: all — about 12 min "
-                         "for 100 frames of 128 x 128)")
-    dp.add_argument("--rtl-build-dir", type=pathlib.Path, default=pathlib.Path("build/sim"),
-                    metavar="DIR", help="build cache of --rtl (default build/sim)")
+                    help="also simulate the generated Verilog on every frame (--rtl-frames) "
+                         "and check it bit for bit against the model: the whole FPGA stage "
+                         "(dptbd_seg: DP + segmenter, every candidate-list word) with gateware "
+                         "lists, the DP pipeline (dptbd_dp, every (E, d) word) with --lists "
+                         "ideal")
+    dp.add_argument("--rtl-simulator", choices=("verilator", "icarus"), default="verilator",
+                    help="simulator of --rtl: verilator (default: compiled and cached, a few "
+                         "seconds for 100 frames of 128 x 128 once built) or icarus (cocotb + "
+                         "Icarus, about 12 min for the same)")
+    dp.add_argument("--rtl-frames", type=int, default=0, metavar="N",
+                    help="frames to simulate with --rtl (default 0: all; N: the first N, the "
+                         "rest come from the model only, as the summary says)")
+    dp.add_argument("--rtl-build-dir", type=pathlib.Path, default=None, metavar="DIR",
+                    help="build cache of --rtl (default: Verilator's shared cache, "
+                         "$DPTBD_BUILD_DIR/verilator or ~/.cache/dptbd/verilator; Icarus "
+                         "build/sim)")
     out = parser.add_argument_group("output")
     out.add_argument("--out", type=pathlib.Path, default=pathlib.Path("dptbd-run"), metavar="DIR",
                      help="output folder, must not exist (default dptbd-run)")
@@ -228,47 +237,127 @@ class RtlError(RuntimeError):
     """The RTL simulation could not run or disagreed with the model."""
 
 
-def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Path,
-            design: str = "segmenter") -> dict:
-    """Simulate the generated Verilog on the first frames; raise unless bit-exact.
+def rtl_tools_missing(simulator: str) -> str | None:
+    """Why ``--rtl`` cannot run here with ``simulator`` (a sentence naming the missing tool
+    and the other simulator), or None."""
+    if simulator == "verilator":
+        from dptbd.sim import verilator
+
+        try:
+            verilator.check_tools()
+        except verilator.ToolMissingError as exc:
+            # check_tools names `dptbd sim`'s fallback; here it is --rtl-simulator
+            return (f"--rtl: {exc}".replace("(dptbd sim --simulator icarus)",
+                                             "(--rtl-simulator icarus)"))
+        return None
+    missing = [t for t in ("iverilog", "vvp") if shutil.which(t) is None]
+    if missing:
+        return (f"--rtl-simulator icarus needs Icarus Verilog ({' and '.join(missing)} not on "
+                f"the PATH); install it (bash scripts/setup.sh setup) or use "
+                f"--rtl-simulator verilator")
+    return None
+
+
+def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Path | None,
+            design: str = "segmenter", simulator: str = "verilator") -> dict:
+    """Simulate the generated Verilog on the first ``n_frames`` frames (None or 0: all);
+    raise :class:`RtlError` unless bit-exact.
 
     ``design="segmenter"``: the whole FPGA stage (``dptbd_seg``: DP pipeline + segmenter),
     every candidate list word checked against the golden models; ``"dp"``: the DP pipeline
-    (``dptbd_dp``), every (E, d) word checked.
+    (``dptbd_dp``), every (E, d) word checked. ``simulator``: ``"verilator"``
+    (:mod:`dptbd.sim.rtl_check`) or ``"icarus"`` (cocotb, :mod:`dptbd.sim.runner`).
+    ``build_dir`` None: the simulator's default build root.
     """
-    if shutil.which("iverilog") is None or shutil.which("vvp") is None:
-        raise RtlError("--rtl needs Icarus Verilog (iverilog, vvp) on the PATH; "
-                       "bash scripts/setup.sh installs it")
-    try:
-        from dptbd.hw.schedule import check_supported
-        from dptbd.sim.runner import build, simulate
-    except ImportError as exc:  # pragma: no cover - depends on the installation
-        raise RtlError(f"--rtl is not available: {exc}") from exc
+    why = rtl_tools_missing(simulator)
+    if why is not None:
+        raise RtlError(why)
+    from dptbd.hw.schedule import check_supported
+
     check_supported(cfg)                      # ConfigError for e.g. overlapping segments
     total = frames.shape[0]
-    n = 2 * cfg.segment_frames if n_frames is None else (total if n_frames == 0 else n_frames)
-    if n < 1:
+    if n_frames is not None and n_frames < 0:
         raise ValueError(f"--rtl-frames must be >= 0, got {n_frames}")
-    n = min(n, total)
+    n = total if not n_frames else min(n_frames, total)
     start = time.perf_counter()
-    print(f"  RTL: building the Verilog for this configuration in {build_dir} …", flush=True)
-    sim = build(cfg, build_dir, design=design)
-    print(f"  RTL: simulating {sim.toplevel} on {n} of {total} frames ({n * cfg.width * cfg.height} pixels) on "
-          f"Icarus …", flush=True)
-    result = simulate(sim, frames[:n], run_name="dptbd-run")
-    info = {"design": design, "module": sim.toplevel, "frames": n, "of_frames": total,
-            "passed": result.passed, "report": result.report,
-            "cycles": result.cycles, "latency": sim.latency, "run_dir": str(result.run_dir),
-            "seconds": round(time.perf_counter() - start, 1)}
-    if not result.passed:
-        raise RtlError(f"the RTL is NOT bit-exact against the golden model: {result.report}\n"
-                       f"{result.log_tail(20)}\n(run files in {result.run_dir})")
+    if simulator == "verilator":
+        info = _rtl_verilator(frames[:n], cfg, build_dir, design)
+    else:
+        info = _rtl_icarus(frames[:n], cfg, build_dir, design)
+    info.update(frames=n, of_frames=total, seconds=round(time.perf_counter() - start, 1))
+    if not info["passed"]:
+        raise RtlError(f"the RTL ({info['module']} on {info['simulator']}) is NOT bit-exact "
+                       f"against the golden model: {info['report']}{info.pop('details', '')}")
+    info.pop("details", None)
     return info
 
 
-def rtl_summary(checked: int, total: int, module: str) -> str:
-    """The line saying which frames the RTL check covered (``--rtl-frames``)."""
-    line = f"RTL ({module}) checked frames 0-{checked - 1} of {total}: bit-exact"
+def _rtl_verilator(frames: np.ndarray, cfg, build_dir, design: str) -> dict:
+    from dptbd.sim import verilator
+    from dptbd.sim.rtl_check import check_frames
+
+    root = verilator.default_build_root() if build_dir is None else pathlib.Path(build_dir)
+    print(f"  RTL: building the Verilog for this configuration on Verilator in {root} …",
+          flush=True)
+    sim = verilator.build(cfg, design, root=root)
+    print(f"  RTL: build {'from the cache' if sim.cached else 'compiled'} in "
+          f"{sim.seconds:.1f} s; simulating {sim.toplevel} on {len(frames)} frames "
+          f"({frames.size} pixels) …", flush=True)
+    result = check_frames(sim, frames)
+    raw = result.raw
+    return {"simulator": "verilator", "design": design, "module": sim.toplevel,
+            "passed": result.passed, "report": result.report,
+            "words_in": result.words_in, "words_compared": result.words_out,
+            "cycles": result.cycles, "latency": sim.latency,
+            "simulated_cycles": raw.cycles, "sim_seconds": round(raw.sim_seconds, 4),
+            "cycles_per_second": round(raw.cycles_per_second),
+            "build_dir": str(sim.directory), "build_seconds": round(sim.seconds, 2),
+            "build_cached": sim.cached}
+
+
+def _rtl_icarus(frames: np.ndarray, cfg, build_dir, design: str) -> dict:
+    from dptbd.sim.runner import build, simulate
+
+    root = pathlib.Path("build/sim") if build_dir is None else pathlib.Path(build_dir)
+    print(f"  RTL: building the Verilog for this configuration on Icarus in {root} …",
+          flush=True)
+    sim = build(cfg, root, design=design)
+    print(f"  RTL: simulating {sim.toplevel} on {len(frames)} frames ({frames.size} pixels) "
+          f"with cocotb + Icarus …", flush=True)
+    result = simulate(sim, frames, run_name="dptbd-run")
+    s = result.summary
+    if s.get("sim_cycles_per_second"):        # tb_dp: while streaming
+        cycles, seconds = s.get("stream_cycles"), s.get("stream_seconds")
+    else:                                     # tb_segmenter: the whole test
+        cycles, seconds = s.get("sim_cycles_total"), s.get("wall_seconds")
+    info = {"simulator": "icarus", "design": design, "module": sim.toplevel,
+            "passed": result.passed, "report": result.report,
+            "words_in": s.get("pixels"), "words_compared": s.get("outputs"),
+            "cycles": result.cycles, "latency": sim.latency,
+            "simulated_cycles": cycles,
+            "sim_seconds": None if seconds is None else round(seconds, 2),
+            "cycles_per_second": round(cycles / seconds) if cycles and seconds else None,
+            "build_dir": str(sim.directory), "build_seconds": round(sim.seconds, 2),
+            "run_dir": str(result.run_dir)}
+    if not result.passed:
+        info["details"] = f"\n{result.log_tail(20)}\n(run files in {result.run_dir})"
+    return info
+
+
+_WORDS = {"segmenter": "candidate-list words", "dp": "(E, d) words"}
+
+
+def rtl_summary(checked: int, total: int, module: str, simulator: str | None = None,
+                words: int | None = None, cycles: int | None = None,
+                design: str = "segmenter") -> str:
+    """The line saying what the RTL check covered: simulator, frames (``--rtl-frames``),
+    words compared and cycles (first input to last output)."""
+    on = f" on {simulator.capitalize()}" if simulator else ""
+    line = f"RTL ({module}{on}) checked frames 0-{checked - 1} of {total}: bit-exact"
+    if words is not None:
+        line += f", {words} {_WORDS.get(design, 'words')} compared"
+    if cycles is not None:
+        line += f", {cycles} cycles"
     if checked < total:
         line += (f"; frames {checked}-{total - 1} come from the golden model only "
                  f"(--rtl-frames 0 checks all)")
@@ -323,6 +412,11 @@ def _main(args: argparse.Namespace) -> int:
     _check_out(args.out, args.force)          # refuse early, before any work
     if args.rtl_frames is not None and args.rtl_frames < 0:
         raise ValueError(f"--rtl-frames must be >= 0, got {args.rtl_frames}")
+    if args.rtl:                              # a missing simulator: refused before any work
+        why = rtl_tools_missing(args.rtl_simulator)
+        if why is not None:
+            print(f"dptbd run: error: {why}", file=sys.stderr)
+            return 2
 
     # ---- the data ----
     if scenario.simulated:
@@ -374,18 +468,28 @@ def _main(args: argparse.Namespace) -> int:
     if args.rtl:
         try:
             rtl = run_rtl(frames, cfg, args.rtl_frames, args.rtl_build_dir,
-                          "segmenter" if scenario.lists == "gateware" else "dp")
+                          "segmenter" if scenario.lists == "gateware" else "dp",
+                          simulator=args.rtl_simulator)
         except RtlError as exc:
             print(f"dptbd run: error: {exc}", file=sys.stderr)
             return 1
         rtl["checked"] = True
         rtl["checked_frames"] = [0, rtl["frames"] - 1]
-        rtl["summary"] = rtl_summary(rtl["frames"], n_frames, rtl["module"])
-        print(f"  RTL: {rtl['report']} — the generated Verilog matches the golden model on the "
-              f"first {rtl['frames']} of {n_frames} frames ({rtl['seconds']:.0f} s); the "
-              f"model's output is used for the rest" if rtl["frames"] < n_frames else
-              f"  RTL: {rtl['report']} — the generated Verilog matches the golden model on all "
-              f"{n_frames} frames ({rtl['seconds']:.0f} s)", flush=True)
+        rtl["summary"] = rtl_summary(rtl["frames"], n_frames, rtl["module"],
+                                     rtl.get("simulator"), rtl.get("words_compared"),
+                                     rtl.get("cycles"), rtl.get("design", "segmenter"))
+        which = (f"the first {rtl['frames']} of {n_frames} frames" if rtl["frames"] < n_frames
+                 else f"all {n_frames} frames")
+        cps = rtl.get("cycles_per_second")
+        speed = ("" if not cps else f", {cps / 1e6:.2f} M cycles/s" if cps >= 1e6
+                 else f", {cps:.0f} cycles/s")
+        print(f"  RTL: {rtl['report']} — the generated Verilog ({rtl['module']} on "
+              f"{str(rtl.get('simulator', '?')).capitalize()}) matches the golden model on "
+              f"{which}: {rtl.get('words_compared')} "
+              f"{_WORDS.get(rtl.get('design'), 'words')} compared, {rtl.get('cycles')} "
+              f"cycles{speed} ({rtl['seconds']:.1f} s in all)"
+              + ("; the model's output is used for the rest" if rtl["frames"] < n_frames
+                 else ""), flush=True)
 
     # ---- the two stages ----
     result = run_pipeline(frames, cfg, count, assoc, lists=scenario.lists,
