@@ -240,6 +240,7 @@ int main(int argc, char** argv) {
 #endif
         // ---- sample the handshakes before the rising edge ----------------------
         const bool out_valid = OUT_PORT(valid);
+        const bool input_busy = offering || dut->lut_we;   // the input side is not done
         if (!rst) {
             if (offering && PORT(pixels, ready)) {
                 accept_cycles[next_word] = cycle;
@@ -273,8 +274,8 @@ int main(int argc, char** argv) {
 #ifdef DPTBD_TRACE
         if (tfp) tfp->dump(2 * cycle + 1);
 #endif
-        // ---- finished: every word in, the output idle for `drain` cycles --------
-        idle = (out_valid || rst) ? 0 : idle + 1;
+        // ---- finished: every word in, then the output idle for `drain` cycles ---
+        idle = (out_valid || rst || input_busy) ? 0 : idle + 1;
         if (next_word == job.words && next_lut == job.luts.size()
                 && next_reset == job.resets.size() && idle >= job.drain) {
             status = "done";
