@@ -265,7 +265,7 @@ class Scoreboard:
         if bad.size:
             return self.receive(int(got[good]))
         if len(got) > take:
-            self.extra += len(got) - take
+            self.extra += 1          # receive() stops at the first extra word
             return False
         return True
 

@@ -176,7 +176,7 @@ def _stamp_ok(directory: pathlib.Path, key: str) -> dict | None:
         exe = directory / EXECUTABLE
         if stamp.get("key") == key and stamp.get("executable_sha256") == _sha256(exe):
             return stamp["manifest"]
-    except (OSError, ValueError, KeyError, TypeError):
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):  # e.g. a JSON list
         return None
     return None
 
@@ -398,7 +398,10 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
     if trace is not None and not sim.waves:
         raise ValueError("trace needs a build made with waves=True")
     resets = sorted((int(c), int(h)) for c, h in resets)
-    lut_writes = sorted((int(i), int(a), int(d)) for i, a, d in lut_writes)
+    # stable by word index only: writes before one word keep their order (the last write
+    # to an address wins, as lut_changes given for one word in check_stream)
+    lut_writes = sorted(((int(i), int(a), int(d)) for i, a, d in lut_writes),
+                        key=lambda w: w[0])
     if drain is None:
         scan = int(sim.manifest.get("scan_cycles", 0))
         drain = sim.latency + 2 * scan + 64
@@ -412,6 +415,16 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
     for index, _, _ in lut_writes:
         if not 0 <= index <= len(words):
             raise ValueError(f"LUT write before word {index}: the stream has {len(words)} words")
+    # rst is high in the union of the intervals: the harness takes one reset per start
+    # cycle (a second reset starting in the same cycle would never fire: a timeout), and a
+    # reset starting inside another must not cut that one short
+    merged: list[list[int]] = []
+    for cycle, hold in resets:
+        if merged and cycle <= merged[-1][0] + merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], cycle + hold - merged[-1][0])
+        else:
+            merged.append([cycle, hold])
+    resets = [(c, h) for c, h in merged]
     with tempfile.TemporaryDirectory(prefix="dptbd-verilator-") as job_dir:
         job = pathlib.Path(job_dir)
         np.ascontiguousarray(words, dtype="<u8").tofile(job / "in.bin")

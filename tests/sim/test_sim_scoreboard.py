@@ -207,3 +207,94 @@ def test_simulate_refuses_a_bad_lut_before_anything_runs(tmp_path, codes, match)
     with pytest.raises(ValueError, match=match):
         simulate(sim, frames_for(cfg), lut_codes=codes)
     assert not (tmp_path / "build").exists(), "nothing may be written for a refused LUT"
+
+
+# ---- Scoreboard.receive_array and positions --------------------------------------------
+
+def _outcome(board):
+    return (board.count, board.extra, board.failed, board.done, str(board.mismatch),
+            board.report())
+
+
+def _per_word(cfg, expected, got, **kw):
+    seen = []
+    board = Scoreboard(cfg, expected, on_frame=seen.append, **kw)
+    for w in got:
+        if not board.receive(int(w)):
+            break
+    return _outcome(board), seen
+
+
+def _in_blocks(cfg, expected, got, cuts, **kw):
+    seen = []
+    board = Scoreboard(cfg, expected, on_frame=seen.append, **kw)
+    for block in np.split(np.asarray(got, dtype=np.uint64), cuts):
+        board.receive_array(block)
+    return _outcome(board), seen
+
+
+@pytest.mark.parametrize("case", ["exact", "flip", "missing", "extra", "flip-then-extra"])
+@pytest.mark.parametrize("seed", range(4))
+def test_receive_array_has_the_outcome_of_receive_word_by_word(case, seed):
+    """Any split of the output into blocks: same count, extra, mismatch, report and
+    on_frame calls as one receive() per word (which stops at the first problem)."""
+    cfg = small()
+    rng = np.random.default_rng(seed)
+    expected = expected_words(cfg, frames_for(cfg, n=3, seed=seed)).ravel()
+    got = expected.copy()
+    if case in ("flip", "flip-then-extra"):
+        got[int(rng.integers(0, got.size))] ^= np.uint64(1 << int(rng.integers(0, 20)))
+    if case == "missing":
+        got = got[:-int(rng.integers(1, 60))]
+    if case in ("extra", "flip-then-extra"):
+        got = np.concatenate([got, got[:int(rng.integers(1, 5))]])
+    reference = _per_word(cfg, expected, got)
+    for _ in range(5):
+        cuts = np.sort(rng.integers(0, got.size + 1, size=int(rng.integers(0, 6))))
+        assert _in_blocks(cfg, expected, got, cuts) == reference
+    outcome = reference[0]
+    if case == "exact":
+        assert outcome[3] and outcome[5] == f"bit-exact: {expected.size} words (3 frames)"
+        assert reference[1] == [0, 1, 2]
+    if case == "missing":
+        assert not outcome[2] and outcome[5].startswith("incomplete: ")
+    if case == "extra":
+        assert outcome[:2] == (expected.size, 1)
+        assert outcome[5] == f"1 output word(s) beyond the {expected.size} expected (3 frames)"
+
+
+def test_receive_array_after_a_failure_takes_nothing():
+    cfg = small()
+    expected = expected_words(cfg, frames_for(cfg, n=1)).ravel()
+    board = Scoreboard(cfg, expected)
+    bad = expected.copy()
+    bad[3] ^= np.uint64(1)
+    assert not board.receive_array(bad)
+    assert board.count == 3 and board.mismatch.index == 3
+    assert not board.receive_array(expected[4:])
+    assert board.count == 3
+    assert board.receive_array(np.zeros(0, dtype=np.uint64)) is False
+
+
+def test_positions_name_the_frame_row_and_col_of_irregular_streams():
+    """With positions (a stream whose frames are not all W·H words), the report names the
+    position given for that word, not the one its index would imply."""
+    cfg = small()
+    expected = expected_words(cfg, frames_for(cfg, n=2)).ravel()
+    positions = np.zeros((expected.size, 3), dtype=np.int64)
+    positions[:, 0] = 7
+    positions[:, 1] = np.arange(expected.size) % 5
+    positions[:, 2] = np.arange(expected.size) % 3
+    got = expected.copy()
+    got[50] ^= np.uint64(1 << 1)                        # energy bit 1
+    board = Scoreboard(cfg, expected, positions=positions)
+    assert not board.receive_array(got)
+    want = unpack_fields(cfg, int(expected[50]))
+    seen = unpack_fields(cfg, int(got[50]))
+    assert board.report() == (
+        f"first mismatch at output 50: frame 7, row 0, col 2, field energy: expected "
+        f"{want['energy']}, got {seen['energy']} (differing fields ['energy']; expected "
+        f"{want}, got {seen})")
+    plain = Scoreboard(cfg, expected)
+    assert not plain.receive_array(got)
+    assert "frame 1, row 0, col 2, field energy" in plain.report()   # 50 = 48 + 2
