@@ -173,8 +173,13 @@ class DPCore(wiring.Component):
             m.d.comb += lut.direction[move].eq(window.cells[move].direction)
 
         # ---- cycles 3 .. weighted: multipliers ---------------------------------------
+        # Each multiplier also gets its move's edge flag at the code's cycle: an
+        # out-of-image predecessor weighs 0 (WeightedCandidate), so what its cell holds
+        # (power-up garbage, X in a 4-state simulator) never reaches the max tree.
         m.submodules.max_tree = tree = MaxTree(moves, cfg.energy_bits)
-        inside = delayed(m, window.inside, sched.weighted - sched.window, name="inside",
+        inside_at_code = delayed(m, window.inside, sched.code - sched.window,
+                                 name="inside_code", reset_less=True)
+        inside = delayed(m, inside_at_code, sched.weighted - sched.code, name="inside",
                          reset_less=True)
         m.d.comb += tree.valid.eq(inside)
         for move in range(moves):
@@ -185,6 +190,7 @@ class DPCore(wiring.Component):
             m.d.comb += [
                 candidate.energy.eq(energy),
                 candidate.code.eq(lut.code[move]),
+                candidate.inside.eq(inside_at_code[move]),
                 tree.values[move].eq(candidate.weighted),
             ]
 

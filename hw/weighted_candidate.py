@@ -8,11 +8,17 @@ more leaf of the tree, so rounding costs no extra stage; ``truncate`` leaves it 
 
 Because a code never exceeds ``2**F`` (the LUT clamps writes), ``E * c + 2**(F-1)``
 fits in B_E + F bits and ``C <= E``.
+
+A candidate whose predecessor is outside the image (``inside`` low) never wins in the max
+tree (§4.4) and is never looked up: its code is forced to 0 and ``C`` is exactly 0
+(``docs/arithmetic.md`` §4.2). The partial products are ``E << k`` AND a code bit, so
+whatever the predecessor's cell holds (the state store's power-up contents, X in a
+4-state simulator) does not reach ``weighted``.
 """
 
 from __future__ import annotations
 
-from amaranth.hdl import Const, Module, Signal, unsigned
+from amaranth.hdl import Const, Module, Mux, Signal, unsigned
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -36,10 +42,13 @@ class WeightedCandidate(wiring.Component):
         The predecessor's E.
     code : In(F+1)
         Its weight code c, at most ``2**F``.
+    inside : In(1)
+        The predecessor is inside the image. When 0 the code is taken as 0, so ``weighted``
+        is 0 whatever ``energy`` and ``code`` are.
     weighted : Out(B_E)
-        C, :attr:`latency` cycles after ``energy`` and ``code``.
+        C, :attr:`latency` cycles after ``energy``, ``code`` and ``inside``.
 
-    A new operand pair is accepted every cycle.
+    A new operand set is accepted every cycle.
     """
 
     def __init__(self, cfg: DPConfig):
@@ -47,6 +56,7 @@ class WeightedCandidate(wiring.Component):
         super().__init__({
             "energy": In(cfg.energy_bits),
             "code": In(cfg.weight_bits),
+            "inside": In(1),
             "weighted": Out(cfg.energy_bits),
         })
 
@@ -61,8 +71,10 @@ class WeightedCandidate(wiring.Component):
         frac = cfg.weight_frac_bits
         product_bits = cfg.energy_bits + frac
 
+        code = Signal(cfg.weight_bits)
+        m.d.comb += code.eq(Mux(self.inside, self.code, 0))  # outside the image: weight 0
         leaves = [
-            (self.energy << k) & self.code[k].replicate(cfg.energy_bits + k)
+            (self.energy << k) & code[k].replicate(cfg.energy_bits + k)
             for k in range(cfg.weight_bits)
         ]
         if frac >= 1:

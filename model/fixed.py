@@ -16,6 +16,7 @@ from dptbd.model.operators import (
     add_saturating,
     argmax_lowest_index,
     check_pixels,
+    lookup_weight_code,
     predecessor,
     scale_by_weight,
 )
@@ -42,7 +43,8 @@ def dp_step(energy: np.ndarray, direction: np.ndarray, pixels: np.ndarray,
     Parameters
     ----------
     energy, direction : numpy.ndarray
-        The previous frame's state (E, d).
+        The previous frame's state (E, d). A d above M = ``START`` (only from a corrupted
+        state) weighs like ``START`` (:func:`~dptbd.model.operators.lookup_weight_code`).
     pixels : numpy.ndarray
         The new frame, unsigned ``input_bits``-bit integers.
 
@@ -59,7 +61,8 @@ def dp_step(energy: np.ndarray, direction: np.ndarray, pixels: np.ndarray,
     for m, (dy, dx) in enumerate(cfg.moves):
         e_q = predecessor(e_prev, dy, dx, fill=-1)
         d_q = predecessor(d_prev, dy, dx, fill=cfg.start_code)
-        weighted = scale_by_weight(np.maximum(e_q, 0), codes[d_q, m], cfg.weight_frac_bits, cfg.rounding)
+        code = lookup_weight_code(codes, d_q, m)
+        weighted = scale_by_weight(np.maximum(e_q, 0), code, cfg.weight_frac_bits, cfg.rounding)
         candidates[m] = np.where(e_q < 0, INVALID, weighted)
     best, move = argmax_lowest_index(candidates, axis=0)
     new_energy = add_saturating(best, x, cfg.energy_bits).astype(ENERGY_DTYPE)

@@ -11,6 +11,7 @@ import numpy as np
 __all__ = [
     "INVALID",
     "check_pixels",
+    "lookup_weight_code",
     "shift_right_rounded",
     "scale_by_weight",
     "argmax_lowest_index",
@@ -46,6 +47,18 @@ def check_pixels(frames: np.ndarray, input_bits: int) -> np.ndarray:
                 f"pixels must be in [0, {top}] for input_bits={input_bits}, "
                 f"found values in [{lo}, {hi}]")
     return arr.astype(np.int64, copy=False)
+
+
+def lookup_weight_code(codes: np.ndarray, direction: np.ndarray, move: int) -> np.ndarray:
+    """Weight code ``c[min(d, M), m]`` of move ``m`` for predecessor directions ``d`` (§3).
+
+    ``codes`` is the (M+1) x M table (``DPConfig.weight_codes``). A direction code above
+    M = ``START`` (B_d bits can hold one; the DP never writes it) reads the ``START`` row M,
+    like the gateware's weight LUT, which clamps its read address.
+    """
+    codes = np.asarray(codes)
+    start = codes.shape[0] - 1
+    return codes[np.minimum(np.asarray(direction, dtype=np.int64), start), move]
 
 
 def shift_right_rounded(product: np.ndarray, frac_bits: int, mode: str) -> np.ndarray:

@@ -205,7 +205,7 @@ def test_step_out_of_range_state_behaves_like_reference():
     cases = [
         (e.astype(np.int64) - 50, d, x),          # negative energies
         (e, d.astype(np.int64) - 1, x),           # direction -1 (numpy wraps to START)
-        (e, np.full_like(d, 10), x),              # direction > M: IndexError
+        (e, np.full_like(d, 10), x),              # direction > M: the START row (§3)
         (e.astype(np.float64), d, x),             # float energy
         (e[:, :-1], d, x),                        # shape mismatch
         (e, d, x.astype(np.float32)),             # float pixels: TypeError
@@ -213,6 +213,24 @@ def test_step_out_of_range_state_behaves_like_reference():
     ]
     for args in cases:
         assert_same_outcome(outcome(dp_step, *args, cfg), outcome(fast_dp_step, *args, cfg))
+
+
+@pytest.mark.parametrize(("kw", "path"), [CONFIGS[0], CONFIGS[4], CONFIGS[5], CONFIGS[10]],
+                         ids=["r1-binary", "r1-general", "r2-general", "r2-BE27"])
+def test_step_with_direction_above_m_matches_reference(kw, path):
+    """Every B_d-bit code, M+1 … 2**B_d − 1 included (a corrupted state): the fast step
+    equals the reference, which reads them as START (§3)."""
+    cfg = make_cfg(**kw)
+    e, d, x = random_state(cfg, (2,), 7, 1000)
+    d = np.random.default_rng(8).integers(0, 1 << cfg.direction_bits, d.shape).astype(np.uint8)
+    assert (d > cfg.start_code).any()
+    got = fast_dp_step(e, d, x, cfg)
+    want = dp_step(e, d, x, cfg)
+    start = dp_step(e, np.minimum(d, cfg.start_code).astype(np.uint8), x, cfg)
+    for a, b, c in zip(got, want, start):
+        assert a.dtype == b.dtype and a.shape == b.shape
+        np.testing.assert_array_equal(a, b)
+        np.testing.assert_array_equal(a, c)
 
 
 # ---- bad input: the same errors as the reference ----------------------------------------

@@ -421,6 +421,20 @@ def test_argmax_lowest_index(data, n, cols):
 
 
 @FAST
+@given(data=st.data(), radius=st.sampled_from([1, 2]))
+def test_lookup_weight_code_reads_start_row_above_m(data, radius):
+    """§3: c[min(d, M), m] for every B_d-bit code d, M = START included."""
+    n_moves = (2 * radius + 1) ** 2
+    codes = data.draw(arrays(np.int64, (n_moves + 1, n_moves), elements=st.integers(0, 256)))
+    top = 2**n_moves.bit_length() - 1                        # largest B_d-bit code
+    d = data.draw(arrays(np.int64, (4, 3), elements=st.integers(0, top)))
+    move = data.draw(st.integers(0, n_moves - 1))
+    got = ops.lookup_weight_code(codes, d, move)
+    for (i, j), code in np.ndenumerate(d):
+        assert got[i, j] == codes[min(int(code), n_moves), move]
+
+
+@FAST
 @given(data=st.data(), h=st.integers(1, 5), w=st.integers(1, 5), dy=st.integers(-2, 2),
        dx=st.integers(-2, 2))
 def test_predecessor_shift(data, h, w, dy, dx):
@@ -430,6 +444,34 @@ def test_predecessor_shift(data, h, w, dy, dx):
         for x in range(w):
             inside = 0 <= y - dy < h and 0 <= x - dx < w
             assert out[y, x] == (state[y - dy, x - dx] if inside else -7)
+
+
+@pytest.mark.parametrize("radius", [1, 2])
+@pytest.mark.parametrize("lut", ["paper", "random"])
+def test_direction_above_m_weighs_like_start(radius, lut):
+    """§3/§4.2: a previous-state d > M (only a corrupted store holds one) is looked up as M."""
+    cfg = make_cfg(width=7, height=6, radius=radius, segment_frames=2, weights=(
+        paper_weights(radius) if lut == "paper"
+        else np.random.default_rng(radius).random(((2 * radius + 1) ** 2 + 1,
+                                                   (2 * radius + 1) ** 2))))
+    rng = np.random.default_rng(10 + radius)
+    top = (1 << cfg.direction_bits) - 1                       # 15 for r = 1, 31 for r = 2
+    shape = (cfg.height, cfg.width)
+    differs = False
+    for _ in range(5):
+        energy = rng.integers(0, 2000, shape).astype(np.uint32)
+        direction = rng.integers(0, top + 1, shape).astype(np.uint8)
+        pixels = rng.integers(0, 256, shape).astype(np.uint16)
+        assert (direction > cfg.start_code).any()
+        clamped = np.minimum(direction, cfg.start_code).astype(np.uint8)
+        got, want = dp_step(energy, direction, pixels, cfg), dp_step(energy, clamped, pixels, cfg)
+        for a, b in zip(got, want):
+            np.testing.assert_array_equal(a, b)
+        # not vacuous: reading those codes as direction 0 instead would change the result
+        zeroed = np.where(direction > cfg.start_code, 0, direction).astype(np.uint8)
+        other = dp_step(energy, zeroed, pixels, cfg)
+        differs |= any(not np.array_equal(a, b) for a, b in zip(other, got))
+    assert differs
 
 
 # ---------------------------------------------------------------------------------------

@@ -54,6 +54,32 @@ def test_default_contents_are_the_config_codes(radius, frac, style):
 
 
 @pytest.mark.parametrize("style", STYLES)
+@pytest.mark.parametrize("radius", [1, 2])
+def test_direction_above_m_reads_the_start_row(radius, style):
+    """Codes M+1 … 2**B_d − 1 (never written by the pipeline; an external store may hold
+    them) read row M, the START row: c[min(d, M), m] (``docs/arithmetic.md`` §3)."""
+    moves = (2 * radius + 1) ** 2
+    weights = np.random.default_rng(radius).random((moves + 1, moves))
+    cfg = DPConfig(radius=radius, weight_frac_bits=6, weights=weights)
+    dut = WeightLUT(cfg, lut_style=style)
+    codes = cfg.weight_codes
+    assert len(np.unique(codes[:, 0])) > 2      # rows differ: a wrong row would show
+    top = (1 << cfg.direction_bits) - 1         # 15 for r = 1, 31 for r = 2
+    rng = random.Random(10 + radius)
+
+    async def bench(ctx):
+        for d in range(moves + 1, top + 1):
+            got = await lookup(ctx, dut, cfg, [d] * moves)
+            assert got == codes[moves].tolist(), f"direction {d}"
+        for _ in range(20):   # mixed in-range and out-of-range codes, per move
+            rows = [rng.randrange(top + 1) for _ in range(moves)]
+            got = await lookup(ctx, dut, cfg, rows)
+            assert got == [int(codes[min(r, moves), m]) for m, r in enumerate(rows)]
+
+    simulate(dut, bench)
+
+
+@pytest.mark.parametrize("style", STYLES)
 def test_writes_clamp_and_ignore_bad_addresses(style):
     cfg = DPConfig(radius=1, weight_frac_bits=4)   # codes 0 … 16, 5 bits
     dut = WeightLUT(cfg, lut_style=style)
