@@ -1,7 +1,27 @@
-"""RTL simulation: generated Verilog, cocotb 2 testbenches on Icarus, scored against the model.
+"""RTL simulation: generated Verilog on Verilator (compiled, the main simulator) and cocotb 2
+on Icarus (4-state protocol checks), scored against the golden model.
 
 Modules
 -------
+``dptbd.sim.verilator``
+    :func:`~dptbd.sim.verilator.build` verilates one top level (``dp``, ``core`` with a C++
+    external store, ``segmenter``) with the harness ``sim/harness/dptbd_harness.cpp`` into a
+    cached executable; :func:`~dptbd.sim.verilator.run` streams a whole input sequence
+    through it with seeded stalls, resets, LUT writes.
+``dptbd.sim.stream_model``
+    The golden model's output for an arbitrary accepted stream (resets, misaligned, short
+    and long frames, LUT changes), by the gateware's counter rule.
+``dptbd.sim.rtl_check``
+    One compiled run checked against the model with the scoreboards below.
+``dptbd.sim.rtl_trials``
+    Monte Carlo trials accumulated on the compiled RTL (``compare --rtl``, ``table1 --rtl``).
+``dptbd.sim.campaign``
+    The verification campaign (``dptbd verify``).
+``dptbd.sim.x_store``
+    4-state (Icarus) check that an X- or garbage-initialised external store never reaches
+    an output.
+``dptbd.sim.stimulus``
+    Pixel words and LUT writes, packed with the gateware's layouts.
 ``dptbd.sim.runner``
     :func:`~dptbd.sim.runner.build` generates ``dptbd_dp.v`` and its manifest for a
     :class:`~dptbd.config.DPConfig` into ``build/sim/<parameter set>/`` and compiles it with
@@ -20,7 +40,7 @@ Modules
 ``dptbd.sim.scenarios``
     Integer scenes from :mod:`dptbd.model.scenes` (targets, noise, saturation, ties, edges).
 
-From the command line: ``dptbd sim`` (one scene, cycle count, verdict) and
-``dptbd verilog`` (Verilog + manifest). Tests: ``pytest tests/sim`` (``-m slow`` for the
+From the command line: ``dptbd sim`` (one scene, cycle count, verdict), ``dptbd verify``
+(the campaign) and ``dptbd verilog`` (Verilog + manifest). Tests: ``pytest tests/sim`` (``-m slow`` for the
 long 128 x 128 run). Speed: ``python benchmarks/bench_sim.py``.
 """

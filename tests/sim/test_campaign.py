@@ -1,0 +1,113 @@
+"""The verification campaign (:mod:`dptbd.sim.campaign`, ``dptbd verify``): a slice of at
+least 10^6 compared words runs in the default suite; the full campaign (10^8) is
+``dptbd verify`` (``docs/gateware.md``, "Verification campaign")."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from dptbd.cli import main
+from dptbd.sim import campaign
+from dptbd.sim.campaign import Case, default_cases, hostile_frames, make_run, run_campaign
+
+
+def test_default_cases_cover_what_the_campaign_promises():
+    cases = default_cases()
+    assert len({c.name for c in cases}) == len(cases) >= 8
+    cfgs = [c.cfg for c in cases]
+    assert any((c.width, c.height) == (128, 128) and c.segment_frames == 8 and c.input_bits == 12
+               for c in cfgs)                                        # 001's setting
+    assert any(c.width & (c.width - 1) and c.height & (c.height - 1) for c in cfgs)
+    assert any(c.energy_bits < c.energy_bits_needed for c in cfgs)  # saturates
+    assert {0, 8} <= {c.weight_frac_bits for c in cfgs}
+    assert any(c.radius == 2 for c in cfgs)
+    assert any(c.random_lut for c in cases)
+    assert {"dp", "core", "segmenter"} <= {c.design for c in cases}
+    assert all(set(c.faults) >= {"reset", "misaligned_first", "short_frame", "long_frame", "lut"}
+               for c in cases)
+    assert any("store_garbage" in c.faults for c in cases)
+    assert sum(c.runs * c.words_per_run for c in cases if c.design != "segmenter") >= 10**8
+
+
+def test_hostile_frames_hold_every_kind_of_frame():
+    cfg = default_cases()[1].cfg
+    frames = hostile_frames(cfg, 400, np.random.default_rng(1))
+    assert frames.shape == (400, cfg.height, cfg.width) and frames.max() <= cfg.pixel_max
+    flat = frames.reshape(len(frames), -1)
+    assert (flat == cfg.pixel_max).all(axis=1).any()                 # all maximum
+    assert (flat == 0).all(axis=1).any()                             # all zero
+    assert (flat == flat[:, :1]).all(axis=1).sum() > 2               # constant
+    checker = (frames[:, 0::2, 0::2] == frames[:, :1, :1]).all(axis=(1, 2)) & \
+        (frames[:, 1::2, 0::2] != frames[:, :1, :1]).all(axis=(1, 2))
+    assert checker.any()                                             # checkerboards
+
+
+def test_runs_are_seeded_and_draw_their_faults():
+    case = default_cases()[1]
+    a, b = make_run(case, 5), make_run(case, 5)
+    assert np.array_equal(a[0], b[0]) and a[1].resets == b[1].resets and a[2] == b[2]
+    notes = " ".join(n for seed in range(6) for n in make_run(case, seed)[2])
+    for what in ("marker", "cut to", "runs", "LUT rewritten", "resets at cycles"):
+        assert what in notes
+    stalls = [make_run(case, s)[1] for s in range(20)]
+    assert max(s.valid_gap for s in stalls) > 0.5 and min(s.valid_gap for s in stalls) == 0.0
+
+
+def test_a_slice_of_the_campaign_is_bit_exact():
+    """>= 10^6 compared words over every default case, the 4-state store checks included."""
+    result = run_campaign(runs_scale=0.01, workers=2, base_seed=11)
+    failures = [f"{o.case} seed {o.seed}: {o.report} ({o.notes})" for o in result.outcomes
+                if not o.passed]
+    assert not failures, failures
+    assert result.words_out >= 10**6
+    assert {c.name for c in result.cases} >= {c.name for c in default_cases()}
+    assert all(c.runs >= 1 for c in result.cases)
+
+
+def test_a_wrong_model_fails_the_campaign(monkeypatch):
+    """The campaign can fail: a model whose LUT differs from the gateware's is caught."""
+    import dptbd.sim.rtl_check as rtl_check
+
+    real = rtl_check.expected_stream
+
+    def off_by_one(cfg, pixels, first, lut_changes=None):
+        exp = real(cfg, pixels, first, lut_changes)
+        exp.words[len(exp.words) // 2] ^= np.uint64(1)
+        return exp
+
+    monkeypatch.setattr(rtl_check, "expected_stream", off_by_one)
+    case = Case("tiny", dict(width=9, height=7, segment_frames=2), "dp", 6, 1)
+    outcome = campaign.check_run(case, 3)
+    assert not outcome.passed
+    assert "first mismatch at output" in outcome.report and "field energy" in outcome.report
+
+
+def test_verify_command_lists_and_refuses(capsys, tmp_path):
+    assert main(["verify", "--list"]) == 0
+    assert "001-128x128-k8-in12-e16" in capsys.readouterr().out
+    assert main(["verify", "--cases", "nope"]) == 2
+    assert capsys.readouterr().err == ("dptbd verify: error: unknown case(s) nope; dptbd verify "
+                                       "--list names them\n")
+    assert main(["verify", "--runs-scale", "0"]) == 2
+    assert capsys.readouterr().err == "dptbd verify: error: --runs-scale must be > 0, got 0.0\n"
+    assert main(["verify", "--workers", "0"]) == 2
+    assert capsys.readouterr().err == "dptbd verify: error: --workers must be >= 1, got 0\n"
+    existing = tmp_path / "out.json"
+    existing.write_text("{}")
+    assert main(["verify", "--json", str(existing)]) == 2
+    assert capsys.readouterr().err == (f"dptbd verify: error: --json {existing} exists; "
+                                       f"not overwritten\n")
+    assert existing.read_text() == "{}"
+
+
+def test_verify_command_runs_one_case(capsys, tmp_path):
+    out = tmp_path / "v.json"
+    assert main(["verify", "--cases", "37x23-k3-in8-e12-f4", "--runs-scale", "0.05",
+                 "--no-x-store", "--workers", "1", "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "37x23-k3-in8-e12-f4" in text and "bit-exact" in text and "total:" in text
+    data = json.loads(out.read_text())
+    assert data["passed"] and data["words_compared"] > 0 and len(data["runs"]) == 1
