@@ -9,13 +9,11 @@ from __future__ import annotations
 import dataclasses
 import re
 import shutil
-import warnings
 
 import numpy as np
 import pytest
 
 import dptbd.sim.rtl_check as rtl_check
-from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw.candidate_layout import unpack_candidate
 from dptbd.sim import verilator as V
 from dptbd.sim.rtl_check import Stimulus, check_frames, check_stream, lut_change_words
@@ -25,24 +23,10 @@ from dptbd.sim.segment_scoreboard import expected_lists, list_words
 from dptbd.sim.stimulus import pixel_words
 from dptbd.sim.stream_model import expected_stream, split_words
 
+from verilator_harness import SEG, built, make_config  # noqa: E402
+
 pytestmark = pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
 
-_BUILDS: dict = {}
-
-
-def make_config(**kw) -> DPConfig:
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EnergyWidthWarning)
-        return DPConfig(**{"width": 16, "height": 12, "segment_frames": 3, **kw})
-
-
-def built(cfg: DPConfig, design: str = "dp") -> V.VerilatorBuild:
-    if (cfg, design) not in _BUILDS:
-        _BUILDS[cfg, design] = V.build(cfg, design)
-    return _BUILDS[cfg, design]
-
-
-SEG = dict(candidate_count=6, candidate_capacity=9, histogram_bits=6, histogram_shift=1)
 BASE = make_config(**SEG)
 
 

@@ -14,12 +14,11 @@ import os
 import pathlib
 import re
 import shutil
-import warnings
 
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.config import DPConfig
 from dptbd.hw.candidate_layout import unpack_candidate
 from dptbd.sim import verilator as V
 from dptbd.sim.rtl_check import Stimulus, check_frames, check_stream
@@ -28,26 +27,11 @@ from dptbd.sim.scenarios import make_frames
 from dptbd.sim.scoreboard import config_with_codes, expected_words
 from dptbd.sim.stimulus import lut_writes, pixel_words
 
+from verilator_harness import SEG, built, make_config  # noqa: E402
+
 pytestmark = pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
 
-_BUILDS: dict = {}
-
-
-def make_config(**kw) -> DPConfig:
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EnergyWidthWarning)
-        return DPConfig(**{"width": 16, "height": 12, "segment_frames": 3, **kw})
-
-
-# 16 x 12, K = 3 with a segmenter small enough to have records: n = 6, C = 9, 64 bins
-SEG = dict(candidate_count=6, candidate_capacity=9, histogram_bits=6, histogram_shift=1)
 BASE = make_config(**SEG)
-
-
-def built(cfg: DPConfig, design: str = "dp") -> V.VerilatorBuild:
-    if (cfg, design) not in _BUILDS:
-        _BUILDS[cfg, design] = V.build(cfg, design)
-    return _BUILDS[cfg, design]
 
 
 def dp_latency(cfg: DPConfig) -> int:

@@ -1,0 +1,29 @@
+"""Shared helpers of the compiled-simulation tests (rootdir-relative import, as
+``tests/hw/hw_harness.py``): small configurations and one build per (config, design) per
+test session (the builds themselves are cached on disk by :mod:`dptbd.sim.verilator`)."""
+
+from __future__ import annotations
+
+import warnings
+
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.sim import verilator as V
+
+_BUILDS: dict = {}
+
+# 16 x 12, K = 3 with a segmenter small enough to have records: n = 6, C = 9, 64 bins
+SEG = dict(candidate_count=6, candidate_capacity=9, histogram_bits=6, histogram_shift=1)
+
+
+def make_config(**kw) -> DPConfig:
+    """A 16 x 12, K = 3 configuration with ``kw`` changed (narrow energy allowed)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        return DPConfig(**{"width": 16, "height": 12, "segment_frames": 3, **kw})
+
+
+def built(cfg: DPConfig, design: str = "dp") -> V.VerilatorBuild:
+    """The build of ``design`` for ``cfg``, once per test session."""
+    if (cfg, design) not in _BUILDS:
+        _BUILDS[cfg, design] = V.build(cfg, design)
+    return _BUILDS[cfg, design]
