@@ -76,7 +76,7 @@ def bench_paper000(seeds: int, figures: pathlib.Path | None) -> dict:
 
 
 def _fig_paper000(path: pathlib.Path) -> None:
-    from dptbd.model import scenes
+    from dptbd.scenes import synthetic as scenes
     plt = _plt()
     fig, axes = plt.subplots(1, 2, figsize=(8.4, 4.0), dpi=80)
     for ax, case in zip(axes, (paper000.CASES[1], paper000.CASES[3])):

@@ -39,7 +39,7 @@ def run_seed(seed: int, association: dict, snr: float | None = None, lists: str 
              dp: dict | None = None, headroom: float = 2.0) -> dict:
     """The built-in scenario with one seed through both stages; per-target metrics."""
     from dptbd.model.pipeline import run_pipeline, segmenter_settings
-    from dptbd.model.scenes import quantise
+    from dptbd.scenes.synthetic import quantise
     from dptbd.model.segmentation import count_for_rate
     from dptbd.model.track_metrics import evaluate_tracks
     from dptbd.scenario import default_scenario

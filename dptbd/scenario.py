@@ -23,7 +23,7 @@ of 0.2 %. Its TOML form (``Scenario.to_toml``, also written into every output fo
     # death = 80               # first frame gone
     # turns = [{frame = 50, degrees = 90.0}]   # or {frame = 50, velocity = [0.5, 0.5]}
 
-    [adc]                      # float scene -> integer frames (dptbd.model.scenes.quantise)
+    [adc]                      # float scene -> integer frames (dptbd.scenes.synthetic.quantise)
     bits = 12
     gain = 16.0
     offset = 0.0
@@ -61,7 +61,7 @@ from typing import Any, Mapping
 
 from dptbd.config import ConfigError, DPConfig
 from dptbd.model.pipeline import LISTS
-from dptbd.model import scenes
+from dptbd.scenes import synthetic as scenes
 from dptbd.model.association import AssociationConfig, AssociationError
 
 __all__ = ["ScenarioError", "TargetSpec", "Scenario", "default_scenario", "load_scenario",

@@ -10,7 +10,7 @@ reduces it to statistics; :mod:`dptbd.model.snr_loss` holds the loss arithmetic,
 The scene (paper 001 §4, scaled down by default)
     Gaussian noise of mean ``mu`` and standard deviation ``sigma`` (001's Table 1: 30 and
     sqrt(3) grey levels) and one point target of amplitude ``SNR * sigma``
-    (:func:`dptbd.model.scenes.table1_scenario`, trajectory centred in the frame). Trial
+    (:func:`dptbd.scenes.synthetic.table1_scenario`, trajectory centred in the frame). Trial
     ``i``'s noise depends only on ``(seed, i)`` and is the same at every SNR (common
     random numbers: the Pd curves are smooth and the SNR points are paired), and the same
     noise without the target is trial ``i``'s noise-only scene.
@@ -20,7 +20,7 @@ What each model sees
     ``run_float``) sees the float sensor output. A **fixed configuration**
     (:func:`dptbd.model.fast.run_fixed_fast`, bit-identical to ``run_fixed``) sees the
     same frames through its ADC: ``code = clip(rint(gain * x + offset), 0, 2**B_in - 1)``
-    (:func:`dptbd.model.scenes.quantise`) with, unless the configuration sets
+    (:func:`dptbd.scenes.synthetic.quantise`) with, unless the configuration sets
     ``adc_gain`` / ``adc_offset``, the mapping of :func:`adc_mapping`: a fixed analogue
     window ``[mu - 6 sigma, mu + 10 sigma]`` spread over the 2**B_in codes, so one sigma is
     ``2**B_in / 16`` LSB (0.5 LSB at 3 bits, 1 at 4, 4 at 6, 16 at 8). Each extra bit
@@ -66,7 +66,7 @@ import numpy as np
 from numba import njit
 
 from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning, move_offsets, paper_weights, plain_weights
-from dptbd.model import scenes
+from dptbd.scenes import synthetic as scenes
 from dptbd.model.metrics import near_mask
 from dptbd.model.segmentation import count_for_rate
 

@@ -38,7 +38,7 @@ def check_pixels(frames: np.ndarray, input_bits: int) -> np.ndarray:
     if not np.issubdtype(arr.dtype, np.integer):
         raise TypeError(
             f"pixels must be an integer array of {input_bits}-bit unsigned values, "
-            f"got dtype {arr.dtype}; quantise float scenes with dptbd.model.scenes.quantise")
+            f"got dtype {arr.dtype}; quantise float scenes with dptbd.scenes.synthetic.quantise")
     if arr.size:
         lo, hi = int(arr.min()), int(arr.max())
         top = (1 << input_bits) - 1

@@ -20,7 +20,7 @@ from typing import Iterator
 import numpy as np
 
 from dptbd.config import DPConfig, plain_weights
-from dptbd.model import scenes
+from dptbd.scenes import synthetic as scenes
 from dptbd.model.metrics import DetectionCounts, first_level_counts
 from dptbd.model.segmentation import candidate_mask, count_for_rate
 

@@ -79,7 +79,7 @@ def evaluate_tracks(tracks, positions: dict, truth, cfg: DPConfig, n_segments: i
     positions : dict
         Track id -> ``(frames, positions, measured)`` (:func:`dptbd.model.backtrack.track_positions`).
     truth : sequence of TargetTruth
-        Ground truth of each target (:class:`dptbd.model.scenes.TargetTruth`).
+        Ground truth of each target (:class:`dptbd.scenes.synthetic.TargetTruth`).
     cfg : DPConfig
         Segment layout (K, S_t).
     n_segments : int

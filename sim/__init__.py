@@ -38,7 +38,7 @@ Modules
     The golden model's expected ``states`` words (:mod:`dptbd.model.fixed` frame by frame)
     and the comparison that reports the first mismatching frame, row, column and field.
 ``dptbd.sim.scenarios``
-    Integer scenes from :mod:`dptbd.model.scenes` (targets, noise, saturation, ties, edges).
+    Integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
 
 From the command line: ``dptbd sim`` (one scene, cycle count, verdict), ``dptbd verify``
 (the campaign) and ``dptbd verilog`` (Verilog + manifest). Tests: ``pytest tests/sim`` (``-m slow`` for the

@@ -126,7 +126,7 @@ def hostile_frames(cfg: DPConfig, n_frames: int, rng: np.random.Generator) -> np
     all-maximum; all-zero; a constant level; a checkerboard of two levels (ties
     everywhere); uniform noise over the whole range.
     """
-    from dptbd.model import scenes
+    from dptbd.scenes import synthetic as scenes
     from dptbd.sim.scenarios import adc_gain, make_frames
 
     h, w, top = cfg.height, cfg.width, cfg.pixel_max

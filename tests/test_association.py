@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from dptbd.config import DPConfig
-from dptbd.model import scenes
+from dptbd.scenes import synthetic as scenes
 from dptbd.model.association import (
     CANDIDATE_DTYPE, CONFIRMED, FREE, ONE, TENTATIVE, AssociationConfig, AssociationError,
     Tracker, make_candidates)

@@ -13,7 +13,7 @@ import pytest
 
 from dptbd.config import ConfigError, DPConfig, plain_weights
 from dptbd.model import compare as cmp
-from dptbd.model import scenes
+from dptbd.scenes import synthetic as scenes
 from dptbd.model.compare import build_spec, cosine_weights, make_plan, measure_frames, run_compare
 from dptbd.model.fast_float import run_float_fast
 from dptbd.model.metrics import first_level_counts

@@ -11,7 +11,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.model.association import POINT_DTYPE, ConfirmedTrack
-from dptbd.model.scenes import TargetTruth
+from dptbd.scenes.synthetic import TargetTruth
 from dptbd.model.track_metrics import evaluate_tracks
 
 CFG = DPConfig(width=64, height=64, segment_frames=4)

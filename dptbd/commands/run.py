@@ -402,8 +402,8 @@ def main(args: argparse.Namespace) -> int:
 
 def _main(args: argparse.Namespace) -> int:
     from dptbd.model.pipeline import run_pipeline, segmenter_settings
-    from dptbd.model.scenes import quantise
-    from dptbd.model.sequence_io import load_sequence
+    from dptbd.scenes.synthetic import quantise
+    from dptbd.scenes.recorded import load_sequence
     from dptbd.model.track_metrics import evaluate_tracks
     from dptbd import report
 

@@ -6,7 +6,7 @@
 * :mod:`~dptbd.model.detectors.grid` — paper 004's information-accumulation detector and
   the grid Bayes filter with an existence state;
 * :mod:`~dptbd.model.detectors.cfar` — CA-CFAR;
-* :mod:`~dptbd.model.detectors.rd_scenes` — range-Doppler scenes (Swerling I, Rayleigh noise);
+* :mod:`~dptbd.scenes.range_doppler` — range-Doppler scenes (Swerling I, Rayleigh noise);
 * :mod:`~dptbd.model.detectors.interface` and :mod:`~dptbd.model.detectors.compare` — one
   interface for all detectors and the Pd-vs-SNR comparison behind ``dptbd detectors``;
 * :mod:`~dptbd.model.detectors.paper000`, :mod:`~dptbd.model.detectors.paper004` — the

@@ -2,10 +2,10 @@
 
 Two scene families (``docs/detectors.md`` §3):
 
-* ``rd`` — paper 004's range-Doppler magnitudes (:mod:`~dptbd.model.detectors.rd_scenes`):
+* ``rd`` — paper 004's range-Doppler magnitudes (:mod:`~dptbd.scenes.range_doppler`):
   scenario 2's target (geometry of 004 §4.1) on a ``crop`` of the 200 x 500 map around
   it, Swerling I, Rayleigh noise; the grid filters get the Doppler-implied range drift;
-* ``image`` — paper 000's images (:func:`dptbd.model.scenes.paper000_scenario`): 64 x 64,
+* ``image`` — paper 000's images (:func:`dptbd.scenes.synthetic.paper000_scenario`): 64 x 64,
   zero-mean Gaussian noise, a constant target moving (+2, -2) cells per frame.
 
 For each detector the threshold is set on ``noise_trials`` noise-only scenes for
@@ -25,9 +25,10 @@ from typing import Any, Iterable
 
 import numpy as np
 
-from dptbd.model import scenes as image_scenes
-from dptbd.model.detectors import interface, rd_scenes
+from dptbd.model.detectors import interface
 from dptbd.model.detectors._checks import DetectorError, check_int, check_prob, check_real
+from dptbd.scenes import range_doppler as rd_scenes
+from dptbd.scenes import synthetic as image_scenes
 
 __all__ = ["SceneSpec", "CompareResult", "run_comparison", "SCENES"]
 

@@ -189,7 +189,7 @@ class Transition:
         Odd-sided 2-D kernel (delay x Doppler), non-negative, summing to 1.
     drift : array_like or None
         ``(J,)`` delay cells per frame for each Doppler cell
-        (:meth:`~dptbd.model.detectors.rd_scenes.PassiveRadar.range_drift`); ``None``: 0.
+        (:meth:`~dptbd.scenes.range_doppler.PassiveRadar.range_drift`); ``None``: 0.
     """
 
     shape: tuple[int, int]

@@ -171,7 +171,7 @@ class DirectionWeightedDP(Detector):
                             input_bits=self.bits, energy_bits=min(32, energy), radius=r)
 
     def codes(self, frames: np.ndarray) -> np.ndarray:
-        from dptbd.model.scenes import quantise
+        from dptbd.scenes.synthetic import quantise
         offset = 0.0 if self.model.noise == "rayleigh" else float(1 << (self.bits - 1))
         return quantise(frames, self.bits, gain=self.lsb / self.model.scale, offset=offset)
 

@@ -1,7 +1,7 @@
 """Paper 000's simulations (§5.1, §5.2) and its SNR-gain claim, reproduced.
 
 * §5.1: 64 x 64, 20 frames, SNR 4.08 dB (eq (8), A = 1.6), start (12, 52), v = (-2, 2)
-  (:func:`dptbd.model.scenes.paper000_scenario`), amplitude DP eq (15) and eq (24),
+  (:func:`dptbd.scenes.synthetic.paper000_scenario`), amplitude DP eq (15) and eq (24),
   thresholds V_T = 30 and 32.
 * §5.2: the same set-up at SNR 6 dB (A = 2) with V_T = 322, "alpha" = 0.85, "delta" = 1,
   and at 3 dB with V_T = 178, "alpha" = 0.55: the likelihood-difference DP eqs (19)-(23).
@@ -24,7 +24,7 @@ from typing import Iterable
 
 import numpy as np
 
-from dptbd.model import scenes
+from dptbd.scenes import synthetic as scenes
 from dptbd.model.detectors import cfar, unified
 from dptbd.model.detectors._checks import DetectorError, check_int, check_prob, check_real
 

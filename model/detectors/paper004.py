@@ -1,7 +1,7 @@
 """Paper 004's simulations reproduced: scenario 1 (Pfa vs entropy threshold), scenario 2
 (Pd vs SNR at equal Pfa), and the single-frame run times of its Table 2.
 
-All on 004's 200 x 500 range-Doppler grid (:class:`~dptbd.model.detectors.rd_scenes.PassiveRadar`)
+All on 004's 200 x 500 range-Doppler grid (:class:`~dptbd.scenes.range_doppler.PassiveRadar`)
 with the near-constant-velocity transition: the range drift implied by each Doppler cell
 plus a 3 x 3 Gaussian diffusion kernel (sigma 0.5 cell).
 """
@@ -14,8 +14,9 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from dptbd.model.detectors import cfar, grid, rd_scenes, unified
+from dptbd.model.detectors import cfar, grid, unified
 from dptbd.model.detectors._checks import DetectorError, check_int, check_shape
+from dptbd.scenes import range_doppler as rd_scenes
 
 __all__ = ["default_transition", "scenario1", "Scenario1Result", "time_one_frame", "TABLE2"]
 

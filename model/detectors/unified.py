@@ -481,7 +481,7 @@ def quantise_unified(merit: Merit, transition: Any, *, radius: int = 2, input_bi
     """Build the integer LUTs for a merit and transition table.
 
     A pixel code ``x`` stands for the measurement ``z = (x - offset) / gain`` (the inverse
-    of :func:`dptbd.model.scenes.quantise`). Merit and penalty are scaled by ``scale``
+    of :func:`dptbd.scenes.synthetic.quantise`). Merit and penalty are scaled by ``scale``
     and rounded half up.
     """
     bits = check_int("input_bits", input_bits, 1, 16)

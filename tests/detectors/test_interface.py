@@ -16,7 +16,7 @@ from dptbd.model.detectors.interface import (
     DETECTORS, Decisions, SceneModel, calibrate, count_detections, count_false_alarms,
     make_detector, parse_detectors)
 from dptbd.model.detectors.paper000 import crossing_snr, peak_mask, run_case, CASES
-from dptbd.model.detectors.rd_scenes import rd_scene, straight_track
+from dptbd.scenes.range_doppler import rd_scene, straight_track
 from dptbd.model.fixed import run_fixed
 
 

@@ -12,7 +12,7 @@ zero-mean complex Gaussian noise and ``A`` the target's complex amplitude in its
   ``P`` and the phase uniform, drawn independently in every frame (scan to scan), constant
   within a frame. The ambiguity function is taken as an ideal thumbtack (004 Fig. 2 is
   "close to a thumbtack"): all of the target's energy is in the cell nearest its true
-  (delay, Doppler) position, ``np.rint`` as in :mod:`dptbd.model.scenes`.
+  (delay, Doppler) position, ``np.rint`` as in :mod:`dptbd.scenes.synthetic`.
 * **SNR** is the average per-cell SNR of the map, ``P / E|n|**2 = P / (2 alpha**2)``.
 
 :class:`PassiveRadar` computes a target's (delay, Doppler) track from 004's geometry,

@@ -1,4 +1,4 @@
-"""Scene generators of ``dptbd.model.scenes``: papers 001 §4 and 000 §3/§5."""
+"""Scene generators of ``dptbd.scenes.synthetic``: papers 001 §4 and 000 §3/§5."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from dptbd.model import scenes
-from dptbd.model.scenes import (
+from dptbd.scenes import synthetic as scenes
+from dptbd.scenes.synthetic import (
     Scene,
     SceneError,
     Target,

@@ -68,7 +68,7 @@ def _check_array(arr: np.ndarray, where: str) -> tuple[np.ndarray, int]:
     """Integer ``(T, H, W)`` in [0, 65535] -> ``uint8``/``uint16`` and B_in."""
     if arr.dtype.kind not in "iu":
         hint = (" (quantise float frames to integers first, e.g. with "
-                "dptbd.model.scenes.quantise)") if arr.dtype.kind == "f" else ""
+                "dptbd.scenes.synthetic.quantise)") if arr.dtype.kind == "f" else ""
         raise SequenceError(f"{where}: frames must be integers, got dtype {arr.dtype}{hint}")
     if arr.ndim == 2:
         raise SequenceError(f"{where}: one frame of shape {arr.shape}; a sequence needs shape "

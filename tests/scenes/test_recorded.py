@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from dptbd.model.sequence_io import SequenceError, load_sequence
+from dptbd.scenes.recorded import SequenceError, load_sequence
 
 
 def frames(dtype=np.uint16, t=4, h=6, w=5, top=4095):
