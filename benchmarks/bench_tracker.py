@@ -5,7 +5,7 @@
 
 For each seed the built-in scenario (paper 001's second experiment, ``dptbd run`` with no
 arguments, ``--seed N``) goes through the FPGA stage (golden model) and the DSP stage
-exactly as ``dptbd run`` does, and the track metrics of :mod:`dptbd.model.track_metrics`
+exactly as ``dptbd run`` does, and the track metrics of :mod:`dptbd.dsp.track_metrics`
 are collected per target. Printed: one line per seed and the means over seeds — frames
 until output (over the seeds in which the target was confirmed), how often each target
 was confirmed, detected track length after output and whole, confirmed tracks per target
@@ -38,10 +38,10 @@ def _value(text: str):
 def run_seed(seed: int, association: dict, snr: float | None = None, lists: str = "gateware",
              dp: dict | None = None, headroom: float = 2.0) -> dict:
     """The built-in scenario with one seed through both stages; per-target metrics."""
-    from dptbd.model.pipeline import run_pipeline, segmenter_settings
+    from dptbd.dsp.chain import run_pipeline, segmenter_settings
     from dptbd.scenes.synthetic import quantise
     from dptbd.model.segmentation import count_for_rate
-    from dptbd.model.track_metrics import evaluate_tracks
+    from dptbd.dsp.track_metrics import evaluate_tracks
     from dptbd.scenario import default_scenario
 
     changes = {"seed": seed, "association": association}

@@ -36,7 +36,7 @@ of 0.2 %. Its TOML form (``Scenario.to_toml``, also written into every output fo
     lists = "gateware"         # what the DSP receives: "gateware" (the segmenter's lists,
                                # previous segment's histogram) or "ideal" (own histogram)
 
-    [association]              # dptbd.model.association.AssociationConfig fields
+    [association]              # dptbd.dsp.association.AssociationConfig fields
     capacity = 64
 
     [report]
@@ -60,9 +60,9 @@ import tomllib
 from typing import Any, Mapping
 
 from dptbd.config import ConfigError, DPConfig
-from dptbd.model.pipeline import LISTS
+from dptbd.dsp.chain import LISTS
 from dptbd.scenes import synthetic as scenes
-from dptbd.model.association import AssociationConfig, AssociationError
+from dptbd.dsp.association import AssociationConfig, AssociationError
 
 __all__ = ["ScenarioError", "TargetSpec", "Scenario", "default_scenario", "load_scenario",
            "parse_scenario", "parse_target", "check_snr", "DEFAULT_NAME"]

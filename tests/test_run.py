@@ -378,8 +378,8 @@ def test_ideal_lists_option_and_bad_lists_value(tmp_path, small, capsys):
 
 def test_segmenter_settings_come_from_the_data_unless_given():
     from dptbd.config import DPConfig
-    from dptbd.model.association import AssociationConfig
-    from dptbd.model.pipeline import segmenter_settings
+    from dptbd.dsp.association import AssociationConfig
+    from dptbd.dsp.chain import segmenter_settings
 
     cfg = DPConfig(width=128, height=128, segment_frames=6, input_bits=12, energy_bits=16)
     frames = np.full((12, 128, 128), 600, np.uint16)

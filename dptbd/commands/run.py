@@ -16,8 +16,8 @@ at (54, 40) with V = (0.4, 0.6), 0.2 % false-alarm threshold):
    12 min for it). The printed summary and ``summary.json`` (``rtl``) say which simulator,
    which frames, the words compared, the cycles and the simulator's speed.
 2. **DSP stage** — the fixed-capacity track association of 001 §3
-   (:mod:`dptbd.model.association`), candidates' paths recovered by backtracking the
-   direction maps (:mod:`dptbd.model.backtrack`).
+   (:mod:`dptbd.dsp.association`), candidates' paths recovered by backtracking the
+   direction maps (:mod:`dptbd.dsp.backtrack`).
 
 It writes, into a new output folder (default ``dptbd-run``): ``table.md``/``table.csv``
 (001's Table 1 form), ``tracks.csv`` (a position per frame of every confirmed track),
@@ -401,10 +401,10 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _main(args: argparse.Namespace) -> int:
-    from dptbd.model.pipeline import run_pipeline, segmenter_settings
+    from dptbd.dsp.chain import run_pipeline, segmenter_settings
     from dptbd.scenes.synthetic import quantise
     from dptbd.scenes.recorded import load_sequence
-    from dptbd.model.track_metrics import evaluate_tracks
+    from dptbd.dsp.track_metrics import evaluate_tracks
     from dptbd import report
 
     start = time.perf_counter()

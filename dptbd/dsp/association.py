@@ -40,7 +40,7 @@ them. In short:
   (:class:`AssociationConfig`) and quantised once to integer codes.
 * **Candidates** arrive as fixed-capacity records (:data:`CANDIDATE_DTYPE`): the FPGA's
   (row, col, E, d) plus the start ``(row0, col0)`` of the candidate's best path in its
-  segment, found by backtracking the direction maps (:mod:`dptbd.model.backtrack`).
+  segment, found by backtracking the direction maps (:mod:`dptbd.dsp.backtrack`).
   Heading of a candidate: ``(row - row0, col - col0) / (K - 1)`` per frame, or the move of
   d alone when no path is given.
 * **Cluster suppression.** DP energy spreads into a small cluster around a target (001 §2,
@@ -82,7 +82,7 @@ classes) and at most C x n cost evaluations in all (a track is in one class; eac
 multiplies and one integer square root); updates C; duplicate test m(m-1)/2 pairs of the m <= min(C, n) extended tracks; new
 tracks n(n-1)/2 insertion-sort compares and at most n + C free-slot probes. For C = 64,
 n = 33: about 1 100 + 2 000 + 2 100 + 64 + 2 000 + 530 + 100 operations, independent
-of the data (``tests/test_association.py::test_work_per_segment_is_bounded``). Nothing is
+of the data (``tests/dsp/test_association.py::test_work_per_segment_is_bounded``). Nothing is
 allocated per segment: every array, and the blank record written over freed records, is
 created in ``__init__`` (``test_no_allocation_per_segment_and_input_capacity``).
 """
@@ -347,7 +347,7 @@ def make_candidates(candidates: np.ndarray, paths: np.ndarray | None = None) -> 
         Records with fields ``row``, ``col``, ``energy``, ``direction``
         (:func:`dptbd.model.segmentation.candidates`).
     paths : numpy.ndarray, optional
-        ``(n, K, 2)`` backtracked paths (:func:`dptbd.model.backtrack.candidate_paths`);
+        ``(n, K, 2)`` backtracked paths (:func:`dptbd.dsp.backtrack.candidate_paths`);
         their first point becomes ``(row0, col0)``.
 
     Returns

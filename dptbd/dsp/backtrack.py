@@ -14,7 +14,7 @@ produces the same maps frame by frame with the fused kernel (:mod:`dptbd.model.f
 bit-exact with :mod:`dptbd.model.fixed`); :func:`segment_direction_maps` checks that each
 segment's last map equals the segment output of ``run_fixed_fast``.
 
-A backtracked path gives the association (:mod:`dptbd.model.association`) the heading
+A backtracked path gives the association (:mod:`dptbd.dsp.association`) the heading
 of a candidate over its whole segment, and gives a confirmed track a position in every
 frame of the segments where it was detected.
 """
@@ -138,7 +138,7 @@ def track_positions(points: np.ndarray, maps: np.ndarray, cfg: DPConfig
     ----------
     points : numpy.ndarray
         The track's points, oldest first, with fields ``seg``, ``row``, ``col``
-        (:data:`dptbd.model.association.POINT_DTYPE`).
+        (:data:`dptbd.dsp.association.POINT_DTYPE`).
     maps : numpy.ndarray
         ``(S, K, H, W)`` direction maps (:func:`segment_direction_maps`).
 

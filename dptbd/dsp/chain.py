@@ -13,9 +13,9 @@ the direction-weighted DP runs on an FPGA, the second-level association on a DSP
   at most n records), which no single-pass gateware can produce.
 * **Between the stages** — the direction maps of every frame of each segment (the
   gateware streams every frame's state), used to backtrack each candidate's path
-  (:mod:`dptbd.model.backtrack`).
+  (:mod:`dptbd.dsp.backtrack`).
 * **DSP stage** — the fixed-capacity track association of 001 §3
-  (:class:`dptbd.model.association.Tracker`), one step per segment.
+  (:class:`dptbd.dsp.association.Tracker`), one step per segment.
 """
 
 from __future__ import annotations
@@ -26,9 +26,9 @@ from typing import Callable, Iterable
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.model.association import (AssociationConfig, ConfirmedTrack, Tracker, make_candidates,
+from dptbd.dsp.association import (AssociationConfig, ConfirmedTrack, Tracker, make_candidates,
                                      trim_to_count)
-from dptbd.model.backtrack import candidate_paths, segment_direction_maps, track_positions
+from dptbd.dsp.backtrack import candidate_paths, segment_direction_maps, track_positions
 from dptbd.model.segmentation import candidates as segment_candidates, segment_sequence
 from dptbd.model.segments import SegmentOutput
 
@@ -50,7 +50,7 @@ class PipelineResult:
     maps : numpy.ndarray
         ``(S, K, H, W)`` direction map after every frame of every segment.
     candidates : list of numpy.ndarray
-        Per segment, :data:`dptbd.model.association.CANDIDATE_DTYPE` records.
+        Per segment, :data:`dptbd.dsp.association.CANDIDATE_DTYPE` records.
     tracks : list of ConfirmedTrack
         Every track the DSP confirmed.
     positions : dict
@@ -96,7 +96,7 @@ def segmenter_settings(cfg: DPConfig, frames: np.ndarray, count: int,
 
     * ``candidate_count`` n_hw = round(``headroom`` x ``count``), at most
       ``assoc.max_candidates``: the gateware selects with headroom, and the DSP trims each
-      list to ``count`` (:func:`dptbd.model.association.trim_to_count`). The threshold comes
+      list to ``count`` (:func:`dptbd.dsp.association.trim_to_count`). The threshold comes
       from the *previous* segment's histogram (§6.1), so the gateware's count scatters
       around n_hw; with headroom 2 its list holds the segment's own top ``count`` (the
       ideal list, after trimming) in 95 % of the built-in scenario's segments, against

@@ -14,7 +14,7 @@ track columns: "结果输出所用帧数" (frames until the result is output) an
   track passed the output threshold. **Frames until output**: input frames from the
   target's first visible frame to the last frame of that segment, inclusive.
 * **Track length**: frames in which some track of the target has a position (backtracked
-  in detected segments, interpolated across missed ones; :func:`dptbd.model.backtrack.
+  in detected segments, interpolated across missed ones; :func:`dptbd.dsp.backtrack.
   track_positions`), whole and after the output frame. 001's rows satisfy "frames until
   output + length" ≈ 100 (e.g. 45 + 52, 49 + 48), which suggests its length counts the
   frames after output; both are reported.
@@ -75,9 +75,9 @@ def evaluate_tracks(tracks, positions: dict, truth, cfg: DPConfig, n_segments: i
     Parameters
     ----------
     tracks : list of ConfirmedTrack
-        :meth:`dptbd.model.association.Tracker.confirmed_tracks`.
+        :meth:`dptbd.dsp.association.Tracker.confirmed_tracks`.
     positions : dict
-        Track id -> ``(frames, positions, measured)`` (:func:`dptbd.model.backtrack.track_positions`).
+        Track id -> ``(frames, positions, measured)`` (:func:`dptbd.dsp.backtrack.track_positions`).
     truth : sequence of TargetTruth
         Ground truth of each target (:class:`dptbd.scenes.synthetic.TargetTruth`).
     cfg : DPConfig

@@ -1,4 +1,4 @@
-"""Track metrics against ground truth (``model/track_metrics.py``) on hand-built tracks.
+"""Track metrics against ground truth (``dptbd/dsp/track_metrics.py``) on hand-built tracks.
 
 Every expected value below is worked out by hand from the definitions in the module
 docstring, with K = 4 back to back: segment s ends at frame 4 s + 3.
@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from dptbd.config import DPConfig
-from dptbd.model.association import POINT_DTYPE, ConfirmedTrack
+from dptbd.dsp.association import POINT_DTYPE, ConfirmedTrack
 from dptbd.scenes.synthetic import TargetTruth
-from dptbd.model.track_metrics import evaluate_tracks
+from dptbd.dsp.track_metrics import evaluate_tracks
 
 CFG = DPConfig(width=64, height=64, segment_frames=4)
 N_SEG = 6                                   # frames 0 … 23
