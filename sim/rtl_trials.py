@@ -165,10 +165,10 @@ def expected_state_words(cfg: DPConfig, segments: np.ndarray) -> np.ndarray:
     State after frame j of a segment = :func:`~dptbd.model.fast.run_fixed_fast` of its
     first ``j + 1`` frames as one segment of ``j + 1`` frames (bit-identical with
     :func:`dptbd.sim.scoreboard.model_frames`, which ``tests/sim/test_rtl_trials.py``
-    checks); flags as :func:`dptbd.sim.scoreboard.expected_words` sets them.
+    checks); flags by :func:`dptbd.sim.scoreboard.pack_frame_states`.
     """
     from dptbd.model.fast import run_fixed_fast
-    from dptbd.sim.scoreboard import pack_states
+    from dptbd.sim.scoreboard import pack_frame_states
 
     n, k, h, w = segments.shape
     energy = np.empty((n, k, h, w), np.int64)
@@ -181,14 +181,8 @@ def expected_state_words(cfg: DPConfig, segments: np.ndarray) -> np.ndarray:
                                  threads=1)
             energy[:, j] = res.energy[:, 0]
             direction[:, j] = res.direction[:, 0]
-    eol = np.zeros((n, k, h, w), np.int64)
-    eol[..., -1] = 1
-    eof = np.zeros((n, k, h, w), np.int64)
-    eof[..., -1, -1] = 1
-    eos = np.zeros((n, k, h, w), np.int64)
-    eos[:, -1, -1, -1] = 1
-    return pack_states(cfg, energy=energy, direction=direction, end_of_line=eol,
-                       end_of_frame=eof, end_of_segment=eos).reshape(-1)
+    return pack_frame_states(cfg, energy.reshape(n * k, h, w),
+                             direction.reshape(n * k, h, w)).reshape(-1)
 
 
 def _where(label: str, first_trial: int, n_seg: int, k: int, frame: int) -> str:

@@ -30,6 +30,7 @@ __all__ = [
     "config_with_codes",
     "model_frames",
     "expected_words",
+    "pack_frame_states",
     "Mismatch",
     "compare_word",
     "Scoreboard",
@@ -128,17 +129,32 @@ def expected_words(cfg: DPConfig, frames: np.ndarray) -> np.ndarray:
         ``(T, H, W)`` ``uint64`` packed payloads.
     """
     frames = np.asarray(frames)
-    n_frames, height, width = frames.shape
-    k = cfg.segment_frames
-    out = np.zeros(frames.shape, dtype=np.uint64)
-    eol = np.zeros((height, width), dtype=np.int64)
-    eol[:, -1] = 1
-    eof = np.zeros((height, width), dtype=np.int64)
-    eof[-1, -1] = 1
-    for t, (energy, direction) in enumerate(model_frames(cfg, frames)):
-        out[t] = pack_states(cfg, energy=energy, direction=direction, end_of_line=eol,
-                             end_of_frame=eof, end_of_segment=eof * int(t % k == k - 1))
-    return out
+    energy = np.zeros(frames.shape, dtype=np.int64)
+    direction = np.zeros(frames.shape, dtype=np.int64)
+    for t, (e, d) in enumerate(model_frames(cfg, frames)):
+        energy[t], direction[t] = e, d
+    return pack_frame_states(cfg, energy, direction)
+
+
+def pack_frame_states(cfg: DPConfig, energy: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Pack the states of whole frames ``(T, H, W)``, streamed from reset, with the flags the
+    pipeline sets: ``end_of_line`` on column W-1, ``end_of_frame`` on a frame's last pixel,
+    ``end_of_segment`` on the last pixel of frames K-1, 2K-1, …
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(T, H, W)`` ``uint64`` payloads.
+    """
+    shape = np.shape(energy)
+    n_frames, k = shape[0], cfg.segment_frames
+    eol = np.zeros(shape, dtype=np.int64)
+    eol[..., -1] = 1
+    eof = np.zeros(shape, dtype=np.int64)
+    eof[:, -1, -1] = 1
+    eos = eof * (np.arange(n_frames) % k == k - 1)[:, None, None]
+    return pack_states(cfg, energy=energy, direction=direction, end_of_line=eol,
+                       end_of_frame=eof, end_of_segment=eos)
 
 
 @dataclasses.dataclass(frozen=True)
