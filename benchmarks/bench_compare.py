@@ -4,7 +4,7 @@
     python benchmarks/bench_compare.py --trials 96 --workers 1 2 4
     python benchmarks/bench_compare.py --json build/bench_compare.json
 
-The same run (the default :func:`dptbd.model.compare.build_spec`, or ``--config``'s) is
+The same run (the default :func:`dptbd.evaluation.compare.build_spec`, or ``--config``'s) is
 timed once per worker count, one after the other; each time is
 :attr:`CompareResult.seconds`: the Monte Carlo alone (scenes, both models, counts), after
 the kernels are compiled or loaded from numba's cache, excluding the start-up, the
@@ -32,7 +32,7 @@ import tomllib
 
 import numpy as np
 
-from dptbd.model.compare import build_spec, run_compare
+from dptbd.evaluation.compare import build_spec, run_compare
 
 
 def _cpu_seconds() -> float:

@@ -23,9 +23,9 @@ import time
 
 import numpy as np
 
-from dptbd.model.detectors import paper000, paper004, unified
-from dptbd.model.detectors.compare import SceneSpec, run_comparison
-from dptbd.model.stats import wilson_interval
+from dptbd.evaluation.detectors import paper000, paper004, unified
+from dptbd.evaluation.detectors.compare import SceneSpec, run_comparison
+from dptbd.evaluation.stats import wilson_interval
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 

@@ -4,7 +4,7 @@
     python benchmarks/bench_rtl_trials.py --trials 48 --workers 2
     python benchmarks/bench_rtl_trials.py --config my.toml --json build/bench_rtl.json
 
-The same run (the default :func:`dptbd.model.compare.build_spec`, or ``--config``'s) is
+The same run (the default :func:`dptbd.evaluation.compare.build_spec`, or ``--config``'s) is
 timed twice in this process, one after the other: on the golden model
 (``run_compare(spec)``) and with the fixed-point configurations on the compiled gateware
 (``run_compare(spec, rtl=True)``, :mod:`dptbd.sim.rtl_trials`). The RTL executables are
@@ -27,7 +27,7 @@ import tomllib
 
 import numpy as np
 
-from dptbd.model.compare import build_spec, make_plan, run_compare
+from dptbd.evaluation.compare import build_spec, make_plan, run_compare
 
 
 def main(argv=None) -> int:

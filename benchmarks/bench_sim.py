@@ -1,7 +1,7 @@
 """Simulation speed of the DP pipeline: cocotb + Icarus against the Amaranth simulator.
 
 Both simulators run the same scene through the same design (``DPPipeline``; Icarus runs the
-Verilog that ``dptbd.hw.verilog`` generates from it) with the input always valid and the
+Verilog that ``dptbd.hw.flow.verilog`` generates from it) with the input always valid and the
 output always ready, and both results are checked bit for bit against the golden model.
 Reported: simulated clock cycles per wall-clock second while streaming, and the wall time
 in all (Icarus: Verilog generation + compilation + simulator start-up + run).
@@ -107,7 +107,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
 
     if args.paper001:
-        from dptbd.model.table1 import INPUT_BITS
+        from dptbd.evaluation.table1 import INPUT_BITS
 
         cfg = DPConfig(width=128, height=128, segment_frames=8, input_bits=INPUT_BITS,
                        energy_bits=16)

@@ -37,7 +37,7 @@ import sys
 import time
 
 from dptbd.config import DPConfig
-from dptbd.hw.synth import SynthResult, synthesize
+from dptbd.hw.flow.synth import SynthResult, synthesize
 
 
 #: name -> (description, DPConfig, variant, lut_style)

@@ -42,7 +42,7 @@ def run_seed(seed: int, association: dict, snr: float | None = None, lists: str 
     from dptbd.scenes.synthetic import quantise
     from dptbd.model.segmentation import count_for_rate
     from dptbd.dsp.track_metrics import evaluate_tracks
-    from dptbd.scenario import default_scenario
+    from dptbd.evaluation.scenario import default_scenario
 
     changes = {"seed": seed, "association": association}
     if snr is not None:

@@ -1,6 +1,6 @@
 """The complete DP pipeline: :class:`~dptbd.hw.dp_core.DPCore` plus its on-chip state store.
 
-This is the top level that ``dptbd.hw.verilog`` converts to Verilog (module
+This is the top level that ``dptbd.hw.flow.verilog`` converts to Verilog (module
 ``dptbd_dp``) and that the cocotb harness drives. ``docs/gateware.md`` documents its ports.
 """
 

@@ -3,7 +3,7 @@
 :class:`DPSegmenter` is what the FPGA of paper 001 hands the DSP: instead of every pixel's
 (E, d) it emits, per segment, at most C records (row, col, E, d) and a trailer
 (``docs/gateware.md`` "Segmenter"). ``generate_segmenter_verilog`` converts it to the
-Verilog module ``dptbd_seg`` with a JSON manifest, like :mod:`dptbd.hw.verilog` does for
+Verilog module ``dptbd_seg`` with a JSON manifest, like :mod:`dptbd.hw.flow.verilog` does for
 ``dptbd_dp``; the cocotb harness (:mod:`dptbd.sim.tb_segmenter`) drives that module.
 """
 
@@ -24,7 +24,7 @@ from dptbd.hw.dp_core import lut_write_members
 from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.hw.layouts import field_offsets, pixel_layout
 from dptbd.hw.segmenter import Segmenter
-from dptbd.hw.verilog import port_list
+from dptbd.hw.flow.verilog import port_list
 
 __all__ = ["SEGMENTER_MODULE_NAME", "DPSegmenter", "segmenter_manifest",
            "generate_segmenter_verilog"]

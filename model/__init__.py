@@ -1,7 +1,13 @@
-"""Numpy models: the float reference and the bit-accurate golden model of the DP.
+"""The golden model: plain integer numpy of ``docs/arithmetic.md`` and its float reference.
 
-Still here until the next steps of issue 11 move them out: segmentation and first-level
-metrics beside the golden model, the evaluation jobs (compare, SNR loss, sweep, Table 1,
-statistics) and the other papers' detectors (``dptbd.model.detectors``). Scenes are in
-:mod:`dptbd.scenes`, the DSP stage in :mod:`dptbd.dsp`.
+* :mod:`~dptbd.model.operators` — one named helper per RTL operator;
+* :mod:`~dptbd.model.segments` — the K-frame segment schedule shared by every model;
+* :mod:`~dptbd.model.fixed` — the bit-accurate golden model, :mod:`~dptbd.model.fast` its
+  fused numba kernel (checked bit for bit against it);
+* :mod:`~dptbd.model.reference`, :mod:`~dptbd.model.fast_float` — the float reference of
+  001 eqs (8)-(11) and its kernel;
+* :mod:`~dptbd.model.segmentation` — histogram segmentation into candidate lists.
+
+Scenes are in :mod:`dptbd.scenes`, the DSP stage in :mod:`dptbd.dsp`, the evaluation jobs
+and the other papers' detectors in :mod:`dptbd.evaluation`.
 """

@@ -16,7 +16,7 @@ golden model. :func:`accumulate_trials` is the one call they make instead of
    :class:`dptbd.sim.scoreboard.Scoreboard` (the project's one state-word comparer). The
    expected words are the golden model's state after every frame; they are computed with
    the fused kernel :func:`dptbd.model.fast.run_fixed_fast` (bit-identical with the
-   reference :mod:`dptbd.model.fixed`, ``tests/test_fast.py``) run on the first ``j + 1``
+   reference :mod:`dptbd.model.fixed`, ``tests/model/test_fast.py``) run on the first ``j + 1``
    frames of every segment, ``j = 0 … K-1``, and packed with
    :func:`dptbd.sim.scoreboard.pack_states`. A mismatch raises :class:`RTLMismatchError`
    naming the configuration, the scene, the trial, the segment, the frame, the row, the

@@ -3,7 +3,7 @@
 Layout of a build root (default ``build/sim``)::
 
     build/sim/<name>/                one directory per parameter set (see config_name)
-        dptbd_dp.v  dptbd_dp.json    Verilog and manifest (dptbd.hw.verilog)
+        dptbd_dp.v  dptbd_dp.json    Verilog and manifest (dptbd.hw.flow.verilog)
         config.json                  the DPConfig, every field
         sim.vvp  cmds.f              Icarus build (cocotb_tools.runner, timescale 1ns/1ps)
         runs/<run>/                  one directory per simulation run
@@ -55,7 +55,7 @@ TEST_MODULE = "dptbd.sim.tb_dp"
 TIMESCALE = ("1ns", "1ps")
 
 #: What :func:`build` can compile: design name -> (Verilog module, cocotb test module,
-#: build-directory suffix). ``dp`` is the DP pipeline (``dptbd.hw.verilog``), ``segmenter``
+#: build-directory suffix). ``dp`` is the DP pipeline (``dptbd.hw.flow.verilog``), ``segmenter``
 #: the DP pipeline plus segmenter (``dptbd.hw.dp_segmenter_top``, tests in
 #: ``dptbd.sim.tb_segmenter``).
 DESIGNS = {
@@ -167,7 +167,7 @@ def build(cfg: DPConfig, root: str | os.PathLike = "build/sim", *, waves: bool =
     if design == "segmenter":
         from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog as generate
     else:
-        from dptbd.hw.verilog import generate_verilog as generate
+        from dptbd.hw.flow.verilog import generate_verilog as generate
 
     start = time.perf_counter()
     directory = pathlib.Path(root).resolve() / (config_name(cfg) + suffix

@@ -3,7 +3,7 @@
 Each scenario returns ``(T, H, W)`` ``uint16`` frames that satisfy ``docs/arithmetic.md``
 §1 for the configuration's B_in (quantised like an ADC, :func:`~dptbd.scenes.synthetic.quantise`).
 The ADC gain scales paper 001's noise (mean 30, variance 3) with B_in: ``16 * 2**(B_in - 12)``,
-paper 001's 12-bit gain of 16 (:data:`dptbd.model.table1.ADC_GAIN`) at B_in = 12.
+paper 001's 12-bit gain of 16 (:data:`dptbd.evaluation.table1.ADC_GAIN`) at B_in = 12.
 
 ========== ===========================================================================
 name       scene
@@ -25,7 +25,7 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.scenes import synthetic as scenes
-from dptbd.model.table1 import ADC_GAIN, INPUT_BITS
+from dptbd.evaluation.table1 import ADC_GAIN, INPUT_BITS
 
 __all__ = ["SCENARIOS", "adc_gain", "make_frames", "describe"]
 

@@ -5,7 +5,7 @@ input stream run through it in one call.
 it with the C++ harness ``sim/harness/dptbd_harness.cpp`` and compiles one executable.
 Builds are cached under a key that hashes everything that determines the executable: the
 configuration, the design, the LUT storage style, the gateware's source
-(:func:`dptbd.hw.source_hash.gateware_hash`), the harness, the flags and the Verilator and
+(:func:`dptbd.hw.flow.source_hash.gateware_hash`), the harness, the flags and the Verilator and
 compiler versions. A second build of the same key checks the cached executable against its
 stamp (key and SHA-256) and reuses it; a build directory whose stamp is missing, foreign or
 does not match is rebuilt, never reused. A build is made in a temporary directory and
@@ -67,7 +67,7 @@ DESIGNS = {
 
 #: Verilator flags. ``-O3 --x-assign fast --x-initial fast --noassert`` measured fastest
 #: here; ``--threads`` is far slower on this design and is not used. ``-Wno-WIDTH``: Yosys'
-#: ``write_verilog`` relies on implicit extension (``hw/verilog.py``, lint waivers).
+#: ``write_verilog`` relies on implicit extension (``hw/flow/verilog.py``, lint waivers).
 VERILATOR_FLAGS = ("--cc", "--exe", "-O3", "--x-assign", "fast", "--x-initial", "fast",
                    "--noassert", "-Wno-fatal", "-Wno-WIDTH", "--prefix", "Vdut")
 #: C++ optimisation of the harness, the verilated model (``OPT_FAST``) and Verilator's runtime
@@ -153,7 +153,7 @@ class VerilatorBuild:
 
 
 def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool) -> str:
-    from dptbd.hw.source_hash import gateware_hash
+    from dptbd.hw.flow.source_hash import gateware_hash
     from dptbd.sim.runner import config_to_json
 
     blob = json.dumps({
@@ -198,7 +198,7 @@ def _generate(cfg: DPConfig, design: str, lut_style: str) -> tuple[str, dict]:
         if lut_style != "auto":
             raise ValueError("the segmenter top takes the default lut_style 'auto' only")
         return generate_segmenter_verilog(cfg)
-    from dptbd.hw.verilog import generate_verilog
+    from dptbd.hw.flow.verilog import generate_verilog
     return generate_verilog(cfg, external_state_store=design == "core", lut_style=lut_style)
 
 

@@ -39,7 +39,7 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_pixel
-from dptbd.hw.verilog import MODULE_NAME, generate_verilog
+from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
 from dptbd.sim.scoreboard import expected_words, unpack_fields
 
 __all__ = ["INITS", "XStoreCheck", "testbench_verilog", "run_x_store_check"]

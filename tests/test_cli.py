@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from dptbd.cli import main
-from dptbd.model.table1 import DETECTORS, SETTINGS, table1_rows
+from dptbd.evaluation.table1 import DETECTORS, SETTINGS, table1_rows
 
 
 @pytest.fixture(scope="module")

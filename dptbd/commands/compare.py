@@ -1,6 +1,6 @@
 """``dptbd compare``: fixed point against float — Monte Carlo Pd/Pfa, SNR loss, bit-width sweep.
 
-Runs :func:`dptbd.model.compare.run_compare` on the built-in scene (or a TOML file's),
+Runs :func:`dptbd.evaluation.compare.run_compare` on the built-in scene (or a TOML file's),
 optionally synthesises every configuration for its iCE40 cost (``--synth``, cached), and
 writes CSV, JSON and PNG figures to ``--out``. ``docs/compare.md`` has a real result.
 """
@@ -22,9 +22,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--config", type=pathlib.Path, metavar="TOML",
                         help="run parameters, [[config]] list and [sweep] table (docs/compare.md); "
                              "default: the built-in comparison")
-    # The defaults quoted here are model.compare.DEFAULT_RUN's (written out rather than
+    # The defaults quoted here are evaluation.compare.DEFAULT_RUN's (written out rather than
     # imported, so that building the CLI does not import numba;
-    # tests/test_compare.py::test_cli_help_quotes_the_real_defaults keeps them equal).
+    # tests/evaluation/test_compare.py::test_cli_help_quotes_the_real_defaults keeps them equal).
     parser.add_argument("--trials", type=int, help="seeded scenes (default 240, or the file's)")
     parser.add_argument("--seed", type=int, help="base seed (default 2024, or the file's)")
     parser.add_argument("--snr", type=float, nargs="*", metavar="SNR",
@@ -87,7 +87,7 @@ def prepare(args: argparse.Namespace):
 
     Every error is raised here, before any scene is generated.
     """
-    from dptbd.model.compare import build_spec
+    from dptbd.evaluation.compare import build_spec
 
     spec = build_spec(_load_toml(args.config), trials=args.trials, seed=args.seed,
                       snr=args.snr, bootstrap=args.bootstrap)
@@ -95,13 +95,13 @@ def prepare(args: argparse.Namespace):
         raise ConfigError(f"--workers must be >= 1, got {args.workers}")
     _check_out(args.out, args.force)
     if getattr(args, "rtl", False):
-        from dptbd.model.compare import check_rtl
+        from dptbd.evaluation.compare import check_rtl
         from dptbd.sim.verilator import check_tools as check_verilator
         check_rtl(spec)
         check_verilator()
     if args.synth:
-        from dptbd.hw.synth import ICE40_DEVICES
-        from dptbd.model.sweep import check_tools
+        from dptbd.hw.flow.synth import ICE40_DEVICES
+        from dptbd.evaluation.sweep import check_tools
         if args.device not in ICE40_DEVICES:
             raise ConfigError(f"--device must be one of {ICE40_DEVICES}, got {args.device!r}")
         if len(set(args.synth_seeds)) != len(args.synth_seeds):
@@ -129,8 +129,8 @@ def synthesise_all(spec, args, workers: int) -> dict:
     from tqdm import tqdm
 
     from dptbd.config import EnergyWidthWarning
-    from dptbd.hw.synth import SynthToolError
-    from dptbd.model.sweep import HardwareCost, hardware_cost
+    from dptbd.hw.flow.synth import SynthToolError
+    from dptbd.evaluation.sweep import HardwareCost, hardware_cost
 
     out = {}
     by_cfg = {}
@@ -157,12 +157,12 @@ def synthesise_all(spec, args, workers: int) -> dict:
 
 
 def main(args: argparse.Namespace) -> int:
-    from dptbd.model.compare import default_workers, run_compare
-    from dptbd.model.compare_report import markdown_tables, summarise, write_outputs
+    from dptbd.evaluation.compare import default_workers, run_compare
+    from dptbd.evaluation.compare_report import markdown_tables, summarise, write_outputs
 
     try:
         spec = prepare(args)
-    except RuntimeError as exc:  # a missing synthesis tool (dptbd.hw.synth.ToolNotFoundError)
+    except RuntimeError as exc:  # a missing synthesis tool (dptbd.hw.flow.synth.ToolNotFoundError)
         print(f"dptbd compare: error: {exc}", file=sys.stderr)
         return 2
     workers = default_workers() if args.workers is None else args.workers

@@ -21,11 +21,11 @@ import shutil
 import tempfile
 import time
 
-from dptbd.model.detectors.compare import SCENES, CompareResult, SceneSpec, run_comparison
-from dptbd.model.detectors._checks import DetectorError
-from dptbd.model.detectors.interface import (
+from dptbd.evaluation.detectors.compare import SCENES, CompareResult, SceneSpec, run_comparison
+from dptbd.evaluation.detectors._checks import DetectorError
+from dptbd.evaluation.detectors.interface import (
     DETECTORS, DEFAULT_DETECTORS, detector_parameters, parse_detectors)
-from dptbd.model.stats import wilson_interval
+from dptbd.evaluation.stats import wilson_interval
 
 HELP = "compare papers 000/001/004's detectors and CA-CFAR at equal false-alarm rate (Pd vs SNR)"
 

@@ -6,7 +6,7 @@ at (54, 40) with V = (0.4, 0.6), 0.2 % false-alarm threshold):
 
 1. **FPGA stage** — the bit-accurate golden model of the direction-weighted DP (eqs (8)–(11),
    K = 6, segments back to back as the gateware runs them, a 12-bit ADC at 16 LSB per
-   grey level as in ``dptbd.model.table1``) and the constant-false-alarm-count histogram
+   grey level as in ``dptbd.evaluation.table1``) and the constant-false-alarm-count histogram
    threshold (33 candidate points per accumulated frame). ``--rtl`` also runs the
    generated Verilog of the whole FPGA stage (``dptbd_seg``: DP pipeline + segmenter) on
    every frame (``--rtl-frames N``: the first N only) and stops unless every output word is
@@ -60,7 +60,7 @@ _FILES = ("table.md", "table.csv", "tracks.csv", "candidates.csv", "summary.json
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     src = parser.add_argument_group("what to run")
     src.add_argument("--scenario", type=pathlib.Path, metavar="FILE.toml",
-                     help="scenario file (TOML; see dptbd/scenario.py); default: paper 001's "
+                     help="scenario file (TOML; see dptbd/evaluation/scenario.py); default: paper 001's "
                           "second experiment")
     src.add_argument("--input", type=pathlib.Path, metavar="PATH",
                      help="recorded data instead of a simulated scene: .npy or .npz (T, H, W) "
@@ -110,7 +110,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 # ---- the scenario from file and options ------------------------------------------------
 
 def _parse_target(text: str):
-    from dptbd.scenario import ScenarioError, TargetSpec, check_snr
+    from dptbd.evaluation.scenario import ScenarioError, TargetSpec, check_snr
 
     parts = text.split(",")
     try:
@@ -127,7 +127,7 @@ def _parse_target(text: str):
 
 def build_scenario(args: argparse.Namespace):
     """The effective scenario: file (or built-in) plus command-line options, checked."""
-    from dptbd.scenario import (DEFAULT_NAME, ScenarioError, check_snr, default_scenario,
+    from dptbd.evaluation.scenario import (DEFAULT_NAME, ScenarioError, check_snr, default_scenario,
                                 load_scenario)
 
     scenario = default_scenario() if args.scenario is None else load_scenario(args.scenario)
@@ -405,7 +405,7 @@ def _main(args: argparse.Namespace) -> int:
     from dptbd.scenes.synthetic import quantise
     from dptbd.scenes.recorded import load_sequence
     from dptbd.dsp.track_metrics import evaluate_tracks
-    from dptbd import report
+    from dptbd.evaluation import run_report as report
 
     start = time.perf_counter()
     scenario = build_scenario(args)

@@ -7,8 +7,8 @@ import pathlib
 import time
 
 from dptbd.config import ConfigError
-from dptbd.model.stats import wilson_interval
-from dptbd.model.table1 import DETECTORS, PAPER_TABLE1, Table1Row, run_table1
+from dptbd.evaluation.stats import wilson_interval
+from dptbd.evaluation.table1 import DETECTORS, PAPER_TABLE1, Table1Row, run_table1
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

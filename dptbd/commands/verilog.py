@@ -4,7 +4,7 @@ Parameters come from options named after the :class:`~dptbd.config.DPConfig` fie
 TOML file of those fields (``--config``; unknown keys are refused), or both (options win).
 The manifest JSON beside the Verilog lists the parameters, the weight LUT storage
 (``lut_style``), derived widths, weight codes, every port with direction and width, the
-latency and the payload bit fields (:func:`dptbd.hw.verilog.manifest`). ``--lut-style``
+latency and the payload bit fields (:func:`dptbd.hw.flow.verilog.manifest`). ``--lut-style``
 chooses the weight LUT's storage (``auto``, the default: logic for r = 1, block RAM for
 r = 2; ``bram``; ``logic``), a synthesis choice that does not change behaviour.
 """
@@ -117,7 +117,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from dptbd.hw.verilog import generate_verilog
+    from dptbd.hw.flow.verilog import generate_verilog
 
     out = args.output
     if out.suffix == ".json":

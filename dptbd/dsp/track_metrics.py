@@ -1,6 +1,6 @@
 """Track-level metrics of the DSP stage against ground truth (paper 001 §4, Table 1).
 
-001's Table 1 has, besides the first-level columns (:mod:`dptbd.model.metrics`), two
+001's Table 1 has, besides the first-level columns (:mod:`dptbd.evaluation.metrics`), two
 track columns: "结果输出所用帧数" (frames until the result is output) and "检测出轨迹长度"
 (length of the detected track). Definitions used here:
 

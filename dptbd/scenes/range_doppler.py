@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from dptbd.model.detectors._checks import DetectorError, check_int, check_real
+from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_real
 
 __all__ = [
     "PassiveRadar",
@@ -91,7 +91,7 @@ class PassiveRadar:
 
         By eq (4) ``f_d = (dR/dt) / lambda``, so a target in Doppler cell ``j`` changes its
         delay by ``f_j * lambda * T / c`` seconds per frame: the constant-velocity part of
-        the transition (:class:`dptbd.model.detectors.grid.Transition`).
+        the transition (:class:`dptbd.evaluation.detectors.grid.Transition`).
         """
         f = self.f0 + np.arange(self.doppler_cells) / self.frame_s
         return f * self.frame_s * self.sample_rate_hz / self.carrier_hz

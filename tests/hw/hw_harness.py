@@ -21,7 +21,7 @@ from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_pixel, unpack_state
-from dptbd.hw.verilog import VERILATOR_LINT_FLAGS
+from dptbd.hw.flow.verilog import VERILATOR_LINT_FLAGS
 from dptbd.model.fixed import dp_step, segment_start
 
 FIELDS = ("energy", "direction", "end_of_line", "end_of_frame", "end_of_segment")

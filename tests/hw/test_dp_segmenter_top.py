@@ -96,7 +96,7 @@ def test_verilog_and_manifest(tmp_path):
 ], ids=["8x6-n4", "13x9-n1", "128x128-default"])
 def test_segmenter_verilog_lints_clean(tmp_path, kw):
     """``dptbd_seg`` (what ``dptbd run --rtl`` simulates) under the same Verilator flags as
-    ``dptbd_dp`` (``dptbd.hw.verilog.VERILATOR_LINT_FLAGS``, waivers justified there)."""
+    ``dptbd_dp`` (``dptbd.hw.flow.verilog.VERILATOR_LINT_FLAGS``, waivers justified there)."""
     text, _ = generate_segmenter_verilog(make_config(**kw))
     path = tmp_path / "dptbd_seg.v"
     path.write_text(text)

@@ -1,4 +1,4 @@
-"""``dptbd.hw.synth``: report parsing, tool errors, and one small real Yosys run.
+"""``dptbd.hw.flow.synth``: report parsing, tool errors, and one small real Yosys run.
 
 The parsers are checked on excerpts captured from Yosys 0.23 and nextpnr-ice40 0.4 runs of
 the pipeline; nextpnr itself is replaced by small shell scripts that write such a log, so
@@ -16,7 +16,7 @@ import warnings
 import pytest
 
 from dptbd.config import DPConfig
-from dptbd.hw.synth import (
+from dptbd.hw.flow.synth import (
     CellCounts, PnrRun, SynthResult, SynthToolError, ToolNotFoundError, ToolTimeoutError,
     parse_nextpnr_log, parse_nextpnr_report, parse_yosys_stat_json, parse_yosys_stat_text,
     pick_clock, require_tool, run_nextpnr, synthesize,

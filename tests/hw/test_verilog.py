@@ -19,7 +19,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_pixel, unpack_state
-from dptbd.hw.verilog import MODULE_NAME, generate_verilog
+from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
 from hw_harness import (
     assert_states_equal,
     assert_verilator_lints_clean,

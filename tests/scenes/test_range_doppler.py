@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from dptbd.model.detectors import DetectorError
+from dptbd.evaluation.detectors import DetectorError
 from dptbd.scenes.range_doppler import (
     PassiveRadar, mean_power_from_snr_db, rd_scene, scenario2_track, straight_track,
     swerling1_amplitudes)

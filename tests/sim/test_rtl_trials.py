@@ -113,7 +113,7 @@ def test_small_sweep_gives_identical_tables_on_the_model_and_on_the_rtl(tmp_path
 
 
 def test_run_compare_counts_identical_per_trial():
-    from dptbd.model.compare import build_spec, run_compare
+    from dptbd.evaluation.compare import build_spec, run_compare
     import tomllib
 
     spec = build_spec(tomllib.loads(TOML))
@@ -211,7 +211,7 @@ def test_missing_output_words_are_an_error(monkeypatch):
 
 
 def test_unsupported_configurations_are_refused_up_front_by_name(monkeypatch):
-    from dptbd.model.compare import build_spec, run_compare
+    from dptbd.evaluation.compare import build_spec, run_compare
     import tomllib
 
     def no_build(*a, **k):  # nothing may be built or simulated before the refusal
@@ -253,7 +253,7 @@ def test_compare_command_refuses_rtl_before_any_work(tmp_path, monkeypatch, caps
 # ---- table1 --rtl -------------------------------------------------------------------------
 
 def test_table1_rows_identical_on_the_model_and_on_the_rtl():
-    from dptbd.model.table1 import SETTINGS, run_table1
+    from dptbd.evaluation.table1 import SETTINGS, run_table1
 
     kw = dict(segment_frames=6, segment_stride=6, seed=5, chunk=2, settings=SETTINGS[:1],
               size=24)
@@ -266,7 +266,7 @@ def test_table1_rows_identical_on_the_model_and_on_the_rtl():
 
 
 def test_table1_rtl_refuses_overlapping_segments():
-    from dptbd.model.table1 import run_table1
+    from dptbd.evaluation.table1 import run_table1
 
     with pytest.raises(ConfigError, match=(
             r"^RTL in the loop: configuration 'direction-weighted DP' cannot run on the "

@@ -3,7 +3,7 @@ and what each configuration costs in iCE40 logic.
 
 Verdict of a configuration against float (same LUT), at every Pd level of the run
 (:func:`verdict`), from the 95 % paired-bootstrap interval ``[lo, hi]`` of its SNR loss
-(:mod:`dptbd.model.snr_loss`):
+(:mod:`dptbd.evaluation.snr_loss`):
 
 * ``"within"``: ``hi <= tolerance`` at every level — shown to lose at most the tolerance
   (0.1 dB by default);
@@ -17,7 +17,7 @@ logic cells (SB_LUT4) when known, then B_in, then F. :func:`choose` returns the 
 sweep configuration shown within the tolerance, and the smallest not shown beyond it.
 
 Hardware cost (:func:`hardware_cost`) synthesises the gateware at a configuration's widths
-with :func:`dptbd.hw.synth.synthesize` (Yosys ``synth_ice40``, nextpnr-ice40 on an iCE40
+with :func:`dptbd.hw.flow.synth.synthesize` (Yosys ``synth_ice40``, nextpnr-ice40 on an iCE40
 HX8K, ``ct256``, one place-and-route per seed) and caches the result in a JSON file per
 configuration, keyed by a hash of everything that goes into the netlist and the flow
 (all DPConfig fields including the LUT, variant, device, package, seeds, target
@@ -37,8 +37,8 @@ from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 
-from dptbd.model.snr_loss import LossEstimate, bootstrap_losses
-from dptbd.hw.source_hash import gateware_hash  # noqa: F401  (re-exported: compare --synth keys)
+from dptbd.evaluation.snr_loss import LossEstimate, bootstrap_losses
+from dptbd.hw.flow.source_hash import gateware_hash  # noqa: F401  (re-exported: compare --synth keys)
 
 __all__ = ["config_losses", "verdict", "cost_key", "choose", "hardware_key", "hardware_cost",
            "gateware_hash", "default_cache_dir", "HardwareCost"]
@@ -47,7 +47,7 @@ __all__ = ["config_losses", "verdict", "cost_key", "choose", "hardware_key", "ha
 def config_losses(result) -> dict[str, list[LossEstimate]]:
     """The SNR loss of every configuration against the float model with its LUT.
 
-    ``result``: a :class:`dptbd.model.compare.CompareResult`. Configurations that compute
+    ``result``: a :class:`dptbd.evaluation.compare.CompareResult`. Configurations that compute
     identical bits share their detector, hence their numbers.
     """
     plan = result.plan
@@ -73,7 +73,7 @@ def verdict(losses: Sequence[LossEstimate], tolerance_db: float) -> str:
 
 
 def cost_key(fixed, hardware: Mapping[str, Any] | None = None) -> tuple:
-    """Sort key "smaller first" of a :class:`~dptbd.model.compare.FixedSpec`."""
+    """Sort key "smaller first" of a :class:`~dptbd.evaluation.compare.FixedSpec`."""
     cfg = fixed.cfg
     lut4 = hardware.get("lut4") if hardware else None
     return (cfg.energy_bits + cfg.direction_bits, lut4 if lut4 is not None else 0,
@@ -143,13 +143,13 @@ def hardware_key(cfg, *, variant: str, device: str, package: str, seeds: Sequenc
 
 
 def _tool_versions() -> dict[str, str]:
-    from dptbd.hw.synth import require_tool, tool_version
+    from dptbd.hw.flow.synth import require_tool, tool_version
     return {name: tool_version(require_tool(name)) for name in ("yosys", "nextpnr-ice40")}
 
 
 def check_tools() -> None:
     """Raise (naming the Debian package) if Yosys or nextpnr-ice40 is missing."""
-    from dptbd.hw.synth import require_tool
+    from dptbd.hw.flow.synth import require_tool
     require_tool("yosys")
     require_tool("nextpnr-ice40")
 
@@ -162,7 +162,7 @@ def hardware_cost(cfg, *, variant: str = "core", device: str = "hx8k", package: 
                   gateware: str | None = None) -> HardwareCost:
     """Synthesise the gateware for ``cfg`` (or read the cache) and summarise the cost.
 
-    ``synthesize``: the flow (default :func:`dptbd.hw.synth.synthesize`; a test passes a
+    ``synthesize``: the flow (default :func:`dptbd.hw.flow.synth.synthesize`; a test passes a
     stand-in), called as ``synthesize(cfg, variant=, seeds=, device=, package=,
     target_mhz=, jobs=)`` and returning a ``SynthResult``-like object. ``tools``: tool
     versions for the cache key (default: asked from the installed tools). ``gateware``: the
@@ -170,7 +170,7 @@ def hardware_cost(cfg, *, variant: str = "core", device: str = "hx8k", package: 
     ``""`` with a stand-in).
     """
     if synthesize is None:
-        from dptbd.hw.synth import synthesize as flow
+        from dptbd.hw.flow.synth import synthesize as flow
         synthesize = flow
         tools = _tool_versions() if tools is None else tools
         gateware = gateware_hash() if gateware is None else gateware

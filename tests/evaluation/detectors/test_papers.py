@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from dptbd.model.detectors import DetectorError
-from dptbd.model.detectors.paper000 import CASES, Case, crossing_snr, run_case, snr_gain
-from dptbd.model.detectors.paper004 import time_one_frame
+from dptbd.evaluation.detectors import DetectorError
+from dptbd.evaluation.detectors.paper000 import CASES, Case, crossing_snr, run_case, snr_gain
+from dptbd.evaluation.detectors.paper004 import time_one_frame
 
 GAIN = ("CA-CFAR 16/2", "DP eq (24)", "DP eqs (19)-(23)")
 

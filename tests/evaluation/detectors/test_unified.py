@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from dptbd.config import DPConfig, move_offsets, plain_weights
-from dptbd.model.detectors import DetectorError
-from dptbd.model.detectors.unified import (
+from dptbd.evaluation.detectors import DetectorError
+from dptbd.evaluation.detectors.unified import (
     amplitude_merit, backtrack, likelihood_difference_merit, no_penalty, path_value,
     quantise_unified, run_unified, run_unified_fixed, run_unified_segments, velocity_log_penalty)
 from dptbd.model.fixed import run_fixed

@@ -12,17 +12,17 @@ import numpy as np
 import pytest
 
 from dptbd.config import ConfigError, DPConfig, plain_weights
-from dptbd.model import compare as cmp
+from dptbd.evaluation import compare as cmp
 from dptbd.scenes import synthetic as scenes
-from dptbd.model.compare import build_spec, cosine_weights, make_plan, measure_frames, run_compare
+from dptbd.evaluation.compare import build_spec, cosine_weights, make_plan, measure_frames, run_compare
 from dptbd.model.fast_float import run_float_fast
-from dptbd.model.metrics import first_level_counts
+from dptbd.evaluation.metrics import first_level_counts
 from dptbd.model.reference import run_float
 from dptbd.model.segmentation import candidate_mask
-from dptbd.model.snr_loss import (
+from dptbd.evaluation.snr_loss import (
     LossEstimate, bootstrap_losses, clustered_wilson, crossing, isotonic, snr_db)
-from dptbd.model.stats import wilson_interval
-from dptbd.model import sweep
+from dptbd.evaluation.stats import wilson_interval
+from dptbd.evaluation import sweep
 
 #: A small run: 16 x 16, 12 frames (3 segments of K = 4), 5 candidates per frame.
 SMALL = {
@@ -175,7 +175,7 @@ def test_cost_key_and_choose_the_smallest_configuration_within_the_tolerance():
 
 
 def test_paired_difference():
-    from dptbd.model.compare_report import paired_difference
+    from dptbd.evaluation.compare_report import paired_difference
     # identical detectors: exactly zero, a zero-width interval
     assert paired_difference([3, 5, 2], [3, 5, 2], [10, 10, 10]) == (0.0, 0.0, 0.0)
     # by hand: delta = 2/30; residuals (a - b) - delta n = (4/3, -2/3, -2/3), sum of
@@ -202,7 +202,7 @@ def test_paired_difference():
 
 def test_identical_curves_groups_detectors_with_identical_counts():
     from types import SimpleNamespace
-    from dptbd.model.compare_report import identical_curves
+    from dptbd.evaluation.compare_report import identical_curves
     rng = np.random.default_rng(0)
     det = rng.integers(0, 5, (4, 5, 3))      # (trials, detectors, SNR)
     exc = rng.integers(0, 9, (4, 5, 2))
@@ -502,7 +502,7 @@ input_bits = [4, 6]
     command, args = _parse(["--config", _toml(tmp_path / "c.toml", toml), "--out", str(out),
                             "--workers", "1", "--no-progress"])
     assert command.main(args) == 0
-    from dptbd.model.compare_report import DATA_FILES, FIGURES
+    from dptbd.evaluation.compare_report import DATA_FILES, FIGURES
     for name in DATA_FILES + FIGURES:
         assert (out / name).stat().st_size > 0, name
     summary = json.loads((out / "compare_summary.json").read_text())
@@ -600,7 +600,7 @@ def test_hardware_cost_is_cached(tmp_path):
 # ---- reproducibility, the command line's exit status, synthesis at --synth-size ------------------
 
 def test_same_seed_same_summary_other_seed_other_counts():
-    from dptbd.model.compare_report import summarise
+    from dptbd.evaluation.compare_report import summarise
     spec = build_spec(SMALL)
     a = summarise(run_compare(spec, workers=1))
     b = summarise(run_compare(spec, workers=2))
@@ -662,7 +662,7 @@ def test_cli_help_quotes_the_real_defaults():
 
 def test_synthesis_runs_at_synth_size_and_records_failures(monkeypatch):
     from dptbd.commands import compare as command
-    from dptbd.hw.synth import SynthToolError
+    from dptbd.hw.flow.synth import SynthToolError
     spec = build_spec(dict(SMALL, config=SMALL["config"][:2]))
     seen = []
 
@@ -688,7 +688,7 @@ def test_the_toml_examples_in_docs_compare_md_are_valid():
     import pathlib
     import re
     import tomllib
-    text = (pathlib.Path(__file__).resolve().parents[1] / "docs" / "compare.md").read_text()
+    text = (pathlib.Path(__file__).resolve().parents[2] / "docs" / "compare.md").read_text()
     blocks = re.findall(r"```toml\n(.*?)```", text, re.S)
     assert len(blocks) >= 2
     specs = [build_spec(tomllib.loads(b)) for b in blocks]

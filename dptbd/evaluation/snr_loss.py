@@ -1,7 +1,7 @@
 """SNR loss of a detector against a reference, with its uncertainty (``dptbd compare``).
 
 A detector's first-level Pd is measured at a grid of SNRs on the same seeded scenes as the
-reference's (:mod:`dptbd.model.compare`). The **SNR needed for Pd = p** is read off the
+reference's (:mod:`dptbd.evaluation.compare`). The **SNR needed for Pd = p** is read off the
 curve, and the **loss** is the difference of the two in dB:
 
     loss(p) = SNR_dB,detector(p) - SNR_dB,reference(p),   SNR_dB = 20 lg(SNR)
@@ -29,7 +29,7 @@ Uncertainty (:func:`bootstrap_losses`)
     interval on that side.
 
 Confidence intervals of proportions (:func:`clustered_wilson`)
-    Wilson score intervals (:func:`dptbd.model.stats.wilson_interval`) on an *effective*
+    Wilson score intervals (:func:`dptbd.evaluation.stats.wilson_interval`) on an *effective*
     sample size ``n / deff``: ``deff`` is the design effect of clustering by trial (the
     pixels of one accumulated image are correlated, DP spreads energy over neighbours),
     estimated from the spread of the per-trial proportions, and never taken below 1.
@@ -43,7 +43,7 @@ import math
 import numpy as np
 from numba import njit
 
-from dptbd.model.stats import wilson_interval
+from dptbd.evaluation.stats import wilson_interval
 
 __all__ = ["snr_db", "isotonic", "crossing", "crossings", "clustered_wilson",
            "LossEstimate", "bootstrap_losses", "Z95"]

@@ -10,7 +10,7 @@ LUT's storage is the gateware's ``lut_style`` (``"auto"``: logic for r = 1, bloc
 r = 2; ``"bram"``; ``"logic"``), recorded in ``SynthResult.params["lut_style"]``. ::
 
     from dptbd.config import DPConfig
-    from dptbd.hw.synth import synthesize
+    from dptbd.hw.flow.synth import synthesize
     res = synthesize(DPConfig(), variant="core", seeds=(1, 2, 3))
     res_bram = synthesize(DPConfig(), variant="core", lut_style="bram")
     print(res.cells.lut4, res.cells.bram, res.fmax_median_mhz, res.fits)
@@ -566,7 +566,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (
     dptbd.config.ConfigError
         The gateware does not support ``cfg``.
     """
-    from dptbd.hw.verilog import MODULE_NAME, generate_verilog  # Amaranth import on demand
+    from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog  # Amaranth import on demand
     from dptbd.hw.weight_lut import resolve_lut_style
 
     style = resolve_lut_style(cfg, lut_style)   # ValueError before any tool runs

@@ -25,8 +25,8 @@ from typing import Iterable
 import numpy as np
 
 from dptbd.scenes import synthetic as scenes
-from dptbd.model.detectors import cfar, unified
-from dptbd.model.detectors._checks import DetectorError, check_int, check_prob, check_real
+from dptbd.evaluation.detectors import cfar, unified
+from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_prob, check_real
 
 __all__ = ["CASES", "Case", "CaseResult", "run_case", "peak_mask", "snr_gain", "GainResult",
            "crossing_snr"]

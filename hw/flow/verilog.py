@@ -9,7 +9,7 @@ testbench reads the manifest instead of hard-coding any of these.
 
 Command line::
 
-    python -m dptbd.hw.verilog --out build/dptbd_dp.v [--width 128 --height 128 …]
+    python -m dptbd.hw.flow.verilog --out build/dptbd_dp.v [--width 128 --height 128 …]
                                [--lut-style {auto,bram,logic}]
 
 writes ``build/dptbd_dp.v`` and ``build/dptbd_dp.json``.

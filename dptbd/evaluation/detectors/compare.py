@@ -9,7 +9,7 @@ Two scene families (``docs/detectors.md`` §3):
   zero-mean Gaussian noise, a constant target moving (+2, -2) cells per frame.
 
 For each detector the threshold is set on ``noise_trials`` noise-only scenes for
-``false_alarm_rate`` per decision (:func:`~dptbd.model.detectors.interface.calibrate`);
+``false_alarm_rate`` per decision (:func:`~dptbd.evaluation.detectors.interface.calibrate`);
 then ``trials`` scenes per SNR give Pd = detections / opportunities (scored frames from
 ``first_frame`` on, the same frames for every detector). Every detector sees the same
 seeded scenes. Work is split into (detector, SNR) tasks over ``jobs`` processes.
@@ -25,8 +25,8 @@ from typing import Any, Iterable
 
 import numpy as np
 
-from dptbd.model.detectors import interface
-from dptbd.model.detectors._checks import DetectorError, check_int, check_prob, check_real
+from dptbd.evaluation.detectors import interface
+from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_prob, check_real
 from dptbd.scenes import range_doppler as rd_scenes
 from dptbd.scenes import synthetic as image_scenes
 
@@ -156,7 +156,7 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
     Parameters
     ----------
     detectors : iterable of str
-        Names from :data:`~dptbd.model.detectors.interface.DETECTORS`.
+        Names from :data:`~dptbd.evaluation.detectors.interface.DETECTORS`.
     snrs_db : iterable of float
         SNRs in dB (rd: average per-cell SNR; image: paper 000 eq (8)).
     spec : SceneSpec

@@ -14,8 +14,8 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from dptbd.model.detectors import cfar, grid, unified
-from dptbd.model.detectors._checks import DetectorError, check_int, check_shape
+from dptbd.evaluation.detectors import cfar, grid, unified
+from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_shape
 from dptbd.scenes import range_doppler as rd_scenes
 
 __all__ = ["default_transition", "scenario1", "Scenario1Result", "time_one_frame", "TABLE2"]

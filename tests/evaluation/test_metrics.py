@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from dptbd.model.metrics import DetectionCounts, first_level_counts, near_mask
-from dptbd.model.stats import wilson_interval
+from dptbd.evaluation.metrics import DetectionCounts, first_level_counts, near_mask
+from dptbd.evaluation.stats import wilson_interval
 
 
 def test_detection_within_one_pixel_chebyshev():

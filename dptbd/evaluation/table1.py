@@ -21,7 +21,7 @@ import numpy as np
 
 from dptbd.config import DPConfig, plain_weights
 from dptbd.scenes import synthetic as scenes
-from dptbd.model.metrics import DetectionCounts, first_level_counts
+from dptbd.evaluation.metrics import DetectionCounts, first_level_counts
 from dptbd.model.segmentation import candidate_mask, count_for_rate
 
 __all__ = ["PAPER_TABLE1", "SETTINGS", "DETECTORS", "Table1Row", "Table1Run", "table1_config",

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from dptbd.model.detectors import DetectorError
-from dptbd.model.detectors.grid import (
+from dptbd.evaluation.detectors import DetectorError
+from dptbd.evaluation.detectors.grid import (
     GridBayes, InfoAccumulation, Transition, check_kernel, entropy_bits, estimate_alpha,
     gaussian_kernel, log_i0, rician_log_likelihood)
 
@@ -202,7 +202,7 @@ def test_bad_input_names_the_parameter(call, name):
 
 
 def test_scenario1_pfa_is_the_fraction_of_frames_below_the_threshold():
-    from dptbd.model.detectors.paper004 import scenario1
+    from dptbd.evaluation.detectors.paper004 import scenario1
     res = scenario1(2, 6, preset_snr_db=10.0, shape=(20, 30))
     h0 = math.log2(20 * 30)
     assert res.entropy.shape == (2, 6) and np.all(res.entropy < h0) and np.all(res.entropy >= 0)

@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from dptbd.model.detectors import DetectorError
-from dptbd.model.detectors.cfar import ca_cfar_detect, ca_cfar_factor, ca_cfar_ratio, reference_counts
-from dptbd.model.stats import wilson_interval
+from dptbd.evaluation.detectors import DetectorError
+from dptbd.evaluation.detectors.cfar import ca_cfar_detect, ca_cfar_factor, ca_cfar_ratio, reference_counts
+from dptbd.evaluation.stats import wilson_interval
 
 
 def cfar_loop(z, n_ref, n_guard):

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from dptbd import report
+from dptbd.evaluation import run_report as report
 from dptbd.cli import main
 
 SMALL = """\
@@ -448,7 +448,7 @@ def test_rtl_summary_says_which_frames_were_checked(tmp_path, small, capsys, mon
 
 
 def test_scenario_file_with_recorded_data_is_named_after_it(tmp_path):
-    from dptbd.scenario import parse_scenario
+    from dptbd.evaluation.scenario import parse_scenario
 
     sc = parse_scenario({"input": {"path": "clip.npz"}}, tmp_path)
     assert sc.name == "clip.npz" and sc.input_path == tmp_path / "clip.npz"

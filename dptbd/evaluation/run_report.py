@@ -14,8 +14,8 @@ from typing import Any, Iterable
 
 import numpy as np
 
-from dptbd.model.metrics import first_level_counts
-from dptbd.model.table1 import PAPER_TABLE1
+from dptbd.evaluation.metrics import first_level_counts
+from dptbd.evaluation.table1 import PAPER_TABLE1
 
 __all__ = ["TABLE_COLUMNS", "table_rows", "format_table", "paper_lines", "track_rows",
            "format_tracks", "write_csv", "write_json", "figure_raw_frame",

@@ -1,4 +1,4 @@
-"""Tables, files and figures of ``dptbd compare`` (:mod:`dptbd.model.compare`).
+"""Tables, files and figures of ``dptbd compare`` (:mod:`dptbd.evaluation.compare`).
 
 :func:`summarise` turns the per-trial counts into statistics (every Pd and Pfa with its
 95 % interval clustered by trial, agreement with float, SNR losses with their bootstrap
@@ -25,9 +25,9 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from dptbd.model import sweep
-from dptbd.model.snr_loss import clustered_wilson
-from dptbd.model.stats import wilson_interval
+from dptbd.evaluation import sweep
+from dptbd.evaluation.snr_loss import clustered_wilson
+from dptbd.evaluation.stats import wilson_interval
 
 __all__ = ["summarise", "write_outputs", "markdown_tables", "FIGURES", "DATA_FILES"]
 
@@ -98,9 +98,9 @@ def identical_curves(result, names: list[str]) -> dict[str, str | None]:
 
 
 def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
-    """Statistics of a :class:`~dptbd.model.compare.CompareResult` as plain data.
+    """Statistics of a :class:`~dptbd.evaluation.compare.CompareResult` as plain data.
 
-    ``hardware``: configuration name -> :class:`~dptbd.model.sweep.HardwareCost` (or a
+    ``hardware``: configuration name -> :class:`~dptbd.evaluation.sweep.HardwareCost` (or a
     dict of its fields), for the configurations that were synthesised.
     """
     plan = result.plan

@@ -10,12 +10,12 @@ import pytest
 
 from dptbd.commands import detect_compare
 from dptbd.config import DPConfig
-from dptbd.model.detectors import DetectorError
-from dptbd.model.detectors.compare import SceneSpec, run_comparison
-from dptbd.model.detectors.interface import (
+from dptbd.evaluation.detectors import DetectorError
+from dptbd.evaluation.detectors.compare import SceneSpec, run_comparison
+from dptbd.evaluation.detectors.interface import (
     DETECTORS, Decisions, SceneModel, calibrate, count_detections, count_false_alarms,
     make_detector, parse_detectors)
-from dptbd.model.detectors.paper000 import crossing_snr, peak_mask, run_case, CASES
+from dptbd.evaluation.detectors.paper000 import crossing_snr, peak_mask, run_case, CASES
 from dptbd.scenes.range_doppler import rd_scene, straight_track
 from dptbd.model.fixed import run_fixed
 

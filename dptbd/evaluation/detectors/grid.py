@@ -30,7 +30,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from dptbd.model.detectors._checks import (
+from dptbd.evaluation.detectors._checks import (
     DetectorError, check_frames, check_int, check_prob, check_real)
 
 __all__ = [

@@ -22,7 +22,7 @@ name                detector                                                   s
 ``ca-cfar``         CA-CFAR, 16 reference + 2 guard cells, single frame        max ratio
 ==================  =========================================================  ==========
 
-The DPs of 000 run in the datapath form (:mod:`dptbd.model.detectors.unified`) over
+The DPs of 000 run in the datapath form (:mod:`dptbd.evaluation.detectors.unified`) over
 sliding segments like 001's, so that every DP decides every frame from frame K-1 on.
 """
 
@@ -36,8 +36,8 @@ from typing import Any
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.model.detectors import cfar, grid, unified
-from dptbd.model.detectors._checks import (
+from dptbd.evaluation.detectors import cfar, grid, unified
+from dptbd.evaluation.detectors._checks import (
     DetectorError, check_bool, check_int, check_prob, check_real, check_shape)
 
 __all__ = [

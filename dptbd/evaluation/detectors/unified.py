@@ -49,7 +49,7 @@ import numba
 import numpy as np
 
 from dptbd.config import move_offsets
-from dptbd.model.detectors._checks import (
+from dptbd.evaluation.detectors._checks import (
     DetectorError, check_frames, check_int, check_real)
 
 __all__ = [

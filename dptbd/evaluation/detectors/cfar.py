@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from dptbd.model.detectors._checks import DetectorError, check_frames, check_int, check_prob
+from dptbd.evaluation.detectors._checks import DetectorError, check_frames, check_int, check_prob
 
 __all__ = ["ca_cfar_factor", "check_axis", "reference_counts", "ca_cfar_ratio", "ca_cfar_detect"]
 

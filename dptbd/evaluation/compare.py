@@ -3,9 +3,9 @@
 ``dptbd compare`` (``docs/compare.md``) asks what a fixed-point configuration (ADC width
 B_in, accumulator B_E, weight fraction F, rounding, weight LUT) costs in detection, against
 the float64 model with the same (real-valued) LUT. This module runs the Monte Carlo and
-reduces it to statistics; :mod:`dptbd.model.snr_loss` holds the loss arithmetic,
-:mod:`dptbd.model.sweep` the bit-width sweep and hardware cost, and
-:mod:`dptbd.model.compare_report` the tables and figures.
+reduces it to statistics; :mod:`dptbd.evaluation.snr_loss` holds the loss arithmetic,
+:mod:`dptbd.evaluation.sweep` the bit-width sweep and hardware cost, and
+:mod:`dptbd.evaluation.compare_report` the tables and figures.
 
 The scene (paper 001 §4, scaled down by default)
     Gaussian noise of mean ``mu`` and standard deviation ``sigma`` (001's Table 1: 30 and
@@ -34,7 +34,7 @@ Measured per detector, on the same scenes
       the same for every detector (:func:`candidate_indices`), so every detector — however
       coarse its E — runs at the same number of candidates;
       a candidate within one pixel of the target's true pixel in the segment's last frame
-      is a detection (:mod:`dptbd.model.metrics`), the others are false points;
+      is a detection (:mod:`dptbd.evaluation.metrics`), the others are false points;
     * the false-alarm probability per pixel against a threshold, on the noise-only scenes.
       Thresholds are in noise units of a K-frame path, ``z = (E - K mu) / (sqrt(K) sigma)``;
       a fixed configuration's E is mapped back through its ADC,
@@ -44,8 +44,8 @@ Measured per detector, on the same scenes
       candidate counts, and whether the two candidate lists are identical.
 
 All counts are kept per trial, so that every interval can be clustered by trial
-(:func:`dptbd.model.snr_loss.clustered_wilson`) and the SNR loss bootstrapped over trials
-(:func:`dptbd.model.snr_loss.bootstrap_losses`). Trials run in chunks on worker processes;
+(:func:`dptbd.evaluation.snr_loss.clustered_wilson`) and the SNR loss bootstrapped over trials
+(:func:`dptbd.evaluation.snr_loss.bootstrap_losses`). Trials run in chunks on worker processes;
 a trial's numbers depend only on the seed and its index, never on the chunking or the
 number of workers.
 """
@@ -67,7 +67,7 @@ from numba import njit
 
 from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning, move_offsets, paper_weights, plain_weights
 from dptbd.scenes import synthetic as scenes
-from dptbd.model.metrics import near_mask
+from dptbd.evaluation.metrics import near_mask
 from dptbd.model.segmentation import count_for_rate
 
 __all__ = [
@@ -881,7 +881,7 @@ def _chunk(plan: Plan, first: int, stop: int) -> dict:
     The noise is drawn once and the target added per SNR; the ADC codes of the noise are
     computed once per ADC and only the target's pixels re-quantised per SNR. This gives the
     same frames as ``table1_scenario(...).frames`` and ``quantise`` of them
-    (``tests/test_compare.py`` checks it against :func:`measure_frames`).
+    (``tests/evaluation/test_compare.py`` checks it against :func:`measure_frames`).
     """
     spec = plan.spec
     n = stop - first

@@ -1,0 +1,18 @@
+"""The other seed detectors and one comparison (``docs/detectors.md``).
+
+* :mod:`~dptbd.evaluation.detectors.unified` — paper 000's DP family, the unified recursion
+  (25)-(26) with a pluggable merit P and transition term Q (float, and the integer form on
+  paper 001's datapath);
+* :mod:`~dptbd.evaluation.detectors.grid` — paper 004's information-accumulation detector and
+  the grid Bayes filter with an existence state;
+* :mod:`~dptbd.evaluation.detectors.cfar` — CA-CFAR;
+* :mod:`~dptbd.scenes.range_doppler` — range-Doppler scenes (Swerling I, Rayleigh noise);
+* :mod:`~dptbd.evaluation.detectors.interface` and :mod:`~dptbd.evaluation.detectors.compare` — one
+  interface for all detectors and the Pd-vs-SNR comparison behind ``dptbd detectors``;
+* :mod:`~dptbd.evaluation.detectors.paper000`, :mod:`~dptbd.evaluation.detectors.paper004` — the
+  papers' simulations.
+"""
+
+from dptbd.evaluation.detectors._checks import DetectorError
+
+__all__ = ["DetectorError"]
