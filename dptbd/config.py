@@ -19,6 +19,7 @@ __all__ = [
     "ROUNDING_MODES",
     "DEFAULT_FALSE_ALARM_RATE",
     "move_offsets",
+    "non_saturating_energy_bits",
     "paper_weights",
     "plain_weights",
 ]
@@ -217,7 +218,29 @@ class DPConfig:
     @property
     def energy_bits_needed(self) -> int:
         """The smallest B_E that accumulates K full-scale pixels without saturating."""
-        return max(self.input_bits, (self.segment_frames * self.pixel_max).bit_length())
+        return non_saturating_energy_bits(self.input_bits, self.segment_frames)
+
+    @property
+    def state_bits(self) -> int:
+        """Width of one stored state (E, d): ``B_E + B_d`` bits per pixel."""
+        return self.energy_bits + self.direction_bits
+
+    @property
+    def lut_entries(self) -> int:
+        """Entries of the weight LUT, ``(M + 1) * M``."""
+        return (self.n_moves + 1) * self.n_moves
+
+    def lut_address(self, predecessor: int, move: int) -> int:
+        """Address of the weight LUT entry ``[predecessor direction p, move m]``: ``p * M + m``.
+
+        The one definition of the LUT's address map (``docs/arithmetic.md`` §4), used by the
+        gateware's write port, the testbenches and the register map.
+        """
+        if not 0 <= predecessor <= self.n_moves or not 0 <= move < self.n_moves:
+            raise ConfigError(
+                f"LUT entry must have predecessor in [0, {self.n_moves}] and move in "
+                f"[0, {self.n_moves - 1}], got ({predecessor}, {move})")
+        return predecessor * self.n_moves + move
 
     @property
     def moves(self) -> np.ndarray:
@@ -322,6 +345,35 @@ class DPConfig:
             changes["segment_stride"] = None
         return dataclasses.replace(self, **changes)
 
+    def with_weight_codes(self, codes: Any) -> "DPConfig":
+        """A copy whose quantised LUT (:attr:`weight_codes`) is ``codes``.
+
+        Models a LUT written at run time: each code ``c`` in [0, 2**F] becomes the weight
+        ``c / 2**F``, which quantises back to exactly ``c``.
+        """
+        arr = np.asarray(codes, dtype=np.int64)
+        unity = 1 << self.weight_frac_bits
+        shape = (self.n_moves + 1, self.n_moves)
+        if arr.shape != shape:
+            raise ConfigError(f"LUT codes must have shape {shape} for radius={self.radius}, "
+                              f"got {arr.shape}")
+        if arr.min() < 0 or arr.max() > unity:
+            raise ConfigError(f"LUT codes must be in [0, 2**F = {unity}], found "
+                              f"{arr[(arr < 0) | (arr > unity)][:3].tolist()}")
+        out = self.replace(weights=arr.astype(np.float64) / unity)
+        assert np.array_equal(out.weight_codes, arr)
+        return out
+
+    def to_mapping(self) -> dict[str, Any]:
+        """Every field as plain JSON/TOML values (the weights as nested lists of floats).
+
+        The inverse of :meth:`from_mapping`: ``DPConfig.from_mapping(cfg.to_mapping()) ==
+        cfg``. Defaults left as ``None`` stay ``None``.
+        """
+        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        out["weights"] = [list(row) for row in self.weights]
+        return out
+
     @classmethod
     def from_mapping(cls, values: Mapping[str, Any]) -> "DPConfig":
         """Build from a mapping (e.g. a TOML table); unknown keys are refused by name."""
@@ -330,6 +382,12 @@ class DPConfig:
         if unknown:
             raise ConfigError(f"unknown parameter(s) {unknown}; allowed: {sorted(known)}")
         return cls(**dict(values))
+
+
+def non_saturating_energy_bits(input_bits: int, segment_frames: int) -> int:
+    """The smallest B_E that accumulates K full-scale B_in-bit pixels without saturating:
+    ``max(B_in, bitlen(K * (2**B_in - 1)))``."""
+    return max(input_bits, (segment_frames * ((1 << input_bits) - 1)).bit_length())
 
 
 def _validate_weights(lut: Any, radius: int) -> tuple:

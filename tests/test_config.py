@@ -440,3 +440,55 @@ def test_segmentation_parameters_from_mapping():
     values = {"candidate_count": 10, "candidate_capacity": 12, "histogram_bits": 8,
               "histogram_shift": 2}
     assert DPConfig.from_mapping(values) == DPConfig(**values)
+
+
+# ---- derived quantities: one home ------------------------------------------------------------
+
+def test_state_bits_and_lut_entries():
+    cfg = DPConfig(width=16, height=12, segment_frames=3, energy_bits=12, radius=2)
+    assert cfg.state_bits == 12 + 5            # B_d = bitlen(25)
+    assert cfg.lut_entries == 26 * 25
+
+
+def test_lut_address_is_p_times_m_plus_m():
+    cfg = DPConfig(width=16, height=12)
+    assert [cfg.lut_address(p, m) for p, m in ((0, 0), (0, 8), (1, 0), (9, 8))] == [0, 8, 9, 89]
+
+
+@pytest.mark.parametrize("entry", [(10, 0), (0, 9), (-1, 0)])
+def test_lut_address_refuses_entries_outside_the_table(entry):
+    cfg = DPConfig(width=16, height=12)
+    with pytest.raises(ConfigError, match=rf"^LUT entry must have predecessor in \[0, 9\] and move "
+                                          rf"in \[0, 8\], got \({entry[0]}, {entry[1]}\)$"):
+        cfg.lut_address(*entry)
+
+
+def test_to_mapping_is_the_inverse_of_from_mapping():
+    import json
+    for cfg in (DPConfig(width=16, height=12),
+                DPConfig(width=9, height=7, segment_frames=5, segment_stride=2, radius=2,
+                         candidate_count=3, histogram_shift=1, rounding="half_up")):
+        values = json.loads(json.dumps(cfg.to_mapping()))   # plain JSON values
+        assert DPConfig.from_mapping(values) == cfg
+
+
+def test_with_weight_codes_round_trips_the_codes():
+    cfg = DPConfig(width=16, height=12, weight_frac_bits=3)
+    codes = np.arange(90).reshape(10, 9) % 9
+    assert np.array_equal(cfg.with_weight_codes(codes).weight_codes, codes)
+
+
+def test_with_weight_codes_refusals():
+    cfg = DPConfig(width=16, height=12, weight_frac_bits=3)
+    with pytest.raises(ConfigError, match=r"^LUT codes must have shape \(10, 9\) for radius=1, "
+                                          r"got \(9, 9\)$"):
+        cfg.with_weight_codes(np.zeros((9, 9)))
+    with pytest.raises(ConfigError, match=r"^LUT codes must be in \[0, 2\*\*F = 8\], found \[9, 9, 9\]$"):
+        cfg.with_weight_codes(np.full((10, 9), 9))
+
+
+def test_non_saturating_energy_bits():
+    from dptbd.config import non_saturating_energy_bits
+    assert non_saturating_energy_bits(12, 6) == 15          # 6 * 4095 = 24570 < 2**15
+    assert non_saturating_energy_bits(8, 1) == 8
+    assert DPConfig(width=16, height=12, segment_frames=6, input_bits=12).energy_bits_needed == 15
