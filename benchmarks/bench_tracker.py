@@ -10,7 +10,7 @@ are collected per target. Printed: one line per seed and the means over seeds â€
 until output (over the seeds in which the target was confirmed), how often each target
 was confirmed, detected track length after output and whole, confirmed tracks per target
 (1 = never split), false tracks per run, RMS position error. This script only reports; it
-asserts nothing (the figures are quoted in ``docs/association.md``).
+asserts nothing (the figures are quoted in ``docs/tracking.md``).
 """
 
 from __future__ import annotations

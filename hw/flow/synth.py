@@ -21,7 +21,7 @@ any other tool failure raise :class:`SynthToolError` (or a subclass) with the lo
 
 Tools (Debian packages): ``yosys`` (tested with 0.23) and ``nextpnr-ice40`` (0.4; the
 chip database comes with ``fpga-icestorm-chipdb``). ``seeds=()`` runs Yosys only.
-``docs/gateware.md`` ("Synthesis") lists measured figures; ``benchmarks/bench_synth.py``
+``docs/synthesis.md`` lists measured figures; ``benchmarks/bench_synth.py``
 produces them.
 """
 
