@@ -24,7 +24,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "default: the built-in comparison")
     # The defaults quoted here are evaluation.compare.DEFAULT_RUN's (written out rather than
     # imported, so that building the CLI does not import numba;
-    # tests/evaluation/test_compare.py::test_cli_help_quotes_the_real_defaults keeps them equal).
+    # tests/commands/test_compare.py::test_cli_help_quotes_the_real_defaults keeps them equal).
     parser.add_argument("--trials", type=int, help="seeded scenes (default 240, or the file's)")
     parser.add_argument("--seed", type=int, help="base seed (default 2024, or the file's)")
     parser.add_argument("--snr", type=float, nargs="*", metavar="SNR",
@@ -158,7 +158,7 @@ def synthesise_all(spec, args, workers: int) -> dict:
 
 def main(args: argparse.Namespace) -> int:
     from dptbd.evaluation.compare import default_workers, run_compare
-    from dptbd.evaluation.compare_report import markdown_tables, summarise, write_outputs
+    from dptbd.evaluation.compare.report import markdown_tables, summarise, write_outputs
 
     try:
         spec = prepare(args)
