@@ -3,16 +3,8 @@
 :func:`summarise` turns the per-trial counts into statistics (every Pd and Pfa with its
 95 % interval clustered by trial, agreement with float, SNR losses with their bootstrap
 intervals, verdicts, the sweep's choice); :func:`write_outputs` writes them as CSV and JSON
-and draws the figures (:mod:`dptbd.evaluation.compare.figures`):
-
-* ``compare_pd.png`` — left: Pd vs SNR of the float model and of every fixed
-  configuration (configurations computing identical bits share a curve), with 95 % bands;
-  right: Pd(fixed) − Pd(float) with its paired 95 % band;
-* ``compare_pfa.png`` — false-alarm probability per pixel vs threshold (noise-only
-  scenes);
-* ``compare_loss.png`` — SNR loss at each Pd level against the configurations ordered by
-  size, with the hardware cost (SB_LUT4 when synthesised, else the state word
-  B_E + B_d) on the right axis.
+and draws the figures (:mod:`dptbd.evaluation.compare.figures`);
+:func:`markdown_tables` gives the tables ``dptbd compare`` prints.
 """
 
 from __future__ import annotations
