@@ -76,7 +76,7 @@ def cost_key(fixed, hardware: Mapping[str, Any] | None = None) -> tuple:
     """Sort key "smaller first" of a :class:`~dptbd.evaluation.compare.FixedSpec`."""
     cfg = fixed.cfg
     lut4 = hardware.get("lut4") if hardware else None
-    return (cfg.energy_bits + cfg.direction_bits, lut4 if lut4 is not None else 0,
+    return (cfg.state_bits, lut4 if lut4 is not None else 0,
             cfg.input_bits, cfg.weight_frac_bits)
 
 
@@ -135,8 +135,7 @@ def default_cache_dir() -> pathlib.Path:
 def hardware_key(cfg, *, variant: str, device: str, package: str, seeds: Sequence[int],
                  target_mhz: float, tools: Mapping[str, str], gateware: str = "") -> str:
     """Hash of everything that determines a synthesis result (``gateware``: :func:`gateware_hash`)."""
-    params = {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)}
-    blob = json.dumps({"params": params, "variant": variant, "device": device,
+    blob = json.dumps({"params": cfg.to_mapping(), "variant": variant, "device": device,
                        "package": package, "seeds": list(seeds), "target_mhz": target_mhz,
                        "tools": dict(tools), "gateware": gateware}, sort_keys=True, default=str)
     return hashlib.sha256(blob.encode()).hexdigest()[:24]
@@ -207,7 +206,7 @@ def hardware_cost(cfg, *, variant: str = "core", device: str = "hx8k", package: 
 
 def state_store_bits(cfg) -> int:
     """Bits of the (E, d) state store for a whole frame: W * H * (B_E + B_d)."""
-    return cfg.width * cfg.height * (cfg.energy_bits + cfg.direction_bits)
+    return cfg.width * cfg.height * cfg.state_bits
 
 
 def finite_or_none(x: float) -> float | None:

@@ -83,3 +83,19 @@ def test_hardware_cost_is_cached(tmp_path):
     assert len(sweep.gateware_hash()) == 24
     assert (b.lut4, b.ff, b.bram, b.fmax_median_mhz, b.logic_cells) == (100, 50, 3, 101.0, 140)
     assert calls[0][1]["variant"] == "core" and calls[0][1]["device"] == "hx8k"
+
+
+def test_hardware_key_is_stable_and_covers_every_field():
+    # the cache key of a synthesis result: pinned, so that a refactoring of how the
+    # configuration is serialised (DPConfig.to_mapping) never invalidates the cache
+    cfg = DPConfig(width=16, height=16, candidate_count=3)
+    kw = dict(variant="core", device="hx8k", package="ct256", seeds=(1, 2, 3), target_mhz=100.0,
+              tools={"yosys": "x"}, gateware="g")
+    assert sweep.hardware_key(cfg, **kw) == "829dc66bbdcca1ef2d633d4f"
+    assert sweep.hardware_key(cfg.replace(histogram_bits=9), **kw) != "829dc66bbdcca1ef2d633d4f"
+    assert sweep.hardware_key(cfg, **dict(kw, gateware="h")) != "829dc66bbdcca1ef2d633d4f"
+
+
+def test_state_store_bits_is_the_frame_of_state_words():
+    cfg = DPConfig(width=16, height=8, energy_bits=12)
+    assert sweep.state_store_bits(cfg) == 16 * 8 * (12 + 4) == 16 * 8 * cfg.state_bits

@@ -146,7 +146,7 @@ def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
         row = dict(f.to_dict())
         row.update({
             "widths": f.widths, "sigma_lsb": f.adc_gain * spec.sigma,
-            "state_bits_per_pixel": f.cfg.energy_bits + f.cfg.direction_bits,
+            "state_bits_per_pixel": f.cfg.state_bits,
             "state_store_kbit": sweep.state_store_bits(f.cfg) / 1024.0,
             "agreement": float(c["agree_frac"][:, d, :].sum()) / images,
             "identical_images": same / images, "identical_lo": lo, "identical_hi": hi,

@@ -15,7 +15,9 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning, move_offsets, paper_weights, plain_weights
+from dptbd.config import (
+    ConfigError, DPConfig, EnergyWidthWarning, move_offsets, non_saturating_energy_bits, paper_weights,
+    plain_weights)
 from dptbd.scenes import synthetic as scenes
 from dptbd.model.segmentation import count_for_rate
 
@@ -356,13 +358,7 @@ def _sweep_entries(sweep: Mapping[str, Any], run: dict) -> list[dict]:
         if head is not None:
             head = _as_int("sweep.energy_headroom", head, -32, 32)
             bits = _as_int("sweep.input_bits", point["input_bits"], 1, 16)
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", EnergyWidthWarning)
-                needed = DPConfig(width=run["size"], height=run["size"], input_bits=bits,
-                                  energy_bits=32, segment_frames=run["segment_frames"],
-                                  segment_stride=run["segment_stride"],
-                                  radius=run["radius"]).energy_bits_needed
-            point["energy_bits"] = needed + head
+            point["energy_bits"] = non_saturating_energy_bits(bits, run["segment_frames"]) + head
         entries.append(point)
     return entries
 
