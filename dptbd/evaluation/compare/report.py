@@ -22,8 +22,14 @@ from dptbd.evaluation.snr_loss import clustered_wilson
 from dptbd.evaluation.stats import wilson_interval
 from dptbd.evaluation.compare.figures import draw_figures
 
-__all__ = ["summarise", "write_outputs", "markdown_tables", "DATA_FILES", "paired_difference",
-           "identical_curves"]
+__all__ = ["TOOL", "MARKER", "summarise", "write_outputs", "markdown_tables", "DATA_FILES",
+           "paired_difference", "identical_curves"]
+
+#: The ``tool`` field of ``compare_summary.json``: marks an output folder that ``--force`` may
+#: replace (:func:`dptbd.output_folder.staged_folder`).
+TOOL = "dptbd compare"
+#: The file of an output folder that carries :data:`TOOL`.
+MARKER = "compare_summary.json"
 
 DATA_FILES = ("compare_pd.csv", "compare_pfa.csv", "compare_configs.csv", "compare_summary.json")
 
@@ -94,7 +100,8 @@ def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
     """Statistics of a :class:`~dptbd.evaluation.compare.CompareResult` as plain data.
 
     ``hardware``: configuration name -> :class:`~dptbd.evaluation.sweep.HardwareCost` (or a
-    dict of its fields), for the configurations that were synthesised.
+    dict of its fields), for the configurations that were synthesised. The ``"tool"`` field
+    (:data:`TOOL`) marks the output folder as a ``dptbd compare`` run's.
     """
     plan = result.plan
     spec = plan.spec
@@ -178,7 +185,8 @@ def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
                 "trials_per_second": result.trials_per_second,
                 "engine": "rtl" if getattr(result, "rtl", None) else "model",
                 "rtl": getattr(result, "rtl", None)})
-    return {"run": run, "detectors": names, "curves": identical_curves(result, names), "pd": pd_rows, "pfa": pfa_rows,
+    return {"tool": TOOL, "run": run, "detectors": names,
+            "curves": identical_curves(result, names), "pd": pd_rows, "pfa": pfa_rows,
             "configs": config_rows, "choice": choice, "resolution": widths,
             "hardware": hardware}
 
