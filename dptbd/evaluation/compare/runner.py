@@ -18,7 +18,7 @@ from dptbd.config import EnergyWidthWarning
 from dptbd.scenes import synthetic as scenes
 from dptbd.evaluation.compare.plan import Plan, make_plan
 from dptbd.evaluation.compare.selection import _Candidates, _candidates, _same_points, image_keys
-from dptbd.evaluation.compare.spec import CompareSpec, _as_int
+from dptbd.evaluation.compare.spec import CompareSpec, _checked_int
 
 __all__ = ["measure_frames", "CompareResult", "run_compare", "default_workers", "check_rtl"]
 
@@ -227,7 +227,7 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
     float models stay as they are. The counts are the same (``docs/compare.md``, "RTL in
     the loop"). Configurations the gateware does not implement are refused first.
     """
-    workers = default_workers() if workers is None else _as_int("workers", workers, 1, 1024)
+    workers = default_workers() if workers is None else _checked_int("workers", workers, 1, 1024)
     if rtl:
         check_rtl(spec)
     plan = make_plan(spec)

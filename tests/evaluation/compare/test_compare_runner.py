@@ -8,7 +8,9 @@ import json
 import warnings
 
 import numpy as np
+import pytest
 
+from dptbd.config import ConfigError
 from dptbd.scenes import synthetic as scenes
 from dptbd.evaluation.compare import runner, selection
 from dptbd.evaluation.compare.plan import make_plan
@@ -20,32 +22,21 @@ from dptbd.model.reference import run_float
 from dptbd.model.segmentation import candidate_mask
 
 
-SMALL = {
-    "trials": 6, "seed": 7, "snr": [1.5, 2.5, 3.5], "size": 16, "frames": 12,
-    "velocity": [1.0, 0.0], "segment_frames": 4, "false_alarm_rate": 0.02, "chunk": 2,
-    "bootstrap": 50, "thresholds": [2.0, 3.0, 4.0],
-    "config": [{"name": "eight", "input_bits": 8},
-               {"name": "four", "input_bits": 4, "energy_bits": 5},
-               {"name": "cos", "input_bits": 8, "lut": "cosine", "weight_frac_bits": 2}],
-    "sweep": {},
-}
-
-
-def test_one_and_two_workers_give_identical_counts():
-    spec = build_spec(SMALL)
+def test_one_and_two_workers_give_identical_counts(small_compare):
+    spec = build_spec(small_compare)
     one = run_compare(spec, workers=1)
     two = run_compare(spec, workers=2)
     assert one.counts.keys() == two.counts.keys()
     for key in one.counts:
         assert np.array_equal(one.counts[key], two.counts[key]), key
     # ... and the chunking does not matter either
-    three = run_compare(build_spec(dict(SMALL, chunk=5)), workers=1)
+    three = run_compare(build_spec(dict(small_compare, chunk=5)), workers=1)
     for key in one.counts:
         assert np.array_equal(one.counts[key], three.counts[key]), key
 
 
-def test_chunk_equals_whole_scenes_quantised_and_first_level_counts():
-    spec = build_spec(SMALL)
+def test_chunk_equals_whole_scenes_quantised_and_first_level_counts(small_compare):
+    spec = build_spec(small_compare)
     plan = make_plan(spec)
     fast = runner._chunk(plan, 2, 5)
     frames = [scenes.table1_scenario(s, spec.velocity, frames=spec.frames, size=spec.size,
@@ -74,15 +65,15 @@ def test_chunk_equals_whole_scenes_quantised_and_first_level_counts():
         assert fast["false_points"][n, 0, 1] == ref.false_points
 
 
-def test_every_detector_runs_at_exactly_n_candidates_per_image():
+def test_every_detector_runs_at_exactly_n_candidates_per_image(small_compare):
     # 2- and 3-bit ADCs put sigma at 0.25 / 0.5 LSB: E takes a handful of values and many
     # pixels tie at the n-th largest. The old rule (E above the (n+1)-th largest,
     # segmentation.candidate_mask) leaves those configurations far fewer candidates than
     # float; the compare rule gives every detector exactly n per image, with and without
     # the target, so the noise-only false points per frame are n for everyone.
-    spec = build_spec(dict(SMALL, config=[{"name": "two", "input_bits": 2},
-                                          {"name": "three", "input_bits": 3},
-                                          {"name": "eight", "input_bits": 8}]))
+    spec = build_spec(dict(small_compare, config=[{"name": "two", "input_bits": 2},
+                                                  {"name": "three", "input_bits": 3},
+                                                  {"name": "eight", "input_bits": 8}]))
     res = run_compare(spec, workers=1)
     n = spec.candidate_count
     images = spec.trials * len(res.plan.ends)
@@ -132,12 +123,18 @@ def test_agreement_is_one_when_fixed_point_cannot_differ():
     assert out["candidates"].sum() > 0
 
 
-def test_same_seed_same_summary_other_seed_other_counts():
-    spec = build_spec(SMALL)
+def test_same_seed_same_summary_other_seed_other_counts(small_compare):
+    spec = build_spec(small_compare)
     a = summarise(run_compare(spec, workers=1))
     b = summarise(run_compare(spec, workers=2))
     for key in ("pd", "pfa", "configs", "choice", "resolution"):
         assert json.dumps(a[key], default=str) == json.dumps(b[key], default=str), key
-    other = run_compare(build_spec(dict(SMALL, seed=8)), workers=1)
+    other = run_compare(build_spec(dict(small_compare, seed=8)), workers=1)
     first = run_compare(spec, workers=1)
     assert not np.array_equal(first.counts["exceed"], other.counts["exceed"])
+
+
+def test_worker_count_out_of_range_is_refused():
+    with pytest.raises(ConfigError, match=r"^workers must be in \[1, 1024\], got 0$"):
+        run_compare(build_spec({"trials": 1, "sweep": {}, "config": [{"input_bits": 4}]}),
+                    workers=0)
