@@ -60,7 +60,9 @@ The package, one concept per module:
 * :mod:`~dptbd.evaluation.compare.runner` — the Monte Carlo (:func:`run_compare`) on a
   process pool;
 * :mod:`~dptbd.evaluation.compare.report` — statistics, CSV/JSON files, Markdown tables;
-* :mod:`~dptbd.evaluation.compare.figures` — the three figures.
+* :mod:`~dptbd.evaluation.compare.figures` — the three figures;
+* :mod:`~dptbd.evaluation.compare.job` — the whole ``dptbd compare`` job, validated, run and
+  written to its output folder (:func:`compare_job`).
 """
 
 from dptbd.evaluation.compare.spec import (
@@ -73,6 +75,7 @@ from dptbd.evaluation.compare.runner import (
 from dptbd.evaluation.compare.report import (
     DATA_FILES, markdown_tables, summarise, write_outputs)
 from dptbd.evaluation.compare.figures import FIGURES
+from dptbd.evaluation.compare.job import CompareOutcome, SynthOptions, compare_job
 
 __all__ = [
     "LUTS", "cosine_weights", "lut_weights", "adc_mapping", "FixedSpec", "CompareSpec",
@@ -80,4 +83,5 @@ __all__ = [
     "measure_frames", "CompareResult", "run_compare", "default_workers", "candidate_indices",
     "nth_largest", "image_keys", "check_rtl",
     "summarise", "write_outputs", "markdown_tables", "FIGURES", "DATA_FILES",
+    "compare_job", "SynthOptions", "CompareOutcome",
 ]

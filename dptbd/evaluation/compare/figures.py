@@ -1,4 +1,5 @@
-"""The figures of ``dptbd compare``, drawn from a summary (:func:`~dptbd.evaluation.compare.report.summarise`):
+"""The figures of ``dptbd compare``, drawn from its summary
+(:func:`~dptbd.evaluation.compare.report.summarise`):
 
 * ``compare_pd.png`` — left: Pd vs SNR of the float model and of every fixed
   configuration (configurations computing identical bits share a curve), with 95 % bands;
@@ -67,8 +68,8 @@ def _curves(ax, summary: dict, by: dict, keys: tuple[str, str, str, str], *, log
 
     xkey, ykey, lokey, hikey = keys
     floats = [n for n in summary["detectors"] if n.startswith("float ")]
-    rows = sorted(summary["configs"], key=lambda r: (r["input_bits"], r["energy_bits"],
-                                                     r["weight_frac_bits"], r["rounding"], r["lut"]))
+    rows = sorted(summary["configs"], key=lambda r: (
+        r["input_bits"], r["energy_bits"], r["weight_frac_bits"], r["rounding"], r["lut"]))
     for i, name in enumerate(floats if with_floats else []):
         pts = by[name]
         x = [p[xkey] for p in pts]
