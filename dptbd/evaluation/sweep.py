@@ -31,7 +31,6 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
-import math
 import pathlib
 from typing import Any, Callable, Mapping, Sequence
 
@@ -41,7 +40,7 @@ from dptbd.evaluation.snr_loss import LossEstimate, bootstrap_losses
 from dptbd.hw.flow.source_hash import gateware_hash  # noqa: F401  (re-exported: compare --synth keys)
 
 __all__ = ["config_losses", "verdict", "cost_key", "choose", "hardware_key", "hardware_cost",
-           "gateware_hash", "default_cache_dir", "HardwareCost"]
+           "gateware_hash", "default_cache_dir", "HardwareCost", "state_store_bits", "check_tools"]
 
 
 def config_losses(result) -> dict[str, list[LossEstimate]]:
@@ -207,7 +206,3 @@ def hardware_cost(cfg, *, variant: str = "core", device: str = "hx8k", package: 
 def state_store_bits(cfg) -> int:
     """Bits of the (E, d) state store for a whole frame: W * H * (B_E + B_d)."""
     return cfg.width * cfg.height * cfg.state_bits
-
-
-def finite_or_none(x: float) -> float | None:
-    return x if isinstance(x, (int, float)) and math.isfinite(x) else None
