@@ -31,7 +31,6 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
-import math
 import pathlib
 from typing import Any, Callable, Mapping, Sequence
 
@@ -41,7 +40,7 @@ from dptbd.evaluation.snr_loss import LossEstimate, bootstrap_losses
 from dptbd.hw.flow.source_hash import gateware_hash  # noqa: F401  (re-exported: compare --synth keys)
 
 __all__ = ["config_losses", "verdict", "cost_key", "choose", "hardware_key", "hardware_cost",
-           "gateware_hash", "default_cache_dir", "HardwareCost"]
+           "gateware_hash", "default_cache_dir", "HardwareCost", "state_store_bits", "check_tools"]
 
 
 def config_losses(result) -> dict[str, list[LossEstimate]]:
@@ -76,7 +75,7 @@ def cost_key(fixed, hardware: Mapping[str, Any] | None = None) -> tuple:
     """Sort key "smaller first" of a :class:`~dptbd.evaluation.compare.FixedSpec`."""
     cfg = fixed.cfg
     lut4 = hardware.get("lut4") if hardware else None
-    return (cfg.energy_bits + cfg.direction_bits, lut4 if lut4 is not None else 0,
+    return (cfg.state_bits, lut4 if lut4 is not None else 0,
             cfg.input_bits, cfg.weight_frac_bits)
 
 
@@ -135,8 +134,7 @@ def default_cache_dir() -> pathlib.Path:
 def hardware_key(cfg, *, variant: str, device: str, package: str, seeds: Sequence[int],
                  target_mhz: float, tools: Mapping[str, str], gateware: str = "") -> str:
     """Hash of everything that determines a synthesis result (``gateware``: :func:`gateware_hash`)."""
-    params = {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)}
-    blob = json.dumps({"params": params, "variant": variant, "device": device,
+    blob = json.dumps({"params": cfg.to_mapping(), "variant": variant, "device": device,
                        "package": package, "seeds": list(seeds), "target_mhz": target_mhz,
                        "tools": dict(tools), "gateware": gateware}, sort_keys=True, default=str)
     return hashlib.sha256(blob.encode()).hexdigest()[:24]
@@ -207,8 +205,4 @@ def hardware_cost(cfg, *, variant: str = "core", device: str = "hx8k", package: 
 
 def state_store_bits(cfg) -> int:
     """Bits of the (E, d) state store for a whole frame: W * H * (B_E + B_d)."""
-    return cfg.width * cfg.height * (cfg.energy_bits + cfg.direction_bits)
-
-
-def finite_or_none(x: float) -> float | None:
-    return x if isinstance(x, (int, float)) and math.isfinite(x) else None
+    return cfg.width * cfg.height * cfg.state_bits

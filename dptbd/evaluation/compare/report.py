@@ -1,18 +1,10 @@
-"""Tables, files and figures of ``dptbd compare`` (:mod:`dptbd.evaluation.compare`).
+"""Statistics, files and tables of ``dptbd compare`` (:mod:`dptbd.evaluation.compare`).
 
 :func:`summarise` turns the per-trial counts into statistics (every Pd and Pfa with its
 95 % interval clustered by trial, agreement with float, SNR losses with their bootstrap
 intervals, verdicts, the sweep's choice); :func:`write_outputs` writes them as CSV and JSON
-and draws the figures:
-
-* ``compare_pd.png`` — left: Pd vs SNR of the float model and of every fixed
-  configuration (configurations computing identical bits share a curve), with 95 % bands;
-  right: Pd(fixed) − Pd(float) with its paired 95 % band;
-* ``compare_pfa.png`` — false-alarm probability per pixel vs threshold (noise-only
-  scenes);
-* ``compare_loss.png`` — SNR loss at each Pd level against the configurations ordered by
-  size, with the hardware cost (SB_LUT4 when synthesised, else the state word
-  B_E + B_d) on the right axis.
+and draws the figures (:mod:`dptbd.evaluation.compare.figures`);
+:func:`markdown_tables` gives the tables ``dptbd compare`` prints.
 """
 
 from __future__ import annotations
@@ -28,10 +20,17 @@ import numpy as np
 from dptbd.evaluation import sweep
 from dptbd.evaluation.snr_loss import clustered_wilson
 from dptbd.evaluation.stats import wilson_interval
+from dptbd.evaluation.compare.figures import draw_figures
 
-__all__ = ["summarise", "write_outputs", "markdown_tables", "FIGURES", "DATA_FILES"]
+__all__ = ["TOOL", "MARKER", "summarise", "write_outputs", "markdown_tables", "DATA_FILES",
+           "paired_difference", "identical_curves"]
 
-FIGURES = ("compare_pd.png", "compare_pfa.png", "compare_loss.png")
+#: The ``tool`` field of ``compare_summary.json``: marks an output folder that ``--force`` may
+#: replace (:func:`dptbd.output_folder.staged_folder`).
+TOOL = "dptbd compare"
+#: The file of an output folder that carries :data:`TOOL`.
+MARKER = "compare_summary.json"
+
 DATA_FILES = ("compare_pd.csv", "compare_pfa.csv", "compare_configs.csv", "compare_summary.json")
 
 
@@ -101,7 +100,8 @@ def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
     """Statistics of a :class:`~dptbd.evaluation.compare.CompareResult` as plain data.
 
     ``hardware``: configuration name -> :class:`~dptbd.evaluation.sweep.HardwareCost` (or a
-    dict of its fields), for the configurations that were synthesised.
+    dict of its fields), for the configurations that were synthesised. The ``"tool"`` field
+    (:data:`TOOL`) marks the output folder as a ``dptbd compare`` run's.
     """
     plan = result.plan
     spec = plan.spec
@@ -153,7 +153,7 @@ def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
         row = dict(f.to_dict())
         row.update({
             "widths": f.widths, "sigma_lsb": f.adc_gain * spec.sigma,
-            "state_bits_per_pixel": f.cfg.energy_bits + f.cfg.direction_bits,
+            "state_bits_per_pixel": f.cfg.state_bits,
             "state_store_kbit": sweep.state_store_bits(f.cfg) / 1024.0,
             "agreement": float(c["agree_frac"][:, d, :].sum()) / images,
             "identical_images": same / images, "identical_lo": lo, "identical_hi": hi,
@@ -185,7 +185,8 @@ def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
                 "trials_per_second": result.trials_per_second,
                 "engine": "rtl" if getattr(result, "rtl", None) else "model",
                 "rtl": getattr(result, "rtl", None)})
-    return {"run": run, "detectors": names, "curves": identical_curves(result, names), "pd": pd_rows, "pfa": pfa_rows,
+    return {"tool": TOOL, "run": run, "detectors": names,
+            "curves": identical_curves(result, names), "pd": pd_rows, "pfa": pfa_rows,
             "configs": config_rows, "choice": choice, "resolution": widths,
             "hardware": hardware}
 
@@ -226,200 +227,6 @@ def write_outputs(summary: dict, out_dir: pathlib.Path, *, figures: bool = True)
     paths = [out_dir / n for n in DATA_FILES]
     if figures:
         paths += draw_figures(summary, out_dir)
-    return paths
-
-
-# ==== figures ==============================================================================
-
-def draw_figures(summary: dict, out_dir: pathlib.Path) -> list[pathlib.Path]:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    run = summary["run"]
-    floats = [n for n in summary["detectors"] if n.startswith("float ")]
-    pd_by = {}
-    for r in summary["pd"]:
-        pd_by.setdefault(r["detector"], []).append(r)
-    pfa_by = {}
-    for r in summary["pfa"]:
-        pfa_by.setdefault(r["detector"], []).append(r)
-    subtitle = (f"{run['size']}x{run['size']}, K={run['segment_frames']}, {run['trials']} trials x "
-                f"{run['segments_per_trial']} segments, {run['candidate_count']} candidates/frame, "
-                f"seed {run['seed']}")
-    paths = []
-
-    def curves(ax, by, xkey, ykey, lokey, hikey, rows, logy=False, floor=None, with_floats=True):
-        shown = set()
-        rows = sorted(rows, key=lambda r: (r["input_bits"], r["energy_bits"], r["weight_frac_bits"],
-                                           r["rounding"], r["lut"]))
-        dets = list(dict.fromkeys(r["detector"] for r in rows))
-        cmap = plt.get_cmap("tab10" if len(dets) <= 10 else "tab20")
-        for i, name in enumerate(floats if with_floats else []):
-            pts = by[name]
-            x = [p[xkey] for p in pts]
-            y = np.array([p[ykey] for p in pts], dtype=float)
-            lo = np.array([p[lokey] for p in pts], dtype=float)
-            if logy:
-                y = np.where(y > 0, y, np.nan)
-                lo = np.maximum(lo, floor)
-            ax.plot(x, y, color="k", lw=2.2, ls=["-", "--", ":"][i % 3], label=name, zorder=5)
-            ax.fill_between(x, lo, [p[hikey] for p in pts], color="k", alpha=0.15, lw=0, zorder=4)
-        dets = [d for d in dets if summary["curves"].get(d)]
-        cmap = plt.get_cmap("tab10" if len(dets) <= 10 else "tab20")
-        for row in rows:
-            det = row["detector"]
-            if det in shown or not summary["curves"].get(det):
-                continue
-            shown.add(det)
-            pts = by[det]
-            col = cmap(dets.index(det) % cmap.N)
-            x = [p[xkey] for p in pts]
-            y = np.array([p[ykey] for p in pts], dtype=float)
-            lo = np.array([p[lokey] for p in pts], dtype=float)
-            hi = np.array([p[hikey] for p in pts], dtype=float)
-            if logy:
-                y = np.where(y > 0, y, np.nan)
-                lo = np.maximum(lo, floor)
-            label = summary["curves"][det]
-            ax.plot(x, y, color=col, lw=1.3, marker="o", ms=3, label=label)
-            ax.fill_between(x, lo, hi, color=col, alpha=0.15, lw=0)
-        if logy:
-            ax.set_yscale("log")
-
-    fixed_rows = [r for r in summary["configs"]]
-
-    # --- Pd vs SNR, and the paired difference to float
-    fig, (ax, axd) = plt.subplots(1, 2, figsize=(13.0, 6.4))
-    curves(ax, pd_by, "snr_db", "pd", "pd_lo", "pd_hi", fixed_rows)
-    for level in run["pd_levels"]:
-        ax.axhline(level, color="grey", lw=0.6, ls=":")
-    ax.set_xlabel("SNR (dB, 20 lg of paper 001's SNR)")
-    ax.set_ylabel("first-level Pd (95 % CI band, clustered Wilson)")
-    ax.set_ylim(0, 1)
-    ax.grid(alpha=0.3)
-    top = ax.secondary_xaxis("top", functions=(lambda d: 10 ** (d / 20),
-                                               lambda v: 20 * np.log10(np.maximum(v, 1e-9))))
-    top.set_xlabel("SNR (linear)", fontsize=8)
-    curves(axd, pd_by, "snr_db", "delta_pd", "delta_pd_lo", "delta_pd_hi", fixed_rows,
-           with_floats=False)
-    axd.axhline(0, color="k", lw=1.5)
-    axd.set_xlabel("SNR (dB)")
-    axd.set_ylabel("Pd(fixed) − Pd(float), same scenes (paired 95 % CI band)")
-    axd.grid(alpha=0.3)
-    lo_all = [r["delta_pd"] for r in summary["pd"] if r["delta_pd"] is not None]
-    axd.set_ylim(max(-0.3, min(lo_all) - 0.02) if lo_all else -0.3, 0.05)
-    fig.suptitle("Pd vs SNR, fixed point against float on the same scenes\n" + subtitle, fontsize=10)
-    handles, labels = ax.get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=7, frameon=False)
-    fig.tight_layout(rect=(0, 0.04 + 0.025 * math.ceil(len(labels) / 3), 1, 1))
-    p = out_dir / "compare_pd.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    paths.append(p)
-
-    # --- Pfa vs threshold
-    fig, ax = plt.subplots(figsize=(8.0, 5.4))
-    floor = 0.3 / (run["trials"] * run["segments_per_trial"] * run["size"] ** 2)
-    curves(ax, pfa_by, "threshold_z", "pfa", "pfa_lo", "pfa_hi", fixed_rows, logy=True, floor=floor)
-    ax.set_ylim(floor, 1.5)
-    ax.set_xlabel("threshold z = (E − K·mu) / (sqrt(K)·sigma); fixed: E mapped back through its ADC")
-    ax.set_ylabel("false-alarm probability per pixel (95 % CI band)")
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7, loc="lower left")
-    ax.set_title("Pfa vs threshold on noise-only scenes\n" + subtitle, fontsize=9)
-    fig.tight_layout()
-    p = out_dir / "compare_pfa.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    paths.append(p)
-
-    # --- loss vs bits, hardware on the right axis
-    rows = [r for r in summary["configs"] if r["in_sweep"]] or list(summary["configs"])
-    rows = sorted(rows, key=lambda r: (r["state_bits_per_pixel"], r["hw_lut4"] or 0,
-                                       r["input_bits"], r["weight_frac_bits"]))
-    vary_round = len({r["rounding"] for r in rows}) > 1
-    vary_lut = len({r["lut"] for r in rows}) > 1
-    labels = []
-    for r in rows:
-        lab = r["widths"]
-        if vary_round:
-            lab += " " + r["rounding"][:5]
-        if vary_lut:
-            lab += " " + r["lut"]
-        labels.append(lab)
-    x = np.arange(len(rows))
-    fig, ax = plt.subplots(figsize=(max(7.0, 0.55 * len(rows) + 3), 5.2))
-    tol = run["tolerance_db"]
-    big = 10.0
-    markers = ["o", "s", "^", "D"]
-    for i, level in enumerate(run["pd_levels"]):
-        tag = f"pd{int(round(level * 100)):02d}"
-        dx = (i - (len(run["pd_levels"]) - 1) / 2) * 0.18
-        ys, lo_err, hi_err, inf_x = [], [], [], []
-        for k, r in enumerate(rows):
-            v, lo, hi = r[f"loss_{tag}_db"], r[f"loss_{tag}_lo"], r[f"loss_{tag}_hi"]
-            if not math.isfinite(v):
-                ys.append(np.nan)
-                lo_err.append(0)
-                hi_err.append(0)
-                inf_x.append(k)
-                continue
-            ys.append(v)
-            lo_err.append(v - lo if math.isfinite(lo) else v + big)
-            hi_err.append(hi - v if math.isfinite(hi) else big - v)
-        ax.errorbar(x + dx, ys, yerr=[lo_err, hi_err], fmt=markers[i % 4], ms=5, capsize=3,
-                    color=f"C{i}", label=f"loss at Pd = {level:g} (95 % bootstrap CI)")
-        if inf_x:
-            ax.scatter(np.array(inf_x) + dx, np.full(len(inf_x), big), marker="^", s=40,
-                       facecolors="none", edgecolors=f"C{i}",
-                       label=f"Pd = {level:g} not reached in the SNR grid (∞)")
-    ax.axhline(tol, color="r", lw=1, ls="--", label=f"tolerance {tol:g} dB")
-    ax.axhline(0, color="k", lw=0.6)
-    ax.set_yscale("symlog", linthresh=0.2)
-    ax.set_ylim(-0.5, big * 1.6)
-    ax.set_xticks(x)
-    ax.set_xticklabels(labels, rotation=60, ha="right", fontsize=8)
-    ax.set_xlabel("configuration B_in/B_E/F, ordered by state bits per pixel (then SB_LUT4 when synthesised)")
-    ax.set_ylabel("SNR loss vs float (dB, symlog)")
-    choice = summary["choice"].get("within")
-    if choice is not None:
-        for k, r in enumerate(rows):
-            if r["name"] == choice:
-                ax.axvspan(k - 0.45, k + 0.45, color="g", alpha=0.12, lw=0,
-                           label="smallest shown within tolerance")
-    ax2 = ax.twinx()
-    lut = [r["hw_lut4"] for r in rows]
-    if any(v is not None for v in lut):
-        ax2.bar(x, [v or 0 for v in lut], width=0.6, color="grey", alpha=0.25, zorder=0)
-        fmax = [r["hw_fmax_median_mhz"] for r in rows]
-        bram = [r["hw_bram"] for r in rows]
-        for k, (v, f, b) in enumerate(zip(lut, fmax, bram)):
-            if v is not None and f is not None:
-                ax2.text(k, v, f"{f:.0f}\nMHz\n{b} BR", ha="center", va="bottom", fontsize=6,
-                         color="dimgrey")
-        ax2.set_ylabel("SB_LUT4 (grey bars)\nabove: median Fmax, block RAMs (BR)")
-        ax2.set_ylim(0, max(v or 0 for v in lut) * 1.5)
-    else:
-        ax2.plot(x, [r["state_bits_per_pixel"] for r in rows], color="grey", marker="_", ms=14,
-                 ls="none", alpha=0.7)
-        ax2.set_ylabel("state word B_E + B_d (bits per pixel, grey)")
-        ax2.set_ylim(0, max(r["state_bits_per_pixel"] for r in rows) * 1.3)
-    ax.set_zorder(ax2.get_zorder() + 1)
-    ax.patch.set_visible(False)
-    ax.legend(fontsize=7, loc="lower left")
-    ax.grid(alpha=0.3, axis="y")
-    hw = run.get("synth") or {}
-    where = (f"\nhardware: {hw.get('variant', '?')} at {hw.get('size', '?')}x{hw.get('size', '?')}, "
-             f"iCE40 {hw.get('device', '?').upper()} {hw.get('package', '')}, Yosys synth_ice40 + "
-             f"nextpnr-ice40, seeds {hw.get('seeds', '?')}" if hw and any(v is not None for v in lut)
-             else "")
-    ax.set_title("SNR loss of each configuration and what it costs\n" + subtitle + where, fontsize=9)
-    fig.tight_layout()
-    p = out_dir / "compare_loss.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    paths.append(p)
     return paths
 
 

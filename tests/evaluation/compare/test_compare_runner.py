@@ -1,0 +1,140 @@
+"""The Monte Carlo (:mod:`dptbd.evaluation.compare.runner`): counts independent of the worker
+count and the chunking, a chunk equal to whole scenes quantised, exactly n candidates for
+every detector, agreement where fixed point cannot differ, reproducible summaries."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from dptbd.config import ConfigError
+from dptbd.scenes import synthetic as scenes
+from dptbd.evaluation.compare import runner, selection
+from dptbd.evaluation.compare.plan import make_plan
+from dptbd.evaluation.compare.report import summarise
+from dptbd.evaluation.compare.runner import measure_frames, run_compare
+from dptbd.evaluation.compare.spec import build_spec
+from dptbd.evaluation.metrics import first_level_counts
+from dptbd.model.reference import run_float
+from dptbd.model.segmentation import candidate_mask
+
+
+def test_one_and_two_workers_give_identical_counts(small_compare):
+    spec = build_spec(small_compare)
+    one = run_compare(spec, workers=1)
+    two = run_compare(spec, workers=2)
+    assert one.counts.keys() == two.counts.keys()
+    for key in one.counts:
+        assert np.array_equal(one.counts[key], two.counts[key]), key
+    # ... and the chunking does not matter either
+    three = run_compare(build_spec(dict(small_compare, chunk=5)), workers=1)
+    for key in one.counts:
+        assert np.array_equal(one.counts[key], three.counts[key]), key
+
+
+def test_chunk_equals_whole_scenes_quantised_and_first_level_counts(small_compare):
+    spec = build_spec(small_compare)
+    plan = make_plan(spec)
+    fast = runner._chunk(plan, 2, 5)
+    frames = [scenes.table1_scenario(s, spec.velocity, frames=spec.frames, size=spec.size,
+                                     seed=spec.seed, trials=3, first_trial=2,
+                                     dtype=np.float32).frames for s in spec.snr]
+    noise = scenes.make_noise((spec.size, spec.size), spec.frames, mu=spec.mu, sigma=spec.sigma,
+                              seed=spec.seed, trials=3, first_trial=2, dtype=np.float32)
+    slow = measure_frames(plan, frames, noise, first_trial=2)
+    for key in fast:
+        assert np.array_equal(fast[key], slow[key]), key
+    # the float detector's counts are metrics.first_level_counts of the compare rule's masks
+    # (candidate_indices: exactly n per image, the tie-break keyed by trial and segment)
+    truth = scenes.table1_scenario(1.0, spec.velocity, frames=spec.frames, size=spec.size,
+                                   noise=False).truth[0]
+    energy = run_float(frames[1], spec.base_cfg).energy
+    n_seg = len(plan.ends)
+    keys = selection.image_keys(spec.seed, 2, 3, n_seg).reshape(3, n_seg)
+    for n, images in enumerate(energy):
+        masks = np.zeros(images.shape, bool)
+        for s, image in enumerate(images):
+            masks[s].flat[selection.candidate_indices(image, spec.candidate_count, int(keys[n, s]))] = True
+        assert np.all(masks.sum(axis=(1, 2)) == spec.candidate_count)
+        ref = first_level_counts(masks, truth.pixel[plan.ends][:, None],
+                                 truth.visible[plan.ends][:, None])
+        assert fast["detections"][n, 0, 1] == ref.detections
+        assert fast["false_points"][n, 0, 1] == ref.false_points
+
+
+def test_every_detector_runs_at_exactly_n_candidates_per_image(small_compare):
+    # 2- and 3-bit ADCs put sigma at 0.25 / 0.5 LSB: E takes a handful of values and many
+    # pixels tie at the n-th largest. The old rule (E above the (n+1)-th largest,
+    # segmentation.candidate_mask) leaves those configurations far fewer candidates than
+    # float; the compare rule gives every detector exactly n per image, with and without
+    # the target, so the noise-only false points per frame are n for everyone.
+    spec = build_spec(dict(small_compare, config=[{"name": "two", "input_bits": 2},
+                                                  {"name": "three", "input_bits": 3},
+                                                  {"name": "eight", "input_bits": 8}]))
+    res = run_compare(spec, workers=1)
+    n = spec.candidate_count
+    images = spec.trials * len(res.plan.ends)
+    assert n == 5 and res.plan.n_detectors == 4
+    assert np.all(res.counts["candidates"] == n * len(res.plan.ends))   # every trial, SNR, detector
+    noise_fp = res.counts["false_points"][:, :, -1].sum(axis=0) / images
+    assert np.all(noise_fp == n)
+    # the old rule on the same noise-only scenes: the coarse detector keeps fewer than n
+    from dptbd.model.fast import run_fixed_fast
+    plan = res.plan
+    noise = scenes.make_noise((spec.size, spec.size), spec.frames, mu=spec.mu, sigma=spec.sigma,
+                              seed=spec.seed, trials=spec.trials, dtype=np.float32)
+    bits, gain, offset = plan.adcs[plan.fixed_adc[0]]
+    assert bits == 2
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        energy = run_fixed_fast(scenes.quantise(noise, bits, gain=gain, offset=offset),
+                                plan.fixed[0], threads=1).energy
+    old = candidate_mask(energy, n).sum(axis=(-1, -2))
+    assert old.mean() < 0.8 * n
+
+
+def test_agreement_is_one_when_fixed_point_cannot_differ():
+    # integer-valued scenes, an identity ADC (gain 1, offset 0, 8 bits hold every value),
+    # a LUT exact in F bits and a B_E that cannot saturate: the fixed model computes the
+    # float model's numbers exactly, so the candidate lists are identical
+    spec = build_spec({
+        "trials": 3, "size": 16, "frames": 12, "segment_frames": 4, "false_alarm_rate": 0.02,
+        "snr": [2.0, 3.0], "mu": 100.0, "sigma": 3.0, "velocity": [1.0, 1.0], "sweep": {},
+        "config": [{"name": "exact", "input_bits": 8, "energy_bits": 16, "adc_gain": 1.0,
+                    "adc_offset": 0.0},
+                   {"name": "exact plain", "input_bits": 8, "energy_bits": 12, "lut": "plain",
+                    "adc_gain": 1.0, "adc_offset": 0.0, "weight_frac_bits": 0}]})
+    plan = make_plan(spec)
+    noise = np.rint(scenes.make_noise((16, 16), 12, mu=100.0, sigma=3.0, seed=5, trials=3))
+    frames = [noise + np.rint(4.0 * s) * np.asarray(scenes.table1_scenario(
+        1.0, (1.0, 1.0), frames=12, size=16, mu=0.0, sigma=1.0, noise=False).frames > 0)
+        for s in spec.snr]
+    out = measure_frames(plan, [f.astype(np.float32) for f in frames], noise.astype(np.float32))
+    n_seg = len(plan.ends)
+    for d in plan.config_detector:
+        assert np.all(out["agree_same"][:, d] == n_seg)
+        assert np.all(out["agree_frac"][:, d] == n_seg)
+        ref = plan.fixed_float[d - len(plan.floats)]
+        assert np.array_equal(out["detections"][:, d], out["detections"][:, ref])
+        assert np.array_equal(out["exceed"][:, d], out["exceed"][:, ref])
+    assert out["candidates"].sum() > 0
+
+
+def test_same_seed_same_summary_other_seed_other_counts(small_compare):
+    spec = build_spec(small_compare)
+    a = summarise(run_compare(spec, workers=1))
+    b = summarise(run_compare(spec, workers=2))
+    for key in ("pd", "pfa", "configs", "choice", "resolution"):
+        assert json.dumps(a[key], default=str) == json.dumps(b[key], default=str), key
+    other = run_compare(build_spec(dict(small_compare, seed=8)), workers=1)
+    first = run_compare(spec, workers=1)
+    assert not np.array_equal(first.counts["exceed"], other.counts["exceed"])
+
+
+def test_worker_count_out_of_range_is_refused():
+    with pytest.raises(ConfigError, match=r"^workers must be in \[1, 1024\], got 0$"):
+        run_compare(build_spec({"trials": 1, "sweep": {}, "config": [{"input_bits": 4}]}),
+                    workers=0)
