@@ -3,7 +3,7 @@
 :func:`dptbd.model.reference.run_float` is the readable float64 reference (one numpy pass
 per move, ~6 ms per 128 x 128 frame update). :func:`run_float_fast` computes the same
 float64 numbers with one numba loop per pixel, about 10 x faster, for the Monte Carlo of
-``dptbd compare`` (:mod:`dptbd.evaluation.compare`). ``tests/evaluation/test_compare.py`` checks it
+``dptbd compare`` (:mod:`dptbd.evaluation.compare`). ``tests/model/test_fast_float.py`` checks it
 against ``run_float`` bit for bit.
 
 Same operations in the same order as the reference, so the results are identical, not

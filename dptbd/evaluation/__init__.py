@@ -4,7 +4,7 @@ into figures.
 * :mod:`~dptbd.evaluation.scenario` and :mod:`~dptbd.evaluation.run_report` — the main job
   ``dptbd run``: its scenario file and its report;
 * :mod:`~dptbd.evaluation.table1` — paper 001's Table 1 (Monte Carlo, first-level Pd);
-* :mod:`~dptbd.evaluation.compare`, :mod:`~dptbd.evaluation.compare_report`,
+* :mod:`~dptbd.evaluation.compare` (spec, plan, selection, runner, report, figures, job),
   :mod:`~dptbd.evaluation.snr_loss`, :mod:`~dptbd.evaluation.sweep` — fixed point vs float;
 * :mod:`~dptbd.evaluation.detectors` — papers 000 and 004's detectors, CA-CFAR and their
   comparison;
