@@ -57,11 +57,20 @@ __all__ = [
     "paper000_scenario",
     "TABLE1_MU",
     "TABLE1_SIGMA",
+    "INPUT_BITS",
+    "ADC_GAIN",
 ]
 
 #: Paper 001 Table 1 noise: mean 30, "variance 3.0".
 TABLE1_MU = 30.0
 TABLE1_SIGMA = math.sqrt(3.0)
+
+#: Paper 001's sensor: a 12-bit ADC with 16 LSB per grey level, so the paper's grey levels
+#: (mean 30, sigma 1.73) become mean 480, sigma 27.7 LSB. An 8-bit ADC at 1 LSB per grey
+#: level (sigma < 2 LSB) makes so many pixels tie at the threshold that the
+#: constant-count rule (docs/arithmetic.md §6) keeps far fewer than 0.2 %.
+INPUT_BITS = 12
+ADC_GAIN = 16.0
 
 _MAX_SIZE = 65535
 _MAX_FRAMES = 10**7
