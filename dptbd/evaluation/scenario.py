@@ -63,12 +63,13 @@ from dptbd.config import ConfigError, DPConfig
 from dptbd.dsp.chain import LISTS
 from dptbd.scenes import synthetic as scenes
 from dptbd.dsp.association import AssociationConfig, AssociationError
+from dptbd.errors import DptbdError
 
 __all__ = ["ScenarioError", "TargetSpec", "Scenario", "default_scenario", "load_scenario",
            "parse_scenario", "parse_target", "check_snr", "DEFAULT_NAME"]
 
 
-class ScenarioError(ValueError):
+class ScenarioError(DptbdError):
     """A scenario file or option is invalid; the message names the key."""
 
 

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from dptbd.errors import DptbdError
 from dptbd.model.segmentation import candidate_mask, candidates, count_for_rate, threshold_level
 
 
@@ -58,9 +59,12 @@ def test_candidate_records_in_raster_order():
 def test_count_for_rate_paper_setting():
     assert count_for_rate(0.002, 128 * 128) == 33
     assert count_for_rate(0.0, 100) == 0
-    with pytest.raises(ValueError, match=r"rate must be in \[0, 1\]"):
+    with pytest.raises(DptbdError, match=r"^false-alarm rate must be a finite real number in \[0, 1\], "
+                                         r"got 1\.5$"):
         count_for_rate(1.5, 100)
-    with pytest.raises(ValueError, match="count must be an integer >= 0"):
+    with pytest.raises(DptbdError, match=r"^n_pixels must be an integer in \[1, inf\), got 0$"):
+        count_for_rate(0.5, 0)
+    with pytest.raises(DptbdError, match=r"^candidate count must be an integer in \[0, inf\), got -1$"):
         candidate_mask(np.zeros((4, 4)), -1)
     with pytest.raises(ValueError, match="same shape"):
         candidates(np.zeros((4, 4)), np.zeros((4, 3)), 2)
