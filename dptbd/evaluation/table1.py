@@ -19,7 +19,7 @@ from typing import Iterator
 
 import numpy as np
 
-from dptbd.config import DPConfig, plain_weights
+from dptbd.config import DPConfig, non_saturating_energy_bits, plain_weights
 from dptbd.scenes import synthetic as scenes
 from dptbd.scenes.synthetic import ADC_GAIN, INPUT_BITS
 from dptbd.evaluation.metrics import DetectionCounts, first_level_counts
@@ -111,7 +111,7 @@ def table1_config(segment_frames: int = 6, segment_stride: int = 4, *,
     """The direction-weighted detector's configuration (the plain one: all-ones LUT)."""
     return DPConfig(width=size, height=size, segment_frames=segment_frames,
                     segment_stride=segment_stride, input_bits=INPUT_BITS,
-                    energy_bits=max(16, (segment_frames * ((1 << INPUT_BITS) - 1)).bit_length()))
+                    energy_bits=max(16, non_saturating_energy_bits(INPUT_BITS, segment_frames)))
 
 
 def run_table1(trials: int = 50, *, segment_frames: int = 6, segment_stride: int = 4,
