@@ -65,9 +65,11 @@ def test_ca_cfar_bad_parameters(kwargs, message):
 
 
 def test_ca_cfar_short_axis_and_pfa():
-    with pytest.raises(DetectorError, match="at least 19"):
+    with pytest.raises(DetectorError, match=(r"^the CFAR axis has 18 cells; n_ref=16 reference "
+                                             r"and n_guard=2 guard cells need at least 19$")):
         ca_cfar_ratio(np.ones((18, 3)))
-    with pytest.raises(DetectorError, match="pfa"):
+    with pytest.raises(DetectorError, match=(r"^pfa must be a finite real number in \(0, 1\), "
+                                             r"got 1\.0$")):
         ca_cfar_detect(np.ones((40, 3)), 1.0)
-    with pytest.raises(DetectorError, match=">= 0"):
+    with pytest.raises(DetectorError, match=r"^frames must be magnitudes >= 0, found -1$"):
         ca_cfar_ratio(-np.ones((40, 3)))

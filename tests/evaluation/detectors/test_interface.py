@@ -23,9 +23,13 @@ from dptbd.model.fixed import run_fixed
 
 def test_parse_detectors():
     assert parse_detectors("info, ca-cfar,info") == ("info", "ca-cfar")
-    with pytest.raises(DetectorError, match="unknown detector 'mht'.*known: dw-dp"):
+    with pytest.raises(DetectorError, match=(r"^unknown detector 'mht'; known: dw-dp, "
+                                             r"dp-amplitude, dp-penalty, dp-likelihood, info, "
+                                             r"grid-bayes, ca-cfar$")):
         parse_detectors("info,mht")
-    with pytest.raises(DetectorError, match="at least one"):
+    with pytest.raises(DetectorError, match=(r"^detectors must name at least one of dw-dp, "
+                                             r"dp-amplitude, dp-penalty, dp-likelihood, info, "
+                                             r"grid-bayes, ca-cfar$")):
         parse_detectors("")
 
 
@@ -34,9 +38,12 @@ def test_calibrate_keeps_at_most_the_rate_and_ignores_ties_and_nan():
     thr = calibrate(stats, 0.25)  # 12 decisions -> at most 3 above
     assert thr == 9.0
     assert count_false_alarms(Decisions(stats, np.zeros(stats.shape + (2,))), thr).hits == 3
-    with pytest.raises(DetectorError, match="false_alarm_rate.*needs at least 100"):
+    with pytest.raises(DetectorError, match=(r"^false_alarm_rate=0\.01 needs at least 100 "
+                                             r"noise-only decisions to set a threshold, got "
+                                             r"12; raise the noise trials or the rate$")):
         calibrate(stats, 0.01)
-    with pytest.raises(DetectorError, match="false_alarm_rate"):
+    with pytest.raises(DetectorError, match=(r"^false_alarm_rate must be a finite real number "
+                                             r"in \(0, 1\), got 0\.0$")):
         calibrate(stats, 0.0)
 
 
@@ -161,9 +168,12 @@ def test_comparison_equal_pfa_and_order():
     assert set(matched.thresholds["info"]) == {10.0, 20.0}  # recalibrated per preset channel
     assert isinstance(matched.thresholds["ca-cfar"], float)  # CFAR has no channel: calibrated once
     assert matched.thresholds["ca-cfar"] == res.thresholds["ca-cfar"]
-    with pytest.raises(DetectorError, match="noise_trials"):
+    with pytest.raises(DetectorError, match=(r"^false_alarm_rate=0\.01 needs at least 100 "
+                                             r"noise-only decisions, 2 noise trials give 6; "
+                                             r"raise noise_trials$")):
         run_comparison(["info"], snrs_db=[0.0], spec=spec, noise_trials=2, false_alarm_rate=0.01, jobs=1)
-    with pytest.raises(DetectorError, match="crop"):
+    with pytest.raises(DetectorError, match=(r"^crop row0 must be an integer in \[0, 136\], "
+                                             r"got 190$")):
         SceneSpec(crop=(190, 0, 64, 128))
 
 
@@ -182,11 +192,15 @@ def test_command_writes_table_and_figure(tmp_path, capsys):
     assert "| `ca-cfar` |" in out and "| `dw-dp` |" in out and "image scenes, 9 frames" in out
     assert md.read_text().startswith("| detector | 8 dB |")
     assert png.read_bytes()[:4] == b"\x89PNG"
-    with pytest.raises(FileExistsError, match="--force"):
+    with pytest.raises(FileExistsError, match=rf"^--markdown {re.escape(str(md))} exists; pass --force to "
+                                              r"overwrite it$"):
         run_cli(["--markdown", str(md)])
-    with pytest.raises(DetectorError, match="unknown detector"):
+    with pytest.raises(DetectorError, match=(r"^unknown detector 'foo'; known: dw-dp, "
+                                             r"dp-amplitude, dp-penalty, dp-likelihood, info, "
+                                             r"grid-bayes, ca-cfar$")):
         run_cli(["--detectors", "info,foo"])
-    with pytest.raises(DetectorError, match="false_alarm_rate"):
+    with pytest.raises(DetectorError, match=(r"^false_alarm_rate must be a finite real number "
+                                             r"in \(0, 1\), got 2\.0$")):
         run_cli(["--detectors", "ca-cfar", "--pfa", "2", "--jobs", "1"])
 
 

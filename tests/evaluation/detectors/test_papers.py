@@ -35,7 +35,10 @@ def test_snr_gain_dp_beats_cfar_and_the_result_is_consistent():
     dp_50, cf_50 = crossing_snr(snrs, dp, 0.5), crossing_snr(snrs, cf, 0.5)
     assert snrs[0] <= dp_50 <= snrs[1]
     assert math.isnan(cf_50) or cf_50 > dp_50
-    with pytest.raises(DetectorError, match="unknown detector 'MHT'"):
+    with pytest.raises(DetectorError, match=(r"^unknown detector 'MHT'; known: \('single frame "
+                                             r"\(known noise\)', 'CA-CFAR 16/2', 'DP eq "
+                                             r"\(15\)', 'DP eq \(24\)', 'DP eqs "
+                                             r"\(19\)-\(23\)'\)$")):
         snr_gain([3.0], trials=1, noise_trials=1, detectors=("MHT",))
 
 
