@@ -286,6 +286,12 @@ class _GridDetector(Detector):
         self.likelihood = "rician" if model.noise == "rayleigh" else "gaussian"
         self.alpha = model.scale if known_noise else None
 
+    def decide(self, frames: np.ndarray) -> Decisions:
+        """Run the subclass's ``filter`` on each sequence: its statistic and estimate per frame."""
+        arr = self._check(frames)
+        runs = [self.filter.run(seq) for seq in arr]
+        return Decisions(np.stack([r.statistic for r in runs]), np.stack([r.estimate for r in runs]))
+
 
 class InfoDetector(_GridDetector):
     name = "info"
@@ -296,11 +302,6 @@ class InfoDetector(_GridDetector):
         self.filter = grid.InfoAccumulation(self.transition, snr_db=model.snr_db, alpha=self.alpha,
                                             likelihood=self.likelihood)
 
-    def decide(self, frames: np.ndarray) -> Decisions:
-        arr = self._check(frames)
-        runs = [self.filter.run(seq) for seq in arr]
-        return Decisions(np.stack([r.statistic for r in runs]), np.stack([r.estimate for r in runs]))
-
 
 class GridBayesDetector(_GridDetector):
     name = "grid-bayes"
@@ -310,11 +311,6 @@ class GridBayesDetector(_GridDetector):
         super().__init__(model, **kw)
         self.filter = grid.GridBayes(self.transition, snr_db=model.snr_db, alpha=self.alpha,
                                      likelihood=self.likelihood, birth=birth, death=death)
-
-    def decide(self, frames: np.ndarray) -> Decisions:
-        arr = self._check(frames)
-        runs = [self.filter.run(seq) for seq in arr]
-        return Decisions(np.stack([r.statistic for r in runs]), np.stack([r.estimate for r in runs]))
 
 
 class CACFARDetector(Detector):
