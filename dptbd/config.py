@@ -7,10 +7,13 @@ lives here. ``docs/arithmetic.md`` defines what each one means bit for bit.
 from __future__ import annotations
 
 import dataclasses
+import math
 import warnings
 from typing import Any, Mapping
 
 import numpy as np
+
+from dptbd.errors import DptbdError, check_int, interval
 
 __all__ = [
     "DPConfig",
@@ -18,6 +21,7 @@ __all__ = [
     "EnergyWidthWarning",
     "ROUNDING_MODES",
     "DEFAULT_FALSE_ALARM_RATE",
+    "check_move_table",
     "move_offsets",
     "non_saturating_energy_bits",
     "paper_weights",
@@ -41,7 +45,7 @@ _RANGES = {
 }
 
 
-class ConfigError(ValueError):
+class ConfigError(DptbdError):
     """A parameter is outside its allowed range; the message names both."""
 
 
@@ -93,14 +97,9 @@ def plain_weights(radius: int = 1) -> np.ndarray:
 
 
 def _check_int(name: str, value: Any, bounds: tuple[int, int] | None = None,
-               lo_name: str = "") -> int:
+               lo_name: str = "", hi_name: str = "") -> int:
     lo, hi = _RANGES[name] if bounds is None else bounds
-    allowed = f"[{lo_name}{lo}, {hi}]"
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ConfigError(f"{name} must be an integer in {allowed}, got {value!r}")
-    if not lo <= value <= hi:
-        raise ConfigError(f"{name} must be in {allowed}, got {value}")
-    return int(value)
+    return check_int(name, value, lo, hi, error=ConfigError, lo_name=lo_name, hi_name=hi_name)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -167,10 +166,8 @@ class DPConfig:
             "energy_bits", self.energy_bits, (self.input_bits, 32), "input_bits="))
         k = self.segment_frames
         stride = k if self.segment_stride is None else self.segment_stride
-        if isinstance(stride, bool) or not isinstance(stride, (int, np.integer)) or not 1 <= stride <= k:
-            raise ConfigError(
-                f"segment_stride must be an integer in [1, segment_frames={k}], got {stride!r}")
-        object.__setattr__(self, "segment_stride", int(stride))
+        object.__setattr__(self, "segment_stride", _check_int(
+            "segment_stride", stride, (1, k), hi_name="segment_frames="))
         if self.rounding not in ROUNDING_MODES:
             raise ConfigError(f"rounding must be one of {ROUNDING_MODES}, got {self.rounding!r}")
         lut = paper_weights(self.radius) if self.weights is None else self.weights
@@ -390,17 +387,39 @@ def non_saturating_energy_bits(input_bits: int, segment_frames: int) -> int:
     return max(input_bits, (segment_frames * ((1 << input_bits) - 1)).bit_length())
 
 
-def _validate_weights(lut: Any, radius: int) -> tuple:
+def check_move_table(name: str, table: Any, radius: int, lo: float = -math.inf,
+                     hi: float = math.inf, *, error: type[DptbdError] = ConfigError) -> np.ndarray:
+    """A finite table indexed ``[predecessor direction, move]`` with values in ``[lo, hi]``.
+
+    The shape of the weight LUT and of every table like it (paper 000's transition term):
+    ``(M + 1, M)`` with ``M = (2r + 1)**2``, the last row for direction code ``START``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The table as ``float64``.
+
+    Raises
+    ------
+    ConfigError
+        (or the class given as ``error``) naming ``name``, the shape or the domain.
+    """
     n_moves = (2 * radius + 1) ** 2
     try:
-        arr = np.asarray(lut, dtype=np.float64)
+        arr = np.asarray(table, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise ConfigError(f"weights must be a numeric table, got {type(lut).__name__}") from exc
+        raise error(f"{name} must be a numeric table, got {type(table).__name__}") from exc
     if arr.shape != (n_moves + 1, n_moves):
-        raise ConfigError(
-            f"weights must have shape ({n_moves + 1}, {n_moves}) for radius={radius} "
+        raise error(
+            f"{name} must have shape ({n_moves + 1}, {n_moves}) for radius={radius} "
             f"([predecessor direction 0..{n_moves}, move 0..{n_moves - 1}]), got {arr.shape}")
-    if not np.all(np.isfinite(arr)) or arr.min() < 0.0 or arr.max() > 1.0:
-        bad = arr[~(np.isfinite(arr) & (arr >= 0) & (arr <= 1))]
-        raise ConfigError(f"weights must be finite and in [0, 1], found {bad.ravel()[:3].tolist()}")
+    good = np.isfinite(arr) & (arr >= lo) & (arr <= hi)
+    if not np.all(good):
+        raise error(f"{name} must be finite and in {interval(lo, hi)}, "
+                    f"found {arr[~good].ravel()[:3].tolist()}")
+    return arr
+
+
+def _validate_weights(lut: Any, radius: int) -> tuple:
+    arr = check_move_table("weights", lut, radius, 0.0, 1.0)
     return tuple(tuple(float(v) for v in row) for row in arr)  # hashable and immutable

@@ -20,6 +20,7 @@ import dataclasses
 import numpy as np
 
 from dptbd.config import DPConfig
+from dptbd.errors import check_int, check_real
 
 __all__ = ["candidate_dtype", "count_for_rate", "threshold_level", "candidate_mask", "candidates",
            "TRAILER_FIELDS", "CandidateList", "histogram_bins", "histogram_fixed",
@@ -40,10 +41,8 @@ def count_for_rate(rate: float, n_pixels: int) -> int:
 
     0.2 % of 128 x 128 gives 33 (paper 001 quotes "0.2 %, i.e. 35 false points").
     """
-    if not np.isfinite(rate) or not 0.0 <= rate <= 1.0:
-        raise ValueError(f"false-alarm rate must be in [0, 1], got {rate!r}")
-    if n_pixels < 1:
-        raise ValueError(f"n_pixels must be >= 1, got {n_pixels}")
+    rate = check_real("false-alarm rate", rate, 0.0, 1.0)
+    n_pixels = check_int("n_pixels", n_pixels, 1)
     return int(np.floor(rate * n_pixels + 0.5))
 
 
@@ -59,8 +58,7 @@ def threshold_level(image: np.ndarray, count: int) -> np.ndarray:
     """
     flat = np.asarray(image).reshape(np.shape(image)[:-2] + (-1,))
     n_pix = flat.shape[-1]
-    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 0:
-        raise ValueError(f"candidate count must be an integer >= 0, got {count!r}")
+    count = check_int("candidate count", count, 0)
     if count >= n_pix:
         return np.full(flat.shape[:-1], -np.inf)
     kth = n_pix - count - 1  # ascending position of the (n+1)-th largest

@@ -25,7 +25,7 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.scenes import synthetic as scenes
-from dptbd.evaluation.table1 import ADC_GAIN, INPUT_BITS
+from dptbd.scenes.synthetic import ADC_GAIN, INPUT_BITS
 
 __all__ = ["SCENARIOS", "adc_gain", "make_frames", "describe"]
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import warnings
 from fractions import Fraction
 
@@ -11,7 +12,8 @@ import numpy as np
 import pytest
 
 from dptbd import ConfigError, DPConfig, EnergyWidthWarning
-from dptbd.config import ROUNDING_MODES, move_offsets, paper_weights, plain_weights
+from dptbd.config import ROUNDING_MODES, check_move_table, move_offsets, paper_weights, plain_weights
+from dptbd.errors import DptbdError
 
 # move indices for r = 1 (docs §2 table)
 UL, U, UR, L, C, R, DL, D, DR = range(9)
@@ -249,7 +251,7 @@ def test_frozen():
 def test_replace_validates_again():
     cfg = DPConfig()
     assert cfg.replace(width=64).width == 64
-    with pytest.raises(ConfigError, match=r"width.*\[3, 4096\]"):
+    with pytest.raises(ConfigError, match=r"^width must be an integer in \[3, 4096\], got 2$"):
         cfg.replace(width=2)
 
 
@@ -267,15 +269,14 @@ def test_from_mapping():
 
 @pytest.mark.parametrize("bad", [{"widht": 64}, {"width": 64, "energy": 16, "Radius": 1}])
 def test_from_mapping_rejects_unknown_keys_by_name(bad):
-    with pytest.raises(ConfigError, match="unknown parameter") as info:
+    known = sorted(f.name for f in dataclasses.fields(DPConfig))
+    unknown = sorted(set(bad) - set(known))  # named, and the allowed names listed
+    with pytest.raises(ConfigError, match=whole(f"unknown parameter(s) {unknown}; allowed: {known}")):
         DPConfig.from_mapping(bad)
-    for key in set(bad) - {f.name for f in dataclasses.fields(DPConfig)}:
-        assert repr(key) in str(info.value)
-    assert "width" in str(info.value)  # the allowed names are listed too
 
 
 def test_from_mapping_validates_values():
-    with pytest.raises(ConfigError, match=r"radius.*\[1, 2\]"):
+    with pytest.raises(ConfigError, match=r"^radius must be an integer in \[1, 2\], got 3$"):
         DPConfig.from_mapping({"radius": 3})
 
 
@@ -283,43 +284,59 @@ def test_from_mapping_validates_values():
 # out-of-range parameters: ConfigError naming the parameter and its range
 # ---------------------------------------------------------------------------------------
 
+def whole(message):
+    """A regex matching exactly ``message``, the whole refusal."""
+    return "^" + re.escape(message) + "$"
+
+
+def not_integer(name, span, value):
+    """The refusal of an integer parameter outside its domain (``dptbd.errors.check_int``)."""
+    return f"{name} must be an integer in {span}, got {value!r}"
+
+
+SHAPE_10_9 = "shape (10, 9) for radius=1 ([predecessor direction 0..9, move 0..8])"
 BAD = [
-    # (overrides, regex the message must match)
-    *[({f: v}, rf"{f}.*\[3, 4096\]") for f in ("width", "height")
+    # (overrides, the whole message)
+    *[({f: v}, not_integer(f, "[3, 4096]", v)) for f in ("width", "height")
       for v in (2, 0, -1, 4097, 3.0, True, "8", None)],
-    *[({"segment_frames": v}, r"segment_frames.*\[1, 65535\]") for v in (0, -4, 65536, 4.0, None)],
-    *[({"segment_stride": v}, r"segment_stride.*\[1, segment_frames=4\]")
+    *[({"segment_frames": v}, not_integer("segment_frames", "[1, 65535]", v))
+      for v in (0, -4, 65536, 4.0, None)],
+    *[({"segment_stride": v}, not_integer("segment_stride", "[1, segment_frames=4]", v))
       for v in (0, 5, -1, 2.0, True)],
-    ({"segment_frames": 2, "segment_stride": 3}, r"segment_stride.*\[1, segment_frames=2\]"),
-    *[({"input_bits": v}, r"input_bits.*\[1, 16\]") for v in (0, 17, 8.0)],
-    *[({"energy_bits": v}, r"energy_bits.*32\]") for v in (7, 1, 0, 33, 64, 16.0)],
-    ({"energy_bits": 7}, r"energy_bits.*\[input_bits=8, 32\]"),
-    ({"input_bits": 12, "energy_bits": 11}, r"energy_bits.*\[input_bits=12, 32\]"),
-    *[({"weight_frac_bits": v}, r"weight_frac_bits.*\[0, 16\]") for v in (-1, 17, 1.5)],
-    *[({"radius": v}, r"radius.*\[1, 2\]") for v in (0, 3, 1.0)],
-    *[({"rounding": v}, r"rounding.*truncate.*half_up") for v in ("round", "", "TRUNCATE", None, 0)],
-    ({"weights": np.ones((9, 9))}, r"weights.*shape \(10, 9\)"),
-    ({"weights": np.ones((10, 9)), "radius": 2}, r"weights.*shape \(26, 25\)"),
-    ({"weights": np.ones(90)}, r"weights.*shape \(10, 9\)"),
-    ({"weights": lut_with(1.5)}, r"weights.*\[0, 1\].*1\.5"),
-    ({"weights": lut_with(-0.1)}, r"weights.*\[0, 1\].*-0\.1"),
-    ({"weights": lut_with(np.nan)}, r"weights.*finite.*\[0, 1\].*nan"),
-    ({"weights": lut_with(np.inf)}, r"weights.*finite.*\[0, 1\].*inf"),
-    ({"weights": "abc"}, r"weights must be a numeric table"),
-    ({"weights": [[1.0, 1.0], [1.0]]}, r"weights must be a numeric table"),
+    ({"segment_frames": 2, "segment_stride": 3},
+     "segment_stride must be an integer in [1, segment_frames=2], got 3"),
+    *[({"input_bits": v}, not_integer("input_bits", "[1, 16]", v)) for v in (0, 17, 8.0)],
+    *[({"energy_bits": v}, not_integer("energy_bits", "[input_bits=8, 32]", v))
+      for v in (7, 1, 0, 33, 64, 16.0)],
+    ({"input_bits": 12, "energy_bits": 11}, "energy_bits must be an integer in [input_bits=12, 32], got 11"),
+    *[({"weight_frac_bits": v}, not_integer("weight_frac_bits", "[0, 16]", v)) for v in (-1, 17, 1.5)],
+    *[({"radius": v}, not_integer("radius", "[1, 2]", v)) for v in (0, 3, 1.0)],
+    *[({"rounding": v}, f"rounding must be one of ('truncate', 'half_up'), got {v!r}")
+      for v in ("round", "", "TRUNCATE", None, 0)],
+    ({"weights": np.ones((9, 9))}, f"weights must have {SHAPE_10_9}, got (9, 9)"),
+    ({"weights": np.ones((10, 9)), "radius": 2}, "weights must have shape (26, 25) for radius=2 "
+     "([predecessor direction 0..25, move 0..24]), got (10, 9)"),
+    ({"weights": np.ones(90)}, f"weights must have {SHAPE_10_9}, got (90,)"),
+    ({"weights": lut_with(1.5)}, "weights must be finite and in [0, 1], found [1.5]"),
+    ({"weights": lut_with(-0.1)}, "weights must be finite and in [0, 1], found [-0.1]"),
+    ({"weights": lut_with(np.nan)}, "weights must be finite and in [0, 1], found [nan]"),
+    ({"weights": lut_with(np.inf)}, "weights must be finite and in [0, 1], found [inf]"),
+    ({"weights": "abc"}, "weights must be a numeric table, got str"),
+    ({"weights": [[1.0, 1.0], [1.0]]}, "weights must be a numeric table, got list"),
 ]
 
 
-@pytest.mark.parametrize("overrides, pattern", BAD, ids=[f"{o}" for o, _ in BAD])
-def test_out_of_range_raises_config_error(overrides, pattern):
-    with pytest.raises(ConfigError, match=pattern):
+@pytest.mark.parametrize("overrides, message", BAD, ids=[f"{o}" for o, _ in BAD])
+def test_out_of_range_raises_config_error(overrides, message):
+    with pytest.raises(ConfigError, match=whole(message)):
         DPConfig(**overrides)
-    assert issubclass(ConfigError, ValueError)
+    assert issubclass(ConfigError, DptbdError) and issubclass(ConfigError, ValueError)
 
 
 @pytest.mark.parametrize("energy_bits", [0, 33])
 def test_energy_bits_message_states_the_real_lower_bound(energy_bits):
-    with pytest.raises(ConfigError, match=r"energy_bits.*\[input_bits=8, 32\]"):
+    with pytest.raises(ConfigError, match=whole(not_integer("energy_bits", "[input_bits=8, 32]",
+                                                               energy_bits))):
         DPConfig(input_bits=8, energy_bits=energy_bits)
 
 
@@ -415,24 +432,25 @@ def test_explicit_segmentation_parameters():
 
 
 SEG_BAD = [
-    *[({"candidate_count": v}, r"candidate_count.*\[0, 16384\]")
+    *[({"candidate_count": v}, not_integer("candidate_count", "[0, 16384]", v))
       for v in (-1, 16385, 3.0, True, "33")],
-    ({"width": 4, "height": 4, "candidate_count": 17}, r"candidate_count.*\[0, 16\]"),
-    *[({"candidate_capacity": v}, r"candidate_capacity.*\[candidate_count=33, 16384\]")
+    ({"width": 4, "height": 4, "candidate_count": 17},
+     "candidate_count must be an integer in [0, 16], got 17"),
+    *[({"candidate_capacity": v}, not_integer("candidate_capacity", "[candidate_count=33, 16384]", v))
       for v in (32, 0, 16385, 40.0, False)],
     ({"candidate_count": 5, "candidate_capacity": 4},
-     r"candidate_capacity.*\[candidate_count=5, 16384\]"),
-    *[({"histogram_bits": v}, r"histogram_bits.*\[1, 16\]") for v in (0, 17, None, 10.0)],
-    *[({"histogram_shift": v}, r"histogram_shift.*\[0, 15\]") for v in (-1, 16, 2.0)],
-    ({"energy_bits": 12, "histogram_shift": 12}, r"histogram_shift.*\[0, 11\]"),
+     "candidate_capacity must be an integer in [candidate_count=5, 16384], got 4"),
+    *[({"histogram_bits": v}, not_integer("histogram_bits", "[1, 16]", v)) for v in (0, 17, None, 10.0)],
+    *[({"histogram_shift": v}, not_integer("histogram_shift", "[0, 15]", v)) for v in (-1, 16, 2.0)],
+    ({"energy_bits": 12, "histogram_shift": 12}, "histogram_shift must be an integer in [0, 11], got 12"),
 ]
 
 
-@pytest.mark.parametrize("overrides, pattern", SEG_BAD, ids=[f"{o}" for o, _ in SEG_BAD])
-def test_segmentation_parameters_out_of_range(overrides, pattern):
+@pytest.mark.parametrize("overrides, message", SEG_BAD, ids=[f"{o}" for o, _ in SEG_BAD])
+def test_segmentation_parameters_out_of_range(overrides, message):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", EnergyWidthWarning)
-        with pytest.raises(ConfigError, match=pattern):
+        with pytest.raises(ConfigError, match=whole(message)):
             DPConfig(**overrides)
 
 
@@ -492,3 +510,20 @@ def test_non_saturating_energy_bits():
     assert non_saturating_energy_bits(12, 6) == 15          # 6 * 4095 = 24570 < 2**15
     assert non_saturating_energy_bits(8, 1) == 8
     assert DPConfig(width=16, height=12, segment_frames=6, input_bits=12).energy_bits_needed == 15
+
+
+def test_check_move_table_checks_any_table_shaped_like_the_weight_lut():
+    table = check_move_table("transition", -np.ones((26, 25), dtype=np.int64), 2)
+    assert table.dtype == np.float64 and table.shape == (26, 25) and table.max() == -1.0
+    bad = np.zeros((10, 9))
+    bad[3, 4] = 0.5
+    with pytest.raises(ConfigError, match=whole("transition must be finite and in (-inf, 0], found [0.5]")):
+        check_move_table("transition", bad, 1, hi=0.0)
+
+    class OtherError(DptbdError):
+        pass
+
+    with pytest.raises(OtherError, match=whole(f"q must have {SHAPE_10_9}, got (9, 9)")):
+        check_move_table("q", np.ones((9, 9)), 1, error=OtherError)
+    with pytest.raises(OtherError, match=whole("q must be a numeric table, got dict")):
+        check_move_table("q", {}, 1, error=OtherError)

@@ -95,6 +95,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from dptbd.errors import DptbdError, check_bool, check_int, check_real
+
 __all__ = [
     "Q_BITS",
     "ONE",
@@ -157,7 +159,7 @@ POINT_DTYPE = np.dtype([
     ("row0", np.uint16), ("col0", np.uint16), ("path", np.uint8)])
 
 
-class AssociationError(ValueError):
+class AssociationError(DptbdError):
     """An association parameter or input is invalid; the message names it."""
 
 
@@ -243,11 +245,8 @@ class AssociationConfig:
                 "gate_growth_segments": (0, 1000), "confirm_hits": (1, 65535),
                 "predict_hits": (1, 65535), "max_misses": (0, 255)}
         for name, (lo, hi) in ints.items():
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
-                raise AssociationError(f"association {name} must be an integer in [{lo}, {hi}], "
-                                       f"got {v!r}")
-            object.__setattr__(self, name, int(v))
+            object.__setattr__(self, name, check_int(f"association {name}", getattr(self, name),
+                                                     lo, hi, error=AssociationError))
         reals = {"max_speed": (0.0, 64.0), "seed_gate": (0.0, 1000.0),
                  "gate_base": (0.0, 1000.0), "gate_growth": (0.0, 100.0),
                  "gate_miss": (0.0, 1000.0), "manoeuvre": (0.0, 1000.0),
@@ -258,14 +257,10 @@ class AssociationConfig:
             v = getattr(self, name)
             if name == "gate_max" and v is None:
                 continue
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) \
-                    or not math.isfinite(v) or not lo <= v <= hi:
-                raise AssociationError(f"association {name} must be a number in [{lo}, {hi}], "
-                                       f"got {v!r}")
-            object.__setattr__(self, name, float(v))
-        if not isinstance(self.reject_reversed, bool):
-            raise AssociationError(f"association reject_reversed must be true or false, "
-                                   f"got {self.reject_reversed!r}")
+            object.__setattr__(self, name, check_real(f"association {name}", v, lo, hi,
+                                                      error=AssociationError))
+        object.__setattr__(self, "reject_reversed", check_bool(
+            "association reject_reversed", self.reject_reversed, error=AssociationError))
         if not self.confirm_ratio >= self.predict_ratio >= self.delete_ratio:
             raise AssociationError(
                 "association thresholds must be ordered as 001 §3 says (output > predict > "

@@ -59,16 +59,17 @@ import pathlib
 import tomllib
 from typing import Any, Mapping
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import ConfigError, DPConfig, non_saturating_energy_bits
 from dptbd.dsp.chain import LISTS
 from dptbd.scenes import synthetic as scenes
 from dptbd.dsp.association import AssociationConfig, AssociationError
+from dptbd.errors import DptbdError
 
 __all__ = ["ScenarioError", "TargetSpec", "Scenario", "default_scenario", "load_scenario",
            "parse_scenario", "parse_target", "check_snr", "DEFAULT_NAME"]
 
 
-class ScenarioError(ValueError):
+class ScenarioError(DptbdError):
     """A scenario file or option is invalid; the message names the key."""
 
 
@@ -151,7 +152,7 @@ class Scenario:
         values.setdefault("segment_frames", 6)
         k = values["segment_frames"]
         if "energy_bits" not in values and isinstance(k, int) and not isinstance(k, bool) and k > 0:
-            values["energy_bits"] = min(32, max(16, (k * ((1 << input_bits) - 1)).bit_length()))
+            values["energy_bits"] = min(32, max(16, non_saturating_energy_bits(input_bits, k)))
         return DPConfig.from_mapping({**values, "height": height, "width": width,
                                       "input_bits": input_bits})
 

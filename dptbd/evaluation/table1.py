@@ -19,8 +19,9 @@ from typing import Iterator
 
 import numpy as np
 
-from dptbd.config import DPConfig, plain_weights
+from dptbd.config import DPConfig, non_saturating_energy_bits, plain_weights
 from dptbd.scenes import synthetic as scenes
+from dptbd.scenes.synthetic import ADC_GAIN, INPUT_BITS
 from dptbd.evaluation.metrics import DetectionCounts, first_level_counts
 from dptbd.model.segmentation import candidate_mask, count_for_rate
 
@@ -40,12 +41,6 @@ PAPER_TABLE1 = {
 SETTINGS = tuple(PAPER_TABLE1)
 DETECTORS = ("direction-weighted DP", "plain DP", "single frame")
 FALSE_ALARM_RATE = 0.002
-#: The sensor: a 12-bit ADC with 16 LSB per grey level, so the paper's grey levels
-#: (mean 30, sigma 1.73) become mean 480, sigma 27.7 LSB. An 8-bit ADC at 1 LSB per grey
-#: level (sigma < 2 LSB) makes so many pixels tie at the threshold that the
-#: constant-count rule (docs/arithmetic.md §6) keeps far fewer than 0.2 %.
-INPUT_BITS = 12
-ADC_GAIN = 16.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -116,7 +111,7 @@ def table1_config(segment_frames: int = 6, segment_stride: int = 4, *,
     """The direction-weighted detector's configuration (the plain one: all-ones LUT)."""
     return DPConfig(width=size, height=size, segment_frames=segment_frames,
                     segment_stride=segment_stride, input_bits=INPUT_BITS,
-                    energy_bits=max(16, (segment_frames * ((1 << INPUT_BITS) - 1)).bit_length()))
+                    energy_bits=max(16, non_saturating_energy_bits(INPUT_BITS, segment_frames)))
 
 
 def run_table1(trials: int = 50, *, segment_frames: int = 6, segment_stride: int = 4,

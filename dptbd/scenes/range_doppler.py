@@ -25,12 +25,14 @@ Coordinates are ``(row, col) = (delay cell i, Doppler cell j)``.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from typing import Any
 
 import numpy as np
 
-from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_real
+from dptbd import errors
+from dptbd.scenes.synthetic import SceneError
 
 __all__ = [
     "PassiveRadar",
@@ -42,6 +44,9 @@ __all__ = [
     "RDScene",
     "rd_scene",
 ]
+
+_check_int = functools.partial(errors.check_int, error=SceneError)
+_check_real = functools.partial(errors.check_real, error=SceneError)
 
 C_LIGHT = 299_792_458.0
 
@@ -104,7 +109,7 @@ SCENARIO2 = dict(start=(50e3, 60e3, 1e3), velocity=(-180.0, -120.0, -2.0), frame
 def scenario2_track(radar: PassiveRadar | None = None, frames: int = 50) -> np.ndarray:
     """Float ``(T, 2)`` (delay cell, Doppler cell) of scenario 2's target, frame by frame."""
     radar = PassiveRadar() if radar is None else radar
-    frames = check_int("frames", frames, 1)
+    frames = _check_int("frames", frames, 1)
     t = np.arange(frames)[:, None] * radar.frame_s
     v = np.asarray(SCENARIO2["velocity"])
     pos = np.asarray(SCENARIO2["start"]) + t * v
@@ -113,22 +118,22 @@ def scenario2_track(radar: PassiveRadar | None = None, frames: int = 50) -> np.n
 
 def straight_track(start: tuple[float, float], velocity: tuple[float, float], frames: int) -> np.ndarray:
     """Float ``(T, 2)`` cells of a target moving ``velocity`` cells per frame from ``start``."""
-    frames = check_int("frames", frames, 1)
-    s = np.array([check_real("start[0]", start[0]), check_real("start[1]", start[1])])
-    v = np.array([check_real("velocity[0]", velocity[0]), check_real("velocity[1]", velocity[1])])
+    frames = _check_int("frames", frames, 1)
+    s = np.array([_check_real("start[0]", start[0]), _check_real("start[1]", start[1])])
+    v = np.array([_check_real("velocity[0]", velocity[0]), _check_real("velocity[1]", velocity[1])])
     return s + np.arange(frames)[:, None] * v
 
 
 def mean_power_from_snr_db(snr_db: float, alpha: float = 1.0) -> float:
     """Mean target power ``P = 2 alpha**2 10**(SNR/10)`` for an average per-cell SNR in dB."""
-    snr_db = check_real("snr_db", snr_db)
-    alpha = check_real("alpha (noise scale)", alpha, 0.0, lo_open=True)
+    snr_db = _check_real("snr_db", snr_db)
+    alpha = _check_real("alpha (noise scale)", alpha, 0.0, lo_open=True)
     return 2.0 * alpha * alpha * 10.0 ** (snr_db / 10.0)
 
 
 def swerling1_amplitudes(rng: np.random.Generator, mean_power: float, size: Any) -> np.ndarray:
     """Complex Swerling I amplitudes: ``|A|**2 ~ Exp(mean_power)``, uniform phase."""
-    p = check_real("mean_power", mean_power, 0.0)
+    p = _check_real("mean_power", mean_power, 0.0)
     shape = (int(size),) if isinstance(size, (int, np.integer)) else tuple(int(s) for s in size)
     g = rng.standard_normal(shape + (2,))
     return math.sqrt(p / 2.0) * (g[..., 0] + 1j * g[..., 1])
@@ -193,26 +198,24 @@ def rd_scene(shape: tuple[int, int] = (200, 500), frames: int = 50, track: Any =
         Index of the first trial.
     dtype : float32 or float64
     """
-    if not isinstance(shape, (tuple, list)) or len(shape) != 2:
-        raise DetectorError(f"shape must be an (I, J) pair, got {shape!r}")
-    n_i = check_int("shape[0] (delay cells)", shape[0], 1, 65535)
-    n_j = check_int("shape[1] (Doppler cells)", shape[1], 1, 65535)
-    n_t = check_int("frames", frames, 1)
-    alpha = check_real("alpha (noise scale)", alpha, 0.0, lo_open=True)
+    n_i, n_j = errors.check_shape("shape", shape, 65535, axes=("delay cells", "Doppler cells"),
+                                  error=SceneError)
+    n_t = _check_int("frames", frames, 1)
+    alpha = _check_real("alpha (noise scale)", alpha, 0.0, lo_open=True)
     power = mean_power_from_snr_db(snr_db, alpha)
-    seed = check_int("seed", seed, 0)
-    first_trial = check_int("first_trial", first_trial, 0)
-    n = 1 if trials is None else check_int("trials", trials, 1)
+    seed = _check_int("seed", seed, 0)
+    first_trial = _check_int("first_trial", first_trial, 0)
+    n = 1 if trials is None else _check_int("trials", trials, 1)
     dt = np.dtype(dtype)
     if dt not in (np.dtype(np.float32), np.dtype(np.float64)):
-        raise DetectorError(f"dtype must be float32 or float64, got {dt}")
+        raise SceneError(f"dtype must be float32 or float64, got {dt}")
     if track is None:
         trk = pix = None
         visible = np.zeros(n_t, dtype=bool)
     else:
         trk = np.asarray(track, dtype=np.float64)
         if trk.shape != (n_t, 2) or not np.all(np.isfinite(trk)):
-            raise DetectorError(f"track must be a finite ({n_t}, 2) array of cells, got shape {trk.shape}")
+            raise SceneError(f"track must be a finite ({n_t}, 2) array of cells, got shape {trk.shape}")
         pix = np.rint(trk).astype(np.int64)
         visible = (pix[:, 0] >= 0) & (pix[:, 0] < n_i) & (pix[:, 1] >= 0) & (pix[:, 1] < n_j)
     out = np.empty((n, n_t, n_i, n_j), dtype=dt)

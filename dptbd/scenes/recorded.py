@@ -27,6 +27,8 @@ import zipfile
 
 import numpy as np
 
+from dptbd.errors import DptbdError
+
 __all__ = ["SequenceError", "LoadedSequence", "load_sequence", "IMAGE_SUFFIXES"]
 
 IMAGE_SUFFIXES = (".png", ".tif", ".tiff")
@@ -34,7 +36,7 @@ _MODES_8 = ("L",)
 _MODES_16 = ("I;16", "I;16L", "I;16B", "I;16N")
 
 
-class SequenceError(ValueError):
+class SequenceError(DptbdError):
     """The sequence cannot be used; the message names the file and the reason."""
 
 

@@ -30,10 +30,13 @@ scene (background ``mu`` plus amplitudes).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from typing import Any, Iterable, Sequence
 
 import numpy as np
+
+from dptbd.errors import DptbdError, check_bool, check_int, check_real, check_shape
 
 __all__ = [
     "SceneError",
@@ -57,11 +60,20 @@ __all__ = [
     "paper000_scenario",
     "TABLE1_MU",
     "TABLE1_SIGMA",
+    "INPUT_BITS",
+    "ADC_GAIN",
 ]
 
 #: Paper 001 Table 1 noise: mean 30, "variance 3.0".
 TABLE1_MU = 30.0
 TABLE1_SIGMA = math.sqrt(3.0)
+
+#: Paper 001's sensor: a 12-bit ADC with 16 LSB per grey level, so the paper's grey levels
+#: (mean 30, sigma 1.73) become mean 480, sigma 27.7 LSB. An 8-bit ADC at 1 LSB per grey
+#: level (sigma < 2 LSB) makes so many pixels tie at the threshold that the
+#: constant-count rule (docs/arithmetic.md §6) keeps far fewer than 0.2 %.
+INPUT_BITS = 12
+ADC_GAIN = 16.0
 
 _MAX_SIZE = 65535
 _MAX_FRAMES = 10**7
@@ -70,31 +82,19 @@ _FLOAT_DTYPES = (np.dtype(np.float32), np.dtype(np.float64))
 _QUANTISE_CHUNK = 1 << 22  # elements per chunk: bounds the float temporaries of quantise
 
 
-class SceneError(ValueError):
+class SceneError(DptbdError):
     """A scene parameter is invalid; the message names it and its allowed range."""
 
 
 # ---- validation helpers -------------------------------------------------------------------
 
-def _check_int(name: str, value: Any, lo: int, hi: int | None = None) -> int:
-    """An integer in ``[lo, hi]`` (``hi = None``: no upper bound), else :class:`SceneError`."""
-    span = f"[{lo}, inf)" if hi is None else f"[{lo}, {hi}]"
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise SceneError(f"{name} must be an integer in {span}, got {value!r}")
-    if value < lo or (hi is not None and value > hi):
-        raise SceneError(f"{name} must be in {span}, got {value}")
-    return int(value)
+_check_int = functools.partial(check_int, error=SceneError)
 
 
 def _check_real(name: str, value: Any, *, positive: bool = False) -> float:
     """A finite real number (``> 0`` when ``positive``), else :class:`SceneError`."""
-    span = "(0, inf)" if positive else "(-inf, inf)"
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise SceneError(f"{name} must be a finite real number in {span}, got {value!r}")
-    out = float(value)
-    if not math.isfinite(out) or (positive and out <= 0.0):
-        raise SceneError(f"{name} must be a finite real number in {span}, got {value!r}")
-    return out
+    return check_real(name, value, 0.0 if positive else -math.inf, lo_open=positive,
+                      error=SceneError)
 
 
 def _check_pair(name: str, value: Any) -> tuple[float, float]:
@@ -112,10 +112,7 @@ def _check_pair(name: str, value: Any) -> tuple[float, float]:
 
 def _check_shape(shape: Any) -> tuple[int, int]:
     """Frame size ``(height, width)``, each in ``[1, 65535]``."""
-    if not isinstance(shape, (tuple, list)) or len(shape) != 2:
-        raise SceneError(f"shape must be a (height, width) pair of integers, got {shape!r}")
-    return (_check_int("shape[0] (height)", shape[0], 1, _MAX_SIZE),
-            _check_int("shape[1] (width)", shape[1], 1, _MAX_SIZE))
+    return check_shape("shape", shape, _MAX_SIZE, axes=("height", "width"), error=SceneError)
 
 
 def _check_dtype(dtype: Any) -> np.dtype:
@@ -382,7 +379,7 @@ def _check_turns(turns: Any, birth: int) -> tuple[Turn, ...]:
         if not isinstance(turn, Turn):
             raise SceneError(f"turns must contain Turn objects, got {turn!r}")
         if turn.frame <= last:
-            raise SceneError(f"turn frame must be in [{last + 1}, inf) (after birth={birth} "
+            raise SceneError(f"turn frame must be an integer in [{last + 1}, inf) (after birth={birth} "
                              f"and after the previous turn), got {turn.frame}")
         last = turn.frame
     return turns
@@ -597,8 +594,7 @@ def make_scene(shape: tuple[int, int], frames: int, targets: Iterable[Target] = 
         targets = tuple(targets)
     except TypeError as exc:
         raise SceneError(f"targets must be an iterable of Target, got {targets!r}") from exc
-    if not isinstance(noise, bool):
-        raise SceneError(f"noise must be True or False, got {noise!r}")
+    noise = check_bool("noise", noise, error=SceneError)
     if noise:
         out, entropy = _noise(shape, frames, mu, sigma, seed, trials, first_trial, dtype)
     else:

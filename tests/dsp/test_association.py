@@ -4,12 +4,15 @@ Each test builds the candidate records a segment would hand to the DSP (row, col
 the backtracked path start), runs the tracker segment by segment and checks the tracks.
 """
 
+import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
 
 from dptbd.config import DPConfig
+from dptbd.errors import DptbdError
 from dptbd.scenes import synthetic as scenes
 from dptbd.dsp.association import (
     CANDIDATE_DTYPE, CONFIRMED, FREE, ONE, TENTATIVE, AssociationConfig, AssociationError,
@@ -191,17 +194,50 @@ def test_duplicate_tracks_on_one_target_are_merged():
     assert len(tr.confirmed_tracks()) == 1
 
 
+def whole(message):
+    """A regex matching exactly ``message``, the whole refusal."""
+    return "^" + re.escape(message) + "$"
+
+
 def test_thresholds_output_above_predict_above_delete():
-    with pytest.raises(AssociationError, match="output > predict > delete"):
+    order = "association thresholds must be ordered as 001 §3 says (output > predict > delete): "
+    with pytest.raises(AssociationError, match=whole(
+            order + "confirm_ratio=0.4 >= predict_ratio=0.5 >= delete_ratio=0.4")):
         AssociationConfig(confirm_ratio=0.4, predict_ratio=0.5)
-    with pytest.raises(AssociationError, match="predict_ratio"):
+    with pytest.raises(AssociationError, match=whole(
+            order + "confirm_ratio=0.6 >= predict_ratio=0.3 >= delete_ratio=0.35")):
         AssociationConfig(predict_ratio=0.3, delete_ratio=0.35)
-    with pytest.raises(AssociationError, match="confirm_hits"):
+    with pytest.raises(AssociationError, match=whole(
+            "association confirm_hits=1 must be >= predict_hits=2 (output threshold above predict "
+            "threshold)")):
         AssociationConfig(confirm_hits=1, predict_hits=2)
-    with pytest.raises(AssociationError, match="unknown association parameter"):
+    allowed = [f.name for f in dataclasses.fields(AssociationConfig)]
+    with pytest.raises(AssociationError, match=whole(
+            f"unknown association parameter(s) ['capacitty']; allowed: {allowed}")):
         AssociationConfig.from_mapping({"capacitty": 3})
-    with pytest.raises(AssociationError, match="capacity"):
-        AssociationConfig(capacity=0)
+
+
+@pytest.mark.parametrize("overrides, message", [
+    (dict(capacity=0), "association capacity must be an integer in [1, 65535], got 0"),
+    (dict(capacity=2.0), "association capacity must be an integer in [1, 65535], got 2.0"),
+    (dict(max_misses=256), "association max_misses must be an integer in [0, 255], got 256"),
+    (dict(merge_radius=True), "association merge_radius must be an integer in [0, 16], got True"),
+    (dict(max_speed=65.0), "association max_speed must be a finite real number in [0, 64], got 65.0"),
+    (dict(gate_max=float("nan")),
+     "association gate_max must be a finite real number in [0, 1000], got nan"),
+    (dict(confirm_ratio="0.6"),
+     "association confirm_ratio must be a finite real number in [0, 1], got '0.6'"),
+    (dict(reject_reversed=1), "association reject_reversed must be true or false, got 1"),
+])
+def test_parameters_outside_their_domain_are_refused(overrides, message):
+    with pytest.raises(AssociationError, match=whole(message)):
+        AssociationConfig(**overrides)
+    assert issubclass(AssociationError, DptbdError)
+
+
+def test_numpy_parameters_become_python_values():
+    cfg = AssociationConfig(capacity=np.int64(3), reject_reversed=np.bool_(True), max_speed=np.float32(0.5))
+    assert type(cfg.capacity) is int and type(cfg.reject_reversed) is bool and type(cfg.max_speed) is float
 
 
 def test_a_lower_output_threshold_confirms_sooner():
@@ -272,9 +308,12 @@ def test_no_allocation_per_segment_and_input_capacity():
     assert max(peaks) < min(16384, state_bytes // 2), (max(peaks), state_bytes)
     assert growth < 8192, growth                   # numpy's small caches; not per segment
     tr = tracker(max_candidates=8)
-    with pytest.raises(AssociationError, match="max_candidates=8"):
+    with pytest.raises(AssociationError, match=(r"^9 candidates in one segment but the input "
+                                                r"buffer holds max_candidates=8$")):
         tr.step(records([cand(i, i) for i in range(9)]))
-    with pytest.raises(AssociationError, match="CANDIDATE_DTYPE"):
+    with pytest.raises(AssociationError, match=(r"^candidates must be CANDIDATE_DTYPE records "
+                                                r"\(make_candidates\), got dtype \[\('row', "
+                                                r"'<u2'\), \('col', '<u2'\)\]$")):
         tr.step(np.zeros(2, dtype=[("row", "u2"), ("col", "u2")]))
 
 
@@ -306,7 +345,8 @@ def test_make_candidates_carries_the_path_start():
     assert c["row0"].tolist() == [1, 3] and c["col0"].tolist() == [2, 4] and c["path"].all()
     c2 = make_candidates(raw)
     assert c2["row0"].tolist() == [5, 7] and not c2["path"].any()
-    with pytest.raises(AssociationError, match="paths must have shape"):
+    with pytest.raises(AssociationError, match=(r"^paths must have shape \(2, K, 2\), got \(1, "
+                                                r"2, 2\)$")):
         make_candidates(raw, paths[:1])
 
 
@@ -379,5 +419,5 @@ def test_trim_to_count_is_the_section_6_rule_on_the_list():
         superset = candidates(energy, direction, min(3 * n + 4, energy.size - 1))
         np.testing.assert_array_equal(trim_to_count(superset, n), ideal)
         assert len(trim_to_count(ideal, n)) == len(ideal)         # short lists pass through
-    with pytest.raises(AssociationError, match="count must be >= 0"):
+    with pytest.raises(AssociationError, match=r"^count must be >= 0, got -1$"):
         trim_to_count(ideal, -1)

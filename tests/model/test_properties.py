@@ -398,7 +398,8 @@ def test_shift_right_rounded_vectorised_and_half_points():
     # 2/4 = 0.5 -> 1 and 6/4 = 1.5 -> 2: halves go up, not to even
     np.testing.assert_array_equal(ops.shift_right_rounded(p, 2, "half_up"), [0, 0, 1, 1, 1, 1, 2, 2, 2])
     np.testing.assert_array_equal(ops.shift_right_rounded(p, 0, "half_up"), p)
-    with pytest.raises(ValueError, match="rounding"):
+    with pytest.raises(ValueError, match=(r"^rounding must be 'truncate' or 'half_up', got "
+                                          r"'nearest_even'$")):
         ops.shift_right_rounded(p, 2, "nearest_even")
 
 
@@ -487,7 +488,8 @@ def test_segments_are_independent_runs(data, k_frames, n_frames):
     n_seg = 0 if n_frames < k_frames else (n_frames - k_frames) // stride + 1
     assert cfg.n_segments(n_frames) == n_seg
     if n_seg == 0:
-        with pytest.raises(ValueError, match="shorter than one segment"):
+        with pytest.raises(ValueError, match=rf"^a sequence of {n_frames} frames is shorter than one "
+                                             rf"segment \(segment_frames={k_frames}\)$"):
             run_fixed(frames, cfg)
         return
     out = run_fixed(frames, cfg)

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from dptbd.errors import DptbdError
 from dptbd.model.segmentation import candidate_mask, candidates, count_for_rate, threshold_level
 
 
@@ -58,11 +59,15 @@ def test_candidate_records_in_raster_order():
 def test_count_for_rate_paper_setting():
     assert count_for_rate(0.002, 128 * 128) == 33
     assert count_for_rate(0.0, 100) == 0
-    with pytest.raises(ValueError, match=r"rate must be in \[0, 1\]"):
+    with pytest.raises(DptbdError, match=r"^false-alarm rate must be a finite real number in \[0, 1\], "
+                                         r"got 1\.5$"):
         count_for_rate(1.5, 100)
-    with pytest.raises(ValueError, match="count must be an integer >= 0"):
+    with pytest.raises(DptbdError, match=r"^n_pixels must be an integer in \[1, inf\), got 0$"):
+        count_for_rate(0.5, 0)
+    with pytest.raises(DptbdError, match=r"^candidate count must be an integer in \[0, inf\), got -1$"):
         candidate_mask(np.zeros((4, 4)), -1)
-    with pytest.raises(ValueError, match="same shape"):
+    with pytest.raises(ValueError, match=(r"^energy and direction must be two images of the "
+                                          r"same shape \(H, W\), got \(4, 4\) and \(4, 3\)$")):
         candidates(np.zeros((4, 4)), np.zeros((4, 3)), 2)
 
 
@@ -123,7 +128,7 @@ def test_bins_shift_and_clamp():
     cfg = seg_config(width=4, height=4, histogram_bits=3, histogram_shift=2, energy_bits=16)
     e = np.array([0, 3, 4, 27, 28, 31, 32, 65535])
     np.testing.assert_array_equal(histogram_bins(e, cfg), [0, 0, 1, 6, 7, 7, 7, 7])
-    with pytest.raises(ValueError, match="energy must be in"):
+    with pytest.raises(ValueError, match=r"^energy must be in \[0, E_max = 65535\]$"):
         histogram_bins(np.array([-1]), cfg)
 
 
@@ -234,7 +239,8 @@ def test_stream_model_realigns_on_end_of_segment():
 
 def test_segment_fixed_shape_errors():
     cfg = seg_config(width=4, height=4)
-    with pytest.raises(ValueError, match=r"shape \(H, W\) = \(4, 4\)"):
+    with pytest.raises(ValueError, match=(r"^energy and direction must both have shape \(H, "
+                                          r"W\) = \(4, 4\), got \(4, 5\) and \(4, 5\)$")):
         segment_fixed(np.zeros((4, 5)), np.zeros((4, 5)), cfg)
-    with pytest.raises(ValueError, match="16 bins, got shape"):
+    with pytest.raises(ValueError, match=r"^histogram must have 16 bins, got shape \(32,\)$"):
         threshold_bin(np.zeros(32), seg_config(width=4, height=4, histogram_bits=4))

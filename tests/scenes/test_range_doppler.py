@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
 
-from dptbd.evaluation.detectors import DetectorError
 from dptbd.scenes.range_doppler import (
     PassiveRadar, mean_power_from_snr_db, rd_scene, scenario2_track, straight_track,
     swerling1_amplitudes)
+from dptbd.scenes.synthetic import SceneError
 
 
 def test_swerling1_amplitude_statistics():
@@ -53,13 +54,19 @@ def test_scenario2_geometry():
     assert abs(np.mean(np.diff(track[:, 0])) - drift) < 0.01    # range rate = Doppler-implied drift
 
 
-@pytest.mark.parametrize("kwargs,name", [
-    (dict(shape=(0, 5)), "delay cells"), (dict(alpha=0.0), "alpha"), (dict(frames=0), "frames"),
-    (dict(track=np.zeros((3, 2))), "track"), (dict(snr_db=float("nan")), "snr_db"),
-    (dict(dtype=np.int16), "dtype"), (dict(seed=-1), "seed"),
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(shape=(0, 5)), "shape[0] (delay cells) must be an integer in [1, 65535], got 0"),
+    (dict(shape=(8,)),
+     "shape must be a pair (delay cells, Doppler cells) of integers in [1, 65535], got (8,)"),
+    (dict(alpha=0.0), "alpha (noise scale) must be a finite real number in (0, inf), got 0.0"),
+    (dict(frames=0), "frames must be an integer in [1, inf), got 0"),
+    (dict(track=np.zeros((3, 2))), "track must be a finite (4, 2) array of cells, got shape (3, 2)"),
+    (dict(snr_db=float("nan")), "snr_db must be a finite real number in (-inf, inf), got nan"),
+    (dict(dtype=np.int16), "dtype must be float32 or float64, got int16"),
+    (dict(seed=-1), "seed must be an integer in [0, inf), got -1"),
 ])
-def test_rd_scene_bad_input(kwargs, name):
+def test_rd_scene_bad_input(kwargs, message):
     args = dict(shape=(8, 8), frames=4)
     args.update(kwargs)
-    with pytest.raises(DetectorError, match=name):
+    with pytest.raises(SceneError, match="^" + re.escape(message) + "$"):
         rd_scene(**args)

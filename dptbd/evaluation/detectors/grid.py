@@ -31,7 +31,7 @@ import numba
 import numpy as np
 
 from dptbd.evaluation.detectors._checks import (
-    DetectorError, check_frames, check_int, check_prob, check_real)
+    DetectorError, check_frames, check_int, check_prob, check_real, check_shape)
 
 __all__ = [
     "log_i0",
@@ -197,10 +197,7 @@ class Transition:
     drift: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.shape, (tuple, list)) or len(self.shape) != 2:
-            raise DetectorError(f"grid shape must be an (I, J) pair, got {self.shape!r}")
-        shape = (check_int("grid shape[0] (I)", self.shape[0], 1, 65535),
-                 check_int("grid shape[1] (J)", self.shape[1], 1, 65535))
+        shape = check_shape("grid shape", self.shape, 65535, axes=("I", "J"))
         object.__setattr__(self, "shape", shape)
         object.__setattr__(self, "kernel", check_kernel(self.kernel))
         if self.drift is not None:

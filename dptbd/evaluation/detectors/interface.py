@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from dptbd.config import DPConfig
+from dptbd.config import DPConfig, non_saturating_energy_bits
 from dptbd.evaluation.detectors import cfar, grid, unified
 from dptbd.evaluation.detectors._checks import (
     DetectorError, check_bool, check_int, check_prob, check_real, check_shape)
@@ -166,7 +166,7 @@ class DirectionWeightedDP(Detector):
         self.lsb = check_real("lsb_per_scale", lsb_per_scale, 0.0, lo_open=True)
         r = model.max_speed if radius is None else check_int("radius", radius, 1, 2)
         h, w = model.shape
-        energy = max(16, (self.k * ((1 << self.bits) - 1)).bit_length())
+        energy = max(16, non_saturating_energy_bits(self.bits, self.k))
         self.cfg = DPConfig(width=w, height=h, segment_frames=self.k, segment_stride=1,
                             input_bits=self.bits, energy_bits=min(32, energy), radius=r)
 
@@ -286,6 +286,12 @@ class _GridDetector(Detector):
         self.likelihood = "rician" if model.noise == "rayleigh" else "gaussian"
         self.alpha = model.scale if known_noise else None
 
+    def decide(self, frames: np.ndarray) -> Decisions:
+        """Run the subclass's ``filter`` on each sequence: its statistic and estimate per frame."""
+        arr = self._check(frames)
+        runs = [self.filter.run(seq) for seq in arr]
+        return Decisions(np.stack([r.statistic for r in runs]), np.stack([r.estimate for r in runs]))
+
 
 class InfoDetector(_GridDetector):
     name = "info"
@@ -296,11 +302,6 @@ class InfoDetector(_GridDetector):
         self.filter = grid.InfoAccumulation(self.transition, snr_db=model.snr_db, alpha=self.alpha,
                                             likelihood=self.likelihood)
 
-    def decide(self, frames: np.ndarray) -> Decisions:
-        arr = self._check(frames)
-        runs = [self.filter.run(seq) for seq in arr]
-        return Decisions(np.stack([r.statistic for r in runs]), np.stack([r.estimate for r in runs]))
-
 
 class GridBayesDetector(_GridDetector):
     name = "grid-bayes"
@@ -310,11 +311,6 @@ class GridBayesDetector(_GridDetector):
         super().__init__(model, **kw)
         self.filter = grid.GridBayes(self.transition, snr_db=model.snr_db, alpha=self.alpha,
                                      likelihood=self.likelihood, birth=birth, death=death)
-
-    def decide(self, frames: np.ndarray) -> Decisions:
-        arr = self._check(frames)
-        runs = [self.filter.run(seq) for seq in arr]
-        return Decisions(np.stack([r.statistic for r in runs]), np.stack([r.estimate for r in runs]))
 
 
 class CACFARDetector(Detector):

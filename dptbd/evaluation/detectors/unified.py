@@ -48,7 +48,7 @@ from typing import Any, Callable
 import numba
 import numpy as np
 
-from dptbd.config import move_offsets
+from dptbd.config import check_move_table, move_offsets
 from dptbd.evaluation.detectors._checks import (
     DetectorError, check_frames, check_int, check_real)
 
@@ -162,18 +162,7 @@ def velocity_log_penalty(radius: int = 2, alpha: float = 1.0) -> np.ndarray:
 
 def check_transition(transition: Any, radius: int) -> np.ndarray:
     """A finite ``(M + 1, M)`` table of Q, rows = predecessor arrival move (START last)."""
-    m = (2 * radius + 1) ** 2
-    try:
-        q = np.asarray(transition, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise DetectorError(f"transition must be a numeric ({m + 1}, {m}) table") from exc
-    if q.shape != (m + 1, m):
-        raise DetectorError(
-            f"transition must have shape ({m + 1}, {m}) for radius={radius} "
-            f"([predecessor move 0..{m - 1} or START={m}, move 0..{m - 1}]), got {q.shape}")
-    if not np.all(np.isfinite(q)):
-        raise DetectorError("transition must be finite (no NaN or inf)")
-    return q
+    return check_move_table("transition", transition, radius, error=DetectorError)
 
 
 def _check_mode(mode: str) -> str:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -51,19 +52,24 @@ def test_ca_cfar_false_alarm_rate_on_rayleigh_noise():
     assert math.isclose(ca_cfar_factor(16, 1e-5), 16 * (1e-5 ** (-1 / 16) - 1))
 
 
-@pytest.mark.parametrize("kwargs,name", [
-    (dict(n_ref=15), "even"), (dict(n_guard=3), "even"), (dict(n_ref=0), "n_ref"),
-    (dict(n_guard=-2), "n_guard"), (dict(axis=0), "axis"),
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(n_ref=15), "n_ref and n_guard count both sides and must be even, got n_ref=15, n_guard=2"),
+    (dict(n_guard=3), "n_ref and n_guard count both sides and must be even, got n_ref=16, n_guard=3"),
+    (dict(n_ref=0), "n_ref (reference cells) must be an integer in [2, inf), got 0"),
+    (dict(n_guard=-2), "n_guard (guard cells) must be an integer in [0, inf), got -2"),
+    (dict(axis=0), "axis must be -2 (range, rows) or -1 (Doppler, columns), got 0"),
 ])
-def test_ca_cfar_bad_parameters(kwargs, name):
-    with pytest.raises(DetectorError, match=name):
+def test_ca_cfar_bad_parameters(kwargs, message):
+    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
         ca_cfar_ratio(np.ones((40, 3)), **kwargs)
 
 
 def test_ca_cfar_short_axis_and_pfa():
-    with pytest.raises(DetectorError, match="at least 19"):
+    with pytest.raises(DetectorError, match=(r"^the CFAR axis has 18 cells; n_ref=16 reference "
+                                             r"and n_guard=2 guard cells need at least 19$")):
         ca_cfar_ratio(np.ones((18, 3)))
-    with pytest.raises(DetectorError, match="pfa"):
+    with pytest.raises(DetectorError, match=(r"^pfa must be a finite real number in \(0, 1\), "
+                                             r"got 1\.0$")):
         ca_cfar_detect(np.ones((40, 3)), 1.0)
-    with pytest.raises(DetectorError, match=">= 0"):
+    with pytest.raises(DetectorError, match=r"^frames must be magnitudes >= 0, found -1$"):
         ca_cfar_ratio(-np.ones((40, 3)))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -34,7 +35,10 @@ def test_snr_gain_dp_beats_cfar_and_the_result_is_consistent():
     dp_50, cf_50 = crossing_snr(snrs, dp, 0.5), crossing_snr(snrs, cf, 0.5)
     assert snrs[0] <= dp_50 <= snrs[1]
     assert math.isnan(cf_50) or cf_50 > dp_50
-    with pytest.raises(DetectorError, match="unknown detector 'MHT'"):
+    with pytest.raises(DetectorError, match=(r"^unknown detector 'MHT'; known: \('single frame "
+                                             r"\(known noise\)', 'CA-CFAR 16/2', 'DP eq "
+                                             r"\(15\)', 'DP eq \(24\)', 'DP eqs "
+                                             r"\(19\)-\(23\)'\)$")):
         snr_gain([3.0], trials=1, noise_trials=1, detectors=("MHT",))
 
 
@@ -66,18 +70,20 @@ def test_run_case_eq15_datapath_is_exact_and_v_t_30_is_below_the_noise():
     assert dp.false_tracks[30.0][0] >= dp.false_tracks[32.0][0] > 2
 
 
-@pytest.mark.parametrize("kwargs,name", [
-    (dict(thresholds=(float("nan"),)), r"thresholds \(V_T\)"),
-    (dict(thresholds=(30.0, float("inf"))), r"thresholds \(V_T\)"),
-    (dict(thresholds=()), r"thresholds \(V_T\) must hold at least one"),
-    (dict(thresholds=30.0), r"thresholds \(V_T\) must be a sequence"),
-    (dict(thresholds=("30",)), r"thresholds \(V_T\)"),
-    (dict(merit="bump"), "merit must be one of"),
-    (dict(snr_db=float("nan")), "snr_db"),
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(thresholds=(float("nan"),)),
+     "thresholds (V_T) must be a finite real number in (-inf, inf), got nan"),
+    (dict(thresholds=(30.0, float("inf"))),
+     "thresholds (V_T) must be a finite real number in (-inf, inf), got inf"),
+    (dict(thresholds=()), "thresholds (V_T) must hold at least one threshold"),
+    (dict(thresholds=30.0), "thresholds (V_T) must be a sequence of finite reals, got 30.0"),
+    (dict(thresholds=("30",)), "thresholds (V_T) must be a finite real number in (-inf, inf), got '30'"),
+    (dict(merit="bump"), "merit must be one of ('amplitude', 'likelihood'), got 'bump'"),
+    (dict(snr_db=float("nan")), "snr_db must be a finite real number in [-30, 60], got nan"),
 ])
-def test_case_refuses_bad_thresholds(kwargs, name):
+def test_case_refuses_bad_thresholds(kwargs, message):
     args = dict(label="x", section="", snr_db=4.0, merit="amplitude", penalty=False, thresholds=(30.0,))
-    with pytest.raises(DetectorError, match=name):
+    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
         Case(**{**args, **kwargs})
 
 
@@ -89,12 +95,12 @@ def test_time_one_frame_smoke_on_a_small_grid():
     assert all(isinstance(v, float) and math.isfinite(v) and v > 0 for v in t.values())
 
 
-@pytest.mark.parametrize("kwargs,name", [
-    (dict(repeats=0), "repeats"),
-    (dict(frames=2), "frames"),
-    (dict(shape=(10, 60)), "at least 19 x 19"),
-    (dict(shape=(40,)), r"shape must be an \(H, W\) pair"),
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(repeats=0), "repeats must be an integer in [1, inf), got 0"),
+    (dict(frames=2), "frames must be an integer in [3, inf), got 2"),
+    (dict(shape=(10, 60)), "shape must be at least 19 x 19 cells (CA-CFAR 16/2), got (10, 60)"),
+    (dict(shape=(40,)), "shape must be a pair (H, W) of integers in [1, 65535], got (40,)"),
 ])
-def test_time_one_frame_bad_input(kwargs, name):
-    with pytest.raises(DetectorError, match=name):
+def test_time_one_frame_bad_input(kwargs, message):
+    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
         time_one_frame(**kwargs)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 
 import numpy as np
 import pytest
@@ -149,34 +150,51 @@ def test_segments_restart_the_recursion():
         assert np.array_equal(maps[:, s], one)
 
 
-@pytest.mark.parametrize("call,name", [
-    (lambda: velocity_log_penalty(2, alpha=1.5), "alpha"),
-    (lambda: velocity_log_penalty(2, alpha=-0.1), "alpha"),
-    (lambda: velocity_log_penalty(3), "radius"),
-    (lambda: likelihood_difference_merit(2.0, epsilon=1.0, sigma=1.0), "epsilon"),
-    (lambda: likelihood_difference_merit(2.0, epsilon=0.0, sigma=1.0), "epsilon"),
-    (lambda: likelihood_difference_merit(2.0, epsilon=0.5, sigma=0.0), "sigma"),
-    (lambda: likelihood_difference_merit(0.0, epsilon=0.5, sigma=1.0), "amplitude"),
-    (lambda: likelihood_difference_merit(2.0, 0.5, 1.0, noise_sigma=float("nan")), "noise_sigma"),
-    (lambda: run_unified(np.zeros((2, 3, 3)), amplitude_merit(), np.zeros((9, 9)), radius=1), "transition"),
-    (lambda: run_unified(np.zeros((2, 3, 3)), amplitude_merit(), no_penalty(1), radius=1, mode="fast"), "mode"),
-    (lambda: run_unified(np.zeros((3, 3)), amplitude_merit(), no_penalty(1), radius=1), "frames"),
-    (lambda: run_unified(np.full((2, 3, 3), np.nan), amplitude_merit(), no_penalty(1), radius=1), "frames"),
-    (lambda: run_unified(np.zeros((2, 3, 3)), lambda z: z, no_penalty(1), radius=1), "merit"),
-    (lambda: quantise_unified(amplitude_merit(), no_penalty(2), input_bits=17), "input_bits"),
-    (lambda: quantise_unified(amplitude_merit(), no_penalty(2), gain=0.0), "gain"),
+@pytest.mark.parametrize("call, message", [
+    (lambda: velocity_log_penalty(2, alpha=1.5),
+     "alpha (eq (22) coefficient) must be a finite real number in [0, 1], got 1.5"),
+    (lambda: velocity_log_penalty(2, alpha=-0.1),
+     "alpha (eq (22) coefficient) must be a finite real number in [0, 1], got -0.1"),
+    (lambda: velocity_log_penalty(3), "radius must be an integer in [1, 2], got 3"),
+    (lambda: likelihood_difference_merit(2.0, epsilon=1.0, sigma=1.0),
+     "epsilon (printed alpha in 000 §5.2) must be a finite real number in (0, 1), got 1.0"),
+    (lambda: likelihood_difference_merit(2.0, epsilon=0.0, sigma=1.0),
+     "epsilon (printed alpha in 000 §5.2) must be a finite real number in (0, 1), got 0.0"),
+    (lambda: likelihood_difference_merit(2.0, epsilon=0.5, sigma=0.0),
+     "sigma (printed delta in 000 §5.2) must be a finite real number in (0, inf), got 0.0"),
+    (lambda: likelihood_difference_merit(0.0, epsilon=0.5, sigma=1.0),
+     "amplitude (a) must be a finite real number in (0, inf), got 0.0"),
+    (lambda: likelihood_difference_merit(2.0, 0.5, 1.0, noise_sigma=float("nan")),
+     "noise_sigma must be a finite real number in (0, inf), got nan"),
+    (lambda: run_unified(np.zeros((2, 3, 3)), amplitude_merit(), np.zeros((9, 9)), radius=1),
+     "transition must have shape (10, 9) for radius=1 ([predecessor direction 0..9, move 0..8]), got (9, 9)"),
+    (lambda: run_unified(np.zeros((2, 3, 3)), amplitude_merit(), no_penalty(1), radius=1, mode="fast"),
+     "mode must be one of ('datapath', 'exact'), got 'fast'"),
+    (lambda: run_unified(np.zeros((3, 3)), amplitude_merit(), no_penalty(1), radius=1),
+     "frames must have shape (..., T, H, W) with at least 3 axes, got shape (3, 3)"),
+    (lambda: run_unified(np.full((2, 3, 3), np.nan), amplitude_merit(), no_penalty(1), radius=1),
+     "frames must be finite: found NaN or inf"),
+    (lambda: run_unified(np.zeros((2, 3, 3)), abs, no_penalty(1), radius=1),
+     "merit must be a Merit (amplitude_merit(), ...), got <built-in function abs>"),
+    (lambda: quantise_unified(amplitude_merit(), no_penalty(2), input_bits=17),
+     "input_bits must be an integer in [1, 16], got 17"),
+    (lambda: quantise_unified(amplitude_merit(), no_penalty(2), gain=0.0),
+     "gain must be a finite real number in (0, inf), got 0.0"),
     (lambda: run_unified_fixed(np.full((2, 3, 3), 256), quantise_unified(amplitude_merit(), no_penalty(2))),
-     "codes"),
+     "codes must be in [0, 255] for input_bits=8, found [256, 256]"),
     (lambda: run_unified_segments(np.zeros((4, 3, 3)), amplitude_merit(), no_penalty(1), segment_frames=5,
-                                  radius=1), "segment_frames"),
+                                  radius=1), "segment_frames must be an integer in [1, 4], got 5"),
     (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).threshold_code(float("nan"), 5),
-     r"v_t \(threshold V_T\)"),
+     "v_t (threshold V_T) must be a finite real number in (-inf, inf), got nan"),
     (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).threshold_code(float("inf"), 5),
-     r"v_t \(threshold V_T\)"),
-    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).threshold_code("30", 5), r"v_t \(threshold V_T\)"),
-    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).threshold_code(30.0, 0), "n_frames"),
-    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).to_float(np.zeros(3), 0), "n_frames"),
+     "v_t (threshold V_T) must be a finite real number in (-inf, inf), got inf"),
+    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).threshold_code("30", 5),
+     "v_t (threshold V_T) must be a finite real number in (-inf, inf), got '30'"),
+    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).threshold_code(30.0, 0),
+     "n_frames must be an integer in [1, inf), got 0"),
+    (lambda: quantise_unified(amplitude_merit(), no_penalty(2)).to_float(np.zeros(3), 0),
+     "n_frames must be an integer in [1, inf), got 0"),
 ])
-def test_bad_input_names_the_parameter(call, name):
-    with pytest.raises(DetectorError, match=name):
+def test_bad_input_names_the_parameter(call, message):
+    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
         call()
