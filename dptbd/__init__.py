@@ -3,10 +3,14 @@
 Sub-packages: ``dptbd.scenes`` (synthetic, range-Doppler and recorded scenes),
 ``dptbd.model`` (numpy golden model and float reference), ``dptbd.hw`` (Amaranth gateware),
 ``dptbd.sim`` (RTL simulation and testbenches), ``dptbd.dsp`` (track association, the
-FPGA -> DSP chain, track metrics). ``dptbd.config.DPConfig`` is shared by all of them.
+FPGA -> DSP chain, track metrics), ``dptbd.evaluation`` (the jobs: the run job, Table 1,
+fixed vs float, the other papers' detectors), ``dptbd.commands`` (the thin CLI).
+``dptbd.config.DPConfig`` is shared by all of them; ``dptbd.errors`` holds the one error
+family and its parameter checks.
 """
 
 from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning
+from dptbd.errors import DptbdError
 
-__all__ = ["DPConfig", "ConfigError", "EnergyWidthWarning"]
+__all__ = ["DPConfig", "ConfigError", "DptbdError", "EnergyWidthWarning"]
 __version__ = "0.1.0"

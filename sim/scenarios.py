@@ -3,7 +3,7 @@
 Each scenario returns ``(T, H, W)`` ``uint16`` frames that satisfy ``docs/arithmetic.md``
 §1 for the configuration's B_in (quantised like an ADC, :func:`~dptbd.scenes.synthetic.quantise`).
 The ADC gain scales paper 001's noise (mean 30, variance 3) with B_in: ``16 * 2**(B_in - 12)``,
-paper 001's 12-bit gain of 16 (:data:`dptbd.evaluation.table1.ADC_GAIN`) at B_in = 12.
+paper 001's 12-bit gain of 16 (:data:`dptbd.scenes.synthetic.ADC_GAIN`) at B_in = 12.
 
 ========== ===========================================================================
 name       scene

@@ -93,7 +93,7 @@ def test_cli_exits_2_with_the_message(tmp_path, monkeypatch, capsys, argv, messa
      "'weights']"),
     ("[sweep]\ninput_bits = [0]\n", "sweep.input_bits must be in [1, 16], got 0"),
     ("[[config]]\ninput_bits = 8\nweight_frac_bits = -1\n",
-     "config[0]: weight_frac_bits must be in [0, 16], got -1"),
+     "config[0]: weight_frac_bits must be an integer in [0, 16], got -1"),
 ])
 def test_cli_exits_2_on_a_bad_file(tmp_path, monkeypatch, capsys, text, message):
     monkeypatch.setattr(job, "run_compare", lambda *a, **k: pytest.fail("work started"))

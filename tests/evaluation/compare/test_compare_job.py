@@ -34,7 +34,7 @@ def _anchored(message: str) -> str:
      "'adc_span_sigma', 'bootstrap', 'chunk', 'false_alarm_rate', 'frames', 'mu', 'pd_levels', "
      "'radius', 'seed', 'segment_frames', 'segment_stride', 'sigma', 'size', 'snr', "
      "'thresholds', 'tolerance_db', 'trials', 'velocity', 'config', 'sweep']"),
-    ("[[config]]\ninput_bits = 17\n", {}, "config[0]: input_bits must be in [1, 16], got 17"),
+    ("[[config]]\ninput_bits = 17\n", {}, "config[0]: input_bits must be an integer in [1, 16], got 17"),
     ("", {"snr": []}, "snr must hold at least 2 value(s), got [] (an empty list)"),
     ("", {"snr": [2.0, 1.5]}, "snr must be strictly increasing, but snr[1] = 1.5 <= snr[0] = 2"),
     ("", {"trials": 0}, "trials must be in [1, inf], got 0"),

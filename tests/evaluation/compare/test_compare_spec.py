@@ -107,9 +107,9 @@ _LUTS = "('paper', 'plain', 'cosine')"
      f"lut must be one of {_LUTS} (or give 'weights' as a table), got 'round'"),
     ({"config": [{"energy_bits": "lots"}]},
      "config[0]: energy_bits must be an integer or \"needed\", got 'lots'"),
-    ({"config": [{"input_bits": 17}]}, "config[0]: input_bits must be in [1, 16], got 17"),
+    ({"config": [{"input_bits": 17}]}, "config[0]: input_bits must be an integer in [1, 16], got 17"),
     ({"config": [{"input_bits": 8, "energy_bits": 6}]},
-     "config[0]: energy_bits must be in [input_bits=8, 32], got 6"),
+     "config[0]: energy_bits must be an integer in [input_bits=8, 32], got 6"),
     ({"config": [{"rounding": "nearest"}]},
      "config[0]: rounding must be one of ('truncate', 'half_up'), got 'nearest'"),
     ({"config": [{"adc_gain": -1.0}]}, "config[0]: adc_gain must be > 0, got -1.0"),
@@ -131,7 +131,7 @@ _LUTS = "('paper', 'plain', 'cosine')"
     ({"sweep": {"input_bits": [8], "energy_headroom": [40]}},
      "sweep.energy_headroom must be in [-32, 32], got 40"),
     ({"sweep": {"input_bits": [8], "energy_headroom": [-6]}},
-     "sweep point input_bits=8, energy_bits=5: energy_bits must be in [input_bits=8, 32], got 5"),
+     "sweep point input_bits=8, energy_bits=5: energy_bits must be an integer in [input_bits=8, 32], got 5"),
 ])
 def test_bad_parameters_are_refused_naming_them(mapping, message):
     with pytest.raises(ConfigError, match="^" + re.escape(message) + "$"):
