@@ -26,21 +26,22 @@ from dptbd.dsp.association import (CANDIDATE_DTYPE, AssociationConfig, Associati
 from dptbd.dsp.firmware_build import build_shared_library, capacity_defines
 
 __all__ = ["DSP_IMPLEMENTATIONS", "CTracker", "FirmwareError", "tracker_class", "load_firmware",
-           "STATUS"]
+           "params_codes", "PARAM_NAMES", "STATUS"]
 
 #: Names :func:`tracker_class` accepts.
 DSP_IMPLEMENTATIONS = ("python", "c")
 
 #: The firmware's status codes (``dptbd_track.h``).
 STATUS = {0: "DPTBD_OK", 1: "DPTBD_W_CLIPPED", 2: "DPTBD_W_REJECTED",
-          3: "DPTBD_W_CLIPPED|DPTBD_W_REJECTED", -1: "DPTBD_E_NULL", -2: "DPTBD_E_PARAMS",
+          3: "DPTBD_W_CLIPPED|DPTBD_W_REJECTED", -1: "DPTBD_E_NULL", -2: "DPTBD_EPARAM_NAMES",
           -3: "DPTBD_E_NOT_INITIALISED", -4: "DPTBD_E_SEGMENTS"}
 
 _STATS = ("segments", "candidates", "suppressed", "matched", "started", "confirmed", "deleted",
           "left_image", "dropped_candidates", "dropped_outputs", "history_wrapped", "duplicates",
           "peak_active")
 _INPUT_COUNTERS = ("clipped_candidates", "rejected_candidates")
-_PARAMS = ("segment_frames", "segment_stride", "height", "width", "radius", "merge_radius",
+#: Fields of ``dptbd_params``, in the struct's order.
+PARAM_NAMES = ("segment_frames", "segment_stride", "height", "width", "radius", "merge_radius",
            "duplicate_radius", "seed_gate", "gate_base", "gate_growth", "gate_miss", "gate_max",
            "gate_growth_segments", "manoeuvre", "link_gate", "heading_min", "heading_weight",
            "reject_reversed", "confirm_ratio", "predict_ratio", "delete_ratio", "confirm_hits",
@@ -85,7 +86,7 @@ class _Point(ctypes.Structure):
 
 
 class _Params(ctypes.Structure):
-    _fields_ = [(name, ctypes.c_int32) for name in _PARAMS]
+    _fields_ = [(name, ctypes.c_int32) for name in PARAM_NAMES]
 
 
 class _Stats(ctypes.Structure):
@@ -159,12 +160,13 @@ def load_firmware(capacity: int = 64, max_candidates: int = 128, max_points: int
     return lib
 
 
-def params_codes(tracker: Tracker) -> dict[str, int]:
-    """The integer codes the firmware takes (``dptbd_params``), from a tracker's codes."""
+def params_codes(tracker: Tracker, radius: int) -> dict[str, int]:
+    """The integer codes the firmware takes (``dptbd_params``, in :data:`PARAM_NAMES`
+    order), from a Python tracker's codes and the DP search radius it was built with."""
     cfg = tracker.cfg
     return {"segment_frames": tracker.k, "segment_stride": tracker.stride,
             "height": tracker.height, "width": tracker.width,
-            "radius": (int(round(len(tracker._moves) ** 0.5)) - 1) // 2,
+            "radius": int(radius),
             "merge_radius": cfg.merge_radius, "duplicate_radius": cfg.duplicate_radius,
             "seed_gate": tracker.seed_gate, "gate_base": tracker.gate_base,
             "gate_growth": tracker.gate_growth, "gate_miss": tracker.gate_miss,
@@ -206,8 +208,7 @@ class CTracker(Tracker):
                  height: int, width: int, radius: int = 1, compiler: str | None = None) -> None:
         super().__init__(cfg, segment_frames=segment_frames, segment_stride=segment_stride,
                          height=height, width=width, radius=radius)
-        codes = params_codes(self)
-        codes["radius"] = int(radius)
+        codes = params_codes(self, radius)
         for name, (lo, hi) in _C_LIMITS.items():
             if not lo <= codes[name] <= hi:
                 raise AssociationError(f"the C firmware needs {name} in [{lo}, {hi}], "
