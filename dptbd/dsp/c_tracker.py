@@ -33,7 +33,7 @@ DSP_IMPLEMENTATIONS = ("python", "c")
 
 #: The firmware's status codes (``dptbd_track.h``).
 STATUS = {0: "DPTBD_OK", 1: "DPTBD_W_CLIPPED", 2: "DPTBD_W_REJECTED",
-          3: "DPTBD_W_CLIPPED|DPTBD_W_REJECTED", -1: "DPTBD_E_NULL", -2: "DPTBD_EPARAM_NAMES",
+          3: "DPTBD_W_CLIPPED|DPTBD_W_REJECTED", -1: "DPTBD_E_NULL", -2: "DPTBD_E_PARAMS",
           -3: "DPTBD_E_NOT_INITIALISED", -4: "DPTBD_E_SEGMENTS"}
 
 _STATS = ("segments", "candidates", "suppressed", "matched", "started", "confirmed", "deleted",
@@ -42,10 +42,10 @@ _STATS = ("segments", "candidates", "suppressed", "matched", "started", "confirm
 _INPUT_COUNTERS = ("clipped_candidates", "rejected_candidates")
 #: Fields of ``dptbd_params``, in the struct's order.
 PARAM_NAMES = ("segment_frames", "segment_stride", "height", "width", "radius", "merge_radius",
-           "duplicate_radius", "seed_gate", "gate_base", "gate_growth", "gate_miss", "gate_max",
-           "gate_growth_segments", "manoeuvre", "link_gate", "heading_min", "heading_weight",
-           "reject_reversed", "confirm_ratio", "predict_ratio", "delete_ratio", "confirm_hits",
-           "predict_hits", "max_misses")
+               "duplicate_radius", "seed_gate", "gate_base", "gate_growth", "gate_miss",
+               "gate_max", "gate_growth_segments", "manoeuvre", "link_gate", "heading_min",
+               "heading_weight", "reject_reversed", "confirm_ratio", "predict_ratio",
+               "delete_ratio", "confirm_hits", "predict_hits", "max_misses")
 
 
 class FirmwareError(RuntimeError):

@@ -83,11 +83,13 @@ def cache_dir() -> Path:
     return Path(base) / "dptbd" / "firmware"
 
 
-def build_key(compiler: str, flags: Sequence[str]) -> str:
-    """SHA-256 of the firmware's sources and headers, the compiler's version and the flags."""
+def build_key(compiler: str, flags: Sequence[str],
+              sources: Sequence[str | Path] = ()) -> str:
+    """SHA-256 of the firmware's sources and headers, any other ``sources``, the compiler's
+    version and the flags."""
     h = hashlib.sha256()
-    for name in SOURCES + HEADERS:
-        h.update(name.encode() + b"\0" + (FIRMWARE_DIR / name).read_bytes() + b"\0")
+    for path in [FIRMWARE_DIR / name for name in SOURCES + HEADERS] + [Path(p) for p in sources]:
+        h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
     h.update(compiler_version(compiler).encode() + b"\0")
     h.update("\0".join(flags).encode())
     return h.hexdigest()
@@ -107,7 +109,8 @@ def _run(cmd: list[str]) -> None:
 
 
 def build_shared_library(defines: Sequence[str] = (), *, compiler: str | None = None,
-                         extra_flags: Sequence[str] = (), cache: str | Path | None = None) -> Path:
+                         extra_flags: Sequence[str] = (), cache: str | Path | None = None,
+                         sources: Sequence[str | Path] | None = None) -> Path:
     """The firmware as a shared library, from the cache or compiled now.
 
     Parameters
@@ -120,6 +123,9 @@ def build_shared_library(defines: Sequence[str] = (), *, compiler: str | None = 
         Appended to the flags (and to the key).
     cache : path, optional
         Cache folder (default :func:`cache_dir`).
+    sources : sequence of path, optional
+        Compile these instead of the firmware's :data:`SOURCES` (a test harness that
+        ``#include``-s ``dptbd_track.c``); part of the key.
 
     Returns
     -------
@@ -129,14 +135,15 @@ def build_shared_library(defines: Sequence[str] = (), *, compiler: str | None = 
     cc = find_compiler(compiler)
     flags = [*WARNING_FLAGS, *OPT_FLAGS, "-fPIC", "-shared", *defines, *extra_flags]
     folder = Path(cache) if cache is not None else cache_dir()
-    out = folder / f"libdptbd_track-{build_key(cc, flags)[:32]}.so"
+    own = [FIRMWARE_DIR / s for s in SOURCES] if sources is None else [Path(p) for p in sources]
+    out = folder / f"libdptbd_track-{build_key(cc, flags, own if sources else ())[:32]}.so"
     if out.is_file():
         return out
     folder.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=".build-", suffix=".so", dir=folder)
     os.close(fd)
     try:
-        _run(compile_command(cc, [FIRMWARE_DIR / s for s in SOURCES], tmp, flags))
+        _run(compile_command(cc, own, tmp, flags))
         os.replace(tmp, out)
     finally:
         if os.path.exists(tmp):

@@ -1,0 +1,104 @@
+/*
+ * The firmware's bad-input behaviour, run under -fsanitize=address,undefined by
+ * tests/dsp/test_firmware_build.py.  Prints "selftest: all passed" and exits 0, or names
+ * the first failed check and exits 1.
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "dptbd_track.h"
+
+static dptbd_tracker t;                     /* static: zeroed, i.e. not initialised */
+static dptbd_candidate list[DPTBD_MAX_CANDIDATES + 8];
+
+#define CHECK(cond) do { if (!(cond)) { printf("selftest: FAILED line %d: %s\n", __LINE__, #cond); return 1; } } while (0)
+
+static dptbd_params defaults(void)
+{
+    dptbd_params p;
+    memset(&p, 0, sizeof p);
+    p.segment_frames = 6; p.segment_stride = 6; p.height = 128; p.width = 128; p.radius = 1;
+    p.merge_radius = 1; p.duplicate_radius = 2; p.seed_gate = 48; p.gate_base = 40;
+    p.gate_growth = 4; p.gate_miss = 16; p.gate_max = 112; p.gate_growth_segments = 8;
+    p.manoeuvre = 48; p.link_gate = 0; p.heading_min = 16; p.heading_weight = 256;
+    p.reject_reversed = 0; p.confirm_ratio = 154; p.predict_ratio = 128; p.delete_ratio = 102;
+    p.confirm_hits = 4; p.predict_hits = 2; p.max_misses = 3;
+    return p;
+}
+
+int main(void)
+{
+    dptbd_params p = defaults(), bad;
+    dptbd_work w;
+    uint32_t i;
+    int32_t seg;
+
+    /* NULL context, NULL list, context never initialised */
+    CHECK(dptbd_track_step(NULL, list, 1, NULL) == DPTBD_E_NULL);
+    CHECK(dptbd_track_init(NULL, &p) == DPTBD_E_NULL);
+    CHECK(dptbd_track_init(&t, NULL) == DPTBD_E_NULL);
+    CHECK(dptbd_track_active(NULL) == 0);
+    CHECK(dptbd_track_step(&t, list, 0, NULL) == DPTBD_E_NOT_INITIALISED);
+    /* parameters out of range: refused, the context stays unusable */
+    bad = p; bad.segment_stride = 0;
+    CHECK(dptbd_track_init(&t, &bad) == DPTBD_E_PARAMS);
+    CHECK(dptbd_track_step(&t, list, 0, NULL) == DPTBD_E_NOT_INITIALISED);
+    bad = p; bad.confirm_ratio = 100;          /* below predict_ratio: thresholds unordered */
+    CHECK(dptbd_track_init(&t, &bad) == DPTBD_E_PARAMS);
+    bad = p; bad.height = 65537;
+    CHECK(dptbd_track_init(&t, &bad) == DPTBD_E_PARAMS);
+
+    CHECK(dptbd_track_init(&t, &p) == DPTBD_OK);
+    CHECK(dptbd_track_step(&t, NULL, 0, NULL) == DPTBD_OK);        /* empty list, NULL ok */
+    CHECK(dptbd_track_step(&t, NULL, 3, NULL) == DPTBD_E_NULL);
+    CHECK(t.segment == 0);                                          /* refused: unchanged */
+
+    /* a list longer than the capacity: the first DPTBD_MAX_CANDIDATES taken, rest counted;
+     * only DPTBD_MAX_CANDIDATES records are read whatever n says */
+    for (i = 0; i < DPTBD_MAX_CANDIDATES; ++i) {
+        list[i].row = (uint16_t)(i % 128); list[i].col = (uint16_t)((i * 7) % 128);
+        list[i].energy = 1000 + i; list[i].direction = (uint8_t)(i % 9);
+        list[i].row0 = list[i].row; list[i].col0 = list[i].col; list[i].path = 1;
+    }
+    CHECK(dptbd_track_step(&t, list, 4000000000u, &w) == DPTBD_W_CLIPPED);
+    CHECK(t.stats.clipped_candidates == 4000000000u - DPTBD_MAX_CANDIDATES);
+    CHECK(t.stats.candidates == DPTBD_MAX_CANDIDATES);
+
+    /* coordinates outside the frame: dropped and counted, the rest processed */
+    list[0].row = 128; list[1].col = 60000; list[2].row0 = 200; list[2].path = 1;
+    list[3].row0 = 200; list[3].path = 0;      /* no path: row0 unused, kept */
+    CHECK(dptbd_track_step(&t, list, 4, &w) == DPTBD_W_REJECTED);
+    CHECK(t.stats.rejected_candidates == 3);
+    CHECK(t.n_in == 1);
+    CHECK(dptbd_track_step(&t, list, DPTBD_MAX_CANDIDATES + 1, NULL) == (DPTBD_W_CLIPPED | DPTBD_W_REJECTED));
+
+    /* direction codes beyond the moves, extreme coordinates and paths: no overflow (UBSan) */
+    p.height = 65536; p.width = 65536; p.segment_stride = 1024; p.segment_frames = 2;
+    p.radius = 255; p.gate_max = 65535; p.seed_gate = 16000; p.gate_base = 16000;
+    p.gate_growth = 1600; p.gate_miss = 16000; p.gate_growth_segments = 1000;
+    p.heading_weight = 25600; p.link_gate = 16000; p.max_misses = 255; p.delete_ratio = 0;
+    p.predict_ratio = 0; p.confirm_ratio = 0; p.confirm_hits = 1; p.predict_hits = 1;
+    p.manoeuvre = 16000; p.heading_min = 0; p.reject_reversed = 1;
+    CHECK(dptbd_track_init(&t, &p) == DPTBD_OK);
+    for (seg = 0; seg < 40; ++seg) {
+        for (i = 0; i < DPTBD_MAX_CANDIDATES; ++i) {
+            uint32_t k = (uint32_t)seg * 2654435761u + i * 40503u;
+            list[i].row = (uint16_t)((i & 1) ? 65535 - (k % 7) : (k % 5));
+            list[i].col = (uint16_t)((i & 2) ? 65535 - (k % 3) : (k % 11));
+            list[i].row0 = (uint16_t)((i & 4) ? 0 : 65535);
+            list[i].col0 = (uint16_t)((i & 8) ? 65535 : 0);
+            list[i].energy = (i & 16) ? 0xffffffffu : k;
+            list[i].direction = (uint8_t)(k & 0xff);
+            list[i].path = (uint8_t)((i & 32) ? 0 : 1 + (k % 200));
+        }
+        CHECK(dptbd_track_step(&t, list, DPTBD_MAX_CANDIDATES, &w) >= 0);
+    }
+    /* the segment counter at its limit */
+    seg = t.segment;
+    t.segment = INT32_MAX;
+    CHECK(dptbd_track_step(&t, list, 1, NULL) == DPTBD_E_SEGMENTS);
+    t.segment = seg;
+    CHECK(dptbd_track_step(&t, list, 1, NULL) == DPTBD_OK);
+    printf("selftest: all passed (context %lu bytes)\n", (unsigned long)dptbd_track_context_bytes());
+    return 0;
+}
