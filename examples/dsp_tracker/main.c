@@ -170,13 +170,14 @@ int main(int argc, char **argv)
         }
         for (j = 0; j < n; ++j) {
             uint64_t word, row0, col0, has_path;
+            long where = ftell(f);
             if (!read_le(f, 8, &word) || !read_le(f, 2, &row0) || !read_le(f, 2, &col0)
                     || !read_le(f, 1, &has_path)) {
                 rc = corrupt(path, "truncated inside a list", ftell(f));
                 goto done;
             }
             if (dptbd_payload_is_trailer(word) || (word >> DPTBD_PAYLOAD_WIDTH) != 0) {
-                rc = corrupt(path, "a word that is not a candidate record", ftell(f));
+                rc = corrupt(path, "a word that is not a candidate record", where);
                 goto done;
             }
             if (j < DPTBD_MAX_CANDIDATES) {   /* the rest is read past, and clipped below */
