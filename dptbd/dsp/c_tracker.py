@@ -26,7 +26,7 @@ from dptbd.dsp.association import (CANDIDATE_DTYPE, AssociationConfig, Associati
 from dptbd.dsp.firmware_build import build_shared_library, capacity_defines
 
 __all__ = ["DSP_IMPLEMENTATIONS", "CTracker", "FirmwareError", "tracker_class", "load_firmware",
-           "params_codes", "PARAM_NAMES", "STATUS"]
+           "params_codes", "backtrack_starts", "PARAM_NAMES", "STATUS"]
 
 #: Names :func:`tracker_class` accepts.
 DSP_IMPLEMENTATIONS = ("python", "c")
@@ -34,7 +34,7 @@ DSP_IMPLEMENTATIONS = ("python", "c")
 #: The firmware's status codes (``dptbd_track.h``).
 STATUS = {0: "DPTBD_OK", 1: "DPTBD_W_CLIPPED", 2: "DPTBD_W_REJECTED",
           3: "DPTBD_W_CLIPPED|DPTBD_W_REJECTED", -1: "DPTBD_E_NULL", -2: "DPTBD_E_PARAMS",
-          -3: "DPTBD_E_NOT_INITIALISED", -4: "DPTBD_E_SEGMENTS"}
+          -3: "DPTBD_E_NOT_INITIALISED", -4: "DPTBD_E_SEGMENTS", -5: "DPTBD_E_MAPS"}
 
 _STATS = ("segments", "candidates", "suppressed", "matched", "started", "confirmed", "deleted",
           "left_image", "dropped_candidates", "dropped_outputs", "history_wrapped", "duplicates",
@@ -145,6 +145,10 @@ def load_firmware(capacity: int = 64, max_candidates: int = 128, max_points: int
                                      ctypes.POINTER(_Work)]
     lib.dptbd_track_active.argtypes = [ctypes.c_void_p]
     lib.dptbd_track_build_info.argtypes = [ctypes.c_int]
+    lib.dptbd_backtrack_list.argtypes = [ctypes.c_void_p, ctypes.c_int32, ctypes.c_int32,
+                                         ctypes.c_int32, ctypes.c_int32,
+                                         ctypes.POINTER(_Candidate), ctypes.c_uint32]
+    lib.dptbd_backtrack_list.restype = ctypes.c_uint32
     for f in (lib.dptbd_track_init, lib.dptbd_track_step):
         f.restype = ctypes.c_int
     for f in (lib.dptbd_track_active, lib.dptbd_track_context_bytes, lib.dptbd_track_build_info):
@@ -158,6 +162,45 @@ def load_firmware(capacity: int = 64, max_candidates: int = 128, max_points: int
                             f"{got} != {want} or context {lib.dptbd_track_context_bytes()} != "
                             f"{ctypes.sizeof(ctx)} bytes")
     return lib
+
+
+def backtrack_starts(candidates: np.ndarray, maps: np.ndarray, radius: int,
+                     lib: ctypes.CDLL | None = None) -> tuple[np.ndarray, int]:
+    """``dptbd_backtrack_list`` in C: each candidate's path start through one segment's maps.
+
+    Parameters
+    ----------
+    candidates : numpy.ndarray
+        :data:`CANDIDATE_DTYPE` records (``row0``, ``col0``, ``path`` are ignored).
+    maps : numpy.ndarray
+        ``uint8`` ``(K, H, W)`` direction maps of the segment
+        (:func:`dptbd.dsp.backtrack.segment_direction_maps`).
+    radius : int
+        DP search radius r.
+
+    Returns
+    -------
+    (numpy.ndarray, int)
+        The records with ``row0``, ``col0``, ``path`` filled (what
+        :func:`~dptbd.dsp.association.make_candidates` gives with
+        :func:`~dptbd.dsp.backtrack.candidate_paths`), and how many could not be
+        backtracked (corrupt maps: ``path`` = 0, ``row0, col0`` = ``row, col``).
+    """
+    lib = load_firmware() if lib is None else lib
+    maps = np.ascontiguousarray(maps, dtype=np.uint8)
+    if maps.ndim != 3:
+        raise ValueError(f"maps must be (K, H, W), got shape {maps.shape}")
+    buf = np.zeros(max(len(candidates), 1), dtype=_numpy_dtype(_Candidate))
+    for name in CANDIDATE_DTYPE.names:
+        buf[name][:len(candidates)] = candidates[name]
+    k, h, w = maps.shape
+    failed = lib.dptbd_backtrack_list(maps.ctypes.data, k, h, w, int(radius),
+                                      buf.ctypes.data_as(ctypes.POINTER(_Candidate)),
+                                      len(candidates))
+    out = np.zeros(len(candidates), dtype=CANDIDATE_DTYPE)
+    for name in CANDIDATE_DTYPE.names:
+        out[name] = buf[name][:len(candidates)]
+    return out, int(failed)
 
 
 def params_codes(tracker: Tracker, radius: int) -> dict[str, int]:

@@ -29,14 +29,12 @@ MAGIC = b"DPTBDCL1"
 VERSION = 1
 
 
-def scene_lists(seed: int = 0, association: dict | None = None):
-    """The built-in scenario with ``seed`` through the FPGA stage (as ``dptbd run``).
+def scene_pipeline(seed: int = 0, association: dict | None = None):
+    """The built-in scenario with ``seed`` through both stages, as ``dptbd run`` runs it.
 
     Returns
     -------
-    (DPConfig, AssociationConfig, dict, list of numpy.ndarray)
-        The DP configuration, the association's, the tracker's keyword arguments and the
-        per-segment :data:`~dptbd.dsp.association.CANDIDATE_DTYPE` lists.
+    (DPConfig, AssociationConfig, PipelineResult)
     """
     from dptbd.dsp.chain import run_pipeline, segmenter_settings
     from dptbd.evaluation.scenario import default_scenario
@@ -51,7 +49,19 @@ def scene_lists(seed: int = 0, association: dict | None = None):
     count = count_for_rate(sc.false_alarm_rate, sc.height * sc.width)
     assoc = sc.assoc_config()
     cfg = segmenter_settings(cfg, frames, count, assoc)
-    res = run_pipeline(frames, cfg, count, assoc)
+    return cfg, assoc, run_pipeline(frames, cfg, count, assoc)
+
+
+def scene_lists(seed: int = 0, association: dict | None = None):
+    """The lists the DSP's tracker receives in :func:`scene_pipeline`.
+
+    Returns
+    -------
+    (DPConfig, AssociationConfig, dict, list of numpy.ndarray)
+        The DP configuration, the association's, the tracker's keyword arguments and the
+        per-segment :data:`~dptbd.dsp.association.CANDIDATE_DTYPE` lists.
+    """
+    cfg, assoc, res = scene_pipeline(seed, association)
     kwargs = dict(segment_frames=cfg.segment_frames, segment_stride=cfg.segment_stride,
                   height=cfg.height, width=cfg.width, radius=cfg.radius)
     return cfg, assoc, kwargs, res.candidates

@@ -10,6 +10,7 @@
 
 static dptbd_tracker t;                     /* static: zeroed, i.e. not initialised */
 static dptbd_candidate list[DPTBD_MAX_CANDIDATES + 8];
+static uint8_t maps[3][5][6];
 
 #define CHECK(cond) do { if (!(cond)) { printf("selftest: FAILED line %d: %s\n", __LINE__, #cond); return 1; } } while (0)
 
@@ -100,6 +101,41 @@ int main(void)
     CHECK(dptbd_track_step(&t, list, 1, NULL) == DPTBD_E_SEGMENTS);
     t.segment = seg;
     CHECK(dptbd_track_step(&t, list, 1, NULL) == DPTBD_OK);
+    /* backtracking: NULL, sizes, corrupt maps (START inside, paths leaving the frame) */
+    {
+        uint16_t r0 = 99, c0 = 99;
+        dptbd_candidate one[3];
+        memset(maps, 4, sizeof maps);                       /* d = 4: no move at r = 1 */
+        CHECK(dptbd_backtrack(NULL, 3, 5, 6, 1, 0, 0, &r0, &c0) == DPTBD_E_NULL);
+        CHECK(dptbd_backtrack(&maps[0][0][0], 3, 5, 6, 1, 0, 0, NULL, &c0) == DPTBD_E_NULL);
+        CHECK(dptbd_backtrack(&maps[0][0][0], 3, 5, 6, 1, 5, 0, &r0, &c0) == DPTBD_E_PARAMS);
+        CHECK(dptbd_backtrack(&maps[0][0][0], 3, 5, 6, 8, 0, 0, &r0, &c0) == DPTBD_E_PARAMS);
+        CHECK(dptbd_backtrack(&maps[0][0][0], 3, 5, 6, 1, 4, 5, &r0, &c0) == DPTBD_OK);
+        CHECK(r0 == 4 && c0 == 5);
+        maps[2][0][0] = 0;                                  /* move (-1, -1) from (1, 1) */
+        maps[1][1][1] = 9;                                  /* START inside the segment */
+        maps[2][4][5] = 8;                                  /* move (1, 1) from (3, 4) */
+        maps[1][3][4] = 8;                                  /* move (1, 1) from (2, 3) */
+        maps[2][0][5] = 2;                                  /* move (-1, 1): from (1, 4) */
+        maps[1][1][4] = 255;                                /* a code beyond every move */
+        r0 = c0 = 99;
+        CHECK(dptbd_backtrack(&maps[0][0][0], 3, 5, 6, 1, 0, 0, &r0, &c0) == DPTBD_E_MAPS);
+        CHECK(r0 == 99 && c0 == 99);
+        CHECK(dptbd_backtrack(&maps[0][0][0], 3, 5, 6, 1, 4, 5, &r0, &c0) == DPTBD_OK);
+        CHECK(r0 == 2 && c0 == 3);
+        maps[2][4][0] = 6;                                  /* move (1, -1): from (3, 1) */
+        maps[1][3][1] = 6;                                  /* from (2, 2) */
+        CHECK(dptbd_backtrack(&maps[0][0][0], 3, 5, 6, 1, 4, 0, &r0, &c0) == DPTBD_OK);
+        maps[2][4][1] = 3;                                  /* move (0, -1): from (4, 2) */
+        maps[1][4][2] = 2;                                  /* move (-1, 1): from (5, 1): off */
+        CHECK(dptbd_backtrack(&maps[0][0][0], 3, 5, 6, 1, 4, 1, &r0, &c0) == DPTBD_E_MAPS);
+        memset(one, 0, sizeof one);
+        one[0].row = 0; one[0].col = 0; one[1].row = 4; one[1].col = 5; one[2].row = 0; one[2].col = 5;
+        CHECK(dptbd_backtrack_list(&maps[0][0][0], 3, 5, 6, 1, one, 3) == 2);
+        CHECK(one[0].path == 0 && one[0].row0 == 0 && one[1].path == 1 && one[1].row0 == 2);
+        CHECK(one[2].path == 0 && one[2].col0 == 5);
+        CHECK(dptbd_backtrack_list(&maps[0][0][0], 3, 5, 6, 1, NULL, 7) == 7);
+    }
     printf("selftest: all passed (context %lu bytes)\n", (unsigned long)dptbd_track_context_bytes());
     return 0;
 }

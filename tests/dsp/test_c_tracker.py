@@ -16,9 +16,11 @@ import pathlib
 import numpy as np
 import pytest
 
+from dptbd.config import DPConfig
 from dptbd.dsp.association import (CANDIDATE_DTYPE, AssociationConfig, AssociationError, Tracker)
-from dptbd.dsp.c_tracker import (CTracker, FirmwareError, _Candidate, _Params, load_firmware,
-                                 params_codes, tracker_class)
+from dptbd.dsp.backtrack import backtrack
+from dptbd.dsp.c_tracker import (CTracker, FirmwareError, _Candidate, _Params, backtrack_starts,
+                                 load_firmware, params_codes, tracker_class)
 from dptbd.dsp.firmware_build import build_shared_library, capacity_defines
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -360,3 +362,29 @@ def test_integer_helpers_match_python():
     for a in (-7, -6, -5, -1, 0, 1, 5, 6, 7, -(2 ** 40) - 1, 2 ** 40 + 3):
         for b in (1, 2, 3, 5, 2 ** 20):
             assert lib.probe_div_round(a, b) == (2 * a + b) // (2 * b)
+
+
+# ---- backtracking ----------------------------------------------------------------------
+
+@pytest.mark.parametrize("seed", [0, 5])
+def test_backtracking_in_c_matches_the_model(seed):
+    cfg, assoc, res = _example().scene_pipeline(seed)
+    for s, cands in enumerate(res.candidates):
+        got, failed = backtrack_starts(cands, res.maps[s], cfg.radius)
+        assert failed == 0
+        for name in CANDIDATE_DTYPE.names:
+            assert np.array_equal(got[name], cands[name]), f"segment {s} {name}"
+
+
+def test_backtracking_corrupt_maps_is_refused_per_candidate():
+    maps = np.full((4, 10, 12), 4, dtype=np.uint8)        # d = 4: no move (r = 1)
+    maps[0] = 9                                            # START in frame 0
+    maps[3, 2, 2] = 0                                      # move (-1, -1): from (3, 3)
+    maps[2, 3, 3] = 9                                      # START inside the segment
+    maps[3, 0, 5] = 7                                      # move (1, 0): from row -1
+    cands = recs([(2, 2, 9, 0, 0, 0, 0), (0, 5, 9, 1, 0, 0, 0), (7, 7, 9, 4, 0, 0, 0)])
+    got, failed = backtrack_starts(cands, maps, 1)
+    assert failed == 2
+    assert got[["row0", "col0", "path"]].tolist() == [(2, 2, 0), (0, 5, 0), (7, 7, 1)]
+    with pytest.raises(ValueError, match=r"^direction START at frame 2 of a segment"):
+        backtrack(maps, 2, 2, DPConfig(width=12, height=10, segment_frames=4))

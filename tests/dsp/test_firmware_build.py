@@ -66,7 +66,8 @@ def test_warning_free_under_gcc_and_clang(compiler, tmp_path):
         pytest.skip(f"{compiler} is not installed (bash scripts/setup.sh setup installs it)")
     for defines in CAPACITY_SETS:
         for opt in ("-O0", "-O2", "-O3"):
-            _compile(compiler, fb.FIRMWARE_DIR / "dptbd_track.c", defines, opt, tmp_path)
+            for source in fb.SOURCES:
+                _compile(compiler, fb.FIRMWARE_DIR / source, defines, opt, tmp_path)
     for source in (EXAMPLE, HERE / "firmware_selftest.c", HERE / "firmware_probe.c"):
         _compile(compiler, source, (), "-O2", tmp_path)
 

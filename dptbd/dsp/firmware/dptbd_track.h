@@ -72,6 +72,8 @@ typedef int dptbd_status;
 #define DPTBD_E_PARAMS (-2)        /* a parameter outside its range (dptbd_track_init) */
 #define DPTBD_E_NOT_INITIALISED (-3) /* context not set up by dptbd_track_init */
 #define DPTBD_E_SEGMENTS (-4)      /* segment counter exhausted (2^31 - 1 segments) */
+#define DPTBD_E_MAPS (-5)          /* dptbd_backtrack: START inside a segment, or the path
+                                      leaves the frame (corrupt direction maps) */
 
 /* One candidate as the tracker receives it: the FPGA's record (row, col, E, d; wire
  * layout in dptbd_candidate_record.h) and the start (row0, col0) of its backtracked DP
@@ -193,5 +195,22 @@ uint32_t dptbd_track_context_bytes(void);
 /* Compiled capacities: which = 0 capacity, 1 max_candidates, 2 max_points,
  * 3 output_capacity; 4 .. 7: sizeof candidate, track, point, stats; else 0. */
 uint32_t dptbd_track_build_info(int which);
+
+/* ---- backtracking (dptbd_backtrack.c; no state) ----
+ * The start (row0, col0), in the segment's first frame, of the best path ending at
+ * (row, col) in its last frame: K - 1 look-ups in the segment's direction maps
+ * maps[k][r][c] (frames x height x width bytes, d codes of dptbd.hw's layout, radius
+ * r <= 7).  DPTBD_E_NULL, DPTBD_E_PARAMS (sizes, or (row, col) outside the frame) or
+ * DPTBD_E_MAPS (START inside the segment, or a path leaving the frame); *row0, *col0 are
+ * written only on DPTBD_OK. */
+dptbd_status dptbd_backtrack(const uint8_t *maps, int32_t frames, int32_t height, int32_t width,
+                             int32_t radius, uint16_t row, uint16_t col,
+                             uint16_t *row0, uint16_t *col0);
+
+/* dptbd_backtrack for each candidate of a list: row0, col0 and path = 1 on success; on
+ * failure row0 = row, col0 = col, path = 0 (the tracker then uses d alone).  Returns the
+ * number of failures (n if list is NULL). */
+uint32_t dptbd_backtrack_list(const uint8_t *maps, int32_t frames, int32_t height,
+                              int32_t width, int32_t radius, dptbd_candidate *list, uint32_t n);
 
 #endif /* DPTBD_TRACK_H */
