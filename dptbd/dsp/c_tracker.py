@@ -26,7 +26,7 @@ from dptbd.dsp.association import (CANDIDATE_DTYPE, AssociationConfig, Associati
 from dptbd.dsp.firmware_build import build_shared_library, capacity_defines
 
 __all__ = ["DSP_IMPLEMENTATIONS", "CTracker", "FirmwareError", "tracker_class", "load_firmware",
-           "params_codes", "backtrack_starts", "PARAM_NAMES", "STATUS"]
+           "params_codes", "backtrack_starts", "trim_to_count", "PARAM_NAMES", "STATUS"]
 
 #: Names :func:`tracker_class` accepts.
 DSP_IMPLEMENTATIONS = ("python", "c")
@@ -149,6 +149,9 @@ def load_firmware(capacity: int = 64, max_candidates: int = 128, max_points: int
                                          ctypes.c_int32, ctypes.c_int32,
                                          ctypes.POINTER(_Candidate), ctypes.c_uint32]
     lib.dptbd_backtrack_list.restype = ctypes.c_uint32
+    lib.dptbd_trim_to_count.argtypes = [ctypes.POINTER(_Candidate), ctypes.c_uint32,
+                                        ctypes.c_uint32]
+    lib.dptbd_trim_to_count.restype = ctypes.c_uint32
     for f in (lib.dptbd_track_init, lib.dptbd_track_step):
         f.restype = ctypes.c_int
     for f in (lib.dptbd_track_active, lib.dptbd_track_context_bytes, lib.dptbd_track_build_info):
@@ -162,6 +165,31 @@ def load_firmware(capacity: int = 64, max_candidates: int = 128, max_points: int
                             f"{got} != {want} or context {lib.dptbd_track_context_bytes()} != "
                             f"{ctypes.sizeof(ctx)} bytes")
     return lib
+
+
+def _to_c(candidates: np.ndarray) -> np.ndarray:
+    buf = np.zeros(max(len(candidates), 1), dtype=_numpy_dtype(_Candidate))
+    for name in CANDIDATE_DTYPE.names:
+        buf[name][:len(candidates)] = candidates[name]
+    return buf
+
+
+def _from_c(buf: np.ndarray, n: int) -> np.ndarray:
+    out = np.zeros(n, dtype=CANDIDATE_DTYPE)
+    for name in CANDIDATE_DTYPE.names:
+        out[name] = buf[name][:n]
+    return out
+
+
+def trim_to_count(candidates: np.ndarray, count: int, lib: ctypes.CDLL | None = None
+                  ) -> np.ndarray:
+    """``dptbd_trim_to_count`` in C on :data:`CANDIDATE_DTYPE` records
+    (:func:`dptbd.dsp.association.trim_to_count`'s rule)."""
+    lib = load_firmware() if lib is None else lib
+    buf = _to_c(candidates)
+    n = lib.dptbd_trim_to_count(buf.ctypes.data_as(ctypes.POINTER(_Candidate)),
+                                len(candidates), int(count))
+    return _from_c(buf, int(n))
 
 
 def backtrack_starts(candidates: np.ndarray, maps: np.ndarray, radius: int,
@@ -190,17 +218,12 @@ def backtrack_starts(candidates: np.ndarray, maps: np.ndarray, radius: int,
     maps = np.ascontiguousarray(maps, dtype=np.uint8)
     if maps.ndim != 3:
         raise ValueError(f"maps must be (K, H, W), got shape {maps.shape}")
-    buf = np.zeros(max(len(candidates), 1), dtype=_numpy_dtype(_Candidate))
-    for name in CANDIDATE_DTYPE.names:
-        buf[name][:len(candidates)] = candidates[name]
+    buf = _to_c(candidates)
     k, h, w = maps.shape
     failed = lib.dptbd_backtrack_list(maps.ctypes.data, k, h, w, int(radius),
                                       buf.ctypes.data_as(ctypes.POINTER(_Candidate)),
                                       len(candidates))
-    out = np.zeros(len(candidates), dtype=CANDIDATE_DTYPE)
-    for name in CANDIDATE_DTYPE.names:
-        out[name] = buf[name][:len(candidates)]
-    return out, int(failed)
+    return _from_c(buf, len(candidates)), int(failed)
 
 
 def params_codes(tracker: Tracker, radius: int) -> dict[str, int]:
@@ -265,7 +288,6 @@ class CTracker(Tracker):
             raise FirmwareError(f"dptbd_track_init returned {STATUS.get(status, status)} for "
                                 f"{codes}")
         self._work = _Work()
-        self._cand_dtype = _numpy_dtype(_Candidate)
         self.last_status = 0
         self.last_work: dict[str, int] = {}
         self.input_counters = dict.fromkeys(_INPUT_COUNTERS, 0)
@@ -288,9 +310,7 @@ class CTracker(Tracker):
         checks (``n``: the count passed to C, default ``len(candidates)``), for testing the
         firmware's own bad-input handling. Returns the status; raises
         :class:`FirmwareError` on a negative one."""
-        buf = np.zeros(max(len(candidates), 1), dtype=self._cand_dtype)
-        for name in CANDIDATE_DTYPE.names:
-            buf[name][:len(candidates)] = candidates[name]
+        buf = _to_c(candidates)
         count = len(candidates) if n is None else int(n)
         status = self._lib.dptbd_track_step(ctypes.byref(self._ctx),
                                             buf.ctypes.data_as(ctypes.POINTER(_Candidate)),

@@ -136,6 +136,16 @@ int main(void)
         CHECK(one[2].path == 0 && one[2].col0 == 5);
         CHECK(dptbd_backtrack_list(&maps[0][0][0], 3, 5, 6, 1, NULL, 7) == 7);
     }
+    /* the input trim: NULL, ties, a count above the list */
+    {
+        dptbd_candidate three[3];
+        memset(three, 0, sizeof three);
+        three[0].energy = 5; three[1].energy = 7; three[2].energy = 5;
+        CHECK(dptbd_trim_to_count(NULL, 3, 1) == 0);
+        CHECK(dptbd_trim_to_count(three, 3, 5) == 3);
+        CHECK(dptbd_trim_to_count(three, 3, 2) == 1 && three[0].energy == 7);
+        CHECK(dptbd_trim_to_count(three, 0, 0) == 0);
+    }
     printf("selftest: all passed (context %lu bytes)\n", (unsigned long)dptbd_track_context_bytes());
     return 0;
 }

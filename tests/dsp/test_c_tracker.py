@@ -19,8 +19,9 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.dsp.association import (CANDIDATE_DTYPE, AssociationConfig, AssociationError, Tracker)
 from dptbd.dsp.backtrack import backtrack
+from dptbd.dsp import association
 from dptbd.dsp.c_tracker import (CTracker, FirmwareError, _Candidate, _Params, backtrack_starts,
-                                 load_firmware, params_codes, tracker_class)
+                                 load_firmware, params_codes, tracker_class, trim_to_count)
 from dptbd.dsp.firmware_build import build_shared_library, capacity_defines
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -388,3 +389,31 @@ def test_backtracking_corrupt_maps_is_refused_per_candidate():
     assert got[["row0", "col0", "path"]].tolist() == [(2, 2, 0), (0, 5, 0), (7, 7, 1)]
     with pytest.raises(ValueError, match=r"^direction START at frame 2 of a segment"):
         backtrack(maps, 2, 2, DPConfig(width=12, height=10, segment_frames=4))
+
+
+# ---- the input trim --------------------------------------------------------------------
+
+def test_trim_in_c_matches_the_model_on_gateware_lists():
+    from dptbd.model.segmentation import segment_sequence
+    cfg, assoc, res = _example().scene_pipeline(2)
+    lists = segment_sequence(res.segments.energy, res.segments.direction, res.cfg)
+    trimmed = 0
+    for s, out in enumerate(lists):
+        raw = association.make_candidates(out.records)
+        want = association.trim_to_count(raw, res.count)
+        assert trim_to_count(raw, res.count).tolist() == want.tolist(), f"segment {s}"
+        trimmed += len(raw) - len(want)
+    assert trimmed > 0
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_trim_in_c_matches_the_model_with_ties(seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(60):
+        n = int(rng.integers(0, 40))
+        raw = recs([(int(rng.integers(0, 128)), int(rng.integers(0, 128)),
+                     int(rng.integers(0, 6 if seed % 2 else 2 ** 32)), 0, 0, 0, 0)
+                    for _ in range(n)])
+        for count in (0, 1, n // 2, max(n - 1, 0), n, n + 3):
+            assert trim_to_count(raw, count).tolist() == \
+                association.trim_to_count(raw, count).tolist(), (n, count)

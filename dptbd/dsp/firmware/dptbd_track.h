@@ -213,4 +213,10 @@ dptbd_status dptbd_backtrack(const uint8_t *maps, int32_t frames, int32_t height
 uint32_t dptbd_backtrack_list(const uint8_t *maps, int32_t frames, int32_t height,
                               int32_t width, int32_t radius, dptbd_candidate *list, uint32_t n);
 
+/* ---- the input trim (dptbd_trim.c; no state) ----
+ * The constant-false-alarm-count rule on a received list, in place: keeps the records
+ * whose E exceeds the (count + 1)-th largest E of the list (all of them when n <= count),
+ * in the list's order, and returns how many (0 for a NULL list).  n^2 compares. */
+uint32_t dptbd_trim_to_count(dptbd_candidate *list, uint32_t n, uint32_t count);
+
 #endif /* DPTBD_TRACK_H */
