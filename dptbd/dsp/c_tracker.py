@@ -305,16 +305,15 @@ class CTracker(Tracker):
                                    f"(make_candidates), got dtype {np.asarray(candidates).dtype}")
         self.step_raw(candidates)
 
-    def step_raw(self, candidates: np.ndarray, n: int | None = None) -> int:
+    def step_raw(self, candidates: np.ndarray) -> int:
         """One ``dptbd_track_step`` on :data:`CANDIDATE_DTYPE` records without the Python
-        checks (``n``: the count passed to C, default ``len(candidates)``), for testing the
-        firmware's own bad-input handling. Returns the status; raises
+        checks (a list longer than ``max_candidates`` is the firmware's to clip), for
+        testing the firmware's own bad-input handling. Returns the status; raises
         :class:`FirmwareError` on a negative one."""
         buf = _to_c(candidates)
-        count = len(candidates) if n is None else int(n)
         status = self._lib.dptbd_track_step(ctypes.byref(self._ctx),
                                             buf.ctypes.data_as(ctypes.POINTER(_Candidate)),
-                                            count, ctypes.byref(self._work))
+                                            len(candidates), ctypes.byref(self._work))
         if status < 0:
             raise FirmwareError(f"dptbd_track_step returned {STATUS.get(status, status)}")
         self.last_status = status

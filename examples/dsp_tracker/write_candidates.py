@@ -17,8 +17,6 @@ import struct
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from dptbd.config import DPConfig
 from dptbd.dsp.association import AssociationConfig, Tracker
 from dptbd.dsp.c_tracker import PARAM_NAMES, params_codes

@@ -337,7 +337,7 @@ def test_extreme_headings_use_the_128_bit_paths():
     v = (int(py.tracks["v_row"][0]), int(py.tracks["v_col"][0]))
     h = ((33768 - 65535) * 16 * 1024, (33768 - 65535) * 16 * 1024)
     v2h2 = (v[0] ** 2 + v[1] ** 2) * (h[0] ** 2 + h[1] ** 2)
-    norm = __import__("math").isqrt(v2h2)
+    norm = math.isqrt(v2h2)
     assert v2h2 >= 2 ** 64 and py.heading_weight * (norm - (v[0] * h[0] + v[1] * h[1])) >= 2 ** 64
     for cands in lists[1:]:
         py.step(cands)

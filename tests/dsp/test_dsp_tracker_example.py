@@ -3,16 +3,16 @@ recorded scenes, and refuses corrupt files with one named reason — all under
 -fsanitize=address,undefined."""
 
 import importlib.util
-import os
 import pathlib
 import struct
 import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 from dptbd.config import DPConfig
-from dptbd.dsp.association import AssociationConfig, Tracker
+from dptbd.dsp.association import AssociationConfig
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "examples" / "dsp_tracker"
@@ -129,10 +129,9 @@ def test_usage_and_missing_file(program, tmp_path):
 
 def test_write_candidates_script(tmp_path):
     out, expect = tmp_path / "s.dptbd", tmp_path / "s.txt"
-    res = subprocess.run([str(ROOT / ".venv" / "bin" / "python") if (ROOT / ".venv").exists()
-                          else "python3", str(EXAMPLE / "write_candidates.py"), "--seed", "4",
+    res = subprocess.run([sys.executable, str(EXAMPLE / "write_candidates.py"), "--seed", "4",
                           "--out", str(out), "--expect", str(expect)],
-                         capture_output=True, text=True, env={**os.environ})
+                         capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     assert res.stderr.startswith(f"wrote {out}: 16 segments, ")
     assert out.read_bytes()[:8] == b"DPTBDCL1" and expect.read_text().startswith("segments 16,")
