@@ -13,7 +13,7 @@ shift || true
 # Debian packages: Icarus (cocotb simulator, 4-state checks), Verilator + g++ + make (the
 # compiled RTL simulator, lint), Yosys + nextpnr + icestorm
 # (synthesis / timing estimates of the generated Verilog), and what a venv needs.
-debs=(iverilog verilator g++ make yosys nextpnr-ice40 fpga-icestorm python3 python3-venv python3-pip)
+debs=(iverilog verilator g++ clang make yosys nextpnr-ice40 fpga-icestorm python3 python3-venv python3-pip)
 missing=()
 for p in "${debs[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
 # A Python that already has venv (pyenv, …) does not need Debian's.
