@@ -215,34 +215,33 @@ def random_rule(flat: np.ndarray, plan: "Plan", keys: np.ndarray,
 
 
 @njit(cache=True)
-def _select_above(values, level, near, n_seg, idx, n_cand, hit, near_count):
-    """Every pixel with ``values[i, p] > level[i]`` (raster order) and how many lie in the
-    detection gate; image ``i`` is segment ``i % n_seg``. ``idx`` must be wide enough
-    (``level`` the (n+1)-th largest value: at most n pixels)."""
+def _select_above(values, level, idx, n_cand):
+    """Every pixel with ``values[i, p] > level[i]``, in raster order, into ``idx[i]``; their
+    number into ``n_cand[i]``. ``idx`` must be wide enough (``level`` the (n+1)-th largest
+    value: at most n pixels)."""
     for i in range(values.shape[0]):
-        s = i % n_seg
         lv = level[i]
         k = 0
-        inside = 0
         for p in range(values.shape[1]):
             if values[i, p] > lv:
                 idx[i, k] = p
                 k += 1
-                if near[s, p]:
-                    inside += 1
         n_cand[i] = k
-        near_count[i] = inside
-        hit[i] = inside > 0
 
 
 def _above_next_largest(values: np.ndarray, plan: "Plan") -> tuple:
     """The pixels strictly above each row's (n+1)-th largest value
-    (:func:`dptbd.model.segmentation.threshold_level`: ``-inf`` when n >= H*W)."""
+    (:func:`dptbd.model.segmentation.threshold_level`: ``-inf`` when n >= H*W), and how
+    many lie in the detection gate (image ``i`` is segment ``i % len(plan.ends)``)."""
     count = plan.spec.candidate_count
     level = threshold_level(values[:, None, :], count).astype(np.float64)
-    out = _empty_lists(values.shape[0], count)
-    _select_above(values, level, plan.near_flat, len(plan.ends), *out)
-    return out
+    idx, n_cand, _, _ = _empty_lists(values.shape[0], count)
+    _select_above(values, level, idx, n_cand)
+    images = np.arange(values.shape[0])
+    gate = plan.near_flat[images % len(plan.ends)]
+    listed = np.arange(idx.shape[1])[None, :] < n_cand[:, None]
+    near_count = (np.take_along_axis(gate, idx, axis=1) & listed).sum(axis=1).astype(np.int64)
+    return idx, n_cand, near_count > 0, near_count
 
 
 def gateware_rule(flat: np.ndarray, plan: "Plan", keys: np.ndarray,
