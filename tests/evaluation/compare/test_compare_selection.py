@@ -92,6 +92,11 @@ def _run(rule, image, count, key=12345, cfg=None, near=None):
                                  np.array([key], np.uint64), cfg)
 
 
+def test_one_function_per_rule_of_the_spec():
+    from dptbd.evaluation.compare.spec import TIE_RULES
+    assert tuple(selection.RULES) == TIE_RULES
+
+
 def test_random_rule_fills_up_to_n_from_the_tie_by_priority():
     # n = 3: 6 and 5 are above the 3rd largest (4); one of the four pixels at 4 fills the
     # third place: the one with the smallest priority _mix(key ^ p * golden)
