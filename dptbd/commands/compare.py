@@ -12,6 +12,10 @@ import argparse
 import pathlib
 import sys
 
+#: evaluation.compare.spec.TIE_RULES, written out for the same reason as the defaults below
+#: (tests/commands/test_compare.py::test_cli_tie_rules_are_the_specs keeps them equal).
+TIE_RULES = ("random", "gateware", "gateware-bins")
+
 HELP = "fixed vs float detection: Monte Carlo Pd/Pfa, SNR loss, bit-width sweep with iCE40 cost"
 
 
@@ -30,6 +34,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--bootstrap", type=int, metavar="B",
                         help="bootstrap resamples for the SNR-loss intervals "
                              "(default 1000, or the file's)")
+    parser.add_argument("--tie-rule", choices=TIE_RULES, default=None,
+                        help="candidate rule: random = exactly n per image, ties broken by a "
+                             "seeded priority; gateware = the segmenter's selection with the "
+                             "image's own histogram, one bin per E (E > the (n+1)-th largest, "
+                             "ties dropped whole); gateware-bins = the same on each "
+                             "configuration's histogram bins E >> s (docs/compare.md; "
+                             "default random, or the file's)")
     parser.add_argument("--workers", type=int, default=None,
                         help="worker processes (default: all cores; 1 = in this process)")
     parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("compare-out"),
@@ -75,6 +86,7 @@ def main(args: argparse.Namespace) -> int:
     try:
         outcome = compare_job(args.config, args.out, force=args.force, trials=args.trials,
                               seed=args.seed, snr=args.snr, bootstrap=args.bootstrap,
+                              tie_rule=args.tie_rule,
                               workers=args.workers, progress=not args.no_progress,
                               rtl=args.rtl, synth=synth)
     except (ToolNotFoundError, ToolMissingError) as exc:  # Yosys/nextpnr or Verilator missing

@@ -42,11 +42,12 @@ def job_calls(monkeypatch):
 def test_arguments_reach_the_job_and_its_text_is_printed(job_calls, capsys):
     args = _parse(["--config", "c.toml", "--out", "o", "--trials", "5", "--seed", "3", "--snr",
                    "1.5", "2.5", "--bootstrap", "9", "--workers", "2", "--force", "--no-progress",
-                   "--rtl"])
+                   "--rtl", "--tie-rule", "gateware-bins"])
     assert command.main(args) == 0
     assert job_calls == [(pathlib.Path("c.toml"), pathlib.Path("o"), {
-        "force": True, "trials": 5, "seed": 3, "snr": [1.5, 2.5], "bootstrap": 9, "workers": 2,
-        "progress": False, "rtl": True, "synth": None})]
+        "force": True, "trials": 5, "seed": 3, "snr": [1.5, 2.5], "bootstrap": 9,
+        "tie_rule": "gateware-bins", "workers": 2, "progress": False, "rtl": True,
+        "synth": None})]
     assert capsys.readouterr().out == "the tables\nwrote somewhere\n"
 
 
@@ -54,7 +55,7 @@ def test_defaults_reach_the_job(job_calls):
     assert command.main(_parse([])) == 0
     assert job_calls == [(None, pathlib.Path("compare-out"), {
         "force": False, "trials": None, "seed": None, "snr": None, "bootstrap": None,
-        "workers": None, "progress": True, "rtl": False, "synth": None})]
+        "tie_rule": None, "workers": None, "progress": True, "rtl": False, "synth": None})]
 
 
 def test_synthesis_options_reach_the_job(job_calls, tmp_path):
@@ -89,8 +90,8 @@ def test_cli_exits_2_with_the_message(tmp_path, monkeypatch, capsys, argv, messa
 @pytest.mark.parametrize("text, message", [
     ("[[config]]\nenergy_bitz = 9\n",
      "config[0]: unknown configuration key(s) ['energy_bitz']; allowed: ['adc_gain', "
-     "'adc_offset', 'energy_bits', 'input_bits', 'lut', 'name', 'rounding', 'weight_frac_bits', "
-     "'weights']"),
+     "'adc_offset', 'energy_bits', 'histogram_bits', 'histogram_shift', 'input_bits', 'lut', "
+     "'name', 'rounding', 'weight_frac_bits', 'weights']"),
     ("[sweep]\ninput_bits = [0]\n", "sweep.input_bits must be in [1, 16], got 0"),
     ("[[config]]\ninput_bits = 8\nweight_frac_bits = -1\n",
      "config[0]: weight_frac_bits must be an integer in [0, 16], got -1"),
@@ -131,6 +132,20 @@ def test_cli_runs_the_job_and_prints_what_it_wrote(tmp_path, capsys):
                             f"{out / 'compare_configs.csv'}, {out / 'compare_summary.json'}, "
                             f"{out / 'compare_pd.png'}, {out / 'compare_pfa.png'}, "
                             f"{out / 'compare_loss.png'}\n")
+
+
+def test_cli_tie_rules_are_the_specs(capsys):
+    parser = argparse.ArgumentParser(prog="dptbd compare")
+    command.add_arguments(parser)
+    rule = next(a for a in parser._actions if a.dest == "tie_rule")
+    assert command.TIE_RULES == rule.choices == compare_package.TIE_RULES
+    assert "default random," in rule.help
+    with pytest.raises(SystemExit) as exc:
+        parser.parse_args(["--tie-rule", "raster"])
+    assert exc.value.code == 2
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        "dptbd compare: error: argument --tie-rule: invalid choice: 'raster' (choose from "
+        "'random', 'gateware', 'gateware-bins')")
 
 
 def test_cli_help_quotes_the_real_defaults():

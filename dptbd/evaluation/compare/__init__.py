@@ -33,7 +33,10 @@ Measured per detector, on the same scenes
       :func:`dptbd.model.segmentation.count_for_rate`), the n largest E with ties at the
       n-th largest broken by a pseudo-random priority per (seed, trial, segment, pixel),
       the same for every detector (:func:`candidate_indices`), so every detector — however
-      coarse its E — runs at the same number of candidates;
+      coarse its E — runs at the same number of candidates (the default ``tie_rule``,
+      ``random``; the rules ``gateware`` and ``gateware-bins`` select as the gateware
+      segmenter does, ties at the boundary dropped whole:
+      :mod:`~dptbd.evaluation.compare.selection`);
       a candidate within one pixel of the target's true pixel in the segment's last frame
       is a detection (:mod:`dptbd.evaluation.metrics`), the others are false points;
     * the false-alarm probability per pixel against a threshold, on the noise-only scenes.
@@ -48,6 +51,7 @@ All counts are kept per trial, so that every interval can be clustered by trial
 (:func:`dptbd.evaluation.snr_loss.clustered_wilson`) and the SNR loss bootstrapped over trials
 (:func:`dptbd.evaluation.snr_loss.bootstrap_losses`). Trials run in chunks on worker processes;
 a trial's numbers depend only on the seed and its index, never on the chunking or the
+number of workers.
 
 The package, one concept per module:
 
@@ -55,8 +59,8 @@ The package, one concept per module:
   fixed configuration (:class:`FixedSpec`) and a whole run (:class:`CompareSpec`), built and
   validated from a TOML file by :func:`build_spec`;
 * :mod:`~dptbd.evaluation.compare.plan` — what a worker runs (:class:`Plan`, :func:`make_plan`);
-* :mod:`~dptbd.evaluation.compare.selection` — the exactly-n candidate rule and its
-  tie-break priorities;
+* :mod:`~dptbd.evaluation.compare.selection` — the candidate rules (:data:`TIE_RULES`):
+  exactly n with its tie-break priorities, and the gateware segmenter's;
 * :mod:`~dptbd.evaluation.compare.runner` — the Monte Carlo (:func:`run_compare`) on a
   process pool;
 * :mod:`~dptbd.evaluation.compare.report` — statistics, CSV/JSON files, Markdown tables;
@@ -66,8 +70,8 @@ The package, one concept per module:
 """
 
 from dptbd.evaluation.compare.spec import (
-    DEFAULT_CONFIGS, DEFAULT_RUN, DEFAULT_SWEEP, LUTS, CompareSpec, FixedSpec, adc_mapping,
-    build_spec, cosine_weights, lut_weights)
+    DEFAULT_CONFIGS, DEFAULT_RUN, DEFAULT_SWEEP, LUTS, TIE_RULES, CompareSpec, FixedSpec,
+    adc_mapping, build_spec, cosine_weights, lut_weights)
 from dptbd.evaluation.compare.plan import Plan, make_plan
 from dptbd.evaluation.compare.selection import candidate_indices, image_keys, nth_largest
 from dptbd.evaluation.compare.runner import (
@@ -79,7 +83,7 @@ from dptbd.evaluation.compare.job import CompareOutcome, SynthOptions, compare_j
 
 __all__ = [
     "LUTS", "cosine_weights", "lut_weights", "adc_mapping", "FixedSpec", "CompareSpec",
-    "DEFAULT_RUN", "DEFAULT_CONFIGS", "DEFAULT_SWEEP", "build_spec", "Plan", "make_plan",
+    "DEFAULT_RUN", "DEFAULT_CONFIGS", "DEFAULT_SWEEP", "TIE_RULES", "build_spec", "Plan", "make_plan",
     "measure_frames", "CompareResult", "run_compare", "default_workers", "candidate_indices",
     "nth_largest", "image_keys", "check_rtl",
     "summarise", "write_outputs", "markdown_tables", "FIGURES", "DATA_FILES",

@@ -139,7 +139,8 @@ class CompareOutcome:
         lines = [markdown_tables(self.summary),
                  f"\n{spec.trials} trials x {result.segments} segments x {len(spec.snr)} SNRs "
                  f"(+ noise only), {len(spec.configs)} configurations "
-                 f"({len(result.plan.fixed)} distinct), seed {spec.seed}: "
+                 f"({len(result.plan.fixed)} distinct), seed {spec.seed}"
+                 + ("" if spec.tie_rule == "random" else f", tie rule {spec.tie_rule}") + ": "
                  f"Monte Carlo {result.seconds:.1f} s on {result.workers} worker(s) "
                  f"({result.trials_per_second:.2f} trials/s), total {run['total_seconds']:.1f} s"
                  + (" — fixed-point trials on the RTL" if result.rtl else "")]
@@ -158,7 +159,8 @@ def _check_workers(workers: int | None) -> None:
 def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Path, *,
                 force: bool = False, trials: int | None = None, seed: int | None = None,
                 snr: Sequence[float] | None = None, bootstrap: int | None = None,
-                workers: int | None = None, progress: bool = True, rtl: bool = False,
+                tie_rule: str | None = None, workers: int | None = None,
+                progress: bool = True, rtl: bool = False,
                 synth: SynthOptions | None = None) -> CompareOutcome:
     """Validate, run and write one comparison (``docs/compare.md``).
 
@@ -169,8 +171,9 @@ def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Pa
         built-in comparison (:func:`~dptbd.evaluation.compare.spec.build_spec`).
     out : pathlib.Path
         The output folder: a new one, or with ``force`` an earlier ``dptbd compare`` run's.
-    trials, seed, snr, bootstrap
-        Overrides of the run's parameters (``None``: the file's or the default).
+    trials, seed, snr, bootstrap, tie_rule
+        Overrides of the run's parameters (``None``: the file's or the default;
+        ``tie_rule`` one of :data:`~dptbd.evaluation.compare.spec.TIE_RULES`).
     workers : int, optional
         Worker processes (default: every core available); 1 runs in this process.
     progress : bool
@@ -189,7 +192,8 @@ def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Pa
         work.
     """
     mapping = load_config(config) if config is None or isinstance(config, pathlib.Path) else config
-    spec = build_spec(mapping, trials=trials, seed=seed, snr=snr, bootstrap=bootstrap)
+    spec = build_spec(mapping, trials=trials, seed=seed, snr=snr, bootstrap=bootstrap,
+                      tie_rule=tie_rule)
     _check_workers(workers)
     out = check_output_folder(out, force, marker=MARKER, tool=TOOL)
     if rtl:

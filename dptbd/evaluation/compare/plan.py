@@ -11,9 +11,9 @@ import numpy as np
 from dptbd.config import DPConfig
 from dptbd.scenes import synthetic as scenes
 from dptbd.evaluation.metrics import near_mask
-from dptbd.evaluation.compare.spec import CompareSpec
+from dptbd.evaluation.compare.spec import CompareSpec, FixedSpec
 
-__all__ = ["Plan", "make_plan"]
+__all__ = ["Plan", "detector_key", "make_plan"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -21,7 +21,8 @@ class Plan:
     """What a worker needs: the detectors, the ADCs, the target's truth. Picklable.
 
     Detectors ``0 .. len(floats) - 1`` are the float models (one per distinct LUT),
-    then the fixed behaviours (configurations that compute identical bits share one).
+    then the fixed behaviours (configurations that compute identical bits and select the
+    same candidates from them share one: :func:`detector_key`).
     """
 
     spec: CompareSpec
@@ -58,6 +59,22 @@ class Plan:
         return names
 
 
+def detector_key(f: FixedSpec, tie_rule: str) -> tuple:
+    """Configurations with the same key are one detector: same candidates on every scene.
+
+    The DP bits (:meth:`FixedSpec.behaviour_key`), and under the ``gateware-bins`` rule
+    the histogram too: that rule selects on ``min(E >> s, 2**b - 1)``
+    (:func:`dptbd.model.segmentation.histogram_bins`), so two configurations with the same
+    E but another shift s or bin count 2**b keep other candidates and must not share a
+    detector (whose candidates would be selected with the first one's s). The other rules
+    never look at the histogram.
+    """
+    key = f.behaviour_key()
+    if tie_rule == "gateware-bins":
+        key += (("bins", f.cfg.bin_shift, f.cfg.n_bins),)
+    return key
+
+
 def make_plan(spec: CompareSpec) -> Plan:
     """Group the configurations into detectors and precompute the target's truth."""
     floats: list[DPConfig] = []
@@ -74,7 +91,7 @@ def make_plan(spec: CompareSpec) -> Plan:
             float_keys.append(fk)
             floats.append(f.cfg.replace(input_bits=16, energy_bits=32))
     for f in spec.configs:
-        key = f.behaviour_key()
+        key = detector_key(f, spec.tie_rule)
         if key not in behaviour_keys:
             behaviour_keys.append(key)
             fixed.append(f.cfg)

@@ -161,6 +161,8 @@ def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
             "verdict": verdicts[f.name],
             "differs_from_float": any(e.differs() for e in losses[f.name]),
             "detector": names[d]})
+        if spec.tie_rule == "gateware-bins":  # the histogram the candidates were selected on
+            row.update({"histogram_bits": f.cfg.histogram_bits, "bin_shift": f.cfg.bin_shift})
         for e in losses[f.name]:
             tag = f"pd{int(round(e.level * 100)):02d}"
             row.update({f"loss_{tag}_db": e.loss, f"loss_{tag}_lo": e.lo, f"loss_{tag}_hi": e.hi,

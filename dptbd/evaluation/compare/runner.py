@@ -61,7 +61,7 @@ def _evaluate(plan: Plan, float_frames: np.ndarray, codes: Sequence[np.ndarray],
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", EnergyWidthWarning)
                 res = run_fixed_fast(codes[plan.fixed_adc[b]], cfg, threads=1)
-        cand = _candidates(res.energy, res.direction, plan, keys)
+        cand = _candidates(res.energy, res.direction, plan, keys, cfg)
         _store(out, kind, d, cand, refs[plan.fixed_float[b]], with_target, n_trials, n_seg)
         if not with_target:
             out["exceed"][:, d] = _exceedances(res.energy, plan.levels[d])

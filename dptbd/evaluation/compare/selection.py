@@ -1,5 +1,26 @@
-"""The candidate rule of ``dptbd compare``: exactly n candidates per accumulated image, ties at
-the n-th largest broken by a pseudo-random priority per (seed, trial, segment, pixel)."""
+"""The candidate rules of ``dptbd compare`` (run-level key ``tie_rule``, ``--tie-rule``): which
+pixels of an accumulated image are its candidates, n = the run's candidate count.
+
+``random`` (the default)
+    Exactly n candidates: every pixel with E above the image's n-th largest value, and of
+    the pixels AT that value the ones with the smallest pseudo-random priority per (seed,
+    trial, segment, pixel) (:func:`_select`, written plainly in :func:`candidate_indices`).
+``gateware``
+    The gateware segmenter's selection (``docs/arithmetic.md`` §6) with the image's own
+    histogram and one bin per E value (s = 0): the pixels with E strictly above the image's
+    (n+1)-th largest value, a tie at the boundary dropped whole, so at most n
+    (:func:`_select_above`; the model's rule is
+    :func:`dptbd.model.segmentation.candidate_mask`).
+``gateware-bins``
+    The same on the histogram bins ``min(E >> s, 2**b - 1)`` of the configuration the
+    detector runs with (:func:`dptbd.model.segmentation.histogram_bins`, s =
+    ``DPConfig.bin_shift``): what the segmenter selects when it thresholds an image with its
+    own histogram. Float models have no bins; they select on E as under ``gateware``.
+
+Neither gateware rule models the segmenter's stale threshold (the previous segment's
+histogram) or the empty first list after reset. One function per rule (:data:`RULES`),
+called through :func:`_candidates`.
+"""
 
 from __future__ import annotations
 
@@ -9,12 +30,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from dptbd.config import DPConfig
+from dptbd.model.segmentation import histogram_bins, threshold_level
+
 if TYPE_CHECKING:
     from dptbd.evaluation.compare.plan import Plan
 
-__all__ = ["image_keys", "nth_largest", "candidate_indices"]
+__all__ = ["image_keys", "nth_largest", "candidate_indices", "RULES"]
 
-# ---- the candidate rule: exactly n per image, ties at the n-th largest broken at random --
+# ---- the random rule: exactly n per image, ties at the n-th largest broken at random ------
 #
 # Every pixel with E above the image's n-th largest value is a candidate; the pixels AT that
 # value fill the list up to n in the order of a pseudo-random priority per pixel,
@@ -172,18 +196,78 @@ class _Candidates:
     direction: np.ndarray  # (images, H*W)
 
 
-def _candidates(energy: np.ndarray, direction: np.ndarray, plan: "Plan",
-                keys: np.ndarray) -> _Candidates:
-    """Exactly n candidates per image (:func:`_select`); ``keys``: :func:`image_keys`."""
+# ---- one function per rule: (values (images, H*W), plan, keys, cfg) -> _Candidates fields ----
+
+def _empty_lists(images: int, count: int) -> tuple:
+    """``idx``, ``n_cand``, ``hit``, ``near_count`` for ``images`` images, zeroed."""
+    return (np.zeros((images, max(count, 1)), np.int64), np.zeros(images, np.int64),
+            np.zeros(images, np.bool_), np.zeros(images, np.int64))
+
+
+def random_rule(flat: np.ndarray, plan: "Plan", keys: np.ndarray,
+                cfg: DPConfig | None) -> tuple:
+    """``random``: exactly n per image, ties at the n-th largest E broken by the
+    priorities of ``keys`` (:func:`image_keys`; :func:`_select`)."""
     count = plan.spec.candidate_count
-    n_seg = len(plan.ends)
+    out = _empty_lists(flat.shape[0], count)
+    _select(flat, nth_largest(flat, count), keys, plan.near_flat, len(plan.ends), count, *out)
+    return out
+
+
+@njit(cache=True)
+def _select_above(values, level, idx, n_cand):
+    """Every pixel with ``values[i, p] > level[i]``, in raster order, into ``idx[i]``; their
+    number into ``n_cand[i]``. ``idx`` must be wide enough (``level`` the (n+1)-th largest
+    value: at most n pixels)."""
+    for i in range(values.shape[0]):
+        lv = level[i]
+        k = 0
+        for p in range(values.shape[1]):
+            if values[i, p] > lv:
+                idx[i, k] = p
+                k += 1
+        n_cand[i] = k
+
+
+def _above_next_largest(values: np.ndarray, plan: "Plan") -> tuple:
+    """The pixels strictly above each row's (n+1)-th largest value
+    (:func:`dptbd.model.segmentation.threshold_level`: ``-inf`` when n >= H*W), and how
+    many lie in the detection gate (image ``i`` is segment ``i % len(plan.ends)``)."""
+    count = plan.spec.candidate_count
+    level = threshold_level(values[:, None, :], count).astype(np.float64)
+    idx, n_cand, _, _ = _empty_lists(values.shape[0], count)
+    _select_above(values, level, idx, n_cand)
+    images = np.arange(values.shape[0])
+    gate = plan.near_flat[images % len(plan.ends)]
+    listed = np.arange(idx.shape[1])[None, :] < n_cand[:, None]
+    near_count = (np.take_along_axis(gate, idx, axis=1) & listed).sum(axis=1).astype(np.int64)
+    return idx, n_cand, near_count > 0, near_count
+
+
+def gateware_rule(flat: np.ndarray, plan: "Plan", keys: np.ndarray,
+                  cfg: DPConfig | None) -> tuple:
+    """``gateware``: the segmenter's selection with the image's own histogram at s = 0,
+    ``E > v_(n+1)``, a tie at the boundary dropped whole (``keys`` unused)."""
+    return _above_next_largest(flat, plan)
+
+
+def gateware_bins_rule(flat: np.ndarray, plan: "Plan", keys: np.ndarray,
+                       cfg: DPConfig | None) -> tuple:
+    """``gateware-bins``: the same on ``min(E >> s, 2**b - 1)`` of ``cfg``, the detector's
+    configuration (``None``: a float model, selected on E)."""
+    values = flat if cfg is None else histogram_bins(flat, cfg)
+    return _above_next_largest(values, plan)
+
+
+#: The candidate rule of each ``tie_rule`` (:data:`dptbd.evaluation.compare.spec.TIE_RULES`).
+RULES = {"random": random_rule, "gateware": gateware_rule, "gateware-bins": gateware_bins_rule}
+
+
+def _candidates(energy: np.ndarray, direction: np.ndarray, plan: "Plan", keys: np.ndarray,
+                cfg: DPConfig | None = None) -> _Candidates:
+    """The candidate lists of one detector on one batch under the run's rule
+    (``plan.spec.tie_rule``, :data:`RULES`); ``keys``: :func:`image_keys`; ``cfg``: the
+    fixed configuration the detector runs with, ``None`` for a float model."""
     flat = energy.reshape(-1, energy.shape[-1] * energy.shape[-2])
-    level = nth_largest(flat, count)
-    images = flat.shape[0]
-    idx = np.zeros((images, max(count, 1)), np.int64)
-    n_cand = np.zeros(images, np.int64)
-    hit = np.zeros(images, np.bool_)
-    near_count = np.zeros(images, np.int64)
-    _select(flat, level, keys, plan.near_flat, n_seg, count, idx, n_cand, hit,
-            near_count)
-    return _Candidates(idx, n_cand, hit, near_count, direction.reshape(images, -1))
+    idx, n_cand, hit, near_count = RULES[plan.spec.tie_rule](flat, plan, keys, cfg)
+    return _Candidates(idx, n_cand, hit, near_count, direction.reshape(flat.shape[0], -1))

@@ -23,11 +23,19 @@ from dptbd.model.segmentation import count_for_rate
 
 __all__ = [
     "LUTS", "cosine_weights", "lut_weights", "adc_mapping", "FixedSpec", "CompareSpec",
-    "DEFAULT_RUN", "DEFAULT_CONFIGS", "DEFAULT_SWEEP", "build_spec",
+    "DEFAULT_RUN", "DEFAULT_CONFIGS", "DEFAULT_SWEEP", "TIE_RULES", "build_spec",
 ]
 
 #: Built-in weight LUTs (a configuration may instead give ``weights`` as a table).
 LUTS = ("paper", "plain", "cosine")
+
+#: The candidate rules (run-level key ``tie_rule``, ``--tie-rule``;
+#: :mod:`dptbd.evaluation.compare.selection`): ``random``, exactly n candidates per image with
+#: the ties at the n-th largest E broken by a seeded priority (the default); ``gateware``,
+#: the gateware segmenter's selection with the image's own histogram and one bin per E value
+#: (``E > v_(n+1)``, a tie at the boundary dropped whole); ``gateware-bins``, the same on
+#: the histogram bins of each configuration's ``DPConfig`` (``E >> s``, clamped).
+TIE_RULES = ("random", "gateware", "gateware-bins")
 
 #: Run-level parameters (flat keys of the TOML file) and their defaults. The default run
 #: takes about a minute on 2 cores (``docs/compare.md``).
@@ -51,6 +59,7 @@ DEFAULT_RUN: dict[str, Any] = {
     "chunk": 8,
     "adc_low_sigma": 6.0,
     "adc_span_sigma": 16.0,
+    "tie_rule": "random",
 }
 
 #: The configurations compared by default besides the sweep: the gateware's defaults, and
@@ -72,7 +81,7 @@ DEFAULT_SWEEP: dict[str, Any] = {
 }
 
 _CONFIG_KEYS = ("name", "lut", "adc_gain", "adc_offset", "input_bits", "energy_bits",
-                "weight_frac_bits", "rounding", "weights")
+                "weight_frac_bits", "rounding", "weights", "histogram_bits", "histogram_shift")
 _RUN_LEVEL_DP_KEYS = ("width", "height", "segment_frames", "segment_stride", "radius")
 _SWEEP_KEYS = ("input_bits", "energy_bits", "energy_headroom", "weight_frac_bits", "rounding", "lut")
 
@@ -199,6 +208,7 @@ class CompareSpec:
     chunk: int
     adc_low_sigma: float
     adc_span_sigma: float
+    tie_rule: str
     configs: tuple[FixedSpec, ...]
 
     @property
@@ -215,10 +225,15 @@ class CompareSpec:
         return count_for_rate(self.false_alarm_rate, self.size * self.size)
 
     def run_params(self) -> dict:
-        """The run-level parameters as plain values (for JSON)."""
+        """The run-level parameters as plain values (for JSON).
+
+        ``tie_rule`` only when it is not the default ``"random"``: a summary without it is a
+        ``random`` run, as every run before the option existed was (and the default run's
+        files stay what they were).
+        """
         out = {}
         for f in dataclasses.fields(self):
-            if f.name == "configs":
+            if f.name == "configs" or (f.name == "tie_rule" and self.tie_rule == "random"):
                 continue
             v = getattr(self, f.name)
             out[f.name] = list(v) if isinstance(v, tuple) else v
@@ -443,6 +458,8 @@ def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> Co
     run["chunk"] = _checked_int("chunk", run["chunk"], 1)
     run["adc_low_sigma"] = _checked_number("adc_low_sigma", run["adc_low_sigma"])
     run["adc_span_sigma"] = _checked_number("adc_span_sigma", run["adc_span_sigma"], positive=True)
+    if not isinstance(run["tie_rule"], str) or run["tie_rule"] not in TIE_RULES:
+        _refuse(f"tie_rule must be one of {TIE_RULES}, got {run['tie_rule']!r}")
     try:
         DPConfig(width=run["size"], height=run["size"], segment_frames=run["segment_frames"],
                  segment_stride=run["segment_stride"], radius=run["radius"])

@@ -33,11 +33,15 @@ def _anchored(message: str) -> str:
     ("frobnicate = 1\n", {}, "unknown parameter(s) ['frobnicate']; allowed: ['adc_low_sigma', "
      "'adc_span_sigma', 'bootstrap', 'chunk', 'false_alarm_rate', 'frames', 'mu', 'pd_levels', "
      "'radius', 'seed', 'segment_frames', 'segment_stride', 'sigma', 'size', 'snr', "
-     "'thresholds', 'tolerance_db', 'trials', 'velocity', 'config', 'sweep']"),
+     "'thresholds', 'tie_rule', 'tolerance_db', 'trials', 'velocity', 'config', 'sweep']"),
     ("[[config]]\ninput_bits = 17\n", {}, "config[0]: input_bits must be an integer in [1, 16], got 17"),
     ("", {"snr": []}, "snr must hold at least 2 value(s), got [] (an empty list)"),
     ("", {"snr": [2.0, 1.5]}, "snr must be strictly increasing, but snr[1] = 1.5 <= snr[0] = 2"),
     ("", {"trials": 0}, "trials must be in [1, inf], got 0"),
+    ("tie_rule = 'raster'\n", {}, "tie_rule must be one of ('random', 'gateware', "
+     "'gateware-bins'), got 'raster'"),
+    ("", {"tie_rule": "ties"}, "tie_rule must be one of ('random', 'gateware', "
+     "'gateware-bins'), got 'ties'"),
     ("", {"bootstrap": -1}, "bootstrap must be in [0, 1000000], got -1"),
     ("", {"workers": 0}, "--workers must be >= 1, got 0"),
     ("", {"synth": SynthOptions(device="xc7")},
@@ -167,6 +171,29 @@ def test_job_writes_tables_json_and_figures(tmp_path, small_sweep_toml):
             assert by_name[choice[key]]["in_sweep"] and by_name[choice[key]]["verdict"] in ok
         else:
             assert not any(r["in_sweep"] and r["verdict"] in ok for r in summary["configs"])
+
+
+def test_a_tie_rule_is_recorded_and_printed_unless_it_is_the_default(tmp_path):
+    tiny = {"trials": 2, "size": 16, "frames": 4, "segment_frames": 4, "false_alarm_rate": 0.02,
+            "bootstrap": 0, "snr": [1.5, 2.5], "sweep": {},
+            "config": [{"name": "three", "input_bits": 3}]}
+    line = (r"^2 trials x 1 segments x 2 SNRs \(\+ noise only\), 1 configurations "
+            r"\(1 distinct\), seed 2024{}: Monte Carlo ")
+    default = compare_job(tiny, tmp_path / "random", workers=1, progress=False)
+    assert "tie_rule" not in default.summary["run"]
+    assert "tie_rule" not in json.loads((tmp_path / "random" / "compare_summary.json").read_text())["run"]
+    assert re.search(line.format(""), default.text(), re.M)
+    for rule in ("gateware", "gateware-bins"):
+        outcome = compare_job(dict(tiny, tie_rule="random"), tmp_path / rule, tie_rule=rule,
+                              workers=1, progress=False)
+        written = json.loads((tmp_path / rule / "compare_summary.json").read_text())
+        assert outcome.summary["run"]["tie_rule"] == written["run"]["tie_rule"] == rule
+        assert re.search(line.format(", tie rule " + rule), outcome.text(), re.M)
+        # the histogram each configuration's candidates were selected on, under gateware-bins
+        assert ("bin_shift" in written["configs"][0]) == (rule == "gateware-bins")
+    # 3 bits ties: the gateware rule keeps fewer candidates than exactly n
+    assert outcome.summary["configs"][0]["noise_candidates_per_frame"] < 5.0
+    assert default.summary["configs"][0]["noise_candidates_per_frame"] == 5.0
 
 
 def test_force_replaces_only_an_earlier_compare_run(tmp_path):

@@ -138,3 +138,47 @@ def test_worker_count_out_of_range_is_refused():
     with pytest.raises(ConfigError, match=r"^workers must be in \[1, 1024\], got 0$"):
         run_compare(build_spec({"trials": 1, "sweep": {}, "config": [{"input_bits": 4}]}),
                     workers=0)
+
+
+@pytest.mark.parametrize("tie_rule", ["gateware", "gateware-bins"])
+def test_gateware_rules_one_and_two_workers_identical_at_most_n(small_compare, tie_rule):
+    # 2- and 3-bit ADCs tie heavily: under the gateware rules they keep fewer than n
+    # candidates; the float model (no ties) keeps exactly n; the counts do not depend on
+    # the workers
+    spec = build_spec(dict(small_compare, tie_rule=tie_rule,
+                           config=[{"name": "two", "input_bits": 2},
+                                   {"name": "three", "input_bits": 3},
+                                   {"name": "eight", "input_bits": 8}]))
+    one = run_compare(spec, workers=1)
+    two = run_compare(spec, workers=2)
+    for key in one.counts:
+        assert np.array_equal(one.counts[key], two.counts[key]), key
+    per_trial = spec.candidate_count * len(one.plan.ends)
+    cand = one.counts["candidates"]
+    assert np.all(cand[:, 0] == per_trial)                      # the float model
+    assert np.all(cand <= per_trial) and cand[:, 1].mean() < 0.8 * per_trial   # 2 bits
+    # the random rule on the same scenes gives every detector exactly n
+    random = run_compare(build_spec(dict(small_compare, config=spec_configs(spec))), workers=1)
+    assert np.all(random.counts["candidates"] == per_trial)
+
+
+def spec_configs(spec) -> list[dict]:
+    """The [[config]] tables of a spec's configurations (name and input bits)."""
+    return [{"name": f.name, "input_bits": f.cfg.input_bits} for f in spec.configs]
+
+
+def test_gateware_bins_runs_each_histogram_with_its_own_shift(small_compare):
+    # the same DP bits with s = 0 and s = 3: two detectors under gateware-bins, each with the
+    # counts of a run of that configuration alone (no shared s)
+    configs = [{"name": "s0", "input_bits": 8, "histogram_shift": 0},
+               {"name": "s3", "input_bits": 8, "histogram_shift": 3}]
+    both = run_compare(build_spec(dict(small_compare, tie_rule="gateware-bins", config=configs)),
+                       workers=1)
+    assert both.plan.n_detectors == 3 and [c.bin_shift for c in both.plan.fixed] == [0, 3]
+    for d, cfg in ((1, configs[0]), (2, configs[1])):
+        alone = run_compare(build_spec(dict(small_compare, tie_rule="gateware-bins",
+                                            config=[cfg])), workers=1)
+        for key in ("detections", "false_points", "candidates", "agree_same"):
+            assert np.array_equal(both.counts[key][:, d], alone.counts[key][:, 1]), key
+    # s = 3 (bins 8 values wide) ties more, so it keeps fewer candidates than s = 0
+    assert both.counts["candidates"][:, 2].sum() < both.counts["candidates"][:, 1].sum()

@@ -57,7 +57,7 @@ def test_the_toml_examples_in_docs_compare_md_are_valid():
 
 _RUN_KEYS = ("['adc_low_sigma', 'adc_span_sigma', 'bootstrap', 'chunk', 'false_alarm_rate', "
              "'frames', 'mu', 'pd_levels', 'radius', 'seed', 'segment_frames', 'segment_stride', "
-             "'sigma', 'size', 'snr', 'thresholds', 'tolerance_db', 'trials', 'velocity', "
+             "'sigma', 'size', 'snr', 'thresholds', 'tie_rule', 'tolerance_db', 'trials', 'velocity', "
              "'config', 'sweep']")
 _LUTS = "('paper', 'plain', 'cosine')"
 
@@ -92,6 +92,9 @@ _LUTS = "('paper', 'plain', 'cosine')"
     ({"bootstrap": -1}, "bootstrap must be in [0, 1000000], got -1"),
     ({"chunk": 0}, "chunk must be in [1, inf], got 0"),
     ({"adc_span_sigma": 0.0}, "adc_span_sigma must be > 0, got 0.0"),
+    ({"tie_rule": "raster"},
+     "tie_rule must be one of ('random', 'gateware', 'gateware-bins'), got 'raster'"),
+    ({"tie_rule": 1}, "tie_rule must be one of ('random', 'gateware', 'gateware-bins'), got 1"),
     # the [[config]] tables
     ({"config": [3]}, "config[0] must be a table of parameters, got 3"),
     ({"config": [{"segment_frames": 8}]},
@@ -99,7 +102,10 @@ _LUTS = "('paper', 'plain', 'cosine')"
      "same scenes); set them at the top level of the file"),
     ({"config": [{"input_bits": 8, "widht": 3}]},
      "config[0]: unknown configuration key(s) ['widht']; allowed: ['adc_gain', 'adc_offset', "
-     "'energy_bits', 'input_bits', 'lut', 'name', 'rounding', 'weight_frac_bits', 'weights']"),
+     "'energy_bits', 'histogram_bits', 'histogram_shift', 'input_bits', 'lut', 'name', "
+     "'rounding', 'weight_frac_bits', 'weights']"),
+    ({"config": [{"input_bits": 8, "histogram_shift": 11}]},
+     "config[0]: histogram_shift must be an integer in [0, 10], got 11"),
     ({"config": [{"lut": "paper", "weights": [[1.0]]}]},
      f"config[0]: give either 'lut' (one of {_LUTS}) or 'weights' (a table), not both"),
     ({"config": [{"lut": 3}]}, f"config[0]: lut must be one of {_LUTS}, got 3"),
@@ -136,6 +142,24 @@ _LUTS = "('paper', 'plain', 'cosine')"
 def test_bad_parameters_are_refused_naming_them(mapping, message):
     with pytest.raises(ConfigError, match="^" + re.escape(message) + "$"):
         build_spec(mapping)
+
+
+def test_tie_rule_is_a_run_parameter_recorded_unless_it_is_the_default():
+    # the default rule is left out of the run's parameters (compare_summary.json): a summary
+    # without it is a random run, as every run before the option was
+    assert compare_spec.TIE_RULES == ("random", "gateware", "gateware-bins")
+    assert build_spec({}).tie_rule == "random" and "tie_rule" not in build_spec({}).run_params()
+    spec = build_spec({"tie_rule": "gateware"}, tie_rule="gateware-bins")  # the override wins
+    assert spec.tie_rule == "gateware-bins" and spec.run_params()["tie_rule"] == "gateware-bins"
+    assert build_spec({"tie_rule": "gateware"}).run_params()["tie_rule"] == "gateware"
+
+
+def test_a_configuration_may_set_its_histogram():
+    spec = build_spec({"config": [{"name": "a", "input_bits": 8, "histogram_shift": 3},
+                                  {"name": "b", "input_bits": 8, "histogram_bits": 6}],
+                       "sweep": {}})
+    assert [f.cfg.bin_shift for f in spec.configs] == [3, 5]   # B_E = 11: 11 - 6 = 5
+    assert [f.cfg.n_bins for f in spec.configs] == [1024, 64]
 
 
 def test_unknown_overrides_are_refused():
