@@ -85,17 +85,21 @@ n = 33: about 1 100 + 2 000 + 2 100 + 64 + 2 000 + 530 + 100 operations, indepen
 of the data (``tests/dsp/test_association.py::test_work_per_segment_is_bounded``). Nothing is
 allocated per segment: every array, and the blank record written over freed records, is
 created in ``__init__`` (``test_no_allocation_per_segment_and_input_capacity``).
+
+The records and their fixed-point layout are in :mod:`dptbd.dsp.records`, the parameters
+in :mod:`dptbd.dsp.association_config`; their names are importable from here too.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
-from typing import Any, Mapping
 
 import numpy as np
 
-from dptbd.errors import DptbdError, check_bool, check_int, check_real
+from dptbd.dsp.association_config import AssociationConfig, AssociationError
+from dptbd.dsp.records import (CANDIDATE_DTYPE, CONFIRMED, FREE, ONE, POINT_DTYPE, Q_BITS,
+                               RATIO_BITS, RATIO_ONE, TENTATIVE, TRACK_DTYPE, ConfirmedTrack,
+                               div_round, make_candidates, trim_to_count)
 
 __all__ = [
     "Q_BITS",
@@ -115,259 +119,12 @@ __all__ = [
     "trim_to_count",
 ]
 
-#: Fractional bits of positions and velocities: 1/16 pixel.
-Q_BITS = 4
-ONE = 1 << Q_BITS
-#: Fractional bits of ratios: 1/256.
-RATIO_BITS = 8
-RATIO_ONE = 1 << RATIO_BITS
-
-#: Record states.
-FREE, TENTATIVE, CONFIRMED = 0, 1, 2
 #: Matching classes (priority order).
 _CLASS_CONFIRMED, _CLASS_PREDICTED, _CLASS_TENTATIVE, _CLASS_NONE = 0, 1, 2, 3
-
-#: One candidate point as the DSP receives it: the FPGA's (row, col, E, d) and the start
-#: (row0, col0) of its best path in the segment; ``path`` = 1 when row0/col0 are known.
-CANDIDATE_DTYPE = np.dtype([
-    ("row", np.uint16), ("col", np.uint16), ("energy", np.uint32), ("direction", np.uint8),
-    ("row0", np.uint16), ("col0", np.uint16), ("path", np.uint8)])
-
-#: One track record (001 §3's record structure), positions and velocities in Q4 pixels.
-TRACK_DTYPE = np.dtype([
-    ("state", np.uint8),             # FREE, TENTATIVE or CONFIRMED
-    ("id", np.uint32),               # unique track number, from 1
-    ("first_seg", np.int32),         # segment of the first point
-    ("confirm_seg", np.int32),       # segment in which it passed the output threshold, -1
-    ("p_seg", np.int32, (2,)),       # 轨迹最近两点: segments of [older, newest] point
-    ("p_row", np.int32, (2,)),       #   rows (Q4)
-    ("p_col", np.int32, (2,)),       #   cols (Q4)
-    ("v_row", np.int32),             # velocity, Q4 pixels per segment
-    ("v_col", np.int32),
-    ("pred_row", np.int32),          # 预测点 for the next segment (Q4)
-    ("pred_col", np.int32),
-    ("length", np.uint16),           # 轨迹总长度: segments since the first point, inclusive
-    ("hits", np.uint16),             # 总匹配点数
-    ("gate", np.uint16),             # 匹配允许偏差距离 (Q4 pixels, Euclidean radius)
-    ("misses", np.uint8),            # 连续丢失目标点数
-    ("n_points", np.uint32),         # points ever written to the history (ring)
-])
-
-#: One measured point of a track's history.
-POINT_DTYPE = np.dtype([
-    ("seg", np.int32), ("row", np.uint16), ("col", np.uint16), ("energy", np.uint32),
-    ("row0", np.uint16), ("col0", np.uint16), ("path", np.uint8)])
-
-
-class AssociationError(DptbdError):
-    """An association parameter or input is invalid; the message names it."""
-
-
-def div_round(a: int, b: int) -> int:
-    """``a / b`` rounded half up (toward +inf) in integers, for ``b > 0``."""
-    return (2 * a + b) // (2 * b)
 
 
 def _q(x: float, bits: int) -> int:
     return int(math.floor(x * (1 << bits) + 0.5))
-
-
-@dataclasses.dataclass(frozen=True)
-class AssociationConfig:
-    """Parameters of the association, in pixels and ratios; quantised once to codes.
-
-    Capacities
-        ``capacity`` track records; ``max_candidates`` input records per segment: the
-        DSP's receive buffer, which must hold the gateware segmenter's whole list (at most
-        its capacity C; the job checks C <= this) before :func:`trim_to_count` cuts it
-        to n; ``max_points`` history points
-        per record (a ring: a longer track keeps its newest points); ``output_capacity``
-        finished confirmed tracks kept for the output.
-    Gates (pixels)
-        ``seed_gate`` for tentative tracks; ``gate_base``, ``gate_growth`` per segment of
-        length x detection ratio (up to ``gate_growth_segments`` segments) for tracks in
-        the prediction space; ``gate_miss`` added per consecutive miss; ``gate_max``
-        (``None``: ``max_speed * segment_stride + 1``, one segment's largest move).
-    Motion
-        ``max_speed`` (pixels/frame, 001: 1); ``manoeuvre``: two step velocities differing
-        by more than this (pixels per segment, Chebyshev) mean a manoeuvre.
-        ``link_gate``: a track in the prediction space detected in the previous segment
-        also accepts a candidate outside its gate whose backtracked DP path starts within
-        this distance (pixels) of the track's newest point — the DP followed the target
-        through a turn the linear prediction could not foresee (0: off; back-to-back
-        segments only).
-    Score
-        ``heading_weight``: cost of a fully reversed heading relative to a candidate at the
-        gate's edge; ``reject_reversed``: never match a candidate whose heading points
-        backwards (001 §2: "目标的运动是不后退的"); ``heading_min``: headings and velocities
-        shorter than this (pixels per segment) have no direction and cost nothing.
-    Thresholds (001 §3 (3): output > predict > delete)
-        Output (confirm): ``hits >= confirm_hits`` and ``ratio >= confirm_ratio``.
-        Predict (prediction space): ``hits >= predict_hits`` and ``ratio >= predict_ratio``.
-        Delete: ``ratio < delete_ratio`` or ``misses > max_misses``.
-        ``ratio = hits / length``.
-    Clusters and duplicates
-        ``merge_radius``: Chebyshev radius of cluster suppression (0: off).
-        ``duplicate_radius``: two tracks that both matched in a segment, with newest
-        points within this Chebyshev distance and velocities within ``manoeuvre`` of each
-        other, follow the same object: the weaker one is deleted (0: off).
-    """
-
-    capacity: int = 64
-    max_candidates: int = 128
-    max_points: int = 64
-    output_capacity: int = 64
-    max_speed: float = 1.0
-    merge_radius: int = 1
-    duplicate_radius: int = 2
-    seed_gate: float = 3.0
-    gate_base: float = 2.5
-    gate_growth: float = 0.25
-    gate_growth_segments: int = 8
-    gate_miss: float = 1.0
-    gate_max: float | None = None
-    manoeuvre: float = 3.0
-    link_gate: float = 0.0
-    heading_weight: float = 1.0
-    reject_reversed: bool = False
-    heading_min: float = 1.0
-    confirm_hits: int = 4
-    confirm_ratio: float = 0.6
-    predict_hits: int = 2
-    predict_ratio: float = 0.5
-    delete_ratio: float = 0.4
-    max_misses: int = 3
-
-    def __post_init__(self) -> None:
-        ints = {"capacity": (1, 65535), "max_candidates": (1, 65535), "max_points": (1, 65535),
-                "output_capacity": (0, 65535), "merge_radius": (0, 16),
-                "duplicate_radius": (0, 1000),
-                "gate_growth_segments": (0, 1000), "confirm_hits": (1, 65535),
-                "predict_hits": (1, 65535), "max_misses": (0, 255)}
-        for name, (lo, hi) in ints.items():
-            object.__setattr__(self, name, check_int(f"association {name}", getattr(self, name),
-                                                     lo, hi, error=AssociationError))
-        reals = {"max_speed": (0.0, 64.0), "seed_gate": (0.0, 1000.0),
-                 "gate_base": (0.0, 1000.0), "gate_growth": (0.0, 100.0),
-                 "gate_miss": (0.0, 1000.0), "manoeuvre": (0.0, 1000.0),
-                 "heading_weight": (0.0, 100.0), "link_gate": (0.0, 1000.0), "heading_min": (0.0, 1000.0),
-                 "confirm_ratio": (0.0, 1.0), "predict_ratio": (0.0, 1.0),
-                 "delete_ratio": (0.0, 1.0), "gate_max": (0.0, 1000.0)}
-        for name, (lo, hi) in reals.items():
-            v = getattr(self, name)
-            if name == "gate_max" and v is None:
-                continue
-            object.__setattr__(self, name, check_real(f"association {name}", v, lo, hi,
-                                                      error=AssociationError))
-        object.__setattr__(self, "reject_reversed", check_bool(
-            "association reject_reversed", self.reject_reversed, error=AssociationError))
-        if not self.confirm_ratio >= self.predict_ratio >= self.delete_ratio:
-            raise AssociationError(
-                "association thresholds must be ordered as 001 §3 says (output > predict > "
-                f"delete): confirm_ratio={self.confirm_ratio} >= predict_ratio="
-                f"{self.predict_ratio} >= delete_ratio={self.delete_ratio}")
-        if not self.confirm_hits >= self.predict_hits:
-            raise AssociationError(
-                f"association confirm_hits={self.confirm_hits} must be >= predict_hits="
-                f"{self.predict_hits} (output threshold above predict threshold)")
-
-    @classmethod
-    def from_mapping(cls, values: Mapping[str, Any]) -> "AssociationConfig":
-        """Build from a mapping (a TOML table); unknown keys are refused by name."""
-        known = [f.name for f in dataclasses.fields(cls)]
-        unknown = sorted(set(values) - set(known))
-        if unknown:
-            raise AssociationError(f"unknown association parameter(s) {unknown}; allowed: {known}")
-        return cls(**dict(values))
-
-    def replace(self, **changes: Any) -> "AssociationConfig":
-        return dataclasses.replace(self, **changes)
-
-
-@dataclasses.dataclass(frozen=True)
-class ConfirmedTrack:
-    """A confirmed track as the host reads it out (not part of the DSP core).
-
-    Attributes
-    ----------
-    id : int
-        Track number.
-    first_segment, confirm_segment, last_segment : int
-        Segment of the first point, of confirmation (output threshold passed) and of the
-        newest point.
-    hits, length : int
-        Matched points and length in segments (first to last segment counted at the end).
-    alive : bool
-        Still in the record array at the end of the sequence (else deleted).
-    points : numpy.ndarray
-        :data:`POINT_DTYPE` records, oldest first (the newest ``max_points`` if the ring
-        wrapped).
-    """
-
-    id: int
-    first_segment: int
-    confirm_segment: int
-    last_segment: int
-    hits: int
-    length: int
-    alive: bool
-    points: np.ndarray
-
-
-def trim_to_count(records: np.ndarray, count: int) -> np.ndarray:
-    """DSP input stage: the constant-false-alarm-count rule applied to a received list.
-
-    Keeps the records whose E exceeds the (count+1)-th largest E of the list (all of them
-    when the list holds at most ``count``), in the list's (raster) order: the rule of
-    ``docs/arithmetic.md`` §6 applied to the list instead of the image, ties at the
-    boundary excluded. When the FPGA's list holds every pixel with E >= the image's
-    (count+1)-th largest value, the result is exactly the ideal list of the segment's own
-    image. Work: one partial selection over at most ``max_candidates`` records.
-    """
-    if count < 0:
-        raise AssociationError(f"count must be >= 0, got {count}")
-    if len(records) <= count:
-        return records
-    energy = np.asarray(records["energy"])
-    kth = np.partition(energy, len(energy) - count - 1)[len(energy) - count - 1]
-    return records[energy > kth]
-
-
-def make_candidates(candidates: np.ndarray, paths: np.ndarray | None = None) -> np.ndarray:
-    """Host side: FPGA candidate records (row, col, E, d) plus their backtracked paths.
-
-    Parameters
-    ----------
-    candidates : numpy.ndarray
-        Records with fields ``row``, ``col``, ``energy``, ``direction``
-        (:func:`dptbd.model.segmentation.candidates`).
-    paths : numpy.ndarray, optional
-        ``(n, K, 2)`` backtracked paths (:func:`dptbd.dsp.backtrack.candidate_paths`);
-        their first point becomes ``(row0, col0)``.
-
-    Returns
-    -------
-    numpy.ndarray
-        :data:`CANDIDATE_DTYPE` records.
-    """
-    out = np.zeros(len(candidates), dtype=CANDIDATE_DTYPE)
-    for name in ("row", "col", "direction"):
-        out[name] = candidates[name]
-    energy = np.asarray(candidates["energy"])
-    if energy.size and (energy.min() < 0 or energy.max() > np.iinfo(np.uint32).max
-                        or not np.issubdtype(energy.dtype, np.integer)):
-        raise AssociationError("candidate energies must be unsigned 32-bit integers")
-    out["energy"] = energy
-    if paths is not None:
-        paths = np.asarray(paths)
-        if paths.shape[0] != len(candidates) or paths.ndim != 3 or paths.shape[2] != 2:
-            raise AssociationError(f"paths must have shape ({len(candidates)}, K, 2), "
-                                   f"got {paths.shape}")
-        out["row0"], out["col0"] = paths[:, 0, 0], paths[:, 0, 1]
-        out["path"] = 1
-    else:
-        out["row0"], out["col0"] = out["row"], out["col"]
-    return out
 
 
 class Tracker:

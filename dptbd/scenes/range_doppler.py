@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from dptbd import errors
-from dptbd.scenes.synthetic import SceneError
+from dptbd.scenes._checks import SceneError
 
 __all__ = [
     "PassiveRadar",

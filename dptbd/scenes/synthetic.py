@@ -1,42 +1,38 @@
-"""Synthetic image sequences for DP-TBD: noise, point targets, ground truth, ADC quantisation.
+"""Synthetic image sequences for DP-TBD: noise plus point targets, and the papers' scenarios.
 
-One generator serves both papers' scene models:
-
-* **Paper 001 §4** (``../shared/seeds/001_*.txt``): i.i.d. Gaussian noise of mean ``mu``
-  and standard deviation ``sigma`` (Table 1: ``mu = 30``, variance 3.0, so
-  ``sigma = sqrt(3)``); with ``SNR = (TargetAmp - NoiseAmp) / sigma`` a target pixel is
-  ``Noise + SNR * sigma`` and a non-target pixel is ``Noise``. We read "Noise" as the
-  *noisy* background sample of that pixel: the target adds ``SNR * sigma`` on top of a
-  draw of ``N(mu, sigma**2)``, so its expected value is ``mu + SNR * sigma`` (the
-  target level replaces the noise-free background level ``mu``). Amplitude:
-  :func:`amplitude_from_snr`.
-* **Paper 000 §3 eq (8)** (``../shared/seeds/000_*.txt``): zero-mean noise of standard
-  deviation ``sigma`` and ``SNR_dB = 10 lg(A**2 / mean(n**2))``. We use the expected
-  noise power ``sigma**2`` for ``mean(n**2)``, so ``A = sigma * 10**(SNR_dB / 20)``
-  (:func:`amplitude_from_snr_db`; 4.08 dB gives 000 §5.1's ``A = 1.6``).
-
-Both become a :class:`Target` with an ``amplitude`` added to the noisy background.
-
-Coordinates are ``(row, col) = (y, x)``, row 0 first, as in ``docs/arithmetic.md`` §1.
-Velocities are ``(row velocity, col velocity)`` in pixels/frame. The papers' own
-conventions are mapped by :func:`paper001_motion` and :func:`paper000_motion`.
+One generator serves both papers' scene models (paper 001 §4 and paper 000 §3/§5): i.i.d.
+Gaussian noise of mean ``mu`` and standard deviation ``sigma`` (:func:`make_noise`) plus
+point targets (:mod:`dptbd.scenes.targets`) whose amplitude follows from an SNR
+(:mod:`dptbd.scenes.snr`); :func:`make_scene` returns the frames with their ground truth
+(:class:`Scene`), and the built-in scenarios are the papers' experiments. The ADC that
+turns a scene into integer frames is :mod:`dptbd.scenes.adc` (also :meth:`Scene.quantised`).
 
 Noise and targets are separable: the noise of trial ``i`` depends only on ``(seed, i)``
 (:func:`make_noise`), never on the targets, so a scene minus the noise-only frames of
 the same seed is the target signal, and ``noise=False`` gives the exact noise-free
 scene (background ``mu`` plus amplitudes).
+
+The names of the sibling modules (``Target``, ``Turn``, ``TargetTruth``, ``target_truth``,
+the motion and SNR conversions, ``quantise``, ``INPUT_BITS``, ``ADC_GAIN``, ``SceneError``)
+are importable from here too.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 from typing import Any, Iterable, Sequence
 
 import numpy as np
 
-from dptbd.errors import DptbdError, check_bool, check_int, check_real, check_shape
+from dptbd.errors import check_bool
+from dptbd.scenes._checks import (_MAX_FRAMES, _MAX_SIZE, SceneError, _check_int, _check_pair,
+                                  _check_real, _check_shape)
+from dptbd.scenes.adc import ADC_GAIN, INPUT_BITS, quantise
+from dptbd.scenes.snr import (amplitude_from_snr, amplitude_from_snr_db, snr_db_from_amplitude,
+                              snr_from_amplitude)
+from dptbd.scenes.targets import (Target, TargetTruth, Turn, paper000_motion, paper001_motion,
+                                  target_truth)
 
 __all__ = [
     "SceneError",
@@ -68,51 +64,8 @@ __all__ = [
 TABLE1_MU = 30.0
 TABLE1_SIGMA = math.sqrt(3.0)
 
-#: Paper 001's sensor: a 12-bit ADC with 16 LSB per grey level, so the paper's grey levels
-#: (mean 30, sigma 1.73) become mean 480, sigma 27.7 LSB. An 8-bit ADC at 1 LSB per grey
-#: level (sigma < 2 LSB) makes so many pixels tie at the threshold that the
-#: constant-count rule (docs/arithmetic.md §6) keeps far fewer than 0.2 %.
-INPUT_BITS = 12
-ADC_GAIN = 16.0
-
-_MAX_SIZE = 65535
-_MAX_FRAMES = 10**7
 _MAX_TRIALS = 10**7
 _FLOAT_DTYPES = (np.dtype(np.float32), np.dtype(np.float64))
-_QUANTISE_CHUNK = 1 << 22  # elements per chunk: bounds the float temporaries of quantise
-
-
-class SceneError(DptbdError):
-    """A scene parameter is invalid; the message names it and its allowed range."""
-
-
-# ---- validation helpers -------------------------------------------------------------------
-
-_check_int = functools.partial(check_int, error=SceneError)
-
-
-def _check_real(name: str, value: Any, *, positive: bool = False) -> float:
-    """A finite real number (``> 0`` when ``positive``), else :class:`SceneError`."""
-    return check_real(name, value, 0.0 if positive else -math.inf, lo_open=positive,
-                      error=SceneError)
-
-
-def _check_pair(name: str, value: Any) -> tuple[float, float]:
-    """A pair of finite reals ``(row, col)``, else :class:`SceneError`."""
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise SceneError(f"{name} must be a (row, col) pair of finite reals, got {value!r}") from exc
-    if arr.shape != (2,):
-        raise SceneError(f"{name} must be a (row, col) pair of shape (2,), got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise SceneError(f"{name} must be finite (no NaN or inf), got {value!r}")
-    return float(arr[0]), float(arr[1])
-
-
-def _check_shape(shape: Any) -> tuple[int, int]:
-    """Frame size ``(height, width)``, each in ``[1, 65535]``."""
-    return check_shape("shape", shape, _MAX_SIZE, axes=("height", "width"), error=SceneError)
 
 
 def _check_dtype(dtype: Any) -> np.dtype:
@@ -138,311 +91,6 @@ def _seed_entropy(seed: Any) -> int:
             raise SceneError("seed must be a root SeedSequence (empty spawn_key) or an int")
         return int(seed.entropy)
     return _check_int("seed", seed, 0)
-
-
-# ---- SNR and amplitude -------------------------------------------------------------------
-
-def amplitude_from_snr(snr: float, sigma: float) -> float:
-    """Paper 001 §4: target amplitude above the background, ``SNR * sigma``.
-
-    ``SNR = (TargetAmp - NoiseAmp) / sigma`` with TargetAmp and NoiseAmp the target and
-    noise means.
-
-    Parameters
-    ----------
-    snr : float
-        Linear SNR, finite.
-    sigma : float
-        Noise standard deviation, > 0.
-
-    Returns
-    -------
-    float
-        The amplitude added to the background.
-    """
-    return _check_real("snr", snr) * _check_real("sigma", sigma, positive=True)
-
-
-def snr_from_amplitude(amplitude: float, sigma: float) -> float:
-    """Inverse of :func:`amplitude_from_snr`: ``amplitude / sigma``."""
-    return _check_real("amplitude", amplitude) / _check_real("sigma", sigma, positive=True)
-
-
-def amplitude_from_snr_db(snr_db: float, sigma: float) -> float:
-    """Paper 000 eq (8): ``SNR_dB = 10 lg(A**2 / mean(n**2))``, so ``A = sigma * 10**(SNR_dB / 20)``.
-
-    ``mean(n**2)`` is taken as the expected power ``sigma**2`` of zero-mean noise, not
-    the power of one realised frame.
-
-    Parameters
-    ----------
-    snr_db : float
-        SNR in dB, finite.
-    sigma : float
-        Noise standard deviation, > 0.
-
-    Returns
-    -------
-    float
-        The target amplitude A (> 0).
-    """
-    snr_db = _check_real("snr_db", snr_db)
-    return _check_real("sigma", sigma, positive=True) * 10.0 ** (snr_db / 20.0)
-
-
-def snr_db_from_amplitude(amplitude: float, sigma: float) -> float:
-    """Inverse of :func:`amplitude_from_snr_db`: ``20 lg(|A| / sigma)``; amplitude must be != 0."""
-    amplitude = _check_real("amplitude", amplitude)
-    sigma = _check_real("sigma", sigma, positive=True)
-    if amplitude == 0.0:
-        raise SceneError("amplitude must be non-zero to have an SNR in dB, got 0.0")
-    return 20.0 * math.log10(abs(amplitude) / sigma)
-
-
-# ---- the papers' coordinate conventions ----------------------------------------------------
-
-def paper001_motion(start: Sequence[float], velocity: Sequence[float]
-                    ) -> tuple[tuple[float, float], tuple[float, float]]:
-    """Map paper 001's start ``(a, b)`` and ``(Vx, Vy)`` to ``(row, col)`` start and velocity.
-
-    Paper 001 gives starts such as ``(30, 100)`` and velocities "Vx, Vy" without saying
-    which is the row. We read the start as ``(row=a, col=b)`` and ``(Vx, Vy)`` as
-    ``(row velocity, col velocity)``: the first component moves along rows. This is the
-    reading that keeps every target of 001's experiments inside the 128 x 128 image
-    for all 100 frames (e.g. ``(30, 100)`` at ``(0.8, -0.4)`` ends at ``(109.2, 60.4)``);
-    pairing the start with ``(Vy, Vx)`` instead would take that target out of the top
-    edge near frame 76. The mapping is therefore the identity.
-
-    Returns
-    -------
-    tuple
-        ``((row, col), (row velocity, col velocity))`` as floats.
-    """
-    return _check_pair("start", start), _check_pair("velocity", velocity)
-
-
-def paper000_motion(start: Sequence[float], vx: float, vy: float
-                    ) -> tuple[tuple[float, float], tuple[float, float]]:
-    """Map paper 000's start ``(a, b)`` and ``v_x, v_y`` to ``(row, col)`` start and velocity.
-
-    Paper 000 §5 starts a target at ``(12, 52)`` with ``v_x = -2``, ``v_y = 2`` cells/frame
-    in a 64 x 64 image for 20 frames. We read the start as the matrix index
-    ``(i, j) = (row, col)`` (000 eq (6) indexes cells ``z_ij``) and ``v_x`` as the column
-    (x) velocity, ``v_y`` as the row (y) velocity: row velocity ``v_y``, col velocity
-    ``v_x``. Only this pairing keeps that target in the image: ``(12, 52)`` moves to
-    ``(50, 14)`` by frame 19, whereas applying ``(v_x, v_y)`` as ``(row, col)`` velocity
-    leaves through the top edge at frame 7. Note this differs from
-    :func:`paper001_motion`, where the first velocity component moves along rows.
-
-    Returns
-    -------
-    tuple
-        ``((row, col), (v_y, v_x))`` as floats.
-    """
-    vx = _check_real("vx", vx)
-    vy = _check_real("vy", vy)
-    return _check_pair("start", start), (vy, vx)
-
-
-# ---- targets -----------------------------------------------------------------------------
-
-@dataclasses.dataclass(frozen=True)
-class Turn:
-    """A manoeuvre: at ``frame`` the velocity changes, from then on the target moves anew.
-
-    Exactly one of ``degrees`` and ``velocity`` is given.
-
-    Parameters
-    ----------
-    frame : int
-        Frame of the turn point, > the target's ``birth``. Positions up to and including
-        ``frame`` use the old velocity; position at ``t > frame`` is
-        ``p(frame) + v_new * (t - frame)``.
-    degrees : float or None
-        Rotate the current velocity by this angle. Positive turns counter-clockwise as the
-        image is displayed (row 0 at the top): a target moving right (+col) turned by +90
-        moves up (-row). The speed is kept.
-    velocity : pair of float or None
-        The new ``(row, col)`` velocity in pixels/frame.
-    """
-
-    frame: int
-    degrees: float | None = None
-    velocity: tuple[float, float] | None = None
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "frame", _check_int("turn frame", self.frame, 1))
-        if (self.degrees is None) == (self.velocity is None):
-            raise SceneError("a Turn needs exactly one of degrees or velocity, "
-                             f"got degrees={self.degrees!r}, velocity={self.velocity!r}")
-        if self.degrees is not None:
-            object.__setattr__(self, "degrees", _check_real("turn degrees", self.degrees))
-        else:
-            object.__setattr__(self, "velocity", _check_pair("turn velocity", self.velocity))
-
-    def apply(self, velocity: tuple[float, float]) -> tuple[float, float]:
-        """The velocity after this turn, given the velocity before it."""
-        if self.velocity is not None:
-            return self.velocity
-        return _rotate(velocity, self.degrees)
-
-
-def _rotate(velocity: tuple[float, float], degrees: float) -> tuple[float, float]:
-    """Rotate a ``(row, col)`` vector counter-clockwise as displayed (row axis points down)."""
-    vr, vc = velocity
-    theta = math.radians(degrees)
-    cos, sin = math.cos(theta), math.sin(theta)
-    # In (x = col, y_up = -row) the rotation is the usual one; expressed back in (row, col):
-    return (vr * cos - vc * sin, vc * cos + vr * sin)
-
-
-@dataclasses.dataclass(frozen=True)
-class Target:
-    """A point target moving at constant velocity, with optional turns.
-
-    Parameters
-    ----------
-    start : pair of float
-        ``(row, col)`` position at frame ``birth``, in pixels; sub-pixel allowed.
-    velocity : pair of float
-        ``(row, col)`` velocity in pixels/frame; sub-pixel speeds allowed.
-    amplitude : float
-        Added to the noisy background at the target's pixel (001: ``SNR * sigma``,
-        :func:`amplitude_from_snr`; 000: :func:`amplitude_from_snr_db`). Finite; a
-        negative value makes a dark target.
-    birth : int
-        First frame in which the target is present, >= 0.
-    death : int or None
-        First frame in which it is gone, > ``birth``; ``None`` means never. The target is
-        present for ``birth <= t < death``.
-    turns : Turn or sequence of Turn
-        Manoeuvres, in strictly increasing frame order, each after ``birth``.
-    """
-
-    start: tuple[float, float]
-    velocity: tuple[float, float]
-    amplitude: float
-    birth: int = 0
-    death: int | None = None
-    turns: tuple[Turn, ...] = ()
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "start", _check_pair("start", self.start))
-        object.__setattr__(self, "velocity", _check_pair("velocity", self.velocity))
-        object.__setattr__(self, "amplitude", _check_real("amplitude", self.amplitude))
-        birth = _check_int("birth", self.birth, 0)
-        object.__setattr__(self, "birth", birth)
-        if self.death is not None:
-            object.__setattr__(self, "death", _check_int("death", self.death, birth + 1))
-        object.__setattr__(self, "turns", _check_turns(self.turns, birth))
-
-    def velocities(self) -> list[tuple[int, tuple[float, float]]]:
-        """``(from_frame, velocity)`` for each piece of the trajectory, starting at ``birth``."""
-        pieces = [(self.birth, self.velocity)]
-        for turn in self.turns:
-            pieces.append((turn.frame, turn.apply(pieces[-1][1])))
-        return pieces
-
-    def positions(self, n_frames: int) -> np.ndarray:
-        """True float ``(row, col)`` position at frames ``0 .. n_frames - 1``.
-
-        The trajectory is defined at every frame, including before ``birth`` (extrapolated
-        back with the initial velocity) and after ``death``; presence is a separate flag
-        (:func:`target_truth`).
-
-        Returns
-        -------
-        numpy.ndarray
-            ``float64`` array of shape ``(n_frames, 2)``.
-        """
-        n_frames = _check_int("frames", n_frames, 1, _MAX_FRAMES)
-        t = np.arange(n_frames, dtype=np.float64)
-        pos = np.tile(np.asarray(self.start, dtype=np.float64), (n_frames, 1))
-        pieces = self.velocities()
-        for k, (t0, vel) in enumerate(pieces):
-            t1 = pieces[k + 1][0] if k + 1 < len(pieces) else np.inf
-            lo = -np.inf if k == 0 else 0.0  # only the first piece extrapolates backwards
-            dt = np.clip(t - t0, lo, t1 - t0)
-            pos += dt[:, None] * np.asarray(vel, dtype=np.float64)
-        return pos
-
-
-def _check_turns(turns: Any, birth: int) -> tuple[Turn, ...]:
-    if isinstance(turns, Turn):
-        turns = (turns,)
-    try:
-        turns = tuple(turns)
-    except TypeError as exc:
-        raise SceneError(f"turns must be a Turn or a sequence of Turn, got {turns!r}") from exc
-    last = birth
-    for turn in turns:
-        if not isinstance(turn, Turn):
-            raise SceneError(f"turns must contain Turn objects, got {turn!r}")
-        if turn.frame <= last:
-            raise SceneError(f"turn frame must be an integer in [{last + 1}, inf) (after birth={birth} "
-                             f"and after the previous turn), got {turn.frame}")
-        last = turn.frame
-    return turns
-
-
-@dataclasses.dataclass(frozen=True)
-class TargetTruth:
-    """Ground truth of one target over a sequence of frames.
-
-    Attributes
-    ----------
-    position : numpy.ndarray
-        ``float64 (T, 2)``: true ``(row, col)`` at every frame (see :meth:`Target.positions`).
-    pixel : numpy.ndarray
-        ``int64 (T, 2)``: the pixel hit, ``np.rint(position)`` (nearest pixel; exact halves
-        go to the even pixel).
-    alive : numpy.ndarray
-        ``bool (T,)``: ``birth <= t < death``.
-    visible : numpy.ndarray
-        ``bool (T,)``: alive and ``pixel`` inside the image; only visible frames are drawn.
-    amplitude : float
-        The target's amplitude.
-    """
-
-    position: np.ndarray
-    pixel: np.ndarray
-    alive: np.ndarray
-    visible: np.ndarray
-    amplitude: float
-
-
-def target_truth(target: Target, shape: tuple[int, int], n_frames: int) -> TargetTruth:
-    """Ground truth of ``target`` in frames of size ``shape = (height, width)``.
-
-    Parameters
-    ----------
-    target : Target
-        The target.
-    shape : pair of int
-        ``(height, width)`` of a frame.
-    n_frames : int
-        Number of frames T, >= 1.
-
-    Returns
-    -------
-    TargetTruth
-        Position, rounded pixel, presence and visibility per frame.
-    """
-    if not isinstance(target, Target):
-        raise SceneError(f"targets must contain Target objects, got {target!r}")
-    height, width = _check_shape(shape)
-    position = target.positions(n_frames)
-    pixel = np.rint(position).astype(np.int64)
-    t = np.arange(n_frames)
-    death = n_frames if target.death is None else target.death
-    alive = (t >= target.birth) & (t < death)
-    inside = ((pixel[:, 0] >= 0) & (pixel[:, 0] < height)
-              & (pixel[:, 1] >= 0) & (pixel[:, 1] < width))
-    for arr in (position, pixel, alive):
-        arr.flags.writeable = False
-    visible = alive & inside
-    visible.flags.writeable = False
-    return TargetTruth(position, pixel, alive, visible, target.amplitude)
 
 
 # ---- scenes ------------------------------------------------------------------------------
@@ -626,51 +274,6 @@ def _draw(frames: np.ndarray, truth: TargetTruth) -> None:
     t = np.flatnonzero(truth.visible)
     if t.size:
         frames[..., t, truth.pixel[t, 0], truth.pixel[t, 1]] += frames.dtype.type(truth.amplitude)
-
-
-# ---- ADC --------------------------------------------------------------------------------
-
-def quantise(frames: Any, input_bits: int, *, gain: float = 1.0, offset: float = 0.0) -> np.ndarray:
-    """Float frames to unsigned ``input_bits``-bit codes, like an ADC.
-
-    ``code = clip(rint(gain * x + offset), 0, 2**input_bits - 1)``: rounded to the nearest
-    integer (``np.rint``: exact halves to even), then clipped (saturated) to the code
-    range. The result satisfies ``docs/arithmetic.md`` §1 and can be fed to the models.
-
-    Parameters
-    ----------
-    frames : array_like
-        Real frames of any shape, finite (NaN and inf are refused, never clipped).
-    input_bits : int
-        B_in in [1, 16].
-    gain, offset : float
-        Finite ADC gain and offset applied before rounding; e.g. paper 000's zero-mean
-        scenes need an offset to keep negative noise off the bottom of the range.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``uint16`` codes of the same shape.
-    """
-    bits = _check_int("input_bits", input_bits, 1, 16)
-    gain = _check_real("gain", gain)
-    offset = _check_real("offset", offset)
-    arr = np.asarray(frames)
-    if arr.dtype.kind not in "biuf":
-        raise SceneError(f"frames must be a real numeric array, got dtype {arr.dtype}")
-    top = float((1 << bits) - 1)
-    out = np.empty(arr.shape, dtype=np.uint16)
-    src, dst = arr.reshape(-1), out.reshape(-1)
-    for lo in range(0, src.size, _QUANTISE_CHUNK):
-        x = src[lo:lo + _QUANTISE_CHUNK].astype(np.float64)
-        if not np.all(np.isfinite(x)):
-            raise SceneError("frames must be finite: found NaN or inf")
-        x *= gain
-        x += offset
-        np.rint(x, out=x)
-        np.clip(x, 0.0, top, out=x)
-        dst[lo:lo + _QUANTISE_CHUNK] = x
-    return out
 
 
 # ---- built-in scenarios -----------------------------------------------------------------

@@ -4,19 +4,16 @@ Each test builds the candidate records a segment would hand to the DSP (row, col
 the backtracked path start), runs the tracker segment by segment and checks the tracks.
 """
 
-import dataclasses
 import math
-import re
 
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig
-from dptbd.errors import DptbdError
-from dptbd.scenes import synthetic as scenes
+from dptbd.dsp import association, association_config, records as record_module
 from dptbd.dsp.association import (
     CANDIDATE_DTYPE, CONFIRMED, FREE, ONE, TENTATIVE, AssociationConfig, AssociationError,
-    Tracker, make_candidates)
+    Tracker)
+from dptbd.scenes.targets import Target, Turn
 
 K = 6  # frames per segment; stride K
 
@@ -121,7 +118,7 @@ def test_too_many_misses_delete_a_confirmed_track_into_the_output():
 @pytest.mark.parametrize("degrees", [30.0, 45.0])
 def test_a_manoeuvring_target_keeps_its_track(degrees):
     """001 §3 (2): the prediction allows for manoeuvres. A turn at segment 6."""
-    target = scenes.Target((20.0, 20.0), (0.0, 0.9), 1.0, turns=[scenes.Turn(6 * K, degrees=-degrees)])
+    target = Target((20.0, 20.0), (0.0, 0.9), 1.0, turns=[Turn(6 * K, degrees=-degrees)])
     pos = target.positions(14 * K)
     tr = tracker()
     for s in range(14):
@@ -192,52 +189,6 @@ def test_duplicate_tracks_on_one_target_are_merged():
         tr.step(records([cand(r, c, 1200, r - 3, c - 2), cand(r + 1, c + 1, 1100, r - 2, c - 1)]))
     assert tr.stats["duplicates"] >= 1
     assert len(tr.confirmed_tracks()) == 1
-
-
-def whole(message):
-    """A regex matching exactly ``message``, the whole refusal."""
-    return "^" + re.escape(message) + "$"
-
-
-def test_thresholds_output_above_predict_above_delete():
-    order = "association thresholds must be ordered as 001 §3 says (output > predict > delete): "
-    with pytest.raises(AssociationError, match=whole(
-            order + "confirm_ratio=0.4 >= predict_ratio=0.5 >= delete_ratio=0.4")):
-        AssociationConfig(confirm_ratio=0.4, predict_ratio=0.5)
-    with pytest.raises(AssociationError, match=whole(
-            order + "confirm_ratio=0.6 >= predict_ratio=0.3 >= delete_ratio=0.35")):
-        AssociationConfig(predict_ratio=0.3, delete_ratio=0.35)
-    with pytest.raises(AssociationError, match=whole(
-            "association confirm_hits=1 must be >= predict_hits=2 (output threshold above predict "
-            "threshold)")):
-        AssociationConfig(confirm_hits=1, predict_hits=2)
-    allowed = [f.name for f in dataclasses.fields(AssociationConfig)]
-    with pytest.raises(AssociationError, match=whole(
-            f"unknown association parameter(s) ['capacitty']; allowed: {allowed}")):
-        AssociationConfig.from_mapping({"capacitty": 3})
-
-
-@pytest.mark.parametrize("overrides, message", [
-    (dict(capacity=0), "association capacity must be an integer in [1, 65535], got 0"),
-    (dict(capacity=2.0), "association capacity must be an integer in [1, 65535], got 2.0"),
-    (dict(max_misses=256), "association max_misses must be an integer in [0, 255], got 256"),
-    (dict(merge_radius=True), "association merge_radius must be an integer in [0, 16], got True"),
-    (dict(max_speed=65.0), "association max_speed must be a finite real number in [0, 64], got 65.0"),
-    (dict(gate_max=float("nan")),
-     "association gate_max must be a finite real number in [0, 1000], got nan"),
-    (dict(confirm_ratio="0.6"),
-     "association confirm_ratio must be a finite real number in [0, 1], got '0.6'"),
-    (dict(reject_reversed=1), "association reject_reversed must be true or false, got 1"),
-])
-def test_parameters_outside_their_domain_are_refused(overrides, message):
-    with pytest.raises(AssociationError, match=whole(message)):
-        AssociationConfig(**overrides)
-    assert issubclass(AssociationError, DptbdError)
-
-
-def test_numpy_parameters_become_python_values():
-    cfg = AssociationConfig(capacity=np.int64(3), reject_reversed=np.bool_(True), max_speed=np.float32(0.5))
-    assert type(cfg.capacity) is int and type(cfg.reject_reversed) is bool and type(cfg.max_speed) is float
 
 
 def test_a_lower_output_threshold_confirms_sooner():
@@ -336,20 +287,6 @@ def test_tentative_tracks_die_and_free_their_records():
     assert tr.active() == 0 and tr.confirmed_tracks() == []
 
 
-def test_make_candidates_carries_the_path_start():
-    raw = np.zeros(2, dtype=[("row", "u2"), ("col", "u2"), ("energy", "u4"), ("direction", "u1")])
-    raw["row"], raw["col"], raw["energy"] = [5, 7], [6, 8], [10, 20]
-    paths = np.array([[[1, 2], [5, 6]], [[3, 4], [7, 8]]])
-    c = make_candidates(raw, paths)
-    assert c.dtype == CANDIDATE_DTYPE
-    assert c["row0"].tolist() == [1, 3] and c["col0"].tolist() == [2, 4] and c["path"].all()
-    c2 = make_candidates(raw)
-    assert c2["row0"].tolist() == [5, 7] and not c2["path"].any()
-    with pytest.raises(AssociationError, match=(r"^paths must have shape \(2, K, 2\), got \(1, "
-                                                r"2, 2\)$")):
-        make_candidates(raw, paths[:1])
-
-
 def test_heading_from_direction_code_without_paths():
     """Without backtracked paths the heading is the move of d (one frame)."""
     tr = tracker()
@@ -407,17 +344,9 @@ def test_link_gate_follows_a_turn_the_prediction_missed():
     assert rec["misses"] == 0 and rec["hits"] == 5 and rec["p_row"][1] == 36 * ONE
 
 
-def test_trim_to_count_is_the_section_6_rule_on_the_list():
-    from dptbd.dsp.association import trim_to_count
-    from dptbd.model.segmentation import candidates
-
-    rng = np.random.default_rng(3)
-    energy = rng.integers(0, 60, (12, 16)).astype(np.uint32)   # many ties
-    direction = rng.integers(0, 10, (12, 16)).astype(np.uint8)
-    for n in (0, 1, 5, 17, 40):
-        ideal = candidates(energy, direction, n)
-        superset = candidates(energy, direction, min(3 * n + 4, energy.size - 1))
-        np.testing.assert_array_equal(trim_to_count(superset, n), ideal)
-        assert len(trim_to_count(ideal, n)) == len(ideal)         # short lists pass through
-    with pytest.raises(AssociationError, match=r"^count must be >= 0, got -1$"):
-        trim_to_count(ideal, -1)
+def test_records_and_configuration_are_re_exported():
+    for name in association.__all__:
+        assert hasattr(association, name), name
+    for module in (record_module, association_config):
+        for name in module.__all__:
+            assert getattr(association, name) is getattr(module, name), name

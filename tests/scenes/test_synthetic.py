@@ -1,4 +1,5 @@
-"""Scene generators of ``dptbd.scenes.synthetic``: papers 001 §4 and 000 §3/§5."""
+"""Scene generators of ``dptbd.scenes.synthetic``: noise, scenes with targets, the papers'
+001 §4 and 000 §3/§5 scenarios; the names it re-exports from its sibling modules."""
 
 from __future__ import annotations
 
@@ -8,19 +9,15 @@ import re
 import numpy as np
 import pytest
 
-from dptbd.scenes import synthetic as scenes
+from dptbd import scenes as scene_package
+from dptbd.scenes import adc, snr, synthetic as scenes, targets as target_module
 from dptbd.scenes.synthetic import (
     Scene,
     SceneError,
     Target,
-    Turn,
     amplitude_from_snr,
-    amplitude_from_snr_db,
     make_noise,
     make_scene,
-    quantise,
-    snr_db_from_amplitude,
-    target_truth,
 )
 
 
@@ -96,22 +93,6 @@ def test_scene_minus_noise_is_target_signal():
     np.testing.assert_allclose(diff, np.broadcast_to(expected, diff.shape), atol=1e-12)
 
 
-def test_subpixel_motion_rounds_to_nearest_pixel():
-    target = _one(start=(30.0, 100.0), velocity=(0.8, -0.4))
-    tr = target_truth(target, (128, 128), 100)
-    t = np.arange(100)
-    np.testing.assert_allclose(tr.position[:, 0], 30.0 + 0.8 * t, atol=1e-9)
-    np.testing.assert_allclose(tr.position[:, 1], 100.0 - 0.4 * t, atol=1e-9)
-    assert np.array_equal(tr.pixel, np.rint(tr.position).astype(np.int64))
-    assert tr.pixel.dtype == np.int64
-    # frame 1: (30.8, 99.6) -> (31, 100); frame 2: (31.6, 99.2) -> (32, 99)
-    assert tr.pixel[1].tolist() == [31, 100]
-    assert tr.pixel[2].tolist() == [32, 99]
-    assert tr.visible.all()
-    # the target stays on a pixel some frames (0.4 px/frame)
-    assert np.any(np.diff(tr.pixel[:, 1]) == 0)
-
-
 def test_birth_and_death():
     target = _one(start=(4.0, 1.0), velocity=(0.0, 1.0), birth=2, death=5)
     sc = make_scene((10, 10), 8, [target], mu=0.0, noise=False)
@@ -142,32 +123,6 @@ def test_two_targets_on_one_pixel_add():
     assert sc.frames[0, 5, 5] == 6.0
 
 
-def test_turn_by_angle():
-    target = _one(start=(10.0, 2.0), velocity=(0.0, 1.0), turns=Turn(frame=4, degrees=90.0))
-    tr = target_truth(target, (20, 20), 8)
-    # moves right until frame 4, then up (counter-clockwise as displayed)
-    assert tr.pixel[:5].tolist() == [[10, 2], [10, 3], [10, 4], [10, 5], [10, 6]]
-    assert tr.pixel[5:].tolist() == [[9, 6], [8, 6], [7, 6]]
-    np.testing.assert_allclose(tr.position[7], [7.0, 6.0], atol=1e-12)
-
-
-def test_turn_to_new_velocity_and_two_turns():
-    turns = (Turn(frame=3, velocity=(1.0, 0.0)), Turn(frame=5, degrees=-90.0))
-    target = _one(start=(0.0, 0.0), velocity=(0.0, 1.0), turns=turns)
-    tr = target_truth(target, (20, 20), 8)
-    # right to (0, 3), down to (2, 3), then turned clockwise
-    assert tr.pixel[3].tolist() == [0, 3]
-    assert tr.pixel[5].tolist() == [2, 3]
-    # down = (+1, 0); turning it by -90 (clockwise as displayed) points left (0, -1)
-    assert tr.pixel[7].tolist() == [2, 1]
-
-
-def test_rotation_keeps_speed():
-    target = _one(velocity=(0.8, -0.4), turns=Turn(frame=1, degrees=37.0))
-    v_after = target.velocities()[1][1]
-    assert math.hypot(*v_after) == pytest.approx(math.hypot(0.8, -0.4))
-
-
 # ---- batches --------------------------------------------------------------------------
 
 def test_batch_shape_and_independence():
@@ -190,15 +145,6 @@ def test_batch_chunks_match_one_batch():
 
 # ---- quantisation --------------------------------------------------------------------------
 
-def test_quantise_rounds_and_clips():
-    x = np.array([-3.0, -0.4, 0.4, 0.6, 1.5, 2.5, 254.4, 254.6, 300.0])
-    q = quantise(x, 8)
-    assert q.dtype == np.uint16
-    assert q.tolist() == [0, 0, 0, 1, 2, 2, 254, 255, 255]
-    assert quantise(np.array([70000.0]), 16).tolist() == [65535]
-    assert quantise(np.array([0.6, 1.4, 5.0]), 1).tolist() == [1, 1, 1]
-
-
 def test_quantise_gain_offset_and_scene_method():
     sc = scenes.paper000_scenario(noise=False)
     q = sc.quantised(8, gain=10.0, offset=100.0)
@@ -213,29 +159,6 @@ def test_quantise_table1_in_range():
     q = sc.quantised(8)
     assert q.min() >= 0 and q.max() <= 255
     assert abs(q.astype(float).mean() - 30.0) < 0.1
-
-
-@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
-def test_quantise_refuses_non_finite(bad):
-    with pytest.raises(SceneError, match=whole("frames must be finite: found NaN or inf")):
-        quantise(np.array([1.0, bad]), 8)
-
-
-@pytest.mark.parametrize("bits", [0, 17, -1, 8.0, True])
-def test_quantise_refuses_bad_bits(bits):
-    with pytest.raises(SceneError, match=whole(f"input_bits must be an integer in [1, 16], got {bits!r}")):
-        quantise(np.zeros(3), bits)
-
-
-# ---- SNR ----------------------------------------------------------------------------------
-
-def test_amplitude_from_snr_db_paper000():
-    assert amplitude_from_snr_db(4.08, 1.0) == pytest.approx(1.6, abs=1e-3)
-    assert amplitude_from_snr_db(6.0, 1.0) == pytest.approx(2.0, abs=0.01)  # 000 §5.2
-    assert amplitude_from_snr_db(0.0, 2.5) == 2.5
-    assert snr_db_from_amplitude(amplitude_from_snr_db(3.3, 1.7), 1.7) == pytest.approx(3.3)
-    with pytest.raises(SceneError, match=whole("amplitude must be non-zero to have an SNR in dB, got 0.0")):
-        snr_db_from_amplitude(0.0, 1.0)
 
 
 # ---- built-in scenarios --------------------------------------------------------------------
@@ -277,11 +200,6 @@ def test_paper000_scenario():
     assert sc.params["mu"] == 0.0 and sc.params["sigma"] == 1.0
 
 
-def test_paper_motion_helpers():
-    assert scenes.paper001_motion((30, 100), (0.8, -0.4)) == ((30.0, 100.0), (0.8, -0.4))
-    assert scenes.paper000_motion((12, 52), vx=-2, vy=2) == ((12.0, 52.0), (2.0, -2.0))
-
-
 def test_scene_is_a_scene():
     sc = make_scene((4, 4), 1)
     assert isinstance(sc, Scene) and sc.truth == () and sc.target_mask().shape == (1, 4, 4)
@@ -315,61 +233,19 @@ def test_make_scene_refuses_bad_parameters(kwargs, message):
         make_scene(args.pop("shape"), args.pop("frames"), **args)
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    (dict(start=(np.nan, 1.0)), "start must be finite (no NaN or inf), got (nan, 1.0)"),
-    (dict(start=(1.0, 2.0, 3.0)), "start must be a (row, col) pair of shape (2,), got shape (3,)"),
-    (dict(velocity=(np.inf, 0.0)), "velocity must be finite (no NaN or inf), got (inf, 0.0)"),
-    (dict(velocity="fast"), "velocity must be a (row, col) pair of finite reals, got 'fast'"),
-    (dict(amplitude=np.nan), "amplitude must be a finite real number in (-inf, inf), got nan"),
-    (dict(birth=-1), "birth must be an integer in [0, inf), got -1"),
-    (dict(birth=3, death=3), "death must be an integer in [4, inf), got 3"),
-    (dict(birth=3, death=1), "death must be an integer in [4, inf), got 1"),
-    (dict(birth=2, turns=Turn(frame=2, degrees=10.0)),
-     "turn frame must be an integer in [3, inf) (after birth=2 and after the previous turn), got 2"),
-    (dict(turns=(Turn(frame=5, degrees=1.0), Turn(frame=4, degrees=1.0))),
-     "turn frame must be an integer in [6, inf) (after birth=0 and after the previous turn), got 4"),
-    (dict(turns=("left",)), "turns must contain Turn objects, got 'left'"),
-])
-def test_target_refuses_bad_parameters(kwargs, message):
-    args = dict(start=(1.0, 1.0), velocity=(0.5, 0.5), amplitude=1.0)
-    args.update(kwargs)
-    with pytest.raises(SceneError, match=whole(message)):
-        Target(**args)
-
-
-def test_turn_refuses_bad_parameters():
-    with pytest.raises(SceneError, match=whole(
-            "a Turn needs exactly one of degrees or velocity, got degrees=None, velocity=None")):
-        Turn(frame=3)
-    with pytest.raises(SceneError, match=whole(
-            "a Turn needs exactly one of degrees or velocity, got degrees=5.0, velocity=(1.0, 0.0)")):
-        Turn(frame=3, degrees=5.0, velocity=(1.0, 0.0))
-    with pytest.raises(SceneError, match=whole(
-            "turn degrees must be a finite real number in (-inf, inf), got nan")):
-        Turn(frame=3, degrees=np.nan)
-    with pytest.raises(SceneError, match=whole("turn frame must be an integer in [1, inf), got 0")):
-        Turn(frame=0, degrees=5.0)
-
-
-def test_snr_helpers_refuse_bad_parameters():
-    with pytest.raises(SceneError, match=whole("sigma must be a finite real number in (0, inf), got 0.0")):
-        amplitude_from_snr_db(4.0, 0.0)
-    with pytest.raises(SceneError, match=whole(
-            "snr_db must be a finite real number in (-inf, inf), got nan")):
-        amplitude_from_snr_db(np.nan, 1.0)
-    with pytest.raises(SceneError, match=whole("snr must be a finite real number in (-inf, inf), got inf")):
-        amplitude_from_snr(np.inf, 1.0)
-
-
-def test_quantise_refuses_bad_frames():
-    with pytest.raises(SceneError, match=whole("frames must be a real numeric array, got dtype <U1")):
-        quantise(np.array(["a"]), 8)
-    with pytest.raises(SceneError, match=whole("gain must be a finite real number in (-inf, inf), got nan")):
-        quantise(np.zeros(2), 8, gain=np.nan)
-
-
 def test_target_truth_refuses_non_target():
     with pytest.raises(SceneError, match=whole("targets must contain Target objects, got (1, 1)")):
         make_scene((4, 4), 2, [(1, 1)])
     with pytest.raises(SceneError, match=whole("targets must be an iterable of Target, got 5")):
         make_scene((4, 4), 2, 5)
+
+
+# ---- the names kept importable from here ---------------------------------------------------
+
+def test_moved_names_are_re_exported():
+    for name in scenes.__all__:
+        assert hasattr(scenes, name), name
+    for module in (target_module, snr, adc):
+        for name in module.__all__:
+            assert name in scenes.__all__ and getattr(scenes, name) is getattr(module, name)
+    assert scenes.SceneError is scene_package.SceneError
