@@ -4,7 +4,8 @@
   (25)-(26) with a pluggable merit P and transition term Q (float, and the integer form on
   paper 001's datapath);
 * :mod:`~dptbd.evaluation.detectors.grid` — paper 004's information-accumulation detector and
-  the grid Bayes filter with an existence state;
+  the grid Bayes filter with an existence state, on the shared machinery of
+  :mod:`~dptbd.evaluation.detectors.grid_filter` (transition, likelihood, entropy);
 * :mod:`~dptbd.evaluation.detectors.cfar` — CA-CFAR;
 * :mod:`~dptbd.scenes.range_doppler` — range-Doppler scenes (Swerling I, Rayleigh noise);
 * :mod:`~dptbd.evaluation.detectors.interface` and :mod:`~dptbd.evaluation.detectors.compare` — one
