@@ -27,7 +27,6 @@ __all__ = [
     "state_fields",
     "pack_states",
     "unpack_fields",
-    "config_with_codes",
     "model_frames",
     "expected_words",
     "pack_frame_states",
@@ -77,27 +76,6 @@ def unpack_fields(cfg: DPConfig, word: int) -> dict[str, int]:
             for name, place in state_fields(cfg).items()}
 
 
-def config_with_codes(cfg: DPConfig, codes) -> DPConfig:
-    """``cfg`` whose quantised LUT (:attr:`~dptbd.config.DPConfig.weight_codes`) is ``codes``.
-
-    Used to model a LUT written at run time through ``lut_addr``/``lut_data``/``lut_we``:
-    each code ``c`` in [0, 2**F] becomes the weight ``c / 2**F``, which quantises back to
-    exactly ``c``.
-    """
-    arr = np.asarray(codes, dtype=np.int64)
-    unity = 1 << cfg.weight_frac_bits
-    shape = (cfg.n_moves + 1, cfg.n_moves)
-    if arr.shape != shape:
-        raise ValueError(f"LUT codes must have shape {shape} for radius={cfg.radius}, "
-                         f"got {arr.shape}")
-    if arr.min() < 0 or arr.max() > unity:
-        raise ValueError(f"LUT codes must be in [0, 2**F = {unity}], found "
-                         f"{arr[(arr < 0) | (arr > unity)][:3].tolist()}")
-    out = cfg.replace(weights=arr.astype(np.float64) / unity)
-    assert np.array_equal(out.weight_codes, arr)
-    return out
-
-
 def model_frames(cfg: DPConfig, frames: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
     """The golden model's state (E, d) after every frame of ``frames`` ``(T, H, W)``.
 
@@ -119,7 +97,7 @@ def expected_words(cfg: DPConfig, frames: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     cfg : DPConfig
-        The configuration, with the LUT the gateware uses (see :func:`config_with_codes`).
+        The configuration, with the LUT the gateware uses (see :meth:`~dptbd.config.DPConfig.with_weight_codes`).
     frames : numpy.ndarray
         ``(T, H, W)`` integer pixels.
 

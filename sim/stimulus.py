@@ -32,7 +32,8 @@ def pack_pixels(cfg: DPConfig, frames: np.ndarray) -> list[int]:
 
 
 def lut_writes(cfg: DPConfig, codes) -> list[tuple[int, int]]:
-    """(address, code) for every entry of the table, address ``p * M + m``."""
+    """(address, code) for every entry of the table, address
+    :meth:`~dptbd.config.DPConfig.lut_address` ``(p, m)``."""
     arr = np.asarray(codes, dtype=np.int64)
     moves = cfg.n_moves
-    return [(p * moves + m, int(arr[p, m])) for p in range(moves + 1) for m in range(moves)]
+    return [(cfg.lut_address(p, m), int(arr[p, m])) for p in range(moves + 1) for m in range(moves)]

@@ -34,7 +34,7 @@ import numpy as np
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import field_offsets, pixel_layout
 from dptbd.model.fixed import dp_step, segment_start
-from dptbd.sim.scoreboard import config_with_codes, pack_states
+from dptbd.sim.scoreboard import pack_states
 
 __all__ = ["FrameRun", "StreamExpectation", "frame_runs", "expected_stream", "split_words"]
 
@@ -127,7 +127,7 @@ def expected_stream(cfg: DPConfig, pixels: np.ndarray, first: np.ndarray,
         raise ValueError(f"pixels and first must be 1-D of one length, got {pixels.shape} "
                          f"and {first.shape}")
     h, w, size = cfg.height, cfg.width, cfg.width * cfg.height
-    changes = sorted((int(i), config_with_codes(cfg, codes))
+    changes = sorted((int(i), cfg.with_weight_codes(codes))
                      for i, codes in (lut_changes or {}).items())
     runs = frame_runs(cfg, first)
     n = len(pixels)

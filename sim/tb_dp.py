@@ -54,7 +54,7 @@ from dptbd.sim.components import (
     pause_generator,
     write_lut,
 )
-from dptbd.sim.scoreboard import Scoreboard, config_with_codes, expected_words
+from dptbd.sim.scoreboard import Scoreboard, expected_words
 from dptbd.sim.stimulus import lut_writes, pack_pixels
 
 PERIOD_NS = 10
@@ -265,7 +265,7 @@ async def _lut_setup(bench: Bench, cfg: DPConfig) -> DPConfig:
     dut = bench.dut
     n = await write_lut(dut.clk, dut.lut_addr, dut.lut_data, dut.lut_we, lut_writes(cfg, codes))
     bench.log.info("wrote %d LUT entries through the LUT port before the first frame", n)
-    return config_with_codes(cfg, codes)
+    return cfg.with_weight_codes(codes)
 
 
 @cocotb.test()

@@ -31,7 +31,6 @@ from cocotb.triggers import Event, First, RisingEdge, Timer
 from dptbd.hw.candidate_layout import bits_per_segment
 from dptbd.sim.components import Cycles, StreamMonitor, StreamSink, StreamSource, write_lut
 from dptbd.sim.components import pause_generator
-from dptbd.sim.scoreboard import config_with_codes
 from dptbd.sim.segment_scoreboard import CandidateScoreboard, expected_lists
 from dptbd.sim.stimulus import lut_writes, pack_pixels
 from dptbd.sim.tb_dp import PERIOD_NS, _maybe_pause, _pause_probability, load_job
@@ -65,7 +64,7 @@ async def run_scene(dut):
     log = cocotb.log
     model_cfg = cfg
     if job.get("lut_codes") is not None:
-        model_cfg = config_with_codes(cfg, job["lut_codes"])
+        model_cfg = cfg.with_weight_codes(job["lut_codes"])
         n = await write_lut(dut.clk, dut.lut_addr, dut.lut_data, dut.lut_we,
                             lut_writes(cfg, job["lut_codes"]))
         log.info("wrote %d LUT entries before the first frame", n)

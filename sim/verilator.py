@@ -154,10 +154,9 @@ class VerilatorBuild:
 
 def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool) -> str:
     from dptbd.hw.flow.source_hash import gateware_hash
-    from dptbd.sim.runner import config_to_json
 
     blob = json.dumps({
-        "config": config_to_json(cfg), "design": design, "lut_style": lut_style,
+        "config": cfg.to_mapping(), "design": design, "lut_style": lut_style,
         "waves": waves, "gateware": gateware_hash(),
         "harness": hashlib.sha256(HARNESS.read_bytes()).hexdigest(),
         "verilator_flags": VERILATOR_FLAGS, "cxx_flags": CXX_FLAGS, "tools": check_tools(),
@@ -253,7 +252,7 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
         (tmp / f"{toplevel}.json").write_text(json.dumps(manifest, indent=2) + "\n")
         defines = [f"-D{define}"]
         if design == "core":
-            store_bits = cfg.energy_bits + cfg.direction_bits
+            store_bits = cfg.state_bits
             defines += [f"-DDPTBD_STORE_WORDS={cfg.width * cfg.height}ULL",
                         f"-DDPTBD_STORE_BITS={store_bits}"]
         trace = []

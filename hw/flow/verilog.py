@@ -91,7 +91,7 @@ def manifest(cfg: DPConfig, top) -> dict:
             "direction_bits": cfg.direction_bits,
             "weight_bits": cfg.weight_bits,
             "e_max": cfg.e_max,
-            "lut_entries": (cfg.n_moves + 1) * cfg.n_moves,
+            "lut_entries": cfg.lut_entries,
         },
         "weight_codes": cfg.weight_codes.tolist(),
         "clock": {"name": "clk", "edge": "rising"},

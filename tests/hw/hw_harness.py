@@ -46,11 +46,11 @@ def frames_to_stream(frames: np.ndarray) -> list[tuple[int, bool]]:
     return out
 
 
-def lut_writes_for(old: np.ndarray, new: np.ndarray) -> list[tuple[int, int]]:
-    """(address, code) writes turning LUT ``old`` into ``new`` (address ``p * M + m``)."""
-    moves = old.shape[1]
-    return [(p * moves + m, int(new[p, m]))
-            for p in range(old.shape[0]) for m in range(moves) if old[p, m] != new[p, m]]
+def lut_writes_for(cfg: DPConfig, old: np.ndarray, new: np.ndarray) -> list[tuple[int, int]]:
+    """(address, code) writes turning LUT ``old`` into ``new`` (address
+    :meth:`~dptbd.config.DPConfig.lut_address`)."""
+    return [(cfg.lut_address(p, m), int(new[p, m]))
+            for p in range(old.shape[0]) for m in range(old.shape[1]) if old[p, m] != new[p, m]]
 
 
 def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_probability=1.0,
@@ -130,11 +130,6 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
     return result
 
 
-def config_with_codes(cfg: DPConfig, codes: np.ndarray) -> DPConfig:
-    """``cfg`` whose quantised LUT is exactly ``codes`` (each in [0, 2**F])."""
-    return cfg.replace(weights=np.asarray(codes, dtype=np.float64) / (1 << cfg.weight_frac_bits))
-
-
 def reference_states(cfg: DPConfig, frames: np.ndarray, lut_changes=()) -> np.ndarray:
     """Expected ``states`` of every pixel: array ``(T, H, W, 5)`` in :data:`FIELDS` order.
 
@@ -145,7 +140,7 @@ def reference_states(cfg: DPConfig, frames: np.ndarray, lut_changes=()) -> np.nd
     frames = np.asarray(frames)
     n_frames, height, width = frames.shape
     k = cfg.segment_frames
-    tables = [(0, cfg)] + [(index, config_with_codes(cfg, codes)) for index, codes in lut_changes]
+    tables = [(0, cfg)] + [(index, cfg.with_weight_codes(codes)) for index, codes in lut_changes]
     out = np.zeros((n_frames, height, width, len(FIELDS)), dtype=np.int64)
     energy = direction = None
     for t in range(n_frames):

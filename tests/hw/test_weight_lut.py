@@ -115,7 +115,7 @@ def test_write_is_seen_by_lookups_two_cycles_later(style):
     """
     cfg = DPConfig(radius=1, weights=plain_weights(1))
     dut = WeightLUT(cfg, lut_style=style)
-    address = 4 * cfg.n_moves + 7   # direction 4, move 7
+    address = cfg.lut_address(4, 7)
 
     async def bench(ctx):
         for move in range(cfg.n_moves):

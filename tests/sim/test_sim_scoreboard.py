@@ -13,12 +13,11 @@ from dptbd.config import DPConfig, EnergyWidthWarning, plain_weights
 from dptbd.hw.layouts import pack_state_word, state_layout, unpack_state
 from dptbd.model.fixed import run_fixed
 from dptbd.sim.components import pause_generator
-from dptbd.sim.runner import check_scene, config_from_json, config_name, config_to_json
+from dptbd.sim.runner import check_scene, config_name
 from dptbd.sim.scenarios import SCENARIOS, make_frames
 from dptbd.sim.scoreboard import (
     Scoreboard,
     compare_word,
-    config_with_codes,
     expected_words,
     pack_states,
     unpack_fields,
@@ -45,7 +44,7 @@ def test_packing_agrees_with_the_gateware_layout():
         assert unpack_state(cfg, word) == values == unpack_fields(cfg, word)
         # the (E, d) part sits where the state-store word has it
         low = pack_state_word(cfg, values["energy"], values["direction"])
-        assert word & ((1 << (cfg.energy_bits + cfg.direction_bits)) - 1) == low
+        assert word & ((1 << cfg.state_bits) - 1) == low
 
 
 def test_pack_refuses_values_that_do_not_fit():
@@ -74,16 +73,6 @@ def test_expected_stream_ends_segments_like_the_model():
     assert f["end_of_frame"].sum() == 7 and f["end_of_frame"][:, -1, -1].all()
     assert f["end_of_segment"].sum() == 2
     assert f["end_of_segment"][2, -1, -1] and f["end_of_segment"][5, -1, -1]
-
-
-def test_run_time_lut_codes_become_the_model_lut():
-    cfg = small(weight_frac_bits=4)
-    codes = np.random.default_rng(2).integers(0, 17, size=cfg.weight_codes.shape)
-    assert np.array_equal(config_with_codes(cfg, codes).weight_codes, codes)
-    with pytest.raises(ValueError, match="shape"):
-        config_with_codes(cfg, codes[:-1])
-    with pytest.raises(ValueError, match=r"\[0, 2\*\*F = 16\]"):
-        config_with_codes(cfg, codes + 17)
 
 
 def test_compare_word_reports_frame_row_col_field_expected_got():
@@ -161,7 +150,6 @@ def test_build_directory_names_separate_parameter_sets():
     assert len(names) == 5
     assert config_name(base).startswith("13x7-k4-in8-e16-f8-r1-truncate-")
     assert config_name(base) == config_name(DPConfig(width=13, height=7))
-    assert config_from_json(config_to_json(base)) == base
 
 
 def test_check_scene_refuses_bad_scenes():

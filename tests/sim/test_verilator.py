@@ -24,7 +24,7 @@ from dptbd.sim import verilator as V
 from dptbd.sim.rtl_check import Stimulus, check_frames, check_stream
 from dptbd.sim.runner import config_name
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.scoreboard import config_with_codes, expected_words
+from dptbd.sim.scoreboard import expected_words
 from dptbd.sim.stimulus import lut_writes, pixel_words
 
 from verilator_harness import SEG, built, make_config  # noqa: E402
@@ -136,7 +136,7 @@ def test_lut_writes_before_one_word_keep_their_order():
     raw = V.run(sim, pixel_words(cfg, frames), lut_writes=writes)
     assert raw.counters["lut_writes"] == len(writes)
     np.testing.assert_array_equal(
-        raw.out_words, expected_words(config_with_codes(cfg, b), frames).ravel())
+        raw.out_words, expected_words(cfg.with_weight_codes(b), frames).ravel())
     # each run is a new process: the LUT powers up with cfg.weight_codes again
     raw = V.run(sim, pixel_words(cfg, frames))
     np.testing.assert_array_equal(raw.out_words, expected_words(cfg, frames).ravel())
