@@ -1,8 +1,9 @@
 """What the ``states`` stream must carry, and the comparison that reports the first mismatch.
 
 Plain numpy and Python (no cocotb import), so that pytest can unit-test the comparison and
-the report without a simulator. Every word is packed and unpacked with the field offsets of
-:func:`dptbd.hw.layouts.state_layout`, never with hand-written bit positions.
+the report without a simulator. Every word is packed and unpacked with
+:func:`dptbd.hw.layouts.pack_states` and :func:`~dptbd.hw.layouts.unpack_state`, never with
+hand-written bit positions.
 
 The expected stream is computed frame by frame with the golden model
 (:mod:`dptbd.model.fixed`): :func:`~dptbd.model.fixed.segment_start` on the first frame of
@@ -20,13 +21,10 @@ from typing import Callable, Iterator
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.hw.layouts import field_offsets, state_layout
+from dptbd.hw.layouts import pack_states, unpack_state
 from dptbd.model.fixed import dp_step, segment_start
 
 __all__ = [
-    "state_fields",
-    "pack_states",
-    "unpack_fields",
     "model_frames",
     "expected_words",
     "pack_frame_states",
@@ -34,46 +32,6 @@ __all__ = [
     "compare_word",
     "Scoreboard",
 ]
-
-
-def state_fields(cfg: DPConfig) -> dict[str, dict[str, int]]:
-    """``{field: {"offset", "width"}}`` of a ``states`` payload, from the layout."""
-    return field_offsets(state_layout(cfg))
-
-
-def pack_states(cfg: DPConfig, **fields: np.ndarray) -> np.ndarray:
-    """Pack arrays of field values (all of one shape) into ``states`` payload words.
-
-    Every field of :func:`~dptbd.hw.layouts.state_layout` must be given; a value that does
-    not fit its field is refused.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``uint64`` words (the payload is at most 32 + 5 + 3 = 40 bits).
-    """
-    layout = state_fields(cfg)
-    missing = sorted(set(layout) - set(fields))
-    extra = sorted(set(fields) - set(layout))
-    if missing or extra:
-        raise ValueError(f"state fields missing {missing}, unknown {extra}; "
-                         f"the layout has {list(layout)}")
-    shape = np.shape(next(iter(fields.values())))
-    word = np.zeros(shape, dtype=np.uint64)
-    for name, place in layout.items():
-        value = np.asarray(fields[name], dtype=np.int64)
-        if value.shape != shape:
-            raise ValueError(f"field {name} has shape {value.shape}, expected {shape}")
-        if value.size and (value.min() < 0 or value.max() >= (1 << place["width"])):
-            raise ValueError(f"field {name} has values outside {place['width']} unsigned bits")
-        word |= value.astype(np.uint64) << np.uint64(place["offset"])
-    return word
-
-
-def unpack_fields(cfg: DPConfig, word: int) -> dict[str, int]:
-    """Split one payload word into its fields (in layout order)."""
-    return {name: (int(word) >> place["offset"]) & ((1 << place["width"]) - 1)
-            for name, place in state_fields(cfg).items()}
 
 
 def model_frames(cfg: DPConfig, frames: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
@@ -165,8 +123,8 @@ def compare_word(cfg: DPConfig, index: int, got: int, expected: int,
     """
     if int(got) == int(expected):
         return None
-    got_f = unpack_fields(cfg, got)
-    want_f = unpack_fields(cfg, expected)
+    got_f = unpack_state(cfg, got)
+    want_f = unpack_state(cfg, expected)
     differing = tuple(name for name in want_f if got_f[name] != want_f[name])
     if not differing:  # bits outside every field: cannot happen with a correct width
         differing = ("payload",)

@@ -32,20 +32,16 @@ from typing import Mapping
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.hw.layouts import field_offsets, pixel_layout
+from dptbd.hw.layouts import pack_states, pixel_layout, unpack_array
 from dptbd.model.fixed import dp_step, segment_start
-from dptbd.sim.scoreboard import pack_states
 
 __all__ = ["FrameRun", "StreamExpectation", "frame_runs", "expected_stream", "split_words"]
 
 
 def split_words(cfg: DPConfig, words: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(pixel, first)`` of packed ``pixels`` payloads (:func:`dptbd.hw.layouts.pixel_layout`)."""
-    fields = field_offsets(pixel_layout(cfg))
-    w = np.asarray(words, dtype=np.uint64)
-    pix = (w >> np.uint64(fields["pixel"]["offset"])) & np.uint64((1 << cfg.input_bits) - 1)
-    first = (w >> np.uint64(fields["first"]["offset"])) & np.uint64(1)
-    return pix.astype(np.int64), first.astype(bool)
+    fields = unpack_array(pixel_layout(cfg), words)
+    return fields["pixel"].astype(np.int64), fields["first"].astype(bool)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -15,7 +15,8 @@ import numpy as np
 from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig, EnergyWidthWarning
-from dptbd.hw.layouts import pack_pixel, state_layout
+from dptbd.hw import layouts
+from dptbd.hw.layouts import pack_pixel
 from dptbd.sim.segment_scoreboard import CandidateScoreboard
 
 
@@ -33,12 +34,11 @@ class Run:
     cycles: int
 
 
-def pack_states(cfg: DPConfig, states: np.ndarray) -> list[int]:
+def pack_state_rows(cfg: DPConfig, states: np.ndarray) -> list[int]:
     """``states`` payload words from ``(N, 5)`` rows (E, d, eol, eof, eos)."""
-    layout = state_layout(cfg)
     names = ("energy", "direction", "end_of_line", "end_of_frame", "end_of_segment")
-    offsets = [layout[n].offset for n in names]
-    return [sum(int(v) << o for v, o in zip(row, offsets)) for row in np.asarray(states)]
+    rows = np.asarray(states)
+    return layouts.pack_states(cfg, **{n: rows[:, i] for i, n in enumerate(names)}).tolist()
 
 
 def pack_frames(cfg: DPConfig, frames: np.ndarray) -> list[int]:

@@ -4,7 +4,6 @@ candidate lists out, compared with ``dptbd.model.fixed`` + ``segment_sequence``.
 import shutil
 import subprocess
 
-import numpy as np
 import pytest
 
 from dptbd.config import ConfigError

@@ -19,9 +19,10 @@ import numpy as np
 import pytest
 
 from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.hw.layouts import unpack_state
 from dptbd.sim.runner import build, simulate
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.scoreboard import expected_words, unpack_fields
+from dptbd.sim.scoreboard import expected_words
 
 pytestmark = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
 
@@ -60,7 +61,7 @@ def assert_passed(result) -> None:
 
 def energies(cfg: DPConfig, frames) -> np.ndarray:
     words = expected_words(cfg, frames).ravel()
-    return np.array([unpack_fields(cfg, w)["energy"] for w in words])
+    return np.array([unpack_state(cfg, w)["energy"] for w in words])
 
 
 # name: (config, scenario, frames, options)

@@ -15,10 +15,11 @@ import pytest
 
 import dptbd.sim.rtl_check as rtl_check
 from dptbd.hw.candidate_layout import unpack_candidate
+from dptbd.hw.layouts import unpack_state
 from dptbd.sim import verilator as V
 from dptbd.sim.rtl_check import Stimulus, check_frames, check_stream, lut_change_words
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.scoreboard import expected_words, unpack_fields
+from dptbd.sim.scoreboard import expected_words
 from dptbd.sim.segment_scoreboard import expected_lists, list_words
 from dptbd.sim.stimulus import pixel_words
 from dptbd.sim.stream_model import expected_stream, split_words
@@ -275,7 +276,7 @@ def flip(index, bit):
 
 
 def mismatch_report(cfg, index, frame, row, col, want, got):
-    w, g = unpack_fields(cfg, int(want)), unpack_fields(cfg, int(got))
+    w, g = unpack_state(cfg, int(want)), unpack_state(cfg, int(got))
     fields = [k for k in w if w[k] != g[k]]
     return (f"first mismatch at output {index}: frame {frame}, row {row}, col {col}, field "
             f"{fields[0]}: expected {w[fields[0]]}, got {g[fields[0]]} (differing fields "

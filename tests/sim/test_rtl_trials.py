@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from dptbd.config import ConfigError, DPConfig
+from dptbd.hw.layouts import state_layout
 from dptbd.sim import rtl_trials, verilator
 
 pytestmark = pytest.mark.skipif(shutil.which("verilator") is None,
@@ -156,8 +157,7 @@ def test_a_flipped_state_bit_is_located_by_trial_segment_frame_row_col_and_field
 
 
 def rtl_trials_state_offset(name):
-    from dptbd.sim.scoreboard import state_fields
-    return state_fields(SMALL)[name]["offset"]
+    return state_layout(SMALL)[name].offset
 
 
 def test_a_flipped_candidate_word_is_located_by_trial_segment_record_and_field(monkeypatch):

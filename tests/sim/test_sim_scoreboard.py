@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from dptbd.config import DPConfig, EnergyWidthWarning, plain_weights
-from dptbd.hw.layouts import pack_state_word, state_layout, unpack_state
+from dptbd.hw.layouts import state_layout, unpack_state
 from dptbd.model.fixed import run_fixed
 from dptbd.sim.components import pause_generator
 from dptbd.sim.runner import check_scene, config_name
@@ -19,8 +19,6 @@ from dptbd.sim.scoreboard import (
     Scoreboard,
     compare_word,
     expected_words,
-    pack_states,
-    unpack_fields,
 )
 
 
@@ -35,34 +33,11 @@ def frames_for(cfg, n=7, seed=0):
                                                 size=(n, cfg.height, cfg.width))
 
 
-def test_packing_agrees_with_the_gateware_layout():
-    cfg = small(radius=2, energy_bits=20)
-    rng = np.random.default_rng(1)
-    for _ in range(50):
-        values = {name: int(rng.integers(0, 1 << field.width)) for name, field in state_layout(cfg)}
-        word = int(pack_states(cfg, **{k: np.array(v) for k, v in values.items()}))
-        assert unpack_state(cfg, word) == values == unpack_fields(cfg, word)
-        # the (E, d) part sits where the state-store word has it
-        low = pack_state_word(cfg, values["energy"], values["direction"])
-        assert word & ((1 << cfg.state_bits) - 1) == low
-
-
-def test_pack_refuses_values_that_do_not_fit():
-    cfg = small()
-    fields = {name: np.zeros(3, dtype=np.int64) for name, _ in state_layout(cfg)}
-    fields["direction"] = np.array([0, 1 << cfg.direction_bits, 0])
-    with pytest.raises(ValueError, match="direction"):
-        pack_states(cfg, **fields)
-    del fields["direction"]
-    with pytest.raises(ValueError, match="missing"):
-        pack_states(cfg, **fields)
-
-
 def test_expected_stream_ends_segments_like_the_model():
     cfg = small()
     frames = frames_for(cfg, n=7)
     words = expected_words(cfg, frames)
-    f = {name: np.vectorize(lambda w, n=name: unpack_fields(cfg, w)[n])(words)
+    f = {name: np.vectorize(lambda w, n=name: unpack_state(cfg, w)[n])(words)
          for name, _ in state_layout(cfg)}
     out = run_fixed(frames, cfg)                    # 2 whole segments of K = 3
     np.testing.assert_array_equal(f["energy"][[2, 5]], out.energy)
@@ -87,8 +62,8 @@ def test_compare_word_reports_frame_row_col_field_expected_got():
     assert mismatch.fields == ("direction",)
     text = str(mismatch)
     assert "frame 2, row 4, col 6, field direction" in text
-    assert f"expected {unpack_fields(cfg, want)['direction']}, got " \
-           f"{unpack_fields(cfg, got)['direction']}" in text
+    assert f"expected {unpack_state(cfg, want)['direction']}, got " \
+           f"{unpack_state(cfg, got)['direction']}" in text
 
 
 def test_scoreboard_stops_at_the_first_mismatch_of_a_corrupted_expectation():
@@ -277,8 +252,8 @@ def test_positions_name_the_frame_row_and_col_of_irregular_streams():
     got[50] ^= np.uint64(1 << 1)                        # energy bit 1
     board = Scoreboard(cfg, expected, positions=positions)
     assert not board.receive_array(got)
-    want = unpack_fields(cfg, int(expected[50]))
-    seen = unpack_fields(cfg, int(got[50]))
+    want = unpack_state(cfg, int(expected[50]))
+    seen = unpack_state(cfg, int(got[50]))
     assert board.report() == (
         f"first mismatch at output 50: frame 7, row 0, col 2, field energy: expected "
         f"{want['energy']}, got {seen['energy']} (differing fields ['energy']; expected "

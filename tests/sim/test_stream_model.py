@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.hw.layouts import unpack_state
 from dptbd.model.fixed import dp_step
-from dptbd.sim.scoreboard import expected_words, model_frames, unpack_fields
+from dptbd.sim.scoreboard import expected_words, model_frames
 from dptbd.sim.stimulus import pixel_words
 from dptbd.sim.stream_model import FrameRun, expected_stream, frame_runs, split_words
 
@@ -130,7 +131,7 @@ def test_partial_frame_has_end_of_line_but_no_end_of_frame_or_segment():
     np.testing.assert_array_equal(exp.words[:40], whole[:40])
     np.testing.assert_array_equal(exp.words[53:], expected_words(CFG, frames[3:]).ravel())
     assert exp.fields[:, 3].sum() == 5 and exp.fields[:, 4].sum() == 1
-    assert unpack_fields(CFG, int(exp.words[-1]))["end_of_segment"] == 1
+    assert unpack_state(CFG, int(exp.words[-1]))["end_of_segment"] == 1
 
 
 def test_long_frame_extra_words_are_the_next_frame():
