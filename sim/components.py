@@ -214,9 +214,9 @@ class StreamMonitor:
 async def write_lut(clock, addr, data, we, writes: Iterable[tuple[int, int]]) -> int:
     """Write ``(address, code)`` pairs, one per cycle; returns the number written.
 
-    Address ``cfg.lut_address(p, m)`` (``p * M + m``) is the code of move m for predecessor direction p
-    (``docs/gateware.md``). Call it while no pixel is offered: a write applies to every
-    pixel accepted in the same cycle or later.
+    Address ``cfg.lut_address(p, m)`` (``p * M + m``) is the code of move m for predecessor
+    direction p (``docs/gateware.md``). Call it while no pixel is offered: a write applies
+    to every pixel accepted in the same cycle or later.
     """
     edge = RisingEdge(clock)
     n = 0

@@ -256,9 +256,7 @@ def _check_lists(cfg, seg_build, words, energy, direction, label, first_trial, n
     board = CandidateScoreboard(cfg, lists)
     raw = verilator.run(seg_build, words)
     n_in = int(np.count_nonzero(raw.accept_cycles != np.uint64(2**64 - 1)))
-    for word in raw.out_words.tolist():
-        if not board.receive(word):
-            break
+    board.receive_array(raw.out_words)
     if board.mismatch is not None:
         m = board.mismatch
         trial, segment = divmod(m.segment, n_seg)

@@ -3,7 +3,8 @@
 Plain numpy and Python (no cocotb import), so that pytest can unit-test the comparison and
 the report without a simulator. Every word is packed and unpacked with
 :func:`dptbd.hw.layouts.pack_states` and :func:`~dptbd.hw.layouts.unpack_state`, never with
-hand-written bit positions.
+hand-written bit positions. :class:`Scoreboard` is the ``states`` stream's
+:class:`~dptbd.sim.checker.InOrderChecker`.
 
 The expected stream is computed frame by frame with the golden model
 (:mod:`dptbd.model.fixed`): :func:`~dptbd.model.fixed.segment_start` on the first frame of
@@ -23,6 +24,7 @@ import numpy as np
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_states, unpack_state
 from dptbd.model.fixed import dp_step, segment_start
+from dptbd.sim.checker import InOrderChecker, describe_field_mismatch, differing_fields
 
 __all__ = [
     "model_frames",
@@ -55,7 +57,8 @@ def expected_words(cfg: DPConfig, frames: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     cfg : DPConfig
-        The configuration, with the LUT the gateware uses (see :meth:`~dptbd.config.DPConfig.with_weight_codes`).
+        The configuration, with the LUT the gateware uses (see
+        :meth:`~dptbd.config.DPConfig.with_weight_codes`).
     frames : numpy.ndarray
         ``(T, H, W)`` integer pixels.
 
@@ -106,11 +109,8 @@ class Mismatch:
     expected: dict             # every field of the model's word
 
     def __str__(self) -> str:
-        first = self.fields[0]
         return (f"first mismatch at output {self.index}: frame {self.frame}, row {self.row}, "
-                f"col {self.col}, field {first}: expected {self.expected[first]}, got "
-                f"{self.got[first]} (differing fields {list(self.fields)}; expected "
-                f"{self.expected}, got {self.got})")
+                f"col {self.col}, " + describe_field_mismatch(self.fields, self.got, self.expected))
 
 
 def compare_word(cfg: DPConfig, index: int, got: int, expected: int,
@@ -125,10 +125,7 @@ def compare_word(cfg: DPConfig, index: int, got: int, expected: int,
         return None
     got_f = unpack_state(cfg, got)
     want_f = unpack_state(cfg, expected)
-    differing = tuple(name for name in want_f if got_f[name] != want_f[name])
-    if not differing:  # bits outside every field: cannot happen with a correct width
-        differing = ("payload",)
-        got_f["payload"], want_f["payload"] = int(got), int(expected)
+    differing = differing_fields(tuple(want_f), got, expected, got_f, want_f)
     if position is None:
         frame, rest = divmod(index, cfg.width * cfg.height)
         row, col = divmod(rest, cfg.width)
@@ -137,8 +134,9 @@ def compare_word(cfg: DPConfig, index: int, got: int, expected: int,
     return Mismatch(index, frame, row, col, differing, got_f, want_f)
 
 
-class Scoreboard:
-    """Compares the output stream word by word with the model's; stops at the first mismatch.
+class Scoreboard(InOrderChecker):
+    """Compares the ``states`` stream word by word with the model's; stops at the first
+    mismatch, reported by frame, row, column and field (:class:`Mismatch`).
 
     Parameters
     ----------
@@ -153,81 +151,28 @@ class Scoreboard:
         from the word's index, W·H words a frame).
     """
 
+    unit = "output word"
+
     def __init__(self, cfg: DPConfig, expected: np.ndarray,
                  on_frame: Callable[[int], None] | None = None,
                  positions: np.ndarray | None = None):
+        super().__init__(np.asarray(expected, dtype=np.uint64).ravel())
         self.cfg = cfg
-        self._words = np.asarray(expected, dtype=np.uint64).ravel()
         self._positions = None if positions is None else np.asarray(positions)
         self._frame_words = cfg.width * cfg.height
         self._on_frame = on_frame
-        self.count = 0
-        self.mismatch: Mismatch | None = None
-        self.extra = 0             # words beyond the expected stream
 
-    @property
-    def total(self) -> int:
-        """Number of words expected."""
-        return len(self._words)
+    def compare(self, index: int, got: int, want: int) -> Mismatch | None:
+        position = None if self._positions is None else tuple(self._positions[index])
+        return compare_word(self.cfg, index, got, want, position)
 
-    @property
-    def done(self) -> bool:
-        """Every expected word arrived and matched."""
-        return self.mismatch is None and self.count == self.total and self.extra == 0
-
-    @property
-    def failed(self) -> bool:
-        """A word differed or came beyond the end of the expected stream."""
-        return self.mismatch is not None or self.extra > 0
-
-    def receive(self, word: int) -> bool:
-        """Check the next output word; False once anything went wrong."""
-        if self.failed:
-            return False
-        if self.count >= self.total:
-            self.extra += 1
-            return False
-        self.mismatch = compare_word(self.cfg, self.count, word, int(self._words[self.count]),
-                                     self._position(self.count))
-        if self.mismatch is not None:
-            return False
-        self.count += 1
-        if self._on_frame is not None and self.count % self._frame_words == 0:
-            self._on_frame(self.count // self._frame_words - 1)
-        return True
-
-    def _position(self, index: int):
-        return None if self._positions is None else tuple(self._positions[index])
-
-    def receive_array(self, words: np.ndarray) -> bool:
-        """Check a block of consecutive output words at once (numpy; same outcome as
-        calling :meth:`receive` on each): stops at the first mismatch or extra word."""
-        if self.failed:
-            return False
-        got = np.asarray(words, dtype=np.uint64).ravel()
-        take = min(len(got), self.total - self.count)
-        want = self._words[self.count:self.count + take]
-        bad = np.flatnonzero(got[:take] != want)
-        good = take if bad.size == 0 else int(bad[0])
-        before = self.count
-        self.count += good
+    def matched(self, start: int, stop: int) -> None:
         if self._on_frame is not None:
-            for done in range(before // self._frame_words, self.count // self._frame_words):
-                self._on_frame(done)
-        if bad.size:
-            return self.receive(int(got[good]))
-        if len(got) > take:
-            self.extra += 1          # receive() stops at the first extra word
-            return False
-        return True
+            for frame in range(start // self._frame_words, stop // self._frame_words):
+                self._on_frame(frame)
 
-    def report(self) -> str:
-        """One line: bit-exact, incomplete, or the first mismatch."""
-        if self.mismatch is not None:
-            return str(self.mismatch)
-        if self.extra:
-            return (f"{self.extra} output word(s) beyond the {self.total} expected "
-                    f"({self.total // self._frame_words} frames)")
-        if self.count < self.total:
-            return f"incomplete: {self.count} of {self.total} words received, all bit-exact"
-        return f"bit-exact: {self.count} words ({self.count // self._frame_words} frames)"
+    def expected_summary(self) -> str:
+        return f"{self.total // self._frame_words} frames"
+
+    def exact_summary(self) -> str:
+        return f"{self.count} words ({self.count // self._frame_words} frames)"

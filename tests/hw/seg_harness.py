@@ -101,7 +101,6 @@ def run(dut, source, sink, words: list[int], *, n_out: int, valid_probability=1.
 def score(cfg: DPConfig, lists, outputs: list[int]) -> CandidateScoreboard:
     """Feed ``outputs`` to a scoreboard of ``lists``; assert bit-exact with its report."""
     board = CandidateScoreboard(cfg, lists)
-    for word in outputs:
-        board.receive(word)
+    board.receive_array(np.array(outputs, dtype=np.uint64))
     assert board.done, board.report()
     return board

@@ -73,7 +73,8 @@ def test_array_packing_agrees_with_the_scalar_one():
     for index in np.ndindex(words.shape):
         one = {name: int(v[index]) for name, v in values.items()}
         assert int(words[index]) == pack(state_layout(cfg), one)
-        assert unpack_state(cfg, int(words[index])) == one == unpack(state_layout(cfg), words[index])
+        assert unpack_state(cfg, int(words[index])) == one
+        assert unpack(state_layout(cfg), words[index]) == one
         # the (E, d) part sits where the state-store word has it
         low = pack_state_word(cfg, one["energy"], one["direction"])
         assert int(words[index]) & ((1 << cfg.state_bits) - 1) == low
