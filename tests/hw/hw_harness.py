@@ -37,6 +37,18 @@ class StreamRun:
     cycles: int              # cycles simulated
 
 
+def simulate(dut, *testbenches, background=()) -> None:
+    """Run ``dut`` on a 100 MHz clock with the async ``testbenches`` (``f(ctx)``) until they
+    return; ``background`` testbenches (e.g. a memory model) run beside them."""
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    for bench in testbenches:
+        sim.add_testbench(bench)
+    for bench in background:
+        sim.add_testbench(bench, background=True)
+    sim.run()
+
+
 def frames_to_stream(frames: np.ndarray) -> list[tuple[int, bool]]:
     """(pixel, first) in raster order, ``first`` on pixel (0, 0) of every frame."""
     out = []
@@ -121,12 +133,7 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
             cycle += 1
         result.cycles = cycle
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    for process in processes:
-        sim.add_testbench(process, background=True)
-    sim.run()
+    simulate(dut, bench, background=processes)
     return result
 
 

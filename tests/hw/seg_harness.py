@@ -12,12 +12,12 @@ import random
 import warnings
 
 import numpy as np
-from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw import layouts
 from dptbd.hw.layouts import pack_pixel
 from dptbd.sim.segment_scoreboard import CandidateScoreboard
+from hw_harness import simulate
 
 
 def make_config(**kw) -> DPConfig:
@@ -89,12 +89,7 @@ def run(dut, source, sink, words: list[int], *, n_out: int, valid_probability=1.
             cycle += 1
         result.cycles = cycle
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    for process in extra:
-        sim.add_testbench(process, background=True)
-    sim.run()
+    simulate(dut, bench, background=extra)
     return result
 
 
@@ -104,3 +99,11 @@ def score(cfg: DPConfig, lists, outputs: list[int]) -> CandidateScoreboard:
     board.receive_array(np.array(outputs, dtype=np.uint64))
     assert board.done, board.report()
     return board
+
+
+def run_lists(cfg: DPConfig, dut, source, sink, words: list[int], lists, **kw) -> Run:
+    """:func:`run` until every word of ``lists`` came out (and ``settle`` cycles more), then
+    :func:`score` them: bit-exact, or an assertion naming the first mismatch."""
+    result = run(dut, source, sink, words, n_out=CandidateScoreboard(cfg, lists).total, **kw)
+    score(cfg, lists, result.outputs)
+    return result

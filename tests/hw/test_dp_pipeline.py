@@ -23,6 +23,7 @@ from hw_harness import (
     reference_states,
     refused,
     run_stream,
+    simulate,
 )
 
 
@@ -248,8 +249,6 @@ def test_input_ready_is_registered(style):
     holds the output back long enough that the credit counter does drop ``pixels.ready``,
     so the check covers both of its values.
     """
-    from amaranth.sim import Simulator
-
     from dptbd.hw.layouts import pack_pixel
 
     cfg = make_config(width=6, height=5, segment_frames=2)
@@ -273,8 +272,5 @@ def test_input_ready_is_registered(style):
             ctx.set(dut.pixels.valid, int(rng.random() < 0.8))
             await ctx.tick()
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(dut, bench)
     assert seen == {0, 1}, "the run must see pixels.ready both high and low"

@@ -4,11 +4,11 @@ import random
 
 import numpy as np
 import pytest
-from amaranth.sim import Simulator
 
 from dptbd.hw.histogram import Histogram
 from dptbd.hw.threshold import ThresholdSearch
 from dptbd.model.segmentation import threshold_bin
+from hw_harness import simulate
 from seg_harness import make_config
 
 
@@ -51,10 +51,7 @@ def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2):
             scans_out.append(out)
             spans.append(cycles)
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(dut, bench)
     return scans_out, spans
 
 
@@ -102,10 +99,7 @@ def test_threshold_search_matches_model():
             assert not ctx.get(dut.done)
             got.append((ctx.get(dut.threshold), ctx.get(dut.primed)))
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(dut, bench)
     want = [threshold_bin(h, cfg) for h in cases]
     assert got[0] == (want[0], 1)
     assert got[1] == (want[0], 1)                              # load = 0 keeps T

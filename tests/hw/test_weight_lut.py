@@ -8,20 +8,12 @@ import random
 
 import numpy as np
 import pytest
-from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig, plain_weights
 from dptbd.hw.weight_lut import LUT_STYLES, WeightLUT, resolve_lut_style
-from hw_harness import refused
+from hw_harness import refused, simulate
 
 STYLES = ("bram", "logic")
-
-
-def simulate(dut, bench):
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
 
 
 async def lookup(ctx, dut, cfg, directions):

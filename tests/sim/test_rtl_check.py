@@ -338,33 +338,27 @@ def test_a_mid_frame_restart_is_located_by_the_counters(monkeypatch):
     assert result.report == mismatch_report(cfg, index, 2, 1, 4, want, want ^ np.uint64(2))
 
 
-def test_an_extra_output_word_is_reported(monkeypatch):
+def one_word_more(raw):
+    return dataclasses.replace(
+        raw, out_words=np.append(raw.out_words, raw.out_words[-1]),
+        out_cycles=np.append(raw.out_cycles, raw.out_cycles[-1] + np.uint64(1)))
+
+
+def one_word_less(raw):
+    return dataclasses.replace(raw, out_words=raw.out_words[:-1], out_cycles=raw.out_cycles[:-1])
+
+
+@pytest.mark.parametrize("change, report", [
+    (one_word_more, "1 output word(s) beyond the 576 expected (3 frames)"),
+    (one_word_less, "incomplete: 575 of 576 words received, all bit-exact"),
+])
+def test_an_extra_or_a_missing_output_word_is_reported(monkeypatch, change, report):
     cfg = BASE
     frames = make_frames("noise", cfg, 3, seed=1)
-
-    def extra(raw):
-        return dataclasses.replace(
-            raw, out_words=np.append(raw.out_words, raw.out_words[-1]),
-            out_cycles=np.append(raw.out_cycles, raw.out_cycles[-1] + np.uint64(1)))
-
-    tampered(monkeypatch, extra)
+    tampered(monkeypatch, change)
     result = check_frames(built(cfg), frames)
     assert not result.passed
-    assert result.report == "1 output word(s) beyond the 576 expected (3 frames)"
-
-
-def test_a_missing_output_word_is_reported(monkeypatch):
-    cfg = BASE
-    frames = make_frames("noise", cfg, 3, seed=1)
-
-    def truncate(raw):
-        return dataclasses.replace(raw, out_words=raw.out_words[:-1],
-                                   out_cycles=raw.out_cycles[:-1])
-
-    tampered(monkeypatch, truncate)
-    result = check_frames(built(cfg), frames)
-    assert not result.passed
-    assert result.report == "incomplete: 575 of 576 words received, all bit-exact"
+    assert result.report == report
 
 
 def test_a_timeout_fails_the_check(monkeypatch):
