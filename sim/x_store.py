@@ -17,7 +17,7 @@ synchronous SRAM model whose contents are
 streams the frames with ``pixels.valid`` and ``states.ready`` held high, and checks every
 cycle that no output bit of the module is X or Z, and afterwards that every ``states`` word
 equals the golden model (:func:`dptbd.sim.scoreboard.expected_words`). Compiled with
-``iverilog -g2012``, timescale 1ns/1ps. ``tests/sim/test_x_free_store.py`` runs it.
+``iverilog -g2012``, timescale 1ns/1ps. ``tests/sim/test_x_store.py`` runs it.
 
 Two details of the bench, both outside the store question: ``states__payload`` is checked
 from the first ``states.valid`` on (before it, the output FIFO's data register —
