@@ -20,8 +20,6 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import fcntl
-import hashlib
 import json
 import os
 import pathlib
@@ -32,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from dptbd.config import DPConfig
+from dptbd.sim.build_dirs import CompiledDesign, config_name, locked
 
 __all__ = [
     "TOPLEVEL",
@@ -40,7 +39,6 @@ __all__ = [
     "DESIGNS",
     "SimBuild",
     "SimResult",
-    "config_name",
     "build",
     "write_job",
     "simulate",
@@ -61,22 +59,12 @@ DESIGNS = {
 }
 
 
-def config_name(cfg: DPConfig) -> str:
-    """Readable, unique directory name of a parameter set.
-
-    ``<W>x<H>-k<K>-in<B_in>-e<B_E>-f<F>-r<r>-<rounding>-<hash>``; the hash (8 hex digits of
-    SHA-256 over every field, weights included) separates parameter sets that differ only
-    in their LUT.
-    """
-    digest = hashlib.sha256(json.dumps(cfg.to_mapping(), sort_keys=True).encode())
-    return (f"{cfg.width}x{cfg.height}-k{cfg.segment_frames}-in{cfg.input_bits}"
-            f"-e{cfg.energy_bits}-f{cfg.weight_frac_bits}-r{cfg.radius}-{cfg.rounding}"
-            f"-{digest.hexdigest()[:8]}")
-
-
 @dataclasses.dataclass(frozen=True)
-class SimBuild:
-    """A compiled simulation of one parameter set."""
+class SimBuild(CompiledDesign):
+    """A compiled simulation of one parameter set (``latency`` and ``toplevel`` from
+    :class:`~dptbd.sim.build_dirs.CompiledDesign`)."""
+
+    designs = DESIGNS
 
     cfg: DPConfig
     directory: pathlib.Path
@@ -87,29 +75,9 @@ class SimBuild:
     design: str = "dp"        # a key of DESIGNS
 
     @property
-    def latency(self) -> int:
-        return int(self.manifest["latency"])
-
-    @property
-    def toplevel(self) -> str:
-        """The Verilog module name."""
-        return DESIGNS[self.design][0]
-
-    @property
     def test_module(self) -> str:
         """The cocotb test module run by :func:`simulate`."""
         return DESIGNS[self.design][1]
-
-
-@contextlib.contextmanager
-def _locked(directory: pathlib.Path):
-    directory.mkdir(parents=True, exist_ok=True)
-    with open(directory / ".lock", "w") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 def _write_if_changed(path: pathlib.Path, text: str) -> bool:
@@ -155,7 +123,7 @@ def build(cfg: DPConfig, root: str | os.PathLike = "build/sim", *, waves: bool =
     start = time.perf_counter()
     directory = pathlib.Path(root).resolve() / (config_name(cfg) + suffix
                                                 + ("-waves" if waves else ""))
-    with _locked(directory):
+    with locked(directory / ".lock"):
         text, info = generate(cfg)
         verilog = directory / f"{toplevel}.v"
         _write_if_changed(verilog, text)

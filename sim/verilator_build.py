@@ -16,9 +16,7 @@ Use Debian's ``verilator`` (5.006; ``scripts/setup.sh`` installs it).
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
-import fcntl
 import functools
 import hashlib
 import json
@@ -32,6 +30,7 @@ from typing import Sequence
 
 
 from dptbd.config import DPConfig
+from dptbd.sim.build_dirs import CompiledDesign, config_name, locked
 
 __all__ = [
     "DESIGNS",
@@ -115,8 +114,11 @@ def check_tools() -> dict[str, str]:
 
 
 @dataclasses.dataclass(frozen=True)
-class VerilatorBuild:
-    """One compiled simulation executable."""
+class VerilatorBuild(CompiledDesign):
+    """One compiled simulation executable (``latency`` and ``toplevel`` from
+    :class:`~dptbd.sim.build_dirs.CompiledDesign`)."""
+
+    designs = DESIGNS
 
     cfg: DPConfig
     design: str
@@ -127,15 +129,6 @@ class VerilatorBuild:
     seconds: float        # wall time of this build() call (generation + compilation, or the cache check)
     cached: bool          # the executable came from the cache
     waves: bool
-
-    @property
-    def latency(self) -> int:
-        """Cycles from a pixel's acceptance to its result (the manifest's ``latency``)."""
-        return int(self.manifest["latency"])
-
-    @property
-    def toplevel(self) -> str:
-        return DESIGNS[self.design][0]
 
     @property
     def output(self) -> str:
@@ -171,17 +164,6 @@ def _stamp_ok(directory: pathlib.Path, key: str) -> dict | None:
     return None
 
 
-@contextlib.contextmanager
-def _locked(path: pathlib.Path):
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(fh, fcntl.LOCK_UN)
-
-
 def _generate(cfg: DPConfig, design: str, lut_style: str) -> tuple[str, dict]:
     if design == "segmenter":
         from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog
@@ -214,7 +196,6 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     if design not in DESIGNS:
         raise ValueError(f"design must be one of {', '.join(DESIGNS)}, got {design!r}")
     from dptbd.hw.schedule import check_supported
-    from dptbd.sim.runner import config_name
 
     check_supported(cfg)
     tools = check_tools()
@@ -222,7 +203,7 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     key = _build_key(cfg, design, lut_style, waves)
     root = pathlib.Path(root) if root is not None else default_build_root()
     directory = root.resolve() / f"{config_name(cfg)}-{design}{'-waves' if waves else ''}-{key[:12]}"
-    with _locked(root.resolve() / ".locks" / (directory.name + ".lock")):
+    with locked(root.resolve() / ".locks" / (directory.name + ".lock")):
         manifest = _stamp_ok(directory, key)
         cached = manifest is not None
         if not cached:

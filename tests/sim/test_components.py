@@ -1,5 +1,5 @@
 """cocotb verification components, the parts that run without a simulator: pause
-generators."""
+generators and what the testbenches derive from a pause spec."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import itertools
 
 import pytest
 
-from dptbd.sim.components import pause_generator
+from dptbd.sim.components import optional_pauses, pause_generator, pause_probability
 
 
 def test_pause_generators():
@@ -25,3 +25,12 @@ def test_pause_generators():
         pause_generator({"kind": "pattern", "pattern": [1, 1]})
     with pytest.raises(ValueError, match="unknown pause kind"):
         pause_generator({"kind": "sometimes"})
+
+
+def test_optional_pauses_and_pause_probability():
+    pattern = {"kind": "pattern", "pattern": [1, 1, 1, 0]}
+    assert optional_pauses(None) is None and optional_pauses({"kind": "none"}) is None
+    assert list(itertools.islice(optional_pauses(pattern), 4)) == [True, True, True, False]
+    assert pause_probability(None) == pause_probability({"kind": "none"}) == 0.0
+    assert pause_probability({"kind": "random", "probability": 0.3, "seed": 1}) == 0.3
+    assert pause_probability(pattern) == 0.75
