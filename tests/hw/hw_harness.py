@@ -49,6 +49,25 @@ def simulate(dut, *testbenches, background=()) -> None:
     sim.run()
 
 
+async def stream_cycle(ctx, source, sink, offering: bool, taking: bool, transfers) -> bool:
+    """One clock cycle of stream ``source`` (``valid`` = ``offering``) into the DUT and
+    stream ``sink`` (``ready`` = ``taking``) out of it. Appends to ``transfers`` (a
+    :class:`StreamRun`-like object with ``accept_cycles``, ``outputs``, ``output_cycles``
+    and ``cycles``, the current cycle): the cycle of an accepted word, and the payload and
+    cycle of an output transfer. Returns whether the source word was accepted; ticks."""
+    ctx.set(source.valid, offering)
+    ctx.set(sink.ready, taking)
+    accepted = bool(offering and ctx.get(source.ready))
+    if accepted:
+        transfers.accept_cycles.append(transfers.cycles)
+    if taking and ctx.get(sink.valid):
+        transfers.outputs.append(int(ctx.get(sink.payload.as_value())))
+        transfers.output_cycles.append(transfers.cycles)
+    await ctx.tick()
+    transfers.cycles += 1
+    return accepted
+
+
 def frames_to_stream(frames: np.ndarray) -> list[tuple[int, bool]]:
     """(pixel, first) in raster order, ``first`` on pixel (0, 0) of every frame."""
     out = []
@@ -90,13 +109,12 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
         max_cycles = int((len(stream) + 100) / slow * 3) + 200
     result = StreamRun([], [], [], 0)
     payload_in = dut.pixels.payload.as_value()
-    payload_out = dut.states.payload.as_value()
 
     async def bench(ctx):
         accepted = 0
         offering = False
-        cycle = 0
         while len(result.outputs) < n_out:
+            cycle = result.cycles
             if cycle >= max_cycles:
                 raise AssertionError(
                     f"timeout after {cycle} cycles: {accepted}/{len(stream)} pixels accepted, "
@@ -119,19 +137,11 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
                 if offering:
                     pixel, first = stream[accepted]
                     ctx.set(payload_in, pack_pixel(cfg, pixel, first))
-            ctx.set(dut.pixels.valid, offering)
             taking = rng.random() < ready_probability
-            ctx.set(dut.states.ready, taking)
-            if offering and ctx.get(dut.pixels.ready):
-                result.accept_cycles.append(cycle)
+            if await stream_cycle(ctx, dut.pixels, dut.states, offering, taking, result):
                 accepted += 1
                 offering = False
-            if taking and ctx.get(dut.states.valid):
-                result.outputs.append(unpack_state(cfg, ctx.get(payload_out)))
-                result.output_cycles.append(cycle)
-            await ctx.tick()
-            cycle += 1
-        result.cycles = cycle
+        result.outputs[:] = [unpack_state(cfg, word) for word in result.outputs]
 
     simulate(dut, bench, background=processes)
     return result

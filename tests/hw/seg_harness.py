@@ -17,7 +17,7 @@ from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw import layouts
 from dptbd.hw.layouts import pack_pixel
 from dptbd.sim.segment_scoreboard import CandidateScoreboard
-from hw_harness import simulate
+from hw_harness import simulate, stream_cycle
 
 
 def make_config(**kw) -> DPConfig:
@@ -63,31 +63,21 @@ def run(dut, source, sink, words: list[int], *, n_out: int, valid_probability=1.
     async def bench(ctx):
         sent = 0
         offering = False
-        cycle = 0
         quiet = 0
         while len(result.outputs) < n_out or quiet < settle:
             if len(result.outputs) >= n_out:
                 quiet += 1
-            if cycle >= max_cycles:
-                raise AssertionError(f"timeout after {cycle} cycles: {sent}/{len(words)} in, "
-                                     f"{len(result.outputs)}/{n_out} out")
+            if result.cycles >= max_cycles:
+                raise AssertionError(f"timeout after {result.cycles} cycles: {sent}/{len(words)} "
+                                     f"in, {len(result.outputs)}/{n_out} out")
             if not offering and sent < len(words):
                 offering = rng.random() < valid_probability
                 if offering:
                     ctx.set(source.payload.as_value(), words[sent])
-            ctx.set(source.valid, offering)
             taking = rng.random() < ready_probability
-            ctx.set(sink.ready, taking)
-            if offering and ctx.get(source.ready):
-                result.accept_cycles.append(cycle)
+            if await stream_cycle(ctx, source, sink, offering, taking, result):
                 sent += 1
                 offering = False
-            if taking and ctx.get(sink.valid):
-                result.outputs.append(int(ctx.get(sink.payload.as_value())))
-                result.output_cycles.append(cycle)
-            await ctx.tick()
-            cycle += 1
-        result.cycles = cycle
 
     simulate(dut, bench, background=extra)
     return result
