@@ -16,7 +16,7 @@ from amaranth.hdl import Shape, unsigned
 from amaranth.lib import data
 
 from dptbd.config import DPConfig
-from dptbd.hw.layouts import field_offsets, state_word_layout
+from dptbd.hw.layouts import field_offsets, pack, state_word_layout, unpack
 
 __all__ = [
     "RECORD_FIELDS",
@@ -107,44 +107,25 @@ def candidate_field_offsets(cfg: DPConfig) -> dict[str, dict]:
     }
 
 
-def _pack(layout: data.StructLayout, values: dict) -> int:
-    word = 0
-    for name, field in layout:
-        value = int(values[name])
-        if not 0 <= value < (1 << field.width):
-            raise ValueError(f"{name}={value} does not fit {field.width} unsigned bits")
-        word |= value << field.offset
-    return word
-
-
-def _unpack(layout: data.StructLayout, word: int) -> dict[str, int]:
-    return {name: (int(word) >> f.offset) & ((1 << f.width) - 1) for name, f in layout}
-
-
 def pack_record(cfg: DPConfig, row: int, col: int, energy: int, direction: int) -> int:
     """The ``candidates`` payload of a record (``end_of_list`` = 0)."""
-    return _pack(record_layout(cfg), {"row": row, "col": col, "energy": energy,
-                                      "direction": direction})
+    return pack(record_layout(cfg), {"row": row, "col": col, "energy": energy,
+                                     "direction": direction}, "record")
 
 
 def pack_trailer(cfg: DPConfig, **fields: int) -> int:
     """The ``candidates`` payload of a trailer (``end_of_list`` = 1); every field of
     :func:`trailer_layout` must be given."""
-    layout = trailer_layout(cfg)
-    missing = sorted(set(TRAILER_FIELDS) - set(fields))
-    extra = sorted(set(fields) - set(TRAILER_FIELDS))
-    if missing or extra:
-        raise ValueError(f"trailer fields missing {missing}, unknown {extra}")
     body_width = candidate_layout(cfg)["body"].width
-    return _pack(layout, fields) | (1 << body_width)
+    return pack(trailer_layout(cfg), fields, "trailer") | (1 << body_width)
 
 
 def unpack_candidate(cfg: DPConfig, word: int) -> tuple[str, dict[str, int]]:
     """``("record", {row, col, energy, direction})`` or ``("trailer", {count, …})``."""
     body_width = candidate_layout(cfg)["body"].width
     if (int(word) >> body_width) & 1:
-        return "trailer", _unpack(trailer_layout(cfg), word)
-    return "record", _unpack(record_layout(cfg), word)
+        return "trailer", unpack(trailer_layout(cfg), word)
+    return "record", unpack(record_layout(cfg), word)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -31,9 +31,8 @@ __all__ = ["DPCore", "lut_write_members"]
 
 def lut_write_members(cfg: DPConfig) -> dict:
     """The LUT write port members shared by :class:`DPCore` and ``DPPipeline``."""
-    moves = cfg.n_moves
     return {
-        "lut_addr": In(range((moves + 1) * moves)),
+        "lut_addr": In(range(cfg.lut_entries)),
         "lut_data": In(cfg.weight_bits),
         "lut_we": In(1),
     }

@@ -41,7 +41,7 @@ class DPPipeline(wiring.Component):
     states : Out(stream.Signature(state_layout(cfg)))
         New (E, d) of every pixel of every frame, raster order, with end flags.
     lut_addr : In(range((M+1)*M))
-        Weight LUT entry ``p * M + m`` to write.
+        Weight LUT entry ``cfg.lut_address(p, m)`` (``p * M + m``) to write.
     lut_data : In(F+1)
         Code to write.
     lut_we : In(1)

@@ -24,7 +24,7 @@ from dptbd.hw.dp_core import lut_write_members
 from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.hw.layouts import field_offsets, pixel_layout
 from dptbd.hw.segmenter import Segmenter
-from dptbd.hw.flow.verilog import port_list
+from dptbd.hw.flow.verilog import manifest_header, manifest_interface, port_list
 
 __all__ = ["SEGMENTER_MODULE_NAME", "DPSegmenter", "segmenter_manifest",
            "generate_segmenter_verilog"]
@@ -93,10 +93,7 @@ def segmenter_manifest(cfg: DPConfig, top: DPSegmenter) -> dict:
     """Machine-readable description of ``dptbd_seg`` (JSON-serialisable)."""
     bits = bits_per_segment(cfg)
     return {
-        "module": SEGMENTER_MODULE_NAME,
-        "top": type(top).__name__,
-        "parameters": {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)
-                       if f.name != "weights"},
+        **manifest_header(cfg, SEGMENTER_MODULE_NAME, top),
         "derived": {
             "n_moves": cfg.n_moves,
             "direction_bits": cfg.direction_bits,
@@ -108,9 +105,7 @@ def segmenter_manifest(cfg: DPConfig, top: DPSegmenter) -> dict:
             "bin_count_bits": cfg.bin_count_bits,
             "threshold_bits": cfg.threshold_bits,
         },
-        "weight_codes": cfg.weight_codes.tolist(),
-        "clock": {"name": "clk", "edge": "rising"},
-        "reset": {"name": "rst", "polarity": "active_high", "kind": "synchronous"},
+        **manifest_interface(cfg),
         "latency": top.latency,
         "dp_latency": top.schedule.latency,
         "scan_cycles": top.scan_cycles,

@@ -105,7 +105,8 @@ class WeightLUT(wiring.Component):
     code : Out(F+1).array(M)
         Cycle t+1: ``c[min(direction[m], M), m]``.
     write_addr : In(range((M+1)*M))
-        Entry to write, ``p * M + m`` for predecessor direction p and move m. Addresses
+        Entry to write, ``cfg.lut_address(p, m)`` = ``p * M + m`` for predecessor direction p
+        and move m. Addresses
         >= (M+1)*M are ignored.
     write_data : In(F+1)
         The new code. Codes above ``2**F`` (a weight above 1.0, outside
@@ -121,7 +122,7 @@ class WeightLUT(wiring.Component):
         super().__init__({
             "direction": In(cfg.direction_bits).array(moves),
             "code": Out(cfg.weight_bits).array(moves),
-            "write_addr": In(range((moves + 1) * moves)),
+            "write_addr": In(range(cfg.lut_entries)),
             "write_data": In(cfg.weight_bits),
             "write_en": In(1),
         })
@@ -134,7 +135,7 @@ class WeightLUT(wiring.Component):
     @property
     def entries(self) -> int:
         """Number of codes in the table, ``(M + 1) * M``."""
-        return (self._cfg.n_moves + 1) * self._cfg.n_moves
+        return self._cfg.lut_entries
 
     def elaborate(self, platform):
         m = Module()

@@ -3,11 +3,14 @@ on Icarus (4-state protocol checks), scored against the golden model.
 
 Modules
 -------
+``dptbd.sim.verilator_build``
+    :func:`~dptbd.sim.verilator_build.build` verilates one top level (``dp``, ``core`` with a
+    C++ external store, ``segmenter``) with the harness ``sim/harness/dptbd_harness.cpp``
+    into a cached executable (the build cache).
 ``dptbd.sim.verilator``
-    :func:`~dptbd.sim.verilator.build` verilates one top level (``dp``, ``core`` with a C++
-    external store, ``segmenter``) with the harness ``sim/harness/dptbd_harness.cpp`` into a
-    cached executable; :func:`~dptbd.sim.verilator.run` streams a whole input sequence
-    through it with seeded stalls, resets, LUT writes.
+    :func:`~dptbd.sim.verilator.run` streams a whole input sequence through a build with
+    seeded stalls, resets, LUT writes; re-exports the build cache's public names
+    (``verilator.build``, ``verilator.check_tools``, …).
 ``dptbd.sim.stream_model``
     The golden model's output for an arbitrary accepted stream (resets, misaligned, short
     and long frames, LUT changes), by the gateware's counter rule.

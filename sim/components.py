@@ -9,7 +9,8 @@ and the valid/ready pause generators of alexforencich's ``verilog-axis`` testben
 * :class:`StreamSink` — drives ``states.ready`` from a pause generator (back-pressure);
 * :class:`StreamMonitor` — watches ``states`` and hands every transferred payload to a
   callback (the :class:`~dptbd.sim.scoreboard.Scoreboard`);
-* :func:`write_lut` — writes weight codes through ``lut_addr``/``lut_data``/``lut_we``.
+* :func:`write_lut` — writes weight codes through ``lut_addr``/``lut_data``/``lut_we``;
+* :func:`start_in_reset` — the clock and the reset sequence every test starts with.
 
 Handshakes are sampled right after the rising clock edge, before the design's registers
 update in that time step (the usual cocotb idiom), so a transfer is "valid and ready both
@@ -24,14 +25,15 @@ import itertools
 import random
 from typing import Callable, Iterable, Iterator
 
+from cocotb.clock import Clock
 from cocotb.handle import SimHandleBase
 from cocotb.simtime import get_sim_time
 from cocotb.triggers import RisingEdge
 
 import cocotb
 
-__all__ = ["pause_generator", "StreamSource", "StreamSink", "StreamMonitor", "write_lut",
-           "Cycles"]
+__all__ = ["pause_generator", "optional_pauses", "pause_probability", "StreamSource",
+           "StreamSink", "StreamMonitor", "write_lut", "Cycles", "start_in_reset"]
 
 
 def pause_generator(spec: dict | None) -> Iterator[bool]:
@@ -58,6 +60,24 @@ def pause_generator(spec: dict | None) -> Iterator[bool]:
             raise ValueError("a pause pattern must be non-empty and contain a 0")
         return itertools.cycle(pattern)
     raise ValueError(f"unknown pause kind {kind!r}; use none, random or pattern")
+
+
+def optional_pauses(spec: dict | None) -> Iterator[bool] | None:
+    """:func:`pause_generator` of ``spec``, or ``None`` when it never pauses."""
+    if not spec or spec.get("kind", "none") == "none":
+        return None
+    return pause_generator(spec)
+
+
+def pause_probability(spec: dict | None) -> float:
+    """The fraction of cycles a pause spec pauses (its probability, or the pattern's share
+    of 1s)."""
+    if not spec or spec.get("kind", "none") == "none":
+        return 0.0
+    if spec["kind"] == "random":
+        return float(spec["probability"])
+    pattern = spec["pattern"]
+    return sum(map(bool, pattern)) / len(pattern)
 
 
 class Cycles:
@@ -214,9 +234,9 @@ class StreamMonitor:
 async def write_lut(clock, addr, data, we, writes: Iterable[tuple[int, int]]) -> int:
     """Write ``(address, code)`` pairs, one per cycle; returns the number written.
 
-    Address ``p * M + m`` is the code of move m for predecessor direction p
-    (``docs/gateware.md``). Call it while no pixel is offered: a write applies to every
-    pixel accepted in the same cycle or later.
+    Address ``cfg.lut_address(p, m)`` (``p * M + m``) is the code of move m for predecessor
+    direction p (``docs/gateware.md``). Call it while no pixel is offered: a write applies
+    to every pixel accepted in the same cycle or later.
     """
     edge = RisingEdge(clock)
     n = 0
@@ -228,3 +248,29 @@ async def write_lut(clock, addr, data, we, writes: Iterable[tuple[int, int]]) ->
         n += 1
     we.value = 0
     return n
+
+
+async def start_in_reset(dut, period_ns: int, output_ready) -> Cycles:
+    """Start ``dut.clk`` (``period_ns``), hold ``rst`` for three rising edges with no pixel
+    offered, no LUT write and ``output_ready`` high, and release it.
+
+    Returns
+    -------
+    Cycles
+        The cycle counter, its period measured in simulator steps between two edges.
+    """
+    cycles = Cycles(1)
+    Clock(dut.clk, period_ns, unit="ns", impl="gpi").start(start_high=False)
+    dut.rst.value = 1
+    dut.pixels__valid.value = 0
+    dut.lut_we.value = 0
+    dut.lut_addr.value = 0
+    dut.lut_data.value = 0
+    output_ready.value = 1
+    await RisingEdge(dut.clk)
+    t0 = get_sim_time("step")
+    await RisingEdge(dut.clk)
+    cycles.period_steps = int(get_sim_time("step") - t0)
+    await RisingEdge(dut.clk)
+    dut.rst.value = 0
+    return cycles

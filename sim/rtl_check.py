@@ -4,10 +4,10 @@
 with a :class:`Stimulus` (pauses, resets, LUT writes, the external store's power-up
 contents), splits what came out at every reset, asks :mod:`dptbd.sim.stream_model` what the
 golden model says for the words accepted since that reset, and compares with the project's
-one pair of in-order checkers: :class:`~dptbd.sim.scoreboard.Scoreboard` (``states``: the
-first mismatching frame, row, column and field) and
-:class:`~dptbd.sim.segment_scoreboard.CandidateScoreboard` (``candidates``: segment,
-record, field).
+scoreboards, both :class:`~dptbd.sim.checker.InOrderChecker`:
+:class:`~dptbd.sim.scoreboard.Scoreboard` (``states``: the first mismatching frame, row,
+column and field) and :class:`~dptbd.sim.segment_scoreboard.CandidateScoreboard`
+(``candidates``: segment, record, field).
 
 The promise checked around a reset (``docs/gateware.md``, "Reset and resynchronisation"):
 what comes out before it is a prefix of the model's output for the words accepted before it
@@ -112,15 +112,6 @@ def _padding(cfg: DPConfig, runs) -> np.ndarray:
     return np.concatenate(rows)
 
 
-def _feed(board, words: np.ndarray) -> None:
-    if isinstance(board, Scoreboard):
-        board.receive_array(words)
-        return
-    for w in words.tolist():
-        if not board.receive(w):
-            break
-
-
 def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = Stimulus(),
                  *, trace=None) -> CheckResult:
     """Run ``words`` through ``sim`` with ``stimulus`` and compare every output word.
@@ -157,7 +148,7 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
         board = _checker(cfg, sim.output, pixels[a:b], first[a:b], changes,
                          cut_by_reset=not last)
         got = raw.out_words[out_cuts[e]:out_cuts[e + 1]]
-        _feed(board, got)
+        board.receive_array(got)
         compared += board.count
         label = f"after reset {e} (cycle {resets[e - 1]}): " if e else ""
         if board.failed or (last and not board.done):

@@ -18,11 +18,11 @@ golden model. :func:`accumulate_trials` is the one call they make instead of
    the fused kernel :func:`dptbd.model.fast.run_fixed_fast` (bit-identical with the
    reference :mod:`dptbd.model.fixed`, ``tests/model/test_fast.py``) run on the first ``j + 1``
    frames of every segment, ``j = 0 … K-1``, and packed with
-   :func:`dptbd.sim.scoreboard.pack_states`. A mismatch raises :class:`RTLMismatchError`
+   :func:`dptbd.hw.layouts.pack_states`. A mismatch raises :class:`RTLMismatchError`
    naming the configuration, the scene, the trial, the segment, the frame, the row, the
    column and the field.
 3. E and d of the last frame of every segment are unpacked from the RTL's own words
-   (field offsets of :func:`dptbd.sim.scoreboard.state_fields`): that is what the caller's
+   (field offsets of :func:`dptbd.hw.layouts.state_layout`): that is what the caller's
    candidate selection and evaluation see.
 4. Unless ``segmenter=False``, the whole FPGA stage (``design="segmenter"``, DP + segmenter,
    top ``dptbd_seg``) runs on the same words and every candidate list is compared with the
@@ -239,17 +239,11 @@ def _check_states(cfg, segments, raw, label, first_trial, n_seg) -> int:
 def _unpack_ends(cfg: DPConfig, out_words: np.ndarray, n_trials: int, n_seg: int):
     """E and d of the last frame of every segment, from the RTL's words."""
     from dptbd.model.fixed import DIRECTION_DTYPE, ENERGY_DTYPE
-    from dptbd.sim.scoreboard import state_fields
+    from dptbd.hw.layouts import state_layout, unpack_array
 
     k, h, w = cfg.segment_frames, cfg.height, cfg.width
-    last = out_words.reshape(n_trials, n_seg, k, h, w)[:, :, -1]
-    fields = state_fields(cfg)
-
-    def field(name):
-        place = fields[name]
-        return (last >> np.uint64(place["offset"])) & np.uint64((1 << place["width"]) - 1)
-
-    return field("energy").astype(ENERGY_DTYPE), field("direction").astype(DIRECTION_DTYPE)
+    last = unpack_array(state_layout(cfg), out_words.reshape(n_trials, n_seg, k, h, w)[:, :, -1])
+    return last["energy"].astype(ENERGY_DTYPE), last["direction"].astype(DIRECTION_DTYPE)
 
 
 def _check_lists(cfg, seg_build, words, energy, direction, label, first_trial, n_seg, tally):
@@ -262,9 +256,7 @@ def _check_lists(cfg, seg_build, words, energy, direction, label, first_trial, n
     board = CandidateScoreboard(cfg, lists)
     raw = verilator.run(seg_build, words)
     n_in = int(np.count_nonzero(raw.accept_cycles != np.uint64(2**64 - 1)))
-    for word in raw.out_words.tolist():
-        if not board.receive(word):
-            break
+    board.receive_array(raw.out_words)
     if board.mismatch is not None:
         m = board.mismatch
         trial, segment = divmod(m.segment, n_seg)

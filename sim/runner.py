@@ -20,19 +20,17 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import fcntl
-import hashlib
 import json
 import os
 import pathlib
 import shutil
 import time
-import warnings
 from typing import Any
 
 import numpy as np
 
-from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.config import DPConfig
+from dptbd.sim.build_dirs import CompiledDesign, config_name, locked
 
 __all__ = [
     "TOPLEVEL",
@@ -41,9 +39,6 @@ __all__ = [
     "DESIGNS",
     "SimBuild",
     "SimResult",
-    "config_name",
-    "config_to_json",
-    "config_from_json",
     "build",
     "write_job",
     "simulate",
@@ -64,36 +59,12 @@ DESIGNS = {
 }
 
 
-def config_to_json(cfg: DPConfig) -> dict:
-    """Every field of ``cfg`` as JSON-able values (weights as nested lists)."""
-    out = dataclasses.asdict(cfg)
-    out["weights"] = [list(row) for row in cfg.weights]
-    return out
-
-
-def config_from_json(values: dict) -> DPConfig:
-    """Inverse of :func:`config_to_json` (narrow energy widths allowed without a warning)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EnergyWidthWarning)
-        return DPConfig.from_mapping(values)
-
-
-def config_name(cfg: DPConfig) -> str:
-    """Readable, unique directory name of a parameter set.
-
-    ``<W>x<H>-k<K>-in<B_in>-e<B_E>-f<F>-r<r>-<rounding>-<hash>``; the hash (8 hex digits of
-    SHA-256 over every field, weights included) separates parameter sets that differ only
-    in their LUT.
-    """
-    digest = hashlib.sha256(json.dumps(config_to_json(cfg), sort_keys=True).encode())
-    return (f"{cfg.width}x{cfg.height}-k{cfg.segment_frames}-in{cfg.input_bits}"
-            f"-e{cfg.energy_bits}-f{cfg.weight_frac_bits}-r{cfg.radius}-{cfg.rounding}"
-            f"-{digest.hexdigest()[:8]}")
-
-
 @dataclasses.dataclass(frozen=True)
-class SimBuild:
-    """A compiled simulation of one parameter set."""
+class SimBuild(CompiledDesign):
+    """A compiled simulation of one parameter set (``latency`` and ``toplevel`` from
+    :class:`~dptbd.sim.build_dirs.CompiledDesign`)."""
+
+    designs = DESIGNS
 
     cfg: DPConfig
     directory: pathlib.Path
@@ -104,29 +75,9 @@ class SimBuild:
     design: str = "dp"        # a key of DESIGNS
 
     @property
-    def latency(self) -> int:
-        return int(self.manifest["latency"])
-
-    @property
-    def toplevel(self) -> str:
-        """The Verilog module name."""
-        return DESIGNS[self.design][0]
-
-    @property
     def test_module(self) -> str:
         """The cocotb test module run by :func:`simulate`."""
         return DESIGNS[self.design][1]
-
-
-@contextlib.contextmanager
-def _locked(directory: pathlib.Path):
-    directory.mkdir(parents=True, exist_ok=True)
-    with open(directory / ".lock", "w") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 def _write_if_changed(path: pathlib.Path, text: str) -> bool:
@@ -172,13 +123,13 @@ def build(cfg: DPConfig, root: str | os.PathLike = "build/sim", *, waves: bool =
     start = time.perf_counter()
     directory = pathlib.Path(root).resolve() / (config_name(cfg) + suffix
                                                 + ("-waves" if waves else ""))
-    with _locked(directory):
+    with locked(directory / ".lock"):
         text, info = generate(cfg)
         verilog = directory / f"{toplevel}.v"
         _write_if_changed(verilog, text)
         _write_if_changed(directory / f"{toplevel}.json", json.dumps(info, indent=2) + "\n")
         _write_if_changed(directory / "config.json",
-                          json.dumps(config_to_json(cfg), indent=2) + "\n")
+                          json.dumps(cfg.to_mapping(), indent=2) + "\n")
         runner = _get_runner()
         runner.build(sources=[verilog], hdl_toplevel=toplevel, build_dir=directory,
                      timescale=TIMESCALE, waves=waves, verbose=verbose)
@@ -251,7 +202,7 @@ def write_job(run_dir: pathlib.Path, sim: SimBuild, frames: np.ndarray, **option
     with contextlib.suppress(FileNotFoundError):
         summary.unlink()
     job = {
-        "config": config_to_json(sim.cfg),
+        "config": sim.cfg.to_mapping(),
         "latency": sim.latency,
         "summary": str(summary),
         **{k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in options.items()},
@@ -288,9 +239,7 @@ def simulate(sim: SimBuild, frames: np.ndarray, *, testcase: str = "run_scene",
     frames = check_scene(sim.cfg, frames)
     if options.get("lut_codes") is not None:
         # refused here, before anything is written or the simulator starts (shape, range)
-        from dptbd.sim.scoreboard import config_with_codes  # imports Amaranth: only when needed
-
-        config_with_codes(sim.cfg, options["lut_codes"])
+        sim.cfg.with_weight_codes(options["lut_codes"])
     if waves is not None and not sim.waves:
         raise ValueError("waves need a build compiled with waves=True")
     run_dir = sim.directory / "runs" / run_name

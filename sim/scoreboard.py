@@ -1,8 +1,10 @@
 """What the ``states`` stream must carry, and the comparison that reports the first mismatch.
 
 Plain numpy and Python (no cocotb import), so that pytest can unit-test the comparison and
-the report without a simulator. Every word is packed and unpacked with the field offsets of
-:func:`dptbd.hw.layouts.state_layout`, never with hand-written bit positions.
+the report without a simulator. Every word is packed and unpacked with
+:func:`dptbd.hw.layouts.pack_states` and :func:`~dptbd.hw.layouts.unpack_state`, never with
+hand-written bit positions. :class:`Scoreboard` is the ``states`` stream's
+:class:`~dptbd.sim.checker.InOrderChecker`.
 
 The expected stream is computed frame by frame with the golden model
 (:mod:`dptbd.model.fixed`): :func:`~dptbd.model.fixed.segment_start` on the first frame of
@@ -20,14 +22,11 @@ from typing import Callable, Iterator
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.hw.layouts import field_offsets, state_layout
+from dptbd.hw.layouts import pack_states, unpack_state
 from dptbd.model.fixed import dp_step, segment_start
+from dptbd.sim.checker import InOrderChecker, describe_field_mismatch, differing_fields
 
 __all__ = [
-    "state_fields",
-    "pack_states",
-    "unpack_fields",
-    "config_with_codes",
     "model_frames",
     "expected_words",
     "pack_frame_states",
@@ -35,67 +34,6 @@ __all__ = [
     "compare_word",
     "Scoreboard",
 ]
-
-
-def state_fields(cfg: DPConfig) -> dict[str, dict[str, int]]:
-    """``{field: {"offset", "width"}}`` of a ``states`` payload, from the layout."""
-    return field_offsets(state_layout(cfg))
-
-
-def pack_states(cfg: DPConfig, **fields: np.ndarray) -> np.ndarray:
-    """Pack arrays of field values (all of one shape) into ``states`` payload words.
-
-    Every field of :func:`~dptbd.hw.layouts.state_layout` must be given; a value that does
-    not fit its field is refused.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``uint64`` words (the payload is at most 32 + 5 + 3 = 40 bits).
-    """
-    layout = state_fields(cfg)
-    missing = sorted(set(layout) - set(fields))
-    extra = sorted(set(fields) - set(layout))
-    if missing or extra:
-        raise ValueError(f"state fields missing {missing}, unknown {extra}; "
-                         f"the layout has {list(layout)}")
-    shape = np.shape(next(iter(fields.values())))
-    word = np.zeros(shape, dtype=np.uint64)
-    for name, place in layout.items():
-        value = np.asarray(fields[name], dtype=np.int64)
-        if value.shape != shape:
-            raise ValueError(f"field {name} has shape {value.shape}, expected {shape}")
-        if value.size and (value.min() < 0 or value.max() >= (1 << place["width"])):
-            raise ValueError(f"field {name} has values outside {place['width']} unsigned bits")
-        word |= value.astype(np.uint64) << np.uint64(place["offset"])
-    return word
-
-
-def unpack_fields(cfg: DPConfig, word: int) -> dict[str, int]:
-    """Split one payload word into its fields (in layout order)."""
-    return {name: (int(word) >> place["offset"]) & ((1 << place["width"]) - 1)
-            for name, place in state_fields(cfg).items()}
-
-
-def config_with_codes(cfg: DPConfig, codes) -> DPConfig:
-    """``cfg`` whose quantised LUT (:attr:`~dptbd.config.DPConfig.weight_codes`) is ``codes``.
-
-    Used to model a LUT written at run time through ``lut_addr``/``lut_data``/``lut_we``:
-    each code ``c`` in [0, 2**F] becomes the weight ``c / 2**F``, which quantises back to
-    exactly ``c``.
-    """
-    arr = np.asarray(codes, dtype=np.int64)
-    unity = 1 << cfg.weight_frac_bits
-    shape = (cfg.n_moves + 1, cfg.n_moves)
-    if arr.shape != shape:
-        raise ValueError(f"LUT codes must have shape {shape} for radius={cfg.radius}, "
-                         f"got {arr.shape}")
-    if arr.min() < 0 or arr.max() > unity:
-        raise ValueError(f"LUT codes must be in [0, 2**F = {unity}], found "
-                         f"{arr[(arr < 0) | (arr > unity)][:3].tolist()}")
-    out = cfg.replace(weights=arr.astype(np.float64) / unity)
-    assert np.array_equal(out.weight_codes, arr)
-    return out
 
 
 def model_frames(cfg: DPConfig, frames: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
@@ -119,7 +57,8 @@ def expected_words(cfg: DPConfig, frames: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     cfg : DPConfig
-        The configuration, with the LUT the gateware uses (see :func:`config_with_codes`).
+        The configuration, with the LUT the gateware uses (see
+        :meth:`~dptbd.config.DPConfig.with_weight_codes`).
     frames : numpy.ndarray
         ``(T, H, W)`` integer pixels.
 
@@ -170,11 +109,8 @@ class Mismatch:
     expected: dict             # every field of the model's word
 
     def __str__(self) -> str:
-        first = self.fields[0]
         return (f"first mismatch at output {self.index}: frame {self.frame}, row {self.row}, "
-                f"col {self.col}, field {first}: expected {self.expected[first]}, got "
-                f"{self.got[first]} (differing fields {list(self.fields)}; expected "
-                f"{self.expected}, got {self.got})")
+                f"col {self.col}, " + describe_field_mismatch(self.fields, self.got, self.expected))
 
 
 def compare_word(cfg: DPConfig, index: int, got: int, expected: int,
@@ -187,12 +123,9 @@ def compare_word(cfg: DPConfig, index: int, got: int, expected: int,
     """
     if int(got) == int(expected):
         return None
-    got_f = unpack_fields(cfg, got)
-    want_f = unpack_fields(cfg, expected)
-    differing = tuple(name for name in want_f if got_f[name] != want_f[name])
-    if not differing:  # bits outside every field: cannot happen with a correct width
-        differing = ("payload",)
-        got_f["payload"], want_f["payload"] = int(got), int(expected)
+    got_f = unpack_state(cfg, got)
+    want_f = unpack_state(cfg, expected)
+    differing = differing_fields(tuple(want_f), got, expected, got_f, want_f)
     if position is None:
         frame, rest = divmod(index, cfg.width * cfg.height)
         row, col = divmod(rest, cfg.width)
@@ -201,8 +134,9 @@ def compare_word(cfg: DPConfig, index: int, got: int, expected: int,
     return Mismatch(index, frame, row, col, differing, got_f, want_f)
 
 
-class Scoreboard:
-    """Compares the output stream word by word with the model's; stops at the first mismatch.
+class Scoreboard(InOrderChecker):
+    """Compares the ``states`` stream word by word with the model's; stops at the first
+    mismatch, reported by frame, row, column and field (:class:`Mismatch`).
 
     Parameters
     ----------
@@ -217,81 +151,28 @@ class Scoreboard:
         from the word's index, W·H words a frame).
     """
 
+    unit = "output word"
+
     def __init__(self, cfg: DPConfig, expected: np.ndarray,
                  on_frame: Callable[[int], None] | None = None,
                  positions: np.ndarray | None = None):
+        super().__init__(np.asarray(expected, dtype=np.uint64).ravel())
         self.cfg = cfg
-        self._words = np.asarray(expected, dtype=np.uint64).ravel()
         self._positions = None if positions is None else np.asarray(positions)
         self._frame_words = cfg.width * cfg.height
         self._on_frame = on_frame
-        self.count = 0
-        self.mismatch: Mismatch | None = None
-        self.extra = 0             # words beyond the expected stream
 
-    @property
-    def total(self) -> int:
-        """Number of words expected."""
-        return len(self._words)
+    def compare(self, index: int, got: int, want: int) -> Mismatch | None:
+        position = None if self._positions is None else tuple(self._positions[index])
+        return compare_word(self.cfg, index, got, want, position)
 
-    @property
-    def done(self) -> bool:
-        """Every expected word arrived and matched."""
-        return self.mismatch is None and self.count == self.total and self.extra == 0
-
-    @property
-    def failed(self) -> bool:
-        """A word differed or came beyond the end of the expected stream."""
-        return self.mismatch is not None or self.extra > 0
-
-    def receive(self, word: int) -> bool:
-        """Check the next output word; False once anything went wrong."""
-        if self.failed:
-            return False
-        if self.count >= self.total:
-            self.extra += 1
-            return False
-        self.mismatch = compare_word(self.cfg, self.count, word, int(self._words[self.count]),
-                                     self._position(self.count))
-        if self.mismatch is not None:
-            return False
-        self.count += 1
-        if self._on_frame is not None and self.count % self._frame_words == 0:
-            self._on_frame(self.count // self._frame_words - 1)
-        return True
-
-    def _position(self, index: int):
-        return None if self._positions is None else tuple(self._positions[index])
-
-    def receive_array(self, words: np.ndarray) -> bool:
-        """Check a block of consecutive output words at once (numpy; same outcome as
-        calling :meth:`receive` on each): stops at the first mismatch or extra word."""
-        if self.failed:
-            return False
-        got = np.asarray(words, dtype=np.uint64).ravel()
-        take = min(len(got), self.total - self.count)
-        want = self._words[self.count:self.count + take]
-        bad = np.flatnonzero(got[:take] != want)
-        good = take if bad.size == 0 else int(bad[0])
-        before = self.count
-        self.count += good
+    def matched(self, start: int, stop: int) -> None:
         if self._on_frame is not None:
-            for done in range(before // self._frame_words, self.count // self._frame_words):
-                self._on_frame(done)
-        if bad.size:
-            return self.receive(int(got[good]))
-        if len(got) > take:
-            self.extra += 1          # receive() stops at the first extra word
-            return False
-        return True
+            for frame in range(start // self._frame_words, stop // self._frame_words):
+                self._on_frame(frame)
 
-    def report(self) -> str:
-        """One line: bit-exact, incomplete, or the first mismatch."""
-        if self.mismatch is not None:
-            return str(self.mismatch)
-        if self.extra:
-            return (f"{self.extra} output word(s) beyond the {self.total} expected "
-                    f"({self.total // self._frame_words} frames)")
-        if self.count < self.total:
-            return f"incomplete: {self.count} of {self.total} words received, all bit-exact"
-        return f"bit-exact: {self.count} words ({self.count // self._frame_words} frames)"
+    def expected_summary(self) -> str:
+        return f"{self.total // self._frame_words} frames"
+
+    def exact_summary(self) -> str:
+        return f"{self.count} words ({self.count // self._frame_words} frames)"

@@ -4,6 +4,8 @@ mismatching segment, record and field.
 Plain numpy and Python (no cocotb import), used by the cocotb test
 (:mod:`dptbd.sim.tb_segmenter`) and the Amaranth-simulator tests alike. Words are packed
 with :mod:`dptbd.hw.candidate_layout`, never with hand-written bit positions.
+:class:`CandidateScoreboard` is the ``candidates`` stream's
+:class:`~dptbd.sim.checker.InOrderChecker`.
 
 The expectation comes from the golden models: :func:`dptbd.sim.scoreboard.model_frames`
 (the DP, frame by frame from reset) and :func:`dptbd.model.segmentation.segment_sequence`
@@ -15,16 +17,19 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from amaranth.lib import data
 
 from dptbd.config import DPConfig
 from dptbd.hw.candidate_layout import (
     RECORD_FIELDS,
     TRAILER_FIELDS,
+    candidate_layout,
     pack_record,
     pack_trailer,
     unpack_candidate,
 )
 from dptbd.model.segmentation import CandidateList, segment_sequence, segment_stream
+from dptbd.sim.checker import InOrderChecker, describe_field_mismatch, differing_fields
 from dptbd.sim.scoreboard import model_frames
 
 __all__ = [
@@ -106,92 +111,74 @@ class CandidateMismatch:
         if self.fields == ("kind",):
             return (f"first mismatch at output word {self.index}: {where}: expected a "
                     f"{self.expected_kind} {self.expected}, got a {self.got_kind} {self.got}")
-        first = self.fields[0]
-        return (f"first mismatch at output word {self.index}: {where}, field {first}: "
-                f"expected {self.expected[first]}, got {self.got[first]} (differing fields "
-                f"{list(self.fields)}; expected {self.expected}, got {self.got})")
+        return (f"first mismatch at output word {self.index}: {where}, "
+                + describe_field_mismatch(self.fields, self.got, self.expected))
 
 
-class CandidateScoreboard:
+class CandidateScoreboard(InOrderChecker):
     """Compares the ``candidates`` stream word by word with the model's lists; stops at the
-    first mismatch and reports the segment, the record and the field.
+    first mismatch and reports the segment, the record and the field
+    (:class:`CandidateMismatch`).
 
     Parameters
     ----------
     cfg : DPConfig
     lists : list of CandidateList
         The expected lists (:func:`expected_lists`).
+
+    Attributes
+    ----------
+    segments_done : int
+        Lists received whole (trailer included) and bit-exact.
     """
 
     def __init__(self, cfg: DPConfig, lists: list[CandidateList]):
         self.cfg = cfg
         self.lists = list(lists)
-        self._words = [(s, p, w) for s, ws in enumerate(list_words(cfg, self.lists))
-                       for p, w in enumerate(ws)]
-        self.count = 0
+        words, self._positions, trailer = [], [], []
+        for segment, list_of_words in enumerate(list_words(cfg, self.lists)):
+            for position, word in enumerate(list_of_words):
+                words.append(word)
+                self._positions.append((segment, position))
+                trailer.append(position == len(list_of_words) - 1)
+        wide = data.Layout.cast(candidate_layout(cfg)).size > 64
+        super().__init__(np.array(words, dtype=object if wide else np.uint64))
+        self._trailer = np.array(trailer, dtype=bool)
         self.segments_done = 0
-        self.mismatch: CandidateMismatch | None = None
-        self.extra = 0
-
-    @property
-    def total(self) -> int:
-        """Words expected (records plus one trailer per list)."""
-        return len(self._words)
 
     def corrupt_word(self, index: int, xor: int) -> None:
         """Flip bits of expected word ``index`` (the checker's self-check: it must fail)."""
-        segment, position, word = self._words[index]
-        self._words[index] = (segment, position, int(word) ^ int(xor))
+        word = int(self._expected[index]) ^ int(xor)
+        self._expected[index] = word
+        self._trailer[index] = unpack_candidate(self.cfg, word)[0] == "trailer"
 
     @property
     def records_expected(self) -> int:
         return sum(lst.count for lst in self.lists)
 
-    @property
-    def done(self) -> bool:
-        return self.mismatch is None and self.extra == 0 and self.count == self.total
+    def compare(self, index: int, got: int, want: int) -> CandidateMismatch:
+        segment, position = self._positions[index]
+        want_kind, want_f = unpack_candidate(self.cfg, want)
+        got_kind, got_f = unpack_candidate(self.cfg, got)
+        if got_kind != want_kind:
+            fields: tuple[str, ...] = ("kind",)
+        else:
+            names = RECORD_FIELDS if want_kind == "record" else TRAILER_FIELDS
+            fields = differing_fields(names, got, want, got_f, want_f)
+        return CandidateMismatch(index, segment, position, want_kind, got_kind, fields,
+                                 got_f, want_f)
 
-    @property
-    def failed(self) -> bool:
-        return self.mismatch is not None or self.extra > 0
+    def matched(self, start: int, stop: int) -> None:
+        self.segments_done += int(np.count_nonzero(self._trailer[start:stop]))
 
-    def receive(self, word: int) -> bool:
-        """Check the next output word; False once anything went wrong."""
-        if self.failed:
-            return False
-        if self.count >= self.total:
-            self.extra += 1
-            return False
-        segment, position, want = self._words[self.count]
-        if int(word) != int(want):
-            want_kind, want_f = unpack_candidate(self.cfg, want)
-            got_kind, got_f = unpack_candidate(self.cfg, word)
-            if got_kind != want_kind:
-                fields: tuple[str, ...] = ("kind",)
-            else:
-                names = RECORD_FIELDS if want_kind == "record" else TRAILER_FIELDS
-                fields = tuple(n for n in names if got_f[n] != want_f[n]) or ("payload",)
-                if fields == ("payload",):
-                    got_f["payload"], want_f["payload"] = int(word), int(want)
-            self.mismatch = CandidateMismatch(self.count, segment, position, want_kind,
-                                              got_kind, fields, got_f, want_f)
-            return False
-        self.count += 1
-        if unpack_candidate(self.cfg, word)[0] == "trailer":
-            self.segments_done += 1
-        return True
+    def expected_summary(self) -> str:
+        return f"{len(self.lists)} lists"
 
-    def report(self) -> str:
-        """One line: bit-exact, incomplete, or the first mismatch."""
-        if self.mismatch is not None:
-            return str(self.mismatch)
-        if self.extra:
-            return (f"{self.extra} word(s) beyond the {self.total} expected "
-                    f"({len(self.lists)} lists)")
-        if self.count < self.total:
-            return (f"incomplete: {self.count} of {self.total} words received "
-                    f"({self.segments_done} of {len(self.lists)} lists), all bit-exact")
-        return (f"bit-exact: {len(self.lists)} lists, {self.records_expected} records, "
+    def received_summary(self) -> str:
+        return f" ({self.segments_done} of {len(self.lists)} lists)"
+
+    def exact_summary(self) -> str:
+        return (f"{len(self.lists)} lists, {self.records_expected} records, "
                 f"{self.count} words")
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.hw.layouts import field_offsets, pixel_layout
+from dptbd.hw.layouts import pack_array, pixel_layout
 
 __all__ = ["pixel_words", "pack_pixels", "lut_writes"]
 
@@ -17,13 +17,10 @@ __all__ = ["pixel_words", "pack_pixels", "lut_writes"]
 def pixel_words(cfg: DPConfig, frames: np.ndarray) -> np.ndarray:
     """``pixels`` payloads (``uint64``) of ``frames`` ``(T, H, W)`` in raster order, with
     ``first`` on pixel (0, 0) of every frame."""
-    fields = field_offsets(pixel_layout(cfg))
     frames = np.asarray(frames)
-    first = np.zeros(frames.shape, dtype=np.uint64)
+    first = np.zeros(frames.shape, dtype=np.int64)
     first[:, 0, 0] = 1
-    words = (frames.astype(np.uint64) << np.uint64(fields["pixel"]["offset"])) \
-        | (first << np.uint64(fields["first"]["offset"]))
-    return words.ravel()
+    return pack_array(pixel_layout(cfg), {"pixel": frames, "first": first}, "pixel").ravel()
 
 
 def pack_pixels(cfg: DPConfig, frames: np.ndarray) -> list[int]:
@@ -32,7 +29,8 @@ def pack_pixels(cfg: DPConfig, frames: np.ndarray) -> list[int]:
 
 
 def lut_writes(cfg: DPConfig, codes) -> list[tuple[int, int]]:
-    """(address, code) for every entry of the table, address ``p * M + m``."""
+    """(address, code) for every entry of the table, address
+    :meth:`~dptbd.config.DPConfig.lut_address` ``(p, m)``."""
     arr = np.asarray(codes, dtype=np.int64)
     moves = cfg.n_moves
-    return [(p * moves + m, int(arr[p, m])) for p in range(moves + 1) for m in range(moves)]
+    return [(cfg.lut_address(p, m), int(arr[p, m])) for p in range(moves + 1) for m in range(moves)]

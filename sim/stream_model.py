@@ -32,20 +32,16 @@ from typing import Mapping
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.hw.layouts import field_offsets, pixel_layout
+from dptbd.hw.layouts import pack_states, pixel_layout, unpack_array
 from dptbd.model.fixed import dp_step, segment_start
-from dptbd.sim.scoreboard import config_with_codes, pack_states
 
 __all__ = ["FrameRun", "StreamExpectation", "frame_runs", "expected_stream", "split_words"]
 
 
 def split_words(cfg: DPConfig, words: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(pixel, first)`` of packed ``pixels`` payloads (:func:`dptbd.hw.layouts.pixel_layout`)."""
-    fields = field_offsets(pixel_layout(cfg))
-    w = np.asarray(words, dtype=np.uint64)
-    pix = (w >> np.uint64(fields["pixel"]["offset"])) & np.uint64((1 << cfg.input_bits) - 1)
-    first = (w >> np.uint64(fields["first"]["offset"])) & np.uint64(1)
-    return pix.astype(np.int64), first.astype(bool)
+    fields = unpack_array(pixel_layout(cfg), words)
+    return fields["pixel"].astype(np.int64), fields["first"].astype(bool)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -127,7 +123,7 @@ def expected_stream(cfg: DPConfig, pixels: np.ndarray, first: np.ndarray,
         raise ValueError(f"pixels and first must be 1-D of one length, got {pixels.shape} "
                          f"and {first.shape}")
     h, w, size = cfg.height, cfg.width, cfg.width * cfg.height
-    changes = sorted((int(i), config_with_codes(cfg, codes))
+    changes = sorted((int(i), cfg.with_weight_codes(codes))
                      for i, codes in (lut_changes or {}).items())
     runs = frame_runs(cfg, first)
     n = len(pixels)

@@ -41,8 +41,6 @@ import warnings
 import numpy as np
 
 import cocotb
-from cocotb.clock import Clock
-from cocotb.simtime import get_sim_time
 from cocotb.triggers import Event, First, RisingEdge, Timer
 
 from dptbd.config import DPConfig, EnergyWidthWarning
@@ -51,10 +49,13 @@ from dptbd.sim.components import (
     StreamMonitor,
     StreamSink,
     StreamSource,
+    optional_pauses,
     pause_generator,
+    pause_probability,
+    start_in_reset,
     write_lut,
 )
-from dptbd.sim.scoreboard import Scoreboard, config_with_codes, expected_words
+from dptbd.sim.scoreboard import Scoreboard, expected_words
 from dptbd.sim.stimulus import lut_writes, pack_pixels
 
 PERIOD_NS = 10
@@ -79,7 +80,7 @@ class Bench:
     def __init__(self, dut, job: dict, cfg: DPConfig):
         self.dut, self.job, self.cfg = dut, job, cfg
         self.period_ns = int(job.get("period_ns", PERIOD_NS))
-        self.cycles = Cycles(1)                     # period in steps, measured in start()
+        self.cycles = Cycles(1)                     # replaced by start()
         self.log = cocotb.log
         self.wall_start = time.perf_counter()
         self.frame_words = cfg.width * cfg.height
@@ -89,24 +90,12 @@ class Bench:
 
     async def start(self) -> None:
         dut = self.dut
-        Clock(dut.clk, self.period_ns, unit="ns", impl="gpi").start(start_high=False)
-        dut.rst.value = 1
-        dut.pixels__valid.value = 0
-        dut.lut_we.value = 0
-        dut.lut_addr.value = 0
-        dut.lut_data.value = 0
-        dut.states__ready.value = 1
-        await RisingEdge(dut.clk)
-        t0 = get_sim_time("step")
-        await RisingEdge(dut.clk)
-        self.cycles.period_steps = int(get_sim_time("step") - t0)
-        await RisingEdge(dut.clk)
-        dut.rst.value = 0
+        self.cycles = await start_in_reset(dut, self.period_ns, dut.states__ready)
         self.source = StreamSource(
             dut.clk, dut.pixels__valid, dut.pixels__ready, dut.pixels__payload,
             cycles=self.cycles, reset=dut.rst, pause=pause_generator(self.job.get("valid_pause")))
         self.sink = StreamSink(dut.clk, dut.states__ready,
-                               pause=_maybe_pause(self.job.get("ready_pause")))
+                               pause=optional_pauses(self.job.get("ready_pause")))
         self.monitor = StreamMonitor(
             dut.clk, dut.states__valid, dut.states__ready, dut.states__payload, self._received,
             cycles=self.cycles, reset=dut.rst)
@@ -147,8 +136,8 @@ class Bench:
 
     def budget_cycles(self, words: int) -> int:
         """Generous cycle limit for ``words`` pixels through the pauses."""
-        pv = _pause_probability(self.job.get("valid_pause"))
-        pr = _pause_probability(self.job.get("ready_pause"))
+        pv = pause_probability(self.job.get("valid_pause"))
+        pr = pause_probability(self.job.get("ready_pause"))
         return int((words + 500) / max(0.02, (1 - pv) * (1 - pr)) * 3) + 2000
 
     async def wait_done(self, scoreboard: Scoreboard, words: int) -> bool:
@@ -169,21 +158,6 @@ class Bench:
         if path:
             with open(path, "w") as fh:
                 json.dump(summary, fh, indent=2)
-
-
-def _maybe_pause(spec):
-    if not spec or spec.get("kind", "none") == "none":
-        return None
-    return pause_generator(spec)
-
-
-def _pause_probability(spec) -> float:
-    if not spec or spec.get("kind", "none") == "none":
-        return 0.0
-    if spec["kind"] == "random":
-        return float(spec["probability"])
-    pattern = spec["pattern"]
-    return sum(map(bool, pattern)) / len(pattern)
 
 
 @cocotb.test()
@@ -265,7 +239,7 @@ async def _lut_setup(bench: Bench, cfg: DPConfig) -> DPConfig:
     dut = bench.dut
     n = await write_lut(dut.clk, dut.lut_addr, dut.lut_data, dut.lut_we, lut_writes(cfg, codes))
     bench.log.info("wrote %d LUT entries through the LUT port before the first frame", n)
-    return config_with_codes(cfg, codes)
+    return cfg.with_weight_codes(codes)
 
 
 @cocotb.test()

@@ -24,36 +24,15 @@ import json
 import time
 
 import cocotb
-from cocotb.clock import Clock
-from cocotb.simtime import get_sim_time
 from cocotb.triggers import Event, First, RisingEdge, Timer
 
 from dptbd.hw.candidate_layout import bits_per_segment
-from dptbd.sim.components import Cycles, StreamMonitor, StreamSink, StreamSource, write_lut
-from dptbd.sim.components import pause_generator
-from dptbd.sim.scoreboard import config_with_codes
+from dptbd.sim.components import StreamMonitor, StreamSink, StreamSource, write_lut
+from dptbd.sim.components import optional_pauses, pause_generator, pause_probability
+from dptbd.sim.components import start_in_reset
 from dptbd.sim.segment_scoreboard import CandidateScoreboard, expected_lists
 from dptbd.sim.stimulus import lut_writes, pack_pixels
-from dptbd.sim.tb_dp import PERIOD_NS, _maybe_pause, _pause_probability, load_job
-
-
-async def _start(dut, job):
-    period = int(job.get("period_ns", PERIOD_NS))
-    cycles = Cycles(1)
-    Clock(dut.clk, period, unit="ns", impl="gpi").start(start_high=False)
-    dut.rst.value = 1
-    dut.pixels__valid.value = 0
-    dut.lut_we.value = 0
-    dut.lut_addr.value = 0
-    dut.lut_data.value = 0
-    dut.candidates__ready.value = 1
-    await RisingEdge(dut.clk)
-    t0 = get_sim_time("step")
-    await RisingEdge(dut.clk)
-    cycles.period_steps = int(get_sim_time("step") - t0)
-    await RisingEdge(dut.clk)
-    dut.rst.value = 0
-    return period, cycles
+from dptbd.sim.tb_dp import PERIOD_NS, load_job
 
 
 @cocotb.test()
@@ -61,11 +40,12 @@ async def run_scene(dut):
     """Stream a whole multi-segment scene and score every candidate record and trailer."""
     job, cfg, frames = load_job()
     wall_start = time.perf_counter()
-    period, cycles = await _start(dut, job)
+    period = int(job.get("period_ns", PERIOD_NS))
+    cycles = await start_in_reset(dut, period, dut.candidates__ready)
     log = cocotb.log
     model_cfg = cfg
     if job.get("lut_codes") is not None:
-        model_cfg = config_with_codes(cfg, job["lut_codes"])
+        model_cfg = cfg.with_weight_codes(job["lut_codes"])
         n = await write_lut(dut.clk, dut.lut_addr, dut.lut_data, dut.lut_we,
                             lut_writes(cfg, job["lut_codes"]))
         log.info("wrote %d LUT entries before the first frame", n)
@@ -96,7 +76,7 @@ async def run_scene(dut):
     source = StreamSource(dut.clk, dut.pixels__valid, dut.pixels__ready, dut.pixels__payload,
                           cycles=cycles, reset=dut.rst,
                           pause=pause_generator(job.get("valid_pause")))
-    StreamSink(dut.clk, dut.candidates__ready, pause=_maybe_pause(job.get("ready_pause")))
+    StreamSink(dut.clk, dut.candidates__ready, pause=optional_pauses(job.get("ready_pause")))
     monitor = StreamMonitor(dut.clk, dut.candidates__valid, dut.candidates__ready,
                             dut.candidates__payload, received, cycles=cycles, reset=dut.rst)
     words = pack_pixels(cfg, frames)
@@ -105,8 +85,8 @@ async def run_scene(dut):
              len(lists), board.records_expected, cfg.n_candidates, cfg.record_capacity,
              cfg.histogram_bits, cfg.bin_shift)
     source.send(words)
-    pv = _pause_probability(job.get("valid_pause"))
-    pr = _pause_probability(job.get("ready_pause"))
+    pv = pause_probability(job.get("valid_pause"))
+    pr = pause_probability(job.get("ready_pause"))
     budget = int((len(words) + 500) / max(0.02, (1 - pv) * (1 - pr)) * 3) + 2000 \
         + len(lists) * int(job.get("scan_cycles", cfg.n_bins + 4))
     timeout = Timer(budget * period, unit="ns")

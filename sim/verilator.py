@@ -1,21 +1,15 @@
-"""Compiled RTL simulation: the generated Verilog verilated once per parameter set, a whole
-input stream run through it in one call.
-
-:func:`build` generates the Verilog of one of three top levels (:data:`DESIGNS`), verilates
-it with the C++ harness ``sim/harness/dptbd_harness.cpp`` and compiles one executable.
-Builds are cached under a key that hashes everything that determines the executable: the
-configuration, the design, the LUT storage style, the gateware's source
-(:func:`dptbd.hw.flow.source_hash.gateware_hash`), the harness, the flags and the Verilator and
-compiler versions. A second build of the same key checks the cached executable against its
-stamp (key and SHA-256) and reuses it; a build directory whose stamp is missing, foreign or
-does not match is rebuilt, never reused. A build is made in a temporary directory and
-renamed into place, so an interrupted build leaves nothing half-written behind.
+"""Compiled RTL simulation: a whole input stream run through a Verilator build in one call.
 
 :func:`run` writes the input words and the stimulus (seeded valid gaps and ready
 back-pressure, resets at given cycles, LUT writes before given words, DPCore's external
 store at power-up) into a job directory, runs the executable once, and returns every
 output transfer with its cycle and the cycle each input word was accepted (:class:`RawRun`).
 Nothing runs in Python per cycle.
+
+The executables come from the build cache :mod:`dptbd.sim.verilator_build`; its public
+names (:func:`build`, :func:`check_tools`, :class:`ToolMissingError`, :class:`VerilatorBuild`,
+:data:`DESIGNS`, …) are re-exported here, so ``from dptbd.sim import verilator;
+verilator.build(...)`` keeps working.
 
 Use Debian's ``verilator`` (5.006; ``scripts/setup.sh`` installs it). X-propagation is not
 modelled (Verilator is 2-state): the 4-state checks stay on Icarus (``docs/gateware.md``,
@@ -24,305 +18,46 @@ modelled (Verilator is 2-state): the 4-state checks stay on Icarus (``docs/gatew
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
-import fcntl
-import functools
-import hashlib
-import json
 import os
 import pathlib
-import shutil
 import subprocess
 import tempfile
 import time
-from typing import Iterable, Sequence
+from typing import Iterable
 
 import numpy as np
 
-from dptbd.config import DPConfig
+from dptbd.sim.verilator_build import (
+    CXX_FLAGS,
+    DESIGNS,
+    EXECUTABLE,
+    HARNESS,
+    STAMP,
+    VERILATOR_FLAGS,
+    ToolMissingError,
+    VerilatorBuild,
+    build,
+    check_tools,
+    default_build_root,
+)
 
 __all__ = [
     "DESIGNS",
     "VERILATOR_FLAGS",
     "CXX_FLAGS",
     "HARNESS",
+    "EXECUTABLE",
+    "STAMP",
     "ToolMissingError",
     "VerilatorBuild",
     "RawRun",
     "default_build_root",
     "check_tools",
     "build",
+    "cycle_budget",
     "run",
 ]
-
-#: Top levels the harness drives: design name -> (Verilog module, harness define, output
-#: stream). ``dp`` is ``DPPipeline`` (on-chip state store), ``core`` is ``DPCore`` with the
-#: harness's C++ model of the external state store, ``segmenter`` is ``DPSegmenter``.
-DESIGNS = {
-    "dp": ("dptbd_dp", "DPTBD_DESIGN_DP", "states"),
-    "core": ("dptbd_dp", "DPTBD_DESIGN_CORE", "states"),
-    "segmenter": ("dptbd_seg", "DPTBD_DESIGN_SEG", "candidates"),
-}
-
-#: Verilator flags. ``-O3 --x-assign fast --x-initial fast --noassert`` measured fastest
-#: here; ``--threads`` is far slower on this design and is not used. ``-Wno-WIDTH``: Yosys'
-#: ``write_verilog`` relies on implicit extension (``hw/flow/verilog.py``, lint waivers).
-VERILATOR_FLAGS = ("--cc", "--exe", "-O3", "--x-assign", "fast", "--x-initial", "fast",
-                   "--noassert", "-Wno-fatal", "-Wno-WIDTH", "--prefix", "Vdut")
-#: C++ optimisation of the harness, the verilated model (``OPT_FAST``) and Verilator's runtime
-#: library (``OPT_GLOBAL``; compiled once per toolchain, below): -O3 measured 20 % faster
-#: than Verilator's default -Os.
-CXX_FLAGS = ("-O3",)
-
-HARNESS = pathlib.Path(__file__).resolve().parent / "harness" / "dptbd_harness.cpp"
-
-EXECUTABLE = "dptbd_sim"
-STAMP = "build.json"
-
-
-class ToolMissingError(RuntimeError):
-    """Verilator or a C++ compiler is not installed."""
-
-
-def default_build_root() -> pathlib.Path:
-    """``$DPTBD_BUILD_DIR/verilator`` if set, else ``$XDG_CACHE_HOME/dptbd/verilator``
-    (``~/.cache/dptbd/verilator``): builds are reused by every checkout and run."""
-    if os.environ.get("DPTBD_BUILD_DIR"):
-        return pathlib.Path(os.environ["DPTBD_BUILD_DIR"]) / "verilator"
-    base = os.environ.get("XDG_CACHE_HOME") or str(pathlib.Path.home() / ".cache")
-    return pathlib.Path(base) / "dptbd" / "verilator"
-
-
-def _first_line(cmd: Sequence[str]) -> str:
-    out = subprocess.run(cmd, capture_output=True, text=True, check=False)
-    return (out.stdout or out.stderr).strip().splitlines()[0] if (out.stdout or out.stderr) \
-        else ""
-
-
-@functools.lru_cache(maxsize=None)
-def check_tools() -> dict[str, str]:
-    """``{"verilator": version line, "c++": version line}``; raises :class:`ToolMissingError`
-    naming what is missing and the Icarus fallback."""
-    missing = []
-    verilator = shutil.which("verilator")
-    if verilator is None:
-        missing.append("verilator (Debian package 'verilator')")
-    cxx = shutil.which(os.environ.get("CXX", "g++")) or shutil.which("c++")
-    if cxx is None:
-        missing.append("a C++ compiler (Debian package 'g++')")
-    make = shutil.which("make")
-    if make is None:
-        missing.append("make (Debian package 'make')")
-    if missing:
-        raise ToolMissingError(
-            "compiled RTL simulation needs " + " and ".join(missing) + "; install it "
-            "(bash scripts/setup.sh setup) or use the Icarus simulator instead "
-            "(dptbd sim --simulator icarus)")
-    return {"verilator": _first_line([verilator, "--version"]),
-            "c++": _first_line([cxx, "--version"])}
-
-
-@dataclasses.dataclass(frozen=True)
-class VerilatorBuild:
-    """One compiled simulation executable."""
-
-    cfg: DPConfig
-    design: str
-    directory: pathlib.Path
-    executable: pathlib.Path
-    manifest: dict
-    key: str
-    seconds: float        # wall time of this build() call (generation + compilation, or the cache check)
-    cached: bool          # the executable came from the cache
-    waves: bool
-
-    @property
-    def latency(self) -> int:
-        """Cycles from a pixel's acceptance to its result (the manifest's ``latency``)."""
-        return int(self.manifest["latency"])
-
-    @property
-    def toplevel(self) -> str:
-        return DESIGNS[self.design][0]
-
-    @property
-    def output(self) -> str:
-        """The output stream: ``states`` or ``candidates``."""
-        return DESIGNS[self.design][2]
-
-
-def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool) -> str:
-    from dptbd.hw.flow.source_hash import gateware_hash
-    from dptbd.sim.runner import config_to_json
-
-    blob = json.dumps({
-        "config": config_to_json(cfg), "design": design, "lut_style": lut_style,
-        "waves": waves, "gateware": gateware_hash(),
-        "harness": hashlib.sha256(HARNESS.read_bytes()).hexdigest(),
-        "verilator_flags": VERILATOR_FLAGS, "cxx_flags": CXX_FLAGS, "tools": check_tools(),
-    }, sort_keys=True)
-    return hashlib.sha256(blob.encode()).hexdigest()
-
-
-def _sha256(path: pathlib.Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()
-
-
-def _stamp_ok(directory: pathlib.Path, key: str) -> dict | None:
-    """The stamp's manifest if ``directory`` holds a finished build of ``key``."""
-    try:
-        stamp = json.loads((directory / STAMP).read_text())
-        exe = directory / EXECUTABLE
-        if stamp.get("key") == key and stamp.get("executable_sha256") == _sha256(exe):
-            return stamp["manifest"]
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):  # e.g. a JSON list
-        return None
-    return None
-
-
-@contextlib.contextmanager
-def _locked(path: pathlib.Path):
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(fh, fcntl.LOCK_UN)
-
-
-def _generate(cfg: DPConfig, design: str, lut_style: str) -> tuple[str, dict]:
-    if design == "segmenter":
-        from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog
-        if lut_style != "auto":
-            raise ValueError("the segmenter top takes the default lut_style 'auto' only")
-        return generate_segmenter_verilog(cfg)
-    from dptbd.hw.flow.verilog import generate_verilog
-    return generate_verilog(cfg, external_state_store=design == "core", lut_style=lut_style)
-
-
-def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None = None,
-          waves: bool = False, lut_style: str = "auto", verbose: bool = False
-          ) -> VerilatorBuild:
-    """Verilate and compile ``design`` for ``cfg``, or reuse the cached executable.
-
-    Parameters
-    ----------
-    cfg : DPConfig
-        Refused with :class:`~dptbd.config.ConfigError` if the gateware does not implement it.
-    design : str
-        A key of :data:`DESIGNS`.
-    root : path-like, optional
-        Build root (default :func:`default_build_root`); the build goes to
-        ``root/<parameter set>-<design>-<key>``.
-    waves : bool
-        Compile FST tracing in (``run(..., trace=path)``).
-    lut_style : str
-        The weight LUT's storage (``docs/gateware.md``); the simulation is the same.
-    """
-    if design not in DESIGNS:
-        raise ValueError(f"design must be one of {', '.join(DESIGNS)}, got {design!r}")
-    from dptbd.hw.schedule import check_supported
-    from dptbd.sim.runner import config_name
-
-    check_supported(cfg)
-    tools = check_tools()
-    start = time.perf_counter()
-    key = _build_key(cfg, design, lut_style, waves)
-    root = pathlib.Path(root) if root is not None else default_build_root()
-    directory = root.resolve() / f"{config_name(cfg)}-{design}{'-waves' if waves else ''}-{key[:12]}"
-    with _locked(root.resolve() / ".locks" / (directory.name + ".lock")):
-        manifest = _stamp_ok(directory, key)
-        cached = manifest is not None
-        if not cached:
-            manifest = _compile(cfg, design, lut_style, waves, key, directory, tools, verbose)
-    return VerilatorBuild(cfg, design, directory, directory / EXECUTABLE, manifest, key,
-                          time.perf_counter() - start, cached, waves)
-
-
-def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
-             directory: pathlib.Path, tools: dict, verbose: bool) -> dict:
-    toplevel, define, _ = DESIGNS[design]
-    text, manifest = _generate(cfg, design, lut_style)
-    directory.parent.mkdir(parents=True, exist_ok=True)
-    tmp = pathlib.Path(tempfile.mkdtemp(prefix=directory.name + ".", dir=directory.parent))
-    try:
-        verilog = tmp / f"{toplevel}.v"
-        verilog.write_text(text)
-        (tmp / f"{toplevel}.json").write_text(json.dumps(manifest, indent=2) + "\n")
-        defines = [f"-D{define}"]
-        if design == "core":
-            store_bits = cfg.energy_bits + cfg.direction_bits
-            defines += [f"-DDPTBD_STORE_WORDS={cfg.width * cfg.height}ULL",
-                        f"-DDPTBD_STORE_BITS={store_bits}"]
-        trace = []
-        if waves:
-            trace = ["--trace-fst"]
-            defines.append("-DDPTBD_TRACE")
-        cmd = ["verilator", *VERILATOR_FLAGS, *trace, "--top-module", toplevel,
-               "-CFLAGS", " ".join(defines), "-o", EXECUTABLE, "--Mdir", "obj",
-               verilog.name, str(HARNESS)]
-        make = ["make", "-C", "obj", "-f", "Vdut.mk", f"-j{min(2, os.cpu_count() or 1)}",
-                f"OPT_FAST={' '.join(CXX_FLAGS)}", f"OPT_GLOBAL={' '.join(CXX_FLAGS)}"]
-        _step(cmd, tmp, verbose, f"verilator ({toplevel}, {design})")
-        runtime = _runtime_dir(directory.parent, tools, waves)
-        reused = _restore_runtime(runtime, tmp / "obj")
-        _step(make, tmp, verbose, f"C++ build ({toplevel}, {design})")
-        if not reused:
-            _save_runtime(runtime, tmp / "obj")
-        shutil.move(str(tmp / "obj" / EXECUTABLE), str(tmp / EXECUTABLE))
-        shutil.rmtree(tmp / "obj")
-        stamp = {"key": key, "executable_sha256": _sha256(tmp / EXECUTABLE),
-                 "design": design, "toplevel": toplevel, "tools": tools,
-                 "command": cmd, "manifest": manifest}
-        (tmp / STAMP).write_text(json.dumps(stamp, indent=2) + "\n")
-        if directory.exists():                      # stale or foreign: never reused
-            shutil.rmtree(directory)
-        os.replace(tmp, directory)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return manifest
-
-
-def _step(cmd: list[str], cwd: pathlib.Path, verbose: bool, what: str) -> None:
-    out = subprocess.run(cmd, cwd=cwd, capture_output=not verbose, text=True, check=False)
-    if out.returncode != 0:
-        log = ((out.stdout or "") + (out.stderr or ""))[-4000:]
-        raise RuntimeError(f"{what} failed (exit {out.returncode}):\n{log}")
-
-
-# Verilator's runtime library (verilated.o, …) is the same for every design: compiled by
-# the first build of a toolchain, kept beside the builds and copied into later ones (it
-# is most of a build's compile time).
-def _runtime_dir(root: pathlib.Path, tools: dict, waves: bool) -> pathlib.Path:
-    key = hashlib.sha256(json.dumps({"tools": tools, "waves": waves,
-                                     "flags": VERILATOR_FLAGS, "cxx": CXX_FLAGS},
-                                    sort_keys=True).encode())
-    return root / f"runtime-{key.hexdigest()[:12]}"
-
-
-def _restore_runtime(runtime: pathlib.Path, obj: pathlib.Path) -> bool:
-    objects = sorted(runtime.glob("verilated*.o")) if (runtime / "complete").exists() else []
-    for path in objects:
-        target = obj / path.name
-        shutil.copyfile(path, target)          # a fresh mtime: newer than its source
-    return bool(objects)
-
-
-def _save_runtime(runtime: pathlib.Path, obj: pathlib.Path) -> None:
-    objects = sorted(obj.glob("verilated*.o"))
-    if not objects or (runtime / "complete").exists():
-        return
-    tmp = pathlib.Path(tempfile.mkdtemp(prefix=runtime.name + ".", dir=runtime.parent))
-    for path in objects:
-        shutil.copyfile(path, tmp / path.name)
-    (tmp / "complete").write_text("\n".join(p.name for p in objects) + "\n")
-    try:
-        os.replace(tmp, runtime)
-    except OSError:                            # another build saved it first
-        shutil.rmtree(tmp, ignore_errors=True)
 
 
 @dataclasses.dataclass(frozen=True)

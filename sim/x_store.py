@@ -17,7 +17,7 @@ synchronous SRAM model whose contents are
 streams the frames with ``pixels.valid`` and ``states.ready`` held high, and checks every
 cycle that no output bit of the module is X or Z, and afterwards that every ``states`` word
 equals the golden model (:func:`dptbd.sim.scoreboard.expected_words`). Compiled with
-``iverilog -g2012``, timescale 1ns/1ps. ``tests/sim/test_x_free_store.py`` runs it.
+``iverilog -g2012``, timescale 1ns/1ps. ``tests/sim/test_x_store.py`` runs it.
 
 Two details of the bench, both outside the store question: ``states__payload`` is checked
 from the first ``states.valid`` on (before it, the output FIFO's data register —
@@ -38,9 +38,9 @@ from typing import NamedTuple
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.hw.layouts import pack_pixel
 from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
-from dptbd.sim.scoreboard import expected_words, unpack_fields
+from dptbd.hw.layouts import pack_pixel, unpack_state
+from dptbd.sim.scoreboard import expected_words
 
 __all__ = ["INITS", "XStoreCheck", "testbench_verilog", "run_x_store_check"]
 
@@ -291,8 +291,8 @@ def _run(cfg, frames, init, seed, lut_style, directory: pathlib.Path) -> XStoreC
         if index < len(expected) and int(line, 16) != int(expected[index]):
             mismatches += 1
             if mismatches <= 5:
-                got = unpack_fields(cfg, int(line, 16))
-                want = unpack_fields(cfg, int(expected[index]))
+                got = unpack_state(cfg, int(line, 16))
+                want = unpack_state(cfg, int(expected[index]))
                 problems.append(f"{_describe(cfg, index)}: got {got}, expected {want}")
     x_cycles = int(done.group(2)) if done else -1
     ok = (done is not None and x_cycles == 0 and x_words == 0 and mismatches == 0

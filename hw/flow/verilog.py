@@ -32,8 +32,8 @@ from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.hw.layouts import field_offsets, pixel_layout, state_layout, state_word_layout
 from dptbd.hw.weight_lut import LUT_STYLES
 
-__all__ = ["MODULE_NAME", "VERILATOR_LINT_FLAGS", "build_top", "port_list", "manifest",
-           "generate_verilog", "main"]
+__all__ = ["MODULE_NAME", "VERILATOR_LINT_FLAGS", "build_top", "port_list", "manifest_header",
+           "manifest_interface", "manifest", "generate_verilog", "main"]
 
 #: Name of the generated Verilog module.
 MODULE_NAME = "dptbd_dp"
@@ -76,14 +76,32 @@ def port_list(top: wiring.Component) -> list[dict]:
     return ports
 
 
+def manifest_header(cfg: DPConfig, module: str, top) -> dict:
+    """The first entries of every module's manifest: ``module``, ``top`` (the component's
+    class) and ``parameters`` (every :class:`~dptbd.config.DPConfig` field but the weights)."""
+    return {
+        "module": module,
+        "top": type(top).__name__,
+        "parameters": {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)
+                       if f.name != "weights"},
+    }
+
+
+def manifest_interface(cfg: DPConfig) -> dict:
+    """The entries every manifest has after its ``derived`` quantities: the initial LUT
+    codes, the clock and the reset."""
+    return {
+        "weight_codes": cfg.weight_codes.tolist(),
+        "clock": {"name": "clk", "edge": "rising"},
+        "reset": {"name": "rst", "polarity": "active_high", "kind": "synchronous"},
+    }
+
+
 def manifest(cfg: DPConfig, top) -> dict:
     """Machine-readable description of the generated module (JSON-serialisable)."""
     schedule = top.schedule
     return {
-        "module": MODULE_NAME,
-        "top": type(top).__name__,
-        "parameters": {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)
-                       if f.name != "weights"},
+        **manifest_header(cfg, MODULE_NAME, top),
         "lut_style": top.lut_style,
         "derived": {
             "n_moves": cfg.n_moves,
@@ -91,11 +109,9 @@ def manifest(cfg: DPConfig, top) -> dict:
             "direction_bits": cfg.direction_bits,
             "weight_bits": cfg.weight_bits,
             "e_max": cfg.e_max,
-            "lut_entries": (cfg.n_moves + 1) * cfg.n_moves,
+            "lut_entries": cfg.lut_entries,
         },
-        "weight_codes": cfg.weight_codes.tolist(),
-        "clock": {"name": "clk", "edge": "rising"},
-        "reset": {"name": "rst", "polarity": "active_high", "kind": "synchronous"},
+        **manifest_interface(cfg),
         "latency": schedule.latency,
         "write_latency": schedule.write_latency,
         "schedule": dataclasses.asdict(schedule),

@@ -37,6 +37,37 @@ class StreamRun:
     cycles: int              # cycles simulated
 
 
+def simulate(dut, *testbenches, background=()) -> None:
+    """Run ``dut`` on a 100 MHz clock with the async ``testbenches`` (``f(ctx)``) until they
+    return; ``background`` testbenches (e.g. a memory model) run beside them."""
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    for bench in testbenches:
+        sim.add_testbench(bench)
+    for bench in background:
+        sim.add_testbench(bench, background=True)
+    sim.run()
+
+
+async def stream_cycle(ctx, source, sink, offering: bool, taking: bool, transfers) -> bool:
+    """One clock cycle of stream ``source`` (``valid`` = ``offering``) into the DUT and
+    stream ``sink`` (``ready`` = ``taking``) out of it. Appends to ``transfers`` (a
+    :class:`StreamRun`-like object with ``accept_cycles``, ``outputs``, ``output_cycles``
+    and ``cycles``, the current cycle): the cycle of an accepted word, and the payload and
+    cycle of an output transfer. Returns whether the source word was accepted; ticks."""
+    ctx.set(source.valid, offering)
+    ctx.set(sink.ready, taking)
+    accepted = bool(offering and ctx.get(source.ready))
+    if accepted:
+        transfers.accept_cycles.append(transfers.cycles)
+    if taking and ctx.get(sink.valid):
+        transfers.outputs.append(int(ctx.get(sink.payload.as_value())))
+        transfers.output_cycles.append(transfers.cycles)
+    await ctx.tick()
+    transfers.cycles += 1
+    return accepted
+
+
 def frames_to_stream(frames: np.ndarray) -> list[tuple[int, bool]]:
     """(pixel, first) in raster order, ``first`` on pixel (0, 0) of every frame."""
     out = []
@@ -46,11 +77,11 @@ def frames_to_stream(frames: np.ndarray) -> list[tuple[int, bool]]:
     return out
 
 
-def lut_writes_for(old: np.ndarray, new: np.ndarray) -> list[tuple[int, int]]:
-    """(address, code) writes turning LUT ``old`` into ``new`` (address ``p * M + m``)."""
-    moves = old.shape[1]
-    return [(p * moves + m, int(new[p, m]))
-            for p in range(old.shape[0]) for m in range(moves) if old[p, m] != new[p, m]]
+def lut_writes_for(cfg: DPConfig, old: np.ndarray, new: np.ndarray) -> list[tuple[int, int]]:
+    """(address, code) writes turning LUT ``old`` into ``new`` (address
+    :meth:`~dptbd.config.DPConfig.lut_address`)."""
+    return [(cfg.lut_address(p, m), int(new[p, m]))
+            for p in range(old.shape[0]) for m in range(old.shape[1]) if old[p, m] != new[p, m]]
 
 
 def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_probability=1.0,
@@ -78,13 +109,12 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
         max_cycles = int((len(stream) + 100) / slow * 3) + 200
     result = StreamRun([], [], [], 0)
     payload_in = dut.pixels.payload.as_value()
-    payload_out = dut.states.payload.as_value()
 
     async def bench(ctx):
         accepted = 0
         offering = False
-        cycle = 0
         while len(result.outputs) < n_out:
+            cycle = result.cycles
             if cycle >= max_cycles:
                 raise AssertionError(
                     f"timeout after {cycle} cycles: {accepted}/{len(stream)} pixels accepted, "
@@ -107,32 +137,14 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
                 if offering:
                     pixel, first = stream[accepted]
                     ctx.set(payload_in, pack_pixel(cfg, pixel, first))
-            ctx.set(dut.pixels.valid, offering)
             taking = rng.random() < ready_probability
-            ctx.set(dut.states.ready, taking)
-            if offering and ctx.get(dut.pixels.ready):
-                result.accept_cycles.append(cycle)
+            if await stream_cycle(ctx, dut.pixels, dut.states, offering, taking, result):
                 accepted += 1
                 offering = False
-            if taking and ctx.get(dut.states.valid):
-                result.outputs.append(unpack_state(cfg, ctx.get(payload_out)))
-                result.output_cycles.append(cycle)
-            await ctx.tick()
-            cycle += 1
-        result.cycles = cycle
+        result.outputs[:] = [unpack_state(cfg, word) for word in result.outputs]
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    for process in processes:
-        sim.add_testbench(process, background=True)
-    sim.run()
+    simulate(dut, bench, background=processes)
     return result
-
-
-def config_with_codes(cfg: DPConfig, codes: np.ndarray) -> DPConfig:
-    """``cfg`` whose quantised LUT is exactly ``codes`` (each in [0, 2**F])."""
-    return cfg.replace(weights=np.asarray(codes, dtype=np.float64) / (1 << cfg.weight_frac_bits))
 
 
 def reference_states(cfg: DPConfig, frames: np.ndarray, lut_changes=()) -> np.ndarray:
@@ -145,7 +157,7 @@ def reference_states(cfg: DPConfig, frames: np.ndarray, lut_changes=()) -> np.nd
     frames = np.asarray(frames)
     n_frames, height, width = frames.shape
     k = cfg.segment_frames
-    tables = [(0, cfg)] + [(index, config_with_codes(cfg, codes)) for index, codes in lut_changes]
+    tables = [(0, cfg)] + [(index, cfg.with_weight_codes(codes)) for index, codes in lut_changes]
     out = np.zeros((n_frames, height, width, len(FIELDS)), dtype=np.int64)
     energy = direction = None
     for t in range(n_frames):

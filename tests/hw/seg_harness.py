@@ -12,11 +12,12 @@ import random
 import warnings
 
 import numpy as np
-from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig, EnergyWidthWarning
-from dptbd.hw.layouts import pack_pixel, state_layout
+from dptbd.hw import layouts
+from dptbd.hw.layouts import pack_pixel
 from dptbd.sim.segment_scoreboard import CandidateScoreboard
+from hw_harness import simulate, stream_cycle
 
 
 def make_config(**kw) -> DPConfig:
@@ -33,12 +34,11 @@ class Run:
     cycles: int
 
 
-def pack_states(cfg: DPConfig, states: np.ndarray) -> list[int]:
+def pack_state_rows(cfg: DPConfig, states: np.ndarray) -> list[int]:
     """``states`` payload words from ``(N, 5)`` rows (E, d, eol, eof, eos)."""
-    layout = state_layout(cfg)
     names = ("energy", "direction", "end_of_line", "end_of_frame", "end_of_segment")
-    offsets = [layout[n].offset for n in names]
-    return [sum(int(v) << o for v, o in zip(row, offsets)) for row in np.asarray(states)]
+    rows = np.asarray(states)
+    return layouts.pack_states(cfg, **{n: rows[:, i] for i, n in enumerate(names)}).tolist()
 
 
 def pack_frames(cfg: DPConfig, frames: np.ndarray) -> list[int]:
@@ -63,45 +63,37 @@ def run(dut, source, sink, words: list[int], *, n_out: int, valid_probability=1.
     async def bench(ctx):
         sent = 0
         offering = False
-        cycle = 0
         quiet = 0
         while len(result.outputs) < n_out or quiet < settle:
             if len(result.outputs) >= n_out:
                 quiet += 1
-            if cycle >= max_cycles:
-                raise AssertionError(f"timeout after {cycle} cycles: {sent}/{len(words)} in, "
-                                     f"{len(result.outputs)}/{n_out} out")
+            if result.cycles >= max_cycles:
+                raise AssertionError(f"timeout after {result.cycles} cycles: {sent}/{len(words)} "
+                                     f"in, {len(result.outputs)}/{n_out} out")
             if not offering and sent < len(words):
                 offering = rng.random() < valid_probability
                 if offering:
                     ctx.set(source.payload.as_value(), words[sent])
-            ctx.set(source.valid, offering)
             taking = rng.random() < ready_probability
-            ctx.set(sink.ready, taking)
-            if offering and ctx.get(source.ready):
-                result.accept_cycles.append(cycle)
+            if await stream_cycle(ctx, source, sink, offering, taking, result):
                 sent += 1
                 offering = False
-            if taking and ctx.get(sink.valid):
-                result.outputs.append(int(ctx.get(sink.payload.as_value())))
-                result.output_cycles.append(cycle)
-            await ctx.tick()
-            cycle += 1
-        result.cycles = cycle
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    for process in extra:
-        sim.add_testbench(process, background=True)
-    sim.run()
+    simulate(dut, bench, background=extra)
     return result
 
 
 def score(cfg: DPConfig, lists, outputs: list[int]) -> CandidateScoreboard:
     """Feed ``outputs`` to a scoreboard of ``lists``; assert bit-exact with its report."""
     board = CandidateScoreboard(cfg, lists)
-    for word in outputs:
-        board.receive(word)
+    board.receive_array(np.array(outputs, dtype=np.uint64))
     assert board.done, board.report()
     return board
+
+
+def run_lists(cfg: DPConfig, dut, source, sink, words: list[int], lists, **kw) -> Run:
+    """:func:`run` until every word of ``lists`` came out (and ``settle`` cycles more), then
+    :func:`score` them: bit-exact, or an assertion naming the first mismatch."""
+    result = run(dut, source, sink, words, n_out=CandidateScoreboard(cfg, lists).total, **kw)
+    score(cfg, lists, result.outputs)
+    return result

@@ -1,41 +1,58 @@
-"""Saturating accumulator against ``add_saturating``; segment start takes E = x, d = START."""
+"""Saturating accumulator against ``add_saturating``; segment start takes E = x, d = START.
+
+Glasgow's pattern: ``cases()`` yields the operands, ``ref_accumulator`` is the golden
+model's answer, ``rtl_accumulator`` the gateware's, one per operand.
+"""
 
 import random
 
 import pytest
-from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig
 from dptbd.hw.accumulator import Accumulator
 from dptbd.model.operators import add_saturating
+from hw_harness import simulate
 
 
-@pytest.mark.parametrize("input_bits, energy_bits", [(8, 16), (4, 5), (8, 8)])
-def test_matches_add_saturating(input_bits, energy_bits):
-    cfg = DPConfig(input_bits=input_bits, energy_bits=energy_bits, segment_frames=1)
+def cases(cfg):
+    """(best, x, move, segment_start): saturation corners, then random ones."""
+    rng = random.Random(cfg.energy_bits)
+    yield from [(cfg.e_max, cfg.pixel_max, 3, 0), (cfg.e_max - 1, 1, 2, 0), (0, 0, 0, 0),
+                (cfg.e_max, cfg.pixel_max, 5, 1)]
+    for _ in range(100):
+        best = rng.choice([rng.randrange(cfg.e_max + 1),
+                           cfg.e_max - rng.randrange(1 << cfg.input_bits)])
+        yield (best, rng.randrange(cfg.pixel_max + 1), rng.randrange(cfg.n_moves),
+               int(rng.random() < 0.2))
+
+
+def ref_accumulator(cfg, best, pixel, move, start) -> tuple[int, int]:
+    """(E, d) of the golden model."""
+    if start:
+        return pixel, cfg.start_code
+    return int(add_saturating(best, pixel, cfg.energy_bits)), move
+
+
+def rtl_accumulator(cfg, operands) -> list[tuple[int, int]]:
+    """(E, d) of each operand, one cycle after it is presented."""
     dut = Accumulator(cfg)
-    rng = random.Random(energy_bits)
-    cases = [(cfg.e_max, cfg.pixel_max, 3, 0), (cfg.e_max - 1, 1, 2, 0), (0, 0, 0, 0),
-             (cfg.e_max, cfg.pixel_max, 5, 1)]
-    cases += [(rng.choice([rng.randrange(cfg.e_max + 1), cfg.e_max - rng.randrange(1 << input_bits)]),
-               rng.randrange(cfg.pixel_max + 1), rng.randrange(cfg.n_moves), rng.random() < 0.2)
-              for _ in range(100)]
+    got = []
 
     async def bench(ctx):
-        for best, pixel, move, start in cases:
+        for best, pixel, move, start in operands:
             ctx.set(dut.best, best)
             ctx.set(dut.pixel, pixel)
             ctx.set(dut.move, move)
             ctx.set(dut.segment_start, start)
             await ctx.tick()
-            if start:
-                expected = (pixel, cfg.start_code)
-            else:
-                expected = (int(add_saturating(best, pixel, energy_bits)), move)
-            assert (ctx.get(dut.energy), ctx.get(dut.direction)) == expected, \
-                f"best={best} x={pixel} start={start}"
+            got.append((ctx.get(dut.energy), ctx.get(dut.direction)))
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(dut, bench)
+    return got
+
+
+@pytest.mark.parametrize("input_bits, energy_bits", [(8, 16), (4, 5), (8, 8)])
+def test_matches_add_saturating(input_bits, energy_bits):
+    cfg = DPConfig(input_bits=input_bits, energy_bits=energy_bits, segment_frames=1)
+    operands = list(cases(cfg))
+    assert rtl_accumulator(cfg, operands) == [ref_accumulator(cfg, *op) for op in operands]

@@ -3,12 +3,11 @@
 import random
 
 import pytest
-from amaranth.sim import Simulator
 
 from dptbd.hw.candidate_emitter import CandidateEmitter
 from dptbd.hw.candidate_layout import pack_record, pack_trailer
+from hw_harness import refused, simulate
 from seg_harness import make_config
-from hw_harness import refused
 
 
 def emit(cfg, pixels, *, ready_probability=1.0, seed=0):
@@ -46,10 +45,7 @@ def emit(cfg, pixels, *, ready_probability=1.0, seed=0):
             gap = present and eol                     # the segmenter's scan gap
             idle = 0 if queue else idle + 1
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(dut, bench)
     return out
 
 

@@ -71,7 +71,9 @@ def test_pack_unpack_round_trip():
 
 def test_pack_refuses_bad_values():
     cfg = DPConfig(width=8, height=8)
-    with pytest.raises(ValueError, match="row=8 does not fit 3 unsigned bits"):
+    with pytest.raises(ValueError, match=r"^row=8 does not fit 3 unsigned bits$"):
         pack_record(cfg, 8, 0, 0, 0)
-    with pytest.raises(ValueError, match=r"missing \['missed'\]"):
+    with pytest.raises(ValueError, match=r"^trailer fields missing \['missed'\], unknown \[\]; the "
+                                         r"layout has \['count', 'threshold', 'overflow', "
+                                         r"'primed', 'aligned', 'missed'\]$"):
         pack_trailer(cfg, count=0, threshold=0, overflow=0, primed=0, aligned=0)

@@ -2,10 +2,10 @@
 
 import random
 
-from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig
 from dptbd.hw.controller import Controller
+from hw_harness import simulate
 
 
 def reference_positions(cfg, firsts):
@@ -61,10 +61,7 @@ def run_controller(cfg, firsts, seed=0):
                 index += 1
             await ctx.tick()
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(dut, bench)
     return got
 
 

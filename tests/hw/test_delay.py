@@ -2,9 +2,9 @@
 
 from amaranth.hdl import Module, Signal
 from amaranth.lib import data
-from amaranth.sim import Simulator
 
 from dptbd.hw.delay import delayed
+from hw_harness import simulate
 
 
 def test_delays_values_and_views():
@@ -24,9 +24,6 @@ def test_delays_values_and_views():
             seen.append((ctx.get(late_value), ctx.get(late_view.as_value())))
             await ctx.tick()
 
-    sim = Simulator(m)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(m, bench)
     assert [v for v, _ in seen] == [0, 0, 0] + list(range(1, 8))
     assert [w for _, w in seen] == [0, 0] + [2 * c + 1 for c in range(8)]

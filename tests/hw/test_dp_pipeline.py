@@ -23,6 +23,7 @@ from hw_harness import (
     reference_states,
     refused,
     run_stream,
+    simulate,
 )
 
 
@@ -100,8 +101,8 @@ def test_lut_written_at_run_time(radius, style):
     inside[:, : moves // 2] = rng.integers(0, 33, size=(moves + 1, moves // 2))
     switch_between = 1 * pixels            # before frame 1's first pixel
     switch_inside = 2 * pixels + 17        # before pixel 17 of frame 2
-    writes = {switch_between: lut_writes_for(old, between),
-              switch_inside: lut_writes_for(between, inside)}
+    writes = {switch_between: lut_writes_for(cfg, old, between),
+              switch_inside: lut_writes_for(cfg, between, inside)}
     frames = random_frames(cfg, 4, seed=radius + 10)
     run = run_stream(DPPipeline(cfg, lut_style=style), cfg, frames_to_stream(frames),
                      valid_probability=0.8, ready_probability=0.7, seed=radius,
@@ -115,7 +116,7 @@ def test_lut_written_at_run_time(radius, style):
 def test_lut_write_clamps_codes_above_one():
     cfg = make_config(width=5, height=4, segment_frames=2, weight_frac_bits=3)
     old = cfg.weight_codes.astype(np.int64)
-    writes = {0: [(address, 15) for address in range(cfg.n_moves * (cfg.n_moves + 1))]}
+    writes = {0: [(address, 15) for address in range(cfg.lut_entries)]}
     frames = random_frames(cfg, 2, seed=4)
     run = run_stream(DPPipeline(cfg), cfg, frames_to_stream(frames), lut_writes=writes)
     ones = np.full_like(old, 8)
@@ -229,7 +230,7 @@ def test_lut_write_applies_from_the_pixel_accepted_in_the_same_cycle(style):
     frames = random_frames(cfg, 2, seed=15)
     frames[0] = 100
     n = 20 + 1 * 5 + 1                        # frame 1, pixel (1, 1)
-    address = cfg.start_code * cfg.n_moves + 0
+    address = cfg.lut_address(cfg.start_code, 0)
     run = run_stream(DPPipeline(cfg, lut_style=style), cfg, frames_to_stream(frames),
                      timed_lut_writes={n + 1: (address, 0)})   # pixel k is accepted in cycle k+1
     assert run.accept_cycles[n] == n + 1
@@ -248,8 +249,6 @@ def test_input_ready_is_registered(style):
     holds the output back long enough that the credit counter does drop ``pixels.ready``,
     so the check covers both of its values.
     """
-    from amaranth.sim import Simulator
-
     from dptbd.hw.layouts import pack_pixel
 
     cfg = make_config(width=6, height=5, segment_frames=2)
@@ -273,8 +272,5 @@ def test_input_ready_is_registered(style):
             ctx.set(dut.pixels.valid, int(rng.random() < 0.8))
             await ctx.tick()
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(dut, bench)
     assert seen == {0, 1}, "the run must see pixels.ready both high and low"

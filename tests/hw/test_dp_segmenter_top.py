@@ -4,16 +4,15 @@ candidate lists out, compared with ``dptbd.model.fixed`` + ``segment_sequence``.
 import shutil
 import subprocess
 
-import numpy as np
 import pytest
 
 from dptbd.config import ConfigError
 from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.dp_segmenter_top import SEGMENTER_MODULE_NAME, DPSegmenter, generate_segmenter_verilog
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.segment_scoreboard import expected_lists, list_words
+from dptbd.sim.segment_scoreboard import expected_lists
 from hw_harness import assert_verilator_lints_clean
-from seg_harness import make_config, pack_frames, run, score
+from seg_harness import make_config, pack_frames, run_lists
 
 CASES = {
     # name: (config, scenario, frames, seed, (valid, ready))
@@ -35,11 +34,9 @@ def test_matches_golden_model(name):
     cfg = make_config(**kw)
     frames = make_frames(scenario, cfg, n_frames, seed=seed)
     lists = expected_lists(cfg, frames)
-    n_out = sum(len(ws) for ws in list_words(cfg, lists))
     dut = DPSegmenter(cfg)
-    result = run(dut, dut.pixels, dut.candidates, pack_frames(cfg, frames), n_out=n_out,
-                 valid_probability=valid, ready_probability=ready, seed=n_frames)
-    score(cfg, lists, result.outputs)
+    run_lists(cfg, dut, dut.pixels, dut.candidates, pack_frames(cfg, frames), lists,
+              valid_probability=valid, ready_probability=ready, seed=n_frames)
     assert len(lists) == n_frames // cfg.segment_frames
     assert sum(lst.count for lst in lists) >= 7
     if "cap" in name:
@@ -53,11 +50,9 @@ def test_one_pixel_per_clock_and_latency():
                       histogram_bits=5, histogram_shift=4)
     frames = make_frames("random", cfg, 6, seed=3)
     lists = expected_lists(cfg, frames)
-    n_out = sum(len(ws) for ws in list_words(cfg, lists))
     dut = DPSegmenter(cfg)
     assert dut.latency == 14 + 3
-    result = run(dut, dut.pixels, dut.candidates, pack_frames(cfg, frames), n_out=n_out)
-    score(cfg, lists, result.outputs)
+    result = run_lists(cfg, dut, dut.pixels, dut.candidates, pack_frames(cfg, frames), lists)
     accepts = result.accept_cycles
     assert accepts == list(range(1, 1 + frames.size))
     frame = cfg.width * cfg.height

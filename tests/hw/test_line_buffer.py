@@ -4,10 +4,9 @@ import random
 
 import pytest
 from amaranth.hdl import unsigned
-from amaranth.sim import Simulator
 
 from dptbd.hw.line_buffer import LineBuffer
-from hw_harness import refused
+from hw_harness import refused, simulate
 
 
 @pytest.mark.parametrize("depth, taps", [(5, 2), (7, 4), (2, 1)])
@@ -32,10 +31,7 @@ def test_taps_are_delayed_rows(depth, taps):
             advanced = advance
             await ctx.tick()
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(dut, bench)
     for n, taps_out in enumerate(seen):
         for k, value in enumerate(taps_out):
             back = n - (k + 1) * depth

@@ -1,21 +1,23 @@
-"""Max/argmax tree against ``argmax_lowest_index``: ties to the lowest index, invalid never wins."""
+"""Max/argmax tree against ``argmax_lowest_index``: ties to the lowest index, invalid never wins.
+
+Glasgow's pattern: ``cases()`` yields the vectors, ``ref_max_tree`` is the golden model's
+answer, ``rtl_max_tree`` the gateware's, one per vector.
+"""
 
 import random
 
 import numpy as np
 import pytest
-from amaranth.sim import Simulator
 
 from dptbd.hw.max_tree import MaxTree, tree_levels
 from dptbd.model.operators import INVALID, argmax_lowest_index
+from hw_harness import simulate
 
 
-@pytest.mark.parametrize("count, value_bits", [(9, 6), (25, 4), (5, 3), (2, 8)])
-def test_matches_argmax_lowest_index(count, value_bits):
-    dut = MaxTree(count, value_bits)
+def cases(count, value_bits):
+    """(values, valid) vectors: extremes, many ties, the centre move always valid."""
     rng = random.Random(count)
     top = (1 << value_bits) - 1
-    vectors = []
     for n in range(200):
         values = [rng.choice([0, top, rng.randrange(top + 1), rng.randrange(3)])
                   for _ in range(count)]
@@ -23,10 +25,20 @@ def test_matches_argmax_lowest_index(count, value_bits):
             values = [rng.randrange(2) * top for _ in range(count)]
         valid = [rng.random() < 0.7 for _ in range(count)]
         valid[rng.randrange(count)] = True  # the centre move is always valid
-        vectors.append((values, valid))
-    vectors.append(([top] * count, [False] * (count - 1) + [True]))   # only the last is valid
-    vectors.append(([0] * count, [True] * count))                     # all tie at 0
+        yield values, valid
+    yield [top] * count, [False] * (count - 1) + [True]   # only the last is valid
+    yield [0] * count, [True] * count                     # all tie at 0
 
+
+def ref_max_tree(values, valid) -> tuple[int, int, int]:
+    """(valid, best, index) of the golden model."""
+    best, index = argmax_lowest_index(np.where(valid, values, INVALID))
+    return 1, int(best), int(index)
+
+
+def rtl_max_tree(count, value_bits, vectors) -> list[tuple[int, int, int]]:
+    """One vector a cycle into the tree; (valid, value, index) of each, ``latency`` later."""
+    dut = MaxTree(count, value_bits)
     got = []
 
     async def bench(ctx):
@@ -41,14 +53,14 @@ def test_matches_argmax_lowest_index(count, value_bits):
                 best = ctx.get(dut.best)
                 got.append((best.valid, best.value, best.index))
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
-    for n, (values, valid) in enumerate(vectors):
-        candidates = np.where(valid, values, INVALID)
-        best, index = argmax_lowest_index(candidates)
-        assert got[n] == (1, best, index), f"vector {n}: {values} {valid}"
+    simulate(dut, bench)
+    return got[:len(vectors)]
+
+
+@pytest.mark.parametrize("count, value_bits", [(9, 6), (25, 4), (5, 3), (2, 8)])
+def test_matches_argmax_lowest_index(count, value_bits):
+    vectors = list(cases(count, value_bits))
+    assert rtl_max_tree(count, value_bits, vectors) == [ref_max_tree(*v) for v in vectors]
 
 
 def test_latency_is_ceil_log2():

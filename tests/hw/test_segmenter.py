@@ -6,12 +6,11 @@ and the timing (no stall for K >= 2, the scan stall for K = 1)."""
 import numpy as np
 import pytest
 from amaranth.hdl import ResetInserter, Signal
-from amaranth.sim import Simulator
 
 from dptbd.hw.segmenter import Segmenter, scan_cycles
 from dptbd.model.segmentation import segment_stream
-from dptbd.sim.segment_scoreboard import list_words
-from seg_harness import make_config, pack_states, run, score
+from hw_harness import simulate
+from seg_harness import make_config, pack_state_rows, run_lists, score
 
 
 def synthetic_states(cfg, n_frames, rng, *, low=0, high=None, first_k=0, low_fraction=0.0):
@@ -34,11 +33,9 @@ def synthetic_states(cfg, n_frames, rng, *, low=0, high=None, first_k=0, low_fra
 
 def check(cfg, states, *, valid=0.7, ready=0.5, seed=0):
     lists = segment_stream(states, cfg)
-    n_out = sum(len(ws) for ws in list_words(cfg, lists))
     dut = Segmenter(cfg)
-    result = run(dut, dut.states, dut.candidates, pack_states(cfg, states), n_out=n_out,
-                 valid_probability=valid, ready_probability=ready, seed=seed)
-    score(cfg, lists, result.outputs)
+    result = run_lists(cfg, dut, dut.states, dut.candidates, pack_state_rows(cfg, states), lists,
+                       valid_probability=valid, ready_probability=ready, seed=seed)
     return lists, result
 
 
@@ -159,11 +156,10 @@ def test_reset_in_a_scored_frame_clears_the_histogram():
     cfg = make_config(width=6, height=4, segment_frames=2, candidate_count=4,
                       histogram_bits=4, histogram_shift=4)
     rng = np.random.default_rng(5)
-    before = pack_states(cfg, synthetic_states(cfg, 3, rng, high=255))[: 24 + 17]
+    before = pack_state_rows(cfg, synthetic_states(cfg, 3, rng, high=255))[: 24 + 17]
     after_states = synthetic_states(cfg, 6, rng, high=255)
-    after = pack_states(cfg, after_states)
+    after = pack_state_rows(cfg, after_states)
     lists = segment_stream(after_states, cfg)
-    n_out = sum(len(ws) for ws in list_words(cfg, lists))
     rst = Signal()
     dut = Segmenter(cfg)
     top = ResetInserter({"sync": rst})(dut)
@@ -190,10 +186,6 @@ def test_reset_in_a_scored_frame_clears_the_histogram():
                 await ctx.tick()
                 ctx.set(rst, 0)
 
-    sim = Simulator(top)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
-    assert len(outputs) == n_out
+    simulate(top, bench)
     score(cfg, lists, outputs)
     assert not lists[0].primed and lists[1].primed

@@ -2,11 +2,11 @@
 
 import random
 
-from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_state_word
 from dptbd.hw.state_store import StateStore
+from hw_harness import simulate
 
 
 def test_reads_return_written_words_one_cycle_later():
@@ -39,10 +39,7 @@ def test_reads_return_written_words_one_cycle_later():
             if write_en:
                 model[write_addr] = word
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(dut, bench)
     assert len(checks) > 100
     for n, (got, want) in enumerate(checks):
         assert got == want, f"read {n}: got {got:#x}, expected {want:#x}"

@@ -28,30 +28,21 @@ needs_nextpnr = pytest.mark.skipif(shutil.which("nextpnr-ice40") is None,
 
 # ---- captured samples ------------------------------------------------------------------
 
-YOSYS_STAT_JSON = """\
-{
-   "creator": "Yosys 0.23 (git sha1 7ce5011c24b)",
-   "invocation": "stat -json ",
-   "modules": {
-      "\\\\dptbd_dp": {
-         "num_wires":         1365,
-         "num_cells":         7217,
-         "num_cells_by_type": {
-            "SB_CARRY": 1373, "SB_DFF": 2188, "SB_DFFE": 86, "SB_DFFESR": 234,
-            "SB_DFFSR": 209, "SB_LUT4": 3111, "SB_RAM40_4K": 16
-         }
-      }
-   },
-      "design": {
-         "num_wires":         1365,
-         "num_cells":         7217,
-         "num_cells_by_type": {
-            "SB_CARRY": 1373, "SB_DFF": 2188, "SB_DFFE": 86, "SB_DFFESR": 234,
-            "SB_DFFSR": 209, "SB_LUT4": 3111, "SB_RAM40_4K": 16
-         }
-      }
+#: ``stat -json`` of Yosys 0.23 on the pipeline: the same counts under the module and the design.
+_DPTBD_DP_STAT = {
+    "num_wires": 1365,
+    "num_cells": 7217,
+    "num_cells_by_type": {
+        "SB_CARRY": 1373, "SB_DFF": 2188, "SB_DFFE": 86, "SB_DFFESR": 234,
+        "SB_DFFSR": 209, "SB_LUT4": 3111, "SB_RAM40_4K": 16,
+    },
 }
-"""
+YOSYS_STAT_JSON = json.dumps({
+    "creator": "Yosys 0.23 (git sha1 7ce5011c24b)",
+    "invocation": "stat -json ",
+    "modules": {"\\dptbd_dp": _DPTBD_DP_STAT},
+    "design": _DPTBD_DP_STAT,
+}, indent=3)
 
 YOSYS_LOG = """\
 2.47. Printing statistics.

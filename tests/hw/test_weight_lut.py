@@ -8,20 +8,12 @@ import random
 
 import numpy as np
 import pytest
-from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig, plain_weights
 from dptbd.hw.weight_lut import LUT_STYLES, WeightLUT, resolve_lut_style
-from hw_harness import refused
+from hw_harness import refused, simulate
 
 STYLES = ("bram", "logic")
-
-
-def simulate(dut, bench):
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
 
 
 async def lookup(ctx, dut, cfg, directions):
@@ -115,7 +107,7 @@ def test_write_is_seen_by_lookups_two_cycles_later(style):
     """
     cfg = DPConfig(radius=1, weights=plain_weights(1))
     dut = WeightLUT(cfg, lut_style=style)
-    address = 4 * cfg.n_moves + 7   # direction 4, move 7
+    address = cfg.lut_address(4, 7)
 
     async def bench(ctx):
         for move in range(cfg.n_moves):

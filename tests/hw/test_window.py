@@ -3,11 +3,11 @@
 import random
 
 import pytest
-from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_state_word
 from dptbd.hw.window import Window
+from hw_harness import simulate
 
 
 @pytest.mark.parametrize("width, height, radius", [(5, 4, 1), (7, 6, 2), (3, 5, 2)])
@@ -47,7 +47,4 @@ def test_cells_and_edge_flags(width, height, radius):
             centre = (side * side) // 2
             assert (inside >> centre) & 1
 
-    sim = Simulator(dut)
-    sim.add_clock(1e-8)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate(dut, bench)

@@ -15,10 +15,11 @@ import pytest
 
 import dptbd.sim.rtl_check as rtl_check
 from dptbd.hw.candidate_layout import unpack_candidate
+from dptbd.hw.layouts import unpack_state
 from dptbd.sim import verilator as V
 from dptbd.sim.rtl_check import Stimulus, check_frames, check_stream, lut_change_words
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.scoreboard import expected_words, unpack_fields
+from dptbd.sim.scoreboard import expected_words
 from dptbd.sim.segment_scoreboard import expected_lists, list_words
 from dptbd.sim.stimulus import pixel_words
 from dptbd.sim.stream_model import expected_stream, split_words
@@ -236,7 +237,7 @@ def test_run_time_lut_writes(design, where):
     resets = ((900, 2),) if where == "with-reset" else ()
     result = check_stream(sim, words, Stimulus(0.1, 0.3, 3, resets, changes))
     assert_passed(result)
-    assert result.raw.counters["lut_writes"] == len(changes) * cfg.n_moves * (cfg.n_moves + 1)
+    assert result.raw.counters["lut_writes"] == len(changes) * cfg.lut_entries
     if design == "dp" and not resets:        # the writes do show in the words
         frames = make_frames("two-targets", cfg, 9, seed=2)
         plain = expected_words(cfg, frames).ravel()
@@ -275,7 +276,7 @@ def flip(index, bit):
 
 
 def mismatch_report(cfg, index, frame, row, col, want, got):
-    w, g = unpack_fields(cfg, int(want)), unpack_fields(cfg, int(got))
+    w, g = unpack_state(cfg, int(want)), unpack_state(cfg, int(got))
     fields = [k for k in w if w[k] != g[k]]
     return (f"first mismatch at output {index}: frame {frame}, row {row}, col {col}, field "
             f"{fields[0]}: expected {w[fields[0]]}, got {g[fields[0]]} (differing fields "
@@ -337,33 +338,27 @@ def test_a_mid_frame_restart_is_located_by_the_counters(monkeypatch):
     assert result.report == mismatch_report(cfg, index, 2, 1, 4, want, want ^ np.uint64(2))
 
 
-def test_an_extra_output_word_is_reported(monkeypatch):
+def one_word_more(raw):
+    return dataclasses.replace(
+        raw, out_words=np.append(raw.out_words, raw.out_words[-1]),
+        out_cycles=np.append(raw.out_cycles, raw.out_cycles[-1] + np.uint64(1)))
+
+
+def one_word_less(raw):
+    return dataclasses.replace(raw, out_words=raw.out_words[:-1], out_cycles=raw.out_cycles[:-1])
+
+
+@pytest.mark.parametrize("change, report", [
+    (one_word_more, "1 output word(s) beyond the 576 expected (3 frames)"),
+    (one_word_less, "incomplete: 575 of 576 words received, all bit-exact"),
+])
+def test_an_extra_or_a_missing_output_word_is_reported(monkeypatch, change, report):
     cfg = BASE
     frames = make_frames("noise", cfg, 3, seed=1)
-
-    def extra(raw):
-        return dataclasses.replace(
-            raw, out_words=np.append(raw.out_words, raw.out_words[-1]),
-            out_cycles=np.append(raw.out_cycles, raw.out_cycles[-1] + np.uint64(1)))
-
-    tampered(monkeypatch, extra)
+    tampered(monkeypatch, change)
     result = check_frames(built(cfg), frames)
     assert not result.passed
-    assert result.report == "1 output word(s) beyond the 576 expected (3 frames)"
-
-
-def test_a_missing_output_word_is_reported(monkeypatch):
-    cfg = BASE
-    frames = make_frames("noise", cfg, 3, seed=1)
-
-    def truncate(raw):
-        return dataclasses.replace(raw, out_words=raw.out_words[:-1],
-                                   out_cycles=raw.out_cycles[:-1])
-
-    tampered(monkeypatch, truncate)
-    result = check_frames(built(cfg), frames)
-    assert not result.passed
-    assert result.report == "incomplete: 575 of 576 words received, all bit-exact"
+    assert result.report == report
 
 
 def test_a_timeout_fails_the_check(monkeypatch):

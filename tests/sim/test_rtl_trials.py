@@ -18,29 +18,12 @@ import numpy as np
 import pytest
 
 from dptbd.config import ConfigError, DPConfig
+from dptbd.hw.layouts import state_layout
 from dptbd.sim import rtl_trials, verilator
+from compare_spec import small_spec, spec_toml
 
 pytestmark = pytest.mark.skipif(shutil.which("verilator") is None,
                                 reason="needs Verilator (scripts/setup.sh)")
-
-TOML = """
-trials = 4
-seed = 3
-snr = [1.5, 2.5, 3.5]
-size = 16
-frames = 14
-segment_frames = 4
-false_alarm_rate = 0.02
-chunk = 2
-bootstrap = 40
-thresholds = [2.0, 3.0, 4.0]
-[[config]]
-name = "exact-ish"
-input_bits = 10
-[sweep]
-input_bits = [4]
-energy_headroom = [-1]
-"""
 
 SMALL = DPConfig(width=16, height=16, segment_frames=4, input_bits=6, energy_bits=8)
 
@@ -78,7 +61,7 @@ def _run_command(tmp_path, name, extra):
     from dptbd.commands import compare as command
 
     cfg = tmp_path / "c.toml"
-    cfg.write_text(TOML)
+    cfg.write_text(spec_toml(small_spec()))
     parser = argparse.ArgumentParser()
     command.add_arguments(parser)
     out = tmp_path / name
@@ -114,9 +97,8 @@ def test_small_sweep_gives_identical_tables_on_the_model_and_on_the_rtl(tmp_path
 
 def test_run_compare_counts_identical_per_trial():
     from dptbd.evaluation.compare import build_spec, run_compare
-    import tomllib
 
-    spec = build_spec(tomllib.loads(TOML))
+    spec = build_spec(small_spec())
     a = run_compare(spec, workers=1)
     b = run_compare(spec, workers=1, rtl=True)
     assert a.rtl is None and b.rtl["runs"] > 0
@@ -156,8 +138,7 @@ def test_a_flipped_state_bit_is_located_by_trial_segment_frame_row_col_and_field
 
 
 def rtl_trials_state_offset(name):
-    from dptbd.sim.scoreboard import state_fields
-    return state_fields(SMALL)[name]["offset"]
+    return state_layout(SMALL)[name].offset
 
 
 def test_a_flipped_candidate_word_is_located_by_trial_segment_record_and_field(monkeypatch):
@@ -212,20 +193,19 @@ def test_missing_output_words_are_an_error(monkeypatch):
 
 def test_unsupported_configurations_are_refused_up_front_by_name(monkeypatch):
     from dptbd.evaluation.compare import build_spec, run_compare
-    import tomllib
 
     def no_build(*a, **k):  # nothing may be built or simulated before the refusal
         raise AssertionError("built before refusing")
 
     monkeypatch.setattr(verilator, "build", no_build)
-    spec = build_spec(dict(tomllib.loads(TOML), segment_stride=2))
+    spec = build_spec(small_spec(segment_stride=2))
     with pytest.raises(ConfigError, match=(
             r"^RTL in the loop: configuration 'exact-ish' cannot run on the gateware: "
             r"segment_stride=2 is not supported by the gateware: only non-overlapping segments "
             r"\(segment_stride == segment_frames == 4\) are implemented, with a single state "
             r"store$")):
         run_compare(spec, workers=1, rtl=True)
-    spec = build_spec(dict(tomllib.loads(TOML), size=4, false_alarm_rate=0.2))
+    spec = build_spec(small_spec(size=4, false_alarm_rate=0.2))
     with pytest.raises(ConfigError, match=(
             r"^RTL in the loop: configuration 'exact-ish' cannot run on the gateware: "
             r"width=4 x height=4 is too small for the read-ahead of radius=1: the gateware "
@@ -239,7 +219,7 @@ def test_compare_command_refuses_rtl_before_any_work(tmp_path, monkeypatch, caps
     from dptbd import cli
 
     cfg = tmp_path / "c.toml"
-    cfg.write_text(TOML.replace("segment_frames = 4", "segment_frames = 4\nsegment_stride = 3"))
+    cfg.write_text(spec_toml(small_spec(segment_stride=3)))
     monkeypatch.setattr(verilator, "build", lambda *a, **k: pytest.fail("built"))
     assert cli.main(["compare", "--config", str(cfg), "--out", str(tmp_path / "o"),
                      "--rtl"]) == 2

@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.hw.layouts import unpack_state
 from dptbd.model.fixed import dp_step
-from dptbd.sim.scoreboard import config_with_codes, expected_words, model_frames, unpack_fields
+from dptbd.sim.scoreboard import expected_words, model_frames
 from dptbd.sim.stimulus import pixel_words
 from dptbd.sim.stream_model import FrameRun, expected_stream, frame_runs, split_words
 
@@ -119,7 +120,7 @@ def test_partial_frame_has_end_of_line_but_no_end_of_frame_or_segment():
                                                           (0, True), (1, True), (2, True)]
     whole = expected_words(CFG, frames).ravel()
     cut = slice(40, 53)
-    energy_dir = (1 << (CFG.energy_bits + CFG.direction_bits)) - 1
+    energy_dir = (1 << CFG.state_bits) - 1
     np.testing.assert_array_equal(exp.words[cut] & np.uint64(energy_dir),
                                   whole[cut] & np.uint64(energy_dir))
     np.testing.assert_array_equal(exp.fields[cut, 2], (np.arange(13) % 5) == 4)
@@ -130,7 +131,7 @@ def test_partial_frame_has_end_of_line_but_no_end_of_frame_or_segment():
     np.testing.assert_array_equal(exp.words[:40], whole[:40])
     np.testing.assert_array_equal(exp.words[53:], expected_words(CFG, frames[3:]).ravel())
     assert exp.fields[:, 3].sum() == 5 and exp.fields[:, 4].sum() == 1
-    assert unpack_fields(CFG, int(exp.words[-1]))["end_of_segment"] == 1
+    assert unpack_state(CFG, int(exp.words[-1]))["end_of_segment"] == 1
 
 
 def test_long_frame_extra_words_are_the_next_frame():
@@ -146,7 +147,7 @@ def test_long_frame_extra_words_are_the_next_frame():
         (0, 20, 0, True), (20, 25, 1, False), (25, 45, 0, True), (45, 65, 1, True),
         (65, 85, 2, True)]
     whole = expected_words(CFG, frames).ravel()
-    energy_dir = np.uint64((1 << (CFG.energy_bits + CFG.direction_bits)) - 1)
+    energy_dir = np.uint64((1 << CFG.state_bits) - 1)
     np.testing.assert_array_equal(exp.words[:20], whole[:20])
     np.testing.assert_array_equal(exp.words[20:25] & energy_dir, whole[20:25] & energy_dir)
     np.testing.assert_array_equal(exp.words[25:], expected_words(CFG, frames[1:]).ravel())
@@ -172,7 +173,7 @@ def test_lut_change_at_a_segment_start_splices_whole_scenes(kw):
     size = cfg.width * cfg.height
     frames = frames_for(cfg, 8, seed=6)
     codes = random_codes(cfg, 7)
-    new = config_with_codes(cfg, codes)
+    new = cfg.with_weight_codes(codes)
     pixels, first = split_words(cfg, pixel_words(cfg, frames))
     exp = expected_stream(cfg, pixels, first, {3 * size: codes})
     np.testing.assert_array_equal(exp.words, np.concatenate([
@@ -193,7 +194,7 @@ def test_lut_change_mid_frame_applies_from_that_word():
     size = 20
     frames = frames_for(cfg, 9, seed=8)
     codes = random_codes(cfg, 9)
-    new = config_with_codes(cfg, codes)
+    new = cfg.with_weight_codes(codes)
     pixels, first = split_words(cfg, pixel_words(cfg, frames))
     at = 4 * size + 7
     exp = expected_stream(cfg, pixels, first, {at: codes})
@@ -222,8 +223,8 @@ def test_two_lut_changes_in_one_frame():
     pixels, first = split_words(cfg, pixel_words(cfg, frames))
     exp = expected_stream(cfg, pixels, first, {25: a, 31: b})
     states = list(model_frames(cfg, frames))
-    e_a, _ = dp_step(*states[0], frames[1], config_with_codes(cfg, a))
-    e_b, _ = dp_step(*states[0], frames[1], config_with_codes(cfg, b))
+    e_a, _ = dp_step(*states[0], frames[1], cfg.with_weight_codes(a))
+    e_b, _ = dp_step(*states[0], frames[1], cfg.with_weight_codes(b))
     e = exp.fields[20:40, 0]
     np.testing.assert_array_equal(e[:5], states[1][0].ravel()[:5])
     np.testing.assert_array_equal(e[5:11], e_a.ravel()[5:11])

@@ -19,9 +19,10 @@ import numpy as np
 import pytest
 
 from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.hw.layouts import unpack_state
 from dptbd.sim.runner import build, simulate
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.scoreboard import config_with_codes, expected_words, unpack_fields
+from dptbd.sim.scoreboard import expected_words
 
 pytestmark = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
 
@@ -60,7 +61,7 @@ def assert_passed(result) -> None:
 
 def energies(cfg: DPConfig, frames) -> np.ndarray:
     words = expected_words(cfg, frames).ravel()
-    return np.array([unpack_fields(cfg, w)["energy"] for w in words])
+    return np.array([unpack_state(cfg, w)["energy"] for w in words])
 
 
 # name: (config, scenario, frames, options)
@@ -116,7 +117,7 @@ def test_lut_written_at_run_time():
     frames = make_frames("mixed", cfg, 8, seed=21)
     # the written LUT must change the result, or the test would prove nothing
     assert not np.array_equal(expected_words(cfg, frames),
-                              expected_words(config_with_codes(cfg, codes), frames))
+                              expected_words(cfg.with_weight_codes(codes), frames))
     _, result = run(cfg, frames, "runtime-lut", lut_codes=codes,
                     valid_pause=RANDOM(0.2, 22), ready_pause=RANDOM(0.2, 23))
     assert_passed(result)

@@ -1,27 +1,20 @@
-"""The cocotb harness's pure-Python parts, without a simulator: expected stream, comparison,
-mismatch report, pause generators, build naming, scene checks."""
+"""The ``states`` scoreboard without a simulator: expected stream, comparison, mismatch
+report, blocks and positions."""
 
 from __future__ import annotations
 
-import itertools
 import warnings
 
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, EnergyWidthWarning, plain_weights
-from dptbd.hw.layouts import pack_state_word, state_layout, unpack_state
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.hw.layouts import state_layout, unpack_state
 from dptbd.model.fixed import run_fixed
-from dptbd.sim.components import pause_generator
-from dptbd.sim.runner import check_scene, config_from_json, config_name, config_to_json
-from dptbd.sim.scenarios import SCENARIOS, make_frames
 from dptbd.sim.scoreboard import (
     Scoreboard,
     compare_word,
-    config_with_codes,
     expected_words,
-    pack_states,
-    unpack_fields,
 )
 
 
@@ -36,34 +29,11 @@ def frames_for(cfg, n=7, seed=0):
                                                 size=(n, cfg.height, cfg.width))
 
 
-def test_packing_agrees_with_the_gateware_layout():
-    cfg = small(radius=2, energy_bits=20)
-    rng = np.random.default_rng(1)
-    for _ in range(50):
-        values = {name: int(rng.integers(0, 1 << field.width)) for name, field in state_layout(cfg)}
-        word = int(pack_states(cfg, **{k: np.array(v) for k, v in values.items()}))
-        assert unpack_state(cfg, word) == values == unpack_fields(cfg, word)
-        # the (E, d) part sits where the state-store word has it
-        low = pack_state_word(cfg, values["energy"], values["direction"])
-        assert word & ((1 << (cfg.energy_bits + cfg.direction_bits)) - 1) == low
-
-
-def test_pack_refuses_values_that_do_not_fit():
-    cfg = small()
-    fields = {name: np.zeros(3, dtype=np.int64) for name, _ in state_layout(cfg)}
-    fields["direction"] = np.array([0, 1 << cfg.direction_bits, 0])
-    with pytest.raises(ValueError, match="direction"):
-        pack_states(cfg, **fields)
-    del fields["direction"]
-    with pytest.raises(ValueError, match="missing"):
-        pack_states(cfg, **fields)
-
-
 def test_expected_stream_ends_segments_like_the_model():
     cfg = small()
     frames = frames_for(cfg, n=7)
     words = expected_words(cfg, frames)
-    f = {name: np.vectorize(lambda w, n=name: unpack_fields(cfg, w)[n])(words)
+    f = {name: np.vectorize(lambda w, n=name: unpack_state(cfg, w)[n])(words)
          for name, _ in state_layout(cfg)}
     out = run_fixed(frames, cfg)                    # 2 whole segments of K = 3
     np.testing.assert_array_equal(f["energy"][[2, 5]], out.energy)
@@ -74,16 +44,6 @@ def test_expected_stream_ends_segments_like_the_model():
     assert f["end_of_frame"].sum() == 7 and f["end_of_frame"][:, -1, -1].all()
     assert f["end_of_segment"].sum() == 2
     assert f["end_of_segment"][2, -1, -1] and f["end_of_segment"][5, -1, -1]
-
-
-def test_run_time_lut_codes_become_the_model_lut():
-    cfg = small(weight_frac_bits=4)
-    codes = np.random.default_rng(2).integers(0, 17, size=cfg.weight_codes.shape)
-    assert np.array_equal(config_with_codes(cfg, codes).weight_codes, codes)
-    with pytest.raises(ValueError, match="shape"):
-        config_with_codes(cfg, codes[:-1])
-    with pytest.raises(ValueError, match=r"\[0, 2\*\*F = 16\]"):
-        config_with_codes(cfg, codes + 17)
 
 
 def test_compare_word_reports_frame_row_col_field_expected_got():
@@ -98,8 +58,8 @@ def test_compare_word_reports_frame_row_col_field_expected_got():
     assert mismatch.fields == ("direction",)
     text = str(mismatch)
     assert "frame 2, row 4, col 6, field direction" in text
-    assert f"expected {unpack_fields(cfg, want)['direction']}, got " \
-           f"{unpack_fields(cfg, got)['direction']}" in text
+    assert f"expected {unpack_state(cfg, want)['direction']}, got " \
+           f"{unpack_state(cfg, got)['direction']}" in text
 
 
 def test_scoreboard_stops_at_the_first_mismatch_of_a_corrupted_expectation():
@@ -134,79 +94,6 @@ def test_scoreboard_reports_missing_and_extra_words_and_frames():
     assert seen == [0, 1] and board.done
     assert not board.receive(int(words[0]))
     assert board.failed and "beyond the 96 expected" in board.report()
-
-
-def test_pause_generators():
-    assert not any(itertools.islice(pause_generator(None), 100))
-    assert list(itertools.islice(pause_generator({"kind": "pattern", "pattern": [1, 1, 1, 0]}),
-                                 8)) == [True, True, True, False] * 2
-    a = list(itertools.islice(pause_generator({"kind": "random", "probability": 0.3,
-                                               "seed": 7}), 4000))
-    b = list(itertools.islice(pause_generator({"kind": "random", "probability": 0.3,
-                                               "seed": 7}), 4000))
-    assert a == b and 0.25 < sum(a) / len(a) < 0.35
-    with pytest.raises(ValueError, match=r"\[0, 1\)"):
-        pause_generator({"kind": "random", "probability": 1.0})
-    with pytest.raises(ValueError, match="contain a 0"):
-        pause_generator({"kind": "pattern", "pattern": [1, 1]})
-    with pytest.raises(ValueError, match="unknown pause kind"):
-        pause_generator({"kind": "sometimes"})
-
-
-def test_build_directory_names_separate_parameter_sets():
-    base = DPConfig(width=13, height=7)
-    names = {config_name(c) for c in [
-        base, base.replace(rounding="half_up"), DPConfig(width=13, height=7, radius=2),
-        base.replace(weights=plain_weights(1)), base.replace(segment_frames=5)]}
-    assert len(names) == 5
-    assert config_name(base).startswith("13x7-k4-in8-e16-f8-r1-truncate-")
-    assert config_name(base) == config_name(DPConfig(width=13, height=7))
-    assert config_from_json(config_to_json(base)) == base
-
-
-def test_check_scene_refuses_bad_scenes():
-    cfg = small(input_bits=6)
-    good = np.zeros((2, 6, 8), dtype=np.int64)
-    assert check_scene(cfg, good).dtype == np.uint16
-    with pytest.raises(ValueError, match="8x6 .*width=8 x height=6|9x6"):
-        check_scene(cfg, np.zeros((2, 6, 9), dtype=np.int64))
-    with pytest.raises(ValueError, match=r"input_bits=6 \(0 … 63\); found 1 outside, e.g. \[64\]"):
-        bad = good.copy()
-        bad[1, 2, 3] = 64
-        check_scene(cfg, bad)
-    with pytest.raises(ValueError, match="integers"):
-        check_scene(cfg, good.astype(float))
-    with pytest.raises(ValueError, match="shape"):
-        check_scene(cfg, good[0])
-
-
-@pytest.mark.parametrize("name", SCENARIOS)
-def test_scenarios_fit_the_configuration(name):
-    for cfg in (small(), small(width=13, height=7, input_bits=6, energy_bits=7)):
-        frames = make_frames(name, cfg, 5, seed=3)
-        assert frames.shape == (5, cfg.height, cfg.width) and frames.dtype == np.uint16
-        assert frames.max() <= cfg.pixel_max
-    saturating = make_frames("saturating", small(), 5)
-    assert (saturating == 255).mean() > 0.1
-    assert make_frames("ties", small(), 5).max() == 1
-    with pytest.raises(ValueError, match="unknown scenario"):
-        make_frames("fog", small(), 3)
-
-
-@pytest.mark.parametrize("codes, match", [
-    (np.ones((9, 9), dtype=int), r"shape \(10, 9\)"),          # (M+1) x M for r = 1
-    (np.full((10, 9), 257), r"\[0, 2\*\*F = 256\]"),           # codes above unity
-])
-def test_simulate_refuses_a_bad_lut_before_anything_runs(tmp_path, codes, match):
-    """The Python API checks a run-time LUT before writing the job or starting Icarus."""
-    from dptbd.sim.runner import SimBuild, simulate
-
-    cfg = small()
-    sim = SimBuild(cfg=cfg, directory=tmp_path / "build", verilog=tmp_path / "none.v",
-                   manifest={"latency": 14}, waves=False, seconds=0.0)
-    with pytest.raises(ValueError, match=match):
-        simulate(sim, frames_for(cfg), lut_codes=codes)
-    assert not (tmp_path / "build").exists(), "nothing may be written for a refused LUT"
 
 
 # ---- Scoreboard.receive_array and positions --------------------------------------------
@@ -289,8 +176,8 @@ def test_positions_name_the_frame_row_and_col_of_irregular_streams():
     got[50] ^= np.uint64(1 << 1)                        # energy bit 1
     board = Scoreboard(cfg, expected, positions=positions)
     assert not board.receive_array(got)
-    want = unpack_fields(cfg, int(expected[50]))
-    seen = unpack_fields(cfg, int(got[50]))
+    want = unpack_state(cfg, int(expected[50]))
+    seen = unpack_state(cfg, int(got[50]))
     assert board.report() == (
         f"first mismatch at output 50: frame 7, row 0, col 2, field energy: expected "
         f"{want['energy']}, got {seen['energy']} (differing fields ['energy']; expected "

@@ -1,0 +1,68 @@
+"""``ThresholdSearch`` against ``dptbd.model.segmentation.threshold_bin`` (§6.3).
+
+Glasgow's pattern: ``cases()`` yields the histograms, ``ref_threshold`` is the golden
+model's threshold bin, ``rtl_threshold`` the gateware's (T, primed) after each scan.
+"""
+
+import numpy as np
+
+from dptbd.hw.threshold import ThresholdSearch
+from dptbd.model.segmentation import threshold_bin
+from hw_harness import simulate
+from seg_harness import make_config
+
+
+def cases(cfg):
+    """Histograms of 2**b bins: random at three densities, empty, only the top bin (full or
+    n), one in every bin."""
+    rng = np.random.default_rng(4)
+    bins, full = cfg.n_bins, (1 << cfg.bin_count_bits) - 1
+    top = np.eye(bins, dtype=int)[bins - 1]
+    yield from (rng.integers(0, full + 1, bins) * (rng.random(bins) < p) for p in (0.1, 0.3, 1.0))
+    yield from [np.zeros(bins, int), top * full, top * cfg.n_candidates, np.full(bins, 1)]
+
+
+def ref_threshold(cfg, histogram) -> int:
+    return threshold_bin(histogram, cfg)
+
+
+def rtl_threshold(cfg, histograms, load) -> list[tuple[int, int]]:
+    """Scan each histogram from the top bin down (``load[i]``: keep the result); (T, primed)
+    after each scan. Before the first: T = 2**b, unprimed."""
+    dut = ThresholdSearch(cfg)
+    got = []
+
+    async def bench(ctx):
+        assert ctx.get(dut.threshold) == cfg.n_bins and not ctx.get(dut.primed)
+        for hist, keep in zip(histograms, load):
+            ctx.set(dut.load, keep)
+            for a in range(cfg.n_bins - 1, -1, -1):
+                ctx.set(dut.scan_valid, 1)
+                ctx.set(dut.scan_bin, a)
+                ctx.set(dut.scan_count, int(hist[a]))
+                ctx.set(dut.scan_last, a == 0)
+                await ctx.tick()
+            ctx.set(dut.scan_valid, 0)
+            assert ctx.get(dut.done)                   # T is loaded at the end of this cycle
+            await ctx.tick()
+            assert not ctx.get(dut.done)
+            got.append((ctx.get(dut.threshold), ctx.get(dut.primed)))
+
+    simulate(dut, bench)
+    return got
+
+
+def test_threshold_search_matches_model():
+    cfg = make_config(width=16, height=16, histogram_bits=5, candidate_count=7)
+    histograms = list(cases(cfg))
+    want = [ref_threshold(cfg, h) for h in histograms]
+    assert want[4] == 32 and want[5] == 0 and want[6] == 32 - 7   # n ones from the top
+    assert rtl_threshold(cfg, histograms, [True] * len(histograms)) == [(t, 1) for t in want]
+
+
+def test_a_scan_not_loaded_keeps_the_threshold():
+    cfg = make_config(width=16, height=16, histogram_bits=5, candidate_count=7)
+    histograms = list(cases(cfg))[:3]
+    want = [ref_threshold(cfg, h) for h in histograms]
+    assert rtl_threshold(cfg, histograms, [True, False, True]) == \
+        [(want[0], 1), (want[0], 1), (want[2], 1)]

@@ -1,0 +1,246 @@
+"""The Verilator build cache (:mod:`dptbd.sim.verilator_build`): reuse, stale stamps,
+interrupted builds, the build root, and every bad input refused before anything is built.
+
+Builds are cached under ``~/.cache/dptbd/verilator``; the cache tests use a fresh root in
+``tmp_path`` seeded with the Verilator runtime library of the default root when it has one.
+"""
+
+from __future__ import annotations
+
+import json
+import pathlib
+import re
+import shutil
+
+import pytest
+
+from dptbd.sim import verilator_build as V
+from dptbd.sim.rtl_check import check_frames
+from dptbd.sim.runner import config_name
+from dptbd.sim.scenarios import make_frames
+
+from verilator_harness import SEG, make_config  # noqa: E402
+
+pytestmark = pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
+
+BASE = make_config(**SEG)
+
+def fresh_root(path: pathlib.Path) -> pathlib.Path:
+    """An empty build root with the default root's runtime library (compiling it costs
+    most of a first build); without one the first build compiles it."""
+    path.mkdir(parents=True, exist_ok=True)
+    src = V._runtime_dir(V.default_build_root(), V.check_tools(), False)
+    if (src / "complete").exists():
+        shutil.copytree(src, path / src.name)
+    return path
+
+
+CACHE_CFG = make_config(width=13, height=7, segment_frames=2)
+
+
+@pytest.fixture(scope="module")
+def pristine_root(tmp_path_factory):
+    return fresh_root(tmp_path_factory.mktemp("pristine") / "builds")
+
+
+@pytest.fixture
+def pristine(pristine_root):
+    """(root, build) of CACHE_CFG, built once per module — again if the key changed
+    meanwhile (the gateware or the harness edited while the tests run)."""
+    sim = V.build(CACHE_CFG, "dp", root=pristine_root)
+    return pristine_root, sim
+
+
+@pytest.fixture
+def cache(pristine, tmp_path):
+    """A copy of the pristine root: (root, directory of the build)."""
+    root = tmp_path / "builds"
+    shutil.copytree(pristine[0], root)
+    return root, root / pristine[1].directory.name
+
+
+def no_compiling(monkeypatch):
+    def refuse(*a, **k):
+        raise AssertionError("compiled although the cache should have been used")
+    monkeypatch.setattr(V, "_step", refuse)
+    monkeypatch.setattr(V, "_generate", refuse)
+
+
+def assert_works(sim):
+    frames = make_frames("noise", sim.cfg, 2, seed=1)
+    result = check_frames(sim, frames)
+    assert result.passed, result.report
+
+
+def test_second_build_is_cached_and_does_not_recompile(cache, monkeypatch):
+    root, directory = cache
+    exe = directory / V.EXECUTABLE
+    before = (exe.stat().st_mtime_ns, exe.read_bytes())
+    no_compiling(monkeypatch)
+    sim = V.build(CACHE_CFG, "dp", root=root)
+    assert sim.cached and sim.directory == directory.resolve()
+    assert (exe.stat().st_mtime_ns, exe.read_bytes()) == before
+    assert sim.latency == 14
+    assert sorted(p.name for p in root.iterdir() if p.name.startswith(config_name(CACHE_CFG))) \
+        == [directory.name]
+    assert_works(sim)
+
+
+def test_build_directory_name_and_key(pristine):
+    root, sim = pristine
+    assert sim.directory.name == f"{config_name(CACHE_CFG)}-dp-{sim.key[:12]}"
+    assert sim.directory.parent == root.resolve()
+    other = V._build_key(CACHE_CFG, "core", "auto", False)
+    assert other != sim.key and V._build_key(CACHE_CFG, "dp", "auto", False) == sim.key
+    assert V._build_key(CACHE_CFG.replace(segment_frames=3), "dp", "auto", False) != sim.key
+
+
+def _missing(directory):
+    (directory / V.STAMP).unlink()
+
+
+def _garbage(directory):
+    (directory / V.STAMP).write_text("{not json")
+
+
+def _json_list(directory):
+    (directory / V.STAMP).write_text("[1, 2]\n")
+
+
+def _json_null(directory):
+    (directory / V.STAMP).write_text("null\n")
+
+
+def _foreign_key(directory):
+    import json
+    stamp = json.loads((directory / V.STAMP).read_text())
+    stamp["key"] = "f" * 64
+    (directory / V.STAMP).write_text(json.dumps(stamp))
+
+
+def _no_manifest(directory):
+    import json
+    stamp = json.loads((directory / V.STAMP).read_text())
+    del stamp["manifest"]
+    (directory / V.STAMP).write_text(json.dumps(stamp))
+
+
+def _altered_executable(directory):
+    with open(directory / V.EXECUTABLE, "ab") as fh:
+        fh.write(b"\0")
+
+
+def _missing_executable(directory):
+    (directory / V.EXECUTABLE).unlink()
+
+
+def _empty_directory(directory):
+    shutil.rmtree(directory)
+    directory.mkdir()
+
+
+@pytest.mark.parametrize("damage", [_missing, _garbage, _json_list, _json_null, _foreign_key,
+                                    _no_manifest, _altered_executable, _missing_executable,
+                                    _empty_directory])
+def test_a_damaged_build_is_rebuilt_never_reused(cache, damage):
+    root, directory = cache
+    damage(directory)
+    sim = V.build(CACHE_CFG, "dp", root=root)
+    assert not sim.cached
+    assert sim.directory == directory.resolve()
+    assert V._stamp_ok(directory, sim.key) == sim.manifest
+    assert sorted(p.name for p in root.iterdir() if p.name.startswith(config_name(CACHE_CFG))) \
+        == [directory.name]                                 # no temporary left behind
+    assert_works(sim)
+    assert V.build(CACHE_CFG, "dp", root=root).cached
+
+
+@pytest.mark.parametrize("exc", [RuntimeError("make failed (exit 2)"), KeyboardInterrupt()])
+def test_an_interrupted_build_leaves_nothing_behind(tmp_path, monkeypatch, exc):
+    root = fresh_root(tmp_path / "builds")
+    real_step = V._step
+
+    def step(cmd, cwd, verbose, what):
+        if cmd[0] == "make":
+            raise exc
+        return real_step(cmd, cwd, verbose, what)
+
+    monkeypatch.setattr(V, "_step", step)
+    with pytest.raises(type(exc)):
+        V.build(CACHE_CFG, "dp", root=root)
+    assert [p.name for p in root.iterdir() if p.name.startswith(config_name(CACHE_CFG))] == []
+    monkeypatch.setattr(V, "_step", real_step)
+    sim = V.build(CACHE_CFG, "dp", root=root)
+    assert not sim.cached
+    assert_works(sim)
+
+
+def test_an_interrupted_rebuild_never_leaves_a_reusable_stale_build(cache, monkeypatch):
+    """A stale directory whose rebuild fails is not reused by the next build either."""
+    root, directory = cache
+    _altered_executable(directory)
+
+    def step(cmd, cwd, verbose, what):
+        raise RuntimeError("verilator failed (exit 1)")
+
+    monkeypatch.setattr(V, "_step", step)
+    with pytest.raises(RuntimeError, match=r"^verilator failed \(exit 1\)$"):
+        V.build(CACHE_CFG, "dp", root=root)
+    assert [p.name for p in root.iterdir() if p.name.startswith(directory.name + ".")] == []
+    monkeypatch.undo()
+    sim = V.build(CACHE_CFG, "dp", root=root)
+    assert not sim.cached
+    assert_works(sim)
+
+
+def test_build_root_from_the_environment(monkeypatch, tmp_path):
+    monkeypatch.setenv("DPTBD_BUILD_DIR", str(tmp_path / "b"))
+    assert V.default_build_root() == tmp_path / "b" / "verilator"
+    monkeypatch.delenv("DPTBD_BUILD_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "x"))
+    assert V.default_build_root() == tmp_path / "x" / "dptbd" / "verilator"
+
+
+@pytest.mark.parametrize("design", ["DP", "seg", "", "icarus"])
+def test_build_refuses_an_unknown_design(tmp_path, design):
+    with pytest.raises(ValueError, match=rf"^design must be one of dp, core, segmenter, "
+                                         rf"got {repr(design)}$"):
+        V.build(BASE, design, root=tmp_path / "builds")
+    assert not (tmp_path / "builds").exists()
+
+
+@pytest.fixture
+def clear_tools():
+    V.check_tools.cache_clear()
+    yield
+    V.check_tools.cache_clear()
+
+
+INSTALL = ("; install it (bash scripts/setup.sh setup) or use the Icarus simulator instead "
+           "(dptbd sim --simulator icarus)")
+
+
+@pytest.mark.parametrize("missing,named", [
+    ({"verilator"}, "verilator (Debian package 'verilator')"),
+    ({"make"}, "make (Debian package 'make')"),
+    ({"g++", "c++"}, "a C++ compiler (Debian package 'g++')"),
+    ({"verilator", "g++", "c++", "make"}, "verilator (Debian package 'verilator') and a C++ "
+     "compiler (Debian package 'g++') and make (Debian package 'make')"),
+])
+def test_missing_tools_are_named(tmp_path, monkeypatch, clear_tools, missing, named):
+    real = shutil.which
+    monkeypatch.delenv("CXX", raising=False)
+    monkeypatch.setattr(shutil, "which", lambda name, *a, **k: None if name in missing
+                        else real(name, *a, **k))
+    message = "^" + re.escape("compiled RTL simulation needs " + named + INSTALL) + "$"
+    with pytest.raises(V.ToolMissingError, match=message):
+        V.check_tools()
+    with pytest.raises(V.ToolMissingError, match=message):
+        V.build(BASE, "dp", root=tmp_path / "builds")
+    assert not (tmp_path / "builds").exists()
+
+
+def test_check_tools_names_the_versions():
+    tools = V.check_tools()
+    assert set(tools) == {"verilator", "c++"}
+    assert tools["verilator"].startswith("Verilator ")
