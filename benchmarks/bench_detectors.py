@@ -177,13 +177,13 @@ def bench_scenario1(runs: int, frames: int, presets: list[float], figures: pathl
 
 
 def _compare_table(res) -> str:
-    from dptbd.commands.detect_compare import format_table
+    from dptbd.evaluation.detectors.report import format_table
     return format_table(res)
 
 
 def bench_scenario2(trials: int, noise_trials: int, pfa: float, jobs: int, matched: bool,
                     figures: pathlib.Path | None) -> dict:
-    from dptbd.commands.detect_compare import plot
+    from dptbd.evaluation.detectors.report import plot
     spec = SceneSpec(kind="rd", frames=50, crop=(0, 0, 200, 500))
     dets = ["dw-dp", "info", "grid-bayes", "ca-cfar"]
     t0 = time.perf_counter()

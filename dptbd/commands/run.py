@@ -47,9 +47,8 @@ import sys
 import tempfile
 import time
 
-import numpy as np
-
 from dptbd import __version__
+from dptbd.evaluation.run_rtl import _WORDS, RtlError, rtl_summary, rtl_tools_missing, run_rtl
 from dptbd.model.segmentation import count_for_rate
 
 _MARKER = "dptbd run"
@@ -231,139 +230,6 @@ def staging(out: pathlib.Path, force: bool):
         raise
 
 
-# ---- the RTL check --------------------------------------------------------------------------
-
-class RtlError(RuntimeError):
-    """The RTL simulation could not run or disagreed with the model."""
-
-
-def rtl_tools_missing(simulator: str) -> str | None:
-    """Why ``--rtl`` cannot run here with ``simulator`` (a sentence naming the missing tool
-    and the other simulator), or None."""
-    if simulator == "verilator":
-        from dptbd.sim import verilator
-
-        try:
-            verilator.check_tools()
-        except verilator.ToolMissingError as exc:
-            # check_tools names `dptbd sim`'s fallback; here it is --rtl-simulator
-            return (f"--rtl: {exc}".replace("(dptbd sim --simulator icarus)",
-                                             "(--rtl-simulator icarus)"))
-        return None
-    missing = [t for t in ("iverilog", "vvp") if shutil.which(t) is None]
-    if missing:
-        return (f"--rtl-simulator icarus needs Icarus Verilog ({' and '.join(missing)} not on "
-                f"the PATH); install it (bash scripts/setup.sh setup) or use "
-                f"--rtl-simulator verilator")
-    return None
-
-
-def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Path | None,
-            design: str = "segmenter", simulator: str = "verilator") -> dict:
-    """Simulate the generated Verilog on the first ``n_frames`` frames (None or 0: all);
-    raise :class:`RtlError` unless bit-exact.
-
-    ``design="segmenter"``: the whole FPGA stage (``dptbd_seg``: DP pipeline + segmenter),
-    every candidate list word checked against the golden models; ``"dp"``: the DP pipeline
-    (``dptbd_dp``), every (E, d) word checked. ``simulator``: ``"verilator"``
-    (:mod:`dptbd.sim.rtl_check`) or ``"icarus"`` (cocotb, :mod:`dptbd.sim.runner`).
-    ``build_dir`` None: the simulator's default build root.
-    """
-    why = rtl_tools_missing(simulator)
-    if why is not None:
-        raise RtlError(why)
-    from dptbd.hw.schedule import check_supported
-
-    check_supported(cfg)                      # ConfigError for e.g. overlapping segments
-    total = frames.shape[0]
-    if n_frames is not None and n_frames < 0:
-        raise ValueError(f"--rtl-frames must be >= 0, got {n_frames}")
-    n = total if not n_frames else min(n_frames, total)
-    start = time.perf_counter()
-    if simulator == "verilator":
-        info = _rtl_verilator(frames[:n], cfg, build_dir, design)
-    else:
-        info = _rtl_icarus(frames[:n], cfg, build_dir, design)
-    info.update(frames=n, of_frames=total, seconds=round(time.perf_counter() - start, 1))
-    if not info["passed"]:
-        raise RtlError(f"the RTL ({info['module']} on {info['simulator']}) is NOT bit-exact "
-                       f"against the golden model: {info['report']}{info.pop('details', '')}")
-    info.pop("details", None)
-    return info
-
-
-def _rtl_verilator(frames: np.ndarray, cfg, build_dir, design: str) -> dict:
-    from dptbd.sim import verilator
-    from dptbd.sim.rtl_check import check_frames
-
-    root = verilator.default_build_root() if build_dir is None else pathlib.Path(build_dir)
-    print(f"  RTL: building the Verilog for this configuration on Verilator in {root} …",
-          flush=True)
-    sim = verilator.build(cfg, design, root=root)
-    print(f"  RTL: build {'from the cache' if sim.cached else 'compiled'} in "
-          f"{sim.seconds:.1f} s; simulating {sim.toplevel} on {len(frames)} frames "
-          f"({frames.size} pixels) …", flush=True)
-    result = check_frames(sim, frames)
-    raw = result.raw
-    return {"simulator": "verilator", "design": design, "module": sim.toplevel,
-            "passed": result.passed, "report": result.report,
-            "words_in": result.words_in, "words_compared": result.words_out,
-            "cycles": result.cycles, "latency": sim.latency,
-            "simulated_cycles": raw.cycles, "sim_seconds": round(raw.sim_seconds, 4),
-            "cycles_per_second": round(raw.cycles_per_second),
-            "build_dir": str(sim.directory), "build_seconds": round(sim.seconds, 2),
-            "build_cached": sim.cached}
-
-
-def _rtl_icarus(frames: np.ndarray, cfg, build_dir, design: str) -> dict:
-    from dptbd.sim.runner import build, simulate
-
-    root = pathlib.Path("build/sim") if build_dir is None else pathlib.Path(build_dir)
-    print(f"  RTL: building the Verilog for this configuration on Icarus in {root} …",
-          flush=True)
-    sim = build(cfg, root, design=design)
-    print(f"  RTL: simulating {sim.toplevel} on {len(frames)} frames ({frames.size} pixels) "
-          f"with cocotb + Icarus …", flush=True)
-    result = simulate(sim, frames, run_name="dptbd-run")
-    s = result.summary
-    if s.get("sim_cycles_per_second"):        # tb_dp: while streaming
-        cycles, seconds = s.get("stream_cycles"), s.get("stream_seconds")
-    else:                                     # tb_segmenter: the whole test
-        cycles, seconds = s.get("sim_cycles_total"), s.get("wall_seconds")
-    info = {"simulator": "icarus", "design": design, "module": sim.toplevel,
-            "passed": result.passed, "report": result.report,
-            "words_in": s.get("pixels"), "words_compared": s.get("outputs"),
-            "cycles": result.cycles, "latency": sim.latency,
-            "simulated_cycles": cycles,
-            "sim_seconds": None if seconds is None else round(seconds, 2),
-            "cycles_per_second": round(cycles / seconds) if cycles and seconds else None,
-            "build_dir": str(sim.directory), "build_seconds": round(sim.seconds, 2),
-            "run_dir": str(result.run_dir)}
-    if not result.passed:
-        info["details"] = f"\n{result.log_tail(20)}\n(run files in {result.run_dir})"
-    return info
-
-
-_WORDS = {"segmenter": "candidate-list words", "dp": "(E, d) words"}
-
-
-def rtl_summary(checked: int, total: int, module: str, simulator: str | None = None,
-                words: int | None = None, cycles: int | None = None,
-                design: str = "segmenter") -> str:
-    """The line saying what the RTL check covered: simulator, frames (``--rtl-frames``),
-    words compared and cycles (first input to last output)."""
-    on = f" on {simulator.capitalize()}" if simulator else ""
-    line = f"RTL ({module}{on}) checked frames 0-{checked - 1} of {total}: bit-exact"
-    if words is not None:
-        line += f", {words} {_WORDS.get(design, 'words')} compared"
-    if cycles is not None:
-        line += f", {cycles} cycles"
-    if checked < total:
-        line += (f"; frames {checked}-{total - 1} come from the golden model only "
-                 f"(--rtl-frames 0 checks all)")
-    return line
-
-
 # ---- the job --------------------------------------------------------------------------------
 
 def _progress(disabled: bool):
@@ -405,7 +271,7 @@ def _main(args: argparse.Namespace) -> int:
     from dptbd.scenes.synthetic import quantise
     from dptbd.scenes.recorded import load_sequence
     from dptbd.dsp.track_metrics import evaluate_tracks
-    from dptbd.evaluation import run_report as report
+    from dptbd.evaluation import run_figures, run_report as report
 
     start = time.perf_counter()
     scenario = build_scenario(args)
@@ -542,15 +408,15 @@ def _main(args: argparse.Namespace) -> int:
                      for s, cs in enumerate(result.candidates) for c in cs]
         report.write_csv(tmp / "candidates.csv", cand_rows)
         (tmp / "scenario.toml").write_text(effective.to_toml())
-        report.figure_raw_frame(tmp / "raw_frame.png", frames[report_frame], report_frame,
+        run_figures.figure_raw_frame(tmp / "raw_frame.png", frames[report_frame], report_frame,
                                 input_bits=input_bits, truth_pixels=truth_at(report_frame))
-        report.figure_accumulated(tmp / "accumulated.png", result.segments.energy[seg],
+        run_figures.figure_accumulated(tmp / "accumulated.png", result.segments.energy[seg],
                                   result.candidates[seg], seg, seg_first, seg_last,
                                   truth_pixels=truth_at(seg_last))
         title = (f"{len(result.tracks)} confirmed track(s)"
                  + ("" if evaluation is None else f", {evaluation.false_tracks} false")
                  + f" — {n_frames} frames, {len(result.segments.end_frames)} segments")
-        report.figure_tracks(tmp / "tracks.png", result, truth=truth, evaluation=evaluation,
+        run_figures.figure_tracks(tmp / "tracks.png", result, truth=truth, evaluation=evaluation,
                              title=title)
         report.write_json(tmp / "summary.json", {
             "tool": _MARKER, "version": __version__,

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from dptbd.evaluation import run_report as report
+from dptbd.evaluation import run_figures
 from dptbd.cli import main
 
 SMALL = """\
@@ -187,7 +187,7 @@ def test_a_failure_while_writing_leaves_no_folder(tmp_path, small, capsys, monke
     def disk_full(*args, **kwargs):
         raise OSError(28, "No space left on device", str(tmp_path / "x.png"))
 
-    monkeypatch.setattr(report, "figure_tracks", disk_full)
+    monkeypatch.setattr(run_figures, "figure_tracks", disk_full)
     out = tmp_path / "r"
     assert main(["run", "--no-progress", "--scenario", str(small), "--out", str(out)]) == 2
     err = capsys.readouterr().err
@@ -197,7 +197,7 @@ def test_a_failure_while_writing_leaves_no_folder(tmp_path, small, capsys, monke
     monkeypatch.undo()
     assert main(["run", "--no-progress", "--scenario", str(small), "--out", str(out)]) == 0
     before = sorted(p.name for p in out.iterdir())
-    monkeypatch.setattr(report, "figure_tracks", disk_full)
+    monkeypatch.setattr(run_figures, "figure_tracks", disk_full)
     assert main(["run", "--no-progress", "--scenario", str(small), "--out", str(out),
                  "--force"]) == 2
     assert sorted(p.name for p in out.iterdir()) == before and leftovers(tmp_path) == ["r"]
