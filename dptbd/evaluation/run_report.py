@@ -1,14 +1,16 @@
-"""Tables of ``dptbd run``: 001's Table 1 form, track lists, CSV and JSON files.
-
-The figures are in :mod:`dptbd.evaluation.run_figures`.
+"""The report of ``dptbd run``: 001's Table 1 form, track lists, and the output folder
+(:func:`write_run_folder`: tables, CSV, ``summary.json``, ``scenario.toml`` and the figures of
+:mod:`dptbd.evaluation.run_figures`) of a :class:`~dptbd.evaluation.run_job.RunResult`.
 """
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
 import pathlib
+import time
 from typing import Any, Iterable
 
 import numpy as np
@@ -16,9 +18,16 @@ import numpy as np
 from dptbd.evaluation.metrics import first_level_counts
 from dptbd.evaluation.table1 import PAPER_TABLE1
 
-__all__ = ["TABLE_COLUMNS", "table_rows", "format_table", "paper_lines", "track_rows",
-           "format_tracks", "write_csv", "write_json", "segment_for_frame",
-           "segmentation_bits", "format_segmentation_bits"]
+__all__ = ["TOOL", "RUN_FILES", "TABLE_COLUMNS", "table_rows", "format_table", "paper_lines",
+           "track_rows", "format_tracks", "format_run_tables", "write_csv", "write_json",
+           "segment_for_frame", "segmentation_bits", "format_segmentation_bits", "run_summary",
+           "write_run_folder"]
+
+#: ``summary.json``'s ``tool`` field: marks a folder that ``--force`` may replace
+TOOL = "dptbd run"
+#: The files of a run's folder, in the order ``dptbd run`` names them
+RUN_FILES = ("table.md", "table.csv", "tracks.csv", "candidates.csv", "summary.json",
+             "scenario.toml", "raw_frame.png", "accumulated.png", "tracks.png")
 
 #: Columns of the run table, in the form of 001's Table 1 (per target).
 TABLE_COLUMNS = (
@@ -183,6 +192,23 @@ def format_tracks(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def format_run_tables(snr: float, rows: list[dict], tracks: list[dict],
+                      rtl: dict | None = None) -> str:
+    """``table.md``: the per-target table and 001's rows beside it (simulated scenes), the
+    confirmed tracks, and the RTL check's summary line."""
+    text = []
+    if rows:
+        text.append(format_table(rows))
+        paper = paper_lines(snr, rows)
+        if paper:
+            text += ["", paper]
+    text += ["", f"confirmed tracks ({len(tracks)}):", format_tracks(tracks)
+             if tracks else "(none)"]
+    if rtl is not None:
+        text += ["", rtl["summary"]]
+    return "\n".join(text).strip("\n")
+
+
 def write_csv(path: pathlib.Path, rows: list[dict]) -> None:
     """Rows of dicts as CSV; lists become ``a;b`` cells."""
     if not rows:
@@ -293,3 +319,94 @@ def format_segmentation_bits(sb: dict) -> str:
             f"records + trailer, {sb['word_bits']}-bit words): {d['reduction']:.0f}x fewer; "
             f"the gateware segmenter's (previous segment's histogram) {g['bits_mean']:.0f} bits "
             f"({g['records_mean']:.1f} records): {g['reduction']:.0f}x fewer")
+
+
+def run_summary(result, seconds: float) -> dict:
+    """``summary.json`` of a :class:`~dptbd.evaluation.run_job.RunResult`."""
+    from dptbd import __version__
+
+    inp, pipeline = result.input, result.pipeline
+    cfg, (n_frames, height, width) = inp.cfg, inp.frames.shape
+    seg = segment_for_frame(inp.report_frame, pipeline.segments.end_frames)
+    return {
+        "tool": TOOL, "version": __version__,
+        "source": inp.source,
+        "scenario": result.scenario.to_dict(),
+        "dp_config": cfg.to_mapping(),
+        "association_config": dataclasses.asdict(inp.assoc),
+        "frames": n_frames, "height": height, "width": width, "input_bits": inp.input_bits,
+        "accumulated_frames": len(pipeline.segments.end_frames),
+        "segment_end_frames": pipeline.segments.end_frames,
+        "candidates_per_frame": inp.count,
+        "lists": result.scenario.lists,
+        "segmenter": {"histogram_bits": cfg.histogram_bits, "histogram_shift": cfg.bin_shift,
+                      "histogram_shift_from": inp.shift_from,
+                      "candidate_count": cfg.n_candidates,
+                      "candidate_capacity": cfg.record_capacity},
+        "table": result.rows,
+        "tracks": result.tracks,
+        "false_tracks": None if result.evaluation is None else result.evaluation.false_tracks,
+        "dsp_stats": pipeline.stats,
+        "bits_per_segment": result.segmentation_bits,
+        "rtl": result.rtl if result.rtl is not None else {
+            "checked": False, "summary": "RTL not simulated (golden model only; --rtl "
+                                         "checks the generated Verilog)"},
+        "report_frame": inp.report_frame, "report_segment": seg,
+        "seconds": round(seconds, 2),
+    }
+
+
+def _candidate_rows(pipeline) -> list[dict]:
+    ends = pipeline.segments.end_frames
+    return [{"segment": s, "end_frame": int(ends[s]),
+             "row": int(c["row"]), "col": int(c["col"]), "energy": int(c["energy"]),
+             "direction": int(c["direction"]), "path_start_row": int(c["row0"]),
+             "path_start_col": int(c["col0"])}
+            for s, cs in enumerate(pipeline.candidates) for c in cs]
+
+
+def write_run_folder(result, out: pathlib.Path, force: bool = False) -> pathlib.Path:
+    """Write a run's folder (:data:`RUN_FILES`) through :func:`dptbd.output_folder.staged_folder`:
+    all of it or, on any error, nothing; ``force`` replaces only an earlier run's folder.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder written.
+    """
+    from dptbd.evaluation import run_figures
+    from dptbd.output_folder import staged_folder
+
+    inp, pipeline, evaluation = result.input, result.pipeline, result.evaluation
+    truth, cfg = inp.truth, inp.cfg
+    n_frames = inp.frames.shape[0]
+    seg = segment_for_frame(inp.report_frame, pipeline.segments.end_frames)
+    seg_first = seg * cfg.segment_stride
+    seg_last = int(pipeline.segments.end_frames[seg])
+
+    def truth_at(t: int) -> list | None:
+        if not truth:
+            return None
+        return [None if not tt.visible[t] else (int(tt.pixel[t, 0]), int(tt.pixel[t, 1]))
+                for tt in truth]
+
+    with staged_folder(out, force, marker="summary.json", tool=TOOL) as tmp:
+        (tmp / "table.md").write_text(result.table_text + "\n")
+        write_csv(tmp / "table.csv", result.rows if result.rows else result.tracks)
+        write_csv(tmp / "tracks.csv", list(iter_track_positions(pipeline, evaluation)))
+        write_csv(tmp / "candidates.csv", _candidate_rows(pipeline))
+        (tmp / "scenario.toml").write_text(result.scenario.to_toml())
+        run_figures.figure_raw_frame(tmp / "raw_frame.png", inp.frames[inp.report_frame],
+                                     inp.report_frame, input_bits=inp.input_bits,
+                                     truth_pixels=truth_at(inp.report_frame))
+        run_figures.figure_accumulated(tmp / "accumulated.png", pipeline.segments.energy[seg],
+                                       pipeline.candidates[seg], seg, seg_first, seg_last,
+                                       truth_pixels=truth_at(seg_last))
+        title = (f"{len(pipeline.tracks)} confirmed track(s)"
+                 + ("" if evaluation is None else f", {evaluation.false_tracks} false")
+                 + f" — {n_frames} frames, {len(pipeline.segments.end_frames)} segments")
+        run_figures.figure_tracks(tmp / "tracks.png", pipeline, truth=truth,
+                                  evaluation=evaluation, title=title)
+        write_json(tmp / "summary.json",
+                   run_summary(result, time.perf_counter() - result.started))
+    return out

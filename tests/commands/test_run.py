@@ -100,8 +100,8 @@ def test_refuses_to_overwrite_unless_forced(tmp_path, small, capsys):
     before = (out / "summary.json").read_bytes()
     capsys.readouterr()
     assert main(args) == 2
-    err = capsys.readouterr().err
-    assert "exists; pass --force" in err and str(out) in err
+    assert capsys.readouterr().err == (f"dptbd run: error: --out {out} exists; pass --force to "
+                                       f"replace it, or choose another folder\n")
     assert (out / "summary.json").read_bytes() == before
     assert main(args + ["--seed", "9", "--force"]) == 0
     assert json.loads((out / "summary.json").read_text())["scenario"]["scene"]["seed"] == 9
@@ -112,7 +112,9 @@ def test_refuses_to_overwrite_unless_forced(tmp_path, small, capsys):
     (mine / "notes.txt").write_text("keep")
     assert main(["run", "--no-progress", "--scenario", str(small), "--out", str(mine),
                  "--force"]) == 2
-    assert "not the output folder of an earlier dptbd run" in capsys.readouterr().err
+    assert capsys.readouterr().err == (
+        f"dptbd run: error: --out {mine} is not the folder of an earlier dptbd run (no "
+        f"summary.json from it); --force will not replace it\n")
     assert (mine / "notes.txt").read_text() == "keep"
 
 
@@ -405,11 +407,12 @@ def test_segmenter_settings_come_from_the_data_unless_given():
 def test_rtl_summary_says_which_frames_were_checked(tmp_path, small, capsys, monkeypatch):
     """A stand-in for the simulation: the options reach run_rtl, the summary names the
     simulator, the frames checked, the words compared and the cycles."""
-    from dptbd.commands import run as run_cmd
+    from dptbd.evaluation import run_rtl
 
     calls = []
 
-    def fake_rtl(frames, cfg, n_frames, build_dir, design="segmenter", simulator="verilator"):
+    def fake_rtl(frames, cfg, n_frames, build_dir, design="segmenter", simulator="verilator",
+                 log=None):
         calls.append((n_frames, build_dir, design, simulator))
         total = frames.shape[0]
         n = total if not n_frames else n_frames
@@ -418,7 +421,7 @@ def test_rtl_summary_says_which_frames_were_checked(tmp_path, small, capsys, mon
                 "report": "bit-exact", "words_compared": 7, "cycles": 99,
                 "cycles_per_second": 1234567, "seconds": 0.0}
 
-    monkeypatch.setattr(run_cmd, "run_rtl", fake_rtl)
+    monkeypatch.setattr(run_rtl, "run_rtl", fake_rtl)
     out = tmp_path / "r"
     assert main(["run", "--no-progress", "--scenario", str(small), "--rtl", "--out", str(out)]) == 0
     text = capsys.readouterr().out
