@@ -20,8 +20,9 @@ from dptbd.evaluation.detectors.compare import SCENES, SceneSpec, run_comparison
 from dptbd.evaluation.detectors._checks import DetectorError
 from dptbd.evaluation.detectors.interface import (
     DETECTORS, DEFAULT_DETECTORS, detector_parameters, parse_detectors)
-from dptbd.evaluation.detectors.report import (OUT_FILES, _is_out_folder, format_table, plot,
-                                               write_folder)
+from dptbd.evaluation.detectors.report import (DEFAULT_SNRS_DB, OUT_FILES, TOOL, describe_run,
+                                               figure_pd_vs_snr, format_table, write_folder)
+from dptbd.output_folder import check_output_file, check_output_folder, write_new_text
 
 HELP = "compare papers 000/001/004's detectors and CA-CFAR at equal false-alarm rate (Pd vs SNR)"
 
@@ -92,45 +93,15 @@ def parse_settings(items: list[str]) -> dict:
     return params
 
 
-def _check_file(path: pathlib.Path | None, option: str, force: bool, suffix: str) -> None:
-    if path is None:
-        return
-    if path.suffix.lower() != suffix:
-        raise ValueError(f"{option} {path} must end in {suffix}")
-    if path.is_dir():
-        raise FileExistsError(f"{option} {path} is a folder")
-    if not path.parent.resolve().is_dir():
-        raise FileNotFoundError(f"{option} {path}: the folder {path.parent} does not exist")
-    if (path.exists() or path.is_symlink()) and not force:
-        raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
-
-
 def check_outputs(args: argparse.Namespace) -> None:
     """Refuse, before any work, every output that would overwrite something silently."""
     for path in (args.markdown, args.figure):
         if args.out is not None and path is not None and args.out.resolve() in path.resolve().parents:
             raise ValueError(f"{path} is inside --out {args.out}, which is written as a whole")
-    _check_file(args.markdown, "--markdown", args.force, ".md")
-    _check_file(args.figure, "--figure", args.force, ".png")
-    out = args.out
-    if out is None:
-        return
-    if not out.resolve().parent.is_dir():
-        raise FileNotFoundError(f"--out {out}: the folder {out.parent} does not exist")
-    if out.exists() or out.is_symlink():
-        if not args.force:
-            raise FileExistsError(f"--out {out} exists; pass --force to replace it, or choose another folder")
-        if out.is_symlink() or not out.is_dir():
-            raise FileExistsError(f"--out {out} exists and is not a folder; --force replaces only the "
-                                  f"folder of an earlier dptbd detectors run")
-        if any(out.iterdir()) and not _is_out_folder(out):
-            raise FileExistsError(f"--out {out} is not the folder of an earlier dptbd detectors run "
-                                  f"(no result.json from it); --force will not replace it")
-
-
-def _write_text(path: pathlib.Path, text: str, force: bool) -> None:
-    with open(path, "w" if force else "x") as fh:  # "x": never replace a file that appeared meanwhile
-        fh.write(text)
+    check_output_file(args.markdown, "--markdown", args.force, ".md")
+    check_output_file(args.figure, "--figure", args.force, ".png")
+    if args.out is not None:
+        check_output_folder(args.out, args.force, marker="result.json", tool=TOOL)
 
 
 def main(args: argparse.Namespace) -> int:
@@ -140,8 +111,7 @@ def main(args: argparse.Namespace) -> int:
     for name in params:
         if name not in names:
             raise DetectorError(f"--set names detector {name!r}, which is not in --detectors")
-    snrs = args.snr if args.snr is not None else (
-        [0.0, 3.0, 6.0, 9.0, 12.0, 15.0] if args.scene == "rd" else [4.0, 6.0, 8.0, 10.0, 12.0, 14.0])
+    snrs = args.snr if args.snr is not None else list(DEFAULT_SNRS_DB[args.scene])
     spec = SceneSpec(kind=args.scene, frames=args.frames, preset_snr_db=args.preset_snr_db)
     start = time.perf_counter()
     res = run_comparison(names, snrs_db=snrs, spec=spec, trials=args.trials,
@@ -149,24 +119,18 @@ def main(args: argparse.Namespace) -> int:
                          matched=args.matched, seed=args.seed, jobs=args.jobs, params=params,
                          progress=True)
     table = format_table(res)
-    p = res.params
-    note = (f"{p['scene']} scenes, {p['frames']} frames, frames {p['first_frame']}..{p['frames'] - 1} scored, "
-            f"{p['trials']} target scenes per SNR, {p['noise_trials']} noise-only scenes, "
-            f"Pfa {p['false_alarm_rate']:g} per decision, preset SNR channel "
-            f"{'matched' if p['matched'] else str(p['preset_snr_db']) + ' dB'}, gate {p['gate']} cell, "
-            f"seed {p['seed']}, {time.perf_counter() - start:.0f} s"
-            + (f"; --set {' '.join(args.set)}" if args.set else ""))
+    note = describe_run(res, time.perf_counter() - start, args.set)
     print(table)
     print(note)
     if args.out is not None:
         arguments = {k: (str(v) if isinstance(v, pathlib.Path) else v)
                      for k, v in vars(args).items() if not k.startswith("_")}
-        write_folder(res, args.out, table, note, arguments)
+        write_folder(res, args.out, table, note, arguments, args.force)
         print(f"wrote {args.out}/ ({', '.join(OUT_FILES)})")
     if args.markdown is not None:
-        _write_text(args.markdown, table + "\n\n" + note + "\n", args.force)
+        write_new_text(args.markdown, table + "\n\n" + note + "\n", args.force)
     if args.figure is not None:
         if args.figure.exists() and not args.force:
             raise FileExistsError(f"--figure {args.figure} appeared during the run; not overwritten")
-        plot(res, args.figure)
+        figure_pd_vs_snr(res, args.figure)
     return 0

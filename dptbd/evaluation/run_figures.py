@@ -1,7 +1,6 @@
 """The figures of ``dptbd run``: a raw frame, an accumulated image, the confirmed tracks.
 
-Figures are drawn with matplotlib's object API (``Figure`` + Agg canvas), never through
-``pyplot``, so no global backend or window is involved.
+Drawn in the one figure style of :mod:`dptbd.figures` (object API, Agg canvas).
 """
 
 from __future__ import annotations
@@ -10,16 +9,9 @@ import pathlib
 
 import numpy as np
 
+from dptbd.figures import new_figure, save_figure
+
 __all__ = ["figure_raw_frame", "figure_accumulated", "figure_tracks"]
-
-
-def _figure(width: float, height: float):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(width, height), dpi=110, layout="constrained")
-    FigureCanvasAgg(fig)
-    return fig
 
 
 _COLOURS = ("tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown",
@@ -30,8 +22,8 @@ def figure_raw_frame(path: pathlib.Path, frame: np.ndarray, index: int, *, input
                      truth_pixels: list | None = None) -> None:
     """One raw input frame; with ground truth, a second panel circles where the targets are."""
     panels = 2 if truth_pixels else 1
-    fig = _figure(5.2 * panels + 0.6, 5.0)
-    axes = fig.subplots(1, panels, squeeze=False)[0]
+    fig, axes = new_figure(5.2 * panels + 0.6, 5.0, ncols=panels, layout="constrained")
+    axes = list(np.atleast_1d(axes))
     lo, hi = np.percentile(frame, [0.5, 99.5])
     for k, ax in enumerate(axes):
         im = ax.imshow(frame, cmap="gray", vmin=lo, vmax=hi, interpolation="nearest")
@@ -49,15 +41,14 @@ def figure_raw_frame(path: pathlib.Path, frame: np.ndarray, index: int, *, input
                            label=f"target {j + 1} at ({pix[0]}, {pix[1]})")
             ax.legend(loc="lower left", fontsize=8, framealpha=0.85)
     fig.colorbar(im, ax=list(axes), shrink=0.8, label="ADC code")
-    fig.savefig(path)
+    save_figure(fig, path)
 
 
 def figure_accumulated(path: pathlib.Path, energy: np.ndarray, candidates: np.ndarray,
                        segment: int, first_frame: int, last_frame: int, *,
                        truth_pixels: list | None = None) -> None:
     """One segment's accumulated image E with its candidate points (and the true targets)."""
-    fig = _figure(6.6, 5.6)
-    ax = fig.subplots()
+    fig, ax = new_figure(6.6, 5.6, layout="constrained")
     lo, hi = np.percentile(energy, [1, 99.9])
     im = ax.imshow(energy, cmap="magma", vmin=lo, vmax=hi, interpolation="nearest")
     ax.scatter(candidates["col"], candidates["row"], s=40, marker="s", facecolors="none",
@@ -72,7 +63,7 @@ def figure_accumulated(path: pathlib.Path, energy: np.ndarray, candidates: np.nd
     ax.set_ylabel("row")
     ax.legend(loc="lower left", fontsize=8, framealpha=0.85)
     fig.colorbar(im, ax=ax, shrink=0.85, label="E (fixed point)")
-    fig.savefig(path)
+    save_figure(fig, path)
 
 
 def figure_tracks(path: pathlib.Path, result, *, truth=None, evaluation=None,
@@ -83,8 +74,7 @@ def figure_tracks(path: pathlib.Path, result, *, truth=None, evaluation=None,
     and tracks of recorded data get the remaining colours.
     """
     cfg = result.cfg
-    fig = _figure(9.4, 6.6)
-    ax = fig.subplots()
+    fig, ax = new_figure(9.4, 6.6, layout="constrained")
     if result.candidates:
         allc = np.concatenate(result.candidates)
         ax.scatter(allc["col"], allc["row"], s=5, c="0.6", marker=".", linewidths=0,
@@ -137,4 +127,4 @@ def figure_tracks(path: pathlib.Path, result, *, truth=None, evaluation=None,
     ax.set_ylabel("row")
     ax.set_title(title or f"confirmed tracks ({len(result.tracks)})")
     fig.legend(loc="outside right upper", fontsize=8, framealpha=0.9)
-    fig.savefig(path)
+    save_figure(fig, path)

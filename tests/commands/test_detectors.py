@@ -93,34 +93,39 @@ def test_out_writes_table_csv_json_and_figure_and_never_overwrites(tmp_path, cap
     # an existing folder is refused before any work, and left as it was
     (out / "notes.txt").write_text("mine")
     assert dptbd(TINY + ["--out", str(out)]) == 2
-    assert "exists; pass --force" in capsys.readouterr().err
+    assert capsys.readouterr().err == (f"dptbd detectors: error: --out {out} exists; pass --force "
+                                       f"to replace it, or choose another folder\n")
     assert (out / "notes.txt").read_text() == "mine"
     # --force replaces an earlier dptbd detectors folder as a whole
     assert dptbd(TINY + ["--out", str(out), "--force"]) == 0
     assert not (out / "notes.txt").exists() and (out / "result.json").exists()
+    capsys.readouterr()
     # ... but never a folder it did not write
     foreign = tmp_path / "foreign"
     foreign.mkdir()
     (foreign / "data.csv").write_text("precious")
     assert dptbd(TINY + ["--out", str(foreign), "--force"]) == 2
-    assert "will not replace it" in capsys.readouterr().err
+    assert capsys.readouterr().err == (
+        f"dptbd detectors: error: --out {foreign} is not the folder of an earlier dptbd detectors "
+        f"run (no result.json from it); --force will not replace it\n")
     assert (foreign / "data.csv").read_text() == "precious"
     assert not list(tmp_path.glob(".*partial*"))  # no staging folder left behind
 
 
 @pytest.mark.parametrize("option,name,message", [
-    ("--markdown", "t.md", "exists; pass --force"),
-    ("--figure", "f.png", "exists; pass --force"),
-    ("--figure", "f.jpg", "must end in .png"),
-    ("--markdown", "t.txt", "must end in .md"),
-    ("--markdown", "missing/t.md", "does not exist"),
+    ("--markdown", "t.md", "{option} {path} exists; pass --force to overwrite it"),
+    ("--figure", "f.png", "{option} {path} exists; pass --force to overwrite it"),
+    ("--figure", "f.jpg", "{option} {path} must end in .png"),
+    ("--markdown", "t.txt", "{option} {path} must end in .md"),
+    ("--markdown", "missing/t.md", "{option} {path}: the folder {path.parent} does not exist"),
 ])
 def test_single_files_are_checked_before_the_run(tmp_path, capsys, option, name, message):
     path = tmp_path / name
     if "missing" not in name:
         path.write_text("user file")
     assert dptbd(TINY + [option, str(path)]) == 2
-    assert message in capsys.readouterr().err
+    message = message.format(option=option, path=path)
+    assert capsys.readouterr().err == f"dptbd detectors: error: {message}\n"
     if path.exists():
         assert path.read_text() == "user file"
 
@@ -135,7 +140,8 @@ def test_force_overwrites_single_files(tmp_path):
 def test_single_file_inside_out_is_refused(tmp_path, capsys):
     out = tmp_path / "cmp"
     assert dptbd(TINY + ["--out", str(out), "--markdown", str(out / "t.md")]) == 2
-    assert "inside --out" in capsys.readouterr().err
+    assert capsys.readouterr().err == (f"dptbd detectors: error: {out / 't.md'} is inside --out "
+                                       f"{out}, which is written as a whole\n")
 
 
 def test_set_passes_parameters_to_the_detectors(tmp_path):

@@ -1,20 +1,23 @@
-"""The tables, files and figure of ``dptbd detectors`` (:func:`.compare.run_comparison`'s result).
+"""The tables, files and figure of ``dptbd detectors``: a :func:`.compare.run_comparison`
+result as a Markdown table, CSV records, ``result.json`` and the Pd-vs-SNR figure.
 """
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import json
-import os
 import pathlib
-import shutil
-import tempfile
 
 from dptbd.evaluation.detectors.compare import CompareResult
 from dptbd.evaluation.stats import wilson_interval
+from dptbd.figures import new_figure, save_figure
+from dptbd.output_folder import staged_folder
 
-__all__ = ["format_table", "plot", "rows", "write_folder", "MARKER", "OUT_FILES"]
+__all__ = ["DEFAULT_SNRS_DB", "TOOL", "OUT_FILES", "format_table", "figure_pd_vs_snr",
+           "describe_run", "rows", "write_folder"]
+
+#: SNRs (dB) of each scene kind when none are given
+DEFAULT_SNRS_DB = {"rd": (0.0, 3.0, 6.0, 9.0, 12.0, 15.0), "image": (4.0, 6.0, 8.0, 10.0, 12.0, 14.0)}
 
 
 def format_table(res: CompareResult) -> str:
@@ -35,12 +38,9 @@ def format_table(res: CompareResult) -> str:
     return "\n".join(lines)
 
 
-def plot(res: CompareResult, path: pathlib.Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=100)
+def figure_pd_vs_snr(res: CompareResult, path: pathlib.Path) -> None:
+    """Pd (95 % Wilson interval bars) against SNR, one line per detector, as PNG."""
+    fig, ax = new_figure(6.4, 4.2, dpi=100)
     for name in res.detectors:
         pd = [res.detections[(name, s)].rate for s in res.snrs_db]
         ci = [wilson_interval(res.detections[(name, s)].hits, res.detections[(name, s)].total)
@@ -57,12 +57,24 @@ def plot(res: CompareResult, path: pathlib.Path) -> None:
                  fontsize=10)
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    save_figure(fig, path)
+
+
+def describe_run(res: CompareResult, seconds: float, settings: list[str] = ()) -> str:
+    """The line under the table: scenes, scoring, calibration, preset channel, seed, time and
+    the ``--set`` parameters."""
+    p = res.params
+    return (f"{p['scene']} scenes, {p['frames']} frames, frames {p['first_frame']}..{p['frames'] - 1} scored, "
+            f"{p['trials']} target scenes per SNR, {p['noise_trials']} noise-only scenes, "
+            f"Pfa {p['false_alarm_rate']:g} per decision, preset SNR channel "
+            f"{'matched' if p['matched'] else str(p['preset_snr_db']) + ' dB'}, gate {p['gate']} cell, "
+            f"seed {p['seed']}, {seconds:.0f} s"
+            + (f"; --set {' '.join(settings)}" if settings else ""))
 
 
 #: ``result.json``'s ``tool`` field: marks a folder that ``--force`` may replace
-MARKER = "dptbd detectors"
+TOOL = "dptbd detectors"
+#: The files of the ``--out`` folder
 OUT_FILES = ("table.md", "table.csv", "result.json", "pd_vs_snr.png")
 
 
@@ -82,38 +94,13 @@ def rows(res: CompareResult) -> list[dict]:
     return out
 
 
-def _is_out_folder(path: pathlib.Path) -> bool:
-    try:
-        return json.loads((path / "result.json").read_text()).get("tool") == MARKER
-    except (OSError, ValueError, AttributeError):
-        return False
-
-
-@contextlib.contextmanager
-def _staging(out: pathlib.Path):
-    """A temporary folder beside ``out``, renamed to ``out`` only when everything is written."""
-    tmp = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.resolve().parent))
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o777 & ~umask)  # mkdtemp makes it private (0700)
-    try:
-        yield tmp
-        if out.exists():
-            old = out.resolve().parent / f".{out.name}.old-{os.getpid()}"
-            os.rename(out, old)
-            os.rename(tmp, out)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.rename(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-
-
-def write_folder(res: CompareResult, out: pathlib.Path, table: str, note: str, arguments: dict) -> None:
-    """``table.md``, ``table.csv``, ``result.json``, ``pd_vs_snr.png`` into ``out`` (atomically)."""
+def write_folder(res: CompareResult, out: pathlib.Path, table: str, note: str, arguments: dict,
+                 force: bool = False) -> pathlib.Path:
+    """``table.md``, ``table.csv``, ``result.json``, ``pd_vs_snr.png`` into ``out``, all or
+    nothing (:func:`dptbd.output_folder.staged_folder`: ``force`` replaces only an earlier
+    ``dptbd detectors`` folder)."""
     records = rows(res)
-    with _staging(out) as tmp:
+    with staged_folder(out, force, marker="result.json", tool=TOOL) as tmp:
         (tmp / "table.md").write_text(table + "\n\n" + note + "\n")
         with open(tmp / "table.csv", "w", newline="") as fh:
             writer = csv.DictWriter(fh, fieldnames=list(records[0]))
@@ -121,6 +108,7 @@ def write_folder(res: CompareResult, out: pathlib.Path, table: str, note: str, a
             writer.writerows(records)
         params = {k: (list(v) if isinstance(v, tuple) else v) for k, v in res.params.items()}
         (tmp / "result.json").write_text(json.dumps(
-            dict(tool=MARKER, arguments=arguments, note=note, params=params, rows=records), indent=1,
+            dict(tool=TOOL, arguments=arguments, note=note, params=params, rows=records), indent=1,
             default=str) + "\n")
-        plot(res, tmp / "pd_vs_snr.png")
+        figure_pd_vs_snr(res, tmp / "pd_vs_snr.png")
+    return out
