@@ -41,6 +41,7 @@ import pathlib
 import sys
 import time
 
+from dptbd.commands.options import add_simulator_arguments
 from dptbd.evaluation.run_job import effective_scenario, run_job
 from dptbd.evaluation.run_report import RUN_FILES, TOOL, write_run_folder
 from dptbd.evaluation.run_rtl import RtlCheck, RtlError, rtl_tools_missing
@@ -78,17 +79,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                          "(dptbd_seg: DP + segmenter, every candidate-list word) with gateware "
                          "lists, the DP pipeline (dptbd_dp, every (E, d) word) with --lists "
                          "ideal")
-    dp.add_argument("--rtl-simulator", choices=("verilator", "icarus"), default="verilator",
-                    help="simulator of --rtl: verilator (default: compiled and cached, a few "
-                         "seconds for 100 frames of 128 x 128 once built) or icarus (cocotb + "
-                         "Icarus, about 12 min for the same)")
+    add_simulator_arguments(dp, prefix="rtl-", of=" of --rtl")
     dp.add_argument("--rtl-frames", type=int, default=0, metavar="N",
                     help="frames to simulate with --rtl (default 0: all; N: the first N, the "
                          "rest come from the model only, as the summary says)")
-    dp.add_argument("--rtl-build-dir", type=pathlib.Path, default=None, metavar="DIR",
-                    help="build cache of --rtl (default: Verilator's shared cache, "
-                         "$DPTBD_BUILD_DIR/verilator or ~/.cache/dptbd/verilator; Icarus "
-                         "build/sim)")
     out = parser.add_argument_group("output")
     out.add_argument("--out", type=pathlib.Path, default=pathlib.Path("dptbd-run"), metavar="DIR",
                      help="output folder, must not exist (default dptbd-run)")

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import dataclasses
 import pathlib
-import shutil
 import time
 from typing import Callable
 
@@ -30,22 +29,9 @@ class RtlError(RuntimeError):
 def rtl_tools_missing(simulator: str) -> str | None:
     """Why ``--rtl`` cannot run here with ``simulator`` (a sentence naming the missing tool
     and the other simulator), or None."""
-    if simulator == "verilator":
-        from dptbd.sim import verilator
+    from dptbd.evaluation.sim_job import simulator_tools_missing
 
-        try:
-            verilator.check_tools()
-        except verilator.ToolMissingError as exc:
-            # check_tools names `dptbd sim`'s fallback; here it is --rtl-simulator
-            return (f"--rtl: {exc}".replace("(dptbd sim --simulator icarus)",
-                                             "(--rtl-simulator icarus)"))
-        return None
-    missing = [t for t in ("iverilog", "vvp") if shutil.which(t) is None]
-    if missing:
-        return (f"--rtl-simulator icarus needs Icarus Verilog ({' and '.join(missing)} not on "
-                f"the PATH); install it (bash scripts/setup.sh setup) or use "
-                f"--rtl-simulator verilator")
-    return None
+    return simulator_tools_missing(simulator, "--rtl-simulator")
 
 
 @dataclasses.dataclass(frozen=True)

@@ -312,18 +312,6 @@ def test_rtl_on_icarus_checks_the_generated_verilog_against_the_model(tmp_path, 
     assert rtl["cycles_per_second"] > 0
 
 
-@pytest.fixture
-def no_verilator(monkeypatch):
-    from dptbd.sim import verilator
-
-    real = shutil.which
-    monkeypatch.setattr(shutil, "which",
-                        lambda name, *a, **k: None if name == "verilator" else real(name, *a, **k))
-    verilator.check_tools.cache_clear()
-    yield
-    verilator.check_tools.cache_clear()
-
-
 def test_rtl_without_verilator_is_refused_before_any_work(tmp_path, small, capsys, no_verilator):
     out = tmp_path / "r"
     assert main(["run", "--no-progress", "--scenario", str(small), "--rtl",
