@@ -64,7 +64,8 @@ def test_table1_refuses_bad_trials_and_overwrite(tmp_path, capsys):
     existing = tmp_path / "t.md"
     existing.write_text("mine")
     assert main(["table1", "--trials", "1", "--markdown", str(existing)]) == 2
-    assert "pass --force" in capsys.readouterr().err
+    assert capsys.readouterr().err == (f"dptbd table1: error: --markdown {existing} exists; pass "
+                                       f"--force to overwrite it\n")
     assert existing.read_text() == "mine"
 
 

@@ -9,6 +9,7 @@ import time
 from dptbd.config import ConfigError
 from dptbd.evaluation.stats import wilson_interval
 from dptbd.evaluation.table1 import DETECTORS, PAPER_TABLE1, Table1Row, run_table1
+from dptbd.output_folder import check_output_file, write_new_text
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -49,8 +50,7 @@ def format_table(rows: list[Table1Row]) -> str:
 
 
 def main(args: argparse.Namespace) -> int:
-    if args.markdown is not None and args.markdown.exists() and not args.force:
-        raise FileExistsError(f"{args.markdown} exists; pass --force to overwrite it")
+    check_output_file(args.markdown, "--markdown", args.force, ".md")
     rtl = getattr(args, "rtl", False)
     stride = args.segment_stride
     chosen = ""
@@ -83,5 +83,5 @@ def main(args: argparse.Namespace) -> int:
     print(table)
     print(note)
     if args.markdown is not None:
-        args.markdown.write_text(table + "\n\n" + note + "\n")
+        write_new_text(args.markdown, table + "\n\n" + note + "\n", args.force)
     return 0
