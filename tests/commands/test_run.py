@@ -1,6 +1,8 @@
 """``dptbd run``, the main job: what it writes, its options, overwriting, recorded data, and
 bad input refused with a clear message (exit 2) and nothing left in the output folder."""
 
+import contextlib
+import io
 import json
 import re
 import shutil
@@ -445,3 +447,41 @@ def test_scenario_file_with_recorded_data_is_named_after_it(tmp_path):
     assert sc.name == "clip.npz" and sc.input_path == tmp_path / "clip.npz"
     sc = parse_scenario({"name": "mine", "input": {"path": "clip.npz"}}, tmp_path)
     assert sc.name == "mine"
+
+
+@pytest.fixture(scope="module")
+def default_run(tmp_path_factory):
+    """``dptbd run`` with no scene options (the built-in scenario, seed 0), run once for
+    this module: (printed output, summary.json)."""
+    out = tmp_path_factory.mktemp("run") / "r"
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert main(["run", "--no-progress", "--out", str(out)]) == 0
+    return buf.getvalue(), json.loads((out / "summary.json").read_text())
+
+
+def test_run_prints_the_first_level_table(default_run):
+    out, _ = default_run
+    assert "| 1 | (30, 100) | (0.8, -0.4) | 16 |" in out
+    assert "| 2 | (54, 40) | (0.4, 0.6) | 16 |" in out
+
+
+def test_default_run_confirms_both_targets_with_sane_figures(default_run):
+    _, summary = default_run
+    rows, tracks = summary["table"], {t["track"]: t for t in summary["tracks"]}
+    assert [r["target"] for r in rows] == [1, 2]
+    for r in rows:
+        # a confirmed track on each target, and each of its ids is a track of that target
+        assert r["track_ids"], r
+        assert all(tracks[i]["target"] == r["target"] for i in r["track_ids"])
+        assert 0.0 <= r["pd"] <= 1.0 and r["detections"] <= r["accumulated_frames"] == 16
+        assert r["pd"] == pytest.approx(r["detections"] / 16, abs=1e-4)
+        assert 0.0 <= r["mean_false_points"] <= 33
+        assert 1 <= r["segments_until_confirmation"] <= 16
+        assert 6 <= r["frames_until_output"] <= 100
+        assert 0 <= r["track_length_after_output"] <= r["track_length"] <= 100
+        assert r["frames_until_output"] + r["track_length_after_output"] <= 100
+        assert 0.0 <= r["rms_error"] < 2.5
+    # most confirmed tracks follow a target (seed 0: 3 tracks, 1 false)
+    assert 0 <= summary["false_tracks"] < len(tracks)
+    assert sum(1 for t in tracks.values() if t["target"] == "false") == summary["false_tracks"]
