@@ -1,4 +1,4 @@
-"""Fixtures of the command tests."""
+"""Fixtures shared by the tests."""
 
 import shutil
 
