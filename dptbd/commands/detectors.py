@@ -24,9 +24,6 @@ from dptbd.evaluation.detectors.report import (DEFAULT_SNRS_DB, OUT_FILES, TOOL,
                                                figure_pd_vs_snr, format_table, write_folder)
 from dptbd.output_folder import check_output_file, check_output_folder, write_new_text
 
-HELP = "compare papers 000/001/004's detectors and CA-CFAR at equal false-alarm rate (Pd vs SNR)"
-
-
 def _floats(text: str) -> list[float]:
     try:
         return [float(v) for v in text.split(",") if v.strip()]

@@ -102,7 +102,7 @@ def add_simulator_arguments(group, prefix: str = "", of: str = "") -> None:
                        default="verilator",
                        help=f"simulator{of}: verilator (default: compiled and cached builds, "
                             f"100 frames of 128 x 128 in seconds once built) or icarus (cocotb + "
-                            f"Icarus, 4-state, per-frame progress, minutes for the same)")
+                            f"Icarus, 4-state, minutes for the same)")
     group.add_argument(f"--{prefix}build-dir", type=pathlib.Path, default=None, metavar="DIR",
                        help=f"build root{of}, one directory per parameter set (default: "
                             f"Verilator's shared cache, $DPTBD_BUILD_DIR/verilator or "

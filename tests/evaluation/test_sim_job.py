@@ -35,6 +35,11 @@ def test_sim_config():
     with pytest.raises(ValueError, match=exactly(
             "--candidate-count applies to --design segmenter only")):
         sim_config(CFG, "dp", 2)
+    with pytest.raises(ConfigError, match=exactly(
+            "--design segmenter: n = 0 candidate points per segment (0.2 % of 16x12 = 192 "
+            "pixels rounds to 0) gives a segmenter that emits no points; give "
+            "--candidate-count 1 … 192")):
+        sim_config(CFG, "segmenter")
 
 
 def test_sim_frames(tmp_path):
