@@ -25,7 +25,7 @@ import numpy as np
 
 from dptbd.evaluation.detectors import paper000, paper004, unified
 from dptbd.evaluation.detectors.compare import SceneSpec, run_comparison
-from dptbd.evaluation.stats import wilson_interval
+from dptbd.evaluation.detectors.report import figure_pd_vs_snr, format_table
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -176,24 +176,18 @@ def bench_scenario1(runs: int, frames: int, presets: list[float], figures: pathl
                 seconds=time.perf_counter() - t0)
 
 
-def _compare_table(res) -> str:
-    from dptbd.commands.detect_compare import format_table
-    return format_table(res)
-
-
 def bench_scenario2(trials: int, noise_trials: int, pfa: float, jobs: int, matched: bool,
                     figures: pathlib.Path | None) -> dict:
-    from dptbd.commands.detect_compare import plot
     spec = SceneSpec(kind="rd", frames=50, crop=(0, 0, 200, 500))
     dets = ["dw-dp", "info", "grid-bayes", "ca-cfar"]
     t0 = time.perf_counter()
     res = run_comparison(dets, snrs_db=[0.0, 3.0, 6.0, 9.0, 12.0, 15.0], spec=spec, trials=trials,
                          noise_trials=noise_trials, false_alarm_rate=pfa, matched=matched, jobs=jobs,
                          progress=True)
-    print(_compare_table(res))
+    print(format_table(res))
     if figures is not None:
-        plot(res, figures / ("p004_scenario2_matched.png" if matched else "p004_scenario2.png"))
-    return dict(table=_compare_table(res), params={k: str(v) for k, v in res.params.items()},
+        figure_pd_vs_snr(res, figures / ("p004_scenario2_matched.png" if matched else "p004_scenario2.png"))
+    return dict(table=format_table(res), params={k: str(v) for k, v in res.params.items()},
                 seconds=time.perf_counter() - t0)
 
 

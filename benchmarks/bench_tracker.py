@@ -38,13 +38,12 @@ def _value(text: str):
 def run_seed(seed: int, association: dict, snr: float | None = None, lists: str = "gateware",
              dp: dict | None = None, headroom: float = 2.0) -> dict:
     """The built-in scenario with one seed through both stages; per-target metrics."""
-    from dptbd.dsp.chain import run_pipeline, segmenter_settings
-    from dptbd.scenes.synthetic import quantise
-    from dptbd.model.segmentation import count_for_rate
+    from dptbd.dsp.chain import run_pipeline
     from dptbd.dsp.track_metrics import evaluate_tracks
+    from dptbd.evaluation.run_job import prepare
     from dptbd.evaluation.scenario import default_scenario
 
-    changes = {"seed": seed, "association": association}
+    changes = {"seed": seed, "association": association, "lists": lists}
     if snr is not None:
         changes["snr"] = snr
     sc = default_scenario()
@@ -52,14 +51,10 @@ def run_seed(seed: int, association: dict, snr: float | None = None, lists: str 
         changes["dp"] = {**sc.dp, **dp}
     sc = sc.replace(**changes)
     sc.check()
-    scene = sc.make_scene()
-    frames = quantise(scene.frames, sc.adc_bits, gain=sc.adc_gain, offset=sc.adc_offset)
-    cfg = sc.dp_config(height=sc.height, width=sc.width, input_bits=sc.adc_bits)
-    count = count_for_rate(sc.false_alarm_rate, sc.height * sc.width)
-    assoc = sc.assoc_config()
-    cfg = segmenter_settings(cfg, frames, count, assoc, headroom)
-    res = run_pipeline(frames, cfg, count, assoc, lists=lists)
-    ev = evaluate_tracks(res.tracks, res.positions, scene.truth, cfg, len(res.segments.end_frames))
+    inp = prepare(sc, headroom=headroom)      # the data and parameters exactly as dptbd run
+    res = run_pipeline(inp.frames, inp.cfg, inp.count, inp.assoc, lists=lists)
+    ev = evaluate_tracks(res.tracks, res.positions, inp.truth, inp.cfg,
+                         len(res.segments.end_frames))
     return {"seed": seed, "false_tracks": ev.false_tracks, "confirmed": ev.confirmed_tracks,
             "targets": [{"frames_until_output": t.frames_until_output,
                          "track_length": t.track_frames,

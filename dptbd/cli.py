@@ -24,7 +24,7 @@ COMMANDS = {
                "verification campaign: >= 10^8 RTL words on Verilator against the golden model"),
     "compare": ("dptbd.commands.compare",
                 "fixed vs float detection: Monte Carlo Pd/Pfa, SNR loss, bit-width sweep with iCE40 cost"),
-    "detectors": ("dptbd.commands.detect_compare",
+    "detectors": ("dptbd.commands.detectors",
                   "papers 000/001/004's detectors and CA-CFAR on the same scenes at equal Pfa (Pd vs SNR)"),
 }
 

@@ -53,6 +53,7 @@ def check_output_folder(out: pathlib.Path, force: bool, *, marker: str, tool: st
     """
     out = out.expanduser()
     resolved = out.resolve()
+    job = tool if tool.endswith(" run") else f"{tool} run"  # "dptbd run", "dptbd compare run"
     if not resolved.parent.is_dir():
         raise FileNotFoundError(f"{option} {out}: the folder {out.parent} does not exist")
     cwd = pathlib.Path.cwd().resolve()
@@ -65,9 +66,9 @@ def check_output_folder(out: pathlib.Path, force: bool, *, marker: str, tool: st
                                   f"choose another folder")
         if out.is_symlink() or not out.is_dir():
             raise FileExistsError(f"{option} {out} exists and is not a folder; --force replaces "
-                                  f"only the folder of an earlier {tool} run")
+                                  f"only the folder of an earlier {job}")
         if any(out.iterdir()) and not written_by(out, marker, tool):
-            raise FileExistsError(f"{option} {out} is not the folder of an earlier {tool} run "
+            raise FileExistsError(f"{option} {out} is not the folder of an earlier {job} "
                                   f"(no {marker} from it); --force will not replace it")
     return out
 

@@ -7,8 +7,9 @@ import pathlib
 import time
 
 from dptbd.config import ConfigError
-from dptbd.evaluation.stats import wilson_interval
-from dptbd.evaluation.table1 import DETECTORS, PAPER_TABLE1, Table1Row, run_table1
+from dptbd.evaluation.table1 import run_table1
+from dptbd.evaluation.table1_report import format_table
+from dptbd.output_folder import check_output_file, write_new_text
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -28,29 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "against the golden model; needs stride = K (docs/table1.md)")
 
 
-def format_table(rows: list[Table1Row]) -> str:
-    """Paper 001's Table 1 beside the measured first-level Pd (95 % Wilson CI) and false points."""
-    head = ["SNR", "V", "paper Pd", "paper false pts"]
-    for name in DETECTORS:
-        head += [f"{name} Pd [95% CI]", f"{name} false pts"]
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    by_setting: dict = {}
-    for row in rows:
-        by_setting.setdefault((row.snr, row.velocity), {})[row.detector] = row.counts
-    for (snr, vel), counts in by_setting.items():
-        paper = PAPER_TABLE1[(snr, vel)]
-        cells = [f"{snr}", f"({vel[0]:g}, {vel[1]:g})", f"{paper[1]:.2f}", f"{paper[2]:.1f}"]
-        for name in DETECTORS:
-            c = counts[name]
-            lo, hi = wilson_interval(c.detections, c.opportunities)
-            cells += [f"{c.pd:.2f} [{lo:.2f}, {hi:.2f}]", f"{c.mean_false_points:.1f}"]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
-
-
 def main(args: argparse.Namespace) -> int:
-    if args.markdown is not None and args.markdown.exists() and not args.force:
-        raise FileExistsError(f"{args.markdown} exists; pass --force to overwrite it")
+    check_output_file(args.markdown, "--markdown", args.force, ".md")
     rtl = getattr(args, "rtl", False)
     stride = args.segment_stride
     chosen = ""
@@ -83,5 +63,5 @@ def main(args: argparse.Namespace) -> int:
     print(table)
     print(note)
     if args.markdown is not None:
-        args.markdown.write_text(table + "\n\n" + note + "\n")
+        write_new_text(args.markdown, table + "\n\n" + note + "\n", args.force)
     return 0

@@ -1,15 +1,16 @@
-"""Tables and figures of ``dptbd run``: 001's Table 1 form, track lists, PNG figures.
-
-Figures are drawn with matplotlib's object API (``Figure`` + Agg canvas), never through
-``pyplot``, so no global backend or window is involved.
+"""The report of ``dptbd run``: 001's Table 1 form, track lists, and the output folder
+(:func:`write_run_folder`: tables, CSV, ``summary.json``, ``scenario.toml`` and the figures of
+:mod:`dptbd.evaluation.run_figures`) of a :class:`~dptbd.evaluation.run_job.RunResult`.
 """
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
 import pathlib
+import time
 from typing import Any, Iterable
 
 import numpy as np
@@ -17,10 +18,16 @@ import numpy as np
 from dptbd.evaluation.metrics import first_level_counts
 from dptbd.evaluation.table1 import PAPER_TABLE1
 
-__all__ = ["TABLE_COLUMNS", "table_rows", "format_table", "paper_lines", "track_rows",
-           "format_tracks", "write_csv", "write_json", "figure_raw_frame",
-           "figure_accumulated", "figure_tracks", "segment_for_frame", "segmentation_bits",
-           "format_segmentation_bits"]
+__all__ = ["TOOL", "RUN_FILES", "TABLE_COLUMNS", "table_rows", "format_table", "paper_lines",
+           "track_rows", "format_tracks", "format_run_tables", "write_csv", "write_json",
+           "segment_for_frame", "segmentation_bits", "format_segmentation_bits", "run_summary",
+           "write_run_folder"]
+
+#: ``summary.json``'s ``tool`` field: marks a folder that ``--force`` may replace
+TOOL = "dptbd run"
+#: The files of a run's folder, in the order ``dptbd run`` names them
+RUN_FILES = ("table.md", "table.csv", "tracks.csv", "candidates.csv", "summary.json",
+             "scenario.toml", "raw_frame.png", "accumulated.png", "tracks.png")
 
 #: Columns of the run table, in the form of 001's Table 1 (per target).
 TABLE_COLUMNS = (
@@ -185,6 +192,23 @@ def format_tracks(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def format_run_tables(snr: float, rows: list[dict], tracks: list[dict],
+                      rtl: dict | None = None) -> str:
+    """``table.md``: the per-target table and 001's rows beside it (simulated scenes), the
+    confirmed tracks, and the RTL check's summary line."""
+    text = []
+    if rows:
+        text.append(format_table(rows))
+        paper = paper_lines(snr, rows)
+        if paper:
+            text += ["", paper]
+    text += ["", f"confirmed tracks ({len(tracks)}):", format_tracks(tracks)
+             if tracks else "(none)"]
+    if rtl is not None:
+        text += ["", rtl["summary"]]
+    return "\n".join(text).strip("\n")
+
+
 def write_csv(path: pathlib.Path, rows: list[dict]) -> None:
     """Rows of dicts as CSV; lists become ``a;b`` cells."""
     if not rows:
@@ -218,139 +242,10 @@ def write_json(path: pathlib.Path, obj: Any) -> None:
     path.write_text(json.dumps(_jsonable(obj), indent=2) + "\n")
 
 
-# ---- figures ----------------------------------------------------------------------------
-
-def _figure(width: float, height: float):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(width, height), dpi=110, layout="constrained")
-    FigureCanvasAgg(fig)
-    return fig
-
-
-_COLOURS = ("tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown",
-            "tab:pink", "tab:olive", "tab:cyan")
-
-
 def segment_for_frame(frame: int, end_frames: np.ndarray) -> int:
     """The segment whose last frame is the first at or after ``frame`` (else the last)."""
     later = np.flatnonzero(np.asarray(end_frames) >= frame)
     return int(later[0]) if later.size else len(end_frames) - 1
-
-
-def figure_raw_frame(path: pathlib.Path, frame: np.ndarray, index: int, *, input_bits: int,
-                     truth_pixels: list | None = None) -> None:
-    """One raw input frame; with ground truth, a second panel circles where the targets are."""
-    panels = 2 if truth_pixels else 1
-    fig = _figure(5.2 * panels + 0.6, 5.0)
-    axes = fig.subplots(1, panels, squeeze=False)[0]
-    lo, hi = np.percentile(frame, [0.5, 99.5])
-    for k, ax in enumerate(axes):
-        im = ax.imshow(frame, cmap="gray", vmin=lo, vmax=hi, interpolation="nearest")
-        ax.set_xlabel("column")
-        ax.set_ylabel("row")
-        if k == 0:
-            ax.set_title(f"raw frame {index} ({input_bits}-bit codes)")
-        else:
-            ax.set_title("the same frame: where the targets are")
-            for j, pix in enumerate(truth_pixels):
-                if pix is None:
-                    continue
-                ax.scatter([pix[1]], [pix[0]], s=260, facecolors="none",
-                           edgecolors=_COLOURS[j % len(_COLOURS)], linewidths=1.6,
-                           label=f"target {j + 1} at ({pix[0]}, {pix[1]})")
-            ax.legend(loc="lower left", fontsize=8, framealpha=0.85)
-    fig.colorbar(im, ax=list(axes), shrink=0.8, label="ADC code")
-    fig.savefig(path)
-
-
-def figure_accumulated(path: pathlib.Path, energy: np.ndarray, candidates: np.ndarray,
-                       segment: int, first_frame: int, last_frame: int, *,
-                       truth_pixels: list | None = None) -> None:
-    """One segment's accumulated image E with its candidate points (and the true targets)."""
-    fig = _figure(6.6, 5.6)
-    ax = fig.subplots()
-    lo, hi = np.percentile(energy, [1, 99.9])
-    im = ax.imshow(energy, cmap="magma", vmin=lo, vmax=hi, interpolation="nearest")
-    ax.scatter(candidates["col"], candidates["row"], s=40, marker="s", facecolors="none",
-               edgecolors="cyan", linewidths=1.0, label=f"candidate points ({len(candidates)})")
-    for j, pix in enumerate(truth_pixels or []):
-        if pix is not None:
-            ax.scatter([pix[1]], [pix[0]], s=260, facecolors="none",
-                       edgecolors=_COLOURS[j % len(_COLOURS)], linewidths=1.6,
-                       label=f"target {j + 1} (true)")
-    ax.set_title(f"accumulated energy E, segment {segment} (frames {first_frame}–{last_frame})")
-    ax.set_xlabel("column")
-    ax.set_ylabel("row")
-    ax.legend(loc="lower left", fontsize=8, framealpha=0.85)
-    fig.colorbar(im, ax=ax, shrink=0.85, label="E (fixed point)")
-    fig.savefig(path)
-
-
-def figure_tracks(path: pathlib.Path, result, *, truth=None, evaluation=None,
-                  title: str = "") -> None:
-    """Confirmed tracks (a position per frame) over the ground truth and all candidates.
-
-    A track takes its target's colour (the colours of the other figures); false tracks
-    and tracks of recorded data get the remaining colours.
-    """
-    cfg = result.cfg
-    fig = _figure(9.4, 6.6)
-    ax = fig.subplots()
-    if result.candidates:
-        allc = np.concatenate(result.candidates)
-        ax.scatter(allc["col"], allc["row"], s=5, c="0.6", marker=".", linewidths=0,
-                   label=f"candidate points, all {len(result.candidates)} segments")
-    n_truth = len(truth or [])
-    for j, tt in enumerate(truth or []):
-        vis = tt.visible
-        ax.plot(tt.position[vis, 1], tt.position[vis, 0], "--", color="black", lw=1.0,
-                label="ground truth" if j == 0 else None)
-        first = np.flatnonzero(vis)
-        if first.size:
-            ax.annotate(f"target {j + 1}", (tt.position[first[0], 1], tt.position[first[0], 0]),
-                        textcoords="offset points", xytext=(5, 5), fontsize=9,
-                        color=_COLOURS[j % len(_COLOURS)], fontweight="bold")
-    spare = n_truth
-    for tr in result.tracks:
-        frames, pos, measured = result.positions[tr.id]
-        owner = -1 if evaluation is None else evaluation.track_target.get(tr.id, -1)
-        if owner >= 0:
-            colour = _COLOURS[owner % len(_COLOURS)]
-        else:
-            colour = _COLOURS[spare % len(_COLOURS)]
-            spare += 1
-        what = ("" if evaluation is None else
-                (f" → target {owner + 1}" if owner >= 0 else " (false track)"))
-        ax.plot(pos[:, 1], pos[:, 0], "-", color=colour, lw=2.0, alpha=0.9,
-                label=f"track {tr.id}{what}")
-        gaps = ~measured
-        if gaps.any():
-            ax.plot(np.where(gaps, pos[:, 1], np.nan), np.where(gaps, pos[:, 0], np.nan), "-",
-                    color="white", lw=0.8)
-        conf_frame = tr.confirm_segment * cfg.segment_stride + cfg.segment_frames - 1
-        at = np.flatnonzero(frames == conf_frame)
-        if at.size:
-            ax.scatter([pos[at[0], 1]], [pos[at[0], 0]], marker="*", s=160, color=colour,
-                       edgecolors="black", linewidths=0.6, zorder=5)
-        ax.scatter([pos[0, 1]], [pos[0, 0]], marker="o", s=22, color=colour,
-                   edgecolors="black", linewidths=0.4, zorder=5)
-    if result.tracks:
-        ax.scatter([], [], marker="o", s=22, color="0.5", edgecolors="black", linewidths=0.4,
-                   label="track start")
-        ax.scatter([], [], marker="*", s=120, color="0.5", edgecolors="black", linewidths=0.6,
-                   label="track output (confirmed)")
-        ax.plot([], [], "-", color="0.5", lw=2.0, label="track (thin white core:\n"
-                "missed segments, interpolated)")
-    ax.set_xlim(-0.5, cfg.width - 0.5)
-    ax.set_ylim(cfg.height - 0.5, -0.5)
-    ax.set_aspect("equal")
-    ax.set_xlabel("column")
-    ax.set_ylabel("row")
-    ax.set_title(title or f"confirmed tracks ({len(result.tracks)})")
-    fig.legend(loc="outside right upper", fontsize=8, framealpha=0.9)
-    fig.savefig(path)
 
 
 def iter_track_positions(result, evaluation=None) -> Iterable[dict]:
@@ -424,3 +319,94 @@ def format_segmentation_bits(sb: dict) -> str:
             f"records + trailer, {sb['word_bits']}-bit words): {d['reduction']:.0f}x fewer; "
             f"the gateware segmenter's (previous segment's histogram) {g['bits_mean']:.0f} bits "
             f"({g['records_mean']:.1f} records): {g['reduction']:.0f}x fewer")
+
+
+def run_summary(result, seconds: float) -> dict:
+    """``summary.json`` of a :class:`~dptbd.evaluation.run_job.RunResult`."""
+    from dptbd import __version__
+
+    inp, pipeline = result.input, result.pipeline
+    cfg, (n_frames, height, width) = inp.cfg, inp.frames.shape
+    seg = segment_for_frame(inp.report_frame, pipeline.segments.end_frames)
+    return {
+        "tool": TOOL, "version": __version__,
+        "source": inp.source,
+        "scenario": result.scenario.to_dict(),
+        "dp_config": cfg.to_mapping(),
+        "association_config": dataclasses.asdict(inp.assoc),
+        "frames": n_frames, "height": height, "width": width, "input_bits": inp.input_bits,
+        "accumulated_frames": len(pipeline.segments.end_frames),
+        "segment_end_frames": pipeline.segments.end_frames,
+        "candidates_per_frame": inp.count,
+        "lists": result.scenario.lists,
+        "segmenter": {"histogram_bits": cfg.histogram_bits, "histogram_shift": cfg.bin_shift,
+                      "histogram_shift_from": inp.shift_from,
+                      "candidate_count": cfg.n_candidates,
+                      "candidate_capacity": cfg.record_capacity},
+        "table": result.rows,
+        "tracks": result.tracks,
+        "false_tracks": None if result.evaluation is None else result.evaluation.false_tracks,
+        "dsp_stats": pipeline.stats,
+        "bits_per_segment": result.segmentation_bits,
+        "rtl": result.rtl if result.rtl is not None else {
+            "checked": False, "summary": "RTL not simulated (golden model only; --rtl "
+                                         "checks the generated Verilog)"},
+        "report_frame": inp.report_frame, "report_segment": seg,
+        "seconds": round(seconds, 2),
+    }
+
+
+def _candidate_rows(pipeline) -> list[dict]:
+    ends = pipeline.segments.end_frames
+    return [{"segment": s, "end_frame": int(ends[s]),
+             "row": int(c["row"]), "col": int(c["col"]), "energy": int(c["energy"]),
+             "direction": int(c["direction"]), "path_start_row": int(c["row0"]),
+             "path_start_col": int(c["col0"])}
+            for s, cs in enumerate(pipeline.candidates) for c in cs]
+
+
+def write_run_folder(result, out: pathlib.Path, force: bool = False) -> pathlib.Path:
+    """Write a run's folder (:data:`RUN_FILES`) through :func:`dptbd.output_folder.staged_folder`:
+    all of it or, on any error, nothing; ``force`` replaces only an earlier run's folder.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder written.
+    """
+    from dptbd.evaluation import run_figures
+    from dptbd.output_folder import staged_folder
+
+    inp, pipeline, evaluation = result.input, result.pipeline, result.evaluation
+    truth, cfg = inp.truth, inp.cfg
+    n_frames = inp.frames.shape[0]
+    seg = segment_for_frame(inp.report_frame, pipeline.segments.end_frames)
+    seg_first = seg * cfg.segment_stride
+    seg_last = int(pipeline.segments.end_frames[seg])
+
+    def truth_at(t: int) -> list | None:
+        if not truth:
+            return None
+        return [None if not tt.visible[t] else (int(tt.pixel[t, 0]), int(tt.pixel[t, 1]))
+                for tt in truth]
+
+    with staged_folder(out, force, marker="summary.json", tool=TOOL) as tmp:
+        (tmp / "table.md").write_text(result.table_text + "\n")
+        write_csv(tmp / "table.csv", result.rows if result.rows else result.tracks)
+        write_csv(tmp / "tracks.csv", list(iter_track_positions(pipeline, evaluation)))
+        write_csv(tmp / "candidates.csv", _candidate_rows(pipeline))
+        (tmp / "scenario.toml").write_text(result.scenario.to_toml())
+        run_figures.figure_raw_frame(tmp / "raw_frame.png", inp.frames[inp.report_frame],
+                                     inp.report_frame, input_bits=inp.input_bits,
+                                     truth_pixels=truth_at(inp.report_frame))
+        run_figures.figure_accumulated(tmp / "accumulated.png", pipeline.segments.energy[seg],
+                                       pipeline.candidates[seg], seg, seg_first, seg_last,
+                                       truth_pixels=truth_at(seg_last))
+        title = (f"{len(pipeline.tracks)} confirmed track(s)"
+                 + ("" if evaluation is None else f", {evaluation.false_tracks} false")
+                 + f" — {n_frames} frames, {len(pipeline.segments.end_frames)} segments")
+        run_figures.figure_tracks(tmp / "tracks.png", pipeline, truth=truth,
+                                  evaluation=evaluation, title=title)
+        write_json(tmp / "summary.json",
+                   run_summary(result, time.perf_counter() - result.started))
+    return out

@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import argparse
 import csv
 import json
+import re
 
 import pytest
 
 from dptbd.cli import main as dptbd
+from dptbd.commands import detectors as detectors_command
+from dptbd.evaluation.detectors import DetectorError
 
 #: the smallest real run: CA-CFAR on 9-frame images, 2 scored frames per scene
 TINY = ["detectors", "--detectors", "ca-cfar", "--scene", "image", "--snr", "12", "--frames", "9",
@@ -93,34 +97,39 @@ def test_out_writes_table_csv_json_and_figure_and_never_overwrites(tmp_path, cap
     # an existing folder is refused before any work, and left as it was
     (out / "notes.txt").write_text("mine")
     assert dptbd(TINY + ["--out", str(out)]) == 2
-    assert "exists; pass --force" in capsys.readouterr().err
+    assert capsys.readouterr().err == (f"dptbd detectors: error: --out {out} exists; pass --force "
+                                       f"to replace it, or choose another folder\n")
     assert (out / "notes.txt").read_text() == "mine"
     # --force replaces an earlier dptbd detectors folder as a whole
     assert dptbd(TINY + ["--out", str(out), "--force"]) == 0
     assert not (out / "notes.txt").exists() and (out / "result.json").exists()
+    capsys.readouterr()
     # ... but never a folder it did not write
     foreign = tmp_path / "foreign"
     foreign.mkdir()
     (foreign / "data.csv").write_text("precious")
     assert dptbd(TINY + ["--out", str(foreign), "--force"]) == 2
-    assert "will not replace it" in capsys.readouterr().err
+    assert capsys.readouterr().err == (
+        f"dptbd detectors: error: --out {foreign} is not the folder of an earlier dptbd detectors "
+        f"run (no result.json from it); --force will not replace it\n")
     assert (foreign / "data.csv").read_text() == "precious"
     assert not list(tmp_path.glob(".*partial*"))  # no staging folder left behind
 
 
 @pytest.mark.parametrize("option,name,message", [
-    ("--markdown", "t.md", "exists; pass --force"),
-    ("--figure", "f.png", "exists; pass --force"),
-    ("--figure", "f.jpg", "must end in .png"),
-    ("--markdown", "t.txt", "must end in .md"),
-    ("--markdown", "missing/t.md", "does not exist"),
+    ("--markdown", "t.md", "{option} {path} exists; pass --force to overwrite it"),
+    ("--figure", "f.png", "{option} {path} exists; pass --force to overwrite it"),
+    ("--figure", "f.jpg", "{option} {path} must end in .png"),
+    ("--markdown", "t.txt", "{option} {path} must end in .md"),
+    ("--markdown", "missing/t.md", "{option} {path}: the folder {path.parent} does not exist"),
 ])
 def test_single_files_are_checked_before_the_run(tmp_path, capsys, option, name, message):
     path = tmp_path / name
     if "missing" not in name:
         path.write_text("user file")
     assert dptbd(TINY + [option, str(path)]) == 2
-    assert message in capsys.readouterr().err
+    message = message.format(option=option, path=path)
+    assert capsys.readouterr().err == f"dptbd detectors: error: {message}\n"
     if path.exists():
         assert path.read_text() == "user file"
 
@@ -135,7 +144,8 @@ def test_force_overwrites_single_files(tmp_path):
 def test_single_file_inside_out_is_refused(tmp_path, capsys):
     out = tmp_path / "cmp"
     assert dptbd(TINY + ["--out", str(out), "--markdown", str(out / "t.md")]) == 2
-    assert "inside --out" in capsys.readouterr().err
+    assert capsys.readouterr().err == (f"dptbd detectors: error: {out / 't.md'} is inside --out "
+                                       f"{out}, which is written as a whole\n")
 
 
 def test_set_passes_parameters_to_the_detectors(tmp_path):
@@ -147,3 +157,30 @@ def test_set_passes_parameters_to_the_detectors(tmp_path):
     assert dptbd(TINY + ["--out", str(base)]) == 0
     thr = [float(next(csv.DictReader(open(d / "table.csv")))["threshold"]) for d in (out, base)]
     assert thr[0] != thr[1]  # 8 reference cells: a different ratio statistic on the same noise
+
+
+def run_cli(argv):
+    parser = argparse.ArgumentParser()
+    detectors_command.add_arguments(parser)
+    return detectors_command.main(parser.parse_args(argv))
+
+
+def test_command_writes_table_and_figure(tmp_path, capsys):
+    md, png = tmp_path / "t.md", tmp_path / "f.png"
+    assert run_cli(["--detectors", "ca-cfar,dw-dp", "--scene", "image", "--snr", "8", "--frames", "9",
+                    "--trials", "2", "--noise-trials", "5", "--pfa", "0.1", "--jobs", "1",
+                    "--markdown", str(md), "--figure", str(png)]) == 0
+    out = capsys.readouterr().out
+    assert "| `ca-cfar` |" in out and "| `dw-dp` |" in out and "image scenes, 9 frames" in out
+    assert md.read_text().startswith("| detector | 8 dB |")
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    with pytest.raises(FileExistsError, match=rf"^--markdown {re.escape(str(md))} exists; pass --force to "
+                                              r"overwrite it$"):
+        run_cli(["--markdown", str(md)])
+    with pytest.raises(DetectorError, match=(r"^unknown detector 'foo'; known: dw-dp, "
+                                             r"dp-amplitude, dp-penalty, dp-likelihood, info, "
+                                             r"grid-bayes, ca-cfar$")):
+        run_cli(["--detectors", "info,foo"])
+    with pytest.raises(DetectorError, match=(r"^false_alarm_rate must be a finite real number "
+                                             r"in \(0, 1\), got 2\.0$")):
+        run_cli(["--detectors", "ca-cfar", "--pfa", "2", "--jobs", "1"])

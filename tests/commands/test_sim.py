@@ -1,10 +1,9 @@
-"""``dptbd verilog`` and ``dptbd sim``: outputs, refusals before any simulation (both
-simulators), missing tools, Verilator's build cache."""
+"""``dptbd sim``: refusals before any simulation (both simulators), missing tools, the
+summary on both simulators, Verilator's build cache."""
 
 from __future__ import annotations
 
 import argparse
-import json
 import re
 import shutil
 
@@ -13,7 +12,6 @@ import pytest
 
 from dptbd import cli
 from dptbd.commands import sim as sim_command
-from dptbd.commands import verilog as verilog_command
 from dptbd.config import ConfigError
 from dptbd.sim import verilator
 
@@ -23,95 +21,6 @@ def parse(module, argv):
     module.add_arguments(parser)
     return parser.parse_args([str(a) for a in argv])
 
-
-def test_verilog_writes_module_and_manifest(tmp_path, capsys):
-    out = tmp_path / "rtl" / "dp.v"
-    args = parse(verilog_command, ["-o", out, "--width", 13, "--height", 7, "--radius", 2,
-                                   "--rounding", "half_up"])
-    assert verilog_command.main(args) == 0
-    text = out.read_text()
-    assert "module dptbd_dp(" in text
-    manifest = json.loads((tmp_path / "rtl" / "dp.json").read_text())
-    assert manifest["parameters"]["width"] == 13 and manifest["parameters"]["radius"] == 2
-    assert manifest["parameters"]["rounding"] == "half_up"
-    assert manifest["latency"] == 15
-    names = {p["name"]: p for p in manifest["ports"]}
-    assert {"clk", "rst", "pixels__payload", "states__payload", "lut_we"} <= set(names)
-    assert names["pixels__payload"]["width"] == 9                   # B_in + first
-    assert "latency 15 cycles" in capsys.readouterr().out
-
-
-def test_verilog_refuses_to_overwrite_without_force(tmp_path):
-    out = tmp_path / "dp.v"
-    out.write_text("mine")
-    args = parse(verilog_command, ["-o", out, "--width", 8, "--height", 6])
-    with pytest.raises(FileExistsError, match="--force"):
-        verilog_command.main(args)
-    assert out.read_text() == "mine" and not (tmp_path / "dp.json").exists()
-    (tmp_path / "other.json").write_text("{}")          # an existing manifest counts too
-    with pytest.raises(FileExistsError, match="other.json"):
-        verilog_command.main(parse(verilog_command, ["-o", tmp_path / "other.v"]))
-    assert verilog_command.main(parse(verilog_command, ["-o", out, "--width", 8, "--height", 6,
-                                                        "--force"])) == 0
-    assert out.read_text().count("module dptbd_dp(") == 1
-
-
-def test_verilog_reads_toml_and_options_override_it(tmp_path):
-    toml = tmp_path / "p.toml"
-    toml.write_text('width = 10\nheight = 8\nsegment_frames = 3\nrounding = "half_up"\n'
-                    'weight_frac_bits = 4\n')
-    out = tmp_path / "dp.v"
-    assert verilog_command.main(parse(verilog_command, ["-o", out, "--config", toml,
-                                                        "--height", 9])) == 0
-    params = json.loads(out.with_suffix(".json").read_text())["parameters"]
-    assert (params["width"], params["height"], params["segment_frames"]) == (10, 9, 3)
-    assert (params["rounding"], params["weight_frac_bits"]) == ("half_up", 4)
-
-
-def test_verilog_refuses_unknown_toml_keys_and_bad_values(tmp_path):
-    toml = tmp_path / "p.toml"
-    toml.write_text("width = 10\nhieght = 8\n")
-    with pytest.raises(ConfigError, match=r"unknown parameter\(s\) \['hieght'\]"):
-        verilog_command.main(parse(verilog_command, ["-o", tmp_path / "a.v", "--config", toml]))
-    toml.write_text("width = [1, 2\n")
-    with pytest.raises(ConfigError, match="not valid TOML"):
-        verilog_command.main(parse(verilog_command, ["-o", tmp_path / "a.v", "--config", toml]))
-    with pytest.raises(ConfigError, match=r"^radius must be an integer in \[1, 2\], got 3$"):
-        verilog_command.main(parse(verilog_command, ["-o", tmp_path / "a.v", "--radius", 3]))
-    assert not list(tmp_path.glob("*.v"))
-
-
-@pytest.mark.parametrize("argv, radius, style", [
-    ([], 1, "logic"), (["--lut-style", "auto", "--radius", 2], 2, "bram"),
-    (["--lut-style", "bram"], 1, "bram"), (["--lut-style", "logic", "--radius", 2], 2, "logic"),
-])
-def test_verilog_lut_style(tmp_path, capsys, argv, radius, style):
-    """--lut-style: the attribute on the LUT's column memories, the manifest, the summary."""
-    out = tmp_path / "dp.v"
-    assert verilog_command.main(parse(verilog_command, ["-o", out, "--width", 9,
-                                                        "--height", 8, *argv])) == 0
-    text = out.read_text()
-    moves = (2 * radius + 1) ** 2
-    assert text.count('(* ram_style = "logic" *)') == (moves if style == "logic" else 0)
-    assert json.loads(out.with_suffix(".json").read_text())["lut_style"] == style
-    assert f"weight LUT in {style}" in capsys.readouterr().out
-
-
-def test_verilog_refuses_an_unknown_lut_style(tmp_path, capsys):
-    with pytest.raises(SystemExit):
-        parse(verilog_command, ["-o", tmp_path / "a.v", "--lut-style", "registers"])
-    assert "invalid choice: 'registers'" in capsys.readouterr().err
-
-
-def test_narrow_energy_width_warns_but_builds(tmp_path, capsys):
-    out = tmp_path / "dp.v"
-    args = parse(verilog_command, ["-o", out, "--width", 8, "--height", 6, "--input-bits", 6,
-                                   "--energy-bits", 7])
-    assert verilog_command.main(args) == 0
-    assert "warning: energy_bits=7 saturates" in capsys.readouterr().err
-
-
-# ---- dptbd sim ------------------------------------------------------------------------
 
 def exactly(message):
     """``pytest.raises(match=…)`` for the whole message."""
@@ -198,17 +107,6 @@ def test_sim_refuses_an_unknown_simulator_or_design(capsys):
         assert capsys.readouterr().err.splitlines()[-1].endswith(err)
 
 
-@pytest.fixture
-def no_verilator(monkeypatch):
-    """``shutil.which`` finds no ``verilator``; ``check_tools``' cache cleared around it."""
-    real = shutil.which
-    monkeypatch.setattr(shutil, "which",
-                        lambda name, *a, **k: None if name == "verilator" else real(name, *a, **k))
-    verilator.check_tools.cache_clear()
-    yield
-    verilator.check_tools.cache_clear()
-
-
 NO_VERILATOR = ("compiled RTL simulation needs verilator (Debian package 'verilator'); install "
                 "it (bash scripts/setup.sh setup) or use the Icarus simulator instead (dptbd sim "
                 "--simulator icarus)")
@@ -266,21 +164,11 @@ SMALL = ["--width", 16, "--height", 12, "--segment-frames", 3, "--frames", 4,
 
 
 @VERILATOR
-def test_sim_on_verilator_reports_cycles_and_a_cached_second_build(capsys, verilator_root):
+def test_sim_on_verilator_caches_its_build(capsys, verilator_root):
     root = verilator_root                   # nothing else here builds this key (no waves)
-    args = parse(sim_command, [*SMALL, "--build-dir", root])
-    assert sim_command.main(args) == 0
-    first = capsys.readouterr().out
-    assert "  dptbd_dp on Verilator\n" in first
-    assert "simulated cycles        782 first input to last output  (= T*W*H + latency " \
-           "= 768 + 14)\n" in first
-    assert "frames simulated        4 (768 pixels, 768 states out)\n" in first
-    assert "cycles per pixel        1.01823\n" in first
-    assert re.search(r"^simulator speed         [0-9.]+ M cycles/s \(Verilator: \d+ cycles, "
-                     r"drain included, in ", first, re.M)
-    assert re.search(r"^build                   compiled in [0-9.]+ s \(", first, re.M)
-    assert "verdict                 bit-exact against dptbd.model.fixed: bit-exact: 768 words " \
-           "(4 frames)\n" in first
+    assert sim_command.main(parse(sim_command, [*SMALL, "--build-dir", root])) == 0
+    assert re.search(r"^build                   compiled in [0-9.]+ s \(", capsys.readouterr().out,
+                     re.M)
     assert sim_command.main(parse(sim_command, [*SMALL, "--build-dir", root])) == 0
     second = capsys.readouterr().out
     assert re.search(r"^build                   from the cache in [0-9.]+ s \(", second, re.M)
@@ -288,6 +176,33 @@ def test_sim_on_verilator_reports_cycles_and_a_cached_second_build(capsys, veril
     built = [p.name for p in root.iterdir() if p.name.startswith("16x12")
              and "-dp-" in p.name and "waves" not in p.name]
     assert len(built) == 1, built
+
+
+ICARUS = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
+
+
+@pytest.mark.parametrize("simulator, speed", [
+    pytest.param("verilator", r"[0-9.]+ M cycles/s \(Verilator: \d+ cycles, drain included, in ",
+                 marks=VERILATOR),
+    pytest.param("icarus", r"\d+ cycles/s while streaming \(Icarus: ", marks=ICARUS)])
+def test_sim_reports_the_exact_cycle_count_and_the_verdict(tmp_path, capsys, verilator_root,
+                                                             simulator, speed):
+    waves = tmp_path / "dp.fst"
+    root = verilator_root if simulator == "verilator" else tmp_path / "build"
+    args = parse(sim_command, [*SMALL, "--simulator", simulator, "--waves", waves,
+                               "--build-dir", root])
+    assert sim_command.main(args) == 0
+    out = capsys.readouterr().out
+    assert f"  dptbd_dp on {simulator.capitalize()}\n" in out
+    assert "simulated cycles        782 first input to last output  (= T*W*H + latency " \
+           "= 768 + 14)\n" in out
+    assert "frames simulated        4 (768 pixels, 768 states out)\n" in out
+    assert "cycles per pixel        1.01823\n" in out
+    assert re.search(f"^simulator speed         {speed}", out, re.M)
+    assert f"waveform                {waves.resolve()}\n" in out
+    assert "verdict                 bit-exact against dptbd.model.fixed: bit-exact: 768 words " \
+           "(4 frames)\n" in out
+    assert waves.stat().st_size > 0
 
 
 @VERILATOR
@@ -319,20 +234,3 @@ def test_sim_on_verilator_runs_the_segmenter(capsys, verilator_root):
            "(!= S*K*W*H + latency + 1 = 1170)\n" in out
     assert "verdict                 bit-exact against dptbd.model.fixed and " \
            "dptbd.model.segmentation: bit-exact: 2 lists, 4 records, 6 words\n" in out
-
-
-@pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
-def test_sim_on_icarus_runs_a_scene_and_reports_cycles(tmp_path, capsys):
-    waves = tmp_path / "dp.fst"
-    args = parse(sim_command, [*SMALL, "--simulator", "icarus", "--waves", waves,
-                               "--build-dir", tmp_path / "build"])
-    assert sim_command.main(args) == 0
-    out = capsys.readouterr().out
-    assert "  dptbd_dp on Icarus\n" in out
-    assert "simulated cycles        782 first input to last output  (= T*W*H + latency " \
-           "= 768 + 14)" in out
-    assert "cycles per pixel        1.01823" in out
-    assert re.search(r"^simulator speed         \d+ cycles/s while streaming \(Icarus: ", out,
-                     re.M)
-    assert "verdict                 bit-exact against dptbd.model.fixed" in out
-    assert waves.stat().st_size > 0

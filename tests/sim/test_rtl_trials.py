@@ -57,24 +57,18 @@ def test_accumulate_trials_equals_the_model_and_counts_what_it_checked():
     assert t.lists == 6 and t.runs == 2 and t.list_words == t.records + t.lists
 
 
-def _run_command(tmp_path, name, extra):
-    from dptbd.commands import compare as command
+def _run_job(tmp_path, name, *, workers, rtl=False):
+    """The compare job (the library call behind ``dptbd compare``): its folder and its text."""
+    from dptbd.evaluation.compare import compare_job
 
-    cfg = tmp_path / "c.toml"
-    cfg.write_text(spec_toml(small_spec()))
-    parser = argparse.ArgumentParser()
-    command.add_arguments(parser)
     out = tmp_path / name
-    args = parser.parse_args(["--config", str(cfg), "--out", str(out), "--no-progress", *extra])
-    assert command.main(args) == 0
-    return out
+    outcome = compare_job(small_spec(), out, workers=workers, progress=False, rtl=rtl)
+    return out, outcome.text()
 
 
 def test_small_sweep_gives_identical_tables_on_the_model_and_on_the_rtl(tmp_path, capsys):
-    model = _run_command(tmp_path, "model", ["--workers", "1"])
-    printed_model = capsys.readouterr().out
-    rtl = _run_command(tmp_path, "rtl", ["--workers", "2", "--rtl"])
-    printed_rtl = capsys.readouterr().out
+    model, printed_model = _run_job(tmp_path, "model", workers=1)
+    rtl, printed_rtl = _run_job(tmp_path, "rtl", workers=2, rtl=True)
     for name in ("compare_pd.csv", "compare_pfa.csv", "compare_configs.csv"):
         assert (model / name).read_bytes() == (rtl / name).read_bytes(), name
     summary = json.loads((rtl / "compare_summary.json").read_text())

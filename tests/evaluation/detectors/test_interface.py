@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-import argparse
 import math
 import re
 
 import numpy as np
 import pytest
 
-from dptbd.commands import detect_compare
 from dptbd.config import DPConfig
 from dptbd.evaluation.detectors import DetectorError
 from dptbd.evaluation.detectors.compare import SceneSpec, run_comparison
@@ -175,33 +173,6 @@ def test_comparison_equal_pfa_and_order():
     with pytest.raises(DetectorError, match=(r"^crop row0 must be an integer in \[0, 136\], "
                                              r"got 190$")):
         SceneSpec(crop=(190, 0, 64, 128))
-
-
-def run_cli(argv):
-    parser = argparse.ArgumentParser()
-    detect_compare.add_arguments(parser)
-    return detect_compare.main(parser.parse_args(argv))
-
-
-def test_command_writes_table_and_figure(tmp_path, capsys):
-    md, png = tmp_path / "t.md", tmp_path / "f.png"
-    assert run_cli(["--detectors", "ca-cfar,dw-dp", "--scene", "image", "--snr", "8", "--frames", "9",
-                    "--trials", "2", "--noise-trials", "5", "--pfa", "0.1", "--jobs", "1",
-                    "--markdown", str(md), "--figure", str(png)]) == 0
-    out = capsys.readouterr().out
-    assert "| `ca-cfar` |" in out and "| `dw-dp` |" in out and "image scenes, 9 frames" in out
-    assert md.read_text().startswith("| detector | 8 dB |")
-    assert png.read_bytes()[:4] == b"\x89PNG"
-    with pytest.raises(FileExistsError, match=rf"^--markdown {re.escape(str(md))} exists; pass --force to "
-                                              r"overwrite it$"):
-        run_cli(["--markdown", str(md)])
-    with pytest.raises(DetectorError, match=(r"^unknown detector 'foo'; known: dw-dp, "
-                                             r"dp-amplitude, dp-penalty, dp-likelihood, info, "
-                                             r"grid-bayes, ca-cfar$")):
-        run_cli(["--detectors", "info,foo"])
-    with pytest.raises(DetectorError, match=(r"^false_alarm_rate must be a finite real number "
-                                             r"in \(0, 1\), got 2\.0$")):
-        run_cli(["--detectors", "ca-cfar", "--pfa", "2", "--jobs", "1"])
 
 
 def test_peak_mask_and_crossing():

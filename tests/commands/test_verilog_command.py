@@ -1,0 +1,104 @@
+"""``dptbd verilog``: the module and its manifest, overwriting, TOML parameters, LUT style."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import pytest
+
+from dptbd.commands import verilog as verilog_command
+from dptbd.config import ConfigError
+
+
+def parse(argv):
+    parser = argparse.ArgumentParser()
+    verilog_command.add_arguments(parser)
+    return parser.parse_args([str(a) for a in argv])
+
+
+def test_verilog_writes_module_and_manifest(tmp_path, capsys):
+    out = tmp_path / "rtl" / "dp.v"
+    args = parse(["-o", out, "--width", 13, "--height", 7, "--radius", 2,
+                                   "--rounding", "half_up"])
+    assert verilog_command.main(args) == 0
+    text = out.read_text()
+    assert "module dptbd_dp(" in text
+    manifest = json.loads((tmp_path / "rtl" / "dp.json").read_text())
+    assert manifest["parameters"]["width"] == 13 and manifest["parameters"]["radius"] == 2
+    assert manifest["parameters"]["rounding"] == "half_up"
+    assert manifest["latency"] == 15
+    names = {p["name"]: p for p in manifest["ports"]}
+    assert {"clk", "rst", "pixels__payload", "states__payload", "lut_we"} <= set(names)
+    assert names["pixels__payload"]["width"] == 9                   # B_in + first
+    assert "latency 15 cycles" in capsys.readouterr().out
+
+
+def test_verilog_refuses_to_overwrite_without_force(tmp_path):
+    out = tmp_path / "dp.v"
+    out.write_text("mine")
+    args = parse(["-o", out, "--width", 8, "--height", 6])
+    with pytest.raises(FileExistsError, match="--force"):
+        verilog_command.main(args)
+    assert out.read_text() == "mine" and not (tmp_path / "dp.json").exists()
+    (tmp_path / "other.json").write_text("{}")          # an existing manifest counts too
+    with pytest.raises(FileExistsError, match="other.json"):
+        verilog_command.main(parse(["-o", tmp_path / "other.v"]))
+    assert verilog_command.main(parse(["-o", out, "--width", 8, "--height", 6,
+                                                        "--force"])) == 0
+    assert out.read_text().count("module dptbd_dp(") == 1
+
+
+def test_verilog_reads_toml_and_options_override_it(tmp_path):
+    toml = tmp_path / "p.toml"
+    toml.write_text('width = 10\nheight = 8\nsegment_frames = 3\nrounding = "half_up"\n'
+                    'weight_frac_bits = 4\n')
+    out = tmp_path / "dp.v"
+    assert verilog_command.main(parse(["-o", out, "--config", toml,
+                                                        "--height", 9])) == 0
+    params = json.loads(out.with_suffix(".json").read_text())["parameters"]
+    assert (params["width"], params["height"], params["segment_frames"]) == (10, 9, 3)
+    assert (params["rounding"], params["weight_frac_bits"]) == ("half_up", 4)
+
+
+def test_verilog_refuses_unknown_toml_keys_and_bad_values(tmp_path):
+    toml = tmp_path / "p.toml"
+    toml.write_text("width = 10\nhieght = 8\n")
+    with pytest.raises(ConfigError, match=r"unknown parameter\(s\) \['hieght'\]"):
+        verilog_command.main(parse(["-o", tmp_path / "a.v", "--config", toml]))
+    toml.write_text("width = [1, 2\n")
+    with pytest.raises(ConfigError, match="not valid TOML"):
+        verilog_command.main(parse(["-o", tmp_path / "a.v", "--config", toml]))
+    with pytest.raises(ConfigError, match=r"^radius must be an integer in \[1, 2\], got 3$"):
+        verilog_command.main(parse(["-o", tmp_path / "a.v", "--radius", 3]))
+    assert not list(tmp_path.glob("*.v"))
+
+
+@pytest.mark.parametrize("argv, radius, style", [
+    ([], 1, "logic"), (["--lut-style", "auto", "--radius", 2], 2, "bram"),
+    (["--lut-style", "bram"], 1, "bram"), (["--lut-style", "logic", "--radius", 2], 2, "logic"),
+])
+def test_verilog_lut_style(tmp_path, capsys, argv, radius, style):
+    """--lut-style: the attribute on the LUT's column memories, the manifest, the summary."""
+    out = tmp_path / "dp.v"
+    assert verilog_command.main(parse(["-o", out, "--width", 9,
+                                                        "--height", 8, *argv])) == 0
+    text = out.read_text()
+    moves = (2 * radius + 1) ** 2
+    assert text.count('(* ram_style = "logic" *)') == (moves if style == "logic" else 0)
+    assert json.loads(out.with_suffix(".json").read_text())["lut_style"] == style
+    assert f"weight LUT in {style}" in capsys.readouterr().out
+
+
+def test_verilog_refuses_an_unknown_lut_style(tmp_path, capsys):
+    with pytest.raises(SystemExit):
+        parse(["-o", tmp_path / "a.v", "--lut-style", "registers"])
+    assert "invalid choice: 'registers'" in capsys.readouterr().err
+
+
+def test_narrow_energy_width_warns_but_builds(tmp_path, capsys):
+    out = tmp_path / "dp.v"
+    args = parse(["-o", out, "--width", 8, "--height", 6, "--input-bits", 6,
+                                   "--energy-bits", 7])
+    assert verilog_command.main(args) == 0
+    assert "warning: energy_bits=7 saturates" in capsys.readouterr().err

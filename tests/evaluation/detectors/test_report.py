@@ -1,0 +1,77 @@
+"""dptbd.evaluation.detectors.report: the table, the records, the run line, the figure and the
+all-or-nothing --out folder of ``dptbd detectors``."""
+
+import csv
+import json
+import re
+
+import pytest
+from PIL import Image
+
+from dptbd.evaluation.detectors import report
+from dptbd.evaluation.detectors.compare import CompareResult
+from dptbd.evaluation.detectors.interface import Counts
+from dptbd.evaluation.detectors.report import (OUT_FILES, TOOL, describe_run, figure_pd_vs_snr,
+                                               format_table, rows, write_folder)
+
+PARAMS = dict(scene="image", frames=9, first_frame=7, trials=2, noise_trials=5,
+              false_alarm_rate=0.1, matched=False, preset_snr_db=10.0, gate=1, seed=6,
+              snrs_db=(8.0, 12.0))
+
+
+@pytest.fixture
+def result():
+    return CompareResult(
+        detectors=("ca-cfar", "info"), snrs_db=(8.0, 12.0),
+        thresholds={"ca-cfar": 3.5, "info": {8.0: 1.0, 12.0: 2.0}},
+        false_alarms={"ca-cfar": Counts(9, 100), "info": Counts(10, 100)},
+        detections={("ca-cfar", 8.0): Counts(1, 4), ("ca-cfar", 12.0): Counts(4, 4),
+                    ("info", 8.0): Counts(0, 4), ("info", 12.0): Counts(2, 4)},
+        params=PARAMS)
+
+
+def test_format_table(result):
+    lines = format_table(result).splitlines()
+    assert lines[0] == "| detector | 8 dB | 12 dB | threshold | noise false alarms |"
+    assert lines[2] == ("| `ca-cfar` | 0.25 [0.05, 0.70] | 1.00 [0.51, 1.00] | 3.5 | "
+                        "9/100 = 0.0900 |")
+    assert lines[3].startswith("| `info` | 0.00 [") and "| per SNR | 10/100 = 0.1000 |" in lines[3]
+
+
+def test_rows_take_the_threshold_of_their_snr(result):
+    records = rows(result)
+    assert [(r["detector"], r["snr_db"], r["threshold"]) for r in records] == [
+        ("ca-cfar", 8.0, 3.5), ("ca-cfar", 12.0, 3.5), ("info", 8.0, 1.0), ("info", 12.0, 2.0)]
+    assert records[0]["pd"] == 0.25 and records[0]["noise_decisions"] == 100
+
+
+def test_describe_run(result):
+    assert describe_run(result, 3.4, ["info.sigma=2"]) == (
+        "image scenes, 9 frames, frames 7..8 scored, 2 target scenes per SNR, 5 noise-only "
+        "scenes, Pfa 0.1 per decision, preset SNR channel 10.0 dB, gate 1 cell, seed 6, 3 s; "
+        "--set info.sigma=2")
+
+
+def test_figure(tmp_path, result):
+    figure_pd_vs_snr(result, tmp_path / "f.png")
+    with Image.open(tmp_path / "f.png") as img:
+        assert img.size == (640, 420)
+
+
+def test_write_folder_all_or_nothing(tmp_path, result, monkeypatch):
+    out = write_folder(result, tmp_path / "d", "TABLE", "NOTE", {"seed": 6})
+    assert sorted(p.name for p in out.iterdir()) == sorted(OUT_FILES)
+    saved = json.loads((out / "result.json").read_text())
+    assert saved["tool"] == TOOL == "dptbd detectors" and saved["params"]["snrs_db"] == [8.0, 12.0]
+    assert (out / "table.md").read_text() == "TABLE\n\nNOTE\n"
+    assert len(list(csv.DictReader(open(out / "table.csv")))) == 4
+    with pytest.raises(FileExistsError, match="^" + re.escape(
+            f"--out {out} exists; pass --force to replace it, or choose another folder") + "$"):
+        write_folder(result, out, "TABLE", "NOTE", {})
+    def disk_full(*args):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(report, "figure_pd_vs_snr", disk_full)
+    with pytest.raises(OSError, match="No space left on device"):
+        write_folder(result, tmp_path / "e", "TABLE", "NOTE", {})
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d"]
