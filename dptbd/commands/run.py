@@ -42,6 +42,8 @@ import sys
 import time
 
 from dptbd.commands.options import add_simulator_arguments
+from dptbd.dsp.c_tracker import DSP_IMPLEMENTATIONS, FirmwareError
+from dptbd.dsp.firmware_build import FirmwareBuildError, find_compiler
 from dptbd.evaluation.run_job import effective_scenario, run_job
 from dptbd.evaluation.run_report import RUN_FILES, TOOL, write_run_folder
 from dptbd.evaluation.run_rtl import RtlCheck, RtlError, rtl_tools_missing
@@ -83,6 +85,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     dp.add_argument("--rtl-frames", type=int, default=0, metavar="N",
                     help="frames to simulate with --rtl (default 0: all; N: the first N, the "
                          "rest come from the model only, as the summary says)")
+    dsp = parser.add_argument_group("DSP stage")
+    dsp.add_argument("--dsp", choices=DSP_IMPLEMENTATIONS, default="python",
+                     help="the track association: python (default, the readable reference "
+                          "model) or c (the portable C99 firmware, built with the system C "
+                          "compiler on first use; same tracks bit for bit; "
+                          "docs/dsp_firmware.md)")
     out = parser.add_argument_group("output")
     out.add_argument("--out", type=pathlib.Path, default=pathlib.Path("dptbd-run"), metavar="DIR",
                      help="output folder, must not exist (default dptbd-run)")
@@ -142,8 +150,13 @@ def _main(args: argparse.Namespace) -> int:
             return 2
         rtl = RtlCheck(args.rtl_simulator, args.rtl_frames, args.rtl_build_dir)
     try:
-        result = run_job(scenario, rtl=rtl, progress=_progress(args.no_progress),
+        if args.dsp == "c":
+            find_compiler()                   # a missing C compiler: refused before any work
+        result = run_job(scenario, rtl=rtl, dsp=args.dsp, progress=_progress(args.no_progress),
                          log=functools.partial(print, flush=True))
+    except (FirmwareBuildError, FirmwareError) as exc:
+        print(f"dptbd run: error: --dsp c: {exc}", file=sys.stderr)
+        return 2
     except RtlError as exc:
         print(f"dptbd run: error: {exc}", file=sys.stderr)
         return 1

@@ -29,6 +29,7 @@ from dptbd.config import DPConfig
 from dptbd.dsp.association import (AssociationConfig, ConfirmedTrack, Tracker, make_candidates,
                                      trim_to_count)
 from dptbd.dsp.backtrack import candidate_paths, segment_direction_maps, track_positions
+from dptbd.dsp.c_tracker import tracker_class
 from dptbd.model.segmentation import candidates as segment_candidates, segment_sequence
 from dptbd.model.segments import SegmentOutput
 
@@ -59,6 +60,9 @@ class PipelineResult:
         The tracker's counters.
     lists : str
         Which candidate lists the DSP received (:data:`LISTS`).
+    dsp : str
+        Which association ran: ``"python"`` (the reference model) or ``"c"`` (the C
+        firmware, :mod:`dptbd.dsp.c_tracker`).
     """
 
     cfg: DPConfig
@@ -71,6 +75,7 @@ class PipelineResult:
     positions: dict
     stats: dict
     lists: str = "gateware"
+    dsp: str = "python"
 
 
 def _accumulate(frames: np.ndarray, cfg: DPConfig) -> SegmentOutput:
@@ -137,7 +142,7 @@ def segmenter_settings(cfg: DPConfig, frames: np.ndarray, count: int,
 
 
 def run_pipeline(frames: np.ndarray, cfg: DPConfig, count: int, assoc: AssociationConfig, *,
-                 lists: str = "gateware",
+                 lists: str = "gateware", dsp: str = "python",
                  progress: Callable[..., Iterable] | None = None) -> PipelineResult:
     """Run the FPGA stage and the DSP stage on integer frames ``(T, H, W)``.
 
@@ -155,6 +160,11 @@ def run_pipeline(frames: np.ndarray, cfg: DPConfig, count: int, assoc: Associati
         Which candidate lists the DSP receives (module docstring). With ``"gateware"`` the
         segmenter's n is ``count`` unless ``cfg.candidate_count`` sets it, and its record
         capacity C (``cfg.record_capacity``) must fit ``assoc.max_candidates``.
+    dsp : {"python", "c"}
+        The association that runs the DSP stage: the Python reference model
+        (:class:`~dptbd.dsp.association.Tracker`) or the C firmware
+        (:class:`~dptbd.dsp.c_tracker.CTracker`, built with the system C compiler on first
+        use); both give the same tracks bit for bit.
     progress : callable, optional
         ``progress(iterable, desc=..., total=...)`` wrapper (``tqdm``) for the per-segment loops.
     """
@@ -174,8 +184,9 @@ def run_pipeline(frames: np.ndarray, cfg: DPConfig, count: int, assoc: Associati
         (lambda it, desc: progress(it, desc=desc, leave=False))
     maps = segment_direction_maps(frames, cfg, segment_direction=segments.direction,
                                   progress=lambda it: wrap(it, "direction maps"))
-    tracker = Tracker(assoc, segment_frames=cfg.segment_frames, segment_stride=cfg.segment_stride,
-                      height=cfg.height, width=cfg.width, radius=cfg.radius)
+    tracker = tracker_class(dsp)(assoc, segment_frames=cfg.segment_frames,
+                                 segment_stride=cfg.segment_stride, height=cfg.height,
+                                 width=cfg.width, radius=cfg.radius)
     cands = []
     gateware = (segment_sequence(segments.energy, segments.direction, cfg)
                 if lists == "gateware" else None)
@@ -188,4 +199,4 @@ def run_pipeline(frames: np.ndarray, cfg: DPConfig, count: int, assoc: Associati
     tracks = tracker.confirmed_tracks()
     positions = {tr.id: track_positions(tr.points, maps, cfg) for tr in tracks}
     return PipelineResult(cfg, assoc, count, segments, maps, cands, tracks, positions,
-                          dict(tracker.stats), lists)
+                          dict(tracker.stats), lists, dsp)

@@ -279,7 +279,7 @@ def prepare(scenario: Scenario, *, headroom: float = 2.0) -> RunInput:
                     count, assoc, report_frame, shift_from)
 
 
-def run_job(scenario: Scenario, *, rtl: RtlCheck | None = None,
+def run_job(scenario: Scenario, *, rtl: RtlCheck | None = None, dsp: str = "python",
             progress: Callable[..., Iterable] | None = None,
             log: Callable[[str], None] = _silent) -> RunResult:
     """Run a checked scenario through both stages and build its tables.
@@ -292,6 +292,9 @@ def run_job(scenario: Scenario, *, rtl: RtlCheck | None = None,
         Also simulate the generated Verilog (the whole FPGA stage with gateware lists, the DP
         pipeline with ideal lists) and stop unless it is bit-exact
         (:class:`~dptbd.evaluation.run_rtl.RtlError`).
+    dsp : {"python", "c"}
+        The DSP stage's association: the Python reference model or the C firmware
+        (``docs/dsp_firmware.md``); the tracks and tables are the same bit for bit.
     progress : callable, optional
         ``tqdm``-like wrapper for the per-segment loops.
     log : callable
@@ -312,7 +315,7 @@ def run_job(scenario: Scenario, *, rtl: RtlCheck | None = None,
                            "segmenter" if scenario.lists == "gateware" else "dp", log=log)
 
     result = run_pipeline(inp.frames, cfg, inp.count, inp.assoc, lists=scenario.lists,
-                          progress=progress)
+                          dsp=dsp, progress=progress)
     evaluation = None
     if inp.truth:
         evaluation = evaluate_tracks(result.tracks, result.positions, inp.truth, cfg,
@@ -321,7 +324,8 @@ def run_job(scenario: Scenario, *, rtl: RtlCheck | None = None,
     if seg_bits is not None:
         log(report.format_segmentation_bits(seg_bits))
     stats = result.stats
-    log(f"  DSP stage: {inp.assoc.capacity} track records, at most {stats['peak_active']} in "
+    firmware = " (C firmware)" if dsp == "c" else ""
+    log(f"  DSP stage{firmware}: {inp.assoc.capacity} track records, at most {stats['peak_active']} in "
         f"use; {stats['started']} tracks started, {len(result.tracks)} confirmed"
         + ("" if evaluation is None else f" ({evaluation.false_tracks} false)")
         + (f"; {stats['dropped_candidates']} candidates dropped (records full)"

@@ -347,6 +347,8 @@ def run_summary(result, seconds: float) -> dict:
         "tracks": result.tracks,
         "false_tracks": None if result.evaluation is None else result.evaluation.false_tracks,
         "dsp_stats": pipeline.stats,
+        # written only for the C firmware, so that a default run's summary is unchanged
+        **({"dsp": pipeline.dsp} if pipeline.dsp != "python" else {}),
         "bits_per_segment": result.segmentation_bits,
         "rtl": result.rtl if result.rtl is not None else {
             "checked": False, "summary": "RTL not simulated (golden model only; --rtl "
