@@ -37,9 +37,18 @@ Modules
 ``dptbd.sim.components``
     Driver (:class:`~dptbd.sim.components.StreamSource`), back-pressure sink, monitor, pause
     generators, LUT writes.
-``dptbd.sim.scoreboard``
-    The golden model's expected ``states`` words (:mod:`dptbd.model.fixed` frame by frame)
-    and the comparison that reports the first mismatching frame, row, column and field.
+``dptbd.sim.checker``
+    The one in-order checker (expected items from the model, received items from a monitor,
+    the first mismatch with its position) behind every scoreboard.
+``dptbd.sim.scoreboard``, ``dptbd.sim.segment_scoreboard``
+    Its two users: the golden model's expected ``states`` words (:mod:`dptbd.model.fixed`
+    frame by frame), reported by frame, row, column and field; the candidate lists, by
+    segment, record and field.
+``dptbd.sim.job``
+    The job behind ``dptbd sim``: one scene through the generated Verilog on Verilator or
+    Icarus, its cycle count, speed and verdict.
+``dptbd.sim.build_dirs``
+    Build-directory names and locking shared by the Verilator and cocotb builds.
 ``dptbd.sim.scenarios``
     Integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
 

@@ -37,7 +37,7 @@ import pathlib
 import sys
 
 from dptbd.commands.options import add_config_arguments, add_simulator_arguments, config_from_args
-from dptbd.evaluation.sim_job import (DESIGNS, MODULES, SimSettings, run_sim, sim_config,
+from dptbd.sim.job import (DESIGNS, MODULES, SimSettings, run_sim, sim_config,
                                       sim_frames, simulator_tools_missing, summary_lines)
 
 

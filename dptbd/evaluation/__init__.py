@@ -6,8 +6,6 @@ into figures.
   (:mod:`~dptbd.evaluation.scenario`), its ``--rtl`` check (:mod:`~dptbd.evaluation.run_rtl`),
   its report and figures (:mod:`~dptbd.evaluation.run_report`,
   :mod:`~dptbd.evaluation.run_figures`);
-* :mod:`~dptbd.evaluation.sim_job` — the job behind ``dptbd sim`` (one scene through the
-  generated Verilog on Verilator or Icarus);
 * :mod:`~dptbd.evaluation.table1` and :mod:`~dptbd.evaluation.table1_report` — paper 001's
   Table 1 (Monte Carlo, first-level Pd);
 * :mod:`~dptbd.evaluation.compare` (spec, plan, selection, runner, report, figures, job),

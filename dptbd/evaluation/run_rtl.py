@@ -29,7 +29,7 @@ class RtlError(RuntimeError):
 def rtl_tools_missing(simulator: str) -> str | None:
     """Why ``--rtl`` cannot run here with ``simulator`` (a sentence naming the missing tool
     and the other simulator), or None."""
-    from dptbd.evaluation.sim_job import simulator_tools_missing
+    from dptbd.sim.job import simulator_tools_missing
 
     return simulator_tools_missing(simulator, "--rtl-simulator")
 
