@@ -89,11 +89,8 @@ def cluster(trials: int, segment_frames: int, segment_stride: int, seed: int, ch
 def run_seed(seed: int, weighted: bool, segment_frames: int) -> dict:
     """The built-in scenario of ``dptbd run`` with one seed, LUT and K, through both stages."""
     from dptbd.config import plain_weights
-    from dptbd.dsp.chain import run_pipeline, segmenter_settings
-    from dptbd.dsp.track_metrics import evaluate_tracks
+    from dptbd.evaluation.run_job import run_job
     from dptbd.evaluation.scenario import default_scenario
-    from dptbd.model.segmentation import count_for_rate
-    from dptbd.scenes.synthetic import quantise
 
     sc = default_scenario()
     dp = {**sc.dp, "segment_frames": segment_frames}
@@ -101,17 +98,10 @@ def run_seed(seed: int, weighted: bool, segment_frames: int) -> dict:
         dp["weights"] = plain_weights(1)
     sc = sc.replace(seed=seed, dp=dp)
     sc.check()
-    scene = sc.make_scene()
-    frames = quantise(scene.frames, sc.adc_bits, gain=sc.adc_gain, offset=sc.adc_offset)
-    cfg = sc.dp_config(height=sc.height, width=sc.width, input_bits=sc.adc_bits)
-    count = count_for_rate(sc.false_alarm_rate, sc.height * sc.width)
-    assoc = sc.assoc_config()
-    cfg = segmenter_settings(cfg, frames, count, assoc)
-    res = run_pipeline(frames, cfg, count, assoc, lists=sc.lists)
-    n_seg = len(res.segments.end_frames)
-    ev = evaluate_tracks(res.tracks, res.positions, scene.truth, cfg, n_seg)
+    result = run_job(sc)                      # the main job, as dptbd run runs it
+    res, ev, truths = result.pipeline, result.evaluation, result.input.truth
     hits = []
-    for j, truth in enumerate(scene.truth):
+    for j, truth in enumerate(truths):
         det = opp = 0
         for s, end in enumerate(res.segments.end_frames):
             if not truth.visible[end]:

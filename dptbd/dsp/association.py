@@ -97,27 +97,14 @@ import math
 import numpy as np
 
 from dptbd.dsp.association_config import AssociationConfig, AssociationError
+from dptbd.dsp import records
 from dptbd.dsp.records import (CANDIDATE_DTYPE, CONFIRMED, FREE, ONE, POINT_DTYPE, Q_BITS,
                                RATIO_BITS, RATIO_ONE, TENTATIVE, TRACK_DTYPE, ConfirmedTrack,
                                div_round, make_candidates, trim_to_count)
 
-__all__ = [
-    "Q_BITS",
-    "ONE",
-    "FREE",
-    "TENTATIVE",
-    "CONFIRMED",
-    "CANDIDATE_DTYPE",
-    "TRACK_DTYPE",
-    "POINT_DTYPE",
-    "AssociationConfig",
-    "AssociationError",
-    "ConfirmedTrack",
-    "Tracker",
-    "div_round",
-    "make_candidates",
-    "trim_to_count",
-]
+# the records stay importable from here (they lived in this module before the split)
+__all__ = [*records.__all__, "AssociationConfig", "AssociationError", "Tracker",
+           "check_candidate_list"]
 
 #: Matching classes (priority order).
 _CLASS_CONFIRMED, _CLASS_PREDICTED, _CLASS_TENTATIVE, _CLASS_NONE = 0, 1, 2, 3
@@ -125,6 +112,20 @@ _CLASS_CONFIRMED, _CLASS_PREDICTED, _CLASS_TENTATIVE, _CLASS_NONE = 0, 1, 2, 3
 
 def _q(x: float, bits: int) -> int:
     return int(math.floor(x * (1 << bits) + 0.5))
+
+
+def check_candidate_list(candidates: np.ndarray, cfg: AssociationConfig) -> int:
+    """The length of one segment's candidate list, refused (:class:`AssociationError`) when
+    it is longer than the input buffer or not :data:`CANDIDATE_DTYPE` records; every
+    implementation of the tracker (this model, the C firmware's binding) checks with it."""
+    n = len(candidates)
+    if n > cfg.max_candidates:
+        raise AssociationError(f"{n} candidates in one segment but the input buffer holds "
+                               f"max_candidates={cfg.max_candidates}")
+    if n and np.asarray(candidates).dtype != CANDIDATE_DTYPE:
+        raise AssociationError(f"candidates must be CANDIDATE_DTYPE records "
+                               f"(make_candidates), got dtype {np.asarray(candidates).dtype}")
+    return n
 
 
 class Tracker:
@@ -203,13 +204,7 @@ class Tracker:
     def step(self, candidates: np.ndarray) -> None:
         """Associate one segment's candidates (:data:`CANDIDATE_DTYPE`, at most ``max_candidates``)."""
         cfg = self.cfg
-        n = len(candidates)
-        if n > cfg.max_candidates:
-            raise AssociationError(f"{n} candidates in one segment but the input buffer holds "
-                                   f"max_candidates={cfg.max_candidates}")
-        if n and np.asarray(candidates).dtype != CANDIDATE_DTYPE:
-            raise AssociationError(f"candidates must be CANDIDATE_DTYPE records "
-                                   f"(make_candidates), got dtype {np.asarray(candidates).dtype}")
+        n = check_candidate_list(candidates, cfg)
         self.inbuf[:n] = candidates
         self.n_in = n
         self.segment += 1

@@ -22,7 +22,7 @@ import functools
 import numpy as np
 
 from dptbd.dsp.association import (CANDIDATE_DTYPE, AssociationConfig, AssociationError,
-                                     Tracker)
+                                     Tracker, check_candidate_list)
 from dptbd.dsp.firmware_build import build_shared_library, capacity_defines
 
 __all__ = ["DSP_IMPLEMENTATIONS", "CTracker", "FirmwareError", "tracker_class", "load_firmware",
@@ -295,14 +295,7 @@ class CTracker(Tracker):
     def step(self, candidates: np.ndarray) -> None:
         """Associate one segment's candidates in C; refuses what
         :meth:`dptbd.dsp.association.Tracker.step` refuses, with the same messages."""
-        cfg = self.cfg
-        n = len(candidates)
-        if n > cfg.max_candidates:
-            raise AssociationError(f"{n} candidates in one segment but the input buffer holds "
-                                   f"max_candidates={cfg.max_candidates}")
-        if n and np.asarray(candidates).dtype != CANDIDATE_DTYPE:
-            raise AssociationError(f"candidates must be CANDIDATE_DTYPE records "
-                                   f"(make_candidates), got dtype {np.asarray(candidates).dtype}")
+        check_candidate_list(candidates, self.cfg)
         self.step_raw(candidates)
 
     def step_raw(self, candidates: np.ndarray) -> int:

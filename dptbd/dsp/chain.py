@@ -26,7 +26,7 @@ from typing import Callable, Iterable
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.dsp.association import (AssociationConfig, ConfirmedTrack, Tracker, make_candidates,
+from dptbd.dsp.association import (AssociationConfig, ConfirmedTrack, make_candidates,
                                      trim_to_count)
 from dptbd.dsp.backtrack import candidate_paths, segment_direction_maps, track_positions
 from dptbd.dsp.c_tracker import tracker_class

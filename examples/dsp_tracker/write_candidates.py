@@ -34,20 +34,13 @@ def scene_pipeline(seed: int = 0, association: dict | None = None):
     -------
     (DPConfig, AssociationConfig, PipelineResult)
     """
-    from dptbd.dsp.chain import run_pipeline, segmenter_settings
+    from dptbd.evaluation.run_job import run_job
     from dptbd.evaluation.scenario import default_scenario
-    from dptbd.model.segmentation import count_for_rate
-    from dptbd.scenes.synthetic import quantise
 
     sc = default_scenario().replace(seed=seed, **({"association": association} if association else {}))
     sc.check()
-    scene = sc.make_scene()
-    frames = quantise(scene.frames, sc.adc_bits, gain=sc.adc_gain, offset=sc.adc_offset)
-    cfg = sc.dp_config(height=sc.height, width=sc.width, input_bits=sc.adc_bits)
-    count = count_for_rate(sc.false_alarm_rate, sc.height * sc.width)
-    assoc = sc.assoc_config()
-    cfg = segmenter_settings(cfg, frames, count, assoc)
-    return cfg, assoc, run_pipeline(frames, cfg, count, assoc)
+    result = run_job(sc)                      # the main job, as dptbd run runs it
+    return result.input.cfg, result.input.assoc, result.pipeline
 
 
 def scene_lists(seed: int = 0, association: dict | None = None):

@@ -24,24 +24,13 @@ from typing import Any
 import numpy as np
 
 from dptbd.evaluation.detectors._checks import DetectorError, check_prob, check_real
+from dptbd.evaluation.detectors import grid_filter
 from dptbd.evaluation.detectors.grid_filter import (
     LIKELIHOODS, GridRun, Transition, _GridFilter, _update, check_kernel, entropy_bits,
     estimate_alpha, gaussian_kernel, gaussian_log_likelihood, log_i0, rician_log_likelihood)
 
-__all__ = [
-    "log_i0",
-    "rician_log_likelihood",
-    "gaussian_log_likelihood",
-    "estimate_alpha",
-    "gaussian_kernel",
-    "check_kernel",
-    "Transition",
-    "entropy_bits",
-    "GridRun",
-    "InfoAccumulation",
-    "GridBayes",
-    "LIKELIHOODS",
-]
+# the shared machinery stays importable from here (it lived in this module before the split)
+__all__ = [*grid_filter.__all__, "InfoAccumulation", "GridBayes"]
 
 
 class InfoAccumulation(_GridFilter):
@@ -129,8 +118,6 @@ class GridBayes(_GridFilter):
         stat = np.empty(n_t)
         h = np.empty(n_t)
         est = np.empty((n_t, 2), dtype=np.int64)
-        log_b, log_1b = math.log(self.birth), math.log1p(-self.birth)
-        log_d, log_1d = math.log(self.death), math.log1p(-self.death)
         for t in range(n_t):
             # predicted probabilities: no target, and target in each cell (sums to 1)
             p_exist = math.exp(log_exist)

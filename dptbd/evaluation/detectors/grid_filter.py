@@ -307,14 +307,6 @@ class _GridFilter:
         return arr
 
 
-def _normalise_log(log_w: np.ndarray) -> tuple[np.ndarray, float]:
-    """Eq (25) in the log domain: weights summing to 1 and ``log sum exp(log_w)``."""
-    top = float(np.max(log_w))
-    w = np.exp(log_w - top)
-    s = float(w.sum())
-    return w / s, top + math.log(s)
-
-
 @numba.njit(cache=True)
 def _i0_scaled(x):  # pragma: no cover - compiled
     """``I0(x) exp(-x)`` for x >= 0, the polynomials of :func:`log_i0`."""
