@@ -4,11 +4,8 @@ least 10^6 compared words runs in the default suite; the full campaign (10^8) is
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 
-from dptbd.cli import main
 from dptbd.sim import campaign
 from dptbd.sim.campaign import Case, default_cases, hostile_frames, make_run, run_campaign
 
@@ -82,31 +79,3 @@ def test_a_wrong_model_fails_the_campaign(monkeypatch):
     outcome = campaign.check_run(case, 3)
     assert not outcome.passed
     assert "first mismatch at output" in outcome.report and "field energy" in outcome.report
-
-
-def test_verify_command_lists_and_refuses(capsys, tmp_path):
-    assert main(["verify", "--list"]) == 0
-    assert "001-128x128-k8-in12-e16" in capsys.readouterr().out
-    assert main(["verify", "--cases", "nope"]) == 2
-    assert capsys.readouterr().err == ("dptbd verify: error: unknown case(s) nope; dptbd verify "
-                                       "--list names them\n")
-    assert main(["verify", "--runs-scale", "0"]) == 2
-    assert capsys.readouterr().err == "dptbd verify: error: --runs-scale must be > 0, got 0.0\n"
-    assert main(["verify", "--workers", "0"]) == 2
-    assert capsys.readouterr().err == "dptbd verify: error: --workers must be >= 1, got 0\n"
-    existing = tmp_path / "out.json"
-    existing.write_text("{}")
-    assert main(["verify", "--json", str(existing)]) == 2
-    assert capsys.readouterr().err == (f"dptbd verify: error: --json {existing} exists; "
-                                       f"not overwritten\n")
-    assert existing.read_text() == "{}"
-
-
-def test_verify_command_runs_one_case(capsys, tmp_path):
-    out = tmp_path / "v.json"
-    assert main(["verify", "--cases", "37x23-k3-in8-e12-f4", "--runs-scale", "0.05",
-                 "--no-x-store", "--workers", "1", "--json", str(out)]) == 0
-    text = capsys.readouterr().out
-    assert "37x23-k3-in8-e12-f4" in text and "bit-exact" in text and "total:" in text
-    data = json.loads(out.read_text())
-    assert data["passed"] and data["words_compared"] > 0 and len(data["runs"]) == 1
