@@ -1,4 +1,4 @@
-"""First-level detection counts and confidence intervals."""
+"""First-level detection counts (:mod:`dptbd.evaluation.metrics`)."""
 
 import math
 
@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from dptbd.evaluation.metrics import DetectionCounts, first_level_counts, near_mask
-from dptbd.evaluation.stats import wilson_interval
 
 
 def test_detection_within_one_pixel_chebyshev():
@@ -30,11 +29,3 @@ def test_counts_add_up():
 def test_near_mask_clips_at_edges():
     m = near_mask((4, 4), np.array([[0, 0]]))
     assert m.sum() == 4 and m[:2, :2].all()
-
-
-def test_wilson_interval_known_values():
-    lo, hi = wilson_interval(19, 24)
-    assert lo == pytest.approx(0.5953, abs=1e-3) and hi == pytest.approx(0.9076, abs=1e-3)
-    assert wilson_interval(0, 10)[0] == pytest.approx(0.0) and wilson_interval(10, 10)[1] == pytest.approx(1.0)
-    with pytest.raises(ValueError, match=r"^need 0 <= successes <= trials, got 5 of 3$"):
-        wilson_interval(5, 3)

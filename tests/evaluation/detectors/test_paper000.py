@@ -1,4 +1,5 @@
-"""The reproductions of papers 000 and 004 on small runs: SNR gain, the §5 cases, timing."""
+"""Paper 000's reproductions (:mod:`dptbd.evaluation.detectors.paper000`) on small runs: the
+SNR gain, the §5 cases and their refusals."""
 
 from __future__ import annotations
 
@@ -10,7 +11,6 @@ import pytest
 
 from dptbd.evaluation.detectors import DetectorError
 from dptbd.evaluation.detectors.paper000 import CASES, Case, crossing_snr, run_case, snr_gain
-from dptbd.evaluation.detectors.paper004 import time_one_frame
 
 GAIN = ("CA-CFAR 16/2", "DP eq (24)", "DP eqs (19)-(23)")
 
@@ -85,22 +85,3 @@ def test_case_refuses_bad_thresholds(kwargs, message):
     args = dict(label="x", section="", snr_db=4.0, merit="amplitude", penalty=False, thresholds=(30.0,))
     with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
         Case(**{**args, **kwargs})
-
-
-def test_time_one_frame_smoke_on_a_small_grid():
-    t = time_one_frame(repeats=1, frames=3, shape=(40, 60))
-    assert {"info", "grid-bayes", "ca-cfar", "dw-dp golden", "dp-000 datapath", "dp-000 exact"} <= set(t)
-    assert set(t) <= {"info", "grid-bayes", "ca-cfar", "dw-dp", "dw-dp golden", "dp-000 datapath",
-                      "dp-000 exact"}
-    assert all(isinstance(v, float) and math.isfinite(v) and v > 0 for v in t.values())
-
-
-@pytest.mark.parametrize("kwargs, message", [
-    (dict(repeats=0), "repeats must be an integer in [1, inf), got 0"),
-    (dict(frames=2), "frames must be an integer in [3, inf), got 2"),
-    (dict(shape=(10, 60)), "shape must be at least 19 x 19 cells (CA-CFAR 16/2), got (10, 60)"),
-    (dict(shape=(40,)), "shape must be a pair (H, W) of integers in [1, 65535], got (40,)"),
-])
-def test_time_one_frame_bad_input(kwargs, message):
-    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
-        time_one_frame(**kwargs)
