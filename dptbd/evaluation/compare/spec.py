@@ -1,5 +1,6 @@
-"""The specification of a comparison: weight LUTs, the default ADC, the fixed configurations
-and the run, validated from a TOML file (:func:`build_spec`) before any work.
+"""The specification of a comparison: the fixed configurations and the run, validated from a
+TOML file (:func:`build_spec`) before any work. The weight LUTs and the default ADC mapping
+it uses are in :mod:`dptbd.evaluation.compare.luts` (re-exported here).
 
 The package docstring (:mod:`dptbd.evaluation.compare`) describes the scene and what is
 measured; ``docs/compare.md`` the TOML file.
@@ -15,9 +16,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from dptbd.config import (
-    ConfigError, DPConfig, EnergyWidthWarning, move_offsets, non_saturating_energy_bits, paper_weights,
-    plain_weights)
+from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning, non_saturating_energy_bits
+from dptbd.evaluation.compare.luts import LUTS, adc_mapping, cosine_weights, lut_weights
 from dptbd.scenes import synthetic as scenes
 from dptbd.model.segmentation import count_for_rate
 
@@ -25,9 +25,6 @@ __all__ = [
     "LUTS", "cosine_weights", "lut_weights", "adc_mapping", "FixedSpec", "CompareSpec",
     "DEFAULT_RUN", "DEFAULT_CONFIGS", "DEFAULT_SWEEP", "TIE_RULES", "build_spec",
 ]
-
-#: Built-in weight LUTs (a configuration may instead give ``weights`` as a table).
-LUTS = ("paper", "plain", "cosine")
 
 #: The candidate rules (run-level key ``tie_rule``, ``--tie-rule``;
 #: :mod:`dptbd.evaluation.compare.selection`): ``random``, exactly n candidates per image with
@@ -84,55 +81,6 @@ _CONFIG_KEYS = ("name", "lut", "adc_gain", "adc_offset", "input_bits", "energy_b
                 "weight_frac_bits", "rounding", "weights", "histogram_bits", "histogram_shift")
 _RUN_LEVEL_DP_KEYS = ("width", "height", "segment_frames", "segment_stride", "radius")
 _SWEEP_KEYS = ("input_bits", "energy_bits", "energy_headroom", "weight_frac_bits", "rounding", "lut")
-
-
-# ==== weight LUTs and the ADC ===========================================================
-
-def cosine_weights(radius: int = 1) -> np.ndarray:
-    """A soft direction LUT: ``w = (1 + cos theta) / 2`` for the turning angle theta.
-
-    1 straight on, 0.854 at 45 deg, 0.5 at 90 deg, 0.146 at 135 deg, 0 for a reversal; a
-    zero move and a ``START`` predecessor get 1 (as in the paper's LUT, ``paper_weights``).
-    Not exact for any F, so it exercises the weight quantisation and the rounding mode,
-    which the paper's 0/1 LUT (exact for every F >= 0) cannot.
-    """
-    moves = move_offsets(radius).astype(np.float64)
-    n_moves = len(moves)
-    norms = np.linalg.norm(moves, axis=1)
-    lut = np.ones((n_moves + 1, n_moves))
-    for p in range(n_moves):
-        for m in range(n_moves):
-            if norms[p] > 0 and norms[m] > 0:
-                cos = moves[p] @ moves[m] / (norms[p] * norms[m])
-                lut[p, m] = min(1.0, max(0.0, (1.0 + cos) / 2.0))
-    return lut
-
-
-def lut_weights(name: str, radius: int) -> np.ndarray:
-    """The built-in LUT ``name`` (:data:`LUTS`) for ``radius``."""
-    if name == "paper":
-        return paper_weights(radius)
-    if name == "plain":
-        return plain_weights(radius)
-    if name == "cosine":
-        return cosine_weights(radius)
-    raise ConfigError(f"lut must be one of {LUTS} (or give 'weights' as a table), got {name!r}")
-
-
-def adc_mapping(input_bits: int, mu: float, sigma: float, *, low_sigma: float = 6.0,
-                span_sigma: float = 16.0) -> tuple[float, float]:
-    """``(gain, offset)`` of the default ADC for B_in bits.
-
-    The analogue window ``[mu - low_sigma * sigma, mu - low_sigma * sigma + span_sigma * sigma]``
-    (default ``[mu - 6 sigma, mu + 10 sigma]``) is spread over the ``2**B_in`` codes:
-    ``gain = 2**B_in / (span_sigma * sigma)`` codes per grey level, ``offset`` such that the
-    window's bottom is code 0. One sigma is ``2**B_in / span_sigma`` LSB. Noise below the
-    window (6 sigma: 1e-9 of the pixels) clips at 0; the window's top leaves 10 sigma for
-    noise plus target (SNR up to ~6).
-    """
-    gain = float(1 << input_bits) / (span_sigma * sigma)
-    offset = -gain * (mu - low_sigma * sigma)
-    return gain, offset
 
 
 # ==== the specification of a run ========================================================
