@@ -43,6 +43,7 @@ import math
 import numpy as np
 from numba import njit
 
+from dptbd.errors import DptbdError, check_prob
 from dptbd.evaluation.stats import wilson_interval
 
 __all__ = ["snr_db", "isotonic", "crossing", "crossings", "clustered_wilson",
@@ -108,16 +109,18 @@ def isotonic(y, w=None) -> np.ndarray:
     y = np.asarray(y, dtype=np.float64)
     w = np.ones_like(y) if w is None else np.asarray(w, dtype=np.float64)
     if y.ndim != 1 or w.shape != y.shape or y.size == 0:
-        raise ValueError(f"y and w must be equal-length non-empty vectors, got {y.shape}, {w.shape}")
+        raise DptbdError(f"y and w must be equal-length non-empty vectors, got {y.shape}, "
+                         f"{w.shape}")
     if np.any(w <= 0):
-        raise ValueError("weights must be > 0")
+        raise DptbdError("weights must be > 0")
     return _isotonic(y, w)
 
 
 def _check_grid(x) -> np.ndarray:
     x = np.asarray(x, dtype=np.float64)
     if x.ndim != 1 or x.size < 2 or not np.all(np.isfinite(x)) or np.any(np.diff(x) <= 0):
-        raise ValueError(f"the SNR grid must be at least 2 finite, strictly increasing values, got {x}")
+        raise DptbdError(f"the SNR grid must be at least 2 finite, strictly increasing values, "
+                         f"got {x}")
     return x
 
 
@@ -131,10 +134,9 @@ def crossing(x, pd, level: float, weights=None) -> float:
     pd = np.asarray(pd, dtype=np.float64)
     w = np.ones_like(pd) if weights is None else np.asarray(weights, dtype=np.float64)
     if pd.shape != x.shape or w.shape != x.shape:
-        raise ValueError(f"pd and weights must match the grid's shape {x.shape}")
-    if not 0.0 < level < 1.0:
-        raise ValueError(f"level must be in (0, 1), got {level}")
-    return float(_crossing(x, pd, np.maximum(w, 1e-12), float(level)))
+        raise DptbdError(f"pd and weights must match the grid's shape {x.shape}")
+    level = check_prob("level", level)
+    return float(_crossing(x, pd, np.maximum(w, 1e-12), level))
 
 
 def crossings(x, pds, level: float, weights) -> np.ndarray:
@@ -271,7 +273,7 @@ def bootstrap_losses(x, detections, opportunities, pairs, levels=(0.5, 0.8), *,
     det = np.asarray(detections, dtype=np.float64)
     opp = np.asarray(opportunities, dtype=np.float64)
     if det.ndim != 3 or det.shape[1] != x.size or opp.shape != det.shape[1:]:
-        raise ValueError(f"detections must be (D, {x.size}, N) and opportunities ({x.size}, N), "
+        raise DptbdError(f"detections must be (D, {x.size}, N) and opportunities ({x.size}, N), "
                          f"got {det.shape} and {opp.shape}")
     n_trials = det.shape[2]
     used = sorted({k for pair in pairs for k in pair})

@@ -69,10 +69,10 @@ def test_synthesis_options_reach_the_job(job_calls, tmp_path):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--trials", "0"], "trials must be in [1, inf], got 0"),
+    (["--trials", "0"], "trials must be an integer in [1, inf), got 0"),
     (["--snr"], "snr must hold at least 2 value(s), got [] (an empty list)"),
     (["--snr", "2.0", "2.0"], "snr must be strictly increasing, but snr[1] = 2 <= snr[0] = 2"),
-    (["--bootstrap", "-1"], "bootstrap must be in [0, 1000000], got -1"),
+    (["--bootstrap", "-1"], "bootstrap must be an integer in [0, 1000000], got -1"),
     (["--workers", "0"], "--workers must be >= 1, got 0"),
     (["--synth", "--synth-size", "2"], "--synth-size must be in [3, 4096], got 2"),
     (["--synth", "--synth-seeds", "1", "1"], "--synth-seeds must be distinct, got [1, 1]"),
@@ -92,7 +92,7 @@ def test_cli_exits_2_with_the_message(tmp_path, monkeypatch, capsys, argv, messa
      "config[0]: unknown configuration key(s) ['energy_bitz']; allowed: ['adc_gain', "
      "'adc_offset', 'energy_bits', 'histogram_bits', 'histogram_shift', 'input_bits', 'lut', "
      "'name', 'rounding', 'weight_frac_bits', 'weights']"),
-    ("[sweep]\ninput_bits = [0]\n", "sweep.input_bits must be in [1, 16], got 0"),
+    ("[sweep]\ninput_bits = [0]\n", "sweep.input_bits must be an integer in [1, 16], got 0"),
     ("[[config]]\ninput_bits = 8\nweight_frac_bits = -1\n",
      "config[0]: weight_frac_bits must be an integer in [0, 16], got -1"),
 ])

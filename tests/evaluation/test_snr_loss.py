@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from dptbd.errors import DptbdError
 from dptbd.evaluation import sweep
 from dptbd.evaluation.snr_loss import (
     bootstrap_losses, clustered_wilson, crossing, isotonic, snr_db)
@@ -28,8 +29,25 @@ def test_crossing_makes_the_curve_monotone_first():
     assert np.allclose(isotonic([0.1, 0.6, 0.4, 0.7]), [0.1, 0.5, 0.5, 0.7])
     assert np.allclose(isotonic([0.1, 0.6, 0.4, 0.7], [1, 1, 3, 1]), [0.1, 0.45, 0.45, 0.7])
     assert crossing([0, 1, 2, 3], [0.1, 0.6, 0.4, 0.7], 0.5) == pytest.approx(1.0)
-    with pytest.raises(ValueError, match="strictly increasing"):
+
+
+def test_bad_input_is_refused_naming_it():
+    with pytest.raises(DptbdError, match=r"^the SNR grid must be at least 2 finite, strictly "
+                                         r"increasing values, got \[0\. 2\. 1\.\]$"):
         crossing([0, 2, 1], [0.1, 0.5, 0.9], 0.5)
+    with pytest.raises(DptbdError, match=r"^pd and weights must match the grid's shape \(3,\)$"):
+        crossing([0, 1, 2], [0.1, 0.5], 0.5)
+    with pytest.raises(DptbdError, match=r"^level must be a finite real number in \(0, 1\), "
+                                         r"got 1\.0$"):
+        crossing([0, 1, 2], [0.1, 0.5, 0.9], 1.0)
+    with pytest.raises(DptbdError, match=r"^y and w must be equal-length non-empty vectors, "
+                                         r"got \(0,\), \(0,\)$"):
+        isotonic([])
+    with pytest.raises(DptbdError, match=r"^weights must be > 0$"):
+        isotonic([0.1, 0.2], [1.0, 0.0])
+    with pytest.raises(DptbdError, match=r"^detections must be \(D, 3, N\) and opportunities "
+                                         r"\(3, N\), got \(1, 2, 4\) and \(2, 4\)$"):
+        bootstrap_losses([0, 1, 2], np.zeros((1, 2, 4)), np.ones((2, 4)), [(0, 0)], (0.5,))
 
 
 def _curves(n_trials: int, pd_ref, pd_det, opp: int = 20, seed: int = 0):

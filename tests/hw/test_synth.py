@@ -1,184 +1,26 @@
-"""``dptbd.hw.flow.synth``: report parsing, tool errors, and one small real Yosys run.
+"""``dptbd.hw.flow.synth``: the flow's result, its argument and tool checks, and one small
+real Yosys run (and, with ``-m slow``, one real place and route).
 
-The parsers are checked on excerpts captured from Yosys 0.23 and nextpnr-ice40 0.4 runs of
-the pipeline; nextpnr itself is replaced by small shell scripts that write such a log, so
-the default suite never places and routes (``-m slow`` does, on a tiny configuration).
+The parsers and the tool handling have their own tests: ``test_yosys.py``,
+``test_nextpnr.py``, ``test_synth_tools.py``.
 """
 
 import dataclasses
 import json
-import pathlib
 import shutil
-import stat
-import textwrap
 import warnings
 
 import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.flow.synth import (
-    CellCounts, PnrRun, SynthResult, SynthToolError, ToolNotFoundError, ToolTimeoutError,
-    parse_nextpnr_log, parse_nextpnr_report, parse_yosys_stat_json, parse_yosys_stat_text,
-    pick_clock, require_tool, run_nextpnr, synthesize,
+    CellCounts, PnrRun, SynthResult, ToolNotFoundError, synthesize,
 )
+
 
 needs_yosys = pytest.mark.skipif(shutil.which("yosys") is None, reason="yosys not installed")
 needs_nextpnr = pytest.mark.skipif(shutil.which("nextpnr-ice40") is None,
                                    reason="nextpnr-ice40 not installed")
-
-# ---- captured samples ------------------------------------------------------------------
-
-#: ``stat -json`` of Yosys 0.23 on the pipeline: the same counts under the module and the design.
-_DPTBD_DP_STAT = {
-    "num_wires": 1365,
-    "num_cells": 7217,
-    "num_cells_by_type": {
-        "SB_CARRY": 1373, "SB_DFF": 2188, "SB_DFFE": 86, "SB_DFFESR": 234,
-        "SB_DFFSR": 209, "SB_LUT4": 3111, "SB_RAM40_4K": 16,
-    },
-}
-YOSYS_STAT_JSON = json.dumps({
-    "creator": "Yosys 0.23 (git sha1 7ce5011c24b)",
-    "invocation": "stat -json ",
-    "modules": {"\\dptbd_dp": _DPTBD_DP_STAT},
-    "design": _DPTBD_DP_STAT,
-}, indent=3)
-
-YOSYS_LOG = """\
-2.47. Printing statistics.
-
-=== dptbd_dp ===
-
-   Number of wires:               1365
-   Number of wire bits:          14311
-   Number of public wires:        1365
-   Number of public wire bits:   14311
-   Number of memories:               0
-   Number of memory bits:            0
-   Number of processes:              0
-   Number of cells:               7217
-     SB_CARRY                     1373
-     SB_DFF                       2188
-     SB_DFFE                        86
-     SB_DFFESR                     234
-     SB_DFFSR                      209
-     SB_LUT4                      3111
-     SB_RAM40_4K                    16
-
-2.48. Executing CHECK pass (checking for obvious problems).
-Checking module dptbd_dp...
-Found and reported 0 problems.
-"""
-
-NEXTPNR_UTILISATION = """\
-Info: Device utilisation:
-Info: \t         ICESTORM_LC:  {lc:4d}/ 7680    {lcp}%
-Info: \t        ICESTORM_RAM:    {ram:2d}/   32    {ramp}%
-Info: \t               SB_IO:    55/  256    21%
-Info: \t               SB_GB:     6/    8    75%
-Info: \t        ICESTORM_PLL:     0/    2     0%
-Info: \t         SB_WARMBOOT:     0/    1     0%
-
-Info: Placed 0 cells based on constraints.
-"""
-
-NEXTPNR_PASS_LOG = """\
-Warning: No PCF file specified; IO pins will be placed automatically
-
-Info: Packing constants..
-Info: promoting clk$SB_IO_IN (fanout 2749)
-""" + NEXTPNR_UTILISATION.format(lc=4418, lcp=57, ram=14, ramp=43) + """\
-Info: Max frequency for clock 'clk$SB_IO_IN_$glb_clk': 108.08 MHz (PASS at 100.00 MHz)
-
-Info: Routing..
-Info: Max frequency for clock 'clk$SB_IO_IN_$glb_clk': 103.86 MHz (PASS at 100.00 MHz)
-
-Info: Slack histogram:
-Info:  legend: * represents 6 endpoint(s)
-1 warning, 0 errors
-
-Info: Program finished normally.
-"""
-
-NEXTPNR_TIMING_FAIL_LOG = """\
-""" + NEXTPNR_UTILISATION.format(lc=4370, lcp=56, ram=16, ramp=50) + """\
-Info: Max frequency for clock 'clk$SB_IO_IN_$glb_clk': 99.04 MHz (FAIL at 100.00 MHz)
-Warning: Max frequency for clock 'clk$SB_IO_IN_$glb_clk': 99.45 MHz (FAIL at 100.00 MHz)
-"""
-
-NEXTPNR_NO_FIT_LOG = """\
-Info: Constraining chains...
-Info:       67 LCs used to legalise carry chains.
-
-Info: Annotating ports with timing budgets for target frequency 100.00 MHz
-""" + NEXTPNR_UTILISATION.format(lc=4479, lcp=58, ram=34, ramp=106) + """\
-ERROR: Unable to place cell 'core.weight_lut.column_3.0.0_RAM', no BELs remaining to \
-implement cell type 'ICESTORM_RAM'
-1 warning, 1 error
-"""
-
-NEXTPNR_REPORT_JSON = json.dumps({
-    "critical_paths": [],
-    "fmax": {"clk$SB_IO_IN_$glb_clk": {"achieved": 99.4530029296875, "constraint": 100}},
-    "utilization": {"ICESTORM_LC": {"available": 7680, "used": 4370},
-                    "ICESTORM_RAM": {"available": 32, "used": 16}},
-})
-
-# ---- parsers ---------------------------------------------------------------------------
-
-
-def test_yosys_stat_json():
-    cells = parse_yosys_stat_json(YOSYS_STAT_JSON)
-    assert (cells.lut4, cells.dff, cells.bram, cells.carry) == (3111, 2188 + 86 + 234 + 209,
-                                                               16, 1373)
-
-
-def test_yosys_stat_json_without_design_totals_uses_the_top_module():
-    data = json.loads(YOSYS_STAT_JSON)
-    del data["design"]
-    data["modules"]["\\other"] = {"num_cells_by_type": {"SB_LUT4": 1}}
-    assert parse_yosys_stat_json(json.dumps(data), top="dptbd_dp").lut4 == 3111
-    with pytest.raises(ValueError, match="top module"):
-        parse_yosys_stat_json(json.dumps(data))
-
-
-def test_yosys_stat_text_matches_json():
-    assert parse_yosys_stat_text(YOSYS_LOG) == parse_yosys_stat_json(YOSYS_STAT_JSON)
-    with pytest.raises(ValueError, match="Number of cells"):
-        parse_yosys_stat_text("nothing here")
-
-
-def test_nextpnr_log_takes_the_post_route_fmax():
-    rep = parse_nextpnr_log(NEXTPNR_PASS_LOG)
-    assert rep.fmax == {"clk$SB_IO_IN_$glb_clk": 103.86}
-    assert rep.utilisation["ICESTORM_LC"] == (4418, 7680)
-    assert rep.utilisation["ICESTORM_RAM"] == (14, 32)
-    assert rep.utilisation["SB_WARMBOOT"] == (0, 1)
-    assert rep.errors == () and rep.over_capacity == () and rep.no_fit_error is None
-
-
-def test_nextpnr_log_timing_failure_still_gives_fmax():
-    assert parse_nextpnr_log(NEXTPNR_TIMING_FAIL_LOG).fmax == {"clk$SB_IO_IN_$glb_clk": 99.45}
-
-
-def test_nextpnr_log_no_fit():
-    rep = parse_nextpnr_log(NEXTPNR_NO_FIT_LOG)
-    assert rep.fmax == {}
-    assert rep.over_capacity == ("ICESTORM_RAM",)
-    assert "no BELs remaining" in rep.no_fit_error
-
-
-def test_nextpnr_report_json():
-    rep = parse_nextpnr_report(NEXTPNR_REPORT_JSON)
-    assert rep.fmax == {"clk$SB_IO_IN_$glb_clk": pytest.approx(99.453)}
-    assert rep.utilisation == {"ICESTORM_LC": (4370, 7680), "ICESTORM_RAM": (16, 32)}
-
-
-def test_pick_clock():
-    assert pick_clock({"clk$SB_IO_IN_$glb_clk": 1.0}) == "clk$SB_IO_IN_$glb_clk"
-    two = {"clk$SB_IO_IN_$glb_clk": 1.0, "other_clk": 2.0}
-    assert pick_clock(two, "clk") == "clk$SB_IO_IN_$glb_clk"
-    assert pick_clock(two, "nope") is None
 
 
 def test_result_median_and_fit():
@@ -200,9 +42,7 @@ def test_result_median_and_fit():
 # ---- tool handling ---------------------------------------------------------------------
 
 
-def test_missing_tool_names_the_debian_package():
-    with pytest.raises(ToolNotFoundError, match=r"apt-get install nextpnr-ice40"):
-        require_tool("/nonexistent/bin/nextpnr-ice40")
+def test_missing_yosys_names_the_debian_package():
     with pytest.raises(ToolNotFoundError, match=r"Debian package 'yosys'"):
         synthesize(DPConfig(width=8, height=6), yosys="/nonexistent/yosys", seeds=())
 
@@ -221,44 +61,6 @@ def test_bad_arguments():
         synthesize(DPConfig(), device="ecp5")
     with pytest.raises(ValueError, match="lut_style must be one of 'auto', 'bram', 'logic'"):
         synthesize(DPConfig(), lut_style="distributed", yosys="/nonexistent/yosys")
-
-
-def fake_nextpnr(folder: pathlib.Path, log: str, rc: int, sleep: float = 0) -> str:
-    """A stand-in for nextpnr-ice40: writes ``log`` to its ``-l`` file, exits with ``rc``."""
-    (folder / "canned.log").write_text(log)
-    script = folder / "fake-nextpnr"
-    script.write_text(textwrap.dedent(f"""\
-        #!/bin/sh
-        while [ $# -gt 0 ]; do
-          if [ "$1" = "-l" ]; then cp "{folder / 'canned.log'}" "$2"; fi
-          shift
-        done
-        sleep {sleep}
-        exit {rc}
-        """))
-    script.chmod(script.stat().st_mode | stat.S_IXUSR)
-    return str(script)
-
-
-@pytest.mark.skipif(shutil.which("sh") is None, reason="needs a POSIX shell")
-def test_run_nextpnr_outcomes(tmp_path):
-    netlist = tmp_path / "netlist.json"
-    netlist.write_text("{}")
-    ok = run_nextpnr(netlist, seed=7, nextpnr=fake_nextpnr(tmp_path, NEXTPNR_PASS_LOG, 0))
-    assert ok.fits and ok.fmax_mhz == 103.86 and ok.meets_target and ok.seed == 7
-    assert ok.clock == "clk$SB_IO_IN_$glb_clk" and ok.used("ICESTORM_RAM") == 14
-
-    no = run_nextpnr(netlist, seed=1, nextpnr=fake_nextpnr(tmp_path, NEXTPNR_NO_FIT_LOG, 255))
-    assert not no.fits and no.fmax_mhz is None and no.utilisation["ICESTORM_RAM"] == (34, 32)
-    assert no.error.startswith("over capacity: ICESTORM_RAM 34/32; nextpnr: Unable to place")
-
-    with pytest.raises(SynthToolError, match="nextpnr failed") as info:
-        run_nextpnr(netlist, seed=1, nextpnr=fake_nextpnr(tmp_path, "ERROR: bad json\n", 1))
-    assert "bad json" in str(info.value)
-
-    with pytest.raises(ToolTimeoutError, match="timed out"):
-        run_nextpnr(netlist, seed=1, timeout=0.5,
-                    nextpnr=fake_nextpnr(tmp_path, NEXTPNR_PASS_LOG, 0, sleep=5))
 
 
 # ---- real tools ------------------------------------------------------------------------

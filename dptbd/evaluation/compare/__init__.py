@@ -55,9 +55,10 @@ number of workers.
 
 The package, one concept per module:
 
-* :mod:`~dptbd.evaluation.compare.spec` — the weight LUTs, the default ADC mapping, one
-  fixed configuration (:class:`FixedSpec`) and a whole run (:class:`CompareSpec`), built and
-  validated from a TOML file by :func:`build_spec`;
+* :mod:`~dptbd.evaluation.compare.luts` — the weight LUTs (:data:`LUTS`) and the default
+  ADC mapping (:func:`adc_mapping`);
+* :mod:`~dptbd.evaluation.compare.spec` — one fixed configuration (:class:`FixedSpec`) and a
+  whole run (:class:`CompareSpec`), built and validated from a TOML file by :func:`build_spec`;
 * :mod:`~dptbd.evaluation.compare.plan` — what a worker runs (:class:`Plan`, :func:`make_plan`);
 * :mod:`~dptbd.evaluation.compare.selection` — the candidate rules (:data:`TIE_RULES`):
   exactly n with its tie-break priorities, and the gateware segmenter's;
@@ -69,9 +70,9 @@ The package, one concept per module:
   written to its output folder (:func:`compare_job`).
 """
 
+from dptbd.evaluation.compare.luts import LUTS, adc_mapping, cosine_weights, lut_weights
 from dptbd.evaluation.compare.spec import (
-    DEFAULT_CONFIGS, DEFAULT_RUN, DEFAULT_SWEEP, LUTS, TIE_RULES, CompareSpec, FixedSpec,
-    adc_mapping, build_spec, cosine_weights, lut_weights)
+    DEFAULT_CONFIGS, DEFAULT_RUN, DEFAULT_SWEEP, TIE_RULES, CompareSpec, FixedSpec, build_spec)
 from dptbd.evaluation.compare.plan import Plan, make_plan
 from dptbd.evaluation.compare.selection import candidate_indices, image_keys, nth_largest
 from dptbd.evaluation.compare.runner import (

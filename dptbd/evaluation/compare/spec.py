@@ -1,5 +1,6 @@
-"""The specification of a comparison: weight LUTs, the default ADC, the fixed configurations
-and the run, validated from a TOML file (:func:`build_spec`) before any work.
+"""The specification of a comparison: the fixed configurations and the run, validated from a
+TOML file (:func:`build_spec`) before any work. The weight LUTs and the default ADC mapping
+it uses are in :mod:`dptbd.evaluation.compare.luts` (re-exported here).
 
 The package docstring (:mod:`dptbd.evaluation.compare`) describes the scene and what is
 measured; ``docs/compare.md`` the TOML file.
@@ -9,15 +10,14 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import math
 import warnings
 from typing import Any, Mapping
 
 import numpy as np
 
-from dptbd.config import (
-    ConfigError, DPConfig, EnergyWidthWarning, move_offsets, non_saturating_energy_bits, paper_weights,
-    plain_weights)
+from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning, non_saturating_energy_bits
+from dptbd.errors import check_int, check_prob, check_real, shown
+from dptbd.evaluation.compare.luts import LUTS, adc_mapping, cosine_weights, lut_weights
 from dptbd.scenes import synthetic as scenes
 from dptbd.model.segmentation import count_for_rate
 
@@ -25,9 +25,6 @@ __all__ = [
     "LUTS", "cosine_weights", "lut_weights", "adc_mapping", "FixedSpec", "CompareSpec",
     "DEFAULT_RUN", "DEFAULT_CONFIGS", "DEFAULT_SWEEP", "TIE_RULES", "build_spec",
 ]
-
-#: Built-in weight LUTs (a configuration may instead give ``weights`` as a table).
-LUTS = ("paper", "plain", "cosine")
 
 #: The candidate rules (run-level key ``tie_rule``, ``--tie-rule``;
 #: :mod:`dptbd.evaluation.compare.selection`): ``random``, exactly n candidates per image with
@@ -84,55 +81,6 @@ _CONFIG_KEYS = ("name", "lut", "adc_gain", "adc_offset", "input_bits", "energy_b
                 "weight_frac_bits", "rounding", "weights", "histogram_bits", "histogram_shift")
 _RUN_LEVEL_DP_KEYS = ("width", "height", "segment_frames", "segment_stride", "radius")
 _SWEEP_KEYS = ("input_bits", "energy_bits", "energy_headroom", "weight_frac_bits", "rounding", "lut")
-
-
-# ==== weight LUTs and the ADC ===========================================================
-
-def cosine_weights(radius: int = 1) -> np.ndarray:
-    """A soft direction LUT: ``w = (1 + cos theta) / 2`` for the turning angle theta.
-
-    1 straight on, 0.854 at 45 deg, 0.5 at 90 deg, 0.146 at 135 deg, 0 for a reversal; a
-    zero move and a ``START`` predecessor get 1 (as in the paper's LUT, ``paper_weights``).
-    Not exact for any F, so it exercises the weight quantisation and the rounding mode,
-    which the paper's 0/1 LUT (exact for every F >= 0) cannot.
-    """
-    moves = move_offsets(radius).astype(np.float64)
-    n_moves = len(moves)
-    norms = np.linalg.norm(moves, axis=1)
-    lut = np.ones((n_moves + 1, n_moves))
-    for p in range(n_moves):
-        for m in range(n_moves):
-            if norms[p] > 0 and norms[m] > 0:
-                cos = moves[p] @ moves[m] / (norms[p] * norms[m])
-                lut[p, m] = min(1.0, max(0.0, (1.0 + cos) / 2.0))
-    return lut
-
-
-def lut_weights(name: str, radius: int) -> np.ndarray:
-    """The built-in LUT ``name`` (:data:`LUTS`) for ``radius``."""
-    if name == "paper":
-        return paper_weights(radius)
-    if name == "plain":
-        return plain_weights(radius)
-    if name == "cosine":
-        return cosine_weights(radius)
-    raise ConfigError(f"lut must be one of {LUTS} (or give 'weights' as a table), got {name!r}")
-
-
-def adc_mapping(input_bits: int, mu: float, sigma: float, *, low_sigma: float = 6.0,
-                span_sigma: float = 16.0) -> tuple[float, float]:
-    """``(gain, offset)`` of the default ADC for B_in bits.
-
-    The analogue window ``[mu - low_sigma * sigma, mu - low_sigma * sigma + span_sigma * sigma]``
-    (default ``[mu - 6 sigma, mu + 10 sigma]``) is spread over the ``2**B_in`` codes:
-    ``gain = 2**B_in / (span_sigma * sigma)`` codes per grey level, ``offset`` such that the
-    window's bottom is code 0. One sigma is ``2**B_in / span_sigma`` LSB. Noise below the
-    window (6 sigma: 1e-9 of the pixels) clips at 0; the window's top leaves 10 sigma for
-    noise plus target (SNR up to ~6).
-    """
-    gain = float(1 << input_bits) / (span_sigma * sigma)
-    offset = -gain * (mu - low_sigma * sigma)
-    return gain, offset
 
 
 # ==== the specification of a run ========================================================
@@ -240,61 +188,41 @@ class CompareSpec:
         return out
 
 
-# ---- validators of the TOML values: each returns the value checked, or raises ConfigError
-# naming the parameter ("NAME must be ..., got VALUE"); to be replaced by the project's one
-# validation family when it exists.
-
-def _refuse(msg: str) -> None:
-    """Raise :class:`~dptbd.config.ConfigError` with ``msg``."""
-    raise ConfigError(msg)
-
+# ---- checks of the TOML values: ranges by the one family of :mod:`dptbd.errors` (raising
+# ConfigError, "NAME must be an integer in [lo, hi], got VALUE"); lists checked here.
 
 def _checked_int(name: str, v: Any, lo: int, hi: int | None = None) -> int:
-    """``v`` as an int in ``[lo, hi]`` (``hi`` None: no upper bound); bools refused."""
-    if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
-        _refuse(f"{name} must be an integer, got {v!r}")
-    if v < lo or (hi is not None and v > hi):
-        _refuse(f"{name} must be in [{lo}, {'inf' if hi is None else hi}], got {v}")
-    return int(v)
+    """``v`` as an int in ``[lo, hi]``: :func:`dptbd.errors.check_int` raising
+    :class:`~dptbd.config.ConfigError` (:mod:`~dptbd.evaluation.compare.runner` uses it too)."""
+    return check_int(name, v, lo, hi, error=ConfigError)
 
 
-def _checked_number(name: str, v: Any, *, positive: bool = False, lo: float | None = None,
-                    hi: float | None = None, open_lo: bool = False, open_hi: bool = False) -> float:
-    """``v`` as a finite float, ``> 0`` if ``positive``, within ``lo`` / ``hi`` (excluded
-    when ``open_lo`` / ``open_hi``); bools refused."""
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
-        _refuse(f"{name} must be a number, got {v!r}")
-    x = float(v)
-    if not math.isfinite(x):
-        _refuse(f"{name} must be finite, got {v!r}")
-    if positive and x <= 0:
-        _refuse(f"{name} must be > 0, got {v!r}")
-    if lo is not None and (x < lo or (open_lo and x == lo)):
-        _refuse(f"{name} must be {'>' if open_lo else '>='} {lo}, got {v!r}")
-    if hi is not None and (x > hi or (open_hi and x == hi)):
-        _refuse(f"{name} must be {'<' if open_hi else '<='} {hi}, got {v!r}")
-    return x
+def _real(name: str, v: Any, *, positive: bool = False) -> float:
+    """``v`` as a finite float (``> 0`` if ``positive``): :func:`dptbd.errors.check_real`."""
+    if positive:
+        return check_real(name, v, 0.0, lo_open=True, error=ConfigError)
+    return check_real(name, v, error=ConfigError)
 
 
-def _checked_list(name: str, v: Any) -> list:
+def _as_list(name: str, v: Any) -> list:
     """``v`` as a list (any iterable but a string)."""
     if isinstance(v, (str, bytes)) or not hasattr(v, "__iter__"):
-        _refuse(f"{name} must be a list, got {v!r}")
+        raise ConfigError(f"{name} must be a list, got {shown(v)}")
     return list(v)
 
 
-def _checked_increasing(name: str, v: Any, *, min_len: int = 1, positive: bool = False) -> tuple:
+def _increasing_reals(name: str, v: Any, *, min_len: int = 1, positive: bool = False) -> tuple:
     """``v`` as a strictly increasing tuple of at least ``min_len`` finite floats."""
-    vals = _checked_list(name, v)
+    vals = _as_list(name, v)
     if len(vals) < min_len:
-        _refuse(f"{name} must hold at least {min_len} value(s), got {vals!r}"
-                + (" (an empty list)" if not vals else ""))
-    out = tuple(_checked_number(f"{name}[{i}]", x, positive=positive) for i, x in enumerate(vals))
+        raise ConfigError(f"{name} must hold at least {min_len} value(s), got {vals!r}"
+                          + (" (an empty list)" if not vals else ""))
+    out = tuple(_real(f"{name}[{i}]", x, positive=positive) for i, x in enumerate(vals))
     bad = [i for i in range(1, len(out)) if out[i] <= out[i - 1]]
     if bad:
         i = bad[0]
-        _refuse(f"{name} must be strictly increasing, but {name}[{i}] = {out[i]:g} <= "
-                f"{name}[{i - 1}] = {out[i - 1]:g}")
+        raise ConfigError(f"{name} must be strictly increasing, but {name}[{i}] = {out[i]:g} <= "
+                          f"{name}[{i - 1}] = {out[i - 1]:g}")
     return out
 
 
@@ -302,24 +230,26 @@ def _make_fixed(entry: Mapping[str, Any], run: dict, where: str, *, in_sweep: bo
                 explicit: bool) -> FixedSpec:
     """A :class:`FixedSpec` from a ``[[config]]`` table (or a sweep point)."""
     if not isinstance(entry, Mapping):
-        _refuse(f"{where} must be a table of parameters, got {entry!r}")
+        raise ConfigError(f"{where} must be a table of parameters, got {entry!r}")
     entry = dict(entry)
     misplaced = sorted(set(entry) & set(_RUN_LEVEL_DP_KEYS))
     if misplaced:
-        _refuse(f"{where}: {misplaced} are run-level parameters (every configuration runs on the "
-                f"same scenes); set them at the top level of the file")
+        raise ConfigError(f"{where}: {misplaced} are run-level parameters (every configuration "
+                          f"runs on the same scenes); set them at the top level of the file")
     unknown = sorted(set(entry) - set(_CONFIG_KEYS))
     if unknown:
-        _refuse(f"{where}: unknown configuration key(s) {unknown}; allowed: {sorted(_CONFIG_KEYS)}")
+        raise ConfigError(f"{where}: unknown configuration key(s) {unknown}; "
+                          f"allowed: {sorted(_CONFIG_KEYS)}")
     radius = run["radius"]
     if "weights" in entry and "lut" in entry:
-        _refuse(f"{where}: give either 'lut' (one of {LUTS}) or 'weights' (a table), not both")
+        raise ConfigError(f"{where}: give either 'lut' (one of {LUTS}) or 'weights' (a table), "
+                          f"not both")
     lut = entry.pop("lut", "paper")
     if "weights" in entry:
         lut = "custom"
     else:
         if not isinstance(lut, str):
-            _refuse(f"{where}: lut must be one of {LUTS}, got {lut!r}")
+            raise ConfigError(f"{where}: lut must be one of {LUTS}, got {lut!r}")
         entry["weights"] = lut_weights(lut, radius)
     name = entry.pop("name", None)
     gain = entry.pop("adc_gain", None)
@@ -335,19 +265,19 @@ def _make_fixed(entry: Mapping[str, Any], run: dict, where: str, *, in_sweep: bo
             if energy == "needed":
                 energy = probe.energy_bits_needed
             elif isinstance(energy, str):
-                _refuse(f"energy_bits must be an integer or \"needed\", got {energy!r}")
+                raise ConfigError(f"energy_bits must be an integer or \"needed\", got {energy!r}")
             cfg = DPConfig.from_mapping(dict(params, energy_bits=energy))
     except ConfigError as exc:
         raise ConfigError(f"{where}: {exc}") from None
     bits = cfg.input_bits
     d_gain, d_offset = adc_mapping(bits, run["mu"], run["sigma"], low_sigma=run["adc_low_sigma"],
                                    span_sigma=run["adc_span_sigma"])
-    gain = d_gain if gain is None else _checked_number(f"{where}: adc_gain", gain, positive=True)
-    offset = d_offset if offset is None else _checked_number(f"{where}: adc_offset", offset)
+    gain = d_gain if gain is None else _real(f"{where}: adc_gain", gain, positive=True)
+    offset = d_offset if offset is None else _real(f"{where}: adc_offset", offset)
     if name is None:
         name = f"{bits}/{cfg.energy_bits}/{cfg.weight_frac_bits} {cfg.rounding} {lut}"
     elif not isinstance(name, str) or not name.strip():
-        _refuse(f"{where}: name must be a non-empty string, got {name!r}")
+        raise ConfigError(f"{where}: name must be a non-empty string, got {name!r}")
     return FixedSpec(name=name, cfg=cfg, lut=lut, adc_gain=gain, adc_offset=offset,
                      in_sweep=in_sweep, explicit=explicit,
                      saturates=cfg.energy_bits < cfg.energy_bits_needed)
@@ -356,21 +286,21 @@ def _make_fixed(entry: Mapping[str, Any], run: dict, where: str, *, in_sweep: bo
 def _sweep_entries(sweep: Mapping[str, Any], run: dict) -> list[dict]:
     """The grid of a ``[sweep]`` table as ``[[config]]``-like entries."""
     if not isinstance(sweep, Mapping):
-        _refuse(f"sweep must be a table (or a list of tables), got {sweep!r}")
+        raise ConfigError(f"sweep must be a table (or a list of tables), got {sweep!r}")
     if not sweep:
         return []
     unknown = sorted(set(sweep) - set(_SWEEP_KEYS))
     if unknown:
-        _refuse(f"sweep: unknown key(s) {unknown}; allowed: {sorted(_SWEEP_KEYS)}")
+        raise ConfigError(f"sweep: unknown key(s) {unknown}; allowed: {sorted(_SWEEP_KEYS)}")
     if "energy_bits" in sweep and "energy_headroom" in sweep:
-        _refuse("sweep: give either energy_bits (absolute widths) or energy_headroom "
-              "(B_E minus the worst-case width), not both")
+        raise ConfigError("sweep: give either energy_bits (absolute widths) or energy_headroom "
+                          "(B_E minus the worst-case width), not both")
     axes = {}
     for key in _SWEEP_KEYS:
         if key in sweep:
-            vals = _checked_list(f"sweep.{key}", sweep[key])
+            vals = _as_list(f"sweep.{key}", sweep[key])
             if not vals:
-                _refuse(f"sweep.{key} must not be empty")
+                raise ConfigError(f"sweep.{key} must not be empty")
             axes[key] = vals
     axes.setdefault("input_bits", [8])
     if "energy_bits" not in axes:
@@ -413,25 +343,26 @@ def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> Co
     sweep = mapping.pop("sweep", DEFAULT_SWEEP)
     unknown = sorted(set(mapping) - set(DEFAULT_RUN))
     if unknown:
-        _refuse(f"unknown parameter(s) {unknown}; allowed: {sorted(DEFAULT_RUN) + ['config', 'sweep']}")
+        raise ConfigError(f"unknown parameter(s) {unknown}; "
+                          f"allowed: {sorted(DEFAULT_RUN) + ['config', 'sweep']}")
     bad_over = sorted(set(overrides) - set(DEFAULT_RUN))
     if bad_over:
-        _refuse(f"unknown parameter(s) {bad_over}")
+        raise ConfigError(f"unknown parameter(s) {bad_over}")
     run = dict(DEFAULT_RUN)
     run.update(mapping)
     run.update({k: v for k, v in overrides.items() if v is not None})
 
     run["trials"] = _checked_int("trials", run["trials"], 1)
     run["seed"] = _checked_int("seed", run["seed"], 0)
-    run["snr"] = _checked_increasing("snr", run["snr"], min_len=2, positive=True)
+    run["snr"] = _increasing_reals("snr", run["snr"], min_len=2, positive=True)
     run["size"] = _checked_int("size", run["size"], 3, 4096)
     run["frames"] = _checked_int("frames", run["frames"], 1, 100000)
-    vel = _checked_list("velocity", run["velocity"])
+    vel = _as_list("velocity", run["velocity"])
     if len(vel) != 2:
-        _refuse(f"velocity must be a (row, col) pair, got {run['velocity']!r}")
-    run["velocity"] = tuple(_checked_number(f"velocity[{i}]", v) for i, v in enumerate(vel))
-    run["mu"] = _checked_number("mu", run["mu"])
-    run["sigma"] = _checked_number("sigma", run["sigma"], positive=True)
+        raise ConfigError(f"velocity must be a (row, col) pair, got {run['velocity']!r}")
+    run["velocity"] = tuple(_real(f"velocity[{i}]", v) for i, v in enumerate(vel))
+    run["mu"] = _real("mu", run["mu"])
+    run["sigma"] = _real("sigma", run["sigma"], positive=True)
     run["segment_frames"] = _checked_int("segment_frames", run["segment_frames"], 1, 65535)
     if run["segment_stride"] is not None:
         run["segment_stride"] = _checked_int("segment_stride", run["segment_stride"], 1,
@@ -440,26 +371,26 @@ def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> Co
         run["segment_stride"] = run["segment_frames"]
     run["radius"] = _checked_int("radius", run["radius"], 1, 2)
     if run["frames"] < run["segment_frames"]:
-        _refuse(f"frames={run['frames']} is shorter than one segment "
-                f"(segment_frames={run['segment_frames']})")
-    run["false_alarm_rate"] = _checked_number("false_alarm_rate", run["false_alarm_rate"],
-                                              lo=0.0, hi=1.0, open_lo=True, open_hi=True)
+        raise ConfigError(f"frames={run['frames']} is shorter than one segment "
+                          f"(segment_frames={run['segment_frames']})")
+    run["false_alarm_rate"] = check_prob("false_alarm_rate", run["false_alarm_rate"],
+                                         error=ConfigError)
     if count_for_rate(run["false_alarm_rate"], run["size"] ** 2) < 1:
-        _refuse(f"false_alarm_rate={run['false_alarm_rate']} keeps no candidate in a "
-                f"{run['size']}x{run['size']} image")
-    run["thresholds"] = _checked_increasing("thresholds", run["thresholds"])
-    levels = _checked_list("pd_levels", run["pd_levels"])
+        raise ConfigError(f"false_alarm_rate={run['false_alarm_rate']} keeps no candidate in a "
+                          f"{run['size']}x{run['size']} image")
+    run["thresholds"] = _increasing_reals("thresholds", run["thresholds"])
+    levels = _as_list("pd_levels", run["pd_levels"])
     if not levels:
-        _refuse("pd_levels must not be empty")
-    run["pd_levels"] = tuple(_checked_number(f"pd_levels[{i}]", v, lo=0.0, hi=1.0, open_lo=True,
-                                             open_hi=True) for i, v in enumerate(levels))
-    run["tolerance_db"] = _checked_number("tolerance_db", run["tolerance_db"], lo=0.0)
+        raise ConfigError("pd_levels must not be empty")
+    run["pd_levels"] = tuple(check_prob(f"pd_levels[{i}]", v, error=ConfigError)
+                             for i, v in enumerate(levels))
+    run["tolerance_db"] = check_real("tolerance_db", run["tolerance_db"], 0.0, error=ConfigError)
     run["bootstrap"] = _checked_int("bootstrap", run["bootstrap"], 0, 10**6)
     run["chunk"] = _checked_int("chunk", run["chunk"], 1)
-    run["adc_low_sigma"] = _checked_number("adc_low_sigma", run["adc_low_sigma"])
-    run["adc_span_sigma"] = _checked_number("adc_span_sigma", run["adc_span_sigma"], positive=True)
+    run["adc_low_sigma"] = _real("adc_low_sigma", run["adc_low_sigma"])
+    run["adc_span_sigma"] = _real("adc_span_sigma", run["adc_span_sigma"], positive=True)
     if not isinstance(run["tie_rule"], str) or run["tie_rule"] not in TIE_RULES:
-        _refuse(f"tie_rule must be one of {TIE_RULES}, got {run['tie_rule']!r}")
+        raise ConfigError(f"tie_rule must be one of {TIE_RULES}, got {run['tie_rule']!r}")
     try:
         DPConfig(width=run["size"], height=run["size"], segment_frames=run["segment_frames"],
                  segment_stride=run["segment_stride"], radius=run["radius"])
@@ -467,7 +398,7 @@ def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> Co
         raise ConfigError(f"run parameters: {exc}") from None
 
     fixed: list[FixedSpec] = []
-    for i, entry in enumerate(_checked_list("config", configs)):
+    for i, entry in enumerate(_as_list("config", configs)):
         fixed.append(_make_fixed(entry, run, f"config[{i}]", in_sweep=False, explicit=True))
     sweeps = sweep if isinstance(sweep, (list, tuple)) else [sweep]
     for entry in (e for sw in sweeps for e in _sweep_entries(sw, run)):
@@ -480,9 +411,9 @@ def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> Co
         else:
             fixed.append(spec)
     if not fixed:
-        _refuse("nothing to compare: no [[config]] and an empty sweep")
+        raise ConfigError("nothing to compare: no [[config]] and an empty sweep")
     names = [f.name for f in fixed]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
-        _refuse(f"configuration names must be unique, repeated: {dup}")
+        raise ConfigError(f"configuration names must be unique, repeated: {dup}")
     return CompareSpec(configs=tuple(fixed), **run)

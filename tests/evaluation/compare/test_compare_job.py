@@ -37,12 +37,12 @@ def _anchored(message: str) -> str:
     ("[[config]]\ninput_bits = 17\n", {}, "config[0]: input_bits must be an integer in [1, 16], got 17"),
     ("", {"snr": []}, "snr must hold at least 2 value(s), got [] (an empty list)"),
     ("", {"snr": [2.0, 1.5]}, "snr must be strictly increasing, but snr[1] = 1.5 <= snr[0] = 2"),
-    ("", {"trials": 0}, "trials must be in [1, inf], got 0"),
+    ("", {"trials": 0}, "trials must be an integer in [1, inf), got 0"),
     ("tie_rule = 'raster'\n", {}, "tie_rule must be one of ('random', 'gateware', "
      "'gateware-bins'), got 'raster'"),
     ("", {"tie_rule": "ties"}, "tie_rule must be one of ('random', 'gateware', "
      "'gateware-bins'), got 'ties'"),
-    ("", {"bootstrap": -1}, "bootstrap must be in [0, 1000000], got -1"),
+    ("", {"bootstrap": -1}, "bootstrap must be an integer in [0, 1000000], got -1"),
     ("", {"workers": 0}, "--workers must be >= 1, got 0"),
     ("", {"synth": SynthOptions(device="xc7")},
      "--device must be one of ('lp384', 'lp1k', 'lp4k', 'lp8k', 'hx1k', 'hx4k', 'hx8k', "

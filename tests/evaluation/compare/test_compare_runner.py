@@ -135,7 +135,7 @@ def test_same_seed_same_summary_other_seed_other_counts(small_compare):
 
 
 def test_worker_count_out_of_range_is_refused():
-    with pytest.raises(ConfigError, match=r"^workers must be in \[1, 1024\], got 0$"):
+    with pytest.raises(ConfigError, match=r"^workers must be an integer in \[1, 1024\], got 0$"):
         run_compare(build_spec({"trials": 1, "sweep": {}, "config": [{"input_bits": 4}]}),
                     workers=0)
 

@@ -1,0 +1,149 @@
+"""``dptbd.hw.flow.nextpnr``: the nextpnr log and report parsers, and its outcomes.
+
+The parsers are checked on excerpts captured from nextpnr-ice40 0.4 runs of the pipeline;
+nextpnr itself is replaced by small shell scripts that write such a log, so the default
+suite never places and routes (``test_synth.py`` does with ``-m slow``).
+"""
+
+import json
+import pathlib
+import shutil
+import stat
+import textwrap
+
+import pytest
+
+from dptbd.hw.flow.nextpnr import (
+    parse_nextpnr_log, parse_nextpnr_report, pick_clock, run_nextpnr,
+)
+from dptbd.hw.flow.tools import SynthToolError, ToolTimeoutError
+
+# ---- captured samples ------------------------------------------------------------------
+
+NEXTPNR_UTILISATION = """\
+Info: Device utilisation:
+Info: \t         ICESTORM_LC:  {lc:4d}/ 7680    {lcp}%
+Info: \t        ICESTORM_RAM:    {ram:2d}/   32    {ramp}%
+Info: \t               SB_IO:    55/  256    21%
+Info: \t               SB_GB:     6/    8    75%
+Info: \t        ICESTORM_PLL:     0/    2     0%
+Info: \t         SB_WARMBOOT:     0/    1     0%
+
+Info: Placed 0 cells based on constraints.
+"""
+
+NEXTPNR_PASS_LOG = """\
+Warning: No PCF file specified; IO pins will be placed automatically
+
+Info: Packing constants..
+Info: promoting clk$SB_IO_IN (fanout 2749)
+""" + NEXTPNR_UTILISATION.format(lc=4418, lcp=57, ram=14, ramp=43) + """\
+Info: Max frequency for clock 'clk$SB_IO_IN_$glb_clk': 108.08 MHz (PASS at 100.00 MHz)
+
+Info: Routing..
+Info: Max frequency for clock 'clk$SB_IO_IN_$glb_clk': 103.86 MHz (PASS at 100.00 MHz)
+
+Info: Slack histogram:
+Info:  legend: * represents 6 endpoint(s)
+1 warning, 0 errors
+
+Info: Program finished normally.
+"""
+
+NEXTPNR_TIMING_FAIL_LOG = """\
+""" + NEXTPNR_UTILISATION.format(lc=4370, lcp=56, ram=16, ramp=50) + """\
+Info: Max frequency for clock 'clk$SB_IO_IN_$glb_clk': 99.04 MHz (FAIL at 100.00 MHz)
+Warning: Max frequency for clock 'clk$SB_IO_IN_$glb_clk': 99.45 MHz (FAIL at 100.00 MHz)
+"""
+
+NEXTPNR_NO_FIT_LOG = """\
+Info: Constraining chains...
+Info:       67 LCs used to legalise carry chains.
+
+Info: Annotating ports with timing budgets for target frequency 100.00 MHz
+""" + NEXTPNR_UTILISATION.format(lc=4479, lcp=58, ram=34, ramp=106) + """\
+ERROR: Unable to place cell 'core.weight_lut.column_3.0.0_RAM', no BELs remaining to \
+implement cell type 'ICESTORM_RAM'
+1 warning, 1 error
+"""
+
+NEXTPNR_REPORT_JSON = json.dumps({
+    "critical_paths": [],
+    "fmax": {"clk$SB_IO_IN_$glb_clk": {"achieved": 99.4530029296875, "constraint": 100}},
+    "utilization": {"ICESTORM_LC": {"available": 7680, "used": 4370},
+                    "ICESTORM_RAM": {"available": 32, "used": 16}},
+})
+
+
+def test_nextpnr_log_takes_the_post_route_fmax():
+    rep = parse_nextpnr_log(NEXTPNR_PASS_LOG)
+    assert rep.fmax == {"clk$SB_IO_IN_$glb_clk": 103.86}
+    assert rep.utilisation["ICESTORM_LC"] == (4418, 7680)
+    assert rep.utilisation["ICESTORM_RAM"] == (14, 32)
+    assert rep.utilisation["SB_WARMBOOT"] == (0, 1)
+    assert rep.errors == () and rep.over_capacity == () and rep.no_fit_error is None
+
+
+def test_nextpnr_log_timing_failure_still_gives_fmax():
+    assert parse_nextpnr_log(NEXTPNR_TIMING_FAIL_LOG).fmax == {"clk$SB_IO_IN_$glb_clk": 99.45}
+
+
+def test_nextpnr_log_no_fit():
+    rep = parse_nextpnr_log(NEXTPNR_NO_FIT_LOG)
+    assert rep.fmax == {}
+    assert rep.over_capacity == ("ICESTORM_RAM",)
+    assert "no BELs remaining" in rep.no_fit_error
+
+
+def test_nextpnr_report_json():
+    rep = parse_nextpnr_report(NEXTPNR_REPORT_JSON)
+    assert rep.fmax == {"clk$SB_IO_IN_$glb_clk": pytest.approx(99.453)}
+    assert rep.utilisation == {"ICESTORM_LC": (4370, 7680), "ICESTORM_RAM": (16, 32)}
+
+
+def test_pick_clock():
+    assert pick_clock({"clk$SB_IO_IN_$glb_clk": 1.0}) == "clk$SB_IO_IN_$glb_clk"
+    two = {"clk$SB_IO_IN_$glb_clk": 1.0, "other_clk": 2.0}
+    assert pick_clock(two, "clk") == "clk$SB_IO_IN_$glb_clk"
+    assert pick_clock(two, "nope") is None
+
+
+# ---- outcomes of a run ----------------------------------------------------------------
+
+
+def fake_nextpnr(folder: pathlib.Path, log: str, rc: int, sleep: float = 0) -> str:
+    """A stand-in for nextpnr-ice40: writes ``log`` to its ``-l`` file, exits with ``rc``."""
+    (folder / "canned.log").write_text(log)
+    script = folder / "fake-nextpnr"
+    script.write_text(textwrap.dedent(f"""\
+        #!/bin/sh
+        while [ $# -gt 0 ]; do
+          if [ "$1" = "-l" ]; then cp "{folder / 'canned.log'}" "$2"; fi
+          shift
+        done
+        sleep {sleep}
+        exit {rc}
+        """))
+    script.chmod(script.stat().st_mode | stat.S_IXUSR)
+    return str(script)
+
+
+@pytest.mark.skipif(shutil.which("sh") is None, reason="needs a POSIX shell")
+def test_run_nextpnr_outcomes(tmp_path):
+    netlist = tmp_path / "netlist.json"
+    netlist.write_text("{}")
+    ok = run_nextpnr(netlist, seed=7, nextpnr=fake_nextpnr(tmp_path, NEXTPNR_PASS_LOG, 0))
+    assert ok.fits and ok.fmax_mhz == 103.86 and ok.meets_target and ok.seed == 7
+    assert ok.clock == "clk$SB_IO_IN_$glb_clk" and ok.used("ICESTORM_RAM") == 14
+
+    no = run_nextpnr(netlist, seed=1, nextpnr=fake_nextpnr(tmp_path, NEXTPNR_NO_FIT_LOG, 255))
+    assert not no.fits and no.fmax_mhz is None and no.utilisation["ICESTORM_RAM"] == (34, 32)
+    assert no.error.startswith("over capacity: ICESTORM_RAM 34/32; nextpnr: Unable to place")
+
+    with pytest.raises(SynthToolError, match="nextpnr failed") as info:
+        run_nextpnr(netlist, seed=1, nextpnr=fake_nextpnr(tmp_path, "ERROR: bad json\n", 1))
+    assert "bad json" in str(info.value)
+
+    with pytest.raises(ToolTimeoutError, match="timed out"):
+        run_nextpnr(netlist, seed=1, timeout=0.5,
+                    nextpnr=fake_nextpnr(tmp_path, NEXTPNR_PASS_LOG, 0, sleep=5))

@@ -1,0 +1,10 @@
+"""``dptbd.hw.flow.tools``: a missing tool names the Debian package that provides it."""
+
+import pytest
+
+from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
+
+
+def test_missing_tool_names_the_debian_package():
+    with pytest.raises(ToolNotFoundError, match=r"apt-get install nextpnr-ice40"):
+        require_tool("/nonexistent/bin/nextpnr-ice40")
