@@ -32,7 +32,8 @@ def test_config_refusals(tmp_path):
         config_from_args(parse(["--config", "missing.toml"]))
     toml = tmp_path / "p.toml"
     toml.write_text("radius = 3\n")
-    with pytest.raises(ConfigError, match=rf" \(from {re.escape(str(toml))}\)$"):
+    with pytest.raises(ConfigError, match=rf"^radius must be an integer in \[1, 2\], got 3 "
+                                          rf"\(from {re.escape(str(toml))}\)$"):
         config_from_args(parse(["--config", toml]))
 
 

@@ -383,7 +383,7 @@ def test_segmenter_settings_come_from_the_data_unless_given():
     assert cfg.bin_shift == 5 and got.bin_shift == 2
     assert segmenter_settings(cfg, frames, 33, AssociationConfig(),
                               calibration_frames=12).bin_shift == 5
-    with pytest.raises(ValueError, match="calibration_frames"):
+    with pytest.raises(ValueError, match=r"^calibration_frames must be >= 1, got 0$"):
         segmenter_settings(cfg, frames, 33, AssociationConfig(), calibration_frames=0)
     # the gateware selects 2n = 66 (headroom 2), the DSP trims to 33; C = min(2 * 66, 128)
     assert got.n_candidates == 66 and got.record_capacity == 128

@@ -8,6 +8,7 @@ logic for r = 1, block RAM for r = 2) and the LUT, timing and cycle-count tests 
 both "bram" and "logic" explicitly.
 """
 
+import re
 import warnings
 
 import numpy as np
@@ -188,26 +189,35 @@ def test_first_flags_are_optional():
 
 def test_refuses_overlapping_segments():
     cfg = DPConfig(width=8, height=8, segment_frames=4, segment_stride=2)
-    with refused(ConfigError, match="segment_stride"):
+    with refused(ConfigError,
+                 match=r"^segment_stride=2 is not supported by the gateware: "
+                       r"only non-overlapping segments "
+                       r"\(segment_stride == segment_frames == 4\) "
+                       r"are implemented, with a single state store$"):
         DPPipeline(cfg)
 
 
 def test_refuses_frames_too_small_for_the_read_ahead():
     cfg = DPConfig(width=5, height=4, radius=2)
-    with refused(ConfigError, match="too small for the read-ahead"):
+    with refused(ConfigError,
+                 match=r"^width=5 x height=4 is too small for the read-ahead of radius=2: "
+                       r"the gateware needs width\*height - radius\*\(width\+1\) = 8 "
+                       r"> write latency 13 cycles, so that each state is written before "
+                       r"the next frame reads it; use a larger frame$"):
         DPPipeline(cfg)
 
 
 def test_refuses_a_too_small_output_fifo():
     cfg = DPConfig(width=5, height=4)
-    with refused(ValueError, match="output_fifo_depth"):
+    with refused(ValueError, match=r"^output_fifo_depth must be >= 3, got 2$"):
         DPPipeline(cfg, output_fifo_depth=2)
 
 
 @pytest.mark.parametrize("bad", ["block", "Logic", None])
 def test_refuses_an_unknown_lut_style(bad):
     cfg = DPConfig(width=5, height=4)
-    with refused(ValueError, match=r"lut_style must be one of 'auto', 'bram', 'logic'"):
+    with refused(ValueError, match=rf"^lut_style must be one of 'auto', 'bram', 'logic', "
+                                   rf"got {re.escape(repr(bad))}$"):
         DPPipeline(cfg, lut_style=bad)
 
 

@@ -101,5 +101,8 @@ def test_segmenter_verilog_lints_clean(tmp_path, kw):
 def test_segmenter_verilog_refuses_zero_points():
     """0.2 % of 13 x 9 rounds to n = 0: refused with the parameter named, not emitted as
     zero-width Verilog."""
-    with pytest.raises(ConfigError, match=r"candidate_count.*13x9 = 117 pixels"):
+    with pytest.raises(ConfigError,
+                       match=r"^candidate_count: n = 0 candidate points per segment "
+                             r"\(0\.2 % of 13x9 = 117 pixels rounds to 0\) gives a segmenter "
+                             r"that emits no points; set candidate_count to 1 … 117$"):
         generate_segmenter_verilog(make_config(width=13, height=9, segment_frames=3))

@@ -31,7 +31,11 @@ def test_latency_does_not_depend_on_rounding_or_widths():
 
 
 def test_overlapping_segments_are_refused():
-    with pytest.raises(ConfigError, match="segment_stride=2"):
+    with pytest.raises(ConfigError,
+                       match=r"^segment_stride=2 is not supported by the gateware: "
+                             r"only non-overlapping segments "
+                             r"\(segment_stride == segment_frames == 4\) "
+                             r"are implemented, with a single state store$"):
         check_supported(DPConfig(segment_frames=4, segment_stride=2))
 
 
@@ -39,7 +43,11 @@ def test_frame_too_small_for_read_ahead_is_refused():
     # 5 x 4 with r = 2: 20 - 2 * 6 = 8 <= write latency 13.
     cfg = DPConfig(width=5, height=4, radius=2)
     assert read_ahead_distance(cfg) == 12
-    with pytest.raises(ConfigError, match="too small for the read-ahead"):
+    with pytest.raises(ConfigError,
+                       match=r"^width=5 x height=4 is too small for the read-ahead of radius=2: "
+                             r"the gateware needs width\*height - radius\*\(width\+1\) = 8 "
+                             r"> write latency 13 cycles, so that each state is written before "
+                             r"the next frame reads it; use a larger frame$"):
         check_supported(cfg)
 
 

@@ -5,6 +5,7 @@ which must behave identically.
 """
 
 import random
+import re
 
 import numpy as np
 import pytest
@@ -141,7 +142,8 @@ def test_auto_style_is_logic_for_radius_1_and_bram_for_radius_2():
 
 @pytest.mark.parametrize("bad", ["BRAM", "registers", "", None, 1])
 def test_unknown_style_is_refused_naming_the_parameter(bad):
-    with refused(ValueError, match=r"lut_style must be one of 'auto', 'bram', 'logic'"):
+    with refused(ValueError, match=rf"^lut_style must be one of 'auto', 'bram', 'logic', "
+                                   rf"got {re.escape(repr(bad))}$"):
         WeightLUT(DPConfig(), lut_style=bad)
 
 

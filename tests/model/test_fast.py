@@ -33,9 +33,13 @@ def make_cfg(**kw) -> DPConfig:
     elif kw.get("weights") == "plain":
         kw["weights"] = plain_weights(radius)
     k = kw.get("segment_frames", 4)
-    narrow = k * ((1 << kw.get("input_bits", 8)) - 1) > (1 << kw.get("energy_bits", 16)) - 1
-    if narrow:
-        with pytest.warns(EnergyWidthWarning, match="saturates"):
+    input_bits, energy_bits = kw.get("input_bits", 8), kw.get("energy_bits", 16)
+    full_scale = k * ((1 << input_bits) - 1)
+    if full_scale > (1 << energy_bits) - 1:
+        warning = (rf"^energy_bits={energy_bits} saturates: K={k} full-scale {input_bits}-bit "
+                   rf"pixels sum to {full_scale} > {(1 << energy_bits) - 1}; "
+                   rf"energy_bits >= {full_scale.bit_length()} never saturates$")
+        with pytest.warns(EnergyWidthWarning, match=warning):
             return DPConfig(**kw)
     with warnings.catch_warnings():
         warnings.simplefilter("error", EnergyWidthWarning)

@@ -26,5 +26,7 @@ def test_scenarios_fit_the_configuration(name):
     saturating = make_frames("saturating", small(), 5)
     assert (saturating == 255).mean() > 0.1
     assert make_frames("ties", small(), 5).max() == 1
-    with pytest.raises(ValueError, match="unknown scenario"):
+    with pytest.raises(ValueError, match=r"^unknown scenario 'fog'; choose one of table1, "
+                                         r"two-targets, noise, mixed, saturating, ties, "
+                                         r"edges, random$"):
         make_frames("fog", small(), 3)

@@ -72,6 +72,6 @@ def test_write_folder_all_or_nothing(tmp_path, result, monkeypatch):
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(report, "figure_pd_vs_snr", disk_full)
-    with pytest.raises(OSError, match="No space left on device"):
+    with pytest.raises(OSError, match=r"^\[Errno 28\] No space left on device$"):
         write_folder(result, tmp_path / "e", "TABLE", "NOTE", {})
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d"]
