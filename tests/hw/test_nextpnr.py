@@ -7,6 +7,7 @@ suite never places and routes (``test_synth.py`` does with ``-m slow``).
 
 import json
 import pathlib
+import re
 import shutil
 import stat
 import textwrap
@@ -140,10 +141,18 @@ def test_run_nextpnr_outcomes(tmp_path):
     assert not no.fits and no.fmax_mhz is None and no.utilisation["ICESTORM_RAM"] == (34, 32)
     assert no.error.startswith("over capacity: ICESTORM_RAM 34/32; nextpnr: Unable to place")
 
-    with pytest.raises(SynthToolError, match="nextpnr failed") as info:
-        run_nextpnr(netlist, seed=1, nextpnr=fake_nextpnr(tmp_path, "ERROR: bad json\n", 1))
-    assert "bad json" in str(info.value)
+    failing = fake_nextpnr(tmp_path, "ERROR: bad json\n", 1)
+    command = (f"{failing} --hx8k --package ct256 --json netlist.json --freq 100 "
+               f"--pcf-allow-unconstrained --timing-allow-fail --seed 1 --report "
+               f"nextpnr-seed1.report.json -l nextpnr-seed1.log -q")
+    with pytest.raises(SynthToolError, match=(
+            rf"^nextpnr failed \(exit 1\): {re.escape(command)}\n"
+            r"--- last lines of the nextpnr log ---\nERROR: bad json$")):
+        run_nextpnr(netlist, seed=1, nextpnr=failing)
 
-    with pytest.raises(ToolTimeoutError, match="timed out"):
-        run_nextpnr(netlist, seed=1, timeout=0.5,
-                    nextpnr=fake_nextpnr(tmp_path, NEXTPNR_PASS_LOG, 0, sleep=5))
+    slow = fake_nextpnr(tmp_path, NEXTPNR_PASS_LOG, 0, sleep=5)
+    command = command.replace(str(failing), str(slow))
+    with pytest.raises(ToolTimeoutError, match=(
+            rf"^nextpnr timed out after 0\.5 s: {re.escape(command)}\n"
+            r"--- last lines of the nextpnr log ---\n(.*\n)*Info: Program finished normally\.$")):
+        run_nextpnr(netlist, seed=1, timeout=0.5, nextpnr=slow)

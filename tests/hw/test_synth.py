@@ -43,23 +43,30 @@ def test_result_median_and_fit():
 
 
 def test_missing_yosys_names_the_debian_package():
-    with pytest.raises(ToolNotFoundError, match=r"Debian package 'yosys'"):
+    with pytest.raises(ToolNotFoundError, match=(
+                 r"^'/nonexistent/yosys' not found on PATH: it is needed for iCE40 synthesis; "
+                 r"install the Debian package 'yosys' \(apt-get install yosys\)$")):
         synthesize(DPConfig(width=8, height=6), yosys="/nonexistent/yosys", seeds=())
 
 
 def test_missing_nextpnr_is_reported_before_any_work(tmp_path):
-    with pytest.raises(ToolNotFoundError, match="nextpnr-ice40"):
+    with pytest.raises(ToolNotFoundError, match=(
+                 r"^'/nonexistent/nextpnr-ice40' not found on PATH: it is needed for iCE40 synthesis; "
+                 r"install the Debian package 'nextpnr-ice40' \(apt-get install nextpnr-ice40\)$")):
         synthesize(DPConfig(width=8, height=6), yosys=shutil.which("sh"),
                    nextpnr="/nonexistent/nextpnr-ice40", workdir=tmp_path)
     assert list(tmp_path.iterdir()) == []
 
 
 def test_bad_arguments():
-    with pytest.raises(ValueError, match="variant"):
+    with pytest.raises(ValueError, match=r"^variant must be one of \('core', 'top'\), got 'board'$"):
         synthesize(DPConfig(), variant="board")
-    with pytest.raises(ValueError, match="device"):
+    with pytest.raises(ValueError, match=(
+            r"^device must be one of \('lp384', 'lp1k', 'lp4k', 'lp8k', 'hx1k', 'hx4k', "
+            r"'hx8k', 'up3k', 'up5k', 'u1k', 'u2k', 'u4k'\), got 'ecp5'$")):
         synthesize(DPConfig(), device="ecp5")
-    with pytest.raises(ValueError, match="lut_style must be one of 'auto', 'bram', 'logic'"):
+    with pytest.raises(ValueError, match=r"^lut_style must be one of 'auto', 'bram', 'logic', "
+                                         r"got 'distributed'$"):
         synthesize(DPConfig(), lut_style="distributed", yosys="/nonexistent/yosys")
 
 
