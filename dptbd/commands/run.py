@@ -17,7 +17,8 @@ at (54, 40) with V = (0.4, 0.6), 0.2 % false-alarm threshold):
    which frames, the words compared, the cycles and the simulator's speed.
 2. **DSP stage** — the fixed-capacity track association of 001 §3
    (:mod:`dptbd.dsp.association`), candidates' paths recovered by backtracking the
-   direction maps (:mod:`dptbd.dsp.backtrack`).
+   direction maps (:mod:`dptbd.dsp.backtrack`); ``--dsp c`` runs it on the C firmware
+   (:mod:`dptbd.dsp.c_tracker`), same tracks bit for bit.
 
 It writes, into a new output folder (default ``dptbd-run``): ``table.md``/``table.csv``
 (001's Table 1 form), ``tracks.csv`` (a position per frame of every confirmed track),
