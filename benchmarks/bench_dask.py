@@ -10,9 +10,13 @@ One process, one run after the other, on the same spec (the default
 * ``in process``   : ``run_compare(spec, workers=1)`` (no dask, as before);
 * ``old pool, N``  : the ``ProcessPoolExecutor`` (fork) code that ``run_compare`` had before
   dask (:func:`_old_pool`, a copy of it kept here only to be measured), N = 1, 2;
-* ``dask local, N``: ``run_compare(spec, workers=N)``, a LocalCluster of N processes; its
-  start (processes spawned, packages imported, kernels loaded by the warm-up plugin) is
-  timed apart and is outside :attr:`CompareResult.seconds` like the pool's fork is not.
+* ``dask local, N``: ``run_compare`` on a LocalCluster of N worker processes (one thread
+  each, as ``run_compare(spec, workers=N)`` starts for N > 1); its start (processes
+  spawned, packages imported, kernels loaded by the warm-up plugin) is timed apart, outside
+  :attr:`CompareResult.seconds` (the pool's fork is inside its time).
+
+The ways run in rounds (``--repeat``), each way once per round, and the medians are printed:
+the machine is shared and its load drifts.
 
 All runs' counts are checked identical (the script fails otherwise). Per-task scheduling
 overhead: wall time per task of ``N_NOOP`` empty tasks on the 2-worker LocalCluster, and as a
@@ -35,6 +39,7 @@ import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
+import distributed
 import numpy as np
 
 from dptbd.evaluation.compare import build_spec, make_plan, run_compare
@@ -88,6 +93,7 @@ def _same(a: dict, b: dict) -> bool:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--trials", type=int, default=240, help="trials (default 240, the default run)")
+    ap.add_argument("--repeat", type=int, default=2, help="rounds; medians printed (default 2)")
     ap.add_argument("--json", metavar="PATH", help="also write the numbers as JSON")
     args = ap.parse_args(argv)
     spec = build_spec({}, trials=args.trials, bootstrap=0)
@@ -95,21 +101,30 @@ def main(argv=None) -> int:
     _warm(plan)
     n_tasks = -(-spec.trials // spec.chunk)
     load0 = os.getloadavg()[0]
-    rows: dict = {}
 
-    ref = run_compare(spec, workers=1)
-    rows["in process"] = dict(seconds=ref.seconds, start_seconds=0.0)
-    for n in (1, 2):
-        seconds, parts = _old_pool(plan, n)
-        counts = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
-        assert _same(ref.counts, counts), f"old pool {n}: counts differ"
-        rows[f"old pool, {n}"] = dict(seconds=seconds, start_seconds=None)
-    for n in (1, 2):
-        start = time.perf_counter()
-        res = run_compare(spec, workers=n)
-        total = time.perf_counter() - start
-        assert _same(ref.counts, res.counts), f"dask local {n}: counts differ"
-        rows[f"dask local, {n}"] = dict(seconds=res.seconds, start_seconds=total - res.seconds)
+    ref = run_compare(spec, workers=1)  # the reference counts; also warms this process
+    seconds: dict = {}
+    start_seconds: dict = {}
+    for _ in range(args.repeat):  # rounds: every way once per round, so load drifts hit all
+        res = run_compare(spec, workers=1)
+        seconds.setdefault("in process", []).append(res.seconds)
+        for n in (1, 2):
+            took, parts = _old_pool(plan, n)
+            counts = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+            assert _same(ref.counts, counts), f"old pool {n}: counts differ"
+            seconds.setdefault(f"old pool, {n}", []).append(took)
+            start = time.perf_counter()
+            with distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                          dashboard_address=None, silence_logs=40) as cluster:
+                res = run_compare(spec, scheduler=cluster.scheduler_address, workers=n)
+            total = time.perf_counter() - start
+            assert _same(ref.counts, res.counts), f"dask local {n}: counts differ"
+            seconds.setdefault(f"dask local, {n}", []).append(res.seconds)
+            start_seconds.setdefault(f"dask local, {n}", []).append(total - res.seconds)
+    rows = {name: dict(seconds=float(np.median(s)), all_seconds=s,
+                       start_seconds=float(np.median(start_seconds[name]))
+                       if name in start_seconds else None)
+            for name, s in seconds.items()}
 
     with Execution(workers=2).client() as client:
         map_tasks(_noop, [()] * 20, client)  # the first round trip
@@ -125,11 +140,13 @@ def main(argv=None) -> int:
     print(f"default compare, {spec.trials} trials in {n_tasks} tasks of {spec.chunk} trials, "
           f"{len(plan.floats) + len(plan.fixed)} detector runs per scene; load {load0:.1f} -> "
           f"{load1:.1f}; {os.cpu_count()} cores")
-    print(f"{'':16s} {'Monte Carlo s':>13s} {'trials/s':>9s} {'start s':>8s}")
+    print(f"{'':16s} {'Monte Carlo s':>13s} {'trials/s':>9s} {'start s':>8s}   (median of "
+          f"{args.repeat}; every run's seconds)")
     for name, r in rows.items():
         r["trials_per_second"] = spec.trials / r["seconds"]
         st = "" if r["start_seconds"] is None else f"{r['start_seconds']:8.2f}"
-        print(f"{name:16s} {r['seconds']:13.2f} {r['trials_per_second']:9.2f} {st:>8s}")
+        each = " ".join(f"{s:.1f}" for s in r["all_seconds"])
+        print(f"{name:16s} {r['seconds']:13.2f} {r['trials_per_second']:9.2f} {st:>8s}   {each}")
     for n in (1, 2):
         ratio = rows[f"dask local, {n}"]["trials_per_second"] / rows[f"old pool, {n}"]["trials_per_second"]
         print(f"dask / old pool on {n} worker(s): {ratio:.3f}")

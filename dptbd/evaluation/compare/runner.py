@@ -238,7 +238,6 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
     if rtl:  # build (or find in the cache) every executable here, before the workers start
         from dptbd.sim.rtl_trials import prepare_builds
         plan = dataclasses.replace(plan, rtl=tuple(prepare_builds(cfg) for cfg in plan.fixed))
-    _warm(plan)  # compile (or load) the kernels here, once, before the clock
     bounds = [(a, min(a + spec.chunk, spec.trials)) for a in range(0, spec.trials, spec.chunk)]
     asked = execution.workers
     if execution.address is None and execution.workers > len(bounds):  # no idle processes
@@ -249,6 +248,7 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
         bar = tqdm(total=spec.trials, unit="trial", desc="compare", smoothing=0.1)
     try:
         with execution.client() as client, warmed(client, functools.partial(_warm, plan)):
+            _warm(plan)  # compile (or load) the kernels here too, once, before the clock
             used = asked if execution.address is None else len(
                 client.scheduler_info(n_workers=-1)["workers"])
             start = time.perf_counter()
