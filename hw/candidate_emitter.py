@@ -54,7 +54,7 @@ class CandidateEmitter(wiring.Component):
 
     def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8):
         if fifo_depth < 6:
-            raise ValueError(f"fifo_depth must be >= 6, got {fifo_depth}")
+            raise ValueError(f"fifo_depth must be an integer in [6, inf), got {fifo_depth}")
         self._cfg = cfg
         self._depth = fifo_depth
         super().__init__({

@@ -33,7 +33,7 @@ def delayed(m: Module, value, cycles: int, *, name: str, domain: str = "sync",
         ``value`` as it was ``cycles`` cycles ago (the registers start at 0).
     """
     if cycles < 0:
-        raise ValueError(f"cycles must be >= 0, got {cycles}")
+        raise ValueError(f"cycles must be an integer in [0, inf), got {cycles}")
     shape = value.shape() if isinstance(value, (Value, data.View)) else Value.cast(value).shape()
     for stage in range(1, cycles + 1):
         register = Signal(shape, name=f"{name}_d{stage}", reset_less=reset_less)

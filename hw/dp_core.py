@@ -78,7 +78,7 @@ class DPCore(wiring.Component):
         if output_fifo_depth is None:
             output_fifo_depth = self._schedule.latency + 1
         if output_fifo_depth < 3:
-            raise ValueError(f"output_fifo_depth must be >= 3, got {output_fifo_depth}")
+            raise ValueError(f"output_fifo_depth must be an integer in [3, inf), got {output_fifo_depth}")
         self._fifo_depth = output_fifo_depth
         super().__init__({
             "pixels": In(stream.Signature(pixel_layout(cfg))),

@@ -47,9 +47,9 @@ class LineBuffer(wiring.Component):
 
     def __init__(self, shape, depth: int, taps: int):
         if depth < 2:
-            raise ValueError(f"depth must be >= 2, got {depth}")
+            raise ValueError(f"depth must be an integer in [2, inf), got {depth}")
         if taps < 1:
-            raise ValueError(f"taps must be >= 1, got {taps}")
+            raise ValueError(f"taps must be an integer in [1, inf), got {taps}")
         self._shape = shape
         self._depth = depth
         self._n_taps = taps

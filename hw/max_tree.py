@@ -55,7 +55,7 @@ class MaxTree(wiring.Component):
 
     def __init__(self, count: int, value_bits: int):
         if count < 1:
-            raise ValueError(f"count must be >= 1, got {count}")
+            raise ValueError(f"count must be an integer in [1, inf), got {count}")
         self._count = count
         self._value_bits = value_bits
         self._index_bits = max(1, (count - 1).bit_length())

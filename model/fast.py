@@ -524,7 +524,7 @@ def _resolve_threads(threads: int | None, n_tasks: int) -> int:
     """Worker threads for ``n_tasks`` independent tasks: ``threads`` or numba's thread count."""
     n = numba.get_num_threads() if threads is None else int(threads)
     if n < 1:
-        raise ValueError(f"threads must be >= 1, got {threads}")
+        raise ValueError(f"threads must be an integer in [1, inf), got {threads}")
     return max(1, min(n, n_tasks))
 
 

@@ -100,7 +100,7 @@ def run_float_fast(frames: np.ndarray, cfg: DPConfig, *, threads: int = 1) -> Se
     does not depend on it.
     """
     if threads < 1:
-        raise ValueError(f"threads must be >= 1, got {threads}")
+        raise ValueError(f"threads must be an integer in [1, inf), got {threads}")
     arr = _check_real(check_sequence(frames, cfg))
     lead = arr.shape[:-3]
     n_frames = arr.shape[-3]

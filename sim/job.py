@@ -140,7 +140,7 @@ def sim_frames(cfg: DPConfig, *, scene: pathlib.Path | None = None,
     from dptbd.sim.scenarios import describe, make_frames
 
     if frames is not None and frames < 1:
-        raise ValueError(f"--frames must be >= 1, got {frames}")
+        raise ValueError(f"--frames must be an integer in [1, inf), got {frames}")
     if scene is not None:
         if not scene.exists():
             raise FileNotFoundError(f"scene file {scene} does not exist")

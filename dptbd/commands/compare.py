@@ -42,7 +42,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "configuration's histogram bins E >> s (docs/compare.md; "
                              "default random, or the file's)")
     parser.add_argument("--workers", type=int, default=None,
-                        help="worker processes (default: all cores; 1 = in this process)")
+                        help="worker processes (default: all cores; 1 = in this process); with "
+                             "--scheduler: the workers the cluster must have")
+    parser.add_argument("--scheduler", metavar="tcp://HOST:PORT", default=None,
+                        help="run the trials on this existing dask cluster (default: "
+                             "$DPTBD_SCHEDULER if set, else local processes; "
+                             "docs/distributed.md)")
+    parser.add_argument("--dashboard", action="store_true",
+                        help="print the dask dashboard's address")
     parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("compare-out"),
                         help="new output folder for CSV/JSON/PNG (default ./compare-out; must not "
                              "exist unless --force)")
@@ -88,7 +95,8 @@ def main(args: argparse.Namespace) -> int:
                               seed=args.seed, snr=args.snr, bootstrap=args.bootstrap,
                               tie_rule=args.tie_rule,
                               workers=args.workers, progress=not args.no_progress,
-                              rtl=args.rtl, synth=synth)
+                              rtl=args.rtl, synth=synth, scheduler=args.scheduler,
+                              dashboard=args.dashboard)
     except (ToolNotFoundError, ToolMissingError) as exc:  # Yosys/nextpnr or Verilator missing
         print(f"dptbd compare: error: {exc}", file=sys.stderr)
         return 2

@@ -53,7 +53,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "[[0,0.25,0],[0.25,0,0.25],[0,0.25,0]]), e.g. dp-penalty.alpha=0.85, "
                              "info.kernel=..., ca-cfar.n_ref=32 (docs/detectors.md §3.2)")
     parser.add_argument("--seed", type=int, default=6, help="base seed (default 6)")
-    parser.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
+    parser.add_argument("--jobs", type=int, default=2, help="worker processes (default 2); with "
+                        "--scheduler: the workers the cluster must have")
+    parser.add_argument("--scheduler", metavar="tcp://HOST:PORT", default=None,
+                        help="run on this existing dask cluster (default: $DPTBD_SCHEDULER if "
+                             "set, else local processes; docs/distributed.md)")
+    parser.add_argument("--dashboard", action="store_true",
+                        help="print the dask dashboard's address")
     parser.add_argument("--out", type=pathlib.Path, metavar="DIR",
                         help="write table.md, table.csv, result.json and pd_vs_snr.png into this new "
                              "folder (must not exist unless --force)")
@@ -114,14 +120,15 @@ def main(args: argparse.Namespace) -> int:
     res = run_comparison(names, snrs_db=snrs, spec=spec, trials=args.trials,
                          noise_trials=args.noise_trials, false_alarm_rate=args.pfa,
                          matched=args.matched, seed=args.seed, jobs=args.jobs, params=params,
-                         progress=True)
+                         progress=True, scheduler=args.scheduler, dashboard=args.dashboard)
     table = format_table(res)
     note = describe_run(res, time.perf_counter() - start, args.set)
     print(table)
     print(note)
     if args.out is not None:
-        arguments = {k: (str(v) if isinstance(v, pathlib.Path) else v)
-                     for k, v in vars(args).items() if not k.startswith("_")}
+        arguments = {k: (str(v) if isinstance(v, pathlib.Path) else v)   # where it ran is
+                     for k, v in vars(args).items()                      # not a result
+                     if not k.startswith("_") and k not in ("scheduler", "dashboard")}
         write_folder(res, args.out, table, note, arguments, args.force)
         print(f"wrote {args.out}/ ({', '.join(OUT_FILES)})")
     if args.markdown is not None:

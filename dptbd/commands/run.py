@@ -142,7 +142,7 @@ def _main(args: argparse.Namespace) -> int:
     scenario = build_scenario(args)
     check_output_folder(args.out, args.force, marker="summary.json", tool=TOOL)  # before any work
     if args.rtl_frames is not None and args.rtl_frames < 0:
-        raise ValueError(f"--rtl-frames must be >= 0, got {args.rtl_frames}")
+        raise ValueError(f"--rtl-frames must be an integer in [0, inf), got {args.rtl_frames}")
     rtl = None
     if args.rtl:                              # a missing simulator: refused before any work
         why = rtl_tools_missing(args.rtl_simulator)

@@ -48,7 +48,7 @@ def main(args: argparse.Namespace) -> int:
     if not args.runs_scale > 0:
         raise ValueError(f"--runs-scale must be > 0, got {args.runs_scale}")
     if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers must be >= 1, got {args.workers}")
+        raise ValueError(f"--workers must be an integer in [1, inf), got {args.workers}")
     if args.cases:
         known = {c.name for c in cases}
         unknown = [n for n in args.cases if n not in known]

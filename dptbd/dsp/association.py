@@ -156,7 +156,7 @@ class Tracker:
         self.k = int(segment_frames)
         self.stride = int(segment_stride)
         if self.k < 1 or not 1 <= self.stride:
-            raise AssociationError(f"segment_frames and segment_stride must be >= 1, got "
+            raise AssociationError(f"segment_frames and segment_stride must be an integer in [1, inf), got "
                                    f"{segment_frames}, {segment_stride}")
         self.height, self.width = int(height), int(width)
         span = np.arange(-radius, radius + 1)

@@ -134,7 +134,7 @@ def segmenter_settings(cfg: DPConfig, frames: np.ndarray, count: int,
     if cfg.histogram_shift is None:
         n_cal = cfg.segment_frames if calibration_frames is None else calibration_frames
         if n_cal < 1:
-            raise ValueError(f"calibration_frames must be >= 1, got {calibration_frames}")
+            raise ValueError(f"calibration_frames must be an integer in [1, inf), got {calibration_frames}")
         peak = int(np.max(frames[:n_cal])) * cfg.segment_frames
         changes["histogram_shift"] = min(cfg.energy_bits - 1,
                                          max(0, peak.bit_length() - cfg.histogram_bits))

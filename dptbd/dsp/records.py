@@ -127,7 +127,7 @@ def trim_to_count(records: np.ndarray, count: int) -> np.ndarray:
     image. Work: one partial selection over at most ``max_candidates`` records.
     """
     if count < 0:
-        raise AssociationError(f"count must be >= 0, got {count}")
+        raise AssociationError(f"count must be an integer in [0, inf), got {count}")
     if len(records) <= count:
         return records
     energy = np.asarray(records["energy"])

@@ -200,7 +200,7 @@ def effective_scenario(scenario_file: pathlib.Path | None = None, *,
                                 f"simulated scene, not to recorded data (--input / [input])")
     if seed is not None:
         if seed < 0:
-            raise ScenarioError(f"--seed must be >= 0, got {seed}")
+            raise ScenarioError(f"--seed must be an integer in [0, inf), got {seed}")
         changes["seed"] = seed
     if snr is not None:
         changes["snr"] = check_snr("--snr", snr)

@@ -73,7 +73,7 @@ def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Pa
     check_supported(cfg)                      # ConfigError for e.g. overlapping segments
     total = frames.shape[0]
     if n_frames is not None and n_frames < 0:
-        raise ValueError(f"--rtl-frames must be >= 0, got {n_frames}")
+        raise ValueError(f"--rtl-frames must be an integer in [0, inf), got {n_frames}")
     n = total if not n_frames else min(n_frames, total)
     start = time.perf_counter()
     if simulator == "verilator":

@@ -124,7 +124,7 @@ def run_table1(trials: int = 50, *, segment_frames: int = 6, segment_stride: int
     128) are for tests.
     """
     if trials < 1:
-        raise ValueError(f"trials must be >= 1, got {trials}")
+        raise ValueError(f"trials must be an integer in [1, inf), got {trials}")
     cfg = table1_config(segment_frames, segment_stride, size=size)
     builds, tally = None, None
     if rtl:

@@ -208,7 +208,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (
     if len(set(seeds)) != len(seeds):
         raise ValueError(f"seeds must be distinct, got {seeds}")
     if jobs < 1:
-        raise ValueError(f"jobs must be >= 1, got {jobs}")
+        raise ValueError(f"jobs must be an integer in [1, inf), got {jobs}")
     yosys_exe = require_tool(yosys)
     nextpnr_exe = require_tool(nextpnr) if seeds else None
     tools = {"yosys": tool_version(yosys_exe)}

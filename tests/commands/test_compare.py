@@ -42,12 +42,13 @@ def job_calls(monkeypatch):
 def test_arguments_reach_the_job_and_its_text_is_printed(job_calls, capsys):
     args = _parse(["--config", "c.toml", "--out", "o", "--trials", "5", "--seed", "3", "--snr",
                    "1.5", "2.5", "--bootstrap", "9", "--workers", "2", "--force", "--no-progress",
-                   "--rtl", "--tie-rule", "gateware-bins"])
+                   "--rtl", "--tie-rule", "gateware-bins", "--scheduler", "tcp://h:8786",
+                   "--dashboard"])
     assert command.main(args) == 0
     assert job_calls == [(pathlib.Path("c.toml"), pathlib.Path("o"), {
         "force": True, "trials": 5, "seed": 3, "snr": [1.5, 2.5], "bootstrap": 9,
         "tie_rule": "gateware-bins", "workers": 2, "progress": False, "rtl": True,
-        "synth": None})]
+        "synth": None, "scheduler": "tcp://h:8786", "dashboard": True})]
     assert capsys.readouterr().out == "the tables\nwrote somewhere\n"
 
 
@@ -55,7 +56,8 @@ def test_defaults_reach_the_job(job_calls):
     assert command.main(_parse([])) == 0
     assert job_calls == [(None, pathlib.Path("compare-out"), {
         "force": False, "trials": None, "seed": None, "snr": None, "bootstrap": None,
-        "tie_rule": None, "workers": None, "progress": True, "rtl": False, "synth": None})]
+        "tie_rule": None, "workers": None, "progress": True, "rtl": False, "synth": None,
+        "scheduler": None, "dashboard": False})]
 
 
 def test_synthesis_options_reach_the_job(job_calls, tmp_path):
@@ -73,8 +75,8 @@ def test_synthesis_options_reach_the_job(job_calls, tmp_path):
     (["--snr"], "snr must hold at least 2 value(s), got [] (an empty list)"),
     (["--snr", "2.0", "2.0"], "snr must be strictly increasing, but snr[1] = 2 <= snr[0] = 2"),
     (["--bootstrap", "-1"], "bootstrap must be an integer in [0, 1000000], got -1"),
-    (["--workers", "0"], "--workers must be >= 1, got 0"),
-    (["--synth", "--synth-size", "2"], "--synth-size must be in [3, 4096], got 2"),
+    (["--workers", "0"], "--workers must be an integer in [1, inf), got 0"),
+    (["--synth", "--synth-size", "2"], "--synth-size must be an integer in [3, 4096], got 2"),
     (["--synth", "--synth-seeds", "1", "1"], "--synth-seeds must be distinct, got [1, 1]"),
     (["--synth", "--device", "xc7"], "--device must be one of ('lp384', 'lp1k', 'lp4k', 'lp8k', "
      "'hx1k', 'hx4k', 'hx8k', 'up3k', 'up5k', 'u1k', 'u2k', 'u4k'), got 'xc7'"),

@@ -343,7 +343,7 @@ def test_rtl_options_are_refused_by_name(tmp_path, small, capsys):
     out = tmp_path / "r"
     assert main(["run", "--no-progress", "--scenario", str(small), "--rtl", "--rtl-frames", "-1",
                  "--out", str(out)]) == 2
-    assert capsys.readouterr().err == "dptbd run: error: --rtl-frames must be >= 0, got -1\n"
+    assert capsys.readouterr().err == "dptbd run: error: --rtl-frames must be an integer in [0, inf), got -1\n"
     with pytest.raises(SystemExit):
         main(["run", "--rtl", "--rtl-simulator", "xsim"])
     assert capsys.readouterr().err.splitlines()[-1] == (
@@ -383,7 +383,7 @@ def test_segmenter_settings_come_from_the_data_unless_given():
     assert cfg.bin_shift == 5 and got.bin_shift == 2
     assert segmenter_settings(cfg, frames, 33, AssociationConfig(),
                               calibration_frames=12).bin_shift == 5
-    with pytest.raises(ValueError, match=r"^calibration_frames must be >= 1, got 0$"):
+    with pytest.raises(ValueError, match=r"^calibration_frames must be an integer in \[1, inf\), got 0$"):
         segmenter_settings(cfg, frames, 33, AssociationConfig(), calibration_frames=0)
     # the gateware selects 2n = 66 (headroom 2), the DSP trims to 33; C = min(2 * 66, 128)
     assert got.n_candidates == 66 and got.record_capacity == 128

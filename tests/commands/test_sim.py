@@ -82,7 +82,7 @@ def test_sim_refuses_a_lut_of_the_wrong_shape(tmp_path, simulator):
      "--waves x.vcd: the simulation writes FST; give a path ending in .fst"),
     (["--valid-pause", 1.0], ValueError, "--valid-pause must be in [0, 1), got 1.0"),
     (["--ready-pause", -0.1], ValueError, "--ready-pause must be in [0, 1), got -0.1"),
-    (["--frames", 0], ValueError, "--frames must be >= 1, got 0"),
+    (["--frames", 0], ValueError, "--frames must be an integer in [1, inf), got 0"),
     (["--scene", "missing.npy"], FileNotFoundError, "scene file missing.npy does not exist"),
     (["--candidate-count", 3], ValueError,
      "--candidate-count applies to --design segmenter only"),

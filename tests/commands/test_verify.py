@@ -17,7 +17,7 @@ def test_verify_command_lists_and_refuses(capsys, tmp_path):
     assert main(["verify", "--runs-scale", "0"]) == 2
     assert capsys.readouterr().err == "dptbd verify: error: --runs-scale must be > 0, got 0.0\n"
     assert main(["verify", "--workers", "0"]) == 2
-    assert capsys.readouterr().err == "dptbd verify: error: --workers must be >= 1, got 0\n"
+    assert capsys.readouterr().err == "dptbd verify: error: --workers must be an integer in [1, inf), got 0\n"
     existing = tmp_path / "out.json"
     existing.write_text("{}")
     assert main(["verify", "--json", str(existing)]) == 2

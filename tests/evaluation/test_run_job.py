@@ -57,7 +57,7 @@ def test_recorded_data_names_the_run(tmp_path):
      "--seed applies to a simulated scene, not to recorded data (--input / [input])"),
     (dict(input_path="a.npy", snr=1.0, targets=["1,2,3,4"]),
      "--snr, --target apply to a simulated scene, not to recorded data (--input / [input])"),
-    (dict(seed=-1), "--seed must be >= 0, got -1"),
+    (dict(seed=-1), "--seed must be an integer in [0, inf), got -1"),
     (dict(targets=["1,2,3"]),
      "--target '1,2,3': expected ROW,COL,VROW,VCOL or ROW,COL,VROW,VCOL,SNR (numbers)"),
     (dict(targets=["1,2,x,4"]),

@@ -39,7 +39,7 @@ def test_run_rtl_refusals(monkeypatch):
     frames = np.zeros((12, 8, 8), np.uint8)
     cfg = DPConfig(width=8, height=8, segment_frames=6, input_bits=8)
     monkeypatch.setattr(sim_job, "simulator_tools_missing", lambda sim, option: None)
-    with pytest.raises(ValueError, match=r"^--rtl-frames must be >= 0, got -1$"):
+    with pytest.raises(ValueError, match=r"^--rtl-frames must be an integer in \[0, inf\), got -1$"):
         run_rtl(frames, cfg, -1, None)
     monkeypatch.setattr(sim_job, "simulator_tools_missing", lambda sim, option: f"no {sim}")
     with pytest.raises(RtlError, match=r"^no icarus$"):

@@ -90,5 +90,5 @@ def test_zero_capacity_only_trailers():
 
 
 def test_refuses_a_small_fifo():
-    with refused(ValueError, match=r"^fifo_depth must be >= 6, got 5$"):
+    with refused(ValueError, match=r"^fifo_depth must be an integer in \[6, inf\), got 5$"):
         CandidateEmitter(make_config(width=8, height=8), fifo_depth=5)

@@ -209,7 +209,7 @@ def test_refuses_frames_too_small_for_the_read_ahead():
 
 def test_refuses_a_too_small_output_fifo():
     cfg = DPConfig(width=5, height=4)
-    with refused(ValueError, match=r"^output_fifo_depth must be >= 3, got 2$"):
+    with refused(ValueError, match=r"^output_fifo_depth must be an integer in \[3, inf\), got 2$"):
         DPPipeline(cfg, output_fifo_depth=2)
 
 

@@ -283,7 +283,7 @@ def test_one_bad_pixel_anywhere(dtype, frame, kw):
 
 def test_bad_threads():
     cfg = make_cfg(radius=1)
-    with pytest.raises(ValueError, match=r"^threads must be >= 1, got 0$"):
+    with pytest.raises(ValueError, match=r"^threads must be an integer in \[1, inf\), got 0$"):
         run_fixed_fast(scene(cfg, 4), cfg, threads=0)
 
 

@@ -55,7 +55,7 @@ class SynthOptions:
         if len(set(self.seeds)) != len(self.seeds):
             raise ConfigError(f"--synth-seeds must be distinct, got {list(self.seeds)}")
         if not 3 <= self.size <= 4096:
-            raise ConfigError(f"--synth-size must be in [3, 4096], got {self.size}")
+            raise ConfigError(f"--synth-size must be an integer in [3, 4096], got {self.size}")
         check_tools()
 
     def to_dict(self) -> dict:
@@ -153,7 +153,7 @@ class CompareOutcome:
 
 def _check_workers(workers: int | None) -> None:
     if workers is not None and workers < 1:
-        raise ConfigError(f"--workers must be >= 1, got {workers}")
+        raise ConfigError(f"--workers must be an integer in [1, inf), got {workers}")
 
 
 def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Path, *,
@@ -161,7 +161,8 @@ def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Pa
                 snr: Sequence[float] | None = None, bootstrap: int | None = None,
                 tie_rule: str | None = None, workers: int | None = None,
                 progress: bool = True, rtl: bool = False,
-                synth: SynthOptions | None = None) -> CompareOutcome:
+                synth: SynthOptions | None = None, scheduler: str | None = None,
+                dashboard: bool = False) -> CompareOutcome:
     """Validate, run and write one comparison (``docs/compare.md``).
 
     Parameters
@@ -175,13 +176,19 @@ def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Pa
         Overrides of the run's parameters (``None``: the file's or the default;
         ``tie_rule`` one of :data:`~dptbd.evaluation.compare.spec.TIE_RULES`).
     workers : int, optional
-        Worker processes (default: every core available); 1 runs in this process.
+        Worker processes (default: every core available); 1 runs in this process. With
+        ``scheduler``: the number of workers the cluster must have (default: any).
     progress : bool
         Progress bars on stderr.
     rtl : bool
         Accumulate the fixed-point configurations' trials on the compiled gateware.
     synth : SynthOptions, optional
         Synthesise every configuration for its iCE40 cost (slow, cached).
+    scheduler : str, optional
+        ``tcp://HOST:PORT`` of an existing dask cluster (default: ``DPTBD_SCHEDULER`` if
+        set, else a local one; ``docs/distributed.md``).
+    dashboard : bool
+        Print the dask dashboard's address.
 
     Raises
     ------
@@ -203,10 +210,11 @@ def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Pa
     if synth is not None:
         synth.check()
 
-    workers = default_workers() if workers is None else workers
     start = time.perf_counter()
-    result = run_compare(spec, workers=workers, progress=progress, rtl=rtl)
-    hardware = synthesise_all(spec, synth, workers, progress=progress) if synth else None
+    result = run_compare(spec, workers=workers, progress=progress, rtl=rtl, scheduler=scheduler,
+                         dashboard=dashboard)
+    local = default_workers() if workers is None else workers
+    hardware = synthesise_all(spec, synth, local, progress=progress) if synth else None
     summary = summarise(result, hardware)
     summary["run"]["total_seconds"] = time.perf_counter() - start
     summary["run"]["synth"] = None if synth is None else synth.to_dict()

@@ -1,15 +1,14 @@
 """The Monte Carlo of ``dptbd compare``: every detector on one chunk of trials, and the
-whole run in chunks on a process pool (:func:`run_compare`)."""
+whole run in chunks on dask workers (:func:`run_compare`, :mod:`dptbd.evaluation.execution`)."""
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
-import multiprocessing
 import os
 import time
 import warnings
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Sequence
 
 import numpy as np
@@ -19,6 +18,7 @@ from dptbd.scenes import synthetic as scenes
 from dptbd.evaluation.compare.plan import Plan, make_plan
 from dptbd.evaluation.compare.selection import _Candidates, _candidates, _same_points, image_keys
 from dptbd.evaluation.compare.spec import CompareSpec, _checked_int
+from dptbd.evaluation.execution import SCHEDULER_ENV, Execution, map_tasks, warmed
 
 __all__ = ["measure_frames", "CompareResult", "run_compare", "default_workers", "check_rtl"]
 
@@ -203,11 +203,6 @@ def _warm(plan: Plan) -> None:
               False, _empty_out(plan, 1), len(spec.snr), 0)
 
 
-def _worker_init() -> None:
-    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
-        os.environ.setdefault(var, "1")
-
-
 def check_rtl(spec: CompareSpec) -> None:
     """Refuse (``ConfigError`` naming it) a configuration the gateware cannot run."""
     from dptbd.sim.rtl_trials import check_configs
@@ -216,56 +211,53 @@ def check_rtl(spec: CompareSpec) -> None:
 
 
 def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool = False,
-                rtl: bool = False) -> CompareResult:
-    """Run the Monte Carlo: ``spec.trials`` trials in chunks of ``spec.chunk``.
+                rtl: bool = False, scheduler: str | None = None,
+                dashboard: bool = False) -> CompareResult:
+    """Run the Monte Carlo: ``spec.trials`` trials in chunks of ``spec.chunk``, one dask task
+    per chunk (:mod:`dptbd.evaluation.execution`).
 
-    ``workers``: processes (default: :func:`default_workers`); 1 runs in this process.
-    The counts do not depend on ``workers``. ``progress``: a tqdm bar on stderr.
+    ``workers``: local worker processes (default: :func:`default_workers`); 1 runs in this
+    process. ``scheduler``: ``tcp://HOST:PORT`` of an existing dask cluster (or the
+    ``DPTBD_SCHEDULER`` environment variable); ``workers`` is then the number of workers
+    it must have (default: whatever it has). ``dashboard``: print the dask dashboard's
+    address. The counts depend on none of these. ``progress``: a tqdm bar on stderr.
     ``rtl``: the fixed-point configurations' trials are accumulated by the compiled
     gateware (:func:`dptbd.sim.rtl_trials.accumulate_trials`, every output word checked
     against the golden model) instead of :func:`dptbd.model.fast.run_fixed_fast`; the
     float models stay as they are. The counts are the same (``docs/compare.md``, "RTL in
     the loop"). Configurations the gateware does not implement are refused first.
     """
-    workers = default_workers() if workers is None else _checked_int("workers", workers, 1, 1024)
+    if workers is not None:
+        workers = _checked_int("workers", workers, 1, 1024)
+    if workers is None and not (scheduler or os.environ.get(SCHEDULER_ENV)):
+        workers = default_workers()
+    execution = Execution(workers=workers, scheduler=scheduler, dashboard=dashboard)
     if rtl:
         check_rtl(spec)
     plan = make_plan(spec)
-    if rtl:  # build (or find in the cache) every executable here, before the fork
+    if rtl:  # build (or find in the cache) every executable here, before the workers start
         from dptbd.sim.rtl_trials import prepare_builds
         plan = dataclasses.replace(plan, rtl=tuple(prepare_builds(cfg) for cfg in plan.fixed))
-    _warm(plan)  # compile (or load) the kernels here, once, before the clock and the fork
     bounds = [(a, min(a + spec.chunk, spec.trials)) for a in range(0, spec.trials, spec.chunk)]
-    parts: list[dict | None] = [None] * len(bounds)
+    asked = execution.workers
+    if execution.address is None and execution.workers > len(bounds):  # no idle processes
+        execution = dataclasses.replace(execution, workers=len(bounds))
     bar = None
     if progress:
         from tqdm import tqdm
         bar = tqdm(total=spec.trials, unit="trial", desc="compare", smoothing=0.1)
-    start = time.perf_counter()
     try:
-        if workers == 1:
-            for i, (a, b) in enumerate(bounds):
-                parts[i] = _chunk(plan, a, b)
-                if bar is not None:
-                    bar.update(b - a)
-        else:
-            # fork (Linux): workers inherit the imported modules and compiled kernels, so
-            # they start in milliseconds; nothing here runs threads that a fork could break
-            # (the kernels run with threads=1). Elsewhere: spawn.
-            method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
-            ctx = multiprocessing.get_context(method)
-            with ProcessPoolExecutor(max_workers=min(workers, len(bounds)), mp_context=ctx,
-                                     initializer=_worker_init) as pool:
-                jobs = {pool.submit(_chunk, plan, a, b): i for i, (a, b) in enumerate(bounds)}
-                for job in as_completed(jobs):
-                    i = jobs[job]
-                    parts[i] = job.result()
-                    if bar is not None:
-                        bar.update(bounds[i][1] - bounds[i][0])
+        with execution.client() as client, warmed(client, functools.partial(_warm, plan)):
+            _warm(plan)  # compile (or load) the kernels here too, once, before the clock
+            used = asked if execution.address is None else len(
+                client.scheduler_info(n_workers=-1)["workers"])
+            start = time.perf_counter()
+            parts = map_tasks(_chunk, [(plan, a, b) for a, b in bounds], client,
+                              sizes=[b - a for a, b in bounds], bar=bar)
+            seconds = time.perf_counter() - start
     finally:
         if bar is not None:
             bar.close()
-    seconds = time.perf_counter() - start
     counts = {k: np.concatenate([p[k] for p in parts], axis=0) for k in parts[0] if k != "rtl"}
     rtl_info = None
     if plan.rtl:
@@ -275,5 +267,5 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
             tally = tally + p["rtl"]
         names = plan.detector_names()[len(plan.floats):]
         rtl_info = summary(tally, [(n, b.segmenter_missing) for n, b in zip(names, plan.rtl)])
-    return CompareResult(plan=plan, counts=counts, seconds=seconds, workers=workers,
+    return CompareResult(plan=plan, counts=counts, seconds=seconds, workers=used,
                          rtl=rtl_info)

@@ -12,12 +12,12 @@ For each detector the threshold is set on ``noise_trials`` noise-only scenes for
 ``false_alarm_rate`` per decision (:func:`~dptbd.evaluation.detectors.interface.calibrate`);
 then ``trials`` scenes per SNR give Pd = detections / opportunities (scored frames from
 ``first_frame`` on, the same frames for every detector). Every detector sees the same
-seeded scenes. Work is split into (detector, SNR) tasks over ``jobs`` processes.
+seeded scenes. Work is split into (detector, SNR) tasks over ``jobs`` processes, or the
+workers of an existing dask cluster (:mod:`dptbd.evaluation.execution`).
 """
 
 from __future__ import annotations
 
-import concurrent.futures
 import dataclasses
 import math
 import os
@@ -27,6 +27,7 @@ import numpy as np
 
 from dptbd.evaluation.detectors import interface
 from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_prob, check_real
+from dptbd.evaluation.execution import Execution, map_tasks
 from dptbd.scenes import range_doppler as rd_scenes
 from dptbd.scenes import synthetic as image_scenes
 
@@ -129,20 +130,17 @@ def _pd_task(args: tuple) -> tuple:
     return name, snr, hits
 
 
-def _map(fn, tasks: list, jobs: int, progress: bool, desc: str) -> list:
-    if jobs == 1 or len(tasks) == 1:
-        it = map(fn, tasks)
-        if progress:
-            from tqdm import tqdm
-            it = tqdm(it, total=len(tasks), desc=desc, unit="task")
-        return list(it)
-    with concurrent.futures.ProcessPoolExecutor(max_workers=min(jobs, os.cpu_count() or 1)) as pool:
-        futures = [pool.submit(fn, t) for t in tasks]
-        it = concurrent.futures.as_completed(futures)
-        if progress:
-            from tqdm import tqdm
-            it = tqdm(it, total=len(tasks), desc=desc, unit="task")
-        return [f.result() for f in it]
+def _map(fn, tasks: list, client, progress: bool, desc: str) -> list:
+    """``fn`` on every task, results in task order (:func:`~dptbd.evaluation.execution.map_tasks`)."""
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=len(tasks), desc=desc, unit="task")
+    try:
+        return map_tasks(fn, [(t,) for t in tasks], client, bar=bar)
+    finally:
+        if bar is not None:
+            bar.close()
 
 
 def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
@@ -150,7 +148,8 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
                    spec: SceneSpec | None = None, trials: int = 20, noise_trials: int = 50,
                    false_alarm_rate: float = 0.01, matched: bool = False, seed: int = 6,
                    first_frame: int | None = None, gate: int = 1, jobs: int = 2,
-                   params: dict | None = None, progress: bool = False) -> CompareResult:
+                   params: dict | None = None, progress: bool = False,
+                   scheduler: str | None = None, dashboard: bool = False) -> CompareResult:
     """Pd vs SNR of every detector at the same false-alarm rate per decision.
 
     Parameters
@@ -174,7 +173,13 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
     gate : int
         Chebyshev distance of a correct estimate, cells.
     jobs : int
-        Worker processes (1 = in this process).
+        Worker processes (1 = in this process); with a scheduler, the number of workers the
+        cluster must have.
+    scheduler : str or None
+        ``tcp://HOST:PORT`` of an existing dask cluster (default: ``DPTBD_SCHEDULER`` if set,
+        else local processes; ``docs/distributed.md``).
+    dashboard : bool
+        Print the dask dashboard's address.
     params : dict
         ``{detector name: {parameter: value}}`` passed to the detector constructors.
     """
@@ -209,12 +214,22 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
         matched_here = matched and interface.DETECTORS[name].uses_channel
         return snrs if matched_here else (spec.preset_snr_db,)
 
+    execution = Execution(workers=jobs, scheduler=scheduler, dashboard=dashboard)
+    if execution.address is None:
+        execution = dataclasses.replace(execution, workers=min(jobs, os.cpu_count() or 1))
+    with execution.client() as client:
+        return _run(names, snrs, spec, trials, noise_trials, pfa, matched, seed, first, gate,
+                    params, channels, client, progress)
+
+
+def _run(names, snrs, spec, trials, noise_trials, pfa, matched, seed, first, gate, params,
+         channels, client, progress) -> CompareResult:
     def channel(name: str, snr: float) -> float:
         return snr if matched and interface.DETECTORS[name].uses_channel else spec.preset_snr_db
 
     chunks = [(lo, min(_CHUNK, noise_trials - lo)) for lo in range(0, noise_trials, _CHUNK)]
     noise = _map(_noise_task, [(n, spec, c, lo, m, seed, params) for n in names for c in channels(n)
-                               for lo, m in chunks], jobs, progress, "thresholds")
+                               for lo, m in chunks], client, progress, "thresholds")
     cal = []
     for n in names:
         for c in channels(n):
@@ -239,7 +254,7 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
         for s in snrs:
             c = channel(n, s)
             tasks.append((n, spec, s, c, thr[(n, c)], trials, seed, first, gate, params))
-    detections = {(n, s): h for n, s, h in _map(_pd_task, tasks, jobs, progress, "Pd")}
+    detections = {(n, s): h for n, s, h in _map(_pd_task, tasks, client, progress, "Pd")}
     info = dict(scene=spec.kind, frames=spec.frames, preset_snr_db=spec.preset_snr_db, crop=spec.crop,
                 trials=trials, noise_trials=noise_trials, false_alarm_rate=pfa, matched=matched,
                 seed=seed, first_frame=first, gate=gate, params=params)

@@ -43,12 +43,12 @@ def _anchored(message: str) -> str:
     ("", {"tie_rule": "ties"}, "tie_rule must be one of ('random', 'gateware', "
      "'gateware-bins'), got 'ties'"),
     ("", {"bootstrap": -1}, "bootstrap must be an integer in [0, 1000000], got -1"),
-    ("", {"workers": 0}, "--workers must be >= 1, got 0"),
+    ("", {"workers": 0}, "--workers must be an integer in [1, inf), got 0"),
     ("", {"synth": SynthOptions(device="xc7")},
      "--device must be one of ('lp384', 'lp1k', 'lp4k', 'lp8k', 'hx1k', 'hx4k', 'hx8k', "
      "'up3k', 'up5k', 'u1k', 'u2k', 'u4k'), got 'xc7'"),
     ("", {"synth": SynthOptions(seeds=(1, 1))}, "--synth-seeds must be distinct, got [1, 1]"),
-    ("", {"synth": SynthOptions(size=2)}, "--synth-size must be in [3, 4096], got 2"),
+    ("", {"synth": SynthOptions(size=2)}, "--synth-size must be an integer in [3, 4096], got 2"),
 ])
 def test_bad_parameters_are_refused_before_any_work(tmp_path, no_work, text, kw, message):
     config = tmp_path / "c.toml"

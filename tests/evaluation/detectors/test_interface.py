@@ -175,6 +175,18 @@ def test_comparison_equal_pfa_and_order():
         SceneSpec(crop=(190, 0, 64, 128))
 
 
+def test_comparison_on_a_dask_cluster_is_the_same():
+    distributed = pytest.importorskip("distributed")
+    spec = SceneSpec(kind="rd", frames=10, crop=(120, 160, 32, 48))
+    kw = dict(snrs_db=[10.0, 20.0], spec=spec, trials=3, noise_trials=20, false_alarm_rate=0.05)
+    here = run_comparison(["ca-cfar", "info"], jobs=1, **kw)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster:
+        there = run_comparison(["ca-cfar", "info"], jobs=1, scheduler=cluster.scheduler_address, **kw)
+    assert (here.thresholds, here.false_alarms, here.detections) == (
+        there.thresholds, there.false_alarms, there.detections)
+
+
 def test_peak_mask_and_crossing():
     v = np.array([[1, 2, 1, 0], [0, 1, 0, 3], [5, 0, 0, 3]], dtype=float)
     assert np.argwhere(peak_mask(v)).tolist() == [[0, 1], [1, 3], [2, 0], [2, 3]]

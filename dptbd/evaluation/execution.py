@@ -1,0 +1,236 @@
+"""The execution layer of the Monte Carlo jobs (``dptbd compare``, ``dptbd detectors``) on
+``dask.distributed``.
+
+A job splits its trials into tasks (pure functions of their arguments: every trial's seed
+depends only on the base seed, the configuration, the SNR and the trial index, never on the
+worker that runs it) and calls :func:`map_tasks`, which returns the results **in task
+order** whatever order they finished in, so the job reduces them exactly as a serial loop
+would and the output is bit-identical for any number of workers or any cluster.
+
+Where the tasks run (:class:`Execution`):
+
+* ``workers=1`` and no scheduler: in this process, one task after the other;
+* ``workers=N > 1``: a ``LocalCluster`` of N worker processes with one thread each (the
+  numba kernels release the GIL but run single-threaded, so processes give the parallelism);
+* ``scheduler="tcp://HOST:PORT"`` (or the environment variable :data:`SCHEDULER_ENV`): an
+  existing cluster started with ``dask scheduler`` / ``dask worker`` (``docs/distributed.md``).
+  The connection times out after :data:`CONNECT_TIMEOUT` seconds with a clear error.
+
+Before any task, every worker is checked (:func:`check_workers`): ``dptbd`` and ``numba``
+installed, and the same dptbd version as this process. A worker that dies mid-run loses
+nothing: the scheduler reruns its tasks elsewhere (they are pure), and :func:`map_tasks`
+keeps exactly one result per task.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import importlib.metadata
+import os
+import sys
+import uuid
+from typing import Any, Callable, Iterator, Sequence
+
+__all__ = ["ExecutionError", "Execution", "SCHEDULER_ENV", "CONNECT_TIMEOUT", "REQUIRED_PACKAGES",
+           "check_workers", "map_tasks", "warmed", "version"]
+
+#: Environment variable holding a scheduler address, used when ``--scheduler`` is not given.
+SCHEDULER_ENV = "DPTBD_SCHEDULER"
+#: Seconds to reach a scheduler (and to wait for the requested workers) before giving up.
+CONNECT_TIMEOUT = 5.0
+#: What a worker must be able to import to run a task.
+REQUIRED_PACKAGES = ("dptbd", "numba")
+#: Environment of LocalCluster workers: one thread per process for every numeric library.
+_WORKER_ENV = {v: "1" for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+                                "NUMBA_NUM_THREADS")}
+
+
+class ExecutionError(ValueError):
+    """The cluster cannot run the job (unreachable, too few workers, unfit workers) or a bad
+    worker count: a refusal of the job's input, so ``dptbd`` reports it with exit 2."""
+
+
+def version(package: str = "dptbd") -> str:
+    """The installed version of ``package`` (its distribution metadata)."""
+    return importlib.metadata.version(package)
+
+
+def _check_count(workers: int) -> int:
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ExecutionError(f"workers must be an integer >= 1, got {workers!r}")
+    return workers
+
+
+@dataclasses.dataclass(frozen=True)
+class Execution:
+    """Where a job's tasks run.
+
+    Attributes
+    ----------
+    workers : int
+        Local worker processes (1: in this process); with a scheduler, the number of
+        workers the cluster must have (None: whatever it has, at least one).
+    scheduler : str or None
+        ``tcp://HOST:PORT`` of an existing scheduler; None: :data:`SCHEDULER_ENV` if set, else
+        a LocalCluster (or this process).
+    dashboard : bool
+        Print the dashboard's address on stderr when the cluster is up.
+    connect_timeout : float
+        Seconds to reach the scheduler and its workers.
+    """
+
+    workers: int | None = 1
+    scheduler: str | None = None
+    dashboard: bool = False
+    connect_timeout: float = CONNECT_TIMEOUT
+
+    def __post_init__(self) -> None:
+        if self.workers is not None:
+            _check_count(self.workers)
+        if self.address is None and self.workers is None:
+            raise ExecutionError("workers must be given without a scheduler")
+
+    @property
+    def address(self) -> str | None:
+        """The scheduler address in use (argument, else :data:`SCHEDULER_ENV`), or None."""
+        return self.scheduler or os.environ.get(SCHEDULER_ENV) or None
+
+    @property
+    def in_process(self) -> bool:
+        return self.address is None and self.workers == 1
+
+    @contextlib.contextmanager
+    def client(self) -> Iterator[Any]:
+        """A checked ``distributed.Client`` (None when the tasks run in this process)."""
+        if self.in_process:
+            yield None
+            return
+        import distributed
+
+        cluster = None
+        address = self.address
+        try:
+            if address is None:
+                # without a dashboard the scheduler's HTTP server (health, metrics) still
+                # starts: on an ephemeral port, not dask's 8787 (taken by another run)
+                cluster = distributed.LocalCluster(
+                    n_workers=self.workers, threads_per_worker=1, processes=True,
+                    dashboard_address="127.0.0.1:0" if self.dashboard else None,
+                    scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+                    env=dict(_WORKER_ENV), silence_logs=40)
+                address = cluster
+            try:
+                client = distributed.Client(address, timeout=self.connect_timeout)
+            except (OSError, TimeoutError) as exc:
+                raise ExecutionError(
+                    f"cannot reach the dask scheduler at {address} within "
+                    f"{self.connect_timeout:g} s ({type(exc).__name__})") from None
+            with client:
+                if self.dashboard:
+                    print(_dashboard_line(client), file=sys.stderr)
+                self._wait_for_workers(client)
+                check_workers(client)
+                yield client
+        finally:
+            if cluster is not None:
+                cluster.close()
+
+    def _wait_for_workers(self, client) -> None:
+        need = 1 if self.workers is None else self.workers
+        try:
+            client.wait_for_workers(need, timeout=self.connect_timeout)
+        except (TimeoutError, OSError):
+            have = len(client.scheduler_info(n_workers=-1)["workers"])
+            raise ExecutionError(
+                f"the dask cluster at {client.scheduler.address} has {have} worker(s), "
+                f"{need} asked for") from None
+
+
+def _dashboard_line(client) -> str:
+    try:
+        import bokeh  # noqa: F401  (what dask's dashboard is drawn with)
+    except ImportError:
+        return ("dask dashboard: needs the Python package 'bokeh' in this environment "
+                "(pip install bokeh); running without it")
+    return f"dask dashboard: {client.dashboard_link}"
+
+
+def check_workers(client, expected: str | None = None,
+                  packages: Sequence[str] = REQUIRED_PACKAGES) -> None:
+    """Refuse (:class:`ExecutionError`) workers that lack one of ``packages`` or whose dptbd
+    version differs from ``expected`` (default: this process's).
+
+    The probe is :func:`importlib.metadata.version` itself, which every Python has, so an
+    unfit worker gives this message and not an unpickling traceback."""
+    expected = version() if expected is None else expected
+    problems = []
+    for package in packages:
+        found = client.run(importlib.metadata.version, package, on_error="return")
+        for worker, got in sorted(found.items()):
+            if isinstance(got, BaseException):
+                problems.append(f"worker {worker} lacks the Python package {package!r}")
+            elif package == "dptbd" and got != expected:
+                problems.append(f"worker {worker} has dptbd {got}, this process {expected}")
+    if problems:
+        raise ExecutionError("unfit dask workers (every worker needs the same dptbd, see "
+                             "docs/distributed.md): " + "; ".join(problems))
+
+
+@contextlib.contextmanager
+def warmed(client, warm: Callable[[], None] | None) -> Iterator[None]:
+    """Run ``warm()`` once on every worker of ``client`` (and on any worker that joins, e.g.
+    one restarted after a crash) before its tasks: a worker plugin, removed on exit. With
+    no client (in this process) or no ``warm``, nothing."""
+    if client is None or warm is None:
+        yield
+        return
+    from dptbd.evaluation.worker_warmup import WarmUp
+
+    name = f"dptbd-warm-{uuid.uuid4().hex[:12]}"
+    client.register_plugin(WarmUp(warm), name=name)
+    try:
+        yield
+    finally:
+        with contextlib.suppress(Exception):
+            client.unregister_worker_plugin(name)
+
+
+def map_tasks(fn: Callable, tasks: Sequence[tuple], client=None, *,
+              sizes: Sequence[int] | None = None, bar=None,
+              done: Callable[[int], None] | None = None) -> list:
+    """``[fn(*t) for t in tasks]``, on ``client``'s workers when given, in task order.
+
+    ``sizes``: units (trials, tasks) of each task for the progress ``bar`` (a tqdm, updated
+    as tasks finish; default 1 each). ``done(i)`` is called after task ``i`` completes.
+    A task rerun by the scheduler (its worker died) still gives one result: the one of its
+    key.
+    """
+    sizes = [1] * len(tasks) if sizes is None else list(sizes)
+    results: list = [None] * len(tasks)
+    if client is None:
+        for i, t in enumerate(tasks):
+            results[i] = fn(*t)
+            if bar is not None:
+                bar.update(sizes[i])
+            if done is not None:
+                done(i)
+        return results
+    import distributed
+
+    run = uuid.uuid4().hex[:12]
+    name = getattr(fn, "__name__", "task").strip("_")
+    futures = [client.submit(fn, *t, key=f"dptbd-{name}-{i}-{run}", pure=False)
+               for i, t in enumerate(tasks)]
+    index = {f.key: i for i, f in enumerate(futures)}
+    try:
+        for future in distributed.as_completed(futures):
+            i = index[future.key]
+            results[i] = future.result()
+            if bar is not None:
+                bar.update(sizes[i])
+            if done is not None:
+                done(i)
+    finally:
+        client.cancel(futures)
+    return results
