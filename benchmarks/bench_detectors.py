@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 from dptbd.evaluation.detectors import paper000, paper004, unified
-from dptbd.evaluation.detectors.compare import SceneSpec, run_comparison
+from dptbd.evaluation.detectors.pd_vs_snr import SceneSpec, run_comparison
 from dptbd.evaluation.detectors.report import figure_pd_vs_snr, format_table
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]

@@ -40,7 +40,7 @@ Modules
 ``dptbd.sim.checker``
     The one in-order checker (expected items from the model, received items from a monitor,
     the first mismatch with its position) behind every scoreboard.
-``dptbd.sim.scoreboard``, ``dptbd.sim.segment_scoreboard``
+``dptbd.sim.scoreboard``, ``dptbd.sim.candidate_scoreboard``
     Its two users: the golden model's expected ``states`` words (:mod:`dptbd.model.fixed`
     frame by frame), reported by frame, row, column and field; the candidate lists, by
     segment, record and field.

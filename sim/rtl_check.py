@@ -6,7 +6,7 @@ contents), splits what came out at every reset, asks :mod:`dptbd.sim.stream_mode
 golden model says for the words accepted since that reset, and compares with the project's
 scoreboards, both :class:`~dptbd.sim.checker.InOrderChecker`:
 :class:`~dptbd.sim.scoreboard.Scoreboard` (``states``: the first mismatching frame, row,
-column and field) and :class:`~dptbd.sim.segment_scoreboard.CandidateScoreboard`
+column and field) and :class:`~dptbd.sim.candidate_scoreboard.CandidateScoreboard`
 (``candidates``: segment, record, field).
 
 The promise checked around a reset (``docs/gateware.md``, "Reset and resynchronisation"):
@@ -24,7 +24,7 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.sim.scoreboard import Scoreboard
-from dptbd.sim.segment_scoreboard import CandidateScoreboard, stream_lists
+from dptbd.sim.candidate_scoreboard import CandidateScoreboard, stream_lists
 from dptbd.sim.stimulus import lut_writes
 from dptbd.sim.stream_model import expected_stream, split_words
 from dptbd.sim.verilator import RawRun, VerilatorBuild, run

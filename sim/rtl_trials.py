@@ -27,7 +27,7 @@ golden model. :func:`accumulate_trials` is the one call they make instead of
 4. Unless ``segmenter=False``, the whole FPGA stage (``design="segmenter"``, DP + segmenter,
    top ``dptbd_seg``) runs on the same words and every candidate list is compared with the
    model's (:func:`dptbd.model.segmentation.segment_sequence` of the segments' images from
-   reset, :class:`dptbd.sim.segment_scoreboard.CandidateScoreboard`). The segmenter's
+   reset, :class:`dptbd.sim.candidate_scoreboard.CandidateScoreboard`). The segmenter's
    parameters (n, C, histogram) are the configuration's :class:`~dptbd.config.DPConfig`
    defaults; a configuration whose segmenter cannot be built is reported
    (:func:`prepare_builds`), not failed.
@@ -249,7 +249,7 @@ def _unpack_ends(cfg: DPConfig, out_words: np.ndarray, n_trials: int, n_seg: int
 def _check_lists(cfg, seg_build, words, energy, direction, label, first_trial, n_seg, tally):
     from dptbd.model.segmentation import segment_sequence
     from dptbd.sim import verilator
-    from dptbd.sim.segment_scoreboard import CandidateScoreboard
+    from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 
     lists = segment_sequence(energy.reshape(-1, cfg.height, cfg.width).astype(np.int64),
                              direction.reshape(-1, cfg.height, cfg.width).astype(np.int64), cfg)

@@ -9,7 +9,7 @@ from ``DPTBD_SIM_JOB`` / ``DPTBD_SIM_SCENE`` exactly as for :mod:`dptbd.sim.tb_d
     Optionally write a LUT through the LUT port, then stream every frame with the
     configured input gaps (``valid_pause``) and back-pressure on ``candidates``
     (``ready_pause``) and score every output word against
-    :func:`dptbd.sim.segment_scoreboard.expected_lists` (``dptbd.model.fixed`` for the DP,
+    :func:`dptbd.sim.candidate_scoreboard.expected_lists` (``dptbd.model.fixed`` for the DP,
     ``dptbd.model.segmentation.segment_sequence`` for the segmenter). The report names the
     first mismatching segment, record (or trailer) and field. After the last expected word
     the bench waits ``latency + 2 * scan_cycles`` more cycles: nothing may follow.
@@ -30,7 +30,7 @@ from dptbd.hw.candidate_layout import bits_per_segment
 from dptbd.sim.components import StreamMonitor, StreamSink, StreamSource, write_lut
 from dptbd.sim.components import optional_pauses, pause_generator, pause_probability
 from dptbd.sim.components import start_in_reset
-from dptbd.sim.segment_scoreboard import CandidateScoreboard, expected_lists
+from dptbd.sim.candidate_scoreboard import CandidateScoreboard, expected_lists
 from dptbd.sim.stimulus import lut_writes, pack_pixels
 from dptbd.sim.tb_dp import PERIOD_NS, load_job
 

@@ -16,7 +16,7 @@ import json
 import pathlib
 import time
 
-from dptbd.evaluation.detectors.compare import SCENES, SceneSpec, run_comparison
+from dptbd.evaluation.detectors.pd_vs_snr import SCENES, SceneSpec, run_comparison
 from dptbd.evaluation.detectors._checks import DetectorError
 from dptbd.evaluation.detectors.interface import (
     DETECTORS, DEFAULT_DETECTORS, detector_parameters, parse_detectors)

@@ -66,12 +66,12 @@ def test_bad_input_exits_2_naming_the_parameter(extra, name, capsys, tmp_path):
 @pytest.mark.parametrize("setting", ["ca-cfar.axis=5", "ca-cfar.axis=1"])
 def test_bad_cfar_axis_is_refused_before_any_scene(setting, capsys, tmp_path, monkeypatch):
     """axis is checked when the detector is built, not after the noise scenes are made."""
-    from dptbd.evaluation.detectors import compare
+    from dptbd.evaluation.detectors import pd_vs_snr
 
     def no_scenes(*args, **kwargs):
         raise AssertionError("scenes were generated before the parameters were checked")
 
-    monkeypatch.setattr(compare, "_map", no_scenes)
+    monkeypatch.setattr(pd_vs_snr, "_map", no_scenes)
     out = tmp_path / "cmp"
     assert dptbd(TINY + ["--set", setting, "--out", str(out)]) == 2
     err = capsys.readouterr().err

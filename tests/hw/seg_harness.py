@@ -1,7 +1,7 @@
 """Amaranth-simulator harness for the segmentation gateware: drive one input stream with
 random gaps, sink one output stream with random back-pressure, collect every word.
 
-The expectation and the comparison come from :mod:`dptbd.sim.segment_scoreboard` (the
+The expectation and the comparison come from :mod:`dptbd.sim.candidate_scoreboard` (the
 same scoreboard the cocotb test uses), so a mismatch names the segment, record and field.
 """
 
@@ -16,7 +16,7 @@ import numpy as np
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw import layouts
 from dptbd.hw.layouts import pack_pixel
-from dptbd.sim.segment_scoreboard import CandidateScoreboard
+from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from hw_harness import simulate, stream_cycle
 
 

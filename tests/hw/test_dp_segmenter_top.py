@@ -10,7 +10,7 @@ from dptbd.config import ConfigError
 from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.dp_segmenter_top import SEGMENTER_MODULE_NAME, DPSegmenter, generate_segmenter_verilog
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.segment_scoreboard import expected_lists
+from dptbd.sim.candidate_scoreboard import expected_lists
 from hw_harness import assert_verilator_lints_clean
 from seg_harness import make_config, pack_frames, run_lists
 

@@ -20,7 +20,7 @@ from dptbd.sim import verilator as V
 from dptbd.sim.rtl_check import Stimulus, check_frames, check_stream, lut_change_words
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.scoreboard import expected_words
-from dptbd.sim.segment_scoreboard import expected_lists, list_words
+from dptbd.sim.candidate_scoreboard import expected_lists, list_words
 from dptbd.sim.stimulus import pixel_words
 from dptbd.sim.stream_model import expected_stream, split_words
 

@@ -18,7 +18,7 @@ from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw.candidate_layout import bits_per_segment
 from dptbd.sim.runner import build, simulate
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.segment_scoreboard import expected_lists
+from dptbd.sim.candidate_scoreboard import expected_lists
 
 pytestmark = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
 

@@ -8,7 +8,7 @@
   :mod:`~dptbd.evaluation.detectors.grid_filter` (transition, likelihood, entropy);
 * :mod:`~dptbd.evaluation.detectors.cfar` — CA-CFAR;
 * :mod:`~dptbd.scenes.range_doppler` — range-Doppler scenes (Swerling I, Rayleigh noise);
-* :mod:`~dptbd.evaluation.detectors.interface` and :mod:`~dptbd.evaluation.detectors.compare` — one
+* :mod:`~dptbd.evaluation.detectors.interface` and :mod:`~dptbd.evaluation.detectors.pd_vs_snr` — one
   interface for all detectors and the Pd-vs-SNR comparison behind ``dptbd detectors``;
 * :mod:`~dptbd.evaluation.detectors.paper000`, :mod:`~dptbd.evaluation.detectors.paper004` — the
   papers' simulations.

@@ -8,7 +8,7 @@ import csv
 import json
 import pathlib
 
-from dptbd.evaluation.detectors.compare import CompareResult
+from dptbd.evaluation.detectors.pd_vs_snr import CompareResult
 from dptbd.evaluation.stats import wilson_interval
 from dptbd.figures import new_figure, save_figure
 from dptbd.output_folder import staged_folder

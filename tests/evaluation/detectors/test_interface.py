@@ -10,7 +10,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.evaluation.detectors import DetectorError
-from dptbd.evaluation.detectors.compare import SceneSpec, run_comparison
+from dptbd.evaluation.detectors.pd_vs_snr import SceneSpec, run_comparison
 from dptbd.evaluation.detectors.interface import (
     DETECTORS, Decisions, SceneModel, calibrate, count_detections, count_false_alarms,
     make_detector, parse_detectors)

@@ -7,7 +7,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.candidate_layout import pack_record, pack_trailer
 from dptbd.model.segmentation import segment_stream
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.segment_scoreboard import (
+from dptbd.sim.candidate_scoreboard import (
     CandidateScoreboard,
     expected_lists,
     list_words,
