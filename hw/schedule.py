@@ -119,7 +119,7 @@ def check_supported(cfg: DPConfig) -> PipelineSchedule:
     if pixels - ahead <= schedule.write_latency:
         raise ConfigError(
             f"width={cfg.width} x height={cfg.height} is too small for the read-ahead of "
-            f"radius={cfg.radius}: the gateware needs width*height - radius*(width+1) = "
-            f"{pixels - ahead} > write latency {schedule.write_latency} cycles, so that each "
-            f"state is written before the next frame reads it; use a larger frame")
+            f"radius={cfg.radius}: the gateware needs width*height - radius*(width+1) > write "
+            f"latency {schedule.write_latency} cycles, but it is {pixels - ahead}; each state "
+            f"must be written before the next frame reads it; use a larger frame")
     return schedule

@@ -44,7 +44,8 @@ def main(args: argparse.Namespace) -> int:
     cfg = config_from_args(args)
     existing = [p for p in (out, manifest) if p.exists()]
     if existing and not args.force:
-        raise FileExistsError(f"{', '.join(map(str, existing))} exist(s); pass --force to "
+        raise FileExistsError(f"{' and '.join(map(str, existing))} "
+                              f"{'exists' if len(existing) == 1 else 'exist'}; pass --force to "
                               f"overwrite")
     text, info = generate_verilog(cfg, external_state_store=args.external_state_store,
                                   lut_style=args.lut_style)

@@ -76,8 +76,8 @@ def test_sim_refuses_a_lut_of_the_wrong_shape(tmp_path, simulator):
      "(segment_stride == segment_frames == 4) are implemented, with a single state store"),
     (["--width", 4, "--height", 4], ConfigError,
      "width=4 x height=4 is too small for the read-ahead of radius=1: the gateware needs "
-     "width*height - radius*(width+1) = 11 > write latency 12 cycles, so that each state is "
-     "written before the next frame reads it; use a larger frame"),
+     "width*height - radius*(width+1) > write latency 12 cycles, but it is 11; each state "
+     "must be written before the next frame reads it; use a larger frame"),
     (["--waves", "x.vcd"], ValueError,
      "--waves x.vcd: the simulation writes FST; give a path ending in .fst"),
     (["--valid-pause", 1.0], ValueError, "--valid-pause must be in [0, 1), got 1.0"),

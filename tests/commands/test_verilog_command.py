@@ -41,13 +41,18 @@ def test_verilog_refuses_to_overwrite_without_force(tmp_path):
     out.write_text("mine")
     args = parse(["-o", out, "--width", 8, "--height", 6])
     with pytest.raises(FileExistsError,
-                       match=rf"^{re.escape(str(out))} exist\(s\); pass --force to overwrite$"):
+                       match=rf"^{re.escape(str(out))} exists; pass --force to overwrite$"):
         verilog_command.main(args)
     assert out.read_text() == "mine" and not (tmp_path / "dp.json").exists()
     (tmp_path / "other.json").write_text("{}")          # an existing manifest counts too
     other = re.escape(str(tmp_path / "other.json"))
     with pytest.raises(FileExistsError,
-                       match=rf"^{other} exist\(s\); pass --force to overwrite$"):
+                       match=rf"^{other} exists; pass --force to overwrite$"):
+        verilog_command.main(parse(["-o", tmp_path / "other.v"]))
+    (tmp_path / "other.v").write_text("mine")           # both: one sentence naming both
+    both = " and ".join(re.escape(str(tmp_path / n)) for n in ("other.v", "other.json"))
+    with pytest.raises(FileExistsError,
+                       match=rf"^{both} exist; pass --force to overwrite$"):
         verilog_command.main(parse(["-o", tmp_path / "other.v"]))
     assert verilog_command.main(parse(["-o", out, "--width", 8, "--height", 6,
                                                         "--force"])) == 0

@@ -201,9 +201,9 @@ def test_refuses_frames_too_small_for_the_read_ahead():
     cfg = DPConfig(width=5, height=4, radius=2)
     with refused(ConfigError,
                  match=r"^width=5 x height=4 is too small for the read-ahead of radius=2: "
-                       r"the gateware needs width\*height - radius\*\(width\+1\) = 8 "
-                       r"> write latency 13 cycles, so that each state is written before "
-                       r"the next frame reads it; use a larger frame$"):
+                       r"the gateware needs width\*height - radius\*\(width\+1\) > write latency 13 "
+                       r"cycles, but it is 8; each state must be written before the next frame reads "
+                       r"it; use a larger frame$"):
         DPPipeline(cfg)
 
 

@@ -45,9 +45,9 @@ def test_frame_too_small_for_read_ahead_is_refused():
     assert read_ahead_distance(cfg) == 12
     with pytest.raises(ConfigError,
                        match=r"^width=5 x height=4 is too small for the read-ahead of radius=2: "
-                             r"the gateware needs width\*height - radius\*\(width\+1\) = 8 "
-                             r"> write latency 13 cycles, so that each state is written before "
-                             r"the next frame reads it; use a larger frame$"):
+                             r"the gateware needs width\*height - radius\*\(width\+1\) > write latency 13 "
+                             r"cycles, but it is 8; each state must be written before the next frame reads "
+                             r"it; use a larger frame$"):
         check_supported(cfg)
 
 

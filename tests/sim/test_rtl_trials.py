@@ -203,8 +203,8 @@ def test_unsupported_configurations_are_refused_up_front_by_name(monkeypatch):
     with pytest.raises(ConfigError, match=(
             r"^RTL in the loop: configuration 'exact-ish' cannot run on the gateware: "
             r"width=4 x height=4 is too small for the read-ahead of radius=1: the gateware "
-            r"needs width\*height - radius\*\(width\+1\) = 11 > write latency 12 cycles, so "
-            r"that each state is written before the next frame reads it; use a larger "
+            r"needs width\*height - radius\*\(width\+1\) > write latency 12 cycles, but it is "
+            r"11; each state must be written before the next frame reads it; use a larger "
             r"frame$")):
         run_compare(spec, workers=1, rtl=True)
 
