@@ -308,7 +308,7 @@ def run_job(scenario: Scenario, *, rtl: RtlCheck | None = None, dsp: str = "pyth
     inp = prepare(scenario)
     for line in inp.describe():
         log(line)
-    cfg, n_frames = inp.cfg, inp.frames.shape[0]
+    cfg = inp.cfg
     record = None
     if rtl is not None:
         record = check_rtl(inp.frames, cfg, rtl,

@@ -19,7 +19,6 @@ everywhere. The axis must hold at least ``N + n_guard + 1`` cells.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np

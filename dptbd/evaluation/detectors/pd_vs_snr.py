@@ -21,7 +21,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from typing import Any, Iterable
+from typing import Iterable
 
 import numpy as np
 
