@@ -23,7 +23,7 @@ import numpy as np
 
 from dptbd.dsp.chain import run_pipeline
 from dptbd.dsp.track_metrics import evaluate_tracks
-from dptbd.evaluation.family_detection import RECURSIVE_ENERGY_BITS, Variant
+from dptbd.evaluation.family_detection import Variant
 from dptbd.evaluation.recursive_pipeline import run_recursive_pipeline
 from dptbd.evaluation.run_job import prepare
 from dptbd.evaluation.scenario import default_scenario
@@ -78,8 +78,7 @@ def job_outcome(variant: Variant, seed: int, *, every: int | None = None) -> Job
     if variant.forgetting is None:
         result = run_pipeline(inp.frames, inp.cfg, inp.count, inp.assoc, lists="ideal")
     else:
-        cfg = inp.cfg.replace(recursive=True, forgetting=variant.forgetting, forgetting_bits=8,
-                              energy_bits=RECURSIVE_ENERGY_BITS, histogram_shift=None)
+        cfg = inp.cfg.replace(histogram_shift=None, **variant.family_fields(inp.cfg.radius))
         result = run_recursive_pipeline(
             inp.frames, cfg, inp.count, inp.assoc, path_frames=variant.segment_frames,
             every=variant.segment_frames if every is None else every)
