@@ -288,6 +288,22 @@ class DPConfig:
         return (self.merit_codes is None and self.penalty_codes is None
                 and self.forgetting_code == 1 << self.forgetting_bits and not self.recursive)
 
+    def require_paper001_datapath(self, where: str) -> None:
+        """Refuse a §8 configuration in code that implements only §4–§5 (never ignore it).
+
+        Raises
+        ------
+        ConfigError
+            Naming ``where``, the §8 fields set and the model that implements them.
+        """
+        if not self.is_paper001_datapath:
+            fields = [name for name, default in _FAMILY_DEFAULTS.items()
+                      if getattr(self, name) != default and name != "forgetting_bits"]
+            raise ConfigError(
+                f"{where} implements paper 001's datapath only (docs/arithmetic.md §4-§5), but "
+                f"this configuration sets paper 000's family field(s) {', '.join(fields)} "
+                f"(§8): use dptbd.model.family.run_family_fixed")
+
     def __post_init__(self) -> None:
         for name in _RANGES:
             object.__setattr__(self, name, _check_int(name, getattr(self, name)))

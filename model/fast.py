@@ -103,6 +103,7 @@ class _Plan:
 
 @functools.lru_cache(maxsize=64)
 def _plan(cfg: DPConfig) -> _Plan:
+    cfg.require_paper001_datapath("dptbd.model.fast")
     n_moves = cfg.n_moves
     codes = cfg.weight_codes.astype(np.int64)
     frac = cfg.weight_frac_bits
@@ -547,6 +548,7 @@ def _spread(kernel, args: tuple, n_tasks: int, threads: int) -> int:
 
 def fast_segment_start(pixels: np.ndarray, cfg: DPConfig) -> tuple[np.ndarray, np.ndarray]:
     """Same as :func:`dptbd.model.fixed.segment_start` (E = x, d = START), without int64 copies."""
+    cfg.require_paper001_datapath("dptbd.model.fast")
     x = np.asarray(pixels)
     _check_pixels_nocopy(x, cfg.input_bits)
     energy = x.astype(ENERGY_DTYPE)  # x <= 2**B_in - 1 <= E_max: the saturation is a no-op

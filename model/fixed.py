@@ -30,6 +30,7 @@ DIRECTION_DTYPE = np.uint8
 
 def segment_start(pixels: np.ndarray, cfg: DPConfig) -> tuple[np.ndarray, np.ndarray]:
     """State after a segment's first frame: E = x, d = START (§5)."""
+    cfg.require_paper001_datapath("dptbd.model.fixed")
     x = check_pixels(pixels, cfg.input_bits)
     energy = add_saturating(0, x, cfg.energy_bits).astype(ENERGY_DTYPE)
     direction = np.full(x.shape, cfg.start_code, dtype=DIRECTION_DTYPE)
@@ -53,6 +54,7 @@ def dp_step(energy: np.ndarray, direction: np.ndarray, pixels: np.ndarray,
     tuple of numpy.ndarray
         The new (E, d), ``uint32`` and ``uint8``.
     """
+    cfg.require_paper001_datapath("dptbd.model.fixed")
     x = check_pixels(pixels, cfg.input_bits)
     codes = cfg.weight_codes.astype(np.int64)
     e_prev = np.asarray(energy, dtype=np.int64)

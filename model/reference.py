@@ -28,6 +28,7 @@ def _check_real(pixels: np.ndarray) -> np.ndarray:
 
 def float_start(pixels: np.ndarray, cfg: DPConfig) -> tuple[np.ndarray, np.ndarray]:
     """State after a segment's first frame: E = x, d = START."""
+    cfg.require_paper001_datapath("dptbd.model.reference")
     x = _check_real(pixels)
     return x.copy(), np.full(x.shape, cfg.start_code, dtype=np.uint8)
 
@@ -35,6 +36,7 @@ def float_start(pixels: np.ndarray, cfg: DPConfig) -> tuple[np.ndarray, np.ndarr
 def float_step(energy: np.ndarray, direction: np.ndarray, pixels: np.ndarray,
                cfg: DPConfig) -> tuple[np.ndarray, np.ndarray]:
     """One frame of eq (10): max over moves of w[d(q), m] * E(q), plus the new pixel."""
+    cfg.require_paper001_datapath("dptbd.model.reference")
     x = _check_real(pixels)
     weights = cfg.weight_array
     d_prev = np.asarray(direction, dtype=np.int64)

@@ -133,3 +133,25 @@ def test_bad_frames_are_refused_like_the_001_model():
     with pytest.raises(ValueError, match=r"^frames are 4x3 \(H x W\) but the configuration is "
                                          r"height=3, width=3$"):
         run_family_fixed(np.zeros((2, 4, 3), dtype=np.int64), cfg)
+
+
+@pytest.mark.parametrize("kwargs, fields", [
+    (dict(forgetting=0.5), "forgetting"),
+    (dict(recursive=True), "recursive"),
+    (dict(input_bits=2, merit_codes=[0, 1, 2, 3], penalty_codes=np.ones((10, 9), int)),
+     "merit_codes, penalty_codes"),
+])
+def test_the_001_models_refuse_a_family_configuration(kwargs, fields):
+    """``fixed``, ``fast`` and ``reference`` implement §4-§5 only: a §8 field is refused,
+    never ignored (even an identity merit LUT given explicitly: it is not the default)."""
+    from dptbd.model.fast import fast_segment_start, run_fixed_fast
+    from dptbd.model.reference import run_float
+    cfg = make_cfg(width=3, height=3, segment_frames=2, **kwargs)
+    frames = np.zeros((2, 3, 3), dtype=np.int64)
+    for run, where in ((run_fixed, "fixed"), (run_fixed_fast, "fast"), (run_float, "reference"),
+                       (lambda f, c: fast_segment_start(f[0], c), "fast")):
+        with pytest.raises(ValueError, match=(
+                rf"^dptbd\.model\.{where} implements paper 001's datapath only "
+                rf"\(docs/arithmetic\.md §4-§5\), but this configuration sets paper 000's family "
+                rf"field\(s\) {fields} \(§8\): use dptbd\.model\.family\.run_family_fixed$")):
+            run(frames, cfg)
