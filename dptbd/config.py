@@ -283,10 +283,25 @@ class DPConfig:
         return max(self.candidate_value_bits, self.merit_width) + 1
 
     @property
+    def family_fields_in_use(self) -> list[str]:
+        """The §8 fields that change the arithmetic: a merit LUT other than the identity, a
+        non-zero penalty, alpha's code below 2**G, ``recursive``."""
+        used = []
+        if self.merit_codes is not None and not np.array_equal(
+                self.merit_code_array, np.arange(1 << self.input_bits)):
+            used.append("merit_codes")
+        if self.penalty_codes is not None and np.any(self.penalty_code_array):
+            used.append("penalty_codes")
+        if self.forgetting_code != 1 << self.forgetting_bits:
+            used.append("forgetting")
+        if self.recursive:
+            used.append("recursive")
+        return used
+
+    @property
     def is_paper001_datapath(self) -> bool:
-        """True when the §8 fields are at their defaults: paper 001's DP bit for bit."""
-        return (self.merit_codes is None and self.penalty_codes is None
-                and self.forgetting_code == 1 << self.forgetting_bits and not self.recursive)
+        """True when no §8 field changes the arithmetic: paper 001's DP bit for bit (§8.8)."""
+        return not self.family_fields_in_use
 
     def require_paper001_datapath(self, where: str) -> None:
         """Refuse a §8 configuration in code that implements only §4–§5 (never ignore it).
@@ -296,9 +311,8 @@ class DPConfig:
         ConfigError
             Naming ``where``, the §8 fields set and the model that implements them.
         """
-        if not self.is_paper001_datapath:
-            fields = [name for name, default in _FAMILY_DEFAULTS.items()
-                      if getattr(self, name) != default and name != "forgetting_bits"]
+        fields = self.family_fields_in_use
+        if fields:
             raise ConfigError(
                 f"{where} implements paper 001's datapath only (docs/arithmetic.md §4-§5), but "
                 f"this configuration sets paper 000's family field(s) {', '.join(fields)} "

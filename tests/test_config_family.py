@@ -39,6 +39,14 @@ def test_to_mapping_leaves_out_family_defaults_and_round_trips():
     assert mapping["penalty_codes"][0] == [1] * M1
     assert DPConfig.from_mapping(mapping) == var
     assert not var.is_paper001_datapath
+    assert var.family_fields_in_use == ["merit_codes", "penalty_codes", "forgetting", "recursive"]
+
+
+def test_explicit_identity_and_zero_tables_are_the_001_datapath():
+    cfg = DPConfig(input_bits=2, merit_codes=[0, 1, 2, 3], penalty_codes=np.zeros((10, 9), int),
+                   forgetting=0.999, forgetting_bits=4)
+    assert cfg.forgetting_code == 16 and cfg.is_paper001_datapath
+    assert cfg != DPConfig(input_bits=2)  # a different configuration all the same
 
 
 @pytest.mark.parametrize("alpha, bits, code", [

@@ -41,7 +41,10 @@ def test_alpha_one_and_zero_penalty_reduce_to_the_001_dp_even_with_explicit_fiel
     var = base.replace(merit_codes=np.arange(256), penalty_codes=np.zeros((base.n_moves + 1, base.n_moves), int),
                        forgetting=1.0, forgetting_bits=data.draw(st.integers(0, 16)))
     frames = frames_for(data.draw, shape, 255)
-    np.testing.assert_array_equal(run_family_fixed(frames, var).energy, run_fixed(frames, base).energy)
+    assert var.is_paper001_datapath and var.family_fields_in_use == []
+    want = run_fixed(frames, base).energy
+    np.testing.assert_array_equal(run_family_fixed(frames, var).energy, want)
+    np.testing.assert_array_equal(run_fixed(frames, var).energy, want)  # accepted by the 001 model
 
 
 @SETTINGS
@@ -139,11 +142,13 @@ def test_bad_frames_are_refused_like_the_001_model():
     (dict(forgetting=0.5), "forgetting"),
     (dict(recursive=True), "recursive"),
     (dict(input_bits=2, merit_codes=[0, 1, 2, 3], penalty_codes=np.ones((10, 9), int)),
-     "merit_codes, penalty_codes"),
+     "penalty_codes"),
+    (dict(input_bits=2, merit_codes=[0, 1, 3, 2], forgetting=0.5, recursive=True),
+     "merit_codes, forgetting, recursive"),
 ])
 def test_the_001_models_refuse_a_family_configuration(kwargs, fields):
-    """``fixed``, ``fast`` and ``reference`` implement §4-§5 only: a §8 field is refused,
-    never ignored (even an identity merit LUT given explicitly: it is not the default)."""
+    """``fixed``, ``fast`` and ``reference`` implement §4-§5 only: a §8 field that changes
+    the arithmetic is refused, never ignored."""
     from dptbd.model.fast import fast_segment_start, run_fixed_fast
     from dptbd.model.reference import run_float
     cfg = make_cfg(width=3, height=3, segment_frames=2, **kwargs)
