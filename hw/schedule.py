@@ -107,7 +107,10 @@ def check_supported(cfg: DPConfig) -> PipelineSchedule:
           read-ahead. The state of position q is read for the next frame
           ``W*H - r*(W+1)`` accepted pixels after q itself was accepted, and must have been
           written by then (``docs/gateware.md``, "Read-ahead").
+        * paper 000's family fields (``docs/arithmetic.md`` §8): the gateware implements
+          paper 001's datapath (§4–§5) only, and never builds it for a §8 configuration.
     """
+    cfg.require_paper001_datapath("the gateware (dptbd.hw)")
     if cfg.segment_stride != cfg.segment_frames:
         raise ConfigError(
             f"segment_stride={cfg.segment_stride} is not supported by the gateware: only "

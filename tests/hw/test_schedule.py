@@ -58,3 +58,12 @@ def test_smallest_accepted_frames():
     with pytest.raises(ConfigError):
         check_supported(DPConfig(width=3, height=5))      # 15 - 4 = 11
     check_supported(DPConfig(width=7, height=6, radius=2))  # 42 - 16 = 26 > 13
+
+
+def test_paper000_family_configuration_is_refused():
+    cfg = DPConfig(width=16, height=16, recursive=True)
+    with pytest.raises(ConfigError, match=(
+            r"^the gateware \(dptbd\.hw\) implements paper 001's datapath only "
+            r"\(docs/arithmetic\.md §4-§5\), but this configuration sets paper 000's family "
+            r"field\(s\) recursive \(§8\): use dptbd\.model\.family\.run_family_fixed$")):
+        check_supported(cfg)
