@@ -86,6 +86,8 @@ def worker_addresses(address: str) -> dict[str, str]:
     """``{worker name: worker address}`` of the cluster at ``address``."""
     import distributed
 
+    from dptbd.evaluation.execution import cluster_workers
+
     with distributed.Client(address, timeout=30) as client:
-        info = client.scheduler_info(n_workers=-1)["workers"]
+        info = cluster_workers(client)
     return {w["name"]: a for a, w in info.items()}

@@ -39,6 +39,7 @@ from dptbd.errors import DptbdError, check_int
 
 __all__ = ["ExecutionError", "Execution", "SCHEDULER_ENV", "CONNECT_TIMEOUT", "REQUIRED_PACKAGES",
            "MAX_WORKERS", "check_worker_count", "default_workers", "job_execution",
+           "cluster_workers",
            "check_workers", "map_tasks", "warmed", "version"]
 
 #: Environment variable holding a scheduler address, used when ``--scheduler`` is not given.
@@ -162,10 +163,19 @@ class Execution:
         try:
             client.wait_for_workers(need, timeout=self.connect_timeout)
         except (TimeoutError, OSError):
-            have = len(client.scheduler_info(n_workers=-1)["workers"])
+            have = len(cluster_workers(client))
             raise ExecutionError(
                 f"the dask cluster at {client.scheduler.address} has {have} worker(s), "
                 f"{need} asked for") from None
+
+
+def cluster_workers(client) -> dict:
+    """``{address: info}`` of every worker of ``client``'s cluster, asked of the scheduler now.
+
+    Not ``client.scheduler_info(n_workers=-1)``: it returns the client's cached copy, which
+    the client's periodic refresh of the cluster's totals (no workers listed) can replace
+    between the fetch and the return (a ``compare`` on a loaded machine counted 0 workers)."""
+    return client.sync(client.scheduler.identity, n_workers=-1)["workers"]
 
 
 def job_execution(workers: int | None, *, scheduler: str | None = None,

@@ -13,7 +13,8 @@ import pytest
 
 from dptbd.evaluation import execution
 from dptbd.evaluation.execution import (Execution, ExecutionError, check_worker_count,
-                                        check_workers, job_execution, map_tasks)
+                                        check_workers, cluster_workers, job_execution,
+                                        map_tasks)
 
 
 def _free_port() -> int:
@@ -84,7 +85,7 @@ def test_the_dashboard_address_is_printed_and_serves_the_dashboard(monkeypatch, 
         with urllib.request.urlopen(found[1], timeout=30) as page:
             assert page.status == 200
             assert b"Dask" in page.read()
-        assert len(client.scheduler_info()["workers"]) == 2
+        assert len(cluster_workers(client)) == 2
     with pytest.raises(urllib.error.URLError):  # shut down with the cluster
         urllib.request.urlopen(found[1], timeout=5)
 
@@ -129,7 +130,7 @@ def test_a_worker_with_another_dptbd_version_is_refused(threaded_cluster):
 
     with distributed.Client(threaded_cluster) as client:
         check_workers(client)  # the same environment: fit
-        worker = re.escape(next(iter(client.scheduler_info()["workers"])))
+        worker = re.escape(next(iter(cluster_workers(client))))
         mine = re.escape(execution.version())
         with pytest.raises(ExecutionError, match=(
                 rf"^unfit dask workers \(every worker needs the same dptbd, see "
@@ -141,7 +142,7 @@ def test_a_worker_lacking_a_package_is_refused_by_name(threaded_cluster):
     import distributed
 
     with distributed.Client(threaded_cluster) as client:
-        worker = re.escape(next(iter(client.scheduler_info()["workers"])))
+        worker = re.escape(next(iter(cluster_workers(client))))
         with pytest.raises(ExecutionError, match=(
                 rf"^unfit dask workers \(every worker needs the same dptbd, see "
                 rf"docs/distributed\.md\): worker {worker} lacks the Python package "

@@ -17,7 +17,8 @@ from dptbd.scenes import synthetic as scenes
 from dptbd.evaluation.compare.plan import Plan, make_plan
 from dptbd.evaluation.compare.selection import _Candidates, _candidates, _same_points, image_keys
 from dptbd.evaluation.compare.spec import CompareSpec
-from dptbd.evaluation.execution import default_workers, job_execution, map_tasks, warmed
+from dptbd.evaluation.execution import (cluster_workers, default_workers, job_execution,
+                                        map_tasks, warmed)
 
 __all__ = ["measure_frames", "CompareResult", "run_compare", "default_workers", "check_rtl"]
 
@@ -235,8 +236,8 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
     try:
         with execution.client() as client, warmed(client, functools.partial(_warm, plan)):
             _warm(plan)  # compile (or load) the kernels here too, once, before the clock
-            used = execution.workers if execution.address is None else len(
-                client.scheduler_info(n_workers=-1)["workers"])
+            used = (execution.workers if execution.address is None
+                    else len(cluster_workers(client)))
             start = time.perf_counter()
             parts = map_tasks(_chunk, [(plan, a, b) for a, b in bounds], client,
                               sizes=[b - a for a, b in bounds], bar=bar)
