@@ -1,8 +1,10 @@
 """The Monte Carlo on dask against the process pool it replaced: trials per second of the
-default ``dptbd compare``, scheduling overhead per task, numba kernel loading per worker.
+default ``dptbd compare``, scheduling overhead per task, numba kernel loading per worker;
+and ``dptbd table1`` in this process (how it ran before dask) against dask.
 
     python benchmarks/bench_dask.py                      # default comparison, 240 trials
     python benchmarks/bench_dask.py --trials 96 --json build/bench_dask.json
+    python benchmarks/bench_dask.py --table1-trials 0    # without table1
 
 One process, one run after the other, on the same spec (the default
 :func:`dptbd.evaluation.compare.build_spec`, bootstrap off since it is not the Monte Carlo):
@@ -18,7 +20,13 @@ One process, one run after the other, on the same spec (the default
 The ways run in rounds (``--repeat``), each way once per round, and the medians are printed:
 the machine is shared and its load drifts.
 
-All runs' counts are checked identical (the script fails otherwise). Per-task scheduling
+``table1`` (``--table1-trials`` per setting, 6 settings, tasks of 10 trials of one setting):
+``run_table1(workers=1)`` (in this process, as before dask: numba's threads on every core
+for the DP kernel) and ``run_table1`` on a LocalCluster of N = 1, 2 workers (one thread
+each) started and warmed (kernels loaded) beforehand; its time includes connecting, the
+worker checks and the warm-up plugin's second, quick, call.
+
+All runs' counts (and table1 rows) are checked identical (the script fails otherwise). Per-task scheduling
 overhead: wall time per task of ``N_NOOP`` empty tasks on the 2-worker LocalCluster, and as a
 fraction of the mean task time (one chunk of ``spec.chunk`` trials, in process). Kernel
 loading: ``_warm(plan)`` in a fresh worker from numba's on-disk cache, and in a fresh
@@ -45,6 +53,8 @@ import numpy as np
 from dptbd.evaluation.compare import build_spec, make_plan, run_compare
 from dptbd.evaluation.compare.runner import _chunk, _warm
 from dptbd.evaluation.execution import Execution, map_tasks
+from dptbd.evaluation import table1
+from dptbd.evaluation.table1 import SETTINGS, run_table1
 
 N_NOOP = 400
 
@@ -86,6 +96,24 @@ def _compile_seconds() -> float:
     return float(out.stdout.split()[-1])
 
 
+def _table1_round(trials: int, reference: list, seconds: dict) -> None:
+    """One round of table1: in this process, then on LocalClusters of 1 and 2 workers; the
+    rows checked equal to ``reference``."""
+    start = time.perf_counter()
+    rows = run_table1(trials, workers=1).rows
+    seconds.setdefault("table1 in process", []).append(time.perf_counter() - start)
+    assert rows == reference, "table1 in process: rows differ"
+    for n in (1, 2):
+        with distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                      dashboard_address=None, silence_logs=40) as cluster:
+            with distributed.Client(cluster) as client:  # kernels loaded before the clock,
+                client.run(table1._warm, table1.table1_config(), 2003)  # as compare's start
+            start = time.perf_counter()
+            rows = run_table1(trials, scheduler=cluster.scheduler_address, workers=n).rows
+            seconds.setdefault(f"table1 dask, {n}", []).append(time.perf_counter() - start)
+        assert rows == reference, f"table1 dask {n}: rows differ"
+
+
 def _same(a: dict, b: dict) -> bool:
     return a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
 
@@ -94,6 +122,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--trials", type=int, default=240, help="trials (default 240, the default run)")
     ap.add_argument("--repeat", type=int, default=2, help="rounds; medians printed (default 2)")
+    ap.add_argument("--table1-trials", type=int, default=20,
+                    help="table1 trials per setting (default 20; 0: table1 not measured)")
     ap.add_argument("--json", metavar="PATH", help="also write the numbers as JSON")
     args = ap.parse_args(argv)
     spec = build_spec({}, trials=args.trials, bootstrap=0)
@@ -103,6 +133,7 @@ def main(argv=None) -> int:
     load0 = os.getloadavg()[0]
 
     ref = run_compare(spec, workers=1)  # the reference counts; also warms this process
+    table1_ref = run_table1(args.table1_trials, workers=1).rows if args.table1_trials else None
     seconds: dict = {}
     start_seconds: dict = {}
     for _ in range(args.repeat):  # rounds: every way once per round, so load drifts hit all
@@ -121,6 +152,8 @@ def main(argv=None) -> int:
             assert _same(ref.counts, res.counts), f"dask local {n}: counts differ"
             seconds.setdefault(f"dask local, {n}", []).append(res.seconds)
             start_seconds.setdefault(f"dask local, {n}", []).append(total - res.seconds)
+        if args.table1_trials:
+            _table1_round(args.table1_trials, table1_ref, seconds)
     rows = {name: dict(seconds=float(np.median(s)), all_seconds=s,
                        start_seconds=float(np.median(start_seconds[name]))
                        if name in start_seconds else None)
@@ -142,21 +175,36 @@ def main(argv=None) -> int:
           f"{load1:.1f}; {os.cpu_count()} cores")
     print(f"{'':16s} {'Monte Carlo s':>13s} {'trials/s':>9s} {'start s':>8s}   (median of "
           f"{args.repeat}; every run's seconds)")
-    for name, r in rows.items():
-        r["trials_per_second"] = spec.trials / r["seconds"]
+    table1_trials = args.table1_trials * len(SETTINGS)
+    for name, r in rows.items():  # table1: trials of all settings
+        r["trials_per_second"] = (table1_trials if name.startswith("table1")
+                                  else spec.trials) / r["seconds"]
         st = "" if r["start_seconds"] is None else f"{r['start_seconds']:8.2f}"
         each = " ".join(f"{s:.1f}" for s in r["all_seconds"])
         print(f"{name:16s} {r['seconds']:13.2f} {r['trials_per_second']:9.2f} {st:>8s}   {each}")
     for n in (1, 2):
         ratio = rows[f"dask local, {n}"]["trials_per_second"] / rows[f"old pool, {n}"]["trials_per_second"]
         print(f"dask / old pool on {n} worker(s): {ratio:.3f}")
+    table1_task = None
+    if args.table1_trials:
+        table1_tasks = len(SETTINGS) * -(-args.table1_trials // 10)
+        table1_task = rows["table1 in process"]["seconds"] / table1_tasks
+        for n in (1, 2):
+            ratio = rows["table1 in process"]["seconds"] / rows[f"table1 dask, {n}"]["seconds"]
+            print(f"table1 ({table1_trials} trials in {table1_tasks} tasks): speed of dask on "
+                  f"{n} worker(s) / in process: {ratio:.3f}")
     print(f"scheduling overhead: {per_task * 1e3:.2f} ms per task ({N_NOOP} empty tasks, 2 "
-          f"workers) = {100 * per_task / mean_task:.2f} % of a mean task ({mean_task:.3f} s)")
+          f"workers) = {100 * per_task / mean_task:.2f} % of a mean compare task "
+          f"({mean_task:.3f} s)" + ("" if table1_task is None else
+                                    f", {100 * per_task / table1_task:.2f} % of a mean table1 "
+                                    f"task ({table1_task:.3f} s)"))
     print(f"kernels per worker: {max(fresh.values()):.2f} s loading from numba's cache (first "
           f"call), {max(again.values()) * 1e3:.1f} ms after; full compile {compile_s:.1f} s")
     if args.json:
         out = dict(trials=spec.trials, tasks=n_tasks, chunk=spec.chunk, runs=rows,
                    overhead_seconds_per_task=per_task, mean_task_seconds=mean_task,
+                   table1_trials_per_setting=args.table1_trials,
+                   table1_mean_task_seconds=table1_task,
                    warm_from_cache_seconds=max(fresh.values()),
                    warm_again_seconds=max(again.values()), compile_seconds=compile_s,
                    load_average=[load0, load1])

@@ -12,6 +12,8 @@ import argparse
 import pathlib
 import sys
 
+from dptbd.commands.options import add_execution_arguments
+
 #: evaluation.compare.spec.TIE_RULES, written out for the same reason as the defaults below
 #: (tests/commands/test_compare.py::test_cli_tie_rules_are_the_specs keeps them equal).
 TIE_RULES = ("random", "gateware", "gateware-bins")
@@ -41,15 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "ties dropped whole); gateware-bins = the same on each "
                              "configuration's histogram bins E >> s (docs/compare.md; "
                              "default random, or the file's)")
-    parser.add_argument("--workers", type=int, default=None,
-                        help="worker processes (default: all cores; 1 = in this process); with "
-                             "--scheduler: the workers the cluster must have")
-    parser.add_argument("--scheduler", metavar="tcp://HOST:PORT", default=None,
-                        help="run the trials on this existing dask cluster (default: "
-                             "$DPTBD_SCHEDULER if set, else local processes; "
-                             "docs/distributed.md)")
-    parser.add_argument("--dashboard", action="store_true",
-                        help="print the dask dashboard's address")
+    add_execution_arguments(parser)
     parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("compare-out"),
                         help="new output folder for CSV/JSON/PNG (default ./compare-out; must not "
                              "exist unless --force)")

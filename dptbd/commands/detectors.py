@@ -16,6 +16,7 @@ import json
 import pathlib
 import time
 
+from dptbd.commands.options import add_execution_arguments
 from dptbd.evaluation.detectors.pd_vs_snr import SCENES, SceneSpec, run_comparison
 from dptbd.evaluation.detectors._checks import DetectorError
 from dptbd.evaluation.detectors.interface import (
@@ -53,13 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "[[0,0.25,0],[0.25,0,0.25],[0,0.25,0]]), e.g. dp-penalty.alpha=0.85, "
                              "info.kernel=..., ca-cfar.n_ref=32 (docs/detectors.md §3.2)")
     parser.add_argument("--seed", type=int, default=6, help="base seed (default 6)")
-    parser.add_argument("--jobs", type=int, default=2, help="worker processes (default 2); with "
-                        "--scheduler: the workers the cluster must have")
-    parser.add_argument("--scheduler", metavar="tcp://HOST:PORT", default=None,
-                        help="run on this existing dask cluster (default: $DPTBD_SCHEDULER if "
-                             "set, else local processes; docs/distributed.md)")
-    parser.add_argument("--dashboard", action="store_true",
-                        help="print the dask dashboard's address")
+    add_execution_arguments(parser, "--jobs", 2, "2")
     parser.add_argument("--out", type=pathlib.Path, metavar="DIR",
                         help="write table.md, table.csv, result.json and pd_vs_snr.png into this new "
                              "folder (must not exist unless --force)")

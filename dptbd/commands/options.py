@@ -1,5 +1,6 @@
 """Argument groups that several commands share: the DPConfig parameters (``dptbd verilog``,
-``dptbd sim``) and the simulator options (``dptbd sim``, ``dptbd run --rtl``)."""
+``dptbd sim``), the simulator options (``dptbd sim``, ``dptbd run --rtl``) and where the
+Monte Carlo runs (``dptbd compare``, ``dptbd table1``, ``dptbd detectors``)."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ import numpy as np
 from dptbd.config import ROUNDING_MODES, ConfigError, DPConfig, EnergyWidthWarning
 
 __all__ = ["add_config_arguments", "config_from_args", "load_weights",
-           "add_simulator_arguments"]
+           "add_simulator_arguments", "add_execution_arguments"]
 
 _INT_FIELDS = ("width", "height", "segment_frames", "segment_stride", "input_bits",
                "energy_bits", "weight_frac_bits", "radius")
@@ -107,3 +108,19 @@ def add_simulator_arguments(group, prefix: str = "", of: str = "") -> None:
                        help=f"build root{of}, one directory per parameter set (default: "
                             f"Verilator's shared cache, $DPTBD_BUILD_DIR/verilator or "
                             f"~/.cache/dptbd/verilator; Icarus build/sim)")
+
+
+def add_execution_arguments(parser, flag: str = "--workers", default: int | None = None,
+                            default_text: str = "all cores") -> None:
+    """Where a Monte Carlo job's tasks run (``dptbd.evaluation.execution``, ``docs/
+    distributed.md``): ``flag`` (the worker count, ``--workers`` or ``--jobs``; ``default``
+    described as ``default_text``), ``--scheduler`` and ``--dashboard``."""
+    parser.add_argument(flag, type=int, default=default,
+                        help=f"worker processes (default: {default_text}; 1 = in this process); "
+                             f"with --scheduler: the workers the cluster must have")
+    parser.add_argument("--scheduler", metavar="tcp://HOST:PORT", default=None,
+                        help="run the trials on this existing dask cluster (default: "
+                             "$DPTBD_SCHEDULER if set, else local processes; "
+                             "docs/distributed.md)")
+    parser.add_argument("--dashboard", action="store_true",
+                        help="print the dask dashboard's address")

@@ -1,4 +1,5 @@
-"""``dptbd table1``: reproduce paper 001's Table 1 by Monte Carlo and print it."""
+"""``dptbd table1``: reproduce paper 001's Table 1 by Monte Carlo and print it; the trials run
+on every core, or a dask cluster (``--workers``, ``--scheduler``, ``docs/distributed.md``)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import argparse
 import pathlib
 import time
 
+from dptbd.commands.options import add_execution_arguments
 from dptbd.config import ConfigError
 from dptbd.evaluation.table1 import run_table1
 from dptbd.evaluation.table1_report import format_table
@@ -27,6 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="RTL in the loop: the two DP detectors accumulated on the compiled "
                              "gateware (Verilator), every output word and candidate list checked "
                              "against the golden model; needs stride = K (docs/table1.md)")
+    add_execution_arguments(parser)
 
 
 def main(args: argparse.Namespace) -> int:
@@ -49,7 +52,8 @@ def main(args: argparse.Namespace) -> int:
         check_tools()
     start = time.perf_counter()
     run = run_table1(args.trials, segment_frames=args.segment_frames, segment_stride=stride,
-                     seed=args.seed, progress=True, rtl=rtl)
+                     seed=args.seed, progress=True, rtl=rtl, workers=args.workers,
+                     scheduler=args.scheduler, dashboard=args.dashboard)
     rows = run.rows
     table = format_table(rows)
     frames = rows[0].counts.frames // args.trials

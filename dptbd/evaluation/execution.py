@@ -16,8 +16,10 @@ Where the tasks run (:class:`Execution`):
   existing cluster started with ``dask scheduler`` / ``dask worker`` (``docs/distributed.md``).
   The connection times out after :data:`CONNECT_TIMEOUT` seconds with a clear error.
 
-Before any task, every worker is checked (:func:`check_workers`): ``dptbd`` and ``numba``
-installed, and the same dptbd version as this process. A worker that dies mid-run loses
+Every job builds its :class:`Execution` with :func:`job_execution`, which checks the worker
+count (:func:`check_worker_count`, the one check of it). Before any task, every worker is
+checked (:func:`check_workers`): ``dptbd`` and ``numba`` installed and importable, and the
+same dptbd version as this process. A worker that dies mid-run loses
 nothing: the scheduler reruns its tasks elsewhere (they are pure), and :func:`map_tasks`
 keeps exactly one result per task.
 """
@@ -28,11 +30,16 @@ import contextlib
 import dataclasses
 import importlib.metadata
 import os
+import pkgutil
 import sys
 import uuid
 from typing import Any, Callable, Iterator, Sequence
 
+from dptbd.errors import DptbdError, check_int
+
 __all__ = ["ExecutionError", "Execution", "SCHEDULER_ENV", "CONNECT_TIMEOUT", "REQUIRED_PACKAGES",
+           "MAX_WORKERS", "check_worker_count", "default_workers", "job_execution",
+           "cluster_workers",
            "check_workers", "map_tasks", "warmed", "version"]
 
 #: Environment variable holding a scheduler address, used when ``--scheduler`` is not given.
@@ -41,12 +48,14 @@ SCHEDULER_ENV = "DPTBD_SCHEDULER"
 CONNECT_TIMEOUT = 5.0
 #: What a worker must be able to import to run a task.
 REQUIRED_PACKAGES = ("dptbd", "numba")
+#: Most workers a job may ask for: local worker processes, or the workers a cluster must have.
+MAX_WORKERS = 1024
 #: Environment of LocalCluster workers: one thread per process for every numeric library.
 _WORKER_ENV = {v: "1" for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
                                 "NUMBA_NUM_THREADS")}
 
 
-class ExecutionError(ValueError):
+class ExecutionError(DptbdError):
     """The cluster cannot run the job (unreachable, too few workers, unfit workers) or a bad
     worker count: a refusal of the job's input, so ``dptbd`` reports it with exit 2."""
 
@@ -56,10 +65,20 @@ def version(package: str = "dptbd") -> str:
     return importlib.metadata.version(package)
 
 
-def _check_count(workers: int) -> int:
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ExecutionError(f"workers must be an integer >= 1, got {workers!r}")
-    return workers
+def check_worker_count(value: Any, name: str = "workers") -> int:
+    """The one check of a job's worker count: an integer in ``[1, MAX_WORKERS]``.
+
+    ``name`` is the job's parameter (``workers``, ``jobs``). Raises :class:`ExecutionError`
+    ``"{name} must be an integer in [1, 1024], got {value!r}"``."""
+    return check_int(name, value, 1, MAX_WORKERS, error=ExecutionError)
+
+
+def default_workers() -> int:
+    """The machine's cores available to this process."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -87,7 +106,7 @@ class Execution:
 
     def __post_init__(self) -> None:
         if self.workers is not None:
-            _check_count(self.workers)
+            check_worker_count(self.workers)
         if self.address is None and self.workers is None:
             raise ExecutionError("workers must be given without a scheduler")
 
@@ -104,6 +123,9 @@ class Execution:
     def client(self) -> Iterator[Any]:
         """A checked ``distributed.Client`` (None when the tasks run in this process)."""
         if self.in_process:
+            if self.dashboard:
+                print("dask dashboard: none, one worker runs the tasks in this process "
+                      "without dask", file=sys.stderr)
             yield None
             return
         import distributed
@@ -128,7 +150,7 @@ class Execution:
                     f"{self.connect_timeout:g} s ({type(exc).__name__})") from None
             with client:
                 if self.dashboard:
-                    print(_dashboard_line(client), file=sys.stderr)
+                    print(f"dask dashboard: {client.dashboard_link}", file=sys.stderr)
                 self._wait_for_workers(client)
                 check_workers(client)
                 yield client
@@ -141,37 +163,75 @@ class Execution:
         try:
             client.wait_for_workers(need, timeout=self.connect_timeout)
         except (TimeoutError, OSError):
-            have = len(client.scheduler_info(n_workers=-1)["workers"])
+            have = len(cluster_workers(client))
             raise ExecutionError(
                 f"the dask cluster at {client.scheduler.address} has {have} worker(s), "
                 f"{need} asked for") from None
 
 
-def _dashboard_line(client) -> str:
-    try:
-        import bokeh  # noqa: F401  (what dask's dashboard is drawn with)
-    except ImportError:
-        return ("dask dashboard: needs the Python package 'bokeh' in this environment "
-                "(pip install bokeh); running without it")
-    return f"dask dashboard: {client.dashboard_link}"
+def cluster_workers(client) -> dict:
+    """``{address: info}`` of every worker of ``client``'s cluster, asked of the scheduler now.
+
+    Not ``client.scheduler_info(n_workers=-1)``: it returns the client's cached copy, which
+    the client's periodic refresh of the cluster's totals (no workers listed) can replace
+    between the fetch and the return (a ``compare`` on a loaded machine counted 0 workers)."""
+    return client.sync(client.scheduler.identity, n_workers=-1)["workers"]
+
+
+def job_execution(workers: int | None, *, scheduler: str | None = None,
+                  dashboard: bool = False, tasks: int | None = None,
+                  name: str = "workers") -> Execution:
+    """The :class:`Execution` of a job's ``workers`` argument (named ``name`` in messages).
+
+    ``workers`` is checked by :func:`check_worker_count`. Without a scheduler (argument or
+    :data:`SCHEDULER_ENV`), None means :func:`default_workers`, and no more local processes
+    are started than the job has ``tasks``; with one, ``workers`` is the number the cluster
+    must have (None: any).
+    """
+    if workers is not None:
+        workers = check_worker_count(workers, name)
+    execution = Execution(workers=workers if workers is not None else 1, scheduler=scheduler,
+                          dashboard=dashboard)
+    if execution.address is not None:
+        return dataclasses.replace(execution, workers=workers)
+    local = default_workers() if workers is None else workers
+    if tasks is not None:
+        local = max(1, min(local, tasks))
+    return dataclasses.replace(execution, workers=local)
+
+
+def _problem(worker: str, package: str, found, imported, expected: str) -> str | None:
+    """What is wrong with ``package`` on ``worker`` (None: nothing), from its metadata
+    version ``found`` and the result of importing it, ``imported``."""
+    if isinstance(found, BaseException):
+        return f"worker {worker} lacks the Python package {package!r}"
+    if isinstance(imported, BaseException):
+        why = (str(imported).strip().splitlines() or [""])[0][:200]
+        return (f"worker {worker} cannot import the Python package {package!r} "
+                f"({type(imported).__name__}: {why})")
+    if package == "dptbd" and found != expected:
+        return f"worker {worker} has dptbd {found}, this process {expected}"
+    return None
 
 
 def check_workers(client, expected: str | None = None,
                   packages: Sequence[str] = REQUIRED_PACKAGES) -> None:
-    """Refuse (:class:`ExecutionError`) workers that lack one of ``packages`` or whose dptbd
-    version differs from ``expected`` (default: this process's).
+    """Refuse (:class:`ExecutionError`) workers that lack one of ``packages``, cannot import
+    it, or whose dptbd version differs from ``expected`` (default: this process's).
 
-    The probe is :func:`importlib.metadata.version` itself, which every Python has, so an
-    unfit worker gives this message and not an unpickling traceback."""
+    The probes are standard-library functions, which every worker can unpickle:
+    :func:`importlib.metadata.version` (installed?) and :func:`pkgutil.resolve_name` of
+    ``"{package}:__name__"`` (importable?), so an unfit worker gives this message and not
+    an unpickling traceback."""
     expected = version() if expected is None else expected
     problems = []
     for package in packages:
         found = client.run(importlib.metadata.version, package, on_error="return")
-        for worker, got in sorted(found.items()):
-            if isinstance(got, BaseException):
-                problems.append(f"worker {worker} lacks the Python package {package!r}")
-            elif package == "dptbd" and got != expected:
-                problems.append(f"worker {worker} has dptbd {got}, this process {expected}")
+        imported = client.run(pkgutil.resolve_name, f"{package}:__name__", on_error="return")
+        for worker in sorted(found):
+            problem = _problem(worker, package, found[worker], imported.get(worker), expected)
+            if problem is not None:
+                problems.append(problem)
     if problems:
         raise ExecutionError("unfit dask workers (every worker needs the same dptbd, see "
                              "docs/distributed.md): " + "; ".join(problems))

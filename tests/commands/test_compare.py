@@ -75,7 +75,8 @@ def test_synthesis_options_reach_the_job(job_calls, tmp_path):
     (["--snr"], "snr must hold at least 2 value(s), got [] (an empty list)"),
     (["--snr", "2.0", "2.0"], "snr must be strictly increasing, but snr[1] = 2 <= snr[0] = 2"),
     (["--bootstrap", "-1"], "bootstrap must be an integer in [0, 1000000], got -1"),
-    (["--workers", "0"], "--workers must be an integer in [1, inf), got 0"),
+    (["--workers", "0"], "workers must be an integer in [1, 1024], got 0"),
+    (["--workers", "1025"], "workers must be an integer in [1, 1024], got 1025"),
     (["--synth", "--synth-size", "2"], "--synth-size must be an integer in [3, 4096], got 2"),
     (["--synth", "--synth-seeds", "1", "1"], "--synth-seeds must be distinct, got [1, 1]"),
     (["--synth", "--device", "xc7"], "--device must be one of ('lp384', 'lp1k', 'lp4k', 'lp8k', "

@@ -63,6 +63,13 @@ def test_bad_input_exits_2_naming_the_parameter(extra, name, capsys, tmp_path):
     assert not md.exists()
 
 
+@pytest.mark.parametrize("jobs", ["0", "-2", "1025"])
+def test_a_bad_worker_count_is_refused_whole(jobs, capsys):
+    assert dptbd(TINY + ["--jobs", jobs]) == 2
+    assert capsys.readouterr().err == (f"dptbd detectors: error: jobs must be an integer in "
+                                       f"[1, 1024], got {jobs}\n")
+
+
 @pytest.mark.parametrize("setting", ["ca-cfar.axis=5", "ca-cfar.axis=1"])
 def test_bad_cfar_axis_is_refused_before_any_scene(setting, capsys, tmp_path, monkeypatch):
     """axis is checked when the detector is built, not after the noise scenes are made."""

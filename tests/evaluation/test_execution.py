@@ -6,11 +6,15 @@ from __future__ import annotations
 import re
 import socket
 import time
+import urllib.error
+import urllib.request
 
 import pytest
 
 from dptbd.evaluation import execution
-from dptbd.evaluation.execution import Execution, ExecutionError, check_workers, map_tasks
+from dptbd.evaluation.execution import (Execution, ExecutionError, check_worker_count,
+                                        check_workers, cluster_workers, job_execution,
+                                        map_tasks)
 
 
 def _free_port() -> int:
@@ -19,11 +23,27 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-@pytest.mark.parametrize("workers", [0, -1, True, 1.5])
+@pytest.mark.parametrize("workers", [0, -1, 1025, True, 1.5, "2"])
 def test_bad_worker_counts_are_refused(workers):
-    with pytest.raises(ExecutionError, match=rf"^workers must be an integer >= 1, got "
-                                             rf"{re.escape(repr(workers))}$"):
+    message = (rf"^workers must be an integer in \[1, 1024\], got "
+               rf"{re.escape(repr(workers))}$")
+    with pytest.raises(ExecutionError, match=message):
         Execution(workers=workers)
+    with pytest.raises(ExecutionError, match=message):
+        job_execution(workers)
+    with pytest.raises(ExecutionError, match=message.replace("workers", "jobs", 1)):
+        check_worker_count(workers, "jobs")
+
+
+def test_job_execution_sizes_the_local_cluster(monkeypatch):
+    monkeypatch.delenv(execution.SCHEDULER_ENV, raising=False)
+    assert job_execution(None).workers == execution.default_workers()
+    assert job_execution(None, tasks=1).in_process  # no idle processes
+    assert job_execution(8, tasks=3).workers == 3
+    assert job_execution(2, tasks=3, dashboard=True) == Execution(workers=2, dashboard=True)
+    on_cluster = job_execution(None, scheduler="tcp://h:1", tasks=1)
+    assert on_cluster.workers is None and on_cluster.address == "tcp://h:1"
+    assert job_execution(5, scheduler="tcp://h:1", tasks=1).workers == 5  # the cluster's count
 
 
 def test_workers_are_needed_without_a_scheduler(monkeypatch):
@@ -46,6 +66,28 @@ def test_one_worker_runs_in_this_process_in_order(monkeypatch):
         assert client is None
         out = map_tasks(pow, [(2, 3), (3, 2), (5, 1)], client, done=seen.append)
     assert out == [8, 9, 5] and seen == [0, 1, 2]
+
+
+def test_the_dashboard_is_none_in_this_process(monkeypatch, capsys):
+    monkeypatch.delenv(execution.SCHEDULER_ENV, raising=False)
+    with Execution(workers=1, dashboard=True).client() as client:
+        assert client is None
+    assert capsys.readouterr().err == ("dask dashboard: none, one worker runs the tasks in this "
+                                       "process without dask\n")
+
+
+def test_the_dashboard_address_is_printed_and_serves_the_dashboard(monkeypatch, capsys):
+    monkeypatch.delenv(execution.SCHEDULER_ENV, raising=False)
+    with Execution(workers=2, dashboard=True).client() as client:
+        line = capsys.readouterr().err
+        found = re.fullmatch(r"dask dashboard: (http://127\.0\.0\.1:\d+/status)\n", line)
+        assert found, line
+        with urllib.request.urlopen(found[1], timeout=30) as page:
+            assert page.status == 200
+            assert b"Dask" in page.read()
+        assert len(cluster_workers(client)) == 2
+    with pytest.raises(urllib.error.URLError):  # shut down with the cluster
+        urllib.request.urlopen(found[1], timeout=5)
 
 
 def test_an_unreachable_scheduler_fails_within_seconds():
@@ -88,7 +130,7 @@ def test_a_worker_with_another_dptbd_version_is_refused(threaded_cluster):
 
     with distributed.Client(threaded_cluster) as client:
         check_workers(client)  # the same environment: fit
-        worker = re.escape(next(iter(client.scheduler_info()["workers"])))
+        worker = re.escape(next(iter(cluster_workers(client))))
         mine = re.escape(execution.version())
         with pytest.raises(ExecutionError, match=(
                 rf"^unfit dask workers \(every worker needs the same dptbd, see "
@@ -100,9 +142,37 @@ def test_a_worker_lacking_a_package_is_refused_by_name(threaded_cluster):
     import distributed
 
     with distributed.Client(threaded_cluster) as client:
-        worker = re.escape(next(iter(client.scheduler_info()["workers"])))
+        worker = re.escape(next(iter(cluster_workers(client))))
         with pytest.raises(ExecutionError, match=(
                 rf"^unfit dask workers \(every worker needs the same dptbd, see "
                 rf"docs/distributed\.md\): worker {worker} lacks the Python package "
                 rf"'no_such_package_h9'$")):
             check_workers(client, packages=("dptbd", "numba", "no_such_package_h9"))
+
+
+def test_workers_that_truly_lack_numba_or_dptbd_or_cannot_import_numba_are_refused(tmp_path):
+    """Real ``dask worker`` processes: one whose Python has no numba (neither importable nor
+    installed), one without dptbd, one whose ``import numba`` fails (a ``numba`` package on
+    its ``PYTHONPATH`` that raises ImportError); the job refuses before any task, naming
+    each."""
+    from dask_processes import DASK, process_cluster, worker_addresses, worker_lacking
+    from dptbd.evaluation.table1 import run_table1
+
+    broken = tmp_path / "broken" / "numba"
+    broken.mkdir(parents=True)
+    (broken / "__init__.py").write_text("raise ImportError('numba is broken here')\n")
+    broken_numba = ["env", f"PYTHONPATH={broken.parent}", str(DASK)]
+    workers = {"no-numba": worker_lacking(tmp_path / "site-a", ["numba"]),
+               "no-dptbd": worker_lacking(tmp_path / "site-b", ["dptbd"]),
+               "broken-numba": broken_numba + ["worker"]}
+    with process_cluster(tmp_path, workers) as (address, _):
+        w = {name: re.escape(a) for name, a in worker_addresses(address).items()}
+        problems = sorted([(w["no-dptbd"], "lacks the Python package 'dptbd'")]) + sorted(
+            [(w["no-numba"], "lacks the Python package 'numba'"),
+             (w["broken-numba"], r"cannot import the Python package 'numba' \(ImportError: "
+                                 r"numba is broken here\)")])
+        with pytest.raises(ExecutionError, match=(
+                r"^unfit dask workers \(every worker needs the same dptbd, see "
+                r"docs/distributed\.md\): " + "; ".join(f"worker {a} {p}" for a, p in problems)
+                + "$")):
+            run_table1(1, scheduler=address, workers=None, size=24)

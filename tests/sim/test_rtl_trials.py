@@ -89,6 +89,26 @@ def test_small_sweep_gives_identical_tables_on_the_model_and_on_the_rtl(tmp_path
     assert printed_model.split("\n\n")[0] == printed_rtl.split("\n\n")[0]
 
 
+def test_rtl_on_a_cluster_of_worker_processes_writes_the_one_worker_csvs(tmp_path):
+    """``compare --rtl`` on a scheduler and two ``dask worker`` processes on 127.0.0.1: the
+    workers run the executables built here (same machine: same paths) and write the CSVs
+    and RTL counts of the run in this process."""
+    from dask_processes import process_cluster
+    from dptbd.evaluation.compare import compare_job
+
+    one = compare_job(small_spec(), tmp_path / "one", workers=1, progress=False, rtl=True)
+    with process_cluster(tmp_path) as (address, _):
+        two = compare_job(small_spec(), tmp_path / "two", scheduler=address, progress=False,
+                          rtl=True)
+    assert one.workers == 1 and two.workers == 2
+    for name in ("compare_pd.csv", "compare_pfa.csv", "compare_configs.csv"):
+        assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes()
+    timing = ("sim_seconds", "wall_seconds")
+    assert ({k: v for k, v in one.result.rtl.items() if k not in timing}
+            == {k: v for k, v in two.result.rtl.items() if k not in timing})
+    assert one.result.rtl["runs"] == two.result.rtl["runs"] > 0
+
+
 def test_run_compare_counts_identical_per_trial():
     from dptbd.evaluation.compare import build_spec, run_compare
 
@@ -232,7 +252,7 @@ def test_table1_rows_identical_on_the_model_and_on_the_rtl():
     kw = dict(segment_frames=6, segment_stride=6, seed=5, chunk=2, settings=SETTINGS[:1],
               size=24)
     model = run_table1(3, **kw)
-    rtl = run_table1(3, rtl=True, **kw)
+    rtl = run_table1(3, rtl=True, workers=2, **kw)  # the RTL's tasks on 2 local workers
     assert model.rtl is None and model.rows == rtl.rows
     # 3 trials x 16 segments x 6 frames x 24 x 24, for each of the two DP detectors
     assert rtl.rtl["pixel_updates"] == 2 * 3 * 16 * 6 * 24 * 24

@@ -20,8 +20,9 @@ from typing import Any, Mapping, Sequence
 from dptbd.config import ConfigError, DPConfig
 from dptbd.output_folder import check_output_folder, staged_folder
 from dptbd.evaluation.compare.report import MARKER, TOOL, markdown_tables, summarise, write_outputs
-from dptbd.evaluation.compare.runner import CompareResult, check_rtl, default_workers, run_compare
+from dptbd.evaluation.compare.runner import CompareResult, check_rtl, run_compare
 from dptbd.evaluation.compare.spec import CompareSpec, build_spec
+from dptbd.evaluation.execution import check_worker_count, default_workers
 
 __all__ = ["SynthOptions", "CompareOutcome", "load_config", "synth_config",
            "synthesise_all", "compare_job"]
@@ -151,11 +152,6 @@ class CompareOutcome:
         return "\n".join(lines)
 
 
-def _check_workers(workers: int | None) -> None:
-    if workers is not None and workers < 1:
-        raise ConfigError(f"--workers must be an integer in [1, inf), got {workers}")
-
-
 def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Path, *,
                 force: bool = False, trials: int | None = None, seed: int | None = None,
                 snr: Sequence[float] | None = None, bootstrap: int | None = None,
@@ -193,7 +189,8 @@ def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Pa
     Raises
     ------
     dptbd.config.ConfigError, FileNotFoundError, FileExistsError, ValueError
-        Bad parameters or output folder, before any work.
+        Bad parameters or output folder, before any work (a bad ``workers``:
+        :class:`dptbd.evaluation.execution.ExecutionError`).
     RuntimeError
         A missing tool (Yosys/nextpnr with ``synth``, Verilator with ``rtl``), before any
         work.
@@ -201,7 +198,8 @@ def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Pa
     mapping = load_config(config) if config is None or isinstance(config, pathlib.Path) else config
     spec = build_spec(mapping, trials=trials, seed=seed, snr=snr, bootstrap=bootstrap,
                       tie_rule=tie_rule)
-    _check_workers(workers)
+    if workers is not None:
+        check_worker_count(workers)
     out = check_output_folder(out, force, marker=MARKER, tool=TOOL)
     if rtl:
         from dptbd.sim.verilator import check_tools as check_verilator

@@ -6,7 +6,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-import os
 import time
 import warnings
 from typing import Sequence
@@ -17,8 +16,9 @@ from dptbd.config import EnergyWidthWarning
 from dptbd.scenes import synthetic as scenes
 from dptbd.evaluation.compare.plan import Plan, make_plan
 from dptbd.evaluation.compare.selection import _Candidates, _candidates, _same_points, image_keys
-from dptbd.evaluation.compare.spec import CompareSpec, _checked_int
-from dptbd.evaluation.execution import SCHEDULER_ENV, Execution, map_tasks, warmed
+from dptbd.evaluation.compare.spec import CompareSpec
+from dptbd.evaluation.execution import (cluster_workers, default_workers, job_execution,
+                                        map_tasks, warmed)
 
 __all__ = ["measure_frames", "CompareResult", "run_compare", "default_workers", "check_rtl"]
 
@@ -187,14 +187,6 @@ class CompareResult:
         return self.spec.trials / self.seconds if self.seconds > 0 else math.nan
 
 
-def default_workers() -> int:
-    """The machine's cores available to this process."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # pragma: no cover - not Linux
-        return max(1, os.cpu_count() or 1)
-
-
 def _warm(plan: Plan) -> None:
     """Compile (or load from numba's cache) every kernel on a tiny batch."""
     spec = plan.spec
@@ -227,21 +219,16 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
     float models stay as they are. The counts are the same (``docs/compare.md``, "RTL in
     the loop"). Configurations the gateware does not implement are refused first.
     """
-    if workers is not None:
-        workers = _checked_int("workers", workers, 1, 1024)
-    if workers is None and not (scheduler or os.environ.get(SCHEDULER_ENV)):
-        workers = default_workers()
-    execution = Execution(workers=workers, scheduler=scheduler, dashboard=dashboard)
+    bounds = [(a, min(a + spec.chunk, spec.trials)) for a in range(0, spec.trials, spec.chunk)]
+    # no idle local processes: at most one per task
+    execution = job_execution(workers, scheduler=scheduler, dashboard=dashboard,
+                              tasks=len(bounds))
     if rtl:
         check_rtl(spec)
     plan = make_plan(spec)
     if rtl:  # build (or find in the cache) every executable here, before the workers start
         from dptbd.sim.rtl_trials import prepare_builds
         plan = dataclasses.replace(plan, rtl=tuple(prepare_builds(cfg) for cfg in plan.fixed))
-    bounds = [(a, min(a + spec.chunk, spec.trials)) for a in range(0, spec.trials, spec.chunk)]
-    asked = execution.workers
-    if execution.address is None and execution.workers > len(bounds):  # no idle processes
-        execution = dataclasses.replace(execution, workers=len(bounds))
     bar = None
     if progress:
         from tqdm import tqdm
@@ -249,8 +236,8 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
     try:
         with execution.client() as client, warmed(client, functools.partial(_warm, plan)):
             _warm(plan)  # compile (or load) the kernels here too, once, before the clock
-            used = asked if execution.address is None else len(
-                client.scheduler_info(n_workers=-1)["workers"])
+            used = (execution.workers if execution.address is None
+                    else len(cluster_workers(client)))
             start = time.perf_counter()
             parts = map_tasks(_chunk, [(plan, a, b) for a, b in bounds], client,
                               sizes=[b - a for a, b in bounds], bar=bar)

@@ -27,7 +27,7 @@ import numpy as np
 
 from dptbd.evaluation.detectors import interface
 from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_prob, check_real
-from dptbd.evaluation.execution import Execution, map_tasks
+from dptbd.evaluation.execution import Execution, check_worker_count, map_tasks
 from dptbd.scenes import range_doppler as rd_scenes
 from dptbd.scenes import synthetic as image_scenes
 
@@ -193,7 +193,7 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
     trials = check_int("trials", trials, 1)
     noise_trials = check_int("noise_trials", noise_trials, 1)
     pfa = check_prob("false_alarm_rate", false_alarm_rate)
-    jobs = check_int("jobs", jobs, 1, 64)
+    jobs = check_worker_count(jobs, "jobs")
     gate = check_int("gate", gate, 0)
     params = {} if params is None else dict(params)
     for key in params:

@@ -8,50 +8,26 @@ from __future__ import annotations
 import os
 import pathlib
 import signal
-import subprocess
-import sys
-import time
 
 import numpy as np
 import pytest
+from dask_processes import process_cluster
 
 from dptbd.evaluation.compare import compare_job
 from dptbd.evaluation.compare.plan import make_plan
 from dptbd.evaluation.compare.runner import _chunk
 from dptbd.evaluation.compare.spec import build_spec
-from dptbd.evaluation.execution import Execution, map_tasks
+from dptbd.evaluation.execution import Execution, cluster_workers, map_tasks
 
-distributed = pytest.importorskip("distributed")
-DASK = pathlib.Path(sys.executable).parent / "dask"
 CSVS = ("compare_pd.csv", "compare_pfa.csv", "compare_configs.csv")
 
 
 @pytest.fixture
 def cluster(tmp_path):
     """``(scheduler address, [worker pids])`` of a scheduler and two single-thread workers
-    (no nanny: the pid is the worker's own process), stopped afterwards."""
-    file = tmp_path / "scheduler.json"
-    procs = [subprocess.Popen([str(DASK), "scheduler", "--host", "127.0.0.1", "--port", "0",
-                               "--no-dashboard", "--scheduler-file", str(file)],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
-    try:
-        deadline = time.monotonic() + 60
-        while not file.exists() and time.monotonic() < deadline:
-            time.sleep(0.1)
-        for name in ("w0", "w1"):
-            procs.append(subprocess.Popen(
-                [str(DASK), "worker", "--scheduler-file", str(file), "--nthreads", "1",
-                 "--no-nanny", "--no-dashboard", "--host", "127.0.0.1", "--name", name],
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
-        with distributed.Client(scheduler_file=str(file), timeout=30) as client:
-            client.wait_for_workers(2, timeout=60)
-            address = client.scheduler.address
-        yield address, [p.pid for p in procs[1:]]
-    finally:  # the workers hold nothing worth a graceful close (theirs takes seconds)
-        for p in reversed(procs):
-            if p.poll() is None:
-                p.kill()
-            p.wait(timeout=30)
+    (:func:`dask_processes.process_cluster`), stopped afterwards."""
+    with process_cluster(tmp_path) as (address, pids):
+        yield address, list(pids.values())
 
 
 def _csvs(folder: pathlib.Path) -> dict:
@@ -84,7 +60,7 @@ def test_a_worker_killed_mid_run_loses_and_duplicates_no_trial(small_compare, cl
 
     with Execution(workers=2, scheduler=address).client() as client:
         got = map_tasks(_chunk, tasks, client, done=kill_once)
-        assert len(client.scheduler_info()["workers"]) == 1  # the killed one is gone
+        assert len(cluster_workers(client)) == 1  # the killed one is gone
     assert sorted(finished) == list(range(len(tasks)))  # each task once
     for e, g in zip(expected, got):
         assert e.keys() == g.keys()

@@ -15,6 +15,7 @@ from dptbd.evaluation import sweep
 from dptbd.evaluation.compare import DATA_FILES, FIGURES, job
 from dptbd.evaluation.compare.job import SynthOptions, compare_job, load_config, synthesise_all
 from dptbd.evaluation.compare.spec import build_spec
+from dptbd.evaluation.execution import ExecutionError
 
 
 @pytest.fixture
@@ -43,7 +44,6 @@ def _anchored(message: str) -> str:
     ("", {"tie_rule": "ties"}, "tie_rule must be one of ('random', 'gateware', "
      "'gateware-bins'), got 'ties'"),
     ("", {"bootstrap": -1}, "bootstrap must be an integer in [0, 1000000], got -1"),
-    ("", {"workers": 0}, "--workers must be an integer in [1, inf), got 0"),
     ("", {"synth": SynthOptions(device="xc7")},
      "--device must be one of ('lp384', 'lp1k', 'lp4k', 'lp8k', 'hx1k', 'hx4k', 'hx8k', "
      "'up3k', 'up5k', 'u1k', 'u2k', 'u4k'), got 'xc7'"),
@@ -56,6 +56,15 @@ def test_bad_parameters_are_refused_before_any_work(tmp_path, no_work, text, kw,
     out = tmp_path / "out"
     with pytest.raises(ConfigError, match=_anchored(message)):
         compare_job(config, out, **kw)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("workers", [0, 1025, 2.0])
+def test_a_bad_worker_count_is_refused_before_any_work(tmp_path, no_work, workers):
+    out = tmp_path / "out"
+    with pytest.raises(ExecutionError, match=_anchored(
+            f"workers must be an integer in [1, 1024], got {workers!r}")):
+        compare_job(None, out, workers=workers)
     assert not out.exists()
 
 

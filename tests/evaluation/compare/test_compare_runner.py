@@ -10,13 +10,13 @@ import warnings
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError
 from dptbd.scenes import synthetic as scenes
 from dptbd.evaluation.compare import runner, selection
 from dptbd.evaluation.compare.plan import make_plan
 from dptbd.evaluation.compare.report import summarise
 from dptbd.evaluation.compare.runner import measure_frames, run_compare
 from dptbd.evaluation.compare.spec import build_spec
+from dptbd.evaluation.execution import ExecutionError
 from dptbd.evaluation.metrics import first_level_counts
 from dptbd.model.reference import run_float
 from dptbd.model.segmentation import candidate_mask
@@ -135,7 +135,7 @@ def test_same_seed_same_summary_other_seed_other_counts(small_compare):
 
 
 def test_worker_count_out_of_range_is_refused():
-    with pytest.raises(ConfigError, match=r"^workers must be an integer in \[1, 1024\], got 0$"):
+    with pytest.raises(ExecutionError, match=r"^workers must be an integer in \[1, 1024\], got 0$"):
         run_compare(build_spec({"trials": 1, "sweep": {}, "config": [{"input_bits": 4}]}),
                     workers=0)
 
