@@ -69,8 +69,8 @@ def test_a_wrong_model_fails_the_campaign(monkeypatch):
 
     real = rtl_check.expected_stream
 
-    def off_by_one(cfg, pixels, first, lut_changes=None):
-        exp = real(cfg, pixels, first, lut_changes)
+    def off_by_one(cfg, pixels, first, lut_changes=None, settings_changes=None):
+        exp = real(cfg, pixels, first, lut_changes, settings_changes)
         exp.words[len(exp.words) // 2] ^= np.uint64(1)
         return exp
 
