@@ -14,7 +14,7 @@ from typing import Callable
 
 import numpy as np
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
 from dptbd.model.settings import Schedule, check_schedule, segment_lengths
 
 __all__ = ["SegmentOutput", "check_sequence", "segment_spans", "run_segments"]
@@ -68,14 +68,10 @@ def segment_spans(cfg: DPConfig, n_frames: int,
                   schedule: Schedule | None = None) -> list[tuple[int, int]]:
     """``(first frame, K)`` of every whole segment of ``n_frames`` frames: every
     ``segment_stride`` frames, K each; or, with a ``schedule``, consecutive segments of the
-    schedule's lengths (refused unless ``segment_stride == segment_frames``)."""
+    schedule's lengths (:func:`~dptbd.model.settings.check_schedule`)."""
     if schedule is None:
         return [(s * cfg.segment_stride, cfg.segment_frames)
                 for s in range(cfg.n_segments(n_frames))]
-    if cfg.segment_stride != cfg.segment_frames:
-        raise ConfigError(f"a run-time schedule needs non-overlapping segments, but "
-                          f"segment_stride={cfg.segment_stride} != segment_frames="
-                          f"{cfg.segment_frames}")
     lengths = segment_lengths(check_schedule(cfg, schedule), n_frames)
     firsts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(int) if lengths else []
     return [(int(a), k) for a, k in zip(firsts, lengths)]

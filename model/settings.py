@@ -66,10 +66,15 @@ Schedule = Sequence[SegmentSettings]
 
 def check_schedule(cfg: DPConfig, schedule: Schedule | None) -> tuple[SegmentSettings, ...]:
     """``schedule`` checked against ``cfg``; ``None`` is the one-entry schedule of the build
-    values. Refused: an empty schedule, an entry that is not a :class:`SegmentSettings`, a
-    setting out of range (:meth:`SegmentSettings.checked`)."""
+    values. Refused: a schedule with overlapping segments (``segment_stride != K``, which the
+    gateware does not implement), an empty schedule, an entry that is not a
+    :class:`SegmentSettings`, a setting out of range (:meth:`SegmentSettings.checked`)."""
     if schedule is None:
         return (SegmentSettings.defaults(cfg),)
+    if cfg.segment_stride != cfg.segment_frames:
+        raise ConfigError(f"a run-time schedule needs non-overlapping segments, but "
+                          f"segment_stride={cfg.segment_stride} != segment_frames="
+                          f"{cfg.segment_frames}")
     entries = tuple(schedule)
     if not entries:
         raise ConfigError("schedule must hold at least one SegmentSettings, got none")
