@@ -11,7 +11,7 @@ reset.
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal
+from amaranth.hdl import C, Cat, Module, Mux, Signal
 from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -130,12 +130,17 @@ class Segmenter(wiring.Component):
         count = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)
         shift = Signal(range(cfg.energy_bits), init=cfg.bin_shift)
         list_count = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)
-        begins = (col == 0) & (row == 0) & (frame == 0)
-        eff_frames = Mux(begins, clamped(self.segment_frames, 1, cfg.k_max), k_frames)
-        eff_count = Mux(begins, clamped(self.candidate_count, 0, cfg.record_capacity), count)
-        eff_shift = Mux(begins, clamped(self.histogram_shift, 0, cfg.energy_bits - 1), shift)
-        scored = frame == eff_frames - 1
-        last = scored & (row == height - 1) & (col == width - 1)
+        # Registered flags keep the K comparison off the ready/accept path: `at_start` (the
+        # next word is (0, 0) of frame 0) and `in_scored` (the next word, not at a start,
+        # is in the scored frame). At a start, K = 1 (a port value <= 1) scores the frame.
+        at_start = Signal(init=1)
+        in_scored = Signal()
+        eff_frames = Mux(at_start, clamped(self.segment_frames, 1, cfg.k_max), k_frames)
+        eff_count = Mux(at_start, clamped(self.candidate_count, 0, cfg.record_capacity), count)
+        eff_shift = Mux(at_start, clamped(self.histogram_shift, 0, cfg.energy_bits - 1), shift)
+        scored = Mux(at_start, self.segment_frames <= 1, in_scored)
+        frame_end = (row == height - 1) & (col == width - 1)
+        last = scored & frame_end
 
         # ---- control: busy from a list end (or reset) until the scan has loaded T -------
         busy = Signal(init=1)           # the histogram is not ready for a scored pixel
@@ -151,15 +156,17 @@ class Segmenter(wiring.Component):
         ends = scored & (last | eos)
 
         # ---- cycle A: histogram read, counters ------------------------------------------
-        # min(E >> s, 2**b - 1) without a comparator: any bit above the bin's b bits clamps
-        shifted = Signal(cfg.energy_bits)
+        # min(E >> s, 2**b - 1) without a comparator: any bit of E at or above b + s clamps.
+        # The clamp's mask depends on s only, so it is formed beside the barrel shifter
+        # (not behind it), keeping the path to the histogram's read address short.
+        b = cfg.histogram_bits
+        shifted = Signal(b)
         m.d.comb += shifted.eq(word.energy >> eff_shift)
+        above = Signal(cfg.energy_bits)          # bit i set: E's bit i lies above the bins
+        m.d.comb += above.eq(Cat(*[eff_shift <= i - b if i >= b else C(0, 1)
+                                   for i in range(cfg.energy_bits)]))
         energy_bin = Signal(range(cfg.n_bins))
-        if len(shifted) > cfg.histogram_bits:
-            m.d.comb += energy_bin.eq(Mux(shifted[cfg.histogram_bits:].any(), cfg.n_bins - 1,
-                                          shifted[:cfg.histogram_bits]))
-        else:
-            m.d.comb += energy_bin.eq(shifted)
+        m.d.comb += energy_bin.eq(Mux((word.energy & above).any(), cfg.n_bins - 1, shifted))
         m.d.comb += [
             hist.add_bin.eq(energy_bin),
             hist.add_en.eq(accept & scored),
@@ -167,17 +174,19 @@ class Segmenter(wiring.Component):
             search.load.eq(~clearing),
             search.count.eq(list_count),
         ]
-        with m.If(accept & begins):
+        with m.If(accept & at_start):
             m.d.sync += [k_frames.eq(eff_frames), count.eq(eff_count), shift.eq(eff_shift)]
         with m.If(accept & ends):                  # this segment's n thresholds its histogram
             m.d.sync += list_count.eq(eff_count)
         with m.If(accept):
-            with m.If(eos):
-                m.d.sync += [col.eq(0), row.eq(0), frame.eq(0)]
+            m.d.sync += [at_start.eq(0), in_scored.eq(scored)]
+            with m.If(eos | last):                 # the segment ends: a new one starts
+                m.d.sync += [col.eq(0), row.eq(0), frame.eq(0), at_start.eq(1)]
             with m.Elif(col == width - 1):
                 m.d.sync += col.eq(0)
-                with m.If(row == height - 1):
-                    m.d.sync += [row.eq(0), frame.eq(Mux(scored, 0, frame + 1))]
+                with m.If(row == height - 1):      # the end of a frame that was not scored
+                    m.d.sync += [row.eq(0), frame.eq(frame + 1),
+                                 in_scored.eq(frame + 2 == k_frames)]
                 with m.Else():
                     m.d.sync += row.eq(row + 1)
             with m.Else():
