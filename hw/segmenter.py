@@ -139,7 +139,7 @@ class Segmenter(wiring.Component):
         eff_count = Mux(at_start, clamped(self.candidate_count, 0, cfg.record_capacity), count)
         eff_shift = Mux(at_start, clamped(self.histogram_shift, 0, cfg.energy_bits - 1), shift)
         scored = Mux(at_start, self.segment_frames <= 1, in_scored)
-        frame_end = (row == height - 1) & (col == width - 1)
+        frame_end = Signal()                     # the next word is a frame's last pixel
         last = scored & frame_end
 
         # ---- control: busy from a list end (or reset) until the scan has loaded T -------
@@ -179,18 +179,17 @@ class Segmenter(wiring.Component):
         with m.If(accept & ends):                  # this segment's n thresholds its histogram
             m.d.sync += list_count.eq(eff_count)
         with m.If(accept):
-            m.d.sync += [at_start.eq(0), in_scored.eq(scored)]
+            m.d.sync += [at_start.eq(0), in_scored.eq(scored), frame_end.eq(0)]
             with m.If(eos | last):                 # the segment ends: a new one starts
                 m.d.sync += [col.eq(0), row.eq(0), frame.eq(0), at_start.eq(1)]
+            with m.Elif(frame_end):                # the end of a frame that was not scored
+                m.d.sync += [col.eq(0), row.eq(0), frame.eq(frame + 1),
+                             in_scored.eq(frame + 2 == k_frames)]
             with m.Elif(col == width - 1):
-                m.d.sync += col.eq(0)
-                with m.If(row == height - 1):      # the end of a frame that was not scored
-                    m.d.sync += [row.eq(0), frame.eq(frame + 1),
-                                 in_scored.eq(frame + 2 == k_frames)]
-                with m.Else():
-                    m.d.sync += row.eq(row + 1)
+                m.d.sync += [col.eq(0), row.eq(row + 1)]
             with m.Else():
-                m.d.sync += col.eq(col + 1)
+                m.d.sync += [col.eq(col + 1),
+                             frame_end.eq((col == width - 2) & (row == height - 1))]
 
         m.d.sync += scan_request.eq(accept & ends)
         with m.If(accept & ends):
