@@ -76,8 +76,9 @@ def test_verilog_refuses_unknown_toml_keys_and_bad_values(tmp_path):
     toml.write_text("width = 10\nhieght = 8\n")
     allowed = ("['candidate_capacity', 'candidate_count', 'energy_bits', 'forgetting', "
                "'forgetting_bits', 'height', 'histogram_bits', 'histogram_shift', 'input_bits', "
-               "'merit_bits', 'merit_codes', 'penalty_bits', 'penalty_codes', 'radius', "
-               "'recursive', 'rounding', 'segment_frames', 'segment_stride', 'weight_frac_bits', "
+               "'max_segment_frames', 'merit_bits', 'merit_codes', 'penalty_bits', "
+               "'penalty_codes', 'radius', 'recursive', 'rounding', 'segment_frames', "
+               "'segment_stride', 'weight_frac_bits', "
                "'weights', 'width']")
     with pytest.raises(ConfigError, match=rf"^unknown parameter\(s\) \['hieght'\]; "
                                           rf"allowed: {re.escape(allowed)} "

@@ -7,6 +7,7 @@ from amaranth.lib import data
 
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import (
+    event_layout,
     field_offsets,
     pack,
     pack_array,
@@ -105,3 +106,13 @@ def test_array_packing_refusals():
     with pytest.raises(ValueError, match=r"^layout fields missing \[\], unknown \['c'\]; the "
                                          r"layout has \['a', 'b'\]$"):
         pack(wide, {"a": 0, "b": 0, "c": 1})
+
+
+def test_event_layout_fields():
+    """The event pulses, bit 0 up, as the register block and the harness read them."""
+    assert field_offsets(event_layout(DPConfig())) == {
+        "frame_done": {"offset": 0, "width": 1},
+        "segment_done": {"offset": 1, "width": 1},
+        "list_done": {"offset": 2, "width": 1},
+        "saturated": {"offset": 3, "width": 1},
+    }
