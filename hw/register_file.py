@@ -113,22 +113,24 @@ class RegisterFile(wiring.Component):
         m.d.sync += self.lut_we.eq(0)
 
         values = {reg.name: value(reg) for reg in regmap.registers}
-        with m.Switch(bus.addr[2:]):
-            for reg in regmap.registers:
-                with m.Case(reg.address >> 2):
-                    current = values[reg.name]
-                    merged = (current & ~byte_mask) | written_ones
-                    m.d.comb += bus.r_data.eq(current)
-                    self._write(m, bus, reg, storage, merged, written_ones, refused)
-            with m.Default():
-                m.d.comb += [bus.r_err.eq(~in_lut), bus.w_err.eq(~in_lut)]
-                code = written_ones
-                with m.If(bus.w_stb & in_lut):
-                    with m.If(code <= lut.field.limits[1]):
-                        m.d.sync += [self.lut_addr.eq((bus.addr - lut.base)[2:]),
-                                     self.lut_data.eq(code), self.lut_we.eq(1)]
-                    with m.Else():
-                        m.d.comb += [bus.w_err.eq(1), refused.eq(1)]
+        word = bus.addr[2:]
+        # an If/Elif chain, not a Switch: Yosys writes a Switch with a default as a casez
+        # that Verilator's lint calls incomplete (CASEINCOMPLETE)
+        for i, reg in enumerate(regmap.registers):
+            with (m.Elif if i else m.If)(word == reg.address >> 2):
+                current = values[reg.name]
+                merged = (current & ~byte_mask) | written_ones
+                m.d.comb += bus.r_data.eq(current)
+                self._write(m, bus, reg, storage, merged, written_ones, refused)
+        with m.Else():
+            m.d.comb += [bus.r_err.eq(~in_lut), bus.w_err.eq(~in_lut)]
+            code = written_ones
+            with m.If(bus.w_stb & in_lut):
+                with m.If(code <= lut.field.limits[1]):
+                    m.d.sync += [self.lut_addr.eq((bus.addr - lut.base)[2:]),
+                                 self.lut_data.eq(code), self.lut_we.eq(1)]
+                with m.Else():
+                    m.d.comb += [bus.w_err.eq(1), refused.eq(1)]
 
         clear = self.clear_counters
         pending = []
