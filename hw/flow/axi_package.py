@@ -25,8 +25,10 @@ from dptbd.hw.candidate_layout import candidate_field_offsets, candidate_layout
 from dptbd.hw.flow.register_export import c_header, register_constants
 from dptbd.hw.flow.verilog import VERILATOR_LINT_FLAGS, manifest_header
 from dptbd.hw.layouts import field_offsets, pixel_layout
+from dptbd.hw.register_map import register_map
 
-__all__ = ["HEADER_NAME", "axi_ports", "axi_manifest", "fusesoc_core", "axi_package"]
+__all__ = ["HEADER_NAME", "axi_ports", "axi_manifest", "fusesoc_core", "generate_axi_verilog",
+           "axi_package"]
 
 #: File name of the register header (what firmware includes).
 HEADER_NAME = "dptbd_regs.h"
@@ -48,6 +50,7 @@ def axi_manifest(cfg: DPConfig, top: AXITop) -> dict:
         "clock": {"name": "aclk", "edge": "rising"},
         "reset": {"name": "aresetn", "polarity": "active_low", "kind": "synchronous"},
         "latency": core.latency,
+        "dp_latency": core.schedule.latency,
         "scan_cycles": core.scan_cycles,
         "ports": axi_ports(top),
         "streams": {
@@ -99,16 +102,20 @@ def fusesoc_core(cfg: DPConfig, stem: str, version: str) -> str:
     ])
 
 
+def generate_axi_verilog(cfg: DPConfig) -> tuple[str, dict]:
+    """Module ``dptbd_axi`` for ``cfg``: its Verilog text and its manifest."""
+    top = AXITop(cfg)
+    return verilog.convert(top, name=AXI_MODULE_NAME, emit_src=False), axi_manifest(cfg, top)
+
+
 def axi_package(cfg: DPConfig, stem: str = AXI_MODULE_NAME) -> dict[str, str]:
     """``{file name: text}`` of the package (see the module doc)."""
     from importlib.metadata import version
 
-    top = AXITop(cfg)
-    text = verilog.convert(top, name=AXI_MODULE_NAME, emit_src=False)
-    info = axi_manifest(cfg, top)
+    text, info = generate_axi_verilog(cfg)
     return {
         f"{stem}.v": text,
         f"{stem}.json": json.dumps(info, indent=2) + "\n",
-        HEADER_NAME: c_header(top.register_map, cfg),
+        HEADER_NAME: c_header(register_map(cfg), cfg),
         f"{stem}.core": fusesoc_core(cfg, stem, version("dptbd")),
     }

@@ -3,11 +3,13 @@
 
 Glasgow's pattern: ``cases()`` yields beat sequences ``[(first, last), …]`` for a W x H
 raster, each with one kind of fault (or none); ``ref_faults`` is the rule of
-``docs/integration.md`` written in Python; ``rtl_faults`` runs the gateware with random
+``docs/integration.md`` written in Python (``dptbd.sim.axi_stimulus``); ``rtl_faults`` runs the gateware with random
 gaps between beats.
 """
 
 import random
+
+import numpy as np
 
 import pytest
 from amaranth.hdl import Elaboratable, Module
@@ -15,6 +17,7 @@ from amaranth.hdl import Elaboratable, Module
 from dptbd.hw.controller import Controller
 from dptbd.hw.frame_monitor import FrameMonitor
 from dptbd.hw.register_map import FAULTS
+from dptbd.sim.axi_stimulus import fault_counts, fault_pulses, with_fault
 from hw_harness import simulate
 from seg_harness import make_config
 
@@ -45,23 +48,11 @@ def cases():
     yield "two beats too many", longer, {"frame_long": 1, "sof_unexpected": 1}
 
 
-def ref_faults(beats, width=W, height=H):
-    """Fault pulses per beat (dicts), by the controller's counting rule."""
-    col = row = 0
-    at_start = True
-    out = []
-    for first, last in beats:
-        restart = first and not at_start
-        faults = {"sof_unexpected": restart and col != 0, "frame_short": restart and col == 0,
-                  "frame_long": at_start and not first}
-        if restart:
-            col = row = 0
-        faults["line_length"] = bool(last) != (col == width - 1)
-        out.append({k: int(v) for k, v in faults.items()})
-        end = col == width - 1 and row == height - 1
-        col, row = (0, 0 if row == height - 1 else row + 1) if col == width - 1 else (col + 1, row)
-        at_start = end
-    return out
+def ref_faults(beats):
+    """Fault pulses per beat (dicts): :func:`dptbd.sim.axi_stimulus.fault_pulses`, the
+    controller's counting rule written in Python."""
+    first, last = zip(*beats)
+    return fault_pulses(make_config(width=W, height=H), first, last)
 
 
 def rtl_faults(beats, seed=0):
@@ -106,3 +97,26 @@ def test_frame_monitor_matches_reference(name, beats, total):
     assert got == want
     # the monitor restarts exactly where the core's controller resynchronises
     assert resyncs == [f["sof_unexpected"] | f["frame_short"] for f in want]
+
+
+@pytest.mark.parametrize("kind", FAULTS)
+def test_injected_faults_raise_one_pulse_of_their_class(kind):
+    """``with_fault`` (the cocotb scenes' injector) raises exactly one pulse, of its class,
+    on the gateware too."""
+    cfg = make_config(width=W, height=H)
+    frames = np.arange(3 * H * W).reshape(3, H, W) % 200
+    beats = with_fault(cfg, frames, kind)
+    assert fault_counts(cfg, beats) == {k: int(k == kind) for k in FAULTS}
+    got, _ = rtl_faults([(int(f), int(lst)) for f, lst in zip(beats.first, beats.last)])
+    assert {k: sum(g[k] for g in got) for k in FAULTS} == {k: int(k == kind) for k in FAULTS}
+
+
+def test_with_fault_refusals():
+    cfg = make_config(width=W, height=H)
+    frames = np.zeros((2, H, W), dtype=int)
+    with pytest.raises(ValueError, match=r"^fault kind must be one of \('sof_unexpected', "
+                                         r"'frame_short', 'frame_long', 'line_length'\), "
+                                         r"got 'nope'$"):
+        with_fault(cfg, frames, "nope")
+    with pytest.raises(ValueError, match=r"^a fault needs at least 2 frames, got 1$"):
+        with_fault(cfg, frames[:1], "frame_long")
