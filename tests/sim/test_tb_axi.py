@@ -149,3 +149,16 @@ def test_segment_interrupt_timing_and_mask():
     sim = built(cfg)
     last_of_segment_2 = s["accept_cycles"][len(beats) - 1]
     assert rises[0] == last_of_segment_2 + sim.manifest["dp_latency"] + 2
+
+
+def test_soft_reset_between_segments_restarts_the_core():
+    """1.5 segments, CONTROL.soft_reset with the stream idle, then two whole segments: the
+    lists are those of the two pieces each from reset; the registers are kept."""
+    cfg = make_config(**SCENE_CFG)
+    frames = make_frames("two-targets", cfg, 7, seed=4)
+    beats = clean_beats(frames)
+    frame = cfg.width * cfg.height
+    steps = [{"stop": 3 * frame},
+             {"soft_reset": True, "stop": len(beats)}]
+    s = run(cfg, frames, beats, steps, "axi-soft-reset", valid_pause=RANDOM(0.2, 6))
+    assert s["lists"] == 3
