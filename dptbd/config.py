@@ -111,7 +111,13 @@ class DPConfig:
     width, height : int
         Frame size W x H in pixels, each in [3, 4096].
     segment_frames : int
-        K, frames accumulated per segment (paper 001 eq (10)), in [1, 65535].
+        K, frames accumulated per segment (paper 001 eq (10)), in [1, 65535]; the gateware's
+        reset value of its run-time K (``docs/gateware.md``, "Run-time settings").
+    max_segment_frames : int or None
+        K_max, the largest run-time K the gateware accepts, in [K, 65535]; ``None`` means K.
+        Every width that depends on K (frame counters, the saturation warning,
+        :attr:`energy_bits_needed`, the default :attr:`bin_shift`) uses K_max, see
+        :attr:`k_max`.
     segment_stride : int or None
         Frames between the starts of consecutive segments, in [1, K]; ``None`` means K
         (non-overlapping segments, the only scheme the gateware implements).
@@ -158,6 +164,7 @@ class DPConfig:
     candidate_capacity: int | None = None
     histogram_bits: int = 10
     histogram_shift: int | None = None
+    max_segment_frames: int | None = None
 
     def __post_init__(self) -> None:
         for name in _RANGES:
@@ -168,20 +175,30 @@ class DPConfig:
         stride = k if self.segment_stride is None else self.segment_stride
         object.__setattr__(self, "segment_stride", _check_int(
             "segment_stride", stride, (1, k), hi_name="segment_frames="))
+        if self.max_segment_frames is not None:
+            object.__setattr__(self, "max_segment_frames", _check_int(
+                "max_segment_frames", self.max_segment_frames, (k, _RANGES["segment_frames"][1]),
+                "segment_frames="))
         if self.rounding not in ROUNDING_MODES:
             raise ConfigError(f"rounding must be one of {ROUNDING_MODES}, got {self.rounding!r}")
         lut = paper_weights(self.radius) if self.weights is None else self.weights
         object.__setattr__(self, "weights", _validate_weights(lut, self.radius))
         self._validate_segmentation()
-        full_scale = self.segment_frames * ((1 << self.input_bits) - 1)
+        full_scale = self.k_max * ((1 << self.input_bits) - 1)
         if full_scale > self.e_max:
+            k_name = "K" if self.max_segment_frames is None else "K_max"
             warnings.warn(
-                f"energy_bits={self.energy_bits} saturates: K={self.segment_frames} full-scale "
+                f"energy_bits={self.energy_bits} saturates: {k_name}={self.k_max} full-scale "
                 f"{self.input_bits}-bit pixels sum to {full_scale} > {self.e_max}; "
                 f"energy_bits >= {self.energy_bits_needed} never saturates",
                 EnergyWidthWarning, stacklevel=3)
 
     # ---- derived quantities -------------------------------------------------------
+    @property
+    def k_max(self) -> int:
+        """K_max, the largest run-time segment length: ``max_segment_frames`` or K."""
+        return self.segment_frames if self.max_segment_frames is None else self.max_segment_frames
+
     @property
     def n_moves(self) -> int:
         """M, the number of moves in the search window, ``(2r + 1)**2``."""
@@ -214,8 +231,8 @@ class DPConfig:
 
     @property
     def energy_bits_needed(self) -> int:
-        """The smallest B_E that accumulates K full-scale pixels without saturating."""
-        return non_saturating_energy_bits(self.input_bits, self.segment_frames)
+        """The smallest B_E that accumulates K_max full-scale pixels without saturating."""
+        return non_saturating_energy_bits(self.input_bits, self.k_max)
 
     @property
     def state_bits(self) -> int:
@@ -307,7 +324,8 @@ class DPConfig:
         """s, the right shift from E to its histogram bin.
 
         ``histogram_shift``, or by default ``max(0, B_reach - b)`` with
-        ``B_reach = min(B_E, energy_bits_needed)`` the width of the largest reachable E, so
+        ``B_reach = min(B_E, energy_bits_needed)`` the width of the largest reachable E (at
+        K_max), so
         that only E_max-adjacent values could share the clamped top bin.
         """
         if self.histogram_shift is not None:
@@ -317,9 +335,10 @@ class DPConfig:
 
     @property
     def bin_count_bits(self) -> int:
-        """Width of a histogram counter, ``bitlen(n + 1)``; counters saturate at
-        ``2**bits - 1 >= n + 1``, which never changes the threshold (§6)."""
-        return (self.n_candidates + 1).bit_length()
+        """Width of a histogram counter, ``bitlen(C + 1)``; counters saturate at
+        ``2**bits - 1 >= C + 1 >= n + 1`` for every run-time n in [0, C], which never changes
+        the threshold (§6)."""
+        return (self.record_capacity + 1).bit_length()
 
     @property
     def threshold_bits(self) -> int:
@@ -365,10 +384,13 @@ class DPConfig:
         """Every field as plain JSON/TOML values (the weights as nested lists of floats).
 
         The inverse of :meth:`from_mapping`: ``DPConfig.from_mapping(cfg.to_mapping()) ==
-        cfg``. Defaults left as ``None`` stay ``None``.
+        cfg``. Defaults left as ``None`` stay ``None``, except ``max_segment_frames``, which is
+        omitted when ``None`` (so mappings written before run-time K existed stay the same).
         """
         out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
         out["weights"] = [list(row) for row in self.weights]
+        if self.max_segment_frames is None:     # absent, as before run-time K existed
+            del out["max_segment_frames"]
         return out
 
     @classmethod

@@ -41,6 +41,8 @@ class Accumulator(wiring.Component):
         Next cycle: the new E.
     direction : Out(B_d)
         Next cycle: the new d.
+    saturated : Out(1)
+        Next cycle: the sum exceeded E_max and E was clipped to it (the ``saturated`` event).
     """
 
     def __init__(self, cfg: DPConfig):
@@ -52,6 +54,7 @@ class Accumulator(wiring.Component):
             "segment_start": In(1),
             "energy": Out(cfg.energy_bits),
             "direction": Out(cfg.direction_bits),
+            "saturated": Out(1),
         })
 
     def elaborate(self, platform):
@@ -64,5 +67,6 @@ class Accumulator(wiring.Component):
         m.d.sync += [
             self.energy.eq(Mux(saturated, cfg.e_max, total[:cfg.energy_bits])),
             self.direction.eq(Mux(self.segment_start, cfg.start_code, self.move)),
+            self.saturated.eq(saturated),
         ]
         return m

@@ -11,6 +11,11 @@ counters, not ``first``, define positions; ``first`` is only checked. A pixel wi
 pixel becomes pixel (0, 0) of frame 0 of a new segment (the interrupted frame's pixels
 already accepted are processed and output without end flags). A missing ``first`` at an
 expected frame start is ignored.
+
+Run-time segment length: the input ``segment_frames`` (K, clamped to [1, K_max]) is sampled
+in the cycle a segment's first pixel is accepted (pixel (0, 0) of frame 0, also after a
+resync) and holds for that whole segment; a change mid-segment takes effect at the next
+segment start (``docs/gateware.md``, "Run-time settings").
 """
 
 from __future__ import annotations
@@ -22,7 +27,14 @@ from amaranth.lib.wiring import In, Out
 from dptbd.config import DPConfig
 from dptbd.hw.schedule import read_ahead_distance
 
-__all__ = ["position_layout", "Controller"]
+__all__ = ["position_layout", "clamped", "Controller"]
+
+
+def clamped(value, lo: int, hi: int):
+    """``value`` limited to ``[lo, hi]`` (a run-time setting outside its range, which the
+    register block never writes, is clamped instead of misbehaving)."""
+    limited = Mux(value > hi, hi, value) if (1 << len(value)) - 1 > hi else value
+    return Mux(value < lo, lo, limited) if lo > 0 else limited
 
 
 def position_layout(cfg: DPConfig) -> data.StructLayout:
@@ -57,6 +69,11 @@ class Controller(wiring.Component):
         A pixel is accepted in this cycle (cycle 0).
     first : In(1)
         The accepted pixel's ``first`` (start-of-frame) flag.
+    segment_frames : In(range(1, K_max + 1), init=K)
+        Run-time K, clamped to [1, K_max], sampled in a segment's first accepting cycle.
+    segment_begin : Out(1)
+        Cycle 0, combinational: the accepted pixel is the first of a segment (its run-time
+        settings are sampled now).
     read_addr : Out(range(W*H))
         Cycle 0, combinational: the state-store address to read for the accepted pixel,
         ``(p + r*(W+1)) mod (W*H)`` for its raster position p.
@@ -73,6 +90,8 @@ class Controller(wiring.Component):
         super().__init__({
             "accept": In(1),
             "first": In(1),
+            "segment_frames": In(range(1, cfg.k_max + 1), init=cfg.segment_frames),
+            "segment_begin": Out(1),
             "read_addr": Out(range(cfg.width * cfg.height)),
             "resync": Out(1),
             "valid": Out(1),
@@ -82,13 +101,14 @@ class Controller(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         cfg = self._cfg
-        width, height, frames = cfg.width, cfg.height, cfg.segment_frames
+        width, height = cfg.width, cfg.height
         pixels = width * height
         ahead_start = read_ahead_distance(cfg) % pixels
 
         col = Signal(range(width))
         row = Signal(range(height))
-        frame = Signal(range(frames))              # frame within the segment
+        frame = Signal(range(cfg.k_max))           # frame within the segment
+        frames = Signal(range(1, cfg.k_max + 1), init=cfg.segment_frames)  # K of the segment
         ahead = Signal(range(pixels), init=ahead_start)
         at_start = Signal(init=1)                   # the next pixel is expected at (0, 0)
 
@@ -99,9 +119,12 @@ class Controller(wiring.Component):
         eff_row = Mux(self.resync, 0, row)
         eff_frame = Mux(self.resync, 0, frame)
         eff_ahead = Mux(self.resync, ahead_start, ahead)
+        begins = (at_start & (frame == 0)) | self.resync
+        m.d.comb += self.segment_begin.eq(self.accept & begins)
+        eff_frames = Mux(begins, clamped(self.segment_frames, 1, cfg.k_max), frames)
         last_col = eff_col == width - 1
         last_row = eff_row == height - 1
-        last_frame = eff_frame == frames - 1
+        last_frame = eff_frame == eff_frames - 1
         end_of_frame = last_col & last_row
         m.d.comb += self.read_addr.eq(eff_ahead)
 
@@ -110,6 +133,7 @@ class Controller(wiring.Component):
                 col.eq(Mux(last_col, 0, eff_col + 1)),
                 ahead.eq(Mux(eff_ahead == pixels - 1, 0, eff_ahead + 1)),
                 at_start.eq(end_of_frame),
+                frames.eq(eff_frames),
             ]
             with m.If(last_col):
                 m.d.sync += row.eq(Mux(last_row, 0, eff_row + 1))

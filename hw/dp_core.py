@@ -9,7 +9,7 @@ pipeline stage by stage; :class:`~dptbd.hw.schedule.PipelineSchedule` gives its 
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal
+from amaranth.hdl import Cat, Module, Mux, Signal
 from amaranth.lib import data, fifo, stream, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -17,7 +17,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.accumulator import Accumulator
 from dptbd.hw.controller import Controller
 from dptbd.hw.delay import delayed
-from dptbd.hw.layouts import pixel_layout, state_layout, state_word_layout
+from dptbd.hw.layouts import event_layout, pixel_layout, state_layout, state_word_layout
 from dptbd.hw.line_buffer import LineBuffer
 from dptbd.hw.max_tree import MaxTree
 from dptbd.hw.schedule import PipelineSchedule, check_supported
@@ -26,7 +26,7 @@ from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.hw.window import Window
 
-__all__ = ["DPCore", "lut_write_members"]
+__all__ = ["DPCore", "lut_write_members", "run_time_k_members", "state_events"]
 
 
 def lut_write_members(cfg: DPConfig) -> dict:
@@ -36,6 +36,27 @@ def lut_write_members(cfg: DPConfig) -> dict:
         "lut_data": In(cfg.weight_bits),
         "lut_we": In(1),
     }
+
+
+def run_time_k_members(cfg: DPConfig) -> dict:
+    """The run-time K port and the DP's event outputs, shared by :class:`DPCore` and
+    ``DPPipeline`` (``docs/gateware.md``, "Run-time settings" and "Events")."""
+    return {
+        "segment_frames": In(range(1, cfg.k_max + 1), init=cfg.segment_frames),
+        "segment_begin": Out(1),
+        "events": Out(event_layout(cfg)),
+    }
+
+
+def state_events(m: Module, events, states, saturated) -> None:
+    """Drive ``events`` from a ``states`` stream: ``frame_done``, ``segment_done`` and
+    ``saturated`` (the word's ``saturated`` flag) pulse with the word's handshake."""
+    transfer = states.valid & states.ready
+    m.d.comb += [
+        events.frame_done.eq(transfer & states.payload.end_of_frame),
+        events.segment_done.eq(transfer & states.payload.end_of_segment),
+        events.saturated.eq(transfer & saturated),
+    ]
 
 
 class DPCore(wiring.Component):
@@ -66,6 +87,14 @@ class DPCore(wiring.Component):
         ``states.valid`` and ``states.payload`` come from registers.
     lut_addr, lut_data, lut_we : In
         Weight LUT write port (:class:`~dptbd.hw.weight_lut.WeightLUT`).
+    segment_frames : In(range(1, K_max + 1), init=K)
+        Run-time K, sampled in the cycle a segment's first pixel is accepted (clamped to
+        [1, K_max]); see :class:`~dptbd.hw.controller.Controller`.
+    segment_begin : Out(1)
+        Combinational pulse: the pixel accepted in this cycle begins a segment.
+    events : Out(event_layout(cfg))
+        ``frame_done``, ``segment_done``, ``saturated`` pulses with the ``states``
+        handshake (:func:`~dptbd.hw.layouts.event_layout`); ``list_done`` is 0.
     state_store : Out(StateStoreSignature(cfg))
         The state store.
     """
@@ -84,6 +113,7 @@ class DPCore(wiring.Component):
             "pixels": In(stream.Signature(pixel_layout(cfg))),
             "states": Out(stream.Signature(state_layout(cfg))),
             **lut_write_members(cfg),
+            **run_time_k_members(cfg),
             "state_store": Out(StateStoreSignature(cfg)),
         })
 
@@ -127,6 +157,8 @@ class DPCore(wiring.Component):
         m.d.comb += [
             controller.accept.eq(accept),
             controller.first.eq(self.pixels.payload.first),
+            controller.segment_frames.eq(self.segment_frames),
+            self.segment_begin.eq(controller.segment_begin),
             self.state_store.read_addr.eq(controller.read_addr),
             self.state_store.read_en.eq(accept),
         ]
@@ -225,15 +257,18 @@ class DPCore(wiring.Component):
             result.end_of_frame.eq(at_state.end_of_frame),
             result.end_of_segment.eq(at_state.end_of_segment),
         ]
+        # The FIFO also carries the accumulator's saturated flag, for the `saturated` event.
+        result_width = len(result.as_value())
         m.submodules.output_fifo = output_fifo = fifo.SyncFIFOBuffered(
-            width=len(result.as_value()), depth=self._fifo_depth)
+            width=result_width + 1, depth=self._fifo_depth)
         m.d.comb += [
-            output_fifo.w_data.eq(result),
+            output_fifo.w_data.eq(Cat(result, accumulator.saturated)),
             output_fifo.w_en.eq(at_state.valid),
-            self.states.payload.eq(output_fifo.r_data),
+            self.states.payload.eq(output_fifo.r_data[:result_width]),
             self.states.valid.eq(output_fifo.r_rdy),
             output_fifo.r_en.eq(self.states.ready),
         ]
+        state_events(m, self.events, self.states, output_fifo.r_data[result_width])
 
         # ---- credits: accept only what the FIFO is sure to have room for -------------
         # `committed` counts pixels accepted but not yet handed out on `states`: those in

@@ -11,7 +11,7 @@ from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
-from dptbd.hw.dp_core import DPCore, lut_write_members
+from dptbd.hw.dp_core import DPCore, lut_write_members, run_time_k_members
 from dptbd.hw.layouts import pixel_layout, state_layout
 from dptbd.hw.schedule import PipelineSchedule
 from dptbd.hw.state_store import StateStore
@@ -46,6 +46,14 @@ class DPPipeline(wiring.Component):
         Code to write.
     lut_we : In(1)
         Write enable; a write in cycle c applies to every pixel accepted in cycle c or later.
+    segment_frames : In(range(1, K_max + 1), init=K)
+        Run-time K, sampled when a segment's first pixel is accepted (``docs/gateware.md``,
+        "Run-time settings").
+    segment_begin : Out(1)
+        Pulse: the pixel accepted in this cycle begins a segment.
+    events : Out(event_layout(cfg))
+        ``frame_done``, ``segment_done``, ``saturated`` with the ``states`` handshake
+        (:func:`~dptbd.hw.layouts.event_layout`; ``list_done`` is 0).
     """
 
     def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
@@ -56,6 +64,7 @@ class DPPipeline(wiring.Component):
             "pixels": In(stream.Signature(pixel_layout(cfg))),
             "states": Out(stream.Signature(state_layout(cfg))),
             **lut_write_members(cfg),
+            **run_time_k_members(cfg),
         })
 
     @property
@@ -98,5 +107,8 @@ class DPPipeline(wiring.Component):
             core.lut_addr.eq(self.lut_addr),
             core.lut_data.eq(self.lut_data),
             core.lut_we.eq(self.lut_we),
+            core.segment_frames.eq(self.segment_frames),
+            self.segment_begin.eq(core.segment_begin),
+            self.events.eq(core.events),
         ]
         return m

@@ -14,7 +14,7 @@ import json
 import pathlib
 
 from amaranth.back import verilog
-from amaranth.hdl import Module
+from amaranth.hdl import Module, Signal
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -22,8 +22,9 @@ from dptbd.config import ConfigError, DPConfig
 from dptbd.hw.candidate_layout import bits_per_segment, candidate_field_offsets, candidate_layout
 from dptbd.hw.dp_core import lut_write_members
 from dptbd.hw.dp_pipeline import DPPipeline
-from dptbd.hw.layouts import field_offsets, pixel_layout
-from dptbd.hw.segmenter import Segmenter
+from dptbd.hw.controller import clamped
+from dptbd.hw.layouts import event_layout, field_offsets, pixel_layout
+from dptbd.hw.segmenter import Segmenter, segmenter_setting_members
 from dptbd.hw.flow.verilog import manifest_header, manifest_interface, port_list
 
 __all__ = ["SEGMENTER_MODULE_NAME", "DPSegmenter", "segmenter_manifest",
@@ -44,16 +45,35 @@ class DPSegmenter(wiring.Component):
         Records and trailers (:func:`~dptbd.hw.candidate_layout.candidate_layout`).
     lut_addr, lut_data, lut_we : In
         The DP pipeline's weight LUT write port.
+    segment_frames : In(range(1, K_max + 1), init=K)
+        Run-time K.
+    candidate_count : In(range(C + 1), init=n)
+        Run-time n.
+    histogram_shift : In(range(B_E), init=s)
+        Run-time s. All three are sampled in the cycle the first pixel of a segment is
+        accepted on ``pixels`` and hold for that segment (clamped to their ranges):
+        K is its length, s bins its scored frame, n thresholds its histogram, which makes
+        the next segment's list (``docs/gateware.md``, "Run-time settings").
+    events : Out(event_layout(cfg))
+        One-cycle pulses: ``frame_done`` / ``segment_done`` / ``saturated`` with the
+        DP pipeline's ``states`` handshake, ``list_done`` with a trailer's handshake on
+        ``candidates`` (:func:`~dptbd.hw.layouts.event_layout`).
     """
 
     def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8):
         self._cfg = cfg
         self._dp = DPPipeline(cfg)
+        # The segmenter takes its settings from registers loaded when the DP accepts a
+        # segment's first pixel; that is exact while fewer words than a segment are in
+        # flight between the two, which the DP's credit count guarantees.
+        assert self._dp.output_fifo_depth < cfg.width * cfg.height
         self._segmenter = Segmenter(cfg, fifo_depth=fifo_depth)
         super().__init__({
             "pixels": In(stream.Signature(pixel_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),
             **lut_write_members(cfg),
+            **segmenter_setting_members(cfg),
+            "events": Out(event_layout(cfg)),
         })
 
     @property
@@ -85,6 +105,26 @@ class DPSegmenter(wiring.Component):
             dp.lut_addr.eq(self.lut_addr),
             dp.lut_data.eq(self.lut_data),
             dp.lut_we.eq(self.lut_we),
+            dp.segment_frames.eq(self.segment_frames),
+        ]
+        # Settings of the segment the DP input is in, handed to the segmenter, which takes
+        # them at the same segment's first word (at most one segment later).
+        cfg = self._cfg
+        for name, lo, hi in (("segment_frames", 1, cfg.k_max),
+                             ("candidate_count", 0, cfg.record_capacity),
+                             ("histogram_shift", 0, cfg.energy_bits - 1)):
+            port = getattr(self, name)
+            latched = Signal.like(port, name=f"input_{name}")
+            with m.If(dp.segment_begin):
+                m.d.sync += latched.eq(clamped(port, lo, hi))
+            m.d.comb += getattr(seg, name).eq(latched)
+        trailer_out = (self.candidates.valid & self.candidates.ready
+                       & self.candidates.payload.end_of_list)
+        m.d.comb += [
+            self.events.frame_done.eq(dp.events.frame_done),
+            self.events.segment_done.eq(dp.events.segment_done),
+            self.events.saturated.eq(dp.events.saturated),
+            self.events.list_done.eq(trailer_out),
         ]
         return m
 

@@ -1,8 +1,8 @@
 """The segmentation histogram: 2**b saturating counters in one memory (``docs/arithmetic.md``
 §6.2), one increment per clock, and a read-and-clear scan from the top bin down (§6.3).
 
-The counters are ``bin_count_bits`` = bitlen(n + 1) wide and saturate at all ones, which is
-at least n + 1: the threshold scan only tells cumulative counts <= n from > n, so saturation
+The counters are ``bin_count_bits`` = bitlen(C + 1) wide and saturate at all ones, which is
+at least C + 1 >= n + 1 for every run-time n: the threshold scan only tells cumulative counts <= n from > n, so saturation
 never changes the threshold (and the memory stays one iCE40 block RAM wide for any n < 2**16).
 """
 

@@ -26,6 +26,7 @@ __all__ = [
     "pixel_layout",
     "state_layout",
     "state_word_layout",
+    "event_layout",
     "field_offsets",
     "pack",
     "unpack",
@@ -82,6 +83,31 @@ def state_word_layout(cfg: DPConfig) -> data.StructLayout:
     return data.StructLayout({
         "energy": unsigned(cfg.energy_bits),
         "direction": unsigned(cfg.direction_bits),
+    })
+
+
+def event_layout(cfg: DPConfig) -> data.StructLayout:
+    """The core's event pulses (``events`` of the DP pipeline and of ``DPSegmenter``).
+
+    Each field is high for one cycle per event, in the cycle of the handshake it reports
+    (``docs/gateware.md``, "Events"):
+
+    ============ ====== ===================================================================
+    field        width  pulse when
+    ============ ====== ===================================================================
+    frame_done   1      a ``states`` word with ``end_of_frame`` is transferred
+    segment_done 1      a ``states`` word with ``end_of_segment`` is transferred
+    list_done    1      a candidate list's trailer is transferred on ``candidates``
+                        (always 0 on a DP pipeline without segmenter)
+    saturated    1      a ``states`` word whose E the accumulator clipped at E_max is
+                        transferred (``docs/arithmetic.md`` §4.5)
+    ============ ====== ===================================================================
+    """
+    return data.StructLayout({
+        "frame_done": unsigned(1),
+        "segment_done": unsigned(1),
+        "list_done": unsigned(1),
+        "saturated": unsigned(1),
     })
 
 

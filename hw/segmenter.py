@@ -18,11 +18,21 @@ from amaranth.lib.wiring import In, Out
 from dptbd.config import DPConfig
 from dptbd.hw.candidate_emitter import CandidateEmitter
 from dptbd.hw.candidate_layout import candidate_layout
+from dptbd.hw.controller import clamped
 from dptbd.hw.histogram import Histogram
 from dptbd.hw.layouts import state_layout
 from dptbd.hw.threshold import ThresholdSearch
 
-__all__ = ["Segmenter", "scan_cycles"]
+__all__ = ["Segmenter", "scan_cycles", "segmenter_setting_members"]
+
+
+def segmenter_setting_members(cfg: DPConfig) -> dict:
+    """The run-time settings K, n, s as input members, reset values the build values."""
+    return {
+        "segment_frames": In(range(1, cfg.k_max + 1), init=cfg.segment_frames),
+        "candidate_count": In(range(cfg.record_capacity + 1), init=cfg.n_candidates),
+        "histogram_shift": In(range(cfg.energy_bits), init=cfg.bin_shift),
+    }
 
 
 def scan_cycles(cfg: DPConfig) -> int:
@@ -45,6 +55,13 @@ class Segmenter(wiring.Component):
     list's last word); words of other frames pass meanwhile, so with K >= 2 and
     W*H*(K-1) >= 2**b + 4 the segmenter never stalls.
 
+    Run-time settings (``docs/gateware.md``, "Run-time settings"): the inputs
+    ``segment_frames`` (K), ``candidate_count`` (n) and ``histogram_shift`` (s) are sampled
+    when the first word of a segment is accepted (the counters at (0, 0, k = 0): after
+    reset, after an ``end_of_segment`` and after a scored frame's last pixel) and hold for
+    that segment: K decides its scored frame, s bins its scored frame, and n thresholds its
+    histogram in the scan after its list, i.e. makes the *next* list's T.
+
     Parameters
     ----------
     cfg : DPConfig
@@ -55,7 +72,13 @@ class Segmenter(wiring.Component):
     Members
     -------
     states : In(stream.Signature(state_layout(cfg)))
-        The DP pipeline's output. ``states.ready`` depends only on registers.
+        The DP pipeline's output. ``states.ready`` depends on registers and, at a segment's
+        first word, on ``segment_frames``.
+    segment_frames : In(range(1, K_max + 1), init=K)
+    candidate_count : In(range(C + 1), init=n)
+    histogram_shift : In(range(B_E), init=s)
+        Run-time settings of the segment whose first word is accepted (clamped to their
+        ranges).
     candidates : Out(stream.Signature(candidate_layout(cfg)))
         Records (raster order) and one trailer per list.
     """
@@ -70,6 +93,7 @@ class Segmenter(wiring.Component):
         super().__init__({
             "states": In(stream.Signature(state_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),
+            **segmenter_setting_members(cfg),
         })
 
     @property
@@ -84,7 +108,7 @@ class Segmenter(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         cfg = self._cfg
-        width, height, k_frames = cfg.width, cfg.height, cfg.segment_frames
+        width, height = cfg.width, cfg.height
 
         m.submodules.histogram = hist = Histogram(cfg)
         m.submodules.threshold = search = ThresholdSearch(cfg)
@@ -100,8 +124,17 @@ class Segmenter(wiring.Component):
         # ---- position of the next word ---------------------------------------------------
         col = Signal(range(width))
         row = Signal(range(height))
-        frame = Signal(range(k_frames))
-        scored = frame == k_frames - 1
+        frame = Signal(range(cfg.k_max))
+        # ---- run-time settings: sampled at a segment's first word -----------------------
+        k_frames = Signal(range(1, cfg.k_max + 1), init=cfg.segment_frames)
+        count = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)
+        shift = Signal(range(cfg.energy_bits), init=cfg.bin_shift)
+        list_count = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)
+        begins = (col == 0) & (row == 0) & (frame == 0)
+        eff_frames = Mux(begins, clamped(self.segment_frames, 1, cfg.k_max), k_frames)
+        eff_count = Mux(begins, clamped(self.candidate_count, 0, cfg.record_capacity), count)
+        eff_shift = Mux(begins, clamped(self.histogram_shift, 0, cfg.energy_bits - 1), shift)
+        scored = frame == eff_frames - 1
         last = scored & (row == height - 1) & (col == width - 1)
 
         # ---- control: busy from a list end (or reset) until the scan has loaded T -------
@@ -119,7 +152,8 @@ class Segmenter(wiring.Component):
 
         # ---- cycle A: histogram read, counters ------------------------------------------
         # min(E >> s, 2**b - 1) without a comparator: any bit above the bin's b bits clamps
-        shifted = word.energy[cfg.bin_shift:]
+        shifted = Signal(cfg.energy_bits)
+        m.d.comb += shifted.eq(word.energy >> eff_shift)
         energy_bin = Signal(range(cfg.n_bins))
         if len(shifted) > cfg.histogram_bits:
             m.d.comb += energy_bin.eq(Mux(shifted[cfg.histogram_bits:].any(), cfg.n_bins - 1,
@@ -131,7 +165,12 @@ class Segmenter(wiring.Component):
             hist.add_en.eq(accept & scored),
             hist.scan_start.eq(scan_request),
             search.load.eq(~clearing),
+            search.count.eq(list_count),
         ]
+        with m.If(accept & begins):
+            m.d.sync += [k_frames.eq(eff_frames), count.eq(eff_count), shift.eq(eff_shift)]
+        with m.If(accept & ends):                  # this segment's n thresholds its histogram
+            m.d.sync += list_count.eq(eff_count)
         with m.If(accept):
             with m.If(eos):
                 m.d.sync += [col.eq(0), row.eq(0), frame.eq(0)]

@@ -9,6 +9,7 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
+from dptbd.hw.controller import clamped
 
 __all__ = ["ThresholdSearch"]
 
@@ -28,10 +29,16 @@ class ThresholdSearch(wiring.Component):
     feed the carry chain directly. At the scanned bin 0 (``scan_last``) the result is
     loaded into ``threshold`` if ``load`` is high, and the search restarts.
 
+    The run-time n (``count``, clamped to [0, C]) is sampled when the scan's top bin
+    (``scan_valid`` with ``scan_bin = 2**b - 1``) arrives at the inputs, and holds for that
+    scan.
+
     Members
     -------
     scan_valid, scan_last : In(1); scan_bin : In(range(2**b)); scan_count : In(bin_count_bits)
         From :class:`~dptbd.hw.histogram.Histogram`.
+    count : In(range(C + 1), init=n)
+        Run-time n, sampled with the scan's top bin.
     load : In(1)
         Sampled in the ``done`` cycle: 1 loads the result into ``threshold`` and sets
         ``primed``; 0 discards it (the clearing scan after reset).
@@ -51,6 +58,7 @@ class ThresholdSearch(wiring.Component):
             "scan_bin": In(range(cfg.n_bins)),
             "scan_count": In(cfg.bin_count_bits),
             "scan_last": In(1),
+            "count": In(range(cfg.record_capacity + 1), init=cfg.n_candidates),
             "load": In(1),
             "threshold": Out(cfg.threshold_bits, init=cfg.n_bins),
             "primed": Out(1),
@@ -60,7 +68,7 @@ class ThresholdSearch(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         cfg = self._cfg
-        n = cfg.n_candidates
+        n = clamped(self.count, 0, cfg.record_capacity)
 
         valid = Signal()
         last = Signal()
@@ -69,7 +77,7 @@ class ThresholdSearch(wiring.Component):
         m.d.sync += [valid.eq(self.scan_valid), last.eq(self.scan_valid & self.scan_last),
                      bin_.eq(self.scan_bin), count.eq(self.scan_count)]
 
-        remaining = Signal(range(n + 1), init=n)      # n - cum, while cum <= n
+        remaining = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)  # n - cum
         stopped = Signal()                            # cum has exceeded n
         best = Signal(cfg.threshold_bits, init=cfg.n_bins)
         fits = (count <= remaining) & ~stopped
@@ -84,4 +92,6 @@ class ThresholdSearch(wiring.Component):
                 m.d.sync += [remaining.eq(remaining - count), best.eq(bin_)]
             with m.Else():
                 m.d.sync += stopped.eq(1)
+        with m.If(self.scan_valid & (self.scan_bin == cfg.n_bins - 1)):   # a scan begins
+            m.d.sync += [remaining.eq(n), stopped.eq(0), best.eq(cfg.n_bins)]
         return m

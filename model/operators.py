@@ -17,6 +17,7 @@ __all__ = [
     "argmax_lowest_index",
     "saturate_unsigned",
     "add_saturating",
+    "saturated_sum",
     "predecessor",
 ]
 
@@ -98,6 +99,12 @@ def saturate_unsigned(value: np.ndarray, bits: int) -> np.ndarray:
 def add_saturating(a: np.ndarray, b: np.ndarray, bits: int) -> np.ndarray:
     """``min(a + b, 2**bits - 1)`` computed at full width (§4.5)."""
     return saturate_unsigned(np.asarray(a, dtype=np.int64) + np.asarray(b, dtype=np.int64), bits)
+
+
+def saturated_sum(a: np.ndarray, b: np.ndarray, bits: int) -> np.ndarray:
+    """Whether :func:`add_saturating` clips: ``a + b > 2**bits - 1`` (``bool``), the
+    accumulator's ``saturated`` flag (``docs/arithmetic.md`` §4.5)."""
+    return np.asarray(a, dtype=np.int64) + np.asarray(b, dtype=np.int64) > (1 << bits) - 1
 
 
 def predecessor(state: np.ndarray, dy: int, dx: int, fill) -> np.ndarray:

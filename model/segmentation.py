@@ -153,8 +153,8 @@ def histogram_bins(energy: np.ndarray, cfg: DPConfig) -> np.ndarray:
 def histogram_fixed(energy: np.ndarray, cfg: DPConfig) -> np.ndarray:
     """Saturating bin counts of one accumulated image, ``(2**b,)`` ``int64``, §6.2.
 
-    Each counter is ``bin_count_bits`` = bitlen(n + 1) wide and saturates at
-    ``2**bin_count_bits - 1`` (>= n + 1).
+    Each counter is ``bin_count_bits`` = bitlen(C + 1) wide and saturates at
+    ``2**bin_count_bits - 1`` (>= C + 1 >= n + 1).
     """
     counts = np.bincount(histogram_bins(energy, cfg).ravel(), minlength=cfg.n_bins)
     return np.minimum(counts, (1 << cfg.bin_count_bits) - 1).astype(np.int64)

@@ -250,9 +250,11 @@ async def write_lut(clock, addr, data, we, writes: Iterable[tuple[int, int]]) ->
     return n
 
 
-async def start_in_reset(dut, period_ns: int, output_ready) -> Cycles:
+async def start_in_reset(dut, period_ns: int, output_ready, settings=None) -> Cycles:
     """Start ``dut.clk`` (``period_ns``), hold ``rst`` for three rising edges with no pixel
-    offered, no LUT write and ``output_ready`` high, and release it.
+    offered, no LUT write and ``output_ready`` high, and release it. ``settings`` maps
+    run-time setting ports to the values they hold from now on (a Verilog input has no
+    reset value: ``{"segment_frames": cfg.segment_frames, ...}``).
 
     Returns
     -------
@@ -266,6 +268,8 @@ async def start_in_reset(dut, period_ns: int, output_ready) -> Cycles:
     dut.lut_we.value = 0
     dut.lut_addr.value = 0
     dut.lut_data.value = 0
+    for name, value in (settings or {}).items():
+        getattr(dut, name).value = int(value)
     output_ready.value = 1
     await RisingEdge(dut.clk)
     t0 = get_sim_time("step")

@@ -90,7 +90,8 @@ class Bench:
 
     async def start(self) -> None:
         dut = self.dut
-        self.cycles = await start_in_reset(dut, self.period_ns, dut.states__ready)
+        self.cycles = await start_in_reset(dut, self.period_ns, dut.states__ready,
+                                           {"segment_frames": self.cfg.segment_frames})
         self.source = StreamSource(
             dut.clk, dut.pixels__valid, dut.pixels__ready, dut.pixels__payload,
             cycles=self.cycles, reset=dut.rst, pause=pause_generator(self.job.get("valid_pause")))

@@ -41,7 +41,9 @@ async def run_scene(dut):
     job, cfg, frames = load_job()
     wall_start = time.perf_counter()
     period = int(job.get("period_ns", PERIOD_NS))
-    cycles = await start_in_reset(dut, period, dut.candidates__ready)
+    cycles = await start_in_reset(dut, period, dut.candidates__ready, {
+        "segment_frames": cfg.segment_frames, "candidate_count": cfg.n_candidates,
+        "histogram_shift": cfg.bin_shift})
     log = cocotb.log
     model_cfg = cfg
     if job.get("lut_codes") is not None:

@@ -94,6 +94,7 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
         ready_pause: float = 0.0, seed: int = 1,
         resets: Iterable[tuple[int, int]] = (),
         lut_writes: Iterable[tuple[int, int, int]] = (),
+        settings: Iterable[tuple[int, int, int, int]] = (),
         store_init: str = "zero", drain: int | None = None, max_cycles: int | None = None,
         trace: str | os.PathLike | None = None) -> RawRun:
     """Stream ``words`` (packed ``pixels`` payloads) through a build.
@@ -113,6 +114,10 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
         holds cycles 0 and 1).
     lut_writes : iterable of (word index, address, code)
         Written through the LUT port, one per cycle, just before that input word is offered.
+    settings : iterable of (word index, K, n, s)
+        From that input word on, the run-time settings ports carry these values (``n`` and
+        ``s`` only exist on ``dptbd_seg``). Before the first, and always from word 0 unless
+        given, the build values ``(cfg.segment_frames, cfg.n_candidates, cfg.bin_shift)``.
     store_init : str
         ``"zero"`` or ``"random"``: DPCore's external store at power-up (``design="core"``).
     drain : int, optional
@@ -137,6 +142,9 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
     # to an address wins, as lut_changes given for one word in check_stream)
     lut_writes = sorted(((int(i), int(a), int(d)) for i, a, d in lut_writes),
                         key=lambda w: w[0])
+    cfg = sim.cfg
+    settings = sorted([(0, cfg.segment_frames, cfg.n_candidates, cfg.bin_shift)]
+                      + [tuple(int(v) for v in w) for w in settings], key=lambda w: w[0])
     if drain is None:
         scan = int(sim.manifest.get("scan_cycles", 0))
         drain = sim.latency + 2 * scan + 64
@@ -150,6 +158,9 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
     for index, _, _ in lut_writes:
         if not 0 <= index <= len(words):
             raise ValueError(f"LUT write before word {index}: the stream has {len(words)} words")
+    for index, *_ in settings:
+        if not 0 <= index <= len(words):
+            raise ValueError(f"settings before word {index}: the stream has {len(words)} words")
     # rst is high in the union of the intervals: the harness takes one reset per start
     # cycle (a second reset starting in the same cycle would never fire: a timeout), and a
     # reset starting inside another must not cut that one short
@@ -169,6 +180,7 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
                  f"store_init {store_init}"]
         lines += [f"reset {c} {h}" for c, h in resets]
         lines += [f"lut {i} {a} {d}" for i, a, d in lut_writes]
+        lines += [f"settings {i} {k} {n} {s}" for i, k, n, s in settings]
         if trace is not None:
             trace = pathlib.Path(trace).resolve()
             trace.parent.mkdir(parents=True, exist_ok=True)

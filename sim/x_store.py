@@ -78,6 +78,7 @@ module {tb};
     .pixels__ready(pixels__ready),
     .states__payload(states__payload), .states__valid(states__valid), .states__ready(1'b1),
     .lut_addr({law}'d0), .lut_data({ldw}'d0), .lut_we(1'b0),
+    .segment_frames({kw}'d{k}),
     .state_store__read_addr(read_addr), .state_store__read_en(read_en),
     .state_store__read_data(read_data),
     .state_store__write_addr(write_addr), .state_store__write_data(write_data),
@@ -194,7 +195,7 @@ def testbench_verilog(cfg: DPConfig, info: dict, *, pixels: int, init: str, seed
         module=MODULE_NAME, tb=_TB_MODULE, init_text=init_text, pixels=pixels, words=words,
         sw=sw, pw=widths["pixels__payload"], ow=widths["states__payload"],
         aw=widths["state_store__read_addr"], law=widths["lut_addr"],
-        ldw=widths["lut_data"], all_w=all_w, seed=seed, init_code=init_code,
+        ldw=widths["lut_data"], kw=widths["segment_frames"], k=cfg.segment_frames, all_w=all_w, seed=seed, init_code=init_code,
         timeout=4 * pixels + 200, pixel_file=pathlib.Path(pixel_file).as_posix(),
         out_file=pathlib.Path(out_file).as_posix())
 

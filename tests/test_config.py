@@ -386,7 +386,7 @@ def test_segmentation_defaults():
     assert cfg.record_capacity == 66              # 2n
     assert cfg.n_bins == 1024 and cfg.threshold_bits == 11
     assert cfg.bin_shift == 0                     # bitlen(4 * 255) = 10 bits fit 1024 bins
-    assert cfg.bin_count_bits == 6                # bitlen(34)
+    assert cfg.bin_count_bits == 7                # bitlen(C + 1) = bitlen(67)
 
 
 @pytest.mark.parametrize("width, height, n", [(128, 128, 33), (25, 10, 1), (83, 3, 0),
@@ -527,3 +527,46 @@ def test_check_move_table_checks_any_table_shaped_like_the_weight_lut():
         check_move_table("q", np.ones((9, 9)), 1, error=OtherError)
     with pytest.raises(OtherError, match=whole("q must be a numeric table, got dict")):
         check_move_table("q", {}, 1, error=OtherError)
+
+
+# ---------------------------------------------------------------------------------------
+# run-time segment length: K_max (docs/gateware.md, "Run-time settings")
+# ---------------------------------------------------------------------------------------
+
+def test_k_max_defaults_to_k_and_is_left_out_of_the_mapping():
+    cfg = DPConfig(segment_frames=6)
+    assert cfg.max_segment_frames is None and cfg.k_max == 6
+    assert "max_segment_frames" not in cfg.to_mapping()
+    wide = DPConfig(segment_frames=6, max_segment_frames=300, energy_bits=17)
+    assert wide.k_max == 300 and wide.to_mapping()["max_segment_frames"] == 300
+    assert DPConfig.from_mapping(wide.to_mapping()) == wide
+
+
+def test_k_max_sizes_what_depends_on_k():
+    cfg = DPConfig(input_bits=8, energy_bits=20, segment_frames=4, max_segment_frames=64)
+    assert cfg.energy_bits_needed == 14                 # bitlen(64 * 255) = 14
+    assert cfg.bin_shift == 4                           # 14 - b (10)
+    assert DPConfig(input_bits=8, energy_bits=20, segment_frames=4).bin_shift == 0
+
+
+def test_k_max_warns_when_b_e_saturates_at_k_max():
+    with pytest.warns(EnergyWidthWarning, match=whole(
+            "energy_bits=12 saturates: K_max=17 full-scale 8-bit pixels sum to 4335 > 4095; "
+            "energy_bits >= 13 never saturates")):
+        DPConfig(input_bits=8, energy_bits=12, segment_frames=4, max_segment_frames=17)
+
+
+K_MAX_BAD = [
+    *[({"max_segment_frames": v}, not_integer("max_segment_frames", "[segment_frames=4, 65535]", v))
+      for v in (3, 0, 65536, 8.0, True, "8")],
+    ({"segment_frames": 9, "max_segment_frames": 8},
+     "max_segment_frames must be an integer in [segment_frames=9, 65535], got 8"),
+]
+
+
+@pytest.mark.parametrize("overrides, message", K_MAX_BAD, ids=[f"{o}" for o, _ in K_MAX_BAD])
+def test_k_max_out_of_range(overrides, message):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        with pytest.raises(ConfigError, match=whole(message)):
+            DPConfig(**overrides)

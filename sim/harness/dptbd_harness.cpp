@@ -22,13 +22,19 @@
 //                       reset C H            hold rst high in cycles C .. C+H-1 (sorted)
 //                       lut I A D            before offering input word I, write code D
 //                                            to LUT entry A (one write per cycle, sorted)
+//                       settings I K N S     from offering input word I on, drive the
+//                                            run-time settings K (segment_frames) and, on
+//                                            dptbd_seg, n (candidate_count), s
+//                                            (histogram_shift); sorted. The ports are 0
+//                                            until the first line applies: give one for 0.
 //                       trace PATH           FST file (DPTBD_TRACE builds only)
 //   JOB_DIR/in.bin    N little-endian uint64 input payloads (pixel | first << B_in)
 // Writes into JOB_DIR:
 //   out.bin           uint64 payload of every output transfer, in order
 //   out_cycles.bin    uint64 cycle of each output transfer
 //   accept_cycles.bin uint64 cycle in which each input word was accepted
-//   result.txt        "key value" lines: status, cycles, accepted, outputs, seconds, ...
+//   result.txt        "key value" lines: status, cycles, accepted, outputs, seconds, the
+//                     counts of the `events` pulses (events_frame_done, ...), ...
 // Cycle 0 is the first simulated cycle; rst is high in cycles 0 and 1 (power-up reset).
 // A transfer is valid & ready sampled before a rising edge at which rst is low: a word
 // on offer while rst is high is not taken, and the source offers it again after reset.
@@ -78,6 +84,7 @@ uint64_t threshold_of(double p) {
 
 struct Reset { uint64_t cycle, hold; };
 struct LutWrite { uint64_t before_word, addr, data; };
+struct Settings { uint64_t before_word, k, n, s; };
 
 struct Job {
     uint64_t words = 0, seed = 1, max_cycles = 0, drain = 64;
@@ -85,6 +92,7 @@ struct Job {
     std::string store_init = "zero", trace;
     std::vector<Reset> resets;
     std::vector<LutWrite> luts;
+    std::vector<Settings> settings;
 };
 
 [[noreturn]] void fail(const std::string& msg) {
@@ -125,6 +133,12 @@ Job read_job(const std::string& path) {
                             &w.addr, &w.data) != 3)
                 fail("lut needs WORD ADDR DATA");
             job.luts.push_back(w);
+        } else if (k == "settings") {
+            Settings w{};
+            if (std::sscanf(rest, "%" SCNu64 " %" SCNu64 " %" SCNu64 " %" SCNu64,
+                            &w.before_word, &w.k, &w.n, &w.s) != 4)
+                fail("settings needs WORD K N S");
+            job.settings.push_back(w);
         } else fail("unknown job key " + k);
     }
     std::fclose(fh);
@@ -195,7 +209,8 @@ int main(int argc, char** argv) {
 
     uint64_t next_word = 0;       // index of the next input word to offer
     bool offering = false;        // valid is high with in[next_word]
-    size_t next_lut = 0, next_reset = 0;
+    size_t next_lut = 0, next_reset = 0, next_settings = 0;
+    uint64_t events_frame = 0, events_segment = 0, events_list = 0, events_saturated = 0;
     uint64_t reset_until = 2;     // power-up reset: cycles 0, 1
     uint64_t idle = 0, cycle = 0, lut_writes = 0, stalled_in = 0, paused_out = 0;
     std::string status = "timeout";
@@ -212,6 +227,15 @@ int main(int argc, char** argv) {
         }
         const bool rst = cycle < reset_until;
         dut->rst = rst;
+        while (next_settings < job.settings.size()
+               && job.settings[next_settings].before_word <= next_word && !offering) {
+            const Settings& w = job.settings[next_settings++];
+            dut->segment_frames = w.k;
+#ifdef DPTBD_DESIGN_SEG
+            dut->candidate_count = w.n;
+            dut->histogram_shift = w.s;
+#endif
+        }
         dut->lut_we = 0;
         const bool lut_due = next_lut < job.luts.size()
                              && job.luts[next_lut].before_word == next_word;
@@ -249,6 +273,13 @@ int main(int argc, char** argv) {
             } else if (offering) {
                 ++stalled_in;
             }
+            // `events` (dptbd.hw.layouts.event_layout): frame_done, segment_done,
+            // list_done, saturated from bit 0 up
+            const uint64_t events = dut->events;
+            events_frame += events & 1;
+            events_segment += (events >> 1) & 1;
+            events_list += (events >> 2) & 1;
+            events_saturated += (events >> 3) & 1;
             if (out_valid && ready) {
                 out.push_back(static_cast<uint64_t>(OUT_PORT(payload)));
                 out_cycles.push_back(cycle);
@@ -297,9 +328,12 @@ int main(int argc, char** argv) {
     if (!fh) fail("cannot write result.txt");
     std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"
                  "lut_writes %" PRIu64 "\nstalled_input_cycles %" PRIu64 "\n"
-                 "paused_output_cycles %" PRIu64 "\nseconds %.9f\n",
+                 "paused_output_cycles %" PRIu64 "\nseconds %.9f\n"
+                 "events_frame_done %" PRIu64 "\nevents_segment_done %" PRIu64 "\n"
+                 "events_list_done %" PRIu64 "\nevents_saturated %" PRIu64 "\n",
                  status.c_str(), cycle, next_word, out.size(), lut_writes, stalled_in,
-                 paused_out, seconds);
+                 paused_out, seconds, events_frame, events_segment, events_list,
+                 events_saturated);
 #ifdef DPTBD_DESIGN_CORE
     std::fprintf(fh, "store_faults %" PRIu64 "\n", store_faults);
 #endif

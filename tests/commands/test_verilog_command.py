@@ -75,8 +75,9 @@ def test_verilog_refuses_unknown_toml_keys_and_bad_values(tmp_path):
     toml = tmp_path / "p.toml"
     toml.write_text("width = 10\nhieght = 8\n")
     allowed = ("['candidate_capacity', 'candidate_count', 'energy_bits', 'height', "
-               "'histogram_bits', 'histogram_shift', 'input_bits', 'radius', 'rounding', "
-               "'segment_frames', 'segment_stride', 'weight_frac_bits', 'weights', 'width']")
+               "'histogram_bits', 'histogram_shift', 'input_bits', 'max_segment_frames', "
+               "'radius', 'rounding', 'segment_frames', 'segment_stride', 'weight_frac_bits', "
+               "'weights', 'width']")
     with pytest.raises(ConfigError, match=rf"^unknown parameter\(s\) \['hieght'\]; "
                                           rf"allowed: {re.escape(allowed)} "
                                           rf"\(from {re.escape(str(toml))}\)$"):

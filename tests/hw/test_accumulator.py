@@ -1,4 +1,5 @@
-"""Saturating accumulator against ``add_saturating``; segment start takes E = x, d = START.
+"""Saturating accumulator against ``add_saturating``; segment start takes E = x, d = START;
+the ``saturated`` flag against ``saturated_sum``.
 
 Glasgow's pattern: ``cases()`` yields the operands, ``ref_accumulator`` is the golden
 model's answer, ``rtl_accumulator`` the gateware's, one per operand.
@@ -10,7 +11,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.accumulator import Accumulator
-from dptbd.model.operators import add_saturating
+from dptbd.model.operators import add_saturating, saturated_sum
 from hw_harness import simulate
 
 
@@ -26,15 +27,17 @@ def cases(cfg):
                int(rng.random() < 0.2))
 
 
-def ref_accumulator(cfg, best, pixel, move, start) -> tuple[int, int]:
-    """(E, d) of the golden model."""
+def ref_accumulator(cfg, best, pixel, move, start) -> tuple[int, int, int]:
+    """(E, d, saturated) of the golden model."""
+    addend = 0 if start else best
+    clipped = int(saturated_sum(addend, pixel, cfg.energy_bits))
     if start:
-        return pixel, cfg.start_code
-    return int(add_saturating(best, pixel, cfg.energy_bits)), move
+        return pixel, cfg.start_code, clipped
+    return int(add_saturating(best, pixel, cfg.energy_bits)), move, clipped
 
 
-def rtl_accumulator(cfg, operands) -> list[tuple[int, int]]:
-    """(E, d) of each operand, one cycle after it is presented."""
+def rtl_accumulator(cfg, operands) -> list[tuple[int, int, int]]:
+    """(E, d, saturated) of each operand, one cycle after it is presented."""
     dut = Accumulator(cfg)
     got = []
 
@@ -45,7 +48,7 @@ def rtl_accumulator(cfg, operands) -> list[tuple[int, int]]:
             ctx.set(dut.move, move)
             ctx.set(dut.segment_start, start)
             await ctx.tick()
-            got.append((ctx.get(dut.energy), ctx.get(dut.direction)))
+            got.append((ctx.get(dut.energy), ctx.get(dut.direction), ctx.get(dut.saturated)))
 
     simulate(dut, bench)
     return got
@@ -55,4 +58,6 @@ def rtl_accumulator(cfg, operands) -> list[tuple[int, int]]:
 def test_matches_add_saturating(input_bits, energy_bits):
     cfg = DPConfig(input_bits=input_bits, energy_bits=energy_bits, segment_frames=1)
     operands = list(cases(cfg))
-    assert rtl_accumulator(cfg, operands) == [ref_accumulator(cfg, *op) for op in operands]
+    want = [ref_accumulator(cfg, *op) for op in operands]
+    assert rtl_accumulator(cfg, operands) == want
+    assert any(w[2] for w in want) and not all(w[2] for w in want)

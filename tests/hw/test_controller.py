@@ -8,22 +8,29 @@ from dptbd.hw.controller import Controller
 from hw_harness import simulate
 
 
-def reference_positions(cfg, firsts):
-    """Expected (read_addr, resync, row, col, flags…) for each accepted pixel."""
+def reference_positions(cfg, firsts, ks=None):
+    """Expected (read_addr, resync, segment_begin, row, col, flags…) for each accepted pixel;
+    ``ks[i]`` is the run-time K on the port when pixel i is accepted (sampled at a segment's
+    first pixel, clamped to [1, K_max])."""
     width, height, k = cfg.width, cfg.height, cfg.segment_frames
+    ks = [cfg.segment_frames] * len(firsts) if ks is None else ks
     pixels = width * height
     ahead = cfg.radius * (width + 1)
     position, frame = 0, 0
     out = []
-    for first in firsts:
+    for first, k_port in zip(firsts, ks):
         resync = bool(first) and position != 0
         if resync:
             position, frame = 0, 0
+        begins = position == 0 and frame == 0
+        if begins:
+            k = min(max(k_port, 1), cfg.k_max)
         row, col = divmod(position, width)
         eol = col == width - 1
         eof = eol and row == height - 1
         out.append({
             "read_addr": (position + ahead) % pixels, "resync": int(resync),
+            "segment_begin": int(begins),
             "row": row, "col": col, "start_of_frame": int(position == 0),
             "segment_start": int(frame == 0), "end_of_line": int(eol),
             "end_of_frame": int(eof), "end_of_segment": int(eof and frame == k - 1),
@@ -34,10 +41,11 @@ def reference_positions(cfg, firsts):
     return out
 
 
-def run_controller(cfg, firsts, seed=0):
+def run_controller(cfg, firsts, seed=0, ks=None):
     dut = Controller(cfg)
     rng = random.Random(seed)
     got = []
+    ks = [cfg.segment_frames] * len(firsts) if ks is None else ks
 
     async def bench(ctx):
         pending = None
@@ -46,6 +54,8 @@ def run_controller(cfg, firsts, seed=0):
             accept = index < len(firsts) and rng.random() < 0.7
             ctx.set(dut.accept, accept)
             ctx.set(dut.first, firsts[index] if accept else rng.random() < 0.5)
+            ctx.set(dut.segment_frames, ks[index] if accept else rng.randrange(1 << len(
+                dut.segment_frames)))
             if pending is not None:
                 assert ctx.get(dut.valid) == 1
                 position = ctx.get(dut.position)
@@ -57,8 +67,11 @@ def run_controller(cfg, firsts, seed=0):
             else:
                 assert ctx.get(dut.valid) == 0
             if accept:
-                pending = {"read_addr": ctx.get(dut.read_addr), "resync": ctx.get(dut.resync)}
+                pending = {"read_addr": ctx.get(dut.read_addr), "resync": ctx.get(dut.resync),
+                           "segment_begin": ctx.get(dut.segment_begin)}
                 index += 1
+            else:
+                assert ctx.get(dut.segment_begin) == 0
             await ctx.tick()
 
     simulate(dut, bench)
@@ -96,3 +109,31 @@ def test_single_frame_segments():
     assert got == reference_positions(cfg, firsts)
     assert all(g["segment_start"] for g in got)
     assert sum(g["end_of_segment"] for g in got) == 3
+
+
+def test_run_time_k_is_sampled_at_each_segment_start():
+    """K changes between and inside segments: each segment uses the K on the port at its
+    first pixel; mid-segment writes wait for the next segment start."""
+    cfg = DPConfig(width=3, height=3, segment_frames=2, max_segment_frames=5)
+    ks_per_segment = [3, 1, 5, 2, 4]
+    firsts, ks = [], []
+    for k in ks_per_segment:
+        for f in range(k):
+            firsts += [i == 0 for i in range(9)]
+            ks += [k] * 9 if f == 0 else [random.Random(f).randint(1, 5)] * 9   # ignored
+        ks[-9 * k] = k
+    got = run_controller(cfg, firsts, seed=4, ks=ks)
+    assert got == reference_positions(cfg, firsts, ks)
+    assert [n for n, g in enumerate(got) if g["end_of_segment"]] == \
+        [9 * sum(ks_per_segment[:j + 1]) - 1 for j in range(len(ks_per_segment))]
+    assert sum(g["segment_begin"] for g in got) == len(ks_per_segment)
+
+
+def test_run_time_k_out_of_range_is_clamped():
+    """K = 0 counts as 1 and K above K_max as K_max (the register block never writes them)."""
+    cfg = DPConfig(width=3, height=3, segment_frames=1, max_segment_frames=2)
+    ks = [0] * 9 + [3] * 18 + [2] * 18            # K port: 0, then 3 (> K_max = 2)
+    firsts = [i % 9 == 0 for i in range(len(ks))]
+    got = run_controller(cfg, firsts, seed=5, ks=ks)
+    assert got == reference_positions(cfg, firsts, ks)
+    assert [n for n, g in enumerate(got) if g["end_of_segment"]] == [8, 26, 44]

@@ -55,8 +55,9 @@ def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2):
 
 @pytest.mark.parametrize("gaps", [0.0, 0.4])
 def test_counts_saturate_and_scan_clears(gaps):
-    cfg = make_config(width=16, height=16, histogram_bits=4, candidate_count=5)
-    assert cfg.bin_count_bits == 3                    # saturates at 7 >= n + 1 = 6
+    cfg = make_config(width=16, height=16, histogram_bits=4, candidate_count=5,
+                      candidate_capacity=5)
+    assert cfg.bin_count_bits == 3                    # saturates at 7 >= C + 1 = 6
     rng = np.random.default_rng(1)
     # runs of one bin back to back (read-during-write), a bin far above saturation, bin 0
     bins = np.concatenate([np.full(5, 3), rng.integers(0, 16, 60), np.full(20, 9),

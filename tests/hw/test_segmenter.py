@@ -71,8 +71,9 @@ def test_random_streams_match_model(name):
     assert all(lst.primed and lst.aligned and not lst.missed for lst in lists[1:])
     if name == "k3-n4-narrow-E":      # a one-segment-stale threshold overshoots n …
         assert any(lst.count > cfg.n_candidates for lst in lists)
-        # … and the counters saturate (3 bits for n = 4: at 7) without changing T
-        assert cfg.bin_count_bits == 3 and lists[1].histogram[0] == 7
+        # … and the counters saturate (bitlen(C + 1) = 4 bits for C = 8: at 15) without
+        # changing T
+        assert cfg.bin_count_bits == 4 and lists[1].histogram[0] == 15
     if name == "k2-n6-cap6-shift2":
         assert any(lst.overflow for lst in lists) and max(lst.count for lst in lists) == 6
     if name == "k2-e12-clamped-top-bin":

@@ -86,6 +86,8 @@ def test_top_level_port_names(generated):
         "states__payload": ("output", 12 + 4 + 3), "states__valid": ("output", 1),
         "states__ready": ("input", 1),
         "lut_addr": ("input", 7), "lut_data": ("input", 9), "lut_we": ("input", 1),
+        "segment_frames": ("input", 2), "segment_begin": ("output", 1),
+        "events": ("output", 4),
     }
     core = declared_ports(generated["core"][0].read_text())
     assert core["state_store__read_addr"] == ("output", 5)
@@ -173,7 +175,9 @@ module tb;
   reg pixels__valid = 0, states__ready = 0, lut_we = 0;
   reg [{aw}-1:0] lut_addr = 0;
   reg [{dw}-1:0] lut_data = 0;
-  wire pixels__ready, states__valid;
+  reg [{kw}-1:0] segment_frames = {k};
+  wire pixels__ready, states__valid, segment_begin;
+  wire [3:0] events;
   wire [{sw}-1:0] states__payload;
   dptbd_dp dut (.*);
   reg [{pw}-1:0] pixels [0:{n}-1];
@@ -221,7 +225,8 @@ def test_icarus_simulation_matches_golden_model(generated, name, tmp_path):
     widths = {p["name"]: p["width"] for p in info["ports"]}
     (tmp_path / "tb.v").write_text(TESTBENCH.format(
         pw=widths["pixels__payload"], sw=widths["states__payload"], aw=widths["lut_addr"],
-        dw=widths["lut_data"], n=len(stream), hexfile=tmp_path / "pixels.hex",
+        dw=widths["lut_data"], kw=widths["segment_frames"], k=cfg.segment_frames,
+        n=len(stream), hexfile=tmp_path / "pixels.hex",
         outfile=tmp_path / "states.txt", timeout=10 * 20 * len(stream)))
     compile_ = subprocess.run(["iverilog", "-g2012", "-o", str(tmp_path / "tb.vvp"),
                                str(tmp_path / "tb.v"), str(path)], capture_output=True, text=True)

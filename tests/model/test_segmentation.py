@@ -115,11 +115,12 @@ def test_threshold_bin_matches_brute_force_despite_saturation(n, seed):
 
 
 def test_saturation_happens_and_is_harmless():
-    cfg = seg_config(width=8, height=8, candidate_count=2, histogram_bits=3, histogram_shift=0)
+    cfg = seg_config(width=8, height=8, candidate_count=2, candidate_capacity=2,
+                     histogram_bits=3, histogram_shift=0)
     energy = np.zeros((8, 8), int)
     energy[0, :3] = 7
     hist = histogram_fixed(energy, cfg)
-    assert cfg.bin_count_bits == 2 and hist[0] == 3           # 61 pixels saturate at 3
+    assert cfg.bin_count_bits == 2 and hist[0] == 3           # 61 pixels saturate at 3 (C = 2)
     assert threshold_bin(hist, cfg) == brute_threshold(np.bincount(energy.ravel(), minlength=8), 2)
     assert threshold_bin(hist, cfg) == 8                       # the top bin's 3 > n = 2
 
