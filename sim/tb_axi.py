@@ -153,13 +153,7 @@ async def run_stream(dut):
     bench = AxiBench(dut, job, cfg)
     await bench.start()
 
-    lut_changes, start = {}, 0
-    for step in steps:
-        if step.get("lut_codes") is not None:
-            lut_changes[start] = step["lut_codes"]
-        start = step["stop"]
-    expect = expected_stream(cfg, beats.pixel, beats.first, lut_changes)
-    lists = stream_lists(cfg, expect.fields)
+    lists, runs = expected_lists(cfg, beats, steps)
     board = CandidateScoreboard(cfg, lists)
     finished = Event()
     if board.total == 0:
@@ -185,9 +179,13 @@ async def run_stream(dut):
     start = 0
     for index, step in enumerate(steps):
         await bench.source.wait()
-        if step.get("check"):
+        if step.get("check") or step.get("soft_reset"):
             await bench.settle(settle)
+        if step.get("check"):
             await bench.check(step["check"], f"before step {index}")
+        if step.get("soft_reset"):
+            await bench.write(bench.regs.REG_CONTROL, bench.regs.CONTROL_SOFT_RESET_MASK, OKAY,
+                              "CONTROL")
         for name, value in step.get("writes", []):
             await bench.write_register(name, int(value))
         if step.get("lut_codes") is not None:
@@ -225,9 +223,9 @@ async def run_stream(dut):
         "accepted": len(bench.accept_cycles),
         "lists": len(lists),
         "counts": [lst.count for lst in lists],
-        "frames_complete": sum(run.complete for run in expect.runs),
+        "frames_complete": sum(run.complete for run in runs),
         "segments_complete": sum(run.complete and run.frame == cfg.segment_frames - 1
-                                 for run in expect.runs),
+                                 for run in runs),
         "counters": counters,
         "irq_edges": bench.irq_edges,
         "accept_cycles": bench.accept_cycles,
@@ -239,6 +237,30 @@ async def run_stream(dut):
         with open(job["summary"], "w") as fh:
             json.dump(summary, fh, indent=2)
     assert summary["verdict"] == "bit-exact", summary["report"]
+
+
+def expected_lists(cfg, beats: Beats, steps: list[dict]):
+    """The lists the model makes of the stream, and its frame runs: the stream is cut into
+    pieces at every ``soft_reset`` step (each piece starts from reset), and a step's
+    ``lut_codes`` apply from its first beat on."""
+    lists, runs, lo, lut_changes, start = [], [], 0, {}, 0
+    cuts = []
+    for step in steps:
+        if step.get("soft_reset") and start > lo:
+            cuts.append((lo, start, lut_changes))
+            # the LUT is a memory: a soft reset keeps the codes last written
+            lut_changes = {start: lut_changes[max(lut_changes)]} if lut_changes else {}
+            lo = start
+        if step.get("lut_codes") is not None:
+            lut_changes[start] = step["lut_codes"]
+        start = step["stop"]
+    cuts.append((lo, start, lut_changes))
+    for a, b, changes in cuts:
+        expect = expected_stream(cfg, beats.pixel[a:b], beats.first[a:b],
+                                 {i - a: codes for i, codes in changes.items()})
+        lists += stream_lists(cfg, expect.fields)
+        runs += expect.runs
+    return lists, runs
 
 
 def bench_settle(job: dict, cfg) -> int:
