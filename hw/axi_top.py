@@ -144,12 +144,10 @@ class AXITop(wiring.Component):
         m.d.comb += [core.lut_addr.eq(regs.lut_addr), core.lut_data.eq(regs.lut_data),
                      core.lut_we.eq(regs.lut_we)]
         for name in ("segment_frames", "candidate_count", "histogram_shift"):
-            if name in core.signature.members:          # the issue-12 core's run-time ports
-                m.d.comb += getattr(core, name).eq(getattr(regs, name))
+            m.d.comb += getattr(core, name).eq(getattr(regs, name))
         # events
-        if "events" in core.signature.members:
-            for name in CORE_EVENTS:
-                m.d.comb += regs.events[name].eq(core.events[name])
+        for name in CORE_EVENTS:
+            m.d.comb += regs.events[name].eq(core.events[name])
         for name in FAULTS:
             m.d.comb += regs.events[name].eq(monitor.faults[name])
         m.d.comb += [

@@ -263,7 +263,7 @@ def register_map(cfg: DPConfig) -> RegisterMap:
     Identification registers from 0x000, control from 0x040, status from 0x080, the weight
     LUT window from 0x400 (entry ``cfg.lut_address(p, m)`` at ``0x400 + 4 * address``).
     """
-    k_max = getattr(cfg, "k_max", cfg.segment_frames)   # DPConfig.k_max (issue 12 core)
+    k_max = cfg.k_max
     registers = []
     for base, group in ((0x000, _identification(cfg, k_max)), (0x040, _control(cfg, k_max)),
                         (0x080, _status(cfg))):

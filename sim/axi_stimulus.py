@@ -13,12 +13,19 @@ import dataclasses
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.hw.register_map import FAULTS
+from dptbd.hw.register_map import FAULTS, register_map
+from dptbd.sim.candidate_scoreboard import stream_lists
+from dptbd.sim.stream_model import expected_stream
 
-__all__ = ["FAULT_KINDS", "Beats", "clean_beats", "with_fault", "fault_pulses", "fault_counts"]
+__all__ = ["FAULT_KINDS", "SETTINGS", "Beats", "clean_beats", "with_fault", "fault_pulses",
+           "fault_counts", "Piece", "stream_pieces", "expected_lists"]
 
 #: What :func:`with_fault` can inject, each raising exactly one pulse of its class.
 FAULT_KINDS = FAULTS
+
+#: Setting registers -> the DPConfig field the model takes them as.
+SETTINGS = {"SEGMENT_FRAMES": "segment_frames", "CANDIDATE_COUNT": "candidate_count",
+            "HISTOGRAM_SHIFT": "histogram_shift"}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -114,3 +121,60 @@ def fault_counts(cfg: DPConfig, beats: Beats) -> dict[str, int]:
     """Total pulses per fault class of a stream (what the FAULT_* counters must read)."""
     pulses = fault_pulses(cfg, beats.first, beats.last)
     return {k: sum(p[k] for p in pulses) for k in FAULTS}
+
+
+@dataclasses.dataclass(frozen=True)
+class Piece:
+    """Beats ``[start, stop)`` that the core processes from reset with one set of settings
+    (``cfg``) and LUT writes at ``lut_changes`` (absolute beat index -> codes)."""
+
+    start: int
+    stop: int
+    cfg: DPConfig
+    lut_changes: dict
+
+
+def stream_pieces(cfg: DPConfig, steps: list[dict]) -> list[Piece]:
+    """Cut a bench's steps (:mod:`dptbd.sim.tb_axi`) into pieces at every ``soft_reset``.
+
+    A step's valid writes to a setting register (``SEGMENT_FRAMES``, ``CANDIDATE_COUNT``,
+    ``HISTOGRAM_SHIFT``; refused values are ignored as the gateware ignores them) change the
+    model's configuration. The golden model here takes one configuration per piece, so a
+    setting may change only before a piece's first beat (the stream's start or a
+    ``soft_reset`` step); elsewhere ``ValueError``. The LUT is a memory: it keeps its codes
+    across a soft reset.
+    """
+    limits = {name: (getattr(f, "limits")) for name in SETTINGS
+              for f in register_map(cfg)[name].fields}
+    pieces, lo, start, current, changes, lut = [], 0, 0, cfg, {}, None
+    for index, step in enumerate(steps):
+        if step.get("soft_reset") and start > lo:
+            pieces.append(Piece(lo, start, current, changes))
+            lo, changes = start, ({start: lut} if lut is not None else {})
+        for name, value in step.get("writes", []):
+            if name in SETTINGS and limits[name][0] <= value <= limits[name][1]:
+                if start > lo:
+                    raise ValueError(f"step {index}: {name} changes after beat {lo} of a "
+                                     f"piece; the model takes settings per piece (write them "
+                                     f"before the first beat or with a soft_reset step)")
+                current = current.replace(**{SETTINGS[name]: int(value)})
+        if step.get("lut_codes") is not None:
+            lut = step["lut_codes"]
+            changes[start] = lut
+        start = step["stop"]
+    pieces.append(Piece(lo, start, current, changes))
+    return pieces
+
+
+def expected_lists(cfg: DPConfig, beats: Beats, steps: list[dict]):
+    """The candidate lists the golden model makes of the whole stream, and its frame runs:
+    :func:`~dptbd.sim.stream_model.expected_stream` and
+    :func:`~dptbd.sim.candidate_scoreboard.stream_lists` per :func:`stream_pieces` piece."""
+    lists, runs = [], []
+    for piece in stream_pieces(cfg, steps):
+        a, b = piece.start, piece.stop
+        expect = expected_stream(piece.cfg, beats.pixel[a:b], beats.first[a:b],
+                                 {i - a: codes for i, codes in piece.lut_changes.items()})
+        lists += stream_lists(piece.cfg, expect.fields)
+        runs += [(run, piece.cfg.segment_frames) for run in expect.runs]
+    return lists, runs

@@ -17,9 +17,10 @@ for each step the bench
    AXI-Stream frame: ``tlast`` where the beats have ``last``; ``tuser`` = ``first``).
 
 ``m_axis_cand`` goes to ``AxiStreamSink``; every word is scored in order against
-:func:`dptbd.sim.candidate_scoreboard.stream_lists` of
-:func:`dptbd.sim.stream_model.expected_stream` for the whole accepted stream (LUT changes at
-their beat), and ``tuser[0]`` / ``tlast`` are checked on every word. Both streams take the
+:func:`dptbd.sim.axi_stimulus.expected_lists` (the golden model of the accepted stream, from
+reset and after every soft reset, with the settings written and LUT changes at their beat),
+and ``tuser[0]`` / ``tlast`` are checked on every word. A step with ``soft_reset`` writes
+``CONTROL.soft_reset`` after the earlier beats have drained. Both streams take the
 job's ``valid_pause`` / ``ready_pause`` (:func:`dptbd.sim.components.pause_generator`). At
 the end the ``final_check`` registers are read. The summary lists the cycles at which
 ``irq`` rose and fell and the cycle each beat was accepted.
@@ -39,13 +40,17 @@ from cocotbext.axi import (AxiLiteBus, AxiLiteMaster, AxiStreamBus, AxiStreamFra
 
 from dptbd.hw.candidate_layout import unpack_candidate
 from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.sim.axi_stimulus import Beats
-from dptbd.sim.candidate_scoreboard import CandidateScoreboard, stream_lists
+from dptbd.sim.axi_stimulus import Beats, expected_lists
+from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.components import Cycles, pause_generator, pause_probability
-from dptbd.sim.stream_model import expected_stream
 from dptbd.sim.tb_dp import PERIOD_NS, load_job
 
 OKAY, SLVERR = 0, 2
+
+
+def high(handle) -> bool:
+    value = handle.value
+    return value.is_resolvable and bool(int(value))
 
 
 def line_frames(beats: Beats, start: int, stop: int) -> list[AxiStreamFrame]:
@@ -70,6 +75,7 @@ class AxiBench:
         self.problems: list[str] = []
         self.irq_edges: list[tuple[int, int]] = []
         self.accept_cycles: list[int] = []
+        self.stalls = {"input": 0, "output": 0}      # seen on the buses, after reset
         self.cycles = Cycles(1)
         clk, rst = dut.aclk, dut.aresetn
         self.source = AxiStreamSource(AxiStreamBus.from_prefix(dut, "s_axis_video"), clk, rst,
@@ -98,9 +104,13 @@ class AxiBench:
         while True:
             await edge
             now = self.cycles.now()
-            if dut.s_axis_video_tvalid.value.is_resolvable and int(dut.s_axis_video_tvalid.value) \
-                    and int(dut.s_axis_video_tready.value):
-                self.accept_cycles.append(now)
+            if high(dut.s_axis_video_tvalid):
+                if high(dut.s_axis_video_tready):
+                    self.accept_cycles.append(now)
+                else:
+                    self.stalls["input"] += 1
+            if high(dut.m_axis_cand_tvalid) and not high(dut.m_axis_cand_tready):
+                self.stalls["output"] += 1
             level = int(dut.irq.value) if dut.irq.value.is_resolvable else 0
             if level != irq:
                 self.irq_edges.append((now, level))
@@ -223,10 +233,10 @@ async def run_stream(dut):
         "accepted": len(bench.accept_cycles),
         "lists": len(lists),
         "counts": [lst.count for lst in lists],
-        "frames_complete": sum(run.complete for run in runs),
-        "segments_complete": sum(run.complete and run.frame == cfg.segment_frames - 1
-                                 for run in runs),
+        "frames_complete": sum(run.complete for run, _k in runs),
+        "segments_complete": sum(run.complete and run.frame == k - 1 for run, k in runs),
         "counters": counters,
+        "stalls_seen": bench.stalls,
         "irq_edges": bench.irq_edges,
         "accept_cycles": bench.accept_cycles,
         "wall_seconds": time.perf_counter() - wall_start,
@@ -237,30 +247,6 @@ async def run_stream(dut):
         with open(job["summary"], "w") as fh:
             json.dump(summary, fh, indent=2)
     assert summary["verdict"] == "bit-exact", summary["report"]
-
-
-def expected_lists(cfg, beats: Beats, steps: list[dict]):
-    """The lists the model makes of the stream, and its frame runs: the stream is cut into
-    pieces at every ``soft_reset`` step (each piece starts from reset), and a step's
-    ``lut_codes`` apply from its first beat on."""
-    lists, runs, lo, lut_changes, start = [], [], 0, {}, 0
-    cuts = []
-    for step in steps:
-        if step.get("soft_reset") and start > lo:
-            cuts.append((lo, start, lut_changes))
-            # the LUT is a memory: a soft reset keeps the codes last written
-            lut_changes = {start: lut_changes[max(lut_changes)]} if lut_changes else {}
-            lo = start
-        if step.get("lut_codes") is not None:
-            lut_changes[start] = step["lut_codes"]
-        start = step["stop"]
-    cuts.append((lo, start, lut_changes))
-    for a, b, changes in cuts:
-        expect = expected_stream(cfg, beats.pixel[a:b], beats.first[a:b],
-                                 {i - a: codes for i, codes in changes.items()})
-        lists += stream_lists(cfg, expect.fields)
-        runs += expect.runs
-    return lists, runs
 
 
 def bench_settle(job: dict, cfg) -> int:
