@@ -53,3 +53,11 @@ def test_ranges_follow_the_configuration():
 def test_unknown_register_is_named():
     with pytest.raises(KeyError, match=r"^\"no register 'NOPE'; the map has \['ID', "):
         register_map(make_config())["NOPE"]
+
+
+def test_segment_length_range_is_k_max():
+    cfg = make_config(width=16, height=16, segment_frames=3, max_segment_frames=9)
+    regmap = register_map(cfg)
+    assert regmap["SEGMENT_FRAMES"].fields[0].limits == (1, 9)
+    assert regmap["SEGMENT_FRAMES"].reset == 3
+    assert regmap["BUILD_SEGMENT"].reset == 9 | 3 << 16

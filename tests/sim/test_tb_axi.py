@@ -5,55 +5,36 @@ segments, a LUT rewritten mid-run, every frame-sync fault injected, refused writ
 interrupt timing.
 
 Builds go to ``build/sim/<config>-axi/`` (cached). ``pytest -m slow`` adds a larger pause
-matrix.
+matrix and one run per fault class.
 """
 
 from __future__ import annotations
 
-import pathlib
 import shutil
-import warnings
 
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS
 from dptbd.sim.axi_stimulus import clean_beats, expected_lists, fault_counts, with_fault
 from dptbd.sim.candidate_scoreboard import list_words
-from dptbd.sim.runner import build, simulate
+from dptbd.sim.runner import simulate
 from dptbd.sim.scenarios import make_frames
+from cocotb_harness import CYCLE, assert_passed, built, make_config, random_pause
 
 pytestmark = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
-
-BUILD_ROOT = pathlib.Path(__file__).resolve().parents[2] / "build" / "sim"
-RANDOM = lambda p, seed: {"kind": "random", "probability": p, "seed": seed}  # noqa: E731
-CYCLE = {"kind": "pattern", "pattern": [1, 1, 1, 0]}          # verilog-axis's cycle_pause
+RANDOM = random_pause
 
 # 16 x 16, K = 2 (K_max = 4), n = 5, C = 8, 32 bins
 SCENE_CFG = dict(width=16, height=16, segment_frames=2, max_segment_frames=4, candidate_count=5,
                  candidate_capacity=8, histogram_bits=5, histogram_shift=2)
 
-_BUILDS: dict = {}
-
-
-def make_config(**kw) -> DPConfig:
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EnergyWidthWarning)
-        return DPConfig(**kw)
-
-
-def built(cfg):
-    if cfg not in _BUILDS:
-        _BUILDS[cfg] = build(cfg, BUILD_ROOT, design="axi")
-    return _BUILDS[cfg]
-
 
 def run(cfg, frames, beats, steps, name, **options):
-    result = simulate(built(cfg), frames, testcase="run_stream", run_name=name,
+    result = simulate(built(cfg, "axi"), frames, testcase="run_stream", run_name=name,
                       beats=beats.to_json(), steps=steps, **options)
-    assert result.passed, f"{result.report}\n--- {result.log} (tail) ---\n{result.log_tail()}"
+    assert_passed(result)
     return result.summary
 
 
@@ -180,7 +161,7 @@ def test_segment_interrupt_timing_and_mask():
     s = run(cfg, frames, beats, steps, "axi-irq")
     rises = [cycle for cycle, level in s["irq_edges"] if level]
     assert len(rises) == 1                                   # masked during segment 1
-    sim = built(cfg)
+    sim = built(cfg, "axi")
     last_of_segment_2 = s["accept_cycles"][len(beats) - 1]
     # segment_done leaves the DP L cycles after its last pixel; the pending bit the next cycle
     assert rises[0] == last_of_segment_2 + sim.manifest["dp_latency"] + 1
