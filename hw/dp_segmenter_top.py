@@ -139,6 +139,7 @@ def segmenter_manifest(cfg: DPConfig, top: DPSegmenter) -> dict:
             "direction_bits": cfg.direction_bits,
             "e_max": cfg.e_max,
             "n_candidates": cfg.n_candidates,
+            "k_max": cfg.k_max,
             "record_capacity": cfg.record_capacity,
             "n_bins": cfg.n_bins,
             "bin_shift": cfg.bin_shift,

@@ -2,8 +2,9 @@
 §6.2), one increment per clock, and a read-and-clear scan from the top bin down (§6.3).
 
 The counters are ``bin_count_bits`` = bitlen(C + 1) wide and saturate at all ones, which is
-at least C + 1 >= n + 1 for every run-time n: the threshold scan only tells cumulative counts <= n from > n, so saturation
-never changes the threshold (and the memory stays one iCE40 block RAM wide for any n < 2**16).
+at least C + 1 >= n + 1 for every run-time n: the threshold scan only tells cumulative
+counts <= n from > n, so saturation never changes the threshold (and the memory stays one
+iCE40 block RAM wide for any C < 2**16).
 """
 
 from __future__ import annotations

@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 
 import numba
@@ -55,10 +56,10 @@ import numpy as np
 from numba import njit
 from numba.extending import overload
 
-from dptbd.config import DPConfig
+from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.model import fixed
 from dptbd.model.operators import check_pixels
-from dptbd.model.segments import SegmentOutput, check_sequence
+from dptbd.model.segments import SegmentOutput, check_sequence, segment_spans
 
 __all__ = ["fast_segment_start", "fast_dp_step", "run_fixed_fast", "kernel_path"]
 
@@ -608,15 +609,46 @@ def fast_dp_step(energy: np.ndarray, direction: np.ndarray, pixels: np.ndarray,
     return out_e, out_d
 
 
-def run_fixed_fast(frames: np.ndarray, cfg: DPConfig, *, threads: int | None = None
-                   ) -> SegmentOutput:
+def _run_schedule(arr: np.ndarray, cfg: DPConfig, schedule, threads) -> SegmentOutput:
+    """A run-time schedule: each run of consecutive segments of one K is one kernel call on
+    its frames (a configuration with that K)."""
+    spans = segment_spans(cfg, arr.shape[-3], schedule)
+    runs: list[tuple[int, int, int]] = []          # (first frame, K, segments)
+    for first, k in spans:
+        if runs and runs[-1][1] == k and runs[-1][0] + runs[-1][1] * runs[-1][2] == first:
+            runs[-1] = (runs[-1][0], k, runs[-1][2] + 1)
+        else:
+            runs.append((first, k, 1))
+    parts = []
+    for first, k, count in runs:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", EnergyWidthWarning)   # warned for cfg already
+            cfg_k = cfg.replace(segment_frames=k)
+        parts.append(run_fixed_fast(arr[..., first:first + k * count, :, :], cfg_k,
+                                    threads=threads))
+    lead = arr.shape[:-3]
+    empty = np.zeros(lead + (0, cfg.height, cfg.width))
+    energy = np.concatenate([p.energy for p in parts], axis=-3) if parts else \
+        empty.astype(ENERGY_DTYPE)
+    direction = np.concatenate([p.direction for p in parts], axis=-3) if parts else \
+        empty.astype(DIRECTION_DTYPE)
+    ends = np.array([first + k - 1 for first, k in spans], dtype=np.int64)
+    return SegmentOutput(energy, direction, ends)
+
+
+def run_fixed_fast(frames: np.ndarray, cfg: DPConfig, *, threads: int | None = None,
+                   schedule=None) -> SegmentOutput:
     """Same as :func:`dptbd.model.fixed.run_fixed`: accumulate ``(..., T, H, W)`` per segment.
 
     Bit-exact with the reference and raises the same errors for the same bad input.
     ``threads``: worker threads over the independent (trial, segment) pairs; default
-    ``numba.get_num_threads()``. The result does not depend on it.
+    ``numba.get_num_threads()``. The result does not depend on it. ``schedule``: run-time
+    settings per segment, as for the reference (each run of one K is one kernel call).
     """
-    arr = check_sequence(frames, cfg)
+    arr = check_sequence(frames, cfg, schedule)
+    if schedule is not None:
+        check_pixels(arr, cfg.input_bits)
+        return _run_schedule(arr, cfg, schedule, threads)
     # uint8/uint16 pixels are range-checked by the kernel as it reads them (an OR of all of
     # them); any other dtype is checked here, before the lossless cast to uint16
     fused_check = arr.dtype in (np.uint8, np.uint16)

@@ -10,7 +10,9 @@ The second half is the bit-exact model of the gateware segmenter (``dptbd.hw.seg
 §6.1 - §6.5): a histogram of ``min(E >> s, 2**b - 1)`` with saturating counters, the
 threshold bin taken from the *previous* segment's histogram, at most C records per segment
 in raster order and a trailer (:func:`segment_fixed`, :func:`segment_sequence` for whole
-images, :func:`segment_stream` for any ``states`` stream).
+images, :func:`segment_stream` for any ``states`` stream). Each takes the gateware's run-time
+settings (:mod:`dptbd.model.settings`): segment j's s bins its scored frame, its n thresholds
+its histogram for list j + 1.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.errors import check_int, check_real
+from dptbd.model.settings import Schedule, check_schedule, settings_of_segment
 
 __all__ = ["candidate_dtype", "count_for_rate", "threshold_level", "candidate_mask", "candidates",
            "TRAILER_FIELDS", "CandidateList", "histogram_bins", "histogram_fixed",
@@ -142,36 +145,38 @@ class CandidateList:
         return {name: int(getattr(self, name)) for name in TRAILER_FIELDS}
 
 
-def histogram_bins(energy: np.ndarray, cfg: DPConfig) -> np.ndarray:
-    """The histogram bin of each E: ``min(E >> s, 2**b - 1)`` (``int64``), §6.2."""
+def histogram_bins(energy: np.ndarray, cfg: DPConfig, shift: int | None = None) -> np.ndarray:
+    """The histogram bin of each E: ``min(E >> s, 2**b - 1)`` (``int64``), §6.2; ``shift``
+    is a run-time s (default: the build value ``cfg.bin_shift``)."""
     e = np.asarray(energy).astype(np.int64)
     if e.size and (e.min() < 0 or e.max() > cfg.e_max):
         raise ValueError(f"energy must be in [0, E_max = {cfg.e_max}]")
-    return np.minimum(e >> cfg.bin_shift, cfg.n_bins - 1)
+    return np.minimum(e >> (cfg.bin_shift if shift is None else shift), cfg.n_bins - 1)
 
 
-def histogram_fixed(energy: np.ndarray, cfg: DPConfig) -> np.ndarray:
+def histogram_fixed(energy: np.ndarray, cfg: DPConfig, shift: int | None = None) -> np.ndarray:
     """Saturating bin counts of one accumulated image, ``(2**b,)`` ``int64``, §6.2.
 
     Each counter is ``bin_count_bits`` = bitlen(C + 1) wide and saturates at
-    ``2**bin_count_bits - 1`` (>= C + 1 >= n + 1).
+    ``2**bin_count_bits - 1`` (>= C + 1 >= n + 1). ``shift``: as :func:`histogram_bins`.
     """
-    counts = np.bincount(histogram_bins(energy, cfg).ravel(), minlength=cfg.n_bins)
+    counts = np.bincount(histogram_bins(energy, cfg, shift).ravel(), minlength=cfg.n_bins)
     return np.minimum(counts, (1 << cfg.bin_count_bits) - 1).astype(np.int64)
 
 
-def threshold_bin(histogram: np.ndarray, cfg: DPConfig) -> int:
+def threshold_bin(histogram: np.ndarray, cfg: DPConfig, count: int | None = None) -> int:
     """The threshold bin T of a histogram: the scan of §6.3, bin 2**b - 1 down to 0.
 
     ``cum`` starts at 0 and becomes ``min(cum + h[a], n + 1)`` at bin a; T is the last
     (smallest) a with ``cum <= n``, or ``2**b`` if already the top bin has cum > n. This is
     the smallest T with ``sum(h[T:]) <= n``: at most n pixels of the histogram's image
     have a bin >= T, and every pixel of the bin T - 1 is excluded (ties are never broken).
+    ``count`` is a run-time n (default: the build value ``cfg.n_candidates``).
     """
     h = np.asarray(histogram, dtype=np.int64)
     if h.shape != (cfg.n_bins,):
         raise ValueError(f"histogram must have {cfg.n_bins} bins, got shape {h.shape}")
-    n = cfg.n_candidates
+    n = cfg.n_candidates if count is None else count
     cum = 0
     threshold = cfg.n_bins
     for a in range(cfg.n_bins - 1, -1, -1):
@@ -183,7 +188,8 @@ def threshold_bin(histogram: np.ndarray, cfg: DPConfig) -> int:
 
 
 def segment_fixed(energy: np.ndarray, direction: np.ndarray, cfg: DPConfig,
-                  prev_hist: np.ndarray | None = None) -> CandidateList:
+                  prev_hist: np.ndarray | None = None, *, shift: int | None = None,
+                  prev_count: int | None = None) -> CandidateList:
     """The segmenter's list for ONE accumulated image (§6.4), bit for bit.
 
     Parameters
@@ -194,6 +200,11 @@ def segment_fixed(energy: np.ndarray, direction: np.ndarray, cfg: DPConfig,
         The previous list's :attr:`CandidateList.histogram` (the threshold comes from the
         *previous* segment, §6.1); ``None`` for the first segment after reset, which
         selects nothing (T = 2**b, ``primed`` False).
+    shift : int or None
+        This segment's run-time s (default ``cfg.bin_shift``).
+    prev_count : int or None
+        The previous segment's run-time n, which thresholds ``prev_hist`` (default
+        ``cfg.n_candidates``).
 
     Returns
     -------
@@ -206,9 +217,9 @@ def segment_fixed(energy: np.ndarray, direction: np.ndarray, cfg: DPConfig,
         raise ValueError(
             f"energy and direction must both have shape (H, W) = ({cfg.height}, {cfg.width}), "
             f"got {energy.shape} and {np.shape(direction)}")
-    bins = histogram_bins(energy, cfg)
+    bins = histogram_bins(energy, cfg, shift)
     primed = prev_hist is not None
-    threshold = threshold_bin(prev_hist, cfg) if primed else cfg.n_bins
+    threshold = threshold_bin(prev_hist, cfg, prev_count) if primed else cfg.n_bins
     rows, cols = np.nonzero(bins >= threshold)          # raster order
     capacity = cfg.record_capacity
     overflow = len(rows) > capacity
@@ -218,23 +229,28 @@ def segment_fixed(energy: np.ndarray, direction: np.ndarray, cfg: DPConfig,
     records["energy"] = energy[rows, cols]
     records["direction"] = np.asarray(direction)[rows, cols]
     return CandidateList(records, len(records), threshold, bool(overflow), primed, True, False,
-                         histogram_fixed(energy, cfg))
+                         histogram_fixed(energy, cfg, shift))
 
 
-def segment_sequence(energy: np.ndarray, direction: np.ndarray,
-                     cfg: DPConfig) -> list[CandidateList]:
+def segment_sequence(energy: np.ndarray, direction: np.ndarray, cfg: DPConfig,
+                     schedule: Schedule | None = None) -> list[CandidateList]:
     """The lists of consecutive segments ``(S, H, W)`` after a reset: each thresholded with
-    the previous segment's histogram, the first one unprimed (empty)."""
+    the previous segment's histogram (and that segment's n), the first one unprimed (empty).
+    ``schedule``: run-time settings per segment (:mod:`dptbd.model.settings`)."""
+    entries = check_schedule(cfg, schedule)
     out: list[CandidateList] = []
     prev = None
-    for e, d in zip(np.asarray(energy), np.asarray(direction)):
-        lst = segment_fixed(e, d, cfg, prev)
+    prev_count = None
+    for j, (e, d) in enumerate(zip(np.asarray(energy), np.asarray(direction))):
+        settings = settings_of_segment(entries, j)
+        lst = segment_fixed(e, d, cfg, prev, shift=settings.histogram_shift,
+                            prev_count=prev_count)
         out.append(lst)
-        prev = lst.histogram
+        prev, prev_count = lst.histogram, settings.candidate_count
     return out
 
 
-def segment_stream(states, cfg: DPConfig) -> list[CandidateList]:
+def segment_stream(states, cfg: DPConfig, settings=None) -> list[CandidateList]:
     """The segmenter's lists for ANY ``states`` stream, word by word (§6.5), bit for bit.
 
     ``states`` is an iterable of ``(E, d, end_of_line, end_of_frame, end_of_segment)`` in
@@ -243,19 +259,28 @@ def segment_stream(states, cfg: DPConfig) -> list[CandidateList]:
     ``end_of_segment``, the list end at the counters' last pixel or at an
     ``end_of_segment`` in a scored frame. For a well-formed stream (whole frames, no
     resynchronisation) it equals :func:`segment_sequence` of the segments' images.
+
+    ``settings``: ``(N, 3)`` run-time (K, n, s) per word, those of the segment the DP input
+    was in when it accepted that word's pixel; the segmenter takes them at the first word of
+    each of its segments (counters at (0, 0, 0)), and n at the list end for the scan.
+    ``None``: the build values throughout.
     """
-    width, height, k_frames = cfg.width, cfg.height, cfg.segment_frames
-    shift, top = cfg.bin_shift, cfg.n_bins - 1
+    width, height = cfg.width, cfg.height
+    top = cfg.n_bins - 1
     saturate = (1 << cfg.bin_count_bits) - 1
     capacity = cfg.record_capacity
+    k_frames, count, shift = (cfg.segment_frames, cfg.n_candidates, cfg.bin_shift)
+    list_count = count
     col = row = k = 0
     primed, threshold = False, cfg.n_bins
     hist = np.zeros(cfg.n_bins, dtype=np.int64)
     records: list[tuple[int, int, int, int]] = []
     overflow = missed = False
     out: list[CandidateList] = []
-    for word in states:
+    for index, word in enumerate(states):
         energy, direction, _eol, _eof, eos = (int(v) for v in word)
+        if settings is not None and col == row == k == 0:     # a segment's first word
+            k_frames, count, shift = (int(v) for v in settings[index])
         if k == k_frames - 1:                           # scored frame
             b = min(energy >> shift, top)
             hist[b] = min(hist[b] + 1, saturate)
@@ -272,7 +297,8 @@ def segment_stream(states, cfg: DPConfig) -> list[CandidateList]:
                     arr[name] = rec[:, f]
                 out.append(CandidateList(arr, len(arr), threshold, overflow, primed,
                                          bool(last and eos), missed, hist.copy()))
-                threshold, primed = threshold_bin(hist, cfg), True
+                list_count = count
+                threshold, primed = threshold_bin(hist, cfg, list_count), True
                 hist[:] = 0
                 records, overflow, missed = [], False, False
         elif eos:

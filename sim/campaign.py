@@ -10,7 +10,8 @@ number of seeded runs. Each run draws, from its own seed only,
 * input gap and output back-pressure densities, each uniform in [0, 0.7];
 * the case's faults (:class:`Case` ``faults``): resets at random cycles, start-of-frame
   markers in the middle of a frame, frames cut short or run long, run-time LUT rewrites
-  between and inside frames, an external store powered up with garbage;
+  between and inside frames, an external store powered up with garbage, run-time settings
+  (K, n, s) rewritten between and inside frames;
 
 and is checked by :func:`dptbd.sim.rtl_check.check_stream` against the promise of
 ``docs/gateware.md`` ("Faults and what the output promises"). The 4-state question — an
@@ -38,7 +39,8 @@ __all__ = ["FAULTS", "Case", "RunOutcome", "CaseResult", "CampaignResult", "defa
            "hostile_frames", "make_run", "check_run", "run_campaign", "x_store_cases"]
 
 #: Fault classes a case may draw from (see :func:`make_run`).
-FAULTS = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "store_garbage")
+FAULTS = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "store_garbage",
+          "settings")
 
 MAX_STALL = 0.7
 
@@ -86,7 +88,7 @@ class Case:
 
 def default_cases() -> list[Case]:
     """The campaign's parameter sets (``docs/gateware.md``, "Verification campaign")."""
-    every = ("reset", "misaligned_first", "short_frame", "long_frame", "lut")
+    every = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
     p001 = dict(width=128, height=128, segment_frames=8, input_bits=12, energy_bits=16,
                 weight_frac_bits=8)
     return [
@@ -203,6 +205,24 @@ def _faulty_stream(cfg: DPConfig, words: np.ndarray, faults: Sequence[str],
     return np.concatenate(frames), notes
 
 
+def _settings_changes(cfg: DPConfig, n_words: int, rng: np.random.Generator):
+    """Two or three run-time settings writes, about half of them between frames, with
+    random K in [1, K_max], n in [0, C], s in [0, B_E - 1] (sampled at the next segment
+    start, ``docs/gateware.md`` "Run-time settings")."""
+    from dptbd.model.settings import SegmentSettings
+
+    size = cfg.width * cfg.height
+    out = []
+    for _ in range(int(rng.integers(2, 4))):
+        at = int(rng.integers(1, max(2, n_words)))
+        if rng.random() < 0.5:
+            at = (at // size) * size or size
+        out.append((min(at, n_words), SegmentSettings(
+            int(rng.integers(1, cfg.k_max + 1)), int(rng.integers(0, cfg.record_capacity + 1)),
+            int(rng.integers(0, cfg.energy_bits)))))
+    return tuple(sorted(out, key=lambda change: change[0]))
+
+
 def make_run(case: Case, seed: int):
     """The input words and :class:`~dptbd.sim.rtl_check.Stimulus` of run ``seed`` of ``case``,
     and a description of its faults."""
@@ -238,8 +258,11 @@ def make_run(case: Case, seed: int):
                 resets.append((int(c), int(rng.integers(1, 6))))
         notes.append(f"resets at cycles {[c for c, _ in resets]}")
     store = "random" if "store_garbage" in case.faults else "zero"
+    settings = _settings_changes(cfg, len(words), rng) if "settings" in case.faults else ()
+    if settings:
+        notes.append(f"settings (K, n, s) rewritten before words {[i for i, _ in settings]}")
     stim = Stimulus(valid_gap=gap, ready_pause=pause, seed=int(seed), resets=tuple(resets),
-                    lut_changes=tuple(luts), store_init=store)
+                    lut_changes=tuple(luts), store_init=store, settings_changes=settings)
     notes.insert(0, f"gaps {gap:.2f}, back-pressure {pause:.2f}")
     assert all(c < cycle_budget(len(words), gap, pause, 0) for c, _ in resets)
     return words, stim, notes

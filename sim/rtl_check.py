@@ -9,6 +9,9 @@ scoreboards, both :class:`~dptbd.sim.checker.InOrderChecker`:
 column and field) and :class:`~dptbd.sim.candidate_scoreboard.CandidateScoreboard`
 (``candidates``: segment, record, field).
 
+Without resets, the counts of the ``events`` pulses (``frame_done``, ``segment_done``,
+``list_done``, ``saturated``) that the harness reports are compared with the model's too.
+
 The promise checked around a reset (``docs/gateware.md``, "Reset and resynchronisation"):
 what comes out before it is a prefix of the model's output for the words accepted before it
 (words in flight are dropped), and everything after it equals the model's output for the
@@ -24,9 +27,11 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.sim.scoreboard import Scoreboard
-from dptbd.sim.candidate_scoreboard import CandidateScoreboard, stream_lists
+from dptbd.model.segmentation import segment_stream
+from dptbd.model.settings import SegmentSettings
+from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.stimulus import lut_writes
-from dptbd.sim.stream_model import expected_stream, split_words
+from dptbd.sim.stream_model import StreamExpectation, expected_stream, split_words
 from dptbd.sim.verilator import RawRun, VerilatorBuild, run
 
 __all__ = ["Stimulus", "CheckResult", "check_stream", "check_frames"]
@@ -50,6 +55,9 @@ class Stimulus:
         The whole (M+1) x M table written just before that input word.
     store_init : str
         ``"zero"`` or ``"random"`` (``design="core"``: DPCore's external store at power-up).
+    settings_changes : tuple of (word index, SegmentSettings)
+        Run-time settings driven from just before that input word on (sampled by the
+        design at its next segment start).
     """
 
     valid_gap: float = 0.0
@@ -58,6 +66,7 @@ class Stimulus:
     resets: tuple[tuple[int, int], ...] = ()
     lut_changes: tuple[tuple[int, np.ndarray], ...] = ()
     store_init: str = "zero"
+    settings_changes: tuple[tuple[int, SegmentSettings], ...] = ()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -77,26 +86,39 @@ class CheckResult:
         return self.raw.cycles_per_second
 
 
-def _checker(cfg: DPConfig, design_output: str, pixels, first, lut_changes, *,
-             cut_by_reset: bool):
-    exp = expected_stream(cfg, pixels, first, lut_changes)
+def _checker(cfg: DPConfig, design_output: str, exp: StreamExpectation, *, cut_by_reset: bool):
     if design_output == "states":
         return Scoreboard(cfg, exp.words, positions=exp.positions)
-    fields = exp.fields
+    fields, settings = exp.fields, exp.settings
     if cut_by_reset:
         # Records of the list in progress stream out before its segment ends: a reset can
         # come after some of them. The model finishes a list only at a segment end, so the
         # stream is padded (zero energy) to beyond the next segment end; what came out
         # before the reset must be a prefix of the padded stream's lists.
-        fields = np.concatenate([fields, _padding(cfg, exp.runs)])
-    return CandidateScoreboard(cfg, stream_lists(cfg, fields))
+        pad = _padding(cfg, exp.runs)
+        fields = np.concatenate([fields, pad])
+        last = settings[-1] if len(settings) else [cfg.segment_frames, cfg.n_candidates,
+                                                   cfg.bin_shift]
+        settings = np.concatenate([settings, np.tile(last, (len(pad), 1))])
+    return CandidateScoreboard(cfg, segment_stream(fields, cfg, settings))
+
+
+def _event_report(design_output: str, exp: StreamExpectation, board, raw: RawRun) -> str:
+    """'' when the harness's event counts equal the model's, else what differs."""
+    want = {"frame_done": int(exp.fields[:, 3].sum()), "segment_done": int(exp.fields[:, 4].sum()),
+            "list_done": len(board.lists) if design_output == "candidates" else 0,
+            "saturated": int(exp.saturated.sum())}
+    bad = [f"{name} counted {raw.counters.get('events_' + name)}, model {value}"
+           for name, value in want.items() if raw.counters.get("events_" + name) != value]
+    return "events: " + "; ".join(bad) if bad else ""
 
 
 def _padding(cfg: DPConfig, runs) -> np.ndarray:
     """``states`` rows (E = 0, d = START) completing the last frame of ``runs`` and K more
     frames, with the counters' end flags."""
-    size, k = cfg.width * cfg.height, cfg.segment_frames
+    size = cfg.width * cfg.height
     last = runs[-1] if runs else None
+    k = last.segment_frames if last is not None else cfg.segment_frames
     done = 0 if last is None or last.complete else last.stop - last.start
     frame = 0 if last is None else (last.frame if not last.complete else last.frame + 1)
     rows = []
@@ -129,9 +151,11 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
     cfg = sim.cfg
     writes = [(int(i), a, c) for i, codes in stimulus.lut_changes
               for a, c in lut_writes(cfg, codes)]
+    settings = [(int(i), *dataclasses.astuple(entry.checked(cfg)))
+                for i, entry in stimulus.settings_changes]
     raw = run(sim, words, valid_gap=stimulus.valid_gap, ready_pause=stimulus.ready_pause,
               seed=stimulus.seed, resets=stimulus.resets, lut_writes=writes,
-              store_init=stimulus.store_init, trace=trace)
+              settings=settings, store_init=stimulus.store_init, trace=trace)
     accepted = raw.accept_cycles != NEVER
     n_in = int(np.count_nonzero(accepted))
     pixels, first = split_words(cfg, np.asarray(words)[:n_in])
@@ -144,9 +168,12 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
     for e in range(len(in_cuts) - 1):
         a, b = in_cuts[e], in_cuts[e + 1]
         changes = {int(i) - a: codes for i, codes in stimulus.lut_changes}
+        # the harness keeps driving the settings ports through a reset: a change before
+        # this epoch is in force at its start
+        written = {int(i) - a: entry for i, entry in stimulus.settings_changes}
+        exp = expected_stream(cfg, pixels[a:b], first[a:b], changes, written)
         last = e == len(in_cuts) - 2
-        board = _checker(cfg, sim.output, pixels[a:b], first[a:b], changes,
-                         cut_by_reset=not last)
+        board = _checker(cfg, sim.output, exp, cut_by_reset=not last)
         got = raw.out_words[out_cuts[e]:out_cuts[e + 1]]
         board.receive_array(got)
         compared += board.count
@@ -166,6 +193,10 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
             report += f"only {n_in} of {len(words)} words accepted"
         else:
             report += board.report()
+            events = _event_report(sim.output, exp, board, raw) if not resets else ""
+            if events:
+                passed = False
+                report += "; " + events
     cycles = None
     if n_in and len(raw.out_words):
         cycles = int(raw.out_cycles[-1]) - int(raw.accept_cycles[0]) + 1

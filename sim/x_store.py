@@ -195,7 +195,8 @@ def testbench_verilog(cfg: DPConfig, info: dict, *, pixels: int, init: str, seed
         module=MODULE_NAME, tb=_TB_MODULE, init_text=init_text, pixels=pixels, words=words,
         sw=sw, pw=widths["pixels__payload"], ow=widths["states__payload"],
         aw=widths["state_store__read_addr"], law=widths["lut_addr"],
-        ldw=widths["lut_data"], kw=widths["segment_frames"], k=cfg.segment_frames, all_w=all_w, seed=seed, init_code=init_code,
+        ldw=widths["lut_data"], kw=widths["segment_frames"], k=cfg.segment_frames,
+        all_w=all_w, seed=seed, init_code=init_code,
         timeout=4 * pixels + 200, pixel_file=pathlib.Path(pixel_file).as_posix(),
         out_file=pathlib.Path(out_file).as_posix())
 

@@ -86,7 +86,7 @@ def lut_writes_for(cfg: DPConfig, old: np.ndarray, new: np.ndarray) -> list[tupl
 
 def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_probability=1.0,
                ready_probability=1.0, seed=0, lut_writes=None, timed_lut_writes=None,
-               processes=(), max_cycles=None, expected_outputs=None) -> StreamRun:
+               processes=(), max_cycles=None, expected_outputs=None, on_cycle=None) -> StreamRun:
     """Simulate ``dut`` until every pixel of ``stream`` has come out.
 
     Parameters
@@ -100,6 +100,9 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
         whatever the input does; they take precedence over ``lut_writes``.
     processes : sequence of callables
         Extra async testbenches (e.g. an external state-store model), ``f(ctx)``.
+    on_cycle : callable, optional
+        ``f(ctx, index)`` at the start of every cycle, ``index`` the pixel on offer or next
+        to be offered (e.g. to drive the run-time K).
     """
     rng = random.Random(seed)
     pending = {k: list(v) for k, v in (lut_writes or {}).items()}
@@ -138,6 +141,8 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
                     pixel, first = stream[accepted]
                     ctx.set(payload_in, pack_pixel(cfg, pixel, first))
             taking = rng.random() < ready_probability
+            if on_cycle is not None:
+                on_cycle(ctx, accepted)
             if await stream_cycle(ctx, dut.pixels, dut.states, offering, taking, result):
                 accepted += 1
                 offering = False
@@ -223,3 +228,16 @@ def assert_verilator_lints_clean(path, module: str) -> None:
     run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "--top-module", module, str(path)],
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
+
+
+def event_counter(events, counts: dict):
+    """A background testbench adding up the one-cycle pulses of an ``events`` port
+    (:func:`dptbd.hw.layouts.event_layout`) into ``counts`` (field -> pulses)."""
+    names = [name for name, _ in events.shape()]
+    counts.update({name: 0 for name in names})
+
+    async def bench(ctx):
+        async for _, _, value in ctx.tick().sample(events):
+            for name in names:
+                counts[name] += int(getattr(value, name))
+    return bench

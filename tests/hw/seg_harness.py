@@ -51,9 +51,12 @@ def pack_frames(cfg: DPConfig, frames: np.ndarray) -> list[int]:
 
 
 def run(dut, source, sink, words: list[int], *, n_out: int, valid_probability=1.0,
-        ready_probability=1.0, seed=0, settle=50, max_cycles=None, extra=()) -> Run:
+        ready_probability=1.0, seed=0, settle=50, max_cycles=None, extra=(),
+        on_cycle=None) -> Run:
     """Offer ``words`` on stream ``source`` (gaps), take from ``sink`` (back-pressure) until
-    ``n_out`` words came out and then ``settle`` more cycles (to catch extra words)."""
+    ``n_out`` words came out and then ``settle`` more cycles (to catch extra words).
+    ``on_cycle(ctx, index)``, if given, runs at the start of every cycle with the index of
+    the word on offer or next to be offered (e.g. to drive run-time settings ports)."""
     rng = random.Random(seed)
     if max_cycles is None:
         slow = max(valid_probability, 0.05) * max(ready_probability, 0.05)
@@ -75,6 +78,8 @@ def run(dut, source, sink, words: list[int], *, n_out: int, valid_probability=1.
                 if offering:
                     ctx.set(source.payload.as_value(), words[sent])
             taking = rng.random() < ready_probability
+            if on_cycle is not None:
+                on_cycle(ctx, sent)
             if await stream_cycle(ctx, source, sink, offering, taking, result):
                 sent += 1
                 offering = False
@@ -97,3 +102,4 @@ def run_lists(cfg: DPConfig, dut, source, sink, words: list[int], lists, **kw) -
     result = run(dut, source, sink, words, n_out=CandidateScoreboard(cfg, lists).total, **kw)
     score(cfg, lists, result.outputs)
     return result
+

@@ -19,6 +19,7 @@ from dptbd.hw.dp_pipeline import DPPipeline
 from hw_harness import (
     FIELDS,
     assert_states_equal,
+    event_counter,
     frames_to_stream,
     lut_writes_for,
     reference_states,
@@ -177,6 +178,46 @@ def test_unexpected_first_resynchronises():
     assert len(run.outputs) == len(expected)
     for n, (got, want) in enumerate(zip(run.outputs, expected)):
         assert [got[f] for f in FIELDS] == want.tolist(), f"output {n}"
+
+
+def test_run_time_k_and_events():
+    """K changed between segments (the port holds segment j's K at its first pixel, random
+    values elsewhere), a resync in the middle: every word and every event count equals the
+    stream model's. B_E = 9 saturates."""
+    from dptbd.model.settings import SegmentSettings
+    from dptbd.sim.stream_model import expected_stream
+
+    cfg = make_config(width=5, height=4, segment_frames=2, max_segment_frames=4,
+                      energy_bits=9)
+    size = cfg.width * cfg.height
+    lengths = [3, 1, 4, 2]
+    frames = random_frames(cfg, sum(lengths) + 3, seed=21)
+    stream = frames_to_stream(frames)
+    stream = stream[:size * 9 + 6] + stream[size * 10:]        # resync inside frame 9
+    first = np.array([f for _, f in stream])
+    pixels = np.array([p for p, _ in stream])
+    starts = np.cumsum([0] + lengths)[:-1] * size
+    changes = {int(at): SegmentSettings(k, cfg.n_candidates, cfg.bin_shift)
+               for at, k in zip(starts, lengths)}
+    changes[size * 9 + 6] = SegmentSettings(3, cfg.n_candidates, cfg.bin_shift)   # the resync
+    exp = expected_stream(cfg, pixels, first, settings_changes=changes)
+    rng = np.random.default_rng(3)
+    dut = DPPipeline(cfg)
+
+    def drive(ctx, index):
+        k = changes[index].segment_frames if index in changes else int(rng.integers(0, 8))
+        ctx.set(dut.segment_frames, k)
+
+    counts = {}
+    run = run_stream(dut, cfg, stream, valid_probability=0.7, ready_probability=0.6, seed=5,
+                     on_cycle=drive, processes=[event_counter(dut.events, counts)])
+    assert len(run.outputs) == len(exp.fields)
+    for n, (got, want) in enumerate(zip(run.outputs, exp.fields)):
+        assert [got[f] for f in FIELDS] == want.tolist(), f"output {n}"
+    assert counts == {"frame_done": int(exp.fields[:, 3].sum()),
+                      "segment_done": int(exp.fields[:, 4].sum()), "list_done": 0,
+                      "saturated": int(exp.saturated.sum())}
+    assert counts["segment_done"] == 4 and counts["saturated"] > 0   # the resync cut one
 
 
 def test_first_flags_are_optional():

@@ -4,6 +4,7 @@ candidate lists out, compared with ``dptbd.model.fixed`` + ``segment_sequence``.
 import shutil
 import subprocess
 
+import numpy as np
 import pytest
 
 from dptbd.config import ConfigError
@@ -11,7 +12,10 @@ from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.dp_segmenter_top import SEGMENTER_MODULE_NAME, DPSegmenter, generate_segmenter_verilog
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.candidate_scoreboard import expected_lists
-from hw_harness import assert_verilator_lints_clean
+from hw_harness import assert_verilator_lints_clean, event_counter
+from dptbd.model.fixed import run_fixed, saturation_counts
+from dptbd.model.segmentation import segment_sequence
+from dptbd.model.settings import SegmentSettings
 from seg_harness import make_config, pack_frames, run_lists
 
 CASES = {
@@ -41,6 +45,62 @@ def test_matches_golden_model(name):
     assert sum(lst.count for lst in lists) >= 7
     if "cap" in name:
         assert any(lst.overflow for lst in lists)
+
+
+def schedule_driver(dut, cfg, schedule, rng):
+    """Drive the settings ports: segment j's values when its first pixel is on offer, random
+    values (also out of range) on every other pixel: only the first pixel's may count."""
+    starts = {}
+    frame = cfg.width * cfg.height
+    word = 0
+    for entry in schedule:
+        starts[word] = entry
+        word += entry.segment_frames * frame
+    ports = (dut.segment_frames, dut.candidate_count, dut.histogram_shift)
+
+    def drive(ctx, index):
+        entry = starts.get(index)
+        for port, name in zip(ports, ("segment_frames", "candidate_count", "histogram_shift")):
+            value = getattr(entry, name) if entry else int(rng.integers(0, 1 << len(port)))
+            ctx.set(port, value)
+    return drive
+
+
+def ref_scheduled(cfg, frames, schedule):
+    """Lists and event counts of the golden model for a run-time schedule."""
+    segments = run_fixed(frames, cfg, schedule)
+    lists = segment_sequence(segments.energy.astype(np.int64), segments.direction, cfg, schedule)
+    events = {"frame_done": len(frames), "segment_done": len(lists), "list_done": len(lists),
+              "saturated": int(saturation_counts(frames, cfg, schedule).sum())}
+    return lists, events
+
+
+def rtl_scheduled(cfg, frames, schedule, lists, seed):
+    dut = DPSegmenter(cfg)
+    counts = {}
+    run_lists(cfg, dut, dut.pixels, dut.candidates, pack_frames(cfg, frames), lists,
+              valid_probability=0.8, ready_probability=0.6, seed=seed,
+              on_cycle=schedule_driver(dut, cfg, schedule, np.random.default_rng(seed)),
+              extra=[event_counter(dut.events, counts)])
+    return counts
+
+
+def test_run_time_k_n_s_and_events():
+    """K, n and s changed between segments (written at a segment's first pixel, garbage on
+    the others); every word and every event count equals the model's. B_E = 10 saturates
+    at K = 5."""
+    S = SegmentSettings
+    cfg = make_config(width=8, height=6, segment_frames=2, max_segment_frames=5,
+                      energy_bits=10, candidate_count=3, candidate_capacity=8,
+                      histogram_bits=5)
+    schedule = [S(2, 3, 0), S(3, 6, 4), S(1, 2, 5), S(5, 8, 5), S(2, 0, 3), S(4, 4, 5),
+                S(1, 5, 2)]
+    frames = make_frames("random", cfg, sum(e.segment_frames for e in schedule), seed=7)
+    lists, events = ref_scheduled(cfg, frames, schedule)
+    counts = rtl_scheduled(cfg, frames, schedule, lists, seed=7)
+    assert counts == events
+    assert events["saturated"] > 0 and len(lists) == len(schedule)
+    assert sum(lst.count for lst in lists) >= 7
 
 
 def test_one_pixel_per_clock_and_latency():

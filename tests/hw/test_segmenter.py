@@ -190,3 +190,71 @@ def test_reset_in_a_scored_frame_clears_the_histogram():
     simulate(top, bench)
     score(cfg, lists, outputs)
     assert not lists[0].primed and lists[1].primed
+
+
+# ---- run-time settings (docs/gateware.md, "Run-time settings") ---------------------------
+
+def scheduled_states(cfg, schedule, rng, **kw):
+    """State words of consecutive segments of the schedule's K, and per word the (K, n, s)
+    of its segment."""
+    parts, settings = [], []
+    for entry in schedule:
+        k = entry.segment_frames
+        part = synthetic_states(cfg.replace(segment_frames=k), k, rng, **kw)
+        parts.append(part)
+        settings.append(np.tile([k, entry.candidate_count, entry.histogram_shift],
+                                (len(part), 1)))
+    return np.concatenate(parts), np.concatenate(settings)
+
+
+def settings_driver(dut, settings, rng):
+    """Drive the settings ports with the offered word's segment's values at a segment's
+    first word and with random (also out-of-range) values elsewhere: only the first word's
+    values may matter."""
+    first = np.ones(len(settings), dtype=bool)
+    first[1:] = (np.diff(settings, axis=0) != 0).any(axis=1)
+
+    def drive(ctx, index):
+        ports = (dut.segment_frames, dut.candidate_count, dut.histogram_shift)
+        for column, port in enumerate(ports):
+            if index < len(settings) and first[index]:
+                value = int(settings[index, column])
+            else:
+                value = int(rng.integers(0, 1 << len(port)))
+            ctx.set(port, value)
+    return drive
+
+
+def ref_segmenter_lists(cfg, states, settings):
+    return segment_stream(states, cfg, settings)
+
+
+def rtl_segmenter_lists(cfg, states, settings, lists, seed):
+    dut = Segmenter(cfg)
+    return run_lists(cfg, dut, dut.states, dut.candidates, pack_state_rows(cfg, states), lists,
+                     valid_probability=0.8, ready_probability=0.6, seed=seed,
+                     on_cycle=settings_driver(dut, settings, np.random.default_rng(seed)))
+
+
+def settings_cases():
+    """(config, schedule): K, n and s change between segments, K = 1 included, n = 0 and
+    n = C, s = 0 and large."""
+    from dptbd.model.settings import SegmentSettings as S
+    yield (dict(width=6, height=4, segment_frames=2, max_segment_frames=4, candidate_count=3,
+                candidate_capacity=6, histogram_bits=4, histogram_shift=4),
+           [S(2, 3, 4), S(3, 5, 2), S(1, 2, 3), S(4, 0, 5), S(2, 6, 0), S(1, 6, 4), S(3, 1, 4)])
+    yield (dict(width=5, height=5, segment_frames=1, max_segment_frames=3, candidate_count=2,
+                histogram_bits=3),
+           [S(1, 2, 7), S(3, 4, 6), S(2, 1, 5), S(1, 3, 7), S(2, 4, 15)])
+
+
+@pytest.mark.parametrize("case", range(2))
+def test_run_time_settings_per_segment(case):
+    kw, schedule = list(settings_cases())[case]
+    cfg = make_config(**kw)
+    states, settings = scheduled_states(cfg, schedule, np.random.default_rng(case), high=255)
+    lists = ref_segmenter_lists(cfg, states, settings)
+    rtl_segmenter_lists(cfg, states, settings, lists, seed=case)
+    assert len(lists) == len(schedule)
+    assert all(lst.primed and lst.aligned for lst in lists[1:])
+    assert len({lst.threshold for lst in lists}) >= 3          # the settings made a difference

@@ -22,21 +22,26 @@ def cases(cfg):
     yield from [np.zeros(bins, int), top * full, top * cfg.n_candidates, np.full(bins, 1)]
 
 
-def ref_threshold(cfg, histogram) -> int:
-    return threshold_bin(histogram, cfg)
+def ref_threshold(cfg, histogram, count=None) -> int:
+    return threshold_bin(histogram, cfg, count)
 
 
-def rtl_threshold(cfg, histograms, load) -> list[tuple[int, int]]:
-    """Scan each histogram from the top bin down (``load[i]``: keep the result); (T, primed)
-    after each scan. Before the first: T = 2**b, unprimed."""
+def rtl_threshold(cfg, histograms, load, counts=None) -> list[tuple[int, int]]:
+    """Scan each histogram from the top bin down (``load[i]``: keep the result; ``counts[i]``:
+    the run-time n, on the port with the top bin only, random values with the others);
+    (T, primed) after each scan. Before the first: T = 2**b, unprimed."""
     dut = ThresholdSearch(cfg)
     got = []
+    rng = np.random.default_rng(8)
+    counts = [cfg.n_candidates] * len(histograms) if counts is None else counts
 
     async def bench(ctx):
         assert ctx.get(dut.threshold) == cfg.n_bins and not ctx.get(dut.primed)
-        for hist, keep in zip(histograms, load):
+        for hist, keep, n in zip(histograms, load, counts):
             ctx.set(dut.load, keep)
             for a in range(cfg.n_bins - 1, -1, -1):
+                ctx.set(dut.count, n if a == cfg.n_bins - 1 else
+                        int(rng.integers(0, 1 << len(dut.count))))
                 ctx.set(dut.scan_valid, 1)
                 ctx.set(dut.scan_bin, a)
                 ctx.set(dut.scan_count, int(hist[a]))
@@ -66,3 +71,16 @@ def test_a_scan_not_loaded_keeps_the_threshold():
     want = [ref_threshold(cfg, h) for h in histograms]
     assert rtl_threshold(cfg, histograms, [True, False, True]) == \
         [(want[0], 1), (want[0], 1), (want[2], 1)]
+
+
+def test_run_time_n_is_sampled_with_the_top_bin():
+    """n changes from scan to scan (0, C and between; above C clamps to C)."""
+    cfg = make_config(width=16, height=16, histogram_bits=5, candidate_count=7,
+                      candidate_capacity=12)
+    histograms = list(cases(cfg)) * 2
+    counts = [0, 12, 3, 7, 1, 11, 12, 5, 15, 2, 9, 0, 6, 4]
+    assert len(counts) == len(histograms) and (12).bit_length() == 4   # 15 fits the port
+    want = [ref_threshold(cfg, h, min(n, 12)) for h, n in zip(histograms, counts)]
+    assert len(set(want)) >= 5
+    assert rtl_threshold(cfg, histograms, [True] * len(histograms), counts) == \
+        [(t, 1) for t in want]

@@ -22,8 +22,8 @@ def test_default_cases_cover_what_the_campaign_promises():
     assert any(c.radius == 2 for c in cfgs)
     assert any(c.random_lut for c in cases)
     assert {"dp", "core", "segmenter"} <= {c.design for c in cases}
-    assert all(set(c.faults) >= {"reset", "misaligned_first", "short_frame", "long_frame", "lut"}
-               for c in cases)
+    assert all(set(c.faults) >= {"reset", "misaligned_first", "short_frame", "long_frame", "lut",
+                                 "settings"} for c in cases)
     assert any("store_garbage" in c.faults for c in cases)
     assert sum(c.runs * c.words_per_run for c in cases if c.design != "segmenter") >= 10**8
 
@@ -46,7 +46,8 @@ def test_runs_are_seeded_and_draw_their_faults():
     a, b = make_run(case, 5), make_run(case, 5)
     assert np.array_equal(a[0], b[0]) and a[1].resets == b[1].resets and a[2] == b[2]
     notes = " ".join(n for seed in range(6) for n in make_run(case, seed)[2])
-    for what in ("marker", "cut to", "runs", "LUT rewritten", "resets at cycles"):
+    for what in ("marker", "cut to", "runs", "LUT rewritten", "resets at cycles",
+                 "settings (K, n, s) rewritten"):
         assert what in notes
     stalls = [make_run(case, s)[1] for s in range(20)]
     assert max(s.valid_gap for s in stalls) > 0.5 and min(s.valid_gap for s in stalls) == 0.0
@@ -69,8 +70,8 @@ def test_a_wrong_model_fails_the_campaign(monkeypatch):
 
     real = rtl_check.expected_stream
 
-    def off_by_one(cfg, pixels, first, lut_changes=None):
-        exp = real(cfg, pixels, first, lut_changes)
+    def off_by_one(cfg, pixels, first, lut_changes=None, settings_changes=None):
+        exp = real(cfg, pixels, first, lut_changes, settings_changes)
         exp.words[len(exp.words) // 2] ^= np.uint64(1)
         return exp
 

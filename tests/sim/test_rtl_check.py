@@ -246,6 +246,46 @@ def test_run_time_lut_writes(design, where):
         assert not np.array_equal(result.raw.out_words, plain)
 
 
+def settings_changes(cfg, size, rng, n_frames):
+    """Run-time (K, n, s) written at random words (between and inside frames): each takes
+    effect at the next segment start."""
+    from dptbd.model.settings import SegmentSettings
+
+    at = np.sort(rng.choice(np.arange(1, n_frames * size), size=6, replace=False))
+    at[:2] = (size, 4 * size)                      # two at frame starts
+    return tuple((int(i), SegmentSettings(int(rng.integers(1, cfg.k_max + 1)),
+                                          int(rng.integers(0, cfg.record_capacity + 1)),
+                                          int(rng.integers(0, cfg.energy_bits))))
+                 for i in np.sort(at))
+
+
+@pytest.mark.parametrize("design", ["dp", "segmenter"])
+@pytest.mark.parametrize("resets", [False, True])
+def test_run_time_settings(design, resets):
+    """K, n and s changed between segments and mid-segment: every output word equals the
+    stream model's, and (without resets) so do the counts of the event pulses."""
+    cfg = BASE
+    size = cfg.width * cfg.height
+    sim = built(cfg, design)
+    rng = np.random.default_rng(7 + resets)
+    words = pixel_words(cfg, make_frames("two-targets", cfg, 14, seed=4))
+    changes = settings_changes(cfg, size, rng, 14)
+    stimulus = Stimulus(0.2, 0.4, 5, ((1500, 3),) if resets else (),
+                        settings_changes=changes)
+    result = check_stream(sim, words, stimulus)
+    assert_passed(result)
+    counters = result.raw.counters
+    pixels, first = split_words(cfg, words)
+    exp = expected_stream(cfg, pixels, first, settings_changes=dict(changes))
+    assert len({tuple(row) for row in exp.settings}) >= 3      # several settings in force
+    if not resets:
+        assert counters["events_frame_done"] == 14
+        assert counters["events_segment_done"] == exp.fields[:, 4].sum() >= 4
+        if design == "segmenter":
+            assert counters["events_list_done"] == counters["events_segment_done"]
+            assert result.words_out > counters["events_list_done"]      # records too
+
+
 def test_core_random_store_with_faults():
     cfg = BASE
     sim = built(cfg, "core")

@@ -229,3 +229,33 @@ def test_two_lut_changes_in_one_frame():
     np.testing.assert_array_equal(e[:5], states[1][0].ravel()[:5])
     np.testing.assert_array_equal(e[5:11], e_a.ravel()[5:11])
     np.testing.assert_array_equal(e[11:], e_b.ravel()[11:])
+
+
+# ---- run-time settings ------------------------------------------------------------------
+
+def test_settings_are_sampled_at_segment_starts():
+    """K written in the middle of a segment waits for the next segment start; the words of
+    each segment carry its (K, n, s); saturated flags come from the accumulator's sums."""
+    from dptbd.model.fixed import run_fixed, saturation_counts
+    from dptbd.model.settings import SegmentSettings as S
+
+    cfg = make_config(segment_frames=2, max_segment_frames=4, energy_bits=9,
+                      candidate_count=2)
+    size = cfg.width * cfg.height
+    frames = frames_for(cfg, 9, seed=3)
+    pixels, first = split_words(cfg, pixel_words(cfg, frames))
+    # written before word 5 (frame 0): segment 0 is K = 2 already sampled -> from segment 1
+    changes = {5: S(3, 1, 4), 2 * size + 7: S(1, 3, 2), 5 * size: S(4, 0, 1)}
+    exp = expected_stream(cfg, pixels, first, settings_changes=changes)
+    schedule = [S(2, 2, cfg.bin_shift), S(3, 1, 4), S(4, 0, 1)]
+    segments = run_fixed(frames, cfg, schedule)
+    ends = np.flatnonzero(exp.fields[:, 4])
+    assert (ends + 1).tolist() == [2 * size, 5 * size, 9 * size]
+    for j, end in enumerate(ends):
+        np.testing.assert_array_equal(exp.fields[end + 1 - size:end + 1, 0],
+                                      segments.energy[j].ravel())
+    assert exp.settings[0].tolist() == [2, 2, cfg.bin_shift]
+    assert exp.settings[3 * size].tolist() == [3, 1, 4]
+    assert exp.settings[-1].tolist() == [4, 0, 1]
+    assert exp.saturation_counts().tolist() == saturation_counts(frames, cfg, schedule).tolist()
+    assert exp.saturated.sum() > 0
