@@ -14,16 +14,17 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.hw.register_map import FAULTS, register_map
-from dptbd.sim.candidate_scoreboard import stream_lists
+from dptbd.model.segmentation import segment_stream
+from dptbd.model.settings import SegmentSettings
 from dptbd.sim.stream_model import expected_stream
 
 __all__ = ["FAULT_KINDS", "SETTINGS", "Beats", "clean_beats", "with_fault", "fault_pulses",
-           "fault_counts", "Piece", "stream_pieces", "expected_lists"]
+           "fault_counts", "Piece", "Expected", "stream_pieces", "expected_outputs"]
 
 #: What :func:`with_fault` can inject, each raising exactly one pulse of its class.
 FAULT_KINDS = FAULTS
 
-#: Setting registers -> the DPConfig field the model takes them as.
+#: The setting registers, in the order of :class:`~dptbd.model.settings.SegmentSettings`.
 SETTINGS = {"SEGMENT_FRAMES": "segment_frames", "CANDIDATE_COUNT": "candidate_count",
             "HISTOGRAM_SHIFT": "histogram_shift"}
 
@@ -125,56 +126,79 @@ def fault_counts(cfg: DPConfig, beats: Beats) -> dict[str, int]:
 
 @dataclasses.dataclass(frozen=True)
 class Piece:
-    """Beats ``[start, stop)`` that the core processes from reset with one set of settings
-    (``cfg``) and LUT writes at ``lut_changes`` (absolute beat index -> codes)."""
+    """Beats ``[start, stop)`` that the core processes from reset, with LUT writes
+    (``lut_changes``) and run-time settings written (``settings_changes``) just before the
+    beats at their absolute indices."""
 
     start: int
     stop: int
-    cfg: DPConfig
     lut_changes: dict
+    settings_changes: dict
+
+
+@dataclasses.dataclass(frozen=True)
+class Expected:
+    """What the golden model says the whole stream gives: the candidate lists, and the
+    counts the FRAMES, SEGMENTS, LISTS and SATURATED registers must read."""
+
+    lists: list
+    frames: int
+    segments: int
+    saturated: int
+
+    def counters(self) -> dict[str, int]:
+        return {"FRAMES": self.frames, "SEGMENTS": self.segments, "LISTS": len(self.lists),
+                "SATURATED": self.saturated}
 
 
 def stream_pieces(cfg: DPConfig, steps: list[dict]) -> list[Piece]:
     """Cut a bench's steps (:mod:`dptbd.sim.tb_axi`) into pieces at every ``soft_reset``.
 
-    A step's valid writes to a setting register (``SEGMENT_FRAMES``, ``CANDIDATE_COUNT``,
-    ``HISTOGRAM_SHIFT``; refused values are ignored as the gateware ignores them) change the
-    model's configuration. The golden model here takes one configuration per piece, so a
-    setting may change only before a piece's first beat (the stream's start or a
-    ``soft_reset`` step); elsewhere ``ValueError``. The LUT is a memory: it keeps its codes
-    across a soft reset.
+    A step's writes to a setting register (``SEGMENT_FRAMES``, ``CANDIDATE_COUNT``,
+    ``HISTOGRAM_SHIFT``) that the register block takes (refused values are ignored, as the
+    gateware ignores them) and its ``lut_codes`` apply from the step's first beat on. A soft
+    reset keeps the registers (the settings are sampled again at the next segment start)
+    and the LUT (a memory).
     """
-    limits = {name: (getattr(f, "limits")) for name in SETTINGS
-              for f in register_map(cfg)[name].fields}
-    pieces, lo, start, current, changes, lut = [], 0, 0, cfg, {}, None
-    for index, step in enumerate(steps):
+    limits = {name: register_map(cfg)[name].fields[0].limits for name in SETTINGS}
+    current = dataclasses.astuple(SegmentSettings.defaults(cfg))
+    pieces, lo, start, lut = [], 0, 0, None
+    luts, settings = {}, {}
+    for step in steps:
         if step.get("soft_reset") and start > lo:
-            pieces.append(Piece(lo, start, current, changes))
-            lo, changes = start, ({start: lut} if lut is not None else {})
+            pieces.append(Piece(lo, start, luts, settings))
+            lo = start
+            luts = {start: lut} if lut is not None else {}
+            settings = {start: SegmentSettings(*current)}
+        values = dict(zip(SETTINGS, current))
         for name, value in step.get("writes", []):
             if name in SETTINGS and limits[name][0] <= value <= limits[name][1]:
-                if start > lo:
-                    raise ValueError(f"step {index}: {name} changes after beat {lo} of a "
-                                     f"piece; the model takes settings per piece (write them "
-                                     f"before the first beat or with a soft_reset step)")
-                current = current.replace(**{SETTINGS[name]: int(value)})
+                values[name] = int(value)
+        if tuple(values.values()) != current:
+            current = tuple(values.values())
+            settings[start] = SegmentSettings(*current)
         if step.get("lut_codes") is not None:
             lut = step["lut_codes"]
-            changes[start] = lut
+            luts[start] = lut
         start = step["stop"]
-    pieces.append(Piece(lo, start, current, changes))
+    pieces.append(Piece(lo, start, luts, settings))
     return pieces
 
 
-def expected_lists(cfg: DPConfig, beats: Beats, steps: list[dict]):
-    """The candidate lists the golden model makes of the whole stream, and its frame runs:
-    :func:`~dptbd.sim.stream_model.expected_stream` and
-    :func:`~dptbd.sim.candidate_scoreboard.stream_lists` per :func:`stream_pieces` piece."""
-    lists, runs = [], []
+def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict]) -> Expected:
+    """The golden model of the whole stream, piece by piece (:func:`stream_pieces`):
+    :func:`~dptbd.sim.stream_model.expected_stream` for the states and
+    :func:`~dptbd.model.segmentation.segment_stream` for the lists, with the settings
+    sampled as the gateware samples them."""
+    lists, frames, segments, saturated = [], 0, 0, 0
     for piece in stream_pieces(cfg, steps):
         a, b = piece.start, piece.stop
-        expect = expected_stream(piece.cfg, beats.pixel[a:b], beats.first[a:b],
-                                 {i - a: codes for i, codes in piece.lut_changes.items()})
-        lists += stream_lists(piece.cfg, expect.fields)
-        runs += [(run, piece.cfg.segment_frames) for run in expect.runs]
-    return lists, runs
+        expect = expected_stream(cfg, beats.pixel[a:b], beats.first[a:b],
+                                 {i - a: codes for i, codes in piece.lut_changes.items()},
+                                 {i - a: st for i, st in piece.settings_changes.items()})
+        lists += segment_stream(expect.fields, cfg, expect.settings)
+        frames += sum(run.complete for run in expect.runs)
+        segments += sum(run.complete and run.frame == run.segment_frames - 1
+                        for run in expect.runs)
+        saturated += int(expect.saturated.sum())
+    return Expected(lists, frames, segments, saturated)

@@ -17,9 +17,10 @@ for each step the bench
    AXI-Stream frame: ``tlast`` where the beats have ``last``; ``tuser`` = ``first``).
 
 ``m_axis_cand`` goes to ``AxiStreamSink``; every word is scored in order against
-:func:`dptbd.sim.axi_stimulus.expected_lists` (the golden model of the accepted stream, from
+:func:`dptbd.sim.axi_stimulus.expected_outputs` (the golden model of the accepted stream, from
 reset and after every soft reset, with the settings written and LUT changes at their beat),
-and ``tuser[0]`` / ``tlast`` are checked on every word. A step with ``soft_reset`` writes
+and ``tuser[0]`` / ``tlast`` are checked on every word. At the end the FRAMES, SEGMENTS,
+LISTS and SATURATED counters must read what the model gives. A step with ``soft_reset`` writes
 ``CONTROL.soft_reset`` after the earlier beats have drained. Both streams take the
 job's ``valid_pause`` / ``ready_pause`` (:func:`dptbd.sim.components.pause_generator`). At
 the end the ``final_check`` registers are read. The summary lists the cycles at which
@@ -40,7 +41,7 @@ from cocotbext.axi import (AxiLiteBus, AxiLiteMaster, AxiStreamBus, AxiStreamFra
 
 from dptbd.hw.candidate_layout import unpack_candidate
 from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.sim.axi_stimulus import Beats, expected_lists
+from dptbd.sim.axi_stimulus import Beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.components import Cycles, pause_generator, pause_probability
 from dptbd.sim.tb_dp import PERIOD_NS, load_job
@@ -163,7 +164,8 @@ async def run_stream(dut):
     bench = AxiBench(dut, job, cfg)
     await bench.start()
 
-    lists, runs = expected_lists(cfg, beats, steps)
+    expected = expected_outputs(cfg, beats, steps)
+    lists = expected.lists
     board = CandidateScoreboard(cfg, lists)
     finished = Event()
     if board.total == 0:
@@ -222,6 +224,10 @@ async def run_stream(dut):
     counters = {name: await bench.read(name) for name in
                 ("FRAMES", "SEGMENTS", "LISTS", "SATURATED", "INPUT_STALLS", "OUTPUT_STALLS",
                  "ERROR", "IRQ_STATUS")}
+    for name, want in expected.counters().items():
+        if counters[name] != want:
+            bench.problems.append(f"at the end: {name} = {counters[name]}, the model gives "
+                                  f"{want}")
     ok = board.done and not bench.problems
     summary = {
         "test": "run_stream",
@@ -233,8 +239,7 @@ async def run_stream(dut):
         "accepted": len(bench.accept_cycles),
         "lists": len(lists),
         "counts": [lst.count for lst in lists],
-        "frames_complete": sum(run.complete for run, _k in runs),
-        "segments_complete": sum(run.complete and run.frame == k - 1 for run, k in runs),
+        "expected_counters": expected.counters(),
         "counters": counters,
         "stalls_seen": bench.stalls,
         "irq_edges": bench.irq_edges,

@@ -17,7 +17,7 @@ import pytest
 
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS
-from dptbd.sim.axi_stimulus import clean_beats, expected_lists, fault_counts, with_fault
+from dptbd.sim.axi_stimulus import clean_beats, expected_outputs, fault_counts, with_fault
 from dptbd.sim.candidate_scoreboard import list_words
 from dptbd.sim.runner import simulate
 from dptbd.sim.scenarios import make_frames
@@ -83,8 +83,8 @@ def test_lut_rewritten_mid_run_and_refused_writes():
          "writes": [["ERROR", refused], ["IRQ_STATUS", regs.IRQ_STATUS_FAULT_MASK]],
          "lut_codes": zeros.tolist(), "stop": len(beats)},
     ]
-    with_lut, _ = expected_lists(cfg, beats, steps)
-    without, _ = expected_lists(cfg, beats, [{"stop": len(beats)}])
+    with_lut = expected_outputs(cfg, beats, steps).lists
+    without = expected_outputs(cfg, beats, [{"stop": len(beats)}]).lists
     assert list_words(cfg, with_lut) != list_words(cfg, without)     # the rewrite matters
     s = run(cfg, frames, beats, steps, "axi-lut", ready_pause=RANDOM(0.3, 4),
             final_check={"ERROR": 0, "LISTS": 3,
@@ -181,32 +181,36 @@ def test_soft_reset_between_segments_restarts_the_core():
     assert s["lists"] == 3
 
 
-def test_run_time_settings_and_refusals():
-    """K, n and s written before the first segment take effect (the model runs with them),
-    then a soft reset and other values for the next segments; values out of range are
-    refused and change nothing."""
+def test_run_time_settings_between_and_inside_segments():
+    """K, n, s written before the first segment and between segments take effect at the next
+    segment start; a K written inside a segment waits for the next one; values out of range
+    are refused and change nothing; after a soft reset the written values hold. Lists,
+    counters and SATURATED as the model with the gateware's sampling rule gives them."""
     cfg = make_config(**SCENE_CFG)
     regs = constants_namespace(cfg)
-    frames = make_frames("two-targets", cfg, 10, seed=11)
+    frames = make_frames("two-targets", cfg, 11, seed=11)
     beats = clean_beats(frames)
     frame = cfg.width * cfg.height
+    too_big = regs.SEGMENT_FRAMES_SEGMENT_FRAMES_MAX + 1
     steps = [{"writes": [["SEGMENT_FRAMES", 3], ["CANDIDATE_COUNT", 3], ["HISTOGRAM_SHIFT", 1],
-                         ["SEGMENT_FRAMES", regs.SEGMENT_FRAMES_SEGMENT_FRAMES_MAX + 1]],
-              "stop": 6 * frame},
+                         ["SEGMENT_FRAMES", too_big]], "stop": 3 * frame},      # K = 3
+             {"writes": [["SEGMENT_FRAMES", 4], ["CANDIDATE_COUNT", 6], ["HISTOGRAM_SHIFT", 3]],
+              "stop": 5 * frame},                                              # K = 4 begins
+             {"writes": [["SEGMENT_FRAMES", 2], ["HISTOGRAM_SHIFT", cfg.energy_bits]],
+              "stop": 7 * frame},                                              # inside it
              {"soft_reset": True,
-              "check": {"SEGMENTS": 2, "LISTS": 2, "SEGMENT_FRAMES": 3, "CANDIDATE_COUNT": 3},
-              "writes": [["ERROR", regs.ERROR_WRITE_REFUSED_MASK], ["SEGMENT_FRAMES", 4],
-                         ["CANDIDATE_COUNT", 8], ["HISTOGRAM_SHIFT", 3]],
-              "stop": len(beats)}]
-    lists, _ = expected_lists(cfg, beats, steps)
-    assert len(lists) == 2 + 1                        # 6 frames of K = 3, then 4 of K = 4
-    default, _ = expected_lists(cfg, beats, [{"stop": len(beats)}])
-    assert len(default) == 5
+              "check": {"SEGMENTS": 2, "LISTS": 2, "SEGMENT_FRAMES": 2, "HISTOGRAM_SHIFT": 3},
+              "writes": [["ERROR", regs.ERROR_WRITE_REFUSED_MASK], ["CANDIDATE_COUNT", 2]],
+              "stop": len(beats)}]                                             # 2 x K = 2
+    expected = expected_outputs(cfg, beats, steps)
+    assert expected.counters() == {"FRAMES": 11, "SEGMENTS": 4, "LISTS": 4, "SATURATED": 0}
+    default = expected_outputs(cfg, beats, [{"stop": len(beats)}])
+    assert len(default.lists) == 5
     s = run(cfg, frames, beats, steps, "axi-settings", valid_pause=RANDOM(0.1, 8),
             ready_pause=RANDOM(0.3, 9),
-            final_check={"FRAMES": 10, "SEGMENTS": 3, "LISTS": 3, "ERROR": 0,
-                         "SEGMENT_FRAMES": 4, "CANDIDATE_COUNT": 8, "HISTOGRAM_SHIFT": 3})
-    assert s["lists"] == 3
+            final_check={"ERROR": 0, "SEGMENT_FRAMES": 2, "CANDIDATE_COUNT": 2,
+                         "HISTOGRAM_SHIFT": 3})
+    assert s["lists"] == 4
 
 
 def test_saturation_events_are_counted():
@@ -217,6 +221,7 @@ def test_saturation_events_are_counted():
     frames = np.full((4, cfg.height, cfg.width), 200)
     beats = clean_beats(frames)
     frame = cfg.width * cfg.height
+    assert expected_outputs(cfg, beats, [{"stop": len(beats)}]).saturated == 2 * frame
     s = run(cfg, frames, beats, [{"stop": len(beats)}], "axi-saturation",
             final_check={"SATURATED": 2 * frame, "SEGMENTS": 2})
     assert s["counters"]["SATURATED"] == 2 * frame
