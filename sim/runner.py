@@ -56,6 +56,7 @@ TIMESCALE = ("1ns", "1ps")
 DESIGNS = {
     "dp": (TOPLEVEL, TEST_MODULE, ""),
     "segmenter": ("dptbd_seg", "dptbd.sim.tb_segmenter", "-seg"),
+    "axi": ("dptbd_axi", "dptbd.sim.tb_axi", "-axi"),      # dptbd.hw.axi_top, docs/integration.md
 }
 
 
@@ -117,6 +118,8 @@ def build(cfg: DPConfig, root: str | os.PathLike = "build/sim", *, waves: bool =
     toplevel, _, suffix = DESIGNS[design]
     if design == "segmenter":
         from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog as generate
+    elif design == "axi":
+        from dptbd.hw.flow.axi_package import generate_axi_verilog as generate
     else:
         from dptbd.hw.flow.verilog import generate_verilog as generate
 

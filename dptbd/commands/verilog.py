@@ -1,5 +1,10 @@
 """``dptbd verilog``: write the DP pipeline's top-level Verilog and its manifest.
 
+``--top dp`` (default) converts the DP pipeline (``dptbd_dp``). ``--top axi`` converts the AXI
+top level ``dptbd_axi`` (AXI4-Stream video in, candidate lists out, AXI4-Lite registers;
+``docs/integration.md``) and writes, beside ``FILE.v`` and ``FILE.json``, the register header
+``dptbd_regs.h`` and the FuseSoC core ``FILE.core`` (:func:`dptbd.hw.flow.axi_package.axi_package`).
+
 Parameters come from options named after the :class:`~dptbd.config.DPConfig` fields, from a
 TOML file of those fields (``--config``; unknown keys are refused), or both (options win).
 The manifest JSON beside the Verilog lists the parameters, the weight LUT storage
@@ -24,6 +29,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", type=pathlib.Path, required=True, metavar="FILE.v",
                         help="Verilog file to write; the manifest goes to FILE.json beside it")
     parser.add_argument("--force", action="store_true", help="overwrite existing files")
+    parser.add_argument("--top", choices=("dp", "axi"), default="dp",
+                        help="dp: the DP pipeline dptbd_dp (default); axi: the AXI top level "
+                             "dptbd_axi with its register header and FuseSoC core")
     parser.add_argument("--external-state-store", action="store_true",
                         help="convert DPCore: the W*H-word state store outside the module")
     parser.add_argument("--lut-style", choices=("auto", "bram", "logic"), default="auto",
@@ -34,6 +42,34 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_config_arguments(parser)
 
 
+def _refuse_existing(paths: list[pathlib.Path], force: bool) -> None:
+    existing = [str(p) for p in paths if p.exists()]
+    if existing and not force:
+        names = existing[0] if len(existing) == 1 else \
+            f"{', '.join(existing[:-1])} and {existing[-1]}"
+        raise FileExistsError(f"{names} {'exists' if len(existing) == 1 else 'exist'}; pass "
+                              f"--force to overwrite")
+
+
+def _write_axi(args: argparse.Namespace, cfg) -> int:
+    from dptbd.hw.flow.axi_package import axi_package
+
+    if args.external_state_store or args.lut_style != "auto":
+        raise ValueError("--external-state-store and --lut-style apply to --top dp only; "
+                         "--top axi keeps the state store on chip with the automatic LUT style")
+    out = args.output
+    names = [f"{out.stem}.v", f"{out.stem}.json", "dptbd_regs.h", f"{out.stem}.core"]
+    _refuse_existing([out.parent / name for name in names], args.force)
+    files = axi_package(cfg, out.stem)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    for name, text in files.items():
+        (out.parent / name).write_text(text)
+    info = json.loads(files[f"{out.stem}.json"])
+    print(f"wrote {', '.join(str(out.parent / n) for n in files)} (module {info['module']}, "
+          f"{cfg.width}x{cfg.height}, latency {info['latency']} cycles)")
+    return 0
+
+
 def main(args: argparse.Namespace) -> int:
     from dptbd.hw.flow.verilog import generate_verilog
 
@@ -42,11 +78,9 @@ def main(args: argparse.Namespace) -> int:
         raise ValueError(f"output {out} would collide with its manifest; use a .v name")
     manifest = out.with_suffix(".json")
     cfg = config_from_args(args)
-    existing = [p for p in (out, manifest) if p.exists()]
-    if existing and not args.force:
-        raise FileExistsError(f"{' and '.join(map(str, existing))} "
-                              f"{'exists' if len(existing) == 1 else 'exist'}; pass --force to "
-                              f"overwrite")
+    if args.top == "axi":
+        return _write_axi(args, cfg)
+    _refuse_existing([out, manifest], args.force)
     text, info = generate_verilog(cfg, external_state_store=args.external_state_store,
                                   lut_style=args.lut_style)
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -123,3 +123,47 @@ def test_narrow_energy_width_warns_but_builds(tmp_path, capsys):
                                    "--energy-bits", 7])
     assert verilog_command.main(args) == 0
     assert "warning: energy_bits=7 saturates" in capsys.readouterr().err
+
+
+def test_verilog_top_axi_writes_module_header_manifest_and_core(tmp_path, capsys):
+    toml = tmp_path / "p.toml"
+    toml.write_text("width = 16\nheight = 12\ncandidate_count = 4\n")
+    out = tmp_path / "rtl" / "mine.v"
+    assert verilog_command.main(parse(["-o", out, "--config", toml, "--top", "axi"])) == 0
+    names = sorted(p.name for p in out.parent.iterdir())
+    assert names == ["dptbd_regs.h", "mine.core", "mine.json", "mine.v"]
+    assert "module dptbd_axi(" in out.read_text()
+    manifest = json.loads((out.parent / "mine.json").read_text())
+    assert manifest["module"] == "dptbd_axi" and manifest["parameters"]["width"] == 16
+    assert manifest["reset"] == {"name": "aresetn", "polarity": "active_low",
+                                 "kind": "synchronous"}
+    assert "#define DPTBD_REG_SEGMENT_FRAMES 0x00000044u" in \
+        (out.parent / "dptbd_regs.h").read_text()
+    assert "      - mine.v" in (out.parent / "mine.core").read_text()
+    assert "(module dptbd_axi, 16x12, latency" in capsys.readouterr().out
+
+
+def test_verilog_top_axi_refuses_existing_files_and_dp_only_options(tmp_path):
+    out = tmp_path / "dptbd_axi.v"
+    (tmp_path / "dptbd_regs.h").write_text("mine")
+    (tmp_path / "dptbd_axi.core").write_text("mine")
+    names = [re.escape(str(tmp_path / n)) for n in ("dptbd_regs.h", "dptbd_axi.core")]
+    with pytest.raises(FileExistsError,
+                       match=rf"^{names[0]} and {names[1]} exist; pass --force to overwrite$"):
+        verilog_command.main(parse(["-o", out, "--top", "axi", "--width", 8, "--height", 6]))
+    assert not out.exists() and (tmp_path / "dptbd_regs.h").read_text() == "mine"
+    (tmp_path / "dptbd_axi.json").write_text("mine")
+    three = ", ".join(re.escape(str(tmp_path / n)) for n in ("dptbd_axi.json", "dptbd_regs.h"))
+    with pytest.raises(FileExistsError,
+                       match=rf"^{three} and {names[1]} exist; pass --force to overwrite$"):
+        verilog_command.main(parse(["-o", out, "--top", "axi", "--width", 8, "--height", 6]))
+    with pytest.raises(ValueError, match=r"^--external-state-store and --lut-style apply to "
+                                         r"--top dp only; --top axi keeps the state store on "
+                                         r"chip with the automatic LUT style$"):
+        verilog_command.main(parse(["-o", out, "--top", "axi", "--lut-style", "logic",
+                                    "--force"]))
+    toml = tmp_path / "p.toml"
+    toml.write_text("width = 8\nheight = 6\ncandidate_count = 2\n")
+    assert verilog_command.main(parse(["-o", out, "--top", "axi", "--config", toml,
+                                       "--force"])) == 0
+    assert (tmp_path / "dptbd_regs.h").read_text().startswith("/* dptbd_regs.h")

@@ -1,0 +1,116 @@
+"""AXI4-Lite subordinate: the five channels as wiring signatures, and a one-transaction
+adapter to a simple register bus.
+
+Signal names are the AXI ones (``awaddr``, ``wstrb``, ``bresp`` …); a top level that
+flattens them with a prefix gets ``s_axil_awaddr`` and so on. 32-bit data, byte addresses,
+``prot`` ignored.
+
+:class:`AXILiteSubordinate` takes one transaction at a time: while a response is pending
+it accepts nothing new; a write (AW and W, in either order or together) wins over a read
+arriving in the same cycle. A write reaches the register bus one cycle after its last
+handshake and its response (``bvalid``) follows in the next cycle; a read's address goes to
+the bus in its handshake cycle and ``rvalid`` follows in the next cycle. The register bus
+answers with ``r_err`` / ``w_err``, turned into ``SLVERR``; otherwise ``OKAY``.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Mux, Signal
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+__all__ = ["RESP_OKAY", "RESP_SLVERR", "axi_lite_signature", "register_bus_signature",
+           "AXILiteSubordinate"]
+
+RESP_OKAY = 0b00
+RESP_SLVERR = 0b10
+
+
+def axi_lite_signature(address_bits: int, data_bits: int = 32) -> wiring.Signature:
+    """AXI4-Lite as the manager sees it: channels ``aw``, ``w``, ``b``, ``ar``, ``r``, each a
+    signature whose members carry the AXI signal names."""
+    strobe = data_bits // 8
+    return wiring.Signature({
+        "aw": Out(wiring.Signature({"awaddr": Out(address_bits), "awprot": Out(3),
+                                    "awvalid": Out(1), "awready": In(1)})),
+        "w": Out(wiring.Signature({"wdata": Out(data_bits), "wstrb": Out(strobe),
+                                   "wvalid": Out(1), "wready": In(1)})),
+        "b": Out(wiring.Signature({"bresp": In(2), "bvalid": In(1), "bready": Out(1)})),
+        "ar": Out(wiring.Signature({"araddr": Out(address_bits), "arprot": Out(3),
+                                    "arvalid": Out(1), "arready": In(1)})),
+        "r": Out(wiring.Signature({"rdata": In(data_bits), "rresp": In(2), "rvalid": In(1),
+                                   "rready": Out(1)})),
+    })
+
+
+def register_bus_signature(address_bits: int, data_bits: int = 32) -> wiring.Signature:
+    """The adapter's side of a register block, as the adapter sees it.
+
+    ``addr`` is valid with ``r_stb`` / ``w_stb`` (one cycle each); ``r_data``, ``r_err`` and
+    ``w_err`` are combinational answers of the register block for ``addr`` in that cycle.
+    """
+    return wiring.Signature({
+        "addr": Out(address_bits),
+        "r_stb": Out(1),
+        "w_stb": Out(1),
+        "w_data": Out(data_bits),
+        "w_strb": Out(data_bits // 8),
+        "r_data": In(data_bits),
+        "r_err": In(1),
+        "w_err": In(1),
+    })
+
+
+class AXILiteSubordinate(wiring.Component):
+    """AXI4-Lite subordinate port in front of a register bus (see the module doc).
+
+    Members
+    -------
+    axil : In(axi_lite_signature(address_bits))
+    bus : Out(register_bus_signature(address_bits))
+    """
+
+    def __init__(self, address_bits: int, data_bits: int = 32):
+        super().__init__({
+            "axil": In(axi_lite_signature(address_bits, data_bits)),
+            "bus": Out(register_bus_signature(address_bits, data_bits)),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        aw, w, b, ar, r = (self.axil.aw, self.axil.w, self.axil.b, self.axil.ar, self.axil.r)
+        bus = self.bus
+        have_aw = Signal()
+        have_w = Signal()
+        aw_addr = Signal.like(aw.awaddr)
+        w_data = Signal.like(w.wdata)
+        w_strb = Signal.like(w.wstrb)
+        busy = b.bvalid | r.rvalid
+        writing = have_aw & have_w
+
+        m.d.comb += [
+            aw.awready.eq(~have_aw & ~busy),
+            w.wready.eq(~have_w & ~busy),
+            ar.arready.eq(~busy & ~have_aw & ~have_w & ~aw.awvalid & ~w.wvalid),
+            bus.addr.eq(Mux(writing, aw_addr, ar.araddr)),
+            bus.w_stb.eq(writing),
+            bus.w_data.eq(w_data),
+            bus.w_strb.eq(w_strb),
+            bus.r_stb.eq(ar.arvalid & ar.arready),
+        ]
+        with m.If(aw.awvalid & aw.awready):
+            m.d.sync += [have_aw.eq(1), aw_addr.eq(aw.awaddr)]
+        with m.If(w.wvalid & w.wready):
+            m.d.sync += [have_w.eq(1), w_data.eq(w.wdata), w_strb.eq(w.wstrb)]
+        with m.If(writing):
+            m.d.sync += [have_aw.eq(0), have_w.eq(0), b.bvalid.eq(1),
+                         b.bresp.eq(Mux(bus.w_err, RESP_SLVERR, RESP_OKAY))]
+        with m.Elif(b.bvalid & b.bready):
+            m.d.sync += b.bvalid.eq(0)
+        with m.If(bus.r_stb):
+            m.d.sync += [r.rvalid.eq(1), r.rdata.eq(bus.r_data),
+                         r.rresp.eq(Mux(bus.r_err, RESP_SLVERR, RESP_OKAY))]
+        with m.Elif(r.rvalid & r.rready):
+            m.d.sync += r.rvalid.eq(0)
+        return m
+

@@ -1,0 +1,157 @@
+"""The AXI top level ``dptbd_axi``: the DP pipeline and segmenter behind AXI4-Stream video
+ports and an AXI4-Lite register port (``docs/integration.md``).
+
+:class:`AXITop` wraps the existing components unchanged:
+:class:`~dptbd.hw.dp_segmenter_top.DPSegmenter` (pixels in, candidate lists out),
+:class:`~dptbd.hw.axis_video.AxisToPixels` / :class:`~dptbd.hw.axis_video.CandidatesToAxis`
+(the stream conventions), :class:`~dptbd.hw.frame_monitor.FrameMonitor` (frame-sync faults)
+and :class:`~dptbd.hw.register_file.RegisterFile` (the register map of
+:mod:`dptbd.hw.register_map`). Its ports are flat, with the names of the AXI convention:
+``aclk``, ``aresetn`` (active low, synchronous), ``s_axis_video_*``, ``m_axis_cand_*``,
+``s_axil_*`` and ``irq``.
+
+``CONTROL.soft_reset`` resets the core, the frame monitor and the output adapter for one
+cycle (registers and counters are kept); in that cycle ``s_axis_video_tready`` and
+``m_axis_cand_tvalid`` are low, so no beat is half taken.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import ClockDomain, Module, ResetInserter
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import DPConfig
+from dptbd.hw.axi_lite import axi_lite_signature
+from dptbd.hw.axis_video import (AxisToPixels, CandidatesToAxis, candidate_out_signature,
+                                 video_in_signature)
+from dptbd.hw.dp_segmenter_top import DPSegmenter
+from dptbd.hw.frame_monitor import FrameMonitor
+from dptbd.hw.register_file import RegisterFile
+from dptbd.hw.register_map import ADDRESS_BITS, FAULTS, register_map
+
+__all__ = ["AXI_MODULE_NAME", "BUNDLES", "AXITop"]
+
+#: Name of the generated Verilog module.
+AXI_MODULE_NAME = "dptbd_axi"
+
+#: Prefixes of the flattened AXI bundles.
+BUNDLES = ("s_axis_video", "m_axis_cand", "s_axil")
+
+#: The core's event pulses counted by the register block (``DPSegmenter.events``).
+CORE_EVENTS = ("frame_done", "segment_done", "list_done", "saturated")
+
+
+def _bundle_signatures(cfg: DPConfig) -> dict[str, wiring.Signature]:
+    return {
+        "s_axis_video": video_in_signature(cfg).flip(),
+        "m_axis_cand": candidate_out_signature(cfg),
+        "s_axil": axi_lite_signature(ADDRESS_BITS).flip(),
+    }
+
+
+def _flat(prefix: str, signature: wiring.Signature) -> dict:
+    """``{prefix_<AXI name>: member}`` of every port of ``signature``."""
+    return {f"{prefix}_{path[-1]}": member for path, member in signature.members.flatten()
+            if member.is_port}
+
+
+class AXITop(wiring.Component):
+    """``dptbd_axi`` for ``cfg`` (see the module doc and ``docs/integration.md``).
+
+    Members
+    -------
+    aclk, aresetn : In(1)
+        Clock; synchronous active-low reset of everything, registers included.
+    s_axis_video_tdata, _tvalid, _tready, _tuser, _tlast
+        Pixel input, one pixel per beat (:func:`~dptbd.hw.axis_video.video_in_signature`).
+    m_axis_cand_tdata, _tvalid, _tready, _tuser, _tlast
+        Candidate lists, one record or trailer per beat.
+    s_axil_awaddr … s_axil_rready
+        AXI4-Lite control port (12-bit byte addresses, 32-bit data).
+    irq : Out(1)
+        Level interrupt: any pending and enabled ``IRQ_STATUS`` bit.
+    """
+
+    def __init__(self, cfg: DPConfig):
+        self._cfg = cfg
+        self._core = DPSegmenter(cfg)
+        self._bundles = _bundle_signatures(cfg)
+        self._register_map = register_map(cfg)
+        members = {"aclk": In(1), "aresetn": In(1)}
+        for prefix, signature in self._bundles.items():
+            members.update(_flat(prefix, signature))
+        members["irq"] = Out(1)
+        super().__init__(members)
+
+    @property
+    def config(self) -> DPConfig:
+        return self._cfg
+
+    @property
+    def register_map(self):
+        """The :func:`~dptbd.hw.register_map.register_map` of this build."""
+        return self._register_map
+
+    @property
+    def core(self) -> DPSegmenter:
+        return self._core
+
+    def _connect_flat(self, m, prefix: str, inner) -> None:
+        for path, member in self._bundles[prefix].members.flatten():
+            if not member.is_port:
+                continue
+            value = inner
+            for part in path:
+                value = getattr(value, part)
+            outer = getattr(self, f"{prefix}_{path[-1]}")
+            m.d.comb += value.eq(outer) if member.flow == In else outer.eq(value)
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg = self._cfg
+        m.domains.sync = sync = ClockDomain("sync")
+        m.d.comb += [sync.clk.eq(self.aclk), sync.rst.eq(~self.aresetn)]
+
+        m.submodules.regs = regs = RegisterFile(cfg)
+        soft = {"sync": regs.soft_reset}
+        m.submodules.video_in = video_in = AxisToPixels(cfg)
+        m.submodules.monitor = monitor = ResetInserter(soft)(FrameMonitor(cfg))
+        m.submodules.core = core = ResetInserter(soft)(self._core)
+        m.submodules.cand_out = cand_out = ResetInserter(soft)(CandidatesToAxis(cfg))
+
+        self._connect_flat(m, "s_axil", regs.axil)
+        self._connect_flat(m, "s_axis_video", video_in.video)
+        self._connect_flat(m, "m_axis_cand", cand_out.cand)
+        m.d.comb += self.irq.eq(regs.irq)
+
+        # pixels: adapter -> core, held off during a soft reset
+        m.d.comb += [
+            core.pixels.payload.eq(video_in.pixels.payload),
+            core.pixels.valid.eq(video_in.pixels.valid & ~regs.soft_reset),
+            video_in.pixels.ready.eq(core.pixels.ready & ~regs.soft_reset),
+            monitor.accept.eq(video_in.accepted),
+            monitor.first.eq(self.s_axis_video_tuser[0]),
+            monitor.last.eq(self.s_axis_video_tlast),
+        ]
+        # candidates: core -> adapter, held off during a soft reset
+        m.d.comb += [
+            cand_out.candidates.payload.eq(core.candidates.payload),
+            cand_out.candidates.valid.eq(core.candidates.valid & ~regs.soft_reset),
+            core.candidates.ready.eq(cand_out.candidates.ready & ~regs.soft_reset),
+        ]
+        # run-time settings and the LUT write port
+        m.d.comb += [core.lut_addr.eq(regs.lut_addr), core.lut_data.eq(regs.lut_data),
+                     core.lut_we.eq(regs.lut_we)]
+        for name in ("segment_frames", "candidate_count", "histogram_shift"):
+            m.d.comb += getattr(core, name).eq(getattr(regs, name))
+        # events
+        for name in CORE_EVENTS:
+            m.d.comb += regs.events[name].eq(core.events[name])
+        for name in FAULTS:
+            m.d.comb += regs.events[name].eq(monitor.faults[name])
+        m.d.comb += [
+            regs.events.input_stall.eq(self.s_axis_video_tvalid & ~self.s_axis_video_tready),
+            regs.events.output_stall.eq(cand_out.stalled),
+        ]
+        return m

@@ -1,0 +1,204 @@
+"""Beat streams for the AXI top level's video input, with frame-sync faults injected, and
+the frame monitor's fault rule as a reference.
+
+Plain numpy (no simulator import): the cocotb bench :mod:`dptbd.sim.tb_axi`, its pytest
+driver and the monitor's unit test use it. A stream is three arrays over beats: the pixel,
+``first`` (``tuser[0]``, start of frame) and ``last`` (``tlast``, end of line).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from dptbd.config import DPConfig
+from dptbd.hw.register_map import FAULTS, register_map
+from dptbd.model.segmentation import segment_stream
+from dptbd.model.settings import SegmentSettings
+from dptbd.sim.stream_model import expected_stream
+
+__all__ = ["FAULT_KINDS", "SETTINGS", "Beats", "clean_beats", "with_fault", "fault_pulses",
+           "fault_counts", "Piece", "Expected", "stream_pieces", "expected_outputs"]
+
+#: What :func:`with_fault` can inject, each raising exactly one pulse of its class.
+FAULT_KINDS = FAULTS
+
+#: The setting registers, in the order of :class:`~dptbd.model.settings.SegmentSettings`.
+SETTINGS = {"SEGMENT_FRAMES": "segment_frames", "CANDIDATE_COUNT": "candidate_count",
+            "HISTOGRAM_SHIFT": "histogram_shift"}
+
+
+@dataclasses.dataclass(frozen=True)
+class Beats:
+    """One video input stream: per-beat ``pixel``, ``first`` and ``last``."""
+
+    pixel: np.ndarray
+    first: np.ndarray
+    last: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.pixel)
+
+    def __add__(self, other: "Beats") -> "Beats":
+        return Beats(*(np.concatenate([a, b]) for a, b in
+                       zip(dataclasses.astuple(self), dataclasses.astuple(other))))
+
+    def to_json(self) -> dict:
+        return {name: np.asarray(v, dtype=np.int64).tolist()
+                for name, v in dataclasses.asdict(self).items()}
+
+    @classmethod
+    def from_json(cls, values: dict) -> "Beats":
+        return cls(np.asarray(values["pixel"], dtype=np.int64),
+                   np.asarray(values["first"], dtype=bool), np.asarray(values["last"], dtype=bool))
+
+
+def clean_beats(frames: np.ndarray) -> Beats:
+    """Frames ``(T, H, W)`` as beats: ``first`` on pixel (0, 0), ``last`` on column W-1."""
+    frames = np.asarray(frames)
+    first = np.zeros(frames.shape, dtype=bool)
+    first[:, 0, 0] = True
+    last = np.zeros(frames.shape, dtype=bool)
+    last[:, :, -1] = True
+    return Beats(frames.astype(np.int64).ravel(), first.ravel(), last.ravel())
+
+
+def with_fault(cfg: DPConfig, frames: np.ndarray, kind: str) -> Beats:
+    """``frames`` as beats with one fault of class ``kind`` in frame 0 (the frames after it
+    clean; at least two frames):
+
+    - ``sof_unexpected``: frame 0 is cut after 1.5 lines (no ``tlast`` on the cut line);
+    - ``frame_short``: frame 0 has its first H-1 lines only;
+    - ``frame_long``: frame 1 comes without its start of frame;
+    - ``line_length``: line 0 of frame 0 has no ``tlast``.
+    """
+    if kind not in FAULT_KINDS:
+        raise ValueError(f"fault kind must be one of {FAULT_KINDS}, got {kind!r}")
+    if len(frames) < 2:
+        raise ValueError(f"a fault needs at least 2 frames, got {len(frames)}")
+    w = cfg.width
+    head, tail = clean_beats(frames[:1]), clean_beats(frames[1:])
+    if kind == "sof_unexpected":
+        head = _prefix(head, w + w // 2)
+    elif kind == "frame_short":
+        head = _prefix(head, w * (cfg.height - 1))
+    elif kind == "frame_long":
+        tail.first[0] = False
+    else:
+        head.last[w - 1] = False
+    return head + tail
+
+
+def _prefix(beats: Beats, n: int) -> Beats:
+    return Beats(beats.pixel[:n].copy(), beats.first[:n].copy(), beats.last[:n].copy())
+
+
+def fault_pulses(cfg: DPConfig, first, last) -> list[dict[str, int]]:
+    """The frame monitor's fault pulses for every beat (``docs/integration.md``): the
+    core's counting rule (an unexpected start of frame restarts the counters, a missing one
+    is ignored) and the four classes."""
+    width, height = cfg.width, cfg.height
+    col = row = 0
+    at_start = True
+    out = []
+    for f, lst in zip(first, last):
+        restart = bool(f) and not at_start
+        pulses = {"sof_unexpected": restart and col != 0, "frame_short": restart and col == 0,
+                  "frame_long": at_start and not f}
+        if restart:
+            col = row = 0
+        pulses["line_length"] = bool(lst) != (col == width - 1)
+        out.append({k: int(v) for k, v in pulses.items()})
+        at_start = col == width - 1 and row == height - 1
+        if col == width - 1:
+            col, row = 0, (0 if row == height - 1 else row + 1)
+        else:
+            col += 1
+    return out
+
+
+def fault_counts(cfg: DPConfig, beats: Beats) -> dict[str, int]:
+    """Total pulses per fault class of a stream (what the FAULT_* counters must read)."""
+    pulses = fault_pulses(cfg, beats.first, beats.last)
+    return {k: sum(p[k] for p in pulses) for k in FAULTS}
+
+
+@dataclasses.dataclass(frozen=True)
+class Piece:
+    """Beats ``[start, stop)`` that the core processes from reset, with LUT writes
+    (``lut_changes``) and run-time settings written (``settings_changes``) just before the
+    beats at their absolute indices."""
+
+    start: int
+    stop: int
+    lut_changes: dict
+    settings_changes: dict
+
+
+@dataclasses.dataclass(frozen=True)
+class Expected:
+    """What the golden model says the whole stream gives: the candidate lists, and the
+    counts the FRAMES, SEGMENTS, LISTS and SATURATED registers must read."""
+
+    lists: list
+    frames: int
+    segments: int
+    saturated: int
+
+    def counters(self) -> dict[str, int]:
+        return {"FRAMES": self.frames, "SEGMENTS": self.segments, "LISTS": len(self.lists),
+                "SATURATED": self.saturated}
+
+
+def stream_pieces(cfg: DPConfig, steps: list[dict]) -> list[Piece]:
+    """Cut a bench's steps (:mod:`dptbd.sim.tb_axi`) into pieces at every ``soft_reset``.
+
+    A step's writes to a setting register (``SEGMENT_FRAMES``, ``CANDIDATE_COUNT``,
+    ``HISTOGRAM_SHIFT``) that the register block takes (refused values are ignored, as the
+    gateware ignores them) and its ``lut_codes`` apply from the step's first beat on. A soft
+    reset keeps the registers (the settings are sampled again at the next segment start)
+    and the LUT (a memory).
+    """
+    limits = {name: register_map(cfg)[name].fields[0].limits for name in SETTINGS}
+    current = dataclasses.astuple(SegmentSettings.defaults(cfg))
+    pieces, lo, start, lut = [], 0, 0, None
+    luts, settings = {}, {}
+    for step in steps:
+        if step.get("soft_reset") and start > lo:
+            pieces.append(Piece(lo, start, luts, settings))
+            lo = start
+            luts = {start: lut} if lut is not None else {}
+            settings = {start: SegmentSettings(*current)}
+        values = dict(zip(SETTINGS, current))
+        for name, value in step.get("writes", []):
+            if name in SETTINGS and limits[name][0] <= value <= limits[name][1]:
+                values[name] = int(value)
+        if tuple(values.values()) != current:
+            current = tuple(values.values())
+            settings[start] = SegmentSettings(*current)
+        if step.get("lut_codes") is not None:
+            lut = step["lut_codes"]
+            luts[start] = lut
+        start = step["stop"]
+    pieces.append(Piece(lo, start, luts, settings))
+    return pieces
+
+
+def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict]) -> Expected:
+    """The golden model of the whole stream, piece by piece (:func:`stream_pieces`):
+    :func:`~dptbd.sim.stream_model.expected_stream` for the states and
+    :func:`~dptbd.model.segmentation.segment_stream` for the lists, with the settings
+    sampled as the gateware samples them."""
+    lists, frames, segments, saturated = [], 0, 0, 0
+    for piece in stream_pieces(cfg, steps):
+        a, b = piece.start, piece.stop
+        expect = expected_stream(cfg, beats.pixel[a:b], beats.first[a:b],
+                                 {i - a: codes for i, codes in piece.lut_changes.items()},
+                                 {i - a: st for i, st in piece.settings_changes.items()})
+        lists += segment_stream(expect.fields, cfg, expect.settings)
+        frames += sum(run.complete for run in expect.runs)
+        segments += sum(run.complete and run.frame == run.segment_frames - 1
+                        for run in expect.runs)
+        saturated += int(expect.saturated.sum())
+    return Expected(lists, frames, segments, saturated)

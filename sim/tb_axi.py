@@ -1,0 +1,261 @@
+"""cocotb test of the generated ``dptbd_axi`` (the AXI top level) with cocotbext-axi, against
+the golden model bit for bit.
+
+Run through :func:`dptbd.sim.runner.simulate` on a build made with ``build(cfg,
+design="axi")``; never imported outside a simulator. The job (``DPTBD_SIM_JOB``) carries the
+input beats (:class:`dptbd.sim.axi_stimulus.Beats`, faults included) and a list of *steps*;
+for each step the bench
+
+1. waits until every earlier beat was accepted, then ``settle`` cycles (default: latency
+   plus two histogram scans, so every event of those beats has been counted),
+2. reads every register of the step's ``check`` (``{name: value}``) and compares,
+3. performs the step's register ``writes`` (``[[name, value], …]``) through
+   ``AxiLiteMaster``, each answered OKAY when the value is in the register's range and
+   SLVERR otherwise, and read back (unchanged after a refusal),
+4. writes the step's ``lut_codes`` through the LUT window, entry by entry,
+5. queues the beats up to the step's ``stop`` on ``AxiStreamSource`` (one line per
+   AXI-Stream frame: ``tlast`` where the beats have ``last``; ``tuser`` = ``first``).
+
+``m_axis_cand`` goes to ``AxiStreamSink``; every word is scored in order against
+:func:`dptbd.sim.axi_stimulus.expected_outputs` (the golden model of the accepted stream, from
+reset and after every soft reset, with the settings written and LUT changes at their beat),
+and ``tuser[0]`` / ``tlast`` are checked on every word. At the end the FRAMES, SEGMENTS,
+LISTS and SATURATED counters must read what the model gives. A step with ``soft_reset`` writes
+``CONTROL.soft_reset`` after the earlier beats have drained. Both streams take the
+job's ``valid_pause`` / ``ready_pause`` (:func:`dptbd.sim.components.pause_generator`). At
+the end the ``final_check`` registers are read. The summary lists the cycles at which
+``irq`` rose and fell and the cycle each beat was accepted.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+
+import cocotb
+from cocotb.clock import Clock
+from cocotb.simtime import get_sim_time
+from cocotb.triggers import Event, First, RisingEdge, Timer
+from cocotbext.axi import (AxiLiteBus, AxiLiteMaster, AxiStreamBus, AxiStreamFrame,
+                           AxiStreamSink, AxiStreamSource)
+
+from dptbd.hw.candidate_layout import unpack_candidate
+from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.sim.axi_stimulus import Beats, expected_outputs
+from dptbd.sim.candidate_scoreboard import CandidateScoreboard
+from dptbd.sim.components import Cycles, pause_generator, pause_probability
+from dptbd.sim.tb_dp import PERIOD_NS, load_job
+
+OKAY, SLVERR = 0, 2
+
+
+def high(handle) -> bool:
+    value = handle.value
+    return value.is_resolvable and bool(int(value))
+
+
+def line_frames(beats: Beats, start: int, stop: int) -> list[AxiStreamFrame]:
+    """Beats ``[start, stop)`` as AXI-Stream frames, each ending at a beat with ``last``."""
+    frames, lo = [], start
+    for i in range(start, stop):
+        if beats.last[i] or i == stop - 1:
+            frames.append(AxiStreamFrame(tdata=[int(p) for p in beats.pixel[lo:i + 1]],
+                                         tuser=[int(f) for f in beats.first[lo:i + 1]]))
+            lo = i + 1
+    return frames
+
+
+class AxiBench:
+    """Clock, reset, the three cocotbext-axi drivers and the watchers of one run."""
+
+    def __init__(self, dut, job: dict, cfg):
+        self.dut, self.job, self.cfg = dut, job, cfg
+        self.regs = constants_namespace(cfg)
+        self.period = int(job.get("period_ns", PERIOD_NS))
+        self.log = cocotb.log
+        self.problems: list[str] = []
+        self.irq_edges: list[tuple[int, int]] = []
+        self.accept_cycles: list[int] = []
+        self.stalls = {"input": 0, "output": 0}      # seen on the buses, after reset
+        self.cycles = Cycles(1)
+        clk, rst = dut.aclk, dut.aresetn
+        self.source = AxiStreamSource(AxiStreamBus.from_prefix(dut, "s_axis_video"), clk, rst,
+                                      reset_active_level=False, byte_lanes=1)
+        self.sink = AxiStreamSink(AxiStreamBus.from_prefix(dut, "m_axis_cand"), clk, rst,
+                                  reset_active_level=False, byte_lanes=1)
+        self.axil = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"), clk, rst,
+                                  reset_active_level=False)
+        self.source.set_pause_generator(pause_generator(job.get("valid_pause")))
+        self.sink.set_pause_generator(pause_generator(job.get("ready_pause")))
+
+    async def start(self) -> None:
+        Clock(self.dut.aclk, self.period, unit="ns").start(start_high=False)
+        self.dut.aresetn.value = 0
+        await RisingEdge(self.dut.aclk)
+        t0 = get_sim_time("step")
+        await RisingEdge(self.dut.aclk)
+        self.cycles.period_steps = int(get_sim_time("step") - t0)
+        for _ in range(3):
+            await RisingEdge(self.dut.aclk)
+        self.dut.aresetn.value = 1
+        cocotb.start_soon(self._watch())
+
+    async def _watch(self) -> None:
+        dut, edge, irq = self.dut, RisingEdge(self.dut.aclk), 0
+        while True:
+            await edge
+            now = self.cycles.now()
+            if high(dut.s_axis_video_tvalid):
+                if high(dut.s_axis_video_tready):
+                    self.accept_cycles.append(now)
+                else:
+                    self.stalls["input"] += 1
+            if high(dut.m_axis_cand_tvalid) and not high(dut.m_axis_cand_tready):
+                self.stalls["output"] += 1
+            level = int(dut.irq.value) if dut.irq.value.is_resolvable else 0
+            if level != irq:
+                self.irq_edges.append((now, level))
+                irq = level
+
+    async def read(self, name: str) -> int:
+        resp = await self.axil.read(getattr(self.regs, f"REG_{name}"), 4)
+        if int(resp.resp) != OKAY:
+            self.problems.append(f"read {name}: response {int(resp.resp)}")
+        return int.from_bytes(resp.data, "little")
+
+    async def write(self, address: int, value: int, want: int, what: str) -> None:
+        resp = await self.axil.write(address, int(value).to_bytes(4, "little"))
+        if int(resp.resp) != want:
+            self.problems.append(f"write {what} = {value}: response {int(resp.resp)}, "
+                                 f"expected {want}")
+
+    async def write_register(self, name: str, value: int) -> None:
+        lo = getattr(self.regs, f"{name}_{name}_MIN", None)
+        hi = getattr(self.regs, f"{name}_{name}_MAX", None)
+        taken = lo is None or lo <= value <= hi
+        before = await self.read(name) if lo is not None else None
+        await self.write(getattr(self.regs, f"REG_{name}"), value, OKAY if taken else SLVERR,
+                         name)
+        if lo is not None:
+            after = await self.read(name)
+            want = value if taken else before
+            if after != want:
+                self.problems.append(f"{name} reads {after} after writing {value}, "
+                                     f"expected {want}")
+
+    async def check(self, expected: dict, when: str) -> None:
+        for name, want in expected.items():
+            got = await self.read(name)
+            if got != want:
+                self.problems.append(f"{when}: {name} = {got}, expected {want}")
+
+    async def settle(self, cycles: int) -> None:
+        for _ in range(cycles):
+            await RisingEdge(self.dut.aclk)
+
+
+@cocotb.test()
+async def run_stream(dut):
+    """Drive the steps of the job and score every candidate word and register check."""
+    job, cfg, _frames = load_job()
+    wall_start = time.perf_counter()
+    beats = Beats.from_json(job["beats"])
+    steps = job["steps"]
+    bench = AxiBench(dut, job, cfg)
+    await bench.start()
+
+    expected = expected_outputs(cfg, beats, steps)
+    lists = expected.lists
+    board = CandidateScoreboard(cfg, lists)
+    finished = Event()
+    if board.total == 0:
+        finished.set()
+    settle = int(job.get("settle", bench_settle(job, cfg)))
+
+    async def score():
+        while True:
+            frame = await bench.sink.recv()
+            for i, word in enumerate(frame.tdata):
+                user = frame.tuser[i] if isinstance(frame.tuser, list) else frame.tuser
+                if int(user) & 1 != int(i == 0):
+                    bench.problems.append(f"list word {board.count}: tuser[0] = {user}")
+                kind = unpack_candidate(cfg, int(word))[0]
+                if (kind == "trailer") != (i == len(frame.tdata) - 1):
+                    bench.problems.append(f"list word {board.count}: a {kind} with tlast = "
+                                          f"{int(i == len(frame.tdata) - 1)}")
+                board.receive(int(word))
+            if board.failed or board.done:
+                finished.set()
+
+    cocotb.start_soon(score())
+    start = 0
+    for index, step in enumerate(steps):
+        await bench.source.wait()
+        if step.get("check") or step.get("soft_reset"):
+            await bench.settle(settle)
+        if step.get("check"):
+            await bench.check(step["check"], f"before step {index}")
+        if step.get("soft_reset"):
+            await bench.write(bench.regs.REG_CONTROL, bench.regs.CONTROL_SOFT_RESET_MASK, OKAY,
+                              "CONTROL")
+        for name, value in step.get("writes", []):
+            await bench.write_register(name, int(value))
+        if step.get("lut_codes") is not None:
+            codes = step["lut_codes"]
+            for p, row in enumerate(codes):
+                for m, code in enumerate(row):
+                    await bench.write(bench.regs.LUT_BASE + 4 * cfg.lut_address(p, m), code,
+                                      OKAY, "LUT")
+        for frame in line_frames(beats, start, step["stop"]):
+            await bench.source.send(frame)
+        start = step["stop"]
+
+    pv = pause_probability(job.get("valid_pause"))
+    pr = pause_probability(job.get("ready_pause"))
+    budget = int((len(beats) + 500) / max(0.02, (1 - pv) * (1 - pr)) * 3) + 4000 \
+        + len(lists) * (cfg.n_bins + 4) * 3
+    timeout = Timer(budget * bench.period, unit="ns")
+    fired = await First(finished.wait(), timeout)
+    timed_out = fired is timeout and not board.done
+    await bench.source.wait()
+    await bench.settle(settle)
+    if job.get("final_check"):
+        await bench.check(job["final_check"], "at the end")
+    counters = {name: await bench.read(name) for name in
+                ("FRAMES", "SEGMENTS", "LISTS", "SATURATED", "INPUT_STALLS", "OUTPUT_STALLS",
+                 "ERROR", "IRQ_STATUS")}
+    for name, want in expected.counters().items():
+        if counters[name] != want:
+            bench.problems.append(f"at the end: {name} = {counters[name]}, the model gives "
+                                  f"{want}")
+    ok = board.done and not bench.problems
+    summary = {
+        "test": "run_stream",
+        "design": "axi",
+        "verdict": "bit-exact" if ok else ("timeout" if timed_out else "mismatch"),
+        "report": "; ".join([board.report(), *bench.problems[:10]]),
+        "problems": bench.problems,
+        "beats": len(beats),
+        "accepted": len(bench.accept_cycles),
+        "lists": len(lists),
+        "counts": [lst.count for lst in lists],
+        "expected_counters": expected.counters(),
+        "counters": counters,
+        "stalls_seen": bench.stalls,
+        "irq_edges": bench.irq_edges,
+        "accept_cycles": bench.accept_cycles,
+        "wall_seconds": time.perf_counter() - wall_start,
+        "sim_cycles_total": bench.cycles.now(),
+    }
+    bench.log.info("%s", summary["report"])
+    if job.get("summary"):
+        with open(job["summary"], "w") as fh:
+            json.dump(summary, fh, indent=2)
+    assert summary["verdict"] == "bit-exact", summary["report"]
+
+
+def bench_settle(job: dict, cfg) -> int:
+    """Cycles after the last accepted beat until all its events are counted: the latency
+    plus two histogram scans, doubled under back-pressure."""
+    slow = 1 + 3 * pause_probability(job.get("ready_pause"))
+    return int((int(job.get("latency", 20)) + 2 * (cfg.n_bins + 4) + 8) * slow)

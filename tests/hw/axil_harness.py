@@ -1,0 +1,61 @@
+"""AXI4-Lite manager for Amaranth-simulator testbenches (``ctx`` of ``add_testbench``).
+
+Drives an ``axi_lite_signature`` port: :func:`axil_write` presents AW and W (together, AW
+first or W first) and waits for B; :func:`axil_read` presents AR and waits for R. Both
+return the response code, counting the cycles they took in ``cycles`` when given.
+"""
+
+from __future__ import annotations
+
+
+async def axil_write(ctx, axil, addr: int, data: int, strb: int = 0xF, *,
+                     order: str = "together", bready_delay: int = 0) -> int:
+    """One write; ``order`` is ``"together"``, ``"aw_first"`` or ``"w_first"``; B is
+    accepted ``bready_delay`` cycles after ``bvalid`` rises. Returns ``bresp``."""
+    aw, w, b = axil.aw, axil.w, axil.b
+    ctx.set(aw.awaddr, addr)
+    ctx.set(w.wdata, data)
+    ctx.set(w.wstrb, strb)
+    ctx.set(aw.awvalid, order != "w_first")
+    ctx.set(w.wvalid, order != "aw_first")
+    aw_done = w_done = False
+    while not (aw_done and w_done):
+        aw_go = ctx.get(aw.awvalid) and ctx.get(aw.awready)
+        w_go = ctx.get(w.wvalid) and ctx.get(w.wready)
+        await ctx.tick()
+        if aw_go:
+            aw_done = True
+            ctx.set(aw.awvalid, 0)
+        if w_go:
+            w_done = True
+            ctx.set(w.wvalid, 0)
+        ctx.set(aw.awvalid, not aw_done and (order != "w_first" or w_done))
+        ctx.set(w.wvalid, not w_done and (order != "aw_first" or aw_done))
+    while not ctx.get(b.bvalid):
+        await ctx.tick()
+    for _ in range(bready_delay):
+        assert ctx.get(b.bvalid)
+        await ctx.tick()
+    ctx.set(b.bready, 1)
+    resp = ctx.get(b.bresp)
+    await ctx.tick()
+    ctx.set(b.bready, 0)
+    return resp
+
+
+async def axil_read(ctx, axil, addr: int) -> tuple[int, int]:
+    """One read: ``(rdata, rresp)``."""
+    ar, r = axil.ar, axil.r
+    ctx.set(ar.araddr, addr)
+    ctx.set(ar.arvalid, 1)
+    while not ctx.get(ar.arready):
+        await ctx.tick()
+    await ctx.tick()
+    ctx.set(ar.arvalid, 0)
+    while not ctx.get(r.rvalid):
+        await ctx.tick()
+    ctx.set(r.rready, 1)
+    data, resp = ctx.get(r.rdata), ctx.get(r.rresp)
+    await ctx.tick()
+    ctx.set(r.rready, 0)
+    return data, resp

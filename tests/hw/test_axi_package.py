@@ -1,0 +1,59 @@
+"""The HDL user's package of ``dptbd_axi``: manifest, FuseSoC core (read back by FuseSoC's
+own parser), and the Verilog under Verilator's lint with the project's waivers."""
+
+import json
+import shutil
+import subprocess
+
+import pytest
+from fusesoc.capi2.core import CoreInterface
+from fusesoc.capi2.coreparser import Core2Parser
+
+from dptbd.hw.flow.axi_package import axi_package
+from dptbd.hw.flow.verilog import VERILATOR_LINT_FLAGS
+from dptbd.hw.register_map import register_map
+from seg_harness import make_config
+
+
+@pytest.fixture(scope="module")
+def package(tmp_path_factory):
+    cfg = make_config(width=12, height=10, candidate_count=3)
+    folder = tmp_path_factory.mktemp("axi")
+    files = axi_package(cfg, "top")
+    for name, text in files.items():
+        (folder / name).write_text(text)
+    return cfg, folder, files
+
+
+def test_manifest_lists_axi_ports_and_registers(package):
+    cfg, _folder, files = package
+    manifest = json.loads(files["top.json"])
+    ports = {p["name"]: p for p in manifest["ports"]}
+    assert {"aclk", "aresetn", "s_axis_video_tdata", "s_axis_video_tuser", "s_axis_video_tlast",
+            "m_axis_cand_tdata", "m_axis_cand_tlast", "s_axil_awaddr", "s_axil_rresp",
+            "irq"} <= set(ports)
+    assert not any(name.startswith(("clk", "rst", "pixels", "lut_")) for name in ports)
+    assert ports["s_axis_video_tdata"] == {"name": "s_axis_video_tdata", "direction": "input",
+                                           "width": 8}
+    assert ports["s_axil_rdata"]["direction"] == "output" and ports["s_axil_awaddr"]["width"] == 12
+    assert ports["m_axis_cand_tdata"]["width"] % 8 == 0
+    assert manifest["registers"]["REG_ERROR"] == register_map(cfg)["ERROR"].address
+
+
+def test_fusesoc_parses_the_core(package):
+    _cfg, folder, _files = package
+    core = CoreInterface(Core2Parser(), folder / "top.core")
+    assert str(core.name) == "dptbd:dptbd:top:0.1.0"
+    files = core.get_files({"target": "default"})
+    assert [(f["name"], f["file_type"]) for f in files] == [("top.v", "verilogSource"),
+                                                            ("dptbd_regs.h", "cSource")]
+    assert files[1]["is_include_file"] is True
+    assert core.get_toplevel({"target": "lint"}) == "dptbd_axi"
+
+
+@pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
+def test_verilog_lints_clean(package):
+    _cfg, folder, _files = package
+    run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "top.v", "--top-module",
+                          "dptbd_axi"], cwd=folder, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr

@@ -1,0 +1,122 @@
+"""``FrameMonitor`` against a Python reference of its rule, and against the core's
+``Controller`` (both must agree on every restart).
+
+Glasgow's pattern: ``cases()`` yields beat sequences ``[(first, last), …]`` for a W x H
+raster, each with one kind of fault (or none); ``ref_faults`` is the rule of
+``docs/integration.md`` written in Python (``dptbd.sim.axi_stimulus``); ``rtl_faults`` runs the gateware with random
+gaps between beats.
+"""
+
+import random
+
+import numpy as np
+
+import pytest
+from amaranth.hdl import Elaboratable, Module
+
+from dptbd.hw.controller import Controller
+from dptbd.hw.frame_monitor import FrameMonitor
+from dptbd.hw.register_map import FAULTS
+from dptbd.sim.axi_stimulus import fault_counts, fault_pulses, with_fault
+from hw_harness import simulate
+from seg_harness import make_config
+
+W, H = 5, 3
+
+
+def frame(width=W, height=H, sof=True):
+    beats = [(0, c == width - 1) for _r in range(height) for c in range(width)]
+    beats[0] = (int(sof), beats[0][1])
+    return beats
+
+
+def cases():
+    """(name, beats, faults expected in total)."""
+    clean = frame() * 3
+    yield "clean", clean, {}
+    yield "cut mid-line", frame()[:7] + frame(), {"sof_unexpected": 1, "line_length": 0}
+    yield "whole lines missing", frame()[:W] + frame(), {"frame_short": 1}
+    yield "missing sof", frame() + frame(sof=False) + frame(), {"frame_long": 1}
+    yield "starts without sof", frame(sof=False) + frame(), {"frame_long": 1}
+    early = frame()
+    early[2] = (0, 1)                                        # tlast on column 2
+    yield "early tlast", early + frame(), {"line_length": 1}
+    late = frame()
+    late[W - 1] = (0, 0)                                     # no tlast on column W-1
+    yield "missing tlast", late + frame(), {"line_length": 1}
+    longer = frame() + [(0, 0), (0, 0)] + frame()            # two extra beats
+    yield "two beats too many", longer, {"frame_long": 1, "sof_unexpected": 1}
+
+
+def ref_faults(beats):
+    """Fault pulses per beat (dicts): :func:`dptbd.sim.axi_stimulus.fault_pulses`, the
+    controller's counting rule written in Python."""
+    first, last = zip(*beats)
+    return fault_pulses(make_config(width=W, height=H), first, last)
+
+
+def rtl_faults(beats, seed=0):
+    """Fault pulses of the gateware per accepted beat, with random idle cycles between
+    beats; also the controller's ``resync`` per beat."""
+    cfg = make_config(width=W, height=H)
+    dut = FrameMonitor(cfg)
+    ctl = Controller(cfg)
+    rng = random.Random(seed)
+    got, resyncs = [], []
+
+    class Both(Elaboratable):
+        def elaborate(self, platform):
+            m = Module()
+            m.submodules.mon, m.submodules.ctl = dut, ctl
+            m.d.comb += [ctl.accept.eq(dut.accept), ctl.first.eq(dut.first)]
+            return m
+
+    async def bench(ctx):
+        for first, last in beats:
+            ctx.set(dut.accept, 0)
+            while rng.random() < 0.3:                      # idle cycles: no fault pulses
+                await ctx.tick()
+                assert not any(ctx.get(dut.faults[k]) for k in FAULTS)
+            ctx.set(dut.accept, 1)
+            ctx.set(dut.first, first)
+            ctx.set(dut.last, last)
+            resyncs.append(ctx.get(ctl.resync))
+            await ctx.tick()                               # the pulses of this beat
+            got.append({k: ctx.get(dut.faults[k]) for k in FAULTS})
+
+    simulate(Both(), bench)
+    return got, resyncs
+
+
+@pytest.mark.parametrize("name,beats,total", list(cases()), ids=[c[0] for c in cases()])
+def test_frame_monitor_matches_reference(name, beats, total):
+    want = ref_faults(beats)
+    sums = {k: sum(f[k] for f in want) for k in FAULTS}
+    assert sums == {k: total.get(k, 0) for k in FAULTS}, name
+    got, resyncs = rtl_faults(beats, seed=len(beats))
+    assert got == want
+    # the monitor restarts exactly where the core's controller resynchronises
+    assert resyncs == [f["sof_unexpected"] | f["frame_short"] for f in want]
+
+
+@pytest.mark.parametrize("kind", FAULTS)
+def test_injected_faults_raise_one_pulse_of_their_class(kind):
+    """``with_fault`` (the cocotb scenes' injector) raises exactly one pulse, of its class,
+    on the gateware too."""
+    cfg = make_config(width=W, height=H)
+    frames = np.arange(3 * H * W).reshape(3, H, W) % 200
+    beats = with_fault(cfg, frames, kind)
+    assert fault_counts(cfg, beats) == {k: int(k == kind) for k in FAULTS}
+    got, _ = rtl_faults([(int(f), int(lst)) for f, lst in zip(beats.first, beats.last)])
+    assert {k: sum(g[k] for g in got) for k in FAULTS} == {k: int(k == kind) for k in FAULTS}
+
+
+def test_with_fault_refusals():
+    cfg = make_config(width=W, height=H)
+    frames = np.zeros((2, H, W), dtype=int)
+    with pytest.raises(ValueError, match=r"^fault kind must be one of \('sof_unexpected', "
+                                         r"'frame_short', 'frame_long', 'line_length'\), "
+                                         r"got 'nope'$"):
+        with_fault(cfg, frames, "nope")
+    with pytest.raises(ValueError, match=r"^a fault needs at least 2 frames, got 1$"):
+        with_fault(cfg, frames[:1], "frame_long")
