@@ -146,6 +146,8 @@ def main(argv=None) -> int:
     parser.add_argument("--freq", type=float, help="target MHz (default: the family's goal)")
     parser.add_argument("--device", help="nextpnr device (default: the family's)")
     parser.add_argument("--package", help="nextpnr package (default: the family's)")
+    parser.add_argument("--speed", type=int, choices=(6, 7, 8),
+                        help="ECP5 speed grade (nextpnr --speed; default nextpnr's, 6)")
     parser.add_argument("--no-breakdown", action="store_true",
                         help="skip the hierarchical synthesis (per-block table)")
     parser.add_argument("--workdir", type=pathlib.Path, default=pathlib.Path("build/synth"))
@@ -168,7 +170,9 @@ def main(argv=None) -> int:
                                  workdir=args.workdir / family / name, device=args.device,
                                  package=args.package, target_mhz=args.freq, jobs=args.jobs,
                                  yosys_timeout=args.timeout, nextpnr_timeout=args.timeout,
-                                 lut_style=lut_style, breakdown=not args.no_breakdown)
+                                 lut_style=lut_style, breakdown=not args.no_breakdown,
+                                 nextpnr_args=(("--speed", str(args.speed))
+                                               if args.speed and family == "ecp5" else ()))
             wall = time.monotonic() - start
             print(f"[{family} {name}] done in {wall:.0f} s (yosys {res.yosys_seconds:.0f} s, "
                   f"nextpnr {', '.join(f'{r.seconds:.0f}' for r in res.runs) or '—'} s); "

@@ -196,6 +196,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
                yosys: str = YOSYS, nextpnr: str | None = None,
                yosys_timeout: float = 1800, nextpnr_timeout: float = 1800,
                lut_style: str = "auto", breakdown: bool = False,
+               nextpnr_args: Sequence[str] = (),
                verilog_filter: Callable[[str], str] | None = None) -> SynthResult:
     """Generate, synthesise and place-and-route the gateware for ``cfg``.
 
@@ -237,6 +238,9 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     breakdown : bool
         Also synthesise without flattening and record each block's cells
         (``SynthResult.blocks``).
+    nextpnr_args : sequence of str
+        Appended to every nextpnr command (e.g. ``("--speed", "8")`` for a faster ECP5
+        speed grade); recorded in ``SynthResult.params["nextpnr_args"]``.
     verilog_filter : callable, optional
         Applied to the generated Verilog text before synthesis, e.g. to try a synthesis
         attribute the gateware has no option for. The file written is the filtered text.
@@ -297,7 +301,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         def one(seed: int) -> PnrRun:
             return run_nextpnr(work / NETLIST_NAME, seed=seed, device=device, package=package,
                                target_mhz=target_mhz, family=fam, nextpnr=nextpnr_exe,
-                               timeout=nextpnr_timeout)
+                               timeout=nextpnr_timeout, extra_args=tuple(nextpnr_args))
 
         if jobs == 1 or len(seeds) <= 1:
             runs = tuple(one(s) for s in seeds)
@@ -308,7 +312,8 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
             runs = tuple(dataclasses.replace(r, log_path=None) for r in runs)
         return SynthResult(variant=variant, device=device, package=package,
                            target_mhz=float(target_mhz),
-                           params={**_config_params(cfg), "lut_style": style},
+                           params={**_config_params(cfg), "lut_style": style,
+                                   "nextpnr_args": list(nextpnr_args)},
                            cells=cells, runs=runs, yosys_seconds=yosys_seconds,
                            verilog_seconds=verilog_seconds, tools=tools,
                            workdir=None if tmp is not None else str(work),
