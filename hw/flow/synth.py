@@ -60,7 +60,7 @@ from dptbd.hw.flow.yosys import (
 )
 
 __all__ = [
-    "VARIANTS", "FAMILIES", "ICE40", "ECP5", "ICE40_DEVICES", "PYPI_PACKAGES",
+    "VARIANTS", "FAMILIES", "ICE40", "ECP5", "ICE40_DEVICES", "PYPI_PACKAGES", "YOSYS",
     "Family", "get_family",
     "SynthToolError", "ToolNotFoundError", "ToolTimeoutError",
     "CellCounts", "CriticalPath", "PnrReport", "PnrRun", "SynthResult",
