@@ -147,39 +147,34 @@ def block_breakdown(text: str, top: str) -> dict[str, CellCounts]:
     """Cost of each block from ``stat -json`` of a hierarchical (not flattened) synthesis.
 
     Amaranth names a submodule's Verilog module after its path (``dptbd_dp.line_buffer``,
-    ``dptbd_dp.dp.controller`` …). Each direct child of ``top`` is a block whose cost is its
-    whole subtree (its own cells plus its submodules', recursively); the entry ``top``
-    itself holds the cells at the top level (glue: pipeline registers, stream handshakes).
-    Returns ``{block name relative to top: CellCounts}`` in the order of the top module's
-    instances. Their sum is the hierarchical total, which is larger than the flattened
-    netlist's (Yosys does not optimise across module boundaries here).
+    ``dptbd_dp.dp.core.window`` …). Every module instantiated under ``top`` is a block,
+    named by its path below ``top`` (``line_buffer``, ``dp.core.window``) and charged with
+    its own cells only (times its instance count), not its submodules'; the entry ``top``
+    holds the cells at the top level (glue: pipeline registers, stream handshakes). A block
+    with submodules thus shows its glue, and each submodule has its own entry. Returns
+    ``{block: CellCounts}`` depth first, in instance order. The sum is the hierarchical
+    total, larger than the flattened netlist's (Yosys does not optimise across module
+    boundaries here).
     """
     data = json.loads(text)
     modules = {k.lstrip("\\"): v for k, v in data.get("modules", {}).items()}
     if top not in modules:
         raise ValueError(f"stat -json output has no module {top!r}")
-    memo: dict[str, CellCounts] = {}
+    out: dict[str, CellCounts] = {}
 
-    def subtree(name: str) -> CellCounts:
-        if name not in memo:
-            node = modules[name]
-            total = _counts(node, modules)
-            for t, n in node.get("num_cells_by_type", {}).items():
-                child = t.lstrip("\\")
-                if child in modules:
-                    for _ in range(int(n)):
-                        total = total + subtree(child)
-            memo[name] = total
-        return memo[name]
+    def visit(name: str, times: int) -> None:
+        node = modules[name]
+        label = top if name == top else (
+            name[len(top) + 1:] if name.startswith(top + ".") else name)
+        local = _counts(node, modules)
+        local = CellCounts({t: n * times for t, n in local.by_type.items()})
+        out[label] = out[label] + local if label in out else local
+        for t, n in node.get("num_cells_by_type", {}).items():
+            child = t.lstrip("\\")
+            if child in modules:
+                visit(child, times * int(n))
 
-    out = {top: _counts(modules[top], modules)}
-    for t, n in modules[top].get("num_cells_by_type", {}).items():
-        child = t.lstrip("\\")
-        if child in modules:
-            label = child[len(top) + 1:] if child.startswith(top + ".") else child
-            out[label] = subtree(child)
-            for _ in range(int(n) - 1):
-                out[label] = out[label] + subtree(child)
+    visit(top, 1)
     return out
 
 

@@ -135,11 +135,12 @@ def test_yosys_070_text_layout():
                              "TRELLIS_DPR16X4": 7, "TRELLIS_FF": 506}
 
 
-def test_block_breakdown_sums_each_subtree():
+def test_block_breakdown_charges_each_module_its_own_cells():
     blocks = block_breakdown(_ECP5_HIER, "dptbd_dp")
-    assert list(blocks) == ["dptbd_dp", "window", "weighted_0", "weighted_1"]
+    assert list(blocks) == ["dptbd_dp", "window", "window.line", "weighted_0", "weighted_1"]
     assert blocks["dptbd_dp"].by_type == {"LUT4": 13, "TRELLIS_FF": 127}
-    assert blocks["window"].by_type == {"LUT4": 20, "TRELLIS_FF": 87, "DP16KD": 2}
+    assert blocks["window"].by_type == {"LUT4": 20, "TRELLIS_FF": 81}
+    assert blocks["window.line"].by_type == {"DP16KD": 2, "TRELLIS_FF": 6}  # two instances
     assert blocks["weighted_1"].dsp == 1
     total = sum(blocks.values(), CellCounts({}))
     assert (total.lut4, total.dff, total.bram, total.dsp) == (41, 214, 2, 2)
