@@ -17,6 +17,9 @@ need and F = 0 for the binary LUT; see ``docs/synthesis.md``):
   on-chip state store (16384 words), default build.
 * ``core640x512`` — ``DPCore`` for a 640 x 512 infrared frame, state store outside,
   default build.
+* ``core128-lbram-lutram`` — ``core128`` with the line buffer's memory marked
+  ``(* ram_style = "distributed" *)`` in the Verilog (LUT RAM on ECP5; an experiment of
+  ``docs/synthesis.md``, "Towards 200 MHz on ECP5", not a gateware option).
 * ``tiny`` — an 8 x 6 pipeline with 2-bit pixels (seconds; a smoke test of the flow).
 
 ::
@@ -46,7 +49,18 @@ from dptbd.hw.flow.synth import FAMILIES, CellCounts, SynthResult, get_family, s
 
 _DEFAULT = DPConfig(width=128, height=128)
 
-#: name -> (description, DPConfig, variant, lut_style)
+
+def line_buffer_ram_style(style: str):
+    """A ``verilog_filter`` marking the line buffer's memory ``(* ram_style = style *)``."""
+    def apply(text: str) -> str:
+        start = text.index("module \\dptbd_dp.line_buffer")
+        match = re.compile(r"^(\s*)(reg \[\d+:0\] memory \[)", re.M).search(text, start)
+        return (text[:match.start()] + f'{match.group(1)}(* ram_style = "{style}" *)\n'
+                + text[match.start():])
+    return apply
+
+
+#: name -> (description, DPConfig, variant, lut_style[, verilog_filter])
 CASES = {
     "core128": ("DPCore 128x128, default build (external store)",
                 _DEFAULT.build_config(), "core", "auto"),
@@ -60,6 +74,9 @@ CASES = {
                      _DEFAULT.build_config(), "segmenter", "auto"),
     "core640x512": ("DPCore 640x512, default build (external store)",
                     DPConfig(width=640, height=512).build_config(), "core", "auto"),
+    "core128-lbram-lutram": ("DPCore 128x128, default build, line buffer in LUT RAM",
+                             _DEFAULT.build_config(), "core", "auto",
+                             line_buffer_ram_style("distributed")),
     "tiny": ("DPCore 8x6, 2-bit pixels", DPConfig(width=8, height=6, segment_frames=2,
                                                   input_bits=2, energy_bits=4,
                                                   weight_frac_bits=0), "core", "auto"),
@@ -161,7 +178,7 @@ def main(argv=None) -> int:
     rows, figures = [], {}
     for family in args.families:
         for name in args.cases:
-            desc, cfg, variant, lut_style = CASES[name]
+            desc, cfg, variant, lut_style, *verilog_filter = CASES[name]
             start = time.monotonic()
             print(f"[{family} {name}] {desc}: synthesising …", file=sys.stderr, flush=True)
             with warnings.catch_warnings():
@@ -172,7 +189,8 @@ def main(argv=None) -> int:
                                  yosys_timeout=args.timeout, nextpnr_timeout=args.timeout,
                                  lut_style=lut_style, breakdown=not args.no_breakdown,
                                  nextpnr_args=(("--speed", str(args.speed))
-                                               if args.speed and family == "ecp5" else ()))
+                                               if args.speed and family == "ecp5" else ()),
+                                 verilog_filter=verilog_filter[0] if verilog_filter else None)
             wall = time.monotonic() - start
             print(f"[{family} {name}] done in {wall:.0f} s (yosys {res.yosys_seconds:.0f} s, "
                   f"nextpnr {', '.join(f'{r.seconds:.0f}' for r in res.runs) or '—'} s); "
