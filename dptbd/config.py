@@ -540,6 +540,28 @@ class DPConfig:
         assert np.array_equal(out.weight_codes, arr)
         return out
 
+    # ---- gateware build defaults (docs/synthesis.md, "Build defaults") -----------------
+    @property
+    def weights_binary(self) -> bool:
+        """True when every weight is 0 or 1 (the paper's LUT): exact at any F, even F = 0."""
+        return bool(np.isin(self.weight_array, (0.0, 1.0)).all())
+
+    def build_config(self, *, fractional_lut: bool = False) -> "DPConfig":
+        """The configuration the gateware is built with by default; it computes the same bits.
+
+        B_E becomes ``min(B_E, energy_bits_needed)`` (no E can exceed K full-scale pixels,
+        weights being at most 1), kept above an explicit ``histogram_shift``; F becomes 0
+        when the LUT is binary (:attr:`weights_binary`) unless ``fractional_lut`` asks for a
+        LUT that can be written with fractional weights at run time. Every state, direction
+        and candidate list equals the one ``self`` computes (``docs/synthesis.md``).
+        """
+        energy = min(self.energy_bits, max(self.energy_bits_needed,
+                                           (self.histogram_shift or 0) + 1))
+        frac = 0 if self.weights_binary and not fractional_lut else self.weight_frac_bits
+        if (energy, frac) == (self.energy_bits, self.weight_frac_bits):
+            return self
+        return self.replace(energy_bits=energy, weight_frac_bits=frac)
+
     def to_mapping(self) -> dict[str, Any]:
         """Every field as plain JSON/TOML values (the weights as nested lists of floats).
 

@@ -4,6 +4,14 @@ For a window of 2r+1 rows the pipeline needs the 2r previous rows of the incomin
 stream. All 2r delay lines share one address (a pointer that cycles through 0 … W-1), so
 they are stored side by side in one :class:`~amaranth.lib.memory.Memory` of W words of
 2r entries each: one read and one write per advance, one block RAM column on an FPGA.
+
+With ``registered_read=True`` the memory's read data goes through a register before it
+reaches the taps, so no logic sits after the block RAM's clock-to-out (5.6 ns on an ECP5
+DP16KD without its own output register, which Yosys does not infer). The read is then issued
+one cycle ahead, at the address the pointer will hold in the next cycle, so the taps keep
+their timing: the registered read costs one register per memory bit and no latency. It buys
+ECP5 15 MHz and costs the iCE40 30 logic cells for nothing (``docs/synthesis.md``, "The line
+buffer's read register"), so it is off by default.
 """
 
 from __future__ import annotations
@@ -24,9 +32,12 @@ class LineBuffer(wiring.Component):
     shape : ShapeLike
         Shape of one entry (e.g. :func:`~dptbd.hw.layouts.state_word_layout`).
     depth : int
-        Entries per delay line (the frame width W), >= 2.
+        Entries per delay line (the frame width W), >= 2; >= 3 with ``registered_read`` (the
+        read one cycle ahead must not meet the write of the entry it reads).
     taps : int
         Number of delay lines (2r), >= 1.
+    registered_read : bool
+        Register the memory's read data (module docstring); needs ``depth`` >= 3.
 
     Members
     -------
@@ -45,14 +56,16 @@ class LineBuffer(wiring.Component):
     the cycle after each advance.
     """
 
-    def __init__(self, shape, depth: int, taps: int):
-        if depth < 2:
-            raise ValueError(f"depth must be an integer in [2, inf), got {depth}")
+    def __init__(self, shape, depth: int, taps: int, *, registered_read: bool = False):
+        low = 3 if registered_read else 2
+        if depth < low:
+            raise ValueError(f"depth must be an integer in [{low}, inf), got {depth}")
         if taps < 1:
             raise ValueError(f"taps must be an integer in [1, inf), got {taps}")
         self._shape = shape
         self._depth = depth
         self._n_taps = taps
+        self._registered_read = bool(registered_read)
         super().__init__({
             "advance": In(1),
             "data_in": In(shape),
@@ -74,21 +87,33 @@ class LineBuffer(wiring.Component):
         write = memory.write_port(domain="sync")
 
         pointer = Signal(range(self._depth))
+        pointer_next = Signal(range(self._depth))
         write_pointer = Signal(range(self._depth))
         write_pending = Signal()
-        m.d.comb += [
-            read.addr.eq(pointer),
-            read.en.eq(self.advance),
-        ]
-        with m.If(self.advance):
-            m.d.sync += pointer.eq(Mux(pointer == self._depth - 1, 0, pointer + 1))
+        m.d.comb += pointer_next.eq(
+            Mux(self.advance, Mux(pointer == self._depth - 1, 0, pointer + 1), pointer))
         m.d.sync += [
+            pointer.eq(pointer_next),
             write_pointer.eq(pointer),
             write_pending.eq(self.advance),
         ]
+        if self._registered_read:
+            # Cycle t: pointer P(t), the address an advance in cycle t moves past. The memory
+            # reads P(t+1) at the end of cycle t (one cycle ahead, enabled every cycle), the
+            # register takes that word at the end of cycle t+1, so in cycle t+1 the taps show
+            # the word at P(t) as it stood at the end of cycle t-1. The entry last written
+            # there was written in the cycle after the advance `depth` advances earlier, at
+            # the latest in cycle t + 1 - depth <= t - 2: the read sees it.
+            words = Signal(entry_bits * n_taps)
+            m.d.comb += read.addr.eq(pointer_next)
+            m.d.sync += words.eq(read.data)
+        else:
+            # The read of P(t) is issued in cycle t, its word is out in cycle t+1.
+            words = read.data
+            m.d.comb += [read.addr.eq(pointer), read.en.eq(self.advance)]
 
         for k in range(n_taps):
-            m.d.comb += self.taps[k].eq(read.data[k * entry_bits:(k + 1) * entry_bits])
+            m.d.comb += self.taps[k].eq(words[k * entry_bits:(k + 1) * entry_bits])
         # Tap k+1's delay line is fed by tap k's output; tap 0's by data_in.
         shifted = Cat(self.data_in, *[self.taps[k] for k in range(n_taps - 1)])
         m.d.comb += [

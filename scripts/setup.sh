@@ -11,9 +11,9 @@ case "$job" in run|test|setup) ;; *) echo "usage: bash scripts/setup.sh {run|tes
 shift || true
 
 # Debian packages: Icarus (cocotb simulator, 4-state checks), Verilator + g++ + make (the
-# compiled RTL simulator, lint), Yosys + nextpnr + icestorm
-# (synthesis / timing estimates of the generated Verilog), and what a venv needs.
-debs=(iverilog verilator g++ clang make yosys nextpnr-ice40 fpga-icestorm python3 python3-venv python3-pip)
+# compiled RTL simulator, lint), and what a venv needs. Synthesis (Yosys, nextpnr) comes
+# from PyPI, pinned in pyproject.toml's "synth" extra, not from Debian.
+debs=(iverilog verilator g++ clang make python3 python3-venv python3-pip)
 missing=()
 for p in "${debs[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
 # A Python that already has venv (pyenv, …) does not need Debian's.
@@ -32,7 +32,7 @@ if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
   echo "setup: creating .venv with dptbd and its dependencies"
   [ -x .venv/bin/python ] || python3 -m venv .venv
   .venv/bin/python -m pip install -q --upgrade pip
-  .venv/bin/python -m pip install -q -e ".[test]"
+  .venv/bin/python -m pip install -q -e ".[test,synth]"
   touch "$stamp"
 fi
 

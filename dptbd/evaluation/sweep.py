@@ -141,15 +141,15 @@ def hardware_key(cfg, *, variant: str, device: str, package: str, seeds: Sequenc
 
 
 def _tool_versions() -> dict[str, str]:
-    from dptbd.hw.flow.synth import require_tool, tool_version
-    return {name: tool_version(require_tool(name)) for name in ("yosys", "nextpnr-ice40")}
+    from dptbd.hw.flow.synth import ICE40, YOSYS, require_tool, tool_version
+    return {name: tool_version(require_tool(name)) for name in (YOSYS, ICE40.nextpnr)}
 
 
 def check_tools() -> None:
-    """Raise (naming the Debian package) if Yosys or nextpnr-ice40 is missing."""
-    from dptbd.hw.flow.synth import require_tool
-    require_tool("yosys")
-    require_tool("nextpnr-ice40")
+    """Raise (naming the PyPI package) if Yosys or nextpnr-ice40 is missing."""
+    from dptbd.hw.flow.synth import ICE40, YOSYS, require_tool
+    require_tool(YOSYS)
+    require_tool(ICE40.nextpnr)
 
 
 def hardware_cost(cfg, *, variant: str = "core", device: str = "hx8k", package: str = "ct256",

