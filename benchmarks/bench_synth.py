@@ -44,7 +44,7 @@ import sys
 import time
 import warnings
 
-from dptbd.config import DPConfig
+from dptbd.config import ConfigError, DPConfig
 from dptbd.hw.flow.synth import FAMILIES, CellCounts, SynthResult, get_family, synthesize
 
 _DEFAULT = DPConfig(width=128, height=128)
@@ -175,7 +175,7 @@ def main(argv=None) -> int:
     if args.json is not None and args.json.exists() and not args.force:
         parser.error(f"{args.json} exists; pass --force to overwrite it")
 
-    rows, figures = [], {}
+    rows, figures, refused = [], {}, []
     for family in args.families:
         for name in args.cases:
             desc, cfg, variant, lut_style, *verilog_filter = CASES[name]
@@ -183,6 +183,14 @@ def main(argv=None) -> int:
             print(f"[{family} {name}] {desc}: synthesising …", file=sys.stderr, flush=True)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
+                try:
+                    fam = get_family(family)
+                    if variant != "core":
+                        fam.check_on_chip_store(cfg, args.device or fam.default_device)
+                except ConfigError as exc:     # refused before any tool runs: say so, go on
+                    print(f"[{family} {name}] refused: {exc}", file=sys.stderr, flush=True)
+                    refused.append((family, name, str(exc)))
+                    continue
                 res = synthesize(cfg, variant=variant, family=family, seeds=args.seeds,
                                  workdir=args.workdir / family / name, device=args.device,
                                  package=args.package, target_mhz=args.freq, jobs=args.jobs,
@@ -204,6 +212,8 @@ def main(argv=None) -> int:
     print(f"\nseeds {args.seeds}; tools: "
           + "; ".join(sorted({v for _, _, r in rows for v in r.tools.values()})) + "\n")
     print(markdown_table(rows))
+    for family, name, message in refused:
+        print(f"\n{family} {name}: refused: {message}")
     for name, _, res in rows:
         if res.blocks:
             print("\n" + breakdown_table(name, res))

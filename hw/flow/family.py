@@ -14,6 +14,9 @@ synthesises with the same versions.
 from __future__ import annotations
 
 import dataclasses
+from typing import Mapping
+
+from dptbd.config import ConfigError, DPConfig
 
 __all__ = ["Family", "FAMILIES", "ICE40", "ECP5", "YOSYS", "get_family"]
 
@@ -44,6 +47,9 @@ class Family:
     logic_cell_bel, ff_bel, bram_bel, dsp_bel : str
         BEL types of nextpnr's utilisation report: logic cells (a LUT4 with its carry),
         flip-flops, block RAMs, multipliers (``""``: the family has none).
+    block_rams : Mapping[str, tuple[int, int]]
+        Per device: (block RAMs, bits per block RAM), from the vendors' data sheets
+        (iCE40: 4 kbit EBRs; ECP5: 18 kbit DP16KD). A device not listed is not checked.
     """
 
     name: str
@@ -58,6 +64,31 @@ class Family:
     ff_bel: str
     bram_bel: str
     dsp_bel: str
+    block_rams: Mapping[str, tuple[int, int]] = dataclasses.field(default_factory=dict)
+
+    def check_on_chip_store(self, cfg: DPConfig, device: str) -> None:
+        """Refuse a W x H state store that cannot fit ``device``'s block RAM.
+
+        The on-chip store holds W*H words of ``cfg.state_bits`` bits; that many bits are a
+        lower bound of what it needs (the block RAMs' aspect ratios only add to it), so a
+        store above the device's total block RAM never fits.
+
+        Raises
+        ------
+        dptbd.config.ConfigError
+            Naming the frame, the bits it needs, the device's block RAM and the way out.
+        """
+        if device not in self.block_rams:
+            return
+        count, bits_each = self.block_rams[device]
+        need = cfg.width * cfg.height * cfg.state_bits
+        if need > count * bits_each:
+            raise ConfigError(
+                f"width={cfg.width} x height={cfg.height} does not fit the {self.name} "
+                f"{device}'s block RAM with an on-chip state store: {cfg.width * cfg.height} "
+                f"words of state_bits={cfg.state_bits} need at least {need} bits, the device has "
+                f"{count * bits_each} ({count} x {bits_each}); build the core with the store "
+                f"outside (DPCore, variant 'core') or choose a larger device")
 
     def check_device(self, device: str) -> None:
         """``ValueError`` naming the family's devices unless ``device`` is one."""
@@ -78,7 +109,10 @@ ICE40 = Family(
              "up3k", "up5k", "u1k", "u2k", "u4k"),
     default_device="hx8k", default_package="ct256", default_target_mhz=100.0,
     unconstrained_flag="--pcf-allow-unconstrained", logic_cell_bel="ICESTORM_LC",
-    ff_bel="ICESTORM_LC", bram_bel="ICESTORM_RAM", dsp_bel="")
+    ff_bel="ICESTORM_LC", bram_bel="ICESTORM_RAM", dsp_bel="",
+    block_rams={"lp384": (0, 4096), "lp1k": (16, 4096), "hx1k": (16, 4096),
+                "lp4k": (20, 4096), "hx4k": (20, 4096), "lp8k": (32, 4096),
+                "hx8k": (32, 4096), "up3k": (20, 4096), "up5k": (30, 4096)})
 
 #: ECP5 (nextpnr-ecp5): LFE5U-25F in the CABGA256 package (197 I/O), speed grade 6
 #: (nextpnr's default, the slowest), by default; ``"45k"`` is the LFE5U-45F.
@@ -87,7 +121,9 @@ ECP5 = Family(
     devices=("12k", "25k", "45k", "85k"),
     default_device="25k", default_package="CABGA256", default_target_mhz=200.0,
     unconstrained_flag="--lpf-allow-unconstrained", logic_cell_bel="TRELLIS_COMB",
-    ff_bel="TRELLIS_FF", bram_bel="DP16KD", dsp_bel="MULT18X18D")
+    ff_bel="TRELLIS_FF", bram_bel="DP16KD", dsp_bel="MULT18X18D",
+    block_rams={"12k": (32, 18432), "25k": (56, 18432), "45k": (108, 18432),
+                "85k": (208, 18432)})
 
 #: name -> :class:`Family`.
 FAMILIES = {f.name: f for f in (ICE40, ECP5)}

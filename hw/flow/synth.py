@@ -252,7 +252,9 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     SynthToolError
         A tool failed for a reason other than the design not fitting.
     dptbd.config.ConfigError
-        The gateware does not support ``cfg``.
+        The gateware does not support ``cfg``; or, for the ``top`` and ``segmenter``
+        variants, the W x H state store cannot fit the device's block RAM
+        (:meth:`~dptbd.hw.flow.family.Family.check_on_chip_store`), before any tool runs.
     """
     from dptbd.hw.weight_lut import resolve_lut_style
 
@@ -266,6 +268,8 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     package = fam.default_package if package is None else package
     target_mhz = fam.default_target_mhz if target_mhz is None else float(target_mhz)
     fam.check_device(device)
+    if variant != "core":
+        fam.check_on_chip_store(cfg, device)
     seeds = tuple(int(s) for s in seeds)
     if len(set(seeds)) != len(seeds):
         raise ValueError(f"seeds must be distinct, got {seeds}")

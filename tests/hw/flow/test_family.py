@@ -2,7 +2,9 @@
 
 import pytest
 
+from dptbd.config import ConfigError, DPConfig
 from dptbd.hw.flow.family import ECP5, FAMILIES, ICE40, get_family
+from dptbd.hw.flow.synth import synthesize
 
 
 def test_families():
@@ -21,3 +23,26 @@ def test_refusals():
             r"^device must be one of \('lp384', 'lp1k', 'lp4k', 'lp8k', 'hx1k', 'hx4k', "
             r"'hx8k', 'up3k', 'up5k', 'u1k', 'u2k', 'u4k'\) for family 'ice40', got '25k'$")):
         ICE40.device_args("25k", "ct256")
+
+
+def test_an_on_chip_store_that_fits_is_accepted():
+    ICE40.check_on_chip_store(DPConfig(width=64, height=64), "hx8k")     # 57344 bits
+    ECP5.check_on_chip_store(DPConfig(width=128, height=128), "25k")     # 229376 bits
+    ICE40.check_on_chip_store(DPConfig(width=128, height=128), "u4k")    # capacity not listed
+
+
+def test_a_frame_beyond_the_block_ram_is_refused_naming_the_limit():
+    with pytest.raises(ConfigError, match=(
+            r"^width=128 x height=128 does not fit the ice40 hx8k's block RAM with an on-chip "
+            r"state store: 16384 words of state_bits=20 need at least 327680 bits, the device "
+            r"has 131072 \(32 x 4096\); build the core with the store outside \(DPCore, "
+            r"variant 'core'\) or choose a larger device$")):
+        ICE40.check_on_chip_store(DPConfig(width=128, height=128), "hx8k")
+    with pytest.raises(ConfigError, match=r"^width=640 x height=512 does not fit the ecp5 25k's"):
+        ECP5.check_on_chip_store(DPConfig(width=640, height=512), "25k")
+
+
+def test_synthesize_refuses_the_store_before_any_tool_runs():
+    with pytest.raises(ConfigError, match=r"^width=128 x height=128 does not fit the ice40 hx8k"):
+        synthesize(DPConfig(width=128, height=128), variant="top", family="ice40",
+                   yosys="/nonexistent/yosys", seeds=())
