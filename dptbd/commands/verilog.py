@@ -43,6 +43,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--clock-mhz", type=float, default=None, metavar="MHZ",
                         help="--top axi: aclk frequency of the shipped SDC/XDC constraints, "
                              "in [1, 1000] (default 100, the synthesis target)")
+    parser.add_argument("--state-output", action="store_true",
+                        help="--top axi: also bring out the per-pixel (E, d) stream as "
+                             "m_axis_state (back-pressure on it stalls the core)")
     add_config_arguments(parser)
 
 
@@ -66,7 +69,7 @@ def _write_axi(args: argparse.Namespace, cfg) -> int:
                                 "--clock-mhz")
     out = args.output
     _refuse_existing([out.parent / name for name in package_file_names(out.stem)], args.force)
-    files = axi_package(cfg, out.stem, clock_mhz)
+    files = axi_package(cfg, out.stem, clock_mhz, state_output=args.state_output)
     out.parent.mkdir(parents=True, exist_ok=True)
     for name, text in files.items():
         (out.parent / name).write_text(text)
@@ -89,6 +92,9 @@ def main(args: argparse.Namespace) -> int:
         return _write_axi(args, cfg)
     if args.clock_mhz is not None:
         raise ValueError("--clock-mhz applies to --top axi only (dptbd_dp ships no constraints)")
+    if args.state_output:
+        raise ValueError("--state-output applies to --top axi only (dptbd_dp always outputs "
+                         "its states)")
     _refuse_existing([out, manifest], args.force)
     text, info = generate_verilog(cfg, external_state_store=args.external_state_store,
                                   lut_style=args.lut_style)

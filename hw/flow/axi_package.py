@@ -30,12 +30,13 @@ from dptbd.hw.axi_top import AXI_MODULE_NAME, AXITop
 from dptbd.hw.candidate_layout import candidate_field_offsets, candidate_layout
 from dptbd.hw.flow.register_export import c_header, register_constants
 from dptbd.hw.flow.verilog import VERILATOR_LINT_FLAGS, manifest_header
-from dptbd.hw.layouts import field_offsets, pixel_layout
+from dptbd.hw.axis_video import STATE_TUSER
+from dptbd.hw.layouts import field_offsets, pixel_layout, state_word_layout
 from dptbd.hw.register_map import register_map
 
 __all__ = ["HEADER_NAME", "DEFAULT_CLOCK_MHZ", "CLOCK_MHZ_RANGE", "package_file_names",
            "check_clock_mhz", "clock_constraints", "axi_ports", "axi_manifest", "fusesoc_core",
-           "generate_axi_verilog", "axi_package"]
+           "generate_axi_verilog", "generate_axi_state_verilog", "axi_package"]
 
 #: File name of the register header (what firmware includes).
 HEADER_NAME = "dptbd_regs.h"
@@ -110,6 +111,15 @@ def axi_manifest(cfg: DPConfig, top: AXITop) -> dict:
                             "tuser[0]": "first word of a list", "tlast": "trailer",
                             "layout": candidate_field_offsets(cfg),
                             "width": data.Layout.cast(candidate_layout(cfg)).size},
+            **({"m_axis_state": {
+                "tdata": "E in bits [B_E-1:0], d in the next B_d bits",
+                **{f"tuser[{bit}]": name.replace("_", " ")
+                   for name, bit in STATE_TUSER.items()},
+                "tlast": "end of line",
+                "layout": field_offsets(state_word_layout(cfg)),
+                "broadcast": "a word leaves the DP pipeline when both m_axis_state and the "
+                             "segmenter can take it: back-pressure on either stalls the core",
+            }} if top.state_output else {}),
         },
         "registers": register_constants(top.register_map),
         "header": HEADER_NAME,
@@ -159,20 +169,28 @@ def fusesoc_core(cfg: DPConfig, stem: str, version: str) -> str:
     ])
 
 
-def generate_axi_verilog(cfg: DPConfig) -> tuple[str, dict]:
-    """Module ``dptbd_axi`` for ``cfg``: its Verilog text and its manifest."""
-    top = AXITop(cfg)
+def generate_axi_verilog(cfg: DPConfig, *, state_output: bool = False) -> tuple[str, dict]:
+    """Module ``dptbd_axi`` for ``cfg`` (with ``m_axis_state`` if ``state_output``): its
+    Verilog text and its manifest."""
+    top = AXITop(cfg, state_output=state_output)
     return verilog.convert(top, name=AXI_MODULE_NAME, emit_src=False), axi_manifest(cfg, top)
 
 
+def generate_axi_state_verilog(cfg: DPConfig) -> tuple[str, dict]:
+    """:func:`generate_axi_verilog` with ``m_axis_state`` (the simulation runner's
+    ``axi-state`` design)."""
+    return generate_axi_verilog(cfg, state_output=True)
+
+
 def axi_package(cfg: DPConfig, stem: str = AXI_MODULE_NAME,
-                clock_mhz: float = DEFAULT_CLOCK_MHZ) -> dict[str, str]:
+                clock_mhz: float = DEFAULT_CLOCK_MHZ, *,
+                state_output: bool = False) -> dict[str, str]:
     """``{file name: text}`` of the package (see the module doc), constraints at
-    ``clock_mhz`` (in :data:`CLOCK_MHZ_RANGE`)."""
+    ``clock_mhz`` (in :data:`CLOCK_MHZ_RANGE`), ``m_axis_state`` if ``state_output``."""
     from importlib.metadata import version
 
     clock_mhz = check_clock_mhz(clock_mhz)
-    text, info = generate_axi_verilog(cfg)
+    text, info = generate_axi_verilog(cfg, state_output=state_output)
     info["clock"]["frequency_mhz"] = clock_mhz
     info["constraints"] = {"sdc": f"{stem}.sdc", "xdc": f"{stem}.xdc",
                            "period_ns": round(1000.0 / clock_mhz, 3)}

@@ -162,6 +162,17 @@ def test_verilog_top_axi_clock_option(tmp_path, capsys):
     assert not (tmp_path / "d.v").exists()
 
 
+def test_verilog_top_axi_state_output(tmp_path):
+    out = tmp_path / "s.v"
+    assert verilog_command.main(parse(["-o", out, "--top", "axi", "--width", 8, "--height", 6,
+                                       "--state-output"])) == 0
+    assert "  output m_axis_state_tvalid;" in out.read_text()
+    with pytest.raises(ValueError, match=r"^--state-output applies to --top axi only "
+                                         r"\(dptbd_dp always outputs its states\)$"):
+        verilog_command.main(parse(["-o", tmp_path / "d.v", "--width", 8, "--height", 6,
+                                    "--state-output"]))
+
+
 def test_verilog_top_axi_refuses_existing_files_and_dp_only_options(tmp_path):
     out = tmp_path / "dptbd_axi.v"
     (tmp_path / "dptbd_regs.h").write_text("mine")

@@ -82,3 +82,20 @@ def test_verilog_lints_clean(package):
     run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "top.v", "--top-module",
                           "dptbd_axi"], cwd=folder, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
+
+
+def test_state_output_adds_m_axis_state_to_ports_and_manifest():
+    cfg = make_config(width=8, height=6, candidate_count=2)
+    manifest = json.loads(axi_package(cfg, "s", state_output=True)["s.json"])
+    ports = {p["name"]: p for p in manifest["ports"]}
+    assert ports["m_axis_state_tuser"] == {"name": "m_axis_state_tuser", "direction": "output",
+                                           "width": 3}
+    assert ports["m_axis_state_tready"]["direction"] == "input"
+    assert ports["m_axis_state_tdata"]["width"] == 8 * -(-(cfg.energy_bits
+                                                          + cfg.direction_bits) // 8)
+    state = manifest["streams"]["m_axis_state"]
+    assert (state["tuser[0]"], state["tuser[1]"], state["tuser[2]"], state["tlast"]) == (
+        "start of frame", "end of frame", "end of segment", "end of line")
+    plain = json.loads(axi_package(cfg, "p")["p.json"])
+    assert "m_axis_state" not in plain["streams"]
+    assert manifest["latency"] == plain["latency"] + 1          # the broadcast's register
