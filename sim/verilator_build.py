@@ -140,13 +140,21 @@ class VerilatorBuild(CompiledDesign):
         return DESIGNS[self.design][2]
 
 
+def _harness_sources(design: str) -> list[pathlib.Path]:
+    """The harness source of ``design`` and, for the AXI harness, its shared header."""
+    if design in HARNESSES:
+        return [HARNESSES[design], HARNESSES[design].with_name("harness_io.h")]
+    return [HARNESS]
+
+
 def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool) -> str:
     from dptbd.hw.flow.source_hash import gateware_hash
 
     blob = json.dumps({
         "config": cfg.to_mapping(), "design": design, "lut_style": lut_style,
         "waves": waves, "gateware": gateware_hash(),
-        "harness": hashlib.sha256(HARNESSES.get(design, HARNESS).read_bytes()).hexdigest(),
+        "harness": hashlib.sha256(b"".join(
+            path.read_bytes() for path in _harness_sources(design))).hexdigest(),
         "verilator_flags": VERILATOR_FLAGS, "cxx_flags": CXX_FLAGS, "tools": check_tools(),
     }, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()

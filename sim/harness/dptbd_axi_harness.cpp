@@ -39,24 +39,16 @@
 #include <vector>
 
 #include "Vdut.h"
+#include "harness_io.h"
 #include "verilated.h"
 
 namespace {
 
-struct Rng {  // splitmix64, as in dptbd_harness.cpp
-    uint64_t state;
-    uint64_t next() {
-        uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-        return z ^ (z >> 31);
-    }
-};
-
-uint64_t threshold_of(double p) {
-    if (p <= 0.0) return 0;
-    return static_cast<uint64_t>(p * 18446744073709551616.0);  // 2^64
-}
+using dptbd_harness::Rng;
+using dptbd_harness::fail;
+using dptbd_harness::read_words;
+using dptbd_harness::threshold_of;
+using dptbd_harness::write_words;
 
 struct Op { uint64_t before_word; char kind; uint64_t addr, data; };
 
@@ -65,11 +57,6 @@ struct Job {
     double valid_gap = 0.0, ready_pause = 0.0;
     std::vector<Op> ops;
 };
-
-[[noreturn]] void fail(const std::string& msg) {
-    std::fprintf(stderr, "dptbd_sim: %s\n", msg.c_str());
-    std::exit(2);
-}
 
 Job read_job(const std::string& path) {
     Job job;
@@ -99,23 +86,6 @@ Job read_job(const std::string& path) {
     std::fclose(fh);
     if (job.max_cycles == 0) fail("max_cycles must be given");
     return job;
-}
-
-std::vector<uint64_t> read_words(const std::string& path, uint64_t n) {
-    std::vector<uint64_t> v(n);
-    FILE* fh = std::fopen(path.c_str(), "rb");
-    if (!fh) fail("cannot open " + path);
-    if (n && std::fread(v.data(), sizeof(uint64_t), n, fh) != n) fail("short read " + path);
-    std::fclose(fh);
-    return v;
-}
-
-void write_words(const std::string& path, const std::vector<uint64_t>& v) {
-    FILE* fh = std::fopen(path.c_str(), "wb");
-    if (!fh) fail("cannot write " + path);
-    if (!v.empty() && std::fwrite(v.data(), sizeof(uint64_t), v.size(), fh) != v.size())
-        fail("short write " + path);
-    std::fclose(fh);
 }
 
 }  // namespace

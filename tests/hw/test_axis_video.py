@@ -57,33 +57,39 @@ def ref_candidate_beats(words):
     return out
 
 
-def rtl_candidate_beats(cfg, words, seed=1):
-    dut = CandidatesToAxis(cfg)
+def rtl_adapter_beats(dut, inp, out, payloads, seed):
+    """Feed ``payloads`` to ``inp`` with random gaps, take ``out`` with random back-pressure:
+    the (tdata, tuser, tlast) of each transfer and the cycles ``dut.stalled`` was high
+    (checked against tvalid and not tready in every cycle)."""
     rng = random.Random(seed)
     got, stalls = [], []
 
     async def source(ctx):
-        for word, _trailer in words:
-            ctx.set(dut.candidates.payload.as_value(), word)
-            ctx.set(dut.candidates.valid, 1)
-            await ctx.tick().until(dut.candidates.ready)
-            ctx.set(dut.candidates.valid, 0)
+        for payload in payloads:
+            ctx.set(inp.payload.as_value(), payload)
+            ctx.set(inp.valid, 1)
+            await ctx.tick().until(inp.ready)
+            ctx.set(inp.valid, 0)
             while rng.random() < 0.3:
                 await ctx.tick()
 
     async def sink(ctx):
-        while len(got) < len(words):
+        while len(got) < len(payloads):
             ready = rng.random() < 0.6
-            ctx.set(dut.cand.tready, ready)
+            ctx.set(out.tready, ready)
             stalls.append(ctx.get(dut.stalled))
-            assert stalls[-1] == (ctx.get(dut.cand.tvalid) and not ready)
-            if ready and ctx.get(dut.cand.tvalid):
-                got.append((ctx.get(dut.cand.tdata), ctx.get(dut.cand.tuser),
-                            ctx.get(dut.cand.tlast)))
+            assert stalls[-1] == (ctx.get(out.tvalid) and not ready)
+            if ready and ctx.get(out.tvalid):
+                got.append((ctx.get(out.tdata), ctx.get(out.tuser), ctx.get(out.tlast)))
             await ctx.tick()
 
     simulate(dut, source, sink)
     return got, sum(stalls)
+
+
+def rtl_candidate_beats(cfg, words, seed=1):
+    dut = CandidatesToAxis(cfg)
+    return rtl_adapter_beats(dut, dut.candidates, dut.cand, [w for w, _ in words], seed)
 
 
 def test_candidates_out_marks_list_start_and_trailer():
@@ -127,30 +133,8 @@ def ref_state_beats(cfg, words):
 
 def rtl_state_beats(cfg, words, seed=3):
     dut = StatesToAxis(cfg)
-    rng = random.Random(seed)
-    got, stalls = [], []
-
-    async def source(ctx):
-        for w in words:
-            ctx.set(dut.states.payload.as_value(), int(pack_states(cfg, **w)))
-            ctx.set(dut.states.valid, 1)
-            await ctx.tick().until(dut.states.ready)
-            ctx.set(dut.states.valid, 0)
-            while rng.random() < 0.3:
-                await ctx.tick()
-
-    async def sink(ctx):
-        while len(got) < len(words):
-            ready = rng.random() < 0.6
-            ctx.set(dut.state.tready, ready)
-            stalls.append(ctx.get(dut.stalled))
-            if ready and ctx.get(dut.state.tvalid):
-                got.append((ctx.get(dut.state.tdata), ctx.get(dut.state.tuser),
-                            ctx.get(dut.state.tlast)))
-            await ctx.tick()
-
-    simulate(dut, source, sink)
-    return got, sum(stalls)
+    return rtl_adapter_beats(dut, dut.states, dut.state,
+                             [int(pack_states(cfg, **w)) for w in words], seed)
 
 
 def test_states_out_flags_frames_lines_and_segments():

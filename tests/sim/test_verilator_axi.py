@@ -50,6 +50,15 @@ def test_beat_words_and_operations():
                       ("write", "CONTROL", 0), ("read", "FRAMES", None)]
     with pytest.raises(ValueError, match=r"^run_axi needs a build of design 'axi', got 'dp'$"):
         run_axi(built(make_config(), "dp"), beats, [])
+    with pytest.raises(ValueError, match=r"^the 'axi' build has its own harness: use "
+                                         r"dptbd\.sim\.verilator_axi\.run_axi$"):
+        V.run(built(cfg, "axi"), beat_words(beats))
+    with pytest.raises(ValueError, match=r"^operation 'x' before beat 3: kinds are w, r, i and "
+                                         r"beats 0 … 120$"):
+        run_axi(built(cfg, "axi"), beats, [(3, "x", 0, 0)])
+    with pytest.raises(ValueError, match=r"^operation 'r' before beat 121: kinds are w, r, i "
+                                         r"and beats 0 … 120$"):
+        run_axi(built(cfg, "axi"), beats, [(121, "r", 0, 0)])
 
 
 def scene(cfg, seed):
