@@ -37,7 +37,11 @@ class StreamBroadcast(wiring.Component):
     """
 
     def __init__(self, shape, count: int = 2):
-        self._count = check_int("count", count, 2, 16)
+        try:
+            self._count = check_int("count", count, 2, 16)
+        except ValueError:
+            self._MustUse__silence = True      # refused: never meant to be elaborated
+            raise
         super().__init__({
             "input": In(stream.Signature(shape)),
             "outputs": Out(stream.Signature(shape)).array(self._count),
