@@ -8,11 +8,14 @@ ports and an AXI4-Lite register port (``docs/integration.md``).
 and :class:`~dptbd.hw.register_file.RegisterFile` (the register map of
 :mod:`dptbd.hw.register_map`). Its ports are flat, with the names of the AXI convention:
 ``aclk``, ``aresetn`` (active low, synchronous), ``s_axis_video_*``, ``m_axis_cand_*``,
-``s_axil_*`` and ``irq``.
+``s_axil_*`` and ``irq``; built with ``state_output=True`` also ``m_axis_state_*``, the
+per-pixel (E, d) stream (:class:`~dptbd.hw.axis_video.StatesToAxis`), broadcast inside the
+core to the segmenter and to this port (:class:`~dptbd.hw.axis_broadcast.StreamBroadcast`):
+back-pressure on either output stalls the DP pipeline.
 
 ``CONTROL.soft_reset`` resets the core, the frame monitor and the output adapter for one
 cycle (registers and counters are kept); in that cycle ``s_axis_video_tready`` and
-``m_axis_cand_tvalid`` are low, so no beat is half taken.
+``m_axis_cand_tvalid`` (and ``m_axis_state_tvalid``) are low, so no beat is half taken.
 """
 
 from __future__ import annotations
@@ -23,7 +26,8 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
 from dptbd.hw.axi_lite import axi_lite_signature
-from dptbd.hw.axis_video import (AxisToPixels, CandidatesToAxis, candidate_out_signature,
+from dptbd.hw.axis_video import (AxisToPixels, CandidatesToAxis, StatesToAxis,
+                                 candidate_out_signature, state_out_signature,
                                  video_in_signature)
 from dptbd.hw.dp_segmenter_top import DPSegmenter
 from dptbd.hw.frame_monitor import FrameMonitor
@@ -42,10 +46,11 @@ BUNDLES = ("s_axis_video", "m_axis_cand", "s_axil")
 CORE_EVENTS = ("frame_done", "segment_done", "list_done", "saturated")
 
 
-def _bundle_signatures(cfg: DPConfig) -> dict[str, wiring.Signature]:
+def _bundle_signatures(cfg: DPConfig, state_output: bool) -> dict[str, wiring.Signature]:
     return {
         "s_axis_video": video_in_signature(cfg).flip(),
         "m_axis_cand": candidate_out_signature(cfg),
+        **({"m_axis_state": state_out_signature(cfg)} if state_output else {}),
         "s_axil": axi_lite_signature(ADDRESS_BITS).flip(),
     }
 
@@ -67,16 +72,20 @@ class AXITop(wiring.Component):
         Pixel input, one pixel per beat (:func:`~dptbd.hw.axis_video.video_in_signature`).
     m_axis_cand_tdata, _tvalid, _tready, _tuser, _tlast
         Candidate lists, one record or trailer per beat.
+    m_axis_state_tdata, _tvalid, _tready, _tuser, _tlast
+        Only with ``state_output=True``: (E, d) of every pixel
+        (:func:`~dptbd.hw.axis_video.state_out_signature`).
     s_axil_awaddr … s_axil_rready
         AXI4-Lite control port (12-bit byte addresses, 32-bit data).
     irq : Out(1)
         Level interrupt: any pending and enabled ``IRQ_STATUS`` bit.
     """
 
-    def __init__(self, cfg: DPConfig):
+    def __init__(self, cfg: DPConfig, *, state_output: bool = False):
         self._cfg = cfg
-        self._core = DPSegmenter(cfg)
-        self._bundles = _bundle_signatures(cfg)
+        self._state_output = bool(state_output)
+        self._core = DPSegmenter(cfg, state_output=self._state_output)
+        self._bundles = _bundle_signatures(cfg, self._state_output)
         self._register_map = register_map(cfg)
         members = {"aclk": In(1), "aresetn": In(1)}
         for prefix, signature in self._bundles.items():
@@ -92,6 +101,11 @@ class AXITop(wiring.Component):
     def register_map(self):
         """The :func:`~dptbd.hw.register_map.register_map` of this build."""
         return self._register_map
+
+    @property
+    def state_output(self) -> bool:
+        """``m_axis_state`` is brought out."""
+        return self._state_output
 
     @property
     def core(self) -> DPSegmenter:
@@ -140,6 +154,7 @@ class AXITop(wiring.Component):
             cand_out.candidates.valid.eq(core.candidates.valid & ~regs.soft_reset),
             core.candidates.ready.eq(cand_out.candidates.ready & ~regs.soft_reset),
         ]
+        state_stalled = self._state_port(m, core, regs.soft_reset)
         # run-time settings and the LUT write port
         m.d.comb += [core.lut_addr.eq(regs.lut_addr), core.lut_data.eq(regs.lut_data),
                      core.lut_we.eq(regs.lut_we)]
@@ -152,6 +167,20 @@ class AXITop(wiring.Component):
             m.d.comb += regs.events[name].eq(monitor.faults[name])
         m.d.comb += [
             regs.events.input_stall.eq(self.s_axis_video_tvalid & ~self.s_axis_video_tready),
-            regs.events.output_stall.eq(cand_out.stalled),
+            regs.events.output_stall.eq(cand_out.stalled | state_stalled),
         ]
         return m
+
+    def _state_port(self, m, core, soft_reset):
+        """``m_axis_state`` from the core's ``states``; its ``stalled`` (0 without it)."""
+        if not self._state_output:
+            return 0
+        m.submodules.state_out = state_out = ResetInserter({"sync": soft_reset})(
+            StatesToAxis(self._cfg))
+        self._connect_flat(m, "m_axis_state", state_out.state)
+        m.d.comb += [
+            state_out.states.payload.eq(core.states.payload),
+            state_out.states.valid.eq(core.states.valid & ~soft_reset),
+            core.states.ready.eq(state_out.states.ready & ~soft_reset),
+        ]
+        return state_out.stalled

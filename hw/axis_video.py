@@ -10,7 +10,12 @@ of line; ``tdata`` is a whole number of bytes. Here:
 - output ``m_axis_cand``: ``tdata`` = the candidate word
   (:func:`~dptbd.hw.candidate_layout.candidate_layout`) zero-extended to whole bytes,
   ``tuser[0]`` = first word of a list, ``tlast`` = the trailer (end of list = end of
-  segment). A list with no record is one word with both set.
+  segment). A list with no record is one word with both set;
+- output ``m_axis_state`` (AXI top level built with ``state_output=True``): one pixel's
+  (E, d) per beat in raster order, ``tdata`` = E in bits [B_E-1:0], d in the next B_d bits
+  (:func:`~dptbd.hw.layouts.state_word_layout`), zero-extended to whole bytes; ``tuser[0]``
+  = start of frame (pixel (0, 0)), ``tuser[1]`` = end of frame, ``tuser[2]`` = end of
+  segment, ``tlast`` = end of line.
 """
 
 from __future__ import annotations
@@ -21,10 +26,14 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
 from dptbd.hw.candidate_layout import candidate_layout
-from dptbd.hw.layouts import pixel_layout
+from dptbd.hw.layouts import pixel_layout, state_layout, state_word_layout
 
 __all__ = ["byte_padded", "axis_signature", "video_in_signature", "candidate_out_signature",
-           "AxisToPixels", "CandidatesToAxis"]
+           "state_out_signature", "STATE_TUSER", "AxisToPixels", "CandidatesToAxis",
+           "StatesToAxis"]
+
+#: ``m_axis_state_tuser`` bits.
+STATE_TUSER = {"start_of_frame": 0, "end_of_frame": 1, "end_of_segment": 2}
 
 
 def byte_padded(bits: int) -> int:
@@ -52,6 +61,12 @@ def video_in_signature(cfg: DPConfig) -> wiring.Signature:
 def candidate_out_signature(cfg: DPConfig) -> wiring.Signature:
     """``m_axis_cand``: one record or trailer per beat."""
     return axis_signature(byte_padded(data.Layout.cast(candidate_layout(cfg)).size))
+
+
+def state_out_signature(cfg: DPConfig) -> wiring.Signature:
+    """``m_axis_state``: one pixel's (E, d) per beat, three ``tuser`` bits."""
+    return axis_signature(byte_padded(data.Layout.cast(state_word_layout(cfg)).size),
+                          len(STATE_TUSER))
 
 
 class AxisToPixels(wiring.Component):
@@ -119,4 +134,45 @@ class CandidatesToAxis(wiring.Component):
         ]
         with m.If(src.valid & out.tready):
             m.d.sync += list_start.eq(src.payload.end_of_list)
+        return m
+
+
+class StatesToAxis(wiring.Component):
+    """The DP pipeline's ``states`` stream to ``m_axis_state`` (see the module doc).
+
+    Members
+    -------
+    states : In(stream.Signature(state_layout(cfg)))
+    state : Out(state_out_signature(cfg))
+    stalled : Out(1)
+        ``tvalid`` high and ``tready`` low in this cycle (back-pressure).
+    """
+
+    def __init__(self, cfg: DPConfig):
+        self._cfg = cfg
+        super().__init__({
+            "states": In(stream.Signature(state_layout(cfg))),
+            "state": Out(state_out_signature(cfg)),
+            "stalled": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        src, out = self.states, self.state
+        frame_start = Signal(init=1)           # the next word is pixel (0, 0) of a frame
+        word = Signal(state_word_layout(self._cfg))
+        m.d.comb += [
+            word.energy.eq(src.payload.energy),
+            word.direction.eq(src.payload.direction),
+            out.tdata.eq(word.as_value()),
+            out.tuser[STATE_TUSER["start_of_frame"]].eq(frame_start),
+            out.tuser[STATE_TUSER["end_of_frame"]].eq(src.payload.end_of_frame),
+            out.tuser[STATE_TUSER["end_of_segment"]].eq(src.payload.end_of_segment),
+            out.tlast.eq(src.payload.end_of_line),
+            out.tvalid.eq(src.valid),
+            src.ready.eq(out.tready),
+            self.stalled.eq(src.valid & ~out.tready),
+        ]
+        with m.If(src.valid & out.tready):
+            m.d.sync += frame_start.eq(src.payload.end_of_frame)
         return m

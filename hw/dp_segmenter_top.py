@@ -23,7 +23,8 @@ from dptbd.hw.candidate_layout import bits_per_segment, candidate_field_offsets,
 from dptbd.hw.dp_core import lut_write_members
 from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.hw.controller import clamped
-from dptbd.hw.layouts import event_layout, field_offsets, pixel_layout
+from dptbd.hw.axis_broadcast import StreamBroadcast
+from dptbd.hw.layouts import event_layout, field_offsets, pixel_layout, state_layout
 from dptbd.hw.segmenter import Segmenter, segmenter_setting_members
 from dptbd.hw.flow.verilog import manifest_header, manifest_interface, port_list
 
@@ -54,14 +55,20 @@ class DPSegmenter(wiring.Component):
         accepted on ``pixels`` and hold for that segment (clamped to their ranges):
         K is its length, s bins its scored frame, n thresholds its histogram, which makes
         the next segment's list (``docs/gateware.md``, "Run-time settings").
+    states : Out(stream.Signature(state_layout(cfg)))
+        Only with ``state_output=True``: the DP pipeline's per-pixel (E, d) stream, which is
+        then broadcast to it and to the segmenter
+        (:class:`~dptbd.hw.axis_broadcast.StreamBroadcast`: one register stage, so the
+        latency grows by one; back-pressure on either consumer stalls the DP pipeline).
     events : Out(event_layout(cfg))
         One-cycle pulses: ``frame_done`` / ``segment_done`` / ``saturated`` with the
         DP pipeline's ``states`` handshake, ``list_done`` with a trailer's handshake on
         ``candidates`` (:func:`~dptbd.hw.layouts.event_layout`).
     """
 
-    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8):
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, state_output: bool = False):
         self._cfg = cfg
+        self._state_output = bool(state_output)
         self._dp = DPPipeline(cfg)
         # The segmenter takes its settings from registers loaded when the DP accepts a
         # segment's first pixel; that is exact while fewer words than a segment are in
@@ -74,6 +81,7 @@ class DPSegmenter(wiring.Component):
             **lut_write_members(cfg),
             **segmenter_setting_members(cfg),
             "events": Out(event_layout(cfg)),
+            **({"states": Out(stream.Signature(state_layout(cfg)))} if state_output else {}),
         })
 
     @property
@@ -87,8 +95,8 @@ class DPSegmenter(wiring.Component):
     @property
     def latency(self) -> int:
         """Cycles from a pixel's acceptance to its record on ``candidates`` (no stalls):
-        the DP pipeline's L plus the segmenter's 3."""
-        return self._dp.latency + Segmenter.RECORD_LATENCY
+        the DP pipeline's L plus the segmenter's 3 (plus 1 with ``state_output``)."""
+        return self._dp.latency + Segmenter.RECORD_LATENCY + self._state_output
 
     @property
     def scan_cycles(self) -> int:
@@ -99,7 +107,13 @@ class DPSegmenter(wiring.Component):
         m.submodules.dp = dp = self._dp
         m.submodules.segmenter = seg = self._segmenter
         wiring.connect(m, wiring.flipped(self.pixels), dp.pixels)
-        wiring.connect(m, dp.states, seg.states)
+        if self._state_output:
+            m.submodules.state_broadcast = fork = StreamBroadcast(state_layout(self._cfg))
+            wiring.connect(m, dp.states, fork.input)
+            wiring.connect(m, fork.outputs[0], seg.states)
+            wiring.connect(m, fork.outputs[1], wiring.flipped(self.states))
+        else:
+            wiring.connect(m, dp.states, seg.states)
         wiring.connect(m, seg.candidates, wiring.flipped(self.candidates))
         m.d.comb += [
             dp.lut_addr.eq(self.lut_addr),

@@ -138,13 +138,19 @@ class Piece:
 
 @dataclasses.dataclass(frozen=True)
 class Expected:
-    """What the golden model says the whole stream gives: the candidate lists, and the
-    counts the FRAMES, SEGMENTS, LISTS and SATURATED registers must read."""
+    """What the golden model says the whole stream gives: the candidate lists, the counts
+    the FRAMES, SEGMENTS, LISTS and SATURATED registers must read, and the ``states`` stream
+    (``m_axis_state``): packed words, their (frame, row, column) and whether each starts a
+    frame (``tuser[0]``: the first word after a reset or soft reset, or the word after an
+    end of frame)."""
 
     lists: list
     frames: int
     segments: int
     saturated: int
+    state_words: np.ndarray = None
+    state_positions: np.ndarray = None
+    state_first: np.ndarray = None
 
     def counters(self) -> dict[str, int]:
         return {"FRAMES": self.frames, "SEGMENTS": self.segments, "LISTS": len(self.lists),
@@ -191,6 +197,7 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict]) -> Expected
     :func:`~dptbd.model.segmentation.segment_stream` for the lists, with the settings
     sampled as the gateware samples them."""
     lists, frames, segments, saturated = [], 0, 0, 0
+    words, positions, first = [], [], []
     for piece in stream_pieces(cfg, steps):
         a, b = piece.start, piece.stop
         expect = expected_stream(cfg, beats.pixel[a:b], beats.first[a:b],
@@ -201,4 +208,11 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict]) -> Expected
         segments += sum(run.complete and run.frame == run.segment_frames - 1
                         for run in expect.runs)
         saturated += int(expect.saturated.sum())
-    return Expected(lists, frames, segments, saturated)
+        starts = np.ones(len(expect.words), dtype=bool)
+        starts[1:] = expect.fields[:-1, 3] == 1
+        offset = positions[-1][-1, 0] + 1 if positions and len(positions[-1]) else 0
+        words.append(expect.words)
+        positions.append(expect.positions + np.array([offset, 0, 0]))
+        first.append(starts)
+    return Expected(lists, frames, segments, saturated, np.concatenate(words),
+                    np.concatenate(positions), np.concatenate(first))

@@ -57,6 +57,7 @@ DESIGNS = {
     "dp": (TOPLEVEL, TEST_MODULE, ""),
     "segmenter": ("dptbd_seg", "dptbd.sim.tb_segmenter", "-seg"),
     "axi": ("dptbd_axi", "dptbd.sim.tb_axi", "-axi"),      # dptbd.hw.axi_top, docs/integration.md
+    "axi-state": ("dptbd_axi", "dptbd.sim.tb_axi", "-axi-state"),   # with m_axis_state
 }
 
 
@@ -120,6 +121,8 @@ def build(cfg: DPConfig, root: str | os.PathLike = "build/sim", *, waves: bool =
         from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog as generate
     elif design == "axi":
         from dptbd.hw.flow.axi_package import generate_axi_verilog as generate
+    elif design == "axi-state":
+        from dptbd.hw.flow.axi_package import generate_axi_state_verilog as generate
     else:
         from dptbd.hw.flow.verilog import generate_verilog as generate
 

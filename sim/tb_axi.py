@@ -25,6 +25,11 @@ LISTS and SATURATED counters must read what the model gives. A step with ``soft_
 job's ``valid_pause`` / ``ready_pause`` (:func:`dptbd.sim.components.pause_generator`). At
 the end the ``final_check`` registers are read. The summary lists the cycles at which
 ``irq`` rose and fell and the cycle each beat was accepted.
+
+With ``state_output`` in the job (a top built with ``m_axis_state``, runner design
+``axi-state``), a second ``AxiStreamSink`` takes ``m_axis_state`` with the job's
+``state_pause``, and every (E, d) word is scored in order against the same model
+(:class:`dptbd.sim.scoreboard.Scoreboard`), ``tuser[0]`` checked on every word.
 """
 
 from __future__ import annotations
@@ -43,7 +48,9 @@ from dptbd.hw.candidate_layout import unpack_candidate
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.sim.axi_stimulus import Beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
+from dptbd.hw.layouts import pack_states
 from dptbd.sim.components import Cycles, pause_generator, pause_probability
+from dptbd.sim.scoreboard import Scoreboard
 from dptbd.sim.tb_dp import PERIOD_NS, load_job
 
 OKAY, SLVERR = 0, 2
@@ -85,6 +92,11 @@ class AxiBench:
                                   reset_active_level=False, byte_lanes=1)
         self.axil = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"), clk, rst,
                                   reset_active_level=False)
+        self.state_sink = None
+        if job.get("state_output"):
+            self.state_sink = AxiStreamSink(AxiStreamBus.from_prefix(dut, "m_axis_state"), clk,
+                                            rst, reset_active_level=False, byte_lanes=1)
+            self.state_sink.set_pause_generator(pause_generator(job.get("state_pause")))
         self.source.set_pause_generator(pause_generator(job.get("valid_pause")))
         self.sink.set_pause_generator(pause_generator(job.get("ready_pause")))
 
@@ -110,7 +122,9 @@ class AxiBench:
                     self.accept_cycles.append(now)
                 else:
                     self.stalls["input"] += 1
-            if high(dut.m_axis_cand_tvalid) and not high(dut.m_axis_cand_tready):
+            if (high(dut.m_axis_cand_tvalid) and not high(dut.m_axis_cand_tready)) or (
+                    self.state_sink is not None and high(dut.m_axis_state_tvalid)
+                    and not high(dut.m_axis_state_tready)):
                 self.stalls["output"] += 1
             level = int(dut.irq.value) if dut.irq.value.is_resolvable else 0
             if level != irq:
@@ -188,6 +202,10 @@ async def run_stream(dut):
                 finished.set()
 
     cocotb.start_soon(score())
+    states = None
+    if bench.state_sink is not None:
+        states = Scoreboard(cfg, expected.state_words, positions=expected.state_positions)
+        cocotb.start_soon(score_states(bench, cfg, states, expected.state_first))
     start = 0
     for index, step in enumerate(steps):
         await bench.source.wait()
@@ -216,7 +234,9 @@ async def run_stream(dut):
         + len(lists) * (cfg.n_bins + 4) * 3
     timeout = Timer(budget * bench.period, unit="ns")
     fired = await First(finished.wait(), timeout)
-    timed_out = fired is timeout and not board.done
+    while states is not None and not (states.done or states.failed) and fired is not timeout:
+        fired = await First(RisingEdge(dut.aclk), timeout)
+    timed_out = fired is timeout and not (board.done and (states is None or states.done))
     await bench.source.wait()
     await bench.settle(settle)
     if job.get("final_check"):
@@ -228,12 +248,14 @@ async def run_stream(dut):
         if counters[name] != want:
             bench.problems.append(f"at the end: {name} = {counters[name]}, the model gives "
                                   f"{want}")
-    ok = board.done and not bench.problems
+    ok = board.done and not bench.problems and (states is None or states.done)
     summary = {
         "test": "run_stream",
         "design": "axi",
         "verdict": "bit-exact" if ok else ("timeout" if timed_out else "mismatch"),
-        "report": "; ".join([board.report(), *bench.problems[:10]]),
+        "report": "; ".join([board.report(), *([states.report()] if states else []),
+                             *bench.problems[:10]]),
+        "state_words": None if states is None else states.count,
         "problems": bench.problems,
         "beats": len(beats),
         "accepted": len(bench.accept_cycles),
@@ -252,6 +274,24 @@ async def run_stream(dut):
         with open(job["summary"], "w") as fh:
             json.dump(summary, fh, indent=2)
     assert summary["verdict"] == "bit-exact", summary["report"]
+
+
+async def score_states(bench: AxiBench, cfg, board: Scoreboard, first) -> None:
+    """Score every ``m_axis_state`` beat: (E, d) and the flags against the model's word,
+    ``tuser[0]`` against ``first``."""
+    e_mask, d_mask = (1 << cfg.energy_bits) - 1, (1 << cfg.direction_bits) - 1
+    while not (board.done or board.failed):
+        line = await bench.state_sink.recv()
+        users = line.tuser if isinstance(line.tuser, list) else [line.tuser] * len(line.tdata)
+        for i, (word, user) in enumerate(zip(line.tdata, users)):
+            user = int(user)
+            if board.count < len(first) and bool(user & 1) != bool(first[board.count]):
+                bench.problems.append(f"state word {board.count}: tuser[0] = {user & 1}")
+            packed = pack_states(cfg, energy=int(word) & e_mask,
+                                 direction=(int(word) >> cfg.energy_bits) & d_mask,
+                                 end_of_line=int(i == len(line.tdata) - 1),
+                                 end_of_frame=(user >> 1) & 1, end_of_segment=(user >> 2) & 1)
+            board.receive(int(packed))
 
 
 def bench_settle(job: dict, cfg) -> int:

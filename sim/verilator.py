@@ -128,6 +128,9 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
     trace : path, optional
         Write an FST waveform (a build with ``waves=True``).
     """
+    if sim.design == "axi":
+        raise ValueError("the 'axi' build has its own harness: use "
+                         "dptbd.sim.verilator_axi.run_axi")
     words = np.asarray(words)
     if words.ndim != 1 or (words.size and words.dtype.kind not in "iu"):
         raise ValueError(f"words must be a 1-D integer array, got {words.dtype} {words.shape}")

@@ -53,6 +53,7 @@ DESIGNS = {
     "dp": ("dptbd_dp", "DPTBD_DESIGN_DP", "states"),
     "core": ("dptbd_dp", "DPTBD_DESIGN_CORE", "states"),
     "segmenter": ("dptbd_seg", "DPTBD_DESIGN_SEG", "candidates"),
+    "axi": ("dptbd_axi", "DPTBD_DESIGN_AXI", "m_axis_cand"),     # hw/axi_top.py
 }
 
 #: Verilator flags. ``-O3 --x-assign fast --x-initial fast --noassert`` measured fastest
@@ -66,6 +67,9 @@ VERILATOR_FLAGS = ("--cc", "--exe", "-O3", "--x-assign", "fast", "--x-initial", 
 CXX_FLAGS = ("-O3",)
 
 HARNESS = pathlib.Path(__file__).resolve().parent / "harness" / "dptbd_harness.cpp"
+#: Designs with a harness of their own (flat AXI ports, register operations):
+#: ``dptbd.sim.verilator_axi`` runs it.
+HARNESSES = {"axi": HARNESS.with_name("dptbd_axi_harness.cpp")}
 
 EXECUTABLE = "dptbd_sim"
 STAMP = "build.json"
@@ -136,13 +140,21 @@ class VerilatorBuild(CompiledDesign):
         return DESIGNS[self.design][2]
 
 
+def _harness_sources(design: str) -> list[pathlib.Path]:
+    """The harness source of ``design`` and, for the AXI harness, its shared header."""
+    if design in HARNESSES:
+        return [HARNESSES[design], HARNESSES[design].with_name("harness_io.h")]
+    return [HARNESS]
+
+
 def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool) -> str:
     from dptbd.hw.flow.source_hash import gateware_hash
 
     blob = json.dumps({
         "config": cfg.to_mapping(), "design": design, "lut_style": lut_style,
         "waves": waves, "gateware": gateware_hash(),
-        "harness": hashlib.sha256(HARNESS.read_bytes()).hexdigest(),
+        "harness": hashlib.sha256(b"".join(
+            path.read_bytes() for path in _harness_sources(design))).hexdigest(),
         "verilator_flags": VERILATOR_FLAGS, "cxx_flags": CXX_FLAGS, "tools": check_tools(),
     }, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()
@@ -165,6 +177,11 @@ def _stamp_ok(directory: pathlib.Path, key: str) -> dict | None:
 
 
 def _generate(cfg: DPConfig, design: str, lut_style: str) -> tuple[str, dict]:
+    if design == "axi":
+        from dptbd.hw.flow.axi_package import generate_axi_verilog
+        if lut_style != "auto":
+            raise ValueError("the AXI top takes the default lut_style 'auto' only")
+        return generate_axi_verilog(cfg)
     if design == "segmenter":
         from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog
         if lut_style != "auto":
@@ -233,7 +250,7 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
             defines.append("-DDPTBD_TRACE")
         cmd = ["verilator", *VERILATOR_FLAGS, *trace, "--top-module", toplevel,
                "-CFLAGS", " ".join(defines), "-o", EXECUTABLE, "--Mdir", "obj",
-               verilog.name, str(HARNESS)]
+               verilog.name, str(HARNESSES.get(design, HARNESS))]
         make = ["make", "-C", "obj", "-f", "Vdut.mk", f"-j{min(2, os.cpu_count() or 1)}",
                 f"OPT_FAST={' '.join(CXX_FLAGS)}", f"OPT_GLOBAL={' '.join(CXX_FLAGS)}"]
         _step(cmd, tmp, verbose, f"verilator ({toplevel}, {design})")

@@ -3,7 +3,8 @@
 ``--top dp`` (default) converts the DP pipeline (``dptbd_dp``). ``--top axi`` converts the AXI
 top level ``dptbd_axi`` (AXI4-Stream video in, candidate lists out, AXI4-Lite registers;
 ``docs/integration.md``) and writes, beside ``FILE.v`` and ``FILE.json``, the register header
-``dptbd_regs.h`` and the FuseSoC core ``FILE.core`` (:func:`dptbd.hw.flow.axi_package.axi_package`).
+``dptbd_regs.h``, the ``aclk`` constraints ``FILE.sdc`` / ``FILE.xdc`` at ``--clock-mhz``
+(default 100) and the FuseSoC core ``FILE.core`` (:func:`dptbd.hw.flow.axi_package.axi_package`).
 
 Parameters come from options named after the :class:`~dptbd.config.DPConfig` fields, from a
 TOML file of those fields (``--config``; unknown keys are refused), or both (options win).
@@ -39,6 +40,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "for r = 2), bram (one block RAM per move), logic (flip-flops and "
                              "multiplexers, no block RAM; lets the 64x64 top level fit an "
                              "iCE40-HX8K)")
+    parser.add_argument("--clock-mhz", type=float, default=None, metavar="MHZ",
+                        help="--top axi: aclk frequency of the shipped SDC/XDC constraints, "
+                             "in [1, 1000] (default 100, the synthesis target)")
+    parser.add_argument("--state-output", action="store_true",
+                        help="--top axi: also bring out the per-pixel (E, d) stream as "
+                             "m_axis_state (back-pressure on it stalls the core)")
     add_config_arguments(parser)
 
 
@@ -52,21 +59,24 @@ def _refuse_existing(paths: list[pathlib.Path], force: bool) -> None:
 
 
 def _write_axi(args: argparse.Namespace, cfg) -> int:
-    from dptbd.hw.flow.axi_package import axi_package
+    from dptbd.hw.flow.axi_package import (DEFAULT_CLOCK_MHZ, axi_package, check_clock_mhz,
+                                           package_file_names)
 
     if args.external_state_store or args.lut_style != "auto":
         raise ValueError("--external-state-store and --lut-style apply to --top dp only; "
                          "--top axi keeps the state store on chip with the automatic LUT style")
+    clock_mhz = check_clock_mhz(DEFAULT_CLOCK_MHZ if args.clock_mhz is None else args.clock_mhz,
+                                "--clock-mhz")
     out = args.output
-    names = [f"{out.stem}.v", f"{out.stem}.json", "dptbd_regs.h", f"{out.stem}.core"]
-    _refuse_existing([out.parent / name for name in names], args.force)
-    files = axi_package(cfg, out.stem)
+    _refuse_existing([out.parent / name for name in package_file_names(out.stem)], args.force)
+    files = axi_package(cfg, out.stem, clock_mhz, state_output=args.state_output)
     out.parent.mkdir(parents=True, exist_ok=True)
     for name, text in files.items():
         (out.parent / name).write_text(text)
     info = json.loads(files[f"{out.stem}.json"])
     print(f"wrote {', '.join(str(out.parent / n) for n in files)} (module {info['module']}, "
-          f"{cfg.width}x{cfg.height}, latency {info['latency']} cycles)")
+          f"{cfg.width}x{cfg.height}, latency {info['latency']} cycles, aclk "
+          f"{clock_mhz:g} MHz)")
     return 0
 
 
@@ -80,6 +90,11 @@ def main(args: argparse.Namespace) -> int:
     cfg = config_from_args(args)
     if args.top == "axi":
         return _write_axi(args, cfg)
+    if args.clock_mhz is not None:
+        raise ValueError("--clock-mhz applies to --top axi only (dptbd_dp ships no constraints)")
+    if args.state_output:
+        raise ValueError("--state-output applies to --top axi only (dptbd_dp always outputs "
+                         "its states)")
     _refuse_existing([out, manifest], args.force)
     text, info = generate_verilog(cfg, external_state_store=args.external_state_store,
                                   lut_style=args.lut_style)

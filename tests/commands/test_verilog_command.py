@@ -131,7 +131,7 @@ def test_verilog_top_axi_writes_module_header_manifest_and_core(tmp_path, capsys
     out = tmp_path / "rtl" / "mine.v"
     assert verilog_command.main(parse(["-o", out, "--config", toml, "--top", "axi"])) == 0
     names = sorted(p.name for p in out.parent.iterdir())
-    assert names == ["dptbd_regs.h", "mine.core", "mine.json", "mine.v"]
+    assert names == ["dptbd_regs.h", "mine.core", "mine.json", "mine.sdc", "mine.v", "mine.xdc"]
     assert "module dptbd_axi(" in out.read_text()
     manifest = json.loads((out.parent / "mine.json").read_text())
     assert manifest["module"] == "dptbd_axi" and manifest["parameters"]["width"] == 16
@@ -140,7 +140,39 @@ def test_verilog_top_axi_writes_module_header_manifest_and_core(tmp_path, capsys
     assert "#define DPTBD_REG_SEGMENT_FRAMES 0x00000044u" in \
         (out.parent / "dptbd_regs.h").read_text()
     assert "      - mine.v" in (out.parent / "mine.core").read_text()
+    assert "      - mine.sdc" in (out.parent / "mine.core").read_text()
+    assert (out.parent / "mine.sdc").read_text().endswith(
+        "create_clock -name aclk -period 10.000 [get_ports aclk]\n")
     assert "(module dptbd_axi, 16x12, latency" in capsys.readouterr().out
+
+
+def test_verilog_top_axi_clock_option(tmp_path, capsys):
+    out = tmp_path / "a.v"
+    assert verilog_command.main(parse(["-o", out, "--top", "axi", "--width", 8, "--height", 6,
+                                       "--clock-mhz", 125])) == 0
+    assert (tmp_path / "a.xdc").read_text().endswith(
+        "create_clock -name aclk -period 8.000 [get_ports aclk]\n")
+    assert "aclk 125 MHz)" in capsys.readouterr().out
+    with pytest.raises(ValueError, match=r"^--clock-mhz must be a finite real number in "
+                                         r"\[1, 1000\], got 0\.0$"):
+        verilog_command.main(parse(["-o", out, "--top", "axi", "--width", 8, "--height", 6,
+                                    "--clock-mhz", 0, "--force"]))
+    with pytest.raises(ValueError, match=r"^--clock-mhz applies to --top axi only \(dptbd_dp "
+                                         r"ships no constraints\)$"):
+        verilog_command.main(parse(["-o", tmp_path / "d.v", "--width", 8, "--height", 6,
+                                    "--clock-mhz", 50]))
+    assert not (tmp_path / "d.v").exists()
+
+
+def test_verilog_top_axi_state_output(tmp_path):
+    out = tmp_path / "s.v"
+    assert verilog_command.main(parse(["-o", out, "--top", "axi", "--width", 8, "--height", 6,
+                                       "--state-output"])) == 0
+    assert "  output m_axis_state_tvalid;" in out.read_text()
+    with pytest.raises(ValueError, match=r"^--state-output applies to --top axi only "
+                                         r"\(dptbd_dp always outputs its states\)$"):
+        verilog_command.main(parse(["-o", tmp_path / "d.v", "--width", 8, "--height", 6,
+                                    "--state-output"]))
 
 
 def test_verilog_top_axi_refuses_existing_files_and_dp_only_options(tmp_path):
@@ -153,7 +185,9 @@ def test_verilog_top_axi_refuses_existing_files_and_dp_only_options(tmp_path):
         verilog_command.main(parse(["-o", out, "--top", "axi", "--width", 8, "--height", 6]))
     assert not out.exists() and (tmp_path / "dptbd_regs.h").read_text() == "mine"
     (tmp_path / "dptbd_axi.json").write_text("mine")
-    three = ", ".join(re.escape(str(tmp_path / n)) for n in ("dptbd_axi.json", "dptbd_regs.h"))
+    (tmp_path / "dptbd_axi.xdc").write_text("mine")
+    three = ", ".join(re.escape(str(tmp_path / n))
+                      for n in ("dptbd_axi.json", "dptbd_regs.h", "dptbd_axi.xdc"))
     with pytest.raises(FileExistsError,
                        match=rf"^{three} and {names[1]} exist; pass --force to overwrite$"):
         verilog_command.main(parse(["-o", out, "--top", "axi", "--width", 8, "--height", 6]))

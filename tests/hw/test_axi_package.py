@@ -2,6 +2,7 @@
 own parser), and the Verilog under Verilator's lint with the project's waivers."""
 
 import json
+import re
 import shutil
 import subprocess
 
@@ -9,7 +10,8 @@ import pytest
 from fusesoc.capi2.core import CoreInterface
 from fusesoc.capi2.coreparser import Core2Parser
 
-from dptbd.hw.flow.axi_package import axi_package
+from dptbd.errors import DptbdError
+from dptbd.hw.flow.axi_package import axi_package, clock_constraints
 from dptbd.hw.flow.verilog import VERILATOR_LINT_FLAGS
 from dptbd.hw.register_map import register_map
 from seg_harness import make_config
@@ -44,11 +46,34 @@ def test_fusesoc_parses_the_core(package):
     _cfg, folder, _files = package
     core = CoreInterface(Core2Parser(), folder / "top.core")
     assert str(core.name) == "dptbd:dptbd:top:0.1.0"
-    files = core.get_files({"target": "default"})
-    assert [(f["name"], f["file_type"]) for f in files] == [("top.v", "verilogSource"),
-                                                            ("dptbd_regs.h", "cSource")]
-    assert files[1]["is_include_file"] is True
+    common = [("top.v", "verilogSource"), ("dptbd_regs.h", "cSource")]
+    for tool, constraints in (("quartus", ("top.sdc", "SDC")), ("vivado", ("top.xdc", "xdc")),
+                              ("nextpnr", ("top.sdc", "SDC"))):
+        files = core.get_files({"target": "default", "tool": tool})
+        assert [(f["name"], f["file_type"]) for f in files] == [*common, constraints], tool
+        assert files[1]["is_include_file"] is True
     assert core.get_toplevel({"target": "lint"}) == "dptbd_axi"
+
+
+def test_constraints_clock_aclk_at_the_requested_period(package):
+    _cfg, _folder, files = package
+    for suffix in ("sdc", "xdc"):
+        lines = files[f"top.{suffix}"].splitlines()
+        assert lines[-1] == "create_clock -name aclk -period 10.000 [get_ports aclk]"
+        assert all(line.startswith("#") for line in lines[:-1])
+    assert "Vivado" in files["top.xdc"] and "Quartus" in files["top.sdc"]
+    manifest = json.loads(files["top.json"])
+    assert manifest["constraints"] == {"sdc": "top.sdc", "xdc": "top.xdc", "period_ns": 10.0}
+    assert manifest["clock"]["frequency_mhz"] == 100.0
+    assert clock_constraints(150, "sdc").splitlines()[-1] == \
+        "create_clock -name aclk -period 6.667 [get_ports aclk]"
+
+
+@pytest.mark.parametrize("mhz", [0.5, 1000.5, float("nan"), "100"])
+def test_constraints_refuse_a_clock_out_of_range(mhz):
+    with pytest.raises(DptbdError, match=rf"^clock_mhz must be a finite real number in "
+                                         rf"\[1, 1000\], got {re.escape(repr(mhz))}$"):
+        axi_package(make_config(width=8, height=6, candidate_count=2), clock_mhz=mhz)
 
 
 @pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
@@ -57,3 +82,20 @@ def test_verilog_lints_clean(package):
     run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "top.v", "--top-module",
                           "dptbd_axi"], cwd=folder, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
+
+
+def test_state_output_adds_m_axis_state_to_ports_and_manifest():
+    cfg = make_config(width=8, height=6, candidate_count=2)
+    manifest = json.loads(axi_package(cfg, "s", state_output=True)["s.json"])
+    ports = {p["name"]: p for p in manifest["ports"]}
+    assert ports["m_axis_state_tuser"] == {"name": "m_axis_state_tuser", "direction": "output",
+                                           "width": 3}
+    assert ports["m_axis_state_tready"]["direction"] == "input"
+    assert ports["m_axis_state_tdata"]["width"] == 8 * -(-(cfg.energy_bits
+                                                          + cfg.direction_bits) // 8)
+    state = manifest["streams"]["m_axis_state"]
+    assert (state["tuser[0]"], state["tuser[1]"], state["tuser[2]"], state["tlast"]) == (
+        "start of frame", "end of frame", "end of segment", "end of line")
+    plain = json.loads(axi_package(cfg, "p")["p.json"])
+    assert "m_axis_state" not in plain["streams"]
+    assert manifest["latency"] == plain["latency"] + 1          # the broadcast's register

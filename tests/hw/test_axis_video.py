@@ -1,4 +1,4 @@
-"""AXI4-Stream video adapters: ``AxisToPixels`` and ``CandidatesToAxis``.
+"""AXI4-Stream video adapters: ``AxisToPixels``, ``CandidatesToAxis`` and ``StatesToAxis``.
 
 ``ref_*`` say what each beat must carry (the layouts' own pack/unpack), ``rtl_*`` run the
 adapters with random ``tvalid`` gaps and ``tready`` back-pressure.
@@ -8,9 +8,10 @@ import random
 
 from amaranth.sim import Simulator
 
-from dptbd.hw.axis_video import AxisToPixels, CandidatesToAxis, byte_padded
+from dptbd.hw.axis_video import (STATE_TUSER, AxisToPixels, CandidatesToAxis, StatesToAxis,
+                                 byte_padded)
 from dptbd.hw.candidate_layout import pack_record, pack_trailer
-from dptbd.hw.layouts import pack_pixel
+from dptbd.hw.layouts import pack_pixel, pack_state_word, pack_states
 from hw_harness import simulate
 from seg_harness import make_config
 
@@ -56,33 +57,39 @@ def ref_candidate_beats(words):
     return out
 
 
-def rtl_candidate_beats(cfg, words, seed=1):
-    dut = CandidatesToAxis(cfg)
+def rtl_adapter_beats(dut, inp, out, payloads, seed):
+    """Feed ``payloads`` to ``inp`` with random gaps, take ``out`` with random back-pressure:
+    the (tdata, tuser, tlast) of each transfer and the cycles ``dut.stalled`` was high
+    (checked against tvalid and not tready in every cycle)."""
     rng = random.Random(seed)
     got, stalls = [], []
 
     async def source(ctx):
-        for word, _trailer in words:
-            ctx.set(dut.candidates.payload.as_value(), word)
-            ctx.set(dut.candidates.valid, 1)
-            await ctx.tick().until(dut.candidates.ready)
-            ctx.set(dut.candidates.valid, 0)
+        for payload in payloads:
+            ctx.set(inp.payload.as_value(), payload)
+            ctx.set(inp.valid, 1)
+            await ctx.tick().until(inp.ready)
+            ctx.set(inp.valid, 0)
             while rng.random() < 0.3:
                 await ctx.tick()
 
     async def sink(ctx):
-        while len(got) < len(words):
+        while len(got) < len(payloads):
             ready = rng.random() < 0.6
-            ctx.set(dut.cand.tready, ready)
+            ctx.set(out.tready, ready)
             stalls.append(ctx.get(dut.stalled))
-            assert stalls[-1] == (ctx.get(dut.cand.tvalid) and not ready)
-            if ready and ctx.get(dut.cand.tvalid):
-                got.append((ctx.get(dut.cand.tdata), ctx.get(dut.cand.tuser),
-                            ctx.get(dut.cand.tlast)))
+            assert stalls[-1] == (ctx.get(out.tvalid) and not ready)
+            if ready and ctx.get(out.tvalid):
+                got.append((ctx.get(out.tdata), ctx.get(out.tuser), ctx.get(out.tlast)))
             await ctx.tick()
 
     simulate(dut, source, sink)
     return got, sum(stalls)
+
+
+def rtl_candidate_beats(cfg, words, seed=1):
+    dut = CandidatesToAxis(cfg)
+    return rtl_adapter_beats(dut, dut.candidates, dut.cand, [w for w, _ in words], seed)
 
 
 def test_candidates_out_marks_list_start_and_trailer():
@@ -97,3 +104,43 @@ def test_candidates_out_marks_list_start_and_trailer():
     got, stalls = rtl_candidate_beats(cfg, words)
     assert got == want
     assert stalls > 0                                           # back-pressure was exercised
+
+
+def state_cases(cfg):
+    """Two frames of two lines of three pixels, the second ending a segment (the adapter
+    only follows the flags, so the frame need not be the configuration's W x H)."""
+    words = []
+    for frame in range(2):
+        for i in range(6):
+            words.append(dict(energy=100 * frame + 7 * i, direction=i % cfg.n_moves,
+                              end_of_line=int(i % 3 == 2), end_of_frame=int(i == 5),
+                              end_of_segment=int(frame == 1 and i == 5)))
+    return words
+
+
+def ref_state_beats(cfg, words):
+    """(tdata, tuser, tlast) per word: (E, d) as a state word; tuser = start of frame,
+    end of frame, end of segment; tlast = end of line."""
+    out, start = [], 1
+    for w in words:
+        user = (start << STATE_TUSER["start_of_frame"]
+                | w["end_of_frame"] << STATE_TUSER["end_of_frame"]
+                | w["end_of_segment"] << STATE_TUSER["end_of_segment"])
+        out.append((pack_state_word(cfg, w["energy"], w["direction"]), user, w["end_of_line"]))
+        start = w["end_of_frame"]
+    return out
+
+
+def rtl_state_beats(cfg, words, seed=3):
+    dut = StatesToAxis(cfg)
+    return rtl_adapter_beats(dut, dut.states, dut.state,
+                             [int(pack_states(cfg, **w)) for w in words], seed)
+
+
+def test_states_out_flags_frames_lines_and_segments():
+    cfg = config()
+    words = state_cases(cfg)
+    want = ref_state_beats(cfg, words)
+    assert [w[1] & 1 for w in want] == [1, 0, 0, 0, 0, 0] * 2
+    got, stalls = rtl_state_beats(cfg, words)
+    assert got == want and stalls > 0

@@ -203,7 +203,7 @@ def test_build_root_from_the_environment(monkeypatch, tmp_path):
 
 @pytest.mark.parametrize("design", ["DP", "seg", "", "icarus"])
 def test_build_refuses_an_unknown_design(tmp_path, design):
-    with pytest.raises(ValueError, match=rf"^design must be one of dp, core, segmenter, "
+    with pytest.raises(ValueError, match=rf"^design must be one of dp, core, segmenter, axi, "
                                          rf"got {repr(design)}$"):
         V.build(BASE, design, root=tmp_path / "builds")
     assert not (tmp_path / "builds").exists()

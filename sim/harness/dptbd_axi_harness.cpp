@@ -1,0 +1,228 @@
+// Verilator harness of the AXI top level dptbd_axi (hw/axi_top.py, docs/integration.md):
+// streams the input beats (tdata, tuser[0], tlast; faults included) through
+// s_axis_video with seeded tvalid gaps, takes m_axis_cand with seeded tready
+// back-pressure, and performs AXI4-Lite writes, reads and idle waits before given input
+// beats. No Python runs per cycle; dptbd.sim.verilator_axi drives this program with
+// binary files. A sibling of dptbd_harness.cpp (the dptbd_dp / dptbd_seg harness), with
+// the same job-file style, pause generator and cycle conventions.
+//
+// Usage: dptbd_sim JOB_DIR
+//   JOB_DIR/job.txt   one "key value..." per line:
+//                       words N              input beats in in.bin
+//                       valid_gap P          probability of an idle input cycle, [0, 1)
+//                       ready_pause P        probability of tready low on m_axis_cand
+//                       seed S               seeds both pause generators
+//                       max_cycles N         give up after N cycles (status timeout)
+//                       drain N              stop once every beat and operation is done and
+//                                            m_axis_cand has been idle for N cycles
+//                       op I KIND A D        before offering beat I (I = N: after the last
+//                                            beat), in file order: KIND w = write D to byte
+//                                            address A (AW and W together, all strobes),
+//                                            r = read address A, i = stay idle A cycles
+//   JOB_DIR/in.bin    N little-endian uint64 beats: tdata | tuser[0] << 32 | tlast << 33
+// Writes into JOB_DIR:
+//   out.bin           uint64 tdata of every m_axis_cand transfer, in order
+//   out_flags.bin     uint64 tuser[0] | tlast << 1 of each transfer
+//   out_cycles.bin    uint64 cycle of each transfer
+//   accept_cycles.bin uint64 cycle in which each input beat was accepted
+//   ops.bin           per w/r operation: uint64 data (reads) | resp << 32 | done cycle << 34
+//   result.txt        "key value" lines: status, cycles, accepted, outputs, seconds,
+//                     irq_rises, stalled_input_cycles, paused_output_cycles
+// Cycle 0 is the first simulated cycle; aresetn is low in cycles 0 and 1.
+#include <chrono>
+#include <cinttypes>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Vdut.h"
+#include "harness_io.h"
+#include "verilated.h"
+
+namespace {
+
+using dptbd_harness::Rng;
+using dptbd_harness::fail;
+using dptbd_harness::read_words;
+using dptbd_harness::threshold_of;
+using dptbd_harness::write_words;
+
+struct Op { uint64_t before_word; char kind; uint64_t addr, data; };
+
+struct Job {
+    uint64_t words = 0, seed = 1, max_cycles = 0, drain = 64;
+    double valid_gap = 0.0, ready_pause = 0.0;
+    std::vector<Op> ops;
+};
+
+Job read_job(const std::string& path) {
+    Job job;
+    FILE* fh = std::fopen(path.c_str(), "r");
+    if (!fh) fail("cannot open " + path);
+    char key[64], rest[4096];
+    while (std::fscanf(fh, "%63s", key) == 1) {
+        if (!std::fgets(rest, sizeof rest, fh)) rest[0] = 0;
+        std::string k(key);
+        if (k == "words") job.words = std::strtoull(rest, nullptr, 10);
+        else if (k == "valid_gap") job.valid_gap = std::strtod(rest, nullptr);
+        else if (k == "ready_pause") job.ready_pause = std::strtod(rest, nullptr);
+        else if (k == "seed") job.seed = std::strtoull(rest, nullptr, 10);
+        else if (k == "max_cycles") job.max_cycles = std::strtoull(rest, nullptr, 10);
+        else if (k == "drain") job.drain = std::strtoull(rest, nullptr, 10);
+        else if (k == "op") {
+            Op op{};
+            char kind[8];
+            if (std::sscanf(rest, "%" SCNu64 " %7s %" SCNu64 " %" SCNu64, &op.before_word,
+                            kind, &op.addr, &op.data) != 4 || std::strlen(kind) != 1
+                    || std::strchr("wri", kind[0]) == nullptr)
+                fail("op needs WORD w|r|i ADDR DATA");
+            op.kind = kind[0];
+            job.ops.push_back(op);
+        } else fail("unknown job key " + k);
+    }
+    std::fclose(fh);
+    if (job.max_cycles == 0) fail("max_cycles must be given");
+    return job;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 2) fail("usage: dptbd_sim JOB_DIR");
+    const std::string dir = argv[1];
+    const Job job = read_job(dir + "/job.txt");
+    const std::vector<uint64_t> in = read_words(dir + "/in.bin", job.words);
+
+    auto context = std::make_unique<VerilatedContext>();
+    auto dut = std::make_unique<Vdut>(context.get());
+
+    Rng valid_rng{job.seed * 2 + 1}, ready_rng{job.seed * 2 + 2};
+    const uint64_t gap_thr = threshold_of(job.valid_gap);
+    const uint64_t pause_thr = threshold_of(job.ready_pause);
+
+    std::vector<uint64_t> out, out_flags, out_cycles, ops_out;
+    std::vector<uint64_t> accept_cycles(job.words, ~0ULL);
+    out.reserve(job.words / 8 + 1024);
+
+    uint64_t next_word = 0, cycle = 0, idle = 0, stalled_in = 0, paused_out = 0;
+    uint64_t irq_rises = 0;
+    bool offering = false, irq = false;
+    size_t next_op = 0;
+    // the AXI4-Lite operation in progress: kind 0 (none), 'w', 'r', 'i'
+    char busy = 0;
+    bool aw_done = false, w_done = false, ar_done = false;
+    uint64_t idle_left = 0;
+    std::string status = "timeout";
+
+    dut->aclk = 0;
+    dut->aresetn = 0;
+    dut->eval();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (; cycle < job.max_cycles; ++cycle) {
+        const bool rst = cycle < 2;
+        dut->aresetn = !rst;
+        // ---- start the next operation when its beat is next and nothing is on offer
+        if (!rst && !busy && !offering && next_op < job.ops.size()
+                && job.ops[next_op].before_word <= next_word) {
+            const Op& op = job.ops[next_op];
+            busy = op.kind;
+            aw_done = w_done = ar_done = false;
+            idle_left = op.addr;
+        }
+        const Op* op = busy ? &job.ops[next_op] : nullptr;
+        dut->s_axil_awvalid = busy == 'w' && !aw_done;
+        dut->s_axil_awaddr = busy == 'w' ? op->addr : 0;
+        dut->s_axil_wvalid = busy == 'w' && !w_done;
+        dut->s_axil_wdata = busy == 'w' ? static_cast<uint32_t>(op->data) : 0;
+        dut->s_axil_wstrb = 0xF;
+        dut->s_axil_bready = 1;
+        dut->s_axil_arvalid = busy == 'r' && !ar_done;
+        dut->s_axil_araddr = busy == 'r' ? op->addr : 0;
+        dut->s_axil_rready = 1;
+        // ---- input beat
+        if (!busy && !offering && next_word < job.words
+                && !(next_op < job.ops.size() && job.ops[next_op].before_word <= next_word)) {
+            offering = !(gap_thr && valid_rng.next() < gap_thr);
+        }
+        const uint64_t beat = offering ? in[next_word] : 0;
+        dut->s_axis_video_tvalid = offering;
+        dut->s_axis_video_tdata = static_cast<uint32_t>(beat & 0xFFFFFFFFULL);
+        dut->s_axis_video_tuser = (beat >> 32) & 1;
+        dut->s_axis_video_tlast = (beat >> 33) & 1;
+        const bool ready = !(pause_thr && ready_rng.next() < pause_thr);
+        dut->m_axis_cand_tready = ready;
+        dut->aclk = 0;
+        dut->eval();
+        // ---- sample the handshakes before the rising edge
+        const bool out_valid = dut->m_axis_cand_tvalid;
+        if (!rst) {
+            if (offering && dut->s_axis_video_tready) {
+                accept_cycles[next_word++] = cycle;
+                offering = false;
+            } else if (offering) {
+                ++stalled_in;
+            }
+            if (out_valid && ready) {
+                out.push_back(static_cast<uint64_t>(dut->m_axis_cand_tdata));
+                out_flags.push_back((dut->m_axis_cand_tuser & 1) | (dut->m_axis_cand_tlast << 1));
+                out_cycles.push_back(cycle);
+            } else if (out_valid) {
+                ++paused_out;
+            }
+            if (busy == 'w') {
+                aw_done = aw_done || dut->s_axil_awready;
+                w_done = w_done || dut->s_axil_wready;
+                if (dut->s_axil_bvalid) {
+                    ops_out.push_back((static_cast<uint64_t>(dut->s_axil_bresp) << 32)
+                                      | (cycle << 34));
+                    busy = 0;
+                    ++next_op;
+                }
+            } else if (busy == 'r') {
+                ar_done = ar_done || dut->s_axil_arready;
+                if (dut->s_axil_rvalid) {
+                    ops_out.push_back(static_cast<uint64_t>(dut->s_axil_rdata)
+                                      | (static_cast<uint64_t>(dut->s_axil_rresp) << 32)
+                                      | (cycle << 34));
+                    busy = 0;
+                    ++next_op;
+                }
+            } else if (busy == 'i') {
+                if (idle_left <= 1) { busy = 0; ++next_op; }
+                else --idle_left;
+            }
+            const bool level = dut->irq;
+            irq_rises += level && !irq;
+            irq = level;
+        }
+        dut->aclk = 1;
+        dut->eval();
+        idle = (out_valid || rst || offering || busy) ? 0 : idle + 1;
+        if (next_word == job.words && next_op == job.ops.size() && idle >= job.drain) {
+            status = "done";
+            ++cycle;
+            break;
+        }
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    dut->final();
+
+    write_words(dir + "/out.bin", out);
+    write_words(dir + "/out_flags.bin", out_flags);
+    write_words(dir + "/out_cycles.bin", out_cycles);
+    write_words(dir + "/accept_cycles.bin", accept_cycles);
+    write_words(dir + "/ops.bin", ops_out);
+    FILE* fh = std::fopen((dir + "/result.txt").c_str(), "w");
+    if (!fh) fail("cannot write result.txt");
+    std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"
+                 "stalled_input_cycles %" PRIu64 "\npaused_output_cycles %" PRIu64 "\n"
+                 "irq_rises %" PRIu64 "\nseconds %.9f\n",
+                 status.c_str(), cycle, next_word, out.size(), stalled_in, paused_out,
+                 irq_rises, seconds);
+    std::fclose(fh);
+    return 0;
+}

@@ -1,0 +1,53 @@
+// Helpers shared by dptbd's Verilator harnesses: the seeded pause generator, error exit,
+// and the binary word files (little-endian uint64). Header-only; the same definitions as
+// in dptbd_harness.cpp, which keeps its own copy until it includes this file too.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace dptbd_harness {
+
+// splitmix64: small, seedable, good enough for pause patterns and power-up garbage.
+struct Rng {
+    uint64_t state;
+    uint64_t next() {
+        uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+        return z ^ (z >> 31);
+    }
+};
+
+// Probability p in [0, 1) as a threshold on a uint64 draw: draw < threshold.
+inline uint64_t threshold_of(double p) {
+    if (p <= 0.0) return 0;
+    return static_cast<uint64_t>(p * 18446744073709551616.0);  // 2^64
+}
+
+[[noreturn]] inline void fail(const std::string& msg) {
+    std::fprintf(stderr, "dptbd_sim: %s\n", msg.c_str());
+    std::exit(2);
+}
+
+inline std::vector<uint64_t> read_words(const std::string& path, uint64_t n) {
+    std::vector<uint64_t> v(n);
+    FILE* fh = std::fopen(path.c_str(), "rb");
+    if (!fh) fail("cannot open " + path);
+    if (n && std::fread(v.data(), sizeof(uint64_t), n, fh) != n) fail("short read " + path);
+    std::fclose(fh);
+    return v;
+}
+
+inline void write_words(const std::string& path, const std::vector<uint64_t>& v) {
+    FILE* fh = std::fopen(path.c_str(), "wb");
+    if (!fh) fail("cannot write " + path);
+    if (!v.empty() && std::fwrite(v.data(), sizeof(uint64_t), v.size(), fh) != v.size())
+        fail("short write " + path);
+    std::fclose(fh);
+}
+
+}  // namespace dptbd_harness

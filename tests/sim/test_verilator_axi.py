@@ -1,0 +1,124 @@
+"""Compiled RTL simulation of the AXI top level ``dptbd_axi`` (Verilator, harness
+``sim/harness/dptbd_axi_harness.cpp``): beats with injected frame-sync faults, random
+``tvalid`` gaps and ``tready`` back-pressure, AXI4-Lite writes (K, n, s, LUT entries, W1C,
+soft reset, refused values) and reads at given beats; every candidate word, its
+``tuser[0]`` / ``tlast``, every write response, every check read and the end counters
+scored against the golden model (:func:`dptbd.sim.verilator_axi.check_axi`). A long
+128 x 128 run behind ``-m slow``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.hw.register_map import FAULTS
+from dptbd.sim import verilator as V
+from dptbd.sim.axi_stimulus import clean_beats, with_fault
+from dptbd.sim.scenarios import make_frames
+from dptbd.sim.verilator_axi import beat_words, check_axi, run_axi, step_operations
+from verilator_harness import built, make_config
+
+try:
+    V.check_tools()
+    HAVE_TOOLS = True
+except V.ToolMissingError:
+    HAVE_TOOLS = False
+
+pytestmark = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator and a C++ compiler")
+
+# 12 x 10, K = 2 (K_max = 4), n = 4, C = 6, 64 bins of width 4: lists with records
+SMALL = dict(width=12, height=10, segment_frames=2, max_segment_frames=4, candidate_count=4,
+             candidate_capacity=6, histogram_bits=6, histogram_shift=2)
+
+
+def test_beat_words_and_operations():
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 1, seed=1))
+    words = beat_words(beats)
+    assert int(words[0]) >> 32 == 1 and int(words[11]) >> 32 == 2 and int(words[12]) >> 32 == 0
+    regs = constants_namespace(cfg)
+    ops, checks = step_operations(cfg, [{"writes": [["CANDIDATE_COUNT", 99]], "stop": 5},
+                                        {"soft_reset": True, "check": {"ID": 1}, "stop": 9}],
+                                  settle=7, final_reads=["FRAMES"])
+    assert ops == [(0, "w", regs.REG_CANDIDATE_COUNT, 99), (5, "i", 7, 0),
+                   (5, "r", regs.REG_ID, 0), (5, "w", regs.REG_CONTROL,
+                                                 regs.CONTROL_SOFT_RESET_MASK, ),
+                   (9, "i", 7, 0), (9, "r", regs.REG_FRAMES, 0)]
+    assert checks == [("write", "CANDIDATE_COUNT", 2), ("read", "ID", 1),
+                      ("write", "CONTROL", 0), ("read", "FRAMES", None)]
+    with pytest.raises(ValueError, match=r"^run_axi needs a build of design 'axi', got 'dp'$"):
+        run_axi(built(make_config(), "dp"), beats, [])
+    with pytest.raises(ValueError, match=r"^the 'axi' build has its own harness: use "
+                                         r"dptbd\.sim\.verilator_axi\.run_axi$"):
+        V.run(built(cfg, "axi"), beat_words(beats))
+    with pytest.raises(ValueError, match=r"^operation 'x' before beat 3: kinds are w, r, i and "
+                                         r"beats 0 … 120$"):
+        run_axi(built(cfg, "axi"), beats, [(3, "x", 0, 0)])
+    with pytest.raises(ValueError, match=r"^operation 'r' before beat 121: kinds are w, r, i "
+                                         r"and beats 0 … 120$"):
+        run_axi(built(cfg, "axi"), beats, [(121, "r", 0, 0)])
+
+
+def scene(cfg, seed):
+    """Two clean segments, then every fault class, each in a two-frame stretch; the beats
+    and the index where each stretch begins."""
+    frames = make_frames("two-targets", cfg, 4 + 2 * len(FAULTS), seed=seed)
+    beats, starts = clean_beats(frames[:4]), []
+    for i, kind in enumerate(FAULTS):
+        starts.append(len(beats))
+        beats = beats + with_fault(cfg, frames[4 + 2 * i:6 + 2 * i], kind)
+    return beats, starts
+
+
+def test_short_run_settings_lut_faults_soft_reset():
+    """K / n / s written between segments (one refused), the LUT halved, every fault class,
+    ERROR cleared by W1C, a soft reset between two fault stretches (on a frame boundary, so
+    the monitor's counts are the stream's); 20 % input gaps, 30 % output back-pressure."""
+    cfg = make_config(**SMALL)
+    regs = constants_namespace(cfg)
+    beats, starts = scene(cfg, seed=3)
+    frame = cfg.width * cfg.height
+    every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
+    halved = (np.asarray(cfg.weight_codes) // 2).tolist()
+    steps = [{"check": {"ID": regs.MAGIC}, "stop": 2 * frame},
+             {"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", 6],
+                         ["HISTOGRAM_SHIFT", cfg.energy_bits]], "stop": 4 * frame},
+             {"check": {"SEGMENTS": 3}, "lut_codes": halved,
+              "writes": [["SEGMENT_FRAMES", 3], ["ERROR", regs.ERROR_WRITE_REFUSED_MASK]],
+              "stop": starts[2]},
+             {"soft_reset": True, "writes": [["HISTOGRAM_SHIFT", 1]], "stop": len(beats)},
+             {"check": {"ERROR": every}, "writes": [["ERROR", every]], "stop": len(beats)}]
+    result = check_axi(built(cfg, "axi"), beats, steps, valid_gap=0.2, ready_pause=0.3,
+                       seed=4)
+    assert result.passed, result.report()
+    assert result.board.records_expected >= 3                 # the lists carry records
+    assert all(result.reads[f"FAULT_{k.upper()}"] == 1 for k in FAULTS)
+    assert result.run.counters["stalled_input_cycles"] > 0
+
+
+@pytest.mark.slow
+def test_long_run_128x128_hundred_frames():
+    """001's frame size, 100 frames: K changed between segments (4, 2, 5), n and s changed,
+    every fault class injected twice, the LUT rewritten once; gaps and back-pressure."""
+    cfg = make_config(width=128, height=128, segment_frames=4, max_segment_frames=8)
+    regs = constants_namespace(cfg)
+    frames = make_frames("two-targets", cfg, 100, seed=12)
+    frame = cfg.width * cfg.height
+    beats = clean_beats(frames[:52])
+    for i, kind in enumerate(FAULTS * 2):
+        beats = beats + with_fault(cfg, frames[52 + 6 * i:58 + 6 * i], kind)
+    assert len(beats) > 97 * frame
+    halved = (np.asarray(cfg.weight_codes) // 2).tolist()
+    steps = [{"stop": 8 * frame},
+             {"writes": [["SEGMENT_FRAMES", 2], ["CANDIDATE_COUNT", 20],
+                         ["HISTOGRAM_SHIFT", cfg.bin_shift + 1]], "stop": 20 * frame},
+             {"writes": [["SEGMENT_FRAMES", 5]], "lut_codes": halved, "stop": 52 * frame},
+             {"writes": [["SEGMENT_FRAMES", 4], ["CANDIDATE_COUNT", cfg.n_candidates]],
+              "stop": len(beats)}]
+    result = check_axi(built(cfg, "axi"), beats, steps, valid_gap=0.1, ready_pause=0.2,
+                       seed=7)
+    assert result.passed, result.report()
+    assert all(result.reads[f"FAULT_{k.upper()}"] == 2 for k in FAULTS)
+    assert result.reads["FRAMES"] >= 90 and result.board.records_expected > 100
