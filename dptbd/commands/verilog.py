@@ -13,6 +13,11 @@ The manifest JSON beside the Verilog lists the parameters, the weight LUT storag
 latency and the payload bit fields (:func:`dptbd.hw.flow.verilog.manifest`). ``--lut-style``
 chooses the weight LUT's storage (``auto``, the default: logic for r = 1, block RAM for
 r = 2; ``bram``; ``logic``), a synthesis choice that does not change behaviour.
+
+The build is :meth:`DPConfig.build_config` of the parameters: B_E narrowed to what K_max
+full-scale pixels need and, for a binary weight LUT, F = 0 (the same bits as asked;
+``--fractional-lut`` keeps F so fractional weights can be written at run time). ``--top axi``
+refuses a configuration whose E can saturate unless ``--allow-saturation``.
 """
 
 from __future__ import annotations
@@ -46,6 +51,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--state-output", action="store_true",
                         help="--top axi: also bring out the per-pixel (E, d) stream as "
                              "m_axis_state (back-pressure on it stalls the core)")
+    parser.add_argument("--fractional-lut", action="store_true",
+                        help="keep F fractional weight bits so the LUT can be rewritten with "
+                             "fractional weights at run time; by default a binary LUT builds "
+                             "with F = 0 and B_E narrowed to what K_max needs (the same bits, "
+                             "DPConfig.build_config)")
+    parser.add_argument("--allow-saturation", action="store_true",
+                        help="--top axi: build even if K_max full-scale pixels can saturate E "
+                             "(refused by default)")
     add_config_arguments(parser)
 
 
@@ -69,7 +82,8 @@ def _write_axi(args: argparse.Namespace, cfg) -> int:
                                 "--clock-mhz")
     out = args.output
     _refuse_existing([out.parent / name for name in package_file_names(out.stem)], args.force)
-    files = axi_package(cfg, out.stem, clock_mhz, state_output=args.state_output)
+    files = axi_package(cfg, out.stem, clock_mhz, state_output=args.state_output,
+                        allow_saturation=args.allow_saturation)
     out.parent.mkdir(parents=True, exist_ok=True)
     for name, text in files.items():
         (out.parent / name).write_text(text)
@@ -87,11 +101,20 @@ def main(args: argparse.Namespace) -> int:
     if out.suffix == ".json":
         raise ValueError(f"output {out} would collide with its manifest; use a .v name")
     manifest = out.with_suffix(".json")
-    cfg = config_from_args(args)
+    asked = config_from_args(args)
+    cfg = asked.build_config(fractional_lut=args.fractional_lut)
+    if cfg != asked:
+        print(f"building B_E={cfg.energy_bits}, F={cfg.weight_frac_bits} (asked "
+              f"B_E={asked.energy_bits}, F={asked.weight_frac_bits}): the same bits for this LUT "
+              f"and K_max={asked.k_max}"
+              + ("" if args.fractional_lut or cfg.weight_frac_bits == asked.weight_frac_bits
+                 else "; --fractional-lut keeps F"))
     if args.top == "axi":
         return _write_axi(args, cfg)
     if args.clock_mhz is not None:
         raise ValueError("--clock-mhz applies to --top axi only (dptbd_dp ships no constraints)")
+    if args.allow_saturation:
+        raise ValueError("--allow-saturation applies to --top axi only")
     if args.state_output:
         raise ValueError("--state-output applies to --top axi only (dptbd_dp always outputs "
                          "its states)")

@@ -24,7 +24,7 @@ from amaranth.back import verilog
 from amaranth.hdl import Shape
 from amaranth.lib import data, wiring
 
-from dptbd.config import DPConfig
+from dptbd.config import ConfigError, DPConfig
 from dptbd.errors import check_real
 from dptbd.hw.axi_top import AXI_MODULE_NAME, AXITop
 from dptbd.hw.candidate_layout import candidate_field_offsets, candidate_layout
@@ -36,7 +36,8 @@ from dptbd.hw.register_map import register_map
 
 __all__ = ["HEADER_NAME", "DEFAULT_CLOCK_MHZ", "CLOCK_MHZ_RANGE", "package_file_names",
            "check_clock_mhz", "clock_constraints", "axi_ports", "axi_manifest", "fusesoc_core",
-           "generate_axi_verilog", "generate_axi_state_verilog", "axi_package"]
+           "generate_axi_verilog", "generate_axi_state_verilog", "check_no_saturation",
+           "axi_package"]
 
 #: File name of the register header (what firmware includes).
 HEADER_NAME = "dptbd_regs.h"
@@ -182,13 +183,39 @@ def generate_axi_state_verilog(cfg: DPConfig) -> tuple[str, dict]:
     return generate_axi_verilog(cfg, state_output=True)
 
 
+def check_no_saturation(cfg: DPConfig) -> None:
+    """Refuse a build whose E can saturate: K_max full-scale pixels above E_max.
+
+    A core a user drops into a design should never clip E silently; a build that saturates on
+    purpose passes ``allow_saturation`` (its ``SATURATED`` counter then counts the clipped
+    words).
+
+    Raises
+    ------
+    dptbd.config.ConfigError
+        Naming K_max, B_in, B_E and the smallest B_E that never saturates.
+    """
+    full_scale = cfg.k_max * cfg.pixel_max
+    if full_scale > cfg.e_max:
+        raise ConfigError(
+            f"max_segment_frames: K_max={cfg.k_max} full-scale {cfg.input_bits}-bit pixels sum "
+            f"to {full_scale} > E_max={cfg.e_max} of energy_bits={cfg.energy_bits}, so E "
+            f"saturates; use energy_bits >= {cfg.energy_bits_needed} or K_max <= "
+            f"{cfg.e_max // cfg.pixel_max}, or allow saturation explicitly")
+
+
 def axi_package(cfg: DPConfig, stem: str = AXI_MODULE_NAME,
                 clock_mhz: float = DEFAULT_CLOCK_MHZ, *,
-                state_output: bool = False) -> dict[str, str]:
+                state_output: bool = False, allow_saturation: bool = False) -> dict[str, str]:
     """``{file name: text}`` of the package (see the module doc), constraints at
-    ``clock_mhz`` (in :data:`CLOCK_MHZ_RANGE`), ``m_axis_state`` if ``state_output``."""
+    ``clock_mhz`` (in :data:`CLOCK_MHZ_RANGE`), ``m_axis_state`` if ``state_output``.
+
+    A configuration whose E can saturate is refused (:func:`check_no_saturation`) unless
+    ``allow_saturation``."""
     from importlib.metadata import version
 
+    if not allow_saturation:
+        check_no_saturation(cfg)
     clock_mhz = check_clock_mhz(clock_mhz)
     text, info = generate_axi_verilog(cfg, state_output=state_output)
     info["clock"]["frequency_mhz"] = clock_mhz

@@ -22,7 +22,7 @@ def parse(argv):
 def test_verilog_writes_module_and_manifest(tmp_path, capsys):
     out = tmp_path / "rtl" / "dp.v"
     args = parse(["-o", out, "--width", 13, "--height", 7, "--radius", 2,
-                                   "--rounding", "half_up"])
+                  "--rounding", "half_up", "--fractional-lut"])
     assert verilog_command.main(args) == 0
     text = out.read_text()
     assert "module dptbd_dp(" in text
@@ -68,7 +68,37 @@ def test_verilog_reads_toml_and_options_override_it(tmp_path):
                                                         "--height", 9])) == 0
     params = json.loads(out.with_suffix(".json").read_text())["parameters"]
     assert (params["width"], params["height"], params["segment_frames"]) == (10, 9, 3)
-    assert (params["rounding"], params["weight_frac_bits"]) == ("half_up", 4)
+    assert (params["rounding"], params["weight_frac_bits"]) == ("half_up", 0)   # binary LUT
+    assert params["energy_bits"] == 10                      # 3 full-scale 8-bit pixels
+    assert verilog_command.main(parse(["-o", out, "--config", toml, "--height", 9,
+                                       "--fractional-lut", "--force"])) == 0
+    params = json.loads(out.with_suffix(".json").read_text())["parameters"]
+    assert (params["weight_frac_bits"], params["energy_bits"]) == (4, 10)
+
+
+def test_verilog_builds_the_narrowed_default_and_says_so(tmp_path, capsys):
+    out = tmp_path / "dp.v"
+    assert verilog_command.main(parse(["-o", out, "--width", 16, "--height", 16])) == 0
+    params = json.loads(out.with_suffix(".json").read_text())["parameters"]
+    assert (params["energy_bits"], params["weight_frac_bits"]) == (10, 0)
+    assert capsys.readouterr().out.startswith(
+        "building B_E=10, F=0 (asked B_E=16, F=8): the same bits for this LUT and K_max=4; "
+        "--fractional-lut keeps F\n")
+
+
+def test_axi_build_refuses_a_saturating_energy_width_unless_allowed(tmp_path):
+    out = tmp_path / "axi.v"
+    argv = ["-o", out, "--top", "axi", "--width", 16, "--height", 16, "--energy-bits", 9]
+    with pytest.raises(ConfigError, match=(
+            r"^max_segment_frames: K_max=4 full-scale 8-bit pixels sum to 1020 > E_max=511 of "
+            r"energy_bits=9, so E saturates; use energy_bits >= 10 or K_max <= 2, or allow "
+            r"saturation explicitly$")):
+        verilog_command.main(parse(argv))
+    assert not out.exists()
+    assert verilog_command.main(parse(argv + ["--allow-saturation"])) == 0
+    assert out.exists()
+    with pytest.raises(ValueError, match=r"^--allow-saturation applies to --top axi only$"):
+        verilog_command.main(parse(["-o", tmp_path / "dp.v", "--allow-saturation"]))
 
 
 def test_verilog_refuses_unknown_toml_keys_and_bad_values(tmp_path):

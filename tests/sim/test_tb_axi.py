@@ -31,10 +31,14 @@ SCENE_CFG = dict(width=16, height=16, segment_frames=2, max_segment_frames=4, ca
                  candidate_capacity=8, histogram_bits=5, histogram_shift=2)
 
 
-def run(cfg, frames, beats, steps, name, **options):
+def run(cfg, frames, beats, steps, name, *, records=True, **options):
     result = simulate(built(cfg, "axi"), frames, testcase="run_stream", run_name=name,
                       beats=beats.to_json(), steps=steps, **options)
     assert_passed(result)
+    # every run must compare records, not only trailers: a scene whose lists are all empty
+    # would let a wrong record path pass
+    assert not records or sum(result.summary["counts"]) > 0, \
+        f"{name}: every expected list is empty"
     return result.summary
 
 
@@ -192,14 +196,14 @@ def test_run_time_settings_between_and_inside_segments():
     beats = clean_beats(frames)
     frame = cfg.width * cfg.height
     too_big = regs.SEGMENT_FRAMES_SEGMENT_FRAMES_MAX + 1
-    steps = [{"writes": [["SEGMENT_FRAMES", 3], ["CANDIDATE_COUNT", 3], ["HISTOGRAM_SHIFT", 1],
+    steps = [{"writes": [["SEGMENT_FRAMES", 3], ["CANDIDATE_COUNT", 3], ["HISTOGRAM_SHIFT", 4],
                          ["SEGMENT_FRAMES", too_big]], "stop": 3 * frame},      # K = 3
-             {"writes": [["SEGMENT_FRAMES", 4], ["CANDIDATE_COUNT", 6], ["HISTOGRAM_SHIFT", 3]],
+             {"writes": [["SEGMENT_FRAMES", 4], ["CANDIDATE_COUNT", 6], ["HISTOGRAM_SHIFT", 4]],
               "stop": 5 * frame},                                              # K = 4 begins
              {"writes": [["SEGMENT_FRAMES", 2], ["HISTOGRAM_SHIFT", cfg.energy_bits]],
               "stop": 7 * frame},                                              # inside it
              {"soft_reset": True,
-              "check": {"SEGMENTS": 2, "LISTS": 2, "SEGMENT_FRAMES": 2, "HISTOGRAM_SHIFT": 3},
+              "check": {"SEGMENTS": 2, "LISTS": 2, "SEGMENT_FRAMES": 2, "HISTOGRAM_SHIFT": 4},
               "writes": [["ERROR", regs.ERROR_WRITE_REFUSED_MASK], ["CANDIDATE_COUNT", 2]],
               "stop": len(beats)}]                                             # 2 x K = 2
     expected = expected_outputs(cfg, beats, steps)
@@ -209,8 +213,8 @@ def test_run_time_settings_between_and_inside_segments():
     s = run(cfg, frames, beats, steps, "axi-settings", valid_pause=RANDOM(0.1, 8),
             ready_pause=RANDOM(0.3, 9),
             final_check={"ERROR": 0, "SEGMENT_FRAMES": 2, "CANDIDATE_COUNT": 2,
-                         "HISTOGRAM_SHIFT": 3})
-    assert s["lists"] == 4
+                         "HISTOGRAM_SHIFT": 4})
+    assert s["lists"] == 4 and s["counts"] == [0, 8, 0, 0]   # list 2: records, capped at C
 
 
 def test_saturation_events_are_counted():
@@ -222,6 +226,6 @@ def test_saturation_events_are_counted():
     beats = clean_beats(frames)
     frame = cfg.width * cfg.height
     assert expected_outputs(cfg, beats, [{"stop": len(beats)}]).saturated == 2 * frame
-    s = run(cfg, frames, beats, [{"stop": len(beats)}], "axi-saturation",
+    s = run(cfg, frames, beats, [{"stop": len(beats)}], "axi-saturation", records=False,
             final_check={"SATURATED": 2 * frame, "SEGMENTS": 2})
     assert s["counters"]["SATURATED"] == 2 * frame
