@@ -141,10 +141,9 @@ class VerilatorBuild(CompiledDesign):
 
 
 def _harness_sources(design: str) -> list[pathlib.Path]:
-    """The harness source of ``design`` and, for the AXI harness, its shared header."""
-    if design in HARNESSES:
-        return [HARNESSES[design], HARNESSES[design].with_name("harness_io.h")]
-    return [HARNESS]
+    """The harness source of ``design`` and the header every harness shares."""
+    source = HARNESSES.get(design, HARNESS)
+    return [source, source.with_name("harness_io.h")]
 
 
 def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool) -> str:

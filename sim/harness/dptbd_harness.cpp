@@ -48,6 +48,7 @@
 #include <vector>
 
 #include "Vdut.h"
+#include "harness_io.h"
 #include "verilated.h"
 #ifdef DPTBD_TRACE
 #include "verilated_fst_c.h"
@@ -65,22 +66,11 @@
 
 namespace {
 
-// splitmix64: small, seedable, good enough for pause patterns and power-up garbage.
-struct Rng {
-    uint64_t state;
-    uint64_t next() {
-        uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-        return z ^ (z >> 31);
-    }
-};
-
-// Probability p in [0, 1) as a threshold on a uint64 draw: draw < threshold.
-uint64_t threshold_of(double p) {
-    if (p <= 0.0) return 0;
-    return static_cast<uint64_t>(p * 18446744073709551616.0);  // 2^64
-}
+using dptbd_harness::Rng;
+using dptbd_harness::fail;
+using dptbd_harness::read_words;
+using dptbd_harness::threshold_of;
+using dptbd_harness::write_words;
 
 struct Reset { uint64_t cycle, hold; };
 struct LutWrite { uint64_t before_word, addr, data; };
@@ -94,11 +84,6 @@ struct Job {
     std::vector<LutWrite> luts;
     std::vector<Settings> settings;
 };
-
-[[noreturn]] void fail(const std::string& msg) {
-    std::fprintf(stderr, "dptbd_sim: %s\n", msg.c_str());
-    std::exit(2);
-}
 
 Job read_job(const std::string& path) {
     Job job;
@@ -144,23 +129,6 @@ Job read_job(const std::string& path) {
     std::fclose(fh);
     if (job.max_cycles == 0) fail("max_cycles must be given");
     return job;
-}
-
-std::vector<uint64_t> read_words(const std::string& path, uint64_t n) {
-    std::vector<uint64_t> v(n);
-    FILE* fh = std::fopen(path.c_str(), "rb");
-    if (!fh) fail("cannot open " + path);
-    if (n && std::fread(v.data(), sizeof(uint64_t), n, fh) != n) fail("short read " + path);
-    std::fclose(fh);
-    return v;
-}
-
-void write_words(const std::string& path, const std::vector<uint64_t>& v) {
-    FILE* fh = std::fopen(path.c_str(), "wb");
-    if (!fh) fail("cannot write " + path);
-    if (!v.empty() && std::fwrite(v.data(), sizeof(uint64_t), v.size(), fh) != v.size())
-        fail("short write " + path);
-    std::fclose(fh);
 }
 
 }  // namespace

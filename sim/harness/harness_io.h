@@ -1,6 +1,6 @@
 // Helpers shared by dptbd's Verilator harnesses: the seeded pause generator, error exit,
-// and the binary word files (little-endian uint64). Header-only; the same definitions as
-// in dptbd_harness.cpp, which keeps its own copy until it includes this file too.
+// and the binary word files (little-endian uint64). Header-only; included by
+// dptbd_harness.cpp and dptbd_axi_harness.cpp.
 #pragma once
 
 #include <cstdint>
