@@ -128,6 +128,7 @@ class Execution:
                       "without dask", file=sys.stderr)
             yield None
             return
+        import dask
         import distributed
 
         cluster = None
@@ -136,11 +137,14 @@ class Execution:
             if address is None:
                 # without a dashboard the scheduler's HTTP server (health, metrics) still
                 # starts: on an ephemeral port, not dask's 8787 (taken by another run)
-                cluster = distributed.LocalCluster(
-                    n_workers=self.workers, threads_per_worker=1, processes=True,
-                    dashboard_address="127.0.0.1:0" if self.dashboard else None,
-                    scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
-                    env=dict(_WORKER_ENV), silence_logs=40)
+                # the workers' statistical profiler samples every task's stack every 10 ms;
+                # it only feeds the dashboard's profile page, so it runs only with one
+                with dask.config.set({"distributed.worker.profile.enabled": self.dashboard}):
+                    cluster = distributed.LocalCluster(
+                        n_workers=self.workers, threads_per_worker=1, processes=True,
+                        dashboard_address="127.0.0.1:0" if self.dashboard else None,
+                        scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+                        env=dict(_WORKER_ENV), silence_logs=40)
                 address = cluster
             try:
                 client = distributed.Client(address, timeout=self.connect_timeout)

@@ -86,8 +86,21 @@ def test_the_dashboard_address_is_printed_and_serves_the_dashboard(monkeypatch, 
             assert page.status == 200
             assert b"Dask" in page.read()
         assert len(cluster_workers(client)) == 2
+        assert set(client.run(_profiling).values()) == {True}   # the profile page has data
     with pytest.raises(urllib.error.URLError):  # shut down with the cluster
         urllib.request.urlopen(found[1], timeout=5)
+
+
+def _profiling() -> bool:
+    import dask
+    return dask.config.get("distributed.worker.profile.enabled")
+
+
+def test_local_workers_do_not_profile_without_a_dashboard(monkeypatch):
+    """The workers' 10 ms stack sampler costs compute time and feeds only the dashboard."""
+    monkeypatch.delenv(execution.SCHEDULER_ENV, raising=False)
+    with Execution(workers=2).client() as client:
+        assert set(client.run(_profiling).values()) == {False}
 
 
 def test_an_unreachable_scheduler_fails_within_seconds():
