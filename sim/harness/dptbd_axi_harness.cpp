@@ -46,15 +46,14 @@ namespace {
 
 using dptbd_harness::Rng;
 using dptbd_harness::fail;
+using dptbd_harness::read_stream_key;
 using dptbd_harness::read_words;
 using dptbd_harness::threshold_of;
 using dptbd_harness::write_words;
 
 struct Op { uint64_t before_word; char kind; uint64_t addr, data; };
 
-struct Job {
-    uint64_t words = 0, seed = 1, max_cycles = 0, drain = 64;
-    double valid_gap = 0.0, ready_pause = 0.0;
+struct Job : dptbd_harness::StreamJob {
     std::vector<Op> ops;
 };
 
@@ -66,13 +65,8 @@ Job read_job(const std::string& path) {
     while (std::fscanf(fh, "%63s", key) == 1) {
         if (!std::fgets(rest, sizeof rest, fh)) rest[0] = 0;
         std::string k(key);
-        if (k == "words") job.words = std::strtoull(rest, nullptr, 10);
-        else if (k == "valid_gap") job.valid_gap = std::strtod(rest, nullptr);
-        else if (k == "ready_pause") job.ready_pause = std::strtod(rest, nullptr);
-        else if (k == "seed") job.seed = std::strtoull(rest, nullptr, 10);
-        else if (k == "max_cycles") job.max_cycles = std::strtoull(rest, nullptr, 10);
-        else if (k == "drain") job.drain = std::strtoull(rest, nullptr, 10);
-        else if (k == "op") {
+        if (read_stream_key(k, rest, job)) continue;
+        if (k == "op") {
             Op op{};
             char kind[8];
             if (std::sscanf(rest, "%" SCNu64 " %7s %" SCNu64 " %" SCNu64, &op.before_word,

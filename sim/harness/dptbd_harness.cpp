@@ -68,6 +68,7 @@ namespace {
 
 using dptbd_harness::Rng;
 using dptbd_harness::fail;
+using dptbd_harness::read_stream_key;
 using dptbd_harness::read_words;
 using dptbd_harness::threshold_of;
 using dptbd_harness::write_words;
@@ -76,9 +77,7 @@ struct Reset { uint64_t cycle, hold; };
 struct LutWrite { uint64_t before_word, addr, data; };
 struct Settings { uint64_t before_word, k, n, s; };
 
-struct Job {
-    uint64_t words = 0, seed = 1, max_cycles = 0, drain = 64;
-    double valid_gap = 0.0, ready_pause = 0.0;
+struct Job : dptbd_harness::StreamJob {
     std::string store_init = "zero", trace;
     std::vector<Reset> resets;
     std::vector<LutWrite> luts;
@@ -93,13 +92,8 @@ Job read_job(const std::string& path) {
     while (std::fscanf(fh, "%63s", key) == 1) {
         if (!std::fgets(rest, sizeof rest, fh)) rest[0] = 0;
         std::string k(key);
-        if (k == "words") job.words = std::strtoull(rest, nullptr, 10);
-        else if (k == "valid_gap") job.valid_gap = std::strtod(rest, nullptr);
-        else if (k == "ready_pause") job.ready_pause = std::strtod(rest, nullptr);
-        else if (k == "seed") job.seed = std::strtoull(rest, nullptr, 10);
-        else if (k == "max_cycles") job.max_cycles = std::strtoull(rest, nullptr, 10);
-        else if (k == "drain") job.drain = std::strtoull(rest, nullptr, 10);
-        else if (k == "store_init") {
+        if (read_stream_key(k, rest, job)) continue;
+        if (k == "store_init") {
             char v[64];
             if (std::sscanf(rest, "%63s", v) != 1) fail("store_init needs a value");
             job.store_init = v;

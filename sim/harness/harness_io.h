@@ -50,4 +50,23 @@ inline void write_words(const std::string& path, const std::vector<uint64_t>& v)
     std::fclose(fh);
 }
 
+// The job-file keys every harness reads: word count, seed, cycle limits and the pause
+// probabilities of the input and output streams.
+struct StreamJob {
+    uint64_t words = 0, seed = 1, max_cycles = 0, drain = 64;
+    double valid_gap = 0.0, ready_pause = 0.0;
+};
+
+// Applies ``key rest`` to ``job`` if it is one of StreamJob's keys; false otherwise.
+inline bool read_stream_key(const std::string& k, const char* rest, StreamJob& job) {
+    if (k == "words") job.words = std::strtoull(rest, nullptr, 10);
+    else if (k == "valid_gap") job.valid_gap = std::strtod(rest, nullptr);
+    else if (k == "ready_pause") job.ready_pause = std::strtod(rest, nullptr);
+    else if (k == "seed") job.seed = std::strtoull(rest, nullptr, 10);
+    else if (k == "max_cycles") job.max_cycles = std::strtoull(rest, nullptr, 10);
+    else if (k == "drain") job.drain = std::strtoull(rest, nullptr, 10);
+    else return false;
+    return true;
+}
+
 }  // namespace dptbd_harness
