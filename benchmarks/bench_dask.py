@@ -12,8 +12,9 @@ One process, one run after the other, on the same spec (the default
 * ``in process``   : ``run_compare(spec, workers=1)`` (no dask, as before);
 * ``old pool, N``  : the ``ProcessPoolExecutor`` (fork) code that ``run_compare`` had before
   dask (:func:`_old_pool`, a copy of it kept here only to be measured), N = 1, 2;
-* ``dask local, N``: ``run_compare`` on a LocalCluster of N worker processes (one thread
-  each, as ``run_compare(spec, workers=N)`` starts for N > 1); its start (processes
+* ``dask local, N``: ``run_compare`` on a LocalCluster of N worker processes started by
+  :func:`dptbd.evaluation.execution.local_cluster`, as ``run_compare(spec, workers=N)``
+  starts for N > 1 (one thread each, Dask's housekeeping slowed); its start (processes
   spawned, packages imported, kernels loaded by the warm-up plugin) is timed apart, outside
   :attr:`CompareResult.seconds` (the pool's fork is inside its time).
 
@@ -30,8 +31,10 @@ All runs' counts (and table1 rows) are checked identical (the script fails other
 overhead: wall time per task of ``N_NOOP`` empty tasks on the 2-worker LocalCluster, and as a
 fraction of the mean task time (one chunk of ``spec.chunk`` trials, in process). Kernel
 loading: ``_warm(plan)`` in a fresh worker from numba's on-disk cache, and in a fresh
-interpreter with an empty ``NUMBA_CACHE_DIR`` (a full compile). The load average is
-printed: the machine is shared.
+interpreter with an empty ``NUMBA_CACHE_DIR`` (a full compile). Idle cluster CPU: what an
+idle 2-worker LocalCluster and its client use (psutil, which distributed depends on), with
+Dask's default housekeeping and with ``local_cluster``'s. The load average is printed: the
+machine is shared.
 """
 
 from __future__ import annotations
@@ -49,14 +52,38 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 
 import distributed
 import numpy as np
+import psutil
 
 from dptbd.evaluation.compare import build_spec, make_plan, run_compare
 from dptbd.evaluation.compare.runner import _chunk, _warm
-from dptbd.evaluation.execution import Execution, map_tasks
+from dptbd.evaluation.execution import Execution, local_cluster, map_tasks
 from dptbd.evaluation import table1
 from dptbd.evaluation.table1 import SETTINGS, run_table1
 
 N_NOOP = 400
+IDLE_SECONDS = 20.0
+
+
+def _idle_cpu(quiet: bool) -> float:
+    """CPU (fraction of one core) that an idle 2-worker LocalCluster and this process's client
+    use over :data:`IDLE_SECONDS`: with :func:`local_cluster`'s quiet housekeeping, or with
+    dask's defaults (the same cluster otherwise)."""
+    if quiet:
+        cluster = local_cluster(2)
+    else:
+        cluster = distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=40)
+    with cluster, distributed.Client(cluster) as client:
+        client.wait_for_workers(2)
+        time.sleep(2.0)  # the start's work done
+        me = psutil.Process()
+        procs = [me] + me.children(recursive=True)
+        before = sum(sum(p.cpu_times()[:2]) for p in procs)
+        start = time.perf_counter()
+        time.sleep(IDLE_SECONDS)
+        used = sum(sum(p.cpu_times()[:2]) for p in procs) - before
+        return used / (time.perf_counter() - start)
 
 
 def _old_pool(plan, workers: int) -> tuple[float, list]:
@@ -104,8 +131,7 @@ def _table1_round(trials: int, reference: list, seconds: dict) -> None:
     seconds.setdefault("table1 in process", []).append(time.perf_counter() - start)
     assert rows == reference, "table1 in process: rows differ"
     for n in (1, 2):
-        with distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                      dashboard_address=None, silence_logs=40) as cluster:
+        with local_cluster(n) as cluster:
             with distributed.Client(cluster) as client:  # kernels loaded before the clock,
                 client.run(table1._warm, table1.table1_config(), 2003)  # as compare's start
             start = time.perf_counter()
@@ -145,8 +171,7 @@ def main(argv=None) -> int:
             assert _same(ref.counts, counts), f"old pool {n}: counts differ"
             seconds.setdefault(f"old pool, {n}", []).append(took)
             start = time.perf_counter()
-            with distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                          dashboard_address=None, silence_logs=40) as cluster:
+            with local_cluster(n) as cluster:
                 res = run_compare(spec, scheduler=cluster.scheduler_address, workers=n)
             total = time.perf_counter() - start
             assert _same(ref.counts, res.counts), f"dask local {n}: counts differ"
@@ -166,6 +191,8 @@ def main(argv=None) -> int:
         per_task = (time.perf_counter() - start) / N_NOOP
         fresh = client.run(_timed_warm, plan)  # first call in each worker: the on-disk cache
         again = client.run(_timed_warm, plan)  # loaded: nothing left to do
+    idle = {name: [_idle_cpu(quiet) for _ in range(args.repeat)]
+            for name, quiet in (("dask defaults", False), ("quiet", True))}
     mean_task = ref.seconds / n_tasks
     compile_s = _compile_seconds()
     load1 = os.getloadavg()[0]
@@ -200,6 +227,9 @@ def main(argv=None) -> int:
                                     f"task ({table1_task:.3f} s)"))
     print(f"kernels per worker: {max(fresh.values()):.2f} s loading from numba's cache (first "
           f"call), {max(again.values()) * 1e3:.1f} ms after; full compile {compile_s:.1f} s")
+    print("idle cluster CPU (2 workers, client, scheduler, nannies; fraction of one core, "
+          f"median of {args.repeat} x {IDLE_SECONDS:.0f} s): "
+          + ", ".join(f"{name} {np.median(v):.3f}" for name, v in idle.items()))
     if args.json:
         out = dict(trials=spec.trials, tasks=n_tasks, chunk=spec.chunk, runs=rows,
                    overhead_seconds_per_task=per_task, mean_task_seconds=mean_task,
@@ -207,6 +237,7 @@ def main(argv=None) -> int:
                    table1_mean_task_seconds=table1_task,
                    warm_from_cache_seconds=max(fresh.values()),
                    warm_again_seconds=max(again.values()), compile_seconds=compile_s,
+                   idle_cluster_cpu={k: float(np.median(v)) for k, v in idle.items()},
                    load_average=[load0, load1])
         pathlib.Path(args.json).parent.mkdir(parents=True, exist_ok=True)
         pathlib.Path(args.json).write_text(json.dumps(out, indent=2) + "\n")

@@ -38,8 +38,8 @@ from typing import Any, Callable, Iterator, Sequence
 from dptbd.errors import DptbdError, check_int
 
 __all__ = ["ExecutionError", "Execution", "SCHEDULER_ENV", "CONNECT_TIMEOUT", "REQUIRED_PACKAGES",
-           "MAX_WORKERS", "check_worker_count", "default_workers", "job_execution",
-           "cluster_workers",
+           "MAX_WORKERS", "QUIET_LOCAL_CLUSTER", "check_worker_count", "default_workers",
+           "job_execution", "local_cluster", "cluster_workers",
            "check_workers", "map_tasks", "warmed", "version"]
 
 #: Environment variable holding a scheduler address, used when ``--scheduler`` is not given.
@@ -51,6 +51,22 @@ REQUIRED_PACKAGES = ("dptbd", "numba")
 #: Most workers a job may ask for: local worker processes, or the workers a cluster must have.
 MAX_WORKERS = 1024
 #: Environment of LocalCluster workers: one thread per process for every numeric library.
+#: Dask settings of a LocalCluster (its nannies pass them on to the workers). Dask's defaults
+#: keep every server's event loop busy with periodic checks: the loop-health tick every
+#: 20 ms in the scheduler, each nanny and each worker, the memory monitor every 100 ms, the
+#: system monitor every 500 ms, the cluster's repr every 500 ms, and the workers' statistical
+#: profiler (a stack sample every 10 ms, only for the dashboard's profile page). An idle
+#: 2-worker cluster used 7 % of a core with them, 1.4 % with these (``benchmarks/
+#: bench_dask.py``, "idle cluster CPU"): on a 2-core machine running 2 busy workers that is
+#: the 3 % Dask trailed the old process pool by (``docs/distributed.md``). The memory
+#: monitor still enforces the workers' memory limits, once a second.
+QUIET_LOCAL_CLUSTER = {
+    "distributed.admin.tick.interval": "1s",
+    "distributed.worker.memory.monitor-interval": "1s",
+    "distributed.admin.system-monitor.interval": "2s",
+    "distributed.deploy.cluster-repr-interval": "10s",
+    "distributed.worker.profile.enabled": False,
+}
 _WORKER_ENV = {v: "1" for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
                                 "NUMBA_NUM_THREADS")}
 
@@ -128,23 +144,13 @@ class Execution:
                       "without dask", file=sys.stderr)
             yield None
             return
-        import dask
         import distributed
 
         cluster = None
         address = self.address
         try:
             if address is None:
-                # without a dashboard the scheduler's HTTP server (health, metrics) still
-                # starts: on an ephemeral port, not dask's 8787 (taken by another run)
-                # the workers' statistical profiler samples every task's stack every 10 ms;
-                # it only feeds the dashboard's profile page, so it runs only with one
-                with dask.config.set({"distributed.worker.profile.enabled": self.dashboard}):
-                    cluster = distributed.LocalCluster(
-                        n_workers=self.workers, threads_per_worker=1, processes=True,
-                        dashboard_address="127.0.0.1:0" if self.dashboard else None,
-                        scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
-                        env=dict(_WORKER_ENV), silence_logs=40)
+                cluster = local_cluster(self.workers, dashboard=self.dashboard)
                 address = cluster
             try:
                 client = distributed.Client(address, timeout=self.connect_timeout)
@@ -171,6 +177,30 @@ class Execution:
             raise ExecutionError(
                 f"the dask cluster at {client.scheduler.address} has {have} worker(s), "
                 f"{need} asked for") from None
+
+
+def local_cluster(workers: int, *, dashboard: bool = False):
+    """A started ``distributed.LocalCluster`` of ``workers`` processes, one thread each, with
+    Dask's periodic housekeeping slowed to what a batch of Monte Carlo tasks needs
+    (:data:`QUIET_LOCAL_CLUSTER`; with a dashboard, only the profiler's and the system
+    monitor's defaults come back, as they feed its pages).
+
+    Without a dashboard the scheduler's HTTP server (health, metrics) still starts, on an
+    ephemeral port: dask's 8787 may be taken by another run."""
+    import dask
+    import distributed
+
+    config = dict(QUIET_LOCAL_CLUSTER)
+    if dashboard:
+        for key in ("distributed.worker.profile.enabled",
+                    "distributed.admin.system-monitor.interval"):
+            del config[key]
+    with dask.config.set(config):
+        return distributed.LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=True,
+            dashboard_address="127.0.0.1:0" if dashboard else None,
+            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+            env=dict(_WORKER_ENV), silence_logs=40)
 
 
 def cluster_workers(client) -> dict:

@@ -96,11 +96,34 @@ def _profiling() -> bool:
     return dask.config.get("distributed.worker.profile.enabled")
 
 
+def _housekeeping() -> dict:
+    import dask
+    return {key: dask.config.get(key) for key in execution.QUIET_LOCAL_CLUSTER}
+
+
 def test_local_workers_do_not_profile_without_a_dashboard(monkeypatch):
     """The workers' 10 ms stack sampler costs compute time and feeds only the dashboard."""
     monkeypatch.delenv(execution.SCHEDULER_ENV, raising=False)
     with Execution(workers=2).client() as client:
         assert set(client.run(_profiling).values()) == {False}
+
+
+def test_local_workers_run_dasks_housekeeping_slowed_down(monkeypatch):
+    """Every worker got the quiet settings (the nannies pass them on), and they are slower
+    than Dask's defaults, not faster."""
+    monkeypatch.delenv(execution.SCHEDULER_ENV, raising=False)
+    import dask
+    from dask.utils import parse_timedelta
+
+    with Execution(workers=2).client() as client:
+        seen = client.run(_housekeeping)
+    assert list(seen.values()) == [execution.QUIET_LOCAL_CLUSTER] * 2
+    defaults = dask.config.get("distributed")  # this process: dask's own values
+    for key, value in execution.QUIET_LOCAL_CLUSTER.items():
+        if isinstance(value, str):
+            default = dask.config.get(key)
+            assert parse_timedelta(value) > parse_timedelta(default), (key, default)
+    assert defaults["worker"]["profile"]["enabled"] is True
 
 
 def test_an_unreachable_scheduler_fails_within_seconds():
