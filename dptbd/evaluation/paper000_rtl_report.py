@@ -42,7 +42,8 @@ def summarise(result) -> dict:
            "rtl": {name: t.to_dict() for name, t in result.rtl.items()}, "cases": {},
            "gain": {}}
     for label, kinds in result.cases.items():
-        metrics = [m for m in kinds["fixed"] if m in CASE_METRICS or m.startswith("false_tracks@")]
+        metrics = [m for m in kinds["fixed"]
+                   if m in CASE_METRICS or m.startswith(("false_tracks@", "false_cells@"))]
         out["cases"][label] = {m: _paired(kinds["fixed"][m], kinds["float"][m]) for m in metrics}
     snrs = np.asarray(spec.gain_snrs_db)
     for dp, g in result.gain.items():
@@ -76,11 +77,12 @@ DETECTION_METRICS = ("target_is_max",)
 
 def _verdicts(summary: dict) -> dict:
     """Per case / DP: does every paired interval of fixed − float of a *detection outcome*
-    (target beats the noise, false tracks above V_T, Pd, SNR loss) contain 0?"""
+    (target beats the noise, false cells and tracks above V_T, Pd, SNR loss) contain 0?"""
     verdict = {}
     for label, metrics in summary["cases"].items():
         verdict[label] = all(m["zero_inside"] for k, m in metrics.items()
-                             if k in DETECTION_METRICS or k.startswith("false_tracks@"))
+                             if k in DETECTION_METRICS
+                             or k.startswith(("false_tracks@", "false_cells@")))
     for dp, g in summary["gain"].items():
         verdict[dp] = (all(r["delta"]["zero_inside"] for r in g["rows"])
                        and all(not (l["lo"] > 0 or l["hi"] < 0) for l in g["losses"]))
@@ -124,6 +126,6 @@ def markdown(summary: dict) -> str:
                          f"[{loss['lo']:+.2f}, {loss['hi']:+.2f}] (paired bootstrap)")
         lines.append("")
     lines.append("Every paired interval of fixed − float of a detection outcome (target is max, "
-                 "false tracks > V_T, Pd, SNR loss) contains 0: " + "; ".join(
+                 "false cells / tracks > V_T, Pd, SNR loss) contains 0: " + "; ".join(
         f"{k}: {'yes' if v else 'NO'}" for k, v in summary["verdict"].items()))
     return "\n".join(lines)

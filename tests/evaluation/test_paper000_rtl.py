@@ -22,10 +22,10 @@ from dptbd.evaluation.paper000_variants import fixed_variant
 needs_verilator = pytest.mark.skipif(shutil.which("verilator") is None,
                                      reason="needs Verilator (scripts/setup.sh)")
 
-#: The variants the gateware builds today (paper 001's datapath: eq (15)); with the family
-#: gateware every case and DP runs on the RTL (the slow test below).
-TINY = dict(cases=("5.1 eq (15)",), seeds=3, gain=("DP eq (15)",), gain_snrs_db=(6.0, 9.0),
-            gain_trials=4, noise_trials=3, frames=4, chunk=2)
+#: Paper 001's datapath (eq (15)) and a family configuration (merit and penalty LUTs, eqs
+#: (19)-(23)) on a few 4-frame scenes; every variant on whole scenes: the slow test below.
+TINY = dict(cases=("5.1 eq (15)", "5.2 6 dB"), seeds=3, gain=("DP eq (15)",),
+            gain_snrs_db=(6.0, 9.0), gain_trials=4, noise_trials=3, frames=4, chunk=2)
 
 
 def _same(a, b) -> None:
@@ -46,6 +46,7 @@ def test_the_job_on_the_rtl_equals_the_job_on_the_golden_model_exactly():
     assert model.rtl == {}
     # every state of every frame compared: case 3 seeds, gain (3 noise + 2 x 4 target) scenes
     assert rtl.rtl["5.1 eq (15)"].state_words == 3 * 4 * 64 * 64
+    assert rtl.rtl["5.2 6 dB"].state_words == 3 * 4 * 64 * 64
     assert rtl.rtl["DP eq (15)"].state_words == (3 + 2 * 4) * 4 * 64 * 64
     assert rtl.rtl["DP eq (15)"].pixel_updates == (3 + 2 * 4) * 4 * 64 * 64
 
@@ -56,7 +57,7 @@ def test_a_corrupted_rtl_state_is_reported_by_variant_seed_frame_row_column_and_
     from dptbd.sim import rtl_trials, verilator
 
     real = verilator.run
-    spec = Paper000Spec(engine="rtl", **dict(TINY, gain=(), seeds=2))
+    spec = Paper000Spec(engine="rtl", **dict(TINY, cases=("5.1 eq (15)",), gain=(), seeds=2))
     offset = state_layout(fixed_variant(paper000.CASES[0], frames=4).cfg)["energy"].offset
     index = (1 * 4 + 2) * 64 * 64 + 7 * 64 + 9   # trial 1, frame 2, row 7, col 9
 
@@ -132,8 +133,6 @@ def test_gain_float_detections_follow_snr_gain_on_the_same_scenes():
 @pytest.mark.slow
 @needs_verilator
 def test_whole_000_scenes_of_every_variant_on_verilator_equal_the_golden_model_bit_for_bit():
-    # needs the family gateware (merit LUT, penalty LUT: docs/arithmetic.md §8) for eq (24)
-    # and eqs (19)-(23); eq (15) is paper 001's datapath
     spec = Paper000Spec(engine="rtl", seeds=1, gain=GAIN_DPS, gain_snrs_db=(6.0,),
                         gain_trials=1, noise_trials=1)
     rtl = run_paper000(spec, workers=1)
