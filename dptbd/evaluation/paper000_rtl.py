@@ -123,7 +123,8 @@ def _case_task(case, variant, builds, engine, seeds: Sequence[int], frames: int)
     cell = scs[0].truth[0].pixel[-1]
     floats = np.stack([sc.frames for sc in scs])
     fixed, tally = fixed_maps(variant, quantise_scene(floats), engine, builds,
-                              label=f"variant {variant.name!r}, seed {seeds[0]}+: ")
+                              label=f"variant {variant.name!r} (trial = seed): ",
+                              first_trial=seeds[0])
     out = {"rtl": tally}
     for kind, maps in (("fixed", fixed), ("float", float_maps(case, floats))):
         rows = [paper000.map_statistics(m, cell, case.thresholds) for m in maps]

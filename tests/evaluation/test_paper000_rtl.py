@@ -69,7 +69,7 @@ def test_a_corrupted_rtl_state_is_reported_by_variant_seed_frame_row_column_and_
 
     monkeypatch.setattr(verilator, "run", run)
     with pytest.raises(rtl_trials.RTLMismatchError, match=(
-            r"^RTL states differ from the golden model: variant '5\.1 eq \(15\)', seed 0\+: "
+            r"^RTL states differ from the golden model: variant '5\.1 eq \(15\)' \(trial = seed\): "
             r"trial 1, segment 0, frame 2 of the segment \(frame 2 of the trial\), row 7, "
             r"col 9, field energy: expected (\d+), got (?!\1)\d+ \(output word "
             rf"{index} of the run; differing fields \['energy'\]\)$")):
