@@ -26,6 +26,9 @@ COMMANDS = {
                 "fixed vs float detection: Monte Carlo Pd/Pfa, SNR loss, bit-width sweep with iCE40 cost"),
     "detectors": ("dptbd.commands.detectors",
                   "papers 000/001/004's detectors and CA-CFAR on the same scenes at equal Pfa (Pd vs SNR)"),
+    "paper000": ("dptbd.commands.paper000",
+                 "paper 000's scenes and SNR-gain curve through its DP variants in fixed point (--rtl: "
+                 "on the gateware, bit-exact checked) against float, paired intervals"),
 }
 
 

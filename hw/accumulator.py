@@ -6,17 +6,19 @@
   and d = the winning move;
 * in a segment's first frame, ``E = x`` and ``d = START`` (= M); the previous state and
   the max tree's result are ignored.
+
+:class:`ClampedAccumulator` is paper 000's family's (§8.5): ``clamp(A + P, 0, E_max)``.
 """
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal
+from amaranth.hdl import Module, Mux, Signal, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
 
-__all__ = ["Accumulator"]
+__all__ = ["Accumulator", "ClampedAccumulator"]
 
 
 class Accumulator(wiring.Component):
@@ -66,6 +68,67 @@ class Accumulator(wiring.Component):
         saturated = total[cfg.energy_bits]
         m.d.sync += [
             self.energy.eq(Mux(saturated, cfg.e_max, total[:cfg.energy_bits])),
+            self.direction.eq(Mux(self.segment_start, cfg.start_code, self.move)),
+            self.saturated.eq(saturated),
+        ]
+        return m
+
+
+class ClampedAccumulator(wiring.Component):
+    """Paper 000's family (``docs/arithmetic.md`` §8.5, operator ``add_clamped``): one
+    registered stage, ``E = clamp(A + P, 0, E_max)``.
+
+    The sum is formed signed at ``DPConfig.accumulator_sum_bits`` (B_E + 2) bits and
+    clamped at both ends, never wrapping; in a segment's (or the recursion's) first frame
+    ``E = clamp(P, 0, E_max)`` and d = ``START`` (§8.6). Built instead of
+    :class:`Accumulator` when a §8 field is in use
+    (:class:`~dptbd.hw.family_blocks.FamilyBlocks`).
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        B_E, B_P, B_d and M.
+    value_shape : amaranth.hdl.Shape
+        Shape of A: ``unsigned(B_E)``, or ``signed(B_E + 1)`` with a penalty LUT.
+
+    Members
+    -------
+    best : In(value_shape)
+        A, the (faded) best candidate.
+    move : In(B_d)
+        Its move index.
+    merit : In(signed(B_P))
+        The pixel's merit P.
+    segment_start : In(1)
+        The pixel belongs to a start frame: A and ``move`` are ignored.
+    energy, direction : Out(B_E), Out(B_d)
+        Next cycle: the new E and d.
+    saturated : Out(1)
+        Next cycle: the sum exceeded E_max and E was clipped to it (the ``saturated``
+        event; a clamp at 0 is not an event).
+    """
+
+    def __init__(self, cfg: DPConfig, value_shape):
+        self._cfg = cfg
+        super().__init__({
+            "best": In(value_shape),
+            "move": In(cfg.direction_bits),
+            "merit": In(signed(cfg.merit_width)),
+            "segment_start": In(1),
+            "energy": Out(cfg.energy_bits),
+            "direction": Out(cfg.direction_bits),
+            "saturated": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg = self._cfg
+        total = Signal(signed(cfg.accumulator_sum_bits))
+        m.d.comb += total.eq(Mux(self.segment_start, 0, self.best) + self.merit)
+        negative = total < 0
+        saturated = total > cfg.e_max
+        m.d.sync += [
+            self.energy.eq(Mux(negative, 0, Mux(saturated, cfg.e_max, total[:cfg.energy_bits]))),
             self.direction.eq(Mux(self.segment_start, cfg.start_code, self.move)),
             self.saturated.eq(saturated),
         ]

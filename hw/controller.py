@@ -16,6 +16,12 @@ Run-time segment length: the input ``segment_frames`` (K, clamped to [1, K_max])
 in the cycle a segment's first pixel is accepted (pixel (0, 0) of frame 0, also after a
 resync) and holds for that whole segment; a change mid-segment takes effect at the next
 segment start (``docs/gateware.md``, "Run-time settings").
+
+Recursive mode (``cfg.recursive``, paper 000's family, ``docs/arithmetic.md`` §8.6): every
+frame is a one-frame output segment (``end_of_segment`` with every ``end_of_frame``,
+``segment_begin`` on every frame's first pixel, the run-time K ignored), but only the
+first frame after reset or after a resynchronisation is a *start* frame
+(``segment_start``): every later frame continues the recursion on the stored state.
 """
 
 from __future__ import annotations
@@ -122,6 +128,14 @@ class Controller(wiring.Component):
         begins = (at_start & (frame == 0)) | self.resync
         m.d.comb += self.segment_begin.eq(self.accept & begins)
         eff_frames = Mux(begins, clamped(self.segment_frames, 1, cfg.k_max), frames)
+        # ---- recursive mode (docs/arithmetic.md §8.6) ----------------------------------
+        if cfg.recursive:
+            eff_frames = 1                      # one-frame output segments
+            recursing = Signal()                # a start frame has ended since reset/resync
+            start_frame = self.resync | ~recursing
+        else:
+            start_frame = eff_frame == 0
+        # ---- end of recursive mode ---------------------------------------------------
         last_col = eff_col == width - 1
         last_row = eff_row == height - 1
         last_frame = eff_frame == eff_frames - 1
@@ -143,13 +157,15 @@ class Controller(wiring.Component):
                 m.d.sync += frame.eq(Mux(last_frame, 0, eff_frame + 1))
             with m.Else():
                 m.d.sync += frame.eq(eff_frame)
+            if cfg.recursive:                   # recursive mode (§8.6)
+                m.d.sync += recursing.eq(end_of_frame | (recursing & ~self.resync))
 
         m.d.sync += [
             self.valid.eq(self.accept),
             self.position.row.eq(eff_row),
             self.position.col.eq(eff_col),
             self.position.start_of_frame.eq(at_start | self.resync),
-            self.position.segment_start.eq(eff_frame == 0),
+            self.position.segment_start.eq(start_frame),
             self.position.end_of_line.eq(last_col),
             self.position.end_of_frame.eq(end_of_frame),
             self.position.end_of_segment.eq(end_of_frame & last_frame),

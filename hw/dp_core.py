@@ -9,24 +9,30 @@ pipeline stage by stage; :class:`~dptbd.hw.schedule.PipelineSchedule` gives its 
 
 from __future__ import annotations
 
-from amaranth.hdl import Cat, Module, Mux, Signal
+from amaranth.hdl import Cat, Module, Mux, Signal, signed, unsigned
 from amaranth.lib import data, fifo, stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
-from dptbd.hw.accumulator import Accumulator
+from dptbd.hw.accumulator import Accumulator, ClampedAccumulator
 from dptbd.hw.controller import Controller
 from dptbd.hw.delay import delayed
+from dptbd.hw.family_blocks import FamilyBlocks
+from dptbd.hw.forgetting_multiplier import ForgettingMultiplier
 from dptbd.hw.layouts import event_layout, pixel_layout, state_layout, state_word_layout
 from dptbd.hw.line_buffer import LineBuffer
 from dptbd.hw.max_tree import MaxTree
+from dptbd.hw.merit_lut import MeritLUT
+from dptbd.hw.penalised_candidate import PenalisedCandidate
+from dptbd.hw.penalty_lut import PenaltyLUT
 from dptbd.hw.schedule import PipelineSchedule, check_supported
 from dptbd.hw.state_store import StateStoreSignature
 from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.hw.window import Window
 
-__all__ = ["DPCore", "lut_write_members", "run_time_k_members", "state_events"]
+__all__ = ["DPCore", "lut_write_members", "family_write_members", "family_write_ports",
+           "run_time_k_members", "state_events"]
 
 
 def lut_write_members(cfg: DPConfig) -> dict:
@@ -36,6 +42,34 @@ def lut_write_members(cfg: DPConfig) -> dict:
         "lut_data": In(cfg.weight_bits),
         "lut_we": In(1),
     }
+
+
+# ---- paper 000's family (docs/arithmetic.md §8) ------------------------------------------
+def family_write_members(cfg: DPConfig) -> dict:
+    """The merit and penalty LUT write ports, shared by :class:`DPCore` and ``DPPipeline``:
+    each exists only when its LUT is built (:class:`~dptbd.hw.family_blocks.FamilyBlocks`),
+    so a paper-001 configuration has none."""
+    blocks = FamilyBlocks.from_config(cfg)
+    members = {}
+    if blocks.merit_lut:
+        members.update({
+            "merit_addr": In(cfg.input_bits),
+            "merit_data": In(signed(cfg.merit_width)),
+            "merit_we": In(1),
+        })
+    if blocks.penalty_lut:
+        members.update({
+            "penalty_addr": In(range(cfg.lut_entries)),
+            "penalty_data": In(cfg.penalty_width),
+            "penalty_we": In(1),
+        })
+    return members
+
+
+def family_write_ports(cfg: DPConfig) -> tuple[str, ...]:
+    """Names of the members :func:`family_write_members` adds for ``cfg``."""
+    return tuple(family_write_members(cfg))
+# ---- end of paper 000's family -----------------------------------------------------------
 
 
 def run_time_k_members(cfg: DPConfig) -> dict:
@@ -87,6 +121,12 @@ class DPCore(wiring.Component):
         ``states.valid`` and ``states.payload`` come from registers.
     lut_addr, lut_data, lut_we : In
         Weight LUT write port (:class:`~dptbd.hw.weight_lut.WeightLUT`).
+    merit_addr, merit_data, merit_we : In
+        Merit LUT write port (:class:`~dptbd.hw.merit_lut.MeritLUT`), only when the merit
+        LUT is built (paper 000's family, :func:`family_write_members`).
+    penalty_addr, penalty_data, penalty_we : In
+        Penalty LUT write port (:class:`~dptbd.hw.penalty_lut.PenaltyLUT`), only when the
+        penalty LUT is built.
     segment_frames : In(range(1, K_max + 1), init=K)
         Run-time K, sampled in the cycle a segment's first pixel is accepted (clamped to
         [1, K_max]); see :class:`~dptbd.hw.controller.Controller`.
@@ -113,6 +153,7 @@ class DPCore(wiring.Component):
             "pixels": In(stream.Signature(pixel_layout(cfg))),
             "states": Out(stream.Signature(state_layout(cfg))),
             **lut_write_members(cfg),
+            **family_write_members(cfg),
             **run_time_k_members(cfg),
             "state_store": Out(StateStoreSignature(cfg)),
         })
@@ -147,6 +188,7 @@ class DPCore(wiring.Component):
         cfg = self._cfg
         sched = self._schedule
         moves = cfg.n_moves
+        blocks = FamilyBlocks.from_config(cfg)
 
         # ---- cycle 0: handshake, position, read-ahead -------------------------------
         input_ready = Signal()
@@ -203,16 +245,44 @@ class DPCore(wiring.Component):
         for move in range(moves):
             m.d.comb += lut.direction[move].eq(window.cells[move].direction)
 
+        # ---- paper 000's family: merit and penalty lookups, beside the weights' -------
+        merit = None
+        if blocks.merit_lut:     # looked up at the window stage like the weights (§8.1)
+            m.submodules.merit_lut = merit_lut = MeritLUT(cfg)
+            m.d.comb += [
+                merit_lut.pixel.eq(delayed(m, pixel, sched.window - sched.fetch,
+                                           name="pixel_window")),
+                merit_lut.write_addr.eq(self.merit_addr),
+                merit_lut.write_data.eq(self.merit_data),
+                merit_lut.write_en.eq(self.merit_we),
+            ]
+            merit = delayed(m, merit_lut.merit, sched.faded - sched.code, name="merit",
+                            reset_less=True)
+        if blocks.penalty_lut:   # §8.2
+            m.submodules.penalty_lut = penalty_lut = PenaltyLUT(cfg, lut_style=self._lut_style)
+            m.d.comb += [
+                penalty_lut.write_addr.eq(self.penalty_addr),
+                penalty_lut.write_data.eq(self.penalty_data),
+                penalty_lut.write_en.eq(self.penalty_we),
+            ]
+            for move in range(moves):
+                m.d.comb += penalty_lut.direction[move].eq(window.cells[move].direction)
+        value_shape = (signed(cfg.candidate_value_bits) if blocks.signed_candidates
+                       else unsigned(cfg.energy_bits))
+        # ---- end of paper 000's family -------------------------------------------------
+
         # ---- cycles 3 .. weighted: multipliers ---------------------------------------
         # Each multiplier also gets its move's edge flag at the code's cycle: an
         # out-of-image predecessor weighs 0 (WeightedCandidate), so what its cell holds
         # (power-up garbage, X in a 4-state simulator) never reaches the max tree.
-        m.submodules.max_tree = tree = MaxTree(moves, cfg.energy_bits)
+        m.submodules.max_tree = tree = MaxTree(moves, value_shape.width,
+                                               signed=blocks.signed_candidates)
         inside_at_code = delayed(m, window.inside, sched.code - sched.window,
                                  name="inside_code", reset_less=True)
         inside = delayed(m, inside_at_code, sched.weighted - sched.code, name="inside",
                          reset_less=True)
-        m.d.comb += tree.valid.eq(inside)
+        m.d.comb += tree.valid.eq(delayed(m, inside, sched.penalised - sched.weighted,
+                                          name="inside_penalised", reset_less=True))
         for move in range(moves):
             candidate = WeightedCandidate(cfg)
             m.submodules[f"weighted_{move}"] = candidate
@@ -222,18 +292,48 @@ class DPCore(wiring.Component):
                 candidate.energy.eq(energy),
                 candidate.code.eq(lut.code[move]),
                 candidate.inside.eq(inside_at_code[move]),
-                tree.values[move].eq(candidate.weighted),
             ]
+            if blocks.penalty_lut:  # paper 000's family: V = C - Qc (§8.3)
+                penalised = PenalisedCandidate(cfg)
+                m.submodules[f"penalised_{move}"] = penalised
+                m.d.comb += [
+                    penalised.weighted.eq(candidate.weighted),
+                    penalised.penalty.eq(delayed(
+                        m, penalty_lut.code[move], sched.weighted - sched.code,
+                        name=f"penalty_{move}", reset_less=True)),
+                    penalised.inside.eq(inside[move]),
+                    tree.values[move].eq(penalised.value),
+                ]
+            else:
+                m.d.comb += tree.values[move].eq(candidate.weighted)
 
-        # ---- best -> state: accumulator -----------------------------------------------
-        at_best = delayed(m, sideband, sched.best - sched.fetch, name="sideband")
-        m.submodules.accumulator = accumulator = Accumulator(cfg)
-        m.d.comb += [
-            accumulator.best.eq(tree.best.value),
-            accumulator.move.eq(tree.best.index),
-            accumulator.pixel.eq(at_best.pixel),
-            accumulator.segment_start.eq(at_best.segment_start),
-        ]
+        # ---- paper 000's family: forgetting multiplier after the tree (§8.4) ----------
+        if blocks.forgetting:
+            m.submodules.forgetting = forgetting = ForgettingMultiplier(cfg, value_shape)
+            m.d.comb += forgetting.value.eq(tree.best.value)
+            best_value = forgetting.scaled
+            best_move = delayed(m, tree.best.index, sched.faded - sched.best, name="best_move",
+                                reset_less=True)
+        # ---- end of paper 000's family -------------------------------------------------
+
+        # ---- faded (= best) -> state: accumulator ------------------------------------
+        at_best = delayed(m, sideband, sched.faded - sched.fetch, name="sideband")
+        if blocks.clamped_accumulator:  # paper 000's family (§8.5)
+            m.submodules.accumulator = accumulator = ClampedAccumulator(cfg, value_shape)
+            m.d.comb += [
+                accumulator.best.eq(best_value if blocks.forgetting else tree.best.value),
+                accumulator.move.eq(best_move if blocks.forgetting else tree.best.index),
+                accumulator.merit.eq(at_best.pixel if merit is None else merit),
+                accumulator.segment_start.eq(at_best.segment_start),
+            ]
+        else:
+            m.submodules.accumulator = accumulator = Accumulator(cfg)
+            m.d.comb += [
+                accumulator.best.eq(tree.best.value),
+                accumulator.move.eq(tree.best.index),
+                accumulator.pixel.eq(at_best.pixel),
+                accumulator.segment_start.eq(at_best.segment_start),
+            ]
         at_state = delayed(m, at_best, 1, name="sideband_state")
         # Raster address of the pixel leaving the accumulator: pixels come out in
         # acceptance order, so it is 0 at a frame start (also after a resync) and the

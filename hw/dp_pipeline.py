@@ -11,7 +11,8 @@ from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
-from dptbd.hw.dp_core import DPCore, lut_write_members, run_time_k_members
+from dptbd.hw.dp_core import (DPCore, family_write_members, family_write_ports,
+                               lut_write_members, run_time_k_members)
 from dptbd.hw.layouts import pixel_layout, state_layout
 from dptbd.hw.schedule import PipelineSchedule
 from dptbd.hw.state_store import StateStore
@@ -46,6 +47,13 @@ class DPPipeline(wiring.Component):
         Code to write.
     lut_we : In(1)
         Write enable; a write in cycle c applies to every pixel accepted in cycle c or later.
+    merit_addr, merit_data, merit_we : In(B_in), In(signed(B_P)), In(1)
+        Merit LUT write port, only when the merit LUT is built (paper 000's family,
+        ``docs/arithmetic.md`` §8.1): the pixel code and its new merit; same timing rule
+        as ``lut_we``.
+    penalty_addr, penalty_data, penalty_we : In(range((M+1)*M)), In(B_Q), In(1)
+        Penalty LUT write port, only when the penalty LUT is built (§8.2): entry
+        ``cfg.lut_address(p, m)`` and its new code; same timing rule as ``lut_we``.
     segment_frames : In(range(1, K_max + 1), init=K)
         Run-time K, sampled when a segment's first pixel is accepted (``docs/gateware.md``,
         "Run-time settings").
@@ -64,6 +72,7 @@ class DPPipeline(wiring.Component):
             "pixels": In(stream.Signature(pixel_layout(cfg))),
             "states": Out(stream.Signature(state_layout(cfg))),
             **lut_write_members(cfg),
+            **family_write_members(cfg),
             **run_time_k_members(cfg),
         })
 
@@ -111,4 +120,6 @@ class DPPipeline(wiring.Component):
             self.segment_begin.eq(core.segment_begin),
             self.events.eq(core.events),
         ]
+        for name in family_write_ports(self._cfg):  # paper 000's merit / penalty LUT writes
+            m.d.comb += getattr(core, name).eq(getattr(self, name))
         return m

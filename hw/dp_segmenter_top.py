@@ -67,6 +67,7 @@ class DPSegmenter(wiring.Component):
     """
 
     def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, state_output: bool = False):
+        cfg.require_paper001_datapath("the segmenter top (dptbd.hw.dp_segmenter_top)")
         self._cfg = cfg
         self._state_output = bool(state_output)
         self._dp = DPPipeline(cfg)

@@ -7,24 +7,38 @@ greater or the left one is invalid; the node compares ``(valid, value)`` as one 
 number with ``valid`` on top, which is that rule in one carry chain. Since every left subtree holds only lower indices than
 its right sibling, the root is the lowest index attaining the maximum over the valid
 candidates. On an odd level the last node passes through a register unchanged.
+
+With ``signed=True`` (paper 000's penalised candidates, ``docs/arithmetic.md`` §8.4) the
+values are two's complement: the node inverts each value's sign bit before the same
+unsigned comparison (offset binary orders like the signed values), so the rule, the
+valid flag on top and the single carry chain are unchanged.
 """
 
 from __future__ import annotations
 
-from amaranth.hdl import Cat, Module, Mux, Signal, unsigned
+from amaranth.hdl import Cat, Module, Mux, Signal, signed as signed_shape, unsigned
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
 __all__ = ["candidate_layout", "tree_levels", "MaxTree"]
 
 
-def candidate_layout(value_bits: int, index_bits: int) -> data.StructLayout:
-    """A candidate in the tree: ``valid``, ``value`` and its ``index``."""
+def candidate_layout(value_bits: int, index_bits: int, signed: bool = False) -> data.StructLayout:
+    """A candidate in the tree: ``valid``, ``value`` (two's complement if ``signed``) and
+    its ``index``."""
     return data.StructLayout({
         "valid": unsigned(1),
-        "value": unsigned(value_bits),
+        "value": signed_shape(value_bits) if signed else unsigned(value_bits),
         "index": unsigned(index_bits),
     })
+
+
+def _order_key(value, signed: bool):
+    """The bits of ``value`` as an unsigned number that orders like ``value``: the sign bit
+    inverted when ``signed`` (offset binary), the bits themselves otherwise."""
+    if not signed:
+        return value
+    return Cat(value[:-1], ~value[-1])
 
 
 def tree_levels(count: int) -> int:
@@ -40,29 +54,33 @@ class MaxTree(wiring.Component):
     count : int
         Number of candidates (M), >= 1.
     value_bits : int
-        Width of a candidate value (B_E).
+        Width of a candidate value (B_E; B_E + 1 when signed).
+    signed : bool
+        The values are two's complement (``docs/arithmetic.md`` §8.4); default unsigned.
 
     Members
     -------
     valid : In(count)
         Bit m: candidate m takes part. Invalid candidates never win against a valid one.
     values : In(value_bits).array(count)
-        Candidate values.
-    best : Out(candidate_layout(value_bits, index_bits))
+        Candidate values (``signed(value_bits)`` when ``signed``).
+    best : Out(candidate_layout(value_bits, index_bits, signed))
         :attr:`latency` cycles later: the winner. ``best.valid`` is 0 only if no candidate
         was valid (then ``value`` and ``index`` are those of candidate 0).
     """
 
-    def __init__(self, count: int, value_bits: int):
+    def __init__(self, count: int, value_bits: int, *, signed: bool = False):
         if count < 1:
             raise ValueError(f"count must be an integer in [1, inf), got {count}")
         self._count = count
         self._value_bits = value_bits
+        self._signed = bool(signed)
         self._index_bits = max(1, (count - 1).bit_length())
+        value_shape = signed_shape(value_bits) if self._signed else unsigned(value_bits)
         super().__init__({
             "valid": In(count),
-            "values": In(value_bits).array(count),
-            "best": Out(candidate_layout(value_bits, self._index_bits)),
+            "values": In(value_shape).array(count),
+            "best": Out(candidate_layout(value_bits, self._index_bits, self._signed)),
         })
 
     @property
@@ -72,7 +90,7 @@ class MaxTree(wiring.Component):
 
     def elaborate(self, platform):
         m = Module()
-        layout = candidate_layout(self._value_bits, self._index_bits)
+        layout = candidate_layout(self._value_bits, self._index_bits, self._signed)
         nodes = []
         for index in range(self._count):
             leaf = Signal(layout, name=f"leaf_{index}")
@@ -96,7 +114,8 @@ class MaxTree(wiring.Component):
                     # right.valid & (~left.valid | right.value > left.value), as one
                     # comparison with `valid` as the most significant bit: one carry chain.
                     # (When both are invalid either may pass; the result stays invalid.)
-                    take_right = Cat(right.value, right.valid) > Cat(left.value, left.valid)
+                    take_right = (Cat(_order_key(right.value, self._signed), right.valid)
+                                  > Cat(_order_key(left.value, self._signed), left.valid))
                     m.d.sync += node.eq(Mux(take_right, right, left))
                 merged.append(node)
             nodes = merged

@@ -16,8 +16,14 @@ from __future__ import annotations
 import dataclasses
 
 from dptbd.config import ConfigError, DPConfig
+from dptbd.hw.family_blocks import FamilyBlocks, forgetting_leaves
 
-__all__ = ["PipelineSchedule", "read_ahead_distance", "check_supported"]
+__all__ = ["PipelineSchedule", "read_ahead_distance", "check_supported",
+           "MERIT_LUT_MAX_INPUT_BITS"]
+
+#: The largest B_in for which the gateware builds a merit LUT (2**12 entries of at most
+#: B_E + 1 bits: 135 kbit at B_E = 32, within an ECP5-25k's 1008 kbit of block RAM).
+MERIT_LUT_MAX_INPUT_BITS = 12
 
 
 def _ceil_log2(n: int) -> int:
@@ -43,13 +49,24 @@ class PipelineSchedule:
         constant), 1 for F = 0.
     weighted : int
         The M weighted candidates C are registered: ``code + multiplier_levels``.
+    penalty_levels : int
+        Register levels of the penalty subtractors (``docs/arithmetic.md`` §8.3): 1 when
+        the penalty LUT is built (:class:`~dptbd.hw.family_blocks.FamilyBlocks`), else 0.
+    penalised : int
+        The M candidates V = C - Qc enter the max tree: ``weighted + penalty_levels``.
     tree_levels : int
         Register levels of the max/argmax tree: ``ceil(log2(M))``.
     best : int
-        The best candidate and its move index are registered: ``weighted + tree_levels``.
+        The best candidate and its move index are registered: ``penalised + tree_levels``.
+    forgetting_levels : int
+        Register levels of the forgetting multiplier (§8.4) when it is built:
+        ``max(1, ceil(log2(n)))``, n = the set bits of the code a plus 1 for ``half_up``
+        rounding (G >= 1); else 0.
+    faded : int
+        A = round_G(V_best * a) (or V_best) enters the accumulator: ``best + forgetting_levels``.
     state : int
         The new (E, d) is registered and presented to the state store's write port and to
-        the output FIFO: ``best + 1``. This is also the *write latency*.
+        the output FIFO: ``faded + 1``. This is also the *write latency*.
     fifo : int
         Cycles through the output FIFO (:class:`amaranth.lib.fifo.SyncFIFOBuffered`): 2.
     latency : int
@@ -67,6 +84,11 @@ class PipelineSchedule:
     state: int
     fifo: int
     latency: int
+    # paper 000's family (docs/arithmetic.md §8); equal to weighted / best when not built
+    penalty_levels: int = 0
+    penalised: int = 0
+    forgetting_levels: int = 0
+    faded: int = 0
 
     @classmethod
     def from_config(cls, cfg: DPConfig) -> "PipelineSchedule":
@@ -77,12 +99,21 @@ class PipelineSchedule:
         tree_levels = _ceil_log2(cfg.n_moves)  # = max_tree.tree_levels(M)
         fetch, window, code = 1, 2, 3
         weighted = code + multiplier_levels
-        best = weighted + tree_levels
-        state = best + 1
+        # ---- paper 000's family (docs/arithmetic.md §8): stages exist only when built ----
+        blocks = FamilyBlocks.from_config(cfg)
+        penalty_levels = 1 if blocks.penalty_lut else 0
+        penalised = weighted + penalty_levels
+        best = penalised + tree_levels
+        forgetting_levels = (max(1, _ceil_log2(len(forgetting_leaves(cfg))))
+                             if blocks.forgetting else 0)
+        faded = best + forgetting_levels
+        # ---- end of paper 000's family --------------------------------------------------
+        state = faded + 1
         fifo = 2
         return cls(fetch=fetch, window=window, code=code, multiplier_levels=multiplier_levels,
                    weighted=weighted, tree_levels=tree_levels, best=best, state=state,
-                   fifo=fifo, latency=state + fifo)
+                   fifo=fifo, latency=state + fifo, penalty_levels=penalty_levels,
+                   penalised=penalised, forgetting_levels=forgetting_levels, faded=faded)
 
     @property
     def write_latency(self) -> int:
@@ -107,10 +138,18 @@ def check_supported(cfg: DPConfig) -> PipelineSchedule:
           read-ahead. The state of position q is read for the next frame
           ``W*H - r*(W+1)`` accepted pixels after q itself was accepted, and must have been
           written by then (``docs/gateware.md``, "Read-ahead").
-        * paper 000's family fields (``docs/arithmetic.md`` §8): the gateware implements
-          paper 001's datapath (§4–§5) only, and never builds it for a §8 configuration.
+        * a merit LUT (``docs/arithmetic.md`` §8.1) with ``input_bits`` above
+          :data:`MERIT_LUT_MAX_INPUT_BITS`: its ``2**input_bits`` entries would not fit
+          the target FPGAs' block RAM. Every other §8 configuration is built
+          (:class:`~dptbd.hw.family_blocks.FamilyBlocks`).
     """
-    cfg.require_paper001_datapath("the gateware (dptbd.hw)")
+    # ---- paper 000's family (docs/arithmetic.md §8) ------------------------------------
+    if FamilyBlocks.from_config(cfg).merit_lut and cfg.input_bits > MERIT_LUT_MAX_INPUT_BITS:
+        raise ConfigError(
+            f"input_bits must be an integer in [1, {MERIT_LUT_MAX_INPUT_BITS}] for the "
+            f"gateware's merit LUT (merit_codes other than the identity: a "
+            f"2**input_bits-entry table in block RAM), got {cfg.input_bits}")
+    # ---- end of paper 000's family -----------------------------------------------------
     if cfg.segment_stride != cfg.segment_frames:
         raise ConfigError(
             f"segment_stride={cfg.segment_stride} is not supported by the gateware: only "

@@ -37,7 +37,8 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
 
-__all__ = ["LUT_STYLES", "AUTO_LOGIC_MAX_ENTRIES", "resolve_lut_style", "WeightLUT"]
+__all__ = ["LUT_STYLES", "AUTO_LOGIC_MAX_ENTRIES", "resolve_lut_style", "DirectionTable",
+           "WeightLUT"]
 
 #: Accepted values of the ``lut_style`` keyword.
 LUT_STYLES = ("auto", "bram", "logic")
@@ -85,7 +86,115 @@ def _above(value, constant: int):
     return above
 
 
-class WeightLUT(wiring.Component):
+class DirectionTable(wiring.Component):
+    """M column memories of codes indexed (predecessor direction, move), M lookups per
+    clock, with a single table-wide write port: the weight LUT's storage, shared with the
+    penalty LUT (:class:`~dptbd.hw.penalty_lut.PenaltyLUT`, ``docs/arithmetic.md`` §8.2).
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        Number of moves M and direction width B_d.
+    codes : numpy.ndarray
+        ``(M + 1, M)`` initial codes, indexed ``[direction, move]``.
+    code_bits : int
+        Width of a code.
+    max_code : int or None
+        A write above it is stored as ``max_code``; ``None``: every ``code_bits`` value
+        is stored as written.
+    lut_style : {"auto", "bram", "logic"}
+        Storage of the column memories (module docstring, :func:`resolve_lut_style`).
+
+    Members
+    -------
+    direction : In(B_d).array(M)
+        Cycle t: the predecessor direction of each move; values above M read row M.
+    code : Out(code_bits).array(M)
+        Cycle t+1: ``codes[min(direction[m], M), m]``.
+    write_addr : In(range((M+1)*M))
+        Entry ``p * M + m`` to write; addresses >= (M+1)*M are ignored.
+    write_data : In(code_bits)
+        The new code.
+    write_en : In(1)
+        Write in this cycle (module docstring: the write protocol).
+    """
+
+    def __init__(self, cfg: DPConfig, codes, code_bits: int, max_code: int | None, *,
+                 lut_style: str = "auto"):
+        self._style = resolve_lut_style(cfg, lut_style)
+        self._cfg = cfg
+        self._codes = codes
+        self._code_bits = code_bits
+        self._max_code = max_code
+        moves = cfg.n_moves
+        super().__init__({
+            "direction": In(cfg.direction_bits).array(moves),
+            "code": Out(code_bits).array(moves),
+            "write_addr": In(range(cfg.lut_entries)),
+            "write_data": In(code_bits),
+            "write_en": In(1),
+        })
+
+    @property
+    def lut_style(self) -> str:
+        """The resolved storage: ``"bram"`` or ``"logic"``."""
+        return self._style
+
+    @property
+    def entries(self) -> int:
+        """Number of codes in the table, ``(M + 1) * M``."""
+        return self._cfg.lut_entries
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg = self._cfg
+        moves = cfg.n_moves
+        codes = self._codes
+
+        # Register the write with its address split into (direction row, move column).
+        write_row = Signal(range(moves + 1))
+        write_move = Signal(range(moves))
+        write_code = Signal(self._code_bits)
+        write_pending = Signal()
+        top = self._max_code
+        m.d.sync += [
+            write_code.eq(self.write_data if top is None
+                          else Mux(self.write_data > top, top, self.write_data)),
+            write_pending.eq(0),
+        ]
+        with m.If(self.write_en):
+            with m.Switch(self.write_addr):
+                for address in range(self.entries):
+                    with m.Case(address):
+                        m.d.sync += [
+                            write_row.eq(address // moves),
+                            write_move.eq(address % moves),
+                            write_pending.eq(1),
+                        ]
+                with m.Default():  # address beyond the table: ignored
+                    m.d.sync += [write_row.eq(0), write_move.eq(0), write_pending.eq(0)]
+
+        # Yosys honours ram_style = "logic" (also "registers"); without it synth_ice40
+        # maps each column to an SB_RAM40_4K.
+        attrs = {"ram_style": "logic"} if self._style == "logic" else None
+        for move in range(moves):
+            memory = Memory(shape=unsigned(self._code_bits), depth=moves + 1,
+                            init=[int(c) for c in codes[:, move]], attrs=attrs)
+            m.submodules[f"column_{move}"] = memory
+            read = memory.read_port(domain="sync")
+            write = memory.write_port(domain="sync")
+            direction = self.direction[move]
+            m.d.comb += [
+                read.addr.eq(Mux(_above(direction, moves), moves, direction)),  # d > M: START
+                self.code[move].eq(read.data),
+                write.addr.eq(write_row),
+                write.data.eq(write_code),
+                write.en.eq(write_pending & (write_move == move)),
+            ]
+        return m
+
+
+class WeightLUT(DirectionTable):
     """M column memories of weight codes with a single table-wide write port.
 
     Parameters
@@ -116,70 +225,5 @@ class WeightLUT(wiring.Component):
     """
 
     def __init__(self, cfg: DPConfig, *, lut_style: str = "auto"):
-        self._style = resolve_lut_style(cfg, lut_style)
-        self._cfg = cfg
-        moves = cfg.n_moves
-        super().__init__({
-            "direction": In(cfg.direction_bits).array(moves),
-            "code": Out(cfg.weight_bits).array(moves),
-            "write_addr": In(range(cfg.lut_entries)),
-            "write_data": In(cfg.weight_bits),
-            "write_en": In(1),
-        })
-
-    @property
-    def lut_style(self) -> str:
-        """The resolved storage: ``"bram"`` or ``"logic"``."""
-        return self._style
-
-    @property
-    def entries(self) -> int:
-        """Number of codes in the table, ``(M + 1) * M``."""
-        return self._cfg.lut_entries
-
-    def elaborate(self, platform):
-        m = Module()
-        cfg = self._cfg
-        moves = cfg.n_moves
-        unity = 1 << cfg.weight_frac_bits
-        codes = cfg.weight_codes
-
-        # Register the write with its address split into (direction row, move column).
-        write_row = Signal(range(moves + 1))
-        write_move = Signal(range(moves))
-        write_code = Signal(cfg.weight_bits)
-        write_pending = Signal()
-        m.d.sync += [
-            write_code.eq(Mux(self.write_data > unity, unity, self.write_data)),
-            write_pending.eq(0),
-        ]
-        with m.If(self.write_en):
-            with m.Switch(self.write_addr):
-                for address in range(self.entries):
-                    with m.Case(address):
-                        m.d.sync += [
-                            write_row.eq(address // moves),
-                            write_move.eq(address % moves),
-                            write_pending.eq(1),
-                        ]
-                with m.Default():  # address beyond the table: ignored
-                    m.d.sync += [write_row.eq(0), write_move.eq(0), write_pending.eq(0)]
-
-        # Yosys honours ram_style = "logic" (also "registers"); without it synth_ice40
-        # maps each column to an SB_RAM40_4K.
-        attrs = {"ram_style": "logic"} if self._style == "logic" else None
-        for move in range(moves):
-            memory = Memory(shape=unsigned(cfg.weight_bits), depth=moves + 1,
-                            init=[int(c) for c in codes[:, move]], attrs=attrs)
-            m.submodules[f"column_{move}"] = memory
-            read = memory.read_port(domain="sync")
-            write = memory.write_port(domain="sync")
-            direction = self.direction[move]
-            m.d.comb += [
-                read.addr.eq(Mux(_above(direction, moves), moves, direction)),  # d > M: START
-                self.code[move].eq(read.data),
-                write.addr.eq(write_row),
-                write.data.eq(write_code),
-                write.en.eq(write_pending & (write_move == move)),
-            ]
-        return m
+        super().__init__(cfg, cfg.weight_codes, cfg.weight_bits, 1 << cfg.weight_frac_bits,
+                         lut_style=lut_style)

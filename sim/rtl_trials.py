@@ -14,11 +14,11 @@ golden model. :func:`accumulate_trials` is the one call they make instead of
    is a segment's first frame for the gateware's counters: no reset between trials.
 2. **Every** ``states`` word is compared with the golden model by
    :class:`dptbd.sim.scoreboard.Scoreboard` (the project's one state-word comparer). The
-   expected words are the golden model's state after every frame; they are computed with
-   the fused kernel :func:`dptbd.model.fast.run_fixed_fast` (bit-identical with the
-   reference :mod:`dptbd.model.fixed`, ``tests/model/test_fast.py``) run on the first ``j + 1``
-   frames of every segment, ``j = 0 … K-1``, and packed with
-   :func:`dptbd.hw.layouts.pack_states`. A mismatch raises :class:`RTLMismatchError`
+   expected words are the golden model's state after every frame; they are computed
+   frame by frame with the family kernel :mod:`dptbd.model.fast_family` (bit-identical with
+   the reference :mod:`dptbd.model.family`, and with :mod:`dptbd.model.fixed` for paper
+   001's configurations, ``docs/arithmetic.md`` §8.8) and packed with
+   :func:`dptbd.hw.layouts.pack_states` (:func:`expected_state_words`). A mismatch raises :class:`RTLMismatchError`
    naming the configuration, the scene, the trial, the segment, the frame, the row, the
    column and the field.
 3. E and d of the last frame of every segment are unpacked from the RTL's own words
@@ -162,25 +162,27 @@ def expected_state_words(cfg: DPConfig, segments: np.ndarray) -> np.ndarray:
     """The golden model's ``states`` words for whole segments ``(N, K, H, W)`` streamed back
     to back from reset: ``(N * K * H * W,)`` uint64 in stream order.
 
-    State after frame j of a segment = :func:`~dptbd.model.fast.run_fixed_fast` of its
-    first ``j + 1`` frames as one segment of ``j + 1`` frames (bit-identical with
-    :func:`dptbd.sim.scoreboard.model_frames`, which ``tests/sim/test_rtl_trials.py``
-    checks); flags by :func:`dptbd.sim.scoreboard.pack_frame_states`.
+    State after frame j of a segment: the family kernel
+    :func:`~dptbd.model.fast_family.fast_family_start` on the segment's first frame, then
+    :func:`~dptbd.model.fast_family.fast_family_step` frame by frame (bit-identical with the
+    reference :mod:`dptbd.model.family`, ``tests/model/test_fast_family.py``, which with the
+    §8 fields at their defaults is :mod:`dptbd.model.fixed` bit for bit, ``docs/arithmetic.md``
+    §8.8; ``tests/sim/test_rtl_trials.py`` checks it against
+    :func:`dptbd.sim.scoreboard.model_frames`). Paper 001's configurations and paper 000's
+    family (§8) go through the same code; flags by
+    :func:`dptbd.sim.scoreboard.pack_frame_states`.
     """
-    from dptbd.model.fast import run_fixed_fast
+    from dptbd.model.fast_family import fast_family_start, fast_family_step
     from dptbd.sim.scoreboard import pack_frame_states
 
     n, k, h, w = segments.shape
     energy = np.empty((n, k, h, w), np.int64)
     direction = np.empty((n, k, h, w), np.int64)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EnergyWidthWarning)
-        for j in range(k):
-            res = run_fixed_fast(segments[:, :j + 1], cfg.replace(segment_frames=j + 1,
-                                                                  segment_stride=j + 1),
-                                 threads=1)
-            energy[:, j] = res.energy[:, 0]
-            direction[:, j] = res.direction[:, 0]
+    e, d = fast_family_start(segments[:, 0], cfg)
+    energy[:, 0], direction[:, 0] = e, d
+    for j in range(1, k):
+        e, d = fast_family_step(e, d, segments[:, j], cfg)
+        energy[:, j], direction[:, j] = e, d
     return pack_frame_states(cfg, energy.reshape(n * k, h, w),
                              direction.reshape(n * k, h, w)).reshape(-1)
 

@@ -94,7 +94,9 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
     lut_writes : dict of int to list of (address, code), optional
         Writes to issue just before the pixel with that index is offered: the input is held
         idle while they are written, one per cycle, so that pixel and all later ones use
-        the new codes and no earlier pixel does.
+        the new codes and no earlier pixel does. A write ``(port, address, code)`` goes to
+        the write port ``port`` (``"lut"``, or paper 000's ``"merit"`` / ``"penalty"``)
+        instead of the weight LUT's.
     timed_lut_writes : dict of int to (address, code), optional
         Writes presented in exactly that cycle (cycle 0 is the first after reset),
         whatever the input does; they take precedence over ``lut_writes``.
@@ -112,6 +114,7 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
         max_cycles = int((len(stream) + 100) / slow * 3) + 200
     result = StreamRun([], [], [], 0)
     payload_in = dut.pixels.payload.as_value()
+    ports = [port for port in ("lut", "merit", "penalty") if hasattr(dut, f"{port}_we")]
 
     async def bench(ctx):
         accepted = 0
@@ -130,10 +133,12 @@ def run_stream(dut, cfg: DPConfig, stream: list[tuple[int, bool]], *, valid_prob
                 write = writes.pop(0)
             else:
                 write = None
-            ctx.set(dut.lut_we, write is not None)
+            port = None if write is None else "lut" if len(write) == 2 else write[0]
+            for name in ports:
+                ctx.set(getattr(dut, f"{name}_we"), name == port)
             if write is not None:
-                ctx.set(dut.lut_addr, write[0])
-                ctx.set(dut.lut_data, write[1])
+                ctx.set(getattr(dut, f"{port}_addr"), write[-2])
+                ctx.set(getattr(dut, f"{port}_data"), write[-1])
             hold_input = write is not None and timed is None  # queued writes idle the input
             if not hold_input and not offering and accepted < len(stream):
                 offering = rng.random() < valid_probability

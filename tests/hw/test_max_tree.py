@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from dptbd.hw.max_tree import MaxTree, tree_levels
+from dptbd.model.family_operators import INVALID_SIGNED
 from dptbd.model.operators import INVALID, argmax_lowest_index
 from hw_harness import simulate
 
@@ -36,9 +37,32 @@ def ref_max_tree(values, valid) -> tuple[int, int, int]:
     return 1, int(best), int(index)
 
 
-def rtl_max_tree(count, value_bits, vectors) -> list[tuple[int, int, int]]:
+def signed_cases(count, value_bits):
+    """Signed (values, valid) vectors (§8.4): both extremes, -1 / 0 ties, all negative."""
+    rng = random.Random(count + 100)
+    low, high = -(1 << (value_bits - 1)), (1 << (value_bits - 1)) - 1
+    for n in range(200):
+        values = [rng.choice([low, high, -1, 0, rng.randint(low, high)]) for _ in range(count)]
+        if n % 3 == 0:  # ties across the sign boundary
+            values = [rng.choice([-1, 0, low]) for _ in range(count)]
+        if n % 5 == 0:  # every value negative
+            values = [rng.randint(low, -1) for _ in range(count)]
+        valid = [rng.random() < 0.7 for _ in range(count)]
+        valid[rng.randrange(count)] = True
+        yield values, valid
+    yield [high] * count, [False] * (count - 1) + [True]   # only the last valid
+    yield [low] * count, [True] * count                    # all tie at the minimum
+
+
+def ref_signed_max_tree(values, valid) -> tuple[int, int, int]:
+    """(valid, best, index) of the family's golden model (``INVALID_SIGNED`` never wins)."""
+    best, index = argmax_lowest_index(np.where(valid, np.asarray(values, np.int64), INVALID_SIGNED))
+    return 1, int(best), int(index)
+
+
+def rtl_max_tree(count, value_bits, vectors, signed=False) -> list[tuple[int, int, int]]:
     """One vector a cycle into the tree; (valid, value, index) of each, ``latency`` later."""
-    dut = MaxTree(count, value_bits)
+    dut = MaxTree(count, value_bits, signed=signed)
     got = []
 
     async def bench(ctx):
@@ -65,3 +89,10 @@ def test_matches_argmax_lowest_index(count, value_bits):
 
 def test_latency_is_ceil_log2():
     assert [tree_levels(n) for n in (1, 2, 3, 4, 5, 9, 16, 17, 25)] == [0, 1, 2, 2, 3, 4, 4, 5, 5]
+
+
+@pytest.mark.parametrize("count, value_bits", [(9, 7), (25, 5), (5, 2), (2, 9)])
+def test_signed_matches_argmax_lowest_index(count, value_bits):
+    vectors = list(signed_cases(count, value_bits))
+    got = rtl_max_tree(count, value_bits, vectors, signed=True)
+    assert got == [ref_signed_max_tree(*v) for v in vectors]

@@ -1,5 +1,6 @@
 """Pipeline schedule (latency formula) and the configurations the gateware refuses."""
 
+import numpy as np
 import pytest
 
 from dptbd.config import ConfigError, DPConfig
@@ -60,10 +61,38 @@ def test_smallest_accepted_frames():
     check_supported(DPConfig(width=7, height=6, radius=2))  # 42 - 16 = 26 > 13
 
 
-def test_paper000_family_configuration_is_refused():
-    cfg = DPConfig(width=16, height=16, recursive=True)
+def test_paper000_family_is_accepted_except_a_merit_lut_beyond_12_input_bits():
+    check_supported(DPConfig(width=16, height=16, recursive=True))
+    check_supported(DPConfig(width=16, height=16, input_bits=12, energy_bits=16,
+                             merit_codes=np.arange(4096) - 2048))
+    cfg = DPConfig(width=16, height=16, input_bits=13, energy_bits=16,
+                   merit_codes=np.arange(8192) - 4096)
     with pytest.raises(ConfigError, match=(
-            r"^the gateware \(dptbd\.hw\) implements paper 001's datapath only "
-            r"\(docs/arithmetic\.md §4-§5\), but this configuration sets paper 000's family "
-            r"field\(s\) recursive \(§8\): use dptbd\.model\.family\.run_family_fixed$")):
+            r"^input_bits must be an integer in \[1, 12\] for the gateware's merit LUT "
+            r"\(merit_codes other than the identity: a 2\*\*input_bits-entry table in block "
+            r"RAM\), got 13$")):
         check_supported(cfg)
+    # the identity merit builds no LUT: any input_bits
+    check_supported(DPConfig(width=16, height=16, input_bits=16, energy_bits=20, recursive=True))
+
+
+@pytest.mark.parametrize("fields, penalty_levels, forgetting_levels", [
+    (dict(recursive=True), 0, 0),
+    (dict(merit_codes=np.arange(256) - 8), 0, 0),
+    (dict(penalty_codes=np.ones((10, 9), int)), 1, 0),
+    (dict(forgetting=0.85), 0, 3),                             # a = 218: 5 set bits
+    (dict(forgetting=0.85, rounding="half_up"), 0, 3),         # 5 set bits + rounding
+    (dict(forgetting=0.5, forgetting_bits=4), 0, 1),           # a = 8: one leaf, one level
+    (dict(forgetting=0.75, forgetting_bits=2, rounding="half_up"), 0, 2),  # 2 bits + rounding
+    (dict(forgetting=0.55, penalty_codes=np.ones((10, 9), int)), 1, 2),   # a = 141: 4 bits
+])
+def test_family_stages(fields, penalty_levels, forgetting_levels):
+    """The §8 stages: latency = 14 (r = 1, F = 8) + penalty_levels + forgetting_levels."""
+    schedule = PipelineSchedule.from_config(DPConfig(**fields))
+    assert (schedule.penalty_levels, schedule.forgetting_levels) == (penalty_levels,
+                                                                      forgetting_levels)
+    assert schedule.penalised == schedule.weighted + penalty_levels
+    assert schedule.best == schedule.penalised + schedule.tree_levels
+    assert schedule.faded == schedule.best + forgetting_levels
+    assert schedule.state == schedule.faded + 1
+    assert schedule.latency == 14 + penalty_levels + forgetting_levels

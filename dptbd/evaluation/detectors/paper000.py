@@ -28,8 +28,9 @@ from dptbd.scenes import synthetic as scenes
 from dptbd.evaluation.detectors import cfar, unified
 from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_prob, check_real
 
-__all__ = ["CASES", "Case", "CaseResult", "run_case", "peak_mask", "snr_gain", "GainResult",
-           "crossing_snr"]
+__all__ = ["CASES", "Case", "CaseResult", "run_case", "peak_mask", "gate_mask",
+           "map_statistics", "quantile_threshold", "detected", "snr_gain", "GainResult",
+           "crossing_snr", "GAIN_DETECTORS"]
 
 RADIUS = 2
 MERITS = ("amplitude", "likelihood")
@@ -105,6 +106,44 @@ def peak_mask(values: np.ndarray) -> np.ndarray:
     return ok
 
 
+def gate_mask(shape: tuple[int, int], cell: tuple[int, int]) -> np.ndarray:
+    """``bool (H, W)``: the 3 x 3 gate around ``cell`` (the target's true last cell)."""
+    y, x = (int(v) for v in cell)
+    gate = np.zeros(shape, dtype=bool)
+    gate[max(y - 1, 0):y + 2, max(x - 1, 0):x + 2] = True
+    return gate
+
+
+def map_statistics(value: np.ndarray, cell: tuple[int, int], thresholds: Iterable[float]) -> dict:
+    """What :func:`run_case` measures on one final map ``h_T`` ``(H, W)``.
+
+    ``target``: h_T at ``cell``; ``noise_max``: the largest h_T outside the 3 x 3 gate;
+    ``target_rank``: cells outside the gate with h_T >= the target's; ``two_track_level``:
+    the third-highest local maximum outside the gate (the V_T leaving two false tracks);
+    ``false_cells`` / ``false_tracks``: V_T -> cells / local maxima above V_T outside the gate.
+    """
+    value = np.asarray(value, dtype=np.float64)
+    gate = gate_mask(value.shape, cell)
+    tv = float(value[tuple(int(v) for v in cell)])
+    outside = np.where(gate, -np.inf, value)
+    peaks = np.sort(outside[peak_mask(value) & ~gate])[::-1]
+    return dict(target=tv, noise_max=float(outside.max()),
+                target_rank=int(np.count_nonzero(outside >= tv)),
+                two_track_level=float(peaks[2]) if peaks.size > 2 else float("-inf"),
+                false_cells={v: int(np.count_nonzero(outside > v)) for v in thresholds},
+                false_tracks={v: int(np.count_nonzero(peaks > v)) for v in thresholds})
+
+
+def quantile_threshold(values: np.ndarray, pfa: float) -> float:
+    """The per-cell threshold exceeded by a fraction ``pfa`` of ``values`` (noise-only cells):
+    the ``(size - floor(pfa * size))``-th smallest value."""
+    vals = np.asarray(values, dtype=np.float64).ravel()
+    k = int(math.floor(pfa * vals.size))
+    if k < 1:
+        raise DetectorError(f"pfa={pfa:g} needs more than {vals.size} noise cells")
+    return float(np.partition(vals, vals.size - k - 1)[vals.size - k - 1])
+
+
 @dataclasses.dataclass(frozen=True)
 class CaseResult:
     """Per-seed measurements of one case (arrays of length = seeds)."""
@@ -141,20 +180,16 @@ def run_case(case: Case, seeds: Iterable[int] = range(1), *, mode: str = "datapa
         truth = sc.truth[0]
         res = unified.run_unified(sc.frames, merit, q, radius=radius, mode=mode, history=True)
         y, x = truth.pixel[-1]
-        gate = np.zeros(res.value.shape, dtype=bool)
-        gate[max(y - 1, 0):y + 2, max(x - 1, 0):x + 2] = True
-        tv = float(res.value[y, x])
-        outside = np.where(gate, -np.inf, res.value)
-        target.append(tv)
-        noise_max.append(float(outside.max()))
-        rank.append(int(np.count_nonzero(outside >= tv)))
+        stats = map_statistics(res.value, (y, x), case.thresholds)
+        target.append(stats["target"])
+        noise_max.append(stats["noise_max"])
+        rank.append(stats["target_rank"])
         path = unified.backtrack(res, (y, x))
         on_track.append(float(np.mean(np.max(np.abs(path - truth.pixel), axis=1) <= 1)))
-        peaks = np.sort(outside[peak_mask(res.value) & ~gate])[::-1]
-        level2.append(float(peaks[2]) if peaks.size > 2 else float("-inf"))
+        level2.append(stats["two_track_level"])
         for v in case.thresholds:
-            cells[v].append(int(np.count_nonzero(outside > v)))
-            tracks[v].append(int(np.count_nonzero(peaks > v)))
+            cells[v].append(stats["false_cells"][v])
+            tracks[v].append(stats["false_tracks"][v])
     return CaseResult(case, mode, np.array(target), np.array(noise_max),
                       {v: np.array(c) for v, c in cells.items()},
                       {v: np.array(g) for v, g in tracks.items()}, np.array(level2),
@@ -233,10 +268,7 @@ def snr_gain(snrs_db: Iterable[float] = tuple(range(-2, 13)), *, trials: int = 2
         if key not in thresholds:
             vals = np.concatenate([_maps(name, f, snr, epsilon).ravel()
                                    for f in batches(None, noise_trials, seed + 1)])
-            k = int(math.floor(pfa * vals.size))
-            if k < 1:
-                raise DetectorError(f"pfa={pfa:g} needs more than {vals.size} noise cells")
-            thresholds[key] = float(np.partition(vals, vals.size - k - 1)[vals.size - k - 1])
+            thresholds[key] = quantile_threshold(vals, pfa)
         return thresholds[key]
 
     pd = {n: np.zeros(len(snrs)) for n in names}
@@ -248,11 +280,18 @@ def snr_gain(snrs_db: Iterable[float] = tuple(range(-2, 13)), *, trials: int = 2
             hits = 0
             for f in frames_list:
                 m = _maps(n, f, snr, epsilon)
-                hits += int(np.count_nonzero(np.any(m[:, max(y - 1, 0):y + 2, max(x - 1, 0):x + 2] > thr,
-                                                    axis=(1, 2))))
+                hits += int(np.count_nonzero(detected(m, (y, x), thr)))
             det[n][i] = hits
             pd[n][i] = hits / trials
     return GainResult(snrs, pd, det, trials, pfa, {f"{k[0]}@{k[1]}": v for k, v in thresholds.items()})
+
+
+def detected(maps: np.ndarray, cell: tuple[int, int], threshold: float) -> np.ndarray:
+    """``bool (N,)``: a cell of the 3 x 3 gate around ``cell`` is above ``threshold`` in each
+    map ``(N, H, W)`` (the target is detected)."""
+    y, x = (int(v) for v in cell)
+    return np.any(np.asarray(maps)[:, max(y - 1, 0):y + 2, max(x - 1, 0):x + 2] > threshold,
+                  axis=(1, 2))
 
 
 def crossing_snr(snrs_db: Iterable[float], pd: Iterable[float], level: float = 0.5) -> float:
