@@ -39,15 +39,16 @@ def ref_accumulator(cfg, best, pixel, move, start) -> tuple[int, int, int]:
     return int(add_saturating(best, pixel, cfg.energy_bits)), move, clipped
 
 
-def rtl_accumulator(cfg, operands) -> list[tuple[int, int, int]]:
-    """(E, d, saturated) of each operand, one cycle after it is presented."""
-    dut = Accumulator(cfg)
+def rtl_accumulator(cfg, operands, dut=None, addend="pixel") -> list[tuple[int, int, int]]:
+    """(E, d, saturated) of each operand, one cycle after it is presented; ``dut`` defaults
+    to ``Accumulator(cfg)``, ``addend`` names its x (or P) input."""
+    dut = Accumulator(cfg) if dut is None else dut
     got = []
 
     async def bench(ctx):
         for best, pixel, move, start in operands:
             ctx.set(dut.best, best)
-            ctx.set(dut.pixel, pixel)
+            ctx.set(getattr(dut, addend), pixel)
             ctx.set(dut.move, move)
             ctx.set(dut.segment_start, start)
             await ctx.tick()
@@ -88,23 +89,6 @@ def ref_clamped_accumulator(cfg, best, merit, move, start) -> tuple[int, int, in
     return energy, cfg.start_code if start else move, int(total > cfg.e_max)
 
 
-def rtl_clamped_accumulator(cfg, value_shape, operands) -> list[tuple[int, int, int]]:
-    dut = ClampedAccumulator(cfg, value_shape)
-    got = []
-
-    async def bench(ctx):
-        for best, merit, move, start in operands:
-            ctx.set(dut.best, best)
-            ctx.set(dut.merit, merit)
-            ctx.set(dut.move, move)
-            ctx.set(dut.segment_start, start)
-            await ctx.tick()
-            got.append((ctx.get(dut.energy), ctx.get(dut.direction), ctx.get(dut.saturated)))
-
-    simulate(dut, bench)
-    return got
-
-
 @pytest.mark.parametrize("energy_bits, merit_bits, is_signed", [
     (10, 11, True), (8, 4, True), (12, 9, False), (6, 7, False)])
 def test_clamped_matches_add_clamped(energy_bits, merit_bits, is_signed):
@@ -113,6 +97,6 @@ def test_clamped_matches_add_clamped(energy_bits, merit_bits, is_signed):
     shape = signed(cfg.candidate_value_bits) if is_signed else unsigned(energy_bits)
     operands = list(clamped_cases(cfg, shape))
     want = [ref_clamped_accumulator(cfg, *op) for op in operands]
-    assert rtl_clamped_accumulator(cfg, shape, operands) == want
+    assert rtl_accumulator(cfg, operands, ClampedAccumulator(cfg, shape), "merit") == want
     energies = [w[0] for w in want]
     assert 0 in energies and cfg.e_max in energies and any(w[2] for w in want)
