@@ -21,6 +21,20 @@ from dptbd.config import DPConfig
 __all__ = ["Accumulator", "ClampedAccumulator"]
 
 
+def _members(cfg: DPConfig, best_shape, addend: str, addend_shape) -> dict:
+    """The members of both accumulators, in port order: ``best``, ``move``, the ``addend``
+    (x or P), ``segment_start``; out ``energy``, ``direction``, ``saturated``."""
+    return {
+        "best": In(best_shape),
+        "move": In(cfg.direction_bits),
+        addend: In(addend_shape),
+        "segment_start": In(1),
+        "energy": Out(cfg.energy_bits),
+        "direction": Out(cfg.direction_bits),
+        "saturated": Out(1),
+    }
+
+
 class Accumulator(wiring.Component):
     """One registered stage: saturating add of the pixel to the best candidate.
 
@@ -49,15 +63,7 @@ class Accumulator(wiring.Component):
 
     def __init__(self, cfg: DPConfig):
         self._cfg = cfg
-        super().__init__({
-            "best": In(cfg.energy_bits),
-            "move": In(cfg.direction_bits),
-            "pixel": In(cfg.input_bits),
-            "segment_start": In(1),
-            "energy": Out(cfg.energy_bits),
-            "direction": Out(cfg.direction_bits),
-            "saturated": Out(1),
-        })
+        super().__init__(_members(cfg, cfg.energy_bits, "pixel", cfg.input_bits))
 
     def elaborate(self, platform):
         m = Module()
@@ -110,15 +116,7 @@ class ClampedAccumulator(wiring.Component):
 
     def __init__(self, cfg: DPConfig, value_shape):
         self._cfg = cfg
-        super().__init__({
-            "best": In(value_shape),
-            "move": In(cfg.direction_bits),
-            "merit": In(signed(cfg.merit_width)),
-            "segment_start": In(1),
-            "energy": Out(cfg.energy_bits),
-            "direction": Out(cfg.direction_bits),
-            "saturated": Out(1),
-        })
+        super().__init__(_members(cfg, value_shape, "merit", signed(cfg.merit_width)))
 
     def elaborate(self, platform):
         m = Module()

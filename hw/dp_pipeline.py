@@ -91,7 +91,8 @@ class DPPipeline(wiring.Component):
         """Cycles from a pixel's acceptance to its result on ``states`` (no back-pressure).
 
         ``L = 6 + ceil(log2(F + 2)) + ceil(log2(M))`` for F >= 1 (``7 + ceil(log2(M))``
-        for F = 0); 14 for r = 1, F = 8 and 15 for r = 2, F = 8.
+        for F = 0); 14 for r = 1, F = 8 and 15 for r = 2, F = 8. Paper 000's family adds
+        ``penalty_levels + forgetting_levels`` (:class:`PipelineSchedule`).
         """
         return self._core.latency
 

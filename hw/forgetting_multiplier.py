@@ -13,11 +13,12 @@ between 0 and V: it fits V's shape.
 
 from __future__ import annotations
 
-from amaranth.hdl import Const, Module, Shape, Signal, signed
+from amaranth.hdl import Const, Module, Shape, signed
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
+from dptbd.hw.adder_tree import registered_adder_tree
 from dptbd.hw.family_blocks import forgetting_leaves
 from dptbd.hw.schedule import PipelineSchedule
 
@@ -62,17 +63,6 @@ class ForgettingMultiplier(wiring.Component):
         leaves = [Const(1 << (shift - 1), shift) if k < 0 else self.value << k
                   for k in forgetting_leaves(cfg)]
 
-        level = 0
-        nodes = leaves
-        while level < self.latency:
-            level += 1
-            merged = []
-            for index in range(0, len(nodes), 2):
-                total = nodes[index] if index + 1 == len(nodes) else nodes[index] + nodes[index + 1]
-                register = Signal(sum_shape, name=f"sum_l{level}_{index // 2}", reset_less=True)
-                m.d.sync += register.eq(total)
-                merged.append(register)
-            nodes = merged
-        assert len(nodes) == 1
-        m.d.comb += self.scaled.eq(nodes[0][shift:])
+        root = registered_adder_tree(m, leaves, self.latency, sum_shape)
+        m.d.comb += self.scaled.eq(root[shift:])
         return m

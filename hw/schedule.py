@@ -71,7 +71,9 @@ class PipelineSchedule:
         Cycles through the output FIFO (:class:`amaranth.lib.fifo.SyncFIFOBuffered`): 2.
     latency : int
         Cycles from accepting a pixel to its result being valid on ``states`` when the
-        output is not back-pressured: ``state + fifo``.
+        output is not back-pressured: ``state + fifo`` = ``6 + ceil(log2(F + 2)) +
+        ceil(log2(M)) + penalty_levels + forgetting_levels`` for F >= 1 (``7 + …`` for
+        F = 0).
     """
 
     fetch: int

@@ -23,6 +23,7 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
+from dptbd.hw.adder_tree import registered_adder_tree
 from dptbd.hw.schedule import PipelineSchedule
 
 __all__ = ["WeightedCandidate"]
@@ -81,18 +82,6 @@ class WeightedCandidate(wiring.Component):
             rounding = (1 << (frac - 1)) if cfg.rounding == "half_up" else 0
             leaves.append(Const(rounding, frac))
 
-        level = 0
-        nodes = leaves
-        while level < self.latency:
-            level += 1
-            merged = []
-            for index in range(0, len(nodes), 2):
-                total = nodes[index] if index + 1 == len(nodes) else nodes[index] + nodes[index + 1]
-                register = Signal(unsigned(product_bits), name=f"sum_l{level}_{index // 2}",
-                                  reset_less=True)
-                m.d.sync += register.eq(total)
-                merged.append(register)
-            nodes = merged
-        assert len(nodes) == 1
-        m.d.comb += self.weighted.eq(nodes[0][frac:])
+        root = registered_adder_tree(m, leaves, self.latency, unsigned(product_bits))
+        m.d.comb += self.weighted.eq(root[frac:])
         return m

@@ -11,20 +11,23 @@ from hw_harness import simulate
 def reference_positions(cfg, firsts, ks=None):
     """Expected (read_addr, resync, segment_begin, row, col, flags…) for each accepted pixel;
     ``ks[i]`` is the run-time K on the port when pixel i is accepted (sampled at a segment's
-    first pixel, clamped to [1, K_max])."""
+    first pixel, clamped to [1, K_max]). Recursive mode (§8.6): one-frame output segments,
+    ``segment_start`` only until the first frame after reset or a resync has ended."""
     width, height, k = cfg.width, cfg.height, cfg.segment_frames
     ks = [cfg.segment_frames] * len(firsts) if ks is None else ks
     pixels = width * height
     ahead = cfg.radius * (width + 1)
     position, frame = 0, 0
+    recursing = False
     out = []
     for first, k_port in zip(firsts, ks):
         resync = bool(first) and position != 0
         if resync:
-            position, frame = 0, 0
+            position, frame, recursing = 0, 0, False
         begins = position == 0 and frame == 0
         if begins:
-            k = min(max(k_port, 1), cfg.k_max)
+            k = 1 if cfg.recursive else min(max(k_port, 1), cfg.k_max)
+        start = not recursing if cfg.recursive else frame == 0
         row, col = divmod(position, width)
         eol = col == width - 1
         eof = eol and row == height - 1
@@ -32,12 +35,13 @@ def reference_positions(cfg, firsts, ks=None):
             "read_addr": (position + ahead) % pixels, "resync": int(resync),
             "segment_begin": int(begins),
             "row": row, "col": col, "start_of_frame": int(position == 0),
-            "segment_start": int(frame == 0), "end_of_line": int(eol),
+            "segment_start": int(start), "end_of_line": int(eol),
             "end_of_frame": int(eof), "end_of_segment": int(eof and frame == k - 1),
         })
         position = (position + 1) % pixels
         if eof:
             frame = (frame + 1) % k
+            recursing = True
     return out
 
 
@@ -137,3 +141,17 @@ def test_run_time_k_out_of_range_is_clamped():
     got = run_controller(cfg, firsts, seed=5, ks=ks)
     assert got == reference_positions(cfg, firsts, ks)
     assert [n for n, g in enumerate(got) if g["end_of_segment"]] == [8, 26, 44]
+
+
+def test_recursive_mode_starts_only_after_reset_and_resync():
+    """§8.6: the first frame after reset and after a resync is a start frame, no other;
+    every frame ends a one-frame output segment and the run-time K is ignored."""
+    cfg = DPConfig(width=5, height=4, segment_frames=3, recursive=True)
+    firsts = [i % 20 == 0 for i in range(20 * 3)] + [i == 0 for i in range(9)] \
+        + [i % 20 == 0 for i in range(20 * 3)]
+    ks = [random.Random(i).randrange(1, 4) for i in range(len(firsts))]
+    got = run_controller(cfg, firsts, seed=4, ks=ks)
+    assert got == reference_positions(cfg, firsts, ks)
+    starts = [n for n, g in enumerate(got) if g["segment_start"]]
+    assert starts == list(range(20)) + list(range(69, 89))   # frame 0, then after the resync at 69
+    assert sum(g["end_of_segment"] for g in got) == sum(g["end_of_frame"] for g in got) == 6

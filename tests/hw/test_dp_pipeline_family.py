@@ -101,3 +101,25 @@ def test_latency_without_back_pressure(name):
     delays = {out - acc for acc, out in zip(run.accept_cycles, run.output_cycles)}
     assert delays == {dut.latency}
     assert run.cycles <= len(run.accept_cycles) + dut.latency + 2
+
+
+def test_recursive_restarts_only_on_a_resync():
+    """Recursive mode (§8.6): frames continue the recursion until an unexpected ``first``;
+    the interrupted frame's pixels come out as recursion steps without end flags, and the
+    frame that begins at the resync is a start frame again."""
+    cfg = make_config(**variant("recursive-r1")[0])
+    pixels = cfg.width * cfg.height
+    before = random_frames(cfg, 3, seed=30)       # frames 0, 1 and an interrupted frame 2
+    after = random_frames(cfg, 3, seed=31)
+    cut = 7
+    stream = frames_to_stream(before)[: 2 * pixels + cut] + frames_to_stream(after)
+    run = run_stream(DPPipeline(cfg), cfg, stream, valid_probability=0.8,
+                     ready_probability=0.7, seed=3)
+    first = family_reference_states(cfg, before)
+    second = family_reference_states(cfg, after)
+    assert_states_equal(run.outputs[: 2 * pixels], first[:2])
+    partial = first[2].reshape(-1, first.shape[-1])[:cut]
+    assert [list(o.values()) for o in run.outputs[2 * pixels: 2 * pixels + cut]] == \
+        partial.tolist()
+    assert_states_equal(run.outputs[2 * pixels + cut:], second)
+    assert second[0, ..., 1].max() == cfg.start_code       # a start frame after the resync

@@ -1,0 +1,27 @@
+"""A binary adder tree registered after every level: the shift-and-add multipliers' sum."""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Signal
+
+__all__ = ["registered_adder_tree"]
+
+
+def registered_adder_tree(m: Module, leaves: list, levels: int, shape):
+    """Sum ``leaves`` pairwise, one register level at a time, ``levels`` levels deep.
+
+    Level n adds neighbouring pairs (an odd last node passes through) into reset-less
+    registers ``sum_l{n}_{i}`` of ``shape``; ``levels`` must reduce the leaves to one
+    (``ceil(log2(len(leaves)))`` or more). Returns the root register.
+    """
+    nodes = leaves
+    for level in range(1, levels + 1):
+        merged = []
+        for index in range(0, len(nodes), 2):
+            total = nodes[index] if index + 1 == len(nodes) else nodes[index] + nodes[index + 1]
+            register = Signal(shape, name=f"sum_l{level}_{index // 2}", reset_less=True)
+            m.d.sync += register.eq(total)
+            merged.append(register)
+        nodes = merged
+    assert len(nodes) == 1
+    return nodes[0]
