@@ -16,7 +16,7 @@ from amaranth.lib.wiring import In, Out
 from dptbd.config import DPConfig
 from dptbd.hw.accumulator import Accumulator
 from dptbd.hw.controller import Controller
-from dptbd.hw.delay import delayed
+from dptbd.hw.delay import delayed, delayed_in_memory
 from dptbd.hw.layouts import event_layout, pixel_layout, state_layout, state_word_layout
 from dptbd.hw.line_buffer import LineBuffer
 from dptbd.hw.max_tree import MaxTree
@@ -26,7 +26,18 @@ from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.hw.window import Window
 
-__all__ = ["DPCore", "lut_write_members", "run_time_k_members", "state_events"]
+__all__ = ["DPCore", "LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS",
+           "lut_write_members", "run_time_k_members",
+           "state_events"]
+
+#: ``DPCore(line_buffer_style=…)`` and the line buffer memory's ``ram_style`` for each.
+LINE_BUFFER_RAM_STYLE = {"bram": None, "lutram": "distributed"}
+LINE_BUFFER_STYLES = tuple(LINE_BUFFER_RAM_STYLE)
+#: ``DPCore(sideband_delay=…)``.
+SIDEBAND_DELAYS = ("registers", "memory")
+#: DPCore's storage options (keyword arguments) with their allowed values; none changes
+#: behaviour or latency, the synthesis flow picks them per FPGA family.
+CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS}
 
 
 def lut_write_members(cfg: DPConfig) -> dict:
@@ -75,6 +86,21 @@ class DPCore(wiring.Component):
         logic (flip-flops and multiplexers, no block RAM), or ``"auto"`` (default: logic for
         r = 1, block RAM for r = 2). A synthesis choice only: behaviour and latency are the
         same. Anything else raises ``ValueError``.
+    line_buffer_style : {"bram", "lutram"}
+        Storage of the line buffer (:class:`~dptbd.hw.line_buffer.LineBuffer`): block RAM
+        (default) or LUT RAM (``"lutram"``: ``ram_style = "distributed"``, for ECP5, where
+        the block RAM's read is the critical path; on iCE40, which has no LUT RAM, it would
+        be built from logic). A synthesis choice only: behaviour and latency are the same.
+        The synthesis flow picks it per family (:mod:`dptbd.hw.flow.family`). Anything else
+        raises ``ValueError``.
+    sideband_delay : {"registers", "memory"}
+        How the pixel's side band (pixel value, position flags) is delayed from the fetch
+        stage to the accumulator (``best - fetch`` cycles, 7 for the default build):
+        a chain of registers (default), or a ring buffer in one small block RAM
+        (:func:`~dptbd.hw.delay.delayed_in_memory`; the ``valid`` bit stays in registers),
+        which saves ~90 iCE40 logic cells (a chained flip-flop costs a whole cell there)
+        and is what the flow builds for iCE40. Behaviour and latency are the same. Anything
+        else raises ``ValueError``.
 
     Members
     -------
@@ -100,7 +126,18 @@ class DPCore(wiring.Component):
     """
 
     def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
-                 lut_style: str = "auto"):
+                 lut_style: str = "auto", line_buffer_style: str = "bram",
+                 sideband_delay: str = "registers"):
+        # -- line buffer and side-band storage (timing / area work, issue 12 §4) --
+        if line_buffer_style not in LINE_BUFFER_STYLES:
+            raise ValueError(f"line_buffer_style must be one of {LINE_BUFFER_STYLES}, "
+                             f"got {line_buffer_style!r}")
+        if sideband_delay not in SIDEBAND_DELAYS:
+            raise ValueError(f"sideband_delay must be one of {SIDEBAND_DELAYS}, "
+                             f"got {sideband_delay!r}")
+        self._line_buffer_style = line_buffer_style
+        self._sideband_delay = sideband_delay
+        # -- end --
         self._schedule = check_supported(cfg)
         self._cfg = cfg
         self._lut_style = resolve_lut_style(cfg, lut_style)
@@ -142,6 +179,22 @@ class DPCore(wiring.Component):
         """The weight LUT's resolved storage: ``"bram"`` or ``"logic"``."""
         return self._lut_style
 
+    @property
+    def line_buffer_style(self) -> str:
+        """The line buffer's storage: ``"bram"`` or ``"lutram"``."""
+        return self._line_buffer_style
+
+    @property
+    def sideband_delay(self) -> str:
+        """How the side band is delayed: ``"registers"`` or ``"memory"``."""
+        return self._sideband_delay
+
+    @property
+    def core_options(self) -> dict:
+        """The storage options (:data:`CORE_OPTIONS`) this core was built with."""
+        return {"line_buffer_style": self._line_buffer_style,
+                "sideband_delay": self._sideband_delay}
+
     def elaborate(self, platform):
         m = Module()
         cfg = self._cfg
@@ -163,7 +216,8 @@ class DPCore(wiring.Component):
             self.state_store.read_en.eq(accept),
         ]
         m.submodules.line_buffer = line_buffer = LineBuffer(
-            state_word_layout(cfg), depth=cfg.width, taps=2 * cfg.radius)
+            state_word_layout(cfg), depth=cfg.width, taps=2 * cfg.radius,
+            ram_style=LINE_BUFFER_RAM_STYLE[self._line_buffer_style])
         m.d.comb += line_buffer.advance.eq(accept)
 
         # ---- cycle 1 (fetch): new window column --------------------------------------
@@ -226,7 +280,17 @@ class DPCore(wiring.Component):
             ]
 
         # ---- best -> state: accumulator -----------------------------------------------
-        at_best = delayed(m, sideband, sched.best - sched.fetch, name="sideband")
+        # -- side-band delay (area work, issue 12 §4): `valid` always in registers --
+        if self._sideband_delay == "memory":
+            late_valid = delayed(m, sideband.valid, sched.best - sched.fetch,
+                                 name="sideband_valid")
+            late_rest = delayed_in_memory(m, sideband.as_value()[1:], sched.best - sched.fetch,
+                                          name="sideband_memory")
+            at_best = Signal(sideband.shape(), name="sideband_best")
+            m.d.comb += at_best.as_value().eq(Cat(late_valid, late_rest))
+        else:
+            at_best = delayed(m, sideband, sched.best - sched.fetch, name="sideband")
+        # -- end --
         m.submodules.accumulator = accumulator = Accumulator(cfg)
         m.d.comb += [
             accumulator.best.eq(tree.best.value),
