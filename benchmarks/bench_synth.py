@@ -22,7 +22,12 @@ need and F = 0 for the binary LUT; see ``docs/synthesis.md``):
 
 ``DPCore``'s storage options are the family's (``Family.core_options``: iCE40 line buffer
 and side band in block RAM; ECP5 line buffer in LUT RAM, side band in registers) unless
-``--line-buffer-style`` / ``--sideband-delay`` say otherwise (``core`` / ``top`` cases).
+``--line-buffer-style`` / ``--sideband-delay`` / ``--max-tree`` say otherwise (``core`` /
+``top`` cases; ECP5 also splits each max-tree level over two stages).
+* ``core128-regio`` — ``core128`` behind a register on every port
+  (:class:`~dptbd.hw.flow.registered_ports.RegisteredPorts`): the core's Fmax as inside a
+  design, without the unconstrained pins pulling its port registers across the chip; its
+  cell counts include ~200 port registers.
 * ``tiny`` — an 8 x 6 pipeline with 2-bit pixels (seconds; a smoke test of the flow).
 
 ::
@@ -70,6 +75,8 @@ CASES = {
                     DPConfig(width=640, height=512).build_config(), "core", "auto"),
     "core128-r2": ("DPCore 128x128, radius 2, default build (external store)",
                    DPConfig(width=128, height=128, radius=2).build_config(), "core", "auto"),
+    "core128-regio": ("DPCore 128x128, default build, every port registered (Fmax only)",
+                      _DEFAULT.build_config(), "core-regio", "auto"),
     "tiny": ("DPCore 8x6, 2-bit pixels", DPConfig(width=8, height=6, segment_frames=2,
                                                   input_bits=2, energy_bits=4,
                                                   weight_frac_bits=0), "core", "auto"),
@@ -164,6 +171,9 @@ def main(argv=None) -> int:
     parser.add_argument("--sideband-delay", choices=CORE_OPTIONS["sideband_delay"],
                         help="DPCore side-band delay (default: the family's, memory on "
                              "iCE40, registers on ECP5)")
+    parser.add_argument("--max-tree", choices=CORE_OPTIONS["max_tree"],
+                        help="DPCore max tree, one or two stages per level (default: the "
+                             "family's, compact on iCE40, split on ECP5)")
     parser.add_argument("--no-breakdown", action="store_true",
                         help="skip the hierarchical synthesis (per-block table)")
     parser.add_argument("--workdir", type=pathlib.Path, default=pathlib.Path("build/synth"))
@@ -186,7 +196,7 @@ def main(argv=None) -> int:
                 warnings.simplefilter("ignore")
                 try:
                     fam = get_family(family)
-                    if variant != "core":
+                    if variant not in ("core", "core-regio"):
                         fam.check_on_chip_store(cfg, args.device or fam.default_device)
                 except ConfigError as exc:     # refused before any tool runs: say so, go on
                     print(f"[{family} {name}] refused: {exc}", file=sys.stderr, flush=True)

@@ -122,7 +122,8 @@ ICE40 = Family(
     block_rams={"lp384": (0, 4096), "lp1k": (16, 4096), "hx1k": (16, 4096),
                 "lp4k": (20, 4096), "hx4k": (20, 4096), "lp8k": (32, 4096),
                 "hx8k": (32, 4096), "up3k": (20, 4096), "up5k": (30, 4096)},
-    core_options={"line_buffer_style": "bram", "sideband_delay": "memory"})
+    core_options={"line_buffer_style": "bram", "sideband_delay": "memory",
+                  "max_tree": "compact"})
 
 #: ECP5 (nextpnr-ecp5): LFE5U-25F in the CABGA256 package (197 I/O), speed grade 6
 #: (nextpnr's default, the slowest), by default; ``"45k"`` is the LFE5U-45F.
@@ -134,7 +135,8 @@ ECP5 = Family(
     ff_bel="TRELLIS_FF", bram_bel="DP16KD", dsp_bel="MULT18X18D",
     block_rams={"12k": (32, 18432), "25k": (56, 18432), "45k": (108, 18432),
                 "85k": (208, 18432)},
-    core_options={"line_buffer_style": "lutram", "sideband_delay": "registers"})
+    core_options={"line_buffer_style": "lutram", "sideband_delay": "registers",
+                  "max_tree": "split"})
 
 #: name -> :class:`Family`.
 FAMILIES = {f.name: f for f in (ICE40, ECP5)}

@@ -70,8 +70,11 @@ __all__ = [
 ]
 
 #: ``"core"``: DPCore, state store outside (port ``state_store__*``); ``"top"``: DPPipeline
-#: (on-chip store); ``"segmenter"``: DPSegmenter (DPPipeline and Segmenter).
-VARIANTS = ("core", "top", "segmenter")
+#: (on-chip store); ``"segmenter"``: DPSegmenter (DPPipeline and Segmenter);
+#: ``"core-regio"``: DPCore behind a register on every port
+#: (:class:`~dptbd.hw.flow.registered_ports.RegisteredPorts`: its Fmax without the pins'
+#: pull on the core's registers; its cells include the port registers).
+VARIANTS = ("core", "top", "segmenter", "core-regio")
 
 VERILOG_NAME = "dptbd_dp.v"
 
@@ -180,7 +183,13 @@ def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: Ma
                    work: pathlib.Path) -> str:
     """The Verilog text of module ``dptbd_dp`` for ``variant`` (its manifest beside it for
     ``core`` / ``top``)."""
-    from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog  # Amaranth on demand
+    from dptbd.hw.flow.verilog import MODULE_NAME, build_top, generate_verilog  # on demand
+    if variant == "core-regio":
+        from amaranth.back import verilog
+        from dptbd.hw.flow.registered_ports import RegisteredPorts
+        core = build_top(cfg, external_state_store=True, lut_style=lut_style,
+                         core_options=core_options)
+        return verilog.convert(RegisteredPorts(core), name=MODULE_NAME, emit_src=False)
     if variant in ("core", "top"):
         text, _ = generate_verilog(cfg, external_state_store=(variant == "core"),
                                    lut_style=lut_style, core_options=core_options,
@@ -297,7 +306,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     package = fam.default_package if package is None else package
     target_mhz = fam.default_target_mhz if target_mhz is None else float(target_mhz)
     fam.check_device(device)
-    if variant != "core":
+    if variant not in ("core", "core-regio"):
         fam.check_on_chip_store(cfg, device)
     seeds = tuple(int(s) for s in seeds)
     if len(set(seeds)) != len(seeds):

@@ -1,5 +1,6 @@
 """DPCore with an external state store: a Python model of a one-cycle synchronous SRAM."""
 
+import itertools
 import random
 import re
 
@@ -12,10 +13,10 @@ from dptbd.hw.dp_pipeline import DPPipeline
 from hw_harness import (assert_states_equal, frames_to_stream, reference_states, refused,
                         run_stream)
 
-#: Every combination of DPCore's storage options (the iCE40 and ECP5 flows' among them).
-OPTION_SETS = [dict(line_buffer_style=lb, sideband_delay=sb)
-               for lb in CORE_OPTIONS["line_buffer_style"]
-               for sb in CORE_OPTIONS["sideband_delay"]]
+#: Every combination of DPCore's implementation options (the iCE40 and ECP5 flows' among
+#: them).
+OPTION_SETS = [dict(zip(CORE_OPTIONS, values))
+               for values in itertools.product(*CORE_OPTIONS.values())]
 
 
 def sram_model(bus, words, seed):
@@ -76,21 +77,25 @@ def test_storage_options_are_bit_exact(options, kw, n_frames):
 
 @pytest.mark.parametrize("options", OPTION_SETS, ids=lambda o: "-".join(o.values()))
 def test_storage_options_keep_the_cycle_count(options):
-    """Valid and ready always high: no bubble, the same latency (14) for every option."""
-    cfg = DPConfig(width=5, height=4, segment_frames=3)
+    """Valid and ready always high: no bubble; latency 14, or 14 + 4 with the split max
+    tree (two stages for each of the ceil(log2 9) = 4 levels)."""
+    cfg = DPConfig(width=6, height=5, segment_frames=3)
     dut = DPPipeline(cfg, **options)
-    assert dut.core_options == options and dut.latency == 14
+    latency = {"compact": 14, "split": 18}[options["max_tree"]]
+    assert dut.core_options == options and dut.latency == latency
+    assert dut.schedule.tree_levels == latency - 10
     frames = np.random.default_rng(3).integers(0, 256, size=(3, cfg.height, cfg.width))
     run = run_stream(dut, cfg, frames_to_stream(frames))
     assert_states_equal(run.outputs, reference_states(cfg, frames))
     total = 3 * cfg.width * cfg.height
     assert run.accept_cycles == list(range(1, 1 + total))
-    assert run.output_cycles == list(range(1 + 14, 1 + 14 + total))
+    assert run.output_cycles == list(range(1 + latency, 1 + latency + total))
 
 
 @pytest.mark.parametrize("option, bad, allowed", [
     ("line_buffer_style", "distributed", "('bram', 'lutram')"),
     ("sideband_delay", "bram", "('registers', 'memory')"),
+    ("max_tree", "fast", "('compact', 'split')"),
 ])
 def test_refuses_an_unknown_storage_option(option, bad, allowed):
     with refused(ValueError, rf"^{option} must be one of {re.escape(allowed)}, got '{bad}'$"):
