@@ -14,32 +14,18 @@ Latency ``2 * ceil(log2(count))``; :class:`~dptbd.hw.dp_core.DPCore` builds it w
 from __future__ import annotations
 
 from amaranth.hdl import Cat, Module, Mux, Signal
-from amaranth.lib import wiring
-from amaranth.lib.wiring import In, Out
 
-from dptbd.hw.max_tree import candidate_layout, tree_levels
+from dptbd.hw.max_tree import MaxTree, candidate_layout, tree_levels
 
 __all__ = ["SplitMaxTree"]
 
 
-class SplitMaxTree(wiring.Component):
+class SplitMaxTree(MaxTree):
     """Pipelined max/argmax of ``count`` candidates, two register stages per level.
 
     Parameters and members as :class:`~dptbd.hw.max_tree.MaxTree`; ``best`` comes
     :attr:`latency` = ``2 * ceil(log2(count))`` cycles after the candidates.
     """
-
-    def __init__(self, count: int, value_bits: int):
-        if count < 1:
-            raise ValueError(f"count must be an integer in [1, inf), got {count}")
-        self._count = count
-        self._value_bits = value_bits
-        self._index_bits = max(1, (count - 1).bit_length())
-        super().__init__({
-            "valid": In(count),
-            "values": In(value_bits).array(count),
-            "best": Out(candidate_layout(value_bits, self._index_bits)),
-        })
 
     @property
     def latency(self) -> int:
