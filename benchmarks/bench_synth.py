@@ -98,6 +98,12 @@ def _widths(res: SynthResult) -> str:
     return f"{p['input_bits']}/{p['energy_bits']}/{p['weight_frac_bits']}"
 
 
+def _options(res: SynthResult) -> str:
+    """The DPCore implementation options of a run, e.g. ``; line_buffer_style=lutram, …``."""
+    options = res.params.get("core_options") or {}
+    return "".join(f"; {key}={value}" for key, value in options.items())
+
+
 def markdown_table(rows: list[tuple[str, str, SynthResult]]) -> str:
     """One line per case and family: Yosys cells, nextpnr utilisation, Fmax, critical path."""
     head = ("| case | family / device | design | B_in/B_E/F | LUT4 | FF | carry | DSP | BRAM | "
@@ -116,7 +122,8 @@ def markdown_table(rows: list[tuple[str, str, SynthResult]]) -> str:
             path = (f"{cp.start} → {cp.end}: {cp.total_ns:.2f} ns ({cp.logic_ns:.2f} logic, "
                     f"{cp.routing_ns:.2f} routing)")
         lines.append(
-            f"| {name} | {res.family} {res.device} | {desc} | {_widths(res)} | {c.lut4} | "
+            f"| {name} | {res.family} {res.device} | {desc}{_options(res)} | {_widths(res)} | "
+            f"{c.lut4} | "
             f"{c.dff} | {c.carry} | {c.dsp} | {c.bram} | {_used(res, fam.logic_cell_bel)} | "
             f"{fits} | {seeds} | {_fmt_mhz(res.fmax_median_mhz)} | {path} |")
     return "\n".join(lines)
