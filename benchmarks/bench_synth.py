@@ -17,9 +17,17 @@ need and F = 0 for the binary LUT; see ``docs/synthesis.md``):
   on-chip state store (16384 words), default build.
 * ``core640x512`` — ``DPCore`` for a 640 x 512 infrared frame, state store outside,
   default build.
-* ``core128-lbram-lutram`` — ``core128`` with the line buffer's memory marked
-  ``(* ram_style = "distributed" *)`` in the Verilog (LUT RAM on ECP5; an experiment of
-  ``docs/synthesis.md``, "Towards 200 MHz on ECP5", not a gateware option).
+* ``core128-r2`` — ``DPCore`` 128 x 128 with radius 2 (25 moves, 5 x 5 window; issue 15),
+  default build (8/10/0), weight LUT in block RAM (``lut_style="auto"`` at r = 2).
+
+``DPCore``'s storage options are the family's (``Family.core_options``: iCE40 line buffer
+and side band in block RAM; ECP5 line buffer in LUT RAM, side band in registers) unless
+``--line-buffer-style`` / ``--sideband-delay`` / ``--max-tree`` say otherwise (``core`` /
+``top`` cases; ECP5 also splits each max-tree level over two stages).
+* ``core128-regio`` — ``core128`` behind a register on every port
+  (:class:`~dptbd.hw.flow.registered_ports.RegisteredPorts`): the core's Fmax as inside a
+  design, without the unconstrained pins pulling its port registers across the chip; its
+  cell counts include ~200 port registers.
 * ``tiny`` — an 8 x 6 pipeline with 2-bit pixels (seconds; a smoke test of the flow).
 
 ::
@@ -45,22 +53,13 @@ import time
 import warnings
 
 from dptbd.config import ConfigError, DPConfig
+from dptbd.hw.dp_core import CORE_OPTIONS
 from dptbd.hw.flow.synth import FAMILIES, CellCounts, SynthResult, get_family, synthesize
 
 _DEFAULT = DPConfig(width=128, height=128)
 
 
-def line_buffer_ram_style(style: str):
-    """A ``verilog_filter`` marking the line buffer's memory ``(* ram_style = style *)``."""
-    def apply(text: str) -> str:
-        start = text.index("module \\dptbd_dp.line_buffer")
-        match = re.compile(r"^(\s*)(reg \[\d+:0\] memory \[)", re.M).search(text, start)
-        return (text[:match.start()] + f'{match.group(1)}(* ram_style = "{style}" *)\n'
-                + text[match.start():])
-    return apply
-
-
-#: name -> (description, DPConfig, variant, lut_style[, verilog_filter])
+#: name -> (description, DPConfig, variant, lut_style)
 CASES = {
     "core128": ("DPCore 128x128, default build (external store)",
                 _DEFAULT.build_config(), "core", "auto"),
@@ -74,9 +73,10 @@ CASES = {
                      _DEFAULT.build_config(), "segmenter", "auto"),
     "core640x512": ("DPCore 640x512, default build (external store)",
                     DPConfig(width=640, height=512).build_config(), "core", "auto"),
-    "core128-lbram-lutram": ("DPCore 128x128, default build, line buffer in LUT RAM",
-                             _DEFAULT.build_config(), "core", "auto",
-                             line_buffer_ram_style("distributed")),
+    "core128-r2": ("DPCore 128x128, radius 2, default build (external store)",
+                   DPConfig(width=128, height=128, radius=2).build_config(), "core", "auto"),
+    "core128-regio": ("DPCore 128x128, default build, every port registered (Fmax only)",
+                      _DEFAULT.build_config(), "core-regio", "auto"),
     "tiny": ("DPCore 8x6, 2-bit pixels", DPConfig(width=8, height=6, segment_frames=2,
                                                   input_bits=2, energy_bits=4,
                                                   weight_frac_bits=0), "core", "auto"),
@@ -98,6 +98,12 @@ def _widths(res: SynthResult) -> str:
     return f"{p['input_bits']}/{p['energy_bits']}/{p['weight_frac_bits']}"
 
 
+def _options(res: SynthResult) -> str:
+    """The DPCore implementation options of a run, e.g. ``; line_buffer_style=lutram, …``."""
+    options = res.params.get("core_options") or {}
+    return "".join(f"; {key}={value}" for key, value in options.items())
+
+
 def markdown_table(rows: list[tuple[str, str, SynthResult]]) -> str:
     """One line per case and family: Yosys cells, nextpnr utilisation, Fmax, critical path."""
     head = ("| case | family / device | design | B_in/B_E/F | LUT4 | FF | carry | DSP | BRAM | "
@@ -116,7 +122,8 @@ def markdown_table(rows: list[tuple[str, str, SynthResult]]) -> str:
             path = (f"{cp.start} → {cp.end}: {cp.total_ns:.2f} ns ({cp.logic_ns:.2f} logic, "
                     f"{cp.routing_ns:.2f} routing)")
         lines.append(
-            f"| {name} | {res.family} {res.device} | {desc} | {_widths(res)} | {c.lut4} | "
+            f"| {name} | {res.family} {res.device} | {desc}{_options(res)} | {_widths(res)} | "
+            f"{c.lut4} | "
             f"{c.dff} | {c.carry} | {c.dsp} | {c.bram} | {_used(res, fam.logic_cell_bel)} | "
             f"{fits} | {seeds} | {_fmt_mhz(res.fmax_median_mhz)} | {path} |")
     return "\n".join(lines)
@@ -165,6 +172,15 @@ def main(argv=None) -> int:
     parser.add_argument("--package", help="nextpnr package (default: the family's)")
     parser.add_argument("--speed", type=int, choices=(6, 7, 8),
                         help="ECP5 speed grade (nextpnr --speed; default nextpnr's, 6)")
+    parser.add_argument("--line-buffer-style", choices=CORE_OPTIONS["line_buffer_style"],
+                        help="DPCore line buffer storage (default: the family's, block RAM "
+                             "on iCE40, LUT RAM on ECP5)")
+    parser.add_argument("--sideband-delay", choices=CORE_OPTIONS["sideband_delay"],
+                        help="DPCore side-band delay (default: the family's, memory on "
+                             "iCE40, registers on ECP5)")
+    parser.add_argument("--max-tree", choices=CORE_OPTIONS["max_tree"],
+                        help="DPCore max tree, one or two stages per level (default: the "
+                             "family's, compact on iCE40, split on ECP5)")
     parser.add_argument("--no-breakdown", action="store_true",
                         help="skip the hierarchical synthesis (per-block table)")
     parser.add_argument("--workdir", type=pathlib.Path, default=pathlib.Path("build/synth"))
@@ -175,17 +191,19 @@ def main(argv=None) -> int:
     if args.json is not None and args.json.exists() and not args.force:
         parser.error(f"{args.json} exists; pass --force to overwrite it")
 
+    core_options = {key: getattr(args, key) for key in CORE_OPTIONS
+                    if getattr(args, key) is not None}
     rows, figures, refused = [], {}, []
     for family in args.families:
         for name in args.cases:
-            desc, cfg, variant, lut_style, *verilog_filter = CASES[name]
+            desc, cfg, variant, lut_style = CASES[name]
             start = time.monotonic()
             print(f"[{family} {name}] {desc}: synthesising …", file=sys.stderr, flush=True)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 try:
                     fam = get_family(family)
-                    if variant != "core":
+                    if variant not in ("core", "core-regio"):
                         fam.check_on_chip_store(cfg, args.device or fam.default_device)
                 except ConfigError as exc:     # refused before any tool runs: say so, go on
                     print(f"[{family} {name}] refused: {exc}", file=sys.stderr, flush=True)
@@ -196,9 +214,10 @@ def main(argv=None) -> int:
                                  package=args.package, target_mhz=args.freq, jobs=args.jobs,
                                  yosys_timeout=args.timeout, nextpnr_timeout=args.timeout,
                                  lut_style=lut_style, breakdown=not args.no_breakdown,
+                                 core_options=(core_options if variant != "segmenter"
+                                               else None),
                                  nextpnr_args=(("--speed", str(args.speed))
-                                               if args.speed and family == "ecp5" else ()),
-                                 verilog_filter=verilog_filter[0] if verilog_filter else None)
+                                               if args.speed and family == "ecp5" else ()))
             wall = time.monotonic() - start
             print(f"[{family} {name}] done in {wall:.0f} s (yosys {res.yosys_seconds:.0f} s, "
                   f"nextpnr {', '.join(f'{r.seconds:.0f}' for r in res.runs) or '—'} s); "

@@ -31,6 +31,7 @@ from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
+from dptbd.hw.modular import increment_mod
 from dptbd.hw.schedule import read_ahead_distance
 
 __all__ = ["position_layout", "clamped", "Controller"]
@@ -144,13 +145,13 @@ class Controller(wiring.Component):
 
         with m.If(self.accept):
             m.d.sync += [
-                col.eq(Mux(last_col, 0, eff_col + 1)),
-                ahead.eq(Mux(eff_ahead == pixels - 1, 0, eff_ahead + 1)),
+                col.eq(increment_mod(eff_col, width)),
+                ahead.eq(increment_mod(eff_ahead, pixels)),
                 at_start.eq(end_of_frame),
                 frames.eq(eff_frames),
             ]
             with m.If(last_col):
-                m.d.sync += row.eq(Mux(last_row, 0, eff_row + 1))
+                m.d.sync += row.eq(increment_mod(eff_row, height))
             with m.Else():
                 m.d.sync += row.eq(eff_row)
             with m.If(end_of_frame):

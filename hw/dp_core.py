@@ -16,7 +16,7 @@ from amaranth.lib.wiring import In, Out
 from dptbd.config import DPConfig
 from dptbd.hw.accumulator import Accumulator, ClampedAccumulator
 from dptbd.hw.controller import Controller
-from dptbd.hw.delay import delayed
+from dptbd.hw.delay import delayed, delayed_in_memory
 from dptbd.hw.family_blocks import FamilyBlocks
 from dptbd.hw.forgetting_multiplier import ForgettingMultiplier
 from dptbd.hw.layouts import event_layout, pixel_layout, state_layout, state_word_layout
@@ -25,14 +25,27 @@ from dptbd.hw.max_tree import MaxTree
 from dptbd.hw.merit_lut import MeritLUT
 from dptbd.hw.penalised_candidate import PenalisedCandidate
 from dptbd.hw.penalty_lut import PenaltyLUT
-from dptbd.hw.schedule import PipelineSchedule, check_supported
+from dptbd.hw.pipelined_max import SplitMaxTree
+from dptbd.hw.schedule import MAX_TREE_STAGES, PipelineSchedule, check_supported
 from dptbd.hw.state_store import StateStoreSignature
 from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.hw.window import Window
 
-__all__ = ["DPCore", "lut_write_members", "family_write_members", "family_write_ports",
+__all__ = ["DPCore", "LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS",
+           "lut_write_members", "family_write_members", "family_write_ports",
            "run_time_k_members", "state_events"]
+
+#: ``DPCore(line_buffer_style=…)`` and the line buffer memory's ``ram_style`` for each.
+LINE_BUFFER_RAM_STYLE = {"bram": None, "lutram": "distributed"}
+LINE_BUFFER_STYLES = tuple(LINE_BUFFER_RAM_STYLE)
+#: ``DPCore(sideband_delay=…)``.
+SIDEBAND_DELAYS = ("registers", "memory")
+#: DPCore's implementation options (keyword arguments) with their allowed values; none
+#: changes behaviour (``max_tree`` changes the latency), the synthesis flow picks them per
+#: FPGA family.
+CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS,
+                "max_tree": tuple(MAX_TREE_STAGES)}
 
 
 def lut_write_members(cfg: DPConfig) -> dict:
@@ -102,13 +115,35 @@ class DPCore(wiring.Component):
         The configuration; refused with :class:`~dptbd.config.ConfigError` when the
         gateware does not implement it (:func:`~dptbd.hw.schedule.check_supported`).
     output_fifo_depth : int or None
-        Entries of the output FIFO. ``None`` (default) is ``latency + 1``, the least that
-        sustains one pixel per clock without back-pressure; at least 3.
+        Entries of the output FIFO. ``None`` (default) is ``latency + 2``, the least that
+        sustains one pixel per clock without back-pressure with the input credit decided a
+        cycle early (see "credits" in the source); at least 3.
     lut_style : {"auto", "bram", "logic"}
         Storage of the weight LUT (:class:`~dptbd.hw.weight_lut.WeightLUT`): block RAM,
         logic (flip-flops and multiplexers, no block RAM), or ``"auto"`` (default: logic for
         r = 1, block RAM for r = 2). A synthesis choice only: behaviour and latency are the
         same. Anything else raises ``ValueError``.
+    line_buffer_style : {"bram", "lutram"}
+        Storage of the line buffer (:class:`~dptbd.hw.line_buffer.LineBuffer`): block RAM
+        (default) or LUT RAM (``"lutram"``: ``ram_style = "distributed"``, for ECP5, where
+        the block RAM's read is the critical path; on iCE40, which has no LUT RAM, it would
+        be built from logic). A synthesis choice only: behaviour and latency are the same.
+        The synthesis flow picks it per family (:mod:`dptbd.hw.flow.family`). Anything else
+        raises ``ValueError``.
+    sideband_delay : {"registers", "memory"}
+        How the pixel's side band (pixel value, position flags) is delayed from the fetch
+        stage to the accumulator (``best - fetch`` cycles, 7 for the default build):
+        a chain of registers (default), or a ring buffer in one small block RAM
+        (:func:`~dptbd.hw.delay.delayed_in_memory`; the ``valid`` bit stays in registers),
+        which saves ~90 iCE40 logic cells (a chained flip-flop costs a whole cell there)
+        and is what the flow builds for iCE40. Behaviour and latency are the same. Anything
+        else raises ``ValueError``.
+    max_tree : {"compact", "split"}
+        The max/argmax tree: :class:`~dptbd.hw.max_tree.MaxTree` (default, one register
+        stage per level) or :class:`~dptbd.hw.pipelined_max.SplitMaxTree` (compare and
+        select in two stages per level: ``ceil(log2(M))`` cycles more latency, counted by
+        :class:`~dptbd.hw.schedule.PipelineSchedule`; what the flow builds for ECP5).
+        Behaviour is the same. Anything else raises ``ValueError``.
 
     Members
     -------
@@ -140,12 +175,24 @@ class DPCore(wiring.Component):
     """
 
     def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
-                 lut_style: str = "auto"):
-        self._schedule = check_supported(cfg)
+                 lut_style: str = "auto", line_buffer_style: str = "bram",
+                 sideband_delay: str = "registers", max_tree: str = "compact"):
+        # -- line buffer and side-band storage (timing / area work, issue 12 §4) --
+        if line_buffer_style not in LINE_BUFFER_STYLES:
+            raise ValueError(f"line_buffer_style must be one of {LINE_BUFFER_STYLES}, "
+                             f"got {line_buffer_style!r}")
+        if sideband_delay not in SIDEBAND_DELAYS:
+            raise ValueError(f"sideband_delay must be one of {SIDEBAND_DELAYS}, "
+                             f"got {sideband_delay!r}")
+        self._line_buffer_style = line_buffer_style
+        self._sideband_delay = sideband_delay
+        self._max_tree = max_tree
+        self._schedule = check_supported(cfg, max_tree=max_tree)   # refuses a bad max_tree
+        # -- end --
         self._cfg = cfg
         self._lut_style = resolve_lut_style(cfg, lut_style)
         if output_fifo_depth is None:
-            output_fifo_depth = self._schedule.latency + 1
+            output_fifo_depth = self._schedule.latency + 2
         if output_fifo_depth < 3:
             raise ValueError(f"output_fifo_depth must be an integer in [3, inf), got {output_fifo_depth}")
         self._fifo_depth = output_fifo_depth
@@ -183,6 +230,22 @@ class DPCore(wiring.Component):
         """The weight LUT's resolved storage: ``"bram"`` or ``"logic"``."""
         return self._lut_style
 
+    @property
+    def line_buffer_style(self) -> str:
+        """The line buffer's storage: ``"bram"`` or ``"lutram"``."""
+        return self._line_buffer_style
+
+    @property
+    def sideband_delay(self) -> str:
+        """How the side band is delayed: ``"registers"`` or ``"memory"``."""
+        return self._sideband_delay
+
+    @property
+    def core_options(self) -> dict:
+        """The storage options (:data:`CORE_OPTIONS`) this core was built with."""
+        return {"line_buffer_style": self._line_buffer_style,
+                "sideband_delay": self._sideband_delay, "max_tree": self._max_tree}
+
     def elaborate(self, platform):
         m = Module()
         cfg = self._cfg
@@ -205,7 +268,8 @@ class DPCore(wiring.Component):
             self.state_store.read_en.eq(accept),
         ]
         m.submodules.line_buffer = line_buffer = LineBuffer(
-            state_word_layout(cfg), depth=cfg.width, taps=2 * cfg.radius)
+            state_word_layout(cfg), depth=cfg.width, taps=2 * cfg.radius,
+            ram_style=LINE_BUFFER_RAM_STYLE[self._line_buffer_style])
         m.d.comb += line_buffer.advance.eq(accept)
 
         # ---- cycle 1 (fetch): new window column --------------------------------------
@@ -275,8 +339,9 @@ class DPCore(wiring.Component):
         # Each multiplier also gets its move's edge flag at the code's cycle: an
         # out-of-image predecessor weighs 0 (WeightedCandidate), so what its cell holds
         # (power-up garbage, X in a 4-state simulator) never reaches the max tree.
-        m.submodules.max_tree = tree = MaxTree(moves, value_shape.width,
-                                               signed=blocks.signed_candidates)
+        tree_kind = SplitMaxTree if self._max_tree == "split" else MaxTree   # timing work
+        m.submodules.max_tree = tree = tree_kind(moves, value_shape.width,
+                                                 signed=blocks.signed_candidates)
         inside_at_code = delayed(m, window.inside, sched.code - sched.window,
                                  name="inside_code", reset_less=True)
         inside = delayed(m, inside_at_code, sched.weighted - sched.code, name="inside",
@@ -317,7 +382,17 @@ class DPCore(wiring.Component):
         # ---- end of paper 000's family -------------------------------------------------
 
         # ---- faded (= best) -> state: accumulator ------------------------------------
-        at_best = delayed(m, sideband, sched.faded - sched.fetch, name="sideband")
+        # -- side-band delay (area work, issue 12 §4): `valid` always in registers --
+        if self._sideband_delay == "memory":
+            late_valid = delayed(m, sideband.valid, sched.faded - sched.fetch,
+                                 name="sideband_valid")
+            late_rest = delayed_in_memory(m, sideband.as_value()[1:], sched.faded - sched.fetch,
+                                          name="sideband_memory")
+            at_best = Signal(sideband.shape(), name="sideband_best")
+            m.d.comb += at_best.as_value().eq(Cat(late_valid, late_rest))
+        else:
+            at_best = delayed(m, sideband, sched.faded - sched.fetch, name="sideband")
+        # -- end --
         if blocks.clamped_accumulator:  # paper 000's family (§8.5)
             m.submodules.accumulator = accumulator = ClampedAccumulator(cfg, value_shape)
             m.d.comb += [
@@ -372,12 +447,20 @@ class DPCore(wiring.Component):
 
         # ---- credits: accept only what the FIFO is sure to have room for -------------
         # `committed` counts pixels accepted but not yet handed out on `states`: those in
-        # flight plus those in the FIFO. Input ready is registered from its next value.
+        # flight plus those in the FIFO. (timing work, issue 12 §4) The decision is taken
+        # a cycle early into `ready_early`, which `pixels.ready` only copies: ready in cycle
+        # t+1 iff committed(t) < depth - 1, since committed(t+1) <= committed(t) + 1. So the
+        # ready register no longer closes a loop through the high-fan-out acceptance net
+        # and the counter's adder (on ECP5 that loop was the critical path); the price is
+        # one FIFO entry (the default depth latency + 2 keeps one pixel per clock).
         committed = Signal(range(self._fifo_depth + 1))
         handed_out = self.states.valid & self.states.ready
-        committed_next = committed + accept - handed_out
+        committed_next = Signal(range(-1, self._fifo_depth + 2))
+        ready_early = Signal(init=1)     # committed(1) = 0 after a reset
+        m.d.comb += committed_next.eq(committed + accept - handed_out)
         m.d.sync += [
             committed.eq(committed_next),
-            input_ready.eq(committed_next < self._fifo_depth),
+            ready_early.eq(committed_next < self._fifo_depth - 1),
+            input_ready.eq(ready_early),
         ]
         return m

@@ -34,6 +34,9 @@ class DPPipeline(wiring.Component):
         Storage of the weight LUT, see :class:`~dptbd.hw.dp_core.DPCore`. The default
         ``"auto"`` puts the r = 1 table in logic, which is what lets the 64 x 64 top level
         fit the iCE40-HX8K's 32 block RAMs (``docs/gateware.md``, "Weight LUT storage").
+    **core_options
+        ``line_buffer_style``, ``sideband_delay``: storage options of
+        :class:`~dptbd.hw.dp_core.DPCore`, passed on.
 
     Members
     -------
@@ -65,8 +68,9 @@ class DPPipeline(wiring.Component):
     """
 
     def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
-                 lut_style: str = "auto"):
-        self._core = DPCore(cfg, output_fifo_depth=output_fifo_depth, lut_style=lut_style)
+                 lut_style: str = "auto", **core_options):
+        self._core = DPCore(cfg, output_fifo_depth=output_fifo_depth, lut_style=lut_style,
+                            **core_options)
         self._cfg = cfg
         super().__init__({
             "pixels": In(stream.Signature(pixel_layout(cfg))),
@@ -100,6 +104,11 @@ class DPPipeline(wiring.Component):
     def output_fifo_depth(self) -> int:
         """Entries of the output FIFO."""
         return self._core.output_fifo_depth
+
+    @property
+    def core_options(self) -> dict:
+        """The core's storage options (:attr:`DPCore.core_options`)."""
+        return self._core.core_options
 
     @property
     def lut_style(self) -> str:

@@ -21,7 +21,12 @@ from amaranth.lib import wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-__all__ = ["LineBuffer"]
+from dptbd.hw.modular import increment_mod
+
+__all__ = ["RAM_STYLES", "LineBuffer"]
+
+#: ``LineBuffer(ram_style=…)``: inferred (block RAM) or LUT RAM.
+RAM_STYLES = (None, "distributed")
 
 
 class LineBuffer(wiring.Component):
@@ -38,6 +43,11 @@ class LineBuffer(wiring.Component):
         Number of delay lines (2r), >= 1.
     registered_read : bool
         Register the memory's read data (module docstring); needs ``depth`` >= 3.
+    ram_style : {None, "distributed"}
+        Synthesis attribute of the memory: ``None`` (default) leaves it to RAM inference
+        (a block RAM), ``"distributed"`` asks Yosys for LUT RAM (ECP5 ``TRELLIS_DPR16X4``,
+        no block RAM clock-to-out on the read path; ``docs/synthesis.md``, "Towards 200 MHz
+        on ECP5"). Behaviour and timing are the same either way.
 
     Members
     -------
@@ -56,7 +66,10 @@ class LineBuffer(wiring.Component):
     the cycle after each advance.
     """
 
-    def __init__(self, shape, depth: int, taps: int, *, registered_read: bool = False):
+    def __init__(self, shape, depth: int, taps: int, *, registered_read: bool = False,
+                 ram_style: str | None = None):
+        if ram_style not in RAM_STYLES:
+            raise ValueError(f"ram_style must be one of {RAM_STYLES}, got {ram_style!r}")
         low = 3 if registered_read else 2
         if depth < low:
             raise ValueError(f"depth must be an integer in [{low}, inf), got {depth}")
@@ -66,6 +79,7 @@ class LineBuffer(wiring.Component):
         self._depth = depth
         self._n_taps = taps
         self._registered_read = bool(registered_read)
+        self._ram_style = ram_style
         super().__init__({
             "advance": In(1),
             "data_in": In(shape),
@@ -82,7 +96,8 @@ class LineBuffer(wiring.Component):
         entry_bits = Shape.cast(self._shape).width
         n_taps = self._n_taps
         m.submodules.memory = memory = Memory(
-            shape=unsigned(entry_bits * n_taps), depth=self._depth, init=[])
+            shape=unsigned(entry_bits * n_taps), depth=self._depth, init=[],
+            attrs=None if self._ram_style is None else {"ram_style": self._ram_style})
         read = memory.read_port(domain="sync")
         write = memory.write_port(domain="sync")
 
@@ -91,7 +106,7 @@ class LineBuffer(wiring.Component):
         write_pointer = Signal(range(self._depth))
         write_pending = Signal()
         m.d.comb += pointer_next.eq(
-            Mux(self.advance, Mux(pointer == self._depth - 1, 0, pointer + 1), pointer))
+            Mux(self.advance, increment_mod(pointer, self._depth), pointer))
         m.d.sync += [
             pointer.eq(pointer_next),
             write_pointer.eq(pointer),

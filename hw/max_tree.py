@@ -88,8 +88,8 @@ class MaxTree(wiring.Component):
         """Register levels, ``ceil(log2(count))`` (0 for a single candidate)."""
         return tree_levels(self._count)
 
-    def elaborate(self, platform):
-        m = Module()
+    def _leaves(self, m: Module) -> list:
+        """The ``count`` leaf candidates (``valid``, ``value``, ``index``), in index order."""
         layout = candidate_layout(self._value_bits, self._index_bits, self._signed)
         nodes = []
         for index in range(self._count):
@@ -100,7 +100,19 @@ class MaxTree(wiring.Component):
                 leaf.index.eq(index),
             ]
             nodes.append(leaf)
+        return nodes
 
+    def _take_right(self, left, right):
+        """A node's rule: right.valid & (~left.valid | right.value > left.value), as one
+        comparison with ``valid`` as the most significant bit: one carry chain. (When both
+        are invalid either may pass; the result stays invalid.)"""
+        return (Cat(_order_key(right.value, self._signed), right.valid)
+                > Cat(_order_key(left.value, self._signed), left.valid))
+
+    def elaborate(self, platform):
+        m = Module()
+        layout = candidate_layout(self._value_bits, self._index_bits, self._signed)
+        nodes = self._leaves(m)
         level = 0
         while len(nodes) > 1:
             level += 1
@@ -111,12 +123,7 @@ class MaxTree(wiring.Component):
                     m.d.sync += node.eq(nodes[pair])
                 else:
                     left, right = nodes[pair], nodes[pair + 1]
-                    # right.valid & (~left.valid | right.value > left.value), as one
-                    # comparison with `valid` as the most significant bit: one carry chain.
-                    # (When both are invalid either may pass; the result stays invalid.)
-                    take_right = (Cat(_order_key(right.value, self._signed), right.valid)
-                                  > Cat(_order_key(left.value, self._signed), left.valid))
-                    m.d.sync += node.eq(Mux(take_right, right, left))
+                    m.d.sync += node.eq(Mux(self._take_right(left, right), right, left))
                 merged.append(node)
             nodes = merged
         m.d.comb += self.best.eq(nodes[0])

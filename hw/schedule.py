@@ -18,12 +18,15 @@ import dataclasses
 from dptbd.config import ConfigError, DPConfig
 from dptbd.hw.family_blocks import FamilyBlocks, forgetting_leaves
 
-__all__ = ["PipelineSchedule", "read_ahead_distance", "check_supported",
+__all__ = ["MAX_TREE_STAGES", "PipelineSchedule", "read_ahead_distance", "check_supported",
            "MERIT_LUT_MAX_INPUT_BITS"]
 
 #: The largest B_in for which the gateware builds a merit LUT (2**12 entries of at most
 #: B_E + 1 bits: 135 kbit at B_E = 32, within an ECP5-25k's 1008 kbit of block RAM).
 MERIT_LUT_MAX_INPUT_BITS = 12
+
+#: ``DPCore(max_tree=…)``: register stages per tree level (MaxTree 1, SplitMaxTree 2).
+MAX_TREE_STAGES = {"compact": 1, "split": 2}
 
 
 def _ceil_log2(n: int) -> int:
@@ -55,7 +58,8 @@ class PipelineSchedule:
     penalised : int
         The M candidates V = C - Qc enter the max tree: ``weighted + penalty_levels``.
     tree_levels : int
-        Register levels of the max/argmax tree: ``ceil(log2(M))``.
+        Register stages of the max/argmax tree: ``ceil(log2(M))``, twice that with
+        ``max_tree="split"`` (:class:`~dptbd.hw.pipelined_max.SplitMaxTree`).
     best : int
         The best candidate and its move index are registered: ``penalised + tree_levels``.
     forgetting_levels : int
@@ -93,12 +97,17 @@ class PipelineSchedule:
     faded: int = 0
 
     @classmethod
-    def from_config(cls, cfg: DPConfig) -> "PipelineSchedule":
-        """The schedule of the pipeline built for ``cfg``."""
+    def from_config(cls, cfg: DPConfig, *, max_tree: str = "compact") -> "PipelineSchedule":
+        """The schedule of the pipeline built for ``cfg`` (and ``DPCore(max_tree=…)``:
+        ``"compact"``, one register stage per tree level, or ``"split"``, two)."""
+        if max_tree not in MAX_TREE_STAGES:
+            raise ValueError(f"max_tree must be one of {tuple(MAX_TREE_STAGES)}, "
+                             f"got {max_tree!r}")
         frac = cfg.weight_frac_bits
         rows = frac + 1 + (1 if frac >= 1 else 0)  # partial products + rounding constant
         multiplier_levels = max(1, _ceil_log2(rows))
-        tree_levels = _ceil_log2(cfg.n_moves)  # = max_tree.tree_levels(M)
+        # = max_tree.tree_levels(M) stages per level (SplitMaxTree: 2)
+        tree_levels = MAX_TREE_STAGES[max_tree] * _ceil_log2(cfg.n_moves)
         fetch, window, code = 1, 2, 3
         weighted = code + multiplier_levels
         # ---- paper 000's family (docs/arithmetic.md §8): stages exist only when built ----
@@ -128,8 +137,9 @@ def read_ahead_distance(cfg: DPConfig) -> int:
     return cfg.radius * (cfg.width + 1)
 
 
-def check_supported(cfg: DPConfig) -> PipelineSchedule:
-    """Refuse configurations the gateware does not implement; return the schedule otherwise.
+def check_supported(cfg: DPConfig, *, max_tree: str = "compact") -> PipelineSchedule:
+    """Refuse configurations the gateware does not implement; return the schedule otherwise
+    (for ``DPCore(max_tree=…)``, see :meth:`PipelineSchedule.from_config`).
 
     Raises
     ------
@@ -157,7 +167,7 @@ def check_supported(cfg: DPConfig) -> PipelineSchedule:
             f"segment_stride={cfg.segment_stride} is not supported by the gateware: only "
             f"non-overlapping segments (segment_stride == segment_frames == "
             f"{cfg.segment_frames}) are implemented, with a single state store")
-    schedule = PipelineSchedule.from_config(cfg)
+    schedule = PipelineSchedule.from_config(cfg, max_tree=max_tree)
     pixels = cfg.width * cfg.height
     ahead = read_ahead_distance(cfg)
     if pixels - ahead <= schedule.write_latency:

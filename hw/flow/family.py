@@ -50,6 +50,14 @@ class Family:
     block_rams : Mapping[str, tuple[int, int]]
         Per device: (block RAMs, bits per block RAM), from the vendors' data sheets
         (iCE40: 4 kbit EBRs; ECP5: 18 kbit DP16KD). A device not listed is not checked.
+    core_options : Mapping[str, str]
+        The :data:`~dptbd.hw.dp_core.CORE_OPTIONS` the flow builds ``DPCore`` with for this
+        family (none changes behaviour or latency; ``docs/synthesis.md``, "Per-family
+        storage options"). iCE40: line buffer in block RAM (no LUT RAM; its block RAM read
+        is fast) and the side band in a block RAM ring buffer (a chained flip-flop costs a
+        whole logic cell). ECP5: line buffer in LUT RAM (the DP16KD read without an output
+        register limits the core to ~120 MHz) and the side band in registers (an ECP5 slice
+        has its flip-flops beside its LUTs).
     """
 
     name: str
@@ -65,6 +73,7 @@ class Family:
     bram_bel: str
     dsp_bel: str
     block_rams: Mapping[str, tuple[int, int]] = dataclasses.field(default_factory=dict)
+    core_options: Mapping[str, str] = dataclasses.field(default_factory=dict)
 
     def check_on_chip_store(self, cfg: DPConfig, device: str) -> None:
         """Refuse a W x H state store that cannot fit ``device``'s block RAM.
@@ -112,7 +121,9 @@ ICE40 = Family(
     ff_bel="ICESTORM_LC", bram_bel="ICESTORM_RAM", dsp_bel="",
     block_rams={"lp384": (0, 4096), "lp1k": (16, 4096), "hx1k": (16, 4096),
                 "lp4k": (20, 4096), "hx4k": (20, 4096), "lp8k": (32, 4096),
-                "hx8k": (32, 4096), "up3k": (20, 4096), "up5k": (30, 4096)})
+                "hx8k": (32, 4096), "up3k": (20, 4096), "up5k": (30, 4096)},
+    core_options={"line_buffer_style": "bram", "sideband_delay": "memory",
+                  "max_tree": "compact"})
 
 #: ECP5 (nextpnr-ecp5): LFE5U-25F in the CABGA256 package (197 I/O), speed grade 6
 #: (nextpnr's default, the slowest), by default; ``"45k"`` is the LFE5U-45F.
@@ -123,7 +134,9 @@ ECP5 = Family(
     unconstrained_flag="--lpf-allow-unconstrained", logic_cell_bel="TRELLIS_COMB",
     ff_bel="TRELLIS_FF", bram_bel="DP16KD", dsp_bel="MULT18X18D",
     block_rams={"12k": (32, 18432), "25k": (56, 18432), "45k": (108, 18432),
-                "85k": (208, 18432)})
+                "85k": (208, 18432)},
+    core_options={"line_buffer_style": "lutram", "sideband_delay": "registers",
+                  "max_tree": "split"})
 
 #: name -> :class:`Family`.
 FAMILIES = {f.name: f for f in (ICE40, ECP5)}

@@ -70,8 +70,11 @@ __all__ = [
 ]
 
 #: ``"core"``: DPCore, state store outside (port ``state_store__*``); ``"top"``: DPPipeline
-#: (on-chip store); ``"segmenter"``: DPSegmenter (DPPipeline and Segmenter).
-VARIANTS = ("core", "top", "segmenter")
+#: (on-chip store); ``"segmenter"``: DPSegmenter (DPPipeline and Segmenter);
+#: ``"core-regio"``: DPCore behind a register on every port
+#: (:class:`~dptbd.hw.flow.registered_ports.RegisteredPorts`: its Fmax without the pins'
+#: pull on the core's registers; its cells include the port registers).
+VARIANTS = ("core", "top", "segmenter", "core-regio")
 
 VERILOG_NAME = "dptbd_dp.v"
 
@@ -176,17 +179,42 @@ def _config_params(cfg: DPConfig) -> dict:
     return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg) if f.name != "weights"}
 
 
-def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, work: pathlib.Path) -> str:
+def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: Mapping,
+                   work: pathlib.Path) -> str:
     """The Verilog text of module ``dptbd_dp`` for ``variant`` (its manifest beside it for
     ``core`` / ``top``)."""
-    from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog  # Amaranth on demand
+    from dptbd.hw.flow.verilog import MODULE_NAME, build_top, generate_verilog  # on demand
+    if variant == "core-regio":
+        from amaranth.back import verilog
+        from dptbd.hw.flow.registered_ports import RegisteredPorts
+        core = build_top(cfg, external_state_store=True, lut_style=lut_style,
+                         core_options=core_options)
+        return verilog.convert(RegisteredPorts(core), name=MODULE_NAME, emit_src=False)
     if variant in ("core", "top"):
         text, _ = generate_verilog(cfg, external_state_store=(variant == "core"),
-                                   lut_style=lut_style, manifest_path=work / "dptbd_dp.json")
+                                   lut_style=lut_style, core_options=core_options,
+                                   manifest_path=work / "dptbd_dp.json")
         return text
     from amaranth.back import verilog
     from dptbd.hw.dp_segmenter_top import DPSegmenter
     return verilog.convert(DPSegmenter(cfg), name=MODULE_NAME, emit_src=False)
+
+
+def _core_options(fam: Family, variant: str, core_options: Mapping | None) -> dict:
+    """The DPCore storage options of a run: the family's, overridden by ``core_options``."""
+    from dptbd.hw.dp_core import CORE_OPTIONS
+    given = dict(core_options or {})
+    if variant == "segmenter":
+        if given:
+            raise ValueError(f"core_options must be empty for variant 'segmenter', got {given}")
+        return {}
+    for key, value in given.items():
+        if key not in CORE_OPTIONS:
+            raise ValueError(f"core_options keys must be in {tuple(CORE_OPTIONS)}, got {key!r}")
+        if value not in CORE_OPTIONS[key]:
+            raise ValueError(f"core_options[{key!r}] must be one of {CORE_OPTIONS[key]}, "
+                             f"got {value!r}")
+    return {**fam.core_options, **given}
 
 
 def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
@@ -195,7 +223,8 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
                workdir: str | pathlib.Path | None = None, jobs: int = 1,
                yosys: str = YOSYS, nextpnr: str | None = None,
                yosys_timeout: float = 1800, nextpnr_timeout: float = 1800,
-               lut_style: str = "auto", breakdown: bool = False,
+               lut_style: str = "auto", core_options: Mapping[str, str] | None = None,
+               breakdown: bool = False,
                nextpnr_args: Sequence[str] = (),
                verilog_filter: Callable[[str], str] | None = None) -> SynthResult:
     """Generate, synthesise and place-and-route the gateware for ``cfg``.
@@ -235,6 +264,14 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         (:class:`~dptbd.hw.weight_lut.WeightLUT`); the resolved style is
         ``SynthResult.params["lut_style"]``. ``ValueError`` for anything else, and for
         anything but ``"auto"`` with the ``segmenter`` variant (which has no such option).
+    core_options : Mapping[str, str], optional
+        ``DPCore``'s storage options (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`) for the
+        ``core`` and ``top`` variants, over the family's
+        (:attr:`~dptbd.hw.flow.family.Family.core_options`: iCE40 line buffer in block RAM
+        and side band in a block RAM; ECP5 line buffer in LUT RAM and side band in
+        registers). Recorded in ``SynthResult.params["core_options"]``. ``ValueError`` for
+        an unknown option or value, and for any option with the ``segmenter`` variant
+        (built with DPCore's defaults).
     breakdown : bool
         Also synthesise without flattening and record each block's cells
         (``SynthResult.blocks``).
@@ -264,11 +301,12 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     if variant == "segmenter" and lut_style != "auto":
         raise ValueError(f"lut_style must be 'auto' for variant 'segmenter', got {lut_style!r}")
     fam = get_family(family)
+    options = _core_options(fam, variant, core_options)
     device = fam.default_device if device is None else device
     package = fam.default_package if package is None else package
     target_mhz = fam.default_target_mhz if target_mhz is None else float(target_mhz)
     fam.check_device(device)
-    if variant != "core":
+    if variant not in ("core", "core-regio"):
         fam.check_on_chip_store(cfg, device)
     seeds = tuple(int(s) for s in seeds)
     if len(set(seeds)) != len(seeds):
@@ -291,7 +329,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     try:
         from dptbd.hw.flow.verilog import MODULE_NAME
         start = time.monotonic()
-        text = _write_verilog(cfg, variant, lut_style, work)
+        text = _write_verilog(cfg, variant, lut_style, options, work)
         if verilog_filter is not None:
             text = verilog_filter(text)
         verilog_path = work / VERILOG_NAME
@@ -317,6 +355,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         return SynthResult(variant=variant, device=device, package=package,
                            target_mhz=float(target_mhz),
                            params={**_config_params(cfg), "lut_style": style,
+                                   "core_options": dict(options),
                                    "nextpnr_args": list(nextpnr_args)},
                            cells=cells, runs=runs, yosys_seconds=yosys_seconds,
                            verilog_seconds=verilog_seconds, tools=tools,

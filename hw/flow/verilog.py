@@ -21,6 +21,7 @@ import argparse
 import dataclasses
 import json
 import pathlib
+from typing import Mapping
 
 from amaranth.back import verilog
 from amaranth.hdl import Shape
@@ -48,13 +49,16 @@ VERILATOR_LINT_FLAGS = (
 )
 
 
-def build_top(cfg: DPConfig, *, external_state_store: bool = False, lut_style: str = "auto"):
+def build_top(cfg: DPConfig, *, external_state_store: bool = False, lut_style: str = "auto",
+              core_options: Mapping[str, str] | None = None):
     """The top-level component: ``DPPipeline(cfg)``, or ``DPCore(cfg)`` without a store.
 
-    ``lut_style`` (``"auto"``, ``"bram"``, ``"logic"``) is passed on (weight LUT storage).
+    ``lut_style`` (``"auto"``, ``"bram"``, ``"logic"``) is passed on (weight LUT storage),
+    and so are ``core_options`` (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`, e.g.
+    ``{"line_buffer_style": "lutram"}``; default: DPCore's defaults).
     """
     kind = DPCore if external_state_store else DPPipeline
-    return kind(cfg, lut_style=lut_style)
+    return kind(cfg, lut_style=lut_style, **dict(core_options or {}))
 
 
 def port_list(top: wiring.Component) -> list[dict]:
@@ -103,6 +107,7 @@ def manifest(cfg: DPConfig, top) -> dict:
     return {
         **manifest_header(cfg, MODULE_NAME, top),
         "lut_style": top.lut_style,
+        "core_options": top.core_options,
         "derived": {
             "n_moves": cfg.n_moves,
             "start_code": cfg.start_code,
@@ -126,7 +131,7 @@ def manifest(cfg: DPConfig, top) -> dict:
 
 
 def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
-                     lut_style: str = "auto",
+                     lut_style: str = "auto", core_options: Mapping[str, str] | None = None,
                      manifest_path: str | pathlib.Path | None = None) -> tuple[str, dict]:
     """Convert the pipeline for ``cfg`` to Verilog.
 
@@ -142,6 +147,10 @@ def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
         ``(* ram_style = "logic" *)`` on the LUT's column memories, ``"bram"`` leaves them
         to RAM inference; ``"auto"`` is logic for r = 1, block RAM for r = 2. The manifest
         records the resolved style under ``lut_style``.
+    core_options : Mapping[str, str], optional
+        DPCore's storage options (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`: line buffer in
+        block RAM or LUT RAM, side band in registers or a block RAM); none changes
+        behaviour or latency. The manifest records them under ``core_options``.
     manifest_path : path-like, optional
         Also write the manifest there as JSON.
 
@@ -150,7 +159,8 @@ def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
     tuple of (str, dict)
         The Verilog text of module ``dptbd_dp`` and its manifest.
     """
-    top = build_top(cfg, external_state_store=external_state_store, lut_style=lut_style)
+    top = build_top(cfg, external_state_store=external_state_store, lut_style=lut_style,
+                    core_options=core_options)
     text = verilog.convert(top, name=MODULE_NAME, emit_src=False)
     info = manifest(cfg, top)
     if manifest_path is not None:

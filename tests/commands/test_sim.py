@@ -229,8 +229,10 @@ def test_sim_on_verilator_runs_the_segmenter(capsys, verilator_root):
     assert "dptbd sim: 16x12, K=3, B_in=8, B_E=16, F=8, r=1, truncate, n=2, C=4\n" in out
     assert "  dptbd_seg on Verilator\n" in out
     assert "frames simulated        7 (1344 pixels, 6 candidate-list words out)\n" in out
-    # the histogram scan (1028 cycles) is longer than a 16 x 12 frame: stalls
-    assert "simulated cycles        2441 first input to last output  " \
+    # the histogram scan (1028 cycles) is longer than a 16 x 12 frame: stalls (2443: the
+    # DP's input credit, decided a cycle early since issue 12's timing work, holds the
+    # input one cycle sooner under back-pressure; 2441 before)
+    assert "simulated cycles        2443 first input to last output  " \
            "(!= S*K*W*H + latency + 1 = 1170)\n" in out
     assert "verdict                 bit-exact against dptbd.model.fixed and " \
            "dptbd.model.segmentation: bit-exact: 2 lists, 4 records, 6 words\n" in out

@@ -1,13 +1,22 @@
 """DPCore with an external state store: a Python model of a one-cycle synchronous SRAM."""
 
+import itertools
 import random
+import re
 
 import numpy as np
 import pytest
 
 from dptbd.config import DPConfig
-from dptbd.hw.dp_core import DPCore
-from hw_harness import assert_states_equal, frames_to_stream, reference_states, run_stream
+from dptbd.hw.dp_core import CORE_OPTIONS, DPCore
+from dptbd.hw.dp_pipeline import DPPipeline
+from hw_harness import (assert_states_equal, frames_to_stream, reference_states, refused,
+                        run_stream)
+
+#: Every combination of DPCore's implementation options (the iCE40 and ECP5 flows' among
+#: them).
+OPTION_SETS = [dict(zip(CORE_OPTIONS, values))
+               for values in itertools.product(*CORE_OPTIONS.values())]
 
 
 def sram_model(bus, words, seed):
@@ -46,3 +55,48 @@ def test_external_store_matches_golden_model(style):
                      ready_probability=0.7, seed=11, processes=[process])
     assert_states_equal(run.outputs, reference_states(cfg, frames))
     assert collisions == []   # no read and write of one address in one cycle
+
+
+@pytest.mark.parametrize("options", OPTION_SETS, ids=lambda o: "-".join(o.values()))
+@pytest.mark.parametrize("kw, n_frames", [
+    (dict(width=6, height=5, segment_frames=3), 5),
+    (dict(width=7, height=6, segment_frames=2, radius=2, rounding="half_up"), 3),
+])
+def test_storage_options_are_bit_exact(options, kw, n_frames):
+    """Every storage option computes the golden model's bits with random gaps and stalls."""
+    cfg = DPConfig(**kw)
+    dut = DPCore(cfg, **options)
+    assert dut.core_options == options
+    frames = np.random.default_rng(5).integers(0, 256, size=(n_frames, cfg.height, cfg.width))
+    process, collisions = sram_model(dut.state_store, cfg.width * cfg.height, seed=4)
+    run = run_stream(dut, cfg, frames_to_stream(frames), valid_probability=0.8,
+                     ready_probability=0.7, seed=9, processes=[process])
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+    assert collisions == []
+
+
+@pytest.mark.parametrize("options", OPTION_SETS, ids=lambda o: "-".join(o.values()))
+def test_storage_options_keep_the_cycle_count(options):
+    """Valid and ready always high: no bubble; latency 14, or 14 + 4 with the split max
+    tree (two stages for each of the ceil(log2 9) = 4 levels)."""
+    cfg = DPConfig(width=6, height=5, segment_frames=3)
+    dut = DPPipeline(cfg, **options)
+    latency = {"compact": 14, "split": 18}[options["max_tree"]]
+    assert dut.core_options == options and dut.latency == latency
+    assert dut.schedule.tree_levels == latency - 10
+    frames = np.random.default_rng(3).integers(0, 256, size=(3, cfg.height, cfg.width))
+    run = run_stream(dut, cfg, frames_to_stream(frames))
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+    total = 3 * cfg.width * cfg.height
+    assert run.accept_cycles == list(range(1, 1 + total))
+    assert run.output_cycles == list(range(1 + latency, 1 + latency + total))
+
+
+@pytest.mark.parametrize("option, bad, allowed", [
+    ("line_buffer_style", "distributed", "('bram', 'lutram')"),
+    ("sideband_delay", "bram", "('registers', 'memory')"),
+    ("max_tree", "fast", "('compact', 'split')"),
+])
+def test_refuses_an_unknown_storage_option(option, bad, allowed):
+    with refused(ValueError, rf"^{option} must be one of {re.escape(allowed)}, got '{bad}'$"):
+        DPCore(DPConfig(width=6, height=5), **{option: bad})

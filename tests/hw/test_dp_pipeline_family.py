@@ -61,6 +61,24 @@ def test_matches_family_golden_model(name):
         assert (expected[..., 0] == 0).any(), "the test must reach the clamp at 0"
 
 
+@pytest.mark.parametrize("family", ["ice40", "ecp5"])
+@pytest.mark.parametrize("name", ["likelihood-penalty-r1", "forgetting-truncate-penalty",
+                                  "recursive-r1"])
+def test_family_core_options_are_bit_exact(name, family):
+    """Every variant with the implementation options the flow builds for each FPGA family
+    (``Family.core_options``: split max tree, side band in a block RAM ring buffer, line
+    buffer in LUT RAM): the same words."""
+    from dptbd.hw.flow.family import get_family
+
+    kw, n_frames = variant(name)
+    cfg = make_config(**kw)
+    frames = random_frames(cfg, n_frames, seed=7)
+    options = dict(get_family(family).core_options)
+    run = run_stream(DPPipeline(cfg, **options), cfg, frames_to_stream(frames),
+                     valid_probability=0.75, ready_probability=0.6, seed=11)
+    assert_states_equal(run.outputs, family_reference_states(cfg, frames))
+
+
 @pytest.mark.parametrize("radius", [1, 2])
 def test_merit_and_penalty_luts_written_at_run_time(radius):
     """New merit and penalty codes through their write ports between frames and inside a

@@ -5,17 +5,20 @@ import random
 import pytest
 from amaranth.hdl import unsigned
 
-from dptbd.hw.line_buffer import LineBuffer
+from dptbd.hw.line_buffer import RAM_STYLES, LineBuffer
 from hw_harness import refused, simulate
 
 
+@pytest.mark.parametrize("ram_style", RAM_STYLES)
 @pytest.mark.parametrize("registered_read", [False, True])
 @pytest.mark.parametrize("depth, taps, back_to_back", [
     (5, 2, False), (7, 4, False), (3, 1, False), (3, 2, True), (4, 1, True), (128, 2, True)])
-def test_taps_are_delayed_rows(depth, taps, back_to_back, registered_read):
+def test_taps_are_delayed_rows(depth, taps, back_to_back, registered_read, ram_style):
     """Random advances, at most every other cycle or (``back_to_back``) also in consecutive
-    cycles, as the pipeline advances at full rate; the same taps with a registered read."""
-    dut = LineBuffer(unsigned(10), depth=depth, taps=taps, registered_read=registered_read)
+    cycles, as the pipeline advances at full rate; the same taps with a registered read and
+    with the memory in LUT RAM (a synthesis attribute only)."""
+    dut = LineBuffer(unsigned(10), depth=depth, taps=taps, registered_read=registered_read,
+                     ram_style=ram_style)
     rng = random.Random(depth * 10 + taps)
     entries = [rng.randrange(1 << 10) for _ in range(depth * (taps + 3))]
     seen = []
@@ -50,3 +53,6 @@ def test_refuses_degenerate_sizes():
         LineBuffer(unsigned(4), depth=2, taps=2, registered_read=True)
     with refused(ValueError, match=r"^taps must be an integer in \[1, inf\), got 0$"):
         LineBuffer(unsigned(4), depth=4, taps=0)
+    with refused(ValueError, match=r"^ram_style must be one of \(None, 'distributed'\), "
+                                   r"got 'block'$"):
+        LineBuffer(unsigned(4), depth=4, taps=1, ram_style="block")

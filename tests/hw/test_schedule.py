@@ -25,6 +25,25 @@ def test_latency_formula(radius, frac, latency):
     assert schedule.best == schedule.weighted + schedule.tree_levels
 
 
+@pytest.mark.parametrize("radius, frac, latency", [(1, 8, 18), (2, 8, 20), (1, 0, 15)])
+def test_split_max_tree_adds_one_stage_per_level(radius, frac, latency):
+    """``max_tree="split"`` (SplitMaxTree): ceil(log2 M) more cycles (4 for M = 9, 5 for
+    M = 25), everything after the tree moves with it."""
+    cfg = DPConfig(radius=radius, weight_frac_bits=frac)
+    compact = PipelineSchedule.from_config(cfg)
+    split = PipelineSchedule.from_config(cfg, max_tree="split")
+    assert split.latency == latency == compact.latency + compact.tree_levels
+    assert split.tree_levels == 2 * compact.tree_levels
+    assert split.best == split.weighted + split.tree_levels and split.state == split.best + 1
+    assert check_supported(cfg, max_tree="split") == split
+
+
+def test_unknown_max_tree_is_refused():
+    with pytest.raises(ValueError, match=r"^max_tree must be one of \('compact', 'split'\), "
+                                         r"got 'fast'$"):
+        PipelineSchedule.from_config(DPConfig(), max_tree="fast")
+
+
 def test_latency_does_not_depend_on_rounding_or_widths():
     a = PipelineSchedule.from_config(DPConfig(rounding="truncate", energy_bits=10))
     b = PipelineSchedule.from_config(DPConfig(rounding="half_up", energy_bits=32))

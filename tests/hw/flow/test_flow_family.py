@@ -13,6 +13,10 @@ def test_families():
     assert ECP5.device_args("45k", "CABGA256") == ["--45k", "--package", "CABGA256"]
     assert (ICE40.default_target_mhz, ECP5.default_target_mhz) == (100.0, 200.0)
     assert (ICE40.logic_cell_bel, ECP5.logic_cell_bel) == ("ICESTORM_LC", "TRELLIS_COMB")
+    assert ICE40.core_options == {"line_buffer_style": "bram", "sideband_delay": "memory",
+                                  "max_tree": "compact"}
+    assert ECP5.core_options == {"line_buffer_style": "lutram", "sideband_delay": "registers",
+                                 "max_tree": "split"}
 
 
 def test_refusals():

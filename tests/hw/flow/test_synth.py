@@ -14,7 +14,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.flow.synth import (
-    CellCounts, PnrRun, SynthResult, ToolNotFoundError, require_tool, synthesize,
+    CellCounts, PnrRun, SynthResult, ToolNotFoundError, get_family, require_tool, synthesize,
 )
 
 
@@ -72,7 +72,8 @@ def test_missing_nextpnr_is_reported_before_any_work(tmp_path):
 
 def test_bad_arguments():
     with pytest.raises(ValueError, match=(
-            r"^variant must be one of \('core', 'top', 'segmenter'\), got 'board'$")):
+            r"^variant must be one of \('core', 'top', 'segmenter', 'core-regio'\), "
+            r"got 'board'$")):
         synthesize(DPConfig(), variant="board")
     with pytest.raises(ValueError, match=(
             r"^device must be one of \('lp384', 'lp1k', 'lp4k', 'lp8k', 'hx1k', 'hx4k', "
@@ -87,6 +88,18 @@ def test_bad_arguments():
     with pytest.raises(ValueError, match=r"^lut_style must be one of 'auto', 'bram', 'logic', "
                                          r"got 'distributed'$"):
         synthesize(DPConfig(), lut_style="distributed", yosys="/nonexistent/yosys")
+    with pytest.raises(ValueError, match=(
+            r"^core_options keys must be in \('line_buffer_style', 'sideband_delay', "
+            r"'max_tree'\), got 'fifo'$")):
+        synthesize(DPConfig(), core_options={"fifo": "bram"})
+    with pytest.raises(ValueError, match=(
+            r"^core_options\['sideband_delay'\] must be one of \('registers', 'memory'\), "
+            r"got 'bram'$")):
+        synthesize(DPConfig(), core_options={"sideband_delay": "bram"})
+    with pytest.raises(ValueError, match=(
+            r"^core_options must be empty for variant 'segmenter', "
+            r"got \{'sideband_delay': 'memory'\}$")):
+        synthesize(DPConfig(), variant="segmenter", core_options={"sideband_delay": "memory"})
 
 
 # ---- real tools ------------------------------------------------------------------------
@@ -117,7 +130,10 @@ def test_real_synthesis_of_a_tiny_pipeline(tmp_path, family, lc_bel, lc_availabl
     assert {"dptbd_dp", "controller", "line_buffer", "window", "weight_lut", "max_tree",
             "accumulator", "weighted_0", "weighted_8"} <= blocks
     hier = sum(res.blocks.values(), CellCounts({}))
-    assert hier.dff >= c.dff and hier.carry >= c.carry
+    # Yosys does not optimise across module boundaries, so the hierarchical sum has at
+    # least the flat flip-flops; carries may merge differently either way (ECP5's split
+    # max tree: 34 hierarchical against 36 flat), so within 10 %.
+    assert hier.dff >= c.dff and hier.carry >= 0.9 * c.carry
     assert (tmp_path / "netlist.json").exists() and (tmp_path / "yosys.log").exists()
     assert res.tools["yosys"].startswith("Yosys 0.70")
     assert "nextpnr-0.11" in res.tools["nextpnr"]
@@ -141,3 +157,26 @@ def test_lut_style_moves_the_weight_lut_out_of_block_ram(tmp_path):
     assert auto.cells.dff > bram.cells.dff
     manifest = json.loads((tmp_path / "auto" / "dptbd_dp.json").read_text())
     assert manifest["lut_style"] == "logic"
+
+
+@needs_yosys
+@pytest.mark.parametrize("family", ["ice40", "ecp5"])
+def test_family_core_options_move_storage(tmp_path, family):
+    """Yosys only: the family's storage options against DPCore's defaults (registers for the
+    side band, block RAM for the line buffer). iCE40: the side band leaves the flip-flops
+    for one block RAM; ECP5: the line buffer leaves its block RAM for LUT RAM."""
+    cfg = dataclasses.replace(TINY, width=128, height=4)    # Yosys keeps a 16-word line in LUTs
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        default = synthesize(cfg, family=family, seeds=(), workdir=tmp_path / "default",
+                             core_options={"line_buffer_style": "bram",
+                                           "sideband_delay": "registers"})
+        chosen = synthesize(cfg, family=family, seeds=(), workdir=tmp_path / "family")
+    assert chosen.params["core_options"] == dict(get_family(family).core_options)
+    manifest = json.loads((tmp_path / "family" / "dptbd_dp.json").read_text())
+    assert manifest["core_options"] == chosen.params["core_options"]
+    if family == "ice40":
+        assert chosen.cells.bram == default.cells.bram + 1
+        assert chosen.cells.dff < default.cells.dff - 5 * (cfg.input_bits + 5)
+    else:
+        assert chosen.cells.bram == default.cells.bram - 1 and chosen.cells.lutram > 0

@@ -1,0 +1,45 @@
+"""SplitMaxTree against ``argmax_lowest_index`` (the vectors and the reference of
+``test_max_tree.py``): the same answers as MaxTree, two cycles per level."""
+
+import pytest
+from amaranth.back import rtlil
+
+from dptbd.hw.max_tree import tree_levels
+from dptbd.hw.pipelined_max import SplitMaxTree
+import test_max_tree
+from hw_harness import refused
+from test_max_tree import cases, ref_max_tree, ref_signed_max_tree, signed_cases
+
+
+def rtl_split_max_tree(count, value_bits, vectors, monkeypatch, signed=False):
+    """``test_max_tree.rtl_max_tree``'s bench, run on SplitMaxTree (it reads ``latency``)."""
+    monkeypatch.setattr(test_max_tree, "MaxTree", SplitMaxTree)
+    return test_max_tree.rtl_max_tree(count, value_bits, vectors, signed=signed)
+
+
+@pytest.mark.parametrize("count, value_bits", [(9, 6), (25, 4), (5, 3), (2, 8)])
+def test_matches_argmax_lowest_index(count, value_bits, monkeypatch):
+    vectors = list(cases(count, value_bits))
+    assert rtl_split_max_tree(count, value_bits, vectors, monkeypatch) == \
+        [ref_max_tree(*v) for v in vectors]
+
+
+@pytest.mark.parametrize("count, value_bits", [(9, 6), (25, 5), (5, 3)])
+def test_signed_matches_argmax_lowest_index(count, value_bits, monkeypatch):
+    """Paper 000's family (``docs/arithmetic.md`` §8.4): the signed tree, split."""
+    vectors = list(signed_cases(count, value_bits))
+    assert rtl_split_max_tree(count, value_bits, vectors, monkeypatch, signed=True) == \
+        [ref_signed_max_tree(*v) for v in vectors]
+
+
+def test_latency_is_two_stages_per_level():
+    trees = [SplitMaxTree(n, 4) for n in (1, 2, 3, 9, 25)]
+    for tree in trees:
+        rtlil.convert(tree)             # elaborates (and silences UnusedElaboratable)
+    assert [t.latency for t in trees] == [2 * tree_levels(n) for n in (1, 2, 3, 9, 25)] \
+        == [0, 2, 4, 8, 10]
+
+
+def test_refuses_no_candidates():
+    with refused(ValueError, match=r"^count must be an integer in \[1, inf\), got 0$"):
+        SplitMaxTree(0, 4)
