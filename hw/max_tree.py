@@ -109,6 +109,18 @@ class MaxTree(wiring.Component):
         return (Cat(_order_key(right.value, self._signed), right.valid)
                 > Cat(_order_key(left.value, self._signed), left.valid))
 
+    def _pass(self, m: Module, layout, name: str, node):
+        """A level's odd last node, passed on through one register per stage."""
+        out = Signal(layout, name=f"node_{name}", reset_less=True)
+        m.d.sync += out.eq(node)
+        return out
+
+    def _node(self, m: Module, layout, name: str, left, right):
+        """One compare-and-select node, registered once."""
+        out = Signal(layout, name=f"node_{name}", reset_less=True)
+        m.d.sync += out.eq(Mux(self._take_right(left, right), right, left))
+        return out
+
     def elaborate(self, platform):
         m = Module()
         layout = candidate_layout(self._value_bits, self._index_bits, self._signed)
@@ -116,15 +128,9 @@ class MaxTree(wiring.Component):
         level = 0
         while len(nodes) > 1:
             level += 1
-            merged = []
-            for pair in range(0, len(nodes), 2):
-                node = Signal(layout, name=f"node_l{level}_{pair // 2}", reset_less=True)
-                if pair + 1 == len(nodes):
-                    m.d.sync += node.eq(nodes[pair])
-                else:
-                    left, right = nodes[pair], nodes[pair + 1]
-                    m.d.sync += node.eq(Mux(self._take_right(left, right), right, left))
-                merged.append(node)
-            nodes = merged
+            nodes = [self._pass(m, layout, f"l{level}_{pair // 2}", nodes[pair])
+                     if pair + 1 == len(nodes) else
+                     self._node(m, layout, f"l{level}_{pair // 2}", nodes[pair], nodes[pair + 1])
+                     for pair in range(0, len(nodes), 2)]
         m.d.comb += self.best.eq(nodes[0])
         return m

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from amaranth.hdl import Module, Mux, Signal
 
-from dptbd.hw.max_tree import MaxTree, candidate_layout, tree_levels
+from dptbd.hw.max_tree import MaxTree, tree_levels
 
 __all__ = ["SplitMaxTree"]
 
@@ -32,33 +32,22 @@ class SplitMaxTree(MaxTree):
         """Register stages, ``2 * ceil(log2(count))`` (0 for a single candidate)."""
         return 2 * tree_levels(self._count)
 
-    def elaborate(self, platform):
-        m = Module()
-        layout = candidate_layout(self._value_bits, self._index_bits, self._signed)
-        nodes = self._leaves(m)
-        level = 0
-        while len(nodes) > 1:
-            level += 1
-            merged = []
-            for pair in range(0, len(nodes), 2):
-                name = f"l{level}_{pair // 2}"
-                node = Signal(layout, name=f"node_{name}", reset_less=True)
-                if pair + 1 == len(nodes):
-                    held = Signal(layout, name=f"held_{name}", reset_less=True)
-                    m.d.sync += [held.eq(nodes[pair]), node.eq(held)]
-                else:
-                    # Stage 1: the comparison of MaxTree's node and both inputs,
-                    # registered. Stage 2: the select.
-                    left = Signal(layout, name=f"left_{name}", reset_less=True)
-                    right = Signal(layout, name=f"right_{name}", reset_less=True)
-                    take_right = Signal(name=f"take_right_{name}", reset_less=True)
-                    a, b = nodes[pair], nodes[pair + 1]
-                    m.d.sync += [
-                        left.eq(a), right.eq(b),
-                        take_right.eq(self._take_right(a, b)),
-                        node.eq(Mux(take_right, right, left)),
-                    ]
-                merged.append(node)
-            nodes = merged
-        m.d.comb += self.best.eq(nodes[0])
-        return m
+    def _pass(self, m: Module, layout, name: str, node):
+        held = Signal(layout, name=f"held_{name}", reset_less=True)
+        out = Signal(layout, name=f"node_{name}", reset_less=True)
+        m.d.sync += [held.eq(node), out.eq(held)]
+        return out
+
+    def _node(self, m: Module, layout, name: str, left, right):
+        # Stage 1: the comparison of MaxTree's node and both inputs, registered.
+        # Stage 2: the select.
+        left_q = Signal(layout, name=f"left_{name}", reset_less=True)
+        right_q = Signal(layout, name=f"right_{name}", reset_less=True)
+        take_right = Signal(name=f"take_right_{name}", reset_less=True)
+        out = Signal(layout, name=f"node_{name}", reset_less=True)
+        m.d.sync += [
+            left_q.eq(left), right_q.eq(right),
+            take_right.eq(self._take_right(left, right)),
+            out.eq(Mux(take_right, right_q, left_q)),
+        ]
+        return out

@@ -13,6 +13,10 @@ The manifest JSON beside the Verilog lists the parameters, the weight LUT storag
 latency and the payload bit fields (:func:`dptbd.hw.flow.verilog.manifest`). ``--lut-style``
 chooses the weight LUT's storage (``auto``, the default: logic for r = 1, block RAM for
 r = 2; ``bram``; ``logic``), a synthesis choice that does not change behaviour.
+``--family ice40|ecp5`` builds ``dptbd_dp`` with the DPCore implementation options the
+synthesis flow uses for that family (:attr:`~dptbd.hw.flow.family.Family.core_options`, the
+ones measured in ``docs/synthesis.md``; the manifest records them under ``core_options``)
+and refuses a radius the family cannot build (:meth:`~dptbd.hw.flow.family.Family.check_radius`).
 
 The build is :meth:`DPConfig.build_config` of the parameters: B_E narrowed to what K_max
 full-scale pixels need and, for a binary weight LUT, F = 0 (the same bits as asked;
@@ -45,6 +49,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "for r = 2), bram (one block RAM per move), logic (flip-flops and "
                              "multiplexers, no block RAM; lets the 64x64 top level fit an "
                              "iCE40-HX8K)")
+    parser.add_argument("--family", choices=("ice40", "ecp5"), default=None,
+                        help="--top dp: build DPCore with the implementation options measured "
+                             "best for this FPGA family (ice40: line buffer in block RAM, side "
+                             "band in a block RAM, compact max tree; ecp5: line buffer in LUT "
+                             "RAM, side band in registers, max tree split over two stages per "
+                             "level, +4 cycles) and refuse what it cannot build (a radius above "
+                             "1 on ice40); default: DPCore's defaults (block RAM, registers, "
+                             "compact)")
     parser.add_argument("--clock-mhz", type=float, default=None, metavar="MHZ",
                         help="--top axi: aclk frequency of the shipped SDC/XDC constraints, "
                              "in [1, 1000] (default 100, the synthesis target)")
@@ -75,9 +87,10 @@ def _write_axi(args: argparse.Namespace, cfg) -> int:
     from dptbd.hw.flow.axi_package import (DEFAULT_CLOCK_MHZ, axi_package, check_clock_mhz,
                                            package_file_names)
 
-    if args.external_state_store or args.lut_style != "auto":
-        raise ValueError("--external-state-store and --lut-style apply to --top dp only; "
-                         "--top axi keeps the state store on chip with the automatic LUT style")
+    if args.external_state_store or args.lut_style != "auto" or args.family is not None:
+        raise ValueError("--external-state-store, --lut-style and --family apply to --top dp "
+                         "only; --top axi keeps the state store on chip with the automatic LUT "
+                         "style and DPCore's default options")
     clock_mhz = check_clock_mhz(DEFAULT_CLOCK_MHZ if args.clock_mhz is None else args.clock_mhz,
                                 "--clock-mhz")
     out = args.output
@@ -118,9 +131,15 @@ def main(args: argparse.Namespace) -> int:
     if args.state_output:
         raise ValueError("--state-output applies to --top axi only (dptbd_dp always outputs "
                          "its states)")
+    core_options = None
+    if args.family is not None:
+        from dptbd.hw.flow.family import get_family
+        family = get_family(args.family)
+        family.check_radius(cfg)
+        core_options = dict(family.core_options)
     _refuse_existing([out, manifest], args.force)
     text, info = generate_verilog(cfg, external_state_store=args.external_state_store,
-                                  lut_style=args.lut_style)
+                                  lut_style=args.lut_style, core_options=core_options)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(text)
     manifest.write_text(json.dumps(info, indent=2) + "\n")
@@ -130,5 +149,7 @@ def main(args: argparse.Namespace) -> int:
     print(f"  {cfg.width}x{cfg.height}, K={cfg.segment_frames}, B_in={cfg.input_bits}, "
           f"B_E={cfg.energy_bits}, F={cfg.weight_frac_bits}, r={cfg.radius}, {cfg.rounding}; "
           f"weight LUT in {info['lut_style']}; latency {info['latency']} cycles")
+    print("  core options: " + ", ".join(f"{k}={v}" for k, v in info["core_options"].items())
+          + ("" if args.family is None else f" (the {args.family} build)"))
     print(f"  ports: {ports}")
     return 0

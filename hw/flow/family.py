@@ -50,6 +50,10 @@ class Family:
     block_rams : Mapping[str, tuple[int, int]]
         Per device: (block RAMs, bits per block RAM), from the vendors' data sheets
         (iCE40: 4 kbit EBRs; ECP5: 18 kbit DP16KD). A device not listed is not checked.
+    max_radius : int
+        The largest search radius the family builds (:meth:`check_radius`): iCE40 1 (the
+        128-wide r = 2 core does not place on the HX8K, nextpnr finds no legal placement at
+        58 % of its logic cells, ``docs/synthesis.md``), ECP5 2.
     core_options : Mapping[str, str]
         The :data:`~dptbd.hw.dp_core.CORE_OPTIONS` the flow builds ``DPCore`` with for this
         family (none changes behaviour or latency; ``docs/synthesis.md``, "Per-family
@@ -73,6 +77,7 @@ class Family:
     bram_bel: str
     dsp_bel: str
     block_rams: Mapping[str, tuple[int, int]] = dataclasses.field(default_factory=dict)
+    max_radius: int = 2
     core_options: Mapping[str, str] = dataclasses.field(default_factory=dict)
 
     def check_on_chip_store(self, cfg: DPConfig, device: str) -> None:
@@ -99,6 +104,21 @@ class Family:
                 f"{count * bits_each} ({count} x {bits_each}); build the core with the store "
                 f"outside (DPCore, variant 'core') or choose a larger device")
 
+    def check_radius(self, cfg: DPConfig) -> None:
+        """Refuse a search radius the family cannot build (:attr:`max_radius`).
+
+        Raises
+        ------
+        dptbd.config.ConfigError
+            Naming ``radius``, the family's allowed range and the way out.
+        """
+        if cfg.radius > self.max_radius:
+            other = [f.name for f in FAMILIES.values() if f.max_radius >= cfg.radius]
+            raise ConfigError(
+                f"radius={cfg.radius} is beyond the {self.name} family's resources: radius must "
+                f"be in [1, {self.max_radius}] for {self.name} (docs/synthesis.md)"
+                + (f"; build for {' or '.join(other)}" if other else ""))
+
     def check_device(self, device: str) -> None:
         """``ValueError`` naming the family's devices unless ``device`` is one."""
         if device not in self.devices:
@@ -122,6 +142,7 @@ ICE40 = Family(
     block_rams={"lp384": (0, 4096), "lp1k": (16, 4096), "hx1k": (16, 4096),
                 "lp4k": (20, 4096), "hx4k": (20, 4096), "lp8k": (32, 4096),
                 "hx8k": (32, 4096), "up3k": (20, 4096), "up5k": (30, 4096)},
+    max_radius=1,
     core_options={"line_buffer_style": "bram", "sideband_delay": "memory",
                   "max_tree": "compact"})
 

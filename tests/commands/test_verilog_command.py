@@ -221,13 +221,46 @@ def test_verilog_top_axi_refuses_existing_files_and_dp_only_options(tmp_path):
     with pytest.raises(FileExistsError,
                        match=rf"^{three} and {names[1]} exist; pass --force to overwrite$"):
         verilog_command.main(parse(["-o", out, "--top", "axi", "--width", 8, "--height", 6]))
-    with pytest.raises(ValueError, match=r"^--external-state-store and --lut-style apply to "
-                                         r"--top dp only; --top axi keeps the state store on "
-                                         r"chip with the automatic LUT style$"):
-        verilog_command.main(parse(["-o", out, "--top", "axi", "--lut-style", "logic",
-                                    "--force"]))
+    for option in (["--lut-style", "logic"], ["--family", "ecp5"]):
+        with pytest.raises(ValueError, match=r"^--external-state-store, --lut-style and "
+                                             r"--family apply to --top dp only; --top axi "
+                                             r"keeps the state store on chip with the "
+                                             r"automatic LUT style and DPCore's default "
+                                             r"options$"):
+            verilog_command.main(parse(["-o", out, "--top", "axi", *option, "--force"]))
     toml = tmp_path / "p.toml"
     toml.write_text("width = 8\nheight = 6\ncandidate_count = 2\n")
     assert verilog_command.main(parse(["-o", out, "--top", "axi", "--config", toml,
                                        "--force"])) == 0
     assert (tmp_path / "dptbd_regs.h").read_text().startswith("/* dptbd_regs.h")
+
+
+@pytest.mark.parametrize("family, options, latency", [
+    (None, {"line_buffer_style": "bram", "sideband_delay": "registers", "max_tree": "compact"},
+     14),
+    ("ice40", {"line_buffer_style": "bram", "sideband_delay": "memory", "max_tree": "compact"},
+     14),
+    ("ecp5", {"line_buffer_style": "lutram", "sideband_delay": "registers", "max_tree": "split"},
+     18),
+])
+def test_verilog_family_builds_the_familys_core_options(tmp_path, capsys, family, options,
+                                                         latency):
+    out = tmp_path / "dp.v"
+    argv = ["-o", out, "--width", 8, "--height", 6, "--fractional-lut", "--external-state-store"]
+    assert verilog_command.main(parse(argv + ([] if family is None else ["--family", family]))) == 0
+    manifest = json.loads((tmp_path / "dp.json").read_text())
+    assert manifest["core_options"] == options and manifest["latency"] == latency
+    said = capsys.readouterr().out
+    assert ("  core options: " + ", ".join(f"{k}={v}" for k, v in options.items())
+            + ("" if family is None else f" (the {family} build)")) in said.splitlines()
+
+
+def test_verilog_family_refuses_a_radius_it_cannot_build(tmp_path):
+    out = tmp_path / "dp.v"
+    with pytest.raises(ConfigError, match=r"^radius=2 is beyond the ice40 family's resources: "
+                                          r"radius must be in \[1, 1\] for ice40 "
+                                          r"\(docs/synthesis.md\); build for ecp5$"):
+        verilog_command.main(parse(["-o", out, "--radius", 2, "--family", "ice40"]))
+    assert not out.exists()
+    assert verilog_command.main(parse(["-o", out, "--width", 16, "--height", 8, "--radius", 2,
+                                       "--family", "ecp5"])) == 0

@@ -50,3 +50,14 @@ def test_synthesize_refuses_the_store_before_any_tool_runs():
     with pytest.raises(ConfigError, match=r"^width=128 x height=128 does not fit the ice40 hx8k"):
         synthesize(DPConfig(width=128, height=128), variant="top", family="ice40",
                    yosys="/nonexistent/yosys", seeds=())
+
+
+def test_radius_beyond_a_familys_resources_is_refused():
+    """iCE40 builds r = 1 only (r = 2 does not place on the HX8K); ECP5 builds both."""
+    r2 = DPConfig(width=16, height=8, radius=2)
+    ICE40.check_radius(DPConfig(width=16, height=8))
+    ECP5.check_radius(r2)
+    with pytest.raises(ConfigError, match=r"^radius=2 is beyond the ice40 family's resources: "
+                                          r"radius must be in \[1, 1\] for ice40 "
+                                          r"\(docs/synthesis.md\); build for ecp5$"):
+        ICE40.check_radius(r2)
