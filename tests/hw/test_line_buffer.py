@@ -12,7 +12,8 @@ from hw_harness import refused, simulate
 @pytest.mark.parametrize("ram_style", RAM_STYLES)
 @pytest.mark.parametrize("registered_read", [False, True])
 @pytest.mark.parametrize("depth, taps, back_to_back", [
-    (5, 2, False), (7, 4, False), (3, 1, False), (3, 2, True), (4, 1, True), (128, 2, True)])
+    (5, 2, False), (7, 4, False), (3, 1, False), (3, 2, True), (4, 1, True), (128, 2, True),
+    (37, 3, True)])
 def test_taps_are_delayed_rows(depth, taps, back_to_back, registered_read, ram_style):
     """Random advances, at most every other cycle or (``back_to_back``) also in consecutive
     cycles, as the pipeline advances at full rate; the same taps with a registered read and
@@ -51,6 +52,8 @@ def test_refuses_degenerate_sizes():
         LineBuffer(unsigned(4), depth=1, taps=2)
     with refused(ValueError, match=r"^depth must be an integer in \[3, inf\), got 2$"):
         LineBuffer(unsigned(4), depth=2, taps=2, registered_read=True)
+    with refused(ValueError, match=r"^depth must be an integer in \[3, inf\), got 2$"):
+        LineBuffer(unsigned(4), depth=2, taps=2, ram_style="distributed")
     with refused(ValueError, match=r"^taps must be an integer in \[1, inf\), got 0$"):
         LineBuffer(unsigned(4), depth=4, taps=0)
     with refused(ValueError, match=r"^ram_style must be one of \(None, 'distributed'\), "
