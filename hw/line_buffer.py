@@ -13,13 +13,15 @@ their timing: the registered read costs one register per memory bit and no laten
 ECP5 15 MHz and costs the iCE40 30 logic cells for nothing (``docs/synthesis.md``, "The line
 buffer's read register"), so it is off by default.
 
-With ``ram_style="distributed"`` (LUT RAM, the ECP5 flow's choice) the memory is built as
+With ``banked_read=True`` (needs ``ram_style="distributed"``, LUT RAM) the memory is built as
 banks of :data:`LUT_RAM_BANK_DEPTH` words (one ``TRELLIS_DPR16X4`` column each), read
 asynchronously into a register per bank, with the bank select registered beside them: the
 bank multiplexer follows the registers instead of sitting between the LUT RAM and the read
 register, and the write (data, address, enable) is registered once more so the multiplexer
 does not drive the write ports either. Same taps, same cycles; costs one register per bank
-and memory bit (ECP5 only). ``docs/synthesis.md``, "Towards 200 MHz on ECP5".
+and memory bit. Off by default: on ECP5 it moved the critical path elsewhere (+6 to +11 MHz
+on two seeds) but nextpnr's router did not converge on the third seed (``docs/synthesis.md``,
+"Towards 200 MHz on ECP5").
 """
 
 from __future__ import annotations
@@ -49,8 +51,8 @@ class LineBuffer(wiring.Component):
         Shape of one entry (e.g. :func:`~dptbd.hw.layouts.state_word_layout`).
     depth : int
         Entries per delay line (the frame width W), >= 2; >= 3 with ``registered_read`` (the
-        read one cycle ahead must not meet the write of the entry it reads) or in LUT RAM
-        (the write a cycle late must not meet the read).
+        read one cycle ahead must not meet the write of the entry it reads) or with
+        ``banked_read`` (the write a cycle late must not meet the read).
     taps : int
         Number of delay lines (2r), >= 1.
     registered_read : bool
@@ -59,8 +61,10 @@ class LineBuffer(wiring.Component):
         Synthesis attribute of the memory: ``None`` (default) leaves it to RAM inference
         (a block RAM), ``"distributed"`` asks Yosys for LUT RAM (ECP5 ``TRELLIS_DPR16X4``,
         no block RAM clock-to-out on the read path; ``docs/synthesis.md``, "Towards 200 MHz
-        on ECP5"), in registered banks (module docstring). Behaviour and timing are the same
-        either way.
+        on ECP5"). Behaviour and timing are the same either way.
+    banked_read : bool
+        LUT RAM in registered banks (module docstring); needs ``ram_style="distributed"``,
+        no ``registered_read`` and ``depth`` >= 3.
 
     Members
     -------
@@ -80,10 +84,12 @@ class LineBuffer(wiring.Component):
     """
 
     def __init__(self, shape, depth: int, taps: int, *, registered_read: bool = False,
-                 ram_style: str | None = None):
+                 ram_style: str | None = None, banked_read: bool = False):
+        if banked_read and (ram_style != "distributed" or registered_read):
+            raise ValueError("banked_read needs ram_style='distributed' and no registered_read")
         if ram_style not in RAM_STYLES:
             raise ValueError(f"ram_style must be one of {RAM_STYLES}, got {ram_style!r}")
-        low = 3 if registered_read or ram_style is not None else 2
+        low = 3 if registered_read or banked_read else 2
         if depth < low:
             raise ValueError(f"depth must be an integer in [{low}, inf), got {depth}")
         if taps < 1:
@@ -93,6 +99,7 @@ class LineBuffer(wiring.Component):
         self._n_taps = taps
         self._registered_read = bool(registered_read)
         self._ram_style = ram_style
+        self._banked_read = bool(banked_read)
         super().__init__({
             "advance": In(1),
             "data_in": In(shape),
@@ -108,7 +115,7 @@ class LineBuffer(wiring.Component):
         m = Module()
         entry_bits = Shape.cast(self._shape).width
         n_taps = self._n_taps
-        if self._ram_style == "distributed" and not self._registered_read:
+        if self._banked_read:
             return self._elaborate_banked(m, entry_bits, n_taps)
         m.submodules.memory = memory = Memory(
             shape=unsigned(entry_bits * n_taps), depth=self._depth, init=[],

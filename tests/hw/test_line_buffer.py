@@ -9,17 +9,19 @@ from dptbd.hw.line_buffer import RAM_STYLES, LineBuffer
 from hw_harness import refused, simulate
 
 
-@pytest.mark.parametrize("ram_style", RAM_STYLES)
-@pytest.mark.parametrize("registered_read", [False, True])
+@pytest.mark.parametrize("ram_style, registered_read, banked_read", [
+    *[(style, registered, False) for style in RAM_STYLES for registered in (False, True)],
+    ("distributed", False, True)])
 @pytest.mark.parametrize("depth, taps, back_to_back", [
     (5, 2, False), (7, 4, False), (3, 1, False), (3, 2, True), (4, 1, True), (128, 2, True),
     (37, 3, True)])
-def test_taps_are_delayed_rows(depth, taps, back_to_back, registered_read, ram_style):
+def test_taps_are_delayed_rows(depth, taps, back_to_back, registered_read, ram_style,
+                               banked_read):
     """Random advances, at most every other cycle or (``back_to_back``) also in consecutive
     cycles, as the pipeline advances at full rate; the same taps with a registered read and
     with the memory in LUT RAM (a synthesis attribute only)."""
     dut = LineBuffer(unsigned(10), depth=depth, taps=taps, registered_read=registered_read,
-                     ram_style=ram_style)
+                     ram_style=ram_style, banked_read=banked_read)
     rng = random.Random(depth * 10 + taps)
     entries = [rng.randrange(1 << 10) for _ in range(depth * (taps + 3))]
     seen = []
@@ -53,7 +55,10 @@ def test_refuses_degenerate_sizes():
     with refused(ValueError, match=r"^depth must be an integer in \[3, inf\), got 2$"):
         LineBuffer(unsigned(4), depth=2, taps=2, registered_read=True)
     with refused(ValueError, match=r"^depth must be an integer in \[3, inf\), got 2$"):
-        LineBuffer(unsigned(4), depth=2, taps=2, ram_style="distributed")
+        LineBuffer(unsigned(4), depth=2, taps=2, ram_style="distributed", banked_read=True)
+    with refused(ValueError, match=r"^banked_read needs ram_style='distributed' and no "
+                                   r"registered_read$"):
+        LineBuffer(unsigned(4), depth=4, taps=1, banked_read=True)
     with refused(ValueError, match=r"^taps must be an integer in \[1, inf\), got 0$"):
         LineBuffer(unsigned(4), depth=4, taps=0)
     with refused(ValueError, match=r"^ram_style must be one of \(None, 'distributed'\), "
