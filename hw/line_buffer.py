@@ -122,18 +122,7 @@ class LineBuffer(wiring.Component):
             attrs=None if self._ram_style is None else {"ram_style": self._ram_style})
         read = memory.read_port(domain="sync")
         write = memory.write_port(domain="sync")
-
-        pointer = Signal(range(self._depth))
-        pointer_next = Signal(range(self._depth))
-        write_pointer = Signal(range(self._depth))
-        write_pending = Signal()
-        m.d.comb += pointer_next.eq(
-            Mux(self.advance, increment_mod(pointer, self._depth), pointer))
-        m.d.sync += [
-            pointer.eq(pointer_next),
-            write_pointer.eq(pointer),
-            write_pending.eq(self.advance),
-        ]
+        pointer, pointer_next, write_pointer, write_pending = self._pointers(m)
         if self._registered_read:
             # Cycle t: pointer P(t), the address an advance in cycle t moves past. The memory
             # reads P(t+1) at the end of cycle t (one cycle ahead, enabled every cycle), the
@@ -172,7 +161,7 @@ class LineBuffer(wiring.Component):
             write_pointer.eq(pointer),
             write_pending.eq(self.advance),
         ]
-        return pointer, write_pointer, write_pending
+        return pointer, pointer_next, write_pointer, write_pending
 
     def _elaborate_banked(self, m, entry_bits, n_taps):
         # LUT RAM in banks of LUT_RAM_BANK_DEPTH words, each read asynchronously at the
@@ -181,7 +170,7 @@ class LineBuffer(wiring.Component):
         # Same cycle behaviour as the synchronous read port (the bank registers load on
         # `advance` with the words as they stand after the previous cycle's write), but
         # the pointer -> LUT RAM -> register path has no multiplexer on it.
-        pointer, write_pointer, write_pending = self._pointers(m)
+        pointer, _, write_pointer, write_pending = self._pointers(m)
         bank_depth = LUT_RAM_BANK_DEPTH
         n_banks = -(-self._depth // bank_depth)
         low_bits = (bank_depth - 1).bit_length()
