@@ -213,28 +213,40 @@ endmodule
 """
 
 
+def icarus_states(cfg, frames, info, verilog_path, tmp_path, *, idle_inputs=(),
+                  timeout=120) -> list:
+    """Run :data:`TESTBENCH` on the module at ``verilog_path`` (manifest ``info``) with the
+    pixels of ``frames`` under Icarus (4-state) and return the unpacked ``states`` words.
+    ``idle_inputs``: further input ports the bench holds at 0 (e.g. the family's write
+    ports). Fails on a compile error, a timeout or an X / Z on ``states__payload``."""
+    stream = frames_to_stream(frames)
+    (tmp_path / "pixels.hex").write_text(
+        "".join(f"{pack_pixel(cfg, p, f):x}\n" for p, f in stream))
+    widths = {p["name"]: p["width"] for p in info["ports"]}
+    idle = "".join(f"  reg [{widths[name]}-1:0] {name} = 0;\n" for name in idle_inputs)
+    (tmp_path / "tb.v").write_text(
+        TESTBENCH.replace("  wire pixels__ready", idle + "  wire pixels__ready").format(
+            pw=widths["pixels__payload"], sw=widths["states__payload"], aw=widths["lut_addr"],
+            dw=widths["lut_data"], kw=widths["segment_frames"], k=cfg.segment_frames,
+            n=len(stream), hexfile=tmp_path / "pixels.hex",
+            outfile=tmp_path / "states.txt", timeout=10 * 20 * len(stream)))
+    compile_ = subprocess.run(["iverilog", "-g2012", "-o", str(tmp_path / "tb.vvp"),
+                               str(tmp_path / "tb.v"), str(verilog_path)],
+                              capture_output=True, text=True)
+    assert compile_.returncode == 0, compile_.stderr
+    sim = subprocess.run(["vvp", "-n", str(tmp_path / "tb.vvp")], capture_output=True,
+                         text=True, timeout=timeout)
+    assert "timeout" not in sim.stdout, sim.stdout
+    lines = (tmp_path / "states.txt").read_text().split()
+    assert all(re.fullmatch(r"[0-9a-f]+", line) for line in lines), "X or Z on states__payload"
+    return [unpack_state(cfg, int(line, 16)) for line in lines]
+
+
 @needs_iverilog
 @pytest.mark.parametrize("name", ["small", "small-bram"])
 def test_icarus_simulation_matches_golden_model(generated, name, tmp_path):
     path, info = generated[name]
     cfg = SMALL
     frames = np.random.default_rng(17).integers(0, 256, size=(5, cfg.height, cfg.width))
-    stream = frames_to_stream(frames)
-    (tmp_path / "pixels.hex").write_text(
-        "".join(f"{pack_pixel(cfg, p, f):x}\n" for p, f in stream))
-    widths = {p["name"]: p["width"] for p in info["ports"]}
-    (tmp_path / "tb.v").write_text(TESTBENCH.format(
-        pw=widths["pixels__payload"], sw=widths["states__payload"], aw=widths["lut_addr"],
-        dw=widths["lut_data"], kw=widths["segment_frames"], k=cfg.segment_frames,
-        n=len(stream), hexfile=tmp_path / "pixels.hex",
-        outfile=tmp_path / "states.txt", timeout=10 * 20 * len(stream)))
-    compile_ = subprocess.run(["iverilog", "-g2012", "-o", str(tmp_path / "tb.vvp"),
-                               str(tmp_path / "tb.v"), str(path)], capture_output=True, text=True)
-    assert compile_.returncode == 0, compile_.stderr
-    sim = subprocess.run(["vvp", "-n", str(tmp_path / "tb.vvp")], capture_output=True,
-                         text=True, timeout=120)
-    assert "timeout" not in sim.stdout, sim.stdout
-    lines = (tmp_path / "states.txt").read_text().split()
-    assert all(re.fullmatch(r"[0-9a-f]+", line) for line in lines), "X or Z on states__payload"
-    outputs = [unpack_state(cfg, int(line, 16)) for line in lines]
+    outputs = icarus_states(cfg, frames, info, path, tmp_path)
     assert_states_equal(outputs, reference_states(cfg, frames))

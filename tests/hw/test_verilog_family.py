@@ -1,9 +1,7 @@
 """Paper 000's family in Verilog: every variant converts, its ports are the 001 ports plus
 the merit / penalty write ports of the LUTs it builds, and the default build is unchanged."""
 
-import re
 import shutil
-import subprocess
 import warnings
 
 import numpy as np
@@ -14,9 +12,8 @@ from dptbd.hw.dp_core import DPCore
 from dptbd.hw.schedule import PipelineSchedule
 from dptbd.hw.dp_segmenter_top import DPSegmenter
 from dptbd.hw.flow.verilog import generate_verilog
-from dptbd.hw.layouts import pack_pixel, unpack_state
 from family_harness import VARIANTS, family_reference_states, likelihood_merit, variant
-from hw_harness import assert_states_equal, assert_verilator_lints_clean, frames_to_stream, refused
+from hw_harness import assert_states_equal, assert_verilator_lints_clean, refused
 
 pytestmark = pytest.mark.filterwarnings("ignore::dptbd.config.EnergyWidthWarning")
 
@@ -97,33 +94,14 @@ def test_icarus_runs_the_family_verilog_bit_exact(tmp_path):
     """The generated Verilog of a variant with every block (merit LUT, penalty LUT, signed
     tree, forgetting, recursion) in a 4-state simulator, with random gaps and back-pressure
     (``test_verilog``'s testbench, the write ports held idle), against the golden model."""
-    from test_verilog import TESTBENCH
+    from test_verilog import icarus_states
 
     cfg = make_config(**{**variant("recursive-r1")[0], "merit_codes": likelihood_merit()})
     assert len(cfg.family_fields_in_use) == 4
     text, info = generate_verilog(cfg)
     (tmp_path / "dptbd_dp.v").write_text(text)
     frames = np.random.default_rng(5).integers(0, 256, size=(5, cfg.height, cfg.width))
-    stream = frames_to_stream(frames)
-    (tmp_path / "pixels.hex").write_text(
-        "".join(f"{pack_pixel(cfg, p, f):x}\n" for p, f in stream))
-    widths = {p["name"]: p["width"] for p in info["ports"]}
-    idle = "".join(f"  reg [{widths[name]}-1:0] {name} = 0;\n" for name in (
-        "merit_addr", "merit_data", "merit_we", "penalty_addr", "penalty_data", "penalty_we"))
-    bench = TESTBENCH.replace("  wire pixels__ready", idle + "  wire pixels__ready").format(
-        pw=widths["pixels__payload"], sw=widths["states__payload"], aw=widths["lut_addr"],
-        dw=widths["lut_data"], kw=widths["segment_frames"], k=cfg.segment_frames,
-        n=len(stream), hexfile=tmp_path / "pixels.hex", outfile=tmp_path / "states.txt",
-        timeout=10 * 20 * len(stream))
-    (tmp_path / "tb.v").write_text(bench)
-    compiled = subprocess.run(["iverilog", "-g2012", "-o", str(tmp_path / "tb.vvp"),
-                               str(tmp_path / "tb.v"), str(tmp_path / "dptbd_dp.v")],
-                              capture_output=True, text=True)
-    assert compiled.returncode == 0, compiled.stderr
-    sim = subprocess.run(["vvp", "-n", str(tmp_path / "tb.vvp")], capture_output=True,
-                         text=True, timeout=300)
-    assert "timeout" not in sim.stdout, sim.stdout
-    lines = (tmp_path / "states.txt").read_text().split()
-    assert all(re.fullmatch(r"[0-9a-f]+", line) for line in lines), "X or Z on states__payload"
-    outputs = [unpack_state(cfg, int(line, 16)) for line in lines]
+    outputs = icarus_states(cfg, frames, info, tmp_path / "dptbd_dp.v", tmp_path, timeout=300,
+                            idle_inputs=("merit_addr", "merit_data", "merit_we",
+                                         "penalty_addr", "penalty_data", "penalty_we"))
     assert_states_equal(outputs, family_reference_states(cfg, frames))
