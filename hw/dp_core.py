@@ -373,6 +373,7 @@ class DPCore(wiring.Component):
                 m.d.comb += tree.values[move].eq(candidate.weighted)
 
         # ---- paper 000's family: forgetting multiplier after the tree (§8.4) ----------
+        best_value, best_move = tree.best.value, tree.best.index
         if blocks.forgetting:
             m.submodules.forgetting = forgetting = ForgettingMultiplier(cfg, value_shape)
             m.d.comb += forgetting.value.eq(tree.best.value)
@@ -396,8 +397,8 @@ class DPCore(wiring.Component):
         if blocks.clamped_accumulator:  # paper 000's family (§8.5)
             m.submodules.accumulator = accumulator = ClampedAccumulator(cfg, value_shape)
             m.d.comb += [
-                accumulator.best.eq(best_value if blocks.forgetting else tree.best.value),
-                accumulator.move.eq(best_move if blocks.forgetting else tree.best.index),
+                accumulator.best.eq(best_value),
+                accumulator.move.eq(best_move),
                 accumulator.merit.eq(at_best.pixel if merit is None else merit),
                 accumulator.segment_start.eq(at_best.segment_start),
             ]
