@@ -68,12 +68,17 @@ class Accumulator(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         cfg = self._cfg
-        addend = Mux(self.segment_start, 0, self.best)
+        # The sum is formed from the registers directly and a start frame's E = x
+        # (B_in <= B_E, so x never saturates) is selected after it: no gate between the
+        # max tree's register and the carry chain (ECP5 timing, docs/synthesis.md).
         total = Signal(cfg.energy_bits + 1)
-        m.d.comb += total.eq(addend + self.pixel)
-        saturated = total[cfg.energy_bits]
+        m.d.comb += total.eq(self.best + self.pixel)
+        saturated = total[cfg.energy_bits] & ~self.segment_start
         m.d.sync += [
-            self.energy.eq(Mux(saturated, cfg.e_max, total[:cfg.energy_bits])),
+            # per bit: start frame ? x : sum | carry (E_max is all ones), one LUT4
+            self.energy.eq(Mux(self.segment_start, self.pixel,
+                               total[:cfg.energy_bits]
+                               | total[cfg.energy_bits].replicate(cfg.energy_bits))),
             self.direction.eq(Mux(self.segment_start, cfg.start_code, self.move)),
             self.saturated.eq(saturated),
         ]

@@ -112,10 +112,18 @@ class Controller(wiring.Component):
         pixels = width * height
         ahead_start = read_ahead_distance(cfg) % pixels
 
+        # Registered flags stand for the counters' comparisons (col == W - 1, row == H - 1,
+        # the frame's place in its segment), each updated with its counter, so no output
+        # or counter waits for an equality on a wide counter (ECP5 timing,
+        # docs/synthesis.md). W, H >= 3, so a resynchronised pixel (0, 0) neither ends a
+        # line nor a frame: after it col = 1, row = 0 and the segment's first frame goes on.
         col = Signal(range(width))
         row = Signal(range(height))
-        frame = Signal(range(cfg.k_max))           # frame within the segment
-        frames = Signal(range(1, cfg.k_max + 1), init=cfg.segment_frames)  # K of the segment
+        col_last = Signal()                         # col == W - 1
+        row_last = Signal()                         # row == H - 1
+        frame_first = Signal(init=1)                # the frame is its segment's first
+        frames_left = Signal(range(cfg.k_max))      # frames of the segment after this one
+        frame_last = Signal()                       # frames_left == 0
         ahead = Signal(range(pixels), init=ahead_start)
         at_start = Signal(init=1)                   # the next pixel is expected at (0, 0)
 
@@ -124,41 +132,48 @@ class Controller(wiring.Component):
         m.d.comb += self.resync.eq(self.first & ~at_start)
         eff_col = Mux(self.resync, 0, col)
         eff_row = Mux(self.resync, 0, row)
-        eff_frame = Mux(self.resync, 0, frame)
         eff_ahead = Mux(self.resync, ahead_start, ahead)
-        begins = (at_start & (frame == 0)) | self.resync
+        begins = (at_start & frame_first) | self.resync
         m.d.comb += self.segment_begin.eq(self.accept & begins)
-        eff_frames = Mux(begins, clamped(self.segment_frames, 1, cfg.k_max), frames)
+        segment_k = clamped(self.segment_frames, 1, cfg.k_max)
         # ---- recursive mode (docs/arithmetic.md §8.6) ----------------------------------
         if cfg.recursive:
-            eff_frames = 1                      # one-frame output segments
+            last_frame = 1                      # one-frame output segments
             recursing = Signal()                # a start frame has ended since reset/resync
             start_frame = self.resync | ~recursing
         else:
-            start_frame = eff_frame == 0
+            last_frame = Mux(begins, segment_k == 1, frame_last)
+            start_frame = frame_first | self.resync
         # ---- end of recursive mode ---------------------------------------------------
-        last_col = eff_col == width - 1
-        last_row = eff_row == height - 1
-        last_frame = eff_frame == eff_frames - 1
-        end_of_frame = last_col & last_row
+        last_col = ~self.resync & col_last
+        end_of_frame = last_col & row_last
         m.d.comb += self.read_addr.eq(eff_ahead)
 
         with m.If(self.accept):
+            # Next values from the registers alone, `resync` (from the input `first`)
+            # selecting last: it drives one multiplexer per bit, not the carry chains.
             m.d.sync += [
-                col.eq(increment_mod(eff_col, width)),
-                ahead.eq(increment_mod(eff_ahead, pixels)),
+                col.eq(Mux(self.resync, 1, increment_mod(col, width))),
+                col_last.eq(~self.resync & (col == width - 2)),
+                ahead.eq(Mux(self.resync, (ahead_start + 1) % pixels,
+                             increment_mod(ahead, pixels))),
                 at_start.eq(end_of_frame),
-                frames.eq(eff_frames),
             ]
-            with m.If(last_col):
-                m.d.sync += row.eq(increment_mod(eff_row, height))
-            with m.Else():
-                m.d.sync += row.eq(eff_row)
-            with m.If(end_of_frame):
-                m.d.sync += frame.eq(Mux(last_frame, 0, eff_frame + 1))
-            with m.Else():
-                m.d.sync += frame.eq(eff_frame)
-            if cfg.recursive:                   # recursive mode (§8.6)
+            with m.If(self.resync):
+                m.d.sync += [row.eq(0), row_last.eq(0)]
+            with m.Elif(col_last):
+                m.d.sync += [row.eq(increment_mod(row, height)),
+                             row_last.eq(row == height - 2)]
+            if not cfg.recursive:
+                with m.If(end_of_frame):        # never with begins: W * H > 1
+                    m.d.sync += [frame_first.eq(frame_last),
+                                 frames_left.eq(frames_left - 1),
+                                 frame_last.eq(frames_left == 1)]
+                with m.Elif(begins):            # the segment's K is sampled here
+                    m.d.sync += [frame_first.eq(1),
+                                 frames_left.eq(segment_k - 1),
+                                 frame_last.eq(segment_k == 1)]
+            else:                               # recursive mode (§8.6)
                 m.d.sync += recursing.eq(end_of_frame | (recursing & ~self.resync))
 
         m.d.sync += [

@@ -106,8 +106,12 @@ class MaxTree(wiring.Component):
         """A node's rule: right.valid & (~left.valid | right.value > left.value), as one
         comparison with ``valid`` as the most significant bit: one carry chain. (When both
         are invalid either may pass; the result stays invalid.)"""
-        return (Cat(_order_key(right.value, self._signed), right.valid)
-                > Cat(_order_key(left.value, self._signed), left.valid))
+        # right > left as the borrow (sign bit) of left - right: Yosys maps the subtraction
+        # to one carry chain whose last stage is the result, where a `>` comparison was
+        # mapped with LUT levels after the chain on ECP5 (docs/synthesis.md).
+        difference = (Cat(_order_key(left.value, self._signed), left.valid)
+                      - Cat(_order_key(right.value, self._signed), right.valid))
+        return difference[-1]
 
     def _pass(self, m: Module, layout, name: str, node):
         """A level's odd last node, passed on through one register per stage."""
