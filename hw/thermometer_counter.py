@@ -4,8 +4,8 @@ A binary counter answers "count < k?" through its adder and a comparator, both o
 from the events that move it to the flag. :class:`ThermometerCounter` keeps instead one
 register per level, ``at_least[k - 1] = (count >= k)`` for k = 1 … ``limit``: counting up
 shifts a 1 in at the bottom, counting down shifts a 0 in at the top, so each flag is a
-register whose next value is a neighbour's (one 3-input LUT) under a clock enable that is
-``up XOR down`` (one LUT of the event inputs). No carry chain, no comparator: the flags are
+register whose next value is a neighbour's (a 3-input LUT of ``up`` and the two neighbours)
+under a clock enable that is ``up XOR down``. No carry chain, no comparator: the flags are
 what a full/empty/credit decision reads. It costs ``limit`` registers where a binary counter
 needs ``bitlen(limit)``, so it is for small limits (a FIFO's depth, a credit).
 
@@ -58,7 +58,7 @@ class ThermometerCounter(wiring.Component):
         m = Module()
         flags = self.at_least
         # The clock enable is up XOR down; under it the data only needs `up` to choose the
-        # direction, so the `down` event (often the later one) meets a single LUT.
+        # direction, so the `down` event (often the later one) reaches the clock enable only.
         with m.If(self.up ^ self.down):
             with m.If(self.up):
                 m.d.sync += flags.eq(Cat(Const(1, 1), flags[:-1]))
