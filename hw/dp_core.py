@@ -10,7 +10,7 @@ pipeline stage by stage; :class:`~dptbd.hw.schedule.PipelineSchedule` gives its 
 from __future__ import annotations
 
 from amaranth.hdl import Cat, Module, Mux, Signal, signed, unsigned
-from amaranth.lib import data, fifo, stream, wiring
+from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
@@ -19,6 +19,7 @@ from dptbd.hw.controller import Controller
 from dptbd.hw.delay import delayed, delayed_in_memory
 from dptbd.hw.family_blocks import FamilyBlocks
 from dptbd.hw.forgetting_multiplier import ForgettingMultiplier
+from dptbd.hw.input_credit import InputCredit
 from dptbd.hw.layouts import event_layout, pixel_layout, state_layout, state_word_layout
 from dptbd.hw.line_buffer import LineBuffer
 from dptbd.hw.max_tree import MaxTree
@@ -28,6 +29,7 @@ from dptbd.hw.penalty_lut import PenaltyLUT
 from dptbd.hw.pipelined_max import SplitMaxTree
 from dptbd.hw.schedule import MAX_TREE_STAGES, PipelineSchedule, check_supported
 from dptbd.hw.state_store import StateStoreSignature
+from dptbd.hw.thermometer_fifo import ThermometerFIFO
 from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.hw.window import Window
@@ -434,34 +436,27 @@ class DPCore(wiring.Component):
             result.end_of_segment.eq(at_state.end_of_segment),
         ]
         # The FIFO also carries the accumulator's saturated flag, for the `saturated` event.
-        result_width = len(result.as_value())
-        m.submodules.output_fifo = output_fifo = fifo.SyncFIFOBuffered(
-            width=result_width + 1, depth=self._fifo_depth)
+        # (timing work, issue 12 §4) Its flags and the input credit are registers of
+        # thermometer counters (hw/thermometer_fifo.py, hw/input_credit.py): the cycles
+        # of SyncFIFOBuffered and of a binary credit counter, without their adders and
+        # comparators on the way to `states.valid`'s successor and to `pixels.ready`.
+        m.submodules.output_fifo = output_fifo = ThermometerFIFO(
+            data.StructLayout({"state": state_layout(cfg), "saturated": 1}), self._fifo_depth)
         m.d.comb += [
-            output_fifo.w_data.eq(Cat(result, accumulator.saturated)),
-            output_fifo.w_en.eq(at_state.valid),
-            self.states.payload.eq(output_fifo.r_data[:result_width]),
-            self.states.valid.eq(output_fifo.r_rdy),
-            output_fifo.r_en.eq(self.states.ready),
+            output_fifo.w.payload.state.eq(result),
+            output_fifo.w.payload.saturated.eq(accumulator.saturated),
+            output_fifo.w.valid.eq(at_state.valid),
+            self.states.payload.eq(output_fifo.r.payload.state),
+            self.states.valid.eq(output_fifo.r.valid),
+            output_fifo.r.ready.eq(self.states.ready),
         ]
-        state_events(m, self.events, self.states, output_fifo.r_data[result_width])
+        state_events(m, self.events, self.states, output_fifo.r.payload.saturated)
 
         # ---- credits: accept only what the FIFO is sure to have room for -------------
-        # `committed` counts pixels accepted but not yet handed out on `states`: those in
-        # flight plus those in the FIFO. (timing work, issue 12 §4) The decision is taken
-        # a cycle early into `ready_early`, which `pixels.ready` only copies: ready in cycle
-        # t+1 iff committed(t) < depth - 1, since committed(t+1) <= committed(t) + 1. So the
-        # ready register no longer closes a loop through the high-fan-out acceptance net
-        # and the counter's adder (on ECP5 that loop was the critical path); the price is
-        # one FIFO entry (the default depth latency + 2 keeps one pixel per clock).
-        committed = Signal(range(self._fifo_depth + 1))
-        handed_out = self.states.valid & self.states.ready
-        committed_next = Signal(range(-1, self._fifo_depth + 2))
-        ready_early = Signal(init=1)     # committed(1) = 0 after a reset
-        m.d.comb += committed_next.eq(committed + accept - handed_out)
-        m.d.sync += [
-            committed.eq(committed_next),
-            ready_early.eq(committed_next < self._fifo_depth - 1),
-            input_ready.eq(ready_early),
+        m.submodules.input_credit = credit = InputCredit(self._fifo_depth)
+        m.d.comb += [
+            credit.accept.eq(accept),
+            credit.handed_out.eq(self.states.valid & self.states.ready),
+            input_ready.eq(credit.ready),
         ]
         return m

@@ -1,0 +1,98 @@
+"""A synchronous FIFO that behaves cycle for cycle as ``amaranth.lib.fifo.SyncFIFOBuffered``,
+with every flag a register.
+
+``SyncFIFOBuffered(depth=D)`` is a memory of D - 1 words, read through its registered read
+port into an output register (``r_data`` / ``r_rdy``). Its "memory not empty" is
+``inner_level != 0`` of a binary level counter, and that decode drives the read port's clock
+enable; on ECP5 the counter → decode → enable path was one of the DP core's critical paths.
+:class:`ThermometerFIFO` has the same structure and the same cycles (a word written in cycle
+t is on ``r`` from cycle t + 2 when the FIFO was empty; ``r.valid`` and ``r.payload`` are
+registers; ``w.ready`` is low only when the D - 1 memory words are all in use), but keeps the
+memory's level in a :class:`~dptbd.hw.thermometer_counter.ThermometerCounter`: "not empty"
+and "full" are registers, so the read enable is one LUT of two registers and ``r.ready``.
+The price is D - 1 level registers instead of bitlen(D - 1).
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Signal
+from amaranth.lib import stream, wiring
+from amaranth.lib.memory import Memory
+from amaranth.lib.wiring import In, Out
+
+from dptbd.errors import check_int
+from dptbd.hw.modular import increment_mod
+from dptbd.hw.thermometer_counter import ThermometerCounter
+
+__all__ = ["ThermometerFIFO"]
+
+
+class ThermometerFIFO(wiring.Component):
+    """First in, first out queue of ``depth`` words (see the module doc).
+
+    Parameters
+    ----------
+    shape : shape-like
+        The payload shape (a ``data.Layout`` or a width).
+    depth : int
+        Words held, in [2, inf): ``depth - 1`` in the memory and one in the output register.
+
+    Members
+    -------
+    w : In(stream.Signature(shape))
+        Writes; ``w.ready`` is a register (low when the memory is full).
+    r : Out(stream.Signature(shape))
+        Reads; ``r.valid`` and ``r.payload`` are registers. ``r.payload`` holds no defined
+        value before the first word.
+    """
+
+    def __init__(self, shape, depth: int):
+        try:
+            self._depth = check_int("depth", depth, 2)
+        except ValueError:
+            self._MustUse__silence = True      # refused: never meant to be elaborated
+            raise
+        self._shape = shape
+        super().__init__({"w": In(stream.Signature(shape)), "r": Out(stream.Signature(shape))})
+
+    @property
+    def depth(self) -> int:
+        """Words held."""
+        return self._depth
+
+    def elaborate(self, platform):
+        m = Module()
+        words = self._depth - 1
+        m.submodules.level = level = ThermometerCounter(words)
+        m.submodules.storage = storage = Memory(shape=self._shape, depth=words, init=[])
+        write = storage.write_port()
+        read = storage.read_port(domain="sync")
+
+        not_empty = level.at_least[0]
+        full = level.at_least[words - 1]
+        do_write = self.w.valid & ~full
+        # The memory's head moves into the output register when that is empty or being read.
+        do_read = not_empty & (~self.r.valid | self.r.ready)
+
+        produce = Signal(range(words))
+        consume = Signal(range(words))
+        with m.If(do_write):
+            m.d.sync += produce.eq(increment_mod(produce, words))
+        with m.If(do_read):
+            m.d.sync += consume.eq(increment_mod(consume, words))
+        m.d.comb += [
+            self.w.ready.eq(~full),
+            write.addr.eq(produce),
+            write.data.eq(self.w.payload),
+            write.en.eq(do_write),
+            read.addr.eq(consume),
+            read.en.eq(do_read),
+            self.r.payload.eq(read.data),
+            level.up.eq(do_write),
+            level.down.eq(do_read),
+        ]
+        with m.If(do_read):
+            m.d.sync += self.r.valid.eq(1)
+        with m.Elif(self.r.ready):
+            m.d.sync += self.r.valid.eq(0)
+        return m
