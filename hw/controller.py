@@ -34,7 +34,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.modular import increment_mod
 from dptbd.hw.schedule import read_ahead_distance
 
-__all__ = ["position_layout", "clamped", "Controller"]
+__all__ = ["position_layout", "clamped", "inside_flags", "Controller"]
 
 
 def clamped(value, lo: int, hi: int):
@@ -42,6 +42,23 @@ def clamped(value, lo: int, hi: int):
     register block never writes, is clamped instead of misbehaving)."""
     limited = Mux(value > hi, hi, value) if (1 << len(value)) - 1 > hi else value
     return Mux(value < lo, lo, limited) if lo > 0 else limited
+
+
+def inside_flags(position: int, size: int, radius: int) -> int:
+    """Bit i set when ``position + radius - i`` lies in ``[0, size)``, for i in 0 … 2r: which
+    rows (or columns) of a window centred at ``position`` are inside the image."""
+    return sum(1 << i for i in range(2 * radius + 1) if 0 <= position + radius - i < size)
+
+
+def _inside_flags_of(value, size: int, radius: int):
+    """:func:`inside_flags` of a counter in gateware: equality with the few positions next to
+    the edges (no magnitude comparator)."""
+    near = {p: inside_flags(p, size, radius) for p in [*range(radius), *range(size - radius, size)]}
+    interior = inside_flags(radius, size, radius) if size > 2 * radius else None
+    flags = interior if interior is not None else 0
+    for p, bits in near.items():
+        flags = Mux(value == p, bits, flags)
+    return flags
 
 
 def position_layout(cfg: DPConfig) -> data.StructLayout:
@@ -90,6 +107,10 @@ class Controller(wiring.Component):
         Cycle 1: a pixel was accepted in cycle 0.
     position : Out(position_layout(cfg))
         Cycle 1: that pixel's position and flags.
+    row_inside, col_inside : Out(2r+1), Out(2r+1)
+        Cycle 1: :func:`inside_flags` of that pixel's row and column (bit i: row / column
+        ``y + r - i`` / ``x + r - i`` is inside the image), for the window's edge flags,
+        formed from the counters a cycle ahead so that no comparator follows ``position``.
     """
 
     def __init__(self, cfg: DPConfig):
@@ -103,6 +124,8 @@ class Controller(wiring.Component):
             "resync": Out(1),
             "valid": Out(1),
             "position": Out(position_layout(cfg)),
+            "row_inside": Out(2 * cfg.radius + 1),
+            "col_inside": Out(2 * cfg.radius + 1),
         })
 
     def elaborate(self, platform):
@@ -185,5 +208,9 @@ class Controller(wiring.Component):
             self.position.end_of_line.eq(last_col),
             self.position.end_of_frame.eq(end_of_frame),
             self.position.end_of_segment.eq(end_of_frame & last_frame),
+            self.row_inside.eq(Mux(self.resync, inside_flags(0, height, cfg.radius),
+                                   _inside_flags_of(row, height, cfg.radius))),
+            self.col_inside.eq(Mux(self.resync, inside_flags(0, width, cfg.radius),
+                                   _inside_flags_of(col, width, cfg.radius))),
         ]
         return m

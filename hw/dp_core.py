@@ -282,8 +282,8 @@ class DPCore(wiring.Component):
             window.column[0].eq(self.state_store.read_data),
             *[window.column[k + 1].eq(line_buffer.taps[k]) for k in range(2 * cfg.radius)],
             window.shift.eq(controller.valid),
-            window.row.eq(controller.position.row),
-            window.col.eq(controller.position.col),
+            window.row_inside.eq(controller.row_inside),
+            window.col_inside.eq(controller.col_inside),
         ]
 
         # Side-band travelling with the pixel from the fetch stage to the accumulator.

@@ -20,8 +20,8 @@ cycle c the old one.
 
 Storage (``lut_style``, :data:`LUT_STYLES`): ``"bram"`` leaves the column memories to the
 synthesis tool's RAM inference (Yosys ``synth_ice40``: one SB_RAM40_4K per column, since
-each column needs its own read port); ``"logic"`` marks them ``(* ram_style = "logic" *)``
-so they become flip-flops and read multiplexers (no block RAM); ``"auto"`` (the default)
+each column needs its own read port); ``"logic"`` builds them as flip-flops and read
+multiplexers (no block RAM), written through a registered one-hot decode of the address; ``"auto"`` (the default)
 is ``"logic"`` when a column has at most :data:`AUTO_LOGIC_MAX_ENTRIES` entries (r = 1:
 10 entries) and ``"bram"`` otherwise (r = 2: 26). The style changes only the synthesis
 attribute: behaviour and timing are identical. ``docs/gateware.md`` ("Weight LUT storage")
@@ -84,6 +84,16 @@ def _above(value, constant: int):
     for bit in range(len(value)):
         above = (value[bit] & above) if (constant >> bit) & 1 else (value[bit] | above)
     return above
+
+
+def _select(items: list, index):
+    """``items[index]`` as a binary tree of ``Mux`` on ``index``'s bits, most significant at
+    the root; ``len(items)`` is ``2 ** len(index)``."""
+    if len(items) == 1:
+        return items[0]
+    half = len(items) // 2
+    bit = index[(half - 1).bit_length()]
+    return Mux(bit, _select(items[half:], index), _select(items[:half], index))
 
 
 class DirectionTable(wiring.Component):
@@ -174,24 +184,66 @@ class DirectionTable(wiring.Component):
                 with m.Default():  # address beyond the table: ignored
                     m.d.sync += [write_row.eq(0), write_move.eq(0), write_pending.eq(0)]
 
-        # Yosys honours ram_style = "logic" (also "registers"); without it synth_ice40
-        # maps each column to an SB_RAM40_4K.
-        attrs = {"ram_style": "logic"} if self._style == "logic" else None
+        if self._style == "logic":
+            self._elaborate_registers(m, write_code)
+            return m
+        # Without an attribute synth_ice40 maps each column to an SB_RAM40_4K.
         for move in range(moves):
             memory = Memory(shape=unsigned(self._code_bits), depth=moves + 1,
-                            init=[int(c) for c in codes[:, move]], attrs=attrs)
+                            init=[int(c) for c in codes[:, move]])
             m.submodules[f"column_{move}"] = memory
             read = memory.read_port(domain="sync")
             write = memory.write_port(domain="sync")
-            direction = self.direction[move]
             m.d.comb += [
-                read.addr.eq(Mux(_above(direction, moves), moves, direction)),  # d > M: START
+                read.addr.eq(self._read_row(move)),
                 self.code[move].eq(read.data),
                 write.addr.eq(write_row),
                 write.data.eq(write_code),
                 write.en.eq(write_pending & (write_move == move)),
             ]
         return m
+
+    def _read_row(self, move: int):
+        """The row move ``move`` reads: its predecessor's direction, ``M`` (``START``) above M."""
+        direction = self.direction[move]
+        moves = self._cfg.n_moves
+        return Mux(_above(direction, moves), moves, direction)
+
+    def _elaborate_registers(self, m: Module, write_code):
+        """``lut_style="logic"``: one register per code, written through a one-hot row and a
+        one-hot move registered from the address in the same cycle as the binary pair, so
+        a code's clock enable is one 2-input AND of registers (the binary pair's decode
+        was a critical path on ECP5, ``docs/synthesis.md``); the same write protocol and
+        non-transparent synchronous reads as the memories."""
+        moves = self._cfg.n_moves
+        write_rows = Signal(moves + 1)
+        write_moves = Signal(moves)
+        m.d.sync += [write_rows.eq(0), write_moves.eq(0)]
+        with m.If(self.write_en):
+            with m.Switch(self.write_addr):
+                for address in range(self.entries):
+                    with m.Case(address):
+                        m.d.sync += [write_rows.eq(1 << (address // moves)),
+                                     write_moves.eq(1 << (address % moves))]
+                with m.Default():  # address beyond the table: ignored
+                    m.d.sync += [write_rows.eq(0), write_moves.eq(0)]
+        # The codes, like a memory's contents, are kept through a reset (reset_less).
+        for move in range(moves):
+            column = [Signal(self._code_bits, init=int(self._codes[row, move]),
+                             name=f"code_{row}_{move}", reset_less=True)
+                      for row in range(moves + 1)]
+            for row, code in enumerate(column):
+                # A Mux, not an m.If: a continuous assignment in Verilog, so a 4-state
+                # simulator has the register's next value before the first clock edge (an
+                # `always @*` of reset-less registers would stay X until an input changes).
+                m.d.sync += code.eq(Mux(write_rows[row] & write_moves[move], write_code, code))
+            # Directions above M read row M: the rows are padded with row M up to 2**B_d,
+            # so the read is a plain binary multiplexer tree on the direction's bits (no
+            # clamp before it; `?:` in Verilog, evaluated from time 0 in a 4-state simulator,
+            # where a `case` in an `always @*` stays X until its selector first changes).
+            direction = self.direction[move]
+            padded = column + [column[-1]] * ((1 << len(direction)) - len(column))
+            m.d.sync += self.code[move].eq(_select(padded, direction))
 
 
 class WeightLUT(DirectionTable):

@@ -13,7 +13,7 @@ The window also registers, per move, whether its predecessor lies inside the ima
 
 from __future__ import annotations
 
-from amaranth.hdl import Cat, Const, Module
+from amaranth.hdl import Cat, Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -37,8 +37,11 @@ class Window(wiring.Component):
         The new column: ``column[i]`` is the state of row ``y + r - i`` at column ``x + r``.
     shift : In(1)
         Shift ``column`` in at this cycle's edge.
-    row, col : In(range(H)), In(range(W))
-        Position ``(y, x)`` of the centre pixel of the window being shifted in.
+    row_inside, col_inside : In(2r+1), In(2r+1)
+        For the centre pixel ``(y, x)`` of the window being shifted in: bit i of
+        ``row_inside`` is set when row ``y + r - i`` is inside the image, bit j of
+        ``col_inside`` when column ``x + r - j`` is (the controller's
+        :func:`~dptbd.hw.controller.inside_flags`, registered there).
     cells : Out(state_word_layout(cfg)).array(M)
         Registered: the predecessor state of each move, in move-index order.
     inside : Out(M)
@@ -53,8 +56,8 @@ class Window(wiring.Component):
         super().__init__({
             "column": In(layout).array(side),
             "shift": In(1),
-            "row": In(range(cfg.height)),
-            "col": In(range(cfg.width)),
+            "row_inside": In(side),
+            "col_inside": In(side),
             "cells": Out(layout).array(side * side),
             "inside": Out(side * side),
         })
@@ -65,17 +68,7 @@ class Window(wiring.Component):
         r = cfg.radius
         side = 2 * r + 1
 
-        def offset_ok(position, offset, size):
-            # Is position + offset inside [0, size)? offset in -r … r.
-            if offset > 0:
-                return position <= size - 1 - offset
-            if offset < 0:
-                return position >= -offset
-            return Const(1, 1)
-
-        # Offsets of cell (i, j) from the centre: row y + (r - i), column x + (r - j).
-        row_ok = Cat(*[offset_ok(self.row, r - i, cfg.height) for i in range(side)])
-        col_ok = Cat(*[offset_ok(self.col, r - j, cfg.width) for j in range(side)])
+        row_ok, col_ok = self.row_inside, self.col_inside
         inside = Cat(*[row_ok[i] & col_ok[j] for i in range(side) for j in range(side)])
 
         with m.If(self.shift):

@@ -37,6 +37,10 @@ def reference_positions(cfg, firsts, ks=None):
             "row": row, "col": col, "start_of_frame": int(position == 0),
             "segment_start": int(start), "end_of_line": int(eol),
             "end_of_frame": int(eof), "end_of_segment": int(eof and frame == k - 1),
+            "row_inside": sum(1 << i for i in range(2 * cfg.radius + 1)
+                              if 0 <= row + cfg.radius - i < height),
+            "col_inside": sum(1 << i for i in range(2 * cfg.radius + 1)
+                              if 0 <= col + cfg.radius - i < width),
         })
         position = (position + 1) % pixels
         if eof:
@@ -66,6 +70,8 @@ def run_controller(cfg, firsts, seed=0, ks=None):
                 pending.update({name: getattr(position, name) for name in (
                     "row", "col", "start_of_frame", "segment_start", "end_of_line",
                     "end_of_frame", "end_of_segment")})
+                pending.update(row_inside=ctx.get(dut.row_inside),
+                               col_inside=ctx.get(dut.col_inside))
                 got.append(pending)
                 pending = None
             else:

@@ -107,27 +107,27 @@ def test_manifest_contents(generated):
     assert generated["radius2"][1]["latency"] == 15
 
 
-#: (* ram_style = "logic" *) on a weight LUT column memory (``reg [8:0] column_N [9:0]``).
-LOGIC_COLUMN = re.compile(r'\(\* ram_style = "logic" \*\)\s*reg \[\d+:0\] column_\d+ \[')
+#: A weight LUT column memory (``reg [8:0] column_N [9:0]``), the ``"bram"`` style.
+COLUMN_MEMORY = re.compile(r"reg \[\d+:0\] column_\d+ \[")
+#: A weight LUT code register (``reg [8:0] code_P_M``), the ``"logic"`` style.
+CODE_REGISTER = re.compile(r"reg \[\d+:0\] code_\d+_\d+ ")
 
 
 @pytest.mark.parametrize("name, style, columns", [
     ("small", "logic", 9), ("core", "logic", 9), ("small-bram", "bram", 9),
     ("radius2", "bram", 25), ("radius2-logic", "logic", 25)])
 def test_lut_style_in_verilog_and_manifest(generated, name, style, columns):
-    """"auto" resolves to logic for r = 1 and block RAM for r = 2; only the attribute differs."""
+    """"auto" resolves to logic for r = 1 and block RAM for r = 2: M column memories, or
+    (M + 1) * M code registers."""
     path, info = generated[name]
     text = path.read_text()
     assert info["lut_style"] == style
-    assert len(re.findall(r"reg \[\d+:0\] column_\d+ \[", text)) == columns
-    assert len(LOGIC_COLUMN.findall(text)) == (columns if style == "logic" else 0)
-    assert text.count("ram_style") == (columns if style == "logic" else 0)
+    assert len(COLUMN_MEMORY.findall(text)) == (columns if style == "bram" else 0)
+    assert len(CODE_REGISTER.findall(text)) == (0 if style == "bram" else columns * (columns + 1))
+    assert "ram_style" not in text
 
 
-def test_lut_styles_differ_only_in_the_attribute(generated):
-    logic = generated["small"][0].read_text()
-    bram = generated["small-bram"][0].read_text()
-    assert re.sub(r'\(\* ram_style = "logic" \*\)\n\s*', "", logic) == bram
+def test_lut_styles_have_the_same_manifest_but_for_the_style(generated):
     info_logic, info_bram = generated["small"][1], generated["small-bram"][1]
     assert {k: v for k, v in info_logic.items() if k != "lut_style"} == \
         {k: v for k, v in info_bram.items() if k != "lut_style"}

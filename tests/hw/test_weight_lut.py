@@ -147,9 +147,10 @@ def test_unknown_style_is_refused_naming_the_parameter(bad):
         WeightLUT(DPConfig(), lut_style=bad)
 
 
-@pytest.mark.parametrize("style, attribute", [("bram", False), ("logic", True)])
-def test_style_only_sets_the_ram_style_attribute(style, attribute):
+@pytest.mark.parametrize("style, memories", [("bram", 9), ("logic", 0)])
+def test_bram_style_builds_column_memories_and_logic_style_registers(style, memories):
     from amaranth.back import rtlil
 
     text = rtlil.convert(WeightLUT(DPConfig(radius=1), lut_style=style))
-    assert ('ram_style "logic"' in text) == attribute
+    assert text.count("cell $memrd_v2 ") == memories
+    assert ('code_9_8' in text) == (memories == 0)     # one register per code

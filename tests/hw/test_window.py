@@ -5,6 +5,7 @@ import random
 import pytest
 
 from dptbd.config import DPConfig
+from dptbd.hw.controller import inside_flags
 from dptbd.hw.layouts import pack_state_word
 from dptbd.hw.window import Window
 from hw_harness import simulate
@@ -29,8 +30,8 @@ def test_cells_and_edge_flags(width, height, radius):
             for i in range(side):  # column x + r, rows y + r - i
                 ctx.set(dut.column[i].as_value(), words[p + radius * (width + 1) - i * width])
             ctx.set(dut.shift, 1)
-            ctx.set(dut.row, y)
-            ctx.set(dut.col, x)
+            ctx.set(dut.row_inside, inside_flags(y, height, radius))
+            ctx.set(dut.col_inside, inside_flags(x, width, radius))
             await ctx.tick()
             ctx.set(dut.shift, 0)
             inside = ctx.get(dut.inside)
