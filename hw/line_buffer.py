@@ -33,7 +33,8 @@ the odd half at the odd one, each bank into a register of its own (no enable, no
 multiplexer, read address from a 4-bit counter per half); in cycle t the word at P(t) is in
 the bank registers whatever cycle t-1 did, and the read register takes it on ``advance``
 through an AND-OR multiplexer whose select is a one-hot register (half = P's parity, bank =
-P's high bits). Same taps, same cycles, no write delay; costs one register per bank and
+P's high bits), its pair terms kept (``keep``) so that Yosys maps two LUT levels rather than
+a chain of three. Same taps, same cycles, no write delay; costs one register per bank and
 memory bit (224 for the 128 x 28-bit line buffer of the default build). It takes the line
 buffer out of the ECP5 critical paths (``docs/synthesis.md``, "The last 25 MHz").
 """
@@ -305,11 +306,18 @@ class LineBuffer(wiring.Component):
                 onehot.eq(Mux(~parity | last_odd, onehot.rotate_left(1),
                               onehot.rotate_right(1))),
             ]
+        # The AND-OR in two LUT levels: terms of two banks each (LUT4), kept, then their OR;
+        # without the keep ABC9 maps a chain of three LUT4 off the critical path's slack.
         words = Signal(word_bits)
         for i in range(word_bits):
-            chosen = Cat(onehot[j] & word[i] for j, word in enumerate(bank_words)).any()
+            pairs = []
+            for j in range(0, len(bank_words), 2):
+                pair = Signal(name=f"read_pair_{i}_{j // 2}", attrs={"keep": 1})
+                m.d.comb += pair.eq(Cat(onehot[k] & bank_words[k][i]
+                                        for k in range(j, min(j + 2, len(bank_words)))).any())
+                pairs.append(pair)
             with m.If(self.advance):
-                m.d.sync += words[i].eq(chosen)
+                m.d.sync += words[i].eq(Cat(pairs).any())
         entry_bits = word_bits // self._n_taps
         for k in range(self._n_taps):
             m.d.comb += self.taps[k].eq(words[k * entry_bits:(k + 1) * entry_bits])
