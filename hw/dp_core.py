@@ -271,7 +271,8 @@ class DPCore(wiring.Component):
         ]
         m.submodules.line_buffer = line_buffer = LineBuffer(
             state_word_layout(cfg), depth=cfg.width, taps=2 * cfg.radius,
-            ram_style=LINE_BUFFER_RAM_STYLE[self._line_buffer_style])
+            ram_style=LINE_BUFFER_RAM_STYLE[self._line_buffer_style],
+            interleaved_read=self._line_buffer_style == "lutram" and cfg.width % 2 == 0)
         m.d.comb += line_buffer.advance.eq(accept)
 
         # ---- cycle 1 (fetch): new window column --------------------------------------

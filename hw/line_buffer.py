@@ -22,6 +22,21 @@ does not drive the write ports either. Same taps, same cycles; costs one registe
 and memory bit. Off by default: on ECP5 it moved the critical path elsewhere (+6 to +11 MHz
 on two seeds) but nextpnr's router did not converge on the third seed (``docs/synthesis.md``,
 "Towards 200 MHz on ECP5").
+
+With ``interleaved_read=True`` (needs ``ram_style="distributed"`` and an even ``depth`` >= 4)
+the LUT RAM is read ahead, so that neither the read address's fan-out nor a multiplexer sits
+between the LUT RAM and a register: the entries at even and odd addresses live in two
+halves, each in banks of :data:`LUT_RAM_BANK_DEPTH` words. The entry an advance in cycle t
+asks for is at P(t), the pointer, which in cycle t-1 was either P(t) or P(t) - 1: one even
+and one odd address. So in every cycle the even half is read at the even one of P and P+1,
+the odd half at the odd one, each bank into a register of its own (no enable, no
+multiplexer, read address from a 4-bit counter per half); in cycle t the word at P(t) is in
+the bank registers whatever cycle t-1 did, and the read register takes it on ``advance``
+through an AND-OR multiplexer whose select is a one-hot register (half = P's parity, bank =
+P's high bits), its pair terms kept (``keep``) so that Yosys maps two LUT levels rather than
+a chain of three. Same taps, same cycles, no write delay; costs one register per bank and
+memory bit (224 for the 128 x 28-bit line buffer of the default build). It takes the line
+buffer out of the ECP5 critical paths (``docs/synthesis.md``, "The last 25 MHz").
 """
 
 from __future__ import annotations
@@ -65,6 +80,10 @@ class LineBuffer(wiring.Component):
     banked_read : bool
         LUT RAM in registered banks (module docstring); needs ``ram_style="distributed"``,
         no ``registered_read`` and ``depth`` >= 3.
+    interleaved_read : bool
+        LUT RAM read ahead in interleaved halves into bank registers (module docstring);
+        needs ``ram_style="distributed"``, an even ``depth`` >= 4 and neither
+        ``registered_read`` nor ``banked_read``.
 
     Members
     -------
@@ -84,11 +103,19 @@ class LineBuffer(wiring.Component):
     """
 
     def __init__(self, shape, depth: int, taps: int, *, registered_read: bool = False,
-                 ram_style: str | None = None, banked_read: bool = False):
+                 ram_style: str | None = None, banked_read: bool = False,
+                 interleaved_read: bool = False):
         if banked_read and (ram_style != "distributed" or registered_read):
             raise ValueError("banked_read needs ram_style='distributed' and no registered_read")
         if ram_style not in RAM_STYLES:
             raise ValueError(f"ram_style must be one of {RAM_STYLES}, got {ram_style!r}")
+        if interleaved_read:
+            if ram_style != "distributed" or registered_read or banked_read:
+                raise ValueError("interleaved_read needs ram_style='distributed', no "
+                                 "registered_read and no banked_read")
+            if depth < 4 or depth % 2:
+                raise ValueError(f"depth must be an even integer in [4, inf) with "
+                                 f"interleaved_read, got {depth}")
         low = 3 if registered_read or banked_read else 2
         if depth < low:
             raise ValueError(f"depth must be an integer in [{low}, inf), got {depth}")
@@ -100,6 +127,7 @@ class LineBuffer(wiring.Component):
         self._registered_read = bool(registered_read)
         self._ram_style = ram_style
         self._banked_read = bool(banked_read)
+        self._interleaved_read = bool(interleaved_read)
         super().__init__({
             "advance": In(1),
             "data_in": In(shape),
@@ -117,6 +145,8 @@ class LineBuffer(wiring.Component):
         n_taps = self._n_taps
         if self._banked_read:
             return self._elaborate_banked(m, entry_bits, n_taps)
+        if self._interleaved_read:
+            return self._elaborate_interleaved(m, entry_bits * n_taps)
         m.submodules.memory = memory = Memory(
             shape=unsigned(entry_bits * n_taps), depth=self._depth, init=[],
             attrs=None if self._ram_style is None else {"ram_style": self._ram_style})
@@ -210,3 +240,87 @@ class LineBuffer(wiring.Component):
             m.d.comb += self.taps[k].eq(words[k * entry_bits:(k + 1) * entry_bits])
         m.d.comb += shifted.eq(Cat(self.data_in, *[self.taps[k] for k in range(n_taps - 1)]))
         return m
+
+    def _elaborate_interleaved(self, m, word_bits):
+        depth = self._depth
+        half = depth // 2
+        pointer, _, write_pointer, write_pending = self._pointers(m)
+        bank_depth = LUT_RAM_BANK_DEPTH
+        n_banks = -(-half // bank_depth)                       # banks per half
+        low_width = len(Signal(range(min(bank_depth, half))))  # address bits in a bank
+        # The index in the even half of the even one of P and P+1 is ((P+1) mod depth) >> 1:
+        # it steps on an advance from an even P and is at its end (half-1) for P in
+        # {depth-3, depth-2}; the odd half's, P >> 1, steps from an odd P and is at its end
+        # for P in {depth-2, depth-1}. Only the bank-internal bits are kept, one counter per
+        # half; they wrap with the index unless half is a multiple of the bank depth (or a
+        # power of two below it), where the increment wraps by itself.
+        parity = pointer[0]
+        at_end = [Signal(name="even_at_end"), Signal(name="odd_at_end")]
+        with m.If(self.advance):   # the flags of the pointer's next value, from the pointer
+            m.d.sync += [
+                at_end[0].eq((pointer == depth - 4) | (pointer == depth - 3)),
+                at_end[1].eq((pointer == depth - 3) | (pointer == depth - 2)),
+            ]
+        wraps_itself = half % bank_depth == 0 or half == 1 << low_width
+        read_addrs = []
+        for h, step in enumerate((self.advance & ~parity, self.advance & parity)):
+            addr = Signal(low_width, name=f"read_addr_{'even' if h == 0 else 'odd'}")
+            following = (addr + 1)[:low_width]
+            with m.If(step):
+                m.d.sync += addr.eq(following if wraps_itself else Mux(at_end[h], 0, following))
+            read_addrs.append(addr)
+
+        shifted = Signal(word_bits)
+        bank_words = []                                        # index: half + 2 * bank
+        for b in range(n_banks):
+            for h in range(2):
+                memory = Memory(shape=unsigned(word_bits),
+                                depth=min(bank_depth, half - b * bank_depth), init=[],
+                                attrs={"ram_style": self._ram_style})
+                m.submodules[f"bank_{h}_{b}"] = memory
+                read = memory.read_port(domain="comb")
+                write = memory.write_port(domain="sync")
+                m.d.comb += [
+                    read.addr.eq(read_addrs[h]),
+                    write.addr.eq(write_pointer[1:1 + low_width]),
+                    write.data.eq(shifted),
+                    write.en.eq(write_pending & (write_pointer[0] == h)
+                                & ((write_pointer >> (1 + low_width)) == b)),
+                ]
+                word = Signal(word_bits, name=f"bank_word_{h}_{b}")
+                m.d.sync += word.eq(read.data)
+                bank_words.append(word)
+
+        # Cycle t: the bank registers hold the words at P(t) and its neighbour; the entry at
+        # P(t) is in half P[0], bank P >> (1 + low_width): bit half + 2 * bank of `onehot`,
+        # kept from the pointer's registers, not decoded from its next value. An advance
+        # from an even P moves to the odd half of the same bank (one up), from an odd P back
+        # to the even half (one down), unless P is the bank's last odd address or depth - 1
+        # (one up, wrapping to 0).
+        onehot = Signal(len(bank_words), init=1)
+        last_odd = Signal()                  # for an odd P, set from the even P before it
+        with m.If(self.advance):
+            m.d.sync += [
+                last_odd.eq((pointer[1:1 + low_width] == (1 << low_width) - 1)
+                            | (pointer == depth - 2)),
+                onehot.eq(Mux(~parity | last_odd, onehot.rotate_left(1),
+                              onehot.rotate_right(1))),
+            ]
+        # The AND-OR in two LUT levels: terms of two banks each (LUT4), kept, then their OR;
+        # without the keep ABC9 maps a chain of three LUT4 off the critical path's slack.
+        words = Signal(word_bits)
+        for i in range(word_bits):
+            pairs = []
+            for j in range(0, len(bank_words), 2):
+                pair = Signal(name=f"read_pair_{i}_{j // 2}", attrs={"keep": 1})
+                m.d.comb += pair.eq(Cat(onehot[k] & bank_words[k][i]
+                                        for k in range(j, min(j + 2, len(bank_words)))).any())
+                pairs.append(pair)
+            with m.If(self.advance):
+                m.d.sync += words[i].eq(Cat(pairs).any())
+        entry_bits = word_bits // self._n_taps
+        for k in range(self._n_taps):
+            m.d.comb += self.taps[k].eq(words[k * entry_bits:(k + 1) * entry_bits])
+        m.d.comb += shifted.eq(Cat(self.data_in, *self.taps[:self._n_taps - 1]))
+        return m
+

@@ -9,19 +9,10 @@ from dptbd.hw.line_buffer import RAM_STYLES, LineBuffer
 from hw_harness import refused, simulate
 
 
-@pytest.mark.parametrize("ram_style, registered_read, banked_read", [
-    *[(style, registered, False) for style in RAM_STYLES for registered in (False, True)],
-    ("distributed", False, True)])
-@pytest.mark.parametrize("depth, taps, back_to_back", [
-    (5, 2, False), (7, 4, False), (3, 1, False), (3, 2, True), (4, 1, True), (128, 2, True),
-    (37, 3, True)])
-def test_taps_are_delayed_rows(depth, taps, back_to_back, registered_read, ram_style,
-                               banked_read):
+def check_taps(dut, depth, taps, back_to_back):
     """Random advances, at most every other cycle or (``back_to_back``) also in consecutive
-    cycles, as the pipeline advances at full rate; the same taps with a registered read and
-    with the memory in LUT RAM (a synthesis attribute only)."""
-    dut = LineBuffer(unsigned(10), depth=depth, taps=taps, registered_read=registered_read,
-                     ram_style=ram_style, banked_read=banked_read)
+    cycles, as the pipeline advances at full rate: tap k is the entry (k + 1) * depth
+    advances earlier, 0 before."""
     rng = random.Random(depth * 10 + taps)
     entries = [rng.randrange(1 << 10) for _ in range(depth * (taps + 3))]
     seen = []
@@ -43,10 +34,38 @@ def test_taps_are_delayed_rows(depth, taps, back_to_back, registered_read, ram_s
             await ctx.tick()
 
     simulate(dut, bench)
+    assert len(seen) == len(entries)
     for n, taps_out in enumerate(seen):
         for k, value in enumerate(taps_out):
             back = n - (k + 1) * depth
             assert value == (entries[back] if back >= 0 else 0), f"entry {n}, tap {k}"
+
+
+@pytest.mark.parametrize("ram_style, registered_read, banked_read", [
+    *[(style, registered, False) for style in RAM_STYLES for registered in (False, True)],
+    ("distributed", False, True)])
+@pytest.mark.parametrize("depth, taps, back_to_back", [
+    (5, 2, False), (7, 4, False), (3, 1, False), (3, 2, True), (4, 1, True), (128, 2, True),
+    (37, 3, True)])
+def test_taps_are_delayed_rows(depth, taps, back_to_back, registered_read, ram_style,
+                               banked_read):
+    """The same taps with a registered read and with the memory in LUT RAM (a synthesis
+    attribute only) or in registered banks."""
+    check_taps(LineBuffer(unsigned(10), depth=depth, taps=taps, registered_read=registered_read,
+                          ram_style=ram_style, banked_read=banked_read),
+               depth, taps, back_to_back)
+
+
+@pytest.mark.parametrize("depth, taps, back_to_back", [
+    (4, 1, True), (6, 2, False), (8, 2, True), (10, 1, True), (34, 3, True), (64, 1, True),
+    (96, 2, True), (128, 2, True), (128, 2, False)])
+def test_interleaved_read_gives_the_same_taps(depth, taps, back_to_back):
+    """The interleaved read ahead: halves of one bank (depth 4 … 10, a power of two or not),
+    of several banks with a short last one (34: 16 + 1 words per half), of whole banks (64,
+    96: three per half, 128: four per half)."""
+    check_taps(LineBuffer(unsigned(10), depth=depth, taps=taps, ram_style="distributed",
+                          interleaved_read=True),
+               depth, taps, back_to_back)
 
 
 def test_refuses_degenerate_sizes():
@@ -59,6 +78,17 @@ def test_refuses_degenerate_sizes():
     with refused(ValueError, match=r"^banked_read needs ram_style='distributed' and no "
                                    r"registered_read$"):
         LineBuffer(unsigned(4), depth=4, taps=1, banked_read=True)
+    with refused(ValueError, match=r"^depth must be an even integer in \[4, inf\) with "
+                                   r"interleaved_read, got 7$"):
+        LineBuffer(unsigned(4), depth=7, taps=2, ram_style="distributed", interleaved_read=True)
+    with refused(ValueError, match=r"^depth must be an even integer in \[4, inf\) with "
+                                   r"interleaved_read, got 2$"):
+        LineBuffer(unsigned(4), depth=2, taps=2, ram_style="distributed", interleaved_read=True)
+    for options in ({}, {"ram_style": "distributed", "registered_read": True},
+                    {"ram_style": "distributed", "banked_read": True}):
+        with refused(ValueError, match=r"^interleaved_read needs ram_style='distributed', no "
+                                       r"registered_read and no banked_read$"):
+            LineBuffer(unsigned(4), depth=8, taps=1, interleaved_read=True, **options)
     with refused(ValueError, match=r"^taps must be an integer in \[1, inf\), got 0$"):
         LineBuffer(unsigned(4), depth=4, taps=0)
     with refused(ValueError, match=r"^ram_style must be one of \(None, 'distributed'\), "
