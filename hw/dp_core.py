@@ -129,7 +129,8 @@ class DPCore(wiring.Component):
         Storage of the line buffer (:class:`~dptbd.hw.line_buffer.LineBuffer`): block RAM
         (default) or LUT RAM (``"lutram"``: ``ram_style = "distributed"``, for ECP5, where
         the block RAM's read is the critical path; on iCE40, which has no LUT RAM, it would
-        be built from logic). A synthesis choice only: behaviour and latency are the same.
+        be built from logic; for an even width read interleaved, ``LineBuffer(
+        interleaved_read=True)``). A synthesis choice only: behaviour and latency are the same.
         The synthesis flow picks it per family (:mod:`dptbd.hw.flow.family`). Anything else
         raises ``ValueError``.
     sideband_delay : {"registers", "memory"}

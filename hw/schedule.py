@@ -72,7 +72,8 @@ class PipelineSchedule:
         The new (E, d) is registered and presented to the state store's write port and to
         the output FIFO: ``faded + 1``. This is also the *write latency*.
     fifo : int
-        Cycles through the output FIFO (:class:`amaranth.lib.fifo.SyncFIFOBuffered`): 2.
+        Cycles through the output FIFO (:class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO`,
+        cycle for cycle ``SyncFIFOBuffered``): 2.
     latency : int
         Cycles from accepting a pixel to its result being valid on ``states`` when the
         output is not back-pressured: ``state + fifo`` = ``6 + ceil(log2(F + 2)) +

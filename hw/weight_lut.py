@@ -20,8 +20,9 @@ cycle c the old one.
 
 Storage (``lut_style``, :data:`LUT_STYLES`): ``"bram"`` leaves the column memories to the
 synthesis tool's RAM inference (Yosys ``synth_ice40``: one SB_RAM40_4K per column, since
-each column needs its own read port); ``"logic"`` builds them as flip-flops and read
-multiplexers (no block RAM), written through a registered one-hot decode of the address; ``"auto"`` (the default)
+each column needs its own read port); ``"logic"`` marks them ``ram_style = "logic"``
+(flip-flops, no block RAM), reads every row and selects with a multiplexer tree of its own,
+and enables a column's write by a registered one-hot move; ``"auto"`` (the default)
 is ``"logic"`` when a column has at most :data:`AUTO_LOGIC_MAX_ENTRIES` entries (r = 1:
 10 entries) and ``"bram"`` otherwise (r = 2: 26). The style changes only the synthesis
 attribute: behaviour and timing are identical. ``docs/gateware.md`` ("Weight LUT storage")
@@ -185,7 +186,7 @@ class DirectionTable(wiring.Component):
                     m.d.sync += [write_row.eq(0), write_move.eq(0), write_pending.eq(0)]
 
         if self._style == "logic":
-            self._elaborate_registers(m, write_code)
+            self._elaborate_registers(m, write_row, write_code)
             return m
         # Without an attribute synth_ice40 maps each column to an SB_RAM40_4K.
         for move in range(moves):
@@ -209,34 +210,41 @@ class DirectionTable(wiring.Component):
         moves = self._cfg.n_moves
         return Mux(_above(direction, moves), moves, direction)
 
-    def _elaborate_registers(self, m: Module, write_code):
-        """``lut_style="logic"``: one register per code, written through a one-hot row and a
-        one-hot move registered from the address in the same cycle as the binary pair, so
-        a code's clock enable is one 2-input AND of registers (the binary pair's decode
-        was a critical path on ECP5, ``docs/synthesis.md``); the same write protocol and
-        non-transparent synchronous reads as the memories."""
+    def _elaborate_registers(self, m: Module, write_row, write_code):
+        """``lut_style="logic"``: flip-flops and a read multiplexer tree per column.
+
+        Each column is a memory marked ``ram_style = "logic"`` (flip-flops after synthesis;
+        its contents kept through a reset, and in Verilog its write an ``if (enable)`` in the
+        clocked block, so an X enable in a 4-state simulator leaves the codes alone), read
+        at every address by a constant-address port. The write is enabled by a one-hot move
+        registered in the same cycle as the binary pair, so a code's clock enable is the
+        column's enable and one row decode (the binary pair's 9-input decode was a critical
+        path on ECP5, ``docs/synthesis.md``); the same write protocol and non-transparent
+        synchronous reads as the block-RAM style.
+        """
         moves = self._cfg.n_moves
-        write_rows = Signal(moves + 1)
         write_moves = Signal(moves)
-        m.d.sync += [write_rows.eq(0), write_moves.eq(0)]
+        m.d.sync += write_moves.eq(0)
         with m.If(self.write_en):
             with m.Switch(self.write_addr):
                 for address in range(self.entries):
                     with m.Case(address):
-                        m.d.sync += [write_rows.eq(1 << (address // moves)),
-                                     write_moves.eq(1 << (address % moves))]
+                        m.d.sync += write_moves.eq(1 << (address % moves))
                 with m.Default():  # address beyond the table: ignored
-                    m.d.sync += [write_rows.eq(0), write_moves.eq(0)]
-        # The codes, like a memory's contents, are kept through a reset (reset_less).
+                    m.d.sync += write_moves.eq(0)
         for move in range(moves):
-            column = [Signal(self._code_bits, init=int(self._codes[row, move]),
-                             name=f"code_{row}_{move}", reset_less=True)
-                      for row in range(moves + 1)]
-            for row, code in enumerate(column):
-                # A Mux, not an m.If: a continuous assignment in Verilog, so a 4-state
-                # simulator has the register's next value before the first clock edge (an
-                # `always @*` of reset-less registers would stay X until an input changes).
-                m.d.sync += code.eq(Mux(write_rows[row] & write_moves[move], write_code, code))
+            memory = Memory(shape=unsigned(self._code_bits), depth=moves + 1,
+                            init=[int(c) for c in self._codes[:, move]],
+                            attrs={"ram_style": "logic"})
+            m.submodules[f"column_{move}"] = memory
+            write = memory.write_port(domain="sync")
+            m.d.comb += [write.addr.eq(write_row), write.data.eq(write_code),
+                         write.en.eq(write_moves[move])]
+            column = []
+            for row in range(moves + 1):
+                read = memory.read_port(domain="comb")
+                m.d.comb += read.addr.eq(row)
+                column.append(read.data)
             # Directions above M read row M: the rows are padded with row M up to 2**B_d,
             # so the read is a plain binary multiplexer tree on the direction's bits (no
             # clamp before it; `?:` in Verilog, evaluated from time 0 in a 4-state simulator,

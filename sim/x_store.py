@@ -21,7 +21,7 @@ equals the golden model (:func:`dptbd.sim.scoreboard.expected_words`). Compiled 
 
 Two details of the bench, both outside the store question: ``states__payload`` is checked
 from the first ``states.valid`` on (before it, the output FIFO's data register —
-``amaranth.lib.fifo.SyncFIFOBuffered`` — has no initial value and ``valid`` is low), every
+``ThermometerFIFO``, like ``SyncFIFOBuffered`` — has no initial value and ``valid`` is low), every
 other output from the first clock edge; and ``rst`` is raised at 1 ns rather than
 initialised high, because SystemVerilog declaration initialisers raise no event at time 0
 and Yosys' ``always @*`` blocks would otherwise stay X until their inputs first change.

@@ -107,24 +107,23 @@ def test_manifest_contents(generated):
     assert generated["radius2"][1]["latency"] == 15
 
 
-#: A weight LUT column memory (``reg [8:0] column_N [9:0]``), the ``"bram"`` style.
+#: A weight LUT column memory (``reg [8:0] column_N [9:0]``), in both styles.
 COLUMN_MEMORY = re.compile(r"reg \[\d+:0\] column_\d+ \[")
-#: A weight LUT code register (``reg [8:0] code_P_M``), the ``"logic"`` style.
-CODE_REGISTER = re.compile(r"reg \[\d+:0\] code_\d+_\d+ ")
+#: The ``"logic"`` style's attribute on a column memory.
+LOGIC_COLUMN = re.compile(r'\(\* ram_style = "logic" \*\)\s*reg \[\d+:0\] column_\d+ \[')
 
 
 @pytest.mark.parametrize("name, style, columns", [
     ("small", "logic", 9), ("core", "logic", 9), ("small-bram", "bram", 9),
     ("radius2", "bram", 25), ("radius2-logic", "logic", 25)])
 def test_lut_style_in_verilog_and_manifest(generated, name, style, columns):
-    """"auto" resolves to logic for r = 1 and block RAM for r = 2: M column memories, or
-    (M + 1) * M code registers."""
+    """"auto" resolves to logic for r = 1 and block RAM for r = 2: M column memories, marked
+    for logic in the ``"logic"`` style."""
     path, info = generated[name]
     text = path.read_text()
     assert info["lut_style"] == style
-    assert len(COLUMN_MEMORY.findall(text)) == (columns if style == "bram" else 0)
-    assert len(CODE_REGISTER.findall(text)) == (0 if style == "bram" else columns * (columns + 1))
-    assert "ram_style" not in text
+    assert len(COLUMN_MEMORY.findall(text)) == columns
+    assert len(LOGIC_COLUMN.findall(text)) == (columns if style == "logic" else 0)
 
 
 def test_lut_styles_have_the_same_manifest_but_for_the_style(generated):

@@ -147,10 +147,15 @@ def test_unknown_style_is_refused_naming_the_parameter(bad):
         WeightLUT(DPConfig(), lut_style=bad)
 
 
-@pytest.mark.parametrize("style, memories", [("bram", 9), ("logic", 0)])
-def test_bram_style_builds_column_memories_and_logic_style_registers(style, memories):
+@pytest.mark.parametrize("style, read_ports, attribute", [("bram", 9, False),
+                                                          ("logic", 90, True)])
+def test_bram_style_reads_each_column_once_and_logic_style_every_code(style, read_ports,
+                                                                      attribute):
+    """"bram": one read port per column memory, at the direction; "logic": a column memory
+    marked for logic, read at every row by constant-address ports (the read multiplexer is
+    then logic of our own)."""
     from amaranth.back import rtlil
 
     text = rtlil.convert(WeightLUT(DPConfig(radius=1), lut_style=style))
-    assert text.count("cell $memrd_v2 ") == memories
-    assert ('code_9_8' in text) == (memories == 0)     # one register per code
+    assert text.count("cell $memrd_v2 ") == read_ports
+    assert ('ram_style "logic"' in text) == attribute
