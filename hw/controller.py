@@ -53,11 +53,9 @@ def inside_flags(position: int, size: int, radius: int) -> int:
 def _inside_flags_of(value, size: int, radius: int):
     """:func:`inside_flags` of a counter in gateware: equality with the few positions next to
     the edges (no magnitude comparator)."""
-    near = {p: inside_flags(p, size, radius) for p in [*range(radius), *range(size - radius, size)]}
-    interior = inside_flags(radius, size, radius) if size > 2 * radius else None
-    flags = interior if interior is not None else 0
-    for p, bits in near.items():
-        flags = Mux(value == p, bits, flags)
+    flags = inside_flags(radius, size, radius)         # an interior position's
+    for p in dict.fromkeys([*range(radius), *range(size - radius, size)]):   # in order
+        flags = Mux(value == p, inside_flags(p, size, radius), flags)
     return flags
 
 

@@ -24,8 +24,8 @@ each column needs its own read port); ``"logic"`` marks them ``ram_style = "logi
 (flip-flops, no block RAM), reads every row and selects with a multiplexer tree of its own,
 and enables a column's write by a registered one-hot move; ``"auto"`` (the default)
 is ``"logic"`` when a column has at most :data:`AUTO_LOGIC_MAX_ENTRIES` entries (r = 1:
-10 entries) and ``"bram"`` otherwise (r = 2: 26). The style changes only the synthesis
-attribute: behaviour and timing are identical. ``docs/gateware.md`` ("Weight LUT storage")
+10 entries) and ``"bram"`` otherwise (r = 2: 26). The style changes the storage only:
+behaviour and timing are identical. ``docs/gateware.md`` ("Weight LUT storage")
 gives the reasons and the measured cost.
 """
 
