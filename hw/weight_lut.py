@@ -111,8 +111,9 @@ class DirectionTable(wiring.Component):
     code_bits : int
         Width of a code.
     max_code : int or None
-        A write above it is stored as ``max_code``; ``None``: every ``code_bits`` value
-        is stored as written.
+        A write above it is stored as ``max_code``; ``None`` (or ``2**code_bits - 1``,
+        which no write exceeds): every ``code_bits`` value is stored as written, with no
+        comparator.
     lut_style : {"auto", "bram", "logic"}
         Storage of the column memories (module docstring, :func:`resolve_lut_style`).
 
@@ -167,10 +168,13 @@ class DirectionTable(wiring.Component):
         write_move = Signal(range(moves))
         write_code = Signal(self._code_bits)
         write_pending = Signal()
+        # No comparator where no write can exceed max_code (F = 0: max_code = 1 = all ones
+        # of a 1-bit code): a constant comparison is what Verilator's CMPCONST refuses.
         top = self._max_code
+        clamp = top is not None and top < (1 << self._code_bits) - 1
         m.d.sync += [
-            write_code.eq(self.write_data if top is None
-                          else Mux(self.write_data > top, top, self.write_data)),
+            write_code.eq(Mux(self.write_data > top, top, self.write_data) if clamp
+                          else self.write_data),
             write_pending.eq(0),
         ]
         with m.If(self.write_en):

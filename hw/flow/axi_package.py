@@ -13,7 +13,9 @@ core description, as texts (the library job behind ``dptbd verilog --top axi``).
 - ``<stem>.core``: a FuseSoC CAPI2 core naming the Verilog (``rtl`` file set), the header
   (``sw``) and the constraints (``sdc``, file type ``SDC``; ``xdc``, file type ``xdc``: the
   file types edalize's tool back ends read), with a ``default`` target (the XDC file when the
-  tool is Vivado, the SDC file otherwise) and a Verilator ``lint`` target.
+  tool is Vivado, the SDC file otherwise) and a ``lint`` target: edalize's ``lint`` flow
+  (FuseSoC's flow API) with Verilator and the project's waivers, which the Verilog passes
+  with no warning for every build.
 """
 
 from __future__ import annotations
@@ -159,13 +161,12 @@ def fusesoc_core(cfg: DPConfig, stem: str, version: str) -> str:
         '    filesets: [rtl, sw, "tool_vivado ? (xdc)", "!tool_vivado ? (sdc)"]',
         f"    toplevel: {AXI_MODULE_NAME}",
         "  lint:",
-        "    default_tool: verilator",
+        "    flow: lint",
+        "    flow_options:",
+        "      tool: verilator",
+        f"      verilator_options: [{lint}]",
         "    filesets: [rtl]",
         f"    toplevel: {AXI_MODULE_NAME}",
-        "    tools:",
-        "      verilator:",
-        "        mode: lint-only",
-        f"        verilator_options: [{lint}]",
         "",
     ])
 

@@ -2,9 +2,11 @@
 own parser), and the Verilog under Verilator's lint with the project's waivers."""
 
 import json
+import os
 import re
 import shutil
 import subprocess
+import sysconfig
 
 import pytest
 from fusesoc.capi2.core import CoreInterface
@@ -74,6 +76,42 @@ def test_constraints_refuse_a_clock_out_of_range(mhz):
     with pytest.raises(DptbdError, match=rf"^clock_mhz must be a finite real number in "
                                          rf"\[1, 1000\], got {re.escape(repr(mhz))}$"):
         axi_package(make_config(width=8, height=6, candidate_count=2), clock_mhz=mhz)
+
+
+def _fusesoc() -> str | None:
+    """The ``fusesoc`` executable beside the running Python (the ``test`` extra)."""
+    return shutil.which("fusesoc", path=sysconfig.get_path("scripts")) or shutil.which("fusesoc")
+
+
+@pytest.mark.skipif(shutil.which("verilator") is None or _fusesoc() is None,
+                    reason="needs Verilator and FuseSoC")
+@pytest.mark.parametrize("radius, fractional_lut", [(1, False), (1, True), (2, False),
+                                                    (2, True)])
+def test_fusesoc_lint_target_passes_with_no_warning(tmp_path, radius, fractional_lut):
+    """``fusesoc --cores-root DIR run --target lint`` on the core as ``dptbd verilog --top
+    axi [--radius 2] [--fractional-lut]`` writes it (``build_config``: the binary LUT builds
+    with F = 0): edalize's lint flow runs Verilator ``-Wall`` with the project's waivers,
+    with no warning and no deprecation of the core's description."""
+    cfg = make_config(radius=radius).build_config(fractional_lut=fractional_lut)
+    assert cfg.weight_frac_bits == (8 if fractional_lut else 0)
+    folder = tmp_path / "rtl"
+    folder.mkdir()
+    for name, text in axi_package(cfg, "top").items():
+        (folder / name).write_text(text)
+    env = {**os.environ, **{f"XDG_{kind}_HOME": str(tmp_path / kind.lower())
+                            for kind in ("CONFIG", "CACHE", "DATA")}}
+    run = subprocess.run([_fusesoc(), "--monochrome", "--cores-root", str(folder), "run",
+                          "--build-root", str(tmp_path / "build"), "--target", "lint",
+                          "dptbd:dptbd:top"], cwd=tmp_path, env=env, capture_output=True,
+                         text=True)
+    log = run.stdout + run.stderr
+    assert run.returncode == 0, log
+    assert "%Warning" not in log and "deprecated" not in log.lower(), log
+    assert "verilator -f dptbd_dptbd_top_0.1.0.vc" in log
+    work = tmp_path / "build" / "dptbd_dptbd_top_0.1.0" / "lint"
+    options = (work / "dptbd_dptbd_top_0.1.0.vc").read_text().split()
+    assert options[:7] == ["--Mdir", ".", "--lint-only", *VERILATOR_LINT_FLAGS[1:]]
+    assert options[-3:] == ["src/dptbd_dptbd_top_0.1.0/top.v", "--top-module", "dptbd_axi"]
 
 
 @pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")

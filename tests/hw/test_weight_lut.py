@@ -6,13 +6,14 @@ which must behave identically.
 
 import random
 import re
+import shutil
 
 import numpy as np
 import pytest
 
 from dptbd.config import DPConfig, plain_weights
 from dptbd.hw.weight_lut import LUT_STYLES, WeightLUT, resolve_lut_style
-from hw_harness import refused, simulate
+from hw_harness import assert_verilator_lints_clean, refused, simulate
 
 STYLES = ("bram", "logic")
 
@@ -73,30 +74,54 @@ def test_direction_above_m_reads_the_start_row(radius, style):
 
 
 @pytest.mark.parametrize("style", STYLES)
-def test_writes_clamp_and_ignore_bad_addresses(style):
-    cfg = DPConfig(radius=1, weight_frac_bits=4)   # codes 0 … 16, 5 bits
+@pytest.mark.parametrize("frac", [4, 0])
+def test_writes_clamp_and_ignore_bad_addresses(frac, style):
+    """Codes 0 … 2**F in F+1 bits, a write above 2**F stored as 2**F (F = 4: 17 … 31);
+    F = 0 (the binary-LUT build): both 1-bit codes are stored as written."""
+    cfg = DPConfig(radius=1, weight_frac_bits=frac)
     dut = WeightLUT(cfg, lut_style=style)
     moves = cfg.n_moves
     rng = random.Random(3)
     table = cfg.weight_codes.astype(np.int64).copy()
+    clamped = 0
 
     async def bench(ctx):
+        nonlocal clamped
         for _ in range(60):
             address = rng.randrange((moves + 1) * moves + 5)
-            code = rng.randrange(32)
+            code = rng.randrange(2 << frac)
             ctx.set(dut.write_en, 1)
             ctx.set(dut.write_addr, address) if address < 128 else None
             ctx.set(dut.write_data, code)
             await ctx.tick()
             if address < (moves + 1) * moves:
-                table[address // moves, address % moves] = min(code, 16)
+                table[address // moves, address % moves] = min(code, 1 << frac)
+                clamped += code > 1 << frac
         ctx.set(dut.write_en, 0)
         await ctx.tick()
         for row in range(moves + 1):
             got = await lookup(ctx, dut, cfg, [row] * moves)
             assert got == table[row].tolist(), f"row {row}"
+        assert (clamped > 0) == (frac > 0), "F > 0 must exercise the clamp"
 
     simulate(dut, bench)
+
+
+@pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
+@pytest.mark.parametrize("style", STYLES)
+@pytest.mark.parametrize("radius, frac", [(1, 0), (1, 8), (2, 0)])
+def test_verilog_lints_clean(tmp_path, radius, frac, style):
+    """Verilator ``-Wall`` (the project's waivers) on the LUT alone. F = 0: the largest code
+    2**F = 1 is the 1-bit write port's maximum, so the write has no clamp (a constant
+    ``write_data > 1`` is Verilator's CMPCONST); F = 8 keeps its comparator."""
+    from amaranth.back import rtlil, verilog
+
+    lut = WeightLUT(DPConfig(radius=radius, weight_frac_bits=frac), lut_style=style)
+    (tmp_path / "lut.v").write_text(verilog.convert(lut, name="weight_lut", emit_src=False))
+    assert_verilator_lints_clean(tmp_path / "lut.v", "weight_lut")
+    text = rtlil.convert(WeightLUT(DPConfig(radius=radius, weight_frac_bits=frac),
+                                   lut_style=style))
+    assert text.count("cell $gt ") == (frac > 0)
 
 
 @pytest.mark.parametrize("style", STYLES)
