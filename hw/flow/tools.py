@@ -12,6 +12,7 @@ tool failure raises :class:`SynthToolError` with the tail of the tool's log.
 from __future__ import annotations
 
 import pathlib
+import re
 import shutil
 import subprocess
 import sysconfig
@@ -19,8 +20,8 @@ import time
 from typing import Sequence
 
 __all__ = [
-    "PYPI_PACKAGES", "SynthToolError", "ToolNotFoundError", "ToolTimeoutError",
-    "require_tool", "tool_version",
+    "PYPI_PACKAGES", "YOWASP_NOTICE", "SynthToolError", "ToolNotFoundError", "ToolTimeoutError",
+    "require_tool", "tool_version", "version_line",
 ]
 
 #: PyPI package that provides each tool (named in :class:`ToolNotFoundError`); all three are
@@ -71,10 +72,33 @@ def require_tool(name: str) -> str:
     return path
 
 
-def tool_version(executable: str, timeout: float = 600) -> str:
-    """First non-empty line of ``executable -V`` / ``--version`` output ("" if neither works).
+#: The notice the YoWASP runtime prints (on stderr) when a tool runs with no compiled copy in
+#: its cache (``YOWASP_CACHE_DIR``, by default the user's cache folder): before the tool's
+#: own output, on a machine's first call (``yowasp_runtime.run_wasm``).
+YOWASP_NOTICE = re.compile(r"Preparing to run \S+\. This might take a while\.\.\.")
 
-    The timeout allows for a YoWASP tool's first call on a machine (it compiles, ~30 s).
+#: A dotted version number, as every tool's version line has one (``Yosys 0.70 (…)``,
+#: ``… (Version nextpnr-0.11.1)``).
+_VERSION_NUMBER = re.compile(r"\d+\.\d+")
+
+
+def version_line(output: str) -> str:
+    """The line of a tool's ``-V`` output that states its version, stripped: the first line
+    with a dotted version number that is not the YoWASP runtime's notice
+    (:data:`YOWASP_NOTICE`); "" if there is none."""
+    for line in output.splitlines():
+        line = line.strip()
+        if _VERSION_NUMBER.search(line) and not YOWASP_NOTICE.fullmatch(line):
+            return line
+    return ""
+
+
+def tool_version(executable: str, timeout: float = 600) -> str:
+    """The version line (:func:`version_line`) of ``executable -V`` or, failing that,
+    ``--version`` (stdout then stderr); "" if neither works.
+
+    The timeout allows for a YoWASP tool's first call on a machine: it compiles the tool
+    (~5 s of CPU for nextpnr, ~75 s for Yosys) and prints :data:`YOWASP_NOTICE` first.
     """
     for flag in ("-V", "--version"):
         try:
@@ -82,9 +106,9 @@ def tool_version(executable: str, timeout: float = 600) -> str:
                                   timeout=timeout)
         except (OSError, subprocess.TimeoutExpired):
             continue
-        lines = [ln.strip() for ln in (proc.stdout + proc.stderr).splitlines() if ln.strip()]
-        if proc.returncode == 0 and lines:
-            return lines[0]
+        line = version_line(proc.stdout + proc.stderr)
+        if proc.returncode == 0 and line:
+            return line
     return ""
 
 

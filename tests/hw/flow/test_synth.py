@@ -135,8 +135,10 @@ def test_real_synthesis_of_a_tiny_pipeline(tmp_path, family, lc_bel, lc_availabl
     # max tree: 34 hierarchical against 36 flat), so within 10 %.
     assert hier.dff >= c.dff and hier.carry >= 0.9 * c.carry
     assert (tmp_path / "netlist.json").exists() and (tmp_path / "yosys.log").exists()
-    assert res.tools["yosys"].startswith("Yosys 0.70")
-    assert "nextpnr-0.11" in res.tools["nextpnr"]
+    # the version lines (a cold YoWASP cache's notice is no version: test_tools.py)
+    assert res.tools["yosys"].startswith("Yosys 0.70 (git sha1 ")
+    assert res.tools["nextpnr"] == (f'"yowasp-nextpnr-{family}" -- Next Generation Place and '
+                                    f'Route (Version nextpnr-0.11.1)')
 
 
 @needs_yosys
