@@ -18,12 +18,15 @@ from dptbd.config import ROUNDING_MODES, ConfigError, DPConfig, EnergyWidthWarni
 __all__ = ["add_config_arguments", "config_from_args", "load_weights",
            "add_simulator_arguments", "add_execution_arguments"]
 
-_INT_FIELDS = ("width", "height", "segment_frames", "segment_stride", "input_bits",
-               "energy_bits", "weight_frac_bits", "radius")
+_INT_FIELDS = ("width", "height", "segment_frames", "max_segment_frames", "segment_stride",
+               "input_bits", "energy_bits", "weight_frac_bits", "radius")
 _HELP = {
     "width": "frame width W",
     "height": "frame height H",
-    "segment_frames": "K, frames per segment",
+    "segment_frames": "K, frames per segment (the gateware's reset value of its run-time K)",
+    "max_segment_frames": "K_max, the largest run-time K the gateware accepts (the range of "
+                          "the SEGMENT_FRAMES register; sizes its frame counters and B_E), "
+                          "in [K, 65535]",
     "segment_stride": "frames between segment starts (the gateware needs = K)",
     "input_bits": "B_in, pixel width",
     "energy_bits": "B_E, energy width",
@@ -40,7 +43,8 @@ def add_config_arguments(parser: argparse.ArgumentParser) -> None:
                        help="TOML file of DPConfig fields (width = 128, rounding = \"half_up\", "
                             "weights = [[…], …], …); options given here override it")
     for name in _INT_FIELDS:
-        default = "K" if name == "segment_stride" else getattr(defaults, name)
+        default = "K" if name in ("segment_stride", "max_segment_frames") else \
+            getattr(defaults, name)
         group.add_argument("--" + name.replace("_", "-"), type=int, default=None,
                            help=f"{_HELP[name]} (default {default})")
     group.add_argument("--rounding", choices=ROUNDING_MODES, default=None,

@@ -3,6 +3,12 @@ Markdown table of ``docs/registers.md``, the C header ``dptbd_regs.h`` and the P
 constants the testbenches use. All three come from :func:`register_constants` and the map,
 so a register can never move in one of them only.
 
+``dptbd_regs.h`` (and the Python constants) also carry the layout of the candidate word on
+``m_axis_cand`` (:func:`candidate_constants`, generated from the field lists of
+:func:`dptbd.hw.candidate_layout.candidate_layout`, the layout the gateware's port is built
+from) and the weight multiplier's rounding mode, so firmware decodes the lists without the
+manifest.
+
 Command line (regenerates the committed document for the default configuration)::
 
     python -m dptbd.hw.flow.register_export --markdown docs/registers.md
@@ -14,12 +20,27 @@ import argparse
 import pathlib
 import types
 
-from dptbd.config import DPConfig
+from amaranth.lib import data
+
+from dptbd.config import ROUNDING_MODES, DPConfig
+from dptbd.hw.axis_video import byte_padded
+from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.register_map import (ADDRESS_BITS, FIELD_ACCESS, FIELD_KINDS, MAGIC, MAP_VERSION, RegisterMap,
                                    register_map)
 
-__all__ = ["register_constants", "constants_namespace", "markdown", "c_header",
-           "python_module", "main"]
+__all__ = ["ROUNDING_MEANINGS", "register_constants", "candidate_constants",
+           "constants_namespace", "markdown", "c_header", "python_module", "main"]
+
+#: What each rounding mode of the weight multiplier computes (``docs/arithmetic.md`` §4),
+#: written beside its code in ``dptbd_regs.h``; the code of a mode is its index in
+#: :data:`~dptbd.config.ROUNDING_MODES`.
+ROUNDING_MEANINGS = {
+    "truncate": "C = (E*c) >> F, floor",
+    "half_up": "C = (E*c + 2^(F-1)) >> F for F >= 1, C = E*c for F = 0",
+}
+
+#: A candidate word is held in a ``uint64_t`` by the C header.
+_WORD_LIMIT = 64
 
 _KIND_TEXT = {
     "constant": "build parameter; writes refused (SLVERR)",
@@ -55,6 +76,49 @@ def register_constants(regmap: RegisterMap) -> dict[str, int]:
         out[f"{win.name}_BASE"] = win.base
         out[f"{win.name}_ENTRIES"] = win.entries
         out[f"{win.name}_MIN"], out[f"{win.name}_MAX"] = win.field.limits
+    return out
+
+
+def candidate_constants(cfg: DPConfig) -> dict[str, int]:
+    """The candidate word of ``m_axis_cand`` and the rounding mode, by name (no prefix).
+
+    ``CAND_BODY_BITS`` (w, the wider of record and trailer), ``CAND_WORD_BITS`` (w + 1,
+    with ``end_of_list``), ``CAND_TDATA_BITS`` / ``CAND_TDATA_BYTES`` (the word zero-extended
+    to whole bytes: the width of ``m_axis_cand_tdata``); per field ``CAND_<NAME>_SHIFT`` /
+    ``_WIDTH`` / ``_MASK`` (mask in place), where ``<NAME>`` is ``<VARIANT>_<FIELD>`` for a
+    field of a variant of the body union (``RECORD_ROW``, ``TRAILER_COUNT``, …) and the
+    field's own name above the body (``END_OF_LIST``); ``ROUNDING_<MODE>`` for every mode
+    and ``ROUNDING``, the build's. Every name and number comes from the layout's field lists.
+
+    Raises
+    ------
+    ValueError
+        ``the candidate word is {n} bits wide; dptbd_regs.h holds a word in a uint64_t (at
+        most 64 bits)``.
+    """
+    payload = candidate_layout(cfg)
+    word = payload.size
+    if word > _WORD_LIMIT:
+        raise ValueError(f"the candidate word is {word} bits wide; dptbd_regs.h holds a word in "
+                         f"a uint64_t (at most {_WORD_LIMIT} bits)")
+    fields = []                                     # (NAME, offset, width)
+    for name, field in payload:
+        if isinstance(field.shape, data.UnionLayout):
+            body = field
+            for variant, part in field.shape:
+                fields += [(f"{variant}_{sub}".upper(), field.offset + part.offset + f.offset,
+                            f.width) for sub, f in part.shape]
+        else:
+            fields.append((name.upper(), field.offset, field.width))
+    out = {"CAND_BODY_BITS": body.width, "CAND_WORD_BITS": word,
+           "CAND_TDATA_BITS": byte_padded(word), "CAND_TDATA_BYTES": byte_padded(word) // 8}
+    for name, offset, width in fields:
+        out[f"CAND_{name}_SHIFT"] = offset
+        out[f"CAND_{name}_WIDTH"] = width
+        out[f"CAND_{name}_MASK"] = ((1 << width) - 1) << offset
+    for code, mode in enumerate(ROUNDING_MODES):
+        out[f"ROUNDING_{mode.upper()}"] = code
+    out["ROUNDING"] = ROUNDING_MODES.index(cfg.rounding)
     return out
 
 
@@ -132,15 +196,45 @@ def c_header(regmap: RegisterMap, cfg: DPConfig) -> str:
         lines.append(f"#define DPTBD_{name} 0x{value:08X}u")
     lines += ["", "/* byte address of weight LUT entry [p, m]: p * M + m (DPConfig.lut_address) */",
               f"#define DPTBD_LUT_ADDRESS(p, m) (DPTBD_LUT_BASE + 4u * ((p) * {cfg.n_moves}u + (m)))",
-              "", f"#endif /* {guard} */", ""]
+              "", *_candidate_lines(cfg), "", f"#endif /* {guard} */", ""]
     return "\n".join(lines)
+
+
+def _candidate_lines(cfg: DPConfig) -> list[str]:
+    """The ``m_axis_cand`` word and the rounding mode in ``dptbd_regs.h``."""
+    consts = candidate_constants(cfg)
+    lines = [
+        "/* m_axis_cand: one candidate word per beat (generated from hw/candidate_layout.py).",
+        " * A word is w + 1 bits: the body, w = DPTBD_CAND_BODY_BITS (the wider of record and",
+        " * trailer), from bit 0, holds a record (end_of_list = 0) or the list's trailer",
+        " * (end_of_list = 1, bit w); tdata is the word zero-extended to whole bytes.",
+        " * A field of a 64-bit word: DPTBD_CAND_FIELD(word, RECORD_ROW). */",
+    ]
+    rounding = {f"ROUNDING_{m.upper()}": ROUNDING_MEANINGS[m] for m in ROUNDING_MODES}
+    for name, value in consts.items():
+        if name.startswith("ROUNDING"):
+            continue
+        text = f"0x{value:016X}ull" if name.endswith("_MASK") else f"{value}u"
+        lines.append(f"#define DPTBD_{name} {text}")
+    lines += ["#define DPTBD_CAND_FIELD(word, name) \\",
+              "    ((unsigned long long)((word) & DPTBD_CAND_##name##_MASK) >> "
+              "DPTBD_CAND_##name##_SHIFT)",
+              "",
+              "/* weight multiplier rounding (docs/arithmetic.md section 4): the weighted predecessor "
+              "E*c back to E's scale */"]
+    for name, meaning in rounding.items():
+        lines.append(f"#define DPTBD_{name} {consts[name]}u /* {meaning} */")
+    lines.append(f"#define DPTBD_ROUNDING DPTBD_ROUNDING_{cfg.rounding.upper()} "
+                 f"/* this build: {cfg.rounding} */")
+    return lines
 
 
 def python_module(regmap: RegisterMap, cfg: DPConfig) -> str:
     """``dptbd_regs.py``: the same constants for Python drivers outside this package."""
     lines = ['"""Register map of dptbd_axi (generated from hw/register_map.py). Do not edit."""',
              ""]
-    lines += [f"{name} = 0x{value:X}" for name, value in register_constants(regmap).items()]
+    lines += [f"{name} = 0x{value:X}" for name, value in
+              {**register_constants(regmap), **candidate_constants(cfg)}.items()]
     return "\n".join(lines) + "\n"
 
 

@@ -27,6 +27,21 @@ def test_defaults_then_toml_then_options(tmp_path):
     assert (cfg.width, cfg.height) == (10, 9)
 
 
+def test_max_segment_frames_option(tmp_path):
+    """K_max has an option named after its DPConfig field; it overrides the TOML's."""
+    assert parse([]).max_segment_frames is None
+    assert config_from_args(parse(["--max-segment-frames", 9])).k_max == 9
+    toml = tmp_path / "p.toml"
+    toml.write_text("segment_frames = 3\nmax_segment_frames = 5\n")
+    assert config_from_args(parse(["--config", toml])).max_segment_frames == 5
+    assert config_from_args(parse(["--config", toml, "--max-segment-frames", 7])) == \
+        DPConfig(segment_frames=3, max_segment_frames=7)
+    with pytest.raises(ConfigError, match=rf"^max_segment_frames must be an integer in "
+                                          rf"\[segment_frames=3, 65535\], got 2 "
+                                          rf"\(from {re.escape(str(toml))}\)$"):
+        config_from_args(parse(["--config", toml, "--max-segment-frames", 2]))
+
+
 def test_config_refusals(tmp_path):
     with pytest.raises(FileNotFoundError, match=r"^config file missing.toml does not exist$"):
         config_from_args(parse(["--config", "missing.toml"]))

@@ -6,11 +6,12 @@ import argparse
 import json
 import re
 import tomllib
+import warnings
 
 import pytest
 
 from dptbd.commands import verilog as verilog_command
-from dptbd.config import ConfigError
+from dptbd.config import ConfigError, EnergyWidthWarning
 
 
 def parse(argv):
@@ -147,12 +148,42 @@ def test_verilog_refuses_an_unknown_lut_style(tmp_path, capsys):
     assert "invalid choice: 'registers'" in capsys.readouterr().err
 
 
-def test_narrow_energy_width_warns_but_builds(tmp_path, capsys):
+@pytest.mark.parametrize("top", [[], ["--top", "axi", "--allow-saturation"]])
+def test_narrow_energy_width_warns_once_and_builds(tmp_path, capsys, top):
+    """The warning is printed once, for the asked configuration; the built one (F = 0, the
+    same B_E) warns nothing more, neither printed nor as a Python warning."""
     out = tmp_path / "dp.v"
     args = parse(["-o", out, "--width", 8, "--height", 6, "--input-bits", 6,
-                                   "--energy-bits", 7])
-    assert verilog_command.main(args) == 0
-    assert "warning: energy_bits=7 saturates" in capsys.readouterr().err
+                  "--energy-bits", 7, *top])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert verilog_command.main(args) == 0
+    assert not [w for w in caught if issubclass(w.category, EnergyWidthWarning)]
+    err = capsys.readouterr().err
+    assert err == ("warning: energy_bits=7 saturates: K=4 full-scale 6-bit pixels sum to 252 "
+                   "> 127; energy_bits >= 8 never saturates\n")
+    assert json.loads(out.with_suffix(".json").read_text())["parameters"][
+        "weight_frac_bits"] == 0                         # built with F = 0: a second config
+
+
+def test_verilog_max_segment_frames_option(tmp_path):
+    """--max-segment-frames sets K_max (DPConfig.max_segment_frames): the manifest's
+    parameter, the SEGMENT_FRAMES range and BUILD_SEGMENT.k_max; below K it is refused with
+    DPConfig's message."""
+    out = tmp_path / "axi.v"
+    toml = tmp_path / "p.toml"
+    toml.write_text("width = 8\nheight = 6\nmax_segment_frames = 5\n")
+    argv = ["-o", out, "--top", "axi", "--config", toml, "--max-segment-frames", 12]
+    assert verilog_command.main(parse(argv)) == 0                  # the option wins
+    manifest = json.loads((tmp_path / "axi.json").read_text())
+    assert manifest["parameters"]["max_segment_frames"] == 12
+    assert manifest["registers"]["SEGMENT_FRAMES_SEGMENT_FRAMES_MAX"] == 12
+    header = (tmp_path / "dptbd_regs.h").read_text()
+    assert "#define DPTBD_BUILD_SEGMENT_K_MAX_RESET 0x0000000Cu\n" in header
+    with pytest.raises(ConfigError, match=r"^max_segment_frames must be an integer in "
+                                          r"\[segment_frames=4, 65535\], got 3$"):
+        verilog_command.main(parse(["-o", tmp_path / "b.v", "--max-segment-frames", 3]))
+    assert not (tmp_path / "b.v").exists()
 
 
 def test_verilog_top_axi_writes_module_header_manifest_and_core(tmp_path, capsys):
