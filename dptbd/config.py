@@ -430,7 +430,10 @@ class DPConfig(FamilyFields):
         frac = 0 if self.weights_binary and not fractional_lut else self.weight_frac_bits
         if (energy, frac) == (self.energy_bits, self.weight_frac_bits):
             return self
-        return self.replace(energy_bits=energy, weight_frac_bits=frac)
+        with warnings.catch_warnings():
+            # the built B_E saturates only where self's does, and self has warned of that
+            warnings.simplefilter("ignore", EnergyWidthWarning)
+            return self.replace(energy_bits=energy, weight_frac_bits=frac)
 
     def to_mapping(self) -> dict[str, Any]:
         """Every field as plain JSON/TOML values (the weights as nested lists of floats).

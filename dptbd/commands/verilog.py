@@ -29,10 +29,8 @@ from __future__ import annotations
 import argparse
 import json
 import pathlib
-import warnings
 
 from dptbd.commands.options import add_config_arguments, config_from_args
-from dptbd.config import EnergyWidthWarning
 
 __all__ = ["add_arguments", "main"]
 
@@ -117,11 +115,7 @@ def main(args: argparse.Namespace) -> int:
         raise ValueError(f"output {out} would collide with its manifest; use a .v name")
     manifest = out.with_suffix(".json")
     asked = config_from_args(args)
-    with warnings.catch_warnings():
-        # the built configuration has the asked B_E or the narrower one K_max needs: it
-        # saturates only if the asked one does, whose warning config_from_args printed
-        warnings.simplefilter("ignore", EnergyWidthWarning)
-        cfg = asked.build_config(fractional_lut=args.fractional_lut)
+    cfg = asked.build_config(fractional_lut=args.fractional_lut)
     if cfg != asked:
         print(f"building B_E={cfg.energy_bits}, F={cfg.weight_frac_bits} (asked "
               f"B_E={asked.energy_bits}, F={asked.weight_frac_bits}): the same bits for this LUT "
