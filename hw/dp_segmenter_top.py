@@ -13,7 +13,6 @@ import dataclasses
 import json
 import pathlib
 
-from amaranth.back import verilog
 from amaranth.hdl import Module, Signal
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
@@ -26,6 +25,7 @@ from dptbd.hw.controller import clamped
 from dptbd.hw.axis_broadcast import StreamBroadcast
 from dptbd.hw.layouts import event_layout, field_offsets, pixel_layout, state_layout
 from dptbd.hw.segmenter import Segmenter, segmenter_setting_members
+from dptbd.hw.flow.to_verilog import to_verilog
 from dptbd.hw.flow.verilog import manifest_header, manifest_interface, port_list
 
 __all__ = ["SEGMENTER_MODULE_NAME", "DPSegmenter", "segmenter_manifest",
@@ -198,7 +198,7 @@ def generate_segmenter_verilog(cfg: DPConfig, *, manifest_path: str | pathlib.Pa
             f"{cfg.height} = {cfg.width * cfg.height} pixels rounds to 0) gives a segmenter "
             f"that emits no points; set candidate_count to 1 … {cfg.width * cfg.height}")
     top = DPSegmenter(cfg)
-    text = verilog.convert(top, name=SEGMENTER_MODULE_NAME, emit_src=False)
+    text = to_verilog(top, SEGMENTER_MODULE_NAME)
     info = segmenter_manifest(cfg, top)
     if manifest_path is not None:
         pathlib.Path(manifest_path).write_text(json.dumps(info, indent=2) + "\n")

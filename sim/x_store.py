@@ -22,9 +22,9 @@ equals the golden model (:func:`dptbd.sim.scoreboard.expected_words`). Compiled 
 Two details of the bench, both outside the store question: ``states__payload`` is checked
 from the first ``states.valid`` on (before it, the output FIFO's data register —
 ``ThermometerFIFO``, like ``SyncFIFOBuffered`` — has no initial value and ``valid`` is low), every
-other output from the first clock edge; and ``rst`` is raised at 1 ns rather than
-initialised high, because SystemVerilog declaration initialisers raise no event at time 0
-and Yosys' ``always @*`` blocks would otherwise stay X until their inputs first change.
+other output from the first clock edge; and ``rst`` is high from its declaration (a reset
+from power-up, with no event at time 0), which the generated Verilog handles since it has no
+``always @*`` block (:mod:`dptbd.hw.flow.to_verilog`).
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ module {tb};
   localparam integer WORDS = {words};
   localparam integer SW = {sw};
   reg clk = 0;
-  reg rst = 0;   // raised at 1 ns: an event for every combinational block (see below)
+  reg rst = 1;   // from power-up, no event at time 0
   reg [{pw}-1:0] stream [0:PIXELS-1];
   integer fed = 0, got = 0, cycle = 0, x_cycles = 0, out_of_range = 0, seed = {seed}, i, out;
   reg payload_loaded = 0;
@@ -128,10 +128,7 @@ module {tb};
   initial begin
     $readmemh("{pixel_file}", stream);
     out = $fopen("{out_file}", "w");
-{init_code}    // Yosys' combinational always @* blocks run on their first input event;
-    // SystemVerilog declaration initialisers make none at time 0: raise rst at 1 ns.
-    #1 rst = 1;
-    repeat (3) @(posedge clk);
+{init_code}    repeat (3) @(posedge clk);
     rst <= 0;
   end
 endmodule

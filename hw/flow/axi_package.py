@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import json
 
-from amaranth.back import verilog
 from amaranth.hdl import Shape
 from amaranth.lib import data, wiring
 
@@ -31,6 +30,7 @@ from dptbd.errors import check_real
 from dptbd.hw.axi_top import AXI_MODULE_NAME, AXITop
 from dptbd.hw.candidate_layout import candidate_field_offsets, candidate_layout
 from dptbd.hw.flow.register_export import c_header, register_constants
+from dptbd.hw.flow.to_verilog import to_verilog
 from dptbd.hw.flow.verilog import VERILATOR_LINT_FLAGS, manifest_header
 from dptbd.hw.axis_video import STATE_TUSER
 from dptbd.hw.layouts import field_offsets, pixel_layout, state_word_layout
@@ -175,7 +175,7 @@ def generate_axi_verilog(cfg: DPConfig, *, state_output: bool = False) -> tuple[
     """Module ``dptbd_axi`` for ``cfg`` (with ``m_axis_state`` if ``state_output``): its
     Verilog text and its manifest."""
     top = AXITop(cfg, state_output=state_output)
-    return verilog.convert(top, name=AXI_MODULE_NAME, emit_src=False), axi_manifest(cfg, top)
+    return to_verilog(top, AXI_MODULE_NAME), axi_manifest(cfg, top)
 
 
 def generate_axi_state_verilog(cfg: DPConfig) -> tuple[str, dict]:

@@ -185,19 +185,19 @@ def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: Ma
     ``core`` / ``top``)."""
     from dptbd.hw.flow.verilog import MODULE_NAME, build_top, generate_verilog  # on demand
     if variant == "core-regio":
-        from amaranth.back import verilog
         from dptbd.hw.flow.registered_ports import RegisteredPorts
+        from dptbd.hw.flow.to_verilog import to_verilog
         core = build_top(cfg, external_state_store=True, lut_style=lut_style,
                          core_options=core_options)
-        return verilog.convert(RegisteredPorts(core), name=MODULE_NAME, emit_src=False)
+        return to_verilog(RegisteredPorts(core), MODULE_NAME)
     if variant in ("core", "top"):
         text, _ = generate_verilog(cfg, external_state_store=(variant == "core"),
                                    lut_style=lut_style, core_options=core_options,
                                    manifest_path=work / "dptbd_dp.json")
         return text
-    from amaranth.back import verilog
     from dptbd.hw.dp_segmenter_top import DPSegmenter
-    return verilog.convert(DPSegmenter(cfg), name=MODULE_NAME, emit_src=False)
+    from dptbd.hw.flow.to_verilog import to_verilog
+    return to_verilog(DPSegmenter(cfg), MODULE_NAME)
 
 
 def _core_options(fam: Family, variant: str, core_options: Mapping | None) -> dict:

@@ -23,13 +23,13 @@ import json
 import pathlib
 from typing import Mapping
 
-from amaranth.back import verilog
 from amaranth.hdl import Shape
 from amaranth.lib import wiring
 
 from dptbd.config import DPConfig
 from dptbd.hw.dp_core import DPCore
 from dptbd.hw.dp_pipeline import DPPipeline
+from dptbd.hw.flow.to_verilog import to_verilog
 from dptbd.hw.layouts import field_offsets, pixel_layout, state_layout, state_word_layout
 from dptbd.hw.weight_lut import LUT_STYLES
 
@@ -161,7 +161,7 @@ def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
     """
     top = build_top(cfg, external_state_store=external_state_store, lut_style=lut_style,
                     core_options=core_options)
-    text = verilog.convert(top, name=MODULE_NAME, emit_src=False)
+    text = to_verilog(top, MODULE_NAME)
     info = manifest(cfg, top)
     if manifest_path is not None:
         pathlib.Path(manifest_path).write_text(json.dumps(info, indent=2) + "\n")
