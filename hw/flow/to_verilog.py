@@ -26,10 +26,11 @@ from amaranth.back import rtlil
 
 __all__ = ["to_verilog"]
 
-#: Yosys' commands after ``read_rtlil``: processes to multiplexers and flip-flops (no ROM
-#: inference: a ``case`` stays logic, as Amaranth's own conversion keeps it), memories
+#: Yosys' commands after ``read_rtlil``: processes to multiplexers, ROMs and flip-flops
+#: (the ``proc`` a synthesis tool runs on Amaranth's own conversion, so both texts map to
+#: the same cells: a ``case`` of constants becomes a ROM as it would there), memories
 #: collected as Amaranth's conversion does.
-YOSYS_PASSES = ("proc -norom", "memory_collect", "write_verilog")
+YOSYS_PASSES = ("proc", "memory_collect", "write_verilog")
 
 
 def to_verilog(component, name: str) -> str:
