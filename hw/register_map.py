@@ -9,7 +9,8 @@ allowed range, meaning) and the weight LUT's register window. Everything else re
   testbenches use are rendered from it (:mod:`dptbd.hw.flow.register_export`).
 
 The control port is AXI4-Lite with 32-bit data and byte addresses (``docs/integration.md``
-says why). Every register is one aligned 32-bit word. A field's *kind* says who writes it:
+says why). Every register is one aligned 32-bit word (:data:`BUS_RULES`: what the port
+answers to unaligned, unmapped and window accesses). A field's *kind* says who writes it:
 
 =========== ======= ==================================================================
 kind        access  behaviour
@@ -35,6 +36,7 @@ from dptbd.config import DPConfig
 __all__ = [
     "MAGIC",
     "MAP_VERSION",
+    "BUS_RULES",
     "ADDRESS_BITS",
     "DATA_BITS",
     "COUNTER_BITS",
@@ -59,6 +61,14 @@ ADDRESS_BITS = 12
 DATA_BITS = 32
 #: Width of every counter.
 COUNTER_BITS = 32
+#: What the control port answers besides the field kinds (``docs/registers.md`` prints it).
+BUS_RULES = (
+    "An address that is not a multiple of 4 is unaligned: a read returns 0 with SLVERR, a "
+    "write is refused (nothing changes, ERROR.write_refused set, SLVERR). Reading an "
+    "unmapped address returns 0 with SLVERR; writing one is ignored with SLVERR. The LUT "
+    "window is write-only: a read returns 0 with SLVERR; a write must strobe all four "
+    "bytes (wstrb = 1111) and hold a code in range, else it is refused (entry unchanged, "
+    "ERROR.write_refused set, SLVERR).")
 #: Byte address of the weight LUT window's entry 0.
 LUT_WINDOW_BASE = 0x400
 
@@ -129,7 +139,8 @@ class Register:
 
 @dataclasses.dataclass(frozen=True)
 class Window:
-    """A write-only array of registers: entry i at ``base + 4 * i`` (reads return 0)."""
+    """A write-only array of registers: entry i at ``base + 4 * i`` (reads answer SLVERR,
+    a write must strobe every byte: :data:`BUS_RULES`)."""
 
     name: str
     base: int
@@ -275,6 +286,6 @@ def register_map(cfg: DPConfig) -> RegisterMap:
                        f"weight code c in [0, 2**F = {unity}], weight c / 2**F",
                        limits=(0, unity)),
                  "weight LUT entry [p, m] at LUT + 4 * (p * M + m) (DPConfig.lut_address); "
-                 "write-only, reads 0")
+                 "write-only (reads SLVERR), whole-word writes (wstrb = 1111)")
     assert lut.end <= 1 << ADDRESS_BITS
     return RegisterMap(tuple(registers), (lut,))

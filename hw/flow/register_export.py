@@ -15,7 +15,7 @@ import pathlib
 import types
 
 from dptbd.config import DPConfig
-from dptbd.hw.register_map import (ADDRESS_BITS, FIELD_ACCESS, FIELD_KINDS, MAGIC, MAP_VERSION, RegisterMap,
+from dptbd.hw.register_map import (ADDRESS_BITS, BUS_RULES, FIELD_ACCESS, FIELD_KINDS, MAGIC, MAP_VERSION, RegisterMap,
                                    register_map)
 
 __all__ = ["register_constants", "constants_namespace", "markdown", "c_header",
@@ -86,8 +86,7 @@ def markdown(regmap: RegisterMap, cfg: DPConfig) -> str:
         "`tests/hw/test_register_export.py` checks this file against the generator.",
         "",
         f"AXI4-Lite, 32-bit data, {ADDRESS_BITS}-bit byte addresses, every register one "
-        "aligned word. Reading an unmapped address returns 0 with SLVERR; writing one is "
-        "ignored with SLVERR. See `docs/integration.md` for the ports and the protocol.",
+        f"aligned word. {BUS_RULES} See `docs/integration.md` for the ports and the protocol.",
         "",
         "| kind | access | behaviour |",
         "|---|---|---|",
