@@ -147,6 +147,7 @@ class AXITop(wiring.Component):
             monitor.accept.eq(video_in.accepted),
             monitor.first.eq(self.s_axis_video_tuser[0]),
             monitor.last.eq(self.s_axis_video_tlast),
+            monitor.no_sof.eq(regs.no_sof),
         ]
         # candidates: core -> adapter, held off during a soft reset
         m.d.comb += [

@@ -28,7 +28,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.layouts import pixel_layout, state_layout, state_word_layout
 
-__all__ = ["byte_padded", "axis_signature", "video_in_signature", "candidate_out_signature",
+__all__ = ["byte_padded", "axis_signature", "video_in_signature", "video_tdata_layout", "candidate_out_signature",
            "state_out_signature", "STATE_TUSER", "AxisToPixels", "CandidatesToAxis",
            "StatesToAxis"]
 
@@ -56,6 +56,12 @@ def axis_signature(data_bits: int, user_bits: int = 1) -> wiring.Signature:
 def video_in_signature(cfg: DPConfig) -> wiring.Signature:
     """``s_axis_video``: one pixel per beat."""
     return axis_signature(byte_padded(cfg.input_bits))
+
+
+def video_tdata_layout(cfg: DPConfig) -> data.StructLayout:
+    """The bits of ``s_axis_video_tdata`` the core reads: the pixel in the low B_in bits
+    (start of frame is ``tuser[0]``, not a ``tdata`` bit; the bits above B_in are ignored)."""
+    return data.StructLayout({"pixel": cfg.input_bits})
 
 
 def candidate_out_signature(cfg: DPConfig) -> wiring.Signature:

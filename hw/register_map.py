@@ -54,7 +54,7 @@ __all__ = [
 #: ``ID`` register: ASCII "DPTB".
 MAGIC = 0x44505442
 #: (major, minor) of this map; major changes when an existing register moves or changes.
-MAP_VERSION = (1, 0)
+MAP_VERSION = (1, 1)
 #: Byte-address bits of the control port: a 4 KiB window.
 ADDRESS_BITS = 12
 #: AXI4-Lite data width.
@@ -237,6 +237,11 @@ def _control(cfg: DPConfig, k_max: int) -> list[tuple]:
         ("IRQ_ENABLE", "control", "interrupt mask: 1 lets the pending bit raise irq",
          (Field("segment_done", 0, 1, "enable", 0, "end of segment"),
           Field("fault", 1, 1, "enable", 0, "any ERROR bit set"))),
+        ("VIDEO_INPUT", "control", "video source",
+         _one("no_sof", "setting", 0,
+              "1: the source sends no start-of-frame markers (tuser[0] held 0), so a "
+              "missing start of frame is no fault (ERROR.frame_long never set); 0: every "
+              "frame must start with tuser[0]", width=1, limits=(0, 1))),
     ]
 
 

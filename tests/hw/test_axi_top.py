@@ -125,3 +125,46 @@ def test_soft_reset_pulse_holds_tready_low():
         assert error == regs.ERROR_SOF_UNEXPECTED_MASK     # before the reset: mid-frame
 
     simulate_top(top, bench)
+
+
+async def send_beats(ctx, top, beats):
+    """Offer ``(pixel, first, last)`` beats back to back until each is taken."""
+    for pixel, first, last in beats:
+        ctx.set(top.s_axis_video_tdata, pixel)
+        ctx.set(top.s_axis_video_tuser, first)
+        ctx.set(top.s_axis_video_tlast, last)
+        ctx.set(top.s_axis_video_tvalid, 1)
+        taken = False
+        while not taken:
+            taken = ctx.get(top.s_axis_video_tready)
+            await ctx.tick("sync")
+    ctx.set(top.s_axis_video_tvalid, 0)
+
+
+def test_source_without_start_of_frame_markers():
+    """Frames with tlast but never tuser[0]: each frame start is a frame_long fault
+    (ERROR.frame_long set) unless VIDEO_INPUT.no_sof is 1; then no error at all."""
+    cfg = config()
+    regs = constants_namespace(cfg)
+    frame = [(7, 0, int(c == cfg.width - 1)) for _r in range(cfg.height)
+             for c in range(cfg.width)]
+    got = {}
+
+    for no_sof in (0, 1):
+        top = AXITop(cfg)
+        axil = flat_axil(top)
+
+        async def bench(ctx, top=top, axil=axil, no_sof=no_sof):
+            await ctx.tick("sync")
+            ctx.set(top.aresetn, 1)
+            ctx.set(top.m_axis_cand_tready, 1)
+            if no_sof:
+                assert await axil_write(ctx, axil, regs.REG_VIDEO_INPUT, 1) == RESP_OKAY
+            await send_beats(ctx, top, frame * 3)
+            for _ in range(4):
+                await ctx.tick("sync")
+            got[no_sof] = [(await axil_read(ctx, axil, getattr(regs, f"REG_{name}")))[0]
+                           for name in ("ERROR", "FAULT_FRAME_LONG", "FAULT_LINE_LENGTH")]
+
+        simulate_top(top, bench)
+    assert got == {0: [regs.ERROR_FRAME_LONG_MASK, 3, 0], 1: [0, 0, 0]}

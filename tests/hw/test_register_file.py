@@ -31,11 +31,17 @@ def cases(regs):
                                                  1 << 31)]
     yield from [("HISTOGRAM_SHIFT", v) for v in (0, regs.HISTOGRAM_SHIFT_HISTOGRAM_SHIFT_MAX,
                                                  regs.HISTOGRAM_SHIFT_HISTOGRAM_SHIFT_MAX + 1)]
+    yield from [("VIDEO_INPUT", v) for v in (1, 0, 2, 1, 3)]
+
+
+#: The port of each setting register (named after its field).
+PORTS = {"SEGMENT_FRAMES": "segment_frames", "CANDIDATE_COUNT": "candidate_count",
+         "HISTOGRAM_SHIFT": "histogram_shift", "VIDEO_INPUT": "no_sof"}
 
 
 def ref_write(regs, reg, value, before):
     """(response, value read back, write_refused set) of writing ``value``."""
-    lo, hi = (getattr(regs, f"{reg}_{reg}_{end}") for end in ("MIN", "MAX"))
+    lo, hi = (getattr(regs, f"{reg}_{PORTS[reg].upper()}_{end}") for end in ("MIN", "MAX"))
     if lo <= value <= hi:
         return RESP_OKAY, value, False
     return RESP_SLVERR, before, True
@@ -54,7 +60,7 @@ def rtl_write(cfg, writes):
             error, _ = await axil_read(ctx, dut.axil, regs.REG_ERROR)
             refused = bool(error & regs.ERROR_WRITE_REFUSED_MASK)
             await axil_write(ctx, dut.axil, regs.REG_ERROR, error)        # W1C
-            port = ctx.get(getattr(dut, reg.lower()))
+            port = ctx.get(getattr(dut, PORTS[reg]))
             assert port == back, (reg, port, back)
             got.append((resp, back, refused))
 
@@ -67,11 +73,12 @@ def test_settings_take_valid_values_and_refuse_others():
     regs = constants_namespace(cfg)
     writes = list(cases(regs))
     want, current = [], {"SEGMENT_FRAMES": cfg.segment_frames,
-                         "CANDIDATE_COUNT": cfg.n_candidates, "HISTOGRAM_SHIFT": cfg.bin_shift}
+                         "CANDIDATE_COUNT": cfg.n_candidates, "HISTOGRAM_SHIFT": cfg.bin_shift,
+                         "VIDEO_INPUT": 0}
     for reg, value in writes:
         want.append(ref_write(regs, reg, value, current[reg]))
         current[reg] = want[-1][1]
-    assert sum(w[2] for w in want) == 6
+    assert sum(w[2] for w in want) == 8
     assert rtl_write(cfg, writes) == want
 
 
