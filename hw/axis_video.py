@@ -20,7 +20,7 @@ of line; ``tdata`` is a whole number of bytes. Here:
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Signal
+from amaranth.hdl import Module, Mux, Signal
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -108,12 +108,31 @@ class AxisToPixels(wiring.Component):
 
 
 class CandidatesToAxis(wiring.Component):
-    """The core's ``candidates`` stream to ``m_axis_cand``.
+    """The core's ``candidates`` stream to ``m_axis_cand``, and the soft reset's close of an
+    open list.
+
+    Without a soft reset the port is the stream itself (combinational), ``tuser[0]`` on a
+    list's first word. ``soft_reset`` (a one-cycle request) is served without breaking
+    AXI4-Stream, in this order:
+
+    1. a word already offered and not yet taken (``tvalid`` high, ``tready`` low in the
+       cycle before) stays offered, unchanged, until it is taken; no new word is offered;
+    2. if a list is then open (words of it were sent, not its trailer), the *cut trailer*
+       (:func:`~dptbd.hw.candidate_layout.pack_cut_trailer`: ``cut`` = 1, ``count`` = the
+       records sent, every other field 0, ``tlast``) is offered until it is taken;
+    3. ``restart`` pulses: the caller resets the core (and everything after it) in that
+       cycle. It comes in the request's own cycle when no word is offered and no list is
+       open, and in the cycle the cut trailer is taken otherwise; never while ``hold`` is
+       high (another output still has a word to deliver).
+
+    ``busy`` is high from the request to ``restart`` included: the caller holds the input.
 
     Members
     -------
     candidates : In(stream.Signature(candidate_layout(cfg)))
     cand : Out(candidate_out_signature(cfg))
+    soft_reset, hold : In(1)
+    busy, restart : Out(1)
     stalled : Out(1)
         ``tvalid`` high and ``tready`` low in this cycle (back-pressure).
     """
@@ -123,23 +142,51 @@ class CandidatesToAxis(wiring.Component):
         super().__init__({
             "candidates": In(stream.Signature(candidate_layout(cfg))),
             "cand": Out(candidate_out_signature(cfg)),
+            "soft_reset": In(1),
+            "hold": In(1),
+            "busy": Out(1),
+            "restart": Out(1),
             "stalled": Out(1),
         })
 
     def elaborate(self, platform):
         m = Module()
+        cfg = self._cfg
         src, out = self.candidates, self.cand
         list_start = Signal(init=1)            # the next word is the first of a list
+        records = Signal(range(cfg.record_capacity + 1))     # records sent in the open list
+        closing = Signal()                     # a soft reset waits for the list's close
+        held = Signal()                        # a core word was offered, not taken, last cycle
+        request = self.soft_reset | closing
+        passing = ~request | held              # the core's word may be offered
+        cut = request & ~held & ~list_start    # offer the cut trailer
+        cut_word = Signal(candidate_layout(cfg))
         m.d.comb += [
-            out.tdata.eq(src.payload.as_value()),
-            out.tuser[0].eq(list_start),
-            out.tlast.eq(src.payload.end_of_list),
-            out.tvalid.eq(src.valid),
-            src.ready.eq(out.tready),
-            self.stalled.eq(src.valid & ~out.tready),
+            cut_word.body.trailer.count.eq(records),
+            cut_word.body.trailer.cut.eq(1),
+            cut_word.end_of_list.eq(1),
         ]
-        with m.If(src.valid & out.tready):
-            m.d.sync += list_start.eq(src.payload.end_of_list)
+        with m.If(cut):
+            m.d.comb += [out.tdata.eq(cut_word.as_value()), out.tlast.eq(1), out.tvalid.eq(1)]
+        with m.Else():
+            m.d.comb += [out.tdata.eq(src.payload.as_value()),
+                         out.tlast.eq(src.payload.end_of_list),
+                         out.tvalid.eq(src.valid & passing)]
+        m.d.comb += [
+            out.tuser[0].eq(list_start),
+            src.ready.eq(out.tready & passing),
+            self.stalled.eq(out.tvalid & ~out.tready),
+            self.busy.eq(request),
+            self.restart.eq(request & ~held & ~self.hold & (list_start | (cut & out.tready))),
+        ]
+        m.d.sync += held.eq(src.valid & passing & ~out.tready)
+        with m.If(self.restart):
+            m.d.sync += [closing.eq(0), list_start.eq(1), records.eq(0)]
+        with m.Else():
+            m.d.sync += closing.eq(request)
+            with m.If(out.tvalid & out.tready):
+                m.d.sync += [list_start.eq(out.tlast),
+                             records.eq(Mux(out.tlast, 0, records + 1))]
         return m
 
 

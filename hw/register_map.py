@@ -222,7 +222,8 @@ def _control(cfg: DPConfig, k_max: int) -> list[tuple]:
     return [
         ("CONTROL", "control", "write 1 to a bit for a one-cycle pulse; reads 0",
          (Field("soft_reset", 0, 1, "pulse", 0,
-                "reset the core and the frame monitor (resync); registers are kept"),
+                "close the list being sent (a cut trailer), then reset the core and the "
+                "frame monitor (resync); registers are kept"),
           Field("clear_counters", 1, 1, "pulse", 0, "set every counter to 0"))),
         ("SEGMENT_FRAMES", "control", "run-time K",
          _one("segment_frames", "setting", cfg.segment_frames, "K, frames per segment",
