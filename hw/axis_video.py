@@ -166,13 +166,14 @@ class CandidatesToAxis(wiring.Component):
             cut_word.body.trailer.cut.eq(1),
             cut_word.end_of_list.eq(1),
         ]
-        with m.If(cut):
-            m.d.comb += [out.tdata.eq(cut_word.as_value()), out.tlast.eq(1), out.tvalid.eq(1)]
-        with m.Else():
-            m.d.comb += [out.tdata.eq(src.payload.as_value()),
-                         out.tlast.eq(src.payload.end_of_list),
-                         out.tvalid.eq(src.valid & passing)]
+        # Mux, not If/Else: an always @* of constant inputs is never run from time 0 by
+        # Icarus, which would leave tvalid X. tdata and tlast are 0 while no word is
+        # offered (the FIFO's output register holds X until its first word)
+        payload = src.payload.as_value() & src.valid.replicate(len(src.payload.as_value()))
         m.d.comb += [
+            out.tdata.eq(Mux(cut, cut_word.as_value(), payload)),
+            out.tlast.eq(cut | (src.valid & src.payload.end_of_list)),
+            out.tvalid.eq(cut | (src.valid & passing)),
             out.tuser[0].eq(list_start),
             src.ready.eq(out.tready & passing),
             self.stalled.eq(out.tvalid & ~out.tready),
