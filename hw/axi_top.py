@@ -161,6 +161,7 @@ class AXITop(wiring.Component):
             cand_out.candidates.valid.eq(core.candidates.valid),
             core.candidates.ready.eq(cand_out.candidates.ready),
             cand_out.soft_reset.eq(regs.soft_reset),
+            regs.soft_reset_busy.eq(cand_out.busy),
         ]
         state_stalled = self._state_port(m, core, cand_out)
         # run-time settings and the LUT write port

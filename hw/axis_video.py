@@ -122,8 +122,9 @@ class CandidatesToAxis(wiring.Component):
        records sent, every other field 0, ``tlast``) is offered until it is taken;
     3. ``restart`` pulses: the caller resets the core (and everything after it) in that
        cycle. It comes in the request's own cycle when no word is offered and no list is
-       open, and in the cycle the cut trailer is taken otherwise; never while ``hold`` is
-       high (another output still has a word to deliver).
+       open, in the cycle the cut trailer is taken, or in the cycle after the word of 1.
+       is taken if that word was a trailer; never while ``hold`` is high (another output
+       still has a word to deliver).
 
     ``busy`` is high from the request to ``restart`` included: the caller holds the input.
 

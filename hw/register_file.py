@@ -13,7 +13,8 @@ field kinds (:data:`~dptbd.hw.register_map.FIELD_KINDS`):
   the field's ``limits``, else **refused** (value not taken, ``ERROR.write_refused`` set,
   SLVERR); ``enable``: taken; ``sticky`` / ``interrupt``: bits written 1 clear; ``pulse``:
   bits written 1 pulse for one cycle (the cycle after the write); ``constant`` / ``counter``
-  and unmapped addresses: refused with SLVERR only;
+  / ``status`` and unmapped addresses: refused with SLVERR only;
+- a ``status`` field reads its input port (of the same name) in the read's cycle;
 - a LUT window write is taken if all four bytes are strobed (``wstrb`` = 1111) and the word
   lies in the code's ``limits``; otherwise refused (entry unchanged,
   ``ERROR.write_refused`` set, SLVERR);
@@ -52,6 +53,8 @@ class RegisterFile(wiring.Component):
         The run-time settings (one per ``setting`` field), reset to the build values.
     soft_reset, clear_counters : Out(1)
         One-cycle pulses (one per ``pulse`` field).
+    soft_reset_busy : In(1)
+        What the ``status`` field of that name reads.
     lut_addr, lut_data, lut_we : Out
         The weight LUT write port, one cycle after an accepted window write.
     irq : Out(1)
@@ -68,6 +71,8 @@ class RegisterFile(wiring.Component):
             members[field.name] = Out(range(field.limits[1] + 1), init=field.reset)
         for _reg, field in self._map.fields("pulse"):
             members[field.name] = Out(1)
+        for _reg, field in self._map.fields("status"):
+            members[field.name] = In(field.width)
         members.update({"lut_addr": Out(range(cfg.lut_entries)),
                         "lut_data": Out(cfg.weight_bits), "lut_we": Out(1), "irq": Out(1)})
         super().__init__(members)
@@ -97,6 +102,8 @@ class RegisterFile(wiring.Component):
                     storage[reg.name, field.name] = getattr(self, field.name)
                 elif field.kind == "counter":
                     storage[reg.name, field.name] = Signal(COUNTER_BITS, name=reg.name.lower())
+                elif field.kind == "status":
+                    storage[reg.name, field.name] = getattr(self, field.name)
                 elif field.kind in ("enable", "sticky", "interrupt"):
                     storage[reg.name, field.name] = Signal(
                         field.width, init=field.reset, name=f"{reg.name}_{field.name}".lower())
@@ -162,7 +169,7 @@ class RegisterFile(wiring.Component):
 
     def _write(self, m, bus, reg, storage, merged, written_ones, refused):
         kind = reg.kind
-        if kind in ("constant", "counter"):
+        if kind in ("constant", "counter", "status"):
             m.d.comb += bus.w_err.eq(1)
             return
         with m.If(bus.w_stb):

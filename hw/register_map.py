@@ -24,6 +24,7 @@ counter     ro      32-bit event counter, wraps modulo 2**32, cleared by
                     ``CONTROL.clear_counters``; writes are refused
 sticky      w1c     set by its event, cleared by writing 1 (a set in the same cycle wins)
 interrupt   w1c     pending interrupt: as ``sticky``; ``irq`` = any pending & enabled
+status      ro      the core's state now (a level, not latched); writes are refused
 =========== ======= ==================================================================
 """
 
@@ -72,10 +73,11 @@ BUS_RULES = (
 #: Byte address of the weight LUT window's entry 0.
 LUT_WINDOW_BASE = 0x400
 
-FIELD_KINDS = ("constant", "setting", "enable", "pulse", "counter", "sticky", "interrupt")
+FIELD_KINDS = ("constant", "setting", "enable", "pulse", "counter", "sticky", "interrupt",
+               "status")
 #: Bus access of each field kind.
 FIELD_ACCESS = {"constant": "ro", "setting": "rw", "enable": "rw", "pulse": "wo", "counter": "ro",
-           "sticky": "w1c", "interrupt": "w1c"}
+           "sticky": "w1c", "interrupt": "w1c", "status": "ro"}
 
 #: The frame-sync fault classes of the frame monitor (:mod:`dptbd.hw.frame_monitor`).
 FAULTS = ("sof_unexpected", "frame_short", "frame_long", "line_length")
@@ -271,6 +273,10 @@ def _status(cfg: DPConfig) -> list[tuple]:
           Field("fault", 1, 1, "interrupt", 0, "an ERROR bit was set", event="fault"))),
         *[(name, "status", doc, _one(name, "counter", 0, doc, event=event, field="count"))
           for name, event, doc in counters],
+        ("STATUS", "status", "the core's state now",
+         (Field("soft_reset_busy", 0, 1, "status", 0,
+                "a CONTROL.soft_reset is in progress: the list being sent is being closed "
+                "(waiting for m_axis_cand_tready) and the input is held"),)),
     ]
 
 

@@ -31,6 +31,7 @@ _KIND_TEXT = {
                "writes refused (SLVERR)",
     "sticky": "set by its event; write 1 to clear (a set in the same cycle wins)",
     "interrupt": "pending; write 1 to clear; irq = any pending AND enabled",
+    "status": "the core's state now (not latched); writes refused (SLVERR)",
 }
 
 

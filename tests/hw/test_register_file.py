@@ -319,3 +319,20 @@ def test_lut_window_reads_answer_slverr():
 
     simulate(dut, bench)
     assert got == [(0, RESP_SLVERR), (0, RESP_SLVERR), 0]
+
+
+def test_status_reads_its_port_and_refuses_writes():
+    cfg = config()
+    regs = constants_namespace(cfg)
+    dut = RegisterFile(cfg)
+    got = []
+
+    async def bench(ctx):
+        for busy in (1, 0):
+            ctx.set(dut.soft_reset_busy, busy)
+            got.append(await axil_read(ctx, dut.axil, regs.REG_STATUS))
+        got.append(await axil_write(ctx, dut.axil, regs.REG_STATUS, 1))
+        got.append((await axil_read(ctx, dut.axil, regs.REG_ERROR))[0])
+
+    simulate(dut, bench)
+    assert got == [(regs.STATUS_SOFT_RESET_BUSY_MASK, RESP_OKAY), (0, RESP_OKAY), RESP_SLVERR, 0]
