@@ -13,14 +13,17 @@ per-pixel (E, d) stream (:class:`~dptbd.hw.axis_video.StatesToAxis`), broadcast 
 core to the segmenter and to this port (:class:`~dptbd.hw.axis_broadcast.StreamBroadcast`):
 back-pressure on either output stalls the DP pipeline.
 
-``CONTROL.soft_reset`` resets the core, the frame monitor and the output adapter for one
-cycle (registers and counters are kept); in that cycle ``s_axis_video_tready`` and
-``m_axis_cand_tvalid`` (and ``m_axis_state_tvalid``) are low, so no beat is half taken.
+``CONTROL.soft_reset`` resets the core, the frame monitor and the output adapters, keeping
+registers and counters, without breaking AXI4-Stream: from the request on the input is held
+(``s_axis_video_tready`` low) and no new output word is offered; a word already offered is
+delivered, a list left open is closed by a cut trailer with ``tlast``
+(:class:`~dptbd.hw.axis_video.CandidatesToAxis`), and only then, in the cycle the last of
+these is taken (the request's own cycle if nothing is in flight), is the core reset.
 """
 
 from __future__ import annotations
 
-from amaranth.hdl import ClockDomain, Module, ResetInserter
+from amaranth.hdl import ClockDomain, Module, ResetInserter, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -128,33 +131,39 @@ class AXITop(wiring.Component):
         m.d.comb += [sync.clk.eq(self.aclk), sync.rst.eq(~self.aresetn)]
 
         m.submodules.regs = regs = RegisterFile(cfg)
-        soft = {"sync": regs.soft_reset}
+        # a soft reset: the output adapter closes the list being sent, then pulses restart,
+        # which resets the core, the frame monitor and m_axis_state's adapter
+        m.submodules.cand_out = cand_out = CandidatesToAxis(cfg)
+        restart = {"sync": cand_out.restart}
         m.submodules.video_in = video_in = AxisToPixels(cfg)
-        m.submodules.monitor = monitor = ResetInserter(soft)(FrameMonitor(cfg))
-        m.submodules.core = core = ResetInserter(soft)(self._core)
-        m.submodules.cand_out = cand_out = ResetInserter(soft)(CandidatesToAxis(cfg))
+        m.submodules.monitor = monitor = ResetInserter(restart)(FrameMonitor(cfg))
+        m.submodules.core = core = ResetInserter(restart)(self._core)
+        busy = cand_out.busy
 
         self._connect_flat(m, "s_axil", regs.axil)
         self._connect_flat(m, "s_axis_video", video_in.video)
         self._connect_flat(m, "m_axis_cand", cand_out.cand)
         m.d.comb += self.irq.eq(regs.irq)
 
-        # pixels: adapter -> core, held off during a soft reset
+        # pixels: adapter -> core, held off from the soft-reset request to the restart
         m.d.comb += [
             core.pixels.payload.eq(video_in.pixels.payload),
-            core.pixels.valid.eq(video_in.pixels.valid & ~regs.soft_reset),
-            video_in.pixels.ready.eq(core.pixels.ready & ~regs.soft_reset),
+            core.pixels.valid.eq(video_in.pixels.valid & ~busy),
+            video_in.pixels.ready.eq(core.pixels.ready & ~busy),
             monitor.accept.eq(video_in.accepted),
             monitor.first.eq(self.s_axis_video_tuser[0]),
             monitor.last.eq(self.s_axis_video_tlast),
+            monitor.no_sof.eq(regs.no_sof),
         ]
-        # candidates: core -> adapter, held off during a soft reset
+        # candidates: core -> adapter (which serves the soft reset)
         m.d.comb += [
             cand_out.candidates.payload.eq(core.candidates.payload),
-            cand_out.candidates.valid.eq(core.candidates.valid & ~regs.soft_reset),
-            core.candidates.ready.eq(cand_out.candidates.ready & ~regs.soft_reset),
+            cand_out.candidates.valid.eq(core.candidates.valid),
+            core.candidates.ready.eq(cand_out.candidates.ready),
+            cand_out.soft_reset.eq(regs.soft_reset),
+            regs.soft_reset_busy.eq(cand_out.busy),
         ]
-        state_stalled = self._state_port(m, core, regs.soft_reset)
+        state_stalled = self._state_port(m, core, cand_out)
         # run-time settings and the LUT write port
         m.d.comb += [core.lut_addr.eq(regs.lut_addr), core.lut_data.eq(regs.lut_data),
                      core.lut_we.eq(regs.lut_we)]
@@ -171,16 +180,24 @@ class AXITop(wiring.Component):
         ]
         return m
 
-    def _state_port(self, m, core, soft_reset):
-        """``m_axis_state`` from the core's ``states``; its ``stalled`` (0 without it)."""
+    def _state_port(self, m, core, cand_out):
+        """``m_axis_state`` from the core's ``states``; its ``stalled`` (0 without it).
+
+        From a soft reset's request on, no new word is offered; a word already offered and
+        not taken stays offered, and ``cand_out.hold`` delays the restart until it is taken.
+        """
         if not self._state_output:
             return 0
-        m.submodules.state_out = state_out = ResetInserter({"sync": soft_reset})(
+        m.submodules.state_out = state_out = ResetInserter({"sync": cand_out.restart})(
             StatesToAxis(self._cfg))
         self._connect_flat(m, "m_axis_state", state_out.state)
+        held = Signal()                  # a word was offered and not taken in the last cycle
+        passing = ~cand_out.busy | held
         m.d.comb += [
             state_out.states.payload.eq(core.states.payload),
-            state_out.states.valid.eq(core.states.valid & ~soft_reset),
-            core.states.ready.eq(state_out.states.ready & ~soft_reset),
+            state_out.states.valid.eq(core.states.valid & passing),
+            core.states.ready.eq(state_out.states.ready & passing),
+            cand_out.hold.eq(held & ~self.m_axis_state_tready),
         ]
+        m.d.sync += held.eq(self.m_axis_state_tvalid & ~self.m_axis_state_tready)
         return state_out.stalled

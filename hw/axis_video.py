@@ -20,7 +20,7 @@ of line; ``tdata`` is a whole number of bytes. Here:
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Signal
+from amaranth.hdl import Module, Mux, Signal
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -28,7 +28,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.layouts import pixel_layout, state_layout, state_word_layout
 
-__all__ = ["byte_padded", "axis_signature", "video_in_signature", "candidate_out_signature",
+__all__ = ["byte_padded", "axis_signature", "video_in_signature", "video_tdata_layout", "candidate_out_signature",
            "state_out_signature", "STATE_TUSER", "AxisToPixels", "CandidatesToAxis",
            "StatesToAxis"]
 
@@ -56,6 +56,12 @@ def axis_signature(data_bits: int, user_bits: int = 1) -> wiring.Signature:
 def video_in_signature(cfg: DPConfig) -> wiring.Signature:
     """``s_axis_video``: one pixel per beat."""
     return axis_signature(byte_padded(cfg.input_bits))
+
+
+def video_tdata_layout(cfg: DPConfig) -> data.StructLayout:
+    """The bits of ``s_axis_video_tdata`` the core reads: the pixel in the low B_in bits
+    (start of frame is ``tuser[0]``, not a ``tdata`` bit; the bits above B_in are ignored)."""
+    return data.StructLayout({"pixel": cfg.input_bits})
 
 
 def candidate_out_signature(cfg: DPConfig) -> wiring.Signature:
@@ -102,12 +108,32 @@ class AxisToPixels(wiring.Component):
 
 
 class CandidatesToAxis(wiring.Component):
-    """The core's ``candidates`` stream to ``m_axis_cand``.
+    """The core's ``candidates`` stream to ``m_axis_cand``, and the soft reset's close of an
+    open list.
+
+    Without a soft reset the port is the stream itself (combinational), ``tuser[0]`` on a
+    list's first word. ``soft_reset`` (a one-cycle request) is served without breaking
+    AXI4-Stream, in this order:
+
+    1. a word already offered and not yet taken (``tvalid`` high, ``tready`` low in the
+       cycle before) stays offered, unchanged, until it is taken; no new word is offered;
+    2. if a list is then open (words of it were sent, not its trailer), the *cut trailer*
+       (:func:`~dptbd.hw.candidate_layout.pack_cut_trailer`: ``cut`` = 1, ``count`` = the
+       records sent, every other field 0, ``tlast``) is offered until it is taken;
+    3. ``restart`` pulses: the caller resets the core (and everything after it) in that
+       cycle. It comes in the request's own cycle when no word is offered and no list is
+       open, in the cycle the cut trailer is taken, or in the cycle after the word of 1.
+       is taken if that word was a trailer; never while ``hold`` is high (another output
+       still has a word to deliver).
+
+    ``busy`` is high from the request to ``restart`` included: the caller holds the input.
 
     Members
     -------
     candidates : In(stream.Signature(candidate_layout(cfg)))
     cand : Out(candidate_out_signature(cfg))
+    soft_reset, hold : In(1)
+    busy, restart : Out(1)
     stalled : Out(1)
         ``tvalid`` high and ``tready`` low in this cycle (back-pressure).
     """
@@ -117,23 +143,52 @@ class CandidatesToAxis(wiring.Component):
         super().__init__({
             "candidates": In(stream.Signature(candidate_layout(cfg))),
             "cand": Out(candidate_out_signature(cfg)),
+            "soft_reset": In(1),
+            "hold": In(1),
+            "busy": Out(1),
+            "restart": Out(1),
             "stalled": Out(1),
         })
 
     def elaborate(self, platform):
         m = Module()
+        cfg = self._cfg
         src, out = self.candidates, self.cand
         list_start = Signal(init=1)            # the next word is the first of a list
+        records = Signal(range(cfg.record_capacity + 1))     # records sent in the open list
+        closing = Signal()                     # a soft reset waits for the list's close
+        held = Signal()                        # a core word was offered, not taken, last cycle
+        request = self.soft_reset | closing
+        passing = ~request | held              # the core's word may be offered
+        cut = request & ~held & ~list_start    # offer the cut trailer
+        cut_word = Signal(candidate_layout(cfg))
         m.d.comb += [
-            out.tdata.eq(src.payload.as_value()),
-            out.tuser[0].eq(list_start),
-            out.tlast.eq(src.payload.end_of_list),
-            out.tvalid.eq(src.valid),
-            src.ready.eq(out.tready),
-            self.stalled.eq(src.valid & ~out.tready),
+            cut_word.body.trailer.count.eq(records),
+            cut_word.body.trailer.cut.eq(1),
+            cut_word.end_of_list.eq(1),
         ]
-        with m.If(src.valid & out.tready):
-            m.d.sync += list_start.eq(src.payload.end_of_list)
+        # Mux, not If/Else: an always @* of constant inputs is never run from time 0 by
+        # Icarus, which would leave tvalid X. tdata and tlast are 0 while no word is
+        # offered (the FIFO's output register holds X until its first word)
+        payload = src.payload.as_value() & src.valid.replicate(len(src.payload.as_value()))
+        m.d.comb += [
+            out.tdata.eq(Mux(cut, cut_word.as_value(), payload)),
+            out.tlast.eq(cut | (src.valid & src.payload.end_of_list)),
+            out.tvalid.eq(cut | (src.valid & passing)),
+            out.tuser[0].eq(list_start),
+            src.ready.eq(out.tready & passing),
+            self.stalled.eq(out.tvalid & ~out.tready),
+            self.busy.eq(request),
+            self.restart.eq(request & ~held & ~self.hold & (list_start | (cut & out.tready))),
+        ]
+        m.d.sync += held.eq(src.valid & passing & ~out.tready)
+        with m.If(self.restart):
+            m.d.sync += [closing.eq(0), list_start.eq(1), records.eq(0)]
+        with m.Else():
+            m.d.sync += closing.eq(request)
+            with m.If(out.tvalid & out.tready):
+                m.d.sync += [list_start.eq(out.tlast),
+                             records.eq(Mux(out.tlast, 0, records + 1))]
         return m
 
 

@@ -27,6 +27,7 @@ __all__ = [
     "candidate_field_offsets",
     "pack_record",
     "pack_trailer",
+    "pack_cut_trailer",
     "unpack_candidate",
     "SegmentBits",
     "bits_per_segment",
@@ -34,8 +35,9 @@ __all__ = [
 
 #: Fields of a candidate record, in layout order.
 RECORD_FIELDS = ("row", "col", "energy", "direction")
-#: Fields of a trailer, in layout order (same names as ``dptbd.model.segmentation``).
-TRAILER_FIELDS = ("count", "threshold", "overflow", "primed", "aligned", "missed")
+#: Fields of a trailer, in layout order: those of ``dptbd.model.segmentation`` (same names),
+#: then ``cut``, which only ``dptbd_axi`` sets (a list closed by a soft reset).
+TRAILER_FIELDS = ("count", "threshold", "overflow", "primed", "aligned", "missed", "cut")
 
 
 def _width(value_range: range) -> int:
@@ -75,6 +77,9 @@ def trailer_layout(cfg: DPConfig) -> data.StructLayout:
     aligned   1                the frame ended with end_of_segment where expected
     missed    1                a segment end was seen outside a scored frame since the
                                previous list (a list was lost to a resynchronisation)
+    cut       1                the list was cut by ``CONTROL.soft_reset`` of ``dptbd_axi``:
+                               ``count`` = the records sent before it, every other field 0
+                               (always 0 from the segmenter itself)
     ========= ================ ==========================================================
     """
     return data.StructLayout({
@@ -84,6 +89,7 @@ def trailer_layout(cfg: DPConfig) -> data.StructLayout:
         "primed": unsigned(1),
         "aligned": unsigned(1),
         "missed": unsigned(1),
+        "cut": unsigned(1),
     })
 
 
@@ -115,9 +121,16 @@ def pack_record(cfg: DPConfig, row: int, col: int, energy: int, direction: int) 
 
 def pack_trailer(cfg: DPConfig, **fields: int) -> int:
     """The ``candidates`` payload of a trailer (``end_of_list`` = 1); every field of
-    :func:`trailer_layout` must be given."""
+    :func:`trailer_layout` must be given (a model list's ``trailer`` with ``cut=0``)."""
     body_width = candidate_layout(cfg)["body"].width
     return pack(trailer_layout(cfg), fields, "trailer") | (1 << body_width)
+
+
+def pack_cut_trailer(cfg: DPConfig, count: int) -> int:
+    """The trailer ``dptbd_axi`` sends to close a list cut by a soft reset after ``count``
+    records: ``cut`` = 1, ``count``, every other field 0."""
+    return pack_trailer(cfg, **{**{name: 0 for name in TRAILER_FIELDS}, "count": count,
+                                "cut": 1})
 
 
 def unpack_candidate(cfg: DPConfig, word: int) -> tuple[str, dict[str, int]]:

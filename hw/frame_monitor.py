@@ -1,11 +1,14 @@
 """Frame-sync fault monitor of the AXI4-Stream video input.
 
 :class:`FrameMonitor` watches every accepted input beat (``tuser[0]`` = start of frame,
-``tlast`` = end of line) and classifies it against the W x H raster. Its counters follow
+``tlast`` = end of line) and classifies it against the W x H raster. Its frame counters follow
 exactly the rule of the core's :class:`~dptbd.hw.controller.Controller`: a start of frame
 where the counters do not expect one restarts them (that beat becomes pixel (0, 0)); a
 missing start of frame where one is expected is ignored (the beat is pixel (0, 0) anyway).
-So the monitor and the core always agree on where a beat sits.
+So the monitor and the core always agree on where a beat sits. Lines are checked on their
+own: a *line* is the beats from one end of line (``tlast``) or start of frame to the next
+``tlast``, and a line whose length is not W is one ``line_length`` event, whatever the
+frame counters make of the beats after it.
 
 Fault classes (one one-cycle pulse each, the cycle after the beat; a beat can raise
 ``line_length`` together with one of the other three):
@@ -18,9 +21,12 @@ sof_unexpected   has start of frame while a frame is in progress and the beat is
 frame_short      has start of frame while a frame is in progress at the first column of a
                  line: the frame had whole lines only, fewer than H
 frame_long       has no start of frame where a frame must start: the previous frame went
-                 on past W x H (or the stream began without a start of frame)
-line_length      has ``tlast`` but is not on column W-1, or is on column W-1 without
-                 ``tlast`` (column after any restart above)
+                 on past W x H (or the stream began without a start of frame); never raised
+                 while ``no_sof`` is 1 (a source without start-of-frame markers)
+line_length      ends a line of fewer than W beats (``tlast`` before its W-th beat), or is
+                 the (W+1)-th beat of a line (no ``tlast`` on its W-th beat): one event per
+                 line whose length is not W. A start of frame begins a new line without an
+                 event (a line it cuts is ``sof_unexpected``)
 ================ =====================================================================
 """
 
@@ -50,6 +56,8 @@ class FrameMonitor(wiring.Component):
         A beat is accepted in this cycle.
     first, last : In(1)
         Its start-of-frame (``tuser[0]``) and end-of-line (``tlast``) bits.
+    no_sof : In(1)
+        The source sends no start-of-frame markers: ``frame_long`` is not raised.
     faults : Out(fault_layout())
         Registered one-cycle pulses, one per fault of the beat accepted in the cycle before.
     """
@@ -60,6 +68,7 @@ class FrameMonitor(wiring.Component):
             "accept": In(1),
             "first": In(1),
             "last": In(1),
+            "no_sof": In(1),
             "faults": Out(fault_layout()),
         })
 
@@ -76,16 +85,23 @@ class FrameMonitor(wiring.Component):
         last_col = eff_col == width - 1
         end_of_frame = last_col & (eff_row == height - 1)
 
+        # beats of the current line before this one, saturating at W + 1 (a start of frame
+        # begins a new line)
+        run = Signal(range(width + 2))
+        index = Mux(self.first, 0, run)
+        bad_line = (self.last & (index < width - 1)) | (index == width)
+
         m.d.sync += [
             self.faults.sof_unexpected.eq(self.accept & restart & (col != 0)),
             self.faults.frame_short.eq(self.accept & restart & (col == 0)),
-            self.faults.frame_long.eq(self.accept & at_start & ~self.first),
-            self.faults.line_length.eq(self.accept & (self.last != last_col)),
+            self.faults.frame_long.eq(self.accept & at_start & ~self.first & ~self.no_sof),
+            self.faults.line_length.eq(self.accept & bad_line),
         ]
         with m.If(self.accept):
             m.d.sync += [
                 col.eq(Mux(last_col, 0, eff_col + 1)),
                 row.eq(Mux(last_col, Mux(eff_row == height - 1, 0, eff_row + 1), eff_row)),
                 at_start.eq(end_of_frame),
+                run.eq(Mux(self.last, 0, Mux(index == width + 1, index, index + 1))),
             ]
         return m

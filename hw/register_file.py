@@ -4,14 +4,20 @@
 :class:`~dptbd.hw.axi_lite.AXILiteSubordinate` it contains. Every register, field and reset value comes from the map; this file only implements the
 field kinds (:data:`~dptbd.hw.register_map.FIELD_KINDS`):
 
-- a read of a mapped register returns its fields (OKAY); a read inside the LUT window returns
-  0 (OKAY, the window is write-only); any other address returns 0 with SLVERR;
+- an address that is not a multiple of 4 is **unaligned**: a read returns 0 with SLVERR; a
+  write is refused (nothing changes, ``ERROR.write_refused`` set, SLVERR);
+- a read of a mapped register returns its fields (OKAY); a read inside the LUT window
+  returns 0 with SLVERR (the window is write-only); any other address returns 0 with SLVERR;
 - a write is merged with the register's current value under ``wstrb`` (bytes not strobed
-  keep their value) and then, by kind: ``setting`` / the LUT window: taken if the whole
-  merged word lies in the field's ``limits``, else **refused** (value not taken,
-  ``ERROR.write_refused`` set, SLVERR); ``enable``: taken; ``sticky`` / ``interrupt``:
-  bits written 1 clear; ``pulse``: bits written 1 pulse for one cycle (the cycle after the
-  write); ``constant`` / ``counter`` and unmapped addresses: refused with SLVERR only;
+  keep their value) and then, by kind: ``setting``: taken if the whole merged word lies in
+  the field's ``limits``, else **refused** (value not taken, ``ERROR.write_refused`` set,
+  SLVERR); ``enable``: taken; ``sticky`` / ``interrupt``: bits written 1 clear; ``pulse``:
+  bits written 1 pulse for one cycle (the cycle after the write); ``constant`` / ``counter``
+  / ``status`` and unmapped addresses: refused with SLVERR only;
+- a ``status`` field reads its input port (of the same name) in the read's cycle;
+- a LUT window write is taken if all four bytes are strobed (``wstrb`` = 1111) and the word
+  lies in the code's ``limits``; otherwise refused (entry unchanged,
+  ``ERROR.write_refused`` set, SLVERR);
 - counters add 1 per cycle their event is high and wrap modulo 2**32;
 - ``irq`` is high while any ``IRQ_STATUS`` bit and its ``IRQ_ENABLE`` bit are both 1.
 """
@@ -47,6 +53,8 @@ class RegisterFile(wiring.Component):
         The run-time settings (one per ``setting`` field), reset to the build values.
     soft_reset, clear_counters : Out(1)
         One-cycle pulses (one per ``pulse`` field).
+    soft_reset_busy : In(1)
+        What the ``status`` field of that name reads.
     lut_addr, lut_data, lut_we : Out
         The weight LUT write port, one cycle after an accepted window write.
     irq : Out(1)
@@ -63,6 +71,8 @@ class RegisterFile(wiring.Component):
             members[field.name] = Out(range(field.limits[1] + 1), init=field.reset)
         for _reg, field in self._map.fields("pulse"):
             members[field.name] = Out(1)
+        for _reg, field in self._map.fields("status"):
+            members[field.name] = In(field.width)
         members.update({"lut_addr": Out(range(cfg.lut_entries)),
                         "lut_data": Out(cfg.weight_bits), "lut_we": Out(1), "irq": Out(1)})
         super().__init__(members)
@@ -92,6 +102,8 @@ class RegisterFile(wiring.Component):
                     storage[reg.name, field.name] = getattr(self, field.name)
                 elif field.kind == "counter":
                     storage[reg.name, field.name] = Signal(COUNTER_BITS, name=reg.name.lower())
+                elif field.kind == "status":
+                    storage[reg.name, field.name] = getattr(self, field.name)
                 elif field.kind in ("enable", "sticky", "interrupt"):
                     storage[reg.name, field.name] = Signal(
                         field.width, init=field.reset, name=f"{reg.name}_{field.name}".lower())
@@ -114,23 +126,27 @@ class RegisterFile(wiring.Component):
 
         values = {reg.name: value(reg) for reg in regmap.registers}
         word = bus.addr[2:]
+        full_strobe = bus.w_strb.all()
+        with m.If(bus.addr[:2].any()):                # unaligned: refused, nothing changes
+            m.d.comb += [bus.r_err.eq(1), bus.w_err.eq(1), refused.eq(bus.w_stb)]
         # an If/Elif chain, not a Switch: Yosys writes a Switch with a default as a casez
         # that Verilator's lint calls incomplete (CASEINCOMPLETE)
-        for i, reg in enumerate(regmap.registers):
-            with (m.Elif if i else m.If)(word == reg.address >> 2):
+        for reg in regmap.registers:
+            with m.Elif(word == reg.address >> 2):
                 current = values[reg.name]
                 merged = (current & ~byte_mask) | written_ones
                 m.d.comb += bus.r_data.eq(current)
                 self._write(m, bus, reg, storage, merged, written_ones, refused)
         with m.Else():
-            m.d.comb += [bus.r_err.eq(~in_lut), bus.w_err.eq(~in_lut)]
-            code = written_ones
+            m.d.comb += [bus.r_err.eq(1), bus.w_err.eq(1)]   # unmapped, or a LUT read
+            code = bus.w_data
             with m.If(bus.w_stb & in_lut):
-                with m.If(code <= lut.field.limits[1]):
+                with m.If(full_strobe & (code <= lut.field.limits[1])):
+                    m.d.comb += bus.w_err.eq(0)
                     m.d.sync += [self.lut_addr.eq((bus.addr - lut.base)[2:]),
                                  self.lut_data.eq(code), self.lut_we.eq(1)]
                 with m.Else():
-                    m.d.comb += [bus.w_err.eq(1), refused.eq(1)]
+                    m.d.comb += refused.eq(1)
 
         clear = self.clear_counters
         pending = []
@@ -153,7 +169,7 @@ class RegisterFile(wiring.Component):
 
     def _write(self, m, bus, reg, storage, merged, written_ones, refused):
         kind = reg.kind
-        if kind in ("constant", "counter"):
+        if kind in ("constant", "counter", "status"):
             m.d.comb += bus.w_err.eq(1)
             return
         with m.If(bus.w_stb):

@@ -9,7 +9,8 @@ allowed range, meaning) and the weight LUT's register window. Everything else re
   testbenches use are rendered from it (:mod:`dptbd.hw.flow.register_export`).
 
 The control port is AXI4-Lite with 32-bit data and byte addresses (``docs/integration.md``
-says why). Every register is one aligned 32-bit word. A field's *kind* says who writes it:
+says why). Every register is one aligned 32-bit word (:data:`BUS_RULES`: what the port
+answers to unaligned, unmapped and window accesses). A field's *kind* says who writes it:
 
 =========== ======= ==================================================================
 kind        access  behaviour
@@ -23,6 +24,7 @@ counter     ro      32-bit event counter, wraps modulo 2**32, cleared by
                     ``CONTROL.clear_counters``; writes are refused
 sticky      w1c     set by its event, cleared by writing 1 (a set in the same cycle wins)
 interrupt   w1c     pending interrupt: as ``sticky``; ``irq`` = any pending & enabled
+status      ro      the core's state now (a level, not latched); writes are refused
 =========== ======= ==================================================================
 """
 
@@ -35,6 +37,7 @@ from dptbd.config import DPConfig
 __all__ = [
     "MAGIC",
     "MAP_VERSION",
+    "BUS_RULES",
     "ADDRESS_BITS",
     "DATA_BITS",
     "COUNTER_BITS",
@@ -52,20 +55,29 @@ __all__ = [
 #: ``ID`` register: ASCII "DPTB".
 MAGIC = 0x44505442
 #: (major, minor) of this map; major changes when an existing register moves or changes.
-MAP_VERSION = (1, 0)
+MAP_VERSION = (1, 1)
 #: Byte-address bits of the control port: a 4 KiB window.
 ADDRESS_BITS = 12
 #: AXI4-Lite data width.
 DATA_BITS = 32
 #: Width of every counter.
 COUNTER_BITS = 32
+#: What the control port answers besides the field kinds (``docs/registers.md`` prints it).
+BUS_RULES = (
+    "An address that is not a multiple of 4 is unaligned: a read returns 0 with SLVERR, a "
+    "write is refused (nothing changes, ERROR.write_refused set, SLVERR). Reading an "
+    "unmapped address returns 0 with SLVERR; writing one is ignored with SLVERR. The LUT "
+    "window is write-only: a read returns 0 with SLVERR; a write must strobe all four "
+    "bytes (wstrb = 1111) and hold a code in range, else it is refused (entry unchanged, "
+    "ERROR.write_refused set, SLVERR).")
 #: Byte address of the weight LUT window's entry 0.
 LUT_WINDOW_BASE = 0x400
 
-FIELD_KINDS = ("constant", "setting", "enable", "pulse", "counter", "sticky", "interrupt")
+FIELD_KINDS = ("constant", "setting", "enable", "pulse", "counter", "sticky", "interrupt",
+               "status")
 #: Bus access of each field kind.
 FIELD_ACCESS = {"constant": "ro", "setting": "rw", "enable": "rw", "pulse": "wo", "counter": "ro",
-           "sticky": "w1c", "interrupt": "w1c"}
+           "sticky": "w1c", "interrupt": "w1c", "status": "ro"}
 
 #: The frame-sync fault classes of the frame monitor (:mod:`dptbd.hw.frame_monitor`).
 FAULTS = ("sof_unexpected", "frame_short", "frame_long", "line_length")
@@ -129,7 +141,8 @@ class Register:
 
 @dataclasses.dataclass(frozen=True)
 class Window:
-    """A write-only array of registers: entry i at ``base + 4 * i`` (reads return 0)."""
+    """A write-only array of registers: entry i at ``base + 4 * i`` (reads answer SLVERR,
+    a write must strobe every byte: :data:`BUS_RULES`)."""
 
     name: str
     base: int
@@ -211,7 +224,8 @@ def _control(cfg: DPConfig, k_max: int) -> list[tuple]:
     return [
         ("CONTROL", "control", "write 1 to a bit for a one-cycle pulse; reads 0",
          (Field("soft_reset", 0, 1, "pulse", 0,
-                "reset the core and the frame monitor (resync); registers are kept"),
+                "close the list being sent (a cut trailer), then reset the core and the "
+                "frame monitor (resync); registers are kept"),
           Field("clear_counters", 1, 1, "pulse", 0, "set every counter to 0"))),
         ("SEGMENT_FRAMES", "control", "run-time K",
          _one("segment_frames", "setting", cfg.segment_frames, "K, frames per segment",
@@ -226,17 +240,24 @@ def _control(cfg: DPConfig, k_max: int) -> list[tuple]:
         ("IRQ_ENABLE", "control", "interrupt mask: 1 lets the pending bit raise irq",
          (Field("segment_done", 0, 1, "enable", 0, "end of segment"),
           Field("fault", 1, 1, "enable", 0, "any ERROR bit set"))),
+        ("VIDEO_INPUT", "control", "video source",
+         _one("no_sof", "setting", 0,
+              "1: the source sends no start-of-frame markers (tuser[0] held 0), so a "
+              "missing start of frame is no fault (ERROR.frame_long never set); 0: every "
+              "frame must start with tuser[0]", width=1, limits=(0, 1))),
     ]
 
 
 def _status(cfg: DPConfig) -> list[tuple]:
     sticky = tuple(Field(name, i, 1, "sticky", 0, doc, event=name) for i, (name, doc) in
                    enumerate([*zip(FAULTS, ("start of frame in the middle of a line",
-                                            "start of frame at the start of a line before "
-                                            "line H-1: frame of fewer than H lines",
+                                            "start of frame at the first column of lines "
+                                            "1 ... H-1 (H-1 included): frame of fewer than "
+                                            "H lines",
                                             "no start of frame where a frame should start: "
                                             "frame longer than W*H",
-                                            "tlast not on column W-1, or missing there")),
+                                            "a line (the beats up to tlast) whose length "
+                                            "is not W: one event per such line")),
                               ("write_refused", "a register write was refused")]))
     counters = [("FRAMES", "frame_done", "frames output by the DP pipeline"),
                 ("SEGMENTS", "segment_done", "segments output by the DP pipeline"),
@@ -254,6 +275,10 @@ def _status(cfg: DPConfig) -> list[tuple]:
           Field("fault", 1, 1, "interrupt", 0, "an ERROR bit was set", event="fault"))),
         *[(name, "status", doc, _one(name, "counter", 0, doc, event=event, field="count"))
           for name, event, doc in counters],
+        ("STATUS", "status", "the core's state now",
+         (Field("soft_reset_busy", 0, 1, "status", 0,
+                "a CONTROL.soft_reset is in progress: the list being sent is being closed "
+                "(waiting for m_axis_cand_tready) and the input is held"),)),
     ]
 
 
@@ -275,6 +300,6 @@ def register_map(cfg: DPConfig) -> RegisterMap:
                        f"weight code c in [0, 2**F = {unity}], weight c / 2**F",
                        limits=(0, unity)),
                  "weight LUT entry [p, m] at LUT + 4 * (p * M + m) (DPConfig.lut_address); "
-                 "write-only, reads 0")
+                 "write-only (reads SLVERR), whole-word writes (wstrb = 1111)")
     assert lut.end <= 1 << ADDRESS_BITS
     return RegisterMap(tuple(registers), (lut,))

@@ -94,21 +94,25 @@ def _prefix(beats: Beats, n: int) -> Beats:
     return Beats(beats.pixel[:n].copy(), beats.first[:n].copy(), beats.last[:n].copy())
 
 
-def fault_pulses(cfg: DPConfig, first, last) -> list[dict[str, int]]:
+def fault_pulses(cfg: DPConfig, first, last, *, no_sof: bool = False) -> list[dict[str, int]]:
     """The frame monitor's fault pulses for every beat (``docs/integration.md``): the
-    core's counting rule (an unexpected start of frame restarts the counters, a missing one
-    is ignored) and the four classes."""
+    core's counting rule for frames (an unexpected start of frame restarts the counters, a
+    missing one is ignored, and is no fault with ``no_sof``), and one ``line_length`` per
+    line (beats up to ``tlast``, a start of frame begins a new one) whose length is not W."""
     width, height = cfg.width, cfg.height
     col = row = 0
+    run = 0                             # beats of the current line so far
     at_start = True
     out = []
     for f, lst in zip(first, last):
         restart = bool(f) and not at_start
         pulses = {"sof_unexpected": restart and col != 0, "frame_short": restart and col == 0,
-                  "frame_long": at_start and not f}
+                  "frame_long": at_start and not f and not no_sof}
         if restart:
             col = row = 0
-        pulses["line_length"] = bool(lst) != (col == width - 1)
+        index = 0 if f else run
+        pulses["line_length"] = (bool(lst) and index < width - 1) or index == width
+        run = 0 if lst else index + 1
         out.append({k: int(v) for k, v in pulses.items()})
         at_start = col == width - 1 and row == height - 1
         if col == width - 1:
@@ -118,9 +122,9 @@ def fault_pulses(cfg: DPConfig, first, last) -> list[dict[str, int]]:
     return out
 
 
-def fault_counts(cfg: DPConfig, beats: Beats) -> dict[str, int]:
+def fault_counts(cfg: DPConfig, beats: Beats, *, no_sof: bool = False) -> dict[str, int]:
     """Total pulses per fault class of a stream (what the FAULT_* counters must read)."""
-    pulses = fault_pulses(cfg, beats.first, beats.last)
+    pulses = fault_pulses(cfg, beats.first, beats.last, no_sof=no_sof)
     return {k: sum(p[k] for p in pulses) for k in FAULTS}
 
 

@@ -299,3 +299,195 @@ def bench_settle(job: dict, cfg) -> int:
     plus two histogram scans, doubled under back-pressure."""
     slow = 1 + 3 * pause_probability(job.get("ready_pause"))
     return int((int(job.get("latency", 20)) + 2 * (cfg.n_bins + 4) + 8) * slow)
+
+
+@cocotb.test()
+async def soft_reset_sweep(dut):
+    """``CONTROL.soft_reset`` landing in every cycle of a list being sent.
+
+    The job's ``beats`` (frames from reset, each a segment: an unprimed empty list, then a
+    list with records) are sent again and again, one *iteration* each; every iteration but
+    the last issues the soft-reset write ``issue[i]`` cycles after its start, and its
+    iteration starts once the core has taken the soft reset (``s_axis_video_tready`` high
+    after the write's response). The bench drives every port itself, cycle by cycle, so
+    each iteration is the same stimulus up to its write: the source offers the beats back
+    to back and stops when the write is issued (a beat it offers then and the core has not
+    taken is withdrawn: the bench's own side), ``m_axis_cand_tready`` follows a random
+    pattern restarted from ``ready_seed`` at every iteration (pause probability
+    ``ready_pause``), the AXI4-Lite write is one AW+W beat. The summary holds each
+    iteration's outcome (:func:`score_iteration`) and, for the last iteration, the cycles
+    (from its start) in which ``m_axis_cand_tvalid`` was high, with ``tready`` and ``tlast``.
+
+    Checked on every cycle of ``m_axis_cand``: ``tvalid`` never drops and ``tdata`` /
+    ``tuser`` / ``tlast`` never change while a word waits for ``tready``. Checked per
+    iteration: its words, cut into packets at ``tlast``, are the model's lists (tuser[0]
+    on each first word, tlast on each last), except that the last list may be a prefix of
+    its words closed by the cut trailer (``pack_cut_trailer``: the records sent) or
+    missing (the reset landed before it began); the last iteration gives every list whole.
+    """
+    import random
+
+    from dptbd.hw.candidate_layout import pack_cut_trailer
+    from dptbd.sim.candidate_scoreboard import list_words
+
+    job, cfg, _frames = load_job()
+    regs = constants_namespace(cfg)
+    beats = Beats.from_json(job["beats"])
+    issues = list(job["issue"]) + [None]
+    want = list_words(cfg, expected_outputs(cfg, beats, [{"stop": len(beats)}]).lists)
+    pause = float(job["ready_pause"])
+    period = int(job.get("period_ns", PERIOD_NS))
+    Clock(dut.aclk, period, unit="ns").start(start_high=False)
+    for name in ("s_axis_video_tvalid", "m_axis_cand_tready", "s_axil_awvalid",
+                 "s_axil_wvalid", "s_axil_bready", "s_axil_arvalid", "s_axil_rready"):
+        getattr(dut, name).value = 0
+    for name in ("s_axis_video_tdata", "s_axis_video_tuser", "s_axis_video_tlast",
+                 "s_axil_awaddr", "s_axil_wdata", "s_axil_awprot", "s_axil_arprot",
+                 "s_axil_araddr"):
+        getattr(dut, name).value = 0
+    dut.s_axil_wstrb.value = 0xF
+    dut.aresetn.value = 0
+    for _ in range(4):
+        await RisingEdge(dut.aclk)
+    dut.aresetn.value = 1
+
+    problems, outcomes = [], []
+    previous = None                    # (tvalid, tready, tdata, tuser, tlast) of the last cycle
+    cycles = 0
+
+    def value(handle) -> int:
+        v = handle.value
+        if not v.is_resolvable:
+            problems.append(f"cycle {cycles}: {handle._name} = {v}")
+            return 0
+        return int(v)
+
+    for iteration, issue in enumerate(issues):
+        # wait for the core to take pixels: the iteration starts in that cycle
+        while True:
+            await RisingEdge(dut.aclk)
+            cycles += 1
+            if value(dut.s_axis_video_tready):
+                break
+        rng = random.Random(int(job["ready_seed"]))
+        words, n, index, writing, wrote, stopped = [], 0, 0, False, False, False
+        timeline = []                  # [cycle n, tready, tlast] of every cycle with tvalid
+        dut.s_axis_video_tvalid.value = 0
+        while True:
+            # drive the cycle n (values take effect after this edge's sampling)
+            offer = not stopped and index < len(beats)
+            if offer:
+                dut.s_axis_video_tdata.value = int(beats.pixel[index])
+                dut.s_axis_video_tuser.value = int(beats.first[index])
+                dut.s_axis_video_tlast.value = int(beats.last[index])
+            dut.s_axis_video_tvalid.value = int(offer)
+            ready = int(rng.random() >= pause)
+            dut.m_axis_cand_tready.value = ready
+            if issue is not None and n == issue:
+                dut.s_axil_awaddr.value = regs.REG_CONTROL
+                dut.s_axil_wdata.value = regs.CONTROL_SOFT_RESET_MASK
+                dut.s_axil_awvalid.value = dut.s_axil_wvalid.value = 1
+                dut.s_axil_bready.value = 1
+                writing, stopped = True, True
+            await RisingEdge(dut.aclk)
+            cycles += 1
+            # sample cycle n
+            if offer and value(dut.s_axis_video_tready):
+                index += 1
+            now = (value(dut.m_axis_cand_tvalid), ready, value(dut.m_axis_cand_tdata),
+                   value(dut.m_axis_cand_tuser) & 1, value(dut.m_axis_cand_tlast))
+            if previous is not None and previous[0] and not previous[1]:
+                if not now[0]:
+                    problems.append(f"cycle {cycles}: m_axis_cand_tvalid dropped without "
+                                    "a handshake")
+                elif now[2:] != previous[2:]:
+                    problems.append(f"cycle {cycles}: m_axis_cand word changed while "
+                                    "waiting")
+            previous = now
+            if now[0]:
+                timeline.append([n, now[1], now[4]])
+            if now[0] and now[1]:
+                words.append(now[2:])
+            if writing:
+                if value(dut.s_axil_awready) and value(dut.s_axil_wready):
+                    dut.s_axil_awvalid.value = dut.s_axil_wvalid.value = 0
+                if value(dut.s_axil_bvalid):
+                    dut.s_axil_bready.value = 0
+                    writing, wrote = False, True
+                    if value(dut.s_axil_bresp) != OKAY:
+                        problems.append(f"iteration {iteration}: CONTROL write refused")
+            n += 1
+            if wrote:
+                break
+            if issue is None and index == len(beats) and len(words) >= sum(map(len, want)):
+                break
+            if n > 20 * len(beats) + 2000:
+                problems.append(f"iteration {iteration}: no end after {n} cycles")
+                break
+        dut.s_axis_video_tvalid.value = 0
+        if wrote:
+            # the list is closed and the core reset once s_axis_video_tready is high again;
+            # keep taking m_axis_cand words (random tready) until then
+            while True:
+                ready = int(rng.random() >= pause)
+                dut.m_axis_cand_tready.value = ready
+                await RisingEdge(dut.aclk)
+                cycles += 1
+                now = (value(dut.m_axis_cand_tvalid), ready, value(dut.m_axis_cand_tdata),
+                       value(dut.m_axis_cand_tuser) & 1, value(dut.m_axis_cand_tlast))
+                if previous[0] and not previous[1] and (not now[0] or now[2:] != previous[2:]):
+                    problems.append(f"cycle {cycles}: m_axis_cand broke AXI4-Stream in the "
+                                    "soft reset")
+                previous = now
+                if now[0] and now[1]:
+                    words.append(now[2:])
+                if value(dut.s_axis_video_tready):
+                    break
+            dut.m_axis_cand_tready.value = 0
+            previous = (0, 0, 0, 0, 0)
+        outcomes.append(score_iteration(cfg, want, words, issue is None, pack_cut_trailer,
+                                        problems, iteration))
+    summary = {"test": "soft_reset_sweep", "problems": problems[:20], "outcomes": outcomes,
+               "cycles": cycles, "last_timeline": timeline,
+               "verdict": "bit-exact" if not problems else "mismatch",
+               "report": "; ".join(problems[:5]) or f"{len(outcomes)} iterations bit-exact"}
+    if job.get("summary"):
+        with open(job["summary"], "w") as fh:
+            json.dump(summary, fh, indent=2)
+    assert not problems, summary["report"]
+
+
+def score_iteration(cfg, want, words, last: bool, pack_cut_trailer, problems, iteration) -> str:
+    """``"whole"`` (every list), ``"cut k"`` (the last list cut after k records) or
+    ``"dropped"`` (the last list never began); a problem otherwise."""
+    packets, current = [], []
+    for data, user, tlast in words:
+        current.append((data, user))
+        if tlast:
+            packets.append(current)
+            current = []
+    if current:
+        problems.append(f"iteration {iteration}: {len(current)} words without tlast")
+    for i, packet in enumerate(packets):
+        if [u for _, u in packet] != [1] + [0] * (len(packet) - 1):
+            problems.append(f"iteration {iteration}: list {i}: tuser[0] "
+                            f"{[u for _, u in packet]}")
+    got = [[d for d, _ in p] for p in packets]
+    head = len(want) - 1
+    if got[:head] != want[:head] or len(got) > len(want):
+        problems.append(f"iteration {iteration}: lists {got} differ from the model's {want}")
+        return "mismatch"
+    if len(got) == len(want) and got[-1] == want[-1]:
+        return "whole"
+    if last:
+        problems.append(f"iteration {iteration}: the last list is {got[head:]}, not whole")
+        return "mismatch"
+    if len(got) == head:
+        return "dropped"
+    k = len(got[-1]) - 1
+    if not (1 <= k < len(want[-1]) and got[-1][:k] == want[-1][:k]
+            and got[-1][k] == pack_cut_trailer(cfg, k)):
+        problems.append(f"iteration {iteration}: cut list {got[-1]} is not a prefix of "
+                        f"{want[-1]} closed by the cut trailer")
+        return "mismatch"
+    return f"cut {k}"

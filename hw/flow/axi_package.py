@@ -32,8 +32,8 @@ from dptbd.hw.candidate_layout import candidate_field_offsets, candidate_layout
 from dptbd.hw.flow.register_export import c_header, register_constants
 from dptbd.hw.flow.to_verilog import to_verilog
 from dptbd.hw.flow.verilog import VERILATOR_LINT_FLAGS, manifest_header
-from dptbd.hw.axis_video import STATE_TUSER
-from dptbd.hw.layouts import field_offsets, pixel_layout, state_word_layout
+from dptbd.hw.axis_video import STATE_TUSER, video_tdata_layout
+from dptbd.hw.layouts import field_offsets, state_word_layout
 from dptbd.hw.register_map import register_map
 
 __all__ = ["HEADER_NAME", "DEFAULT_CLOCK_MHZ", "CLOCK_MHZ_RANGE", "package_file_names",
@@ -109,7 +109,7 @@ def axi_manifest(cfg: DPConfig, top: AXITop) -> dict:
         "streams": {
             "s_axis_video": {"tdata": "pixel in bits [B_in-1:0]", "tuser[0]": "start of frame",
                              "tlast": "end of line",
-                             "layout": field_offsets(pixel_layout(cfg))},
+                             "layout": field_offsets(video_tdata_layout(cfg))},
             "m_axis_cand": {"tdata": "candidate word (record or trailer)",
                             "tuser[0]": "first word of a list", "tlast": "trailer",
                             "layout": candidate_field_offsets(cfg),

@@ -25,7 +25,7 @@ from amaranth.lib import data
 from dptbd.config import ROUNDING_MODES, DPConfig
 from dptbd.hw.axis_video import byte_padded
 from dptbd.hw.candidate_layout import candidate_layout
-from dptbd.hw.register_map import (ADDRESS_BITS, FIELD_ACCESS, FIELD_KINDS, MAGIC, MAP_VERSION, RegisterMap,
+from dptbd.hw.register_map import (ADDRESS_BITS, BUS_RULES, FIELD_ACCESS, FIELD_KINDS, MAGIC, MAP_VERSION, RegisterMap,
                                    register_map)
 
 __all__ = ["ROUNDING_MEANINGS", "register_constants", "candidate_constants",
@@ -52,6 +52,7 @@ _KIND_TEXT = {
                "writes refused (SLVERR)",
     "sticky": "set by its event; write 1 to clear (a set in the same cycle wins)",
     "interrupt": "pending; write 1 to clear; irq = any pending AND enabled",
+    "status": "the core's state now (not latched); writes refused (SLVERR)",
 }
 
 
@@ -150,8 +151,7 @@ def markdown(regmap: RegisterMap, cfg: DPConfig) -> str:
         "`tests/hw/test_register_export.py` checks this file against the generator.",
         "",
         f"AXI4-Lite, 32-bit data, {ADDRESS_BITS}-bit byte addresses, every register one "
-        "aligned word. Reading an unmapped address returns 0 with SLVERR; writing one is "
-        "ignored with SLVERR. See `docs/integration.md` for the ports and the protocol.",
+        f"aligned word. {BUS_RULES} See `docs/integration.md` for the ports and the protocol.",
         "",
         "| kind | access | behaviour |",
         "|---|---|---|",

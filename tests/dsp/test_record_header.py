@@ -26,9 +26,9 @@ int main(void)
     while (scanf("%" SCNu64, &w) == 1) {
         if (dptbd_payload_is_trailer(w)) {
             dptbd_fpga_trailer t = dptbd_unpack_trailer(w);
-            printf("trailer %lu %lu %u %u %u %u\n", (unsigned long)t.count,
+            printf("trailer %lu %lu %u %u %u %u %u\n", (unsigned long)t.count,
                    (unsigned long)t.threshold, (unsigned)t.overflow, (unsigned)t.primed,
-                   (unsigned)t.aligned, (unsigned)t.missed);
+                   (unsigned)t.aligned, (unsigned)t.missed, (unsigned)t.cut);
         } else {
             dptbd_fpga_record r = dptbd_unpack_record(w);
             printf("record %u %u %lu %u %" PRIu64 "\n", (unsigned)r.row, (unsigned)r.col,

@@ -42,6 +42,9 @@ def test_manifest_lists_axi_ports_and_registers(package):
     assert ports["s_axil_rdata"]["direction"] == "output" and ports["s_axil_awaddr"]["width"] == 12
     assert ports["m_axis_cand_tdata"]["width"] % 8 == 0
     assert manifest["registers"]["REG_ERROR"] == register_map(cfg)["ERROR"].address
+    # start of frame is tuser[0]: the video tdata carries the pixel only
+    assert manifest["streams"]["s_axis_video"]["layout"] == {
+        "pixel": {"offset": 0, "width": cfg.input_bits}}
 
 
 def test_fusesoc_parses_the_core(package):

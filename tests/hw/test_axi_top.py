@@ -7,7 +7,7 @@ import types
 from amaranth.hdl import Fragment
 from amaranth.sim import Simulator
 
-from dptbd.hw.axi_lite import RESP_OKAY
+from dptbd.hw.axi_lite import RESP_OKAY, RESP_SLVERR
 from dptbd.hw.axi_top import AXITop
 from dptbd.hw.flow.register_export import constants_namespace
 from axil_harness import axil_read, axil_write
@@ -125,3 +125,97 @@ def test_soft_reset_pulse_holds_tready_low():
         assert error == regs.ERROR_SOF_UNEXPECTED_MASK     # before the reset: mid-frame
 
     simulate_top(top, bench)
+
+
+async def send_beats(ctx, top, beats):
+    """Offer ``(pixel, first, last)`` beats back to back until each is taken."""
+    for pixel, first, last in beats:
+        ctx.set(top.s_axis_video_tdata, pixel)
+        ctx.set(top.s_axis_video_tuser, first)
+        ctx.set(top.s_axis_video_tlast, last)
+        ctx.set(top.s_axis_video_tvalid, 1)
+        taken = False
+        while not taken:
+            taken = ctx.get(top.s_axis_video_tready)
+            await ctx.tick("sync")
+    ctx.set(top.s_axis_video_tvalid, 0)
+
+
+def test_source_without_start_of_frame_markers():
+    """Frames with tlast but never tuser[0]: each frame start is a frame_long fault
+    (ERROR.frame_long set) unless VIDEO_INPUT.no_sof is 1; then no error at all."""
+    cfg = config()
+    regs = constants_namespace(cfg)
+    frame = [(7, 0, int(c == cfg.width - 1)) for _r in range(cfg.height)
+             for c in range(cfg.width)]
+    got = {}
+
+    for no_sof in (0, 1):
+        top = AXITop(cfg)
+        axil = flat_axil(top)
+
+        async def bench(ctx, top=top, axil=axil, no_sof=no_sof):
+            await ctx.tick("sync")
+            ctx.set(top.aresetn, 1)
+            ctx.set(top.m_axis_cand_tready, 1)
+            if no_sof:
+                assert await axil_write(ctx, axil, regs.REG_VIDEO_INPUT, 1) == RESP_OKAY
+            await send_beats(ctx, top, frame * 3)
+            for _ in range(4):
+                await ctx.tick("sync")
+            got[no_sof] = [(await axil_read(ctx, axil, getattr(regs, f"REG_{name}")))[0]
+                           for name in ("ERROR", "FAULT_FRAME_LONG", "FAULT_LINE_LENGTH")]
+
+        simulate_top(top, bench)
+    assert got == {0: [regs.ERROR_FRAME_LONG_MASK, 3, 0], 1: [0, 0, 0]}
+
+
+def test_soft_reset_waits_for_the_word_offered_and_shows_busy():
+    """K = 1: the first (empty, unprimed) list's only word is offered with tready held low;
+    a soft reset then keeps it offered, unchanged, holds the input and reads
+    STATUS.soft_reset_busy = 1 for as long as tready stays low; once the word is taken
+    (a whole list: tlast, no cut trailer follows) the core is reset, the bit reads 0 and
+    the input is taken again. STATUS is read-only (a write answers SLVERR)."""
+    cfg = make_config(width=8, height=6, segment_frames=1, candidate_count=2)
+    regs = constants_namespace(cfg)
+    top = AXITop(cfg)
+    axil = flat_axil(top)
+    frame = [(9, int(i == 0), int(i % cfg.width == cfg.width - 1))
+             for i in range(cfg.width * cfg.height)]
+    seen = {}
+
+    async def bench(ctx):
+        await ctx.tick("sync")
+        ctx.set(top.aresetn, 1)
+        await send_beats(ctx, top, frame)
+        while not ctx.get(top.m_axis_cand_tvalid):
+            await ctx.tick("sync")
+        word = ctx.get(top.m_axis_cand_tdata)
+        assert ctx.get(top.m_axis_cand_tlast) and ctx.get(top.m_axis_cand_tuser)
+        assert await axil_read(ctx, axil, regs.REG_STATUS) == (0, RESP_OKAY)
+        assert await axil_write(ctx, axil, regs.REG_CONTROL,
+                                regs.CONTROL_SOFT_RESET_MASK) == RESP_OKAY
+        seen["busy"] = await axil_read(ctx, axil, regs.REG_STATUS)
+        seen["write"] = await axil_write(ctx, axil, regs.REG_STATUS, 1)
+        for _ in range(20):                                  # tready low: it waits
+            assert ctx.get(top.m_axis_cand_tvalid)
+            assert ctx.get(top.m_axis_cand_tdata) == word
+            assert not ctx.get(top.s_axis_video_tready)
+            await ctx.tick("sync")
+        ctx.set(top.m_axis_cand_tready, 1)
+        await ctx.tick("sync")                               # the word is taken
+        ctx.set(top.m_axis_cand_tready, 0)
+        idle = []
+        for _ in range(3):
+            idle.append((ctx.get(top.m_axis_cand_tvalid), ctx.get(top.s_axis_video_tready)))
+            await ctx.tick("sync")
+        seen["after"] = idle
+        seen["idle"] = await axil_read(ctx, axil, regs.REG_STATUS)
+
+    simulate_top(top, bench)
+    assert seen["busy"] == (regs.STATUS_SOFT_RESET_BUSY_MASK, RESP_OKAY)
+    assert seen["write"] == RESP_SLVERR
+    # the reset in the cycle after the (list-ending) word was taken; the core's
+    # post-reset cycle; then input again
+    assert seen["after"] == [(0, 0), (0, 0), (0, 1)]
+    assert seen["idle"] == (0, RESP_OKAY)

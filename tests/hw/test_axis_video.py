@@ -6,11 +6,14 @@ adapters with random ``tvalid`` gaps and ``tready`` back-pressure.
 
 import random
 
+import pytest
+
 from amaranth.sim import Simulator
 
 from dptbd.hw.axis_video import (STATE_TUSER, AxisToPixels, CandidatesToAxis, StatesToAxis,
                                  byte_padded)
-from dptbd.hw.candidate_layout import pack_record, pack_trailer
+from dptbd.hw.candidate_layout import (pack_cut_trailer, pack_record, pack_trailer,
+                                       unpack_candidate)
 from dptbd.hw.layouts import pack_pixel, pack_state_word, pack_states
 from hw_harness import simulate
 from seg_harness import make_config
@@ -94,7 +97,7 @@ def rtl_candidate_beats(cfg, words, seed=1):
 
 def test_candidates_out_marks_list_start_and_trailer():
     cfg = config()
-    trailer = dict(count=2, threshold=3, overflow=0, primed=1, aligned=1, missed=0)
+    trailer = dict(count=2, threshold=3, overflow=0, primed=1, aligned=1, missed=0, cut=0)
     empty = dict(trailer, count=0)
     words = [(pack_record(cfg, 1, 2, 300, 4), 0), (pack_record(cfg, 5, 7, 9, 9), 0),
              (pack_trailer(cfg, **trailer), 1), (pack_trailer(cfg, **empty), 1),
@@ -144,3 +147,139 @@ def test_states_out_flags_frames_lines_and_segments():
     assert [w[1] & 1 for w in want] == [1, 0, 0, 0, 0, 0] * 2
     got, stalls = rtl_state_beats(cfg, words)
     assert got == want and stalls > 0
+
+
+def soft_reset_lists(cfg):
+    """Lists of (payload, is_trailer): two records, an empty list, one record, three."""
+    def trailer(count):
+        return pack_trailer(cfg, count=count, threshold=3, overflow=0, primed=1, aligned=1,
+                            missed=0, cut=0)
+    lists = []
+    for count in (2, 0, 1, 3):
+        lists.append([(pack_record(cfg, i, count, 100 + i, 1), 0) for i in range(count)]
+                     + [(trailer(count), 1)])
+    return lists
+
+
+def rtl_soft_reset(cfg, lists, at, seed):
+    """Run ``CandidatesToAxis`` with a source that behaves like the core's FIFO (a word
+    offered stays offered until taken; on ``restart`` it is reset: an offered word is gone
+    and a list it was in the middle of is dropped) and random ``tready``; ``soft_reset`` in
+    cycle ``at`` (never if None). Returns the per-cycle trace of the port and ``restart`` / ``busy``."""
+    dut = CandidatesToAxis(cfg)
+    flat = [(w, t, i == 0) for lst in lists for i, (w, t) in enumerate(lst)]
+    rng = random.Random(seed)
+    trace = []
+
+    async def bench(ctx):
+        index, offering, cycle = 0, False, 0
+        while index < len(flat) or (at is not None and cycle <= at + 2):
+            if not offering and index < len(flat) and rng.random() < 0.6:
+                offering = True
+            ctx.set(dut.candidates.valid, offering)
+            if index < len(flat):
+                ctx.set(dut.candidates.payload.as_value(), flat[index][0])
+            ctx.set(dut.soft_reset, cycle == at)
+            ctx.set(dut.cand.tready, rng.random() < 0.5)
+            row = {name: ctx.get(getattr(dut.cand, name)) for name in
+                   ("tvalid", "tready", "tdata", "tuser", "tlast")}
+            row.update(restart=ctx.get(dut.restart), busy=ctx.get(dut.busy),
+                       stalled=ctx.get(dut.stalled), taken=offering and
+                       ctx.get(dut.candidates.ready))
+            trace.append(row)
+            if row["taken"]:
+                index, offering = index + 1, False
+            if row["restart"]:
+                offering = False
+                while index < len(flat) and not flat[index][2]:
+                    index += 1                               # the core drops the list's rest
+            await ctx.tick()
+            cycle += 1
+            assert cycle < 2000
+
+    simulate(dut, bench)
+    return trace
+
+
+def check_axis_rules(trace):
+    """AXI4-Stream on every cycle: tvalid never drops, and tdata / tuser / tlast never
+    change, while a word waits for tready; ``stalled`` is tvalid and not tready."""
+    for before, now in zip(trace, trace[1:]):
+        if before["tvalid"] and not before["tready"]:
+            assert now["tvalid"]
+            assert [now[k] for k in ("tdata", "tuser", "tlast")] == \
+                [before[k] for k in ("tdata", "tuser", "tlast")]
+    for row in trace:
+        assert row["stalled"] == (row["tvalid"] and not row["tready"])
+
+
+def packets(trace):
+    """The transfers, cut into packets at tlast: [[(tdata, tuser), …], …]."""
+    out, current = [], []
+    for row in trace:
+        if row["tvalid"] and row["tready"]:
+            current.append((row["tdata"], row["tuser"]))
+            if row["tlast"]:
+                out.append(current)
+                current = []
+    assert current == []                                    # every packet ends with tlast
+    return out
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_soft_reset_closes_the_list_in_every_cycle(seed):
+    """A soft reset in every cycle of one run of four lists (random tready and source gaps,
+    the same up to the request):
+    the AXI4-Stream rules hold in every cycle; a word offered before the request is still
+    delivered; a list left open is closed by the cut trailer (cut = 1, count = records
+    sent, tlast); restart pulses once — in the request's cycle when nothing is in flight,
+    else in the cycle the list is closed; busy from the request to restart; every list is
+    delivered whole or cut (a prefix and its cut trailer), in order, and no list is lost."""
+    cfg = config()
+    lists = soft_reset_lists(cfg)
+    words = [[w for w, _ in lst] for lst in lists]
+    seen = {"cut": 0, "whole": 0, "waited": 0}
+    span = len(rtl_soft_reset(cfg, lists, at=None, seed=seed))
+    for at in range(0, span):
+        trace = rtl_soft_reset(cfg, lists, at, seed=seed)
+        check_axis_rules(trace)
+        got = packets(trace)
+        assert len(got) == len(lists)
+        cuts = 0
+        for want, packet in zip(words, got):
+            data = [w for w, _ in packet]
+            assert [u for _, u in packet] == [1] + [0] * (len(packet) - 1)
+            if data != want:
+                k = len(data) - 1
+                assert 1 <= k < len(want) and data[:k] == want[:k]
+                assert data[k] == pack_cut_trailer(cfg, k)
+                cuts += 1
+        assert cuts <= 1
+        # when the request found a list open (or a record waiting), it was cut; the restart
+        restarts = [c for c, row in enumerate(trace) if row["restart"]]
+        assert len(restarts) == 1 and restarts[0] >= at
+        busy = [c for c, row in enumerate(trace) if row["busy"]]
+        assert busy == list(range(at, restarts[0] + 1))
+        taken = [c for c, row in enumerate(trace) if row["tvalid"] and row["tready"]]
+        before = [c for c in taken if c < at]
+        held = at > 0 and trace[at - 1]["tvalid"] and not trace[at - 1]["tready"]
+        open_list = bool(before) and not trace[before[-1]]["tlast"]
+        during = [c for c in taken if at <= c <= restarts[0]]
+        if held:
+            first = during[0]                    # the waiting word goes first, unchanged
+            assert trace[first]["tdata"] == trace[at - 1]["tdata"]
+            seen["waited"] += 1
+            closes = not trace[first]["tlast"]
+        else:
+            closes = open_list
+        assert cuts == int(closes)
+        if closes:
+            assert trace[restarts[0]]["tvalid"] and trace[restarts[0]]["tready"]
+            assert unpack_candidate(cfg, trace[restarts[0]]["tdata"])[1]["cut"] == 1
+            seen["cut"] += 1
+        elif not held:
+            assert restarts[0] == at and during == []
+            seen["whole"] += 1
+        else:
+            assert restarts[0] == during[0] + 1 and len(during) == 1
+    assert min(seen.values()) > 0, seen

@@ -59,7 +59,7 @@ def reference(cfg, pixels):
             overflow = True
         if eol:
             words.append(pack_trailer(cfg, count=emitted, threshold=5, overflow=overflow,
-                                      primed=1, aligned=1, missed=0))
+                                      primed=1, aligned=1, missed=0, cut=0))
             emitted, overflow = 0, False
     return words
 
@@ -86,7 +86,7 @@ def test_zero_capacity_only_trailers():
     pixels = [(True, i == 5, 0, i, 9) for i in range(6)]
     got = emit(cfg, pixels)
     assert got == [pack_trailer(cfg, count=0, threshold=5, overflow=1, primed=1, aligned=1,
-                                missed=0)]
+                                missed=0, cut=0)]
 
 
 def test_refuses_a_small_fifo():

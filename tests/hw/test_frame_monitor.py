@@ -39,23 +39,40 @@ def cases():
     yield "missing sof", frame() + frame(sof=False) + frame(), {"frame_long": 1}
     yield "starts without sof", frame(sof=False) + frame(), {"frame_long": 1}
     early = frame()
-    early[2] = (0, 1)                                        # tlast on column 2
-    yield "early tlast", early + frame(), {"line_length": 1}
+    early[2] = (0, 1)                  # a stray tlast on column 2 splits line 0 in two
+    yield "early tlast", early + frame(), {"line_length": 2}     # lines of 3 and 2 beats
     late = frame()
     late[W - 1] = (0, 0)                                     # no tlast on column W-1
     yield "missing tlast", late + frame(), {"line_length": 1}
     longer = frame() + [(0, 0), (0, 0)] + frame()            # two extra beats
     yield "two beats too many", longer, {"frame_long": 1, "sof_unexpected": 1}
+    # one line too long / too short: one line_length event, not one per shifted line after
+    wide = frame()
+    wide[W - 1] = (0, 0)
+    wide[W:W] = [(0, 1)]                                     # line 0 has W + 1 beats
+    yield "one line a beat long", wide + frame(), {"line_length": 1, "frame_long": 1,
+                                                   "sof_unexpected": 1}
+    narrow = frame()
+    del narrow[W - 1]
+    narrow[W - 2] = (0, 1)                                   # line 0 has W - 1 beats
+    yield "one line a beat short", narrow + frame(), {"line_length": 1, "sof_unexpected": 1}
+    much = frame()
+    much[W - 1] = (0, 0)
+    much[W:W] = [(0, 0)] * (2 * W) + [(0, 1)]                # line 0 has 3W + 1 beats
+    yield "one line far too long", much + frame(), {"line_length": 1, "frame_long": 1,
+                                                    "sof_unexpected": 1}
+    no_tlast = [(f, 0) for f, _ in frame() * 2]              # tlast never driven: one line
+    yield "no tlast at all", no_tlast + frame(), {"line_length": 2}   # per frame (sof ends it)
 
 
-def ref_faults(beats):
+def ref_faults(beats, no_sof=False):
     """Fault pulses per beat (dicts): :func:`dptbd.sim.axi_stimulus.fault_pulses`, the
     controller's counting rule written in Python."""
     first, last = zip(*beats)
-    return fault_pulses(make_config(width=W, height=H), first, last)
+    return fault_pulses(make_config(width=W, height=H), first, last, no_sof=no_sof)
 
 
-def rtl_faults(beats, seed=0):
+def rtl_faults(beats, seed=0, no_sof=False):
     """Fault pulses of the gateware per accepted beat, with random idle cycles between
     beats; also the controller's ``resync`` per beat."""
     cfg = make_config(width=W, height=H)
@@ -78,6 +95,7 @@ def rtl_faults(beats, seed=0):
                 await ctx.tick()
                 assert not any(ctx.get(dut.faults[k]) for k in FAULTS)
             ctx.set(dut.accept, 1)
+            ctx.set(dut.no_sof, no_sof)
             ctx.set(dut.first, first)
             ctx.set(dut.last, last)
             resyncs.append(ctx.get(ctl.resync))
@@ -120,3 +138,21 @@ def test_with_fault_refusals():
         with_fault(cfg, frames, "nope")
     with pytest.raises(ValueError, match=r"^a fault needs at least 2 frames, got 1$"):
         with_fault(cfg, frames[:1], "frame_long")
+
+
+@pytest.mark.parametrize("name,beats,total", list(cases()), ids=[c[0] for c in cases()])
+def test_no_sof_silences_frame_long_only(name, beats, total):
+    """With ``no_sof`` set, the same beats raise the same pulses but ``frame_long``."""
+    want = ref_faults(beats, no_sof=True)
+    assert want == [{**f, "frame_long": 0} for f in ref_faults(beats)]
+    got, _ = rtl_faults(beats, seed=len(beats), no_sof=True)
+    assert got == want
+
+
+def test_source_without_tuser_raises_nothing_with_no_sof():
+    """Frames without any start of frame: one frame_long per frame after the first W x H
+    beats (and the very first beat) unless ``no_sof``; with it, none."""
+    beats = frame(sof=False) * 4
+    assert sum(f["frame_long"] for f in ref_faults(beats)) == 4
+    got, _ = rtl_faults(beats, no_sof=True)
+    assert sum(sum(g.values()) for g in got) == 0

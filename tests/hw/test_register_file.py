@@ -31,11 +31,17 @@ def cases(regs):
                                                  1 << 31)]
     yield from [("HISTOGRAM_SHIFT", v) for v in (0, regs.HISTOGRAM_SHIFT_HISTOGRAM_SHIFT_MAX,
                                                  regs.HISTOGRAM_SHIFT_HISTOGRAM_SHIFT_MAX + 1)]
+    yield from [("VIDEO_INPUT", v) for v in (1, 0, 2, 1, 3)]
+
+
+#: The port of each setting register (named after its field).
+PORTS = {"SEGMENT_FRAMES": "segment_frames", "CANDIDATE_COUNT": "candidate_count",
+         "HISTOGRAM_SHIFT": "histogram_shift", "VIDEO_INPUT": "no_sof"}
 
 
 def ref_write(regs, reg, value, before):
     """(response, value read back, write_refused set) of writing ``value``."""
-    lo, hi = (getattr(regs, f"{reg}_{reg}_{end}") for end in ("MIN", "MAX"))
+    lo, hi = (getattr(regs, f"{reg}_{PORTS[reg].upper()}_{end}") for end in ("MIN", "MAX"))
     if lo <= value <= hi:
         return RESP_OKAY, value, False
     return RESP_SLVERR, before, True
@@ -54,7 +60,7 @@ def rtl_write(cfg, writes):
             error, _ = await axil_read(ctx, dut.axil, regs.REG_ERROR)
             refused = bool(error & regs.ERROR_WRITE_REFUSED_MASK)
             await axil_write(ctx, dut.axil, regs.REG_ERROR, error)        # W1C
-            port = ctx.get(getattr(dut, reg.lower()))
+            port = ctx.get(getattr(dut, PORTS[reg]))
             assert port == back, (reg, port, back)
             got.append((resp, back, refused))
 
@@ -67,11 +73,12 @@ def test_settings_take_valid_values_and_refuse_others():
     regs = constants_namespace(cfg)
     writes = list(cases(regs))
     want, current = [], {"SEGMENT_FRAMES": cfg.segment_frames,
-                         "CANDIDATE_COUNT": cfg.n_candidates, "HISTOGRAM_SHIFT": cfg.bin_shift}
+                         "CANDIDATE_COUNT": cfg.n_candidates, "HISTOGRAM_SHIFT": cfg.bin_shift,
+                         "VIDEO_INPUT": 0}
     for reg, value in writes:
         want.append(ref_write(regs, reg, value, current[reg]))
         current[reg] = want[-1][1]
-    assert sum(w[2] for w in want) == 6
+    assert sum(w[2] for w in want) == 8
     assert rtl_write(cfg, writes) == want
 
 
@@ -141,7 +148,7 @@ def test_pulses_lut_window_and_counters():
         entry = cfg.lut_address(cfg.n_moves, 2)
         assert await axil_write(ctx, dut.axil, regs.LUT_BASE + 4 * entry, 77) == RESP_OKAY
         assert await axil_write(ctx, dut.axil, regs.LUT_BASE, regs.LUT_MAX + 1) == RESP_SLVERR
-        assert await axil_read(ctx, dut.axil, regs.LUT_BASE) == (0, RESP_OKAY)
+        assert await axil_read(ctx, dut.axil, regs.LUT_BASE) == (0, RESP_SLVERR)
         error, _ = await axil_read(ctx, dut.axil, regs.REG_ERROR)
         assert error == regs.ERROR_WRITE_REFUSED_MASK
         seen.append("done")
@@ -226,3 +233,106 @@ def test_axi_lite_one_transaction_at_a_time(order):
 
 def test_events_port_lists_every_event():
     assert [name for name, _ in event_port_layout()] == list(EVENTS)
+
+
+def test_unaligned_accesses_are_refused():
+    """Every address that is not a multiple of 4 (a register, the LUT window, an unmapped
+    word): a read answers 0 with SLVERR; a write answers SLVERR, changes nothing and sets
+    ERROR.write_refused (cleared by W1C between the writes)."""
+    cfg = config()
+    regs = constants_namespace(cfg)
+    dut = RegisterFile(cfg)
+    entry = cfg.lut_address(1, 0)
+    got = []
+
+    async def bench(ctx):
+        for base in (regs.REG_ID, regs.REG_SEGMENT_FRAMES, regs.REG_CONTROL, regs.REG_IRQ_ENABLE,
+                     regs.REG_ERROR, regs.LUT_BASE + 4 * entry, 0x3F0):
+            for offset in (1, 2, 3):
+                before, _ = await axil_read(ctx, dut.axil, regs.REG_SEGMENT_FRAMES)
+                enable, _ = await axil_read(ctx, dut.axil, regs.REG_IRQ_ENABLE)
+                read = await axil_read(ctx, dut.axil, base + offset)
+                resp = await axil_write(ctx, dut.axil, base + offset, 1)
+                error, _ = await axil_read(ctx, dut.axil, regs.REG_ERROR)
+                await axil_write(ctx, dut.axil, regs.REG_ERROR, error)
+                after, _ = await axil_read(ctx, dut.axil, regs.REG_SEGMENT_FRAMES)
+                enable_after, _ = await axil_read(ctx, dut.axil, regs.REG_IRQ_ENABLE)
+                got.append((read, resp, error, after == before, enable_after == enable))
+
+    writes, pulses = [], []
+
+    async def watch(ctx):
+        async for _clk, _rst, we, soft, clear in ctx.tick().sample(
+                dut.lut_we, dut.soft_reset, dut.clear_counters):
+            writes.append(we)
+            pulses.append(soft | clear)
+
+    simulate(dut, bench, background=[watch])
+    assert got == [((0, RESP_SLVERR), RESP_SLVERR, regs.ERROR_WRITE_REFUSED_MASK, True, True)
+                   ] * 21
+    assert not any(writes) and not any(pulses)
+
+
+@pytest.mark.parametrize("strb", [0b0001, 0b0011, 0b0111, 0b1110, 0b1000, 0b0000])
+def test_lut_write_needs_every_byte_strobed(strb):
+    """A LUT write with wstrb != 1111 is refused (no write to the LUT port, SLVERR,
+    ERROR.write_refused set); the same word with every byte strobed is taken."""
+    cfg = config()
+    regs = constants_namespace(cfg)
+    dut = RegisterFile(cfg)
+    entry = cfg.lut_address(cfg.n_moves, 1)
+    got = []
+
+    async def bench(ctx):
+        addr = regs.LUT_BASE + 4 * entry
+        got.append(await axil_write(ctx, dut.axil, addr, 3, strb=strb))
+        got.append((await axil_read(ctx, dut.axil, regs.REG_ERROR))[0])
+        await axil_write(ctx, dut.axil, regs.REG_ERROR, regs.ERROR_WRITE_REFUSED_MASK)
+        got.append(await axil_write(ctx, dut.axil, addr, 3))
+        got.append((await axil_read(ctx, dut.axil, regs.REG_ERROR))[0])
+
+    writes = []
+
+    async def watch(ctx):
+        async for _clk, _rst, we, addr, value in ctx.tick().sample(
+                dut.lut_we, dut.lut_addr, dut.lut_data):
+            if we:
+                writes.append((addr, value))
+
+    simulate(dut, bench, background=[watch])
+    assert got == [RESP_SLVERR, regs.ERROR_WRITE_REFUSED_MASK, RESP_OKAY, 0]
+    assert writes == [(entry, 3)]
+
+
+def test_lut_window_reads_answer_slverr():
+    cfg = config()
+    regs = constants_namespace(cfg)
+    dut = RegisterFile(cfg)
+    got = []
+
+    async def bench(ctx):
+        for entry in (0, regs.LUT_ENTRIES - 1):
+            addr = regs.LUT_BASE + 4 * entry
+            assert await axil_write(ctx, dut.axil, addr, 1) == RESP_OKAY
+            got.append(await axil_read(ctx, dut.axil, addr))
+        got.append((await axil_read(ctx, dut.axil, regs.REG_ERROR))[0])
+
+    simulate(dut, bench)
+    assert got == [(0, RESP_SLVERR), (0, RESP_SLVERR), 0]
+
+
+def test_status_reads_its_port_and_refuses_writes():
+    cfg = config()
+    regs = constants_namespace(cfg)
+    dut = RegisterFile(cfg)
+    got = []
+
+    async def bench(ctx):
+        for busy in (1, 0):
+            ctx.set(dut.soft_reset_busy, busy)
+            got.append(await axil_read(ctx, dut.axil, regs.REG_STATUS))
+        got.append(await axil_write(ctx, dut.axil, regs.REG_STATUS, 1))
+        got.append((await axil_read(ctx, dut.axil, regs.REG_ERROR))[0])
+
+    simulate(dut, bench)
+    assert got == [(regs.STATUS_SOFT_RESET_BUSY_MASK, RESP_OKAY), (0, RESP_OKAY), RESP_SLVERR, 0]

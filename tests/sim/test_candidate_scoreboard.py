@@ -37,7 +37,7 @@ def test_words_are_records_then_one_trailer():
     lst = lists[2]
     r = lst.records[0]
     assert words[2][0] == pack_record(CFG, r["row"], r["col"], r["energy"], r["direction"])
-    assert words[2][-1] == pack_trailer(CFG, **lst.trailer)
+    assert words[2][-1] == pack_trailer(CFG, **lst.trailer, cut=0)
     assert [len(ws) for ws in words] == [lst.count + 1 for lst in lists]
 
 
@@ -70,7 +70,7 @@ def test_report_names_trailer_fields_and_kind():
     board = CandidateScoreboard(CFG, lists)
     for w in words[:trailer]:
         board.receive(w)
-    bad = pack_trailer(CFG, **{**lists[0].trailer, "threshold": 3})
+    bad = pack_trailer(CFG, **{**lists[0].trailer, "threshold": 3}, cut=0)
     board.receive(bad)
     assert "segment 0, trailer (after 0 records), field threshold" in board.report()
     board = CandidateScoreboard(CFG, lists)

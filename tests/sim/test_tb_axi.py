@@ -229,3 +229,39 @@ def test_saturation_events_are_counted():
     s = run(cfg, frames, beats, [{"stop": len(beats)}], "axi-saturation", records=False,
             final_check={"SATURATED": 2 * frame, "SEGMENTS": 2})
     assert s["counters"]["SATURATED"] == 2 * frame
+
+
+# 12 x 10, K = 1: every frame is a segment (an unprimed empty list, then lists with records)
+SWEEP_CFG = dict(width=12, height=10, segment_frames=1, candidate_count=4, candidate_capacity=8,
+                 histogram_bits=5, histogram_shift=1)
+
+
+def test_soft_reset_in_every_cycle_of_a_list():
+    """CONTROL.soft_reset landing in every cycle of a list being sent, with random tready
+    (``tb_axi.soft_reset_sweep``): a calibration run gives the cycles of the second list
+    (first word offered to trailer taken); the sweep then issues the write from 4 cycles
+    before that list's first word to its trailer (the pulse lands 2 cycles after the
+    write), one iteration per cycle. Every cycle keeps AXI4-Stream; every list is whole,
+    or its prefix closed by the cut trailer, or (reset before it began) absent; the last
+    iteration (after the last soft reset) is bit-exact; cut lists, whole lists and a list
+    cut after each possible number of records all occur."""
+    cfg = make_config(**SWEEP_CFG)
+    frames = make_frames("two-targets", cfg, 2, seed=1)
+    beats = clean_beats(frames)
+    lists = expected_outputs(cfg, beats, [{"stop": len(beats)}]).lists
+    assert [lst.count for lst in lists] == [0, 4]          # a list with records to cut
+    options = dict(testcase="soft_reset_sweep", beats=beats.to_json(), ready_pause=0.4,
+                   ready_seed=3)
+    sim = built(cfg, "axi")
+    calibration = simulate(sim, frames, run_name="axi-sweep-calibration", issue=[], **options)
+    assert_passed(calibration)
+    timeline = calibration.summary["last_timeline"]          # [cycle, tready, tlast]
+    ends = [i for i, (_n, ready, last) in enumerate(timeline) if ready and last]
+    assert len(ends) == 2
+    first_offer, trailer_taken = timeline[ends[0] + 1][0], timeline[ends[1]][0]
+    issue = list(range(first_offer - 4, trailer_taken + 1))
+    result = simulate(sim, frames, run_name="axi-sweep", issue=issue, **options)
+    assert_passed(result)
+    outcomes = result.summary["outcomes"]
+    assert len(outcomes) == len(issue) + 1 and outcomes[-1] == "whole"
+    assert {"whole", "dropped", *[f"cut {k}" for k in range(1, 5)]} <= set(outcomes[:-1])

@@ -35,6 +35,8 @@
 #define DPTBD_TRAILER_ALIGNED_WIDTH 1
 #define DPTBD_TRAILER_MISSED_OFFSET 21
 #define DPTBD_TRAILER_MISSED_WIDTH 1
+#define DPTBD_TRAILER_CUT_OFFSET 22
+#define DPTBD_TRAILER_CUT_WIDTH 1
 
 /* One field of a payload. */
 static inline uint64_t dptbd_payload_field(uint64_t word, unsigned offset, unsigned width)
@@ -64,6 +66,7 @@ typedef struct {
     uint8_t primed;
     uint8_t aligned;
     uint8_t missed;
+    uint8_t cut;
 } dptbd_fpga_trailer;
 
 static inline dptbd_fpga_record dptbd_unpack_record(uint64_t word)
@@ -85,6 +88,7 @@ static inline dptbd_fpga_trailer dptbd_unpack_trailer(uint64_t word)
     r.primed = (uint8_t)dptbd_payload_field(word, DPTBD_TRAILER_PRIMED_OFFSET, DPTBD_TRAILER_PRIMED_WIDTH);
     r.aligned = (uint8_t)dptbd_payload_field(word, DPTBD_TRAILER_ALIGNED_OFFSET, DPTBD_TRAILER_ALIGNED_WIDTH);
     r.missed = (uint8_t)dptbd_payload_field(word, DPTBD_TRAILER_MISSED_OFFSET, DPTBD_TRAILER_MISSED_WIDTH);
+    r.cut = (uint8_t)dptbd_payload_field(word, DPTBD_TRAILER_CUT_OFFSET, DPTBD_TRAILER_CUT_WIDTH);
     return r;
 }
 
