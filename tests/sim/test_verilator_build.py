@@ -16,7 +16,7 @@ import pytest
 
 from dptbd.sim import verilator_build as V
 from dptbd.sim.rtl_check import check_frames
-from dptbd.sim.runner import config_name
+from dptbd.sim.icarus import config_name
 from dptbd.sim.scenarios import make_frames
 
 from verilator_harness import SEG, make_config  # noqa: E402

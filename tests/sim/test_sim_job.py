@@ -1,4 +1,4 @@
-"""dptbd.sim.job: settings, configuration and scene checks (whole messages), the
+"""dptbd.sim.sim_job: settings, configuration and scene checks (whole messages), the
 missing-tool sentences of both commands, the printed summary."""
 
 import pathlib
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from dptbd.config import ConfigError, DPConfig
-from dptbd.sim.job import (SimOutcome, SimSettings, sim_config, sim_frames,
+from dptbd.sim.sim_job import (SimOutcome, SimSettings, sim_config, sim_frames,
                                       simulator_tools_missing, summary_lines)
 
 CFG = DPConfig(width=16, height=12, segment_frames=3)
