@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 import warnings
 from fractions import Fraction
 
@@ -14,6 +13,7 @@ import pytest
 from dptbd import ConfigError, DPConfig, EnergyWidthWarning
 from dptbd.config import ROUNDING_MODES, check_move_table, move_offsets, paper_weights, plain_weights
 from dptbd.errors import DptbdError
+from helpers.refusals import whole
 
 # move indices for r = 1 (docs §2 table)
 UL, U, UR, L, C, R, DL, D, DR = range(9)
@@ -283,10 +283,6 @@ def test_from_mapping_validates_values():
 # ---------------------------------------------------------------------------------------
 # out-of-range parameters: ConfigError naming the parameter and its range
 # ---------------------------------------------------------------------------------------
-
-def whole(message):
-    """A regex matching exactly ``message``, the whole refusal."""
-    return "^" + re.escape(message) + "$"
 
 
 def not_integer(name, span, value):

@@ -83,7 +83,7 @@ def markdown(regmap: RegisterMap, cfg: DPConfig) -> str:
         f"({cfg.width}x{cfg.height}, K={cfg.segment_frames}, B_in={cfg.input_bits}, "
         f"B_E={cfg.energy_bits}, F={cfg.weight_frac_bits}, r={cfg.radius}); reset values of "
         "the identification and control registers follow the build. Do not edit by hand: "
-        "`tests/hw/test_register_export.py` checks this file against the generator.",
+        "`tests/hw/flow/test_register_export.py` checks this file against the generator.",
         "",
         f"AXI4-Lite, 32-bit data, {ADDRESS_BITS}-bit byte addresses, every register one "
         "aligned word. Reading an unmapped address returns 0 with SLVERR; writing one is "

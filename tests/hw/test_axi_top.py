@@ -10,8 +10,8 @@ from amaranth.sim import Simulator
 from dptbd.hw.axi_lite import RESP_OKAY
 from dptbd.hw.axi_top import AXITop
 from dptbd.hw.flow.register_export import constants_namespace
-from axil_harness import axil_read, axil_write
-from seg_harness import make_config
+from helpers.axil_harness import axil_read, axil_write
+from helpers.seg_harness import make_config
 
 
 def config():

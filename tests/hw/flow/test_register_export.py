@@ -9,9 +9,9 @@ from dptbd.config import DPConfig
 from dptbd.dsp.firmware_build import find_compiler
 from dptbd.hw.flow import register_export
 from dptbd.hw.register_map import register_map
-from seg_harness import make_config
+from helpers.seg_harness import make_config
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
+ROOT = pathlib.Path(__file__).resolve().parents[3]
 
 
 def test_committed_markdown_is_the_generators_output():
