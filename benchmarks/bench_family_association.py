@@ -1,4 +1,4 @@
-"""Segments (K = 6, 8) against the recursive DP through the DSP association (issue 15).
+"""Segments (K = 6, 8) against the recursive DP through the DSP association.
 
     python benchmarks/bench_family_association.py --alpha 0.97 --seeds 40
     python benchmarks/bench_family_association.py --sweep --seeds 40   # alpha from seeds 100-119

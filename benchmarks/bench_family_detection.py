@@ -1,4 +1,4 @@
-"""K-frame segments (K = 6, 8) against the recursive DP with a forgetting factor (issue 15).
+"""K-frame segments (K = 6, 8) against the recursive DP with a forgetting factor.
 
     python benchmarks/bench_family_detection.py                  # sweep, then report
     python benchmarks/bench_family_detection.py --alpha 0.95     # report only

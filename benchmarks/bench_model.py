@@ -20,7 +20,7 @@ Reported, all measured in the same run:
   costs nothing per trial).
 
 Times are medians of ``--repeats`` runs after a warm-up call (which also absorbs numba's
-JIT compilation). The issue's target is <= 12 passes per frame update and a batched
+JIT compilation). The target is <= 12 passes per frame update and a batched
 per-trial time no larger than the single one; this script only reports, it asserts nothing.
 """
 

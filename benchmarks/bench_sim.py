@@ -26,7 +26,7 @@ import time
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.sim.runner import build, simulate
+from dptbd.sim.icarus import build, simulate
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.scoreboard import expected_words
 

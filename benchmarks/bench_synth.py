@@ -17,7 +17,7 @@ need and F = 0 for the binary LUT; see ``docs/synthesis.md``):
   on-chip state store (16384 words), default build.
 * ``core640x512`` — ``DPCore`` for a 640 x 512 infrared frame, state store outside,
   default build.
-* ``core128-r2`` — ``DPCore`` 128 x 128 with radius 2 (25 moves, 5 x 5 window; issue 15),
+* ``core128-r2`` — ``DPCore`` 128 x 128 with radius 2 (25 moves, 5 x 5 window),
   default build (8/10/0), weight LUT in block RAM (``lut_style="auto"`` at r = 2).
 
 ``DPCore``'s storage options are the family's (``Family.core_options``: iCE40 line buffer

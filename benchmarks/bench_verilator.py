@@ -24,14 +24,14 @@ import tempfile
 import time
 
 from dptbd.config import DPConfig
-from dptbd.sim import runner, verilator
+from dptbd.sim import icarus, verilator
 from dptbd.sim.rtl_check import check_frames
 from dptbd.sim.scenarios import make_frames
 
 
 def ratio_run(cfg: DPConfig, frames, icarus_root: pathlib.Path) -> dict:
-    sim = runner.build(cfg, icarus_root)
-    ic = runner.simulate(sim, frames, run_name="bench")
+    sim = icarus.build(cfg, icarus_root)
+    ic = icarus.simulate(sim, frames, run_name="bench")
     vb = verilator.build(cfg, "dp")
     vr = check_frames(vb, frames)
     return {"icarus": ic.summary.get("sim_cycles_per_second") or 0.0,

@@ -184,7 +184,7 @@ class DPConfig(FamilyFields):
     candidate_capacity: int | None = None
     histogram_bits: int = 10
     histogram_shift: int | None = None
-    # ---- paper 000's DP family (docs/arithmetic.md §8; issue 15) ----------------------
+    # ---- paper 000's DP family (docs/arithmetic.md §8) ---------------------------------
     merit_codes: tuple | None = None
     merit_bits: int | None = None
     penalty_codes: tuple | None = None
@@ -502,7 +502,7 @@ def check_move_table(name: str, table: Any, radius: int, lo: float = -math.inf,
 
 
 #: §8 fields and their defaults; :meth:`DPConfig.to_mapping` leaves out a field at its
-#: default so that a paper-001 configuration maps (and hashes) exactly as before issue 15.
+#: default so that a paper-001 configuration maps (and hashes) exactly as one without the §8 fields.
 _FAMILY_DEFAULTS = dict(merit_codes=None, merit_bits=None, penalty_codes=None,
                         penalty_bits=None, forgetting=1.0, forgetting_bits=8, recursive=False)
 

@@ -180,7 +180,7 @@ class DPCore(wiring.Component):
     def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
                  lut_style: str = "auto", line_buffer_style: str = "bram",
                  sideband_delay: str = "registers", max_tree: str = "compact"):
-        # -- line buffer and side-band storage (timing / area work, issue 12 §4) --
+        # -- line buffer and side-band storage (per-family implementation options) --
         if line_buffer_style not in LINE_BUFFER_STYLES:
             raise ValueError(f"line_buffer_style must be one of {LINE_BUFFER_STYLES}, "
                              f"got {line_buffer_style!r}")
@@ -387,7 +387,7 @@ class DPCore(wiring.Component):
         # ---- end of paper 000's family -------------------------------------------------
 
         # ---- faded (= best) -> state: accumulator ------------------------------------
-        # -- side-band delay (area work, issue 12 §4): `valid` always in registers --
+        # -- side-band delay (an area option): `valid` always in registers --
         if self._sideband_delay == "memory":
             late_valid = delayed(m, sideband.valid, sched.faded - sched.fetch,
                                  name="sideband_valid")
@@ -438,7 +438,7 @@ class DPCore(wiring.Component):
             result.end_of_segment.eq(at_state.end_of_segment),
         ]
         # The FIFO also carries the accumulator's saturated flag, for the `saturated` event.
-        # (timing work, issue 12 §4) Its flags and the input credit are registers of
+        # Its flags and the input credit are registers of
         # thermometer counters (hw/thermometer_fifo.py, hw/input_credit.py): the cycles
         # of SyncFIFOBuffered and of a binary credit counter, without their adders and
         # comparators on the way to `states.valid`'s successor and to `pixels.ready`.

@@ -11,7 +11,7 @@ DP16KD without its own output register, which Yosys does not infer). The read is
 one cycle ahead, at the address the pointer will hold in the next cycle, so the taps keep
 their timing: the registered read costs one register per memory bit and no latency. It buys
 ECP5 15 MHz and costs the iCE40 30 logic cells for nothing (``docs/synthesis.md``, "The line
-buffer's read register"), so it is off by default.
+buffer's read"), so it is off by default.
 
 With ``banked_read=True`` (needs ``ram_style="distributed"``, LUT RAM) the memory is built as
 banks of :data:`LUT_RAM_BANK_DEPTH` words (one ``TRELLIS_DPR16X4`` column each), read
@@ -21,7 +21,7 @@ register, and the write (data, address, enable) is registered once more so the m
 does not drive the write ports either. Same taps, same cycles; costs one register per bank
 and memory bit. Off by default: on ECP5 it moved the critical path elsewhere (+6 to +11 MHz
 on two seeds) but nextpnr's router did not converge on the third seed (``docs/synthesis.md``,
-"Towards 200 MHz on ECP5").
+"The line buffer's read").
 
 With ``interleaved_read=True`` (needs ``ram_style="distributed"`` and an even ``depth`` >= 4)
 the LUT RAM is read ahead, so that neither the read address's fan-out nor a multiplexer sits
@@ -36,7 +36,7 @@ through an AND-OR multiplexer whose select is a one-hot register (half = P's par
 P's high bits), its pair terms kept (``keep``) so that Yosys maps two LUT levels rather than
 a chain of three. Same taps, same cycles, no write delay; costs one register per bank and
 memory bit (224 for the 128 x 28-bit line buffer of the default build). It takes the line
-buffer out of the ECP5 critical paths (``docs/synthesis.md``, "The last 25 MHz").
+buffer out of the ECP5 critical paths (``docs/synthesis.md``, "The line buffer's read").
 """
 
 from __future__ import annotations
@@ -75,8 +75,8 @@ class LineBuffer(wiring.Component):
     ram_style : {None, "distributed"}
         Synthesis attribute of the memory: ``None`` (default) leaves it to RAM inference
         (a block RAM), ``"distributed"`` asks Yosys for LUT RAM (ECP5 ``TRELLIS_DPR16X4``,
-        no block RAM clock-to-out on the read path; ``docs/synthesis.md``, "Towards 200 MHz
-        on ECP5"). Behaviour and timing are the same either way.
+        no block RAM clock-to-out on the read path; ``docs/synthesis.md``, "Block RAM
+        reads"). Behaviour and timing are the same either way.
     banked_read : bool
         LUT RAM in registered banks (module docstring); needs ``ram_style="distributed"``,
         no ``registered_read`` and ``depth`` >= 3.

@@ -6,7 +6,7 @@ the same tree shape and the same node rule, but every level takes two cycles: th
 registers the comparison ``take_right`` of each pair beside the pair itself, the second
 registers the selected candidate. A level is then one carry chain *or* one multiplexer
 between registers instead of both, which is the DP core's critical path on ECP5 once the
-line buffer's block RAM is gone (``docs/synthesis.md``, "Towards 200 MHz on ECP5").
+line buffer's block RAM is gone (``docs/synthesis.md``, "Block RAM reads").
 Latency ``2 * ceil(log2(count))``; :class:`~dptbd.hw.dp_core.DPCore` builds it with
 ``max_tree="split"`` and :class:`~dptbd.hw.schedule.PipelineSchedule` counts it.
 """

@@ -1,56 +1,29 @@
 """RTL simulation: generated Verilog on Verilator (compiled, the main simulator) and cocotb 2
 on Icarus (4-state protocol checks), scored against the golden model.
 
-Modules
--------
-``dptbd.sim.verilator_build``
-    :func:`~dptbd.sim.verilator_build.build` verilates one top level (``dp``, ``core`` with a
-    C++ external store, ``segmenter``) with the harness ``sim/harness/dptbd_harness.cpp``
-    into a cached executable (the build cache).
-``dptbd.sim.verilator``
-    :func:`~dptbd.sim.verilator.run` streams a whole input sequence through a build with
-    seeded stalls, resets, LUT writes; re-exports the build cache's public names
-    (``verilator.build``, ``verilator.check_tools``, …).
-``dptbd.sim.stream_model``
-    The golden model's output for an arbitrary accepted stream (resets, misaligned, short
-    and long frames, LUT changes), by the gateware's counter rule.
-``dptbd.sim.rtl_check``
-    One compiled run checked against the model with the scoreboards below.
-``dptbd.sim.rtl_trials``
-    Monte Carlo trials accumulated on the compiled RTL (``compare --rtl``, ``table1 --rtl``).
-``dptbd.sim.campaign``
-    The verification campaign (``dptbd verify``).
-``dptbd.sim.x_store``
-    4-state (Icarus) check that an X- or garbage-initialised external store never reaches
-    an output.
-``dptbd.sim.stimulus``
-    Pixel words and LUT writes, packed with the gateware's layouts.
-``dptbd.sim.runner``
-    :func:`~dptbd.sim.runner.build` generates ``dptbd_dp.v`` and its manifest for a
-    :class:`~dptbd.config.DPConfig` into ``build/sim/<parameter set>/`` and compiles it with
-    ``cocotb_tools.runner`` (Icarus, timescale 1ns/1ps, optional FST waves);
-    :func:`~dptbd.sim.runner.simulate` writes the scene (``scene.npy``) and the job
-    (``job.json``) into a run directory and runs one cocotb test on the build.
-``dptbd.sim.tb_dp``
-    The cocotb test module (``run_scene``, ``mid_frame_reset``, ``truncated_frame_resync``);
-    it reads ``DPTBD_SIM_JOB`` and ``DPTBD_SIM_SCENE``.
-``dptbd.sim.components``
-    Driver (:class:`~dptbd.sim.components.StreamSource`), back-pressure sink, monitor, pause
-    generators, LUT writes.
-``dptbd.sim.checker``
-    The one in-order checker (expected items from the model, received items from a monitor,
-    the first mismatch with its position) behind every scoreboard.
-``dptbd.sim.scoreboard``, ``dptbd.sim.candidate_scoreboard``
-    Its two users: the golden model's expected ``states`` words (:mod:`dptbd.model.fixed`
-    frame by frame), reported by frame, row, column and field; the candidate lists, by
-    segment, record and field.
-``dptbd.sim.job``
-    The job behind ``dptbd sim``: one scene through the generated Verilog on Verilator or
-    Icarus, its cycle count, speed and verdict.
-``dptbd.sim.build_dirs``
-    Build-directory names and locking shared by the Verilator and cocotb builds.
-``dptbd.sim.scenarios``
-    Integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
+Modules (one line each)
+-----------------------
+- ``verilator_build``: verilates one top level with the C++ harness ``sim/harness/`` into a cached executable (the build cache).
+- ``verilator``: :func:`~dptbd.sim.verilator.run` streams an input sequence through a Verilator build (stalls, resets, LUT writes).
+- ``verilator_axi``: long runs of the AXI top level ``dptbd_axi`` on Verilator, scored against the golden model.
+- ``build_dirs``: build-directory names and locking shared by the Verilator and the Icarus builds.
+- ``stream_model``: the golden model's output for any accepted stream, by the gateware's counter rule.
+- ``checker``: the one in-order checker (expected items, received items, the first mismatch with its position).
+- ``scoreboard``: the expected ``states`` words of the golden model, reported by frame, row, column and field.
+- ``candidate_scoreboard``: the expected candidate lists, reported by segment, record and field.
+- ``rtl_check``: one compiled run checked against the model with the scoreboards.
+- ``rtl_trials``: Monte Carlo trials on the compiled RTL (``compare --rtl``, ``table1 --rtl``).
+- ``campaign``: the verification campaign (``dptbd verify``).
+- ``sim_job``: the job of ``dptbd sim``: one scene on Verilator or Icarus, its cycle count, speed and verdict.
+- ``icarus``: the cocotb + Icarus build of the generated Verilog (``build/sim/<parameter set>/``) and its runs (``simulate``).
+- ``cocotb_drivers``: cocotb stream driver, back-pressure sink, monitor, pause generators and LUT writes.
+- ``tb_dp``: the cocotb test module of ``dptbd_dp`` (it reads ``DPTBD_SIM_JOB`` and ``DPTBD_SIM_SCENE``).
+- ``tb_segmenter``: the cocotb test module of ``dptbd_seg`` (DP pipeline + segmenter).
+- ``tb_axi``: the cocotb test module of ``dptbd_axi`` (the AXI top level) with cocotbext-axi.
+- ``axi_stimulus``: beat streams for the AXI video input with frame-sync faults, and the frame monitor's fault rule.
+- ``x_store``: 4-state (Icarus) check that an X- or garbage-initialised external store never reaches an output.
+- ``stimulus``: pixel words and LUT writes, packed with the gateware's layouts.
+- ``scenarios``: integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
 
 From the command line: ``dptbd sim`` (one scene, cycle count, verdict), ``dptbd verify``
 (the campaign) and ``dptbd verilog`` (Verilog + manifest). Tests: ``pytest tests/sim`` (``-m slow`` for the

@@ -1,4 +1,4 @@
-"""What the Icarus builds (:mod:`dptbd.sim.runner`) and the Verilator builds
+"""What the Icarus builds (:mod:`dptbd.sim.icarus`) and the Verilator builds
 (:mod:`dptbd.sim.verilator_build`) share: the directory name of a parameter set, a lock
 that serialises concurrent builds of one directory (pytest-xdist), and the facts a build
 reads from its design table and manifest (:class:`CompiledDesign`).

@@ -207,7 +207,7 @@ def check_frames(sim: VerilatorBuild, frames: np.ndarray, stimulus: Stimulus = S
                  *, trace=None) -> CheckResult:
     """:func:`check_stream` on whole frames ``(T, H, W)`` (refused like ``dptbd sim``: wrong
     frame size, pixels wider than B_in)."""
-    from dptbd.sim.runner import check_scene
+    from dptbd.sim.icarus import check_scene
     from dptbd.sim.stimulus import pixel_words
 
     frames = check_scene(sim.cfg, frames)

@@ -1,7 +1,7 @@
 """cocotb test of the generated ``dptbd_axi`` (the AXI top level) with cocotbext-axi, against
 the golden model bit for bit.
 
-Run through :func:`dptbd.sim.runner.simulate` on a build made with ``build(cfg,
+Run through :func:`dptbd.sim.icarus.simulate` on a build made with ``build(cfg,
 design="axi")``; never imported outside a simulator. The job (``DPTBD_SIM_JOB``) carries the
 input beats (:class:`dptbd.sim.axi_stimulus.Beats`, faults included) and a list of *steps*;
 for each step the bench
@@ -22,7 +22,7 @@ reset and after every soft reset, with the settings written and LUT changes at t
 and ``tuser[0]`` / ``tlast`` are checked on every word. At the end the FRAMES, SEGMENTS,
 LISTS and SATURATED counters must read what the model gives. A step with ``soft_reset`` writes
 ``CONTROL.soft_reset`` after the earlier beats have drained. Both streams take the
-job's ``valid_pause`` / ``ready_pause`` (:func:`dptbd.sim.components.pause_generator`). At
+job's ``valid_pause`` / ``ready_pause`` (:func:`dptbd.sim.cocotb_drivers.pause_generator`). At
 the end the ``final_check`` registers are read. The summary lists the cycles at which
 ``irq`` rose and fell and the cycle each beat was accepted.
 
@@ -49,7 +49,7 @@ from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.sim.axi_stimulus import Beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.hw.layouts import pack_states
-from dptbd.sim.components import Cycles, pause_generator, pause_probability
+from dptbd.sim.cocotb_drivers import Cycles, pause_generator, pause_probability
 from dptbd.sim.scoreboard import Scoreboard
 from dptbd.sim.tb_dp import PERIOD_NS, load_job
 

@@ -1,12 +1,12 @@
 """cocotb tests of the generated ``dptbd_dp`` module against the golden model, bit for bit.
 
-Run through :func:`dptbd.sim.runner.simulate` (which builds with ``cocotb_tools.runner``);
+Run through :func:`dptbd.sim.icarus.simulate` (which builds with ``cocotb_tools.runner``);
 never imported outside a simulator. The job comes from the environment:
 
 ``DPTBD_SIM_JOB``
     JSON file: the :class:`~dptbd.config.DPConfig` (``config``), the latency from the
     manifest, pause specs, an optional run-time LUT, reset and cycle-count options, and
-    where to write the summary (see :func:`dptbd.sim.runner.write_job`).
+    where to write the summary (see :func:`dptbd.sim.icarus.write_job`).
 ``DPTBD_SIM_SCENE``
     ``.npy`` of integer frames ``(T, H, W)``.
 
@@ -44,7 +44,7 @@ import cocotb
 from cocotb.triggers import Event, First, RisingEdge, Timer
 
 from dptbd.config import DPConfig, EnergyWidthWarning
-from dptbd.sim.components import (
+from dptbd.sim.cocotb_drivers import (
     Cycles,
     StreamMonitor,
     StreamSink,

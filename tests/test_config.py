@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 import warnings
 from fractions import Fraction
 
@@ -14,6 +13,7 @@ import pytest
 from dptbd import ConfigError, DPConfig, EnergyWidthWarning
 from dptbd.config import ROUNDING_MODES, check_move_table, move_offsets, paper_weights, plain_weights
 from dptbd.errors import DptbdError
+from helpers.refusals import whole
 
 # move indices for r = 1 (docs §2 table)
 UL, U, UR, L, C, R, DL, D, DR = range(9)
@@ -284,10 +284,6 @@ def test_from_mapping_validates_values():
 # out-of-range parameters: ConfigError naming the parameter and its range
 # ---------------------------------------------------------------------------------------
 
-def whole(message):
-    """A regex matching exactly ``message``, the whole refusal."""
-    return "^" + re.escape(message) + "$"
-
 
 def not_integer(name, span, value):
     """The refusal of an integer parameter outside its domain (``dptbd.errors.check_int``)."""
@@ -340,17 +336,43 @@ def test_energy_bits_message_states_the_real_lower_bound(energy_bits):
         DPConfig(input_bits=8, energy_bits=energy_bits)
 
 
-def test_boundary_values_are_accepted():
+# (parameters at a bound of their domain, the derived quantities they must give)
+BOUNDARIES = [
+    ({"width": 3, "height": 4096}, {"n_moves": 9, "lut_entries": 90}),
+    ({"width": 4096, "height": 3}, {"n_moves": 9, "lut_entries": 90}),
+    ({"segment_frames": 1}, {"k_max": 1, "segment_stride": 1, "energy_bits_needed": 8}),
+    ({"segment_frames": 65535, "energy_bits": 32},
+     {"k_max": 65535, "energy_bits_needed": 24, "e_max": 2**32 - 1}),
+    ({"segment_frames": 5, "segment_stride": 1}, {"energy_bits_needed": 11}),
+    ({"segment_frames": 5, "segment_stride": 5}, {"energy_bits_needed": 11}),
+    ({"input_bits": 1, "energy_bits": 1}, {"pixel_max": 1, "e_max": 1, "energy_bits_needed": 3}),
+    ({"input_bits": 16, "energy_bits": 16},
+     {"pixel_max": 65535, "e_max": 65535, "energy_bits_needed": 18}),
+    ({"energy_bits": 32}, {"e_max": 2**32 - 1, "state_bits": 36}),
+    ({"weight_frac_bits": 0}, {"weight_bits": 1}),
+    ({"weight_frac_bits": 16}, {"weight_bits": 17}),
+    ({"radius": 2}, {"n_moves": 25, "start_code": 25, "direction_bits": 5, "lut_entries": 650,
+                     "state_bits": 21}),
+    ({"rounding": "half_up"}, {"state_bits": 20}),
+    ({"weights": np.zeros((10, 9))}, {"weights_binary": True}),
+    ({"weights": plain_weights(1)}, {"weights_binary": True}),
+]
+
+
+@pytest.mark.parametrize("kw, derived", BOUNDARIES)
+def test_boundary_values_are_accepted(kw, derived):
+    """A value at a bound of its domain is kept as given (not clipped, not refused), gives
+    the derived quantities it must, and the configuration survives its mapping."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", EnergyWidthWarning)
-        for kw in ({"width": 3, "height": 4096}, {"width": 4096, "height": 3},
-                   {"segment_frames": 1}, {"segment_frames": 65535, "energy_bits": 32},
-                   {"segment_frames": 5, "segment_stride": 1}, {"segment_frames": 5, "segment_stride": 5},
-                   {"input_bits": 1, "energy_bits": 1}, {"input_bits": 16, "energy_bits": 16},
-                   {"energy_bits": 32}, {"weight_frac_bits": 0}, {"weight_frac_bits": 16},
-                   {"radius": 2}, {"rounding": "half_up"},
-                   {"weights": np.zeros((10, 9))}, {"weights": plain_weights(1)}):
-            DPConfig(**kw)
+        cfg = DPConfig(**kw)
+        assert DPConfig.from_mapping(cfg.to_mapping()) == cfg
+    for name, value in kw.items():
+        if name == "weights":
+            assert np.array_equal(cfg.weight_array, value)
+        else:
+            assert getattr(cfg, name) == value
+    assert {name: getattr(cfg, name) for name in derived} == derived
 
 
 # ---------------------------------------------------------------------------------------

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import re
 
 import numpy as np
 import pytest
 
 from dptbd import ConfigError, DPConfig
+from helpers.refusals import whole
 
 M1 = 9  # moves for r = 1
 
@@ -111,7 +111,7 @@ def test_merit_codes_are_frozen_tuples_and_hashable():
      "penalty_bits must be an integer in [1, energy_bits=8], got 9"),
 ])
 def test_refusals(kwargs, message):
-    with pytest.raises(ConfigError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(ConfigError, match=whole(message)):
         DPConfig(**kwargs)
 
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
@@ -16,11 +15,7 @@ from dptbd.evaluation.detectors import DetectorError
 from dptbd.evaluation.scenario import ScenarioError
 from dptbd.scenes.recorded import SequenceError
 from dptbd.scenes.synthetic import SceneError
-
-
-def whole(message):
-    """A regex matching exactly ``message``, the whole refusal."""
-    return "^" + re.escape(message) + "$"
+from helpers.refusals import whole
 
 
 class PartError(DptbdError):

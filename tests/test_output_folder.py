@@ -3,18 +3,14 @@ never replaced, files never overwritten without --force."""
 
 import json
 import os
-import re
 
 import pytest
 
 from dptbd.output_folder import (check_output_file, check_output_folder, staged_folder,
                                  write_new_text, written_by)
+from helpers.refusals import whole
 
 MARK = dict(marker="summary.json", tool="dptbd run")
-
-
-def exactly(message):
-    return "^" + re.escape(message) + "$"
 
 
 def earlier_run(folder, tool="dptbd run"):
@@ -47,7 +43,7 @@ def test_a_new_folder_and_an_empty_one_pass(tmp_path):
 
 def test_refuses_a_missing_parent(tmp_path):
     out = tmp_path / "no" / "r"
-    with pytest.raises(FileNotFoundError, match=exactly(
+    with pytest.raises(FileNotFoundError, match=whole(
             f"--out {out}: the folder {tmp_path / 'no'} does not exist")):
         check_output_folder(out, False, **MARK)
 
@@ -57,14 +53,14 @@ def test_refuses_the_current_folder_and_its_parents(tmp_path, monkeypatch):
     work.mkdir()
     monkeypatch.chdir(work)
     for out in (work, tmp_path):
-        with pytest.raises(ValueError, match=exactly(
+        with pytest.raises(ValueError, match=whole(
                 f"--out {out} is the current folder or one of its parents; give a new folder")):
             check_output_folder(out, True, **MARK)
 
 
 def test_refuses_an_existing_folder_without_force(tmp_path):
     out = earlier_run(tmp_path / "r")
-    with pytest.raises(FileExistsError, match=exactly(
+    with pytest.raises(FileExistsError, match=whole(
             f"--out {out} exists; pass --force to replace it, or choose another folder")):
         check_output_folder(out, False, **MARK)
 
@@ -75,7 +71,7 @@ def test_force_refuses_a_file_and_a_link(tmp_path):
     (tmp_path / "link").symlink_to(tmp_path / "r")
     for name in ("f", "link"):
         out = tmp_path / name
-        with pytest.raises(FileExistsError, match=exactly(
+        with pytest.raises(FileExistsError, match=whole(
                 f"--out {out} exists and is not a folder; --force replaces only the folder of "
                 f"an earlier dptbd run")):
             check_output_folder(out, True, **MARK)
@@ -83,14 +79,14 @@ def test_force_refuses_a_file_and_a_link(tmp_path):
 
 def test_force_refuses_a_folder_another_job_or_the_user_wrote(tmp_path):
     other = earlier_run(tmp_path / "other", tool="dptbd compare")
-    with pytest.raises(FileExistsError, match=exactly(
+    with pytest.raises(FileExistsError, match=whole(
             f"--out {other} is not the folder of an earlier dptbd run (no summary.json from "
             f"it); --force will not replace it")):
         check_output_folder(other, True, **MARK)
     mine = tmp_path / "mine"
     mine.mkdir()
     (mine / "notes.txt").write_text("keep")
-    with pytest.raises(FileExistsError, match=exactly(
+    with pytest.raises(FileExistsError, match=whole(
             f"--dir {mine} is not the folder of an earlier dptbd detectors run (no result.json "
             f"from it); --force will not replace it")):
         check_output_folder(mine, True, marker="result.json", tool="dptbd detectors",
@@ -134,7 +130,7 @@ def test_force_replaces_an_earlier_run_as_a_whole(tmp_path):
 
 def test_a_user_folder_that_appears_meanwhile_is_never_replaced(tmp_path):
     out = tmp_path / "r"
-    with pytest.raises(FileExistsError, match=exactly(
+    with pytest.raises(FileExistsError, match=whole(
             f"--out {out} is not the folder of an earlier dptbd run (no summary.json from it); "
             f"--force will not replace it")):
         with staged_folder(out, True, **MARK) as tmp:
@@ -147,7 +143,7 @@ def test_a_user_folder_that_appears_meanwhile_is_never_replaced(tmp_path):
 def test_staged_folder_refuses_before_the_block_runs(tmp_path):
     out = earlier_run(tmp_path / "r")
     entered = []
-    with pytest.raises(FileExistsError, match=exactly(
+    with pytest.raises(FileExistsError, match=whole(
             f"--out {out} exists; pass --force to replace it, or choose another folder")):
         with staged_folder(out, False, **MARK):
             entered.append(True)
@@ -164,7 +160,7 @@ def test_check_output_file_refusals(tmp_path, name, force, exception, message):
     (tmp_path / "folder.md").mkdir()
     (tmp_path / "old.md").write_text("mine")
     path = tmp_path / name
-    with pytest.raises(exception, match=exactly(message.format(path=path, parent=path.parent))):
+    with pytest.raises(exception, match=whole(message.format(path=path, parent=path.parent))):
         check_output_file(path, "--markdown", force, ".md")
 
 

@@ -11,7 +11,7 @@ Two simulators (``--simulator``):
     :func:`dptbd.sim.verilator.default_build_root`), and the summary says whether this one
     came from the cache. 2-state: X propagation is Icarus' job.
 ``icarus``
-    cocotb 2.x + Icarus (:mod:`dptbd.sim.runner`), 4-state, one log line per frame as the
+    cocotb 2.x + Icarus (:mod:`dptbd.sim.icarus`), 4-state, one log line per frame as the
     scoreboard confirms it; minutes for the 128 x 128 scene. Build root ``build/sim``.
 
 ``--design`` picks the module: ``dp`` (``dptbd_dp``, every (E, d) word checked) or
@@ -37,7 +37,7 @@ import pathlib
 import sys
 
 from dptbd.commands.options import add_config_arguments, add_simulator_arguments, config_from_args
-from dptbd.sim.job import (DESIGNS, MODULES, SimSettings, run_sim, sim_config,
+from dptbd.sim.sim_job import (DESIGNS, MODULES, SimSettings, run_sim, sim_config,
                                       sim_frames, simulator_tools_missing, summary_lines)
 
 

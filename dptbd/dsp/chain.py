@@ -103,9 +103,9 @@ def segmenter_settings(cfg: DPConfig, frames: np.ndarray, count: int,
       ``assoc.max_candidates``: the gateware selects with headroom, and the DSP trims each
       list to ``count`` (:func:`dptbd.dsp.association.trim_to_count`). The threshold comes
       from the *previous* segment's histogram (§6.1), so the gateware's count scatters
-      around n_hw; with headroom 2 its list holds the segment's own top ``count`` (the
-      ideal list, after trimming) in 95 % of the built-in scenario's segments, against
-      43 % with headroom 1 (``docs/association.md`` §2). From the configuration alone;
+      around n_hw; headroom makes its list hold the segment's own top ``count`` (the
+      ideal list, after trimming) in more segments (``docs/association.md`` §2 has the
+      figures). From the configuration alone;
     * ``candidate_capacity`` C = min(2 n_hw, ``assoc.max_candidates``): the DSP's receive
       buffer bounds the list. From the configuration alone;
     * ``histogram_shift`` s: **not** from the configuration alone but a host-side
@@ -115,10 +115,10 @@ def segmenter_settings(cfg: DPConfig, frames: np.ndarray, count: int,
       FPGA stage), ``max(0, bitlen(K * max(x)) - b)``, capped at B_E - 1. The
       configuration-only rule (``DPConfig``'s default, 2^b bins over the full input range
       K (2^B_in - 1)) gives s = 5 for 001's 12-bit ADC whose noise sits at 480 LSB: bins
-      32 levels wide, a tied top bin holds so many pixels that the lists come out half
-      the requested length, and over seeds 0-19 of the built-in scenario target 1 is
-      confirmed in 12/20 runs instead of 18/20 (``docs/arithmetic.md`` §6.6, where b = 12
-      is measured as the configuration-only alternative). Pixels above the calibrated
+      32 levels wide, and a tied top bin holds so many pixels that the lists come out
+      short of the requested length, which costs confirmed tracks (the figures:
+      ``docs/association.md`` §2 and ``docs/arithmetic.md`` §6.6, where b = 12 is measured
+      as the configuration-only alternative). Pixels above the calibrated
       range share the top bin, which is kept whenever it holds at most n pixels.
     """
     changes = {}

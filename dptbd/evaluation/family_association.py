@@ -1,4 +1,4 @@
-"""K-frame segments against the recursive DP through the DSP association (issue 15).
+"""K-frame segments against the recursive DP through the DSP association.
 
 On ``dptbd run``'s built-in scenario (001's second experiment: 128 x 128, 100 frames,
 SNR 2.0, two targets; :func:`dptbd.evaluation.scenario.default_scenario`) with one seed,

@@ -1,4 +1,4 @@
-"""K-frame segments against the recursive DP with a forgetting factor (issue 15, first level).
+"""K-frame segments against the recursive DP with a forgetting factor (first level).
 
 On paper 001's Table 1 setting (``dptbd.evaluation.table1``: 128 x 128, 100 frames, the
 same ADC, scenes and candidate count n = 33 = 0.2 % per detection map), the golden model

@@ -1,4 +1,4 @@
-"""Paper 000's experiments through its DP variants on the gateware (issue 15), against float.
+"""Paper 000's experiments through its DP variants on the gateware, against float.
 
 ``dptbd paper000`` (``docs/detectors.md`` §1.6) runs, on the same seeded scenes,
 

@@ -1,4 +1,4 @@
-"""The DSP association fed by the recursive DP (``docs/arithmetic.md`` §8.6; issue 15).
+"""The DSP association fed by the recursive DP (``docs/arithmetic.md`` §8.6).
 
 The recursive DP gives a detection map every frame, but the DSP association of 001 §3
 (:class:`dptbd.dsp.association.Tracker`) steps once per *list*, each candidate carrying the

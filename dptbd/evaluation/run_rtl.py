@@ -29,7 +29,7 @@ class RtlError(RuntimeError):
 def rtl_tools_missing(simulator: str) -> str | None:
     """Why ``--rtl`` cannot run here with ``simulator`` (a sentence naming the missing tool
     and the other simulator), or None."""
-    from dptbd.sim.job import simulator_tools_missing
+    from dptbd.sim.sim_job import simulator_tools_missing
 
     return simulator_tools_missing(simulator, "--rtl-simulator")
 
@@ -61,7 +61,7 @@ def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Pa
     ``design="segmenter"``: the whole FPGA stage (``dptbd_seg``: DP pipeline + segmenter),
     every candidate list word checked against the golden models; ``"dp"``: the DP pipeline
     (``dptbd_dp``), every (E, d) word checked. ``simulator``: ``"verilator"``
-    (:mod:`dptbd.sim.rtl_check`) or ``"icarus"`` (cocotb, :mod:`dptbd.sim.runner`).
+    (:mod:`dptbd.sim.rtl_check`) or ``"icarus"`` (cocotb, :mod:`dptbd.sim.icarus`).
     ``build_dir`` None: the simulator's default build root. ``log`` receives a line before
     the build and one before the simulation.
     """
@@ -111,7 +111,7 @@ def _rtl_verilator(frames: np.ndarray, cfg, build_dir, design: str, log: Log) ->
 
 
 def _rtl_icarus(frames: np.ndarray, cfg, build_dir, design: str, log: Log) -> dict:
-    from dptbd.sim.runner import build, simulate
+    from dptbd.sim.icarus import build, simulate
 
     root = pathlib.Path("build/sim") if build_dir is None else pathlib.Path(build_dir)
     log(f"  RTL: building the Verilog for this configuration on Icarus in {root} …")

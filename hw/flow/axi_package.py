@@ -46,7 +46,7 @@ HEADER_NAME = "dptbd_regs.h"
 
 #: Default ``aclk`` frequency of the shipped constraints: the synthesis flow's target
 #: (``hw/flow/synth.py``, ``target_mhz=100``), which the DP core meets on the iCE40 HX8K
-#: (100.8 MHz measured) and exceeds on ECP5 (README, resource table).
+#: and on ECP5 (today's figures: ``docs/synthesis.md``, "Goals").
 DEFAULT_CLOCK_MHZ = 100.0
 
 #: Accepted ``aclk`` frequencies of the constraints, MHz (a sanity range, not a promise that

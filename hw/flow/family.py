@@ -41,7 +41,7 @@ class Family:
     default_device, default_package : str
         What :func:`~dptbd.hw.flow.synth.synthesize` uses unless told.
     default_target_mhz : float
-        The issue's Fmax goal for the family (the placer's ``--freq``).
+        The Fmax goal for the family (``docs/synthesis.md``, "Goals") (the placer's ``--freq``).
     unconstrained_flag : str
         Lets nextpnr place the I/O without a constraints file.
     logic_cell_bel, ff_bel, bram_bel, dsp_bel : str

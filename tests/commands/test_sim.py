@@ -14,6 +14,7 @@ from dptbd import cli
 from dptbd.commands import sim as sim_command
 from dptbd.config import ConfigError
 from dptbd.sim import verilator
+from helpers.refusals import whole
 
 
 def parse(module, argv):
@@ -22,15 +23,10 @@ def parse(module, argv):
     return parser.parse_args([str(a) for a in argv])
 
 
-def exactly(message):
-    """``pytest.raises(match=…)`` for the whole message."""
-    return "^" + re.escape(message) + "$"
-
-
 def refused_before_simulation(tmp_path, argv, exception, message, simulator="verilator"):
     args = parse(sim_command, [*argv, "--simulator", simulator, "--build-dir",
                                tmp_path / "build"])
-    with pytest.raises(exception, match=exactly(message)):
+    with pytest.raises(exception, match=whole(message)):
         sim_command.main(args)
     assert not (tmp_path / "build").exists(), "nothing may be built for refused input"
 
@@ -230,8 +226,8 @@ def test_sim_on_verilator_runs_the_segmenter(capsys, verilator_root):
     assert "  dptbd_seg on Verilator\n" in out
     assert "frames simulated        7 (1344 pixels, 6 candidate-list words out)\n" in out
     # the histogram scan (1028 cycles) is longer than a 16 x 12 frame: stalls (2443: the
-    # DP's input credit, decided a cycle early since issue 12's timing work, holds the
-    # input one cycle sooner under back-pressure; 2441 before)
+    # DP's input credit, decided a cycle early, holds the
+    # input one cycle sooner under back-pressure than an exact credit would: 2441)
     assert "simulated cycles        2443 first input to last output  " \
            "(!= S*K*W*H + latency + 1 = 1170)\n" in out
     assert "verdict                 bit-exact against dptbd.model.fixed and " \

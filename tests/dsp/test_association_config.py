@@ -1,18 +1,13 @@
 """Association parameters of ``dptbd.dsp.association_config``: domains, order, refusals."""
 
 import dataclasses
-import re
 
 import numpy as np
 import pytest
 
 from dptbd.dsp.association_config import AssociationConfig, AssociationError
 from dptbd.errors import DptbdError
-
-
-def whole(message):
-    """A regex matching exactly ``message``, the whole refusal."""
-    return "^" + re.escape(message) + "$"
+from helpers.refusals import whole
 
 
 def test_thresholds_output_above_predict_above_delete():

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import re
 
 import numpy as np
 import pytest
@@ -10,6 +9,7 @@ import pytest
 from dptbd.errors import DptbdError
 from dptbd.evaluation import family_detection as fd
 from dptbd.evaluation.table1 import table1_config
+from helpers.refusals import whole
 
 
 def test_segment_variant_is_table1s_configuration_with_stride_k():
@@ -39,7 +39,7 @@ def test_zero_move_penalty_is_on_the_centre_move_after_a_moving_or_still_predece
      "zero_move_penalty must be an integer in [0, 65535], got -1"),
 ])
 def test_refusals(call, message):
-    with pytest.raises(DptbdError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(DptbdError, match=whole(message)):
         call()
 
 

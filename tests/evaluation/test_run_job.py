@@ -1,8 +1,6 @@
 """dptbd.evaluation.run_job: the scenario with run's options, the prepared input, the job's
 result and what it logs, every refusal (whole message)."""
 
-import re
-
 import numpy as np
 import pytest
 
@@ -10,15 +8,12 @@ from dptbd.evaluation import run_job as job
 from dptbd.evaluation.run_job import effective_scenario, parse_target_option, prepare, run_job
 from dptbd.evaluation.run_rtl import RtlCheck
 from dptbd.evaluation.scenario import DEFAULT_NAME, ScenarioError, parse_scenario
+from helpers.refusals import whole
 
 SMALL = {"name": "small",
          "scene": {"size": [32, 32], "frames": 24, "snr": 5.0, "seed": 3,
                    "targets": [{"start": [6.0, 6.0], "velocity": [0.8, 0.6]}]},
          "segmentation": {"false_alarm_rate": 0.005}}
-
-
-def exactly(message):
-    return "^" + re.escape(message) + "$"
 
 
 @pytest.fixture(scope="module")
@@ -64,7 +59,7 @@ def test_recorded_data_names_the_run(tmp_path):
      "--target '1,2,x,4': expected ROW,COL,VROW,VCOL or ROW,COL,VROW,VCOL,SNR (numbers)"),
 ])
 def test_effective_scenario_refusals(options, message):
-    with pytest.raises(ScenarioError, match=exactly(message)):
+    with pytest.raises(ScenarioError, match=whole(message)):
         effective_scenario(**options)
 
 
@@ -89,12 +84,12 @@ def test_prepare_loads_quantises_and_configures(small):
 def test_prepare_refusals(small, tmp_path):
     short = tmp_path / "short.npy"
     np.save(short, np.zeros((3, 16, 16), np.uint8))
-    with pytest.raises(ValueError, match=exactly(
+    with pytest.raises(ValueError, match=whole(
             "the sequence has 3 frame(s), shorter than one segment (segment_frames K = 6): "
             "nothing to accumulate")):
         prepare(effective_scenario(input_path=short))
     rare = small.replace(false_alarm_rate=1e-4)
-    with pytest.raises(ValueError, match=exactly(
+    with pytest.raises(ValueError, match=whole(
             "false_alarm_rate 0.0001 of 1024 pixels keeps no candidate point; raise it")):
         prepare(rare)
 

@@ -2,7 +2,6 @@
 
 import csv
 import json
-import re
 
 import pytest
 
@@ -11,6 +10,7 @@ from dptbd.evaluation.run_job import run_job
 from dptbd.evaluation.run_report import (RUN_FILES, TOOL, format_run_tables, run_summary,
                                          write_run_folder)
 from dptbd.evaluation.scenario import parse_scenario
+from helpers.refusals import whole
 
 SMALL = {"name": "small",
          "scene": {"size": [32, 32], "frames": 24, "snr": 5.0, "seed": 3,
@@ -49,8 +49,8 @@ def test_run_summary_names_the_report_frame_and_the_time(result):
 def test_an_earlier_folder_is_refused_without_force_and_replaced_with_it(tmp_path, result):
     out = write_run_folder(result, tmp_path / "r")
     (out / "extra.txt").write_text("from the earlier run")
-    with pytest.raises(FileExistsError, match="^" + re.escape(
-            f"--out {out} exists; pass --force to replace it, or choose another folder") + "$"):
+    with pytest.raises(FileExistsError, match=whole(
+            f"--out {out} exists; pass --force to replace it, or choose another folder")):
         write_run_folder(result, out)
     write_run_folder(result, out, force=True)
     assert not (out / "extra.txt").exists()

@@ -34,7 +34,7 @@ def test_rtl_check_defaults():
 
 
 def test_run_rtl_refusals(monkeypatch):
-    from dptbd.sim import job as sim_job
+    from dptbd.sim import sim_job
 
     frames = np.zeros((12, 8, 8), np.uint8)
     cfg = DPConfig(width=8, height=8, segment_frames=6, input_bits=8)

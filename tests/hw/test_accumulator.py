@@ -15,7 +15,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.accumulator import Accumulator, ClampedAccumulator
 from dptbd.model.family_operators import add_clamped
 from dptbd.model.operators import add_saturating, saturated_sum
-from hw_harness import simulate
+from helpers.hw_harness import simulate
 
 
 def cases(cfg):

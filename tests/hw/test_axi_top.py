@@ -2,7 +2,6 @@
 AXI4-Lite port, ``aresetn``, input-stall counting and the soft reset's hold-off cycle.
 (Whole scenes are scored by the cocotb tests, ``tests/sim/test_tb_axi.py``.)"""
 
-import types
 
 from amaranth.hdl import Fragment
 from amaranth.sim import Simulator
@@ -10,25 +9,12 @@ from amaranth.sim import Simulator
 from dptbd.hw.axi_lite import RESP_OKAY, RESP_SLVERR
 from dptbd.hw.axi_top import AXITop
 from dptbd.hw.flow.register_export import constants_namespace
-from axil_harness import axil_read, axil_write
-from seg_harness import make_config
+from helpers.axil_harness import axil_read, axil_write, flat_axil
+from helpers.seg_harness import make_config
 
 
 def config():
     return make_config(width=8, height=6, candidate_count=2)
-
-
-def flat_axil(top):
-    """The ``axil.aw.awaddr`` … paths ``axil_harness`` drives, on the flat ``s_axil_*``
-    ports."""
-    def channel(*names):
-        return types.SimpleNamespace(**{n: getattr(top, f"s_axil_{n}") for n in names})
-    return types.SimpleNamespace(
-        aw=channel("awaddr", "awprot", "awvalid", "awready"),
-        w=channel("wdata", "wstrb", "wvalid", "wready"),
-        b=channel("bresp", "bvalid", "bready"),
-        ar=channel("araddr", "arprot", "arvalid", "arready"),
-        r=channel("rdata", "rresp", "rvalid", "rready"))
 
 
 def simulate_top(top, bench):

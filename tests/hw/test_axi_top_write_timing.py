@@ -20,8 +20,8 @@ from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.layouts import pack_states
 from dptbd.sim.axi_stimulus import clean_beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import list_words
-from seg_harness import make_config
-from test_axi_top import flat_axil
+from helpers.axil_harness import flat_axil
+from helpers.seg_harness import make_config
 
 #: Idle cycles after the last beat: the pipeline's latency, the last list and its scan.
 DRAIN = 120

@@ -15,8 +15,8 @@ from dptbd.hw.axis_video import (STATE_TUSER, AxisToPixels, CandidatesToAxis, St
 from dptbd.hw.candidate_layout import (pack_cut_trailer, pack_record, pack_trailer,
                                        unpack_candidate)
 from dptbd.hw.layouts import pack_pixel, pack_state_word, pack_states
-from hw_harness import simulate
-from seg_harness import make_config
+from helpers.hw_harness import simulate
+from helpers.seg_harness import make_config
 
 
 def config():

@@ -6,8 +6,8 @@ import pytest
 
 from dptbd.hw.candidate_emitter import CandidateEmitter
 from dptbd.hw.candidate_layout import pack_record, pack_trailer
-from hw_harness import refused, simulate
-from seg_harness import make_config
+from helpers.hw_harness import refused, simulate
+from helpers.seg_harness import make_config
 
 
 def emit(cfg, pixels, *, ready_probability=1.0, seed=0):

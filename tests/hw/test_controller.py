@@ -5,7 +5,7 @@ import random
 
 from dptbd.config import DPConfig
 from dptbd.hw.controller import Controller
-from hw_harness import simulate
+from helpers.hw_harness import simulate
 
 
 def reference_positions(cfg, firsts, ks=None):

@@ -6,7 +6,7 @@ from amaranth.hdl import Module, Signal
 from amaranth.lib import data
 
 from dptbd.hw.delay import delayed, delayed_in_memory
-from hw_harness import simulate
+from helpers.hw_harness import simulate
 
 
 def test_delays_values_and_views():

@@ -2,7 +2,6 @@
 
 import itertools
 import random
-import re
 
 import numpy as np
 import pytest
@@ -10,8 +9,9 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.hw.dp_core import CORE_OPTIONS, DPCore
 from dptbd.hw.dp_pipeline import DPPipeline
-from hw_harness import (assert_states_equal, frames_to_stream, reference_states, refused,
+from helpers.hw_harness import (assert_states_equal, frames_to_stream, reference_states, refused,
                         run_stream)
+from helpers.refusals import whole
 
 #: Every combination of DPCore's implementation options (the iCE40 and ECP5 flows' among
 #: them).
@@ -98,5 +98,5 @@ def test_storage_options_keep_the_cycle_count(options):
     ("max_tree", "fast", "('compact', 'split')"),
 ])
 def test_refuses_an_unknown_storage_option(option, bad, allowed):
-    with refused(ValueError, rf"^{option} must be one of {re.escape(allowed)}, got '{bad}'$"):
+    with refused(ValueError, whole(f"{option} must be one of {allowed}, got '{bad}'")):
         DPCore(DPConfig(width=6, height=5), **{option: bad})

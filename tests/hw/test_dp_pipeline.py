@@ -8,7 +8,6 @@ logic for r = 1, block RAM for r = 2) and the LUT, timing and cycle-count tests 
 both "bram" and "logic" explicitly.
 """
 
-import re
 import warnings
 
 import numpy as np
@@ -16,7 +15,7 @@ import pytest
 
 from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning, plain_weights
 from dptbd.hw.dp_pipeline import DPPipeline
-from hw_harness import (
+from helpers.hw_harness import (
     FIELDS,
     assert_states_equal,
     event_counter,
@@ -27,6 +26,7 @@ from hw_harness import (
     run_stream,
     simulate,
 )
+from helpers.refusals import whole
 
 
 def make_config(**kw):
@@ -257,8 +257,8 @@ def test_refuses_a_too_small_output_fifo():
 @pytest.mark.parametrize("bad", ["block", "Logic", None])
 def test_refuses_an_unknown_lut_style(bad):
     cfg = DPConfig(width=5, height=4)
-    with refused(ValueError, match=rf"^lut_style must be one of 'auto', 'bram', 'logic', "
-                                   rf"got {re.escape(repr(bad))}$"):
+    with refused(ValueError, match=whole(f"lut_style must be one of 'auto', 'bram', 'logic', "
+                                         f"got {bad!r}")):
         DPPipeline(cfg, lut_style=bad)
 
 

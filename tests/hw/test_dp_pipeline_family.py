@@ -14,9 +14,9 @@ import pytest
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.model.family import run_family_fixed
-from family_harness import (VARIANTS, family_reference_states, family_writes, likelihood_merit,
+from helpers.family_harness import (VARIANTS, family_reference_states, family_writes, likelihood_merit,
                             variant)
-from hw_harness import assert_states_equal, frames_to_stream, run_stream
+from helpers.hw_harness import assert_states_equal, frames_to_stream, run_stream
 
 pytestmark = pytest.mark.filterwarnings("ignore::dptbd.config.EnergyWidthWarning")
 

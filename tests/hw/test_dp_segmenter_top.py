@@ -9,14 +9,15 @@ import pytest
 
 from dptbd.config import ConfigError
 from dptbd.hw.candidate_layout import candidate_layout
+from dptbd.hw.dp_core import DPCore
 from dptbd.hw.dp_segmenter_top import SEGMENTER_MODULE_NAME, DPSegmenter, generate_segmenter_verilog
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.candidate_scoreboard import expected_lists
-from hw_harness import assert_verilator_lints_clean, event_counter
+from helpers.hw_harness import assert_verilator_lints_clean, event_counter, refused
 from dptbd.model.fixed import run_fixed, saturation_counts
 from dptbd.model.segmentation import segment_sequence
 from dptbd.model.settings import SegmentSettings
-from seg_harness import make_config, pack_frames, run_lists
+from helpers.seg_harness import make_config, pack_frames, run_lists
 
 CASES = {
     # name: (config, scenario, frames, seed, (valid, ready))
@@ -166,3 +167,15 @@ def test_segmenter_verilog_refuses_zero_points():
                              r"\(0\.2 % of 13x9 = 117 pixels rounds to 0\) gives a segmenter "
                              r"that emits no points; set candidate_count to 1 … 117$"):
         generate_segmenter_verilog(make_config(width=13, height=9, segment_frames=3))
+
+
+@pytest.mark.filterwarnings("ignore::dptbd.config.EnergyWidthWarning")
+def test_the_segmenter_top_refuses_a_family_configuration():
+    cfg = make_config(width=8, height=8, recursive=True)
+    with refused(Exception, match=(
+            r"^the segmenter top \(dptbd\.hw\.dp_segmenter_top\) implements paper 001's "
+            r"datapath only \(docs/arithmetic\.md §4-§5\), but this configuration sets paper "
+            r"000's family field\(s\) recursive \(§8\): use "
+            r"dptbd\.model\.family\.run_family_fixed$")):
+        DPSegmenter(cfg)
+    DPCore(cfg)._MustUse__silence = True   # the DP core itself builds it

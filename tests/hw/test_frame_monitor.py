@@ -18,8 +18,8 @@ from dptbd.hw.controller import Controller
 from dptbd.hw.frame_monitor import FrameMonitor
 from dptbd.hw.register_map import FAULTS
 from dptbd.sim.axi_stimulus import fault_counts, fault_pulses, with_fault
-from hw_harness import simulate
-from seg_harness import make_config
+from helpers.hw_harness import simulate
+from helpers.seg_harness import make_config
 
 W, H = 5, 3
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from dptbd.hw.histogram import Histogram
-from hw_harness import simulate
-from seg_harness import make_config
+from helpers.hw_harness import simulate
+from helpers.seg_harness import make_config
 
 
 def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2):

@@ -14,7 +14,7 @@ from dptbd.errors import DptbdError
 from dptbd.hw.delay import delayed
 from dptbd.hw.input_credit import InputCredit
 from dptbd.hw.thermometer_fifo import ThermometerFIFO
-from hw_harness import refused, simulate
+from helpers.hw_harness import refused, simulate
 
 WIDTH = 8
 

@@ -6,7 +6,7 @@ import pytest
 from amaranth.hdl import unsigned
 
 from dptbd.hw.line_buffer import RAM_STYLES, LineBuffer
-from hw_harness import refused, simulate
+from helpers.hw_harness import refused, simulate
 
 
 def check_taps(dut, depth, taps, back_to_back):

@@ -15,7 +15,7 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.hw.merit_lut import MeritLUT
 from dptbd.model.family_operators import lookup_merit_code
-from hw_harness import simulate
+from helpers.hw_harness import simulate
 
 
 def make_config(input_bits, merit_bits, seed):

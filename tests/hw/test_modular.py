@@ -4,7 +4,7 @@ import pytest
 from amaranth.hdl import Module, Signal
 
 from dptbd.hw.modular import increment_mod
-from hw_harness import simulate
+from helpers.hw_harness import simulate
 
 
 @pytest.mark.parametrize("modulus", [1, 2, 5, 8, 12, 16])

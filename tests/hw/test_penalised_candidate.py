@@ -13,7 +13,7 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.hw.penalised_candidate import PenalisedCandidate
 from dptbd.model.family_operators import subtract_penalty
-from hw_harness import simulate
+from helpers.hw_harness import simulate
 
 
 def cases(cfg):

@@ -14,7 +14,7 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.hw.penalty_lut import PenaltyLUT
 from dptbd.model.family_operators import lookup_penalty_code
-from hw_harness import simulate
+from helpers.hw_harness import simulate
 
 
 def cases(cfg, n=120):

@@ -1,34 +1,34 @@
 """SplitMaxTree against ``argmax_lowest_index`` (the vectors and the reference of
-``test_max_tree.py``): the same answers as MaxTree, two cycles per level."""
+``helpers.max_tree_bench``): the same answers as MaxTree, two cycles per level."""
 
 import pytest
 from amaranth.back import rtlil
 
 from dptbd.hw.max_tree import tree_levels
 from dptbd.hw.pipelined_max import SplitMaxTree
-import test_max_tree
-from hw_harness import refused
-from test_max_tree import cases, ref_max_tree, ref_signed_max_tree, signed_cases
+from helpers.hw_harness import refused
+from helpers.max_tree_bench import (
+    cases, ref_max_tree, ref_signed_max_tree, rtl_max_tree, signed_cases,
+)
 
 
-def rtl_split_max_tree(count, value_bits, vectors, monkeypatch, signed=False):
-    """``test_max_tree.rtl_max_tree``'s bench, run on SplitMaxTree (it reads ``latency``)."""
-    monkeypatch.setattr(test_max_tree, "MaxTree", SplitMaxTree)
-    return test_max_tree.rtl_max_tree(count, value_bits, vectors, signed=signed)
+def rtl_split_max_tree(count, value_bits, vectors, signed=False):
+    """``rtl_max_tree``'s bench, run on SplitMaxTree (it reads ``latency``)."""
+    return rtl_max_tree(count, value_bits, vectors, signed=signed, tree=SplitMaxTree)
 
 
 @pytest.mark.parametrize("count, value_bits", [(9, 6), (25, 4), (5, 3), (2, 8)])
-def test_matches_argmax_lowest_index(count, value_bits, monkeypatch):
+def test_matches_argmax_lowest_index(count, value_bits):
     vectors = list(cases(count, value_bits))
-    assert rtl_split_max_tree(count, value_bits, vectors, monkeypatch) == \
+    assert rtl_split_max_tree(count, value_bits, vectors) == \
         [ref_max_tree(*v) for v in vectors]
 
 
 @pytest.mark.parametrize("count, value_bits", [(9, 6), (25, 5), (5, 3)])
-def test_signed_matches_argmax_lowest_index(count, value_bits, monkeypatch):
+def test_signed_matches_argmax_lowest_index(count, value_bits):
     """Paper 000's family (``docs/arithmetic.md`` §8.4): the signed tree, split."""
     vectors = list(signed_cases(count, value_bits))
-    assert rtl_split_max_tree(count, value_bits, vectors, monkeypatch, signed=True) == \
+    assert rtl_split_max_tree(count, value_bits, vectors, signed=True) == \
         [ref_signed_max_tree(*v) for v in vectors]
 
 

@@ -4,7 +4,7 @@ it takes from ``DPConfig``."""
 import pytest
 
 from dptbd.hw.register_map import (ADDRESS_BITS, EVENTS, FIELD_KINDS, MAGIC, register_map)
-from seg_harness import make_config
+from helpers.seg_harness import make_config
 
 CONFIGS = [dict(), dict(width=16, height=16, radius=2, weight_frac_bits=4),
            dict(width=640, height=512, energy_bits=20, candidate_count=700)]

@@ -9,8 +9,8 @@ from amaranth.hdl import ResetInserter, Signal
 
 from dptbd.hw.segmenter import Segmenter, scan_cycles
 from dptbd.model.segmentation import segment_stream
-from hw_harness import simulate
-from seg_harness import make_config, pack_state_rows, run_lists, score
+from helpers.hw_harness import simulate
+from helpers.seg_harness import make_config, pack_state_rows, run_lists, score
 
 
 def synthetic_states(cfg, n_frames, rng, *, low=0, high=None, first_k=0, low_fraction=0.0):

@@ -6,7 +6,7 @@ import random
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_state_word
 from dptbd.hw.state_store import StateStore
-from hw_harness import simulate
+from helpers.hw_harness import simulate
 
 
 def test_reads_return_written_words_one_cycle_later():

@@ -7,7 +7,7 @@ import pytest
 
 from dptbd.errors import DptbdError
 from dptbd.hw.thermometer_counter import ThermometerCounter
-from hw_harness import refused, simulate
+from helpers.hw_harness import refused, simulate
 
 
 def cases():

@@ -13,7 +13,7 @@ from amaranth.lib import data, fifo
 
 from dptbd.errors import DptbdError
 from dptbd.hw.thermometer_fifo import ThermometerFIFO
-from hw_harness import refused, simulate
+from helpers.hw_harness import refused, simulate
 
 WIDTH = 8
 

@@ -8,8 +8,8 @@ import numpy as np
 
 from dptbd.hw.threshold import ThresholdSearch
 from dptbd.model.segmentation import threshold_bin
-from hw_harness import simulate
-from seg_harness import make_config
+from helpers.hw_harness import simulate
+from helpers.seg_harness import make_config
 
 
 def cases(cfg):

@@ -5,7 +5,6 @@ which must behave identically.
 """
 
 import random
-import re
 import shutil
 
 import numpy as np
@@ -13,7 +12,8 @@ import pytest
 
 from dptbd.config import DPConfig, plain_weights
 from dptbd.hw.weight_lut import LUT_STYLES, WeightLUT, resolve_lut_style
-from hw_harness import assert_verilator_lints_clean, refused, simulate
+from helpers.hw_harness import assert_verilator_lints_clean, refused, simulate
+from helpers.refusals import whole
 
 STYLES = ("bram", "logic")
 
@@ -167,8 +167,8 @@ def test_auto_style_is_logic_for_radius_1_and_bram_for_radius_2():
 
 @pytest.mark.parametrize("bad", ["BRAM", "registers", "", None, 1])
 def test_unknown_style_is_refused_naming_the_parameter(bad):
-    with refused(ValueError, match=rf"^lut_style must be one of 'auto', 'bram', 'logic', "
-                                   rf"got {re.escape(repr(bad))}$"):
+    with refused(ValueError, match=whole(f"lut_style must be one of 'auto', 'bram', 'logic', "
+                                         f"got {bad!r}")):
         WeightLUT(DPConfig(), lut_style=bad)
 
 

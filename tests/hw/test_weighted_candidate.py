@@ -12,7 +12,7 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.model.operators import scale_by_weight
-from hw_harness import simulate
+from helpers.hw_harness import simulate
 
 
 def make_config(energy_bits, frac, rounding):

@@ -8,7 +8,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.controller import inside_flags
 from dptbd.hw.layouts import pack_state_word
 from dptbd.hw.window import Window
-from hw_harness import simulate
+from helpers.hw_harness import simulate
 
 
 @pytest.mark.parametrize("width, height, radius", [(5, 4, 1), (7, 6, 2), (3, 5, 2)])

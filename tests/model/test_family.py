@@ -10,8 +10,8 @@ from hypothesis import strategies as st
 from dptbd.config import paper_weights, plain_weights
 from dptbd.model.family import family_start, family_step, run_family_fixed
 from dptbd.model.fixed import run_fixed
-from family_strategies import family_configs, family_frames
-from model_strategies import SETTINGS, frames_for, make_cfg, shapes
+from helpers.family_strategies import family_configs, family_frames
+from helpers.model_strategies import SETTINGS, frames_for, make_cfg, shapes
 
 pytestmark = pytest.mark.filterwarnings("ignore::dptbd.config.EnergyWidthWarning")
 

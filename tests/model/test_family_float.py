@@ -14,7 +14,7 @@ from dptbd.evaluation.detectors import unified
 from dptbd.model.family import run_family_fixed
 from dptbd.model.family_float import run_family_float
 from dptbd.scenes.synthetic import paper000_scenario
-from model_strategies import SETTINGS
+from helpers.model_strategies import SETTINGS
 
 pytestmark = pytest.mark.filterwarnings("ignore::dptbd.config.EnergyWidthWarning")
 

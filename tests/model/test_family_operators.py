@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from dptbd.model.family_operators import (
     INVALID_SIGNED, add_clamped, lookup_merit_code, lookup_penalty_code, scale_by_forgetting,
     subtract_penalty)
-from model_strategies import FAST
+from helpers.model_strategies import FAST
 
 
 def test_merit_lut_reads_by_pixel_code():

@@ -22,8 +22,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from dptbd.model.family import run_family_fixed
-from family_strategies import family_configs, family_frames
-from model_strategies import SETTINGS
+from helpers.family_strategies import family_configs, family_frames
+from helpers.model_strategies import SETTINGS
 
 pytestmark = pytest.mark.filterwarnings("ignore::dptbd.config.EnergyWidthWarning")
 

@@ -10,8 +10,8 @@ from hypothesis import strategies as st
 from dptbd.config import DPConfig
 from dptbd.model.family import family_step, run_family_fixed
 from dptbd.model.fast_family import fast_family_step, run_family_fast
-from family_strategies import family_configs, family_frames
-from model_strategies import SETTINGS
+from helpers.family_strategies import family_configs, family_frames
+from helpers.model_strategies import SETTINGS
 
 pytestmark = pytest.mark.filterwarnings("ignore::dptbd.config.EnergyWidthWarning")
 

@@ -26,7 +26,7 @@ from dptbd.config import DPConfig, EnergyWidthWarning, paper_weights, plain_weig
 from dptbd.model.fixed import dp_step, run_fixed
 from dptbd.model.reference import run_float
 
-from model_strategies import SETTINGS, frames_for, make_cfg, no_saturation_cfg, shapes
+from helpers.model_strategies import SETTINGS, frames_for, make_cfg, no_saturation_cfg, shapes
 
 
 

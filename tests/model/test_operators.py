@@ -16,7 +16,7 @@ from dptbd.config import paper_weights
 from dptbd.model import operators as ops
 from dptbd.model.fixed import dp_step
 
-from model_strategies import FAST, make_cfg
+from helpers.model_strategies import FAST, make_cfg
 
 
 

@@ -13,7 +13,7 @@ from hypothesis.extra.numpy import arrays
 from dptbd.model.fixed import run_fixed, segment_start
 from dptbd.model.reference import run_float
 
-from model_strategies import SETTINGS, frames_for, make_cfg, shapes
+from helpers.model_strategies import SETTINGS, frames_for, make_cfg, shapes
 
 
 

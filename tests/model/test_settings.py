@@ -4,7 +4,6 @@ the saturation counts; refusals with their whole messages."""
 
 from __future__ import annotations
 
-import re
 import warnings
 
 import numpy as np
@@ -17,6 +16,7 @@ from dptbd.model.fixed import (dp_step, dp_step_saturated, frame_segments, run_f
 from dptbd.model.segmentation import segment_fixed, segment_sequence, segment_stream
 from dptbd.model.settings import SegmentSettings as S, check_schedule, segment_lengths
 from dptbd.model.segments import segment_spans
+from helpers.refusals import whole
 
 
 def config(**kw) -> DPConfig:
@@ -148,9 +148,9 @@ BAD = [
 @pytest.mark.parametrize("schedule, message", BAD, ids=[m for _, m in BAD])
 def test_bad_schedules_are_refused(schedule, message):
     cfg = config()
-    with pytest.raises(ConfigError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(ConfigError, match=whole(message)):
         check_schedule(cfg, schedule)
-    with pytest.raises(ConfigError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(ConfigError, match=whole(message)):
         run_fixed(frames_for(cfg, 6), cfg, schedule)
 
 

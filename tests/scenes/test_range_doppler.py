@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
@@ -12,6 +11,7 @@ from dptbd.scenes.range_doppler import (
     PassiveRadar, mean_power_from_snr_db, rd_scene, scenario2_track, straight_track,
     swerling1_amplitudes)
 from dptbd.scenes.synthetic import SceneError
+from helpers.refusals import whole
 
 
 def test_swerling1_amplitude_statistics():
@@ -68,5 +68,5 @@ def test_scenario2_geometry():
 def test_rd_scene_bad_input(kwargs, message):
     args = dict(shape=(8, 8), frames=4)
     args.update(kwargs)
-    with pytest.raises(SceneError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(SceneError, match=whole(message)):
         rd_scene(**args)

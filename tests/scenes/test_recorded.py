@@ -1,17 +1,11 @@
 """Loading recorded sequences: .npy, .npz, folders of 8/16-bit PNG/TIFF; bad input refused."""
 
-import re
-
 import numpy as np
 import pytest
 from PIL import Image
 
 from dptbd.scenes.recorded import SequenceError, load_sequence
-
-
-def whole(message, then=""):
-    """A regex matching exactly ``message`` (and then the regex ``then``), the whole refusal."""
-    return "^" + re.escape(message) + then + "$"
+from helpers.refusals import whole
 
 
 def frames(dtype=np.uint16, t=4, h=6, w=5, top=4095):

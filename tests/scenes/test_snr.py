@@ -2,18 +2,13 @@
 
 from __future__ import annotations
 
-import re
 
 import numpy as np
 import pytest
 
 from dptbd.scenes import SceneError
 from dptbd.scenes.snr import amplitude_from_snr, amplitude_from_snr_db, snr_db_from_amplitude
-
-
-def whole(message: str) -> str:
-    """A regex matching exactly ``message``, the whole refusal."""
-    return "^" + re.escape(message) + "$"
+from helpers.refusals import whole
 
 
 def test_amplitude_from_snr_db_paper000():

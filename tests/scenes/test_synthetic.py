@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
@@ -19,11 +18,7 @@ from dptbd.scenes.synthetic import (
     make_noise,
     make_scene,
 )
-
-
-def whole(message: str) -> str:
-    """A regex matching exactly ``message``, the whole refusal."""
-    return "^" + re.escape(message) + "$"
+from helpers.refusals import whole
 
 
 def _one(start=(5.0, 5.0), velocity=(0.0, 0.0), amplitude=10.0, **kw):

@@ -3,18 +3,13 @@
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
 
 from dptbd.scenes import SceneError
 from dptbd.scenes.targets import Target, Turn, paper000_motion, paper001_motion, target_truth
-
-
-def whole(message: str) -> str:
-    """A regex matching exactly ``message``, the whole refusal."""
-    return "^" + re.escape(message) + "$"
+from helpers.refusals import whole
 
 
 def _one(start=(5.0, 5.0), velocity=(0.0, 0.0), amplitude=10.0, **kw):

@@ -20,7 +20,7 @@ import pytest
 from dptbd.config import ConfigError, DPConfig
 from dptbd.hw.layouts import state_layout
 from dptbd.sim import rtl_trials, verilator
-from compare_spec import small_spec, spec_toml
+from helpers.compare_spec import small_spec, spec_toml
 
 pytestmark = pytest.mark.skipif(shutil.which("verilator") is None,
                                 reason="needs Verilator (scripts/setup.sh)")
@@ -93,7 +93,7 @@ def test_rtl_on_a_cluster_of_worker_processes_writes_the_one_worker_csvs(tmp_pat
     """``compare --rtl`` on a scheduler and two ``dask worker`` processes on 127.0.0.1: the
     workers run the executables built here (same machine: same paths) and write the CSVs
     and RTL counts of the run in this process."""
-    from dask_processes import process_cluster
+    from helpers.dask_processes import process_cluster
     from dptbd.evaluation.compare import compare_job
 
     one = compare_job(small_spec(), tmp_path / "one", workers=1, progress=False, rtl=True)

@@ -19,9 +19,9 @@ from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS
 from dptbd.sim.axi_stimulus import clean_beats, expected_outputs, fault_counts, with_fault
 from dptbd.sim.candidate_scoreboard import list_words
-from dptbd.sim.runner import simulate
+from dptbd.sim.icarus import simulate
 from dptbd.sim.scenarios import make_frames
-from cocotb_harness import CYCLE, assert_passed, built, make_config, random_pause
+from helpers.cocotb_harness import CYCLE, assert_passed, built, make_config, random_pause
 
 pytestmark = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
 RANDOM = random_pause

@@ -20,7 +20,7 @@ import pytest
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw.layouts import unpack_state
-from dptbd.sim.runner import build, simulate
+from dptbd.sim.icarus import build, simulate
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.scoreboard import expected_words
 

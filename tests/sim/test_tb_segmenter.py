@@ -16,7 +16,7 @@ import pytest
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw.candidate_layout import bits_per_segment
-from dptbd.sim.runner import build, simulate
+from dptbd.sim.icarus import build, simulate
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.candidate_scoreboard import expected_lists
 

@@ -21,7 +21,7 @@ from dptbd.sim.scenarios import make_frames
 from dptbd.sim.scoreboard import expected_words
 from dptbd.sim.stimulus import lut_writes, pixel_words
 
-from verilator_harness import SEG, built, make_config  # noqa: E402
+from helpers.verilator_harness import SEG, built, make_config  # noqa: E402
 
 pytestmark = pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
 

@@ -18,7 +18,7 @@ from dptbd.sim import verilator as V
 from dptbd.sim.axi_stimulus import clean_beats, with_fault
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.verilator_axi import beat_words, check_axi, run_axi, step_operations
-from verilator_harness import built, make_config
+from helpers.verilator_harness import built, make_config
 
 try:
     V.check_tools()

@@ -9,17 +9,17 @@ from __future__ import annotations
 
 import json
 import pathlib
-import re
 import shutil
 
 import pytest
 
 from dptbd.sim import verilator_build as V
 from dptbd.sim.rtl_check import check_frames
-from dptbd.sim.runner import config_name
+from dptbd.sim.icarus import config_name
 from dptbd.sim.scenarios import make_frames
 
-from verilator_harness import SEG, make_config  # noqa: E402
+from helpers.verilator_harness import SEG, make_config  # noqa: E402
+from helpers.refusals import whole
 
 pytestmark = pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
 
@@ -232,7 +232,7 @@ def test_missing_tools_are_named(tmp_path, monkeypatch, clear_tools, missing, na
     monkeypatch.delenv("CXX", raising=False)
     monkeypatch.setattr(shutil, "which", lambda name, *a, **k: None if name in missing
                         else real(name, *a, **k))
-    message = "^" + re.escape("compiled RTL simulation needs " + named + INSTALL) + "$"
+    message = whole("compiled RTL simulation needs " + named + INSTALL)
     with pytest.raises(V.ToolMissingError, match=message):
         V.check_tools()
     with pytest.raises(V.ToolMissingError, match=message):

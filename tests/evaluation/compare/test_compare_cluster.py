@@ -11,7 +11,7 @@ import signal
 
 import numpy as np
 import pytest
-from dask_processes import process_cluster
+from helpers.dask_processes import process_cluster
 
 from dptbd.evaluation.compare import compare_job
 from dptbd.evaluation.compare.plan import make_plan

@@ -16,6 +16,7 @@ from dptbd.evaluation.compare import DATA_FILES, FIGURES, job
 from dptbd.evaluation.compare.job import SynthOptions, compare_job, load_config, synthesise_all
 from dptbd.evaluation.compare.spec import build_spec
 from dptbd.evaluation.execution import ExecutionError
+from helpers.refusals import whole
 
 
 @pytest.fixture
@@ -24,10 +25,6 @@ def no_work(monkeypatch):
     def boom(*a, **k):
         raise AssertionError("work started")
     monkeypatch.setattr(job, "run_compare", boom)
-
-
-def _anchored(message: str) -> str:
-    return "^" + re.escape(message) + "$"
 
 
 @pytest.mark.parametrize("text, kw, message", [
@@ -54,7 +51,7 @@ def test_bad_parameters_are_refused_before_any_work(tmp_path, no_work, text, kw,
     config = tmp_path / "c.toml"
     config.write_text(text)
     out = tmp_path / "out"
-    with pytest.raises(ConfigError, match=_anchored(message)):
+    with pytest.raises(ConfigError, match=whole(message)):
         compare_job(config, out, **kw)
     assert not out.exists()
 
@@ -62,7 +59,7 @@ def test_bad_parameters_are_refused_before_any_work(tmp_path, no_work, text, kw,
 @pytest.mark.parametrize("workers", [0, 1025, 2.0])
 def test_a_bad_worker_count_is_refused_before_any_work(tmp_path, no_work, workers):
     out = tmp_path / "out"
-    with pytest.raises(ExecutionError, match=_anchored(
+    with pytest.raises(ExecutionError, match=whole(
             f"workers must be an integer in [1, 1024], got {workers!r}")):
         compare_job(None, out, workers=workers)
     assert not out.exists()
@@ -70,11 +67,11 @@ def test_a_bad_worker_count_is_refused_before_any_work(tmp_path, no_work, worker
 
 def test_missing_or_broken_config_file_is_refused(tmp_path, no_work):
     missing = tmp_path / "nope.toml"
-    with pytest.raises(FileNotFoundError, match=_anchored(f"--config {missing}: no such file")):
+    with pytest.raises(FileNotFoundError, match=whole(f"--config {missing}: no such file")):
         compare_job(missing, tmp_path / "out")
     broken = tmp_path / "broken.toml"
     broken.write_text("trials 3\n")
-    with pytest.raises(ConfigError, match=_anchored(
+    with pytest.raises(ConfigError, match=whole(
             f"--config {broken}: not valid TOML: Expected '=' after a key in a key/value pair "
             f"(at line 1, column 8)")):
         load_config(broken)
@@ -85,21 +82,21 @@ def test_output_folder_is_refused_before_any_work(tmp_path, no_work):
     mine = tmp_path / "mine"
     mine.mkdir()
     (mine / "notes.txt").write_text("keep")
-    with pytest.raises(FileExistsError, match=_anchored(
+    with pytest.raises(FileExistsError, match=whole(
             f"--out {mine} exists; pass --force to replace it, or choose another folder")):
         compare_job(None, mine)
-    with pytest.raises(FileExistsError, match=_anchored(
+    with pytest.raises(FileExistsError, match=whole(
             f"--out {mine} is not the folder of an earlier dptbd compare run (no "
             f"compare_summary.json from it); --force will not replace it")):
         compare_job(None, mine, force=True)
     a_file = tmp_path / "file"
     a_file.write_text("")
-    with pytest.raises(FileExistsError, match=_anchored(
+    with pytest.raises(FileExistsError, match=whole(
             f"--out {a_file} exists and is not a folder; --force replaces only the folder of "
             f"an earlier dptbd compare run")):
         compare_job(None, a_file, force=True)
     nested = tmp_path / "no" / "out"
-    with pytest.raises(FileNotFoundError, match=_anchored(
+    with pytest.raises(FileNotFoundError, match=whole(
             f"--out {nested}: the folder {nested.parent} does not exist")):
         compare_job(None, nested)
     assert (mine / "notes.txt").read_text() == "keep"
@@ -111,7 +108,7 @@ def test_missing_synthesis_tool_is_refused_before_any_work(tmp_path, monkeypatch
     def missing():
         raise ToolNotFoundError("yosys not found on PATH (Debian package 'yosys')")
     monkeypatch.setattr(sweep, "check_tools", missing)
-    with pytest.raises(ToolNotFoundError, match=_anchored(
+    with pytest.raises(ToolNotFoundError, match=whole(
             "yosys not found on PATH (Debian package 'yosys')")):
         compare_job(None, tmp_path / "out", synth=SynthOptions())
     assert not (tmp_path / "out").exists()
@@ -211,7 +208,7 @@ def test_force_replaces_only_an_earlier_compare_run(tmp_path):
     out = tmp_path / "out"
     compare_job(tiny, out, workers=1, progress=False)
     (out / "stale.txt").write_text("from before")
-    with pytest.raises(FileExistsError, match=_anchored(
+    with pytest.raises(FileExistsError, match=whole(
             f"--out {out} exists; pass --force to replace it, or choose another folder")):
         compare_job(tiny, out, workers=1, progress=False)
     compare_job(dict(tiny, seed=5), out, force=True, workers=1, progress=False)

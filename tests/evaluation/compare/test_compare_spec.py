@@ -10,6 +10,7 @@ import pytest
 from dptbd.config import ConfigError
 from dptbd.evaluation.compare import spec as compare_spec
 from dptbd.evaluation.compare.spec import build_spec
+from helpers.refusals import whole
 
 
 def test_sweep_grid_and_dedup_against_explicit_configs():
@@ -128,7 +129,7 @@ _LUTS = "('paper', 'plain', 'cosine')"
      "sweep point input_bits=8, energy_bits=5: energy_bits must be an integer in [input_bits=8, 32], got 5"),
 ])
 def test_bad_parameters_are_refused_naming_them(mapping, message):
-    with pytest.raises(ConfigError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(ConfigError, match=whole(message)):
         build_spec(mapping)
 
 

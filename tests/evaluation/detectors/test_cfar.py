@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
@@ -11,6 +10,7 @@ import pytest
 from dptbd.evaluation.detectors import DetectorError
 from dptbd.evaluation.detectors.cfar import ca_cfar_detect, ca_cfar_factor, ca_cfar_ratio, reference_counts
 from dptbd.evaluation.stats import wilson_interval
+from helpers.refusals import whole
 
 
 def cfar_loop(z, n_ref, n_guard):
@@ -60,7 +60,7 @@ def test_ca_cfar_false_alarm_rate_on_rayleigh_noise():
     (dict(axis=0), "axis must be -2 (range, rows) or -1 (Doppler, columns), got 0"),
 ])
 def test_ca_cfar_bad_parameters(kwargs, message):
-    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(DetectorError, match=whole(message)):
         ca_cfar_ratio(np.ones((40, 3)), **kwargs)
 
 

@@ -5,7 +5,6 @@ both recursions against a dense brute-force implementation on tiny grids; the na
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
@@ -13,6 +12,7 @@ import pytest
 from dptbd.evaluation.detectors import DetectorError, grid, grid_filter
 from dptbd.evaluation.detectors.grid import (
     GridBayes, InfoAccumulation, Transition, gaussian_kernel, rician_log_likelihood)
+from helpers.refusals import whole
 
 
 def info_dense(frames, tr, snr_db):
@@ -115,7 +115,7 @@ def test_noise_and_target_separate_on_a_small_grid():
 ])
 def test_bad_input_names_the_parameter(call, message):
     tr = Transition((4, 4), gaussian_kernel())
-    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(DetectorError, match=whole(message)):
         call(tr)
 
 

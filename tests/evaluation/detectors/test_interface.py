@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
@@ -17,6 +16,7 @@ from dptbd.evaluation.detectors.interface import (
 from dptbd.evaluation.detectors.paper000 import crossing_snr, peak_mask, run_case, CASES
 from dptbd.scenes.range_doppler import rd_scene, straight_track
 from dptbd.model.fixed import run_fixed
+from helpers.refusals import whole
 
 
 def test_parse_detectors():
@@ -135,7 +135,7 @@ def test_dw_dp_adapter_is_the_golden_model():
     (lambda m: make_detector("grid-bayes", m, known_noise=1), "known_noise must be true or false, got 1"),
 ])
 def test_bad_detector_parameters(call, message):
-    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(DetectorError, match=whole(message)):
         call(SceneModel((20, 20)))
 
 

@@ -4,13 +4,13 @@ SNR gain, the §5 cases and their refusals."""
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
 
 from dptbd.evaluation.detectors import DetectorError
 from dptbd.evaluation.detectors.paper000 import CASES, Case, crossing_snr, run_case, snr_gain
+from helpers.refusals import whole
 
 GAIN = ("CA-CFAR 16/2", "DP eq (24)", "DP eqs (19)-(23)")
 
@@ -83,5 +83,5 @@ def test_run_case_eq15_datapath_is_exact_and_v_t_30_is_below_the_noise():
 ])
 def test_case_refuses_bad_thresholds(kwargs, message):
     args = dict(label="x", section="", snr_db=4.0, merit="amplitude", penalty=False, thresholds=(30.0,))
-    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(DetectorError, match=whole(message)):
         Case(**{**args, **kwargs})

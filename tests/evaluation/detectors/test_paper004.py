@@ -4,12 +4,12 @@ per-frame timing of every detector and its refusals."""
 from __future__ import annotations
 
 import math
-import re
 
 import pytest
 
 from dptbd.evaluation.detectors import DetectorError
 from dptbd.evaluation.detectors.paper004 import time_one_frame
+from helpers.refusals import whole
 
 
 def test_time_one_frame_smoke_on_a_small_grid():
@@ -27,5 +27,5 @@ def test_time_one_frame_smoke_on_a_small_grid():
     (dict(shape=(40,)), "shape must be a pair (H, W) of integers in [1, 65535], got (40,)"),
 ])
 def test_time_one_frame_bad_input(kwargs, message):
-    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(DetectorError, match=whole(message)):
         time_one_frame(**kwargs)

@@ -3,7 +3,6 @@ all-or-nothing --out folder of ``dptbd detectors``."""
 
 import csv
 import json
-import re
 
 import pytest
 from PIL import Image
@@ -13,6 +12,7 @@ from dptbd.evaluation.detectors.pd_vs_snr import CompareResult
 from dptbd.evaluation.detectors.interface import Counts
 from dptbd.evaluation.detectors.report import (OUT_FILES, TOOL, describe_run, figure_pd_vs_snr,
                                                format_table, rows, write_folder)
+from helpers.refusals import whole
 
 PARAMS = dict(scene="image", frames=9, first_frame=7, trials=2, noise_trials=5,
               false_alarm_rate=0.1, matched=False, preset_snr_db=10.0, gate=1, seed=6,
@@ -65,8 +65,8 @@ def test_write_folder_all_or_nothing(tmp_path, result, monkeypatch):
     assert saved["tool"] == TOOL == "dptbd detectors" and saved["params"]["snrs_db"] == [8.0, 12.0]
     assert (out / "table.md").read_text() == "TABLE\n\nNOTE\n"
     assert len(list(csv.DictReader(open(out / "table.csv")))) == 4
-    with pytest.raises(FileExistsError, match="^" + re.escape(
-            f"--out {out} exists; pass --force to replace it, or choose another folder") + "$"):
+    with pytest.raises(FileExistsError, match=whole(
+            f"--out {out} exists; pass --force to replace it, or choose another folder")):
         write_folder(result, out, "TABLE", "NOTE", {})
     def disk_full(*args):
         raise OSError(28, "No space left on device")

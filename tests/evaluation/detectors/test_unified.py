@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import itertools
 import math
-import re
 
 import numpy as np
 import pytest
@@ -15,6 +14,7 @@ from dptbd.evaluation.detectors.unified import (
     amplitude_merit, backtrack, likelihood_difference_merit, no_penalty, path_value,
     quantise_unified, run_unified, run_unified_fixed, run_unified_segments, velocity_log_penalty)
 from dptbd.model.fixed import run_fixed
+from helpers.refusals import whole
 
 
 def brute_force(z, merit, q, radius):
@@ -196,5 +196,5 @@ def test_segments_restart_the_recursion():
      "n_frames must be an integer in [1, inf), got 0"),
 ])
 def test_bad_input_names_the_parameter(call, message):
-    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(DetectorError, match=whole(message)):
         call()

@@ -1,6 +1,5 @@
-"""Shared helpers of the compiled-simulation tests (rootdir-relative import, as
-``tests/hw/hw_harness.py``): small configurations and one build per (config, design) per
-test session (the builds themselves are cached on disk by :mod:`dptbd.sim.verilator_build`)."""
+"""Shared helpers of the compiled-simulation tests: small configurations and one build per
+(config, design) per test session (the builds themselves are cached on disk by :mod:`dptbd.sim.verilator_build`)."""
 
 from __future__ import annotations
 

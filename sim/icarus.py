@@ -195,7 +195,7 @@ def write_job(run_dir: pathlib.Path, sim: SimBuild, frames: np.ndarray, **option
     """Write ``scene.npy`` and ``job.json`` into ``run_dir``; return the environment to pass.
 
     ``options``: ``lut_codes`` ((M+1) x M codes written at run time before the first frame),
-    ``valid_pause``/``ready_pause`` (:func:`dptbd.sim.components.pause_generator` specs),
+    ``valid_pause``/``ready_pause`` (:func:`dptbd.sim.cocotb_drivers.pause_generator` specs),
     ``exact_cycles`` (assert ``T*W*H + latency``), ``reset`` (``{"pre_frames", "cut_pixel",
     "hold_cycles"}`` for the ``mid_frame_reset`` test), ``truncate`` (``{"pre_frames",
     "keep_pixels"}`` for ``truncated_frame_resync``), ``corrupt_expected`` (``{"index",

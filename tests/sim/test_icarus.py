@@ -1,4 +1,4 @@
-"""The Icarus/cocotb runner without a simulator: scene checks, refusals before anything runs."""
+"""The cocotb + Icarus build and run (dptbd.sim.icarus) without a simulator: scene checks, refusals before anything runs."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from dptbd.config import DPConfig
-from dptbd.sim.runner import SimBuild, check_scene, simulate
+from dptbd.sim.icarus import SimBuild, check_scene, simulate
 
 #: 8 x 6, K = 3.
 CFG = DPConfig(width=8, height=6, segment_frames=3)

@@ -17,7 +17,7 @@ from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw import layouts
 from dptbd.hw.layouts import pack_pixel
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
-from hw_harness import simulate, stream_cycle
+from helpers.hw_harness import simulate, stream_cycle
 
 
 def make_config(**kw) -> DPConfig:

@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from dptbd.config import paper_weights, plain_weights
-from model_strategies import make_cfg
+from helpers.model_strategies import make_cfg
 
 
 @st.composite

@@ -1,4 +1,4 @@
-"""dptbd.sim.job: settings, configuration and scene checks (whole messages), the
+"""dptbd.sim.sim_job: settings, configuration and scene checks (whole messages), the
 missing-tool sentences of both commands, the printed summary."""
 
 import pathlib
@@ -9,14 +9,11 @@ import numpy as np
 import pytest
 
 from dptbd.config import ConfigError, DPConfig
-from dptbd.sim.job import (SimOutcome, SimSettings, sim_config, sim_frames,
+from dptbd.sim.sim_job import (SimOutcome, SimSettings, sim_config, sim_frames,
                                       simulator_tools_missing, summary_lines)
+from helpers.refusals import whole
 
 CFG = DPConfig(width=16, height=12, segment_frames=3)
-
-
-def exactly(message):
-    return "^" + re.escape(message) + "$"
 
 
 @pytest.mark.parametrize("settings, message", [
@@ -26,16 +23,16 @@ def exactly(message):
      "--waves x.vcd: the simulation writes FST; give a path ending in .fst"),
 ])
 def test_settings_refusals(settings, message):
-    with pytest.raises(ValueError, match=exactly(message)):
+    with pytest.raises(ValueError, match=whole(message)):
         settings.check()
 
 
 def test_sim_config():
     assert sim_config(CFG, "segmenter", 2).n_candidates == 2
-    with pytest.raises(ValueError, match=exactly(
+    with pytest.raises(ValueError, match=whole(
             "--candidate-count applies to --design segmenter only")):
         sim_config(CFG, "dp", 2)
-    with pytest.raises(ConfigError, match=exactly(
+    with pytest.raises(ConfigError, match=whole(
             "--design segmenter: n = 0 candidate points per segment (0.2 % of 16x12 = 192 "
             "pixels rounds to 0) gives a segmenter that emits no points; give "
             "--candidate-count 1 … 192")):
@@ -49,7 +46,7 @@ def test_sim_frames(tmp_path):
     np.save(scene, np.zeros((5, 12, 16), np.uint16))
     frames, text = sim_frames(CFG, scene=scene, frames=2)
     assert frames.shape == (2, 12, 16) and text.startswith(f"{scene}: ")
-    with pytest.raises(ValueError, match=exactly(f"--frames 9 but {scene} holds 5 frames")):
+    with pytest.raises(ValueError, match=whole(f"--frames 9 but {scene} holds 5 frames")):
         sim_frames(CFG, scene=scene, frames=9)
     (tmp_path / "t.npy").write_text("text")
     with pytest.raises(ValueError, match=f"^{re.escape(str(tmp_path / 't.npy'))} is not a .npy "

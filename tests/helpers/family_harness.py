@@ -16,7 +16,7 @@ from dptbd.config import DPConfig, plain_weights
 from dptbd.evaluation.detectors.unified import (
     amplitude_merit, likelihood_difference_merit, quantise_unified, velocity_log_penalty)
 from dptbd.model.family import family_start, family_step
-from hw_harness import FIELDS
+from helpers.hw_harness import FIELDS
 
 
 def start_frame(cfg: DPConfig, t: int) -> bool:
@@ -106,7 +106,7 @@ def variant(name):
             width=6, height=5, segment_frames=3, rounding="half_up", forgetting=0.85,
             energy_bits=10, penalty_codes=eq22_penalty(1, 40.0),
             merit_codes=likelihood_merit(60.0)), 4),
-        # recursive (issue 15): a start frame only after reset
+        # recursive: a start frame only after reset
         "recursive-r1": (dict(**r1, segment_frames=2, recursive=True, rounding="half_up",
                               forgetting=0.85, energy_bits=10, merit_codes=likelihood_merit(),
                               penalty_codes=eq22_penalty(1)), 7),

@@ -136,7 +136,7 @@ def sim_frames(cfg: DPConfig, *, scene: pathlib.Path | None = None,
                seed: int = 0) -> tuple[np.ndarray, str]:
     """The checked frames to simulate and a line describing them: a ``.npy`` scene (its first
     ``frames``) or a built-in scenario (``frames`` of it, default 2 K)."""
-    from dptbd.sim.runner import check_scene
+    from dptbd.sim.icarus import check_scene
     from dptbd.sim.scenarios import describe, make_frames
 
     if frames is not None and frames < 1:
@@ -199,7 +199,7 @@ def _run_verilator(cfg, frames, settings: SimSettings, log) -> SimOutcome:
 
 
 def _run_icarus(cfg, frames, settings: SimSettings, log) -> SimOutcome:
-    from dptbd.sim.runner import build, simulate
+    from dptbd.sim.icarus import build, simulate
 
     start = time.perf_counter()
     root = settings.build_dir if settings.build_dir is not None else pathlib.Path("build/sim")

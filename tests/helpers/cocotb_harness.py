@@ -7,7 +7,7 @@ import pathlib
 import warnings
 
 from dptbd.config import DPConfig, EnergyWidthWarning
-from dptbd.sim.runner import build
+from dptbd.sim.icarus import build
 
 BUILD_ROOT = pathlib.Path(__file__).resolve().parents[2] / "build" / "sim"
 CYCLE = {"kind": "pattern", "pattern": [1, 1, 1, 0]}          # verilog-axis's cycle_pause
@@ -16,7 +16,7 @@ _BUILDS: dict = {}
 
 
 def random_pause(probability: float, seed: int) -> dict:
-    """A :func:`dptbd.sim.components.pause_generator` spec pausing with ``probability``."""
+    """A :func:`dptbd.sim.cocotb_drivers.pause_generator` spec pausing with ``probability``."""
     return {"kind": "random", "probability": probability, "seed": seed}
 
 
@@ -27,7 +27,7 @@ def make_config(**kw) -> DPConfig:
 
 
 def built(cfg: DPConfig, design: str):
-    """:func:`dptbd.sim.runner.build` of ``design`` for ``cfg``, once per test session."""
+    """:func:`dptbd.sim.icarus.build` of ``design`` for ``cfg``, once per test session."""
     if (cfg, design) not in _BUILDS:
         _BUILDS[cfg, design] = build(cfg, BUILD_ROOT, design=design)
     return _BUILDS[cfg, design]

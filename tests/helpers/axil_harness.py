@@ -7,6 +7,8 @@ return the response code, counting the cycles they took in ``cycles`` when given
 
 from __future__ import annotations
 
+import types
+
 
 async def axil_write(ctx, axil, addr: int, data: int, strb: int = 0xF, *,
                      order: str = "together", bready_delay: int = 0) -> int:
@@ -59,3 +61,16 @@ async def axil_read(ctx, axil, addr: int) -> tuple[int, int]:
     await ctx.tick()
     ctx.set(r.rready, 0)
     return data, resp
+
+
+def flat_axil(top):
+    """The ``axil.aw.awaddr`` … paths this module drives, on the flat ``s_axil_*``
+    ports."""
+    def channel(*names):
+        return types.SimpleNamespace(**{n: getattr(top, f"s_axil_{n}") for n in names})
+    return types.SimpleNamespace(
+        aw=channel("awaddr", "awprot", "awvalid", "awready"),
+        w=channel("wdata", "wstrb", "wvalid", "wready"),
+        b=channel("bresp", "bvalid", "bready"),
+        ar=channel("araddr", "arprot", "arvalid", "arready"),
+        r=channel("rdata", "rresp", "rvalid", "rready"))
