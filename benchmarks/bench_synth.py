@@ -52,7 +52,8 @@ import sys
 import time
 import warnings
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.hw.dp_core import CORE_OPTIONS
 from dptbd.hw.flow.synth import FAMILIES, CellCounts, SynthResult, get_family, synthesize
 

@@ -15,11 +15,10 @@ from typing import Any, Mapping
 import numpy as np
 
 from dptbd.config_family import FamilyFields
-from dptbd.errors import DptbdError, check_int, interval
+from dptbd.errors import ConfigError, DptbdError, check_int, interval
 
 __all__ = [
     "DPConfig",
-    "ConfigError",
     "EnergyWidthWarning",
     "ROUNDING_MODES",
     "DEFAULT_FALSE_ALARM_RATE",
@@ -45,10 +44,6 @@ _RANGES = {
     "weight_frac_bits": (0, 16),
     "radius": (1, 2),
 }
-
-
-class ConfigError(DptbdError):
-    """A parameter is outside its allowed range; the message names both."""
 
 
 class EnergyWidthWarning(UserWarning):

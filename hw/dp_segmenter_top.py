@@ -18,7 +18,8 @@ from amaranth.hdl import Module, Signal
 from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.hw.candidate_layout import bits_per_segment, candidate_field_offsets, candidate_layout
 from dptbd.hw.dp_core import lut_write_members
 from dptbd.hw.dp_pipeline import DPPipeline

@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.hw.family_blocks import FamilyBlocks, forgetting_leaves
 
 __all__ = ["MAX_TREE_STAGES", "PipelineSchedule", "read_ahead_distance", "check_supported",
@@ -144,7 +145,7 @@ def check_supported(cfg: DPConfig, *, max_tree: str = "compact") -> PipelineSche
 
     Raises
     ------
-    dptbd.config.ConfigError
+    dptbd.errors.ConfigError
         * ``segment_stride != segment_frames``: overlapping segments need one state store
           per live segment; the gateware has one.
         * ``W * H - r * (W + 1) <= write_latency``: the frame is too small for the

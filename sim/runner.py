@@ -103,7 +103,7 @@ def build(cfg: DPConfig, root: str | os.PathLike = "build/sim", *, waves: bool =
     Parameters
     ----------
     cfg : DPConfig
-        The parameter set; refused with :class:`~dptbd.config.ConfigError` if the gateware
+        The parameter set; refused with :class:`~dptbd.errors.ConfigError` if the gateware
         does not implement it.
     root : path-like
         Build root; the parameter set gets ``root/config_name(cfg)`` (``-waves`` appended

@@ -198,7 +198,7 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     Parameters
     ----------
     cfg : DPConfig
-        Refused with :class:`~dptbd.config.ConfigError` if the gateware does not implement it.
+        Refused with :class:`~dptbd.errors.ConfigError` if the gateware does not implement it.
     design : str
         A key of :data:`DESIGNS`.
     root : path-like, optional

@@ -222,7 +222,7 @@ def run_paper000(spec: Paper000Spec, *, workers: int | None = None, scheduler: s
 
     Raises
     ------
-    dptbd.config.ConfigError
+    dptbd.errors.ConfigError
         ``engine="rtl"`` and a variant the gateware cannot build, before any run
         (:func:`dptbd.sim.rtl_trials.check_configs`).
     dptbd.sim.rtl_trials.RTLMismatchError

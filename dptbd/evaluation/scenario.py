@@ -59,11 +59,11 @@ import pathlib
 import tomllib
 from typing import Any, Mapping
 
-from dptbd.config import ConfigError, DPConfig, non_saturating_energy_bits
+from dptbd.config import DPConfig, non_saturating_energy_bits
+from dptbd.errors import ConfigError, DptbdError
 from dptbd.dsp.chain import LISTS
 from dptbd.scenes import synthetic as scenes
 from dptbd.dsp.association import AssociationConfig, AssociationError
-from dptbd.errors import DptbdError
 
 __all__ = ["ScenarioError", "TargetSpec", "Scenario", "default_scenario", "load_scenario",
            "parse_scenario", "parse_target", "check_snr", "DEFAULT_NAME"]

@@ -10,7 +10,7 @@ import tomllib
 import pytest
 
 from dptbd.commands import verilog as verilog_command
-from dptbd.config import ConfigError
+from dptbd.errors import ConfigError
 
 
 def parse(argv):

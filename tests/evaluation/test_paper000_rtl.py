@@ -13,7 +13,7 @@ import shutil
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError
+from dptbd.errors import ConfigError
 from dptbd.evaluation.detectors import paper000
 from dptbd.evaluation.detectors._checks import DetectorError
 from dptbd.evaluation.paper000_rtl import GAIN_DPS, Paper000Spec, run_paper000

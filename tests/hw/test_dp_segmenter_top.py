@@ -7,7 +7,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError
+from dptbd.errors import ConfigError
 from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.dp_segmenter_top import SEGMENTER_MODULE_NAME, DPSegmenter, generate_segmenter_verilog
 from dptbd.sim.scenarios import make_frames

@@ -17,7 +17,8 @@ import shutil
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.hw.layouts import state_layout
 from dptbd.sim import rtl_trials, verilator
 from compare_spec import small_spec, spec_toml

@@ -10,7 +10,7 @@ import re
 
 import pytest
 
-from dptbd.config import ConfigError
+from dptbd.errors import ConfigError
 from dptbd.evaluation import sweep
 from dptbd.evaluation.compare import DATA_FILES, FIGURES, job
 from dptbd.evaluation.compare.job import SynthOptions, compare_job, load_config, synthesise_all

@@ -7,7 +7,7 @@ import re
 
 import pytest
 
-from dptbd.config import ConfigError
+from dptbd.errors import ConfigError
 from dptbd.evaluation.compare import spec as compare_spec
 from dptbd.evaluation.compare.spec import build_spec
 
