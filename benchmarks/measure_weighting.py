@@ -44,7 +44,7 @@ def _wilson(k: int, n: int) -> str:
 # ---- first level: points in the 3 x 3 gate -------------------------------------------------
 
 def cluster(trials: int, segment_frames: int, segment_stride: int, seed: int, chunk: int) -> None:
-    from dptbd.config import plain_weights
+    from dptbd.weights import plain_weights
     from dptbd.evaluation import table1
     from dptbd.evaluation.metrics import near_mask
     from dptbd.model.fast import run_fixed_fast
@@ -88,7 +88,7 @@ def cluster(trials: int, segment_frames: int, segment_stride: int, seed: int, ch
 
 def run_seed(seed: int, weighted: bool, segment_frames: int) -> dict:
     """The built-in scenario of ``dptbd run`` with one seed, LUT and K, through both stages."""
-    from dptbd.config import plain_weights
+    from dptbd.weights import plain_weights
     from dptbd.evaluation.run_job import run_job
     from dptbd.evaluation.scenario import default_scenario
 

@@ -33,7 +33,8 @@ import dataclasses
 
 import numpy as np
 
-from dptbd.config import DPConfig, plain_weights
+from dptbd.config import DPConfig
+from dptbd.weights import plain_weights
 from dptbd.evaluation.detectors import unified
 from dptbd.evaluation.detectors._checks import DetectorError, check_int
 from dptbd.evaluation.detectors.paper000 import RADIUS, Case

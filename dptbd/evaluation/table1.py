@@ -25,7 +25,8 @@ import functools
 import numpy as np
 from tqdm import tqdm
 
-from dptbd.config import DPConfig, non_saturating_energy_bits, plain_weights
+from dptbd.config import DPConfig, non_saturating_energy_bits
+from dptbd.weights import plain_weights
 from dptbd.errors import check_int
 from dptbd.scenes import synthetic as scenes
 from dptbd.scenes.synthetic import ADC_GAIN, INPUT_BITS

@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from dptbd.config import DPConfig, plain_weights
+from dptbd.config import DPConfig
+from dptbd.weights import plain_weights
 from dptbd.evaluation.detectors.unified import (
     amplitude_merit, likelihood_difference_merit, quantise_unified, velocity_log_penalty)
 from dptbd.model.family import family_start, family_step

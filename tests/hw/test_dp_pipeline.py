@@ -14,7 +14,8 @@ import warnings
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, EnergyWidthWarning, plain_weights
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.weights import plain_weights
 from dptbd.errors import ConfigError
 from dptbd.hw.dp_pipeline import DPPipeline
 from hw_harness import (

@@ -10,7 +10,8 @@ import re
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, plain_weights
+from dptbd.config import DPConfig
+from dptbd.weights import plain_weights
 from dptbd.hw.weight_lut import LUT_STYLES, WeightLUT, resolve_lut_style
 from hw_harness import refused, simulate
 

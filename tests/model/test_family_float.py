@@ -9,7 +9,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from dptbd.config import DPConfig, plain_weights
+from dptbd.config import DPConfig
+from dptbd.weights import plain_weights
 from dptbd.evaluation.detectors import unified
 from dptbd.model.family import run_family_fixed
 from dptbd.model.family_float import run_family_float

@@ -48,7 +48,7 @@ from typing import Any, Callable
 import numba
 import numpy as np
 
-from dptbd.config import check_move_table, move_offsets
+from dptbd.weights import check_move_table, move_offsets
 from dptbd.evaluation.detectors._checks import (
     DetectorError, check_frames, check_int, check_real)
 

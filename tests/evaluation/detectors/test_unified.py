@@ -9,7 +9,8 @@ import re
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, move_offsets, plain_weights
+from dptbd.config import DPConfig
+from dptbd.weights import move_offsets, plain_weights
 from dptbd.evaluation.detectors import DetectorError
 from dptbd.evaluation.detectors.unified import (
     amplitude_merit, backtrack, likelihood_difference_merit, no_penalty, path_value,
