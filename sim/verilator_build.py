@@ -182,7 +182,7 @@ def _generate(cfg: DPConfig, design: str, lut_style: str) -> tuple[str, dict]:
             raise ValueError("the AXI top takes the default lut_style 'auto' only")
         return generate_axi_verilog(cfg)
     if design == "segmenter":
-        from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog
+        from dptbd.hw.flow.segmenter_verilog import generate_segmenter_verilog
         if lut_style != "auto":
             raise ValueError("the segmenter top takes the default lut_style 'auto' only")
         return generate_segmenter_verilog(cfg)
