@@ -12,7 +12,7 @@ from dptbd.errors import (ConfigError, DptbdError, check_bool, check_int, check_
                           check_shape, interval, shown)
 from dptbd.dsp.association import AssociationError
 from dptbd.evaluation.detectors import DetectorError
-from dptbd.evaluation.scenario import ScenarioError
+from dptbd.evaluation.run.scenario import ScenarioError
 from dptbd.scenes.recorded import SequenceError
 from dptbd.scenes.synthetic import SceneError
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from dptbd.evaluation import run_figures
+from dptbd.evaluation.run import figures as run_figures
 from dptbd.cli import main
 
 SMALL = """\
@@ -371,7 +371,7 @@ def test_ideal_lists_option_and_bad_lists_value(tmp_path, small, capsys):
 def test_segmenter_settings_come_from_the_data_unless_given():
     from dptbd.config import DPConfig
     from dptbd.dsp.association import AssociationConfig
-    from dptbd.dsp.chain import segmenter_settings
+    from dptbd.evaluation.chain import segmenter_settings
 
     cfg = DPConfig(width=128, height=128, segment_frames=6, input_bits=12, energy_bits=16)
     frames = np.full((12, 128, 128), 600, np.uint16)
@@ -397,7 +397,7 @@ def test_segmenter_settings_come_from_the_data_unless_given():
 def test_rtl_summary_says_which_frames_were_checked(tmp_path, small, capsys, monkeypatch):
     """A stand-in for the simulation: the options reach run_rtl, the summary names the
     simulator, the frames checked, the words compared and the cycles."""
-    from dptbd.evaluation import run_rtl
+    from dptbd.evaluation.run import rtl as run_rtl
 
     calls = []
 
@@ -441,7 +441,7 @@ def test_rtl_summary_says_which_frames_were_checked(tmp_path, small, capsys, mon
 
 
 def test_scenario_file_with_recorded_data_is_named_after_it(tmp_path):
-    from dptbd.evaluation.scenario import parse_scenario
+    from dptbd.evaluation.run.scenario import parse_scenario
 
     sc = parse_scenario({"input": {"path": "clip.npz"}}, tmp_path)
     assert sc.name == "clip.npz" and sc.input_path == tmp_path / "clip.npz"

@@ -1,4 +1,4 @@
-"""The DSP association fed by the recursive DP (``docs/arithmetic.md`` §8.6; issue 15).
+"""The DSP association fed by the recursive DP (``docs/arithmetic.md`` §8.6).
 
 The recursive DP gives a detection map every frame, but the DSP association of 001 §3
 (:class:`dptbd.dsp.association.Tracker`) steps once per *list*, each candidate carrying the
@@ -21,7 +21,7 @@ from dptbd.config import DPConfig
 from dptbd.dsp.association import AssociationConfig, make_candidates
 from dptbd.dsp.backtrack import candidate_paths, track_positions
 from dptbd.dsp.c_tracker import tracker_class
-from dptbd.dsp.chain import PipelineResult
+from dptbd.evaluation.chain import PipelineResult
 from dptbd.errors import check_int
 from dptbd.model.fast_family import fast_family_start, fast_family_step
 from dptbd.model.segmentation import candidates as map_candidates
@@ -44,7 +44,7 @@ def run_recursive_pipeline(frames: np.ndarray, cfg: DPConfig, count: int,
                            dsp: str = "python") -> PipelineResult:
     """Run the recursive DP on ``frames (T, H, W)`` and the DSP association on its maps.
 
-    Returns a :class:`dptbd.dsp.chain.PipelineResult` whose ``cfg`` is
+    Returns a :class:`dptbd.evaluation.chain.PipelineResult` whose ``cfg`` is
     :func:`recursive_view` (``segments.end_frames`` = the scored frames; ``maps[s, 0]`` is
     ``START``: a path stops L - 1 moves back).
     """

@@ -1,8 +1,8 @@
-"""dptbd.evaluation.table1_report: paper 001's Table 1 beside the measured rows."""
+"""dptbd.evaluation.table1.report: paper 001's Table 1 beside the measured rows."""
 
 from dptbd.evaluation.metrics import DetectionCounts
-from dptbd.evaluation.table1 import DETECTORS, PAPER_TABLE1, Table1Row
-from dptbd.evaluation.table1_report import format_table
+from dptbd.evaluation.table1.experiment import DETECTORS, PAPER_TABLE1, Table1Row
+from dptbd.evaluation.table1.report import format_table
 
 
 def test_one_setting_row_beside_the_paper():

@@ -1,12 +1,12 @@
-"""dptbd.evaluation.run_figures: the three figures of a run, with and without ground truth."""
+"""dptbd.evaluation.run.figures: the three figures of a run, with and without ground truth."""
 
 import numpy as np
 import pytest
 from PIL import Image
 
-from dptbd.evaluation.run_figures import figure_accumulated, figure_raw_frame, figure_tracks
-from dptbd.evaluation.run_job import run_job
-from dptbd.evaluation.scenario import parse_scenario
+from dptbd.evaluation.run.figures import figure_accumulated, figure_raw_frame, figure_tracks
+from dptbd.evaluation.run.job import run_job
+from dptbd.evaluation.run.scenario import parse_scenario
 
 
 @pytest.fixture(scope="module")

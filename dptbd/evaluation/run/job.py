@@ -5,17 +5,17 @@ the DSP stage, with its tables (:func:`run_job` -> :class:`RunResult`).
    recorded frames), derives the DP and segmenter parameters and checks that the sequence
    can be accumulated.
 2. :func:`run_job` optionally checks the generated Verilog on the frames
-   (:mod:`dptbd.evaluation.run_rtl`), runs both stages (:func:`dptbd.dsp.chain.run_pipeline`),
-   scores the tracks against the ground truth and builds the tables
-   (:mod:`dptbd.evaluation.run_report`).
+   (:mod:`dptbd.evaluation.run.rtl`), runs both stages
+   (:func:`dptbd.evaluation.chain.run_pipeline`), scores the tracks against the ground
+   truth and builds the tables (:mod:`dptbd.evaluation.run.report`).
 
-Nothing is written: :func:`dptbd.evaluation.run_report.write_run_folder` writes a result's
+Nothing is written: :func:`dptbd.evaluation.run.report.write_run_folder` writes a result's
 folder. What the job says while it runs goes to ``log`` (``print`` in the command).
 
 Example::
 
-    from dptbd.evaluation.run_job import run_job
-    from dptbd.evaluation.scenario import default_scenario
+    from dptbd.evaluation.run.job import run_job
+    from dptbd.evaluation.run.scenario import default_scenario
 
     result = run_job(default_scenario())
     print(result.table_text)
@@ -32,8 +32,8 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.dsp.association import AssociationConfig
-from dptbd.evaluation.run_rtl import RtlCheck, check_rtl
-from dptbd.evaluation.scenario import Scenario, ScenarioError, TargetSpec, check_snr
+from dptbd.evaluation.run.rtl import RtlCheck, check_rtl
+from dptbd.evaluation.run.scenario import Scenario, ScenarioError, TargetSpec, check_snr
 from dptbd.model.segmentation import count_for_rate
 
 __all__ = ["RunInput", "RunResult", "effective_scenario", "parse_target_option", "prepare",
@@ -60,7 +60,7 @@ class RunInput:
     truth, targets : tuple
         Ground truth and targets of a simulated scene (empty for recorded data).
     cfg : DPConfig
-        The DP and segmenter parameters (:func:`dptbd.dsp.chain.segmenter_settings` applied).
+        The DP and segmenter parameters (:func:`dptbd.evaluation.chain.segmenter_settings` applied).
     count : int
         n, candidate points per accumulated frame.
     assoc : AssociationConfig
@@ -119,7 +119,7 @@ class RunResult:
     tracks : list of dict
         One row per confirmed track.
     segmentation_bits : dict or None
-        Bits per segment handed to the DSP (:func:`.run_report.segmentation_bits`).
+        Bits per segment handed to the DSP (:func:`.report.segmentation_bits`).
     rtl : dict or None
         The RTL check's record (:func:`.run_rtl.check_rtl`), None without one.
     table_text : str
@@ -175,9 +175,9 @@ def effective_scenario(scenario_file: pathlib.Path | None = None, *,
     names it; ``seed``, ``snr`` and ``targets`` (``ROW,COL,VROW,VCOL[,SNR]`` strings) apply
     to a simulated scene only; an ``snr`` applies to every target; a ``segment_frames``
     without ``segment_stride`` makes the stride K. Refusals name the option
-    (:class:`~dptbd.evaluation.scenario.ScenarioError`).
+    (:class:`~dptbd.evaluation.run.scenario.ScenarioError`).
     """
-    from dptbd.evaluation.scenario import DEFAULT_NAME, default_scenario, load_scenario
+    from dptbd.evaluation.run.scenario import DEFAULT_NAME, default_scenario, load_scenario
 
     scenario = default_scenario() if scenario_file is None else load_scenario(scenario_file)
     changes: dict = {}
@@ -233,7 +233,7 @@ def prepare(scenario: Scenario, *, headroom: float = 2.0) -> RunInput:
         Checked (:meth:`Scenario.check`).
     headroom : float
         The gateware segmenter selects ``headroom`` x n points; the DSP trims each list to n
-        (:func:`dptbd.dsp.chain.segmenter_settings`).
+        (:func:`dptbd.evaluation.chain.segmenter_settings`).
 
     Raises
     ------
@@ -241,7 +241,7 @@ def prepare(scenario: Scenario, *, headroom: float = 2.0) -> RunInput:
         The sequence is shorter than a segment, the false-alarm rate keeps no point, or the
         report frame is outside the sequence (and whatever loading the data raises).
     """
-    from dptbd.dsp.chain import segmenter_settings
+    from dptbd.evaluation.chain import segmenter_settings
     from dptbd.scenes.recorded import load_sequence
     from dptbd.scenes.synthetic import quantise
 
@@ -291,7 +291,7 @@ def run_job(scenario: Scenario, *, rtl: RtlCheck | None = None, dsp: str = "pyth
     rtl : RtlCheck, optional
         Also simulate the generated Verilog (the whole FPGA stage with gateware lists, the DP
         pipeline with ideal lists) and stop unless it is bit-exact
-        (:class:`~dptbd.evaluation.run_rtl.RtlError`).
+        (:class:`~dptbd.evaluation.run.rtl.RtlError`).
     dsp : {"python", "c"}
         The DSP stage's association: the Python reference model or the C firmware
         (``docs/dsp_firmware.md``); the tracks and tables are the same bit for bit.
@@ -300,9 +300,9 @@ def run_job(scenario: Scenario, *, rtl: RtlCheck | None = None, dsp: str = "pyth
     log : callable
         Receives every line the job reports while it runs (default: none).
     """
-    from dptbd.dsp.chain import run_pipeline
+    from dptbd.evaluation.chain import run_pipeline
     from dptbd.dsp.track_metrics import evaluate_tracks
-    from dptbd.evaluation import run_report as report
+    from dptbd.evaluation.run import report
 
     started = time.perf_counter()
     inp = prepare(scenario)

@@ -1,4 +1,4 @@
-"""``dptbd.dsp.chain``: the FPGA -> DSP chain behind ``dptbd run``, on a small scene.
+"""``dptbd.evaluation.chain``: the FPGA -> DSP chain behind ``dptbd run``, on a small scene.
 
 The main job's whole-run figures are tested through the command (``tests/commands/test_run.py``);
 here the chain itself: the association implementation it runs, and its refusals.
@@ -11,7 +11,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.dsp.association import AssociationConfig
-from dptbd.dsp.chain import run_pipeline, segmenter_settings
+from dptbd.evaluation.chain import run_pipeline, segmenter_settings
 from dptbd.scenes import synthetic
 
 

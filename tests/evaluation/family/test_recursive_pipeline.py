@@ -1,4 +1,5 @@
-"""``dptbd.evaluation.recursive_pipeline``: the recursive DP's maps through the DSP association."""
+"""``dptbd.evaluation.family.recursive_pipeline``: the recursive DP's maps through the DSP
+association."""
 
 from __future__ import annotations
 
@@ -10,9 +11,9 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.dsp.association import AssociationConfig
 from dptbd.dsp.backtrack import backtrack
-from dptbd.evaluation import family_detection as fd
-from dptbd.evaluation.family_association import job_outcome
-from dptbd.evaluation.recursive_pipeline import recursive_view, run_recursive_pipeline
+from dptbd.evaluation.family import detection as fd
+from dptbd.evaluation.family.association import job_outcome
+from dptbd.evaluation.family.recursive_pipeline import recursive_view, run_recursive_pipeline
 from dptbd.model.family import run_family_fixed
 
 

@@ -61,7 +61,7 @@ from typing import Any, Mapping
 
 from dptbd.config import DPConfig, non_saturating_energy_bits
 from dptbd.errors import ConfigError, DptbdError
-from dptbd.dsp.chain import LISTS
+from dptbd.evaluation.chain import LISTS
 from dptbd.scenes import synthetic as scenes
 from dptbd.dsp.association import AssociationConfig, AssociationError
 

@@ -1,4 +1,4 @@
-"""dptbd.evaluation.run_job: the scenario with run's options, the prepared input, the job's
+"""dptbd.evaluation.run.job: the scenario with run's options, the prepared input, the job's
 result and what it logs, every refusal (whole message)."""
 
 import re
@@ -6,10 +6,10 @@ import re
 import numpy as np
 import pytest
 
-from dptbd.evaluation import run_job as job
-from dptbd.evaluation.run_job import effective_scenario, parse_target_option, prepare, run_job
-from dptbd.evaluation.run_rtl import RtlCheck
-from dptbd.evaluation.scenario import DEFAULT_NAME, ScenarioError, parse_scenario
+from dptbd.evaluation.run import job
+from dptbd.evaluation.run.job import effective_scenario, parse_target_option, prepare, run_job
+from dptbd.evaluation.run.rtl import RtlCheck
+from dptbd.evaluation.run.scenario import DEFAULT_NAME, ScenarioError, parse_scenario
 
 SMALL = {"name": "small",
          "scene": {"size": [32, 32], "frames": 24, "snr": 5.0, "seed": 3,

@@ -1,4 +1,4 @@
-"""``dptbd.evaluation.paper000_rtl``: paper 000's cases and gain curve on the gateware equal
+"""``dptbd.evaluation.paper000.experiment``: paper 000's cases and gain curve on the gateware equal
 the same job on the golden model exactly; a corrupted RTL state is located; refusals.
 
 The RTL tests need Verilator (skipped otherwise); a 64 x 64, radius-2 build compiles in a
@@ -16,8 +16,8 @@ import pytest
 from dptbd.errors import ConfigError
 from dptbd.evaluation.detectors import paper000
 from dptbd.evaluation.detectors._checks import DetectorError
-from dptbd.evaluation.paper000_rtl import GAIN_DPS, Paper000Spec, run_paper000
-from dptbd.evaluation.paper000_variants import fixed_variant
+from dptbd.evaluation.paper000.experiment import GAIN_DPS, Paper000Spec, run_paper000
+from dptbd.evaluation.paper000.variants import fixed_variant
 
 needs_verilator = pytest.mark.skipif(shutil.which("verilator") is None,
                                      reason="needs Verilator (scripts/setup.sh)")

@@ -1,4 +1,4 @@
-"""dptbd.evaluation.run_report: the run's tables, summary.json and its all-or-nothing folder."""
+"""dptbd.evaluation.run.report: the run's tables, summary.json and its all-or-nothing folder."""
 
 import csv
 import json
@@ -6,11 +6,11 @@ import re
 
 import pytest
 
-from dptbd.evaluation import run_figures
-from dptbd.evaluation.run_job import run_job
-from dptbd.evaluation.run_report import (RUN_FILES, TOOL, format_run_tables, run_summary,
+from dptbd.evaluation.run import figures as run_figures
+from dptbd.evaluation.run.job import run_job
+from dptbd.evaluation.run.report import (RUN_FILES, TOOL, format_run_tables, run_summary,
                                          write_run_folder)
-from dptbd.evaluation.scenario import parse_scenario
+from dptbd.evaluation.run.scenario import parse_scenario
 
 SMALL = {"name": "small",
          "scene": {"size": [32, 32], "frames": 24, "snr": 5.0, "seed": 3,

@@ -1,4 +1,4 @@
-"""Paper 000's experiments through its DP variants on the gateware (issue 15), against float.
+"""Paper 000's experiments through its DP variants on the gateware, against float.
 
 ``dptbd paper000`` (``docs/detectors.md`` §1.6) runs, on the same seeded scenes,
 
@@ -8,17 +8,17 @@
   protocol and seeds: per-cell Pfa thresholds from noise-only scenes, the likelihood DP
   recalibrated at each SNR, detected = a gate cell above the threshold),
 
-each variant twice: **fixed point** (:func:`dptbd.evaluation.paper000_variants.fixed_maps`,
+each variant twice: **fixed point** (:func:`dptbd.evaluation.paper000.variants.fixed_maps`,
 on the golden model or — ``engine="rtl"`` — on the compiled gateware with every state word
 of every frame checked bit for bit against :mod:`dptbd.model.fast_family`) and **float**
-(:func:`~dptbd.evaluation.paper000_variants.float_maps`, the float runs of §1.4–1.5).
+(:func:`~dptbd.evaluation.paper000.variants.float_maps`, the float runs of §1.4–1.5).
 Fixed and float are compared as ``dptbd compare`` compares them: on the same scenes, with
 paired intervals (:func:`dptbd.evaluation.compare.report.paired_difference`, clustered by
 scene) and paired-bootstrap SNR losses (:func:`dptbd.evaluation.snr_loss.bootstrap_losses`).
 
 The scenes run in chunks as tasks on the execution layer
 (:mod:`dptbd.evaluation.execution`); every number depends only on the seeds, never on the
-chunking or the workers. :mod:`dptbd.evaluation.paper000_rtl_report` writes the tables.
+chunking or the workers. :mod:`dptbd.evaluation.paper000.report` writes the tables.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ import numpy as np
 from dptbd.evaluation.detectors import paper000
 from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_prob
 from dptbd.evaluation.execution import job_execution, map_tasks
-from dptbd.evaluation.paper000_variants import (ENGINES, fixed_maps, fixed_variant, float_maps,
+from dptbd.evaluation.paper000.variants import (ENGINES, fixed_maps, fixed_variant, float_maps,
                                                 quantise_scene)
 from dptbd.scenes import synthetic as scenes
 

@@ -1,12 +1,12 @@
-"""dptbd.evaluation.table1: paper 001's Table 1 by Monte Carlo, the same rows on any number of
-workers."""
+"""dptbd.evaluation.table1.experiment: paper 001's Table 1 by Monte Carlo, the same rows on any
+number of workers."""
 
 import numpy as np
 import pytest
 
 from dptbd.errors import DptbdError
 from dptbd.evaluation.execution import ExecutionError
-from dptbd.evaluation.table1 import DETECTORS, SETTINGS, run_table1, table1_rows
+from dptbd.evaluation.table1.experiment import DETECTORS, SETTINGS, run_table1, table1_rows
 
 
 def test_table1_one_trial_dp_beats_single_frame():

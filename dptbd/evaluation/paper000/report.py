@@ -1,4 +1,5 @@
-"""Statistics and Markdown tables of ``dptbd paper000`` (:mod:`dptbd.evaluation.paper000_rtl`).
+"""Statistics and Markdown tables of ``dptbd paper000``
+(:mod:`dptbd.evaluation.paper000.experiment`).
 
 Fixed against float as ``dptbd compare`` does it: per scene (the cluster) the two outcomes
 on the same scene, the paired difference with its 95 % interval

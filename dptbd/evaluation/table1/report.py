@@ -1,10 +1,10 @@
 """The table of ``dptbd table1``: paper 001's Table 1 beside the measured rows
-(:func:`dptbd.evaluation.table1.run_table1`)."""
+(:func:`dptbd.evaluation.table1.experiment.run_table1`)."""
 
 from __future__ import annotations
 
 from dptbd.evaluation.stats import wilson_interval
-from dptbd.evaluation.table1 import DETECTORS, PAPER_TABLE1, Table1Row
+from dptbd.evaluation.table1.experiment import DETECTORS, PAPER_TABLE1, Table1Row
 
 __all__ = ["format_table"]
 

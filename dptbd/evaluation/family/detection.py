@@ -1,6 +1,6 @@
-"""K-frame segments against the recursive DP with a forgetting factor (issue 15, first level).
+"""K-frame segments against the recursive DP with a forgetting factor (first level).
 
-On paper 001's Table 1 setting (``dptbd.evaluation.table1``: 128 x 128, 100 frames, the
+On paper 001's Table 1 setting (``dptbd.evaluation.table1.experiment``: 128 x 128, 100 frames, the
 same ADC, scenes and candidate count n = 33 = 0.2 % per detection map), the golden model
 of ``docs/arithmetic.md`` runs the direction-weighted DP (001's eq (11) LUT) either
 
@@ -23,7 +23,7 @@ import numpy as np
 from dptbd.config import DPConfig
 from dptbd.errors import check_int, check_real
 from dptbd.evaluation.metrics import DetectionCounts, first_level_counts
-from dptbd.evaluation.table1 import FALSE_ALARM_RATE, SETTINGS, table1_config
+from dptbd.evaluation.table1.experiment import FALSE_ALARM_RATE, SETTINGS, table1_config
 from dptbd.model.fast import run_fixed_fast
 from dptbd.model.fast_family import run_family_fast
 from dptbd.model.segmentation import candidate_mask, count_for_rate
@@ -76,7 +76,7 @@ def recursive(alpha: float, warmup: int = 7, segment_frames: int = 6,
 
     ``warmup``: the first scored map (first level, :func:`variant_counts`);
     ``segment_frames``: the frames a candidate's path is backtracked over and the cadence
-    of the lists the DSP receives (:mod:`dptbd.evaluation.family_association`);
+    of the lists the DSP receives (:mod:`dptbd.evaluation.family.association`);
     ``zero_move_penalty``: a penalty code (``docs/arithmetic.md`` §8.2) on the zero move
     after any predecessor but ``START``, against the recursion's wake.
     """

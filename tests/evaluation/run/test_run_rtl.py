@@ -1,10 +1,10 @@
-"""dptbd.evaluation.run_rtl: the lines that say what the RTL check covered, and its refusals."""
+"""dptbd.evaluation.run.rtl: the lines that say what the RTL check covered, and its refusals."""
 
 import numpy as np
 import pytest
 
 from dptbd.config import DPConfig
-from dptbd.evaluation.run_rtl import RtlCheck, RtlError, rtl_line, rtl_summary, run_rtl
+from dptbd.evaluation.run.rtl import RtlCheck, RtlError, rtl_line, rtl_summary, run_rtl
 
 
 def test_rtl_summary_names_frames_words_and_cycles():

@@ -1,4 +1,4 @@
-"""``dptbd.evaluation.paper000_variants``: 000's variants as DPConfigs, E mapped back to h."""
+"""``dptbd.evaluation.paper000.variants``: 000's variants as DPConfigs, E mapped back to h."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 
 from dptbd.evaluation.detectors import paper000, unified
 from dptbd.evaluation.detectors._checks import DetectorError
-from dptbd.evaluation.paper000_variants import (ADC_GAIN, ADC_OFFSET, LIKELIHOOD_SCALE,
+from dptbd.evaluation.paper000.variants import (ADC_GAIN, ADC_OFFSET, LIKELIHOOD_SCALE,
                                                 fixed_maps, fixed_variant, quantise_scene)
 from dptbd.scenes import synthetic as scenes
 

@@ -1,6 +1,6 @@
 """The report of ``dptbd run``: 001's Table 1 form, track lists, and the output folder
 (:func:`write_run_folder`: tables, CSV, ``summary.json``, ``scenario.toml`` and the figures of
-:mod:`dptbd.evaluation.run_figures`) of a :class:`~dptbd.evaluation.run_job.RunResult`.
+:mod:`dptbd.evaluation.run.figures`) of a :class:`~dptbd.evaluation.run.job.RunResult`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import Any, Iterable
 import numpy as np
 
 from dptbd.evaluation.metrics import first_level_counts
-from dptbd.evaluation.table1 import PAPER_TABLE1
+from dptbd.evaluation.table1.experiment import PAPER_TABLE1
 
 __all__ = ["TOOL", "RUN_FILES", "TABLE_COLUMNS", "table_rows", "format_table", "paper_lines",
            "track_rows", "format_tracks", "format_run_tables", "write_csv", "write_json",
@@ -322,7 +322,7 @@ def format_segmentation_bits(sb: dict) -> str:
 
 
 def run_summary(result, seconds: float) -> dict:
-    """``summary.json`` of a :class:`~dptbd.evaluation.run_job.RunResult`."""
+    """``summary.json`` of a :class:`~dptbd.evaluation.run.job.RunResult`."""
     from dptbd import __version__
 
     inp, pipeline = result.input, result.pipeline
@@ -376,7 +376,7 @@ def write_run_folder(result, out: pathlib.Path, force: bool = False) -> pathlib.
     pathlib.Path
         The folder written.
     """
-    from dptbd.evaluation import run_figures
+    from dptbd.evaluation.run import figures as run_figures
     from dptbd.output_folder import staged_folder
 
     inp, pipeline, evaluation = result.input, result.pipeline, result.evaluation

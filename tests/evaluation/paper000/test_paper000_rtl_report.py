@@ -1,12 +1,12 @@
-"""``dptbd.evaluation.paper000_rtl_report``: compare's paired statistics on 000's job."""
+"""``dptbd.evaluation.paper000.report``: compare's paired statistics on 000's job."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from dptbd.evaluation.compare.report import paired_difference
-from dptbd.evaluation.paper000_rtl import Paper000Spec, run_paper000
-from dptbd.evaluation.paper000_rtl_report import markdown, summarise
+from dptbd.evaluation.paper000.experiment import Paper000Spec, run_paper000
+from dptbd.evaluation.paper000.report import markdown, summarise
 
 
 def test_summary_is_compares_paired_difference_per_scene_and_the_tables_show_it():

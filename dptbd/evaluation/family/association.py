@@ -1,13 +1,14 @@
-"""K-frame segments against the recursive DP through the DSP association (issue 15).
+"""K-frame segments against the recursive DP through the DSP association.
 
 On ``dptbd run``'s built-in scenario (001's second experiment: 128 x 128, 100 frames,
-SNR 2.0, two targets; :func:`dptbd.evaluation.scenario.default_scenario`) with one seed,
-prepared exactly as ``dptbd run`` prepares it (:func:`dptbd.evaluation.run_job.prepare`),
+SNR 2.0, two targets; :func:`dptbd.evaluation.run.scenario.default_scenario`) with one seed,
+prepared exactly as ``dptbd run`` prepares it (:func:`dptbd.evaluation.run.job.prepare`),
 one variant runs through the FPGA stage and the DSP stage:
 
-* segments of K frames (stride K): :func:`dptbd.dsp.chain.run_pipeline`;
+* segments of K frames (stride K): :func:`dptbd.evaluation.chain.run_pipeline`;
 * the recursive DP with forgetting factor alpha, scored every ``every`` frames with paths
-  backtracked over ``path_frames``: :func:`dptbd.evaluation.recursive_pipeline.run_recursive_pipeline`.
+  backtracked over ``path_frames``:
+  :func:`dptbd.evaluation.family.recursive_pipeline.run_recursive_pipeline`.
 
 Both with the ideal lists (each map's n = 33 largest pixels: equal false points per map)
 and the scenario's association parameters. Per target: frames until output (None: never
@@ -21,12 +22,12 @@ import dataclasses
 
 import numpy as np
 
-from dptbd.dsp.chain import run_pipeline
+from dptbd.evaluation.chain import run_pipeline
 from dptbd.dsp.track_metrics import evaluate_tracks
-from dptbd.evaluation.family_detection import Variant
-from dptbd.evaluation.recursive_pipeline import run_recursive_pipeline
-from dptbd.evaluation.run_job import prepare
-from dptbd.evaluation.scenario import default_scenario
+from dptbd.evaluation.family.detection import Variant
+from dptbd.evaluation.family.recursive_pipeline import run_recursive_pipeline
+from dptbd.evaluation.run.job import prepare
+from dptbd.evaluation.run.scenario import default_scenario
 
 __all__ = ["JobOutcome", "job_outcome"]
 

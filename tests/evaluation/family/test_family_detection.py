@@ -1,4 +1,4 @@
-"""``dptbd.evaluation.family_detection``: variants, their configurations, the counts."""
+"""``dptbd.evaluation.family.detection``: variants, their configurations, the counts."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from dptbd.errors import DptbdError
-from dptbd.evaluation import family_detection as fd
-from dptbd.evaluation.table1 import table1_config
+from dptbd.evaluation.family import detection as fd
+from dptbd.evaluation.table1.experiment import table1_config
 
 
 def test_segment_variant_is_table1s_configuration_with_stride_k():
