@@ -19,8 +19,8 @@ import time
 from dptbd.commands.options import add_execution_arguments
 from dptbd.evaluation.detectors.pd_vs_snr import SCENES, SceneSpec, run_comparison
 from dptbd.evaluation.detectors._checks import DetectorError
-from dptbd.evaluation.detectors.interface import (
-    DETECTORS, DEFAULT_DETECTORS, detector_parameters, parse_detectors)
+from dptbd.evaluation.detectors.adapters import (DETECTORS, DEFAULT_DETECTORS, detector_parameters,
+                                                 parse_detectors)
 from dptbd.evaluation.detectors.report import (DEFAULT_SNRS_DB, OUT_FILES, TOOL, describe_run,
                                                figure_pd_vs_snr, format_table, write_folder)
 from dptbd.output_folder import check_output_file, check_output_folder, write_new_text

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dptbd.evaluation.detectors import paper000, unified
+from dptbd.evaluation.detectors import merits, paper000, unified
 from dptbd.evaluation.detectors._checks import DetectorError
 from dptbd.evaluation.paper000.variants import (ADC_GAIN, ADC_OFFSET, LIKELIHOOD_SCALE,
                                                 fixed_maps, fixed_variant, quantise_scene)
@@ -41,7 +41,7 @@ def test_amplitude_variants_map_back_to_the_float_dp_of_the_codes_exactly(case):
     codes = quantise_scene(frames)
     got, tally = fixed_maps(variant, codes, "model")
     z = (codes.astype(np.float64) - ADC_OFFSET) / ADC_GAIN
-    want = unified.run_unified(z, unified.amplitude_merit(),
+    want = unified.run_unified(z, merits.amplitude_merit(),
                                -variant.cfg.penalty_code_array / ADC_GAIN).value
     assert tally is None
     np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
