@@ -61,6 +61,7 @@ from typing import Any, Mapping
 
 from dptbd.config import DPConfig, non_saturating_energy_bits
 from dptbd.errors import ConfigError, DptbdError
+from dptbd.toml_writer import dump_toml
 from dptbd.evaluation.chain import LISTS
 from dptbd.scenes import synthetic as scenes
 from dptbd.dsp.association import AssociationConfig, AssociationError
@@ -398,39 +399,3 @@ def load_scenario(path: str | pathlib.Path) -> Scenario:
         return parse_scenario(data, path.resolve().parent)
     except ScenarioError as exc:
         raise ScenarioError(f"{path}: {exc}") from exc
-
-
-# ---- a small TOML writer (tomllib reads only) --------------------------------------------
-
-def _toml_value(v: Any) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        return repr(v) if math.isfinite(v) else ("nan" if math.isnan(v) else
-                                                  ("inf" if v > 0 else "-inf"))
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    if isinstance(v, Mapping):
-        return "{" + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + "}"
-    raise TypeError(f"cannot write {type(v).__name__} to TOML")
-
-
-def dump_toml(data: Mapping[str, Any]) -> str:
-    """TOML text of a two-level document (scalars, tables, arrays of tables one level down)."""
-    lines = [f"{k} = {_toml_value(v)}" for k, v in data.items() if not isinstance(v, Mapping)]
-    for name, table in data.items():
-        if not isinstance(table, Mapping):
-            continue
-        lines += ["", f"[{name}]"]
-        arrays = {k: v for k, v in table.items()
-                  if isinstance(v, list) and v and all(isinstance(x, Mapping) for x in v)}
-        lines += [f"{k} = {_toml_value(v)}" for k, v in table.items() if k not in arrays]
-        for key, items in arrays.items():
-            for item in items:
-                lines += ["", f"[[{name}.{key}]]"]
-                lines += [f"{k} = {_toml_value(v)}" for k, v in item.items()]
-    return "\n".join(lines) + "\n"
