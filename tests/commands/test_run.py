@@ -132,15 +132,16 @@ def _bad_inputs(inputs):
                                 "is not a NumPy .npy file")
     np.save(inputs / "objects.npy", np.array([{"a": 1}], dtype=object), allow_pickle=True)
     cases["object array"] = (["--input", str(inputs / "objects.npy")], "holds Python objects")
-    cases["negative --snr"] = (["--snr", "-1"], "--snr must be a finite number > 0")
-    cases["zero --snr"] = (["--snr", "0"], "--snr must be a finite number > 0")
-    cases["nan --snr"] = (["--snr", "nan"], "--snr must be a finite number > 0")
-    cases["inf --snr"] = (["--snr", "inf"], "--snr must be a finite number > 0")
+    snr = "(001's SNR = (target mean - noise mean) / sigma) must be a finite real number in (0, inf)"
+    cases["negative --snr"] = (["--snr", "-1"], f"--snr {snr}, got -1.0\n")
+    cases["zero --snr"] = (["--snr", "0"], f"--snr {snr}, got 0.0\n")
+    cases["nan --snr"] = (["--snr", "nan"], f"--snr {snr}, got nan\n")
+    cases["inf --snr"] = (["--snr", "inf"], f"--snr {snr}, got inf\n")
     cases["negative target SNR"] = (["--target", "20,4,0.2,0.9,-2"],
-                                    "SNR must be a finite number > 0")
+                                    f"--target '20,4,0.2,0.9,-2': SNR {snr}, got -2.0\n")
     (inputs / "snr.toml").write_text(SMALL.replace("snr = 5.0", "snr = -5.0"))
     cases["negative TOML snr"] = (["--scenario", str(inputs / "snr.toml")],
-                                  "[scene] snr must be a finite positive number")
+                                  "[scene] snr must be a finite real number in (0, inf), got -5.0\n")
     np.save(inputs / "empty.npy", np.zeros((0, 16, 16), np.uint8))
     cases["empty sequence"] = (["--input", str(inputs / "empty.npy")], "empty")
     np.save(inputs / "short.npy", rng.integers(0, 255, (3, 16, 16)).astype(np.uint8))

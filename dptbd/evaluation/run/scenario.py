@@ -54,13 +54,12 @@ Every table and key is checked: an unknown one is refused by name, with the allo
 from __future__ import annotations
 
 import dataclasses
-import math
 import pathlib
 import tomllib
 from typing import Any, Mapping
 
 from dptbd.config import DPConfig, non_saturating_energy_bits
-from dptbd.errors import ConfigError, DptbdError
+from dptbd.errors import ConfigError, DptbdError, check_int, check_real
 from dptbd.toml_writer import dump_toml
 from dptbd.evaluation.chain import LISTS
 from dptbd.scenes import synthetic as scenes
@@ -245,28 +244,23 @@ def _check_keys(where: str, table: Any, allowed: set[str]) -> dict:
     return dict(table)
 
 
-def _int(where: str, v: Any, lo: int | None = None) -> int:
-    if isinstance(v, bool) or not isinstance(v, int) or (lo is not None and v < lo):
-        span = "an integer" if lo is None else f"an integer >= {lo}"
-        raise ScenarioError(f"{where} must be {span}, got {v!r}")
-    return v
+def _int(where: str, v: Any, lo: int) -> int:
+    """An integer >= ``lo`` (:func:`dptbd.errors.check_int`'s message)."""
+    return check_int(where, v, lo, error=ScenarioError)
 
 
 def _real(where: str, v: Any, *, positive: bool = False) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
-            or (positive and v <= 0):
-        raise ScenarioError(f"{where} must be a finite {'positive ' if positive else ''}number, "
-                            f"got {v!r}")
-    return float(v)
+    """A finite real number, > 0 if ``positive`` (:func:`dptbd.errors.check_real`'s message)."""
+    if positive:
+        return check_real(where, v, 0.0, lo_open=True, error=ScenarioError)
+    return check_real(where, v, error=ScenarioError)
 
 
 def check_snr(where: str, snr: Any) -> float:
-    """001's SNR, (target mean - noise mean) / sigma: a finite number > 0, else refused."""
-    if isinstance(snr, bool) or not isinstance(snr, (int, float)) or not math.isfinite(snr) \
-            or snr <= 0:
-        raise ScenarioError(f"{where} must be a finite number > 0 (001's SNR = (target mean - "
-                            f"noise mean) / sigma), got {snr!r}")
-    return float(snr)
+    """001's SNR, (target mean - noise mean) / sigma: a finite real number > 0, else refused
+    (:func:`dptbd.errors.check_real`'s message, the SNR's definition in its name)."""
+    return check_real(f"{where} (001's SNR = (target mean - noise mean) / sigma)", snr, 0.0,
+                      lo_open=True, error=ScenarioError)
 
 
 def _pair(where: str, v: Any) -> tuple[float, float]:
