@@ -329,6 +329,13 @@ class DPConfig(FamilyFields):
             return 0
         return (n_frames - self.segment_frames) // self.segment_stride + 1
 
+    def describe(self) -> str:
+        """The one-line summary every command prints:
+        ``"128x128, K=4, B_in=8, B_E=16, F=8, r=1, truncate"``."""
+        return (f"{self.width}x{self.height}, K={self.segment_frames}, B_in={self.input_bits}, "
+                f"B_E={self.energy_bits}, F={self.weight_frac_bits}, r={self.radius}, "
+                f"{self.rounding}")
+
     def replace(self, **changes: Any) -> "DPConfig":
         """A copy with some parameters changed (validated again).
 

@@ -475,3 +475,10 @@ def test_k_max_out_of_range(overrides, message):
         warnings.simplefilter("ignore", EnergyWidthWarning)
         with pytest.raises(ConfigError, match=whole(message)):
             DPConfig(**overrides)
+
+
+def test_describe_is_the_one_summary_line():
+    assert DPConfig().describe() == "128x128, K=4, B_in=8, B_E=16, F=8, r=1, truncate"
+    cfg = DPConfig(width=40, height=24, segment_frames=6, input_bits=12, energy_bits=20,
+                   weight_frac_bits=3, radius=2, rounding="half_up")
+    assert cfg.describe() == "40x24, K=6, B_in=12, B_E=20, F=3, r=2, half_up"

@@ -45,9 +45,8 @@ def main(args: argparse.Namespace) -> int:
     if args.list:
         for c in cases:
             cfg = c.cfg
-            print(f"{c.name:28s} {c.design:9s} {cfg.width}x{cfg.height} K={cfg.segment_frames} "
-                  f"B_in={cfg.input_bits} B_E={cfg.energy_bits} F={cfg.weight_frac_bits} "
-                  f"r={cfg.radius}  {c.runs} runs x {c.frames} frames  faults: "
+            print(f"{c.name:28s} {c.design:9s} {cfg.describe()}  {c.runs} runs x {c.frames} "
+                  f"frames  faults: "
                   f"{', '.join(c.faults) or '-'}{', random LUT' if c.random_lut else ''}")
         return 0
     check_real("--runs-scale", args.runs_scale, 0.0, lo_open=True)

@@ -138,9 +138,7 @@ def main(args: argparse.Namespace) -> int:
     ports = ", ".join(f"{p['name']}[{p['width']}]" for p in info["ports"])
     print(f"wrote {out} (module {info['module']}, {info['top']}, {text.count(chr(10))} lines) "
           f"and {manifest}")
-    print(f"  {cfg.width}x{cfg.height}, K={cfg.segment_frames}, B_in={cfg.input_bits}, "
-          f"B_E={cfg.energy_bits}, F={cfg.weight_frac_bits}, r={cfg.radius}, {cfg.rounding}; "
-          f"weight LUT in {info['lut_style']}; latency {info['latency']} cycles")
+    print(f"  {cfg.describe()}; weight LUT in {info['lut_style']}; latency {info['latency']} cycles")
     print("  core options: " + ", ".join(f"{k}={v}" for k, v in info["core_options"].items())
           + ("" if args.family is None else f" (the {args.family} build)"))
     print(f"  ports: {ports}")
