@@ -57,8 +57,8 @@ import psutil
 from dptbd.evaluation.compare import build_spec, make_plan, run_compare
 from dptbd.evaluation.compare.runner import _chunk, _warm
 from dptbd.evaluation.execution import Execution, local_cluster, map_tasks
-from dptbd.evaluation import table1
-from dptbd.evaluation.table1 import SETTINGS, run_table1
+from dptbd.evaluation.table1 import experiment as table1
+from dptbd.evaluation.table1.experiment import SETTINGS, run_table1
 
 N_NOOP = 400
 IDLE_SECONDS = 20.0

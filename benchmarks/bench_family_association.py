@@ -17,7 +17,7 @@ recursive scoring every 6 frames. ``--zero-move-penalty Q`` subtracts the penalt
 (95 % Wilson interval), frames until output (mean and median over the confirmed runs),
 first-level Pd pooled over the lists; per run: false tracks (mean, runs with at least one).
 
-Library: ``dptbd.evaluation.family_association``. This script reports; it asserts nothing.
+Library: ``dptbd.evaluation.family.association``. This script reports; it asserts nothing.
 """
 
 from __future__ import annotations
@@ -26,8 +26,8 @@ import argparse
 
 import numpy as np
 
-from dptbd.evaluation import family_detection as fd
-from dptbd.evaluation.family_association import job_outcome
+from dptbd.evaluation.family import detection as fd
+from dptbd.evaluation.family.association import job_outcome
 from dptbd.evaluation.stats import wilson_interval
 
 

@@ -14,14 +14,14 @@
    of per-scene Pd against each segment variant with a 95 % interval over scenes; false
    points per map; maps per scene.
 
-Library: ``dptbd.evaluation.family_detection``. This script reports; it asserts nothing.
+Library: ``dptbd.evaluation.family.detection``. This script reports; it asserts nothing.
 """
 
 from __future__ import annotations
 
 import argparse
 
-from dptbd.evaluation import family_detection as fd
+from dptbd.evaluation.family import detection as fd
 from dptbd.evaluation.metrics import DetectionCounts
 from dptbd.evaluation.stats import wilson_interval
 

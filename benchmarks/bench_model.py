@@ -40,7 +40,8 @@ import warnings  # noqa: E402
 import numba  # noqa: E402
 import numpy as np  # noqa: E402
 
-from dptbd.config import DPConfig, plain_weights  # noqa: E402
+from dptbd.config import DPConfig
+from dptbd.weights import plain_weights  # noqa: E402
 from dptbd.model.fast import kernel_path, run_fixed_fast  # noqa: E402
 from dptbd.model.fixed import run_fixed  # noqa: E402
 

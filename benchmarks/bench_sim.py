@@ -107,7 +107,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
 
     if args.paper001:
-        from dptbd.evaluation.table1 import INPUT_BITS
+        from dptbd.evaluation.table1.experiment import INPUT_BITS
 
         cfg = DPConfig(width=128, height=128, segment_frames=8, input_bits=INPUT_BITS,
                        energy_bits=16)

@@ -52,8 +52,10 @@ import sys
 import time
 import warnings
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.hw.dp_core import CORE_OPTIONS
+from dptbd.output_folder import check_output_file
 from dptbd.hw.flow.synth import FAMILIES, CellCounts, SynthResult, get_family, synthesize
 
 _DEFAULT = DPConfig(width=128, height=128)
@@ -188,8 +190,10 @@ def main(argv=None) -> int:
     parser.add_argument("--json", type=pathlib.Path, help="also write the figures here")
     parser.add_argument("--force", action="store_true", help="overwrite --json")
     args = parser.parse_args(argv)
-    if args.json is not None and args.json.exists() and not args.force:
-        parser.error(f"{args.json} exists; pass --force to overwrite it")
+    try:
+        check_output_file(args.json, "--json", args.force, ".json")
+    except (ValueError, OSError) as exc:
+        parser.error(str(exc))
 
     core_options = {key: getattr(args, key) for key in CORE_OPTIONS
                     if getattr(args, key) is not None}

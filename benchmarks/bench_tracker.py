@@ -38,10 +38,10 @@ def _value(text: str):
 def run_seed(seed: int, association: dict, snr: float | None = None, lists: str = "gateware",
              dp: dict | None = None, headroom: float = 2.0) -> dict:
     """The built-in scenario with one seed through both stages; per-target metrics."""
-    from dptbd.dsp.chain import run_pipeline
+    from dptbd.evaluation.chain import run_pipeline
     from dptbd.dsp.track_metrics import evaluate_tracks
-    from dptbd.evaluation.run_job import prepare
-    from dptbd.evaluation.scenario import default_scenario
+    from dptbd.evaluation.run.job import prepare
+    from dptbd.evaluation.run.scenario import default_scenario
 
     changes = {"seed": seed, "association": association, "lists": lists}
     if snr is not None:

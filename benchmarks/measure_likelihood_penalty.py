@@ -12,9 +12,9 @@ is recalibrated at each SNR. Detectors:
 
 * ``CA-CFAR 16/2`` — §2.3's CA-CFAR on |z| of the last frame's positive cells;
 * ``likelihood DP, eq (22) penalty`` — eqs (19)–(23) with this project's reading of eq (22)
-  (``unified.velocity_log_penalty(2, alpha=1)``, ``docs/detectors.md`` §1.2): what §1.5's
+  (``transitions.velocity_log_penalty(2, alpha=1)``, ``docs/detectors.md`` §1.2): what §1.5's
   table and ``dptbd detectors``' ``dp-likelihood`` run;
-* ``likelihood DP, no penalty`` — the same merit with ``unified.no_penalty(2)``: eq (23)
+* ``likelihood DP, no penalty`` — the same merit with ``transitions.no_penalty(2)``: eq (23)
   without the prior term, i.e. without the project's reading of eq (22).
 
 Printed: Pd per SNR, the SNR at Pd 0.5 and 0.9 (``paper000.crossing_snr``) and each DP's
@@ -34,7 +34,7 @@ DETECTORS = ("CA-CFAR 16/2", "likelihood DP, eq (22) penalty", "likelihood DP, n
 
 
 def _maps(name: str, frames: np.ndarray, snr_db: float, epsilon: float) -> np.ndarray:
-    from dptbd.evaluation.detectors import cfar, unified
+    from dptbd.evaluation.detectors import cfar, merits, transitions, unified
     from dptbd.evaluation.detectors.paper000 import RADIUS
     from dptbd.scenes import synthetic as scenes
 
@@ -42,10 +42,10 @@ def _maps(name: str, frames: np.ndarray, snr_db: float, epsilon: float) -> np.nd
         last = frames[:, -1].astype(np.float64)
         ratio = cfar.ca_cfar_ratio(np.abs(last), n_ref=16, n_guard=2, axis=-2)
         return np.where(last > 0, ratio, 0.0)
-    merit = unified.likelihood_difference_merit(scenes.amplitude_from_snr_db(snr_db, 1.0),
+    merit = merits.likelihood_difference_merit(scenes.amplitude_from_snr_db(snr_db, 1.0),
                                                 epsilon, 1.0)
-    q = (unified.velocity_log_penalty(RADIUS, 1.0) if "penalty" in name and "no" not in name
-         else unified.no_penalty(RADIUS))
+    q = (transitions.velocity_log_penalty(RADIUS, 1.0) if "penalty" in name and "no" not in name
+         else transitions.no_penalty(RADIUS))
     return unified.run_unified(frames, merit, q, radius=RADIUS).value
 
 

@@ -4,7 +4,7 @@
     python benchmarks/measure_weighting.py association --seeds 40
     python benchmarks/measure_weighting.py association --seeds 40 --variants weighted-K4 weighted-K6 weighted-K8
 
-``cluster`` — on paper 001's Table 1 scenes (``dptbd.evaluation.table1``: the same
+``cluster`` — on paper 001's Table 1 scenes (``dptbd.evaluation.table1.experiment``: the same
 configuration, ADC, seed 2003 and candidate count as ``dptbd table1``; K = 6, stride 4),
 the direction-weighted DP and plain DP (an all-ones LUT) on the same scenes: per
 (accumulated frame, target) the candidates inside the 3 x 3 gate around the target's true
@@ -14,7 +14,7 @@ accumulated energy *stays* around the target; fewer means it spreads away from i
 
 ``association`` — ``dptbd run``'s built-in scenario (001's second experiment: 128 x 128,
 100 frames, SNR 2.0, two targets, 0.2 %, gateware lists with headroom 2) over seeds
-0 … N-1 through the FPGA stage and the DSP stage (``dptbd.dsp.chain``, as ``dptbd run``
+0 … N-1 through the FPGA stage and the DSP stage (``dptbd.evaluation.chain``, as ``dptbd run``
 builds it), for each variant: weighted or plain LUT, K = 4, 6 or 8 (stride K, the
 gateware's schedule). Per target: confirmed in how many runs (95 % Wilson interval,
 ``dptbd.evaluation.stats.wilson_interval``), frames until output (mean over the runs in
@@ -44,8 +44,8 @@ def _wilson(k: int, n: int) -> str:
 # ---- first level: points in the 3 x 3 gate -------------------------------------------------
 
 def cluster(trials: int, segment_frames: int, segment_stride: int, seed: int, chunk: int) -> None:
-    from dptbd.config import plain_weights
-    from dptbd.evaluation import table1
+    from dptbd.weights import plain_weights
+    from dptbd.evaluation.table1 import experiment as table1
     from dptbd.evaluation.metrics import near_mask
     from dptbd.model.fast import run_fixed_fast
     from dptbd.model.segmentation import candidate_mask, count_for_rate
@@ -88,9 +88,9 @@ def cluster(trials: int, segment_frames: int, segment_stride: int, seed: int, ch
 
 def run_seed(seed: int, weighted: bool, segment_frames: int) -> dict:
     """The built-in scenario of ``dptbd run`` with one seed, LUT and K, through both stages."""
-    from dptbd.config import plain_weights
-    from dptbd.evaluation.run_job import run_job
-    from dptbd.evaluation.scenario import default_scenario
+    from dptbd.weights import plain_weights
+    from dptbd.evaluation.run.job import run_job
+    from dptbd.evaluation.run.scenario import default_scenario
 
     sc = default_scenario()
     dp = {**sc.dp, "segment_frames": segment_frames}

@@ -9,8 +9,8 @@ fixed vs float, the other papers' detectors), ``dptbd.commands`` (the thin CLI).
 family and its parameter checks.
 """
 
-from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning
-from dptbd.errors import DptbdError
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.errors import ConfigError, DptbdError
 
 __all__ = ["DPConfig", "ConfigError", "DptbdError", "EnergyWidthWarning"]
 __version__ = "0.1.0"

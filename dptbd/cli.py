@@ -10,7 +10,7 @@ import argparse
 import importlib
 import sys
 
-from dptbd.config import ConfigError
+from dptbd.errors import ConfigError
 
 #: sub-command name -> (module, one-line help)
 COMMANDS = {

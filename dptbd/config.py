@@ -8,26 +8,21 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import warnings
 from typing import Any, Mapping
 
 import numpy as np
 
 from dptbd.config_family import FamilyFields
-from dptbd.errors import DptbdError, check_int, interval
+from dptbd.errors import ConfigError, check_int
+from dptbd.weights import check_move_table, move_offsets, paper_weights
 
 __all__ = [
     "DPConfig",
-    "ConfigError",
     "EnergyWidthWarning",
     "ROUNDING_MODES",
     "DEFAULT_FALSE_ALARM_RATE",
-    "check_move_table",
-    "move_offsets",
     "non_saturating_energy_bits",
-    "paper_weights",
-    "plain_weights",
 ]
 
 #: Rounding modes of the weight multiplier (``docs/arithmetic.md`` §4).
@@ -47,55 +42,8 @@ _RANGES = {
 }
 
 
-class ConfigError(DptbdError):
-    """A parameter is outside its allowed range; the message names both."""
-
-
 class EnergyWidthWarning(UserWarning):
     """``energy_bits`` is too narrow to accumulate K full-scale frames without saturating."""
-
-
-def move_offsets(radius: int) -> np.ndarray:
-    """The moves of the search window, in move-index order.
-
-    Move index ``m = (dy + r) * (2r + 1) + (dx + r)``: the target moved by ``(dy, dx)``
-    (rows, columns) from its predecessor at ``(y - dy, x - dx)`` to the pixel ``(y, x)``.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``int64`` array of shape ``((2r+1)**2, 2)`` holding ``(dy, dx)`` per move.
-    """
-    span = np.arange(-radius, radius + 1)
-    dy, dx = np.meshgrid(span, span, indexing="ij")
-    return np.stack([dy.ravel(), dx.ravel()], axis=1).astype(np.int64)
-
-
-def paper_weights(radius: int = 1) -> np.ndarray:
-    """Paper 001 eq (11): ``w(theta) = 1`` for ``|theta| <= 90 deg``, else 0.
-
-    ``theta`` is the angle between the predecessor's arrival move ``v1`` (its direction
-    ``d``) and the candidate move ``v2``; ``|theta| <= 90 deg`` is ``v1 . v2 >= 0``.
-    A zero move on either side has no angle and gets weight 1, and so does every move
-    from a pixel in its segment's first frame (direction code ``START``, the last row).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``float64`` LUT of shape ``(M + 1, M)`` indexed ``[predecessor d, move]``.
-    """
-    moves = move_offsets(radius)
-    n_moves = len(moves)
-    lut = np.ones((n_moves + 1, n_moves))
-    dots = moves @ moves.T
-    lut[:n_moves] = (dots >= 0).astype(np.float64)
-    return lut
-
-
-def plain_weights(radius: int = 1) -> np.ndarray:
-    """An all-ones LUT: the direction-weighted DP becomes paper 001 eq (8), plain DP."""
-    n_moves = (2 * radius + 1) ** 2
-    return np.ones((n_moves + 1, n_moves))
 
 
 def _check_int(name: str, value: Any, bounds: tuple[int, int] | None = None,
@@ -381,6 +329,13 @@ class DPConfig(FamilyFields):
             return 0
         return (n_frames - self.segment_frames) // self.segment_stride + 1
 
+    def describe(self) -> str:
+        """The one-line summary every command prints:
+        ``"128x128, K=4, B_in=8, B_E=16, F=8, r=1, truncate"``."""
+        return (f"{self.width}x{self.height}, K={self.segment_frames}, B_in={self.input_bits}, "
+                f"B_E={self.energy_bits}, F={self.weight_frac_bits}, r={self.radius}, "
+                f"{self.rounding}")
+
     def replace(self, **changes: Any) -> "DPConfig":
         """A copy with some parameters changed (validated again).
 
@@ -466,39 +421,6 @@ def non_saturating_energy_bits(input_bits: int, segment_frames: int) -> int:
     """The smallest B_E that accumulates K full-scale B_in-bit pixels without saturating:
     ``max(B_in, bitlen(K * (2**B_in - 1)))``."""
     return max(input_bits, (segment_frames * ((1 << input_bits) - 1)).bit_length())
-
-
-def check_move_table(name: str, table: Any, radius: int, lo: float = -math.inf,
-                     hi: float = math.inf, *, error: type[DptbdError] = ConfigError) -> np.ndarray:
-    """A finite table indexed ``[predecessor direction, move]`` with values in ``[lo, hi]``.
-
-    The shape of the weight LUT and of every table like it (paper 000's transition term):
-    ``(M + 1, M)`` with ``M = (2r + 1)**2``, the last row for direction code ``START``.
-
-    Returns
-    -------
-    numpy.ndarray
-        The table as ``float64``.
-
-    Raises
-    ------
-    ConfigError
-        (or the class given as ``error``) naming ``name``, the shape or the domain.
-    """
-    n_moves = (2 * radius + 1) ** 2
-    try:
-        arr = np.asarray(table, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise error(f"{name} must be a numeric table, got {type(table).__name__}") from exc
-    if arr.shape != (n_moves + 1, n_moves):
-        raise error(
-            f"{name} must have shape ({n_moves + 1}, {n_moves}) for radius={radius} "
-            f"([predecessor direction 0..{n_moves}, move 0..{n_moves - 1}]), got {arr.shape}")
-    good = np.isfinite(arr) & (arr >= lo) & (arr <= hi)
-    if not np.all(good):
-        raise error(f"{name} must be finite and in {interval(lo, hi)}, "
-                    f"found {arr[~good].ravel()[:3].tolist()}")
-    return arr
 
 
 #: §8 fields and their defaults; :meth:`DPConfig.to_mapping` leaves out a field at its

@@ -16,22 +16,15 @@ from typing import Any
 
 import numpy as np
 
-from dptbd.errors import check_bool, check_int, check_real, shown
+from dptbd.errors import ConfigError, check_bool, check_int, check_real, shown
 
 __all__ = ["FamilyFields"]
-
-
-def _config_error():
-    """:class:`dptbd.config.ConfigError` (imported when called: ``config`` imports this
-    module)."""
-    from dptbd.config import ConfigError
-    return ConfigError
 
 
 def _family_int(name: str, value: Any, bounds: tuple[int, int], lo_name: str = "",
                 hi_name: str = "") -> int:
     lo, hi = bounds
-    return check_int(name, value, lo, hi, error=_config_error(), lo_name=lo_name,
+    return check_int(name, value, lo, hi, error=ConfigError, lo_name=lo_name,
                      hi_name=hi_name)
 
 
@@ -40,10 +33,10 @@ class FamilyFields:
 
     def _validate_family(self) -> None:
         """Check and freeze the §8 fields (merit LUT, penalty LUT, forgetting, recursion)."""
-        check_bool("recursive", self.recursive, error=_config_error())
+        check_bool("recursive", self.recursive, error=ConfigError)
         object.__setattr__(self, "recursive", bool(self.recursive))
         if self.recursive and self.segment_stride != self.segment_frames:
-            raise _config_error()(
+            raise ConfigError(
                 f"segment_stride must be segment_frames={self.segment_frames} when "
                 f"recursive=True (one state that never resets), got {self.segment_stride}")
         top = self.energy_bits + 1
@@ -78,10 +71,10 @@ class FamilyFields:
         object.__setattr__(self, "forgetting_bits", _family_int(
             "forgetting_bits", self.forgetting_bits, (0, 16)))
         alpha = check_real("forgetting", self.forgetting, 0.0, 1.0, lo_open=True,
-                           error=_config_error())
+                           error=ConfigError)
         lowest = 2.0 ** -(self.forgetting_bits + 1)
         if alpha < lowest:
-            raise _config_error()(
+            raise ConfigError(
                 f"forgetting must be a finite real number in [{lowest:g}, 1] for forgetting_bits="
                 f"{self.forgetting_bits} (its code round(forgetting * 2**{self.forgetting_bits}) "
                 f"must be >= 1), got {shown(self.forgetting)}")
@@ -166,7 +159,7 @@ class FamilyFields:
         """
         fields = self.family_fields_in_use
         if fields:
-            raise _config_error()(
+            raise ConfigError(
                 f"{where} implements paper 001's datapath only (docs/arithmetic.md §4-§5), but "
                 f"this configuration sets paper 000's family field(s) {', '.join(fields)} "
                 f"(§8): use dptbd.model.family.run_family_fixed")
@@ -182,16 +175,16 @@ def _integer_table(name: str, table: Any, shape: tuple) -> np.ndarray:
     try:
         arr = np.asarray(table)
     except (TypeError, ValueError) as exc:
-        raise _config_error()(f"{name} must be a table of integers, got {type(table).__name__}") from exc
+        raise ConfigError(f"{name} must be a table of integers, got {type(table).__name__}") from exc
     if arr.shape != shape:
-        raise _config_error()(f"{name} must have shape {shape}, got {arr.shape}")
+        raise ConfigError(f"{name} must have shape {shape}, got {arr.shape}")
     if arr.dtype == bool or not np.issubdtype(arr.dtype, np.integer):
-        raise _config_error()(f"{name} must hold integers, got dtype {arr.dtype}")
+        raise ConfigError(f"{name} must hold integers, got dtype {arr.dtype}")
     return arr.astype(np.int64)
 
 
 def _check_codes(name: str, arr: np.ndarray, lo: int, hi: int, width: str) -> None:
     bad = (arr < lo) | (arr > hi)
     if np.any(bad):
-        raise _config_error()(f"{name} must be integers in [{lo}, {hi}] for {width}, "
+        raise ConfigError(f"{name} must be integers in [{lo}, {hi}] for {width}, "
                           f"found {arr[bad].ravel()[:3].tolist()}")

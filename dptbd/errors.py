@@ -1,9 +1,11 @@
 """The error family of ``dptbd`` and the one set of parameter checks every module uses.
 
 Every refusal of a parameter or input value is a :class:`DptbdError` (a ``ValueError``);
-each area has its own subclass (``dptbd.config.ConfigError``, ``dptbd.scenes.SceneError``,
+each area has its own subclass (``dptbd.scenes.SceneError``,
 ``dptbd.dsp.association.AssociationError``, …), defined where its area lives, so a caller
-can catch one area or all of them.
+can catch one area or all of them. :class:`ConfigError`, the refusal of a
+:class:`~dptbd.config.DPConfig` parameter, lives here: ``dptbd.config`` and
+``dptbd.config_family`` (the §8 half of the configuration) both raise it.
 
 The checks here write one message format, naming the parameter, its domain and the value
 given::
@@ -27,6 +29,7 @@ import numpy as np
 
 __all__ = [
     "DptbdError",
+    "ConfigError",
     "interval",
     "shown",
     "check_int",
@@ -39,6 +42,11 @@ __all__ = [
 
 class DptbdError(ValueError):
     """A parameter or input is outside its domain; the message names both."""
+
+
+class ConfigError(DptbdError):
+    """A :class:`~dptbd.config.DPConfig` parameter is outside its allowed range; the message
+    names both."""
 
 
 def shown(value: Any) -> str:

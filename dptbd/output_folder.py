@@ -19,7 +19,7 @@ import tempfile
 from typing import Iterator
 
 __all__ = ["check_output_folder", "staged_folder", "written_by", "check_output_file",
-           "write_new_text"]
+           "check_new_files", "check_still_new", "write_new_text"]
 
 
 def written_by(path: pathlib.Path, marker: str, tool: str) -> bool:
@@ -117,6 +117,26 @@ def check_output_file(path: pathlib.Path | None, option: str, force: bool,
         raise FileNotFoundError(f"{option} {path}: the folder {path.parent} does not exist")
     if (path.exists() or path.is_symlink()) and not force:
         raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
+
+
+def check_new_files(paths: list[pathlib.Path], force: bool) -> None:
+    """Refuse, before any work, a set of files written together (a Verilog file and its
+    manifest, a package) when any of them exists and ``force`` is off; the message names
+    every one that exists."""
+    existing = [str(p) for p in paths if p.exists() or p.is_symlink()]
+    if existing and not force:
+        names = existing[0] if len(existing) == 1 else \
+            f"{', '.join(existing[:-1])} and {existing[-1]}"
+        raise FileExistsError(f"{names} {'exists' if len(existing) == 1 else 'exist'}; pass "
+                              f"--force to overwrite")
+
+
+def check_still_new(path: pathlib.Path, option: str, force: bool) -> None:
+    """Just before writing a file that :func:`check_output_file` passed: refuse it if it
+    appeared during the run and ``force`` is off (for writers that cannot open with ``"x"``,
+    such as a figure's)."""
+    if (path.exists() or path.is_symlink()) and not force:
+        raise FileExistsError(f"{option} {path} appeared during the run; not overwritten")
 
 
 def write_new_text(path: pathlib.Path, text: str, force: bool) -> None:

@@ -114,7 +114,7 @@ class DPCore(wiring.Component):
     Parameters
     ----------
     cfg : DPConfig
-        The configuration; refused with :class:`~dptbd.config.ConfigError` when the
+        The configuration; refused with :class:`~dptbd.errors.ConfigError` when the
         gateware does not implement it (:func:`~dptbd.hw.schedule.check_supported`).
     output_fifo_depth : int or None
         Entries of the output FIFO. ``None`` (default) is ``latency + 2``, the least that

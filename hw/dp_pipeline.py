@@ -26,7 +26,7 @@ class DPPipeline(wiring.Component):
     Parameters
     ----------
     cfg : DPConfig
-        The configuration (refused with :class:`~dptbd.config.ConfigError` if the gateware
+        The configuration (refused with :class:`~dptbd.errors.ConfigError` if the gateware
         does not implement it, see :func:`~dptbd.hw.schedule.check_supported`).
     output_fifo_depth : int or None
         See :class:`~dptbd.hw.dp_core.DPCore`.

@@ -11,12 +11,7 @@ import dataclasses
 
 from dptbd.config import DPConfig
 
-__all__ = ["FamilyBlocks", "forgetting_leaves", "ceil_log2"]
-
-
-def ceil_log2(n: int) -> int:
-    """``ceil(log2(n))`` for n >= 1 (0 for n = 1)."""
-    return max(0, (n - 1).bit_length())
+__all__ = ["FamilyBlocks", "forgetting_leaves"]
 
 
 def forgetting_leaves(cfg: DPConfig) -> list[int]:

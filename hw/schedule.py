@@ -15,7 +15,10 @@ from __future__ import annotations
 
 import dataclasses
 
-from dptbd.config import ConfigError, DPConfig
+from amaranth.utils import ceil_log2
+
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.hw.family_blocks import FamilyBlocks, forgetting_leaves
 
 __all__ = ["MAX_TREE_STAGES", "PipelineSchedule", "read_ahead_distance", "check_supported",
@@ -27,10 +30,6 @@ MERIT_LUT_MAX_INPUT_BITS = 12
 
 #: ``DPCore(max_tree=…)``: register stages per tree level (MaxTree 1, SplitMaxTree 2).
 MAX_TREE_STAGES = {"compact": 1, "split": 2}
-
-
-def _ceil_log2(n: int) -> int:
-    return max(0, (n - 1).bit_length())
 
 
 @dataclasses.dataclass(frozen=True)
@@ -106,9 +105,9 @@ class PipelineSchedule:
                              f"got {max_tree!r}")
         frac = cfg.weight_frac_bits
         rows = frac + 1 + (1 if frac >= 1 else 0)  # partial products + rounding constant
-        multiplier_levels = max(1, _ceil_log2(rows))
+        multiplier_levels = max(1, ceil_log2(rows))
         # = max_tree.tree_levels(M) stages per level (SplitMaxTree: 2)
-        tree_levels = MAX_TREE_STAGES[max_tree] * _ceil_log2(cfg.n_moves)
+        tree_levels = MAX_TREE_STAGES[max_tree] * ceil_log2(cfg.n_moves)
         fetch, window, code = 1, 2, 3
         weighted = code + multiplier_levels
         # ---- paper 000's family (docs/arithmetic.md §8): stages exist only when built ----
@@ -116,7 +115,7 @@ class PipelineSchedule:
         penalty_levels = 1 if blocks.penalty_lut else 0
         penalised = weighted + penalty_levels
         best = penalised + tree_levels
-        forgetting_levels = (max(1, _ceil_log2(len(forgetting_leaves(cfg))))
+        forgetting_levels = (max(1, ceil_log2(len(forgetting_leaves(cfg))))
                              if blocks.forgetting else 0)
         faded = best + forgetting_levels
         # ---- end of paper 000's family --------------------------------------------------
@@ -144,7 +143,7 @@ def check_supported(cfg: DPConfig, *, max_tree: str = "compact") -> PipelineSche
 
     Raises
     ------
-    dptbd.config.ConfigError
+    dptbd.errors.ConfigError
         * ``segment_stride != segment_frames``: overlapping segments need one state store
           per live segment; the gateware has one.
         * ``W * H - r * (W + 1) <= write_latency``: the frame is too small for the

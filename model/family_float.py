@@ -17,7 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from dptbd.config import DPConfig, check_move_table
+from dptbd.config import DPConfig
+from dptbd.weights import check_move_table
 from dptbd.model.family import check_family_sequence
 from dptbd.model.operators import argmax_lowest_index, predecessor
 from dptbd.model.schedule import run_schedule

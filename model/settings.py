@@ -19,8 +19,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Sequence
 
-from dptbd.config import ConfigError, DPConfig
-from dptbd.errors import check_int
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError, check_int
 
 __all__ = ["SegmentSettings", "Schedule", "check_schedule", "settings_of_segment",
            "segment_lengths"]
@@ -50,7 +50,7 @@ class SegmentSettings:
         return cls(cfg.segment_frames, cfg.n_candidates, cfg.bin_shift)
 
     def checked(self, cfg: DPConfig) -> "SegmentSettings":
-        """These settings, refused with :class:`~dptbd.config.ConfigError` when one is out of
+        """These settings, refused with :class:`~dptbd.errors.ConfigError` when one is out of
         the range the gateware built for ``cfg`` accepts (as the register block refuses it)."""
         return SegmentSettings(
             check_int("segment_frames", self.segment_frames, 1, cfg.k_max, error=ConfigError,

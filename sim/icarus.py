@@ -51,7 +51,7 @@ TIMESCALE = ("1ns", "1ps")
 
 #: What :func:`build` can compile: design name -> (Verilog module, cocotb test module,
 #: build-directory suffix). ``dp`` is the DP pipeline (``dptbd.hw.flow.verilog``), ``segmenter``
-#: the DP pipeline plus segmenter (``dptbd.hw.dp_segmenter_top``, tests in
+#: the DP pipeline plus segmenter (``dptbd.hw.flow.segmenter_verilog``, tests in
 #: ``dptbd.sim.tb_segmenter``).
 DESIGNS = {
     "dp": (TOPLEVEL, TEST_MODULE, ""),
@@ -103,7 +103,7 @@ def build(cfg: DPConfig, root: str | os.PathLike = "build/sim", *, waves: bool =
     Parameters
     ----------
     cfg : DPConfig
-        The parameter set; refused with :class:`~dptbd.config.ConfigError` if the gateware
+        The parameter set; refused with :class:`~dptbd.errors.ConfigError` if the gateware
         does not implement it.
     root : path-like
         Build root; the parameter set gets ``root/config_name(cfg)`` (``-waves`` appended
@@ -118,7 +118,7 @@ def build(cfg: DPConfig, root: str | os.PathLike = "build/sim", *, waves: bool =
         raise ValueError(f"unknown design {design!r}; choose one of {', '.join(DESIGNS)}")
     toplevel, _, suffix = DESIGNS[design]
     if design == "segmenter":
-        from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog as generate
+        from dptbd.hw.flow.segmenter_verilog import generate_segmenter_verilog as generate
     elif design == "axi":
         from dptbd.hw.flow.axi_package import generate_axi_verilog as generate
     elif design == "axi-state":

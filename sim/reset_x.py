@@ -82,7 +82,7 @@ def top_verilog(cfg: DPConfig, top: str) -> tuple[str, dict]:
         from dptbd.hw.flow.verilog import generate_verilog
         return generate_verilog(cfg)
     if top == "seg":
-        from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog
+        from dptbd.hw.flow.segmenter_verilog import generate_segmenter_verilog
         return generate_segmenter_verilog(cfg)
     if top == "axi":
         from dptbd.hw.flow.axi_package import generate_axi_verilog

@@ -45,7 +45,8 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
-from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.errors import ConfigError
 
 __all__ = [
     "RTLMismatchError",
@@ -112,7 +113,7 @@ def check_configs(named: Iterable[tuple[str, DPConfig]]) -> None:
 
     Raises
     ------
-    dptbd.config.ConfigError
+    dptbd.errors.ConfigError
         ``RTL in the loop: configuration '<name>' cannot run on the gateware: <why>``
         (:func:`dptbd.hw.schedule.check_supported`: ``segment_stride != segment_frames``,
         frames too small for the read-ahead).

@@ -16,7 +16,8 @@ from typing import Callable
 
 import numpy as np
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 
 __all__ = ["SIMULATORS", "DESIGNS", "MODULES", "SimSettings", "SimOutcome",
            "simulator_tools_missing", "sim_config", "sim_frames", "run_sim", "summary_lines"]

@@ -24,7 +24,6 @@ import tempfile
 import numpy as np
 
 from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.hw.register_map import FAULTS
 from dptbd.sim.axi_stimulus import Beats, expected_outputs, fault_counts
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard, list_words
 from dptbd.sim.verilator import _check_probability, cycle_budget

@@ -182,7 +182,7 @@ def _generate(cfg: DPConfig, design: str, lut_style: str) -> tuple[str, dict]:
             raise ValueError("the AXI top takes the default lut_style 'auto' only")
         return generate_axi_verilog(cfg)
     if design == "segmenter":
-        from dptbd.hw.dp_segmenter_top import generate_segmenter_verilog
+        from dptbd.hw.flow.segmenter_verilog import generate_segmenter_verilog
         if lut_style != "auto":
             raise ValueError("the segmenter top takes the default lut_style 'auto' only")
         return generate_segmenter_verilog(cfg)
@@ -198,7 +198,7 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     Parameters
     ----------
     cfg : DPConfig
-        Refused with :class:`~dptbd.config.ConfigError` if the gateware does not implement it.
+        Refused with :class:`~dptbd.errors.ConfigError` if the gateware does not implement it.
     design : str
         A key of :data:`DESIGNS`.
     root : path-like, optional

@@ -11,7 +11,8 @@ import warnings
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, paper_weights, plain_weights
+from dptbd.config import DPConfig
+from dptbd.weights import paper_weights, plain_weights
 from dptbd.model.fixed import run_fixed
 from dptbd.model.segmentation import segment_sequence
 

@@ -7,12 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError
+from dptbd.errors import (ConfigError, DptbdError, check_bool, check_int, check_prob, check_real,
+                          check_shape, interval, shown)
 from dptbd.dsp.association import AssociationError
-from dptbd.errors import (
-    DptbdError, check_bool, check_int, check_prob, check_real, check_shape, interval, shown)
 from dptbd.evaluation.detectors import DetectorError
-from dptbd.evaluation.scenario import ScenarioError
+from dptbd.evaluation.run.scenario import ScenarioError
 from dptbd.scenes.recorded import SequenceError
 from dptbd.scenes.synthetic import SceneError
 from helpers.refusals import whole

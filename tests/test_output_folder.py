@@ -6,8 +6,8 @@ import os
 
 import pytest
 
-from dptbd.output_folder import (check_output_file, check_output_folder, staged_folder,
-                                 write_new_text, written_by)
+from dptbd.output_folder import (check_new_files, check_output_file, check_output_folder,
+                                 check_still_new, staged_folder, write_new_text, written_by)
 from helpers.refusals import whole
 
 MARK = dict(marker="summary.json", tool="dptbd run")
@@ -179,3 +179,28 @@ def test_write_new_text_never_replaces_without_force(tmp_path):
     assert path.read_text() == "one"
     write_new_text(path, "three", True)
     assert path.read_text() == "three"
+
+
+def test_check_new_files_names_every_existing_one(tmp_path):
+    v, j, h = tmp_path / "top.v", tmp_path / "top.json", tmp_path / "top.h"
+    check_new_files([v, j, h], False)
+    v.write_text("mine")
+    with pytest.raises(FileExistsError, match=whole(f"{v} exists; pass --force to overwrite")):
+        check_new_files([v, j, h], False)
+    j.write_text("mine")
+    h.symlink_to(tmp_path / "nowhere")
+    with pytest.raises(FileExistsError, match=whole(
+            f"{v}, {j} and {h} exist; pass --force to overwrite")):
+        check_new_files([v, j, h], False)
+    check_new_files([v, j, h], True)
+    assert v.read_text() == "mine"
+
+
+def test_check_still_new_refuses_a_file_that_appeared(tmp_path):
+    path = tmp_path / "f.png"
+    check_still_new(path, "--figure", False)
+    path.write_bytes(b"mine")
+    with pytest.raises(FileExistsError, match=whole(
+            f"--figure {path} appeared during the run; not overwritten")):
+        check_still_new(path, "--figure", False)
+    check_still_new(path, "--figure", True)

@@ -19,11 +19,12 @@ import time
 from dptbd.commands.options import add_execution_arguments
 from dptbd.evaluation.detectors.pd_vs_snr import SCENES, SceneSpec, run_comparison
 from dptbd.evaluation.detectors._checks import DetectorError
-from dptbd.evaluation.detectors.interface import (
-    DETECTORS, DEFAULT_DETECTORS, detector_parameters, parse_detectors)
+from dptbd.evaluation.detectors.adapters import (DETECTORS, DEFAULT_DETECTORS, detector_parameters,
+                                                 parse_detectors)
 from dptbd.evaluation.detectors.report import (DEFAULT_SNRS_DB, OUT_FILES, TOOL, describe_run,
                                                figure_pd_vs_snr, format_table, write_folder)
-from dptbd.output_folder import check_output_file, check_output_folder, write_new_text
+from dptbd.output_folder import (check_output_file, check_output_folder, check_still_new,
+                                  write_new_text)
 
 def _floats(text: str) -> list[float]:
     try:
@@ -129,7 +130,6 @@ def main(args: argparse.Namespace) -> int:
     if args.markdown is not None:
         write_new_text(args.markdown, table + "\n\n" + note + "\n", args.force)
     if args.figure is not None:
-        if args.figure.exists() and not args.force:
-            raise FileExistsError(f"--figure {args.figure} appeared during the run; not overwritten")
+        check_still_new(args.figure, "--figure", args.force)
         figure_pd_vs_snr(res, args.figure)
     return 0

@@ -13,7 +13,8 @@ import warnings
 
 import numpy as np
 
-from dptbd.config import ROUNDING_MODES, ConfigError, DPConfig, EnergyWidthWarning
+from dptbd.config import ROUNDING_MODES, DPConfig, EnergyWidthWarning
+from dptbd.errors import ConfigError
 
 __all__ = ["add_config_arguments", "config_from_args", "load_weights",
            "add_simulator_arguments", "add_execution_arguments"]
@@ -71,7 +72,7 @@ def config_from_args(args: argparse.Namespace) -> DPConfig:
 
     A narrow ``energy_bits`` is allowed; its :class:`~dptbd.config.EnergyWidthWarning` is
     printed to stderr. Errors (unknown TOML keys, out-of-range values, a LUT of the wrong
-    shape) raise :class:`~dptbd.config.ConfigError` with DPConfig's message.
+    shape) raise :class:`~dptbd.errors.ConfigError` with DPConfig's message.
     """
     values: dict = {}
     if args.config is not None:

@@ -15,8 +15,8 @@ import pathlib
 
 from dptbd.commands.options import add_execution_arguments
 from dptbd.evaluation.detectors.paper000 import CASES
-from dptbd.evaluation.paper000_rtl import GAIN_DPS, Paper000Spec, run_paper000
-from dptbd.evaluation.paper000_rtl_report import markdown, summarise
+from dptbd.evaluation.paper000.experiment import GAIN_DPS, Paper000Spec, run_paper000
+from dptbd.evaluation.paper000.report import markdown, summarise
 from dptbd.output_folder import check_output_file, write_new_text
 
 

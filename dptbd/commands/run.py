@@ -5,16 +5,16 @@ With no arguments it runs the built-in scenario, paper 001's second experiment (
 at (54, 40) with V = (0.4, 0.6), 0.2 % false-alarm threshold):
 
 1. **FPGA stage** — the bit-accurate golden model of the direction-weighted DP (eqs (8)–(11),
-   K = 6, segments back to back as the gateware runs them, a 12-bit ADC at 16 LSB per
-   grey level as in ``dptbd.evaluation.table1``) and the constant-false-alarm-count histogram
-   threshold (33 candidate points per accumulated frame). ``--rtl`` also runs the
-   generated Verilog of the whole FPGA stage (``dptbd_seg``: DP pipeline + segmenter) on
-   every frame (``--rtl-frames N``: the first N only) and stops unless every output word is
-   bit for bit identical to the model. The simulator is Verilator by default
-   (:mod:`dptbd.sim.verilator`, a cached compiled build: a few seconds for the built-in
-   scene once built); ``--rtl-simulator icarus`` keeps the cocotb + Icarus bench (about
-   12 min for it). The printed summary and ``summary.json`` (``rtl``) say which simulator,
-   which frames, the words compared, the cycles and the simulator's speed.
+   K = 6, segments back to back as the gateware runs them, a 12-bit ADC at 16 LSB per grey
+   level as in ``dptbd.evaluation.table1.experiment``) and the constant-false-alarm-count
+   histogram threshold (33 candidate points per accumulated frame). ``--rtl`` also runs the
+   generated Verilog of the whole FPGA stage (``dptbd_seg``: DP pipeline + segmenter) on every
+   frame (``--rtl-frames N``: the first N only) and stops unless every output word is bit for
+   bit identical to the model. The simulator is Verilator by default
+   (:mod:`dptbd.sim.verilator`, a cached compiled build: a few seconds for the built-in scene
+   once built); ``--rtl-simulator icarus`` keeps the cocotb + Icarus bench (about 12 min for
+   it). The printed summary and ``summary.json`` (``rtl``) say which simulator, which frames,
+   the words compared, the cycles and the simulator's speed.
 2. **DSP stage** — the fixed-capacity track association of 001 §3
    (:mod:`dptbd.dsp.association`), candidates' paths recovered by backtracking the
    direction maps (:mod:`dptbd.dsp.backtrack`); ``--dsp c`` runs it on the C firmware
@@ -45,17 +45,17 @@ import time
 from dptbd.commands.options import add_simulator_arguments
 from dptbd.dsp.c_tracker import DSP_IMPLEMENTATIONS, FirmwareError
 from dptbd.dsp.firmware_build import FirmwareBuildError, find_compiler
-from dptbd.evaluation.run_job import effective_scenario, run_job
-from dptbd.evaluation.run_report import RUN_FILES, TOOL, write_run_folder
-from dptbd.evaluation.run_rtl import RtlCheck, RtlError, rtl_tools_missing
+from dptbd.evaluation.run.job import effective_scenario, run_job
+from dptbd.evaluation.run.report import RUN_FILES, TOOL, write_run_folder
+from dptbd.evaluation.run.rtl import RtlCheck, RtlError, rtl_tools_missing
 from dptbd.output_folder import check_output_folder
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     src = parser.add_argument_group("what to run")
     src.add_argument("--scenario", type=pathlib.Path, metavar="FILE.toml",
-                     help="scenario file (TOML; see dptbd/evaluation/scenario.py); default: paper 001's "
-                          "second experiment")
+                     help="scenario file (TOML; see dptbd/evaluation/run/scenario.py); default: "
+                          "paper 001's second experiment")
     src.add_argument("--input", type=pathlib.Path, metavar="PATH",
                      help="recorded data instead of a simulated scene: .npy or .npz (T, H, W) "
                           "integers, or a folder of 8/16-bit PNG or TIFF frames")

@@ -86,8 +86,7 @@ def main(args: argparse.Namespace) -> int:
         print(f"dptbd sim: error: {why}", file=sys.stderr)
         return 2
 
-    print(f"dptbd sim: {cfg.width}x{cfg.height}, K={cfg.segment_frames}, B_in={cfg.input_bits}, "
-          f"B_E={cfg.energy_bits}, F={cfg.weight_frac_bits}, r={cfg.radius}, {cfg.rounding}"
+    print(f"dptbd sim: {cfg.describe()}"
           + (f", n={cfg.n_candidates}, C={cfg.record_capacity}"
              if args.design == "segmenter" else ""))
     print(f"  {scene_text}")

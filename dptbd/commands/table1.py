@@ -8,9 +8,9 @@ import pathlib
 import time
 
 from dptbd.commands.options import add_execution_arguments
-from dptbd.config import ConfigError
-from dptbd.evaluation.table1 import run_table1
-from dptbd.evaluation.table1_report import format_table
+from dptbd.errors import ConfigError
+from dptbd.evaluation.table1.experiment import run_table1
+from dptbd.evaluation.table1.report import format_table
 from dptbd.output_folder import check_output_file, write_new_text
 
 

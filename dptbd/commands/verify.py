@@ -14,6 +14,9 @@ import dataclasses
 import json
 import pathlib
 
+from dptbd.errors import check_int, check_real
+from dptbd.output_folder import check_output_file
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--runs-scale", type=float, default=1.0, metavar="X",
@@ -27,8 +30,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--list", action="store_true", help="list the cases and exit")
     parser.add_argument("--no-x-store", action="store_true",
                         help="skip the 4-state (Icarus) external-store checks")
-    parser.add_argument("--json", type=pathlib.Path, metavar="PATH",
-                        help="write every run's outcome as JSON (refused if PATH exists)")
+    parser.add_argument("--json", type=pathlib.Path, metavar="FILE.json",
+                        help="write every run's outcome as JSON (refused if it exists, unless "
+                             "--force)")
+    parser.add_argument("--force", action="store_true", help="overwrite --json")
 
 
 def main(args: argparse.Namespace) -> int:
@@ -40,15 +45,13 @@ def main(args: argparse.Namespace) -> int:
     if args.list:
         for c in cases:
             cfg = c.cfg
-            print(f"{c.name:28s} {c.design:9s} {cfg.width}x{cfg.height} K={cfg.segment_frames} "
-                  f"B_in={cfg.input_bits} B_E={cfg.energy_bits} F={cfg.weight_frac_bits} "
-                  f"r={cfg.radius}  {c.runs} runs x {c.frames} frames  faults: "
+            print(f"{c.name:28s} {c.design:9s} {cfg.describe()}  {c.runs} runs x {c.frames} "
+                  f"frames  faults: "
                   f"{', '.join(c.faults) or '-'}{', random LUT' if c.random_lut else ''}")
         return 0
-    if not args.runs_scale > 0:
-        raise ValueError(f"--runs-scale must be > 0, got {args.runs_scale}")
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers must be an integer in [1, inf), got {args.workers}")
+    check_real("--runs-scale", args.runs_scale, 0.0, lo_open=True)
+    if args.workers is not None:
+        check_int("--workers", args.workers, 1)
     if args.cases:
         known = {c.name for c in cases}
         unknown = [n for n in args.cases if n not in known]
@@ -56,8 +59,7 @@ def main(args: argparse.Namespace) -> int:
             raise ValueError(f"unknown case(s) {', '.join(unknown)}; dptbd verify --list "
                              f"names them")
         cases = [c for c in cases if c.name in args.cases]
-    if args.json is not None and args.json.exists():
-        raise FileExistsError(f"--json {args.json} exists; not overwritten")
+    check_output_file(args.json, "--json", args.force, ".json")
 
     total = sum(max(1, round(c.runs * args.runs_scale)) for c in cases)
     bar = tqdm(total=total + (0 if args.no_x_store else 4), unit="run", desc="dptbd verify")

@@ -31,6 +31,7 @@ import json
 import pathlib
 
 from dptbd.commands.options import add_config_arguments, config_from_args
+from dptbd.output_folder import check_new_files
 
 __all__ = ["add_arguments", "main"]
 
@@ -74,15 +75,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_config_arguments(parser)
 
 
-def _refuse_existing(paths: list[pathlib.Path], force: bool) -> None:
-    existing = [str(p) for p in paths if p.exists()]
-    if existing and not force:
-        names = existing[0] if len(existing) == 1 else \
-            f"{', '.join(existing[:-1])} and {existing[-1]}"
-        raise FileExistsError(f"{names} {'exists' if len(existing) == 1 else 'exist'}; pass "
-                              f"--force to overwrite")
-
-
 def _write_axi(args: argparse.Namespace, cfg) -> int:
     from dptbd.hw.flow.axi_package import (DEFAULT_CLOCK_MHZ, axi_package, check_clock_mhz,
                                            package_file_names)
@@ -94,7 +86,7 @@ def _write_axi(args: argparse.Namespace, cfg) -> int:
     clock_mhz = check_clock_mhz(DEFAULT_CLOCK_MHZ if args.clock_mhz is None else args.clock_mhz,
                                 "--clock-mhz")
     out = args.output
-    _refuse_existing([out.parent / name for name in package_file_names(out.stem)], args.force)
+    check_new_files([out.parent / name for name in package_file_names(out.stem)], args.force)
     files = axi_package(cfg, out.stem, clock_mhz, state_output=args.state_output,
                         allow_saturation=args.allow_saturation)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -137,7 +129,7 @@ def main(args: argparse.Namespace) -> int:
         family = get_family(args.family)
         family.check_radius(cfg)
         core_options = dict(family.core_options)
-    _refuse_existing([out, manifest], args.force)
+    check_new_files([out, manifest], args.force)
     text, info = generate_verilog(cfg, external_state_store=args.external_state_store,
                                   lut_style=args.lut_style, core_options=core_options)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -146,9 +138,7 @@ def main(args: argparse.Namespace) -> int:
     ports = ", ".join(f"{p['name']}[{p['width']}]" for p in info["ports"])
     print(f"wrote {out} (module {info['module']}, {info['top']}, {text.count(chr(10))} lines) "
           f"and {manifest}")
-    print(f"  {cfg.width}x{cfg.height}, K={cfg.segment_frames}, B_in={cfg.input_bits}, "
-          f"B_E={cfg.energy_bits}, F={cfg.weight_frac_bits}, r={cfg.radius}, {cfg.rounding}; "
-          f"weight LUT in {info['lut_style']}; latency {info['latency']} cycles")
+    print(f"  {cfg.describe()}; weight LUT in {info['lut_style']}; latency {info['latency']} cycles")
     print("  core options: " + ", ".join(f"{k}={v}" for k, v in info["core_options"].items())
           + ("" if args.family is None else f" (the {args.family} build)"))
     print(f"  ports: {ports}")

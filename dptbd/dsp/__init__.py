@@ -11,7 +11,8 @@
   (``docs/dsp_firmware.md``);
 * :mod:`dptbd.dsp.backtrack` — paths recovered through the direction maps, a position per
   frame;
-* :mod:`dptbd.dsp.chain` — the FPGA → DSP chain (segmentation, candidate lists, tracker) that
-  ``dptbd run`` drives;
 * :mod:`dptbd.dsp.track_metrics` — confirmed tracks against ground truth.
+
+The FPGA → DSP chain that uses them (the FPGA stage's golden model, the segmenter's
+settings, the candidate lists, the tracker) is :mod:`dptbd.evaluation.chain`, one layer up.
 """

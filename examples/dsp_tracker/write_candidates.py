@@ -34,8 +34,8 @@ def scene_pipeline(seed: int = 0, association: dict | None = None):
     -------
     (DPConfig, AssociationConfig, PipelineResult)
     """
-    from dptbd.evaluation.run_job import run_job
-    from dptbd.evaluation.scenario import default_scenario
+    from dptbd.evaluation.run.job import run_job
+    from dptbd.evaluation.run.scenario import default_scenario
 
     sc = default_scenario().replace(seed=seed, **({"association": association} if association else {}))
     sc.check()

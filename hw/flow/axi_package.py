@@ -25,8 +25,8 @@ import json
 from amaranth.hdl import Shape
 from amaranth.lib import data, wiring
 
-from dptbd.config import ConfigError, DPConfig
-from dptbd.errors import check_real
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError, check_real
 from dptbd.hw.axi_top import AXI_MODULE_NAME, AXITop
 from dptbd.hw.candidate_layout import candidate_field_offsets, candidate_layout
 from dptbd.hw.flow.register_export import c_header, register_constants
@@ -193,7 +193,7 @@ def check_no_saturation(cfg: DPConfig) -> None:
 
     Raises
     ------
-    dptbd.config.ConfigError
+    dptbd.errors.ConfigError
         Naming K_max, B_in, B_E and the smallest B_E that never saturates.
     """
     full_scale = cfg.k_max * cfg.pixel_max

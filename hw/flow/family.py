@@ -16,7 +16,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Mapping
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 
 __all__ = ["Family", "FAMILIES", "ICE40", "ECP5", "YOSYS", "get_family"]
 
@@ -89,7 +90,7 @@ class Family:
 
         Raises
         ------
-        dptbd.config.ConfigError
+        dptbd.errors.ConfigError
             Naming the frame, the bits it needs, the device's block RAM and the way out.
         """
         if device not in self.block_rams:
@@ -109,7 +110,7 @@ class Family:
 
         Raises
         ------
-        dptbd.config.ConfigError
+        dptbd.errors.ConfigError
             Naming ``radius``, the family's allowed range and the way out.
         """
         if cfg.radius > self.max_radius:

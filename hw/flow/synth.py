@@ -288,7 +288,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         Yosys or nextpnr is missing (checked before anything runs).
     SynthToolError
         A tool failed for a reason other than the design not fitting.
-    dptbd.config.ConfigError
+    dptbd.errors.ConfigError
         The gateware does not support ``cfg``; or, for the ``top`` and ``segmenter``
         variants, the W x H state store cannot fit the device's block RAM
         (:meth:`~dptbd.hw.flow.family.Family.check_on_chip_store`), before any tool runs.

@@ -2,6 +2,7 @@
 
 import argparse
 import json
+import re
 import pathlib
 
 import numpy as np
@@ -9,7 +10,8 @@ import pytest
 
 from dptbd.commands.options import (add_config_arguments, add_simulator_arguments,
                                     config_from_args, load_weights)
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from helpers.refusals import whole
 
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from dptbd.evaluation import run_figures
+from dptbd.evaluation.run import figures as run_figures
 from dptbd.cli import main
 
 SMALL = """\
@@ -132,15 +132,16 @@ def _bad_inputs(inputs):
                                 "is not a NumPy .npy file")
     np.save(inputs / "objects.npy", np.array([{"a": 1}], dtype=object), allow_pickle=True)
     cases["object array"] = (["--input", str(inputs / "objects.npy")], "holds Python objects")
-    cases["negative --snr"] = (["--snr", "-1"], "--snr must be a finite number > 0")
-    cases["zero --snr"] = (["--snr", "0"], "--snr must be a finite number > 0")
-    cases["nan --snr"] = (["--snr", "nan"], "--snr must be a finite number > 0")
-    cases["inf --snr"] = (["--snr", "inf"], "--snr must be a finite number > 0")
+    snr = "(001's SNR = (target mean - noise mean) / sigma) must be a finite real number in (0, inf)"
+    cases["negative --snr"] = (["--snr", "-1"], f"--snr {snr}, got -1.0\n")
+    cases["zero --snr"] = (["--snr", "0"], f"--snr {snr}, got 0.0\n")
+    cases["nan --snr"] = (["--snr", "nan"], f"--snr {snr}, got nan\n")
+    cases["inf --snr"] = (["--snr", "inf"], f"--snr {snr}, got inf\n")
     cases["negative target SNR"] = (["--target", "20,4,0.2,0.9,-2"],
-                                    "SNR must be a finite number > 0")
+                                    f"--target '20,4,0.2,0.9,-2': SNR {snr}, got -2.0\n")
     (inputs / "snr.toml").write_text(SMALL.replace("snr = 5.0", "snr = -5.0"))
     cases["negative TOML snr"] = (["--scenario", str(inputs / "snr.toml")],
-                                  "[scene] snr must be a finite positive number")
+                                  "[scene] snr must be a finite real number in (0, inf), got -5.0\n")
     np.save(inputs / "empty.npy", np.zeros((0, 16, 16), np.uint8))
     cases["empty sequence"] = (["--input", str(inputs / "empty.npy")], "empty")
     np.save(inputs / "short.npy", rng.integers(0, 255, (3, 16, 16)).astype(np.uint8))
@@ -371,7 +372,7 @@ def test_ideal_lists_option_and_bad_lists_value(tmp_path, small, capsys):
 def test_segmenter_settings_come_from_the_data_unless_given():
     from dptbd.config import DPConfig
     from dptbd.dsp.association import AssociationConfig
-    from dptbd.dsp.chain import segmenter_settings
+    from dptbd.evaluation.chain import segmenter_settings
 
     cfg = DPConfig(width=128, height=128, segment_frames=6, input_bits=12, energy_bits=16)
     frames = np.full((12, 128, 128), 600, np.uint16)
@@ -397,7 +398,7 @@ def test_segmenter_settings_come_from_the_data_unless_given():
 def test_rtl_summary_says_which_frames_were_checked(tmp_path, small, capsys, monkeypatch):
     """A stand-in for the simulation: the options reach run_rtl, the summary names the
     simulator, the frames checked, the words compared and the cycles."""
-    from dptbd.evaluation import run_rtl
+    from dptbd.evaluation.run import rtl as run_rtl
 
     calls = []
 
@@ -441,7 +442,7 @@ def test_rtl_summary_says_which_frames_were_checked(tmp_path, small, capsys, mon
 
 
 def test_scenario_file_with_recorded_data_is_named_after_it(tmp_path):
-    from dptbd.evaluation.scenario import parse_scenario
+    from dptbd.evaluation.run.scenario import parse_scenario
 
     sc = parse_scenario({"input": {"path": "clip.npz"}}, tmp_path)
     assert sc.name == "clip.npz" and sc.input_path == tmp_path / "clip.npz"

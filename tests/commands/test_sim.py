@@ -12,7 +12,7 @@ import pytest
 
 from dptbd import cli
 from dptbd.commands import sim as sim_command
-from dptbd.config import ConfigError
+from dptbd.errors import ConfigError
 from dptbd.sim import verilator
 from helpers.refusals import whole
 

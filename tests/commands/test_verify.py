@@ -15,15 +15,19 @@ def test_verify_command_lists_and_refuses(capsys, tmp_path):
     assert capsys.readouterr().err == ("dptbd verify: error: unknown case(s) nope; dptbd verify "
                                        "--list names them\n")
     assert main(["verify", "--runs-scale", "0"]) == 2
-    assert capsys.readouterr().err == "dptbd verify: error: --runs-scale must be > 0, got 0.0\n"
+    assert capsys.readouterr().err == ("dptbd verify: error: --runs-scale must be a finite real "
+                                       "number in (0, inf), got 0.0\n")
     assert main(["verify", "--workers", "0"]) == 2
     assert capsys.readouterr().err == "dptbd verify: error: --workers must be an integer in [1, inf), got 0\n"
     existing = tmp_path / "out.json"
     existing.write_text("{}")
     assert main(["verify", "--json", str(existing)]) == 2
     assert capsys.readouterr().err == (f"dptbd verify: error: --json {existing} exists; "
-                                       f"not overwritten\n")
+                                       f"pass --force to overwrite it\n")
     assert existing.read_text() == "{}"
+    assert main(["verify", "--json", str(tmp_path / "out.txt")]) == 2
+    assert capsys.readouterr().err == (f"dptbd verify: error: --json {tmp_path / 'out.txt'} "
+                                       f"must end in .json\n")
 
 
 def test_verify_command_runs_one_case(capsys, tmp_path):

@@ -10,7 +10,8 @@ import warnings
 import pytest
 
 from dptbd.commands import verilog as verilog_command
-from dptbd.config import ConfigError, EnergyWidthWarning
+from dptbd.config import EnergyWidthWarning
+from dptbd.errors import ConfigError
 from helpers.refusals import whole
 
 

@@ -192,7 +192,7 @@ def test_workers_that_truly_lack_numba_or_dptbd_or_cannot_import_numba_are_refus
     its ``PYTHONPATH`` that raises ImportError); the job refuses before any task, naming
     each."""
     from helpers.dask_processes import DASK, process_cluster, worker_addresses, worker_lacking
-    from dptbd.evaluation.table1 import run_table1
+    from dptbd.evaluation.table1.experiment import run_table1
 
     broken = tmp_path / "broken" / "numba"
     broken.mkdir(parents=True)

@@ -12,9 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from dptbd.config import DPConfig, plain_weights
-from dptbd.evaluation.detectors.unified import (
-    amplitude_merit, likelihood_difference_merit, quantise_unified, velocity_log_penalty)
+from dptbd.config import DPConfig
+from dptbd.weights import plain_weights
+from dptbd.evaluation.detectors.unified_fixed import quantise_unified
+from dptbd.evaluation.detectors.transitions import velocity_log_penalty
+from dptbd.evaluation.detectors.merits import amplitude_merit, likelihood_difference_merit
 from dptbd.model.family import family_start, family_step
 from helpers.hw_harness import FIELDS
 

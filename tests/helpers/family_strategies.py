@@ -7,7 +7,7 @@ import numpy as np
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from dptbd.config import paper_weights, plain_weights
+from dptbd.weights import paper_weights, plain_weights
 from helpers.model_strategies import make_cfg
 
 

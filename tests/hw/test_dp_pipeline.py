@@ -13,7 +13,9 @@ import warnings
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning, plain_weights
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.weights import plain_weights
+from dptbd.errors import ConfigError
 from dptbd.hw.dp_pipeline import DPPipeline
 from helpers.hw_harness import (
     FIELDS,

@@ -1,19 +1,14 @@
 """``DPSegmenter`` (DP pipeline + segmenter) against the golden models, bit for bit: pixels in,
 candidate lists out, compared with ``dptbd.model.fixed`` + ``segment_sequence``."""
 
-import shutil
-import subprocess
-
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError
-from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.dp_core import DPCore
-from dptbd.hw.dp_segmenter_top import SEGMENTER_MODULE_NAME, DPSegmenter, generate_segmenter_verilog
+from dptbd.hw.dp_segmenter_top import DPSegmenter
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.candidate_scoreboard import expected_lists
-from helpers.hw_harness import assert_verilator_lints_clean, event_counter, refused
+from helpers.hw_harness import event_counter, refused
 from dptbd.model.fixed import run_fixed, saturation_counts
 from dptbd.model.segmentation import segment_sequence
 from dptbd.model.settings import SegmentSettings
@@ -125,48 +120,6 @@ def test_one_pixel_per_clock_and_latency():
         expected_cycles.append(accepts[base + frame - 1] + dut.latency + 1)
     assert sum(lst.count for lst in lists) >= 5
     assert result.output_cycles == expected_cycles
-
-
-def test_verilog_and_manifest(tmp_path):
-    cfg = make_config(width=8, height=6, segment_frames=3, candidate_count=4, histogram_bits=5)
-    text, info = generate_segmenter_verilog(cfg, manifest_path=tmp_path / "dptbd_seg.json")
-    assert "module dptbd_seg(" in text
-    ports = {p["name"]: p for p in info["ports"]}
-    width = candidate_layout(cfg).size
-    assert ports["candidates__payload"] == {"name": "candidates__payload",
-                                            "direction": "output", "width": width}
-    assert info["layouts"]["candidate"]["end_of_list"]["offset"] == width - 1
-    assert info["latency"] == 17 and info["scan_cycles"] == 36
-    assert (tmp_path / "dptbd_seg.json").exists()
-    if shutil.which("iverilog"):
-        (tmp_path / "dptbd_seg.v").write_text(text)
-        subprocess.run(["iverilog", "-g2012", "-o", str(tmp_path / "a.out"),
-                        str(tmp_path / "dptbd_seg.v")], check=True, capture_output=True)
-
-
-@pytest.mark.skipif(shutil.which("verilator") is None, reason="verilator not installed")
-@pytest.mark.parametrize("kw", [
-    dict(width=8, height=6, segment_frames=3, candidate_count=4, histogram_bits=5),
-    dict(width=13, height=9, segment_frames=3, candidate_count=1),     # C = 2, 1-bit count
-    dict(width=128, height=128, segment_frames=6),                    # dptbd run's FPGA stage
-], ids=["8x6-n4", "13x9-n1", "128x128-default"])
-def test_segmenter_verilog_lints_clean(tmp_path, kw):
-    """``dptbd_seg`` (what ``dptbd run --rtl`` simulates) under the same Verilator flags as
-    ``dptbd_dp`` (``dptbd.hw.flow.verilog.VERILATOR_LINT_FLAGS``, waivers justified there)."""
-    text, _ = generate_segmenter_verilog(make_config(**kw))
-    path = tmp_path / "dptbd_seg.v"
-    path.write_text(text)
-    assert_verilator_lints_clean(path, SEGMENTER_MODULE_NAME)
-
-
-def test_segmenter_verilog_refuses_zero_points():
-    """0.2 % of 13 x 9 rounds to n = 0: refused with the parameter named, not emitted as
-    zero-width Verilog."""
-    with pytest.raises(ConfigError,
-                       match=r"^candidate_count: n = 0 candidate points per segment "
-                             r"\(0\.2 % of 13x9 = 117 pixels rounds to 0\) gives a segmenter "
-                             r"that emits no points; set candidate_count to 1 … 117$"):
-        generate_segmenter_verilog(make_config(width=13, height=9, segment_frames=3))
 
 
 @pytest.mark.filterwarnings("ignore::dptbd.config.EnergyWidthWarning")

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.hw.schedule import PipelineSchedule, check_supported, read_ahead_distance
 
 

@@ -10,7 +10,8 @@ import shutil
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, plain_weights
+from dptbd.config import DPConfig
+from dptbd.weights import plain_weights
 from dptbd.hw.weight_lut import LUT_STYLES, WeightLUT, resolve_lut_style
 from helpers.hw_harness import assert_verilator_lints_clean, refused, simulate
 from helpers.refusals import whole

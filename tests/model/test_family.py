@@ -7,7 +7,7 @@ import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
-from dptbd.config import paper_weights, plain_weights
+from dptbd.weights import paper_weights, plain_weights
 from dptbd.model.family import family_start, family_step, run_family_fixed
 from dptbd.model.fixed import run_fixed
 from helpers.family_strategies import family_configs, family_frames

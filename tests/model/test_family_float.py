@@ -9,8 +9,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from dptbd.config import DPConfig, plain_weights
-from dptbd.evaluation.detectors import unified
+from dptbd.config import DPConfig
+from dptbd.weights import plain_weights
+from dptbd.evaluation.detectors import merits, transitions, unified, unified_fixed
 from dptbd.model.family import run_family_fixed
 from dptbd.model.family_float import run_family_float
 from dptbd.scenes.synthetic import paper000_scenario
@@ -20,9 +21,9 @@ pytestmark = pytest.mark.filterwarnings("ignore::dptbd.config.EnergyWidthWarning
 
 
 def lut_merit(table):
-    """A :class:`unified.Merit` reading a table at the measurement (the pixel code itself)."""
+    """A :class:`merits.Merit` reading a table at the measurement (the pixel code itself)."""
     table = np.asarray(table, dtype=np.float64)
-    return unified.Merit("lut", lambda z: table[z.astype(np.int64)], {})
+    return merits.Merit("lut", lambda z: table[z.astype(np.int64)], {})
 
 
 @SETTINGS
@@ -48,13 +49,13 @@ def test_integer_codes_equal_unified_datapath(data, radius, n_frames):
 def test_likelihood_dp_on_paper000_scene_equals_unified_fixed():
     """000 §5.2 (6 dB, eqs (19)-(23)) quantised by ``quantise_unified``: the model with its
     LUTs is ``run_unified_fixed`` bit for bit over the 20 frames."""
-    luts = unified.quantise_unified(unified.likelihood_difference_merit(2.0, 0.85, 1.0),
-                                    unified.velocity_log_penalty(2, 1.0), input_bits=8,
+    luts = unified_fixed.quantise_unified(merits.likelihood_difference_merit(2.0, 0.85, 1.0),
+                                    transitions.velocity_log_penalty(2, 1.0), input_bits=8,
                                     gain=16, offset=128, scale=256)
     codes = paper000_scenario(6.0, seed=3).quantised(8, gain=16, offset=128)
     cfg = DPConfig(width=64, height=64, radius=2, weights=plain_weights(2), segment_frames=20,
                    merit_codes=luts.merit_codes, penalty_codes=luts.penalty_codes)
-    want_e, want_d = unified.run_unified_fixed(codes, luts)
+    want_e, want_d = unified_fixed.run_unified_fixed(codes, luts)
     got = run_family_fixed(codes, cfg)
     np.testing.assert_array_equal(got.energy[0], want_e)
     np.testing.assert_array_equal(got.direction[0], want_d)
@@ -64,8 +65,8 @@ def test_likelihood_dp_on_paper000_scene_equals_unified_fixed():
 def test_float_merit_and_penalty_equal_unified_exactly():
     """Real (unquantised) S(z) and eq (22): ``run_family_float`` with alpha = 1 is
     ``run_unified(mode="datapath")`` exactly, on the codes' measurements z = (x - 128)/16."""
-    merit = unified.likelihood_difference_merit(2.0, 0.85, 1.0)
-    q = unified.velocity_log_penalty(2, 1.0)
+    merit = merits.likelihood_difference_merit(2.0, 0.85, 1.0)
+    q = transitions.velocity_log_penalty(2, 1.0)
     codes = paper000_scenario(6.0, seed=1).quantised(8, gain=16, offset=128).astype(np.int64)
     z = (codes - 128) / 16.0
     cfg = DPConfig(width=64, height=64, radius=2, weights=plain_weights(2), segment_frames=20)

@@ -12,7 +12,8 @@ import warnings
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, EnergyWidthWarning, plain_weights
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.weights import plain_weights
 from dptbd.model import fast
 from dptbd.model.fast import fast_dp_step, fast_segment_start, kernel_path, run_fixed_fast
 from dptbd.model.fixed import dp_step, run_fixed, segment_start

@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, plain_weights
+from dptbd.config import DPConfig
+from dptbd.weights import plain_weights
 from dptbd.model.fast_float import run_float_fast
 from dptbd.model.reference import run_float
 

@@ -22,7 +22,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from dptbd.config import DPConfig, EnergyWidthWarning, paper_weights, plain_weights
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.weights import paper_weights, plain_weights
 from dptbd.model.fixed import dp_step, run_fixed
 from dptbd.model.reference import run_float
 

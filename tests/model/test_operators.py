@@ -12,7 +12,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from dptbd.config import paper_weights
+from dptbd.weights import paper_weights
 from dptbd.model import operators as ops
 from dptbd.model.fixed import dp_step
 

@@ -51,7 +51,8 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig, EnergyWidthWarning, paper_weights, plain_weights
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.weights import paper_weights, plain_weights
 from dptbd.model.fixed import run_fixed
 from dptbd.model.reference import run_float
 

@@ -9,7 +9,8 @@ import warnings
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning
+from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.errors import ConfigError
 from dptbd.model.fast import run_fixed_fast
 from dptbd.model.fixed import (dp_step, dp_step_saturated, frame_segments, run_fixed,
                                saturation_counts, segment_start)

@@ -8,7 +8,8 @@ import threading
 
 import pytest
 
-from dptbd.config import DPConfig, plain_weights
+from dptbd.config import DPConfig
+from dptbd.weights import plain_weights
 from dptbd.sim.build_dirs import CompiledDesign, config_name, locked
 
 

@@ -17,7 +17,8 @@ import shutil
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.hw.layouts import state_layout
 from dptbd.sim import rtl_trials, verilator
 from helpers.compare_spec import small_spec, spec_toml
@@ -247,7 +248,7 @@ def test_compare_command_refuses_rtl_before_any_work(tmp_path, monkeypatch, caps
 # ---- table1 --rtl -------------------------------------------------------------------------
 
 def test_table1_rows_identical_on_the_model_and_on_the_rtl():
-    from dptbd.evaluation.table1 import SETTINGS, run_table1
+    from dptbd.evaluation.table1.experiment import SETTINGS, run_table1
 
     kw = dict(segment_frames=6, segment_stride=6, seed=5, chunk=2, settings=SETTINGS[:1],
               size=24)
@@ -260,7 +261,7 @@ def test_table1_rows_identical_on_the_model_and_on_the_rtl():
 
 
 def test_table1_rtl_refuses_overlapping_segments():
-    from dptbd.evaluation.table1 import run_table1
+    from dptbd.evaluation.table1.experiment import run_table1
 
     with pytest.raises(ConfigError, match=(
             r"^RTL in the loop: configuration 'direction-weighted DP' cannot run on the "

@@ -8,7 +8,8 @@ import shutil
 import numpy as np
 import pytest
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.sim.sim_job import (SimOutcome, SimSettings, sim_config, sim_frames,
                                       simulator_tools_missing, summary_lines)
 from helpers.refusals import whole

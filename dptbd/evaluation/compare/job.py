@@ -17,7 +17,8 @@ import time
 import tomllib
 from typing import Any, Mapping, Sequence
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.output_folder import check_output_folder, staged_folder
 from dptbd.evaluation.compare.report import MARKER, TOOL, markdown_tables, summarise, write_outputs
 from dptbd.evaluation.compare.runner import CompareResult, check_rtl, run_compare
@@ -188,7 +189,7 @@ def compare_job(config: pathlib.Path | Mapping[str, Any] | None, out: pathlib.Pa
 
     Raises
     ------
-    dptbd.config.ConfigError, FileNotFoundError, FileExistsError, ValueError
+    dptbd.errors.ConfigError, FileNotFoundError, FileExistsError, ValueError
         Bad parameters or output folder, before any work (a bad ``workers``:
         :class:`dptbd.evaluation.execution.ExecutionError`).
     RuntimeError

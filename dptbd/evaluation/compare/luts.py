@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from dptbd.config import ConfigError, move_offsets, paper_weights, plain_weights
+from dptbd.weights import move_offsets, paper_weights, plain_weights
+from dptbd.errors import ConfigError
 
 __all__ = ["LUTS", "cosine_weights", "lut_weights", "adc_mapping"]
 

@@ -111,7 +111,7 @@ def _chunk(plan: Plan, first: int, stop: int) -> dict:
     The noise is drawn once and the target added per SNR; the ADC codes of the noise are
     computed once per ADC and only the target's pixels re-quantised per SNR. This gives the
     same frames as ``table1_scenario(...).frames`` and ``quantise`` of them
-    (``tests/evaluation/compare/test_compare_runner.py`` checks it against :func:`measure_frames`).
+    (``tests/evaluation/compare/test_runner.py`` checks it against :func:`measure_frames`).
     """
     spec = plan.spec
     n = stop - first

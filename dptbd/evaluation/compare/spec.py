@@ -15,8 +15,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from dptbd.config import ConfigError, DPConfig, EnergyWidthWarning, non_saturating_energy_bits
-from dptbd.errors import check_int, check_prob, check_real, shown
+from dptbd.config import DPConfig, EnergyWidthWarning, non_saturating_energy_bits
+from dptbd.errors import ConfigError, check_int, check_prob, check_real, shown
 from dptbd.evaluation.compare.luts import LUTS, adc_mapping, cosine_weights, lut_weights
 from dptbd.scenes import synthetic as scenes
 from dptbd.model.segmentation import count_for_rate
@@ -193,7 +193,7 @@ class CompareSpec:
 
 def _checked_int(name: str, v: Any, lo: int, hi: int | None = None) -> int:
     """``v`` as an int in ``[lo, hi]``: :func:`dptbd.errors.check_int` raising
-    :class:`~dptbd.config.ConfigError` (:mod:`~dptbd.evaluation.compare.runner` uses it too)."""
+    :class:`~dptbd.errors.ConfigError` (:mod:`~dptbd.evaluation.compare.runner` uses it too)."""
     return check_int(name, v, lo, hi, error=ConfigError)
 
 
@@ -334,7 +334,7 @@ def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> Co
 
     Raises
     ------
-    dptbd.config.ConfigError
+    dptbd.errors.ConfigError
         Unknown keys (by name), impossible widths, an empty or non-increasing SNR list,
         ``trials`` < 1, …
     """

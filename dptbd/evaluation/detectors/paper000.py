@@ -25,7 +25,7 @@ from typing import Iterable
 import numpy as np
 
 from dptbd.scenes import synthetic as scenes
-from dptbd.evaluation.detectors import cfar, unified
+from dptbd.evaluation.detectors import cfar, merits, transitions, unified
 from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_prob, check_real
 
 __all__ = ["CASES", "Case", "CaseResult", "run_case", "peak_mask", "gate_mask",
@@ -66,14 +66,16 @@ class Case:
             raise DetectorError("thresholds (V_T) must hold at least one threshold")
         object.__setattr__(self, "thresholds", vts)
 
-    def merit_fn(self) -> unified.Merit:
+    def merit_fn(self) -> merits.Merit:
         if self.merit == "amplitude":
-            return unified.amplitude_merit()
+            return merits.amplitude_merit()
         a = scenes.amplitude_from_snr_db(self.snr_db, 1.0)
-        return unified.likelihood_difference_merit(a, self.epsilon, self.sigma)
+        return merits.likelihood_difference_merit(a, self.epsilon, self.sigma)
 
     def transition(self, radius: int = RADIUS) -> np.ndarray:
-        return unified.velocity_log_penalty(radius, self.alpha) if self.penalty else unified.no_penalty(radius)
+        if self.penalty:
+            return transitions.velocity_log_penalty(radius, self.alpha)
+        return transitions.no_penalty(radius)
 
 
 CASES = (
@@ -223,12 +225,14 @@ def _maps(name: str, frames: np.ndarray, snr_db: float, epsilon: float) -> np.nd
         ratio = cfar.ca_cfar_ratio(np.abs(last), n_ref=16, n_guard=2, axis=-2)
         return np.where(last > 0, ratio, 0.0)
     if name == "DP eq (15)":
-        return unified.run_unified(frames, unified.amplitude_merit(), unified.no_penalty(RADIUS)).value
+        return unified.run_unified(frames, merits.amplitude_merit(),
+                                   transitions.no_penalty(RADIUS)).value
     if name == "DP eq (24)":
-        return unified.run_unified(frames, unified.amplitude_merit(),
-                                   unified.velocity_log_penalty(RADIUS, 1.0)).value
-    merit = unified.likelihood_difference_merit(scenes.amplitude_from_snr_db(snr_db, 1.0), epsilon, 1.0)
-    return unified.run_unified(frames, merit, unified.velocity_log_penalty(RADIUS, 1.0)).value
+        return unified.run_unified(frames, merits.amplitude_merit(),
+                                   transitions.velocity_log_penalty(RADIUS, 1.0)).value
+    merit = merits.likelihood_difference_merit(scenes.amplitude_from_snr_db(snr_db, 1.0),
+                                               epsilon, 1.0)
+    return unified.run_unified(frames, merit, transitions.velocity_log_penalty(RADIUS, 1.0)).value
 
 
 def snr_gain(snrs_db: Iterable[float] = tuple(range(-2, 13)), *, trials: int = 200,

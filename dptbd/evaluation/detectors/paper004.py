@@ -14,7 +14,7 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from dptbd.evaluation.detectors import cfar, grid, unified
+from dptbd.evaluation.detectors import cfar, grid, merits, transitions, unified
 from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_shape
 from dptbd.scenes import range_doppler as rd_scenes
 
@@ -153,7 +153,7 @@ def time_one_frame(repeats: int = 5, frames: int = 10, *, shape: tuple[int, int]
     except ImportError:  # pragma: no cover
         pass
     out["dw-dp golden"] = _best_of(lambda: run_fixed(codes[:3], cfg.replace(segment_frames=3)), 1) / 3
-    merit, q = unified.amplitude_merit(), unified.velocity_log_penalty(2, 1.0)
+    merit, q = merits.amplitude_merit(), transitions.velocity_log_penalty(2, 1.0)
     unified.run_unified(z[:2], merit, q)
     out["dp-000 datapath"] = _best_of(lambda: unified.run_unified(z, merit, q), repeats) / frames
     unified.run_unified(z[:2, :8, :8], merit, q, mode="exact")

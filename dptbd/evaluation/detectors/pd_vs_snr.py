@@ -9,7 +9,7 @@ Two scene families (``docs/detectors.md`` §3):
   zero-mean Gaussian noise, a constant target moving (+2, -2) cells per frame.
 
 For each detector the threshold is set on ``noise_trials`` noise-only scenes for
-``false_alarm_rate`` per decision (:func:`~dptbd.evaluation.detectors.interface.calibrate`);
+``false_alarm_rate`` per decision (:func:`~dptbd.evaluation.detectors.scoring.calibrate`);
 then ``trials`` scenes per SNR give Pd = detections / opportunities (scored frames from
 ``first_frame`` on, the same frames for every detector). Every detector sees the same
 seeded scenes. Work is split into (detector, SNR) tasks over ``jobs`` processes, or the
@@ -25,7 +25,7 @@ from typing import Iterable
 
 import numpy as np
 
-from dptbd.evaluation.detectors import interface
+from dptbd.evaluation.detectors import adapters, interface, scoring
 from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_prob, check_real
 from dptbd.evaluation.execution import Execution, check_worker_count, map_tasks
 from dptbd.scenes import range_doppler as rd_scenes
@@ -112,21 +112,21 @@ _CHUNK = 10
 def _noise_task(args: tuple) -> tuple:
     """Decision statistics of one detector (at one preset channel) on a chunk of noise-only scenes."""
     name, spec, channel, lo, n, seed, params = args
-    det = interface.make_detector(name, spec.model(channel), **params.get(name, {}))
+    det = adapters.make_detector(name, spec.model(channel), **params.get(name, {}))
     return name, channel, lo, det.decide(spec.frames_for(None, n, seed + 1, lo)).statistic
 
 
 def _pd_task(args: tuple) -> tuple:
     """Detections of one detector on the target scenes of one SNR."""
     name, spec, snr, channel, thr, trials, seed, first_frame, gate, params = args
-    det = interface.make_detector(name, spec.model(channel), **params.get(name, {}))
+    det = adapters.make_detector(name, spec.model(channel), **params.get(name, {}))
     pixel, visible = spec.truth()
-    hits = interface.Counts(0, 0)
+    hits = scoring.Counts(0, 0)
     for lo in range(0, trials, _CHUNK):
         frames = spec.frames_for(snr, min(_CHUNK, trials - lo), seed, lo)
-        c = interface.count_detections(det.decide(frames), thr, pixel, visible,
+        c = scoring.count_detections(det.decide(frames), thr, pixel, visible,
                                        first_frame=first_frame, gate=gate)
-        hits = interface.Counts(hits.hits + c.hits, hits.total + c.total)
+        hits = scoring.Counts(hits.hits + c.hits, hits.total + c.total)
     return name, snr, hits
 
 
@@ -143,7 +143,7 @@ def _map(fn, tasks: list, client, progress: bool, desc: str) -> list:
             bar.close()
 
 
-def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
+def run_comparison(detectors: Iterable[str] = adapters.DEFAULT_DETECTORS, *,
                    snrs_db: Iterable[float] = (0.0, 3.0, 6.0, 9.0, 12.0, 15.0),
                    spec: SceneSpec | None = None, trials: int = 20, noise_trials: int = 50,
                    false_alarm_rate: float = 0.01, matched: bool = False, seed: int = 6,
@@ -155,7 +155,7 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
     Parameters
     ----------
     detectors : iterable of str
-        Names from :data:`~dptbd.evaluation.detectors.interface.DETECTORS`.
+        Names from :data:`~dptbd.evaluation.detectors.adapters.DETECTORS`.
     snrs_db : iterable of float
         SNRs in dB (rd: average per-cell SNR; image: paper 000 eq (8)).
     spec : SceneSpec
@@ -183,7 +183,7 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
     params : dict
         ``{detector name: {parameter: value}}`` passed to the detector constructors.
     """
-    names = interface.parse_detectors(list(detectors))
+    names = adapters.parse_detectors(list(detectors))
     spec = SceneSpec() if spec is None else spec
     if not isinstance(spec, SceneSpec):
         raise DetectorError(f"spec must be a SceneSpec, got {spec!r}")
@@ -197,13 +197,13 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
     gate = check_int("gate", gate, 0)
     params = {} if params is None else dict(params)
     for key in params:
-        interface.parse_detectors([key])
+        adapters.parse_detectors([key])
     k = max([p.get("segment_frames", 8) for n, p in [(n, params.get(n, {})) for n in names]] + [8])
     first = min(k - 1, spec.frames - 1) if first_frame is None else check_int(
         "first_frame", first_frame, 0, spec.frames - 1)
     # fail early, in this process, on bad detector parameters
     for n in names:
-        det = interface.make_detector(n, spec.model(), **params.get(n, {}))
+        det = adapters.make_detector(n, spec.model(), **params.get(n, {}))
         if getattr(det, "k", 0) > spec.frames:
             raise DetectorError(f"{n}: segment_frames={det.k} is longer than the scenes' frames={spec.frames}")
     decisions = (spec.frames - first) * noise_trials
@@ -211,7 +211,7 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
         raise DetectorError(f"false_alarm_rate={pfa:g} needs at least {math.ceil(1 / pfa)} noise-only "
                             f"decisions, {noise_trials} noise trials give {decisions}; raise noise_trials")
     def channels(name: str) -> tuple:
-        matched_here = matched and interface.DETECTORS[name].uses_channel
+        matched_here = matched and adapters.DETECTORS[name].uses_channel
         return snrs if matched_here else (spec.preset_snr_db,)
 
     execution = Execution(workers=jobs, scheduler=scheduler, dashboard=dashboard)
@@ -225,7 +225,7 @@ def run_comparison(detectors: Iterable[str] = interface.DEFAULT_DETECTORS, *,
 def _run(names, snrs, spec, trials, noise_trials, pfa, matched, seed, first, gate, params,
          channels, client, progress) -> CompareResult:
     def channel(name: str, snr: float) -> float:
-        return snr if matched and interface.DETECTORS[name].uses_channel else spec.preset_snr_db
+        return snr if matched and adapters.DETECTORS[name].uses_channel else spec.preset_snr_db
 
     chunks = [(lo, min(_CHUNK, noise_trials - lo)) for lo in range(0, noise_trials, _CHUNK)]
     noise = _map(_noise_task, [(n, spec, c, lo, m, seed, params) for n in names for c in channels(n)
@@ -235,9 +235,9 @@ def _run(names, snrs, spec, trials, noise_trials, pfa, matched, seed, first, gat
         for c in channels(n):
             parts = sorted((lo, st) for nn, cc, lo, st in noise if (nn, cc) == (n, c))
             stat = np.concatenate([st for _, st in parts])
-            t = interface.calibrate(stat[:, first:], pfa)
-            fa = interface.count_false_alarms(interface.Decisions(stat, np.zeros(stat.shape + (2,))), t,
-                                              first_frame=first)
+            t = scoring.calibrate(stat[:, first:], pfa)
+            fa = scoring.count_false_alarms(
+                interface.Decisions(stat, np.zeros(stat.shape + (2,))), t, first_frame=first)
             cal.append((n, c, t, fa))
     thr = {(n, c): t for n, c, t, _ in cal}
     thresholds: dict = {}
@@ -247,8 +247,8 @@ def _run(names, snrs, spec, trials, noise_trials, pfa, matched, seed, first, gat
             thresholds.setdefault(n, {})[c] = t
         else:
             thresholds[n] = t
-        prev = false_alarms.get(n, interface.Counts(0, 0))
-        false_alarms[n] = interface.Counts(prev.hits + fa.hits, prev.total + fa.total)
+        prev = false_alarms.get(n, scoring.Counts(0, 0))
+        false_alarms[n] = scoring.Counts(prev.hits + fa.hits, prev.total + fa.total)
     tasks = []
     for n in names:
         for s in snrs:

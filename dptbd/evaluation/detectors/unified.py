@@ -7,11 +7,15 @@ families as one recursion with a *merit* ``P`` of the cell's measurement and a
     h_1(x_1) = P(x_1)                                                      (26)
     h_k(x_k) = P(x_k) + max_{x_{k-1}} [ Q(x_k | x_{k-1}) + h_{k-1}(x_{k-1}) ]  (25)
 
-* amplitude DP, eqs (14)-(15): ``P = z``, ``Q = 0`` (:func:`amplitude_merit`, :func:`no_penalty`);
+* amplitude DP, eqs (14)-(15): ``P = z``, ``Q = 0`` (:func:`~.merits.amplitude_merit`,
+  :func:`~.transitions.no_penalty`);
 * amplitude DP with the transition penalty, eq (24): ``P = z``, ``Q = lg p(x_k | x_{k-1})``
-  of eq (22) (:func:`velocity_log_penalty`);
+  of eq (22) (:func:`~.transitions.velocity_log_penalty`);
 * likelihood-difference DP, eqs (19)-(23): ``P = S(z)`` of eqs (19)-(20)
-  (:func:`likelihood_difference_merit`) with the eq (22) penalty.
+  (:func:`~.merits.likelihood_difference_merit`) with the eq (22) penalty.
+
+The merits are :mod:`dptbd.evaluation.detectors.merits`, the transition tables
+:mod:`dptbd.evaluation.detectors.transitions`; this module runs the float recursion.
 
 Reading of eq (22) (``docs/detectors.md`` §1.2): ``lg p(x_k|x_{k-1}) = -lg|x(k) - alpha x(k-1)|``
 is taken on the target's *velocity* (its move per frame, the state's arrival direction),
@@ -35,134 +39,33 @@ move). Two forms are provided:
 
 Moves, their order, image edges (a predecessor outside the image is invalid) and the
 tie-break (lowest move index wins) are those of ``docs/arithmetic.md`` §2 and §4.
-:func:`run_unified_fixed` is the integer version on that datapath: a merit LUT on the
-input pixel code and an additive penalty LUT.
+:func:`~dptbd.evaluation.detectors.unified_fixed.run_unified_fixed` is the integer version on
+that datapath: a merit LUT on the input pixel code and an additive penalty LUT.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
-from typing import Any, Callable
+from typing import Any
 
 import numba
 import numpy as np
 
-from dptbd.config import check_move_table, move_offsets
-from dptbd.evaluation.detectors._checks import (
-    DetectorError, check_frames, check_int, check_real)
+from dptbd.evaluation.detectors._checks import DetectorError, check_frames, check_int
+from dptbd.evaluation.detectors.merits import Merit
+from dptbd.evaluation.detectors.transitions import check_transition
+from dptbd.weights import move_offsets
 
 __all__ = [
-    "Merit",
-    "amplitude_merit",
-    "likelihood_difference_merit",
-    "no_penalty",
-    "velocity_log_penalty",
-    "check_transition",
     "UnifiedResult",
     "run_unified",
     "run_unified_segments",
     "backtrack",
     "path_value",
-    "FixedUnified",
-    "quantise_unified",
-    "run_unified_fixed",
     "MODES",
 ]
 
 MODES = ("datapath", "exact")
-
-
-# ---- merits P -----------------------------------------------------------------------------
-
-@dataclasses.dataclass(frozen=True)
-class Merit:
-    """A merit ``P(z)`` of one cell's measurement: the stage index of eq (25)."""
-
-    name: str
-    function: Callable[[np.ndarray], np.ndarray]
-    params: dict
-
-    def __call__(self, z: np.ndarray) -> np.ndarray:
-        return np.asarray(self.function(np.asarray(z, dtype=np.float64)), dtype=np.float64)
-
-
-def amplitude_merit() -> Merit:
-    """Eq (14)-(15), (24): the measured amplitude itself, ``P(z) = z``."""
-    return Merit("amplitude", lambda z: z, {})
-
-
-def likelihood_difference_merit(amplitude: float, epsilon: float, sigma: float,
-                                noise_sigma: float = 1.0) -> Merit:
-    """Eqs (19)-(20): ``S(z) = exp(-(z - eps a)**2 / (2 sigma**2)) - p(z | H0)``.
-
-    ``p(z | H0)`` is eq (18)'s unit-variance Gaussian density; measurements are divided by
-    ``noise_sigma`` first (eq (18) assumes unit noise). Eq (20) states ``0 < eps < 1``
-    and ``sigma > 1``; 000 §5.2 runs ``sigma`` (printed ``delta``) = 1, so any
-    ``sigma > 0`` is accepted (``docs/detectors.md`` §1.2).
-
-    Parameters
-    ----------
-    amplitude : float
-        The expected target amplitude ``a`` (> 0), in the units of the measurements.
-    epsilon : float
-        Fraction of ``a`` at which S peaks, in (0, 1) (000 §5.2: 0.85 at 6 dB, 0.55 at 3 dB).
-    sigma : float
-        Width of the bump, > 0 (in noise standard deviations).
-    noise_sigma : float
-        Noise standard deviation of the measurements, > 0.
-    """
-    a = check_real("amplitude (a)", amplitude, 0.0, lo_open=True)
-    eps = check_real("epsilon (printed alpha in 000 §5.2)", epsilon, 0.0, 1.0, lo_open=True, hi_open=True)
-    sig = check_real("sigma (printed delta in 000 §5.2)", sigma, 0.0, lo_open=True)
-    ns = check_real("noise_sigma", noise_sigma, 0.0, lo_open=True)
-    centre = eps * a / ns
-
-    def s(z: np.ndarray) -> np.ndarray:
-        u = z / ns
-        return np.exp(-(u - centre) ** 2 / (2.0 * sig * sig)) - np.exp(-0.5 * u * u) / math.sqrt(2 * math.pi)
-
-    return Merit("likelihood-difference", s,
-                 dict(amplitude=a, epsilon=eps, sigma=sig, noise_sigma=ns))
-
-
-# ---- transition terms Q -----------------------------------------------------------------
-
-def no_penalty(radius: int = 2) -> np.ndarray:
-    """``Q = 0``: eq (15), the plain amplitude DP. Shape ``(M + 1, M)``."""
-    radius = check_int("radius", radius, 1, 2)
-    m = (2 * radius + 1) ** 2
-    return np.zeros((m + 1, m))
-
-
-def velocity_log_penalty(radius: int = 2, alpha: float = 1.0) -> np.ndarray:
-    """Eq (22) read on velocities: ``Q[p, m] = -lg(1 + |v_m - alpha v_p|)``; row START is 0.
-
-    Parameters
-    ----------
-    radius : int
-        Window radius, 1 or 2.
-    alpha : float
-        The coefficient of eq (22), in [0, 1]: 1 predicts constant velocity, 0 predicts
-        standing still (the move length itself is penalised).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(M + 1, M)`` table indexed ``[predecessor arrival move, move]``, values <= 0.
-    """
-    radius = check_int("radius", radius, 1, 2)
-    alpha = check_real("alpha (eq (22) coefficient)", alpha, 0.0, 1.0)
-    moves = move_offsets(radius).astype(np.float64)
-    diff = moves[None, :, :] - alpha * moves[:, None, :]
-    table = np.zeros((len(moves) + 1, len(moves)))
-    table[:-1] = -np.log10(1.0 + np.sqrt((diff ** 2).sum(axis=-1)))
-    return table
-
-
-def check_transition(transition: Any, radius: int) -> np.ndarray:
-    """A finite ``(M + 1, M)`` table of Q, rows = predecessor arrival move (START last)."""
-    return check_move_table("transition", transition, radius, error=DetectorError)
 
 
 def _check_mode(mode: str) -> str:
@@ -229,32 +132,6 @@ def _exact_step(h, p, q, moves, back):  # pragma: no cover - compiled
     return h_new
 
 
-@numba.njit(cache=True)
-def _fixed_step(e, d, pc, qc, moves, e_max):  # pragma: no cover - compiled
-    n_b, height, width = e.shape
-    n_m = moves.shape[0]
-    e_new = np.empty_like(e)
-    d_new = np.empty(d.shape, np.uint8)
-    for b in range(n_b):
-        for y in range(height):
-            for x in range(width):
-                best = np.int64(0)
-                arg = -1
-                for m in range(n_m):
-                    yy = y - moves[m, 0]
-                    xx = x - moves[m, 1]
-                    if yy < 0 or yy >= height or xx < 0 or xx >= width:
-                        continue
-                    c = e[b, yy, xx] - qc[d[b, yy, xx], m]
-                    if arg < 0 or c > best:
-                        best = c
-                        arg = m
-                v = best + pc[b, y, x]
-                e_new[b, y, x] = e_max if v > e_max else v
-                d_new[b, y, x] = arg
-    return e_new, d_new
-
-
 # ---- float recursion ------------------------------------------------------------------------
 
 @dataclasses.dataclass(frozen=True)
@@ -292,9 +169,10 @@ def run_unified(frames: Any, merit: Merit, transition: Any, *, radius: int = 2,
     frames : array_like
         Real measurements ``z``.
     merit : Merit
-        ``P`` (:func:`amplitude_merit`, :func:`likelihood_difference_merit`).
+        ``P`` (:func:`~.merits.amplitude_merit`, :func:`~.merits.likelihood_difference_merit`).
     transition : array_like
-        ``Q``, an ``(M + 1, M)`` table (:func:`no_penalty`, :func:`velocity_log_penalty`).
+        ``Q``, an ``(M + 1, M)`` table (:func:`~.transitions.no_penalty`,
+        :func:`~.transitions.velocity_log_penalty`).
     radius : int
         Window radius (1 or 2; paper 000's target moves 2 cells per frame).
     mode : str
@@ -410,113 +288,3 @@ def path_value(frames: Any, path: Any, merit: Merit, transition: Any, radius: in
         total += float(q[prev, m]) + float(merit(z[t, path[t, 0], path[t, 1]]))
         prev = m
     return total
-
-
-# ---- fixed point on 001's datapath --------------------------------------------------------
-
-@dataclasses.dataclass(frozen=True)
-class FixedUnified:
-    """Integer LUTs of the unified recursion on paper 001's datapath.
-
-    ``E_k = min(max_m [E_{k-1}(q_m) - penalty[d(q_m), m]] + merit[x], E_max)``: a merit
-    LUT indexed by the B_in-bit pixel code and an additive (subtracted) penalty LUT in
-    place of 001's weight multiplier. Both are unsigned; ``merit.min() >= penalty.max()``
-    so that no candidate is ever negative (no sign bit in the datapath).
-
-    Attributes
-    ----------
-    merit_codes : numpy.ndarray
-        ``int64 (2**B_in,)``: ``round(scale * (P(z(x)) + bias))``.
-    penalty_codes : numpy.ndarray
-        ``int64 (M + 1, M)``: ``round(scale * (max Q - Q))``.
-    scale, bias, q_max : float
-        ``E_k ≈ scale * (h_k + (k + 1) * bias - k * q_max)`` (k = frame index from 0),
-        exact when the scaled merits and penalties are integers and nothing saturates.
-    input_bits, energy_bits, radius : int
-    """
-
-    merit_codes: np.ndarray
-    penalty_codes: np.ndarray
-    scale: float
-    bias: float
-    q_max: float
-    input_bits: int
-    energy_bits: int
-    radius: int
-
-    def threshold_code(self, v_t: float, n_frames: int) -> int:
-        """The integer threshold equivalent to ``h > v_t`` after ``n_frames`` frames (floor).
-
-        Parameters
-        ----------
-        v_t : float
-            The threshold V_T on the float scale of h, a finite real number.
-        n_frames : int
-            Frames accumulated, >= 1.
-        """
-        v_t = check_real("v_t (threshold V_T)", v_t)
-        k = check_int("n_frames", n_frames, 1) - 1
-        return int(math.floor(self.scale * (v_t + (k + 1) * self.bias - k * self.q_max)))
-
-    def to_float(self, energy: np.ndarray, n_frames: int) -> np.ndarray:
-        """Map accumulated codes back to the float scale of h (``n_frames >= 1``)."""
-        k = check_int("n_frames", n_frames, 1) - 1
-        return np.asarray(energy, dtype=np.float64) / self.scale - (k + 1) * self.bias + k * self.q_max
-
-
-def quantise_unified(merit: Merit, transition: Any, *, radius: int = 2, input_bits: int = 8,
-                     gain: float = 1.0, offset: float = 0.0, scale: float = 1.0,
-                     energy_bits: int = 16) -> FixedUnified:
-    """Build the integer LUTs for a merit and transition table.
-
-    A pixel code ``x`` stands for the measurement ``z = (x - offset) / gain`` (the inverse
-    of :func:`dptbd.scenes.synthetic.quantise`). Merit and penalty are scaled by ``scale``
-    and rounded half up.
-    """
-    bits = check_int("input_bits", input_bits, 1, 16)
-    ebits = check_int("energy_bits", energy_bits, bits, 32)
-    gain = check_real("gain", gain, 0.0, lo_open=True)
-    offset = check_real("offset", offset)
-    scale = check_real("scale", scale, 0.0, lo_open=True)
-    radius = check_int("radius", radius, 1, 2)
-    q = check_transition(transition, radius)
-    z = (np.arange(1 << bits, dtype=np.float64) - offset) / gain
-    p = merit(z)
-    q_max = float(q.max())
-    penalty = q_max - q
-    bias = float(penalty.max() - p.min())
-    merit_codes = np.floor(scale * (p + bias) + 0.5).astype(np.int64)
-    penalty_codes = np.floor(scale * penalty + 0.5).astype(np.int64)
-    if merit_codes.max() >= (1 << ebits):
-        raise DetectorError(f"energy_bits={ebits} cannot hold a merit code of {merit_codes.max()}")
-    # rounding can break merit >= penalty by one code; lift the merit LUT if so
-    lift = max(0, int(penalty_codes.max() - merit_codes.min()))
-    merit_codes += lift
-    return FixedUnified(merit_codes, penalty_codes, scale, bias + lift / scale, q_max, bits, ebits, radius)
-
-
-def run_unified_fixed(codes: Any, luts: FixedUnified) -> tuple[np.ndarray, np.ndarray]:
-    """The integer datapath form of eqs (25)-(26) on pixel codes ``(..., T, H, W)``.
-
-    Returns the accumulated codes ``E`` (``int64``) and arrival moves ``d`` (``uint8``),
-    each ``(..., H, W)``. Saturates at ``2**energy_bits - 1``.
-    """
-    arr = np.asarray(codes)
-    if not np.issubdtype(arr.dtype, np.integer):
-        raise DetectorError(f"codes must be integer pixel codes, got dtype {arr.dtype}")
-    if arr.ndim < 3:
-        raise DetectorError(f"codes must have shape (..., T, H, W), got shape {arr.shape}")
-    top = (1 << luts.input_bits) - 1
-    if arr.size and (arr.min() < 0 or arr.max() > top):
-        raise DetectorError(f"codes must be in [0, {top}] for input_bits={luts.input_bits}, "
-                            f"found [{arr.min()}, {arr.max()}]")
-    lead, (n_t, height, width) = arr.shape[:-3], arr.shape[-3:]
-    x = arr.reshape((-1, n_t, height, width)).astype(np.int64)
-    moves = move_offsets(luts.radius)
-    e_max = np.int64((1 << luts.energy_bits) - 1)
-    pc = luts.merit_codes[x]
-    e = np.minimum(pc[:, 0], e_max)
-    d = np.full(e.shape, len(moves), dtype=np.uint8)
-    for t in range(1, n_t):
-        e, d = _fixed_step(e, d, np.ascontiguousarray(pc[:, t]), luts.penalty_codes, moves, e_max)
-    return e.reshape(lead + (height, width)), d.reshape(lead + (height, width))

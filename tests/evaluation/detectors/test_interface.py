@@ -1,4 +1,6 @@
-"""The common detector interface, equal-Pfa calibration, the comparison and ``dptbd detectors``."""
+"""The common detector interface (the scene model, refusals of detector parameters), the
+comparison and ``dptbd detectors`` (the registry: test_adapters.py; the scoring:
+test_scoring.py)."""
 
 from __future__ import annotations
 
@@ -7,82 +9,12 @@ import math
 import numpy as np
 import pytest
 
-from dptbd.config import DPConfig
 from dptbd.evaluation.detectors import DetectorError
-from dptbd.evaluation.detectors.pd_vs_snr import SceneSpec, run_comparison
-from dptbd.evaluation.detectors.interface import (
-    DETECTORS, Decisions, SceneModel, calibrate, count_detections, count_false_alarms,
-    make_detector, parse_detectors)
+from dptbd.evaluation.detectors.adapters import make_detector
+from dptbd.evaluation.detectors.interface import SceneModel
 from dptbd.evaluation.detectors.paper000 import crossing_snr, peak_mask, run_case, CASES
-from dptbd.scenes.range_doppler import rd_scene, straight_track
-from dptbd.model.fixed import run_fixed
+from dptbd.evaluation.detectors.pd_vs_snr import SceneSpec, run_comparison
 from helpers.refusals import whole
-
-
-def test_parse_detectors():
-    assert parse_detectors("info, ca-cfar,info") == ("info", "ca-cfar")
-    with pytest.raises(DetectorError, match=(r"^unknown detector 'mht'; known: dw-dp, "
-                                             r"dp-amplitude, dp-penalty, dp-likelihood, info, "
-                                             r"grid-bayes, ca-cfar$")):
-        parse_detectors("info,mht")
-    with pytest.raises(DetectorError, match=(r"^detectors must name at least one of dw-dp, "
-                                             r"dp-amplitude, dp-penalty, dp-likelihood, info, "
-                                             r"grid-bayes, ca-cfar$")):
-        parse_detectors("")
-
-
-def test_calibrate_keeps_at_most_the_rate_and_ignores_ties_and_nan():
-    stats = np.array([[np.nan, 1, 2, 3, 4], [np.nan, 5, 6, 7, 8], [np.nan, 9, 10, 10, 10]])
-    thr = calibrate(stats, 0.25)  # 12 decisions -> at most 3 above
-    assert thr == 9.0
-    assert count_false_alarms(Decisions(stats, np.zeros(stats.shape + (2,))), thr).hits == 3
-    with pytest.raises(DetectorError, match=(r"^false_alarm_rate=0\.01 needs at least 100 "
-                                             r"noise-only decisions to set a threshold, got "
-                                             r"12; raise the noise trials or the rate$")):
-        calibrate(stats, 0.01)
-    with pytest.raises(DetectorError, match=(r"^false_alarm_rate must be a finite real number "
-                                             r"in \(0, 1\), got 0\.0$")):
-        calibrate(stats, 0.0)
-
-
-def test_count_detections_gate_and_scored_frames():
-    stat = np.array([[5.0, 5.0, 5.0, np.nan], [1.0, 5.0, 5.0, 5.0]])
-    est = np.zeros((2, 4, 2), dtype=int)
-    est[0, 2] = (3, 3)  # far from the truth: a declaration but no detection
-    pixel = np.zeros((4, 2), dtype=int)
-    c = count_detections(Decisions(stat, est), 2.0, pixel, np.ones(4, bool), first_frame=1, gate=1)
-    assert (c.hits, c.total) == (4, 5)
-    c = count_detections(Decisions(stat, est), 2.0, pixel, np.array([1, 1, 0, 1], bool), first_frame=0)
-    assert (c.hits, c.total) == (4, 5)
-
-
-@pytest.mark.parametrize("name", list(DETECTORS))
-def test_every_detector_runs_on_a_small_scene(name):
-    model = SceneModel((20, 12), "rayleigh", 1.0, 12.0, 1, None)
-    track = straight_track((8, 5), (0.2, 0.1), 10)
-    frames = rd_scene((20, 12), 10, track, snr_db=25.0, seed=1, trials=2).frames
-    kw = dict(segment_frames=4) if "dp" in name else {}
-    dec = make_detector(name, model, **kw).decide(frames)
-    assert dec.statistic.shape == (2, 10) and dec.estimate.shape == (2, 10, 2)
-    scored = ~np.isnan(dec.statistic)
-    assert scored[:, 3:].all()
-    if "dp" in name:
-        assert not scored[:, :3].any()  # a K-frame segment decides from frame K-1 on
-    if name != "dp-likelihood":  # 000's bump merit is not made for a fluctuating target
-        near = np.max(np.abs(dec.estimate[:, -1] - np.rint(track[-1])), axis=-1) <= 1
-        assert near.all()
-
-
-def test_dw_dp_adapter_is_the_golden_model():
-    model = SceneModel((9, 10), "gaussian", 1.0, 10.0, 2, None)
-    det = make_detector("dw-dp", model, segment_frames=3)
-    frames = np.random.default_rng(0).normal(size=(2, 5, 9, 10))
-    dec = det.decide(frames)
-    codes = det.codes(frames)
-    cfg = DPConfig(width=10, height=9, segment_frames=3, segment_stride=1, input_bits=10,
-                   energy_bits=16, radius=2)
-    energy = run_fixed(codes, cfg).energy
-    assert np.array_equal(dec.statistic[:, 2:], energy.reshape(2, 3, -1).max(axis=-1))
 
 
 @pytest.mark.parametrize("call, message", [

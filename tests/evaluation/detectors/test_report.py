@@ -9,7 +9,7 @@ from PIL import Image
 
 from dptbd.evaluation.detectors import report
 from dptbd.evaluation.detectors.pd_vs_snr import CompareResult
-from dptbd.evaluation.detectors.interface import Counts
+from dptbd.evaluation.detectors.scoring import Counts
 from dptbd.evaluation.detectors.report import (OUT_FILES, TOOL, describe_run, figure_pd_vs_snr,
                                                format_table, rows, write_folder)
 from helpers.refusals import whole

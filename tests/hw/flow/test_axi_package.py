@@ -3,7 +3,6 @@ own parser), and the Verilog under Verilator's lint with the project's waivers."
 
 import json
 import os
-import re
 import shutil
 import subprocess
 import sysconfig

@@ -2,7 +2,8 @@
 
 import pytest
 
-from dptbd.config import ConfigError, DPConfig
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError
 from dptbd.hw.flow.family import ECP5, FAMILIES, ICE40, get_family
 from dptbd.hw.flow.synth import synthesize
 

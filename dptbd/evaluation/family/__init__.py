@@ -1,0 +1,10 @@
+"""K-frame segments against paper 000's recursive DP with a forgetting factor
+(``docs/detectors.md`` §6).
+
+* :mod:`~dptbd.evaluation.family.detection` — first level: detection maps on Table 1's
+  setting, counted as Table 1 counts;
+* :mod:`~dptbd.evaluation.family.recursive_pipeline` — the recursive DP's maps through the
+  DSP association;
+* :mod:`~dptbd.evaluation.family.association` — both through the DSP association on
+  ``dptbd run``'s scenario, against ground truth.
+"""

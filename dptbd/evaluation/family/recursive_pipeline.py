@@ -1,0 +1,83 @@
+"""The DSP association fed by the recursive DP (``docs/arithmetic.md`` §8.6).
+
+The recursive DP gives a detection map every frame, but the DSP association of 001 §3
+(:class:`dptbd.dsp.association.Tracker`) steps once per *list*, each candidate carrying the
+path backtracked over a window of frames. This module feeds it the recursive DP's maps of
+frames ``t_s = L - 1 + s * E`` (``every`` = E frames apart), each candidate's path
+backtracked along the recursion's stored directions over the last ``path_frames`` = L
+frames. To the tracker, :func:`dptbd.dsp.backtrack.track_positions` and
+:func:`dptbd.dsp.track_metrics.evaluate_tracks` this looks like segments of K = L frames
+at stride E (:func:`recursive_view`); with E = L = K the DSP receives exactly as many lists,
+of the same length, as from K-frame segments. Lists are the ideal rule (each map's n
+largest pixels; the gateware segmenter's histogram shift is calibrated for K-frame sums,
+``docs/arithmetic.md`` §6.6, not for a recursion's E ≈ P / (1 - alpha)).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from dptbd.config import DPConfig
+from dptbd.dsp.association import AssociationConfig, make_candidates
+from dptbd.dsp.backtrack import candidate_paths, track_positions
+from dptbd.dsp.c_tracker import tracker_class
+from dptbd.evaluation.chain import PipelineResult
+from dptbd.errors import check_int
+from dptbd.model.fast_family import fast_family_start, fast_family_step
+from dptbd.model.segmentation import candidates as map_candidates
+from dptbd.model.segments import SegmentOutput
+
+__all__ = ["recursive_view", "run_recursive_pipeline"]
+
+
+def recursive_view(cfg: DPConfig, path_frames: int, every: int) -> DPConfig:
+    """The segment layout the DSP sees: K = ``path_frames``, stride ``every`` (<= K)."""
+    if not cfg.recursive:
+        raise ValueError("run_recursive_pipeline needs a configuration with recursive=True")
+    path_frames = check_int("path_frames", path_frames, 1, 65535)
+    every = check_int("every", every, 1, path_frames, hi_name="path_frames=")
+    return cfg.replace(recursive=False, segment_frames=path_frames, segment_stride=every)
+
+
+def run_recursive_pipeline(frames: np.ndarray, cfg: DPConfig, count: int,
+                           assoc: AssociationConfig, *, path_frames: int, every: int,
+                           dsp: str = "python") -> PipelineResult:
+    """Run the recursive DP on ``frames (T, H, W)`` and the DSP association on its maps.
+
+    Returns a :class:`dptbd.evaluation.chain.PipelineResult` whose ``cfg`` is
+    :func:`recursive_view` (``segments.end_frames`` = the scored frames; ``maps[s, 0]`` is
+    ``START``: a path stops L - 1 moves back).
+    """
+    view = recursive_view(cfg, path_frames, every)
+    arr = np.asarray(frames)
+    n_t = arr.shape[0]
+    if n_t < path_frames:
+        raise ValueError(f"the sequence has {n_t} frame(s), fewer than path_frames={path_frames}")
+    ends = np.arange(path_frames - 1, n_t, every)
+    directions = np.empty((n_t, cfg.height, cfg.width), dtype=np.uint8)
+    energy, direction = fast_family_start(arr[0], cfg)
+    directions[0] = direction
+    kept_e = np.empty((len(ends), cfg.height, cfg.width), dtype=energy.dtype)
+    where = {int(t): s for s, t in enumerate(ends)}
+    if 0 in where:
+        kept_e[0] = energy
+    for t in range(1, n_t):
+        energy, direction = fast_family_step(energy, direction, arr[t], cfg)
+        directions[t] = direction
+        if t in where:
+            kept_e[where[t]] = energy
+    maps = np.stack([directions[t - path_frames + 1:t + 1] for t in ends])
+    maps[:, 0] = cfg.start_code
+    segments = SegmentOutput(kept_e, directions[ends], ends.astype(np.int64))
+    tracker = tracker_class(dsp)(assoc, segment_frames=path_frames, segment_stride=every,
+                                 height=cfg.height, width=cfg.width, radius=cfg.radius)
+    cands = []
+    for s in range(len(ends)):
+        raw = map_candidates(segments.energy[s], segments.direction[s], count)
+        c = make_candidates(raw, candidate_paths(raw, maps[s], view))
+        tracker.step(c)
+        cands.append(c)
+    tracks = tracker.confirmed_tracks()
+    positions = {tr.id: track_positions(tr.points, maps, view) for tr in tracks}
+    return PipelineResult(view, assoc, count, segments, maps, cands, tracks, positions,
+                          dict(tracker.stats), "ideal", dsp)

@@ -1,0 +1,71 @@
+"""``dptbd.evaluation.family.detection``: variants, their configurations, the counts."""
+
+from __future__ import annotations
+
+
+import numpy as np
+import pytest
+
+from dptbd.errors import DptbdError
+from dptbd.evaluation.family import detection as fd
+from dptbd.evaluation.table1.experiment import table1_config
+from helpers.refusals import whole
+
+
+def test_segment_variant_is_table1s_configuration_with_stride_k():
+    cfg = fd.variant_config(fd.segments(8))
+    assert cfg == table1_config(8, 8) and cfg.is_paper001_datapath
+
+
+def test_recursive_variant_configuration():
+    cfg = fd.variant_config(fd.recursive(0.85))
+    assert cfg.recursive and cfg.forgetting_code == 218 and cfg.energy_bits == 20
+    assert not cfg.is_paper001_datapath and cfg.penalty_codes is None
+
+
+def test_zero_move_penalty_is_on_the_centre_move_after_a_moving_or_still_predecessor():
+    cfg = fd.variant_config(fd.recursive(0.9, zero_move_penalty=24))
+    table = cfg.penalty_code_array
+    assert table.shape == (10, 9) and np.all(table[:9, 4] == 24) and table[9, 4] == 0
+    assert table.sum() == 9 * 24
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: fd.recursive(1.0), "forgetting must be a finite real number in (0, 1), got 1.0"),
+    (lambda: fd.recursive(0.0), "forgetting must be a finite real number in (0, 1), got 0.0"),
+    (lambda: fd.recursive(0.5, warmup=100), "warmup must be an integer in [0, 99], got 100"),
+    (lambda: fd.segments(0), "segment_frames must be an integer in [1, 100], got 0"),
+    (lambda: fd.recursive(0.5, zero_move_penalty=-1),
+     "zero_move_penalty must be an integer in [0, 65535], got -1"),
+])
+def test_refusals(call, message):
+    with pytest.raises(DptbdError, match=whole(message)):
+        call()
+
+
+@pytest.mark.parametrize("variant, maps", [(fd.segments(6), 16), (fd.recursive(0.8, warmup=7), 93)])
+def test_counts_one_map_per_segment_or_per_frame(variant, maps):
+    c = fd.variant_counts(variant, 2.3, (1.0, 1.0), trials=1, seed=5, size=32)
+    assert c.frames == maps
+    assert c.opportunities <= maps and 0 <= c.detections <= c.opportunities
+    # n = count_for_rate(0.2 %, 32 x 32) = 2 candidates per map at most
+    assert c.false_points <= 2 * maps
+
+
+def test_paired_difference():
+    from dptbd.evaluation.metrics import DetectionCounts
+    a = [DetectionCounts(1, 2, 0, 2), DetectionCounts(2, 4, 0, 4), DetectionCounts(0, 1, 0, 1)]
+    b = [DetectionCounts(2, 2, 0, 2), DetectionCounts(3, 4, 0, 4), DetectionCounts(1, 1, 0, 1)]
+    mean, lo, hi = fd.paired_pd_difference(a, b)
+    assert mean == pytest.approx((0.5 + 0.25 + 1.0) / 3) and lo < mean < hi
+    with pytest.raises(ValueError, match=r"^paired_pd_difference needs two equally long lists "
+                                         r"of at least 2 scenes, got 3 and 2$"):
+        fd.paired_pd_difference(a, b[:2])
+
+
+def test_trial_counts_sum_to_the_setting_counts():
+    per = fd.variant_trial_counts(fd.segments(4), 2.0, (1.0, 1.0), trials=3, seed=7, size=24,
+                                  chunk=2)
+    total = fd.variant_counts(fd.segments(4), 2.0, (1.0, 1.0), trials=3, seed=7, size=24)
+    assert len(per) == 3 and sum(c.detections for c in per) == total.detections
+    assert sum(c.frames for c in per) == total.frames == 3 * 25
