@@ -22,6 +22,7 @@ Modules (one line each)
 - ``tb_axi``: the cocotb test module of ``dptbd_axi`` (the AXI top level) with cocotbext-axi.
 - ``axi_stimulus``: beat streams for the AXI video input with frame-sync faults, and the frame monitor's fault rule.
 - ``x_store``: 4-state (Icarus) check that an X- or garbage-initialised external store never reaches an output.
+- ``reset_x``: 4-state (Icarus) check of each top level around reset: ``ready`` and ``valid`` 0 in reset and the cycle after, no X on any output, valid offered in every cycle, bit-exact after.
 - ``stimulus``: pixel words and LUT writes, packed with the gateware's layouts.
 - ``scenarios``: integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
 
