@@ -9,7 +9,7 @@ timed once per worker count, one after the other; each time is
 :attr:`CompareResult.seconds`: the Monte Carlo alone (scenes, both models, counts), after
 the kernels are compiled or loaded from numba's cache, excluding the start-up, the
 statistics and the figures (about 5 s more with the kernels cached, about 15 s when numba
-compiles them; ``docs/compare.md``). Reported: trials per second per worker count and the speed-up
+compiles them; ``docs/compare_results.md``). Reported: trials per second per worker count and the speed-up
 over one worker. The runs must give identical counts (checked; the script fails
 otherwise). The machine's load average is printed beside the numbers, and the **CPU
 share**: the CPU seconds this process and its workers got during the run over

@@ -1,4 +1,4 @@
-"""Long reproductions of papers 000 and 004 (``docs/detectors.md`` quotes their output).
+"""Long reproductions of papers 000 and 004 (``docs/detection_results.md`` quotes their output).
 
     nice -n 10 .venv/bin/python benchmarks/bench_detectors.py --all --json bench_detectors.json
 

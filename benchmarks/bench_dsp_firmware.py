@@ -1,6 +1,6 @@
 """Memory and worst-case work per segment of the DSP firmware (``dptbd/dsp/firmware``).
 
-    python benchmarks/bench_dsp_firmware.py                 # the table of docs/dsp_firmware.md
+    python benchmarks/bench_dsp_firmware.py                 # the tables of docs/dsp_firmware.md §7 and docs/throughput.md
     python benchmarks/bench_dsp_firmware.py --sets 64x128 16x66 --steps 400 --json out.json
 
 For each build-time capacity set ``CxNxPxA`` (``capacity`` C track records,

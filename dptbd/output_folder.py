@@ -6,20 +6,27 @@ target, which is renamed into place only when every file is written. An existing
 replaced only with ``--force`` and only when it carries the job's own marker file (the JSON
 summary the same job writes, whose ``tool`` field names the job): a folder the user made is
 never deleted.
+
+Every JSON file a job writes is strict JSON (RFC 8259, which has no NaN or infinity) through
+:func:`json_text`: a non-finite number is written as ``null``, whose meaning each job's
+document gives per field (no interval, not reached, ...).
 """
 
 from __future__ import annotations
 
 import contextlib
 import json
+import math
 import os
 import pathlib
 import shutil
 import tempfile
-from typing import Iterator
+from typing import Any, Iterator
+
+import numpy as np
 
 __all__ = ["check_output_folder", "staged_folder", "written_by", "check_output_file",
-           "check_new_files", "check_still_new", "write_new_text"]
+           "check_new_files", "check_still_new", "write_new_text", "jsonable", "json_text"]
 
 
 def written_by(path: pathlib.Path, marker: str, tool: str) -> bool:
@@ -144,3 +151,31 @@ def write_new_text(path: pathlib.Path, text: str, force: bool) -> None:
     appeared after the checks (``open(..., "x")``)."""
     with open(path, "w" if force else "x") as fh:
         fh.write(text)
+
+
+def jsonable(value: Any) -> Any:
+    """``value`` as plain JSON data: dicts (keys that JSON cannot key by, e.g. tuples, as
+    their ``str``), lists for tuples and arrays, Python numbers for numpy scalars, ``str`` for
+    paths, and ``None`` for every non-finite float (NaN, +-inf)."""
+    if isinstance(value, dict):
+        return {(k if k is None or isinstance(k, (str, int, float, bool)) else str(k)):
+                jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return jsonable(value.tolist())
+    if isinstance(value, np.generic):
+        return jsonable(value.item())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, pathlib.PurePath):
+        return str(value)
+    return value
+
+
+def json_text(value: Any, **dumps: Any) -> str:
+    """Strict JSON of ``value`` (:func:`jsonable`: non-finite numbers as ``null``);
+    ``dumps`` are :func:`json.dumps`'s options (``indent``, ``sort_keys``, ``default``).
+    Written with ``allow_nan=False``: a non-finite number that reaches the encoder anyway
+    (from a ``default`` hook) raises ``ValueError`` instead of writing ``NaN``."""
+    return json.dumps(jsonable(value), allow_nan=False, **dumps)

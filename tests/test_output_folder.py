@@ -3,11 +3,14 @@ never replaced, files never overwritten without --force."""
 
 import json
 import os
+import pathlib
 
+import numpy as np
 import pytest
 
 from dptbd.output_folder import (check_new_files, check_output_file, check_output_folder,
-                                 check_still_new, staged_folder, write_new_text, written_by)
+                                 check_still_new, json_text, jsonable, staged_folder,
+                                 write_new_text, written_by)
 from helpers.refusals import whole
 
 MARK = dict(marker="summary.json", tool="dptbd run")
@@ -204,3 +207,30 @@ def test_check_still_new_refuses_a_file_that_appeared(tmp_path):
             f"--figure {path} appeared during the run; not overwritten")):
         check_still_new(path, "--figure", False)
     check_still_new(path, "--figure", True)
+
+
+def strict(text):
+    """``json.loads`` refusing NaN and +-Infinity, as ``jq`` and other languages' parsers do."""
+    def refuse(name):
+        raise ValueError(f"{name} is not JSON")
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_json_text_writes_every_non_finite_number_as_null():
+    value = {"nan": float("nan"), "inf": np.float64("inf"), "rows": (1.5, -np.inf, np.int64(7)),
+             "array": np.array([0.25, np.nan]), ("a", 1): np.bool_(True), 3: pathlib.Path("x/y")}
+    assert strict(json_text(value)) == {"nan": None, "inf": None, "rows": [1.5, None, 7],
+                                        "array": [0.25, None], "('a', 1)": True, "3": "x/y"}
+    assert jsonable([np.float32(0.5), {"k": [float("-inf")]}]) == [0.5, {"k": [None]}]
+
+
+def test_json_text_keeps_finite_output_as_json_dumps_writes_it():
+    value = {"tool": "t", "pd": 0.1 + 0.2, "n": 3, "ok": False, "none": None, "keys": {8.0: 1}}
+    for options in ({}, {"indent": 1}, {"indent": 2, "sort_keys": True}):
+        assert json_text(value, **options) == json.dumps(value, **options)
+
+
+def test_a_non_finite_number_from_a_default_hook_fails_loudly():
+    with pytest.raises(ValueError, match=whole("Out of range float values are not JSON compliant: "
+                                               "nan")):
+        json_text({"value": object()}, indent=1, default=lambda o: float("nan"))

@@ -3,7 +3,7 @@
 Parses the arguments and calls the job :func:`dptbd.evaluation.compare.compare_job`: the
 Monte Carlo on the built-in scene (or a TOML file's), optionally every configuration
 synthesised for its iCE40 cost (``--synth``, cached), CSV, JSON and PNG figures written to
-``--out``. ``docs/compare.md`` has a real result.
+``--out``. ``docs/compare.md`` is the method, ``docs/compare_results.md`` has real results.
 """
 
 from __future__ import annotations

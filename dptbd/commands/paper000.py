@@ -3,21 +3,22 @@ variants in fixed point — on the gateware (``--rtl``, Verilator, every state c
 bit against the golden model) or on the golden model — against the float variants, on the
 same scenes with paired intervals (``docs/detectors.md`` §1.6).
 
-Prints the tables; ``--json FILE`` writes the summary, ``--markdown FILE`` the tables
-(neither overwritten without ``--force``, both checked before the run).
+Prints the tables; ``--json FILE`` writes the summary (strict JSON: a value without a finite
+number, such as the interval of one scene or an SNR not reached in the grid, is ``null``),
+``--markdown FILE`` the tables (neither overwritten without ``--force``, both checked before
+the run).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import pathlib
 
 from dptbd.commands.options import add_execution_arguments
 from dptbd.evaluation.detectors.paper000 import CASES
 from dptbd.evaluation.paper000.experiment import GAIN_DPS, Paper000Spec, run_paper000
 from dptbd.evaluation.paper000.report import markdown, summarise
-from dptbd.output_folder import check_output_file, write_new_text
+from dptbd.output_folder import check_output_file, json_text, write_new_text
 
 
 def _names(text: str) -> tuple[str, ...]:
@@ -78,7 +79,7 @@ def main(args: argparse.Namespace) -> int:
     print(text)
     print(f"\n{spec.engine} engine, {result.workers} worker(s), {result.seconds:.1f} s")
     if args.json is not None:
-        write_new_text(args.json, json.dumps(summary, indent=1, default=str) + "\n", args.force)
+        write_new_text(args.json, json_text(summary, indent=1, default=str) + "\n", args.force)
     if args.markdown is not None:
         write_new_text(args.markdown, text + "\n", args.force)
     return 0

@@ -55,11 +55,11 @@ MAX_WORKERS = 1024
 #: keep every server's event loop busy with periodic checks: the loop-health tick every
 #: 20 ms in the scheduler, each nanny and each worker, the memory monitor every 100 ms, the
 #: system monitor every 500 ms, the cluster's repr every 500 ms, and the workers' statistical
-#: profiler (a stack sample every 10 ms, only for the dashboard's profile page). An idle
-#: 2-worker cluster used 7 % of a core with them, 1.4 % with these (``benchmarks/
-#: bench_dask.py``, "idle cluster CPU"): on a 2-core machine running 2 busy workers that is
-#: the 3 % Dask trailed the old process pool by (``docs/distributed.md``). The memory
-#: monitor still enforces the workers' memory limits, once a second.
+#: profiler (a stack sample every 10 ms, only for the dashboard's profile page). These
+#: settings slow them to what a batch of Monte Carlo tasks needs; the CPU an idle cluster uses
+#: with either is measured by ``benchmarks/bench_dask.py`` ("idle cluster CPU",
+#: ``docs/throughput.md``, "The Monte Carlo on Dask"). The memory monitor still enforces the
+#: workers' memory limits, once a second.
 QUIET_LOCAL_CLUSTER = {
     "distributed.admin.tick.interval": "1s",
     "distributed.worker.memory.monitor-interval": "1s",

@@ -10,7 +10,10 @@ __all__ = ["wilson_interval"]
 def wilson_interval(successes: int, trials: int, z: float = 1.959963984540054) -> tuple[float, float]:
     """Wilson score interval of a binomial proportion (default 95 %).
 
-    Returns ``(nan, nan)`` for zero trials.
+    The interval always holds the estimate, ``lo <= successes / trials <= hi``, with
+    ``lo == 0.0`` at no successes and ``hi == 1.0`` at all successes (the formula gives
+    these exactly; its rounding is kept from putting a bound a few ulp on the wrong side).
+    Returns ``(nan, nan)`` for zero trials (no interval).
     """
     if trials < 0 or not 0 <= successes <= max(trials, 0):
         raise ValueError(f"need 0 <= successes <= trials, got {successes} of {trials}")
@@ -20,4 +23,4 @@ def wilson_interval(successes: int, trials: int, z: float = 1.959963984540054) -
     denom = 1.0 + z * z / trials
     centre = (p + z * z / (2 * trials)) / denom
     half = z * math.sqrt(p * (1 - p) / trials + z * z / (4 * trials * trials)) / denom
-    return (max(0.0, centre - half), min(1.0, centre + half))
+    return (min(p, max(0.0, centre - half)), max(p, min(1.0, centre + half)))

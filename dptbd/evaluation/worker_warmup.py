@@ -23,9 +23,10 @@ def keep_large_allocations(mmap_bytes: int = 64 << 20, trim_bytes: int = 128 << 
 
     A dask nanny starts its worker with ``MALLOC_TRIM_THRESHOLD_=65536``, which also freezes
     the mmap threshold at 128 KiB: every frame batch of a task (megabytes) is then mapped and
-    unmapped again, page faults each time, and a ``dptbd compare`` task ran 30-40 % slower
-    than in a plain process (``docs/distributed.md``). With these thresholds the batches are
-    reused from the heap. Memory held: at most ``trim_bytes`` of free heap per worker."""
+    unmapped again, page faults each time, and a ``dptbd compare`` task runs slower than in a
+    plain process (measured: ``docs/throughput.md``, "The Monte Carlo on Dask"). With these
+    thresholds the batches are reused from the heap. Memory held: at most ``trim_bytes`` of
+    free heap per worker."""
     name = ctypes.util.find_library("c")
     try:
         libc = ctypes.CDLL(name)

@@ -1,5 +1,7 @@
 """Interval statistics (:mod:`dptbd.evaluation.stats`)."""
 
+import math
+
 import pytest
 
 from dptbd.evaluation.stats import wilson_interval
@@ -11,3 +13,15 @@ def test_wilson_interval_known_values():
     assert wilson_interval(0, 10)[0] == pytest.approx(0.0) and wilson_interval(10, 10)[1] == pytest.approx(1.0)
     with pytest.raises(ValueError, match=r"^need 0 <= successes <= trials, got 5 of 3$"):
         wilson_interval(5, 3)
+
+
+@pytest.mark.parametrize("z", [1.959963984540054, 3.3])
+def test_wilson_interval_holds_its_estimate_exactly_at_the_ends(z):
+    """The formula's rounding put 0 of 6 at lo = 2.8e-17 > 0 and 10 of 10 at hi = 1 - 1e-16 < 1
+    (a negative error bar in ``dptbd detectors``' figure)."""
+    for n in range(1, 301):
+        assert wilson_interval(0, n, z)[0] == 0.0 and wilson_interval(n, n, z)[1] == 1.0
+        for k in range(n + 1):
+            lo, hi = wilson_interval(k, n, z)
+            assert 0.0 <= lo <= k / n <= hi <= 1.0
+    assert all(math.isnan(b) for b in wilson_interval(0, 0))  # no trials: no interval

@@ -10,7 +10,6 @@ and draws the figures (:mod:`dptbd.evaluation.compare.figures`);
 from __future__ import annotations
 
 import csv
-import json
 import math
 import pathlib
 from typing import Any, Mapping
@@ -21,6 +20,7 @@ from dptbd.evaluation import sweep
 from dptbd.evaluation.snr_loss import clustered_wilson
 from dptbd.evaluation.stats import wilson_interval
 from dptbd.evaluation.compare.figures import draw_figures
+from dptbd.output_folder import json_text
 
 __all__ = ["TOOL", "MARKER", "summarise", "write_outputs", "markdown_tables", "DATA_FILES",
            "paired_difference", "identical_curves"]
@@ -225,7 +225,7 @@ def write_outputs(summary: dict, out_dir: pathlib.Path, *, figures: bool = True)
     _write_csv(out_dir / "compare_pfa.csv", summary["pfa"])
     cfg_rows = [{k: v for k, v in r.items()} for r in summary["configs"]]
     _write_csv(out_dir / "compare_configs.csv", cfg_rows)
-    (out_dir / "compare_summary.json").write_text(json.dumps(_jsonable(summary), indent=1))
+    (out_dir / "compare_summary.json").write_text(json_text(_jsonable(summary), indent=1))
     paths = [out_dir / n for n in DATA_FILES]
     if figures:
         paths += draw_figures(summary, out_dir)

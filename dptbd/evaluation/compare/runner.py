@@ -216,8 +216,8 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
     ``rtl``: the fixed-point configurations' trials are accumulated by the compiled
     gateware (:func:`dptbd.sim.rtl_trials.accumulate_trials`, every output word checked
     against the golden model) instead of :func:`dptbd.model.fast.run_fixed_fast`; the
-    float models stay as they are. The counts are the same (``docs/compare.md``, "RTL in
-    the loop"). Configurations the gateware does not implement are refused first.
+    float models stay as they are. The counts are the same (``docs/compare_results.md``,
+    "RTL in the loop"). Configurations the gateware does not implement are refused first.
     """
     bounds = [(a, min(a + spec.chunk, spec.trials)) for a in range(0, spec.trials, spec.chunk)]
     # no idle local processes: at most one per task

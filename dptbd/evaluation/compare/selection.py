@@ -46,7 +46,7 @@ __all__ = ["image_keys", "nth_largest", "candidate_indices", "RULES"]
 # the detector, so every detector breaks its ties with the same priorities on the same scene
 # (paired), and it is uniform over the frame, so a tied target is kept with the same chance
 # wherever it is (a raster-order tie-break keeps tied pixels near the top of the frame:
-# docs/compare.md measures the bias). Reproducible: no generator state, only the indices.
+# docs/compare_results.md measures the bias). Reproducible: no generator state, only the indices.
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
 _M1 = np.uint64(0xBF58476D1CE4E5B9)

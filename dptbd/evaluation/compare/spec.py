@@ -34,8 +34,8 @@ __all__ = [
 #: the histogram bins of each configuration's ``DPConfig`` (``E >> s``, clamped).
 TIE_RULES = ("random", "gateware", "gateware-bins")
 
-#: Run-level parameters (flat keys of the TOML file) and their defaults. The default run
-#: takes about a minute on 2 cores (``docs/compare.md``).
+#: Run-level parameters (flat keys of the TOML file) and their defaults (``docs/compare.md``;
+#: the default run's time: ``docs/compare_results.md``).
 DEFAULT_RUN: dict[str, Any] = {
     "trials": 240,
     "seed": 2024,

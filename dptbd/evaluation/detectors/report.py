@@ -5,31 +5,40 @@ result as a Markdown table, CSV records, ``result.json`` and the Pd-vs-SNR figur
 from __future__ import annotations
 
 import csv
-import json
+import math
 import pathlib
 
 from dptbd.evaluation.detectors.pd_vs_snr import CompareResult
 from dptbd.evaluation.stats import wilson_interval
 from dptbd.figures import new_figure, save_figure
-from dptbd.output_folder import staged_folder
+from dptbd.output_folder import json_text, staged_folder
 
-__all__ = ["DEFAULT_SNRS_DB", "TOOL", "OUT_FILES", "format_table", "figure_pd_vs_snr",
-           "describe_run", "rows", "write_folder"]
+__all__ = ["DEFAULT_SNRS_DB", "TOOL", "OUT_FILES", "pd_interval", "format_table", "error_bars",
+           "figure_pd_vs_snr", "describe_run", "rows", "write_folder"]
 
 #: SNRs (dB) of each scene kind when none are given
 DEFAULT_SNRS_DB = {"rd": (0.0, 3.0, 6.0, 9.0, 12.0, 15.0), "image": (4.0, 6.0, 8.0, 10.0, 12.0, 14.0)}
 
 
+def pd_interval(res: CompareResult, name: str, snr: float) -> tuple[float, float, float]:
+    """``(Pd, lo, hi)`` of one detector at one SNR, its 95 % Wilson interval: the one the
+    table prints, the records hold and the figure draws. ``lo <= Pd <= hi``; all three NaN
+    when the detector had no scored frame at that SNR (no estimate, no interval)."""
+    c = res.detections[(name, snr)]
+    lo, hi = wilson_interval(c.hits, c.total)
+    return c.rate, lo, hi
+
+
 def format_table(res: CompareResult) -> str:
-    """Pd [95 % CI] per detector (rows) and SNR (columns), plus threshold and measured Pfa."""
+    """Pd [95 % CI] per detector (rows) and SNR (columns), plus threshold and measured Pfa;
+    "no scored frame" where a detector had none at that SNR."""
     head = ["detector"] + [f"{s:g} dB" for s in res.snrs_db] + ["threshold", "noise false alarms"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for name in res.detectors:
         cells = [f"`{name}`"]
         for s in res.snrs_db:
-            c = res.detections[(name, s)]
-            lo, hi = wilson_interval(c.hits, c.total)
-            cells.append(f"{c.rate:.2f} [{lo:.2f}, {hi:.2f}]")
+            pd, lo, hi = pd_interval(res, name, s)
+            cells.append("no scored frame" if math.isnan(pd) else f"{pd:.2f} [{lo:.2f}, {hi:.2f}]")
         thr = res.thresholds[name]
         cells.append("per SNR" if isinstance(thr, dict) else f"{thr:.4g}")
         fa = res.false_alarms[name]
@@ -38,16 +47,26 @@ def format_table(res: CompareResult) -> str:
     return "\n".join(lines)
 
 
+def error_bars(res: CompareResult, name: str) -> tuple[list[float], list[float], list[float]]:
+    """One detector's points and bars of the figure: Pd per SNR and the distances below and
+    above it to the bounds of :func:`pd_interval`. Where Pd is undefined (no scored frame)
+    the point is NaN (not drawn) and both distances are 0 (no bar)."""
+    pd, below, above = [], [], []
+    for s in res.snrs_db:
+        p, lo, hi = pd_interval(res, name, s)
+        pd.append(p)
+        below.append(0.0 if math.isnan(p) else p - lo)
+        above.append(0.0 if math.isnan(p) else hi - p)
+    return pd, below, above
+
+
 def figure_pd_vs_snr(res: CompareResult, path: pathlib.Path) -> None:
-    """Pd (95 % Wilson interval bars) against SNR, one line per detector, as PNG."""
+    """Pd (95 % Wilson interval bars, :func:`error_bars`) against SNR, one line per detector,
+    as PNG."""
     fig, ax = new_figure(6.4, 4.2, dpi=100)
     for name in res.detectors:
-        pd = [res.detections[(name, s)].rate for s in res.snrs_db]
-        ci = [wilson_interval(res.detections[(name, s)].hits, res.detections[(name, s)].total)
-              for s in res.snrs_db]
-        lo = [p - c[0] for p, c in zip(pd, ci)]
-        hi = [c[1] - p for p, c in zip(pd, ci)]
-        ax.errorbar(res.snrs_db, pd, yerr=[lo, hi], marker="o", ms=3, capsize=2, label=name)
+        pd, below, above = error_bars(res, name)
+        ax.errorbar(res.snrs_db, pd, yerr=[below, above], marker="o", ms=3, capsize=2, label=name)
     p = res.params
     ax.set_xlabel("SNR (dB)")
     ax.set_ylabel("Pd (per scored frame)")
@@ -79,16 +98,17 @@ OUT_FILES = ("table.md", "table.csv", "result.json", "pd_vs_snr.png")
 
 
 def rows(res: CompareResult) -> list[dict]:
-    """One record per (detector, SNR): counts, Pd, 95 % Wilson interval, threshold, noise false alarms."""
+    """One record per (detector, SNR): counts, Pd, 95 % Wilson interval (:func:`pd_interval`;
+    NaN when no frame was scored), threshold, noise false alarms."""
     out = []
     for name in res.detectors:
         fa = res.false_alarms[name]
         for s in res.snrs_db:
             c = res.detections[(name, s)]
-            lo, hi = wilson_interval(c.hits, c.total)
+            pd, lo, hi = pd_interval(res, name, s)
             thr = res.thresholds[name]
             thr = thr[s] if isinstance(thr, dict) else thr
-            out.append(dict(detector=name, snr_db=s, detections=c.hits, opportunities=c.total, pd=c.rate,
+            out.append(dict(detector=name, snr_db=s, detections=c.hits, opportunities=c.total, pd=pd,
                             pd_lo=lo, pd_hi=hi, threshold=thr, noise_false_alarms=fa.hits,
                             noise_decisions=fa.total))
     return out
@@ -107,7 +127,7 @@ def write_folder(res: CompareResult, out: pathlib.Path, table: str, note: str, a
             writer.writeheader()
             writer.writerows(records)
         params = {k: (list(v) if isinstance(v, tuple) else v) for k, v in res.params.items()}
-        (tmp / "result.json").write_text(json.dumps(
+        (tmp / "result.json").write_text(json_text(
             dict(tool=TOOL, arguments=arguments, note=note, params=params, rows=records), indent=1,
             default=str) + "\n")
         figure_pd_vs_snr(res, tmp / "pd_vs_snr.png")

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import csv
 import dataclasses
-import json
 import math
 import pathlib
 import time
@@ -17,6 +16,7 @@ import numpy as np
 
 from dptbd.evaluation.metrics import first_level_counts
 from dptbd.evaluation.table1.experiment import PAPER_TABLE1
+from dptbd.output_folder import json_text
 
 __all__ = ["TOOL", "RUN_FILES", "TABLE_COLUMNS", "table_rows", "format_table", "paper_lines",
            "track_rows", "format_tracks", "format_run_tables", "write_csv", "write_json",
@@ -222,24 +222,9 @@ def write_csv(path: pathlib.Path, rows: list[dict]) -> None:
                                  else ("" if v is None else v)) for k, v in row.items()})
 
 
-def _jsonable(v: Any) -> Any:
-    if isinstance(v, dict):
-        return {str(k): _jsonable(x) for k, x in v.items()}
-    if isinstance(v, (list, tuple)):
-        return [_jsonable(x) for x in v]
-    if isinstance(v, np.ndarray):
-        return _jsonable(v.tolist())
-    if isinstance(v, np.generic):
-        return _jsonable(v.item())
-    if isinstance(v, float) and not math.isfinite(v):
-        return None
-    if isinstance(v, pathlib.Path):
-        return str(v)
-    return v
-
-
 def write_json(path: pathlib.Path, obj: Any) -> None:
-    path.write_text(json.dumps(_jsonable(obj), indent=2) + "\n")
+    """``obj`` as strict JSON (:func:`dptbd.output_folder.json_text`: non-finite as null)."""
+    path.write_text(json_text(obj, indent=2) + "\n")
 
 
 def segment_for_frame(frame: int, end_frames: np.ndarray) -> int:

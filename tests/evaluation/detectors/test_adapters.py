@@ -1,5 +1,5 @@
 """The seven detectors by name: the registry's refusals, each detector on a small scene, the
-dw-dp adapter against the golden model."""
+dw-dp adapter against the golden model, the detectors' parameters and their refusals."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from dptbd.evaluation.detectors.adapters import DETECTORS, make_detector, parse_
 from dptbd.evaluation.detectors.interface import SceneModel
 from dptbd.model.fixed import run_fixed
 from dptbd.scenes.range_doppler import rd_scene, straight_track
+from helpers.refusals import whole
 
 
 def test_parse_detectors():
@@ -53,3 +54,57 @@ def test_dw_dp_adapter_is_the_golden_model():
                    energy_bits=16, radius=2)
     energy = run_fixed(codes, cfg).energy
     assert np.array_equal(dec.statistic[:, 2:], energy.reshape(2, 3, -1).max(axis=-1))
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda m: make_detector("dw-dp", m, segment_frames=0),
+     "segment_frames must be an integer in [1, 64], got 0"),
+    (lambda m: make_detector("dp-penalty", m, alpha=2.0),
+     "alpha (eq (22) coefficient) must be a finite real number in [0, 1], got 2.0"),
+    (lambda m: make_detector("dp-likelihood", m, epsilon=1.2),
+     "epsilon (printed alpha in 000 §5.2) must be a finite real number in (0, 1), got 1.2"),
+    (lambda m: make_detector("dp-amplitude", m, sigma=-1.0),
+     "sigma (printed delta in 000 §5.2) must be a finite real number in (0, inf), got -1.0"),
+    (lambda m: make_detector("info", m, kernel=np.ones((3, 3))),
+     "kernel must sum to 1 (eq (16), a row-stochastic transition), sums to 9.0"),
+    (lambda m: make_detector("grid-bayes", m, birth=0.0),
+     "birth must be a finite real number in (0, 1), got 0.0"),
+    (lambda m: make_detector("ca-cfar", m, n_ref=64),
+     "the CFAR axis has 20 cells; n_ref=64 reference and n_guard=2 guard cells need at least 67"),
+    (lambda m: make_detector("nope", m),
+     "unknown detector 'nope'; known: dw-dp, dp-amplitude, dp-penalty, dp-likelihood, info, grid-bayes, ca-cfar"),
+    (lambda m: make_detector("info", m, entropy=1.0),
+     "detector 'info' has no parameter 'entropy'; it has: kernel, sigma_kernel, known_noise"),
+    (lambda m: make_detector("dp-amplitude", m, alpha=1.5),
+     "alpha (eq (22) coefficient) must be a finite real number in [0, 1], got 1.5"),
+    (lambda m: make_detector("ca-cfar", m, axis=5),
+     "axis must be -2 (range, rows) or -1 (Doppler, columns), got 5"),
+    (lambda m: make_detector("ca-cfar", m, axis=0),
+     "axis must be -2 (range, rows) or -1 (Doppler, columns), got 0"),
+    (lambda m: make_detector("ca-cfar", m, axis=True),
+     "axis must be -2 (range, rows) or -1 (Doppler, columns), got True"),
+    (lambda m: make_detector("ca-cfar", m, n_guard=-2),
+     "n_guard (guard cells) must be an integer in [0, inf), got -2"),
+    (lambda m: make_detector("info", m, sigma_kernel=-1.0),
+     "sigma_kernel (kernel standard deviation, cells) must be a finite real number in [0, inf), got -1.0"),
+    (lambda m: make_detector("grid-bayes", m, sigma_kernel=float("nan")),
+     "sigma_kernel (kernel standard deviation, cells) must be a finite real number in [0, inf), got nan"),
+    (lambda m: make_detector("info", m, kernel=np.ones((1, 1)), sigma_kernel=0.5),
+     "give kernel or sigma_kernel, not both"),
+    (lambda m: make_detector("info", m, known_noise="yes"), "known_noise must be true or false, got 'yes'"),
+    (lambda m: make_detector("grid-bayes", m, known_noise=1), "known_noise must be true or false, got 1"),
+])
+def test_bad_detector_parameters(call, message):
+    with pytest.raises(DetectorError, match=whole(message)):
+        call(SceneModel((20, 20)))
+
+
+def test_parameters_reach_the_detectors_as_python_values():
+    m = SceneModel((20, 12), scale=2.0)
+    assert make_detector("info", m, known_noise=np.bool_(True)).alpha == 2.0
+    assert make_detector("info", m, known_noise=False).alpha is None
+    # sigma_kernel sets a Gaussian kernel of radius max_speed
+    k = make_detector("grid-bayes", m, sigma_kernel=0.0).transition.kernel
+    assert k.shape == (3, 3) and k[1, 1] == 1.0
+    det = make_detector("ca-cfar", m, axis=np.int64(-1), n_ref=np.int64(8))
+    assert (det.axis, det.n_ref) == (-1, 8) and type(det.axis) is int

@@ -1,5 +1,5 @@
 """Paper 000's reproductions (:mod:`dptbd.evaluation.detectors.paper000`) on small runs: the
-SNR gain, the §5 cases and their refusals."""
+SNR gain, the §5 cases and their refusals, the track ends and the crossings."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from dptbd.evaluation.detectors import DetectorError
-from dptbd.evaluation.detectors.paper000 import CASES, Case, crossing_snr, run_case, snr_gain
+from dptbd.evaluation.detectors.paper000 import CASES, Case, crossing_snr, peak_mask, run_case, snr_gain
 from helpers.refusals import whole
 
 GAIN = ("CA-CFAR 16/2", "DP eq (24)", "DP eqs (19)-(23)")
@@ -85,3 +85,17 @@ def test_case_refuses_bad_thresholds(kwargs, message):
     args = dict(label="x", section="", snr_db=4.0, merit="amplitude", penalty=False, thresholds=(30.0,))
     with pytest.raises(DetectorError, match=whole(message)):
         Case(**{**args, **kwargs})
+
+
+def test_peak_mask_and_crossing():
+    v = np.array([[1, 2, 1, 0], [0, 1, 0, 3], [5, 0, 0, 3]], dtype=float)
+    assert np.argwhere(peak_mask(v)).tolist() == [[0, 1], [1, 3], [2, 0], [2, 3]]
+    assert crossing_snr([0, 1, 2, 3], [0.1, 0.3, 0.7, 0.9], 0.5) == 1.5
+    assert math.isnan(crossing_snr([0, 1], [0.1, 0.2], 0.5))
+
+
+def test_paper000_case_runs_and_finds_the_target_at_high_snr():
+    res = run_case(CASES[1], [0])
+    assert res.target.shape == (1,) and set(res.false_tracks) == {30.0, 32.0}
+    strong = run_case(type(CASES[1])("hi", "", 15.0, "amplitude", True, (30.0,)), [0])
+    assert strong.target[0] > strong.noise_max[0] and strong.on_track[0] == 1.0
