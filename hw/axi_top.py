@@ -17,13 +17,16 @@ back-pressure on either output stalls the DP pipeline.
 registers and counters, without breaking AXI4-Stream: from the request on the input is held
 (``s_axis_video_tready`` low) and no new output word is offered; a word already offered is
 delivered, a list left open is closed by a cut trailer with ``tlast``
-(:class:`~dptbd.hw.axis_video.CandidatesToAxis`), and only then, in the cycle the last of
-these is taken (the request's own cycle if nothing is in flight), is the core reset.
+(:class:`~dptbd.hw.axis_video.CandidatesToAxis`), a line of ``m_axis_state`` left open is
+completed to W words by filler words, the last with ``tlast``
+(:class:`~dptbd.hw.axis_video.StatesToAxis`), and only then, in the cycle the last of these
+is taken on the later of the two outputs (the request's own cycle if nothing is in flight),
+is the core reset.
 """
 
 from __future__ import annotations
 
-from amaranth.hdl import ClockDomain, Module, ResetInserter, Signal
+from amaranth.hdl import ClockDomain, Module, ResetInserter
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -131,8 +134,9 @@ class AXITop(wiring.Component):
         m.d.comb += [sync.clk.eq(self.aclk), sync.rst.eq(~self.aresetn)]
 
         m.submodules.regs = regs = RegisterFile(cfg)
-        # a soft reset: the output adapter closes the list being sent, then pulses restart,
-        # which resets the core, the frame monitor and m_axis_state's adapter
+        # a soft reset: the output adapters close the list and the state line being sent,
+        # then restart pulses, which resets the core, the frame monitor and m_axis_state's
+        # adapter
         m.submodules.cand_out = cand_out = CandidatesToAxis(cfg)
         restart = {"sync": cand_out.restart}
         m.submodules.video_in = video_in = AxisToPixels(cfg)
@@ -183,21 +187,20 @@ class AXITop(wiring.Component):
     def _state_port(self, m, core, cand_out):
         """``m_axis_state`` from the core's ``states``; its ``stalled`` (0 without it).
 
-        From a soft reset's request on, no new word is offered; a word already offered and
-        not taken stays offered, and ``cand_out.hold`` delays the restart until it is taken.
+        From a soft reset's request on the adapter closes the stream (a word already offered
+        is delivered, an open line is completed with filler words up to ``tlast``) and
+        ``cand_out.hold`` delays the restart until it is closed.
         """
         if not self._state_output:
             return 0
         m.submodules.state_out = state_out = ResetInserter({"sync": cand_out.restart})(
             StatesToAxis(self._cfg))
         self._connect_flat(m, "m_axis_state", state_out.state)
-        held = Signal()                  # a word was offered and not taken in the last cycle
-        passing = ~cand_out.busy | held
         m.d.comb += [
             state_out.states.payload.eq(core.states.payload),
-            state_out.states.valid.eq(core.states.valid & passing),
-            core.states.ready.eq(state_out.states.ready & passing),
-            cand_out.hold.eq(held & ~self.m_axis_state_tready),
+            state_out.states.valid.eq(core.states.valid),
+            core.states.ready.eq(state_out.states.ready),
+            state_out.closing.eq(cand_out.busy),
+            cand_out.hold.eq(~state_out.closed),
         ]
-        m.d.sync += held.eq(self.m_axis_state_tvalid & ~self.m_axis_state_tready)
         return state_out.stalled

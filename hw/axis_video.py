@@ -15,7 +15,8 @@ of line; ``tdata`` is a whole number of bytes. Here:
   (E, d) per beat in raster order, ``tdata`` = E in bits [B_E-1:0], d in the next B_d bits
   (:func:`~dptbd.hw.layouts.state_word_layout`), zero-extended to whole bytes; ``tuser[0]``
   = start of frame (pixel (0, 0)), ``tuser[1]`` = end of frame, ``tuser[2]`` = end of
-  segment, ``tlast`` = end of line.
+  segment, ``tuser[3]`` = cut (a filler word closing a line cut by a soft reset: E = 0,
+  d = 0, no other flag), ``tlast`` = end of line (every line W words).
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ __all__ = ["byte_padded", "axis_signature", "video_in_signature", "video_tdata_l
            "StatesToAxis"]
 
 #: ``m_axis_state_tuser`` bits.
-STATE_TUSER = {"start_of_frame": 0, "end_of_frame": 1, "end_of_segment": 2}
+STATE_TUSER = {"start_of_frame": 0, "end_of_frame": 1, "end_of_segment": 2, "cut": 3}
 
 
 def byte_padded(bits: int) -> int:
@@ -70,7 +71,8 @@ def candidate_out_signature(cfg: DPConfig) -> wiring.Signature:
 
 
 def state_out_signature(cfg: DPConfig) -> wiring.Signature:
-    """``m_axis_state``: one pixel's (E, d) per beat, three ``tuser`` bits."""
+    """``m_axis_state``: one pixel's (E, d) per beat, the ``tuser`` bits of
+    :data:`STATE_TUSER`."""
     return axis_signature(byte_padded(data.Layout.cast(state_word_layout(cfg)).size),
                           len(STATE_TUSER))
 
@@ -124,7 +126,8 @@ class CandidatesToAxis(wiring.Component):
        cycle. It comes in the request's own cycle when no word is offered and no list is
        open, in the cycle the cut trailer is taken, or in the cycle after the word of 1.
        is taken if that word was a trailer; never while ``hold`` is high (another output
-       still has a word to deliver).
+       is not closed yet: ``m_axis_state``'s :class:`StatesToAxis`), so it comes with the
+       later of the two.
 
     ``busy`` is high from the request to ``restart`` included: the caller holds the input.
 
@@ -193,12 +196,30 @@ class CandidatesToAxis(wiring.Component):
 
 
 class StatesToAxis(wiring.Component):
-    """The DP pipeline's ``states`` stream to ``m_axis_state`` (see the module doc).
+    """The DP pipeline's ``states`` stream to ``m_axis_state`` (see the module doc), and the
+    soft reset's close of an open line.
+
+    Without ``closing`` the port is the stream itself (combinational). While ``closing`` is
+    high (the caller's soft reset, held until the caller resets this adapter):
+
+    1. a word already offered and not yet taken (``tvalid`` high, ``tready`` low in the
+       cycle before) stays offered, unchanged, until it is taken; no new word is offered;
+    2. if a line is then open (words of it were sent, not its ``tlast``), it is completed
+       to W words by *filler* words: ``tdata`` = 0 (E = 0, d = 0), ``tuser`` = only
+       ``tuser[3]`` (cut), ``tlast`` on the line's W-th word; each is offered until taken;
+    3. ``closed`` is high (combinationally) when nothing is left to send after this cycle:
+       no word is held and no line is open, or the word taken in this cycle has ``tlast``.
+
+    The adapter counts the words since the last ``tlast`` (or reset) modulo W, and the
+    fillers complete them to a multiple of W: one line, but after a resync at the input
+    (whose interrupted line has no ``tlast``).
 
     Members
     -------
     states : In(stream.Signature(state_layout(cfg)))
     state : Out(state_out_signature(cfg))
+    closing : In(1)
+    closed : Out(1)
     stalled : Out(1)
         ``tvalid`` high and ``tready`` low in this cycle (back-pressure).
     """
@@ -208,26 +229,44 @@ class StatesToAxis(wiring.Component):
         super().__init__({
             "states": In(stream.Signature(state_layout(cfg))),
             "state": Out(state_out_signature(cfg)),
+            "closing": In(1),
+            "closed": Out(1),
             "stalled": Out(1),
         })
 
     def elaborate(self, platform):
         m = Module()
+        width = self._cfg.width
         src, out = self.states, self.state
         frame_start = Signal(init=1)           # the next word is pixel (0, 0) of a frame
+        column = Signal(range(width))          # words sent in the open line (modulo W)
+        held = Signal()                        # a core word was offered, not taken, last cycle
+        passing = ~self.closing | held         # the core's word may be offered
+        offer = src.valid & passing
+        fill = self.closing & ~held & (column != 0)          # offer a filler word
         word = Signal(state_word_layout(self._cfg))
+        user = Signal(len(STATE_TUSER))
         m.d.comb += [
             word.energy.eq(src.payload.energy),
             word.direction.eq(src.payload.direction),
-            out.tdata.eq(word.as_value()),
-            out.tuser[STATE_TUSER["start_of_frame"]].eq(frame_start),
-            out.tuser[STATE_TUSER["end_of_frame"]].eq(src.payload.end_of_frame),
-            out.tuser[STATE_TUSER["end_of_segment"]].eq(src.payload.end_of_segment),
-            out.tlast.eq(src.payload.end_of_line),
-            out.tvalid.eq(src.valid),
-            src.ready.eq(out.tready),
-            self.stalled.eq(src.valid & ~out.tready),
+            user[STATE_TUSER["start_of_frame"]].eq(frame_start),
+            user[STATE_TUSER["end_of_frame"]].eq(src.payload.end_of_frame),
+            user[STATE_TUSER["end_of_segment"]].eq(src.payload.end_of_segment),
         ]
-        with m.If(src.valid & out.tready):
+        # Mux: tdata, tuser and tlast are 0 while no word is offered; a filler is all 0 but
+        # its cut bit and (on the line's last word) tlast
+        m.d.comb += [
+            out.tdata.eq(Mux(offer, word.as_value(), 0)),
+            out.tuser.eq(Mux(offer, user, Mux(fill, 1 << STATE_TUSER["cut"], 0))),
+            out.tlast.eq(Mux(offer, src.payload.end_of_line, fill & (column == width - 1))),
+            out.tvalid.eq(offer | fill),
+            src.ready.eq(out.tready & passing),
+            self.stalled.eq(out.tvalid & ~out.tready),
+            self.closed.eq((~held & (column == 0)) | (out.tvalid & out.tready & out.tlast)),
+        ]
+        m.d.sync += held.eq(offer & ~out.tready)
+        with m.If(out.tvalid & out.tready):
+            m.d.sync += column.eq(Mux(out.tlast | (column == width - 1), 0, column + 1))
+        with m.If(offer & out.tready):
             m.d.sync += frame_start.eq(src.payload.end_of_frame)
         return m

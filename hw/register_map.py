@@ -224,8 +224,9 @@ def _control(cfg: DPConfig, k_max: int) -> list[tuple]:
     return [
         ("CONTROL", "control", "write 1 to a bit for a one-cycle pulse; reads 0",
          (Field("soft_reset", 0, 1, "pulse", 0,
-                "close the list being sent (a cut trailer), then reset the core and the "
-                "frame monitor (resync); registers are kept"),
+                "close the list being sent (a cut trailer) and, with m_axis_state, the line "
+                "being sent (filler words), then reset the core and the frame monitor "
+                "(resync); registers are kept"),
           Field("clear_counters", 1, 1, "pulse", 0, "set every counter to 0"))),
         ("SEGMENT_FRAMES", "control", "run-time K",
          _one("segment_frames", "setting", cfg.segment_frames, "K, frames per segment",
@@ -277,8 +278,9 @@ def _status(cfg: DPConfig) -> list[tuple]:
           for name, event, doc in counters],
         ("STATUS", "status", "the core's state now",
          (Field("soft_reset_busy", 0, 1, "status", 0,
-                "a CONTROL.soft_reset is in progress: the list being sent is being closed "
-                "(waiting for m_axis_cand_tready) and the input is held"),)),
+                "a CONTROL.soft_reset is in progress: the list (with m_axis_state also the "
+                "line) being sent is being closed (waiting for m_axis_cand_tready, "
+                "m_axis_state_tready) and the input is held"),)),
     ]
 
 

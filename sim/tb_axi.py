@@ -35,6 +35,7 @@ With ``state_output`` in the job (a top built with ``m_axis_state``, runner desi
 from __future__ import annotations
 
 import json
+import random
 import time
 
 import cocotb
@@ -301,12 +302,60 @@ def bench_settle(job: dict, cfg) -> int:
     return int((int(job.get("latency", 20)) + 2 * (cfg.n_bins + 4) + 8) * slow)
 
 
+class _PortWatch:
+    """One AXI4-Stream output of :func:`soft_reset_sweep`: its random ``tready`` (restarted
+    from ``seed`` at every iteration), the AXI4-Stream rules checked on every cycle, and the
+    transfers of the iteration."""
+
+    FIELDS = ("tvalid", "tdata", "tuser", "tlast")
+
+    def __init__(self, dut, prefix: str, pause: float, seed: int, problems: list):
+        self.prefix, self.pause, self.seed, self.problems = prefix, pause, seed, problems
+        self.handles = {f: getattr(dut, f"{prefix}_{f}") for f in self.FIELDS}
+        self.tready = getattr(dut, f"{prefix}_tready")
+        self.tready.value = 0
+        self.previous = None       # (tvalid, tready, tdata, tuser, tlast) of the last cycle
+        self.restart()
+
+    def restart(self) -> None:
+        self.rng = random.Random(self.seed)
+        self.words = []            # (tdata, tuser, tlast) of every transfer
+        self.timeline = []         # [cycle n, tready, tlast] of every cycle with tvalid
+
+    def drive(self) -> int:
+        self.ready = int(self.rng.random() >= self.pause)
+        self.tready.value = self.ready
+        return self.ready
+
+    def sample(self, value, cycle: int, n: int | None) -> None:
+        """After the edge of the cycle driven last: check and record it."""
+        valid, data, user, last = (value(self.handles[f]) for f in self.FIELDS)
+        now = (valid, self.ready, data, user, last)
+        before = self.previous
+        if before is not None and before[0] and not before[1]:
+            if not valid:
+                self.problems.append(f"cycle {cycle}: {self.prefix}_tvalid dropped without "
+                                     "a handshake")
+            elif now[2:] != before[2:]:
+                self.problems.append(f"cycle {cycle}: {self.prefix} word changed while "
+                                     "waiting")
+        self.previous = now
+        if valid and n is not None:
+            self.timeline.append([n, self.ready, last])
+        if valid and self.ready:
+            self.words.append(now[2:])
+
+    def idle(self) -> None:
+        self.tready.value = 0
+        self.previous = (0, 0, 0, 0, 0)
+
+
 @cocotb.test()
 async def soft_reset_sweep(dut):
-    """``CONTROL.soft_reset`` landing in every cycle of a list being sent.
+    """``CONTROL.soft_reset`` landing in every cycle of a list (or a state line) being sent.
 
-    The job's ``beats`` (frames from reset, each a segment: an unprimed empty list, then a
-    list with records) are sent again and again, one *iteration* each; every iteration but
+    The job's ``beats`` (frames from reset, each a segment: an unprimed empty list, then
+    lists with records) are sent again and again, one *iteration* each; every iteration but
     the last issues the soft-reset write ``issue[i]`` cycles after its start, and its
     iteration starts once the core has taken the soft reset (``s_axis_video_tready`` high
     after the write's response). The bench drives every port itself, cycle by cycle, so
@@ -314,19 +363,24 @@ async def soft_reset_sweep(dut):
     to back and stops when the write is issued (a beat it offers then and the core has not
     taken is withdrawn: the bench's own side), ``m_axis_cand_tready`` follows a random
     pattern restarted from ``ready_seed`` at every iteration (pause probability
-    ``ready_pause``), the AXI4-Lite write is one AW+W beat. The summary holds each
-    iteration's outcome (:func:`score_iteration`) and, for the last iteration, the cycles
-    (from its start) in which ``m_axis_cand_tvalid`` was high, with ``tready`` and ``tlast``.
+    ``ready_pause``), the AXI4-Lite write is one AW+W beat. With ``state_output`` (a top
+    built with ``m_axis_state``) ``m_axis_state_tready`` follows its own random pattern
+    (``state_pause``, ``state_seed``). The summary holds each iteration's outcome
+    (:func:`score_iteration`, and :func:`score_state_iteration` in ``state_outcomes``) and,
+    for the last iteration, the cycles (from its start) in which ``m_axis_cand_tvalid``
+    (``last_timeline``) and ``m_axis_state_tvalid`` (``last_state_timeline``) were high,
+    with ``tready`` and ``tlast``.
 
-    Checked on every cycle of ``m_axis_cand``: ``tvalid`` never drops and ``tdata`` /
-    ``tuser`` / ``tlast`` never change while a word waits for ``tready``. Checked per
-    iteration: its words, cut into packets at ``tlast``, are the model's lists (tuser[0]
+    Checked on every cycle of each output: ``tvalid`` never drops and ``tdata`` / ``tuser``
+    / ``tlast`` never change while a word waits for ``tready``. Checked per iteration: its
+    words on ``m_axis_cand``, cut into packets at ``tlast``, are the model's lists (tuser[0]
     on each first word, tlast on each last), except that the last list may be a prefix of
     its words closed by the cut trailer (``pack_cut_trailer``: the records sent) or
-    missing (the reset landed before it began); the last iteration gives every list whole.
+    missing (the reset landed before it began); those on ``m_axis_state`` are lines of
+    exactly W words, each ending with ``tlast``, the model's words in order (flags and
+    ``tuser[0]`` included) but for the fillers that complete a cut last line; the last
+    iteration gives every list and every state word whole.
     """
-    import random
-
     from dptbd.hw.candidate_layout import pack_cut_trailer
     from dptbd.sim.candidate_scoreboard import list_words
 
@@ -334,25 +388,31 @@ async def soft_reset_sweep(dut):
     regs = constants_namespace(cfg)
     beats = Beats.from_json(job["beats"])
     issues = list(job["issue"]) + [None]
-    want = list_words(cfg, expected_outputs(cfg, beats, [{"stop": len(beats)}]).lists)
-    pause = float(job["ready_pause"])
+    expected = expected_outputs(cfg, beats, [{"stop": len(beats)}])
+    want = list_words(cfg, expected.lists)
     period = int(job.get("period_ns", PERIOD_NS))
     Clock(dut.aclk, period, unit="ns").start(start_high=False)
-    for name in ("s_axis_video_tvalid", "m_axis_cand_tready", "s_axil_awvalid",
-                 "s_axil_wvalid", "s_axil_bready", "s_axil_arvalid", "s_axil_rready"):
+    for name in ("s_axis_video_tvalid", "s_axil_awvalid", "s_axil_wvalid", "s_axil_bready",
+                 "s_axil_arvalid", "s_axil_rready"):
         getattr(dut, name).value = 0
     for name in ("s_axis_video_tdata", "s_axis_video_tuser", "s_axis_video_tlast",
                  "s_axil_awaddr", "s_axil_wdata", "s_axil_awprot", "s_axil_arprot",
                  "s_axil_araddr"):
         getattr(dut, name).value = 0
     dut.s_axil_wstrb.value = 0xF
+    problems, outcomes, state_outcomes = [], [], []
+    cand = _PortWatch(dut, "m_axis_cand", float(job["ready_pause"]), int(job["ready_seed"]),
+                      problems)
+    ports = [cand]
+    state = None
+    if job.get("state_output"):
+        state = _PortWatch(dut, "m_axis_state", float(job["state_pause"]),
+                           int(job["state_seed"]), problems)
+        ports.append(state)
     dut.aresetn.value = 0
     for _ in range(4):
         await RisingEdge(dut.aclk)
     dut.aresetn.value = 1
-
-    problems, outcomes = [], []
-    previous = None                    # (tvalid, tready, tdata, tuser, tlast) of the last cycle
     cycles = 0
 
     def value(handle) -> int:
@@ -362,6 +422,10 @@ async def soft_reset_sweep(dut):
             return 0
         return int(v)
 
+    def finished(index: int) -> bool:
+        return (index == len(beats) and len(cand.words) >= sum(map(len, want))
+                and (state is None or len(state.words) >= len(expected.state_words)))
+
     for iteration, issue in enumerate(issues):
         # wait for the core to take pixels: the iteration starts in that cycle
         while True:
@@ -369,9 +433,9 @@ async def soft_reset_sweep(dut):
             cycles += 1
             if value(dut.s_axis_video_tready):
                 break
-        rng = random.Random(int(job["ready_seed"]))
-        words, n, index, writing, wrote, stopped = [], 0, 0, False, False, False
-        timeline = []                  # [cycle n, tready, tlast] of every cycle with tvalid
+        for port in ports:
+            port.restart()
+        n, index, writing, wrote, stopped = 0, 0, False, False, False
         dut.s_axis_video_tvalid.value = 0
         while True:
             # drive the cycle n (values take effect after this edge's sampling)
@@ -381,8 +445,8 @@ async def soft_reset_sweep(dut):
                 dut.s_axis_video_tuser.value = int(beats.first[index])
                 dut.s_axis_video_tlast.value = int(beats.last[index])
             dut.s_axis_video_tvalid.value = int(offer)
-            ready = int(rng.random() >= pause)
-            dut.m_axis_cand_tready.value = ready
+            for port in ports:
+                port.drive()
             if issue is not None and n == issue:
                 dut.s_axil_awaddr.value = regs.REG_CONTROL
                 dut.s_axil_wdata.value = regs.CONTROL_SOFT_RESET_MASK
@@ -394,20 +458,8 @@ async def soft_reset_sweep(dut):
             # sample cycle n
             if offer and value(dut.s_axis_video_tready):
                 index += 1
-            now = (value(dut.m_axis_cand_tvalid), ready, value(dut.m_axis_cand_tdata),
-                   value(dut.m_axis_cand_tuser) & 1, value(dut.m_axis_cand_tlast))
-            if previous is not None and previous[0] and not previous[1]:
-                if not now[0]:
-                    problems.append(f"cycle {cycles}: m_axis_cand_tvalid dropped without "
-                                    "a handshake")
-                elif now[2:] != previous[2:]:
-                    problems.append(f"cycle {cycles}: m_axis_cand word changed while "
-                                    "waiting")
-            previous = now
-            if now[0]:
-                timeline.append([n, now[1], now[4]])
-            if now[0] and now[1]:
-                words.append(now[2:])
+            for port in ports:
+                port.sample(value, cycles, n)
             if writing:
                 if value(dut.s_axil_awready) and value(dut.s_axil_wready):
                     dut.s_axil_awvalid.value = dut.s_axil_wvalid.value = 0
@@ -419,36 +471,35 @@ async def soft_reset_sweep(dut):
             n += 1
             if wrote:
                 break
-            if issue is None and index == len(beats) and len(words) >= sum(map(len, want)):
+            if issue is None and finished(index):
                 break
             if n > 20 * len(beats) + 2000:
                 problems.append(f"iteration {iteration}: no end after {n} cycles")
                 break
         dut.s_axis_video_tvalid.value = 0
         if wrote:
-            # the list is closed and the core reset once s_axis_video_tready is high again;
-            # keep taking m_axis_cand words (random tready) until then
+            # the outputs are closed and the core reset once s_axis_video_tready is high
+            # again; keep taking words (random tready) until then
             while True:
-                ready = int(rng.random() >= pause)
-                dut.m_axis_cand_tready.value = ready
+                for port in ports:
+                    port.drive()
                 await RisingEdge(dut.aclk)
                 cycles += 1
-                now = (value(dut.m_axis_cand_tvalid), ready, value(dut.m_axis_cand_tdata),
-                       value(dut.m_axis_cand_tuser) & 1, value(dut.m_axis_cand_tlast))
-                if previous[0] and not previous[1] and (not now[0] or now[2:] != previous[2:]):
-                    problems.append(f"cycle {cycles}: m_axis_cand broke AXI4-Stream in the "
-                                    "soft reset")
-                previous = now
-                if now[0] and now[1]:
-                    words.append(now[2:])
+                for port in ports:
+                    port.sample(value, cycles, None)
                 if value(dut.s_axis_video_tready):
                     break
-            dut.m_axis_cand_tready.value = 0
-            previous = (0, 0, 0, 0, 0)
-        outcomes.append(score_iteration(cfg, want, words, issue is None, pack_cut_trailer,
-                                        problems, iteration))
+            for port in ports:
+                port.idle()
+        outcomes.append(score_iteration(cfg, want, cand.words, issue is None,
+                                        pack_cut_trailer, problems, iteration))
+        if state is not None:
+            state_outcomes.append(score_state_iteration(cfg, expected, state.words,
+                                                        issue is None, problems, iteration))
     summary = {"test": "soft_reset_sweep", "problems": problems[:20], "outcomes": outcomes,
-               "cycles": cycles, "last_timeline": timeline,
+               "state_outcomes": state_outcomes, "cycles": cycles,
+               "last_timeline": cand.timeline,
+               "last_state_timeline": None if state is None else state.timeline,
                "verdict": "bit-exact" if not problems else "mismatch",
                "report": "; ".join(problems[:5]) or f"{len(outcomes)} iterations bit-exact"}
     if job.get("summary"):
@@ -457,9 +508,64 @@ async def soft_reset_sweep(dut):
     assert not problems, summary["report"]
 
 
+def score_state_iteration(cfg, expected, words, last: bool, problems, iteration) -> str:
+    """``"whole"`` (no filler: every word the model's, all of them if ``last``) or
+    ``"fill k"`` (the last line completed by k fillers); a problem otherwise.
+
+    ``words`` are the (tdata, tuser, tlast) transfers on ``m_axis_state``: lines of exactly
+    W words, each ending with ``tlast``; the words that are not fillers are the model's
+    (``expected.state_words`` with ``tuser[0]`` = ``expected.state_first``), in order from
+    the first; fillers (``tuser`` = ``tuser[3]`` only, ``tdata`` 0) only after the last of
+    them, completing its line."""
+    from dptbd.hw.axis_video import STATE_TUSER
+
+    cut = 1 << STATE_TUSER["cut"]
+    e_mask, d_mask = (1 << cfg.energy_bits) - 1, (1 << cfg.direction_bits) - 1
+    before = len(problems)
+    line = 0
+    for i, (_data, _user, tlast) in enumerate(words):
+        line += 1
+        if bool(tlast) != (line == cfg.width):
+            problems.append(f"iteration {iteration}: state word {i} is word {line} of its "
+                            f"line, tlast = {tlast}")
+            break
+        if tlast:
+            line = 0
+    if line:
+        problems.append(f"iteration {iteration}: the state stream ends in a line of {line} "
+                        "words without tlast")
+    data = [w for w in words if not w[1] & cut]
+    fills = len(words) - len(data)
+    if any(w[1] & cut for w in words[:len(data)]):
+        problems.append(f"iteration {iteration}: a filler before a state word")
+    if any(w != (0, cut, w[2]) for w in words[len(data):]) or fills >= cfg.width:
+        problems.append(f"iteration {iteration}: fillers {words[len(data):]}")
+    if len(data) > len(expected.state_words) or (last and len(data) < len(
+            expected.state_words)):
+        problems.append(f"iteration {iteration}: {len(data)} state words, the model gives "
+                        f"{len(expected.state_words)}")
+    for i, (word, user, tlast) in enumerate(data[:len(expected.state_words)]):
+        packed = pack_states(cfg, energy=word & e_mask,
+                             direction=(word >> cfg.energy_bits) & d_mask,
+                             end_of_line=tlast, end_of_frame=(user >> 1) & 1,
+                             end_of_segment=(user >> 2) & 1)
+        if int(packed) != int(expected.state_words[i]) or bool(user & 1) != bool(
+                expected.state_first[i]):
+            problems.append(f"iteration {iteration}: state word {i} = {word:#x} tuser "
+                            f"{user:#x}, the model gives {int(expected.state_words[i]):#x} "
+                            f"first {int(expected.state_first[i])}")
+            break
+    if last and fills:
+        problems.append(f"iteration {iteration}: {fills} fillers without a soft reset")
+    if len(problems) > before:
+        return "mismatch"
+    return f"fill {fills}" if fills else "whole"
+
+
 def score_iteration(cfg, want, words, last: bool, pack_cut_trailer, problems, iteration) -> str:
-    """``"whole"`` (every list), ``"cut k"`` (the last list cut after k records) or
-    ``"dropped"`` (the last list never began); a problem otherwise."""
+    """``"whole"`` (every list), ``"cut k"`` (the model's first lists whole, then one cut
+    after k records, nothing after it) or ``"dropped"`` (the model's first lists whole, the
+    others never began); a problem otherwise (and anything but ``"whole"`` if ``last``)."""
     packets, current = [], []
     for data, user, tlast in words:
         current.append((data, user))
@@ -473,21 +579,20 @@ def score_iteration(cfg, want, words, last: bool, pack_cut_trailer, problems, it
             problems.append(f"iteration {iteration}: list {i}: tuser[0] "
                             f"{[u for _, u in packet]}")
     got = [[d for d, _ in p] for p in packets]
-    head = len(want) - 1
-    if got[:head] != want[:head] or len(got) > len(want):
+    whole = 0
+    while whole < min(len(got), len(want)) and got[whole] == want[whole]:
+        whole += 1
+    if whole == len(want) and len(got) == whole:
+        return "whole"
+    if last or len(got) > whole + 1:
         problems.append(f"iteration {iteration}: lists {got} differ from the model's {want}")
         return "mismatch"
-    if len(got) == len(want) and got[-1] == want[-1]:
-        return "whole"
-    if last:
-        problems.append(f"iteration {iteration}: the last list is {got[head:]}, not whole")
-        return "mismatch"
-    if len(got) == head:
+    if len(got) == whole:
         return "dropped"
-    k = len(got[-1]) - 1
-    if not (1 <= k < len(want[-1]) and got[-1][:k] == want[-1][:k]
-            and got[-1][k] == pack_cut_trailer(cfg, k)):
-        problems.append(f"iteration {iteration}: cut list {got[-1]} is not a prefix of "
-                        f"{want[-1]} closed by the cut trailer")
+    cut, model = got[whole], want[whole]
+    k = len(cut) - 1
+    if not (1 <= k < len(model) and cut[:k] == model[:k] and cut[k] == pack_cut_trailer(cfg, k)):
+        problems.append(f"iteration {iteration}: cut list {cut} is not a prefix of "
+                        f"{model} closed by the cut trailer")
         return "mismatch"
     return f"cut {k}"

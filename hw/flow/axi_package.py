@@ -95,6 +95,11 @@ def axi_ports(top: AXITop) -> list[dict]:
             for path, member, _value in top.signature.flatten(top)]
 
 
+#: What a ``m_axis_state_tuser`` bit means, where its name does not say it all.
+STATE_TUSER_MEANING = {"cut": "filler word completing a line cut by a soft reset "
+                              "(tdata 0, no other tuser bit)"}
+
+
 def axi_manifest(cfg: DPConfig, top: AXITop) -> dict:
     """Machine-readable description of ``dptbd_axi`` (JSON-serialisable)."""
     core = top.core
@@ -116,7 +121,7 @@ def axi_manifest(cfg: DPConfig, top: AXITop) -> dict:
                             "width": data.Layout.cast(candidate_layout(cfg)).size},
             **({"m_axis_state": {
                 "tdata": "E in bits [B_E-1:0], d in the next B_d bits",
-                **{f"tuser[{bit}]": name.replace("_", " ")
+                **{f"tuser[{bit}]": STATE_TUSER_MEANING.get(name, name.replace("_", " "))
                    for name, bit in STATE_TUSER.items()},
                 "tlast": "end of line",
                 "layout": field_offsets(state_word_layout(cfg)),

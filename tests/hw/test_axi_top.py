@@ -1,13 +1,18 @@
 """``AXITop`` in the Amaranth simulator: flat AXI port names, identification over the flat
-AXI4-Lite port, ``aresetn``, input-stall counting and the soft reset's hold-off cycle.
+AXI4-Lite port, ``aresetn``, input-stall counting, the soft reset's hold-off cycle and its
+close of an open list or state line.
 (Whole scenes are scored by the cocotb tests, ``tests/sim/test_tb_axi.py``.)"""
 
 
+import numpy as np
 from amaranth.hdl import Fragment
 from amaranth.sim import Simulator
 
 from dptbd.hw.axi_lite import RESP_OKAY, RESP_SLVERR
 from dptbd.hw.axi_top import AXITop
+from dptbd.hw.axis_video import STATE_TUSER
+from dptbd.hw.layouts import pack_states
+from dptbd.sim.stream_model import expected_stream
 from dptbd.hw.flow.register_export import constants_namespace
 from helpers.axil_harness import axil_read, axil_write, flat_axil
 from helpers.seg_harness import make_config
@@ -205,3 +210,92 @@ def test_soft_reset_waits_for_the_word_offered_and_shows_busy():
     # post-reset cycle; then input again
     assert seen["after"] == [(0, 0), (0, 0), (0, 1)]
     assert seen["idle"] == (0, RESP_OKAY)
+
+
+def test_soft_reset_completes_the_open_state_line_and_waits_for_it():
+    """--state-output, K = 1: 11 pixels (line 0 and 3 pixels of line 1) leave as state words,
+    then m_axis_state_tready is held low and a soft reset issued: no list is open, so only
+    m_axis_state is closed: its line is completed by W - 3 = 5 fillers (tdata 0, tuser =
+    cut only, tlast on the last), offered unchanged while tready is low, the input held and
+    STATUS.soft_reset_busy 1; the core is reset in the cycle the last filler is taken (the
+    input is taken again two cycles later); the next frame's states are the model's from
+    reset, pixel (0, 0) with tuser[0], lines of W words."""
+    cfg = make_config(width=8, height=6, segment_frames=1, candidate_count=2)
+    regs = constants_namespace(cfg)
+    top = AXITop(cfg, state_output=True)
+    axil = flat_axil(top)
+    pixels = [(3 * i + 1) % 200 for i in range(cfg.width * cfg.height)]
+    frame = [(p, int(i == 0), int(i % cfg.width == cfg.width - 1))
+             for i, p in enumerate(pixels)]
+    cut_user = 1 << STATE_TUSER["cut"]
+    seen = {"words": [], "fillers": [], "after": []}
+
+    async def send_and_take(ctx, beats, count):
+        """Offer ``beats`` back to back and take m_axis_state (tready high) until every
+        beat is accepted and ``count`` state words are taken."""
+        ctx.set(top.m_axis_state_tready, 1)
+        index = 0
+        while index < len(beats) or len(seen["words"]) < count:
+            if index < len(beats):
+                pixel, first, last = beats[index]
+                ctx.set(top.s_axis_video_tdata, pixel)
+                ctx.set(top.s_axis_video_tuser, first)
+                ctx.set(top.s_axis_video_tlast, last)
+            ctx.set(top.s_axis_video_tvalid, index < len(beats))
+            if index < len(beats) and ctx.get(top.s_axis_video_tready):
+                index += 1
+            if ctx.get(top.m_axis_state_tvalid):
+                seen["words"].append((ctx.get(top.m_axis_state_tdata),
+                                      ctx.get(top.m_axis_state_tuser),
+                                      ctx.get(top.m_axis_state_tlast)))
+            await ctx.tick("sync")
+        ctx.set(top.s_axis_video_tvalid, 0)
+
+    async def bench(ctx):
+        await ctx.tick("sync")
+        ctx.set(top.aresetn, 1)
+        ctx.set(top.m_axis_cand_tready, 1)
+        ctx.set(top.m_axis_state_tready, 1)
+        await send_and_take(ctx, frame[:11], 11)
+        assert len(seen["words"]) == 11
+        ctx.set(top.m_axis_state_tready, 0)
+        assert await axil_write(ctx, axil, regs.REG_CONTROL,
+                                regs.CONTROL_SOFT_RESET_MASK) == RESP_OKAY
+        seen["busy"] = await axil_read(ctx, axil, regs.REG_STATUS)
+        for _ in range(10):                                  # tready low: it waits
+            assert (ctx.get(top.m_axis_state_tvalid), ctx.get(top.m_axis_state_tdata),
+                    ctx.get(top.m_axis_state_tuser), ctx.get(top.m_axis_state_tlast)) == (
+                        1, 0, cut_user, 0)
+            assert not ctx.get(top.s_axis_video_tready)
+            await ctx.tick("sync")
+        ctx.set(top.m_axis_state_tready, 1)
+        last = 0
+        while not last:
+            assert ctx.get(top.m_axis_state_tvalid) and not ctx.get(top.s_axis_video_tready)
+            last = ctx.get(top.m_axis_state_tlast)
+            seen["fillers"].append((ctx.get(top.m_axis_state_tdata),
+                                    ctx.get(top.m_axis_state_tuser), last))
+            await ctx.tick("sync")
+        for _ in range(2):
+            seen["after"].append((ctx.get(top.m_axis_state_tvalid),
+                                  ctx.get(top.s_axis_video_tready)))
+            await ctx.tick("sync")
+        seen["idle"] = await axil_read(ctx, axil, regs.REG_STATUS)
+        seen["words"] = []
+        await send_and_take(ctx, frame, len(frame))
+
+    simulate_top(top, bench)
+    assert seen["busy"] == (regs.STATUS_SOFT_RESET_BUSY_MASK, RESP_OKAY)
+    assert seen["fillers"] == [(0, cut_user, 0)] * 4 + [(0, cut_user, 1)]
+    # the reset in the cycle the last filler was taken; the core's post-reset cycle; input
+    assert seen["after"] == [(0, 0), (0, 1)]
+    assert seen["idle"] == (0, RESP_OKAY)
+    want = expected_stream(cfg, np.array(pixels), np.array([f for _p, f, _l in frame]))
+    got = [int(pack_states(cfg, energy=d & ((1 << cfg.energy_bits) - 1),
+                           direction=d >> cfg.energy_bits, end_of_line=last,
+                           end_of_frame=(u >> STATE_TUSER["end_of_frame"]) & 1,
+                           end_of_segment=(u >> STATE_TUSER["end_of_segment"]) & 1))
+           for d, u, last in seen["words"]]
+    assert got == [int(w) for w in want.words]
+    assert [u & 1 for _d, u, _l in seen["words"]] == [1] + [0] * (len(frame) - 1)
+    assert [last for _d, _u, last in seen["words"]] == [f[2] for f in frame]

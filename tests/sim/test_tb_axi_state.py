@@ -75,3 +75,47 @@ def test_state_stream_after_a_fault_and_a_soft_reset(kind):
             final_check={"ERROR": getattr(regs, f"ERROR_{kind.upper()}_MASK"),
                          **{f"FAULT_{k.upper()}": v for k, v in counts.items()}})
     assert s["state_words"] == len(beats) + len(clean)
+
+
+# 12 x 10, K = 1: every frame a segment; the second list (records) is sent while the third
+# frame's states are
+SWEEP_CFG = dict(width=12, height=10, segment_frames=1, candidate_count=4, candidate_capacity=8,
+                 histogram_bits=5, histogram_shift=1)
+
+
+def test_soft_reset_in_every_cycle_of_a_line_and_a_list():
+    """CONTROL.soft_reset landing in every cycle of a list being sent while state lines are
+    (``tb_axi.soft_reset_sweep`` on the ``--state-output`` build, independent random tready
+    on both outputs): a calibration run gives the cycles of the second list (first word
+    offered to trailer taken), the sweep issues the write from 4 cycles before it to its
+    trailer, one iteration per cycle. Every cycle keeps AXI4-Stream on both outputs; every
+    state packet is a line of W words ending with tlast, the model's words in order but for
+    the fillers (tuser[3] only, tdata 0) completing a line the soft reset cut; every list is
+    whole, a prefix closed by the cut trailer, or absent; the last iteration is bit-exact on
+    both. A line cut after each possible number of words, a list cut after each possible
+    number of records, and both in one soft reset, all occur."""
+    cfg = make_config(**SWEEP_CFG)
+    frames = make_frames("two-targets", cfg, 3, seed=1)
+    beats = clean_beats(frames)
+    lists = expected_outputs(cfg, beats, [{"stop": len(beats)}]).lists
+    assert [lst.count for lst in lists] == [0, 4, 1]
+    options = dict(testcase="soft_reset_sweep", beats=beats.to_json(), ready_pause=0.4,
+                   ready_seed=3, state_output=True, state_pause=0.4, state_seed=5)
+    sim = built(cfg, "axi-state")
+    calibration = simulate(sim, frames, run_name="axi-state-sweep-calibration", issue=[],
+                           **options)
+    assert_passed(calibration)
+    assert calibration.summary["state_outcomes"] == ["whole"]
+    timeline = calibration.summary["last_timeline"]          # [cycle, tready, tlast]
+    ends = [i for i, (_n, ready, last) in enumerate(timeline) if ready and last]
+    assert len(ends) == 3
+    first_offer, trailer_taken = timeline[ends[0] + 1][0], timeline[ends[1]][0]
+    issue = list(range(first_offer - 4, trailer_taken + 1))
+    result = simulate(sim, frames, run_name="axi-state-sweep", issue=issue, **options)
+    assert_passed(result)
+    outcomes, lines = result.summary["outcomes"], result.summary["state_outcomes"]
+    assert len(outcomes) == len(lines) == len(issue) + 1
+    assert outcomes[-1] == lines[-1] == "whole"
+    assert {"dropped", *[f"cut {k}" for k in range(1, 5)]} <= set(outcomes[:-1])
+    assert {"whole", *[f"fill {k}" for k in range(1, cfg.width)]} <= set(lines[:-1])
+    assert any(o.startswith("cut") and s.startswith("fill") for o, s in zip(outcomes, lines))

@@ -130,13 +130,16 @@ def test_state_output_adds_m_axis_state_to_ports_and_manifest():
     manifest = json.loads(axi_package(cfg, "s", state_output=True)["s.json"])
     ports = {p["name"]: p for p in manifest["ports"]}
     assert ports["m_axis_state_tuser"] == {"name": "m_axis_state_tuser", "direction": "output",
-                                           "width": 3}
+                                           "width": 4}
     assert ports["m_axis_state_tready"]["direction"] == "input"
     assert ports["m_axis_state_tdata"]["width"] == 8 * -(-(cfg.energy_bits
                                                           + cfg.direction_bits) // 8)
     state = manifest["streams"]["m_axis_state"]
-    assert (state["tuser[0]"], state["tuser[1]"], state["tuser[2]"], state["tlast"]) == (
-        "start of frame", "end of frame", "end of segment", "end of line")
+    assert (state["tuser[0]"], state["tuser[1]"], state["tuser[2]"], state["tuser[3]"],
+            state["tlast"]) == (
+        "start of frame", "end of frame", "end of segment",
+        "filler word completing a line cut by a soft reset (tdata 0, no other tuser bit)",
+        "end of line")
     plain = json.loads(axi_package(cfg, "p")["p.json"])
     assert "m_axis_state" not in plain["streams"]
     assert manifest["latency"] == plain["latency"] + 1          # the broadcast's register
