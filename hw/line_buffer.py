@@ -9,9 +9,9 @@ With ``registered_read=True`` the memory's read data goes through a register bef
 reaches the taps, so no logic sits after the block RAM's clock-to-out (5.6 ns on an ECP5
 DP16KD without its own output register, which Yosys does not infer). The read is then issued
 one cycle ahead, at the address the pointer will hold in the next cycle, so the taps keep
-their timing: the registered read costs one register per memory bit and no latency. It buys
-ECP5 15 MHz and costs the iCE40 30 logic cells for nothing (``docs/synthesis.md``, "The line
-buffer's read"), so it is off by default.
+their timing: the registered read costs one register per memory bit and no latency. What it
+gains and costs on each family is measured in ``docs/synthesis.md`` ("The line buffer's
+read"); it is off by default.
 
 With ``banked_read=True`` (needs ``ram_style="distributed"``, LUT RAM) the memory is built as
 banks of :data:`LUT_RAM_BANK_DEPTH` words (one ``TRELLIS_DPR16X4`` column each), read
@@ -19,9 +19,8 @@ asynchronously into a register per bank, with the bank select registered beside 
 bank multiplexer follows the registers instead of sitting between the LUT RAM and the read
 register, and the write (data, address, enable) is registered once more so the multiplexer
 does not drive the write ports either. Same taps, same cycles; costs one register per bank
-and memory bit. Off by default: on ECP5 it moved the critical path elsewhere (+6 to +11 MHz
-on two seeds) but nextpnr's router did not converge on the third seed (``docs/synthesis.md``,
-"The line buffer's read").
+and memory bit. Off by default: on ECP5 nextpnr's router did not converge
+on every seed with it (``docs/synthesis.md``, "The line buffer's read").
 
 With ``interleaved_read=True`` (needs ``ram_style="distributed"`` and an even ``depth`` >= 4)
 the LUT RAM is read ahead, so that neither the read address's fan-out nor a multiplexer sits

@@ -1,8 +1,8 @@
 """Compiled float reference of the direction-weighted DP, bit-identical to ``run_float``.
 
 :func:`dptbd.model.reference.run_float` is the readable float64 reference (one numpy pass
-per move, ~6 ms per 128 x 128 frame update). :func:`run_float_fast` computes the same
-float64 numbers with one numba loop per pixel, about 10 x faster, for the Monte Carlo of
+per move). :func:`run_float_fast` computes the same float64 numbers with one numba loop
+per pixel, faster, for the Monte Carlo of
 ``dptbd compare`` (:mod:`dptbd.evaluation.compare`). ``tests/model/test_fast_float.py`` checks it
 against ``run_float`` bit for bit.
 

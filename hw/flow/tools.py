@@ -98,7 +98,7 @@ def tool_version(executable: str, timeout: float = 600) -> str:
     ``--version`` (stdout then stderr); "" if neither works.
 
     The timeout allows for a YoWASP tool's first call on a machine: it compiles the tool
-    (~5 s of CPU for nextpnr, ~75 s for Yosys) and prints :data:`YOWASP_NOTICE` first.
+    (Yosys takes the longest) and prints :data:`YOWASP_NOTICE` first.
     """
     for flag in ("-V", "--version"):
         try:
