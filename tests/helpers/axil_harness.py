@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import types
 
+from amaranth.sim import Simulator
+
 
 async def axil_write(ctx, axil, addr: int, data: int, strb: int = 0xF, *,
                      order: str = "together", bready_delay: int = 0) -> int:
@@ -74,3 +76,21 @@ def flat_axil(top):
         b=channel("bresp", "bvalid", "bready"),
         ar=channel("araddr", "arprot", "arvalid", "arready"),
         r=channel("rdata", "rresp", "rvalid", "rready"))
+
+
+def simulate_top(top, bench, *background):
+    """Toggle the AXI top's ``aclk`` (10 ns) and run ``background`` testbenches behind
+    ``bench``, which ticks the top's own domain."""
+    async def clock(ctx):
+        while True:
+            ctx.set(top.aclk, 0)
+            await ctx.delay(5e-9)
+            ctx.set(top.aclk, 1)
+            await ctx.delay(5e-9)
+
+    sim = Simulator(top)
+    sim.add_testbench(clock, background=True)
+    for process in background:
+        sim.add_testbench(process, background=True)
+    sim.add_testbench(bench)
+    sim.run()

@@ -6,7 +6,6 @@ close of an open list or state line.
 
 import numpy as np
 from amaranth.hdl import Fragment
-from amaranth.sim import Simulator
 
 from dptbd.hw.axi_lite import RESP_OKAY, RESP_SLVERR
 from dptbd.hw.axi_top import AXITop
@@ -14,27 +13,12 @@ from dptbd.hw.axis_video import STATE_TUSER
 from dptbd.hw.layouts import pack_states
 from dptbd.sim.stream_model import expected_stream
 from dptbd.hw.flow.register_export import constants_namespace
-from helpers.axil_harness import axil_read, axil_write, flat_axil
+from helpers.axil_harness import axil_read, axil_write, flat_axil, simulate_top
 from helpers.seg_harness import make_config
 
 
 def config():
     return make_config(width=8, height=6, candidate_count=2)
-
-
-def simulate_top(top, bench):
-    """Toggle ``aclk`` (10 ns) in the background; ``bench`` ticks the top's own domain."""
-    async def clock(ctx):
-        while True:
-            ctx.set(top.aclk, 0)
-            await ctx.delay(5e-9)
-            ctx.set(top.aclk, 1)
-            await ctx.delay(5e-9)
-
-    sim = Simulator(top)
-    sim.add_testbench(clock, background=True)
-    sim.add_testbench(bench)
-    sim.run()
 
 
 def test_ports_carry_axi_names():

@@ -13,34 +13,17 @@ boundary is pinned to the cycle.
 
 import numpy as np
 import pytest
-from amaranth.sim import Simulator
 
 from dptbd.hw.axi_top import AXITop
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.layouts import pack_states
 from dptbd.sim.axi_stimulus import clean_beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import list_words
-from helpers.axil_harness import flat_axil
+from helpers.axil_harness import flat_axil, simulate_top
 from helpers.seg_harness import make_config
 
 #: Idle cycles after the last beat: the pipeline's latency, the last list and its scan.
 DRAIN = 120
-
-
-def simulate(top, bench, collect):
-    """``aclk`` toggled (10 ns) and ``collect`` in the background, ``bench`` in front."""
-    async def clock(ctx):
-        while True:
-            ctx.set(top.aclk, 0)
-            await ctx.delay(5e-9)
-            ctx.set(top.aclk, 1)
-            await ctx.delay(5e-9)
-
-    sim = Simulator(top)
-    sim.add_testbench(clock, background=True)
-    sim.add_testbench(collect, background=True)
-    sim.add_testbench(bench)
-    sim.run()
 
 
 def config():
@@ -121,7 +104,7 @@ def run_rtl(cfg, beats, at: int, address: int, value: int, same_cycle: bool):
         ctx.set(top.s_axis_video_tvalid, 0)
         await ctx.tick("sync").repeat(DRAIN)
 
-    simulate(top, bench, collect)
+    simulate_top(top, bench, collect)
     return cand, states
 
 
