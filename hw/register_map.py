@@ -268,7 +268,8 @@ def _status(cfg: DPConfig) -> list[tuple]:
                 ("INPUT_STALLS", "input_stall",
                  "cycles with s_axis_video_tvalid high and tready low"),
                 ("OUTPUT_STALLS", "output_stall",
-                 "cycles with m_axis_cand_tvalid high and tready low (back-pressure)")]
+                 "cycles with an output stalled (back-pressure): m_axis_cand, or "
+                 "m_axis_state with --state-output, tvalid high and tready low")]
     return [
         ("ERROR", "status", "sticky error bits, write 1 to clear", sticky),
         ("IRQ_STATUS", "status", "pending interrupts, write 1 to clear",
