@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
@@ -11,17 +10,13 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.errors import ConfigError, DptbdError
 from dptbd.weights import check_move_table, move_offsets, paper_weights, plain_weights
+from helpers.refusals import whole
 
 # move indices for r = 1 (docs §2 table)
 UL, U, UR, L, C, R, DL, D, DR = range(9)
 START = 9
 
 SHAPE_10_9 = "shape (10, 9) for radius=1 ([predecessor direction 0..9, move 0..8])"
-
-
-def whole(message):
-    """A regex matching exactly ``message``, the whole refusal."""
-    return "^" + re.escape(message) + "$"
 
 
 # ---------------------------------------------------------------------------------------

@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
 
 from dptbd.evaluation.detectors import DetectorError
 from dptbd.evaluation.detectors.merits import likelihood_difference_merit
+from helpers.refusals import whole
 
 def test_likelihood_difference_by_hand():
     s = likelihood_difference_merit(amplitude=2.0, epsilon=0.85, sigma=1.0)
@@ -35,5 +35,5 @@ def test_likelihood_difference_by_hand():
      "noise_sigma must be a finite real number in (0, inf), got nan"),
 ])
 def test_bad_input_names_the_parameter(call, message):
-    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(DetectorError, match=whole(message)):
         call()

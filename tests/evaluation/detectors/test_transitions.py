@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 import pytest
@@ -11,6 +10,7 @@ import pytest
 from dptbd.evaluation.detectors import DetectorError
 from dptbd.evaluation.detectors.transitions import velocity_log_penalty
 from dptbd.weights import move_offsets
+from helpers.refusals import whole
 
 def test_velocity_penalty_table_by_hand():
     q = velocity_log_penalty(1, alpha=1.0)
@@ -34,5 +34,5 @@ def test_velocity_penalty_table_by_hand():
     (lambda: velocity_log_penalty(3), "radius must be an integer in [1, 2], got 3"),
 ])
 def test_bad_input_names_the_parameter(call, message):
-    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(DetectorError, match=whole(message)):
         call()

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import re
 
 import numpy as np
 import pytest
@@ -16,6 +15,7 @@ from dptbd.evaluation.detectors.unified import run_unified
 from dptbd.evaluation.detectors.unified_fixed import quantise_unified, run_unified_fixed
 from dptbd.model.fixed import run_fixed
 from dptbd.weights import plain_weights
+from helpers.refusals import whole
 
 def test_fixed_point_with_plain_lut_is_paper001_plain_dp():
     rng = np.random.default_rng(1)
@@ -74,5 +74,5 @@ def test_fixed_point_likelihood_lut_tracks_the_float_recursion():
      "n_frames must be an integer in [1, inf), got 0"),
 ])
 def test_bad_input_names_the_parameter(call, message):
-    with pytest.raises(DetectorError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(DetectorError, match=whole(message)):
         call()

@@ -3,11 +3,11 @@ refused with ``dptbd.errors``' one message format."""
 
 from __future__ import annotations
 
-import re
 
 import pytest
 
 from dptbd.evaluation.run.scenario import ScenarioError, check_snr, parse_scenario
+from helpers.refusals import whole
 
 SNR = "(001's SNR = (target mean - noise mean) / sigma)"
 TARGET = {"start": [1.0, 2.0], "velocity": [0.5, 0.5]}
@@ -46,7 +46,7 @@ def target(**kw):
      "[[scene.targets]] #1.turns[0].frame must be an integer in [1, inf), got 0"),
 ])
 def test_scalar_values_are_refused_whole(data, message):
-    with pytest.raises(ScenarioError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(ScenarioError, match=whole(message)):
         parse_scenario(data)
 
 
@@ -54,6 +54,6 @@ def test_scalar_values_are_refused_whole(data, message):
                                         (float("nan"), "nan"), ("2", "'2'"), (True, "True")])
 def test_check_snr(snr, shown):
     message = f"--snr {SNR} must be a finite real number in (0, inf), got {shown}"
-    with pytest.raises(ScenarioError, match="^" + re.escape(message) + "$"):
+    with pytest.raises(ScenarioError, match=whole(message)):
         check_snr("--snr", snr)
     assert check_snr("--snr", 2) == 2.0 and type(check_snr("--snr", 2)) is float
