@@ -170,9 +170,8 @@ class CandidatesToAxis(wiring.Component):
             cut_word.body.trailer.cut.eq(1),
             cut_word.end_of_list.eq(1),
         ]
-        # Mux, not If/Else: an always @* of constant inputs is never run from time 0 by
-        # Icarus, which would leave tvalid X. tdata and tlast are 0 while no word is
-        # offered (the FIFO's output register holds X until its first word)
+        # tdata and tlast are 0 while no word is offered (the FIFO's output register holds X
+        # until its first word)
         payload = src.payload.as_value() & src.valid.replicate(len(src.payload.as_value()))
         m.d.comb += [
             out.tdata.eq(Mux(cut, cut_word.as_value(), payload)),
