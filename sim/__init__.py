@@ -20,6 +20,7 @@ Modules (one line each)
 - ``tb_dp``: the cocotb test module of ``dptbd_dp`` (it reads ``DPTBD_SIM_JOB`` and ``DPTBD_SIM_SCENE``).
 - ``tb_segmenter``: the cocotb test module of ``dptbd_seg`` (DP pipeline + segmenter).
 - ``tb_axi``: the cocotb test module of ``dptbd_axi`` (the AXI top level) with cocotbext-axi.
+- ``soft_reset_check``: what the soft-reset sweep of ``tb_axi`` checks: AXI4-Stream on every cycle, cut lists and filled state lines against the model.
 - ``axi_stimulus``: beat streams for the AXI video input with frame-sync faults, and the frame monitor's fault rule.
 - ``x_store``: 4-state (Icarus) check that an X- or garbage-initialised external store never reaches an output.
 - ``reset_x``: 4-state (Icarus) check of each top level around reset: ``ready`` and ``valid`` 0 in reset and the cycle after, no X on any output, valid offered in every cycle, bit-exact after.
