@@ -18,17 +18,17 @@ and is checked by :func:`dptbd.sim.rtl_check.check_stream` against the promise o
 X-initialised or garbage external store never reaches an output — is asked of Icarus
 (:func:`dptbd.sim.x_store.run_x_store_check`): Verilator is 2-state.
 
-:func:`run_campaign` runs the runs on a process pool and returns a :class:`CampaignResult`
-(per case: runs, words compared, words per second, verdict). ``dptbd verify`` is the
+:func:`run_campaign` runs the runs on the Dask execution layer
+(:mod:`dptbd.evaluation.execution`: in this process, local worker processes or a cluster) and
+returns a :class:`CampaignResult` (per case: runs, words compared, words per second, verdict),
+the same for any number of workers. ``dptbd verify`` is the
 command; ``tests/sim/test_campaign.py`` runs a slice of it in the default suite.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import os
 import time
-from concurrent.futures import ProcessPoolExecutor
 from typing import Callable, Sequence
 
 import numpy as np
@@ -36,7 +36,8 @@ import numpy as np
 from dptbd.config import DPConfig, EnergyWidthWarning
 
 __all__ = ["FAULTS", "Case", "RunOutcome", "CaseResult", "CampaignResult", "default_cases",
-           "hostile_frames", "make_run", "check_run", "run_campaign", "x_store_cases"]
+           "hostile_frames", "make_run", "check_run", "check_x_store", "x_store_cases",
+           "campaign_task", "campaign_tasks", "run_campaign"]
 
 #: Fault classes a case may draw from (see :func:`make_run`).
 FAULTS = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "store_garbage",
@@ -371,36 +372,74 @@ def _summarise(name: str, design: str, outcomes: list[RunOutcome]) -> CaseResult
                       failed[0] if failed else None)
 
 
+def campaign_task(kind: str, *args) -> RunOutcome:
+    """One task of :func:`run_campaign`: ``("run", case, seed, root)`` is
+    :func:`check_run`, ``("x_store", name, config, init)`` :func:`check_x_store`."""
+    if kind == "run":
+        return check_run(*args)
+    if kind == "x_store":
+        return check_x_store(*args)
+    raise ValueError(f"campaign task kind must be 'run' or 'x_store', got {kind!r}")
+
+
+def campaign_tasks(cases: Sequence[Case], *, runs_scale: float = 1.0, base_seed: int = 0,
+                   x_store: bool = True, root: str | None = None) -> list[tuple]:
+    """The arguments of every :func:`campaign_task` of a campaign, in task order: each case's
+    runs (``round(case.runs * runs_scale)``, at least 1; seed ``base_seed * 1_000_003 +
+    7919 * case index + run``), then the 4-state store checks."""
+    tasks: list[tuple] = [("run", case, base_seed * 1_000_003 + 7919 * i + r, root)
+                          for i, case in enumerate(cases)
+                          for r in range(max(1, round(case.runs * runs_scale)))]
+    if x_store:
+        tasks += [("x_store", n, cfg, init) for n, cfg, init in x_store_cases()]
+    return tasks
+
+
 def run_campaign(cases: Sequence[Case] | None = None, *, runs_scale: float = 1.0,
                  base_seed: int = 0, workers: int | None = None, x_store: bool = True,
                  root: str | None = None,
-                 on_outcome: Callable[[RunOutcome], None] | None = None) -> CampaignResult:
-    """Run every case's runs (``round(case.runs * runs_scale)``, at least 1) and the
-    4-state store checks; ``workers`` processes (default: the machine's cores)."""
+                 on_outcome: Callable[[RunOutcome], None] | None = None,
+                 scheduler: str | None = None, dashboard: bool = False) -> CampaignResult:
+    """Run every case's runs and the 4-state store checks (:func:`campaign_tasks`) on the
+    execution layer (:mod:`dptbd.evaluation.execution`, ``docs/distributed.md``).
+
+    ``workers``: local worker processes (default: the machine's cores, at most one per
+    task; 1 runs in this process); with ``scheduler`` (``tcp://HOST:PORT``, or the
+    ``DPTBD_SCHEDULER`` environment variable) the workers that cluster must have (default:
+    any). Refusals are the layer's (:class:`~dptbd.evaluation.execution.ExecutionError`),
+    before any build. Every Verilator executable is built (or found in the cache) once, here,
+    before the tasks; each task calls :func:`~dptbd.sim.verilator.build` again, which on a
+    worker that sees the same build root (this machine, or a shared file system) finds it
+    and on any other builds it once into the worker's own cache (``root=None``: the worker's
+    :func:`~dptbd.sim.verilator.default_build_root`; the build is locked, so the workers of
+    one machine build it once). ``on_outcome`` is called with each outcome as its task
+    finishes; the result lists them in task order, the same for any workers or cluster.
+    """
+    from dptbd.evaluation.execution import job_execution, run_tasks
     from dptbd.sim.verilator import build
 
     cases = list(default_cases() if cases is None else cases)
-    workers = int(workers or os.cpu_count() or 1)
+    tasks = campaign_tasks(cases, runs_scale=runs_scale, base_seed=base_seed,
+                           x_store=x_store, root=root)
+    execution = job_execution(workers, scheduler=scheduler, dashboard=dashboard,
+                              tasks=len(tasks))
+
+    def build_all() -> None:                  # once, up front (then cached)
+        for case in cases:
+            build(case.cfg, case.design, root=root)
+
     start = time.perf_counter()
-    for case in cases:                        # build once, up front (then cached)
-        build(case.cfg, case.design, root=root)
-    jobs = [(case, base_seed * 1_000_003 + 7919 * i + r) for i, case in enumerate(cases)
-            for r in range(max(1, round(case.runs * runs_scale)))]
+    outcomes, used = run_tasks(
+        campaign_task, tasks, execution, prepare=build_all,
+        on_result=None if on_outcome is None else lambda _, outcome: on_outcome(outcome))
     by_case: dict[str, list[RunOutcome]] = {c.name: [] for c in cases}
     design = {c.name: c.design for c in cases}
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(check_run, case, seed, root) for case, seed in jobs]
-        if x_store:
-            futures += [pool.submit(check_x_store, n, cfg, init) for n, cfg, init
-                        in x_store_cases()]
-            for n, _, _ in x_store_cases():
-                by_case[n] = []
-                design[n] = "core (Icarus, 4-state)"
-        for fut in futures:
-            outcome = fut.result()
-            by_case[outcome.case].append(outcome)
-            if on_outcome is not None:
-                on_outcome(outcome)
+    if x_store:
+        for n, _, _ in x_store_cases():
+            by_case[n] = []
+            design[n] = "core (Icarus, 4-state)"
+    for outcome in outcomes:
+        by_case[outcome.case].append(outcome)
     results = tuple(_summarise(n, design[n], o) for n, o in by_case.items())
-    outcomes = tuple(o for lst in by_case.values() for o in lst)
-    return CampaignResult(results, outcomes, time.perf_counter() - start, workers)
+    return CampaignResult(results, tuple(o for lst in by_case.values() for o in lst),
+                          time.perf_counter() - start, used)

@@ -4,7 +4,8 @@ golden model, plus the 4-state checks of DPCore's external store on Icarus.
 
 Prints one line per case (design, runs, words in, words compared, words per second of
 simulation, verdict with the first failing run's report) and the totals; exit 1 on any
-mismatch. ``--json`` writes every run's outcome.
+mismatch. ``--json`` writes every run's outcome. The runs go to the Dask execution layer
+(``--workers``, ``--scheduler``, ``--dashboard``: ``docs/distributed.md``).
 """
 
 from __future__ import annotations
@@ -14,7 +15,9 @@ import dataclasses
 import json
 import pathlib
 
-from dptbd.errors import check_int, check_real
+from dptbd.commands.options import add_execution_arguments
+from dptbd.errors import check_real
+from dptbd.evaluation.execution import check_worker_count
 from dptbd.output_folder import check_output_file
 
 
@@ -23,8 +26,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="multiply every case's number of runs (default 1: about 10^8 "
                              "compared words; 0.01 for a quick look)")
     parser.add_argument("--seed", type=int, default=0, help="base seed (default 0)")
-    parser.add_argument("--workers", type=int, default=None,
-                        help="processes (default: the machine's cores)")
+    add_execution_arguments(parser)
     parser.add_argument("--cases", nargs="+", metavar="NAME",
                         help="only these cases (default all; --list names them)")
     parser.add_argument("--list", action="store_true", help="list the cases and exit")
@@ -51,7 +53,7 @@ def main(args: argparse.Namespace) -> int:
         return 0
     check_real("--runs-scale", args.runs_scale, 0.0, lo_open=True)
     if args.workers is not None:
-        check_int("--workers", args.workers, 1)
+        check_worker_count(args.workers)
     if args.cases:
         known = {c.name for c in cases}
         unknown = [n for n in args.cases if n not in known]
@@ -70,9 +72,13 @@ def main(args: argparse.Namespace) -> int:
             bar.write(f"MISMATCH {outcome.case} seed {outcome.seed}: {outcome.report} "
                       f"({'; '.join(outcome.notes)})")
 
-    result = run_campaign(cases, runs_scale=args.runs_scale, base_seed=args.seed,
-                          workers=args.workers, x_store=not args.no_x_store, on_outcome=seen)
-    bar.close()
+    try:
+        result = run_campaign(cases, runs_scale=args.runs_scale, base_seed=args.seed,
+                              workers=args.workers, x_store=not args.no_x_store,
+                              on_outcome=seen, scheduler=args.scheduler,
+                              dashboard=args.dashboard)
+    finally:
+        bar.close()
     print(f"\n{'case':28s} {'design':22s} {'runs':>5s} {'words in':>12s} "
           f"{'words compared':>15s} {'words/s':>10s}  verdict")
     for c in result.cases:

@@ -40,7 +40,7 @@ from dptbd.errors import DptbdError, check_int
 __all__ = ["ExecutionError", "Execution", "SCHEDULER_ENV", "CONNECT_TIMEOUT", "REQUIRED_PACKAGES",
            "MAX_WORKERS", "QUIET_LOCAL_CLUSTER", "check_worker_count", "default_workers",
            "job_execution", "local_cluster", "cluster_workers",
-           "check_workers", "map_tasks", "warmed", "version"]
+           "check_workers", "map_tasks", "run_tasks", "warmed", "version"]
 
 #: Environment variable holding a scheduler address, used when ``--scheduler`` is not given.
 SCHEDULER_ENV = "DPTBD_SCHEDULER"
@@ -292,11 +292,13 @@ def warmed(client, warm: Callable[[], None] | None) -> Iterator[None]:
 
 def map_tasks(fn: Callable, tasks: Sequence[tuple], client=None, *,
               sizes: Sequence[int] | None = None, bar=None,
-              done: Callable[[int], None] | None = None) -> list:
+              done: Callable[[int], None] | None = None,
+              on_result: Callable[[int, Any], None] | None = None) -> list:
     """``[fn(*t) for t in tasks]``, on ``client``'s workers when given, in task order.
 
     ``sizes``: units (trials, tasks) of each task for the progress ``bar`` (a tqdm, updated
-    as tasks finish; default 1 each). ``done(i)`` is called after task ``i`` completes.
+    as tasks finish; default 1 each). ``done(i)`` is called after task ``i`` completes,
+    ``on_result(i, result)`` with its result (both in the order the tasks finish).
     A task rerun by the scheduler (its worker died) still gives one result: the one of its
     key.
     """
@@ -305,6 +307,8 @@ def map_tasks(fn: Callable, tasks: Sequence[tuple], client=None, *,
     if client is None:
         for i, t in enumerate(tasks):
             results[i] = fn(*t)
+            if on_result is not None:
+                on_result(i, results[i])
             if bar is not None:
                 bar.update(sizes[i])
             if done is not None:
@@ -321,6 +325,8 @@ def map_tasks(fn: Callable, tasks: Sequence[tuple], client=None, *,
         for future in distributed.as_completed(futures):
             i = index[future.key]
             results[i] = future.result()
+            if on_result is not None:
+                on_result(i, results[i])
             if bar is not None:
                 bar.update(sizes[i])
             if done is not None:
@@ -328,3 +334,26 @@ def map_tasks(fn: Callable, tasks: Sequence[tuple], client=None, *,
     finally:
         client.cancel(futures)
     return results
+
+
+def run_tasks(fn: Callable, tasks: Sequence[tuple], execution: Execution, *,
+              prepare: Callable[[], None] | None = None,
+              on_result: Callable[[int, Any], None] | None = None,
+              warm: Callable[[], None] | None = None) -> tuple[list, int]:
+    """``([fn(*t) for t in tasks], workers)``: a whole job on ``execution`` in one call.
+
+    The client is opened first (an unreachable scheduler, too few or unfit workers are
+    refused before anything else), then ``prepare()`` runs in this process (e.g. builds
+    the tasks' executables), then :func:`map_tasks` with ``on_result`` and, on every
+    worker, ``warm`` (:func:`warmed`). ``workers``: how many ran the tasks (1 in this
+    process, the local processes, or the cluster's workers at the start)."""
+    with execution.client() as client, warmed(client, warm):
+        if prepare is not None:
+            prepare()
+        if client is None:
+            used = 1
+        elif execution.address is None:
+            used = int(execution.workers)
+        else:
+            used = len(cluster_workers(client))
+        return map_tasks(fn, tasks, client, on_result=on_result), used

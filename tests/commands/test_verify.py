@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 import json
+import re
+import socket
 
 from dptbd.cli import main
 
@@ -18,7 +20,8 @@ def test_verify_command_lists_and_refuses(capsys, tmp_path):
     assert capsys.readouterr().err == ("dptbd verify: error: --runs-scale must be a finite real "
                                        "number in (0, inf), got 0.0\n")
     assert main(["verify", "--workers", "0"]) == 2
-    assert capsys.readouterr().err == "dptbd verify: error: --workers must be an integer in [1, inf), got 0\n"
+    assert capsys.readouterr().err == ("dptbd verify: error: workers must be an integer in "
+                                       "[1, 1024], got 0\n")
     existing = tmp_path / "out.json"
     existing.write_text("{}")
     assert main(["verify", "--json", str(existing)]) == 2
@@ -38,3 +41,19 @@ def test_verify_command_runs_one_case(capsys, tmp_path):
     assert "37x23-k3-in8-e12-f4" in text and "bit-exact" in text and "total:" in text
     data = json.loads(out.read_text())
     assert data["passed"] and data["words_compared"] > 0 and len(data["runs"]) == 1
+
+
+def test_verify_refuses_an_unreachable_scheduler_before_any_build(capsys, tmp_path,
+                                                                    monkeypatch):
+    """--scheduler reaches the execution layer; its refusal (after CONNECT_TIMEOUT, 5 s)
+    comes before the builds (an empty build root stays empty)."""
+    monkeypatch.setenv("DPTBD_BUILD_DIR", str(tmp_path / "cache"))
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        address = f"tcp://127.0.0.1:{s.getsockname()[1]}"
+    assert main(["verify", "--cases", "37x23-k3-in8-e12-f4", "--runs-scale", "0.05",
+                 "--scheduler", address]) == 2
+    err = capsys.readouterr().err
+    assert re.fullmatch(rf"dptbd verify: error: cannot reach the dask scheduler at "
+                        rf"{re.escape(address)} within 5 s \(\w+\)", err.splitlines()[-1])
+    assert not (tmp_path / "cache").exists()

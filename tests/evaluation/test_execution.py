@@ -14,7 +14,7 @@ import pytest
 from dptbd.evaluation import execution
 from dptbd.evaluation.execution import (Execution, ExecutionError, check_worker_count,
                                         check_workers, cluster_workers, job_execution,
-                                        map_tasks)
+                                        map_tasks, run_tasks)
 from helpers.refusals import whole
 
 
@@ -212,3 +212,25 @@ def test_workers_that_truly_lack_numba_or_dptbd_or_cannot_import_numba_are_refus
                 r"docs/distributed\.md\): " + "; ".join(f"worker {a} {p}" for a, p in problems)
                 + "$")):
             run_table1(1, scheduler=address, workers=None, size=24)
+
+
+def test_run_tasks_connects_then_prepares_then_reports_every_result(threaded_cluster):
+    """In this process and on a cluster: ``prepare`` once before the tasks, ``on_result``
+    once per task, results in task order, the workers that ran them; an unreachable
+    scheduler is refused before ``prepare``."""
+    tasks = [(2, k) for k in range(6)]
+    for where in (Execution(workers=1),
+                  Execution(workers=1, scheduler=threaded_cluster.scheduler_address)):
+        calls = []
+        results, used = run_tasks(pow, tasks, where,
+                                  prepare=lambda: calls.append("prepare"),
+                                  on_result=lambda i, r: calls.append((i, r)))
+        assert results == [2 ** k for k in range(6)] and used == 1
+        assert calls[0] == "prepare" and sorted(calls[1:]) == list(enumerate(results))
+    calls = []
+    address = f"tcp://127.0.0.1:{_free_port()}"
+    with pytest.raises(ExecutionError, match=rf"^cannot reach the dask scheduler at "
+                                             rf"{re.escape(address)} within 1 s \(\w+\)$"):
+        run_tasks(pow, tasks, Execution(workers=None, scheduler=address, connect_timeout=1.0),
+                  prepare=lambda: calls.append("prepare"))
+    assert calls == []

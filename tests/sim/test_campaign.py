@@ -4,10 +4,17 @@ least 10^6 compared words runs in the default suite; the full campaign (10^8) is
 
 from __future__ import annotations
 
-import numpy as np
+import dataclasses
+import re
 
+import numpy as np
+import pytest
+from helpers.refusals import whole
+
+from dptbd.evaluation.execution import ExecutionError
 from dptbd.sim import campaign
-from dptbd.sim.campaign import Case, default_cases, hostile_frames, make_run, run_campaign
+from dptbd.sim.campaign import (Case, campaign_task, campaign_tasks, default_cases,
+                                hostile_frames, make_run, run_campaign)
 
 
 def test_default_cases_cover_what_the_campaign_promises():
@@ -80,3 +87,80 @@ def test_a_wrong_model_fails_the_campaign(monkeypatch):
     outcome = campaign.check_run(case, 3)
     assert not outcome.passed
     assert "first mismatch at output" in outcome.report and "field energy" in outcome.report
+    # through the campaign (in this process, where the patch holds): every failing run is
+    # reported as it finishes, the case's verdict names the first
+    seen = []
+    result = run_campaign([dataclasses.replace(case, runs=2)], workers=1, x_store=False,
+                          base_seed=1, on_outcome=seen.append)
+    assert not result.passed and result.mismatches == 2 and result.workers == 1
+    assert [(o.seed, o.passed) for o in seen] == [(1_000_003, False), (1_000_004, False)]
+    assert result.cases[0].first_failure == seen[0]
+
+
+# ---- on the execution layer ----------------------------------------------------------------
+
+def _short(case: Case, frames: int, runs: int) -> Case:
+    """``case`` with fewer frames and runs: the same parameter set, so the same build."""
+    return dataclasses.replace(case, name=case.name + "-short", frames=frames, runs=runs)
+
+
+def _untimed(result: campaign.CampaignResult) -> campaign.CampaignResult:
+    """``result`` without its timings (and worker count): what must not depend on workers."""
+    def run(o):
+        return None if o is None else dataclasses.replace(o, sim_seconds=0.0, wall_seconds=0.0)
+    return dataclasses.replace(
+        result, wall_seconds=0.0, workers=0, outcomes=tuple(run(o) for o in result.outcomes),
+        cases=tuple(dataclasses.replace(c, sim_seconds=0.0, first_failure=run(c.first_failure))
+                    for c in result.cases))
+
+
+def test_the_campaign_is_the_same_on_one_and_two_workers():
+    """The whole result but its timings, in task order, whatever finished first; the
+    progress callback sees every outcome once."""
+    cases = [_short(default_cases()[1], 12, 3), _short(default_cases()[7], 4, 2)]
+    seen = {1: [], 2: []}
+    results = {w: run_campaign(cases, workers=w, base_seed=5, on_outcome=seen[w].append)
+               for w in (1, 2)}
+    assert results[1].workers == 1 and results[2].workers == 2
+    assert _untimed(results[1]) == _untimed(results[2])
+    assert results[1].passed and len(results[1].outcomes) == 3 + 2 + 4
+    assert [(o.case, o.seed) for o in results[1].outcomes] == [
+        (c.name, s) for kind, c, s, _ in campaign_tasks(cases, base_seed=5)[:5]] + [
+        (n, 1) for n, _, _ in campaign.x_store_cases()]
+    for w in (1, 2):
+        assert sorted(seen[w], key=results[w].outcomes.index) == list(results[w].outcomes)
+
+
+def test_campaign_tasks_are_seeded_by_case_and_run():
+    cases = [_short(default_cases()[1], 12, 3), _short(default_cases()[7], 4, 20)]
+    tasks = campaign_tasks(cases, runs_scale=0.1, base_seed=2, root="/r")
+    assert tasks[:3] == [("run", cases[0], 2_000_006 + r, "/r") for r in range(1)] + [
+        ("run", cases[1], 2_000_006 + 7919 + r, "/r") for r in range(2)]
+    assert [t[0] for t in tasks[3:]] == ["x_store"] * 4
+    assert len(campaign_tasks(cases, x_store=False)) == 23
+    with pytest.raises(ValueError, match=whole(
+            "campaign task kind must be 'run' or 'x_store', got 'nope'")):
+        campaign_task("nope")
+
+
+def test_a_bad_worker_count_is_the_layers_refusal():
+    with pytest.raises(ExecutionError, match=whole(
+            "workers must be an integer in [1, 1024], got 0")):
+        run_campaign([], workers=0)
+
+
+def test_a_worker_without_the_clients_build_root_builds_for_itself(tmp_path):
+    """A ``dask worker`` process whose ``DPTBD_BUILD_DIR`` is its own (a machine without the
+    client's file system): the client builds into its cache, the worker builds the same
+    executable into its own, and the run is bit-exact."""
+    from helpers.dask_processes import DASK, process_cluster
+
+    own = tmp_path / "worker-cache"
+    case = Case("tiny-9x7", dict(width=9, height=7, segment_frames=2), "dp", 6, 2,
+                ("lut", "misaligned_first"))
+    worker = ["env", f"DPTBD_BUILD_DIR={own}", str(DASK), "worker"]
+    with process_cluster(tmp_path, {"elsewhere": worker}) as (address, _):
+        result = run_campaign([case], scheduler=address, x_store=False)
+    assert result.passed and result.workers == 1 and len(result.outcomes) == 2
+    built = [p.name for p in (own / "verilator").iterdir() if p.name.startswith("9x7-")]
+    assert len(built) == 1 and re.fullmatch(r"9x7-k2-.*-dp-[0-9a-f]{12}", built[0])
