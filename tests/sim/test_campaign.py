@@ -164,3 +164,15 @@ def test_a_worker_without_the_clients_build_root_builds_for_itself(tmp_path):
     assert result.passed and result.workers == 1 and len(result.outcomes) == 2
     built = [p.name for p in (own / "verilator").iterdir() if p.name.startswith("9x7-")]
     assert len(built) == 1 and re.fullmatch(r"9x7-k2-.*-dp-[0-9a-f]{12}", built[0])
+
+
+def test_a_case_that_saturates_on_purpose_warns_nowhere():
+    """The narrow case's EnergyWidthWarning (its point) is not printed by every worker."""
+    import warnings
+
+    from dptbd.config import EnergyWidthWarning
+
+    case = _short(next(c for c in default_cases() if c.name.startswith("narrow")), 6, 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", EnergyWidthWarning)
+        assert campaign.check_run(case, 0).passed
