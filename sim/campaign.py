@@ -19,7 +19,8 @@ X-initialised or garbage external store never reaches an output — is asked of 
 (:func:`dptbd.sim.x_store.run_x_store_check`): Verilator is 2-state.
 
 :func:`run_campaign` runs the runs on a process pool and returns a :class:`CampaignResult`
-(per case: runs, words compared, words per second, verdict). ``dptbd verify`` is the
+(per case: runs, words compared, words per second, verdict; the functional coverage bins
+of every run, :mod:`dptbd.sim.coverage.bins`, added up). ``dptbd verify`` is the
 command; ``tests/sim/test_campaign.py`` runs a slice of it in the default suite.
 """
 

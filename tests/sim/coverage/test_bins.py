@@ -111,6 +111,11 @@ def test_a_failed_run_fills_no_bin_and_the_campaign_names_the_empty_ones():
         "functional coverage: 1 empty bin: ties: two or more pixels in the threshold bin")
 
 
+def test_stall_bands_have_their_edges():
+    assert [bins.band(p) for p in (0.0, 1e-9, 0.3499, 0.35, 0.7, 0.999)] == \
+        ["none", "light", "light", "heavy", "heavy", "heavy"]
+
+
 def test_merge_adds_hits_over_the_union_of_declared_bins():
     assert bins.merge({"a: x": 1, "b: y": 0}, {"a: x": 2, "c: z": 0}, {}) == \
         {"a: x": 3, "b: y": 0, "c: z": 0}
