@@ -411,6 +411,11 @@ class CampaignResult:
         from dptbd.sim.coverage.bins import empty_bins
         return empty_bins(self.bins)
 
+    @property
+    def covered(self) -> bool:
+        """Every declared bin hit (the coverage verdict, beside :attr:`passed`)."""
+        return not self.empty_bins
+
 
 def _summarise(name: str, design: str, outcomes: list[RunOutcome]) -> CaseResult:
     failed = [o for o in outcomes if not o.passed]

@@ -77,6 +77,7 @@ def test_a_slice_of_the_campaign_is_bit_exact():
     # functional coverage: the slice (one run per case) fills every bin but the stall bands
     # its runs did not draw, some reset stages and LUT writes by row (the full campaign's)
     bins, empty = result.bins, result.empty_bins
+    assert not result.covered and result.passed
     assert [b for b in empty if not b.startswith(("stall:", "reset:", "LUT: written"))] == []
     assert len(bins) - len(empty) >= 60
     for o in [o for o in result.outcomes if o.bins]:   # each run's bands, at every position
