@@ -395,7 +395,11 @@ def axi_bins(cfg, beats, steps: list[dict], *, passed: bool,
              bus: Iterable[tuple[str, int, int, int]] = ()) -> dict[str, int]:
     """The bins of one run of ``dptbd_axi`` (:func:`dptbd.sim.verilator_axi.check_axi`
     with these ``beats`` and ``steps``; ``passed`` its verdict). ``bus``: raw AXI4-Lite
-    operations the run also performed, ``(kind "w" or "r", byte address, data, wstrb)``."""
+    operations the run also performed, ``(kind "w" or "r", byte address, data, wstrb)``.
+
+    A campaign case of design ``"axi"`` fills its outcome's bins with
+    ``axi_bins(sim.cfg, beats, steps, passed=check.passed)`` (``check`` what ``check_axi``
+    returned), which declares every bin of the AXI top."""
     from dptbd.hw.register_map import register_map
     from dptbd.model.segmentation import segment_stream
     from dptbd.sim.axi_stimulus import fault_pulses, stream_pieces
