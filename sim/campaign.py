@@ -20,8 +20,9 @@ X-initialised or garbage external store never reaches an output — is asked of 
 
 :func:`run_campaign` runs the runs on the Dask execution layer
 (:mod:`dptbd.evaluation.execution`: in this process, local worker processes or a cluster) and
-returns a :class:`CampaignResult` (per case: runs, words compared, words per second, verdict),
-the same for any number of workers. ``dptbd verify`` is the
+returns a :class:`CampaignResult` (per case: runs, words compared, words per second, verdict;
+the functional coverage bins of every run, :mod:`dptbd.sim.coverage.bins`, added up), the
+same for any number of workers. ``dptbd verify`` is the
 command; ``tests/sim/test_campaign.py`` runs a slice of it in the default suite.
 """
 
@@ -176,15 +177,16 @@ def hostile_frames(cfg: DPConfig, n_frames: int, rng: np.random.Generator) -> np
 # ---- one run --------------------------------------------------------------------------------
 
 def _faulty_stream(cfg: DPConfig, words: np.ndarray, faults: Sequence[str],
-                   rng: np.random.Generator) -> tuple[np.ndarray, list[str]]:
-    """Cut, lengthen or mark frames of a clean word stream; what was done, for the report."""
+                   rng: np.random.Generator) -> tuple[np.ndarray, list[str], list]:
+    """Cut, lengthen or mark frames of a clean word stream; what was done, for the report,
+    and (fault, index of the first word it touches) for the coverage bins."""
     from dptbd.hw.layouts import field_offsets, pixel_layout
 
     size = cfg.width * cfg.height
     first_bit = np.uint64(1) << np.uint64(field_offsets(pixel_layout(cfg))["first"]["offset"])
     n_frames = len(words) // size
     frames = [words[i * size:(i + 1) * size].copy() for i in range(n_frames)]
-    notes = []
+    notes, touched = [], []
     for fault in ("misaligned_first", "short_frame", "long_frame"):
         if fault not in faults or n_frames < 4:
             continue
@@ -193,17 +195,22 @@ def _faulty_stream(cfg: DPConfig, words: np.ndarray, faults: Sequence[str],
             p = int(rng.integers(1, size))
             frames[f][p] |= first_bit                        # a start marker mid-frame
             notes.append(f"start-of-frame marker at pixel {p} of frame {f}")
+            touched.append((fault, f, p))
         elif fault == "short_frame":
             keep = int(rng.integers(1, size))
             frames[f] = frames[f][:keep]
             notes.append(f"frame {f} cut to {keep} of {size} pixels")
+            touched.append((fault, f + 1, 0))
         else:
             extra = int(rng.integers(1, size))
             tail = frames[f][:extra].copy()
             tail &= ~first_bit
             frames[f] = np.concatenate([frames[f], tail])
             notes.append(f"frame {f} runs {extra} pixels long")
-    return np.concatenate(frames), notes
+            touched.append((fault, f, size))
+    starts = np.cumsum([0] + [len(frame) for frame in frames])
+    events = [(fault, int(starts[f] + p)) for fault, f, p in touched if p < len(frames[f])]
+    return np.concatenate(frames), notes, events
 
 
 def _settings_changes(cfg: DPConfig, n_words: int, rng: np.random.Generator):
@@ -224,9 +231,16 @@ def _settings_changes(cfg: DPConfig, n_words: int, rng: np.random.Generator):
     return tuple(sorted(out, key=lambda change: change[0]))
 
 
-def make_run(case: Case, seed: int):
+def make_run(case: Case, seed: int, latency: int | None = None):
     """The input words and :class:`~dptbd.sim.rtl_check.Stimulus` of run ``seed`` of ``case``,
-    and a description of its faults."""
+    and a description of its faults. ``latency``: the build's DP pipeline L (then about
+    half the runs with resets get one more early on, soon after the first word, when the
+    pipeline holds 0 … L words)."""
+    return _make_run(case, seed, latency)[:3]
+
+
+def _make_run(case: Case, seed: int, latency: int | None = None):
+    """:func:`make_run` and the framing faults' (fault, first word touched)."""
     from dptbd.sim.rtl_check import Stimulus
     from dptbd.sim.stimulus import pixel_words
     from dptbd.sim.verilator import cycle_budget
@@ -234,10 +248,15 @@ def make_run(case: Case, seed: int):
     cfg = case.cfg
     rng = np.random.default_rng([seed, 0x7E57])
     frames = hostile_frames(cfg, case.frames, rng)
-    words, notes = _faulty_stream(cfg, pixel_words(cfg, frames), case.faults, rng)
+    words, notes, events = _faulty_stream(cfg, pixel_words(cfg, frames), case.faults, rng)
     gap, pause = (float(v) for v in rng.uniform(0.0, MAX_STALL, size=2))
-    if rng.random() < 0.25:
+    speed = rng.random()
+    if speed < 0.25:
         gap, pause = 0.0, 0.0                           # some runs at full speed
+    elif speed < 0.35:
+        gap = 0.0                                       # back-pressure only
+    elif speed < 0.45:
+        pause = 0.0                                     # input gaps only
     size = cfg.width * cfg.height
     unity = 1 << cfg.weight_frac_bits
     luts = []
@@ -246,8 +265,14 @@ def make_run(case: Case, seed: int):
     if "lut" in case.faults:
         for _ in range(2):
             at = int(rng.integers(1, len(words)))
-            if rng.random() < 0.5:
-                at = (at // size) * size or size        # between frames
+            stage = rng.random()
+            frame, col = (at // size) * size, max(1, at % cfg.width)
+            if stage < 0.5:
+                at = frame or size                      # between frames
+            elif stage < 0.625:
+                at = frame + col                        # in the first row
+            elif stage < 0.75:
+                at = frame + (cfg.height - 1) * cfg.width + col - 1     # in the last row
             luts.append((min(at, len(words)), rng.integers(0, unity + 1,
                                                            size=(cfg.n_moves + 1, cfg.n_moves))))
         notes.append(f"LUT rewritten before words {[i for i, _ in luts if i]}")
@@ -258,6 +283,13 @@ def make_run(case: Case, seed: int):
             if not resets or c > resets[-1][0] + 10:
                 resets.append((int(c), int(rng.integers(1, 6))))
         notes.append(f"resets at cycles {[c for c, _ in resets]}")
+    if latency is not None and "reset" in case.faults and rng.random() < 0.5:
+        # a reset when the pipeline holds 0 … L words: the first word comes after the LUT
+        # writes before word 0, then one per cycle at full speed
+        early = 2 + sum(cfg.lut_entries for i, _ in luts if i == 0) \
+            + int(rng.integers(0, latency + 2))
+        resets.insert(0, (early, int(rng.integers(1, 6))))
+        notes.append(f"early reset at cycle {early}")
     store = "random" if "store_garbage" in case.faults else "zero"
     settings = _settings_changes(cfg, len(words), rng) if "settings" in case.faults else ()
     if settings:
@@ -266,7 +298,7 @@ def make_run(case: Case, seed: int):
                     lut_changes=tuple(luts), store_init=store, settings_changes=settings)
     notes.insert(0, f"gaps {gap:.2f}, back-pressure {pause:.2f}")
     assert all(c < cycle_budget(len(words), gap, pause, 0) for c, _ in resets)
-    return words, stim, notes
+    return words, stim, notes, tuple(events)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -281,26 +313,31 @@ class RunOutcome:
     sim_seconds: float
     wall_seconds: float
     notes: tuple[str, ...]
+    #: functional coverage, {bin: hits} (:mod:`dptbd.sim.coverage.bins`)
+    bins: dict = dataclasses.field(default_factory=dict, compare=False)
 
 
 def check_run(case: Case, seed: int, root: str | None = None) -> RunOutcome:
-    """Build (cached), run and check run ``seed`` of ``case``. A case that saturates on
-    purpose gives no :class:`~dptbd.config.EnergyWidthWarning` (as :attr:`Case.cfg`), so
-    the workers print none."""
+    """Build (cached), run and check run ``seed`` of ``case``, and count its bins. A case
+    that saturates on purpose gives no :class:`~dptbd.config.EnergyWidthWarning` (as
+    :attr:`Case.cfg`), so the workers print none."""
     import warnings
 
+    from dptbd.sim.coverage.bins import stream_bins
     from dptbd.sim.rtl_check import check_stream
     from dptbd.sim.verilator import build
 
     start = time.perf_counter()
     sim = build(case.cfg, case.design, root=root)
-    words, stim, notes = make_run(case, seed)
+    latency = int(sim.manifest.get("dp_latency", sim.latency))
+    words, stim, notes, events = _make_run(case, seed, latency)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", EnergyWidthWarning)
         result = check_stream(sim, words, stim)
+    bins = stream_bins(case, stim, result, events, latency)
     return RunOutcome(case.name, seed, result.passed, result.report, result.words_in,
                       result.words_out, result.raw.cycles, result.raw.sim_seconds,
-                      time.perf_counter() - start, tuple(notes))
+                      time.perf_counter() - start, tuple(notes), bins)
 
 
 # ---- the 4-state cases ----------------------------------------------------------------------
@@ -368,6 +405,23 @@ class CampaignResult:
     @property
     def mismatches(self) -> int:
         return sum(not o.passed for o in self.outcomes)
+
+    @property
+    def bins(self) -> dict[str, int]:
+        """Functional coverage: every bin the runs declared, hits added."""
+        from dptbd.sim.coverage.bins import merge
+        return merge(*(o.bins for o in self.outcomes))
+
+    @property
+    def empty_bins(self) -> list[str]:
+        """The declared bins no run hit: the campaign fails on them."""
+        from dptbd.sim.coverage.bins import empty_bins
+        return empty_bins(self.bins)
+
+    @property
+    def covered(self) -> bool:
+        """Every declared bin hit (the coverage verdict, beside :attr:`passed`)."""
+        return not self.empty_bins
 
 
 def _summarise(name: str, design: str, outcomes: list[RunOutcome]) -> CaseResult:

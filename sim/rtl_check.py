@@ -80,6 +80,9 @@ class CheckResult:
     cycles: int | None        # first accepted word to last output, inclusive
     epochs: int               # 1 + the resets that happened
     raw: RawRun
+    #: per epoch compared: (index of its first accepted word, the model's expectation, the
+    #: scoreboard) — what :mod:`dptbd.sim.coverage.bins` reads the run's bins from
+    scored: tuple = ()
 
     @property
     def cycles_per_second(self) -> float:
@@ -165,6 +168,7 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
     out_cuts = [0] + [int(np.searchsorted(raw.out_cycles, c)) for c in resets] + \
         [len(raw.out_words)]
     report, passed, compared = "", True, 0
+    scored = []
     for e in range(len(in_cuts) - 1):
         a, b = in_cuts[e], in_cuts[e + 1]
         changes = {int(i) - a: codes for i, codes in stimulus.lut_changes}
@@ -177,6 +181,7 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
         got = raw.out_words[out_cuts[e]:out_cuts[e + 1]]
         board.receive_array(got)
         compared += board.count
+        scored.append((a, exp, board))
         label = f"after reset {e} (cycle {resets[e - 1]}): " if e else ""
         if board.failed or (last and not board.done):
             passed = False
@@ -200,7 +205,8 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
     cycles = None
     if n_in and len(raw.out_words):
         cycles = int(raw.out_cycles[-1]) - int(raw.accept_cycles[0]) + 1
-    return CheckResult(passed, report, n_in, compared, cycles, len(in_cuts) - 1, raw)
+    return CheckResult(passed, report, n_in, compared, cycles, len(in_cuts) - 1, raw,
+                       tuple(scored))
 
 
 def check_frames(sim: VerilatorBuild, frames: np.ndarray, stimulus: Stimulus = Stimulus(),

@@ -3,8 +3,10 @@ set's seeded runs through the compiled RTL (Verilator), every output word compar
 golden model, plus the 4-state checks of DPCore's external store on Icarus.
 
 Prints one line per case (design, runs, words in, words compared, words per second of
-simulation, verdict with the first failing run's report) and the totals; exit 1 on any
-mismatch. ``--json`` writes every run's outcome. The runs go to the Dask execution layer
+simulation, verdict with the first failing run's report), the totals and the functional
+coverage (:mod:`dptbd.sim.coverage.bins`: every bin the campaign's designs fill, the designs
+whose cases fill it, its hits); exit 1 on any mismatch or any empty bin (named). ``--json``
+writes every run's outcome and the bins. The runs go to the Dask execution layer
 (``--workers``, ``--scheduler``, ``--dashboard``: ``docs/distributed.md``).
 """
 
@@ -92,13 +94,32 @@ def main(args: argparse.Namespace) -> int:
           f"{result.mismatches} mismatching runs of {len(result.outcomes)}, "
           f"{result.wall_seconds:.1f} s wall on {result.workers} workers "
           f"({rate / 1e6:.2f} M compared words/s overall)")
+    bins, empty = _print_bins(result.bins)
     if args.json is not None:
         tmp = args.json.with_name(args.json.name + ".tmp")
         tmp.write_text(json.dumps({
             "passed": result.passed, "words_compared": result.words_out,
             "words_in": result.words_in, "wall_seconds": result.wall_seconds,
-            "workers": result.workers,
+            "workers": result.workers, "bins": bins, "empty_bins": empty,
             "cases": [dict(dataclasses.asdict(c), first_failure=None) for c in result.cases],
             "runs": [dataclasses.asdict(o) for o in result.outcomes]}, indent=1) + "\n")
         tmp.replace(args.json)
-    return 0 if result.passed else 1
+    return 0 if result.passed and not empty else 1
+
+
+def _print_bins(bins: dict) -> tuple[dict, list[str]]:
+    """Print the functional coverage table and its verdict; the bins in table order and the
+    empty ones."""
+    from dptbd.sim.coverage.bins import empty_bins, empty_message, table
+
+    rows = table(bins)
+    if not rows:
+        return {}, []
+    width = max(len(name) for name, _, _ in rows)
+    print(f"\n{'bin':{width}s}  {'filled by cases of':28s} {'hits':>12s}")
+    for name, designs, hits in rows:
+        print(f"{name:{width}s}  {designs:28s} {hits:12d}")
+    empty = empty_bins(bins)
+    print("\n" + (empty_message(empty) if empty else
+                  f"functional coverage: all {len(rows)} bins hit"))
+    return {name: hits for name, _, hits in rows}, empty

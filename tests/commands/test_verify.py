@@ -34,13 +34,22 @@ def test_verify_command_lists_and_refuses(capsys, tmp_path):
 
 
 def test_verify_command_runs_one_case(capsys, tmp_path):
+    """One run is bit-exact but cannot fill every bin of its design: exit 1, naming them."""
     out = tmp_path / "v.json"
     assert main(["verify", "--cases", "37x23-k3-in8-e12-f4", "--runs-scale", "0.05",
-                 "--no-x-store", "--workers", "1", "--json", str(out)]) == 0
+                 "--no-x-store", "--workers", "1", "--json", str(out)]) == 1
     text = capsys.readouterr().out
     assert "37x23-k3-in8-e12-f4" in text and "bit-exact" in text and "total:" in text
     data = json.loads(out.read_text())
     assert data["passed"] and data["words_compared"] > 0 and len(data["runs"]) == 1
+    empty = data["empty_bins"]
+    assert empty == [name for name, hits in data["bins"].items() if hits == 0] != []
+    assert data["runs"][0]["bins"] == data["bins"]
+    assert text.rstrip().endswith(f"functional coverage: {len(empty)} empty bins: "
+                                  + "; ".join(empty))
+    assert not any(name.startswith(("lists:", "ties:", "register:", "soft reset:"))
+                   for name in data["bins"])               # dp only: no bin of other designs
+    assert "stall: gaps none, back-pressure none, first row" in text
 
 
 def test_verify_refuses_an_unreachable_scheduler_before_any_build(capsys, tmp_path,
@@ -57,3 +66,19 @@ def test_verify_refuses_an_unreachable_scheduler_before_any_build(capsys, tmp_pa
     assert re.fullmatch(rf"dptbd verify: error: cannot reach the dask scheduler at "
                         rf"{re.escape(address)} within 5 s \(\w+\)", err.splitlines()[-1])
     assert not (tmp_path / "cache").exists()
+
+
+def test_verify_command_passes_when_every_bin_is_hit(capsys, monkeypatch):
+    import dptbd.sim.campaign as campaign
+
+    def full(cases, **_):
+        outcome = campaign.RunOutcome("c", 1, True, "bit-exact", 9, 9, 20, 0.1, 0.2, (),
+                                      {"reset: 0 words in flight": 2, "fault: lut recovered": 1})
+        return campaign.CampaignResult((campaign._summarise("c", "dp", [outcome]),), (outcome,),
+                                       1.0, 1)
+
+    monkeypatch.setattr(campaign, "run_campaign", full)
+    assert main(["verify", "--cases", "37x23-k3-in8-e12-f4", "--no-x-store"]) == 0
+    text = capsys.readouterr().out
+    assert "reset: 0 words in flight" in text
+    assert text.rstrip().endswith("functional coverage: all 2 bins hit")

@@ -15,6 +15,7 @@ from dptbd.evaluation.execution import ExecutionError
 from dptbd.sim import campaign
 from dptbd.sim.campaign import (Case, campaign_task, campaign_tasks, default_cases,
                                 hostile_frames, make_run, run_campaign)
+from dptbd.sim.coverage.bins import GROUPS, POSITIONS
 
 
 def test_default_cases_cover_what_the_campaign_promises():
@@ -58,6 +59,17 @@ def test_runs_are_seeded_and_draw_their_faults():
         assert what in notes
     stalls = [make_run(case, s)[1] for s in range(20)]
     assert max(s.valid_gap for s in stalls) > 0.5 and min(s.valid_gap for s in stalls) == 0.0
+    assert any(s.valid_gap == 0 < s.ready_pause for s in stalls)       # back-pressure only
+    assert any(s.ready_pause == 0 < s.valid_gap for s in stalls)       # gaps only
+    # with the build's latency, some runs reset early: 2 cycles of power-up reset, then
+    # 0 … L + 1 cycles of words
+    early = [make_run(case, s, latency=13) for s in range(20)]
+    firsts = [stim.resets[0][0] for _, stim, notes in early
+              if any(n.startswith("early reset") for n in notes)]
+    assert len(firsts) >= 5 and all(2 <= c <= 2 + 14 for c in firsts)
+    assert all(make_run(case, s)[1].resets == stim.resets[len(stim.resets)
+                                                         - len(make_run(case, s)[1].resets):]
+               for s, (_, stim, _) in enumerate(early))       # the other draws unchanged
 
 
 def test_a_slice_of_the_campaign_is_bit_exact():
@@ -69,6 +81,19 @@ def test_a_slice_of_the_campaign_is_bit_exact():
     assert result.words_out >= 10**6
     assert {c.name for c in result.cases} >= {c.name for c in default_cases()}
     assert all(c.runs >= 1 for c in result.cases)
+    # functional coverage: the slice (one run per case) fills every bin but the stall bands
+    # its runs did not draw, some reset stages and LUT writes by row (the full campaign's)
+    bins, empty = result.bins, result.empty_bins
+    assert not result.covered and result.passed
+    assert [b for b in empty if not b.startswith(("stall:", "reset:", "LUT: written"))] == []
+    assert len(bins) - len(empty) >= 60
+    for o in [o for o in result.outcomes if o.bins]:   # each run's bands, at every position
+        band = next(k.rsplit(", ", 1)[0] for k, v in o.bins.items() if k.startswith("stall") and v)
+        assert all(bins[f"{band}, {p}"] > 0 for p in POSITIONS), band
+    assert bins["reset: 0 words in flight"] >= 1
+    assert sum(bins[f"reset: {k} word{'s' * (k != 1)} in flight"] > 0 for k in range(15)) >= 7
+    assert {g.name for g in GROUPS} - {k.split(":")[0] for k in bins} == {"soft reset",
+                                                                         "register"}
 
 
 def test_a_wrong_model_fails_the_campaign(monkeypatch):

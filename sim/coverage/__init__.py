@@ -1,0 +1,1 @@
+"""Coverage of the verification campaign: functional bins (:mod:`.bins`) and code coverage."""
