@@ -14,12 +14,12 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.hw.register_map import FAULTS, register_map
-from dptbd.model.segmentation import segment_stream
+from dptbd.model.segmentation import CandidateList, segment_stream
 from dptbd.model.settings import SegmentSettings
 from dptbd.sim.stream_model import expected_stream
 
 __all__ = ["FAULT_KINDS", "SETTINGS", "Beats", "clean_beats", "with_fault", "fault_pulses",
-           "fault_counts", "Piece", "Expected", "stream_pieces", "expected_outputs"]
+           "fault_counts", "Piece", "Expected", "CutList", "stream_pieces", "expected_outputs"]
 
 #: What :func:`with_fault` can inject, each raising exactly one pulse of its class.
 FAULT_KINDS = FAULTS
@@ -157,7 +157,8 @@ class Expected:
     state_first: np.ndarray = None
 
     def counters(self) -> dict[str, int]:
-        return {"FRAMES": self.frames, "SEGMENTS": self.segments, "LISTS": len(self.lists),
+        return {"FRAMES": self.frames, "SEGMENTS": self.segments,
+                "LISTS": sum(not isinstance(lst, CutList) for lst in self.lists),
                 "SATURATED": self.saturated}
 
 
@@ -166,7 +167,8 @@ def stream_pieces(cfg: DPConfig, steps: list[dict]) -> list[Piece]:
 
     A step's writes to a setting register (``SEGMENT_FRAMES``, ``CANDIDATE_COUNT``,
     ``HISTOGRAM_SHIFT``) that the register block takes (refused values are ignored, as the
-    gateware ignores them) and its ``lut_codes`` apply from the step's first beat on. A soft
+    gateware ignores them), its ``lut_codes`` and its taken ``lut_writes`` (``[p, m, code,
+    wstrb]``: ``wstrb`` = 0xF and the code in [0, 2**F]) apply from the step's first beat on. A soft
     reset keeps the registers (the settings are sampled again at the next segment start)
     and the LUT (a memory).
     """
@@ -190,24 +192,84 @@ def stream_pieces(cfg: DPConfig, steps: list[dict]) -> list[Piece]:
         if step.get("lut_codes") is not None:
             lut = step["lut_codes"]
             luts[start] = lut
+        taken = [(p, m, code) for p, m, code, strobe in step.get("lut_writes", [])
+                 if strobe == 0xF and 0 <= code <= 1 << cfg.weight_frac_bits]
+        if taken:                       # single entries over the table in force
+            lut = np.array(cfg.weight_codes if lut is None else lut, dtype=np.int64)
+            for p, m, code in taken:
+                lut[p, m] = code
+            lut = lut.tolist()
+            luts[start] = lut
         start = step["stop"]
     pieces.append(Piece(lo, start, luts, settings))
     return pieces
 
 
-def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict]) -> Expected:
+@dataclasses.dataclass(frozen=True)
+class CutList(CandidateList):
+    """A list closed by a soft reset (``docs/integration.md``): the records sent before it,
+    then the cut trailer (``cut`` = 1, ``count``, every other field 0)."""
+
+    cut: int = 1
+
+    @property
+    def trailer(self) -> dict[str, int]:
+        return {**{name: 0 for name in super().trailer}, "count": int(self.count)}
+
+
+def _cut_list(cfg: DPConfig, piece: Piece, beats: Beats, expect, lists: list):
+    """The list a soft reset after ``piece`` cuts, if one is open: the records of its scored
+    frame's pixels accepted so far. The frame is completed with zero pixels (a pixel's state
+    and record depend on no later pixel) and the extra list's records before the cut kept;
+    ``None`` if the piece ends on a frame boundary, outside a scored frame, or before the
+    list's first record."""
+    if not len(expect.positions):
+        return None
+    _frame, row, col = (int(v) for v in expect.positions[-1])
+    pad = cfg.width * cfg.height - (row * cfg.width + col + 1)
+    if pad == 0:
+        return None
+    a, b = piece.start, piece.stop
+    padded = expected_stream(
+        cfg, np.concatenate([beats.pixel[a:b], np.zeros(pad, dtype=np.int64)]),
+        np.concatenate([beats.first[a:b], np.zeros(pad, dtype=bool)]),
+        {i - a: codes for i, codes in piece.lut_changes.items()},
+        {i - a: st for i, st in piece.settings_changes.items()})
+    more = segment_stream(padded.fields, cfg, padded.settings)
+    if len(more) <= len(lists):
+        return None
+    last = more[len(lists)]
+    kept = last.records[last.records["row"].astype(np.int64) * cfg.width + last.records["col"]
+                        <= row * cfg.width + col]
+    if not len(kept):
+        return None
+    return CutList(**{**{f.name: getattr(last, f.name) for f in
+                         dataclasses.fields(CandidateList)}, "records": kept,
+                      "count": len(kept)})
+
+
+def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
+                     cut_lists: bool = False) -> Expected:
     """The golden model of the whole stream, piece by piece (:func:`stream_pieces`):
     :func:`~dptbd.sim.stream_model.expected_stream` for the states and
     :func:`~dptbd.model.segmentation.segment_stream` for the lists, with the settings
-    sampled as the gateware samples them."""
+    sampled as the gateware samples them. With ``cut_lists`` a soft reset's pipeline is taken
+    as drained (the soft reset waits for the last beat's outputs) and the list it cuts, if
+    one is open, follows the piece's lists (:class:`CutList`); without, soft resets are
+    taken to land where no list is open."""
     lists, frames, segments, saturated = [], 0, 0, 0
     words, positions, first = [], [], []
-    for piece in stream_pieces(cfg, steps):
+    pieces = stream_pieces(cfg, steps)
+    for n, piece in enumerate(pieces):
         a, b = piece.start, piece.stop
         expect = expected_stream(cfg, beats.pixel[a:b], beats.first[a:b],
                                  {i - a: codes for i, codes in piece.lut_changes.items()},
                                  {i - a: st for i, st in piece.settings_changes.items()})
-        lists += segment_stream(expect.fields, cfg, expect.settings)
+        piece_lists = segment_stream(expect.fields, cfg, expect.settings)
+        lists += piece_lists
+        if cut_lists and n < len(pieces) - 1:
+            cut = _cut_list(cfg, piece, beats, expect, piece_lists)
+            lists += [cut] if cut is not None else []
         frames += sum(run.complete for run in expect.runs)
         segments += sum(run.complete and run.frame == run.segment_frames - 1
                         for run in expect.runs)

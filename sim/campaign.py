@@ -36,7 +36,7 @@ import numpy as np
 from dptbd.config import DPConfig, EnergyWidthWarning
 
 __all__ = ["FAULTS", "Case", "RunOutcome", "CaseResult", "CampaignResult", "default_cases",
-           "hostile_frames", "make_run", "check_run", "run_campaign", "x_store_cases"]
+           "axi_cases", "hostile_frames", "make_run", "check_run", "run_campaign", "x_store_cases"]
 
 #: Fault classes a case may draw from (see :func:`make_run`).
 FAULTS = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "store_garbage",
@@ -55,7 +55,8 @@ class Case:
     config : dict
         :class:`~dptbd.config.DPConfig` fields (JSON-able, so a case pickles cheaply).
     design : str
-        ``"dp"``, ``"core"`` or ``"segmenter"`` (:data:`dptbd.sim.verilator.DESIGNS`).
+        ``"dp"``, ``"core"``, ``"segmenter"`` or ``"axi"`` (:data:`dptbd.sim.verilator.DESIGNS`;
+        an ``"axi"`` case draws its runs with :mod:`dptbd.sim.axi_runs`, its own faults).
     frames : int
         Frames per run (before faults cut or lengthen them).
     runs : int
@@ -115,6 +116,29 @@ def default_cases() -> list[Case]:
         Case("segmenter-33x17-k2-n3", dict(width=33, height=17, segment_frames=2,
                                            candidate_count=3, histogram_bits=6),
              "segmenter", 400, 8, every),
+        *axi_cases(),
+    ]
+
+
+def axi_cases() -> list[Case]:
+    """The AXI top level's cases (:mod:`dptbd.sim.axi_runs`): 001's setting, a small r = 2
+    one with a fractional LUT, a small binary-LUT one; K_max above K and small C, so that
+    run-time K, lists at capacity and overflowing lists occur."""
+    from dptbd.sim.axi_runs import AXI_FAULTS
+
+    p001 = dict(width=128, height=128, segment_frames=8, input_bits=12, energy_bits=16,
+                weight_frac_bits=8)
+    return [
+        Case("axi-001-128x128-k8", p001, "axi", 24, 8, AXI_FAULTS),
+        Case("axi-37x23-r2-f4-k3", dict(width=37, height=23, segment_frames=3,
+                                        max_segment_frames=5, radius=2, weight_frac_bits=4,
+                                        candidate_count=4, candidate_capacity=8,
+                                        histogram_bits=6), "axi", 120, 16, AXI_FAULTS),
+        Case("axi-24x16-f0-k2", dict(width=24, height=16, segment_frames=2,
+                                     max_segment_frames=4, weight_frac_bits=0,
+                                     candidate_count=3, candidate_capacity=6,
+                                     histogram_bits=6, histogram_shift=2),
+             "axi", 240, 16, AXI_FAULTS),
     ]
 
 
@@ -225,11 +249,15 @@ def _settings_changes(cfg: DPConfig, n_words: int, rng: np.random.Generator):
 
 def make_run(case: Case, seed: int):
     """The input words and :class:`~dptbd.sim.rtl_check.Stimulus` of run ``seed`` of ``case``,
-    and a description of its faults."""
+    and a description of its faults; for ``design="axi"`` the
+    :class:`~dptbd.sim.axi_runs.AxiPlan` (:func:`dptbd.sim.axi_runs.draw_run`)."""
     from dptbd.sim.rtl_check import Stimulus
     from dptbd.sim.stimulus import pixel_words
     from dptbd.sim.verilator import cycle_budget
 
+    if case.design == "axi":
+        from dptbd.sim.axi_runs import draw_run
+        return draw_run(case, seed)
     cfg = case.cfg
     rng = np.random.default_rng([seed, 0x7E57])
     frames = hostile_frames(cfg, case.frames, rng)
@@ -286,6 +314,10 @@ def check_run(case: Case, seed: int, root: str | None = None) -> RunOutcome:
     """Build (cached), run and check run ``seed`` of ``case``."""
     from dptbd.sim.rtl_check import check_stream
     from dptbd.sim.verilator import build
+
+    if case.design == "axi":
+        from dptbd.sim import axi_runs
+        return axi_runs.check_run(case, seed, root)
 
     start = time.perf_counter()
     sim = build(case.cfg, case.design, root=root)

@@ -24,13 +24,14 @@ import tempfile
 import numpy as np
 
 from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.sim.axi_stimulus import Beats, expected_outputs, fault_counts
+from dptbd.hw.register_map import FAULTS, register_map
+from dptbd.sim.axi_stimulus import Beats, expected_outputs, fault_pulses, stream_pieces
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard, list_words
 from dptbd.sim.verilator import _check_probability, cycle_budget
 from dptbd.sim.verilator_build import VerilatorBuild
 
 __all__ = ["OKAY", "SLVERR", "AxiRun", "AxiCheck", "beat_words", "step_operations", "run_axi",
-           "check_axi"]
+           "check_axi", "fault_pulse_array", "no_sof_mask"]
 
 OKAY, SLVERR = 0, 2
 
@@ -75,8 +76,15 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
     check: ``("write", name, expected response)`` or ``("read", name, expected value or
     None)``. Each step waits ``settle`` cycles before its ``check`` reads or soft reset (as
     :mod:`dptbd.sim.tb_axi` does), then writes; ``final_reads`` are read after the last beat
-    and ``settle`` idle cycles."""
-    regs = constants_namespace(cfg)
+    and ``settle`` idle cycles.
+
+    Besides the bench's keys a step may hold ``clear_counters`` (a ``CONTROL.clear_counters``
+    pulse after the settle and the check reads, before a soft reset), ``lut_writes``
+    (``[p, m, code, wstrb]``: single LUT entries, after ``lut_codes``; refused unless
+    ``wstrb`` = 0xF and the code is in [0, 2**F]) and ``bus`` (raw accesses, last:
+    ``["w", address, data, wstrb, response]`` or ``["r", address, response, value or
+    None]``; what is to be checked is given)."""
+    regs, regmap = constants_namespace(cfg), register_map(cfg)
     ops, checks, start = [], [], 0
 
     def read(at, name, want=None):
@@ -87,22 +95,38 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
         ops.append((at, "w", address, int(value)))
         checks.append(("write", name, want))
 
+    unity = 1 << cfg.weight_frac_bits
     for step in steps:
-        if step.get("check") or step.get("soft_reset"):
+        if step.get("check") or step.get("soft_reset") or step.get("clear_counters"):
             ops.append((start, "i", settle, 0))
         for name, want in (step.get("check") or {}).items():
             read(start, name, want)
+        if step.get("clear_counters"):
+            write(start, regs.REG_CONTROL, regs.CONTROL_CLEAR_COUNTERS_MASK, OKAY, "CONTROL")
         if step.get("soft_reset"):
             write(start, regs.REG_CONTROL, regs.CONTROL_SOFT_RESET_MASK, OKAY, "CONTROL")
         for name, value in step.get("writes", []):
-            lo = getattr(regs, f"{name}_{name}_MIN", None)
-            hi = getattr(regs, f"{name}_{name}_MAX", None)
-            taken = lo is None or lo <= value <= hi
+            reg = regmap[name]
+            limits = reg.fields[0].limits if reg.kind == "setting" else (0, 2**32 - 1)
+            taken = reg.access != "ro" and limits[0] <= value <= limits[1]
             write(start, getattr(regs, f"REG_{name}"), value, OKAY if taken else SLVERR, name)
         if step.get("lut_codes") is not None:
             for p, row in enumerate(step["lut_codes"]):
                 for m, code in enumerate(row):
                     write(start, regs.LUT_BASE + 4 * cfg.lut_address(p, m), code, OKAY, "LUT")
+        for p, m, code, strobe in step.get("lut_writes", []):
+            taken = strobe == 0xF and 0 <= code <= unity
+            ops.append((start, "m", regs.LUT_BASE + 4 * cfg.lut_address(p, m),
+                        int(code) | int(strobe) << 32))
+            checks.append(("write", f"LUT[{p}, {m}]", OKAY if taken else SLVERR))
+        for kind, address, *rest in step.get("bus", []):
+            if kind == "w":
+                data, strobe, want = rest
+                ops.append((start, "m", int(address), int(data) | int(strobe) << 32))
+                checks.append(("write", f"{int(address):#05x}", want))
+            else:
+                ops.append((start, "r", int(address), 0))
+                checks.append(("bus-read", f"{int(address):#05x}", tuple(rest)))
         start = step["stop"]
     ops.append((start, "i", settle, 0))
     for name in final_reads:
@@ -114,17 +138,18 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
             ready_pause: float = 0.0, seed: int = 1, drain: int | None = None,
             max_cycles: int | None = None) -> AxiRun:
     """Stream ``beats`` through a ``design="axi"`` build with the operations ``ops``
-    (``(beat index, "w" | "r" | "i", address or idle cycles, data)``, performed in order
-    before that beat is offered; see the harness's header)."""
+    (``(beat index, "w" | "r" | "i" | "m", address or idle cycles, data)``, performed in
+    order before that beat is offered; ``"m"`` is a write with ``wstrb`` = data >> 32; see
+    the harness's header)."""
     if sim.design != "axi":
         raise ValueError(f"run_axi needs a build of design 'axi', got {sim.design!r}")
     valid_gap = _check_probability("valid_gap", valid_gap)
     ready_pause = _check_probability("ready_pause", ready_pause)
     words = beat_words(beats)
     for index, kind, *_ in ops:
-        if not 0 <= index <= len(words) or kind not in ("w", "r", "i"):
-            raise ValueError(f"operation {kind!r} before beat {index}: kinds are w, r, i and "
-                             f"beats 0 … {len(words)}")
+        if not 0 <= index <= len(words) or kind not in ("w", "r", "i", "m"):
+            raise ValueError(f"operation {kind!r} before beat {index}: kinds are w, r, i, m "
+                             f"and beats 0 … {len(words)}")
     if drain is None:
         drain = settle_cycles(sim, 0.0)
     if max_cycles is None:
@@ -178,11 +203,11 @@ class AxiCheck:
 
 def _flag_problems(cfg, lists, flags: np.ndarray) -> list[str]:
     """``tuser[0]`` on a list's first word, ``tlast`` on its trailer, for each word."""
-    sizes = [len(words) for words in list_words(cfg, lists)]
+    sizes = np.asarray([len(words) for words in list_words(cfg, lists)], dtype=np.int64)
     first = np.zeros(sum(sizes), dtype=bool)
     trailer = np.zeros(sum(sizes), dtype=bool)
-    ends = np.cumsum(sizes)
-    first[ends - np.asarray(sizes)] = True
+    ends = np.cumsum(sizes)                         # int64 also with no list
+    first[ends - sizes] = True
     trailer[ends - 1] = True
     n = min(len(flags), len(first))
     got_first = (flags[:n] & np.uint64(1)).astype(bool)
@@ -196,9 +221,16 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
               valid_gap: float = 0.0, ready_pause: float = 0.0, seed: int = 1) -> AxiCheck:
     """Run the bench's ``steps`` on Verilator and score everything (see the module doc)."""
     cfg = sim.cfg
-    expected = expected_outputs(cfg, beats, steps)
-    faults = fault_counts(cfg, beats)
-    final = {**expected.counters(), **{f"FAULT_{k.upper()}": v for k, v in faults.items()}}
+    expected = expected_outputs(cfg, beats, steps, cut_lists=True)
+    cleared = [j for j, step in enumerate(steps) if step.get("clear_counters")]
+    since = steps[cleared[-1] - 1]["stop"] if cleared and cleared[-1] > 0 else 0
+    counters = expected.counters()
+    if cleared:                         # the counters count from the last clear on
+        before = (expected_outputs(cfg, beats, steps[:cleared[-1]], cut_lists=True).counters()
+                  if since else {})
+        counters = {k: v - before.get(k, 0) for k, v in counters.items()}
+    faults = fault_pulse_array(cfg, beats, steps)[since:].sum(axis=0)
+    final = {**counters, **{f"FAULT_{k.upper()}": int(v) for k, v in zip(FAULTS, faults)}}
     ops, checks = step_operations(cfg, steps, settle_cycles(sim, ready_pause), list(final))
     run = run_axi(sim, beats, ops, valid_gap=valid_gap, ready_pause=ready_pause, seed=seed)
     board = CandidateScoreboard(cfg, expected.lists)
@@ -210,6 +242,11 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
     for (kind, name, want), data, resp in zip(checks, run.op_data, run.op_resp):
         if kind == "write" and resp != want:
             problems.append(f"write {name}: response {int(resp)}, expected {want}")
+        elif kind == "bus-read":
+            want_resp, want_value = want
+            if resp != want_resp or (want_value is not None and data != want_value):
+                problems.append(f"read {name} = {int(data)}, response {int(resp)}, expected "
+                                f"{want_value} with response {want_resp}")
         elif kind == "read":
             reads[name] = int(data)
             if resp != OKAY:
@@ -222,3 +259,32 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
     if int(run.counters.get("accepted", -1)) != len(beats):
         problems.append(f"{run.counters.get('accepted')} of {len(beats)} beats accepted")
     return AxiCheck(run, board, problems, reads, final)
+
+
+def no_sof_mask(beats: Beats, steps: list[dict]) -> np.ndarray:
+    """Per beat: ``VIDEO_INPUT.no_sof`` is 1 when the beat is accepted (the steps' taken
+    ``writes`` of ``VIDEO_INPUT``, from the step's first beat on)."""
+    mask = np.zeros(len(beats), dtype=bool)
+    start, value = 0, False
+    for step in steps:
+        for name, written in step.get("writes", []):
+            if name == "VIDEO_INPUT" and written in (0, 1):
+                value = bool(written)
+        mask[start:step["stop"]] = value
+        start = step["stop"]
+    mask[start:] = value
+    return mask
+
+
+def fault_pulse_array(cfg, beats: Beats, steps: list[dict]) -> np.ndarray:
+    """The frame monitor's fault pulses, ``(beats, len(FAULTS))``: the monitor restarts at
+    every soft reset (:func:`~dptbd.sim.axi_stimulus.stream_pieces`) and raises no
+    ``frame_long`` while ``no_sof`` is 1 (:func:`no_sof_mask`)."""
+    out = np.zeros((len(beats), len(FAULTS)), dtype=np.int64)
+    for piece in stream_pieces(cfg, steps):
+        a, b = piece.start, min(piece.stop, len(beats))
+        pulses = fault_pulses(cfg, beats.first[a:b], beats.last[a:b])
+        if pulses:
+            out[a:b] = [[p[k] for k in FAULTS] for p in pulses]
+    out[no_sof_mask(beats, steps), FAULTS.index("frame_long")] = 0
+    return out

@@ -18,7 +18,9 @@
 //                       op I KIND A D        before offering beat I (I = N: after the last
 //                                            beat), in file order: KIND w = write D to byte
 //                                            address A (AW and W together, all strobes),
-//                                            r = read address A, i = stay idle A cycles
+//                                            r = read address A, i = stay idle A cycles,
+//                                            m = write as w with the strobes D >> 32
+//                                            (wstrb, 4 bits) and the data D & 0xFFFFFFFF
 //   JOB_DIR/in.bin    N little-endian uint64 beats: tdata | tuser[0] << 32 | tlast << 33
 // Writes into JOB_DIR:
 //   out.bin           uint64 tdata of every m_axis_cand transfer, in order
@@ -71,8 +73,8 @@ Job read_job(const std::string& path) {
             char kind[8];
             if (std::sscanf(rest, "%" SCNu64 " %7s %" SCNu64 " %" SCNu64, &op.before_word,
                             kind, &op.addr, &op.data) != 4 || std::strlen(kind) != 1
-                    || std::strchr("wri", kind[0]) == nullptr)
-                fail("op needs WORD w|r|i ADDR DATA");
+                    || std::strchr("wrim", kind[0]) == nullptr)
+                fail("op needs WORD w|r|i|m ADDR DATA");
             op.kind = kind[0];
             job.ops.push_back(op);
         } else fail("unknown job key " + k);
@@ -127,11 +129,12 @@ int main(int argc, char** argv) {
             idle_left = op.addr;
         }
         const Op* op = busy ? &job.ops[next_op] : nullptr;
-        dut->s_axil_awvalid = busy == 'w' && !aw_done;
-        dut->s_axil_awaddr = busy == 'w' ? op->addr : 0;
-        dut->s_axil_wvalid = busy == 'w' && !w_done;
-        dut->s_axil_wdata = busy == 'w' ? static_cast<uint32_t>(op->data) : 0;
-        dut->s_axil_wstrb = 0xF;
+        const bool writing = busy == 'w' || busy == 'm';
+        dut->s_axil_awvalid = writing && !aw_done;
+        dut->s_axil_awaddr = writing ? op->addr : 0;
+        dut->s_axil_wvalid = writing && !w_done;
+        dut->s_axil_wdata = writing ? static_cast<uint32_t>(op->data) : 0;
+        dut->s_axil_wstrb = busy == 'm' ? (op->data >> 32) & 0xF : 0xF;
         dut->s_axil_bready = 1;
         dut->s_axil_arvalid = busy == 'r' && !ar_done;
         dut->s_axil_araddr = busy == 'r' ? op->addr : 0;
@@ -166,7 +169,7 @@ int main(int argc, char** argv) {
             } else if (out_valid) {
                 ++paused_out;
             }
-            if (busy == 'w') {
+            if (writing) {
                 aw_done = aw_done || dut->s_axil_awready;
                 w_done = w_done || dut->s_axil_wready;
                 if (dut->s_axil_bvalid) {

@@ -1,0 +1,200 @@
+"""Random runs of ``dptbd_axi`` (:mod:`dptbd.sim.axi_runs`): drawn from the seed only, every
+refusal class drawn, the model's register values (ERROR, fault counters) and the list a
+soft reset cuts; a few seeds on Verilator, bit-exact, and a wrong model caught."""
+
+from __future__ import annotations
+
+import collections
+import dataclasses
+
+import numpy as np
+import pytest
+
+from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.hw.register_map import FAULTS, register_map
+from dptbd.sim import axi_runs
+from dptbd.sim import axi_stimulus
+from dptbd.sim import verilator as V
+from dptbd.sim.axi_runs import ACTIONS, AXI_FAULTS, REFUSALS, check_run, draw_run
+from dptbd.sim.axi_stimulus import (FAULT_KINDS, SETTINGS, CutList, clean_beats,
+                                    expected_outputs, fault_counts, with_fault)
+from dptbd.sim.campaign import Case
+from dptbd.sim.candidate_scoreboard import list_words
+from dptbd.hw.candidate_layout import pack_cut_trailer
+from dptbd.sim.scenarios import make_frames
+from dptbd.sim.verilator_axi import check_axi, fault_pulse_array
+from helpers.verilator_harness import built, make_config
+
+# the configuration of tests/sim/test_verilator_axi.py (one build): 12 x 10, K = 2 of
+# K_max = 4, n = 4, C = 6, 64 bins of width 4
+SMALL = dict(width=12, height=10, segment_frames=2, max_segment_frames=4, candidate_count=4,
+             candidate_capacity=6, histogram_bits=6, histogram_shift=2)
+CASE = Case("axi-12x10", SMALL, "axi", 30, 4, AXI_FAULTS)
+
+try:
+    V.check_tools()
+    HAVE_TOOLS = True
+except V.ToolMissingError:
+    HAVE_TOOLS = False
+
+needs_verilator = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator and a C++ compiler")
+
+
+def test_a_run_is_its_seed():
+    a, b, c = draw_run(CASE, 5), draw_run(CASE, 5), draw_run(CASE, 6)
+    for name in ("pixel", "first", "last"):
+        assert np.array_equal(getattr(a.beats, name), getattr(b.beats, name))
+    assert a.steps == b.steps and a.notes == b.notes and a.drawn == b.drawn
+    assert (a.valid_gap, a.ready_pause) == (b.valid_gap, b.ready_pause)
+    assert a.steps != c.steps
+    assert a.steps[-1]["stop"] == len(a.beats) and "check" in a.steps[-1]
+
+
+def test_every_class_is_drawn_over_twenty_seeds():
+    drawn = collections.Counter()
+    plans = [draw_run(CASE, seed) for seed in range(20)]
+    for plan in plans:
+        drawn.update(plan.drawn)
+    assert dict(drawn) == {
+        "settings": 67, "no_strobe": 14, "no_sof": 18, "irq_enable": 18, "lut_table": 25,
+        "lut_entry": 50, "soft_reset": 30, "clear_counters": 12, "w1c_error": 28,
+        "w1c_irq": 22, "check": 80, "setting_range": 46, "setting_strobe": 12,
+        "lut_code": 37, "lut_strobe": 34, "unaligned_write": 32, "unaligned_read": 22,
+        "lut_read": 32, "unmapped_read": 30, "unmapped_write": 27, "read_only_write": 24,
+        "sof_unexpected": 9, "frame_short": 10, "frame_long": 9, "line_length": 20}
+    assert set(drawn) == {*ACTIONS, *REFUSALS, *FAULT_KINDS}
+    # every range refusal of every writable register, every refused LUT code and strobe
+    cfg, regmap = CASE.cfg, register_map(CASE.cfg)
+    unity = 1 << cfg.weight_frac_bits
+    refused, codes, strobes = set(), set(), set()
+    for plan in plans:
+        for step in plan.steps:
+            for name, value in step.get("writes", []):
+                lo, hi = (regmap[name].fields[0].limits if regmap[name].kind == "setting"
+                          else (0, 2**32 - 1))
+                if value < lo or value > hi:
+                    refused.add((name, "ones" if value == 2**32 - 1 else
+                                 "below" if value < lo else "above"))
+            for _p, _m, code, strobe in step.get("lut_writes", []):
+                (codes.add(code) if code > unity else None)
+                strobes.add(strobe)
+    assert refused == {(name, side) for name in (*SETTINGS, "VIDEO_INPUT")
+                       for side in ("above", "ones")} | {("SEGMENT_FRAMES", "below")}
+    assert codes == {unity + 1, (1 << cfg.weight_bits) - 1, 2**32 - 1}
+    assert strobes == {0, 1, 7, 8, 0xE, 0xF}
+
+
+def test_a_case_draws_only_its_faults():
+    case = dataclasses.replace(CASE, faults=())
+    drawn = collections.Counter()
+    for seed in range(10):
+        plan = draw_run(case, seed)
+        drawn.update(plan.drawn)
+        assert fault_counts(case.cfg, plan.beats) == {k: 0 for k in FAULTS}
+        assert not any(k in step for step in plan.steps
+                       for k in ("writes", "lut_codes", "lut_writes", "soft_reset",
+                                 "clear_counters"))
+    assert {k for k, v in drawn.items() if v} == {"check", "w1c_error", "w1c_irq"}
+
+
+def fault_scene(cfg):
+    """Two clean frames, two frames of which the first is cut short, one clean frame."""
+    frames = make_frames("two-targets", cfg, 5, seed=2)
+    return (clean_beats(frames[:2]) + with_fault(cfg, frames[2:4], "frame_short")
+            + clean_beats(frames[4:]))
+
+
+def test_error_and_fault_counters_follow_pulses_refusals_and_clears():
+    cfg = make_config(**SMALL)
+    regs = constants_namespace(cfg)
+    beats = fault_scene(cfg)
+    frame = cfg.width * cfg.height
+    model = {"ERROR": "model", "FAULT_FRAME_SHORT": "model", "FAULT_FRAME_LONG": "model"}
+    steps = [{"writes": [["SEGMENT_FRAMES", 0]], "stop": 2 * frame},
+             {"check": dict(model), "bus": [["w", regs.REG_ERROR, regs.ERROR_WRITE_REFUSED_MASK,
+                                             0xF, 0]], "stop": len(beats)},
+             {"check": dict(model), "clear_counters": True, "stop": len(beats)},
+             {"check": dict(model), "stop": len(beats)}]
+    axi_runs._fill_checks(cfg, beats, steps)
+    assert [s["check"] for s in steps[1:]] == [
+        {"ERROR": regs.ERROR_WRITE_REFUSED_MASK, "FAULT_FRAME_SHORT": 0, "FAULT_FRAME_LONG": 0},
+        {"ERROR": regs.ERROR_FRAME_SHORT_MASK, "FAULT_FRAME_SHORT": 1, "FAULT_FRAME_LONG": 0},
+        {"ERROR": regs.ERROR_FRAME_SHORT_MASK, "FAULT_FRAME_SHORT": 0, "FAULT_FRAME_LONG": 0}]
+    if HAVE_TOOLS:
+        result = check_axi(built(cfg, "axi"), beats, steps, valid_gap=0.3, ready_pause=0.3)
+        assert result.passed, result.report()
+        assert result.expected_counters["FAULT_FRAME_SHORT"] == 0      # cleared after it
+
+
+def test_the_monitor_restarts_at_a_soft_reset_and_no_sof_hides_frame_long():
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 6, seed=1))
+    mid_line = [{"stop": 414}, {"soft_reset": True, "stop": len(beats)}]
+    line = [{"stop": 432}, {"soft_reset": True, "stop": len(beats)}]
+    assert fault_pulse_array(cfg, beats, mid_line).sum(axis=0).tolist() == [1, 0, 1, 1]
+    assert fault_pulse_array(cfg, beats, line).sum(axis=0).tolist() == [0, 1, 1, 0]
+    no_sof = [{"stop": 400}, {"writes": [["VIDEO_INPUT", 1]], "stop": 432},
+              {"soft_reset": True, "stop": len(beats)}]            # as `line`, no frame_long
+    assert fault_pulse_array(cfg, beats, no_sof).sum(axis=0).tolist() == [0, 1, 0, 0]
+
+
+def test_a_soft_reset_in_a_scored_frame_cuts_its_list():
+    """K = 2: frame 3 is segment 1's scored frame; a soft reset 6 lines into it closes the
+    list of the records sent (rows 3 and 5) with the cut trailer, not counted in LISTS."""
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 6, seed=1))
+    steps = [{"stop": 432}, {"soft_reset": True, "stop": len(beats)}]
+    expected = expected_outputs(cfg, beats, steps, cut_lists=True)
+    assert [isinstance(lst, CutList) for lst in expected.lists] == [False, True, False]
+    cut = expected.lists[1]                             # after segment 0's, before the next
+    assert cut.records[["row", "col"]].tolist() == [(3, 9), (5, 6)] and cut.count == 2
+    assert list_words(cfg, [cut])[0][-1] == pack_cut_trailer(cfg, 2)
+    assert expected.counters()["LISTS"] == len(expected.lists) - 1 == 2
+    assert len(expected_outputs(cfg, beats, steps).lists) == 2          # without cut_lists
+    assert not any(isinstance(lst, CutList) for lst in expected_outputs(
+        cfg, beats, [{"stop": 360}, {"soft_reset": True, "stop": len(beats)}],
+        cut_lists=True).lists)                                          # on a frame boundary
+    if HAVE_TOOLS:
+        result = check_axi(built(cfg, "axi"), beats, steps, valid_gap=0.2, ready_pause=0.4,
+                           seed=3)
+        assert result.passed, result.report()
+
+
+@needs_verilator
+def test_a_few_runs_are_bit_exact():
+    """Four seeds of the small case: every candidate word, flag, response and checked read."""
+    outcomes = [check_run(CASE, seed) for seed in range(4)]
+    assert [o.report for o in outcomes if not o.passed] == []
+    assert sum(o.words_in for o in outcomes) == sum(len(draw_run(CASE, s).beats)
+                                                    for s in range(4))
+    lists = collections.Counter()
+    for o in outcomes:
+        lists.update({k: int(v) for k, v in (part.split(" ") for part in
+                                             o.notes[-1][len("lists "):].split(", "))})
+    assert dict(lists) == LIST_CLASSES
+
+
+LIST_CLASSES = {"empty": 37, "some": 7, "capacity": 1, "overflow": 12, "cut": 1}
+
+
+@needs_verilator
+def test_a_wrong_model_fails_the_run(monkeypatch):
+    """The check can fail: without the cut list, or with a wrong ERROR value, a run fails
+    and its report names the seed and what differs."""
+    seed = next(s for s in range(20) if any(
+        isinstance(lst, CutList) for lst in expected_outputs(
+            CASE.cfg, draw_run(CASE, s).beats, draw_run(CASE, s).steps, cut_lists=True).lists))
+    assert check_run(CASE, seed).passed
+    monkeypatch.setattr(axi_stimulus, "_cut_list", lambda *args: None)
+    outcome = check_run(CASE, seed)
+    assert not outcome.passed and outcome.report.startswith(f"seed {seed}: done; ")
+    monkeypatch.undo()
+    fill = axi_runs._fill_checks
+
+    def wrong_error(cfg, beats, steps):
+        fill(cfg, beats, steps)
+        steps[-1]["check"]["ERROR"] ^= 1 << 31
+
+    monkeypatch.setattr(axi_runs, "_fill_checks", wrong_error)
+    outcome = check_run(CASE, 0)
+    assert not outcome.passed and "read ERROR = " in outcome.report
