@@ -18,19 +18,19 @@
   entries (codes 0, 2**F, in between; refused: 2**F + 1, the field's maximum, all ones,
   strobes other than 1111), unaligned writes and reads, reads of the write-only LUT window
   and of unmapped addresses, writes to unmapped and read-only registers, soft resets at
-  any beat of a frame (the pipeline first drained; the model restarts at the soft reset's
-  beat, and a list left open in a scored frame is closed by the cut trailer:
-  :class:`~dptbd.sim.axi_stimulus.CutList`),
+  any beat of a frame (the model restarts at the soft reset's beat), half of them after the
+  pipeline drained (a list left open in a scored frame is then closed by the cut trailer:
+  :class:`~dptbd.sim.axi_stimulus.CutList`), half with words in flight and back-pressure
+  (``soft_reset: "now"``: the lists before it whole, then at most one list's first records
+  closed by the cut trailer; the FRAMES … SATURATED counters are then not checked),
   ``CONTROL.clear_counters`` (the counters then read 0), reads of every readable register
   with the value the model gives where it knows it (constants, settings, enables, ERROR,
   the fault counters, STATUS, CONTROL), W1C clears of ERROR and IRQ_STATUS bits.
 
 :func:`check_run` runs one on Verilator (:func:`dptbd.sim.verilator_axi.check_axi`: every
 candidate word, its ``tuser[0]`` / ``tlast``, every response and checked read, the end
-counters). Not drawn: a soft reset while words are still in the pipeline (where the list
-is cut then depends on the back-pressure: the cocotb sweep
-:mod:`dptbd.sim.soft_reset_check` checks that), ``aresetn`` after the start, and
-``m_axis_state`` (the Verilator build has none).
+counters). Not drawn: ``aresetn`` after the start, and ``m_axis_state`` (the Verilator
+build has none; the cocotb bench :mod:`dptbd.sim.tb_axi` checks it).
 """
 
 from __future__ import annotations
@@ -56,7 +56,7 @@ AXI_FAULTS = (*FAULT_KINDS, "soft_reset", "settings", "lut", "bus", "clear_count
 
 #: What a run's steps do besides the checked reads, counted in :attr:`AxiPlan.drawn`.
 ACTIONS = ("settings", "no_strobe", "no_sof", "irq_enable", "lut_table", "lut_entry",
-           "soft_reset", "clear_counters", "w1c_error", "w1c_irq", "check")
+           "soft_reset", "soft_reset_now", "clear_counters", "w1c_error", "w1c_irq", "check")
 #: The refused accesses, counted in :attr:`AxiPlan.drawn`: a setting out of range, a
 #: setting's strobed byte out of range, a LUT code out of range, a LUT write without all
 #: strobes, an unaligned write / read, a read of the LUT window, a read / write of an
@@ -329,8 +329,12 @@ def draw_run(case, seed: int) -> AxiPlan:
                                                    OKAY])
                 drawn["w1c_error"] += 1
         if rng.random() < 0.2 and "soft_reset" in allowed:
-            step["soft_reset"] = True
-            drawn["soft_reset"] += 1
+            if rng.random() < 0.5:
+                step["soft_reset"] = True
+                drawn["soft_reset"] += 1
+            else:                                        # with words still in flight
+                step["soft_reset"] = "now"
+                drawn["soft_reset_now"] += 1
         for p, action, what in ((0.4, d.settings, "settings"),
                                 (0.3, d.refused_setting, "settings"),
                                 (0.2, d.strobed, "settings"), (0.1, d.no_sof, "settings"),
@@ -377,7 +381,7 @@ def check_run(case, seed: int, root: str | None = None):
     result = check_axi(sim, plan.beats, plan.steps, valid_gap=plan.valid_gap,
                        ready_pause=plan.ready_pause, seed=seed)
     report = "" if result.passed else f"seed {seed}: {result.report()}"
-    lists = list_classes(case.cfg, result.board.lists)
+    lists = list_classes(case.cfg, result.lists)
     notes = (*plan.notes, "lists " + ", ".join(f"{k} {v}" for k, v in lists.items()))
     return RunOutcome(case.name, seed, result.passed, report, len(plan.beats),
                       len(result.run.out_words) + len(result.run.op_resp), result.run.cycles,

@@ -155,6 +155,8 @@ class Expected:
     state_words: np.ndarray = None
     state_positions: np.ndarray = None
     state_first: np.ndarray = None
+    list_starts: tuple = ()      # per list: the first beat of the piece it belongs to
+    open_records: tuple = ()     # packed records of a list the stream's end leaves open
 
     def counters(self) -> dict[str, int]:
         return {"FRAMES": self.frames, "SEGMENTS": self.segments,
@@ -208,44 +210,50 @@ def stream_pieces(cfg: DPConfig, steps: list[dict]) -> list[Piece]:
 @dataclasses.dataclass(frozen=True)
 class CutList(CandidateList):
     """A list closed by a soft reset (``docs/integration.md``): the records sent before it,
-    then the cut trailer (``cut`` = 1, ``count``, every other field 0)."""
+    then the cut trailer (``cut`` = 1, ``count``, every other field 0). ``drained``: the
+    soft reset waited for the outputs of every beat before it (then exactly these records
+    are sent); else words in flight are lost and a prefix of them is sent."""
 
     cut: int = 1
+    drained: bool = True
 
     @property
     def trailer(self) -> dict[str, int]:
         return {**{name: 0 for name in super().trailer}, "count": int(self.count)}
 
 
-def _cut_list(cfg: DPConfig, piece: Piece, beats: Beats, expect, lists: list):
-    """The list a soft reset after ``piece`` cuts, if one is open: the records of its scored
-    frame's pixels accepted so far. The frame is completed with zero pixels (a pixel's state
-    and record depend on no later pixel) and the extra list's records before the cut kept;
-    ``None`` if the piece ends on a frame boundary, outside a scored frame, or before the
-    list's first record."""
-    if not len(expect.positions):
+def _cut_list(cfg: DPConfig, piece: Piece, beats: Beats, expect, lists: list,
+              drained: bool = True):
+    """The list the segmenter has open after the piece's words, as a :class:`CutList` of
+    the records sent so far; ``None`` if no list is open or it has no record yet.
+
+    The segmenter's own counters decide (they may differ from the DP input's after a
+    fault): one more word with ``end_of_segment`` ends an open list there, and the model's
+    list then holds the records so far, and the extra word's own record if its bin reached
+    T. That one is told apart by a second extra word of other E and d."""
+    if not len(expect.fields):
         return None
-    _frame, row, col = (int(v) for v in expect.positions[-1])
-    pad = cfg.width * cfg.height - (row * cfg.width + col + 1)
-    if pad == 0:
+
+    def ended_by(energy: int, direction: int):
+        fields = np.vstack([expect.fields, [[energy, direction, 0, 0, 1]]])
+        settings = (None if expect.settings is None
+                    else np.vstack([expect.settings, expect.settings[-1:]]))
+        more = segment_stream(fields, cfg, settings)
+        return more[len(lists)] if len(more) > len(lists) else None
+
+    last = ended_by(0, 0)
+    if last is None or not len(last.records):
         return None
-    a, b = piece.start, piece.stop
-    padded = expected_stream(
-        cfg, np.concatenate([beats.pixel[a:b], np.zeros(pad, dtype=np.int64)]),
-        np.concatenate([beats.first[a:b], np.zeros(pad, dtype=bool)]),
-        {i - a: codes for i, codes in piece.lut_changes.items()},
-        {i - a: st for i, st in piece.settings_changes.items()})
-    more = segment_stream(padded.fields, cfg, padded.settings)
-    if len(more) <= len(lists):
-        return None
-    last = more[len(lists)]
-    kept = last.records[last.records["row"].astype(np.int64) * cfg.width + last.records["col"]
-                        <= row * cfg.width + col]
+    kept = last.records
+    if int(kept[-1]["energy"]) == 0 and int(kept[-1]["direction"]) == 0:
+        other = ended_by(cfg.e_max, 1).records
+        if tuple(other[-1]) != tuple(kept[-1]):          # the extra word's own record
+            kept = kept[:-1]
     if not len(kept):
         return None
     return CutList(**{**{f.name: getattr(last, f.name) for f in
                          dataclasses.fields(CandidateList)}, "records": kept,
-                      "count": len(kept)})
+                      "count": len(kept), "drained": drained})
 
 
 def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
@@ -255,11 +263,18 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
     :func:`~dptbd.model.segmentation.segment_stream` for the lists, with the settings
     sampled as the gateware samples them. With ``cut_lists`` a soft reset's pipeline is taken
     as drained (the soft reset waits for the last beat's outputs) and the list it cuts, if
-    one is open, follows the piece's lists (:class:`CutList`); without, soft resets are
-    taken to land where no list is open."""
+    one is open, follows the piece's lists (:class:`CutList`; ``drained`` False for a
+    ``soft_reset`` of ``"now"``, which loses the words in flight); without, soft resets are
+    taken to land where no list is open. With ``cut_lists``, ``open_records`` are the records
+    of the list the stream's end leaves open (sent, never closed)."""
     lists, frames, segments, saturated = [], 0, 0, 0
     words, positions, first = [], [], []
     pieces = stream_pieces(cfg, steps)
+    now, start = set(), 0
+    for step in steps:
+        now |= {start} if step.get("soft_reset") == "now" else set()
+        start = step["stop"]
+    list_starts, open_records = [], ()
     for n, piece in enumerate(pieces):
         a, b = piece.start, piece.stop
         expect = expected_stream(cfg, beats.pixel[a:b], beats.first[a:b],
@@ -268,8 +283,13 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
         piece_lists = segment_stream(expect.fields, cfg, expect.settings)
         lists += piece_lists
         if cut_lists and n < len(pieces) - 1:
-            cut = _cut_list(cfg, piece, beats, expect, piece_lists)
+            cut = _cut_list(cfg, piece, beats, expect, piece_lists, piece.stop not in now)
             lists += [cut] if cut is not None else []
+        elif cut_lists:                 # the stream ends inside a list: its records so far
+            from dptbd.sim.candidate_scoreboard import list_words
+            cut = _cut_list(cfg, piece, beats, expect, piece_lists)
+            open_records = () if cut is None else tuple(list_words(cfg, [cut])[0][:-1])
+        list_starts += [piece.start] * (len(lists) - len(list_starts))
         frames += sum(run.complete for run in expect.runs)
         segments += sum(run.complete and run.frame == run.segment_frames - 1
                         for run in expect.runs)
@@ -281,4 +301,5 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
         positions.append(expect.positions + np.array([offset, 0, 0]))
         first.append(starts)
     return Expected(lists, frames, segments, saturated, np.concatenate(words),
-                    np.concatenate(positions), np.concatenate(first))
+                    np.concatenate(positions), np.concatenate(first), tuple(list_starts),
+                    open_records)

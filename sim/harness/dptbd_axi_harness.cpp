@@ -20,7 +20,10 @@
 //                                            address A (AW and W together, all strobes),
 //                                            r = read address A, i = stay idle A cycles,
 //                                            m = write as w with the strobes D >> 32
-//                                            (wstrb, 4 bits) and the data D & 0xFFFFFFFF
+//                                            (wstrb, 4 bits) and the data D & 0xFFFFFFFF,
+//                                            b = read address A again until bit 0 of the
+//                                            data is 0 (STATUS.soft_reset_busy: wait
+//                                            for a soft reset), reported as one read
 //   JOB_DIR/in.bin    N little-endian uint64 beats: tdata | tuser[0] << 32 | tlast << 33
 // Writes into JOB_DIR:
 //   out.bin           uint64 tdata of every m_axis_cand transfer, in order
@@ -73,8 +76,8 @@ Job read_job(const std::string& path) {
             char kind[8];
             if (std::sscanf(rest, "%" SCNu64 " %7s %" SCNu64 " %" SCNu64, &op.before_word,
                             kind, &op.addr, &op.data) != 4 || std::strlen(kind) != 1
-                    || std::strchr("wrim", kind[0]) == nullptr)
-                fail("op needs WORD w|r|i|m ADDR DATA");
+                    || std::strchr("wrimb", kind[0]) == nullptr)
+                fail("op needs WORD w|r|i|m|b ADDR DATA");
             op.kind = kind[0];
             job.ops.push_back(op);
         } else fail("unknown job key " + k);
@@ -136,8 +139,9 @@ int main(int argc, char** argv) {
         dut->s_axil_wdata = writing ? static_cast<uint32_t>(op->data) : 0;
         dut->s_axil_wstrb = busy == 'm' ? (op->data >> 32) & 0xF : 0xF;
         dut->s_axil_bready = 1;
-        dut->s_axil_arvalid = busy == 'r' && !ar_done;
-        dut->s_axil_araddr = busy == 'r' ? op->addr : 0;
+        const bool reading = busy == 'r' || busy == 'b';
+        dut->s_axil_arvalid = reading && !ar_done;
+        dut->s_axil_araddr = reading ? op->addr : 0;
         dut->s_axil_rready = 1;
         // ---- input beat
         if (!busy && !offering && next_word < job.words
@@ -178,9 +182,11 @@ int main(int argc, char** argv) {
                     busy = 0;
                     ++next_op;
                 }
-            } else if (busy == 'r') {
+            } else if (reading) {
                 ar_done = ar_done || dut->s_axil_arready;
-                if (dut->s_axil_rvalid) {
+                if (dut->s_axil_rvalid && busy == 'b' && (dut->s_axil_rdata & 1)) {
+                    ar_done = false;                        // still busy: read again
+                } else if (dut->s_axil_rvalid) {
                     ops_out.push_back(static_cast<uint64_t>(dut->s_axil_rdata)
                                       | (static_cast<uint64_t>(dut->s_axil_rresp) << 32)
                                       | (cycle << 34));

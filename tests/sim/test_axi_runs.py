@@ -12,15 +12,14 @@ import pytest
 
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS, register_map
-from dptbd.sim import axi_runs
-from dptbd.sim import axi_stimulus
+from dptbd.sim import axi_runs, axi_stimulus, verilator_axi
 from dptbd.sim import verilator as V
 from dptbd.sim.axi_runs import ACTIONS, AXI_FAULTS, REFUSALS, check_run, draw_run
-from dptbd.sim.axi_stimulus import (FAULT_KINDS, SETTINGS, CutList, clean_beats,
+from dptbd.sim.axi_stimulus import (FAULT_KINDS, SETTINGS, Beats, CutList, clean_beats,
                                     expected_outputs, fault_counts, with_fault)
 from dptbd.sim.campaign import Case
 from dptbd.sim.candidate_scoreboard import list_words
-from dptbd.hw.candidate_layout import pack_cut_trailer
+from dptbd.hw.candidate_layout import pack_cut_trailer, unpack_candidate
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.verilator_axi import check_axi, fault_pulse_array
 from helpers.verilator_harness import built, make_config
@@ -56,12 +55,13 @@ def test_every_class_is_drawn_over_twenty_seeds():
     for plan in plans:
         drawn.update(plan.drawn)
     assert dict(drawn) == {
-        "settings": 67, "no_strobe": 14, "no_sof": 18, "irq_enable": 18, "lut_table": 25,
-        "lut_entry": 50, "soft_reset": 30, "clear_counters": 12, "w1c_error": 28,
-        "w1c_irq": 22, "check": 80, "setting_range": 46, "setting_strobe": 12,
-        "lut_code": 37, "lut_strobe": 34, "unaligned_write": 32, "unaligned_read": 22,
-        "lut_read": 32, "unmapped_read": 30, "unmapped_write": 27, "read_only_write": 24,
-        "sof_unexpected": 9, "frame_short": 10, "frame_long": 9, "line_length": 20}
+        "settings": 70, "no_strobe": 12, "no_sof": 18, "irq_enable": 25, "lut_table": 13,
+        "lut_entry": 51, "soft_reset": 11, "soft_reset_now": 19, "clear_counters": 11,
+        "w1c_error": 30, "w1c_irq": 24, "check": 78, "setting_range": 37,
+        "setting_strobe": 11, "lut_code": 44, "lut_strobe": 33, "unaligned_write": 28,
+        "unaligned_read": 23, "lut_read": 25, "unmapped_read": 27, "unmapped_write": 20,
+        "read_only_write": 24, "sof_unexpected": 9, "frame_short": 10, "frame_long": 9,
+        "line_length": 20}
     assert set(drawn) == {*ACTIONS, *REFUSALS, *FAULT_KINDS}
     # every range refusal of every writable register, every refused LUT code and strobe
     cfg, regmap = CASE.cfg, register_map(CASE.cfg)
@@ -174,7 +174,7 @@ def test_a_few_runs_are_bit_exact():
     assert dict(lists) == LIST_CLASSES
 
 
-LIST_CLASSES = {"empty": 37, "some": 7, "capacity": 1, "overflow": 12, "cut": 1}
+LIST_CLASSES = {"empty": 37, "some": 7, "capacity": 1, "overflow": 8, "cut": 0}
 
 
 @needs_verilator
@@ -198,3 +198,66 @@ def test_a_wrong_model_fails_the_run(monkeypatch):
     monkeypatch.setattr(axi_runs, "_fill_checks", wrong_error)
     outcome = check_run(CASE, 0)
     assert not outcome.passed and "read ERROR = " in outcome.report
+
+
+def cut_flags(cfg, words):
+    """Per word: the trailer's ``cut`` bit, None for a record."""
+    return [unpack_candidate(cfg, int(w))[1].get("cut") for w in words]
+
+
+@needs_verilator
+def test_a_soft_reset_with_words_in_flight_sends_a_prefix_then_the_cut_trailer(monkeypatch):
+    """At the end of segment 1's scored frame (beat 480): drained, its list is whole; not
+    drained (``"now"``, 90 % back-pressure) the records in the output path are sent, the
+    list is closed by the cut trailer, and the words still in the pipeline are lost."""
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 6, seed=1))
+    sim = built(cfg, "axi")
+    drained = check_axi(sim, beats, [{"stop": 480}, {"soft_reset": True, "stop": len(beats)}],
+                        ready_pause=0.9, seed=5)
+    assert drained.passed, drained.report()
+    assert cut_flags(cfg, drained.run.out_words) == [0, None, None, 0, 0]
+    steps = [{"stop": 480}, {"soft_reset": "now", "stop": len(beats)}]
+    now = check_axi(sim, beats, steps, ready_pause=0.9, seed=5)
+    assert now.passed, now.report()
+    assert cut_flags(cfg, now.run.out_words) == [0, None, None, 1, 0]
+    assert now.run.out_words[3] == pack_cut_trailer(cfg, 2)
+    assert now.expected_counters["FRAMES"] is None       # frames lost in the pipeline
+    real = verilator_axi.run_axi
+
+    def miscounted(*args, **kw):
+        run = real(*args, **kw)
+        words = run.out_words.copy()
+        words[3] = pack_cut_trailer(cfg, 1)
+        return dataclasses.replace(run, out_words=words)
+
+    monkeypatch.setattr(verilator_axi, "run_axi", miscounted)
+    wrong = check_axi(sim, beats, steps, ready_pause=0.9, seed=5)
+    got = [hex(int(w)) for w in now.run.out_words[1:3]] + [hex(pack_cut_trailer(cfg, 1))]
+    assert wrong.problems == [f"before the soft reset at beat 480: after 1 whole lists of 2, "
+                              f"words {got} are not a list's first records closed by the "
+                              f"cut trailer"]
+
+
+def test_the_stream_end_leaves_a_list_open(monkeypatch):
+    """3.6 frames of K = 2: segment 1's scored frame stops after 6 lines; its records so
+    far (rows 3 and 5) are sent, never closed."""
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 4, seed=1))
+    part = Beats(beats.pixel[:432], beats.first[:432], beats.last[:432])
+    expected = expected_outputs(cfg, part, [{"stop": 432}], cut_lists=True)
+    assert len(expected.lists) == 1 and len(expected.open_records) == 2
+    assert [unpack_candidate(cfg, w)[1]["row"] for w in expected.open_records] == [3, 5]
+    assert expected_outputs(cfg, part, [{"stop": 432}]).open_records == ()
+    if not HAVE_TOOLS:
+        return
+    sim = built(cfg, "axi")
+    result = check_axi(sim, part, [{"stop": 432}], ready_pause=0.3)
+    assert result.passed, result.report()
+    real = verilator_axi.run_axi
+    monkeypatch.setattr(verilator_axi, "run_axi", lambda *a, **kw: dataclasses.replace(
+        real(*a, **kw), out_words=real(*a, **kw).out_words[:-1]))
+    wrong = check_axi(sim, part, [{"stop": 432}], ready_pause=0.3)
+    records = [hex(w) for w in expected.open_records]
+    assert wrong.problems == [f"after the last list: 1 words {records[:1]}, the open list's "
+                              f"records {records}"]
