@@ -261,3 +261,23 @@ def test_the_stream_end_leaves_a_list_open(monkeypatch):
     records = [hex(w) for w in expected.open_records]
     assert wrong.problems == [f"after the last list: 1 words {records[:1]}, the open list's "
                               f"records {records}"]
+
+
+@needs_verilator
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="model and RTL differ on the settings the segmenter "
+                   "takes at a misaligned segment start after a resync (docs/gateware.md, "
+                   "'Resynchronisation and settings'): the RTL takes the latest DP segment "
+                   "start's, segment_stream those of the DP segment of the word's pixel")
+def test_settings_at_a_misaligned_segment_start_after_a_resync():
+    """K = 1 build (9 x 7, r = 2): frame 0 cut after 1.5 lines (sof_unexpected), K set to 3
+    at beat 25; the segmenter's next segment start (word 63) comes while the DP input has
+    begun its next segment (beat 76, K = 3), so the RTL's segmenter counts K = 3 frames where
+    the model counts 1."""
+    cfg = make_config(width=9, height=7, segment_frames=1, max_segment_frames=3,
+                      candidate_capacity=2, candidate_count=1, histogram_bits=4, radius=2,
+                      weight_frac_bits=3)
+    beats = with_fault(cfg, make_frames("two-targets", cfg, 12, seed=1), "sof_unexpected")
+    steps = [{"stop": 25}, {"writes": [["SEGMENT_FRAMES", 3]], "stop": len(beats)}]
+    result = check_axi(built(cfg, "axi"), beats, steps)
+    assert result.passed, result.report()
