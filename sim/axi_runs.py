@@ -77,6 +77,7 @@ class AxiPlan:
     ready_pause: float
     notes: tuple
     drawn: dict                  # ACTIONS and REFUSALS -> how many times
+    pulses: np.ndarray = None    # the frame monitor's pulses (fault_pulse_array)
 
 
 def _stream(cfg: DPConfig, frames: np.ndarray, kinds, rng, drawn
@@ -247,11 +248,11 @@ class _Drawer:
         self.drawn["check"] += 1
 
 
-def _fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict]) -> None:
+def _fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict]) -> np.ndarray:
     """ERROR and FAULT_* of every check from the frame monitor's pulses
-    (:func:`~dptbd.sim.verilator_axi.fault_pulse_array`), refused writes, W1C clears and
-    counter clears, in the order :func:`~dptbd.sim.verilator_axi.step_operations` performs
-    them."""
+    (:func:`~dptbd.sim.verilator_axi.fault_pulse_array`, returned), refused writes, W1C
+    clears and counter clears, in the order :func:`~dptbd.sim.verilator_axi.step_operations`
+    performs them."""
     from dptbd.sim.verilator_axi import fault_pulse_array
 
     regmap = register_map(cfg)
@@ -297,6 +298,7 @@ def _fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict]) -> None:
                                            for r in regmap.registers):
                 refused = True
         start = step["stop"]
+    return pulses
 
 
 def draw_run(case, seed: int) -> AxiPlan:
@@ -361,10 +363,10 @@ def draw_run(case, seed: int) -> AxiPlan:
                                                *(f"FAULT_{k.upper()}" for k in FAULTS))}
         steps[j]["stop"], follow["stop"] = follow["stop"], steps[j]["stop"]
         steps.insert(j + 1, follow)
-    _fill_checks(cfg, beats, steps)
+    pulses = _fill_checks(cfg, beats, steps)
     notes = [f"gaps {gap:.2f}, back-pressure {pause:.2f}", f"{len(steps)} steps",
              *notes, "drawn " + ", ".join(f"{k} {v}" for k, v in drawn.items() if v)]
-    return AxiPlan(beats, steps, gap, pause, tuple(notes), dict(drawn))
+    return AxiPlan(beats, steps, gap, pause, tuple(notes), dict(drawn), pulses)
 
 
 def check_run(case, seed: int, root: str | None = None):
@@ -379,7 +381,7 @@ def check_run(case, seed: int, root: str | None = None):
     sim = build(case.cfg, "axi", root=root)
     plan = draw_run(case, seed)
     result = check_axi(sim, plan.beats, plan.steps, valid_gap=plan.valid_gap,
-                       ready_pause=plan.ready_pause, seed=seed)
+                       ready_pause=plan.ready_pause, seed=seed, pulses=plan.pulses)
     report = "" if result.passed else f"seed {seed}: {result.report()}"
     lists = list_classes(case.cfg, result.lists)
     notes = (*plan.notes, "lists " + ", ".join(f"{k} {v}" for k, v in lists.items()))

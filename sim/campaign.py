@@ -129,16 +129,16 @@ def axi_cases() -> list[Case]:
     p001 = dict(width=128, height=128, segment_frames=8, input_bits=12, energy_bits=16,
                 weight_frac_bits=8)
     return [
-        Case("axi-001-128x128-k8", p001, "axi", 24, 8, AXI_FAULTS),
+        Case("axi-001-128x128-k8", p001, "axi", 16, 4, AXI_FAULTS),
         Case("axi-37x23-r2-f4-k3", dict(width=37, height=23, segment_frames=3,
                                         max_segment_frames=5, radius=2, weight_frac_bits=4,
                                         candidate_count=4, candidate_capacity=8,
-                                        histogram_bits=6), "axi", 120, 16, AXI_FAULTS),
+                                        histogram_bits=6), "axi", 80, 8, AXI_FAULTS),
         Case("axi-24x16-f0-k2", dict(width=24, height=16, segment_frames=2,
                                      max_segment_frames=4, weight_frac_bits=0,
                                      candidate_count=3, candidate_capacity=6,
                                      histogram_bits=6, histogram_shift=2),
-             "axi", 240, 16, AXI_FAULTS),
+             "axi", 160, 8, AXI_FAULTS),
     ]
 
 

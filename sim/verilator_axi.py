@@ -227,8 +227,10 @@ def _flag_problems(cfg, lists, flags: np.ndarray) -> list[str]:
 
 
 def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
-              valid_gap: float = 0.0, ready_pause: float = 0.0, seed: int = 1) -> AxiCheck:
-    """Run the bench's ``steps`` on Verilator and score everything (see the module doc)."""
+              valid_gap: float = 0.0, ready_pause: float = 0.0, seed: int = 1,
+              pulses: np.ndarray | None = None) -> AxiCheck:
+    """Run the bench's ``steps`` on Verilator and score everything (see the module doc);
+    ``pulses``: :func:`fault_pulse_array` of these beats and steps if already known."""
     cfg = sim.cfg
     expected = expected_outputs(cfg, beats, steps, cut_lists=True)
     cleared = [j for j, step in enumerate(steps) if step.get("clear_counters")]
@@ -238,7 +240,9 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
         before = (expected_outputs(cfg, beats, steps[:cleared[-1]], cut_lists=True).counters()
                   if since else {})
         counters = {k: v - before.get(k, 0) for k, v in counters.items()}
-    faults = fault_pulse_array(cfg, beats, steps)[since:].sum(axis=0)
+    if pulses is None:
+        pulses = fault_pulse_array(cfg, beats, steps)
+    faults = pulses[since:].sum(axis=0)
     final = {**counters, **{f"FAULT_{k.upper()}": int(v) for k, v in zip(FAULTS, faults)}}
     ops, checks = step_operations(cfg, steps, settle_cycles(sim, ready_pause), list(final))
     run = run_axi(sim, beats, ops, valid_gap=valid_gap, ready_pause=ready_pause, seed=seed)
