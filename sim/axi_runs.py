@@ -29,8 +29,11 @@
 
 :func:`check_run` runs one on Verilator (:func:`dptbd.sim.verilator_axi.check_axi`: every
 candidate word, its ``tuser[0]`` / ``tlast``, every response and checked read, the end
-counters). Not drawn: ``aresetn`` after the start, and ``m_axis_state`` (the Verilator
-build has none; the cocotb bench :mod:`dptbd.sim.tb_axi` checks it).
+counters). ``aresetn`` is held low for 1–4 cycles at some steps after the pipeline drained
+(every register but the LUT back to its reset value, the counters 0; a list left open is
+abandoned: its records sent, no trailer). Not drawn: ``aresetn`` with words in flight, and
+``m_axis_state`` (the Verilator build has none; the cocotb bench :mod:`dptbd.sim.tb_axi`
+checks it).
 """
 
 from __future__ import annotations
@@ -49,14 +52,15 @@ __all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "AxiPlan", "draw_run", "check_ru
            "list_classes"]
 
 #: What an AXI case's runs may draw (``Case.faults``): the frame-sync fault classes,
-#: soft resets, run-time settings (with refused values, ``VIDEO_INPUT``, ``IRQ_ENABLE``),
-#: LUT writes (whole tables, single entries, refused codes and strobes), refused bus
-#: accesses, counter clears.
-AXI_FAULTS = (*FAULT_KINDS, "soft_reset", "settings", "lut", "bus", "clear_counters")
+#: soft resets, ``aresetn`` pulses, run-time settings (with refused values,
+#: ``VIDEO_INPUT``, ``IRQ_ENABLE``), LUT writes (whole tables, single entries, refused codes
+#: and strobes), refused bus accesses, counter clears.
+AXI_FAULTS = (*FAULT_KINDS, "soft_reset", "aresetn", "settings", "lut", "bus",
+              "clear_counters")
 
 #: What a run's steps do besides the checked reads, counted in :attr:`AxiPlan.drawn`.
 ACTIONS = ("settings", "no_strobe", "no_sof", "irq_enable", "lut_table", "lut_entry",
-           "soft_reset", "soft_reset_now", "clear_counters", "w1c_error", "w1c_irq", "check")
+           "soft_reset", "soft_reset_now", "aresetn", "clear_counters", "w1c_error", "w1c_irq", "check")
 #: The refused accesses, counted in :attr:`AxiPlan.drawn`: a setting out of range, a
 #: setting's strobed byte out of range, a LUT code out of range, a LUT write without all
 #: strobes, an unaligned write / read, a read of the LUT window, a read / write of an
@@ -125,13 +129,17 @@ class _Drawer:
         self.cfg, self.rng, self.drawn = cfg, rng, drawn
         self.map = register_map(cfg)
         self.unity = 1 << cfg.weight_frac_bits
-        self.values = {name: self.map[name].reset for name in (*SETTINGS, "VIDEO_INPUT",
-                                                                "IRQ_ENABLE")}
+        self.reset_values()
         mapped = {r.address for r in self.map.registers}
         lut = self.map.window("LUT")
         self.unmapped = [a for a in range(0, 1 << self.map.address_bits, 4)
                          if a not in mapped and not lut.base <= a < lut.end]
         self.lut = lut
+
+    def reset_values(self):
+        """The writable registers' values after ``aresetn``."""
+        self.values = {name: self.map[name].reset for name in (*SETTINGS, "VIDEO_INPUT",
+                                                                "IRQ_ENABLE")}
 
     def pick(self, seq):
         return seq[int(self.rng.integers(0, len(seq)))]
@@ -273,6 +281,9 @@ def _fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict]) -> np.ndarray:
             word = sum(error[name].mask for i, name in enumerate(FAULTS)
                        if seen[start, i] > seen[cleared_at[name], i])
             check["ERROR"] = word | (error["write_refused"].mask if refused else 0)
+        if step.get("aresetn"):                   # everything but the LUT back to reset
+            counted_from, refused = start, False
+            cleared_at = {name: start for name in FAULTS}
         if step.get("clear_counters"):
             counted_from = start
         for name, value in step.get("writes", []):
@@ -330,6 +341,10 @@ def draw_run(case, seed: int) -> AxiPlan:
                 step.setdefault("bus", []).append(["w", regmap["ERROR"].address, bits, 0xF,
                                                    OKAY])
                 drawn["w1c_error"] += 1
+        if rng.random() < 0.08 and "aresetn" in allowed:
+            step["aresetn"] = int(rng.integers(1, 5))    # cycles held low
+            d.reset_values()
+            drawn["aresetn"] += 1
         if rng.random() < 0.2 and "soft_reset" in allowed:
             if rng.random() < 0.5:
                 step["soft_reset"] = True

@@ -165,25 +165,30 @@ class Expected:
 
 
 def stream_pieces(cfg: DPConfig, steps: list[dict]) -> list[Piece]:
-    """Cut a bench's steps (:mod:`dptbd.sim.tb_axi`) into pieces at every ``soft_reset``.
+    """Cut a bench's steps (:mod:`dptbd.sim.tb_axi`) into pieces at every ``soft_reset`` and
+    ``aresetn``.
 
     A step's writes to a setting register (``SEGMENT_FRAMES``, ``CANDIDATE_COUNT``,
     ``HISTOGRAM_SHIFT``) that the register block takes (refused values are ignored, as the
     gateware ignores them), its ``lut_codes`` and its taken ``lut_writes`` (``[p, m, code,
     wstrb]``: ``wstrb`` = 0xF and the code in [0, 2**F]) apply from the step's first beat on. A soft
     reset keeps the registers (the settings are sampled again at the next segment start)
-    and the LUT (a memory).
+    and the LUT (a memory); ``aresetn`` (held low before the step's writes) returns the
+    settings to the build values and keeps the LUT.
     """
     limits = {name: register_map(cfg)[name].fields[0].limits for name in SETTINGS}
     current = dataclasses.astuple(SegmentSettings.defaults(cfg))
     pieces, lo, start, lut = [], 0, 0, None
     luts, settings = {}, {}
     for step in steps:
-        if step.get("soft_reset") and start > lo:
+        if (step.get("soft_reset") or step.get("aresetn")) and start > lo:
             pieces.append(Piece(lo, start, luts, settings))
             lo = start
             luts = {start: lut} if lut is not None else {}
             settings = {start: SegmentSettings(*current)}
+        if step.get("aresetn"):             # the registers return to the build values
+            current = dataclasses.astuple(SegmentSettings.defaults(cfg))
+            settings[start] = SegmentSettings(*current)
         values = dict(zip(SETTINGS, current))
         for name, value in step.get("writes", []):
             if name in SETTINGS and limits[name][0] <= value <= limits[name][1]:
@@ -216,6 +221,7 @@ class CutList(CandidateList):
 
     cut: int = 1
     drained: bool = True
+    closed: bool = True          # False: abandoned by aresetn, no trailer
 
     @property
     def trailer(self) -> dict[str, int]:
@@ -223,7 +229,7 @@ class CutList(CandidateList):
 
 
 def _cut_list(cfg: DPConfig, piece: Piece, beats: Beats, expect, lists: list,
-              drained: bool = True):
+              drained: bool = True, closed: bool = True):
     """The list the segmenter has open after the piece's words, as a :class:`CutList` of
     the records sent so far; ``None`` if no list is open or it has no record yet.
 
@@ -253,7 +259,7 @@ def _cut_list(cfg: DPConfig, piece: Piece, beats: Beats, expect, lists: list,
         return None
     return CutList(**{**{f.name: getattr(last, f.name) for f in
                          dataclasses.fields(CandidateList)}, "records": kept,
-                      "count": len(kept), "drained": drained})
+                      "count": len(kept), "drained": drained, "closed": closed})
 
 
 def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
@@ -270,9 +276,10 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
     lists, frames, segments, saturated = [], 0, 0, 0
     words, positions, first = [], [], []
     pieces = stream_pieces(cfg, steps)
-    now, start = set(), 0
+    now, hard, start = set(), set(), 0
     for step in steps:
         now |= {start} if step.get("soft_reset") == "now" else set()
+        hard |= {start} if step.get("aresetn") else set()
         start = step["stop"]
     list_starts, open_records = [], ()
     for n, piece in enumerate(pieces):
@@ -283,7 +290,8 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
         piece_lists = segment_stream(expect.fields, cfg, expect.settings)
         lists += piece_lists
         if cut_lists and n < len(pieces) - 1:
-            cut = _cut_list(cfg, piece, beats, expect, piece_lists, piece.stop not in now)
+            cut = _cut_list(cfg, piece, beats, expect, piece_lists,
+                            piece.stop not in now or piece.stop in hard, piece.stop not in hard)
             lists += [cut] if cut is not None else []
         elif cut_lists:                 # the stream ends inside a list: its records so far
             from dptbd.sim.candidate_scoreboard import list_words

@@ -87,7 +87,8 @@ def list_words(cfg: DPConfig, lists: list[CandidateList]) -> list[list[int]]:
     out = []
     for lst in lists:
         words = [pack_record(cfg, *(int(r[f]) for f in RECORD_FIELDS)) for r in lst.records]
-        words.append(pack_trailer(cfg, **lst.trailer, cut=int(getattr(lst, "cut", 0))))
+        if getattr(lst, "closed", True):        # a list abandoned by aresetn has none
+            words.append(pack_trailer(cfg, **lst.trailer, cut=int(getattr(lst, "cut", 0))))
         out.append(words)
     return out
 

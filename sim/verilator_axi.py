@@ -81,7 +81,8 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
     and ``settle`` idle cycles.
 
     ``soft_reset`` may be ``"now"``: no settle before it, and then a wait until
-    ``STATUS.soft_reset_busy`` reads 0 (check ``("wait", "STATUS", beat)``).
+    ``STATUS.soft_reset_busy`` reads 0 (check ``("wait", "STATUS", beat)``). ``aresetn``
+    (cycles) holds ``aresetn`` low after the settle and the check reads.
     Besides the bench's keys a step may hold ``clear_counters`` (a ``CONTROL.clear_counters``
     pulse after the settle and the check reads, before a soft reset), ``lut_writes``
     (``[p, m, code, wstrb]``: single LUT entries, after ``lut_codes``; refused unless
@@ -101,10 +102,13 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
 
     unity = 1 << cfg.weight_frac_bits
     for step in steps:
-        if step.get("check") or step.get("soft_reset") is True or step.get("clear_counters"):
+        if (step.get("check") or step.get("soft_reset") is True or step.get("clear_counters")
+                or step.get("aresetn")):
             ops.append((start, "i", settle, 0))
         for name, want in (step.get("check") or {}).items():
             read(start, name, want)
+        if step.get("aresetn"):
+            ops.append((start, "a", int(step["aresetn"]), 0))
         if step.get("clear_counters"):
             write(start, regs.REG_CONTROL, regs.CONTROL_CLEAR_COUNTERS_MASK, OKAY, "CONTROL")
         if step.get("soft_reset"):
@@ -147,16 +151,17 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
     """Stream ``beats`` through a ``design="axi"`` build with the operations ``ops``
     (``(beat index, "w" | "r" | "i" | "m" | "b", address or idle cycles, data)``, performed
     in order before that beat is offered; ``"m"`` is a write with ``wstrb`` = data >> 32,
-    ``"b"`` reads the address until its bit 0 is 0; see the harness's header)."""
+    ``"b"`` reads the address until its bit 0 is 0, ``"a"`` holds ``aresetn`` low for the
+    given cycles; see the harness's header)."""
     if sim.design != "axi":
         raise ValueError(f"run_axi needs a build of design 'axi', got {sim.design!r}")
     valid_gap = _check_probability("valid_gap", valid_gap)
     ready_pause = _check_probability("ready_pause", ready_pause)
     words = beat_words(beats)
     for index, kind, *_ in ops:
-        if not 0 <= index <= len(words) or kind not in ("w", "r", "i", "m", "b"):
+        if not 0 <= index <= len(words) or kind not in ("w", "r", "i", "m", "b", "a"):
             raise ValueError(f"operation {kind!r} before beat {index}: kinds are w, r, i, m, "
-                             f"b and beats 0 … {len(words)}")
+                             f"b, a and beats 0 … {len(words)}")
     if drain is None:
         drain = settle_cycles(sim, 0.0)
     if max_cycles is None:
@@ -213,11 +218,12 @@ class AxiCheck:
 def _flag_problems(cfg, lists, flags: np.ndarray) -> list[str]:
     """``tuser[0]`` on a list's first word, ``tlast`` on its trailer, for each word."""
     sizes = np.asarray([len(words) for words in list_words(cfg, lists)], dtype=np.int64)
+    closed = np.asarray([getattr(lst, "closed", True) for lst in lists], dtype=bool)
     first = np.zeros(sum(sizes), dtype=bool)
     trailer = np.zeros(sum(sizes), dtype=bool)
     ends = np.cumsum(sizes)                         # int64 also with no list
-    first[ends - sizes] = True
-    trailer[ends - 1] = True
+    first[(ends - sizes)[sizes > 0]] = True
+    trailer[(ends - 1)[closed & (sizes > 0)]] = True
     n = min(len(flags), len(first))
     got_first = (flags[:n] & np.uint64(1)).astype(bool)
     got_last = (flags[:n] >> np.uint64(1) & np.uint64(1)).astype(bool)
@@ -233,7 +239,8 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
     ``pulses``: :func:`fault_pulse_array` of these beats and steps if already known."""
     cfg = sim.cfg
     expected = expected_outputs(cfg, beats, steps, cut_lists=True)
-    cleared = [j for j, step in enumerate(steps) if step.get("clear_counters")]
+    cleared = [j for j, step in enumerate(steps)
+               if step.get("clear_counters") or step.get("aresetn")]
     since = steps[cleared[-1] - 1]["stop"] if cleared and cleared[-1] > 0 else 0
     counters = expected.counters()
     if cleared:                         # the counters count from the last clear on
@@ -288,6 +295,7 @@ def no_sof_mask(beats: Beats, steps: list[dict]) -> np.ndarray:
     mask = np.zeros(len(beats), dtype=bool)
     start, value = 0, False
     for step in steps:
+        value = value and not step.get("aresetn")
         for name, written in step.get("writes", []):
             if name == "VIDEO_INPUT" and written in (0, 1):
                 value = bool(written)
@@ -340,46 +348,57 @@ def _score_in_parts(cfg, expected, run: AxiRun, cuts: list[tuple[int, int]]):
     """Score the words in parts split at the undrained soft resets ``cuts``: each part but
     the last is its lists whole, then at most one list's first records closed by the cut
     trailer (``pack_cut_trailer``) or nothing more; the last part exactly
-    (:class:`CandidateScoreboard`). ``tuser[0]`` on every word after a ``tlast`` (and the
-    first), ``tlast`` on every trailer."""
-    from dptbd.hw.candidate_layout import pack_cut_trailer, unpack_candidate
+    (:class:`CandidateScoreboard`). ``tuser[0]`` on each list's first word, ``tlast`` on
+    each list's trailer (a list abandoned by ``aresetn`` has none)."""
+    from dptbd.hw.candidate_layout import pack_cut_trailer
 
-    problems = []
+    problems, flags = [], []           # flags: (tuser[0], tlast) the words must carry
+
+    def packet(words, closed=True):
+        flags.extend((i == 0, closed and i == len(words) - 1) for i in range(len(words)))
+
     starts = np.asarray(expected.list_starts, dtype=np.int64)
     bounds = [0, *(beat for beat, _ in cuts)]
     edges = [0, *(cycle for _, cycle in cuts)]
     cycles = np.asarray(run.out_cycles, dtype=np.int64)
+    got_flags = np.asarray(run.out_flags, dtype=np.uint64)
     for part, (lo_beat, hi_beat) in enumerate(zip(bounds, bounds[1:])):
         lists = [lst for lst, s0 in zip(expected.lists, starts) if lo_beat <= s0 < hi_beat]
-        got = [int(w) for w in run.out_words[(cycles >= edges[part])
-                                             & (cycles < edges[part + 1])]]
+        here = (cycles >= edges[part]) & (cycles < edges[part + 1])
+        got = [int(w) for w in run.out_words[here]]
         open_list = None                 # the list the soft reset found open, if any
         if lists and isinstance(lists[-1], CutList) and not lists[-1].drained:
             open_list = lists.pop()
         want = list_words(cfg, lists)
         i = k = 0
         while k < len(want) and got[i:i + len(want[k])] == want[k]:
+            packet(want[k], getattr(lists[k], "closed", True))
             i, k = i + len(want[k]), k + 1
         rest = got[i:]
         records = (want[k][:-1] if k < len(want) else
                    list_words(cfg, [open_list])[0][:-1] if open_list is not None else [])
         ok = not rest or (len(rest) - 1 <= len(records) and rest[:-1] == records[:len(rest) - 1]
                           and rest[-1] == pack_cut_trailer(cfg, len(rest) - 1))
-        if not ok:
+        if ok:
+            packet(rest)
+        else:
             problems.append(f"before the soft reset at beat {hi_beat}: after {k} whole lists "
                             f"of {len(want)}, words {[hex(w) for w in rest[:4]]} are not a "
                             "list's first records closed by the cut trailer")
+            flags.extend((bool(f & np.uint64(1)), bool(f >> np.uint64(1) & np.uint64(1)))
+                         for f in got_flags[here][i:])
     last = [lst for lst, s0 in zip(expected.lists, starts) if s0 >= bounds[-1]]
     board, more = _score_exact(cfg, last, expected.open_records,
                                run.out_words[cycles >= edges[-1]])
     problems += more
-    flags = np.asarray(run.out_flags, dtype=np.uint64)
-    first = (flags & np.uint64(1)).astype(bool)
-    tlast = (flags >> np.uint64(1) & np.uint64(1)).astype(bool)
-    after_last = np.concatenate([[True], tlast[:-1]])
-    trailer = np.asarray([unpack_candidate(cfg, int(w))[0] == "trailer"
-                          for w in run.out_words], dtype=bool)
-    bad = np.flatnonzero((first != after_last) | (tlast != trailer))
+    for lst, words in zip(last, list_words(cfg, last)):
+        packet(words, getattr(lst, "closed", True))
+    packet(list(expected.open_records), False)
+    n = min(len(flags), len(got_flags))
+    first = (got_flags[:n] & np.uint64(1)).astype(bool)
+    tlast = (got_flags[:n] >> np.uint64(1) & np.uint64(1)).astype(bool)
+    want = np.asarray(flags[:n], dtype=bool).reshape(-1, 2)
+    bad = np.flatnonzero((first != want[:, 0]) | (tlast != want[:, 1]))
     problems += [f"word {int(j)}: tuser[0] = {int(first[j])}, tlast = {int(tlast[j])}"
                  for j in bad[:5]]
     return board, problems

@@ -55,13 +55,13 @@ def test_every_class_is_drawn_over_twenty_seeds():
     for plan in plans:
         drawn.update(plan.drawn)
     assert dict(drawn) == {
-        "settings": 70, "no_strobe": 12, "no_sof": 18, "irq_enable": 25, "lut_table": 13,
-        "lut_entry": 51, "soft_reset": 11, "soft_reset_now": 19, "clear_counters": 11,
-        "w1c_error": 30, "w1c_irq": 24, "check": 78, "setting_range": 37,
-        "setting_strobe": 11, "lut_code": 44, "lut_strobe": 33, "unaligned_write": 28,
-        "unaligned_read": 23, "lut_read": 25, "unmapped_read": 27, "unmapped_write": 20,
-        "read_only_write": 24, "sof_unexpected": 9, "frame_short": 10, "frame_long": 9,
-        "line_length": 20}
+        "settings": 67, "no_strobe": 21, "no_sof": 17, "irq_enable": 22, "lut_table": 13,
+        "lut_entry": 51, "soft_reset": 16, "soft_reset_now": 20, "aresetn": 13,
+        "clear_counters": 23, "w1c_error": 26, "w1c_irq": 24, "check": 87,
+        "setting_range": 44, "setting_strobe": 16, "lut_code": 43, "lut_strobe": 32,
+        "unaligned_write": 22, "unaligned_read": 36, "lut_read": 24, "unmapped_read": 31,
+        "unmapped_write": 26, "read_only_write": 26, "sof_unexpected": 9, "frame_short": 10,
+        "frame_long": 9, "line_length": 20}
     assert set(drawn) == {*ACTIONS, *REFUSALS, *FAULT_KINDS}
     # every range refusal of every writable register, every refused LUT code and strobe
     cfg, regmap = CASE.cfg, register_map(CASE.cfg)
@@ -93,7 +93,7 @@ def test_a_case_draws_only_its_faults():
         assert fault_counts(case.cfg, plan.beats) == {k: 0 for k in FAULTS}
         assert not any(k in step for step in plan.steps
                        for k in ("writes", "lut_codes", "lut_writes", "soft_reset",
-                                 "clear_counters"))
+                                 "aresetn", "clear_counters"))
     assert {k for k, v in drawn.items() if v} == {"check", "w1c_error", "w1c_irq"}
 
 
@@ -175,7 +175,7 @@ def test_a_few_runs_are_bit_exact():
     assert dict(lists) == LIST_CLASSES
 
 
-LIST_CLASSES = {"empty": 37, "some": 7, "capacity": 1, "overflow": 8, "cut": 0}
+LIST_CLASSES = {"empty": 50, "some": 9, "capacity": 1, "overflow": 12, "cut": 3}
 
 
 @needs_verilator
@@ -239,6 +239,33 @@ def test_a_soft_reset_with_words_in_flight_sends_a_prefix_then_the_cut_trailer(m
     assert wrong.problems == [f"before the soft reset at beat 480: after 1 whole lists of 2, "
                               f"words {got} are not a list's first records closed by the "
                               f"cut trailer"]
+
+
+def test_aresetn_abandons_the_open_list_and_resets_the_registers():
+    """aresetn 6 lines into segment 1's scored frame (after the pipeline drained): the two
+    records sent stay without a trailer, the next list starts with tuser[0]; K written 3
+    before reads 2 (the build's) after, ERROR (write_refused before) and the counters 0."""
+    cfg = make_config(**SMALL)
+    regs = constants_namespace(cfg)
+    beats = clean_beats(make_frames("two-targets", cfg, 6, seed=1))
+    steps = [{"writes": [["HISTOGRAM_SHIFT", 99]], "stop": 400},        # refused
+             {"writes": [["SEGMENT_FRAMES", 3]], "stop": 432},            # for segment 2
+             {"check": {"ERROR": regs.ERROR_WRITE_REFUSED_MASK, "SEGMENT_FRAMES": 3},
+              "aresetn": 2, "stop": 432},                                 # reads, then low
+             {"check": {"SEGMENT_FRAMES": 2, "ERROR": 0, "FRAMES": 0, "IRQ_ENABLE": 0},
+              "stop": len(beats)}]
+    expected = expected_outputs(cfg, beats, steps, cut_lists=True)
+    abandoned = [lst for lst in expected.lists if isinstance(lst, CutList)]
+    assert [(lst.count, lst.closed) for lst in abandoned] == [(2, False)]
+    assert [len(w) for w in list_words(cfg, abandoned)] == [2]              # no trailer
+    assert expected.counters()["LISTS"] == len(expected.lists) - 1
+    if not HAVE_TOOLS:
+        return
+    result = check_axi(built(cfg, "axi"), beats, steps, ready_pause=0.3, seed=2)
+    assert result.passed, result.report()
+    flags = result.run.out_flags
+    assert [(int(f) & 1, int(f) >> 1) for f in flags[:4]] == [(1, 1), (1, 0), (0, 0), (1, 1)]
+    assert result.reads["ERROR"] == 0
 
 
 def test_the_stream_end_leaves_a_list_open(monkeypatch):

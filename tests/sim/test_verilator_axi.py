@@ -55,10 +55,10 @@ def test_beat_words_and_operations():
                                          r"dptbd\.sim\.verilator_axi\.run_axi$"):
         V.run(built(cfg, "axi"), beat_words(beats))
     with pytest.raises(ValueError, match=whole("operation 'x' before beat 3: kinds are w, r, "
-                                               "i, m, b and beats 0 … 120")):
+                                               "i, m, b, a and beats 0 … 120")):
         run_axi(built(cfg, "axi"), beats, [(3, "x", 0, 0)])
     with pytest.raises(ValueError, match=whole("operation 'r' before beat 121: kinds are w, r, "
-                                               "i, m, b and beats 0 … 120")):
+                                               "i, m, b, a and beats 0 … 120")):
         run_axi(built(cfg, "axi"), beats, [(121, "r", 0, 0)])
 
 
@@ -71,7 +71,7 @@ def test_operations_of_lut_entries_raw_accesses_and_counter_clears():
                                                       [1, 2, 0, 7]],
                "bus": [["w", 0x301, 5, 0xF, 2], ["r", lut, 2, 0]], "stop": 4},
               {"writes": [["VIDEO_INPUT", 2], ["IRQ_ENABLE", 2**32 - 1], ["ID", 0]],
-               "stop": 4}, {"soft_reset": "now", "stop": 6}],
+               "stop": 4}, {"soft_reset": "now", "stop": 6}, {"aresetn": 3, "stop": 6}],
         settle=7, final_reads=[])
     assert ops == [(0, "i", 7, 0), (0, "w", regs.REG_CONTROL, regs.CONTROL_CLEAR_COUNTERS_MASK),
                    (0, "m", lut, 256 | 0xF << 32), (0, "m", lut, 257 | 0xF << 32),
@@ -79,7 +79,8 @@ def test_operations_of_lut_entries_raw_accesses_and_counter_clears():
                    (4, "w", regs.REG_VIDEO_INPUT, 2), (4, "w", regs.REG_IRQ_ENABLE, 2**32 - 1),
                    (4, "w", regs.REG_ID, 0),
                    (4, "w", regs.REG_CONTROL, regs.CONTROL_SOFT_RESET_MASK),
-                   (4, "b", regs.REG_STATUS, 0), (6, "i", 7, 0)]
+                   (4, "b", regs.REG_STATUS, 0), (6, "i", 7, 0), (6, "a", 3, 0),
+                   (6, "i", 7, 0)]
     assert checks == [("write", "CONTROL", 0), ("write", "LUT[1, 2]", 0),
                       ("write", "LUT[1, 2]", 2), ("write", "LUT[1, 2]", 2),
                       ("write", "0x301", 2), ("bus-read", f"{lut:#05x}", (2, 0)),
