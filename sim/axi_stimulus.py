@@ -14,12 +14,12 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.hw.register_map import FAULTS, register_map
-from dptbd.model.segmentation import segment_stream
+from dptbd.model.segmentation import CandidateList, segment_stream
 from dptbd.model.settings import SegmentSettings
 from dptbd.sim.stream_model import expected_stream
 
 __all__ = ["FAULT_KINDS", "SETTINGS", "Beats", "clean_beats", "with_fault", "fault_pulses",
-           "fault_counts", "Piece", "Expected", "stream_pieces", "expected_outputs"]
+           "fault_counts", "Piece", "Expected", "CutList", "stream_pieces", "expected_outputs"]
 
 #: What :func:`with_fault` can inject, each raising exactly one pulse of its class.
 FAULT_KINDS = FAULTS
@@ -155,31 +155,40 @@ class Expected:
     state_words: np.ndarray = None
     state_positions: np.ndarray = None
     state_first: np.ndarray = None
+    list_starts: tuple = ()      # per list: the first beat of the piece it belongs to
+    open_records: tuple = ()     # packed records of a list the stream's end leaves open
 
     def counters(self) -> dict[str, int]:
-        return {"FRAMES": self.frames, "SEGMENTS": self.segments, "LISTS": len(self.lists),
+        return {"FRAMES": self.frames, "SEGMENTS": self.segments,
+                "LISTS": sum(not isinstance(lst, CutList) for lst in self.lists),
                 "SATURATED": self.saturated}
 
 
 def stream_pieces(cfg: DPConfig, steps: list[dict]) -> list[Piece]:
-    """Cut a bench's steps (:mod:`dptbd.sim.tb_axi`) into pieces at every ``soft_reset``.
+    """Cut a bench's steps (:mod:`dptbd.sim.tb_axi`) into pieces at every ``soft_reset`` and
+    ``aresetn``.
 
     A step's writes to a setting register (``SEGMENT_FRAMES``, ``CANDIDATE_COUNT``,
     ``HISTOGRAM_SHIFT``) that the register block takes (refused values are ignored, as the
-    gateware ignores them) and its ``lut_codes`` apply from the step's first beat on. A soft
+    gateware ignores them), its ``lut_codes`` and its taken ``lut_writes`` (``[p, m, code,
+    wstrb]``: ``wstrb`` = 0xF and the code in [0, 2**F]) apply from the step's first beat on. A soft
     reset keeps the registers (the settings are sampled again at the next segment start)
-    and the LUT (a memory).
+    and the LUT (a memory); ``aresetn`` (held low before the step's writes) returns the
+    settings to the build values and keeps the LUT.
     """
     limits = {name: register_map(cfg)[name].fields[0].limits for name in SETTINGS}
     current = dataclasses.astuple(SegmentSettings.defaults(cfg))
     pieces, lo, start, lut = [], 0, 0, None
     luts, settings = {}, {}
     for step in steps:
-        if step.get("soft_reset") and start > lo:
+        if (step.get("soft_reset") or step.get("aresetn")) and start > lo:
             pieces.append(Piece(lo, start, luts, settings))
             lo = start
             luts = {start: lut} if lut is not None else {}
             settings = {start: SegmentSettings(*current)}
+        if step.get("aresetn"):             # the registers return to the build values
+            current = dataclasses.astuple(SegmentSettings.defaults(cfg))
+            settings[start] = SegmentSettings(*current)
         values = dict(zip(SETTINGS, current))
         for name, value in step.get("writes", []):
             if name in SETTINGS and limits[name][0] <= value <= limits[name][1]:
@@ -190,24 +199,105 @@ def stream_pieces(cfg: DPConfig, steps: list[dict]) -> list[Piece]:
         if step.get("lut_codes") is not None:
             lut = step["lut_codes"]
             luts[start] = lut
+        taken = [(p, m, code) for p, m, code, strobe in step.get("lut_writes", [])
+                 if strobe == 0xF and 0 <= code <= 1 << cfg.weight_frac_bits]
+        if taken:                       # single entries over the table in force
+            lut = np.array(cfg.weight_codes if lut is None else lut, dtype=np.int64)
+            for p, m, code in taken:
+                lut[p, m] = code
+            lut = lut.tolist()
+            luts[start] = lut
         start = step["stop"]
     pieces.append(Piece(lo, start, luts, settings))
     return pieces
 
 
-def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict]) -> Expected:
+@dataclasses.dataclass(frozen=True)
+class CutList(CandidateList):
+    """A list closed by a soft reset (``docs/integration.md``): the records sent before it,
+    then the cut trailer (``cut`` = 1, ``count``, every other field 0). ``drained``: the
+    soft reset waited for the outputs of every beat before it (then exactly these records
+    are sent); else words in flight are lost and a prefix of them is sent."""
+
+    cut: int = 1
+    drained: bool = True
+    closed: bool = True          # False: abandoned by aresetn, no trailer
+
+    @property
+    def trailer(self) -> dict[str, int]:
+        return {**{name: 0 for name in super().trailer}, "count": int(self.count)}
+
+
+def _cut_list(cfg: DPConfig, piece: Piece, beats: Beats, expect, lists: list,
+              drained: bool = True, closed: bool = True):
+    """The list the segmenter has open after the piece's words, as a :class:`CutList` of
+    the records sent so far; ``None`` if no list is open or it has no record yet.
+
+    The segmenter's own counters decide (they may differ from the DP input's after a
+    fault): one more word with ``end_of_segment`` ends an open list there, and the model's
+    list then holds the records so far, and the extra word's own record if its bin reached
+    T. That one is told apart by a second extra word of other E and d."""
+    if not len(expect.fields):
+        return None
+
+    def ended_by(energy: int, direction: int):
+        fields = np.vstack([expect.fields, [[energy, direction, 0, 0, 1]]])
+        settings = (None if expect.settings is None
+                    else np.vstack([expect.settings, expect.settings[-1:]]))
+        more = segment_stream(fields, cfg, settings)
+        return more[len(lists)] if len(more) > len(lists) else None
+
+    last = ended_by(0, 0)
+    if last is None or not len(last.records):
+        return None
+    kept = last.records
+    if int(kept[-1]["energy"]) == 0 and int(kept[-1]["direction"]) == 0:
+        other = ended_by(cfg.e_max, 1).records
+        if tuple(other[-1]) != tuple(kept[-1]):          # the extra word's own record
+            kept = kept[:-1]
+    if not len(kept):
+        return None
+    return CutList(**{**{f.name: getattr(last, f.name) for f in
+                         dataclasses.fields(CandidateList)}, "records": kept,
+                      "count": len(kept), "drained": drained, "closed": closed})
+
+
+def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
+                     cut_lists: bool = False) -> Expected:
     """The golden model of the whole stream, piece by piece (:func:`stream_pieces`):
     :func:`~dptbd.sim.stream_model.expected_stream` for the states and
     :func:`~dptbd.model.segmentation.segment_stream` for the lists, with the settings
-    sampled as the gateware samples them."""
+    sampled as the gateware samples them. With ``cut_lists`` a soft reset's pipeline is taken
+    as drained (the soft reset waits for the last beat's outputs) and the list it cuts, if
+    one is open, follows the piece's lists (:class:`CutList`; ``drained`` False for a
+    ``soft_reset`` of ``"now"``, which loses the words in flight); without, soft resets are
+    taken to land where no list is open. With ``cut_lists``, ``open_records`` are the records
+    of the list the stream's end leaves open (sent, never closed)."""
     lists, frames, segments, saturated = [], 0, 0, 0
     words, positions, first = [], [], []
-    for piece in stream_pieces(cfg, steps):
+    pieces = stream_pieces(cfg, steps)
+    now, hard, start = set(), set(), 0
+    for step in steps:
+        now |= {start} if step.get("soft_reset") == "now" else set()
+        hard |= {start} if step.get("aresetn") else set()
+        start = step["stop"]
+    list_starts, open_records = [], ()
+    for n, piece in enumerate(pieces):
         a, b = piece.start, piece.stop
         expect = expected_stream(cfg, beats.pixel[a:b], beats.first[a:b],
                                  {i - a: codes for i, codes in piece.lut_changes.items()},
                                  {i - a: st for i, st in piece.settings_changes.items()})
-        lists += segment_stream(expect.fields, cfg, expect.settings)
+        piece_lists = segment_stream(expect.fields, cfg, expect.settings)
+        lists += piece_lists
+        if cut_lists and n < len(pieces) - 1:
+            cut = _cut_list(cfg, piece, beats, expect, piece_lists,
+                            piece.stop not in now or piece.stop in hard, piece.stop not in hard)
+            lists += [cut] if cut is not None else []
+        elif cut_lists:                 # the stream ends inside a list: its records so far
+            from dptbd.sim.candidate_scoreboard import list_words
+            cut = _cut_list(cfg, piece, beats, expect, piece_lists)
+            open_records = () if cut is None else tuple(list_words(cfg, [cut])[0][:-1])
+        list_starts += [piece.start] * (len(lists) - len(list_starts))
         frames += sum(run.complete for run in expect.runs)
         segments += sum(run.complete and run.frame == run.segment_frames - 1
                         for run in expect.runs)
@@ -219,4 +309,5 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict]) -> Expected
         positions.append(expect.positions + np.array([offset, 0, 0]))
         first.append(starts)
     return Expected(lists, frames, segments, saturated, np.concatenate(words),
-                    np.concatenate(positions), np.concatenate(first))
+                    np.concatenate(positions), np.concatenate(first), tuple(list_starts),
+                    open_records)

@@ -37,8 +37,8 @@ import numpy as np
 from dptbd.config import DPConfig, EnergyWidthWarning
 
 __all__ = ["FAULTS", "Case", "RunOutcome", "CaseResult", "CampaignResult", "default_cases",
-           "hostile_frames", "make_run", "check_run", "check_x_store", "x_store_cases",
-           "campaign_task", "campaign_tasks", "run_campaign"]
+           "axi_cases", "hostile_frames", "make_run", "check_run", "check_x_store",
+           "x_store_cases", "campaign_task", "campaign_tasks", "run_campaign"]
 
 #: Fault classes a case may draw from (see :func:`make_run`).
 FAULTS = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "store_garbage",
@@ -57,7 +57,8 @@ class Case:
     config : dict
         :class:`~dptbd.config.DPConfig` fields (JSON-able, so a case pickles cheaply).
     design : str
-        ``"dp"``, ``"core"`` or ``"segmenter"`` (:data:`dptbd.sim.verilator.DESIGNS`).
+        ``"dp"``, ``"core"``, ``"segmenter"`` or ``"axi"`` (:data:`dptbd.sim.verilator.DESIGNS`;
+        an ``"axi"`` case draws its runs with :mod:`dptbd.sim.axi_runs`, its own faults).
     frames : int
         Frames per run (before faults cut or lengthen them).
     runs : int
@@ -117,6 +118,29 @@ def default_cases() -> list[Case]:
         Case("segmenter-33x17-k2-n3", dict(width=33, height=17, segment_frames=2,
                                            candidate_count=3, histogram_bits=6),
              "segmenter", 400, 8, every),
+        *axi_cases(),
+    ]
+
+
+def axi_cases() -> list[Case]:
+    """The AXI top level's cases (:mod:`dptbd.sim.axi_runs`): 001's setting, a small r = 2
+    one with a fractional LUT, a small binary-LUT one; K_max above K and small C, so that
+    run-time K, lists at capacity and overflowing lists occur."""
+    from dptbd.sim.axi_runs import AXI_FAULTS
+
+    p001 = dict(width=128, height=128, segment_frames=8, input_bits=12, energy_bits=16,
+                weight_frac_bits=8)
+    return [
+        Case("axi-001-128x128-k8", p001, "axi", 16, 4, AXI_FAULTS),
+        Case("axi-37x23-r2-f4-k3", dict(width=37, height=23, segment_frames=3,
+                                        max_segment_frames=5, radius=2, weight_frac_bits=4,
+                                        candidate_count=4, candidate_capacity=8,
+                                        histogram_bits=6), "axi", 80, 8, AXI_FAULTS),
+        Case("axi-24x16-f0-k2", dict(width=24, height=16, segment_frames=2,
+                                     max_segment_frames=4, weight_frac_bits=0,
+                                     candidate_count=3, candidate_capacity=6,
+                                     histogram_bits=6, histogram_shift=2),
+             "axi", 160, 8, AXI_FAULTS),
     ]
 
 
@@ -233,14 +257,19 @@ def _settings_changes(cfg: DPConfig, n_words: int, rng: np.random.Generator):
 
 def make_run(case: Case, seed: int, latency: int | None = None):
     """The input words and :class:`~dptbd.sim.rtl_check.Stimulus` of run ``seed`` of ``case``,
-    and a description of its faults. ``latency``: the build's DP pipeline L (then about
-    half the runs with resets get one more early on, soon after the first word, when the
-    pipeline holds 0 … L words)."""
+    and a description of its faults; for ``design="axi"`` the
+    :class:`~dptbd.sim.axi_runs.AxiPlan` (:func:`dptbd.sim.axi_runs.draw_run`). ``latency``:
+    the build's DP pipeline L (then about half the runs with resets get one more early on,
+    soon after the first word, when the pipeline holds 0 … L words)."""
+    if case.design == "axi":
+        from dptbd.sim.axi_runs import draw_run
+        return draw_run(case, seed)
     return _make_run(case, seed, latency)[:3]
 
 
 def _make_run(case: Case, seed: int, latency: int | None = None):
-    """:func:`make_run` and the framing faults' (fault, first word touched)."""
+    """:func:`make_run` of a stream design and the framing faults' (fault, first word
+    touched)."""
     from dptbd.sim.rtl_check import Stimulus
     from dptbd.sim.stimulus import pixel_words
     from dptbd.sim.verilator import cycle_budget
@@ -326,6 +355,10 @@ def check_run(case: Case, seed: int, root: str | None = None) -> RunOutcome:
     from dptbd.sim.coverage.bins import stream_bins
     from dptbd.sim.rtl_check import check_stream
     from dptbd.sim.verilator import build
+
+    if case.design == "axi":
+        from dptbd.sim import axi_runs
+        return axi_runs.check_run(case, seed, root)
 
     start = time.perf_counter()
     sim = build(case.cfg, case.design, root=root)

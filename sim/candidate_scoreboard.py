@@ -83,11 +83,12 @@ def state_stream(cfg: DPConfig, frames: np.ndarray) -> np.ndarray:
 
 def list_words(cfg: DPConfig, lists: list[CandidateList]) -> list[list[int]]:
     """The packed ``candidates`` payloads of each list: its records, then its trailer
-    (``cut`` = 0: the model's lists are never cut)."""
+    (``cut`` = 0, but for a list cut by a soft reset: :class:`dptbd.sim.axi_stimulus.CutList`)."""
     out = []
     for lst in lists:
         words = [pack_record(cfg, *(int(r[f]) for f in RECORD_FIELDS)) for r in lst.records]
-        words.append(pack_trailer(cfg, **lst.trailer, cut=0))
+        if getattr(lst, "closed", True):        # a list abandoned by aresetn has none
+            words.append(pack_trailer(cfg, **lst.trailer, cut=int(getattr(lst, "cut", 0))))
         out.append(words)
     return out
 

@@ -18,7 +18,13 @@
 //                       op I KIND A D        before offering beat I (I = N: after the last
 //                                            beat), in file order: KIND w = write D to byte
 //                                            address A (AW and W together, all strobes),
-//                                            r = read address A, i = stay idle A cycles
+//                                            r = read address A, i = stay idle A cycles,
+//                                            m = write as w with the strobes D >> 32
+//                                            (wstrb, 4 bits) and the data D & 0xFFFFFFFF,
+//                                            b = read address A again until bit 0 of the
+//                                            data is 0 (STATUS.soft_reset_busy: wait
+//                                            for a soft reset), reported as one read,
+//                                            a = hold aresetn low A cycles (A >= 1)
 //   JOB_DIR/in.bin    N little-endian uint64 beats: tdata | tuser[0] << 32 | tlast << 33
 // Writes into JOB_DIR:
 //   out.bin           uint64 tdata of every m_axis_cand transfer, in order
@@ -28,7 +34,8 @@
 //   ops.bin           per w/r operation: uint64 data (reads) | resp << 32 | done cycle << 34
 //   result.txt        "key value" lines: status, cycles, accepted, outputs, seconds,
 //                     irq_rises, stalled_input_cycles, paused_output_cycles
-// Cycle 0 is the first simulated cycle; aresetn is low in cycles 0 and 1.
+// Cycle 0 is the first simulated cycle; aresetn is low in cycles 0 and 1 and during the
+// cycles of an a operation.
 #include <chrono>
 #include <cinttypes>
 #include <cstdint>
@@ -71,8 +78,8 @@ Job read_job(const std::string& path) {
             char kind[8];
             if (std::sscanf(rest, "%" SCNu64 " %7s %" SCNu64 " %" SCNu64, &op.before_word,
                             kind, &op.addr, &op.data) != 4 || std::strlen(kind) != 1
-                    || std::strchr("wri", kind[0]) == nullptr)
-                fail("op needs WORD w|r|i ADDR DATA");
+                    || std::strchr("wrimba", kind[0]) == nullptr)
+                fail("op needs WORD w|r|i|m|b|a ADDR DATA");
             op.kind = kind[0];
             job.ops.push_back(op);
         } else fail("unknown job key " + k);
@@ -116,25 +123,27 @@ int main(int argc, char** argv) {
     dut->eval();
     const auto t0 = std::chrono::steady_clock::now();
     for (; cycle < job.max_cycles; ++cycle) {
-        const bool rst = cycle < 2;
-        dut->aresetn = !rst;
         // ---- start the next operation when its beat is next and nothing is on offer
-        if (!rst && !busy && !offering && next_op < job.ops.size()
+        if (cycle >= 2 && !busy && !offering && next_op < job.ops.size()
                 && job.ops[next_op].before_word <= next_word) {
             const Op& op = job.ops[next_op];
             busy = op.kind;
             aw_done = w_done = ar_done = false;
             idle_left = op.addr;
         }
+        const bool rst = cycle < 2 || busy == 'a';
+        dut->aresetn = !rst;
         const Op* op = busy ? &job.ops[next_op] : nullptr;
-        dut->s_axil_awvalid = busy == 'w' && !aw_done;
-        dut->s_axil_awaddr = busy == 'w' ? op->addr : 0;
-        dut->s_axil_wvalid = busy == 'w' && !w_done;
-        dut->s_axil_wdata = busy == 'w' ? static_cast<uint32_t>(op->data) : 0;
-        dut->s_axil_wstrb = 0xF;
+        const bool writing = busy == 'w' || busy == 'm';
+        dut->s_axil_awvalid = writing && !aw_done;
+        dut->s_axil_awaddr = writing ? op->addr : 0;
+        dut->s_axil_wvalid = writing && !w_done;
+        dut->s_axil_wdata = writing ? static_cast<uint32_t>(op->data) : 0;
+        dut->s_axil_wstrb = busy == 'm' ? (op->data >> 32) & 0xF : 0xF;
         dut->s_axil_bready = 1;
-        dut->s_axil_arvalid = busy == 'r' && !ar_done;
-        dut->s_axil_araddr = busy == 'r' ? op->addr : 0;
+        const bool reading = busy == 'r' || busy == 'b';
+        dut->s_axil_arvalid = reading && !ar_done;
+        dut->s_axil_araddr = reading ? op->addr : 0;
         dut->s_axil_rready = 1;
         // ---- input beat
         if (!busy && !offering && next_word < job.words
@@ -166,7 +175,7 @@ int main(int argc, char** argv) {
             } else if (out_valid) {
                 ++paused_out;
             }
-            if (busy == 'w') {
+            if (writing) {
                 aw_done = aw_done || dut->s_axil_awready;
                 w_done = w_done || dut->s_axil_wready;
                 if (dut->s_axil_bvalid) {
@@ -175,9 +184,11 @@ int main(int argc, char** argv) {
                     busy = 0;
                     ++next_op;
                 }
-            } else if (busy == 'r') {
+            } else if (reading) {
                 ar_done = ar_done || dut->s_axil_arready;
-                if (dut->s_axil_rvalid) {
+                if (dut->s_axil_rvalid && busy == 'b' && (dut->s_axil_rdata & 1)) {
+                    ar_done = false;                        // still busy: read again
+                } else if (dut->s_axil_rvalid) {
                     ops_out.push_back(static_cast<uint64_t>(dut->s_axil_rdata)
                                       | (static_cast<uint64_t>(dut->s_axil_rresp) << 32)
                                       | (cycle << 34));
@@ -194,6 +205,10 @@ int main(int argc, char** argv) {
         }
         dut->aclk = 1;
         dut->eval();
+        if (busy == 'a') {                                  // aresetn held low
+            if (idle_left <= 1) { busy = 0; ++next_op; }
+            else --idle_left;
+        }
         idle = (out_valid || rst || offering || busy) ? 0 : idle + 1;
         if (next_word == job.words && next_op == job.ops.size() && idle >= job.drain) {
             status = "done";

@@ -16,6 +16,7 @@ from dptbd.sim import campaign
 from dptbd.sim.campaign import (Case, campaign_task, campaign_tasks, default_cases,
                                 hostile_frames, make_run, run_campaign)
 from dptbd.sim.coverage.bins import GROUPS, POSITIONS
+from dptbd.sim.axi_runs import AXI_FAULTS
 
 
 def test_default_cases_cover_what_the_campaign_promises():
@@ -29,9 +30,15 @@ def test_default_cases_cover_what_the_campaign_promises():
     assert {0, 8} <= {c.weight_frac_bits for c in cfgs}
     assert any(c.radius == 2 for c in cfgs)
     assert any(c.random_lut for c in cases)
-    assert {"dp", "core", "segmenter"} <= {c.design for c in cases}
+    assert {"dp", "core", "segmenter", "axi"} <= {c.design for c in cases}
     assert all(set(c.faults) >= {"reset", "misaligned_first", "short_frame", "long_frame", "lut",
-                                 "settings"} for c in cases)
+                                 "settings"} for c in cases if c.design != "axi")
+    axi = [c for c in cases if c.design == "axi"]
+    assert all(set(c.faults) == set(AXI_FAULTS) for c in axi)
+    assert any((c.cfg.width, c.cfg.height, c.cfg.segment_frames) == (128, 128, 8) for c in axi)
+    assert {1, 2} <= {c.cfg.radius for c in axi} and 0 in {c.cfg.weight_frac_bits for c in axi}
+    assert any(0 < c.cfg.weight_frac_bits < 8 for c in axi)
+    assert all(c.cfg.k_max > c.cfg.segment_frames for c in axi if c.cfg.width < 128)
     assert any("store_garbage" in c.faults for c in cases)
     assert sum(c.runs * c.words_per_run for c in cases if c.design != "segmenter") >= 10**8
 
@@ -73,13 +80,16 @@ def test_runs_are_seeded_and_draw_their_faults():
 
 
 def test_a_slice_of_the_campaign_is_bit_exact():
-    """>= 10^6 compared words over every default case, the 4-state store checks included."""
-    result = run_campaign(runs_scale=0.01, workers=2, base_seed=11)
+    """>= 10^6 compared words over every default case but the AXI ones (their builds are
+    long; ``tests/sim/test_axi_runs.py`` and the test below run a small AXI case), the
+    4-state store checks included."""
+    cases = [c for c in default_cases() if c.design != "axi"]
+    result = run_campaign(cases, runs_scale=0.01, workers=2, base_seed=11)
     failures = [f"{o.case} seed {o.seed}: {o.report} ({o.notes})" for o in result.outcomes
                 if not o.passed]
     assert not failures, failures
     assert result.words_out >= 10**6
-    assert {c.name for c in result.cases} >= {c.name for c in default_cases()}
+    assert {c.name for c in result.cases} >= {c.name for c in cases}
     assert all(c.runs >= 1 for c in result.cases)
     # functional coverage: the slice (one run per case) fills every bin but the stall bands
     # its runs did not draw, some reset stages and LUT writes by row (the full campaign's)
@@ -94,6 +104,19 @@ def test_a_slice_of_the_campaign_is_bit_exact():
     assert sum(bins[f"reset: {k} word{'s' * (k != 1)} in flight"] > 0 for k in range(15)) >= 7
     assert {g.name for g in GROUPS} - {k.split(":")[0] for k in bins} == {"soft reset",
                                                                          "register"}
+
+
+def test_the_campaign_runs_an_axi_case():
+    """``design="axi"``: the runs come from :mod:`dptbd.sim.axi_runs`, through the pool."""
+    case = Case("axi-12x10", dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
+                                  candidate_count=4, candidate_capacity=6, histogram_bits=6,
+                                  histogram_shift=2), "axi", 20, 3, AXI_FAULTS)
+    result = run_campaign([case], workers=1, x_store=False, base_seed=2)
+    assert [(c.name, c.design, c.runs, c.passed) for c in result.cases] == \
+        [("axi-12x10", "axi", 3, True)]
+    plans = [make_run(case, o.seed) for o in result.outcomes]
+    assert result.words_in == sum(len(p.beats) for p in plans)
+    assert all(o.notes[:-1] == p.notes for o, p in zip(result.outcomes, plans))
 
 
 def test_a_wrong_model_fails_the_campaign(monkeypatch):

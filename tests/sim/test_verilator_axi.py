@@ -18,6 +18,7 @@ from dptbd.sim import verilator as V
 from dptbd.sim.axi_stimulus import clean_beats, with_fault
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.verilator_axi import beat_words, check_axi, run_axi, step_operations
+from helpers.refusals import whole
 from helpers.verilator_harness import built, make_config
 
 try:
@@ -53,12 +54,38 @@ def test_beat_words_and_operations():
     with pytest.raises(ValueError, match=r"^the 'axi' build has its own harness: use "
                                          r"dptbd\.sim\.verilator_axi\.run_axi$"):
         V.run(built(cfg, "axi"), beat_words(beats))
-    with pytest.raises(ValueError, match=r"^operation 'x' before beat 3: kinds are w, r, i and "
-                                         r"beats 0 … 120$"):
+    with pytest.raises(ValueError, match=whole("operation 'x' before beat 3: kinds are w, r, "
+                                               "i, m, b, a and beats 0 … 120")):
         run_axi(built(cfg, "axi"), beats, [(3, "x", 0, 0)])
-    with pytest.raises(ValueError, match=r"^operation 'r' before beat 121: kinds are w, r, i "
-                                         r"and beats 0 … 120$"):
+    with pytest.raises(ValueError, match=whole("operation 'r' before beat 121: kinds are w, r, "
+                                               "i, m, b, a and beats 0 … 120")):
         run_axi(built(cfg, "axi"), beats, [(121, "r", 0, 0)])
+
+
+def test_operations_of_lut_entries_raw_accesses_and_counter_clears():
+    cfg = make_config(**SMALL)
+    regs = constants_namespace(cfg)
+    lut = regs.LUT_BASE + 4 * cfg.lut_address(1, 2)
+    ops, checks = step_operations(
+        cfg, [{"clear_counters": True, "lut_writes": [[1, 2, 256, 0xF], [1, 2, 257, 0xF],
+                                                      [1, 2, 0, 7]],
+               "bus": [["w", 0x301, 5, 0xF, 2], ["r", lut, 2, 0]], "stop": 4},
+              {"writes": [["VIDEO_INPUT", 2], ["IRQ_ENABLE", 2**32 - 1], ["ID", 0]],
+               "stop": 4}, {"soft_reset": "now", "stop": 6}, {"aresetn": 3, "stop": 6}],
+        settle=7, final_reads=[])
+    assert ops == [(0, "i", 7, 0), (0, "w", regs.REG_CONTROL, regs.CONTROL_CLEAR_COUNTERS_MASK),
+                   (0, "m", lut, 256 | 0xF << 32), (0, "m", lut, 257 | 0xF << 32),
+                   (0, "m", lut, 7 << 32), (0, "m", 0x301, 5 | 0xF << 32), (0, "r", lut, 0),
+                   (4, "w", regs.REG_VIDEO_INPUT, 2), (4, "w", regs.REG_IRQ_ENABLE, 2**32 - 1),
+                   (4, "w", regs.REG_ID, 0),
+                   (4, "w", regs.REG_CONTROL, regs.CONTROL_SOFT_RESET_MASK),
+                   (4, "b", regs.REG_STATUS, 0), (6, "i", 7, 0), (6, "a", 3, 0),
+                   (6, "i", 7, 0)]
+    assert checks == [("write", "CONTROL", 0), ("write", "LUT[1, 2]", 0),
+                      ("write", "LUT[1, 2]", 2), ("write", "LUT[1, 2]", 2),
+                      ("write", "0x301", 2), ("bus-read", f"{lut:#05x}", (2, 0)),
+                      ("write", "VIDEO_INPUT", 2), ("write", "IRQ_ENABLE", 0),
+                      ("write", "ID", 2), ("write", "CONTROL", 0), ("wait", "STATUS", 4)]
 
 
 def scene(cfg, seed):
@@ -122,3 +149,12 @@ def test_long_run_128x128_hundred_frames():
     assert result.passed, result.report()
     assert all(result.reads[f"FAULT_{k.upper()}"] == 2 for k in FAULTS)
     assert result.reads["FRAMES"] >= 90 and result.board.records_expected > 100
+
+
+def test_a_run_without_lists():
+    """One frame of a K = 2 build: no list; nothing sent, nothing expected."""
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 1, seed=1))
+    result = check_axi(built(cfg, "axi"), beats, [{"stop": len(beats)}])
+    assert result.passed, result.report()
+    assert result.board.lists == [] and len(result.run.out_words) == 0

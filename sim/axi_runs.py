@@ -1,0 +1,424 @@
+"""Random runs of the AXI top level ``dptbd_axi`` for the verification campaign
+(:mod:`dptbd.sim.campaign`, ``Case(design="axi")``), each drawn from its seed only.
+
+:func:`draw_run` draws, from the seed,
+
+* a video stream: :func:`~dptbd.sim.campaign.hostile_frames` cut into stretches of 1–4
+  frames, about a quarter of them (two frames or more) carrying one frame-sync fault of a
+  class drawn from :data:`~dptbd.sim.axi_stimulus.FAULT_KINDS`
+  (:func:`~dptbd.sim.axi_stimulus.with_fault`);
+* input gap and output back-pressure densities, each uniform in [0, 0.7] (a quarter of the
+  runs at full speed), as the campaign's other cases;
+* steps (the bench's vocabulary, :func:`dptbd.sim.verilator_axi.step_operations`) at beats
+  drawn on frame starts, line starts and anywhere, each with some of: run-time K / n / s
+  writes (n often 0 or C, s mostly near the build's), refused setting writes (below or above every writable
+  register's range, the all-ones word, a strobed byte that takes the word out of range),
+  a write with no strobe (taken, nothing changes), ``VIDEO_INPUT.no_sof`` set and cleared,
+  ``IRQ_ENABLE`` writes, a whole LUT (codes in [0, 2**F], 0 and 2**F included) or single
+  entries (codes 0, 2**F, in between; refused: 2**F + 1, the field's maximum, all ones,
+  strobes other than 1111), unaligned writes and reads, reads of the write-only LUT window
+  and of unmapped addresses, writes to unmapped and read-only registers, soft resets at
+  any beat of a frame (the model restarts at the soft reset's beat), half of them after the
+  pipeline drained (a list left open in a scored frame is then closed by the cut trailer:
+  :class:`~dptbd.sim.axi_stimulus.CutList`), half with words in flight and back-pressure
+  (``soft_reset: "now"``: the lists before it whole, then at most one list's first records
+  closed by the cut trailer; the FRAMES … SATURATED counters are then not checked),
+  ``CONTROL.clear_counters`` (the counters then read 0), reads of every readable register
+  with the value the model gives where it knows it (constants, settings, enables, ERROR,
+  the fault counters, STATUS, CONTROL), W1C clears of ERROR and IRQ_STATUS bits.
+
+:func:`check_run` runs one on Verilator (:func:`dptbd.sim.verilator_axi.check_axi`: every
+candidate word, its ``tuser[0]`` / ``tlast``, every response and checked read, the end
+counters). ``aresetn`` is held low for 1–4 cycles at some steps after the pipeline drained
+(every register but the LUT back to its reset value, the counters 0; a list left open is
+abandoned: its records sent, no trailer). Not drawn: ``aresetn`` with words in flight, and
+``m_axis_state`` (the Verilator build has none; the cocotb bench :mod:`dptbd.sim.tb_axi`
+checks it).
+"""
+
+from __future__ import annotations
+
+import collections
+import dataclasses
+import time
+
+import numpy as np
+
+from dptbd.config import DPConfig
+from dptbd.hw.register_map import FAULTS, register_map
+from dptbd.sim.axi_stimulus import FAULT_KINDS, SETTINGS, Beats, clean_beats, with_fault
+
+__all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "AxiPlan", "draw_run", "check_run",
+           "list_classes"]
+
+#: What an AXI case's runs may draw (``Case.faults``): the frame-sync fault classes,
+#: soft resets, ``aresetn`` pulses, run-time settings (with refused values,
+#: ``VIDEO_INPUT``, ``IRQ_ENABLE``), LUT writes (whole tables, single entries, refused codes
+#: and strobes), refused bus accesses, counter clears.
+AXI_FAULTS = (*FAULT_KINDS, "soft_reset", "aresetn", "settings", "lut", "bus",
+              "clear_counters")
+
+#: What a run's steps do besides the checked reads, counted in :attr:`AxiPlan.drawn`.
+ACTIONS = ("settings", "no_strobe", "no_sof", "irq_enable", "lut_table", "lut_entry",
+           "soft_reset", "soft_reset_now", "aresetn", "clear_counters", "w1c_error", "w1c_irq", "check")
+#: The refused accesses, counted in :attr:`AxiPlan.drawn`: a setting out of range, a
+#: setting's strobed byte out of range, a LUT code out of range, a LUT write without all
+#: strobes, an unaligned write / read, a read of the LUT window, a read / write of an
+#: unmapped address, a write to a read-only register.
+REFUSALS = ("setting_range", "setting_strobe", "lut_code", "lut_strobe", "unaligned_write",
+            "unaligned_read", "lut_read", "unmapped_read", "unmapped_write", "read_only_write")
+
+OKAY, SLVERR = 0, 2
+
+
+@dataclasses.dataclass(frozen=True)
+class AxiPlan:
+    """One drawn run: the beats, the steps, the stall densities, what was drawn."""
+
+    beats: Beats
+    steps: list
+    valid_gap: float
+    ready_pause: float
+    notes: tuple
+    drawn: dict                  # ACTIONS and REFUSALS -> how many times
+    pulses: np.ndarray = None    # the frame monitor's pulses (fault_pulse_array)
+
+
+def _stream(cfg: DPConfig, frames: np.ndarray, kinds, rng, drawn
+            ) -> tuple[Beats, list[int], list]:
+    """The frames as beats with faults of ``kinds``; the beats where frames start; the
+    notes."""
+    parts, starts, notes, at, t = [], [], [], 0, 0
+    while t < len(frames):
+        n = int(min(len(frames) - t, rng.integers(1, 5)))
+        if n >= 2 and rng.random() < 0.3 and kinds:
+            kind = kinds[int(rng.integers(0, len(kinds)))]
+            part = with_fault(cfg, frames[t:t + n], kind)
+            drawn[kind] += 1
+            notes.append(f"{kind} at beat {at}")
+        else:
+            part = clean_beats(frames[t:t + n])
+        starts += [at + i for i in np.flatnonzero(part.first)] or [at]
+        parts.append(part)
+        at += len(part)
+        t += n
+    beats = Beats(*(np.concatenate(arrays) for arrays in
+                    zip(*(dataclasses.astuple(part) for part in parts))))
+    return beats, starts, notes
+
+
+def _positions(cfg: DPConfig, n_beats: int, starts: list[int], rng) -> list[int]:
+    """Sorted step boundaries: frame starts, line starts, anywhere."""
+    out = []
+    for _ in range(int(rng.integers(4, 12))):
+        pick = rng.random()
+        if pick < 0.4:
+            out.append(int(starts[int(rng.integers(0, len(starts)))]))
+        elif pick < 0.6:
+            at = int(rng.integers(0, n_beats))
+            out.append(at - at % cfg.width)
+        else:
+            out.append(int(rng.integers(0, n_beats + 1)))
+    return sorted(out)
+
+
+class _Drawer:
+    """Draws the steps' actions, tracking what the registers hold."""
+
+    def __init__(self, cfg: DPConfig, rng, drawn):
+        self.cfg, self.rng, self.drawn = cfg, rng, drawn
+        self.map = register_map(cfg)
+        self.unity = 1 << cfg.weight_frac_bits
+        self.reset_values()
+        mapped = {r.address for r in self.map.registers}
+        lut = self.map.window("LUT")
+        self.unmapped = [a for a in range(0, 1 << self.map.address_bits, 4)
+                         if a not in mapped and not lut.base <= a < lut.end]
+        self.lut = lut
+
+    def reset_values(self):
+        """The writable registers' values after ``aresetn``."""
+        self.values = {name: self.map[name].reset for name in (*SETTINGS, "VIDEO_INPUT",
+                                                                "IRQ_ENABLE")}
+
+    def pick(self, seq):
+        return seq[int(self.rng.integers(0, len(seq)))]
+
+    def settings(self, step):
+        rng, writes = self.rng, step.setdefault("writes", [])
+        for name in rng.permutation(list(SETTINGS))[:int(rng.integers(1, 4))]:
+            lo, hi = self.map[name].fields[0].limits
+            choices = [lo, hi, int(rng.integers(lo, hi + 1))]
+            if name == "HISTOGRAM_SHIFT":        # mostly near the build's s: lists with records
+                s = self.map[name].reset
+                choices += [s, s, max(lo, s - 1), min(hi, s + 1)]
+            value = int(self.pick(choices))
+            writes.append([str(name), value])
+            self.values[name] = value
+        self.drawn["settings"] += 1
+
+    def refused_setting(self, step):
+        name = self.pick([*SETTINGS, "VIDEO_INPUT"])
+        lo, hi = self.map[name].fields[0].limits
+        value = self.pick(([lo - 1] if lo > 0 else []) + [hi + 1, 2**32 - 1])
+        step.setdefault("writes", []).append([name, int(value)])
+        self.drawn["setting_range"] += 1
+
+    def strobed(self, step):
+        """A setting written through one strobed byte: out of range (refused) or no strobe
+        at all (taken, nothing changes)."""
+        name = self.pick([*SETTINGS, "VIDEO_INPUT"])
+        address = self.map[name].address
+        if self.rng.random() < 0.5:
+            lane = int(self.rng.integers(1, 4))
+            assert self.map[name].fields[0].limits[1] < 256
+            step.setdefault("bus", []).append(["w", address, 2**32 - 1, 1 << lane, SLVERR])
+            self.drawn["setting_strobe"] += 1
+        else:
+            data = int(self.rng.integers(0, 2**32))
+            step.setdefault("bus", []).append(["w", address, data, 0, OKAY])
+            self.drawn["no_strobe"] += 1
+
+    def no_sof(self, step):
+        value = 1 - self.values["VIDEO_INPUT"]
+        step.setdefault("writes", []).append(["VIDEO_INPUT", value])
+        self.values["VIDEO_INPUT"] = value
+        self.drawn["no_sof"] += 1
+
+    def irq_enable(self, step):
+        value = int(self.rng.integers(0, 2**32))
+        step.setdefault("writes", []).append(["IRQ_ENABLE", value])
+        self.values["IRQ_ENABLE"] = value & 3
+        self.drawn["irq_enable"] += 1
+
+    def lut_table(self, step):
+        cfg, rng = self.cfg, self.rng
+        codes = rng.integers(0, self.unity + 1, size=(cfg.n_moves + 1, cfg.n_moves))
+        codes.flat[rng.integers(0, codes.size, size=2)] = [0, self.unity]
+        step["lut_codes"] = codes.tolist()
+        self.drawn["lut_table"] += 1
+
+    def lut_entries(self, step):
+        cfg, rng = self.cfg, self.rng
+        top = (1 << cfg.weight_bits) - 1
+        for _ in range(int(rng.integers(1, 5))):
+            p, m = int(rng.integers(0, cfg.n_moves + 1)), int(rng.integers(0, cfg.n_moves))
+            code = int(self.pick([0, self.unity, int(rng.integers(0, self.unity + 1)),
+                                  self.unity + 1, top, 2**32 - 1]))
+            strobe = 0xF if rng.random() < 0.75 else int(self.pick([0, 1, 7, 8, 0xE]))
+            step.setdefault("lut_writes", []).append([p, m, code, strobe])
+            if strobe != 0xF:
+                self.drawn["lut_strobe"] += 1
+            elif code > self.unity:
+                self.drawn["lut_code"] += 1
+            else:
+                self.drawn["lut_entry"] += 1
+
+    def bus(self, step):
+        rng, ops = self.rng, step.setdefault("bus", [])
+        kind = self.pick(REFUSALS[4:])
+        reg = self.pick(self.map.registers)
+        if kind == "unaligned_write":
+            ops.append(["w", reg.address + int(rng.integers(1, 4)),
+                        int(rng.integers(0, 2**32)), 0xF, SLVERR])
+        elif kind == "unaligned_read":
+            ops.append(["r", reg.address + int(rng.integers(1, 4)), SLVERR, 0])
+        elif kind == "lut_read":
+            ops.append(["r", self.lut.base + 4 * int(rng.integers(0, self.lut.entries)),
+                        SLVERR, 0])
+        elif kind == "unmapped_read":
+            ops.append(["r", self.pick(self.unmapped), SLVERR, 0])
+        elif kind == "unmapped_write":
+            ops.append(["w", self.pick(self.unmapped), int(rng.integers(0, 2**32)), 0xF,
+                        SLVERR])
+        else:
+            ro = [r for r in self.map.registers if r.access == "ro"]
+            ops.append(["w", self.pick(ro).address, int(rng.integers(0, 2**32)), 0xF,
+                        SLVERR])
+        self.drawn[kind] += 1
+
+    def check(self, step):
+        """Reads of every readable register: the values known now, the rest filled in by
+        :func:`_fill_checks` (ERROR, fault counters) or left unchecked (None)."""
+        want = {}
+        for reg in self.map.registers:
+            if reg.kind == "constant":
+                want[reg.name] = reg.reset
+            elif reg.name in self.values:
+                want[reg.name] = self.values[reg.name]
+            elif reg.kind in ("pulse", "status"):
+                want[reg.name] = 0               # pulses read 0; no soft reset in progress
+            elif reg.name == "ERROR" or reg.name.startswith("FAULT_"):
+                want[reg.name] = "model"
+            else:
+                want[reg.name] = None
+        step["check"] = want
+        self.drawn["check"] += 1
+
+
+def _fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict]) -> np.ndarray:
+    """ERROR and FAULT_* of every check from the frame monitor's pulses
+    (:func:`~dptbd.sim.verilator_axi.fault_pulse_array`, returned), refused writes, W1C
+    clears and counter clears, in the order :func:`~dptbd.sim.verilator_axi.step_operations`
+    performs them."""
+    from dptbd.sim.verilator_axi import fault_pulse_array
+
+    regmap = register_map(cfg)
+    error = {f.name: f for f in regmap["ERROR"].fields}
+    pulses = fault_pulse_array(cfg, beats, steps)
+    seen = np.cumsum(np.vstack([np.zeros((1, len(FAULTS)), np.int64), pulses]), axis=0)
+    counted_from = 0                                  # beat of the last clear_counters
+    cleared_at = {name: 0 for name in FAULTS}         # beat of each bit's last W1C
+    refused = False
+    unity = 1 << cfg.weight_frac_bits
+    start = 0
+    for step in steps:
+        check = step.get("check") or {}
+        for i, name in enumerate(FAULTS):
+            if check.get(f"FAULT_{name.upper()}") == "model":
+                check[f"FAULT_{name.upper()}"] = int(seen[start, i] - seen[counted_from, i])
+        if check.get("ERROR") == "model":
+            word = sum(error[name].mask for i, name in enumerate(FAULTS)
+                       if seen[start, i] > seen[cleared_at[name], i])
+            check["ERROR"] = word | (error["write_refused"].mask if refused else 0)
+        if step.get("aresetn"):                   # everything but the LUT back to reset
+            counted_from, refused = start, False
+            cleared_at = {name: start for name in FAULTS}
+        if step.get("clear_counters"):
+            counted_from = start
+        for name, value in step.get("writes", []):
+            reg = regmap[name]
+            if reg.kind == "setting":
+                lo, hi = reg.fields[0].limits
+                refused |= not lo <= value <= hi
+        for p, m, code, strobe in step.get("lut_writes", []):
+            refused |= strobe != 0xF or not 0 <= code <= unity
+        for kind, address, *rest in step.get("bus", []):
+            if kind != "w":
+                continue
+            if address % 4:
+                refused = True
+            elif address == regmap["ERROR"].address:
+                data = rest[0]
+                for i, name in enumerate(FAULTS):
+                    if data >> error[name].lsb & 1:
+                        cleared_at[name] = start
+                if data >> error["write_refused"].lsb & 1:
+                    refused = False
+            elif rest[2] == SLVERR and any(r.address == address and r.kind == "setting"
+                                           for r in regmap.registers):
+                refused = True
+        start = step["stop"]
+    return pulses
+
+
+def draw_run(case, seed: int) -> AxiPlan:
+    """Run ``seed`` of the AXI case ``case`` (a :class:`~dptbd.sim.campaign.Case`)."""
+    from dptbd.sim.campaign import MAX_STALL, hostile_frames
+
+    cfg = case.cfg
+    rng = np.random.default_rng([seed, 0xA71])
+    drawn = collections.Counter({k: 0 for k in (*ACTIONS, *REFUSALS, *FAULT_KINDS)})
+    frames = hostile_frames(cfg, case.frames, rng)
+    allowed = set(case.faults)
+    beats, starts, notes = _stream(cfg, frames, [k for k in FAULT_KINDS if k in allowed], rng,
+                                   drawn)
+    gap, pause = (float(v) for v in rng.uniform(0.0, MAX_STALL, size=2))
+    if rng.random() < 0.25:
+        gap, pause = 0.0, 0.0                           # some runs at full speed
+    d = _Drawer(cfg, rng, drawn)
+    steps = []
+    regmap = d.map
+    for stop in [*_positions(cfg, len(beats), starts, rng), len(beats)]:
+        step = {}
+        if rng.random() < 0.35:
+            d.check(step)
+            if rng.random() < 0.3 and "clear_counters" in allowed:
+                step["clear_counters"] = True
+                drawn["clear_counters"] += 1
+            if rng.random() < 0.5:
+                bits = int(rng.integers(1, 2**32))
+                step.setdefault("bus", []).append(["w", regmap["ERROR"].address, bits, 0xF,
+                                                   OKAY])
+                drawn["w1c_error"] += 1
+        if rng.random() < 0.08 and "aresetn" in allowed:
+            step["aresetn"] = int(rng.integers(1, 5))    # cycles held low
+            d.reset_values()
+            drawn["aresetn"] += 1
+        if rng.random() < 0.2 and "soft_reset" in allowed:
+            if rng.random() < 0.5:
+                step["soft_reset"] = True
+                drawn["soft_reset"] += 1
+            else:                                        # with words still in flight
+                step["soft_reset"] = "now"
+                drawn["soft_reset_now"] += 1
+        for p, action, what in ((0.4, d.settings, "settings"),
+                                (0.3, d.refused_setting, "settings"),
+                                (0.2, d.strobed, "settings"), (0.1, d.no_sof, "settings"),
+                                (0.15, d.irq_enable, "settings"), (0.1, d.lut_table, "lut"),
+                                (0.3, d.lut_entries, "lut")):
+            if rng.random() < p and what in allowed:
+                action(step)
+        for _ in range(int(rng.integers(0, 3)) if "bus" in allowed else 0):
+            d.bus(step)
+        if rng.random() < 0.2:
+            step.setdefault("bus", []).append(["w", regmap["IRQ_STATUS"].address, 3, 0xF,
+                                               OKAY])
+            drawn["w1c_irq"] += 1
+        step["stop"] = stop
+        steps.append(step)
+    last = {"stop": len(beats)}
+    d.check(last)                                        # everything, after the last beat
+    steps.append(last)
+    if any(s.get("clear_counters") for s in steps):      # the counters read 0 right after
+        j = max(i for i, s in enumerate(steps) if s.get("clear_counters"))
+        follow = {"stop": steps[j - 1]["stop"] if j else 0}
+        d.check(follow)
+        follow["check"] = {name: 0 for name in ("FRAMES", "SEGMENTS", "LISTS", "SATURATED",
+                                               *(f"FAULT_{k.upper()}" for k in FAULTS))}
+        steps[j]["stop"], follow["stop"] = follow["stop"], steps[j]["stop"]
+        steps.insert(j + 1, follow)
+    pulses = _fill_checks(cfg, beats, steps)
+    notes = [f"gaps {gap:.2f}, back-pressure {pause:.2f}", f"{len(steps)} steps",
+             *notes, "drawn " + ", ".join(f"{k} {v}" for k, v in drawn.items() if v)]
+    return AxiPlan(beats, steps, gap, pause, tuple(notes), dict(drawn), pulses)
+
+
+def check_run(case, seed: int, root: str | None = None):
+    """Build (cached), run and check run ``seed`` of the AXI case ``case``: a
+    :class:`~dptbd.sim.campaign.RunOutcome` (``words_out``: candidate words and checked
+    register responses)."""
+    from dptbd.sim.campaign import RunOutcome
+    from dptbd.sim.verilator import build
+    from dptbd.sim.verilator_axi import check_axi
+
+    start = time.perf_counter()
+    sim = build(case.cfg, "axi", root=root)
+    plan = draw_run(case, seed)
+    result = check_axi(sim, plan.beats, plan.steps, valid_gap=plan.valid_gap,
+                       ready_pause=plan.ready_pause, seed=seed, pulses=plan.pulses)
+    report = "" if result.passed else f"seed {seed}: {result.report()}"
+    lists = list_classes(case.cfg, result.lists)
+    notes = (*plan.notes, "lists " + ", ".join(f"{k} {v}" for k, v in lists.items()))
+    return RunOutcome(case.name, seed, result.passed, report, len(plan.beats),
+                      len(result.run.out_words) + len(result.run.op_resp), result.run.cycles,
+                      result.run.sim_seconds, time.perf_counter() - start, notes)
+
+
+def list_classes(cfg: DPConfig, lists) -> dict[str, int]:
+    """How many of the expected ``lists`` are empty, hold records below capacity C, are
+    at C without overflow, overflow (more than C pixels reached T), and were cut by a soft
+    reset."""
+    from dptbd.sim.axi_stimulus import CutList
+
+    out = dict(empty=0, some=0, capacity=0, overflow=0, cut=0)
+    for lst in lists:
+        if isinstance(lst, CutList):
+            out["cut"] += 1
+        elif lst.overflow:
+            out["overflow"] += 1
+        elif lst.count == cfg.record_capacity:
+            out["capacity"] += 1
+        else:
+            out["empty" if lst.count == 0 else "some"] += 1
+    return out

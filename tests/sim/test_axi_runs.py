@@ -1,0 +1,312 @@
+"""Random runs of ``dptbd_axi`` (:mod:`dptbd.sim.axi_runs`): drawn from the seed only, every
+refusal class drawn, the model's register values (ERROR, fault counters) and the list a
+soft reset cuts; a few seeds on Verilator, bit-exact, and a wrong model caught."""
+
+from __future__ import annotations
+
+import collections
+import dataclasses
+
+import numpy as np
+import pytest
+
+from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.hw.register_map import FAULTS, register_map
+from dptbd.sim import axi_runs, axi_stimulus, verilator_axi
+from dptbd.sim import verilator as V
+from dptbd.sim.axi_runs import ACTIONS, AXI_FAULTS, REFUSALS, check_run, draw_run
+from dptbd.sim.axi_stimulus import (FAULT_KINDS, SETTINGS, Beats, CutList, clean_beats,
+                                    expected_outputs, fault_counts, with_fault)
+from dptbd.sim.campaign import Case
+from dptbd.sim.candidate_scoreboard import list_words
+from dptbd.hw.candidate_layout import pack_cut_trailer, unpack_candidate
+from dptbd.sim.scenarios import make_frames
+from dptbd.sim.verilator_axi import check_axi, fault_pulse_array
+from helpers.verilator_harness import built, make_config
+
+# the configuration of tests/sim/test_verilator_axi.py (one build): 12 x 10, K = 2 of
+# K_max = 4, n = 4, C = 6, 64 bins of width 4
+SMALL = dict(width=12, height=10, segment_frames=2, max_segment_frames=4, candidate_count=4,
+             candidate_capacity=6, histogram_bits=6, histogram_shift=2)
+CASE = Case("axi-12x10", SMALL, "axi", 30, 4, AXI_FAULTS)
+
+try:
+    V.check_tools()
+    HAVE_TOOLS = True
+except V.ToolMissingError:
+    HAVE_TOOLS = False
+
+needs_verilator = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator and a C++ compiler")
+
+
+def test_a_run_is_its_seed():
+    a, b, c = draw_run(CASE, 5), draw_run(CASE, 5), draw_run(CASE, 6)
+    for name in ("pixel", "first", "last"):
+        assert np.array_equal(getattr(a.beats, name), getattr(b.beats, name))
+    assert a.steps == b.steps and a.notes == b.notes and a.drawn == b.drawn
+    assert (a.valid_gap, a.ready_pause) == (b.valid_gap, b.ready_pause)
+    assert a.steps != c.steps
+    assert a.steps[-1]["stop"] == len(a.beats) and "check" in a.steps[-1]
+
+
+def test_every_class_is_drawn_over_twenty_seeds():
+    drawn = collections.Counter()
+    plans = [draw_run(CASE, seed) for seed in range(20)]
+    for plan in plans:
+        drawn.update(plan.drawn)
+    assert dict(drawn) == {
+        "settings": 67, "no_strobe": 21, "no_sof": 17, "irq_enable": 22, "lut_table": 13,
+        "lut_entry": 51, "soft_reset": 16, "soft_reset_now": 20, "aresetn": 13,
+        "clear_counters": 23, "w1c_error": 26, "w1c_irq": 24, "check": 87,
+        "setting_range": 44, "setting_strobe": 16, "lut_code": 43, "lut_strobe": 32,
+        "unaligned_write": 22, "unaligned_read": 36, "lut_read": 24, "unmapped_read": 31,
+        "unmapped_write": 26, "read_only_write": 26, "sof_unexpected": 9, "frame_short": 10,
+        "frame_long": 9, "line_length": 20}
+    assert set(drawn) == {*ACTIONS, *REFUSALS, *FAULT_KINDS}
+    # every range refusal of every writable register, every refused LUT code and strobe
+    cfg, regmap = CASE.cfg, register_map(CASE.cfg)
+    unity = 1 << cfg.weight_frac_bits
+    refused, codes, strobes = set(), set(), set()
+    for plan in plans:
+        for step in plan.steps:
+            for name, value in step.get("writes", []):
+                lo, hi = (regmap[name].fields[0].limits if regmap[name].kind == "setting"
+                          else (0, 2**32 - 1))
+                if value < lo or value > hi:
+                    refused.add((name, "ones" if value == 2**32 - 1 else
+                                 "below" if value < lo else "above"))
+            for _p, _m, code, strobe in step.get("lut_writes", []):
+                (codes.add(code) if code > unity else None)
+                strobes.add(strobe)
+    assert refused == {(name, side) for name in (*SETTINGS, "VIDEO_INPUT")
+                       for side in ("above", "ones")} | {("SEGMENT_FRAMES", "below")}
+    assert codes == {unity + 1, (1 << cfg.weight_bits) - 1, 2**32 - 1}
+    assert strobes == {0, 1, 7, 8, 0xE, 0xF}
+
+
+def test_a_case_draws_only_its_faults():
+    case = dataclasses.replace(CASE, faults=())
+    drawn = collections.Counter()
+    for seed in range(10):
+        plan = draw_run(case, seed)
+        drawn.update(plan.drawn)
+        assert fault_counts(case.cfg, plan.beats) == {k: 0 for k in FAULTS}
+        assert not any(k in step for step in plan.steps
+                       for k in ("writes", "lut_codes", "lut_writes", "soft_reset",
+                                 "aresetn", "clear_counters"))
+    assert {k for k, v in drawn.items() if v} == {"check", "w1c_error", "w1c_irq"}
+
+
+def fault_scene(cfg):
+    """Two clean frames, two frames of which the first is cut short, one clean frame."""
+    frames = make_frames("two-targets", cfg, 5, seed=2)
+    return (clean_beats(frames[:2]) + with_fault(cfg, frames[2:4], "frame_short")
+            + clean_beats(frames[4:]))
+
+
+def test_error_and_fault_counters_follow_pulses_refusals_and_clears():
+    cfg = make_config(**SMALL)
+    regs = constants_namespace(cfg)
+    beats = fault_scene(cfg)
+    frame = cfg.width * cfg.height
+    model = {"ERROR": "model", "FAULT_FRAME_SHORT": "model", "FAULT_FRAME_LONG": "model"}
+    steps = [{"writes": [["SEGMENT_FRAMES", 0]], "stop": 2 * frame},
+             {"check": dict(model), "bus": [["w", regs.REG_ERROR, regs.ERROR_WRITE_REFUSED_MASK,
+                                             0xF, 0]], "stop": len(beats)},
+             {"check": dict(model), "clear_counters": True, "stop": len(beats)},
+             {"check": dict(model), "stop": len(beats)}]
+    pulses = axi_runs._fill_checks(cfg, beats, steps)
+    assert pulses.sum(axis=0).tolist() == [0, 1, 0, 0]
+    assert [s["check"] for s in steps[1:]] == [
+        {"ERROR": regs.ERROR_WRITE_REFUSED_MASK, "FAULT_FRAME_SHORT": 0, "FAULT_FRAME_LONG": 0},
+        {"ERROR": regs.ERROR_FRAME_SHORT_MASK, "FAULT_FRAME_SHORT": 1, "FAULT_FRAME_LONG": 0},
+        {"ERROR": regs.ERROR_FRAME_SHORT_MASK, "FAULT_FRAME_SHORT": 0, "FAULT_FRAME_LONG": 0}]
+    if HAVE_TOOLS:
+        result = check_axi(built(cfg, "axi"), beats, steps, valid_gap=0.3, ready_pause=0.3)
+        assert result.passed, result.report()
+        assert result.expected_counters["FAULT_FRAME_SHORT"] == 0      # cleared after it
+
+
+def test_the_monitor_restarts_at_a_soft_reset_and_no_sof_hides_frame_long():
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 6, seed=1))
+    mid_line = [{"stop": 414}, {"soft_reset": True, "stop": len(beats)}]
+    line = [{"stop": 432}, {"soft_reset": True, "stop": len(beats)}]
+    assert fault_pulse_array(cfg, beats, mid_line).sum(axis=0).tolist() == [1, 0, 1, 1]
+    assert fault_pulse_array(cfg, beats, line).sum(axis=0).tolist() == [0, 1, 1, 0]
+    no_sof = [{"stop": 400}, {"writes": [["VIDEO_INPUT", 1]], "stop": 432},
+              {"soft_reset": True, "stop": len(beats)}]            # as `line`, no frame_long
+    assert fault_pulse_array(cfg, beats, no_sof).sum(axis=0).tolist() == [0, 1, 0, 0]
+
+
+def test_a_soft_reset_in_a_scored_frame_cuts_its_list():
+    """K = 2: frame 3 is segment 1's scored frame; a soft reset 6 lines into it closes the
+    list of the records sent (rows 3 and 5) with the cut trailer, not counted in LISTS."""
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 6, seed=1))
+    steps = [{"stop": 432}, {"soft_reset": True, "stop": len(beats)}]
+    expected = expected_outputs(cfg, beats, steps, cut_lists=True)
+    assert [isinstance(lst, CutList) for lst in expected.lists] == [False, True, False]
+    cut = expected.lists[1]                             # after segment 0's, before the next
+    assert cut.records[["row", "col"]].tolist() == [(3, 9), (5, 6)] and cut.count == 2
+    assert list_words(cfg, [cut])[0][-1] == pack_cut_trailer(cfg, 2)
+    assert expected.counters()["LISTS"] == len(expected.lists) - 1 == 2
+    assert len(expected_outputs(cfg, beats, steps).lists) == 2          # without cut_lists
+    assert not any(isinstance(lst, CutList) for lst in expected_outputs(
+        cfg, beats, [{"stop": 360}, {"soft_reset": True, "stop": len(beats)}],
+        cut_lists=True).lists)                                          # on a frame boundary
+    if HAVE_TOOLS:
+        result = check_axi(built(cfg, "axi"), beats, steps, valid_gap=0.2, ready_pause=0.4,
+                           seed=3)
+        assert result.passed, result.report()
+
+
+@needs_verilator
+def test_a_few_runs_are_bit_exact():
+    """Four seeds of the small case: every candidate word, flag, response and checked read."""
+    outcomes = [check_run(CASE, seed) for seed in range(4)]
+    assert [o.report for o in outcomes if not o.passed] == []
+    assert sum(o.words_in for o in outcomes) == sum(len(draw_run(CASE, s).beats)
+                                                    for s in range(4))
+    lists = collections.Counter()
+    for o in outcomes:
+        lists.update({k: int(v) for k, v in (part.split(" ") for part in
+                                             o.notes[-1][len("lists "):].split(", "))})
+    assert dict(lists) == LIST_CLASSES
+
+
+LIST_CLASSES = {"empty": 50, "some": 9, "capacity": 1, "overflow": 12, "cut": 3}
+
+
+@needs_verilator
+def test_a_wrong_model_fails_the_run(monkeypatch):
+    """The check can fail: without the cut list, or with a wrong ERROR value, a run fails
+    and its report names the seed and what differs."""
+    seed = next(s for s in range(20) if any(
+        isinstance(lst, CutList) for lst in expected_outputs(
+            CASE.cfg, draw_run(CASE, s).beats, draw_run(CASE, s).steps, cut_lists=True).lists))
+    assert check_run(CASE, seed).passed
+    monkeypatch.setattr(axi_stimulus, "_cut_list", lambda *args: None)
+    outcome = check_run(CASE, seed)
+    assert not outcome.passed and outcome.report.startswith(f"seed {seed}: done; ")
+    monkeypatch.undo()
+    fill = axi_runs._fill_checks
+
+    def wrong_error(cfg, beats, steps):
+        pulses = fill(cfg, beats, steps)
+        steps[-1]["check"]["ERROR"] ^= 1 << 31
+        return pulses
+
+    monkeypatch.setattr(axi_runs, "_fill_checks", wrong_error)
+    outcome = check_run(CASE, 0)
+    assert not outcome.passed and "read ERROR = " in outcome.report
+
+
+def cut_flags(cfg, words):
+    """Per word: the trailer's ``cut`` bit, None for a record."""
+    return [unpack_candidate(cfg, int(w))[1].get("cut") for w in words]
+
+
+@needs_verilator
+def test_a_soft_reset_with_words_in_flight_sends_a_prefix_then_the_cut_trailer(monkeypatch):
+    """At the end of segment 1's scored frame (beat 480): drained, its list is whole; not
+    drained (``"now"``, 90 % back-pressure) the records in the output path are sent, the
+    list is closed by the cut trailer, and the words still in the pipeline are lost."""
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 6, seed=1))
+    sim = built(cfg, "axi")
+    drained = check_axi(sim, beats, [{"stop": 480}, {"soft_reset": True, "stop": len(beats)}],
+                        ready_pause=0.9, seed=5)
+    assert drained.passed, drained.report()
+    assert cut_flags(cfg, drained.run.out_words) == [0, None, None, 0, 0]
+    steps = [{"stop": 480}, {"soft_reset": "now", "stop": len(beats)}]
+    now = check_axi(sim, beats, steps, ready_pause=0.9, seed=5)
+    assert now.passed, now.report()
+    assert cut_flags(cfg, now.run.out_words) == [0, None, None, 1, 0]
+    assert now.run.out_words[3] == pack_cut_trailer(cfg, 2)
+    assert now.expected_counters["FRAMES"] is None       # frames lost in the pipeline
+    real = verilator_axi.run_axi
+
+    def miscounted(*args, **kw):
+        run = real(*args, **kw)
+        words = run.out_words.copy()
+        words[3] = pack_cut_trailer(cfg, 1)
+        return dataclasses.replace(run, out_words=words)
+
+    monkeypatch.setattr(verilator_axi, "run_axi", miscounted)
+    wrong = check_axi(sim, beats, steps, ready_pause=0.9, seed=5)
+    got = [hex(int(w)) for w in now.run.out_words[1:3]] + [hex(pack_cut_trailer(cfg, 1))]
+    assert wrong.problems == [f"before the soft reset at beat 480: after 1 whole lists of 2, "
+                              f"words {got} are not a list's first records closed by the "
+                              f"cut trailer"]
+
+
+def test_aresetn_abandons_the_open_list_and_resets_the_registers():
+    """aresetn 6 lines into segment 1's scored frame (after the pipeline drained): the two
+    records sent stay without a trailer, the next list starts with tuser[0]; K written 3
+    before reads 2 (the build's) after, ERROR (write_refused before) and the counters 0."""
+    cfg = make_config(**SMALL)
+    regs = constants_namespace(cfg)
+    beats = clean_beats(make_frames("two-targets", cfg, 6, seed=1))
+    steps = [{"writes": [["HISTOGRAM_SHIFT", 99]], "stop": 400},        # refused
+             {"writes": [["SEGMENT_FRAMES", 3]], "stop": 432},            # for segment 2
+             {"check": {"ERROR": regs.ERROR_WRITE_REFUSED_MASK, "SEGMENT_FRAMES": 3},
+              "aresetn": 2, "stop": 432},                                 # reads, then low
+             {"check": {"SEGMENT_FRAMES": 2, "ERROR": 0, "FRAMES": 0, "IRQ_ENABLE": 0},
+              "stop": len(beats)}]
+    expected = expected_outputs(cfg, beats, steps, cut_lists=True)
+    abandoned = [lst for lst in expected.lists if isinstance(lst, CutList)]
+    assert [(lst.count, lst.closed) for lst in abandoned] == [(2, False)]
+    assert [len(w) for w in list_words(cfg, abandoned)] == [2]              # no trailer
+    assert expected.counters()["LISTS"] == len(expected.lists) - 1
+    if not HAVE_TOOLS:
+        return
+    result = check_axi(built(cfg, "axi"), beats, steps, ready_pause=0.3, seed=2)
+    assert result.passed, result.report()
+    flags = result.run.out_flags
+    assert [(int(f) & 1, int(f) >> 1) for f in flags[:4]] == [(1, 1), (1, 0), (0, 0), (1, 1)]
+    assert result.reads["ERROR"] == 0
+
+
+def test_the_stream_end_leaves_a_list_open(monkeypatch):
+    """3.6 frames of K = 2: segment 1's scored frame stops after 6 lines; its records so
+    far (rows 3 and 5) are sent, never closed."""
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 4, seed=1))
+    part = Beats(beats.pixel[:432], beats.first[:432], beats.last[:432])
+    expected = expected_outputs(cfg, part, [{"stop": 432}], cut_lists=True)
+    assert len(expected.lists) == 1 and len(expected.open_records) == 2
+    assert [unpack_candidate(cfg, w)[1]["row"] for w in expected.open_records] == [3, 5]
+    assert expected_outputs(cfg, part, [{"stop": 432}]).open_records == ()
+    if not HAVE_TOOLS:
+        return
+    sim = built(cfg, "axi")
+    result = check_axi(sim, part, [{"stop": 432}], ready_pause=0.3)
+    assert result.passed, result.report()
+    real = verilator_axi.run_axi
+    monkeypatch.setattr(verilator_axi, "run_axi", lambda *a, **kw: dataclasses.replace(
+        real(*a, **kw), out_words=real(*a, **kw).out_words[:-1]))
+    wrong = check_axi(sim, part, [{"stop": 432}], ready_pause=0.3)
+    records = [hex(w) for w in expected.open_records]
+    assert wrong.problems == [f"after the last list: 1 words {records[:1]}, the open list's "
+                              f"records {records}"]
+
+
+@needs_verilator
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="model and RTL differ on the settings the segmenter "
+                   "takes at a misaligned segment start after a resync (docs/gateware.md, "
+                   "'Resynchronisation and settings'): the RTL takes the latest DP segment "
+                   "start's, segment_stream those of the DP segment of the word's pixel")
+def test_settings_at_a_misaligned_segment_start_after_a_resync():
+    """K = 1 build (9 x 7, r = 2): frame 0 cut after 1.5 lines (sof_unexpected), K set to 3
+    at beat 25; the segmenter's next segment start (word 63) comes while the DP input has
+    begun its next segment (beat 76, K = 3), so the RTL's segmenter counts K = 3 frames where
+    the model counts 1."""
+    cfg = make_config(width=9, height=7, segment_frames=1, max_segment_frames=3,
+                      candidate_capacity=2, candidate_count=1, histogram_bits=4, radius=2,
+                      weight_frac_bits=3)
+    beats = with_fault(cfg, make_frames("two-targets", cfg, 12, seed=1), "sof_unexpected")
+    steps = [{"stop": 25}, {"writes": [["SEGMENT_FRAMES", 3]], "stop": len(beats)}]
+    result = check_axi(built(cfg, "axi"), beats, steps)
+    assert result.passed, result.report()
