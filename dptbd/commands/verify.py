@@ -5,6 +5,11 @@ golden model, plus the 4-state checks of DPCore's external store on Icarus.
 Prints one line per case (design, runs, words in, words compared, words per second of
 simulation, verdict with the first failing run's report) and the totals; exit 1 on any
 mismatch. ``--json`` writes every run's outcome.
+
+``--formal`` runs the formal proofs instead (:mod:`dptbd.sim.formal`): one line per proof
+and cover run (verdict, mode, depth reached, seconds; on a failure the Amaranth line of the
+assertion and the counterexample trace kept under ``--out``); exit 1 unless every verdict is
+the expected one.
 """
 
 from __future__ import annotations
@@ -33,10 +38,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", type=pathlib.Path, metavar="FILE.json",
                         help="write every run's outcome as JSON (refused if it exists, unless "
                              "--force)")
-    parser.add_argument("--force", action="store_true", help="overwrite --json")
+    parser.add_argument("--force", action="store_true", help="overwrite --json (or --out)")
+    parser.add_argument("--formal", action="store_true",
+                        help="run the formal proofs (SymbiYosys, z3) instead of the campaign")
+    parser.add_argument("--out", type=pathlib.Path, metavar="DIR",
+                        help="with --formal: keep every run (SBY files, logs, counterexample "
+                             "traces) and formal.json in this new folder")
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.formal:
+        return formal_main(args)
+    if args.out is not None:
+        raise ValueError("--out is an option of --formal (the campaign writes --json)")
     from tqdm import tqdm
 
     from dptbd.sim.campaign import default_cases, run_campaign
@@ -96,3 +110,44 @@ def main(args: argparse.Namespace) -> int:
             "runs": [dataclasses.asdict(o) for o in result.outcomes]}, indent=1) + "\n")
         tmp.replace(args.json)
     return 0 if result.passed else 1
+
+
+def formal_main(args: argparse.Namespace) -> int:
+    """``dptbd verify --formal``: every task of :data:`dptbd.sim.formal.tasks.TASKS`."""
+    from dptbd.output_folder import json_text, staged_folder
+    from dptbd.sim.formal.runner import find_tools, run_task
+    from dptbd.sim.formal.tasks import TASKS
+
+    tools = find_tools()
+    print(f"{'task':24s} {'run':6s} {'mode':6s} {'verdict':8s} {'depth':>5s} {'seconds':>8s}")
+
+    def run_all(out):
+        results, ok = [], True
+        for t in TASKS:
+            for r in run_task(t, out=out, tools=tools):
+                expected = t.expect if r.kind == "proof" else "PASS"
+                good = r.verdict == expected
+                ok &= good
+                note = "" if good else f"  expected {expected}"
+                if r.verdict == "FAIL" and expected == "FAIL":
+                    note = "  (known-bad: expected)"
+                print(f"{t.name:24s} {r.kind:6s} {r.mode:6s} {r.verdict:8s} {r.depth:5d} "
+                      f"{r.seconds:8.1f}{note}")
+                for failed in r.failed:
+                    print(f"    {'unreached' if r.kind == 'cover' else 'failed'}: {failed}")
+                if r.trace:
+                    print(f"    trace: {(args.out / r.trace) if args.out else r.trace}")
+                results.append(dict(dataclasses.asdict(r), expected=expected, workdir=None))
+        return results, ok
+
+    if args.out is None:
+        results, ok = run_all(None)
+    else:
+        with staged_folder(args.out, args.force, marker="formal.json",
+                           tool="dptbd verify --formal") as tmp:
+            results, ok = run_all(tmp)
+            (tmp / "formal.json").write_text(json_text(
+                {"tool": "dptbd verify --formal", "passed": ok, "runs": results}, indent=1))
+    print(f"\n{'all verdicts as expected' if ok else 'UNEXPECTED VERDICTS'}: "
+          f"{len(results)} runs of {len(TASKS)} tasks")
+    return 0 if ok else 1
