@@ -58,9 +58,10 @@ def axis_subordinate(m, past, *, tvalid, tready, payload, name):
     _stream_rules(m, past, Assume, tvalid, tready, payload, name=name)
 
 
-def packet_open(m, rst, *, tvalid, tready, tlast, restart=0, name):
-    """A register: a word without ``tlast`` was transferred since the last ``tlast`` (or
-    reset, or ``restart``); and ``open_after``, the same after this cycle's transfer."""
+def packet_open(m, *, tvalid, tready, tlast, name):
+    """``(opened, after)``: ``opened`` is a register, a word without ``tlast`` was
+    transferred since the last ``tlast`` (or the reset; a caller that resets the design in
+    other ways clears it too); ``after`` is the same after this cycle's transfer."""
     opened = Signal(name=f"{name}_open")
     after = Signal(name=f"{name}_open_after")
     take = tvalid & tready

@@ -45,11 +45,13 @@ TASKS = (
     FormalTask("s_axil_registers", "AXI4-Lite subordinate, refused writes, W1C bits",
                h.RegistersHarness, "prove", 4, 12),
     FormalTask("dp_pipeline", "DPPipeline 5x4: states stream, pixels in - words out",
-               h.PipelineHarness, "bmc", 20, 0, fast=False),
+               h.PipelineHarness, "bmc", 20, 20, fast=False),
     FormalTask("dptbd_axi", "dptbd_axi 5x4 with m_axis_state: every port, soft reset over "
-               "AXI4-Lite", h.AXITopHarness, "bmc", 12, 0, fast=False),
+               "AXI4-Lite", h.AXITopHarness, "bmc", 18, 18, fast=False),
     FormalTask("known_bad_m_axis_cand", "a soft reset that drops an offered m_axis_cand word: "
                "must FAIL", h.DroppingCandidatesHarness, "prove", 4, 0, expect="FAIL"),
+    FormalTask("known_bad_s_axil", "an AXI4-Lite write answered before its W: must FAIL",
+               h.EagerAXILiteHarness, "prove", 4, 0, expect="FAIL"),
 )
 
 

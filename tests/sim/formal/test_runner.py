@@ -100,3 +100,10 @@ def test_without_out_nothing_is_left(tmp_path, monkeypatch):
     proof, = run_task(task("known_bad_m_axis_cand"))
     assert proof.verdict == "FAIL" and proof.trace is None and proof.workdir is None
     assert list(tmp_path.iterdir()) == []
+
+
+def test_known_bad_axi_lite_fails_at_the_early_response(tmp_path):
+    proof, = run_task(task("known_bad_s_axil"), out=tmp_path)
+    assert proof.verdict == "FAIL"
+    assert [f.split(": ", 1)[1] for f in proof.failed] == [
+        "s_axil: write response without both AW and W accepted"]
