@@ -7,7 +7,7 @@ statements that show the properties are not vacuous (``Cover``). ``docs/gateware
 from __future__ import annotations
 
 from amaranth.hdl import Assert, Assume, Cover, Module, ResetInserter, Signal
-from amaranth.lib import data, stream, wiring
+from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
@@ -37,7 +37,7 @@ def tiny_config(**overrides) -> DPConfig:
                        "candidate_count": 1, **overrides})
 
 
-def _count(flags) -> "Value":
+def _count(flags):
     """Number of 1 bits of a thermometer code (its count)."""
     total = 0
     for bit in flags:
