@@ -113,8 +113,8 @@ class DroppingCandidatesToAxis(wiring.Component):
     """A deliberately broken ``m_axis_cand`` adapter (known-bad harness): the soft reset
     resets the core at once, dropping a word that is offered and not taken — the violation
     the outside testbench found before :class:`~dptbd.hw.axis_video.CandidatesToAxis`
-    served the soft reset. It does wait for the end of an open list (a request while a list
-    is open is ignored), so only the dropped word breaks a rule."""
+    served the soft reset. It does not cut a list (a request while a list is open, or in a
+    cycle a word is taken, is ignored), so only the dropped word breaks a rule."""
 
     def __init__(self, cfg: DPConfig):
         super().__init__({
