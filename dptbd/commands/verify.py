@@ -46,8 +46,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "traces) and formal.json in this new folder")
 
 
+#: Options of the campaign, refused with --formal: (attribute, option, default).
+CAMPAIGN_OPTIONS = (("runs_scale", "--runs-scale", 1.0), ("seed", "--seed", 0),
+                    ("workers", "--workers", None), ("cases", "--cases", None),
+                    ("list", "--list", False), ("no_x_store", "--no-x-store", False),
+                    ("json", "--json", None))
+
+
 def main(args: argparse.Namespace) -> int:
     if args.formal:
+        given = [option for name, option, default in CAMPAIGN_OPTIONS
+                 if getattr(args, name) != default]
+        if given:
+            raise ValueError(f"{', '.join(given)}: option(s) of the campaign, not of "
+                             f"--formal (which takes --out and --force)")
         return formal_main(args)
     if args.out is not None:
         raise ValueError("--out is an option of --formal (the campaign writes --json)")
@@ -125,11 +137,9 @@ def formal_main(args: argparse.Namespace) -> int:
         results, ok = [], True
         for t in TASKS:
             for r in run_task(t, out=out, tools=tools):
-                expected = t.expect if r.kind == "proof" else "PASS"
-                good = r.verdict == expected
-                ok &= good
-                note = "" if good else f"  expected {expected}"
-                if r.verdict == "FAIL" and expected == "FAIL":
+                ok &= r.as_expected
+                note = "" if r.as_expected else f"  expected {r.expected}"
+                if r.as_expected and r.verdict == "FAIL":
                     note = "  (known-bad: expected)"
                 print(f"{t.name:24s} {r.kind:6s} {r.mode:6s} {r.verdict:8s} {r.depth:5d} "
                       f"{r.seconds:8.1f}{note}")
@@ -137,7 +147,7 @@ def formal_main(args: argparse.Namespace) -> int:
                     print(f"    {'unreached' if r.kind == 'cover' else 'failed'}: {failed}")
                 if r.trace:
                     print(f"    trace: {(args.out / r.trace) if args.out else r.trace}")
-                results.append(dict(dataclasses.asdict(r), expected=expected, workdir=None))
+                results.append(dict(dataclasses.asdict(r), workdir=None))
         return results, ok
 
     if args.out is None:

@@ -39,7 +39,8 @@ class FormalResult:
     FAIL, UNKNOWN or ERROR; ``depth`` the steps reached (induction length, BMC depth, or the
     step of the last cover reached); on FAIL ``trace`` (the counterexample's VCD) and
     ``failed`` (the failing assertions: Amaranth source line and message; for a cover run
-    the unreached covers), ``workdir`` the run's folder when kept."""
+    the unreached covers), ``workdir`` the run's folder when kept; ``expected`` the verdict
+    that counts as a success (FAIL for a known-bad task's proof)."""
 
     task: str
     kind: str
@@ -50,6 +51,12 @@ class FormalResult:
     trace: str | None = None
     failed: tuple = ()
     workdir: str | None = None
+    expected: str = "PASS"
+
+    @property
+    def as_expected(self) -> bool:
+        """The verdict is the expected one (a known-bad task's proof must FAIL)."""
+        return self.verdict == self.expected
 
 
 def _lookup(name: str) -> str | None:
@@ -179,5 +186,6 @@ def run_task(task, *, out: pathlib.Path | None = None, tools: dict | None = None
                 trace=str(pathlib.Path(task.name) / trace)
                 if verdict == "FAIL" and trace is not None and out is not None else None,
                 failed=failed if verdict != "PASS" else (),
-                workdir=str(base) if out is not None else None))
+                workdir=str(base) if out is not None else None,
+                expected=task.expect if kind == "proof" else "PASS"))
         return results

@@ -48,6 +48,10 @@ def test_verify_formal_refuses_missing_tools_and_a_stray_out(capsys, monkeypatch
     assert capsys.readouterr().err == (
         "dptbd verify: error: formal proofs need the executable(s) z3 (PyPI package(s) "
         "z3-solver); install them with pip install 'dptbd[formal]'\n")
+    assert main(["verify", "--formal", "--seed", "3", "--json", str(tmp_path / "a.json")]) == 2
+    assert capsys.readouterr().err == (
+        "dptbd verify: error: --seed, --json: option(s) of the campaign, not of --formal "
+        "(which takes --out and --force)\n")
     assert main(["verify", "--out", str(tmp_path / "f")]) == 2
     assert capsys.readouterr().err == ("dptbd verify: error: --out is an option of --formal "
                                        "(the campaign writes --json)\n")
