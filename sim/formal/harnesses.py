@@ -191,6 +191,8 @@ class StatesHarness(Harness):
             Cover(take & out.tuser[3] & out.tlast),                  # a line closed by fillers
             Cover(restart & take & out.tlast),
             Cover(take & out.tlast & ~out.tuser[3] & opened),
+            # a line closed by W fillers: its words since the last tlast were a multiple of W
+            Cover(take & out.tuser[3] & (dut.signal("column") == 0)),
         ]
 
 

@@ -39,8 +39,9 @@ class FormalResult:
     FAIL, UNKNOWN or ERROR; ``depth`` the steps reached (induction length, BMC depth, or the
     step of the last cover reached); on FAIL ``trace`` (the counterexample's VCD) and
     ``failed`` (the failing assertions: Amaranth source line and message; for a cover run
-    the unreached covers), ``workdir`` the run's folder when kept; ``expected`` the verdict
-    that counts as a success (FAIL for a known-bad task's proof)."""
+    the unreached covers; for ERROR the last lines of SBY's output), ``workdir`` the run's
+    folder when kept; ``expected`` the verdict that counts as a success (FAIL for a
+    known-bad task's proof)."""
 
     task: str
     kind: str
@@ -148,6 +149,8 @@ def _run(tools, workdir: pathlib.Path, name: str, il: str, mode: str, depth: int
     seconds = time.monotonic() - start
     (workdir / f"{name}.out").write_text(proc.stdout + proc.stderr)
     verdict, reached, failed, trace = parse_log(proc.stdout, check_messages(il))
+    if verdict == "ERROR" and not failed:        # SBY itself failed: the tail of its output
+        failed = tuple((proc.stdout + proc.stderr).strip().splitlines()[-5:])
     if trace is not None:
         trace = pathlib.Path(name) / trace         # relative to the task's folder
     return verdict, reached, failed, trace, seconds

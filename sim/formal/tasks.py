@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Callable
 
+from dptbd.config import DPConfig
 from dptbd.sim.formal import harnesses as h
 
 __all__ = ["FormalTask", "TASKS", "task"]
@@ -48,6 +49,14 @@ TASKS = (
                h.PipelineHarness, "bmc", 20, 20, fast=False),
     FormalTask("dptbd_axi", "dptbd_axi 5x4 with m_axis_state: every port, soft reset over "
                "AXI4-Lite", h.AXITopHarness, "bmc", 18, 18, fast=False),
+    # the same proofs on the default build (128 x 128, C = 66): k-induction does not depend
+    # on the counters' widths; the covers (lines of 128 words) run on the small build above
+    FormalTask("m_axis_cand_128", "m_axis_cand on the default 128x128 build",
+               lambda: h.CandidatesHarness(DPConfig()), "prove", 4, 0),
+    FormalTask("m_axis_state_128", "m_axis_state on the default 128x128 build",
+               lambda: h.StatesHarness(DPConfig()), "prove", 4, 0),
+    FormalTask("s_axil_registers_128", "the registers of the default 128x128 build",
+               lambda: h.RegistersHarness(DPConfig()), "prove", 4, 0),
     FormalTask("known_bad_m_axis_cand", "a soft reset that drops an offered m_axis_cand word: "
                "must FAIL", h.DroppingCandidatesHarness, "prove", 4, 0, expect="FAIL"),
     FormalTask("known_bad_s_axil", "an AXI4-Lite write answered before its W: must FAIL",

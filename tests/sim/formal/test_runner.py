@@ -107,3 +107,12 @@ def test_known_bad_axi_lite_fails_at_the_early_response(tmp_path):
     assert proof.verdict == "FAIL"
     assert [f.split(": ", 1)[1] for f in proof.failed] == [
         "s_axil: write response without both AW and W accepted"]
+
+
+def test_an_sby_error_reports_the_tail_of_its_output(tmp_path):
+    fake = tmp_path / "sby"
+    fake.write_text("#!/bin/sh\necho 'one'\necho 'sby: boom' >&2\nexit 1\n")
+    fake.chmod(0o755)
+    tools = {name: str(fake) for name in runner.TOOLS}
+    proof, = run_task(task("known_bad_m_axis_cand"), out=tmp_path / "out", tools=tools)
+    assert (proof.verdict, proof.failed, proof.trace) == ("ERROR", ("one", "sby: boom"), None)
