@@ -211,7 +211,9 @@ class StatesToAxis(wiring.Component):
 
     The adapter counts the words since the last ``tlast`` (or reset) modulo W, and the
     fillers complete them to a multiple of W: one line, but after a resync at the input
-    (whose interrupted line has no ``tlast``).
+    (whose interrupted line has no ``tlast``). A line is open whenever a word without
+    ``tlast`` was sent since the last ``tlast``, also when that count is a multiple of W
+    (then W fillers close it).
 
     Members
     -------
@@ -239,10 +241,11 @@ class StatesToAxis(wiring.Component):
         src, out = self.states, self.state
         frame_start = Signal(init=1)           # the next word is pixel (0, 0) of a frame
         column = Signal(range(width))          # words sent in the open line (modulo W)
+        line_open = Signal()                   # a word without tlast sent since the last tlast
         held = Signal()                        # a core word was offered, not taken, last cycle
         passing = ~self.closing | held         # the core's word may be offered
         offer = src.valid & passing
-        fill = self.closing & ~held & (column != 0)          # offer a filler word
+        fill = self.closing & ~held & line_open               # offer a filler word
         word = Signal(state_word_layout(self._cfg))
         user = Signal(len(STATE_TUSER))
         m.d.comb += [
@@ -261,11 +264,12 @@ class StatesToAxis(wiring.Component):
             out.tvalid.eq(offer | fill),
             src.ready.eq(out.tready & passing),
             self.stalled.eq(out.tvalid & ~out.tready),
-            self.closed.eq((~held & (column == 0)) | (out.tvalid & out.tready & out.tlast)),
+            self.closed.eq((~held & ~line_open) | (out.tvalid & out.tready & out.tlast)),
         ]
         m.d.sync += held.eq(offer & ~out.tready)
         with m.If(out.tvalid & out.tready):
-            m.d.sync += column.eq(Mux(out.tlast | (column == width - 1), 0, column + 1))
+            m.d.sync += [column.eq(Mux(out.tlast | (column == width - 1), 0, column + 1)),
+                         line_open.eq(~out.tlast)]
         with m.If(offer & out.tready):
             m.d.sync += frame_start.eq(src.payload.end_of_frame)
         return m

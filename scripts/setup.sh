@@ -32,7 +32,7 @@ if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
   echo "setup: creating .venv with dptbd and its dependencies"
   [ -x .venv/bin/python ] || python3 -m venv .venv
   .venv/bin/python -m pip install -q --upgrade pip
-  .venv/bin/python -m pip install -q -e ".[test,synth]"
+  .venv/bin/python -m pip install -q -e ".[test,synth,formal]"
   touch "$stamp"
 fi
 

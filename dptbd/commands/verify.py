@@ -8,6 +8,11 @@ coverage (:mod:`dptbd.sim.coverage.bins`: every bin the campaign's designs fill,
 whose cases fill it, its hits); exit 1 on any mismatch or any empty bin (named). ``--json``
 writes every run's outcome and the bins. The runs go to the Dask execution layer
 (``--workers``, ``--scheduler``, ``--dashboard``: ``docs/distributed.md``).
+
+``--formal`` runs the formal proofs instead (:mod:`dptbd.sim.formal`): one line per proof
+and cover run (verdict, mode, depth reached, seconds; on a failure the Amaranth line of the
+assertion and the counterexample trace kept under ``--out``); exit 1 unless every verdict is
+the expected one.
 """
 
 from __future__ import annotations
@@ -37,10 +42,31 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", type=pathlib.Path, metavar="FILE.json",
                         help="write every run's outcome as JSON (refused if it exists, unless "
                              "--force)")
-    parser.add_argument("--force", action="store_true", help="overwrite --json")
+    parser.add_argument("--force", action="store_true", help="overwrite --json (or --out)")
+    parser.add_argument("--formal", action="store_true",
+                        help="run the formal proofs (SymbiYosys, z3) instead of the campaign")
+    parser.add_argument("--out", type=pathlib.Path, metavar="DIR",
+                        help="with --formal: keep every run (SBY files, logs, counterexample "
+                             "traces) and formal.json in this new folder")
+
+
+#: Options of the campaign, refused with --formal: (attribute, option, default).
+CAMPAIGN_OPTIONS = (("runs_scale", "--runs-scale", 1.0), ("seed", "--seed", 0),
+                    ("workers", "--workers", None), ("cases", "--cases", None),
+                    ("list", "--list", False), ("no_x_store", "--no-x-store", False),
+                    ("json", "--json", None))
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.formal:
+        given = [option for name, option, default in CAMPAIGN_OPTIONS
+                 if getattr(args, name) != default]
+        if given:
+            raise ValueError(f"{', '.join(given)}: option(s) of the campaign, not of "
+                             f"--formal (which takes --out and --force)")
+        return formal_main(args)
+    if args.out is not None:
+        raise ValueError("--out is an option of --formal (the campaign writes --json)")
     from tqdm import tqdm
 
     from dptbd.sim.campaign import default_cases, run_campaign
@@ -123,3 +149,42 @@ def _print_bins(bins: dict) -> tuple[dict, list[str]]:
     print("\n" + (empty_message(empty) if empty else
                   f"functional coverage: all {len(rows)} bins hit"))
     return {name: hits for name, _, hits in rows}, empty
+
+
+def formal_main(args: argparse.Namespace) -> int:
+    """``dptbd verify --formal``: every task of :data:`dptbd.sim.formal.tasks.TASKS`."""
+    from dptbd.output_folder import json_text, staged_folder
+    from dptbd.sim.formal.runner import find_tools, run_task
+    from dptbd.sim.formal.tasks import TASKS
+
+    tools = find_tools()
+    print(f"{'task':24s} {'run':6s} {'mode':6s} {'verdict':8s} {'depth':>5s} {'seconds':>8s}")
+
+    def run_all(out):
+        results, ok = [], True
+        for t in TASKS:
+            for r in run_task(t, out=out, tools=tools):
+                ok &= r.as_expected
+                note = "" if r.as_expected else f"  expected {r.expected}"
+                if r.as_expected and r.verdict == "FAIL":
+                    note = "  (known-bad: expected)"
+                print(f"{t.name:24s} {r.kind:6s} {r.mode:6s} {r.verdict:8s} {r.depth:5d} "
+                      f"{r.seconds:8.1f}{note}")
+                for failed in r.failed:
+                    print(f"    {'unreached' if r.kind == 'cover' else 'failed'}: {failed}")
+                if r.trace:
+                    print(f"    trace: {(args.out / r.trace) if args.out else r.trace}")
+                results.append(dict(dataclasses.asdict(r), workdir=None))
+        return results, ok
+
+    if args.out is None:
+        results, ok = run_all(None)
+    else:
+        with staged_folder(args.out, args.force, marker="formal.json",
+                           tool="dptbd verify --formal") as tmp:
+            results, ok = run_all(tmp)
+            (tmp / "formal.json").write_text(json_text(
+                {"tool": "dptbd verify --formal", "passed": ok, "runs": results}, indent=1))
+    print(f"\n{'all verdicts as expected' if ok else 'UNEXPECTED VERDICTS'}: "
+          f"{len(results)} runs of {len(TASKS)} tasks")
+    return 0 if ok else 1

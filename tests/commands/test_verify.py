@@ -82,3 +82,48 @@ def test_verify_command_passes_when_every_bin_is_hit(capsys, monkeypatch):
     text = capsys.readouterr().out
     assert "reset: 0 words in flight" in text
     assert text.rstrip().endswith("functional coverage: all 2 bins hit")
+
+
+def test_verify_formal_refuses_missing_tools_and_a_stray_out(capsys, monkeypatch, tmp_path):
+    from dptbd.sim.formal import runner
+
+    monkeypatch.setattr(runner, "_lookup", lambda name: None if name == "z3" else name)
+    assert main(["verify", "--formal"]) == 2
+    assert capsys.readouterr().err == (
+        "dptbd verify: error: formal proofs need the executable(s) z3 (PyPI package(s) "
+        "z3-solver); install them with pip install 'dptbd[formal]'\n")
+    assert main(["verify", "--formal", "--seed", "3", "--json", str(tmp_path / "a.json")]) == 2
+    assert capsys.readouterr().err == (
+        "dptbd verify: error: --seed, --json: option(s) of the campaign, not of --formal "
+        "(which takes --out and --force)\n")
+    assert main(["verify", "--out", str(tmp_path / "f")]) == 2
+    assert capsys.readouterr().err == ("dptbd verify: error: --out is an option of --formal "
+                                       "(the campaign writes --json)\n")
+
+
+def test_verify_formal_prints_the_table_and_keeps_the_trace(capsys, monkeypatch, tmp_path):
+    """Two tasks through the real CLI: a proof that passes and the known-bad harness, whose
+    FAIL is the expected verdict (exit 0); its trace is kept under --out."""
+    from dptbd.sim.formal import tasks
+
+    monkeypatch.setattr(tasks, "TASKS", tuple(t for t in tasks.TASKS if t.name in
+                                              ("m_axis_cand", "known_bad_m_axis_cand")))
+    out = tmp_path / "formal"
+    assert main(["verify", "--formal", "--out", str(out)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].split() == ["task", "run", "mode", "verdict", "depth", "seconds"]
+    rows = [line.split() for line in lines[1:] if line and not line.startswith(" ")]
+    assert [r[:5] for r in rows[:3]] == [["m_axis_cand", "proof", "prove", "PASS", "4"],
+                                         ["m_axis_cand", "cover", "cover", "PASS", "3"],
+                                         ["known_bad_m_axis_cand", "proof", "prove", "FAIL", "4"]]
+    assert lines[-1] == "all verdicts as expected: 3 runs of 2 tasks"
+    failed = [line.strip() for line in lines if line.startswith("    failed: ")]
+    assert failed[0].endswith(": m_axis_cand: tvalid dropped before the handshake")
+    trace = [line.split("trace: ")[1] for line in lines if line.startswith("    trace: ")]
+    assert trace == [str(out / "known_bad_m_axis_cand/proof/engine_0/trace.vcd")]
+    assert (out / "known_bad_m_axis_cand/proof/engine_0/trace.vcd").is_file()
+    data = json.loads((out / "formal.json").read_text())
+    assert data["tool"] == "dptbd verify --formal" and data["passed"] is True
+    assert [(r["task"], r["kind"], r["verdict"], r["expected"]) for r in data["runs"]] == [
+        ("m_axis_cand", "proof", "PASS", "PASS"), ("m_axis_cand", "cover", "PASS", "PASS"),
+        ("known_bad_m_axis_cand", "proof", "FAIL", "FAIL")]

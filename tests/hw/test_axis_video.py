@@ -427,3 +427,29 @@ def test_soft_reset_closes_the_state_line_in_every_cycle(seed):
         else:
             seen["whole"] += 1
     assert min(seen.values()) > 0, seen
+
+
+def test_soft_reset_after_a_resync_closes_the_line_without_tlast():
+    """After a resync at the input (the interrupted frame's last line: 1 word, no tlast) the
+    words since the last tlast reach W in the middle of the next line; a soft reset there
+    must still close the open line (W fillers, the last with tlast) before the restart: in
+    every cycle of the run, the words taken up to the restart end with tlast. (Found by the
+    formal proof of m_axis_state, ``dptbd verify --formal``: the adapter closed only lines
+    whose word count was not a multiple of W.)"""
+    cfg = config()
+    frames = soft_reset_frames(cfg)
+    cut_user = 1 << STATE_TUSER["cut"]
+    frames[0] = frames[0][:cfg.width + 1]                 # line 2 of frame 0: one word
+    frames[0][-1] = dict(frames[0][-1], end_of_line=0, end_of_frame=0, end_of_segment=0)
+    seen = 0
+    span = len(rtl_state_soft_reset(cfg, frames, at=None, seed=0))
+    for at in range(span):
+        trace = rtl_state_soft_reset(cfg, frames, at, seed=0)
+        check_axis_rules(trace)
+        restart = [c for c, row in enumerate(trace) if row["restart"]][0]
+        taken = [c for c, row in enumerate(trace[:restart + 1])
+                 if row["tvalid"] and row["tready"]]
+        assert not taken or trace[taken[-1]]["tlast"], at
+        fillers = [c for c in taken if trace[c]["tuser"] & cut_user]
+        seen += len(fillers) == cfg.width
+    assert seen > 0                                       # the resync case was hit

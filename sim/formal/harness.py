@@ -1,0 +1,92 @@
+"""The base of every formal harness: a top-level ``Elaboratable`` with its own clock and
+reset, free inputs, and the first cycle a reset.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Assume, ClockDomain, Elaboratable, Fragment, Module, Signal, Value
+from amaranth.lib import wiring
+
+from dptbd.sim.formal.properties import Past
+
+__all__ = ["Harness", "Elaborated"]
+
+
+class Harness(Elaboratable):
+    """A proof harness: :meth:`check` builds the design and its properties.
+
+    ``clk`` and ``rst`` (the design's synchronous reset, ``~aresetn``) are ports; the solver
+    chooses ``rst`` in every cycle but the first, which is a reset. Every input of the
+    design that the harness does not drive is a free port (:meth:`free`,
+    :meth:`free_inputs`), chosen by the solver in every cycle.
+    """
+
+    def __init__(self):
+        self.clk = Signal()
+        self.rst = Signal()
+        self._inputs: list[Signal] = []
+
+    def ports(self) -> list[Signal]:
+        return [self.clk, self.rst, *self._inputs]
+
+    def free(self, shape, name: str) -> Signal:
+        """A new free input port."""
+        signal = Signal(shape, name=name)
+        self._inputs.append(signal)
+        return signal
+
+    def free_inputs(self, m, component: wiring.Component, prefix: str,
+                    skip: tuple = ()) -> None:
+        """Drive every ``In`` port of ``component`` not named in ``skip`` from a free input."""
+        for path, member, value in component.signature.flatten(component):
+            name = "__".join(str(p) for p in path)
+            if member.flow == wiring.In and name not in skip and path[0] not in skip:
+                width = len(Value.cast(value))
+                m.d.comb += value.eq(self.free(width, f"{prefix}__{name}"))
+
+    #: False for a design that defines its own ``sync`` domain (``dptbd_axi`` from its
+    #: ``aclk`` / ``aresetn``): the harness drives those from ``clk`` / ``rst`` instead.
+    defines_sync = True
+
+    def elaborate(self, platform):
+        m = Module()
+        if self.defines_sync:
+            m.domains.sync = sync = ClockDomain("sync")
+            m.d.comb += [sync.clk.eq(self.clk), sync.rst.eq(self.rst)]
+        started = Signal(reset_less=True)
+        m.d.sync += started.eq(1)
+        with m.If(~started):
+            m.d.comb += Assume(self.rst)
+        self.check(m, Past(m, self.rst))
+        return m
+
+    def check(self, m, past) -> None:  # pragma: no cover - every harness overrides it
+        raise NotImplementedError
+
+
+class Elaborated:
+    """A component elaborated once, so that a harness can reach its inner signals: add
+    :attr:`fragment` as the submodule (not the component, which would be elaborated anew)
+    and read :meth:`signal` / :meth:`sub` for invariants that k-induction needs."""
+
+    def __init__(self, component):
+        self.component = component
+        self.fragment = Fragment.get(component, None)
+
+    def sub(self, name: str) -> "Elaborated":
+        """The submodule ``name`` of this component (its elaborated fragment)."""
+        for fragment, sub_name, *_ in self.fragment.subfragments:
+            if sub_name == name:
+                view = Elaborated.__new__(Elaborated)
+                view.component, view.fragment = fragment.origins[0], fragment
+                return view
+        raise KeyError(f"{type(self.component).__name__} has no submodule {name!r}")
+
+    def signal(self, name: str) -> Signal:
+        """The signal ``name`` that this component's own statements drive."""
+        for statements in self.fragment.statements.values():
+            for statement in statements:
+                for signal in statement._lhs_signals():
+                    if signal.name == name:
+                        return signal
+        raise KeyError(f"{type(self.component).__name__} drives no signal {name!r}")

@@ -1,0 +1,73 @@
+"""The formal tasks that ``dptbd verify --formal`` runs: one harness each
+(:mod:`dptbd.sim.formal.harnesses`), its proof mode and depth, its cover depth.
+
+``fast`` tasks run in the default test suite (seconds each); the others only with
+``pytest -m formal`` and in ``dptbd verify --formal``. ``expect`` is the proof's verdict
+that counts as a success: ``"FAIL"`` for the known-bad harness, which shows that the checks
+detect the violation they are written for.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Callable
+
+from dptbd.config import DPConfig
+from dptbd.sim.formal import harnesses as h
+
+__all__ = ["FormalTask", "TASKS", "task"]
+
+
+@dataclasses.dataclass(frozen=True)
+class FormalTask:
+    """One proof: ``mode`` ``"prove"`` (k-induction of length ``depth``, which also checks
+    the base case to that depth) or ``"bmc"`` (every state reachable in ``depth`` steps from
+    reset); ``cover_depth`` 0 runs no cover."""
+
+    name: str
+    description: str
+    build: Callable[[], h.Harness]
+    mode: str
+    depth: int
+    cover_depth: int
+    fast: bool = True
+    expect: str = "PASS"
+
+
+TASKS = (
+    FormalTask("m_axis_cand", "CandidatesToAxis: AXI4-Stream manager, lists end with tlast, "
+               "soft reset", h.CandidatesHarness, "prove", 4, 12),
+    FormalTask("m_axis_state", "StatesToAxis: AXI4-Stream manager, lines closed before the "
+               "core's soft reset", h.StatesHarness, "prove", 4, 12),
+    FormalTask("credit_fifo", "InputCredit + pipeline + ThermometerFIFO: conservation, no "
+               "overflow or underflow", h.CreditFifoHarness, "prove", 4, 12),
+    FormalTask("credit_fifo_order", "the same: words leave in order",
+               lambda: h.CreditFifoHarness(order=True), "bmc", 16, 0, fast=False),
+    FormalTask("s_axil_registers", "AXI4-Lite subordinate, refused writes, W1C bits",
+               h.RegistersHarness, "prove", 4, 12),
+    FormalTask("dp_pipeline", "DPPipeline 5x4: states stream, pixels in - words out",
+               h.PipelineHarness, "bmc", 20, 20, fast=False),
+    FormalTask("dptbd_axi", "dptbd_axi 5x4 with m_axis_state: every port, soft reset over "
+               "AXI4-Lite", h.AXITopHarness, "bmc", 18, 18, fast=False),
+    # the same proofs on the default build (128 x 128, C = 66): k-induction does not depend
+    # on the counters' widths; the covers (lines of 128 words) run on the small build above
+    FormalTask("m_axis_cand_128", "m_axis_cand on the default 128x128 build",
+               lambda: h.CandidatesHarness(DPConfig()), "prove", 4, 0),
+    FormalTask("m_axis_state_128", "m_axis_state on the default 128x128 build",
+               lambda: h.StatesHarness(DPConfig()), "prove", 4, 0),
+    FormalTask("s_axil_registers_128", "the registers of the default 128x128 build",
+               lambda: h.RegistersHarness(DPConfig()), "prove", 4, 0),
+    FormalTask("known_bad_m_axis_cand", "a soft reset that drops an offered m_axis_cand word: "
+               "must FAIL", h.DroppingCandidatesHarness, "prove", 4, 0, expect="FAIL"),
+    FormalTask("known_bad_s_axil", "an AXI4-Lite write answered before its W: must FAIL",
+               h.EagerAXILiteHarness, "prove", 4, 0, expect="FAIL"),
+)
+
+
+def task(name: str) -> FormalTask:
+    """The task called ``name``."""
+    for t in TASKS:
+        if t.name == name:
+            return t
+    raise ValueError(f"unknown formal task {name!r}; the tasks are "
+                     f"{', '.join(t.name for t in TASKS)}")

