@@ -282,15 +282,17 @@ class RunOutcome:
     notes: tuple[str, ...]
 
 
-def check_run(case: Case, seed: int, root: str | None = None) -> RunOutcome:
-    """Build (cached), run and check run ``seed`` of ``case``."""
+def check_run(case: Case, seed: int, root: str | None = None,
+              coverage: str | None = None) -> RunOutcome:
+    """Build (cached), run and check run ``seed`` of ``case``; with ``coverage`` (a file) on
+    the coverage build, its coverage data written there (:mod:`dptbd.sim.coverage`)."""
     from dptbd.sim.rtl_check import check_stream
     from dptbd.sim.verilator import build
 
     start = time.perf_counter()
-    sim = build(case.cfg, case.design, root=root)
+    sim = build(case.cfg, case.design, root=root, coverage=coverage is not None)
     words, stim, notes = make_run(case, seed)
-    result = check_stream(sim, words, stim)
+    result = check_stream(sim, words, stim, coverage=coverage)
     return RunOutcome(case.name, seed, result.passed, result.report, result.words_in,
                       result.words_out, result.raw.cycles, result.raw.sim_seconds,
                       time.perf_counter() - start, tuple(notes))

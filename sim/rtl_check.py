@@ -135,7 +135,7 @@ def _padding(cfg: DPConfig, runs) -> np.ndarray:
 
 
 def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = Stimulus(),
-                 *, trace=None) -> CheckResult:
+                 *, trace=None, coverage=None) -> CheckResult:
     """Run ``words`` through ``sim`` with ``stimulus`` and compare every output word.
 
     Parameters
@@ -147,6 +147,8 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
     stimulus : Stimulus
     trace : path, optional
         FST waveform (a build with ``waves=True``).
+    coverage : path, optional
+        The run's coverage data (a build with ``coverage=True``).
     """
     cfg = sim.cfg
     writes = [(int(i), a, c) for i, codes in stimulus.lut_changes
@@ -155,7 +157,8 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
                 for i, entry in stimulus.settings_changes]
     raw = run(sim, words, valid_gap=stimulus.valid_gap, ready_pause=stimulus.ready_pause,
               seed=stimulus.seed, resets=stimulus.resets, lut_writes=writes,
-              settings=settings, store_init=stimulus.store_init, trace=trace)
+              settings=settings, store_init=stimulus.store_init, trace=trace,
+              coverage=coverage)
     accepted = raw.accept_cycles != NEVER
     n_in = int(np.count_nonzero(accepted))
     pixels, first = split_words(cfg, np.asarray(words)[:n_in])

@@ -112,12 +112,15 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
 
 def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: float = 0.0,
             ready_pause: float = 0.0, seed: int = 1, drain: int | None = None,
-            max_cycles: int | None = None) -> AxiRun:
+            max_cycles: int | None = None, coverage=None) -> AxiRun:
     """Stream ``beats`` through a ``design="axi"`` build with the operations ``ops``
     (``(beat index, "w" | "r" | "i", address or idle cycles, data)``, performed in order
-    before that beat is offered; see the harness's header)."""
+    before that beat is offered; see the harness's header); ``coverage``: write the run's
+    coverage data to that file (a build with ``coverage=True``)."""
     if sim.design != "axi":
         raise ValueError(f"run_axi needs a build of design 'axi', got {sim.design!r}")
+    if coverage is not None and not sim.coverage:
+        raise ValueError("coverage needs a build made with coverage=True")
     valid_gap = _check_probability("valid_gap", valid_gap)
     ready_pause = _check_probability("ready_pause", ready_pause)
     words = beat_words(beats)
@@ -137,6 +140,8 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
                  f"ready_pause {ready_pause!r}", f"seed {int(seed)}",
                  f"max_cycles {int(max_cycles)}", f"drain {int(drain)}"]
         lines += [f"op {int(i)} {k} {int(a)} {int(d)}" for i, k, a, d in ops]
+        if coverage is not None:
+            lines.append(f"coverage {pathlib.Path(coverage).resolve()}")
         (job / "job.txt").write_text("\n".join(lines) + "\n")
         out = subprocess.run([str(sim.executable), str(job)], capture_output=True, text=True,
                              check=False)
@@ -193,14 +198,16 @@ def _flag_problems(cfg, lists, flags: np.ndarray) -> list[str]:
 
 
 def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
-              valid_gap: float = 0.0, ready_pause: float = 0.0, seed: int = 1) -> AxiCheck:
+              valid_gap: float = 0.0, ready_pause: float = 0.0, seed: int = 1,
+              coverage=None) -> AxiCheck:
     """Run the bench's ``steps`` on Verilator and score everything (see the module doc)."""
     cfg = sim.cfg
     expected = expected_outputs(cfg, beats, steps)
     faults = fault_counts(cfg, beats)
     final = {**expected.counters(), **{f"FAULT_{k.upper()}": v for k, v in faults.items()}}
     ops, checks = step_operations(cfg, steps, settle_cycles(sim, ready_pause), list(final))
-    run = run_axi(sim, beats, ops, valid_gap=valid_gap, ready_pause=ready_pause, seed=seed)
+    run = run_axi(sim, beats, ops, valid_gap=valid_gap, ready_pause=ready_pause, seed=seed,
+                  coverage=coverage)
     board = CandidateScoreboard(cfg, expected.lists)
     board.receive_array(run.out_words)
     problems = _flag_problems(cfg, expected.lists, run.out_flags[:board.count])
