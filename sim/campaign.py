@@ -261,8 +261,19 @@ def make_run(case: Case, seed: int):
     settings = _settings_changes(cfg, len(words), rng) if "settings" in case.faults else ()
     if settings:
         notes.append(f"settings (K, n, s) rewritten before words {[i for i, _ in settings]}")
+    stray = ()
+    span = 1 << (cfg.lut_entries - 1).bit_length()
+    if "lut" in case.faults and span > cfg.lut_entries:
+        # a write beyond the table (ignored by the design), from a generator of its own so
+        # the other draws stay as they were
+        extra = np.random.default_rng([seed, 0x5742])
+        stray = ((int(extra.integers(0, len(words) + 1)),
+                  int(extra.integers(cfg.lut_entries, span)), int(extra.integers(0, unity + 1))),)
+        notes.append(f"LUT write beyond the table (address {stray[0][1]}) before word "
+                     f"{stray[0][0]}")
     stim = Stimulus(valid_gap=gap, ready_pause=pause, seed=int(seed), resets=tuple(resets),
-                    lut_changes=tuple(luts), store_init=store, settings_changes=settings)
+                    lut_changes=tuple(luts), store_init=store, settings_changes=settings,
+                    stray_lut_writes=stray)
     notes.insert(0, f"gaps {gap:.2f}, back-pressure {pause:.2f}")
     assert all(c < cycle_budget(len(words), gap, pause, 0) for c, _ in resets)
     return words, stim, notes

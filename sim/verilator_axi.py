@@ -73,9 +73,11 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
                     ) -> tuple[list[tuple], list[tuple]]:
     """The harness operations of the bench's ``steps`` and, per w/r operation, what to
     check: ``("write", name, expected response)`` or ``("read", name, expected value or
-    None)``. Each step waits ``settle`` cycles before its ``check`` reads or soft reset (as
-    :mod:`dptbd.sim.tb_axi` does), then writes; ``final_reads`` are read after the last beat
-    and ``settle`` idle cycles."""
+    None)``, or ``("refused read", address, None)``. Each step waits ``settle`` cycles
+    before its ``check`` reads or soft reset (as :mod:`dptbd.sim.tb_axi` does), then writes;
+    its ``refused`` accesses (``[["w" | "r", byte address, data], ...]``: unaligned or
+    unmapped addresses, a LUT read, a LUT code out of range) must be answered SLVERR;
+    ``final_reads`` are read after the last beat and ``settle`` idle cycles."""
     regs = constants_namespace(cfg)
     ops, checks, start = [], [], 0
 
@@ -99,6 +101,12 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
             hi = getattr(regs, f"{name}_{name}_MAX", None)
             taken = lo is None or lo <= value <= hi
             write(start, getattr(regs, f"REG_{name}"), value, OKAY if taken else SLVERR, name)
+        for kind, address, data in step.get("refused", []):  # must answer SLVERR, change nothing
+            if kind == "w":
+                write(start, int(address), data, SLVERR, f"0x{int(address):x}")
+            else:
+                ops.append((start, "r", int(address), 0))
+                checks.append(("refused read", f"0x{int(address):x}", None))
         if step.get("lut_codes") is not None:
             for p, row in enumerate(step["lut_codes"]):
                 for m, code in enumerate(row):
@@ -217,6 +225,8 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
     for (kind, name, want), data, resp in zip(checks, run.op_data, run.op_resp):
         if kind == "write" and resp != want:
             problems.append(f"write {name}: response {int(resp)}, expected {want}")
+        elif kind == "refused read" and resp != SLVERR:
+            problems.append(f"read {name}: response {int(resp)}, expected {SLVERR}")
         elif kind == "read":
             reads[name] = int(data)
             if resp != OKAY:

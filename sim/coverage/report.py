@@ -148,7 +148,8 @@ def axi_cases() -> list[AxiCase]:
     """The AXI top's coverage runs (the scenario of ``tests/sim/test_verilator_axi.py``)."""
     small = dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
                  candidate_count=4, candidate_capacity=6, histogram_bits=6, histogram_shift=2)
-    return [AxiCase("axi-12x10-k2-faults", small, 4)]
+    return [AxiCase("axi-12x10-k2-faults", small, 8),
+            AxiCase("axi-12x10-e9-saturating", dict(small, energy_bits=9), 4)]
 
 
 def _axi_scene(cfg, seed: int):
@@ -168,9 +169,19 @@ def _axi_scene(cfg, seed: int):
     frame = cfg.width * cfg.height
     every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
     halved = (np.asarray(cfg.weight_codes) // 2).tolist()
-    steps = [{"check": {"ID": regs.MAGIC}, "stop": 2 * frame},
+    from dptbd.hw.register_map import LUT_WINDOW_BASE, register_map
+
+    names = [reg.name for reg in register_map(cfg).registers]
+    top = max(getattr(regs, f"REG_{n}") for n in names)
+    refused = [["w", regs.REG_SEGMENT_FRAMES + 1, 1], ["r", regs.REG_ID + 2, 0],  # unaligned
+               ["w", top + 4, 7], ["r", top + 4, 0],                           # unmapped
+               ["r", LUT_WINDOW_BASE, 0],                                       # a LUT read
+               ["w", LUT_WINDOW_BASE + 4, (1 << cfg.weight_frac_bits) + 1]]    # code > 2**F
+    steps = [{"check": {"ID": regs.MAGIC, **{n: None for n in names if n != "ID"}},
+              "stop": 2 * frame},
              {"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", 6],
-                         ["HISTOGRAM_SHIFT", cfg.energy_bits]], "stop": 4 * frame},
+                         ["HISTOGRAM_SHIFT", cfg.energy_bits]], "refused": refused,
+              "stop": 4 * frame},
              {"check": {"SEGMENTS": 3}, "lut_codes": halved,
               "writes": [["SEGMENT_FRAMES", 3], ["ERROR", regs.ERROR_WRITE_REFUSED_MASK]],
               "stop": starts[2]},
@@ -193,7 +204,7 @@ def check_axi_run(case: AxiCase, seed: int, root, coverage: str):
     sim = build(cfg, "axi", root=root, coverage=True)
     beats, steps = _axi_scene(cfg, seed)
     rng = np.random.default_rng([seed, 0xA71])
-    gap, pause = (float(v) for v in rng.uniform(0.0, 0.5, size=2))
+    gap, pause = float(rng.uniform(0.0, 0.5)), float(rng.uniform(0.0, 0.9))
     result = check_axi(sim, beats, steps, valid_gap=gap, ready_pause=pause, seed=seed,
                        coverage=coverage)
     return RunOutcome(case.name, seed, result.passed, result.report(), len(beats),
