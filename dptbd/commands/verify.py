@@ -61,8 +61,9 @@ def main(args: argparse.Namespace) -> int:
         check_int("--workers", args.workers, 1)
     axi = []
     if args.coverage is not None:
-        from dptbd.sim.coverage.report import axi_cases
+        from dptbd.sim.coverage.report import axi_cases, extra_cases
         axi = axi_cases()
+        cases = cases + extra_cases()
     if args.cases:
         known = {c.name for c in cases} | {a.name for a in axi}
         unknown = [n for n in args.cases if n not in known]

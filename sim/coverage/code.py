@@ -18,7 +18,8 @@ Verilator 5.006 writes three kinds of points, reported as
   ``else`` chain, each case item, each clocked ``always`` and each initialised ``reg``;
 * **branch** (``v_branch``): both outcomes (``if`` and ``else``) of each two-way ``if``;
 * **toggle** (``v_toggle``): each bit of each signal; covered when it changed at least once
-  (so it was seen at 0 and at 1).
+  (so it was seen at 0 and at 1). The report counts the bits of registers only
+  (:func:`registers`): the other signals are functions of registers and inputs.
 
 :func:`source_map` gives each Verilog line the Amaranth ``file:line`` of its statement (the
 ``src`` attributes directly above it; the k-th branch of an ``if`` / ``else if`` chain the
@@ -38,7 +39,8 @@ import subprocess
 from typing import Iterable, Sequence
 
 __all__ = ["KINDS", "Point", "CoverageToolMissing", "find_verilator_coverage", "parse_dat",
-           "read_dat", "merge", "annotate", "source_map", "locate", "relative_src"]
+           "read_dat", "merge", "annotate", "source_map", "locate", "relative_src", "registers",
+           "unescape", "usable"]
 
 #: Verilator's page kinds and the names reported.
 KINDS = {"v_line": "line", "v_branch": "branch", "v_toggle": "toggle"}
@@ -243,6 +245,25 @@ def locate(point: Point, srcmap: dict[int, str]) -> str | None:
         if first in srcmap:
             return srcmap[first]
     return srcmap.get(point.line)
+
+
+_MODULE = re.compile(r"^module \\?([^\s(]+)\s*\(")
+_REG = re.compile(r"^\s*reg\b(?:\s*\[[^\]]*\])?\s*\\?(\S+)\s*=\s*[^;]+;\s*$")
+
+
+def registers(verilog: str) -> set[tuple[str, str]]:
+    """(module, name) of every register of the text: a ``reg`` with an initial value (Yosys
+    writes a flip-flop's reset value there; a process' variable and a memory have none)."""
+    out, module = set(), ""
+    for text in verilog.splitlines():
+        match = _MODULE.match(text)
+        if match:
+            module = match.group(1)
+            continue
+        match = _REG.match(text)
+        if match:
+            out.add((module, match.group(1)))
+    return out
 
 
 def unescape(name: str) -> str:

@@ -10,10 +10,11 @@ class, register writes refused and taken, a LUT rewrite, a soft reset — scored
 
 How points add up (:func:`summarise`): a **line** or **branch** point is named by its
 design, Verilog module (the Amaranth hierarchy), kind, Amaranth ``file:line`` and what
-(``if``, ``else``, ``case``, …); the points of one name — the same ``m.If`` in several
-processes, or in the builds of several parameter sets of one design — count once, covered
-if any run covered any of them. A **toggle** point is a signal bit of one build (widths and
-Amaranth's internal names differ between parameter sets). Points listed in the exclusion
+(``if``, ``else``, ``case``, …); a **toggle** point, a register bit, by design, module,
+register and bit index. The points of one name — the same ``m.If`` in several processes, or
+in the builds of several parameter sets of one design — count once, covered if any run
+covered any of them (a bit that exists in a wide parameter set only counts there). Points
+listed in the exclusion
 list (:mod:`dptbd.sim.coverage.exclusions`) are counted apart; the figures are covered /
 total outside them.
 """
@@ -36,12 +37,13 @@ from dptbd.sim.coverage.code import (
     locate,
     merge,
     read_dat,
+    registers,
     source_map,
     unescape,
     usable,
 )
 
-__all__ = ["GOALS", "Entry", "Summary", "AxiCase", "axi_cases", "entries", "summarise",
+__all__ = ["GOALS", "Entry", "Summary", "AxiCase", "axi_cases", "extra_cases", "entries", "summarise",
            "run_coverage", "write_report", "format_table"]
 
 #: Goals per design: percent of line, branch and toggle points outside the exclusions.
@@ -67,16 +69,23 @@ class Entry:
 
     @property
     def name(self) -> tuple:
-        if self.kind == "toggle":
-            return (self.design, self.module, self.kind, self.build, self.what)
+        if self.kind == "toggle":                    # a register bit: its name and index
+            return (self.design, self.module, self.kind, "", self.what)
         return (self.design, self.module, self.kind, self.src, self.what)
 
 
 def entries(design: str, build: str, verilog: str, points: Sequence[Point]) -> list[Entry]:
     """The points of one build, located (:func:`~dptbd.sim.coverage.code.locate`)."""
     srcmap, artefacts = source_map(verilog)
-    return [Entry(design, build, p.module, p.kind, locate(p, srcmap) or "",
-                  unescape(p.what), p.line, p.count) for p in usable(points, artefacts)]
+    regs = registers(verilog)
+    out = []
+    for p in usable(points, artefacts):
+        what = unescape(p.what)
+        if p.kind == "toggle" and (p.module, what.split("[")[0]) not in regs:
+            continue                                  # not a register bit
+        out.append(Entry(design, build, p.module, p.kind, locate(p, srcmap) or "", what,
+                         p.line, p.count))
+    return out
 
 
 @dataclasses.dataclass
@@ -144,6 +153,19 @@ class AxiCase:
     design: str = "axi"
 
 
+def extra_cases() -> list:
+    """Coverage runs beyond the campaign's cases (stimulus the campaign's parameter sets
+    cannot give): a segmenter whose energy saturates (B_E = 9 for 8-bit pixels), so the
+    high bits of E and of the weighted sums toggle."""
+    from dptbd.sim.campaign import Case
+
+    every = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
+    return [Case("segmenter-24x16-in8-e9-sat", dict(width=24, height=16, segment_frames=6,
+                                                    input_bits=8, energy_bits=9,
+                                                    candidate_count=3, histogram_bits=6),
+                 "segmenter", 300, 4, every)]
+
+
 def axi_cases() -> list[AxiCase]:
     """The AXI top's coverage runs (the scenario of ``tests/sim/test_verilator_axi.py``)."""
     small = dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
@@ -194,13 +216,12 @@ def check_axi_run(case: AxiCase, seed: int, root, coverage: str):
     """Build (cached), run and check one AXI run on the coverage build."""
     import numpy as np
 
-    from dptbd.config import DPConfig
     from dptbd.sim.campaign import RunOutcome
     from dptbd.sim.verilator import build
     from dptbd.sim.verilator_axi import check_axi
 
     start = time.perf_counter()
-    cfg = DPConfig(**case.config)
+    cfg = _config(case.config)
     sim = build(cfg, "axi", root=root, coverage=True)
     beats, steps = _axi_scene(cfg, seed)
     rng = np.random.default_rng([seed, 0xA71])
@@ -210,6 +231,16 @@ def check_axi_run(case: AxiCase, seed: int, root, coverage: str):
     return RunOutcome(case.name, seed, result.passed, result.report(), len(beats),
                       result.board.count, result.run.cycles, result.run.sim_seconds,
                       time.perf_counter() - start, (f"gaps {gap:.2f}, back-pressure {pause:.2f}",))
+
+
+def _config(fields: dict):
+    """The configuration, its saturation warning silenced (a saturating set is chosen)."""
+    import warnings
+
+    from dptbd.config import DPConfig, EnergyWidthWarning
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        return DPConfig(**fields)
 
 
 def _check_run(case, seed, root, coverage):
@@ -224,7 +255,6 @@ def run_coverage(out: pathlib.Path, cases: Sequence, *, axi: Sequence[AxiCase] =
                  root=None, on_outcome: Callable | None = None):
     """Run ``cases`` and ``axi`` on coverage builds, coverage files into ``out/runs``;
     returns (outcomes, builds: {directory name: (design, build, [dat files])})."""
-    from dptbd.config import DPConfig
     from dptbd.sim.verilator import build
 
     runs_dir = out / "runs"
@@ -232,7 +262,7 @@ def run_coverage(out: pathlib.Path, cases: Sequence, *, axi: Sequence[AxiCase] =
     workers = int(workers or os.cpu_count() or 1)
     jobs, builds = [], {}
     every = [(c, c.cfg, _check_run) for c in cases] + \
-        [(a, DPConfig(**a.config), check_axi_run) for a in axi]
+        [(a, _config(a.config), check_axi_run) for a in axi]
     for i, (case, cfg, fn) in enumerate(every):
         sim = build(cfg, case.design, root=root, coverage=True)
         entry = builds.setdefault(sim.directory.name, (case.design, sim, []))
@@ -352,6 +382,13 @@ def format_table(summary: Summary) -> str:
     return "\n".join(rows)
 
 
+def _verilog(group: Sequence[Entry]) -> str:
+    """Where a name's points are: ``verilog/<build>/…:line`` of the first, and how many more."""
+    first = min(group, key=lambda e: (e.build, e.verilog_line))
+    more = f" and {len(group) - 1} more" if len(group) > 1 else ""
+    return f"Verilog line {first.verilog_line} of `verilog/{first.build}/`{more}"
+
+
 def _markdown(summary: Summary) -> str:
     lines = ["# Code coverage of the RTL", "",
              "Figures are covered / total outside the exclusions "
@@ -377,16 +414,15 @@ def _markdown(summary: Summary) -> str:
             lines += ["Uncovered line and branch points (Amaranth source, what, Verilog):", ""]
             for g in points:
                 e = g[0]
-                where = ", ".join(sorted({f"{x.build}/{x.verilog_line}" for x in g})[:3])
                 lines.append(f"- `{e.src or '?'}` {e.kind} `{e.what}` in `{e.module}` "
-                             f"(Verilog {where})")
+                             f"({_verilog(g)})")
             lines.append("")
         if toggles:
             lines += [f"Signal bits never toggled ({len(toggles)}; Amaranth declaration, "
                       "module, bit):", ""]
             for g in toggles[:400]:
                 e = g[0]
-                lines.append(f"- `{e.src or '?'}` `{e.module}` `{e.what}` ({e.build})")
+                lines.append(f"- `{e.src or '?'}` `{e.module}` `{e.what}` ({_verilog(g)})")
             if len(toggles) > 400:
                 lines.append(f"- … and {len(toggles) - 400} more (coverage.json)")
             lines.append("")

@@ -97,6 +97,12 @@ def test_source_map_names_the_amaranth_line_of_each_statement():
     assert artefacts == {2, 11}
 
 
+def test_registers_are_the_initialised_regs():
+    text = VERILOG + "module \\top.sub (clk);\n  reg [3:0] \\count$2  = 4'h0;\nendmodule\n"
+    assert C.registers(text) == {("top", "$auto$verilog_backend.cc:2355:dump_module$1"),
+                                 ("top", "q"), ("top.sub", "count$2")}
+
+
 def test_locate_a_chain_else_by_its_span_and_drop_the_trigger():
     srcmap, artefacts = C.source_map(VERILOG)
     line_else = C.Point("line", "top", "top.v", 17, 17, "else", "19-20", 0, "k1")
