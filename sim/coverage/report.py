@@ -360,21 +360,23 @@ def _jsonable(summary: Summary) -> dict:
 
 
 def _pct(covered: int, total: int) -> str:
-    return f"{100.0 * covered / total:6.2f} %" if total else "     - "
+    return f"{100.0 * covered / total:6.2f} %" if total else f"{'-':>8s}"
 
 
 def format_table(summary: Summary) -> str:
     """The terminal table: per design, line / branch / toggle against the goals."""
     designs = sorted({d for d, _, _ in summary.counts})
-    rows = [f"{'design':22s} {'line':>20s} {'branch':>20s} {'toggle':>22s}"]
+    rows = [f"{'design':22s} " + " ".join(f"{k + ' (covered/total)':>22s}"
+                                          for k in ("line", "branch", "toggle"))]
     for d in designs:
         cells = []
         for kind in ("line", "branch", "toggle"):
             c, t = summary.figure(d, kind)
             goal = GOALS.get(d, {}).get(kind)
-            ok = "" if goal is None else (" ok" if t and 100.0 * c >= goal * t else " <goal")
+            ok = "" if goal is None or not t else (" ok" if 100.0 * c >= goal * t else " <goal")
             cells.append(f"{_pct(c, t)} {c:>6d}/{t:<6d}{ok}")
-        rows.append(f"{TOP_NAMES.get(d, d):22s} " + " ".join(f"{x:>22s}" for x in cells))
+        rows.append((f"{TOP_NAMES.get(d, d):22s} " + " ".join(f"{x:>22s}" for x in cells))
+                    .rstrip())
     rows.append(f"goals (dptbd_axi, dptbd_seg): line {GOALS['axi']['line']:.0f} %, branch "
                 f"{GOALS['axi']['branch']:.0f} %, toggle {GOALS['axi']['toggle']:.0f} %, "
                 f"outside the exclusions; {len(summary.uncovered)} uncovered line/branch/"
