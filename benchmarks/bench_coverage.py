@@ -24,9 +24,11 @@ import tempfile
 import time
 
 
-def _children_cpu() -> float:
+def _cpu() -> float:
+    """CPU seconds of this process (the Verilog generation, Yosys in-process) and of its
+    finished children (Verilator, make, the C++ compiler, the simulation)."""
     t = os.times()
-    return t.children_user + t.children_system
+    return t.user + t.system + t.children_user + t.children_system
 
 
 def build_and_run(case_name: str, seed: int) -> None:
@@ -40,21 +42,21 @@ def build_and_run(case_name: str, seed: int) -> None:
         tmp = pathlib.Path(tmp)
         figures = {}
         for coverage in (False, True):
-            cpu, start = _children_cpu(), time.perf_counter()
+            cpu, start = _cpu(), time.perf_counter()
             sim = build(case.cfg, case.design, root=tmp / ("cov" if coverage else "plain"),
                         coverage=coverage)
-            wall = time.perf_counter() - start
+            wall, build_cpu = time.perf_counter() - start, _cpu() - cpu
             dat = tmp / "run.dat" if coverage else None
             result = check_stream(sim, words, stim, coverage=dat)
-            figures[coverage] = (wall, _children_cpu() - cpu, result)
+            figures[coverage] = (wall, build_cpu, result)
             print(f"{'coverage' if coverage else 'plain':8s} build of {case.name} "
-                  f"({sim.toplevel}): {wall:7.1f} s wall (C++ and Verilator CPU "
-                  f"{figures[coverage][1]:.1f} s, build and run); run: {result.raw.cycles} "
+                  f"({sim.toplevel}): {wall:7.1f} s wall, {build_cpu:.1f} s CPU; run: "
+                  f"{result.raw.cycles} "
                   f"cycles, {result.raw.cycles_per_second / 1e6:.3f} M cycles/s, "
                   f"{'bit-exact' if result.passed else 'MISMATCH ' + result.report}"
                   + (f", coverage file {dat.stat().st_size / 1e6:.1f} MB" if dat else ""))
-        (pw, _, pr), (cw, _, cr) = figures[False], figures[True]
-        print(f"coverage / plain: build {cw / pw:.2f} x wall, run "
+        (pw, pc, pr), (cw, cc, cr) = figures[False], figures[True]
+        print(f"coverage / plain: build {cw / pw:.2f} x wall, {cc / pc:.2f} x CPU; run "
               f"{pr.raw.cycles_per_second / cr.raw.cycles_per_second:.2f} x slower "
               f"(cycles per second of the harness loop)")
 

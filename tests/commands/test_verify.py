@@ -38,3 +38,22 @@ def test_verify_command_runs_one_case(capsys, tmp_path):
     assert "37x23-k3-in8-e12-f4" in text and "bit-exact" in text and "total:" in text
     data = json.loads(out.read_text())
     assert data["passed"] and data["words_compared"] > 0 and len(data["runs"]) == 1
+
+
+def test_verify_coverage_refuses_an_existing_folder_and_unknown_cases(capsys, tmp_path):
+    existing = tmp_path / "cov"
+    existing.mkdir()
+    assert main(["verify", "--cases", "segmenter-33x17-k2-n3", "--coverage", str(existing)]) == 2
+    assert capsys.readouterr().err == (f"dptbd verify: error: --coverage {existing} exists; pass "
+                                       f"--force to replace it, or choose another folder\n")
+    (existing / "mine.txt").write_text("keep")
+    assert main(["verify", "--cases", "segmenter-33x17-k2-n3", "--coverage", str(existing),
+                 "--force"]) == 2
+    assert capsys.readouterr().err == (
+        f"dptbd verify: error: --coverage {existing} is not the folder of an earlier dptbd "
+        f"verify --coverage run (no coverage.json from it); --force will not replace it\n")
+    assert (existing / "mine.txt").read_text() == "keep"
+    # the coverage run sets are cases of --coverage only
+    assert main(["verify", "--cases", "axi-12x10-k2-faults"]) == 2
+    assert capsys.readouterr().err == ("dptbd verify: error: unknown case(s) axi-12x10-k2-faults; "
+                                       "dptbd verify --list names them\n")
