@@ -72,6 +72,8 @@ def test_excluded_points_count_apart_and_stale_entries_are_reported():
     assert summary.uncovered == []
     assert summary.stale == [(gone, "no such point (the source changed?)"),
                              (reached, "covered: the point is reached")]
+    other = Exclusion("axi", "hw/segmenter.py:999", "branch", None, "why")
+    assert summarise(points, [other]).stale == []           # no axi run: no verdict
     bare = summarise(points)
     assert bare.figure("segmenter", "branch") == (4, 5)
     assert [name for name, _ in bare.uncovered] == [
