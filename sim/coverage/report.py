@@ -203,6 +203,7 @@ def _axi_scene(cfg, seed: int):
                ["r", LUT_WINDOW_BASE, 0],                                       # a LUT read
                ["w", LUT_WINDOW_BASE + 4, (1 << cfg.weight_frac_bits) + 1]]    # code > 2**F
     steps = [{"check": {"ID": regs.MAGIC, **{n: None for n in names if n != "ID"}},
+              "writes": [["CONTROL", regs.CONTROL_CLEAR_COUNTERS_MASK]],   # nothing counted yet
               "stop": 2 * frame},
              {"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", 6],
                          ["HISTOGRAM_SHIFT", cfg.energy_bits]], "refused": refused,
