@@ -55,6 +55,9 @@ def main(args: argparse.Namespace) -> int:
             print(f"{c.name:28s} {c.design:9s} {cfg.describe()}  {c.runs} runs x {c.frames} "
                   f"frames  faults: "
                   f"{', '.join(c.faults) or '-'}{', random LUT' if c.random_lut else ''}")
+        from dptbd.sim.coverage.report import axi_cases, extra_cases
+        for c in [*extra_cases(), *axi_cases()]:
+            print(f"{c.name:28s} {c.design:9s} {c.runs} runs  (--coverage only)")
         return 0
     check_real("--runs-scale", args.runs_scale, 0.0, lo_open=True)
     if args.workers is not None:

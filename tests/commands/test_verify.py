@@ -10,7 +10,9 @@ from dptbd.cli import main
 
 def test_verify_command_lists_and_refuses(capsys, tmp_path):
     assert main(["verify", "--list"]) == 0
-    assert "001-128x128-k8-in12-e16" in capsys.readouterr().out
+    listed = capsys.readouterr().out
+    assert "001-128x128-k8-in12-e16" in listed
+    assert "axi-12x10-k2-faults          axi       8 runs  (--coverage only)\n" in listed
     assert main(["verify", "--cases", "nope"]) == 2
     assert capsys.readouterr().err == ("dptbd verify: error: unknown case(s) nope; dptbd verify "
                                        "--list names them\n")
