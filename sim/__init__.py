@@ -27,6 +27,9 @@ Modules (one line each)
 - ``stimulus``: pixel words and LUT writes, packed with the gateware's layouts.
 - ``scenarios``: integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
 
+Sub-package ``coverage``: code coverage of the RTL (coverage builds' text, Verilator's points
+mapped to the Amaranth source, exclusions, report; ``dptbd verify --coverage``).
+
 From the command line: ``dptbd sim`` (one scene, cycle count, verdict), ``dptbd verify``
 (the campaign) and ``dptbd verilog`` (Verilog + manifest). Tests: ``pytest tests/sim`` (``-m slow`` for the
 long 128 x 128 run). Speed: ``python benchmarks/bench_sim.py``.

@@ -384,19 +384,21 @@ def draw_run(case, seed: int) -> AxiPlan:
     return AxiPlan(beats, steps, gap, pause, tuple(notes), dict(drawn), pulses)
 
 
-def check_run(case, seed: int, root: str | None = None):
+def check_run(case, seed: int, root: str | None = None, coverage: str | None = None):
     """Build (cached), run and check run ``seed`` of the AXI case ``case``: a
     :class:`~dptbd.sim.campaign.RunOutcome` (``words_out``: candidate words and checked
-    register responses)."""
+    register responses); with ``coverage`` (a file) on the coverage build, its coverage
+    data written there."""
     from dptbd.sim.campaign import RunOutcome
     from dptbd.sim.verilator import build
     from dptbd.sim.verilator_axi import check_axi
 
     start = time.perf_counter()
-    sim = build(case.cfg, "axi", root=root)
+    sim = build(case.cfg, "axi", root=root, coverage=coverage is not None)
     plan = draw_run(case, seed)
     result = check_axi(sim, plan.beats, plan.steps, valid_gap=plan.valid_gap,
-                       ready_pause=plan.ready_pause, seed=seed, pulses=plan.pulses)
+                       ready_pause=plan.ready_pause, seed=seed, pulses=plan.pulses,
+                       coverage=coverage)
     report = "" if result.passed else f"seed {seed}: {result.report()}"
     lists = list_classes(case.cfg, result.lists)
     notes = (*plan.notes, "lists " + ", ".join(f"{k} {v}" for k, v in lists.items()))

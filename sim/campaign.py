@@ -323,8 +323,19 @@ def _make_run(case: Case, seed: int, latency: int | None = None):
     settings = _settings_changes(cfg, len(words), rng) if "settings" in case.faults else ()
     if settings:
         notes.append(f"settings (K, n, s) rewritten before words {[i for i, _ in settings]}")
+    stray = ()
+    span = 1 << (cfg.lut_entries - 1).bit_length()
+    if "lut" in case.faults and span > cfg.lut_entries:
+        # a write beyond the table (ignored by the design), from a generator of its own so
+        # the other draws stay as they were
+        extra = np.random.default_rng([seed, 0x5742])
+        stray = ((int(extra.integers(0, len(words) + 1)),
+                  int(extra.integers(cfg.lut_entries, span)), int(extra.integers(0, unity + 1))),)
+        notes.append(f"LUT write beyond the table (address {stray[0][1]}) before word "
+                     f"{stray[0][0]}")
     stim = Stimulus(valid_gap=gap, ready_pause=pause, seed=int(seed), resets=tuple(resets),
-                    lut_changes=tuple(luts), store_init=store, settings_changes=settings)
+                    lut_changes=tuple(luts), store_init=store, settings_changes=settings,
+                    stray_lut_writes=stray)
     notes.insert(0, f"gaps {gap:.2f}, back-pressure {pause:.2f}")
     assert all(c < cycle_budget(len(words), gap, pause, 0) for c, _ in resets)
     return words, stim, notes, tuple(events)
@@ -346,10 +357,13 @@ class RunOutcome:
     bins: dict = dataclasses.field(default_factory=dict, compare=False)
 
 
-def check_run(case: Case, seed: int, root: str | None = None) -> RunOutcome:
-    """Build (cached), run and check run ``seed`` of ``case``, and count its bins. A case
-    that saturates on purpose gives no :class:`~dptbd.config.EnergyWidthWarning` (as
-    :attr:`Case.cfg`), so the workers print none."""
+def check_run(case: Case, seed: int, root: str | None = None,
+              coverage: str | None = None) -> RunOutcome:
+    """Build (cached), run and check run ``seed`` of ``case``, and count its bins; with
+    ``coverage`` (a file) on the coverage build, its coverage data written there
+    (:mod:`dptbd.sim.coverage`). A case that saturates on purpose gives no
+    :class:`~dptbd.config.EnergyWidthWarning` (as :attr:`Case.cfg`), so the workers print
+    none."""
     import warnings
 
     from dptbd.sim.coverage.bins import stream_bins
@@ -358,15 +372,15 @@ def check_run(case: Case, seed: int, root: str | None = None) -> RunOutcome:
 
     if case.design == "axi":
         from dptbd.sim import axi_runs
-        return axi_runs.check_run(case, seed, root)
+        return axi_runs.check_run(case, seed, root, coverage)
 
     start = time.perf_counter()
-    sim = build(case.cfg, case.design, root=root)
+    sim = build(case.cfg, case.design, root=root, coverage=coverage is not None)
     latency = int(sim.manifest.get("dp_latency", sim.latency))
     words, stim, notes, events = _make_run(case, seed, latency)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", EnergyWidthWarning)
-        result = check_stream(sim, words, stim)
+        result = check_stream(sim, words, stim, coverage=coverage)
     bins = stream_bins(case, stim, result, events, latency)
     return RunOutcome(case.name, seed, result.passed, result.report, result.words_in,
                       result.words_out, result.raw.cycles, result.raw.sim_seconds,

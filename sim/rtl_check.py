@@ -58,6 +58,9 @@ class Stimulus:
     settings_changes : tuple of (word index, SegmentSettings)
         Run-time settings driven from just before that input word on (sampled by the
         design at its next segment start).
+    stray_lut_writes : tuple of (word index, address, code)
+        LUT writes to addresses beyond the table (the LUT port is wider than the table),
+        just before that input word: the design ignores them (``hw/weight_lut.py``).
     """
 
     valid_gap: float = 0.0
@@ -67,6 +70,7 @@ class Stimulus:
     lut_changes: tuple[tuple[int, np.ndarray], ...] = ()
     store_init: str = "zero"
     settings_changes: tuple[tuple[int, SegmentSettings], ...] = ()
+    stray_lut_writes: tuple[tuple[int, int, int], ...] = ()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -138,7 +142,7 @@ def _padding(cfg: DPConfig, runs) -> np.ndarray:
 
 
 def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = Stimulus(),
-                 *, trace=None) -> CheckResult:
+                 *, trace=None, coverage=None) -> CheckResult:
     """Run ``words`` through ``sim`` with ``stimulus`` and compare every output word.
 
     Parameters
@@ -150,15 +154,24 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
     stimulus : Stimulus
     trace : path, optional
         FST waveform (a build with ``waves=True``).
+    coverage : path, optional
+        The run's coverage data (a build with ``coverage=True``).
     """
     cfg = sim.cfg
     writes = [(int(i), a, c) for i, codes in stimulus.lut_changes
               for a, c in lut_writes(cfg, codes)]
+    for i, a, c in stimulus.stray_lut_writes:
+        if not cfg.lut_entries <= int(a) < 1 << (cfg.lut_entries - 1).bit_length():
+            raise ValueError(f"a stray LUT write goes beyond the table: address "
+                             f"{cfg.lut_entries} … {(1 << (cfg.lut_entries - 1).bit_length()) - 1}"
+                             f", got {a}")
+        writes.append((int(i), int(a), int(c)))
     settings = [(int(i), *dataclasses.astuple(entry.checked(cfg)))
                 for i, entry in stimulus.settings_changes]
     raw = run(sim, words, valid_gap=stimulus.valid_gap, ready_pause=stimulus.ready_pause,
               seed=stimulus.seed, resets=stimulus.resets, lut_writes=writes,
-              settings=settings, store_init=stimulus.store_init, trace=trace)
+              settings=settings, store_init=stimulus.store_init, trace=trace,
+              coverage=coverage)
     accepted = raw.accept_cycles != NEVER
     n_in = int(np.count_nonzero(accepted))
     pixels, first = split_words(cfg, np.asarray(words)[:n_in])

@@ -96,7 +96,8 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
         lut_writes: Iterable[tuple[int, int, int]] = (),
         settings: Iterable[tuple[int, int, int, int]] = (),
         store_init: str = "zero", drain: int | None = None, max_cycles: int | None = None,
-        trace: str | os.PathLike | None = None) -> RawRun:
+        trace: str | os.PathLike | None = None,
+        coverage: str | os.PathLike | None = None) -> RawRun:
     """Stream ``words`` (packed ``pixels`` payloads) through a build.
 
     Parameters
@@ -127,6 +128,8 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
         Give up after this many cycles (default :func:`cycle_budget`).
     trace : path, optional
         Write an FST waveform (a build with ``waves=True``).
+    coverage : path, optional
+        Write the run's coverage data there (a build with ``coverage=True``).
     """
     if sim.design == "axi":
         raise ValueError("the 'axi' build has its own harness: use "
@@ -140,6 +143,8 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
         raise ValueError(f"store_init must be 'zero' or 'random', got {store_init!r}")
     if trace is not None and not sim.waves:
         raise ValueError("trace needs a build made with waves=True")
+    if coverage is not None and not sim.coverage:
+        raise ValueError("coverage needs a build made with coverage=True")
     resets = sorted((int(c), int(h)) for c, h in resets)
     # stable by word index only: writes before one word keep their order (the last write
     # to an address wins, as lut_changes given for one word in check_stream)
@@ -188,6 +193,8 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
             trace = pathlib.Path(trace).resolve()
             trace.parent.mkdir(parents=True, exist_ok=True)
             lines.append(f"trace {trace}")
+        if coverage is not None:
+            lines.append(f"coverage {pathlib.Path(coverage).resolve()}")
         (job / "job.txt").write_text("\n".join(lines) + "\n")
         start = time.perf_counter()
         out = subprocess.run([str(sim.executable), str(job)], capture_output=True, text=True,

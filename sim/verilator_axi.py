@@ -76,9 +76,11 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
                     ) -> tuple[list[tuple], list[tuple]]:
     """The harness operations of the bench's ``steps`` and, per w/r operation, what to
     check: ``("write", name, expected response)`` or ``("read", name, expected value or
-    None)``. Each step waits ``settle`` cycles before its ``check`` reads or soft reset (as
-    :mod:`dptbd.sim.tb_axi` does), then writes; ``final_reads`` are read after the last beat
-    and ``settle`` idle cycles.
+    None)``, or ``("refused read", address, None)``. Each step waits ``settle`` cycles
+    before its ``check`` reads or soft reset (as :mod:`dptbd.sim.tb_axi` does), then
+    writes; ``final_reads`` are read after the last beat and ``settle`` idle cycles. A step's ``refused`` accesses (``[["w" | "r", byte
+    address, data], ...]``: unaligned or unmapped addresses, a LUT read, a LUT code out of
+    range) must be answered SLVERR.
 
     ``soft_reset`` may be ``"now"``: no settle before it, and then a wait until
     ``STATUS.soft_reset_busy`` reads 0 (check ``("wait", "STATUS", beat)``). ``aresetn``
@@ -121,6 +123,12 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
             limits = reg.fields[0].limits if reg.kind == "setting" else (0, 2**32 - 1)
             taken = reg.access != "ro" and limits[0] <= value <= limits[1]
             write(start, getattr(regs, f"REG_{name}"), value, OKAY if taken else SLVERR, name)
+        for kind, address, data in step.get("refused", []):  # must answer SLVERR, change nothing
+            if kind == "w":
+                write(start, int(address), data, SLVERR, f"0x{int(address):x}")
+            else:
+                ops.append((start, "r", int(address), 0))
+                checks.append(("refused read", f"0x{int(address):x}", None))
         if step.get("lut_codes") is not None:
             for p, row in enumerate(step["lut_codes"]):
                 for m, code in enumerate(row):
@@ -147,14 +155,17 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
 
 def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: float = 0.0,
             ready_pause: float = 0.0, seed: int = 1, drain: int | None = None,
-            max_cycles: int | None = None) -> AxiRun:
+            max_cycles: int | None = None, coverage=None) -> AxiRun:
     """Stream ``beats`` through a ``design="axi"`` build with the operations ``ops``
     (``(beat index, "w" | "r" | "i" | "m" | "b", address or idle cycles, data)``, performed
     in order before that beat is offered; ``"m"`` is a write with ``wstrb`` = data >> 32,
     ``"b"`` reads the address until its bit 0 is 0, ``"a"`` holds ``aresetn`` low for the
-    given cycles; see the harness's header)."""
+    given cycles; see the harness's header); ``coverage``: write the run's coverage data to
+    that file (a build with ``coverage=True``)."""
     if sim.design != "axi":
         raise ValueError(f"run_axi needs a build of design 'axi', got {sim.design!r}")
+    if coverage is not None and not sim.coverage:
+        raise ValueError("coverage needs a build made with coverage=True")
     valid_gap = _check_probability("valid_gap", valid_gap)
     ready_pause = _check_probability("ready_pause", ready_pause)
     words = beat_words(beats)
@@ -174,6 +185,8 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
                  f"ready_pause {ready_pause!r}", f"seed {int(seed)}",
                  f"max_cycles {int(max_cycles)}", f"drain {int(drain)}"]
         lines += [f"op {int(i)} {k} {int(a)} {int(d)}" for i, k, a, d in ops]
+        if coverage is not None:
+            lines.append(f"coverage {pathlib.Path(coverage).resolve()}")
         (job / "job.txt").write_text("\n".join(lines) + "\n")
         out = subprocess.run([str(sim.executable), str(job)], capture_output=True, text=True,
                              check=False)
@@ -234,9 +247,10 @@ def _flag_problems(cfg, lists, flags: np.ndarray) -> list[str]:
 
 def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
               valid_gap: float = 0.0, ready_pause: float = 0.0, seed: int = 1,
-              pulses: np.ndarray | None = None) -> AxiCheck:
+              pulses: np.ndarray | None = None, coverage=None) -> AxiCheck:
     """Run the bench's ``steps`` on Verilator and score everything (see the module doc);
-    ``pulses``: :func:`fault_pulse_array` of these beats and steps if already known."""
+    ``pulses``: :func:`fault_pulse_array` of these beats and steps if already known;
+    ``coverage``: write the run's coverage data to that file."""
     cfg = sim.cfg
     expected = expected_outputs(cfg, beats, steps, cut_lists=True)
     cleared = [j for j, step in enumerate(steps)
@@ -252,7 +266,8 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
     faults = pulses[since:].sum(axis=0)
     final = {**counters, **{f"FAULT_{k.upper()}": int(v) for k, v in zip(FAULTS, faults)}}
     ops, checks = step_operations(cfg, steps, settle_cycles(sim, ready_pause), list(final))
-    run = run_axi(sim, beats, ops, valid_gap=valid_gap, ready_pause=ready_pause, seed=seed)
+    run = run_axi(sim, beats, ops, valid_gap=valid_gap, ready_pause=ready_pause, seed=seed,
+                  coverage=coverage)
     cuts = _undrained_cuts({piece.start for piece in stream_pieces(cfg, steps)}, checks, run)
     if cuts:                            # the counters lose the words in flight there
         final.update({k: None for k in ("FRAMES", "SEGMENTS", "LISTS", "SATURATED")
@@ -275,6 +290,8 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
             if resp != want_resp or (want_value is not None and data != want_value):
                 problems.append(f"read {name} = {int(data)}, response {int(resp)}, expected "
                                 f"{want_value} with response {want_resp}")
+        elif kind == "refused read" and resp != SLVERR:
+            problems.append(f"read {name}: response {int(resp)}, expected {SLVERR}")
         elif kind == "read":
             reads[name] = int(data)
             if resp != OKAY:

@@ -10,6 +10,13 @@ stamp (key and SHA-256) and reuses it; a build directory whose stamp is missing,
 does not match is rebuilt, never reused. A build is made in a temporary directory and
 renamed into place, so an interrupted build leaves nothing half-written behind.
 
+``build(..., coverage=True)`` is the coverage build (:mod:`dptbd.sim.coverage`): Verilator's
+line and toggle points (:data:`COVERAGE_FLAGS`) on the text of
+:func:`dptbd.sim.coverage.source_text.coverage_verilog` (Amaranth's processes kept, each
+decision marked with its Amaranth source line), a key and a directory of its own; each run
+given a ``coverage`` file writes its ``VerilatedCov`` data there. The plain build's key,
+text and flags do not change with it.
+
 Running a build is :mod:`dptbd.sim.verilator` (which re-exports this module's public names).
 Use Debian's ``verilator`` (5.006; ``scripts/setup.sh`` installs it).
 """
@@ -36,6 +43,7 @@ __all__ = [
     "DESIGNS",
     "VERILATOR_FLAGS",
     "CXX_FLAGS",
+    "COVERAGE_FLAGS",
     "HARNESS",
     "ToolMissingError",
     "EXECUTABLE",
@@ -65,6 +73,9 @@ VERILATOR_FLAGS = ("--cc", "--exe", "-O3", "--x-assign", "fast", "--x-initial", 
 #: library (``OPT_GLOBAL``; compiled once per toolchain, below): -O3 rather than
 #: Verilator's default -Os, for simulation speed.
 CXX_FLAGS = ("-O3",)
+#: Verilator flags of the coverage build (added to :data:`VERILATOR_FLAGS`): a point per
+#: branch of every ``if`` / ``case`` (line) and per bit of every signal (toggle).
+COVERAGE_FLAGS = ("--coverage-line", "--coverage-toggle")
 
 HARNESS = pathlib.Path(__file__).resolve().parent / "harness" / "dptbd_harness.cpp"
 #: Designs with a harness of their own (flat AXI ports, register operations):
@@ -133,6 +144,7 @@ class VerilatorBuild(CompiledDesign):
     seconds: float        # wall time of this build() call (generation + compilation, or the cache check)
     cached: bool          # the executable came from the cache
     waves: bool
+    coverage: bool = False   # a coverage build (COVERAGE_FLAGS): runs may write coverage data
 
     @property
     def output(self) -> str:
@@ -146,10 +158,15 @@ def _harness_sources(design: str) -> list[pathlib.Path]:
     return [source, source.with_name("harness_io.h")]
 
 
-def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool) -> str:
+def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
+               coverage: bool = False) -> str:
     from dptbd.hw.flow.source_hash import gateware_hash
 
-    blob = json.dumps({
+    extra = {}                                # the plain build's key unchanged
+    if coverage:                              # its text comes from source_text.py
+        text = pathlib.Path(__file__).resolve().parent / "coverage" / "source_text.py"
+        extra = {"coverage": COVERAGE_FLAGS, "text": _sha256(text)}
+    blob = json.dumps({**extra,
         "config": cfg.to_mapping(), "design": design, "lut_style": lut_style,
         "waves": waves, "gateware": gateware_hash(),
         "harness": hashlib.sha256(b"".join(
@@ -175,7 +192,12 @@ def _stamp_ok(directory: pathlib.Path, key: str) -> dict | None:
     return None
 
 
-def _generate(cfg: DPConfig, design: str, lut_style: str) -> tuple[str, dict]:
+def _generate(cfg: DPConfig, design: str, lut_style: str, coverage: bool = False
+              ) -> tuple[str, dict]:
+    if coverage:
+        from dptbd.sim.coverage.source_text import coverage_text
+        with coverage_text():
+            return _generate(cfg, design, lut_style)
     if design == "axi":
         from dptbd.hw.flow.axi_package import generate_axi_verilog
         if lut_style != "auto":
@@ -191,8 +213,8 @@ def _generate(cfg: DPConfig, design: str, lut_style: str) -> tuple[str, dict]:
 
 
 def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None = None,
-          waves: bool = False, lut_style: str = "auto", verbose: bool = False
-          ) -> VerilatorBuild:
+          waves: bool = False, lut_style: str = "auto", verbose: bool = False,
+          coverage: bool = False) -> VerilatorBuild:
     """Verilate and compile ``design`` for ``cfg``, or reuse the cached executable.
 
     Parameters
@@ -208,6 +230,8 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
         Compile FST tracing in (``run(..., trace=path)``).
     lut_style : str
         The weight LUT's storage (``docs/gateware.md``); the simulation is the same.
+    coverage : bool
+        The coverage build (see the module doc): slower; runs write coverage data.
     """
     if design not in DESIGNS:
         raise ValueError(f"design must be one of {', '.join(DESIGNS)}, got {design!r}")
@@ -216,22 +240,25 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     check_supported(cfg)
     tools = check_tools()
     start = time.perf_counter()
-    key = _build_key(cfg, design, lut_style, waves)
+    key = _build_key(cfg, design, lut_style, waves, coverage)
     root = pathlib.Path(root) if root is not None else default_build_root()
-    directory = root.resolve() / f"{config_name(cfg)}-{design}{'-waves' if waves else ''}-{key[:12]}"
+    kind = ("-waves" if waves else "") + ("-cov" if coverage else "")
+    directory = root.resolve() / f"{config_name(cfg)}-{design}{kind}-{key[:12]}"
     with locked(root.resolve() / ".locks" / (directory.name + ".lock")):
         manifest = _stamp_ok(directory, key)
         cached = manifest is not None
         if not cached:
-            manifest = _compile(cfg, design, lut_style, waves, key, directory, tools, verbose)
+            manifest = _compile(cfg, design, lut_style, waves, key, directory, tools, verbose,
+                                coverage)
     return VerilatorBuild(cfg, design, directory, directory / EXECUTABLE, manifest, key,
-                          time.perf_counter() - start, cached, waves)
+                          time.perf_counter() - start, cached, waves, coverage)
 
 
 def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
-             directory: pathlib.Path, tools: dict, verbose: bool) -> dict:
+             directory: pathlib.Path, tools: dict, verbose: bool, coverage: bool = False
+             ) -> dict:
     toplevel, define, _ = DESIGNS[design]
-    text, manifest = _generate(cfg, design, lut_style)
+    text, manifest = _generate(cfg, design, lut_style, coverage)
     directory.parent.mkdir(parents=True, exist_ok=True)
     tmp = pathlib.Path(tempfile.mkdtemp(prefix=directory.name + ".", dir=directory.parent))
     try:
@@ -247,13 +274,14 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
         if waves:
             trace = ["--trace-fst"]
             defines.append("-DDPTBD_TRACE")
-        cmd = ["verilator", *VERILATOR_FLAGS, *trace, "--top-module", toplevel,
+        cover = list(COVERAGE_FLAGS) if coverage else []
+        cmd = ["verilator", *VERILATOR_FLAGS, *trace, *cover, "--top-module", toplevel,
                "-CFLAGS", " ".join(defines), "-o", EXECUTABLE, "--Mdir", "obj",
                verilog.name, str(HARNESSES.get(design, HARNESS))]
         make = ["make", "-C", "obj", "-f", "Vdut.mk", f"-j{min(2, os.cpu_count() or 1)}",
                 f"OPT_FAST={' '.join(CXX_FLAGS)}", f"OPT_GLOBAL={' '.join(CXX_FLAGS)}"]
         _step(cmd, tmp, verbose, f"verilator ({toplevel}, {design})")
-        runtime = _runtime_dir(directory.parent, tools, waves)
+        runtime = _runtime_dir(directory.parent, tools, waves, coverage)
         reused = _restore_runtime(runtime, tmp / "obj")
         _step(make, tmp, verbose, f"C++ build ({toplevel}, {design})")
         if not reused:
@@ -283,8 +311,10 @@ def _step(cmd: list[str], cwd: pathlib.Path, verbose: bool, what: str) -> None:
 # Verilator's runtime library (verilated.o, …) is the same for every design: compiled by
 # the first build of a toolchain, kept beside the builds and copied into later ones (it
 # is most of a build's compile time).
-def _runtime_dir(root: pathlib.Path, tools: dict, waves: bool) -> pathlib.Path:
-    key = hashlib.sha256(json.dumps({"tools": tools, "waves": waves,
+def _runtime_dir(root: pathlib.Path, tools: dict, waves: bool, coverage: bool = False
+                 ) -> pathlib.Path:
+    extra = {"coverage": COVERAGE_FLAGS} if coverage else {}    # VM_COVERAGE: other objects
+    key = hashlib.sha256(json.dumps({**extra, "tools": tools, "waves": waves,
                                      "flags": VERILATOR_FLAGS, "cxx": CXX_FLAGS},
                                     sort_keys=True).encode())
     return root / f"runtime-{key.hexdigest()[:12]}"

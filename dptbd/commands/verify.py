@@ -6,7 +6,9 @@ Prints one line per case (design, runs, words in, words compared, words per seco
 simulation, verdict with the first failing run's report), the totals and the functional
 coverage (:mod:`dptbd.sim.coverage.bins`: every bin the campaign's designs fill, the designs
 whose cases fill it, its hits); exit 1 on any mismatch or any empty bin (named). ``--json``
-writes every run's outcome and the bins. The runs go to the Dask execution layer
+writes every run's outcome and the bins. ``--coverage DIR`` runs the cases (and the
+AXI top's coverage runs) on coverage builds instead and writes the code-coverage report
+(:mod:`dptbd.sim.coverage.report`) into DIR. The runs go to the Dask execution layer
 (``--workers``, ``--scheduler``, ``--dashboard``: ``docs/distributed.md``).
 
 ``--formal`` runs the formal proofs instead (:mod:`dptbd.sim.formal`): one line per proof
@@ -42,7 +44,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", type=pathlib.Path, metavar="FILE.json",
                         help="write every run's outcome as JSON (refused if it exists, unless "
                              "--force)")
-    parser.add_argument("--force", action="store_true", help="overwrite --json (or --out)")
+    parser.add_argument("--coverage", type=pathlib.Path, metavar="DIR",
+                        help="run on coverage builds and write the code-coverage report (line, "
+                             "branch, toggle per module, uncovered points with their Amaranth "
+                             "source line, annotated sources) into DIR (refused if it exists, "
+                             "unless --force)")
+    parser.add_argument("--force", action="store_true", help="overwrite --json, --coverage or --out")
     parser.add_argument("--formal", action="store_true",
                         help="run the formal proofs (SymbiYosys, z3) instead of the campaign")
     parser.add_argument("--out", type=pathlib.Path, metavar="DIR",
@@ -54,7 +61,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 CAMPAIGN_OPTIONS = (("runs_scale", "--runs-scale", 1.0), ("seed", "--seed", 0),
                     ("workers", "--workers", None), ("cases", "--cases", None),
                     ("list", "--list", False), ("no_x_store", "--no-x-store", False),
-                    ("json", "--json", None))
+                    ("json", "--json", None), ("coverage", "--coverage", None))
 
 
 def main(args: argparse.Namespace) -> int:
@@ -78,17 +85,28 @@ def main(args: argparse.Namespace) -> int:
             print(f"{c.name:28s} {c.design:9s} {cfg.describe()}  {c.runs} runs x {c.frames} "
                   f"frames  faults: "
                   f"{', '.join(c.faults) or '-'}{', random LUT' if c.random_lut else ''}")
+        from dptbd.sim.coverage.report import axi_cases, extra_cases
+        for c in [*extra_cases(), *axi_cases()]:
+            print(f"{c.name:28s} {c.design:9s} {c.runs} runs  (--coverage only)")
         return 0
     check_real("--runs-scale", args.runs_scale, 0.0, lo_open=True)
     if args.workers is not None:
         check_worker_count(args.workers)
+    axi = []
+    if args.coverage is not None:
+        from dptbd.sim.coverage.report import axi_cases, extra_cases
+        axi = axi_cases()
+        cases = cases + extra_cases()
     if args.cases:
-        known = {c.name for c in cases}
+        known = {c.name for c in cases} | {a.name for a in axi}
         unknown = [n for n in args.cases if n not in known]
         if unknown:
             raise ValueError(f"unknown case(s) {', '.join(unknown)}; dptbd verify --list "
                              f"names them")
         cases = [c for c in cases if c.name in args.cases]
+        axi = [a for a in axi if a.name in args.cases]
+    if args.coverage is not None:
+        return _coverage(args, cases, axi)
     check_output_file(args.json, "--json", args.force, ".json")
 
     total = sum(max(1, round(c.runs * args.runs_scale)) for c in cases)
@@ -188,3 +206,46 @@ def formal_main(args: argparse.Namespace) -> int:
     print(f"\n{'all verdicts as expected' if ok else 'UNEXPECTED VERDICTS'}: "
           f"{len(results)} runs of {len(TASKS)} tasks")
     return 0 if ok else 1
+
+
+COVERAGE_TOOL = "dptbd verify --coverage"
+
+
+def _coverage(args: argparse.Namespace, cases: list, axi: list) -> int:
+    """``--coverage DIR``: the runs on coverage builds, the report (terminal table too)."""
+    from tqdm import tqdm
+
+    from dptbd.output_folder import staged_folder
+    from dptbd.sim.coverage.code import find_verilator_coverage
+    from dptbd.sim.coverage.exclusions import load_exclusions
+    from dptbd.sim.coverage.report import format_table, run_coverage, write_report
+
+    find_verilator_coverage()
+    exclusions = load_exclusions()
+    total = sum(max(1, round(c.runs * args.runs_scale)) for c in [*cases, *axi])
+    with staged_folder(args.coverage, args.force, marker="coverage.json",
+                       tool=COVERAGE_TOOL, option="--coverage") as tmp:
+        bar = tqdm(total=total, unit="run", desc="dptbd verify --coverage")
+        failed = []
+
+        def seen(outcome) -> None:
+            bar.update(1)
+            if not outcome.passed:
+                failed.append(outcome)
+                bar.write(f"MISMATCH {outcome.case} seed {outcome.seed}: {outcome.report} "
+                          f"({'; '.join(outcome.notes)})")
+
+        outcomes, builds = run_coverage(tmp, cases, axi=axi, runs_scale=args.runs_scale,
+                                        base_seed=args.seed, workers=args.workers,
+                                        on_outcome=seen)
+        bar.close()
+        summary = write_report(tmp, builds, exclusions)
+        data = json.loads((tmp / "coverage.json").read_text())
+        data = {"tool": COVERAGE_TOOL, "runs": len(outcomes), "mismatches": len(failed),
+                "cases": [c.name for c in [*cases, *axi]], "runs_scale": args.runs_scale,
+                **data}
+        (tmp / "coverage.json").write_text(json.dumps(data, indent=1) + "\n")
+    print("\n" + format_table(summary))
+    print(f"\n{len(outcomes)} runs on coverage builds, {len(failed)} mismatching; report: "
+          f"{args.coverage / 'report.md'}")
+    return 0 if not failed else 1

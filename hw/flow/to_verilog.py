@@ -21,6 +21,8 @@ keeps its name.
 
 from __future__ import annotations
 
+import contextvars
+
 from amaranth._toolchain.yosys import find_yosys
 from amaranth.back import rtlil
 
@@ -32,10 +34,16 @@ __all__ = ["to_verilog"]
 #: collected as Amaranth's conversion does.
 YOSYS_PASSES = ("proc", "memory_collect", "write_verilog")
 
+#: Another text for every generator in this context, ``(component, name) -> str``: the
+#: coverage build's (:func:`dptbd.sim.coverage.source_text.coverage_text`); None: this one.
+TEXT: contextvars.ContextVar = contextvars.ContextVar("dptbd_verilog_text", default=None)
+
 
 def to_verilog(component, name: str) -> str:
     """The Verilog text of ``component`` as module ``name`` (see the module doc); ports as
     :func:`amaranth.back.verilog.convert` names them (from the component's signature)."""
+    if TEXT.get() is not None:
+        return TEXT.get()(component, name)
     text = rtlil.convert(component, name=name, emit_src=False)
     yosys = find_yosys(lambda version: version >= (0, 40))   # Amaranth's own requirement
     script = "\n".join([f"read_rtlil <<rtlil\n{text}\nrtlil", *YOSYS_PASSES])

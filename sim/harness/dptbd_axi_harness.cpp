@@ -25,6 +25,8 @@
 //                                            data is 0 (STATUS.soft_reset_busy: wait
 //                                            for a soft reset), reported as one read,
 //                                            a = hold aresetn low A cycles (A >= 1)
+//                       coverage PATH        write the run's VerilatedCov data there at
+//                                            the end (coverage builds only)
 //   JOB_DIR/in.bin    N little-endian uint64 beats: tdata | tuser[0] << 32 | tlast << 33
 // Writes into JOB_DIR:
 //   out.bin           uint64 tdata of every m_axis_cand transfer, in order
@@ -48,6 +50,9 @@
 #include "Vdut.h"
 #include "harness_io.h"
 #include "verilated.h"
+#if VM_COVERAGE
+#include "verilated_cov.h"
+#endif
 
 namespace {
 
@@ -95,6 +100,7 @@ int main(int argc, char** argv) {
     if (argc != 2) fail("usage: dptbd_sim JOB_DIR");
     const std::string dir = argv[1];
     const Job job = read_job(dir + "/job.txt");
+    dptbd_harness::check_coverage_job(job);
     const std::vector<uint64_t> in = read_words(dir + "/in.bin", job.words);
 
     auto context = std::make_unique<VerilatedContext>();
@@ -219,6 +225,9 @@ int main(int argc, char** argv) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     dut->final();
+#if VM_COVERAGE
+    if (!job.coverage.empty()) context->coveragep()->write(job.coverage.c_str());
+#endif
 
     write_words(dir + "/out.bin", out);
     write_words(dir + "/out_flags.bin", out_flags);

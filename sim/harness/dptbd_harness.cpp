@@ -28,6 +28,8 @@
 //                                            (histogram_shift); sorted. The ports are 0
 //                                            until the first line applies: give one for 0.
 //                       trace PATH           FST file (DPTBD_TRACE builds only)
+//                       coverage PATH        write the run's VerilatedCov data there at
+//                                            the end (coverage builds only)
 //   JOB_DIR/in.bin    N little-endian uint64 input payloads (pixel | first << B_in)
 // Writes into JOB_DIR:
 //   out.bin           uint64 payload of every output transfer, in order
@@ -50,6 +52,9 @@
 #include "Vdut.h"
 #include "harness_io.h"
 #include "verilated.h"
+#if VM_COVERAGE
+#include "verilated_cov.h"
+#endif
 #ifdef DPTBD_TRACE
 #include "verilated_fst_c.h"
 #endif
@@ -131,6 +136,7 @@ int main(int argc, char** argv) {
     if (argc != 2) fail("usage: dptbd_sim JOB_DIR");
     const std::string dir = argv[1];
     const Job job = read_job(dir + "/job.txt");
+    dptbd_harness::check_coverage_job(job);
     const std::vector<uint64_t> in = read_words(dir + "/in.bin", job.words);
 
     auto context = std::make_unique<VerilatedContext>();
@@ -282,6 +288,9 @@ int main(int argc, char** argv) {
     if (tfp) tfp->close();
 #endif
     dut->final();
+#if VM_COVERAGE
+    if (!job.coverage.empty()) context->coveragep()->write(job.coverage.c_str());
+#endif
 
     write_words(dir + "/out.bin", out);
     write_words(dir + "/out_cycles.bin", out_cycles);

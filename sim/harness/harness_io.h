@@ -50,11 +50,13 @@ inline void write_words(const std::string& path, const std::vector<uint64_t>& v)
     std::fclose(fh);
 }
 
-// The job-file keys every harness reads: word count, seed, cycle limits and the pause
-// probabilities of the input and output streams.
+// The job-file keys every harness reads: word count, seed, cycle limits, the pause
+// probabilities of the input and output streams and, for a coverage build, the file the
+// run's coverage data goes to (absent: nothing is written).
 struct StreamJob {
     uint64_t words = 0, seed = 1, max_cycles = 0, drain = 64;
     double valid_gap = 0.0, ready_pause = 0.0;
+    std::string coverage;
 };
 
 // Applies ``key rest`` to ``job`` if it is one of StreamJob's keys; false otherwise.
@@ -65,8 +67,22 @@ inline bool read_stream_key(const std::string& k, const char* rest, StreamJob& j
     else if (k == "seed") job.seed = std::strtoull(rest, nullptr, 10);
     else if (k == "max_cycles") job.max_cycles = std::strtoull(rest, nullptr, 10);
     else if (k == "drain") job.drain = std::strtoull(rest, nullptr, 10);
-    else return false;
+    else if (k == "coverage") {
+        char v[4096];
+        if (std::sscanf(rest, "%4095s", v) != 1) fail("coverage needs a path");
+        job.coverage = v;
+    } else return false;
     return true;
+}
+
+// A coverage build (verilator --coverage-*, VM_COVERAGE) writes the run's points to the
+// job's coverage file at the end; any other build refuses a job that asks for one.
+inline void check_coverage_job(const StreamJob& job) {
+#if !VM_COVERAGE
+    if (!job.coverage.empty()) fail("coverage needs a coverage build (build(..., coverage=True))");
+#else
+    (void)job;
+#endif
 }
 
 }  // namespace dptbd_harness

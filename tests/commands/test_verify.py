@@ -12,7 +12,9 @@ from dptbd.cli import main
 
 def test_verify_command_lists_and_refuses(capsys, tmp_path):
     assert main(["verify", "--list"]) == 0
-    assert "001-128x128-k8-in12-e16" in capsys.readouterr().out
+    listed = capsys.readouterr().out
+    assert "001-128x128-k8-in12-e16" in listed
+    assert "axi-12x10-k2-faults          axi       8 runs  (--coverage only)\n" in listed
     assert main(["verify", "--cases", "nope"]) == 2
     assert capsys.readouterr().err == ("dptbd verify: error: unknown case(s) nope; dptbd verify "
                                        "--list names them\n")
@@ -127,3 +129,22 @@ def test_verify_formal_prints_the_table_and_keeps_the_trace(capsys, monkeypatch,
     assert [(r["task"], r["kind"], r["verdict"], r["expected"]) for r in data["runs"]] == [
         ("m_axis_cand", "proof", "PASS", "PASS"), ("m_axis_cand", "cover", "PASS", "PASS"),
         ("known_bad_m_axis_cand", "proof", "FAIL", "FAIL")]
+
+
+def test_verify_coverage_refuses_an_existing_folder_and_unknown_cases(capsys, tmp_path):
+    existing = tmp_path / "cov"
+    existing.mkdir()
+    assert main(["verify", "--cases", "segmenter-33x17-k2-n3", "--coverage", str(existing)]) == 2
+    assert capsys.readouterr().err == (f"dptbd verify: error: --coverage {existing} exists; pass "
+                                       f"--force to replace it, or choose another folder\n")
+    (existing / "mine.txt").write_text("keep")
+    assert main(["verify", "--cases", "segmenter-33x17-k2-n3", "--coverage", str(existing),
+                 "--force"]) == 2
+    assert capsys.readouterr().err == (
+        f"dptbd verify: error: --coverage {existing} is not the folder of an earlier dptbd "
+        f"verify --coverage run (no coverage.json from it); --force will not replace it\n")
+    assert (existing / "mine.txt").read_text() == "keep"
+    # the coverage run sets are cases of --coverage only
+    assert main(["verify", "--cases", "axi-12x10-k2-faults"]) == 2
+    assert capsys.readouterr().err == ("dptbd verify: error: unknown case(s) axi-12x10-k2-faults; "
+                                       "dptbd verify --list names them\n")

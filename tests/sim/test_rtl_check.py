@@ -492,3 +492,20 @@ def test_check_stream_refuses_bad_stimulus_before_running(tmp_path):
         check_stream(sim, words, Stimulus(resets=((1, 2),)))
     with pytest.raises(ValueError, match=r"^trace needs a build made with waves=True$"):
         check_stream(sim, words, trace=tmp_path / "t.fst")
+
+
+@pytest.mark.parametrize("address", [89, 128])
+def test_check_stream_refuses_a_stray_lut_write_inside_or_beyond_the_port(tmp_path, address):
+    words = pixel_words(BASE, np.zeros((1, 12, 16), dtype=np.uint8))
+    with pytest.raises(ValueError, match=whole(
+            f"a stray LUT write goes beyond the table: address 90 … 127, got {address}")):
+        check_stream(fake_build(tmp_path), words, Stimulus(stray_lut_writes=((0, address, 1),)))
+
+
+def test_a_lut_write_beyond_the_table_is_ignored():
+    frames = make_frames("two-targets", BASE, 4, seed=2)
+    words = pixel_words(BASE, frames)
+    stray = ((0, 90, 0), (len(words) // 2, 127, 0))
+    result = check_stream(built(BASE, "dp"), words, Stimulus(stray_lut_writes=stray))
+    assert result.passed, result.report
+    assert result.raw.counters["lut_writes"] == 2

@@ -1,0 +1,440 @@
+"""Code coverage of a campaign: runs on coverage builds, merged, mapped, reported.
+
+:func:`run_coverage` runs the campaign's cases (:mod:`dptbd.sim.campaign`) on coverage builds
+(each run checked bit-exact against the golden model, as every campaign run is; its
+``VerilatedCov`` file ``runs/<case>-<seed>.dat``), plus the AXI top's runs
+(:func:`axi_cases`: the scenario of ``tests/sim/test_verilator_axi.py`` — every fault
+class, register writes refused and taken, a LUT rewrite, a soft reset — scored by
+:func:`~dptbd.sim.verilator_axi.check_axi`), merges the files of each build with
+``verilator_coverage --write`` and writes the report (:func:`write_report`).
+
+How points add up (:func:`summarise`): a **line** or **branch** point is named by its
+design, Verilog module (the Amaranth hierarchy), kind, Amaranth ``file:line`` and what
+(``if``, ``else``, ``case``, …); a **toggle** point, a register bit, by design, module,
+register and bit index. The points of one name — the same ``m.If`` in several processes, or
+in the builds of several parameter sets of one design — count once, covered if any run
+covered any of them (a bit that exists in a wide parameter set only counts there). Points
+listed in the exclusion
+list (:mod:`dptbd.sim.coverage.exclusions`) are counted apart; the figures are covered /
+total outside them.
+"""
+
+from __future__ import annotations
+
+import collections
+import dataclasses
+import json
+import os
+import pathlib
+import shutil
+import time
+from concurrent.futures import ProcessPoolExecutor
+from typing import Callable, Sequence
+
+from dptbd.sim.coverage.code import (
+    Point,
+    annotate,
+    locate,
+    merge,
+    read_dat,
+    registers,
+    source_map,
+    unescape,
+    usable,
+)
+
+__all__ = ["GOALS", "Entry", "Summary", "AxiCase", "axi_cases", "extra_cases", "entries", "summarise",
+           "run_coverage", "write_report", "format_table"]
+
+#: Goals per design: percent of line, branch and toggle points outside the exclusions.
+GOALS = {"axi": {"line": 100.0, "branch": 100.0, "toggle": 95.0},
+         "segmenter": {"line": 100.0, "branch": 100.0, "toggle": 95.0}}
+
+TOP_NAMES = {"dp": "dptbd_dp", "core": "DPCore (dptbd_dp)", "segmenter": "dptbd_seg",
+             "axi": "dptbd_axi"}
+
+
+@dataclasses.dataclass(frozen=True)
+class Entry:
+    """One coverage point of one build, located in the Amaranth source."""
+
+    design: str
+    build: str        # the build's directory name
+    module: str
+    kind: str
+    src: str          # Amaranth file:line (repository-relative), or "" if none
+    what: str         # Verilator's o, unescaped
+    verilog_line: int
+    count: int
+
+    @property
+    def name(self) -> tuple:
+        if self.kind == "toggle":                    # a register bit: its name and index
+            return (self.design, self.module, self.kind, "", self.what)
+        return (self.design, self.module, self.kind, self.src, self.what)
+
+
+def entries(design: str, build: str, verilog: str, points: Sequence[Point]) -> list[Entry]:
+    """The points of one build, located (:func:`~dptbd.sim.coverage.code.locate`)."""
+    srcmap, artefacts = source_map(verilog)
+    regs = registers(verilog)
+    out = []
+    for p in usable(points, artefacts):
+        what = unescape(p.what)
+        if p.kind == "toggle" and (p.module, what.split("[")[0]) not in regs:
+            continue                                  # not a register bit
+        out.append(Entry(design, build, p.module, p.kind, locate(p, srcmap) or "", what,
+                         p.line, p.count))
+    return out
+
+
+@dataclasses.dataclass
+class Summary:
+    """Covered / total / excluded per (design, module, kind); the uncovered names; the
+    exclusion list's verdicts."""
+
+    counts: dict                 # (design, module, kind) -> [covered, total, excluded]
+    uncovered: list              # list of (name, [Entry, ...])
+    stale: list                  # list of (Exclusion, reason)
+
+    def figure(self, design: str, kind: str, module: str | None = None) -> tuple[int, int]:
+        covered = total = 0
+        for (d, m, k), (c, t, _) in self.counts.items():
+            if d == design and k == kind and (module is None or m == module):
+                covered += c
+                total += t
+        return covered, total
+
+    def percent(self, design: str, kind: str, module: str | None = None) -> float | None:
+        covered, total = self.figure(design, kind, module)
+        return 100.0 * covered / total if total else None
+
+
+def summarise(all_entries: Sequence[Entry], exclusions: Sequence = ()) -> Summary:
+    """Add the points up by name (see the module doc) and apply the exclusion list."""
+    by_name: dict[tuple, list[Entry]] = collections.defaultdict(list)
+    for entry in all_entries:
+        by_name[entry.name].append(entry)
+    matched: dict[int, list[bool]] = {i: [] for i in range(len(exclusions))}
+    counts: dict[tuple, list[int]] = collections.defaultdict(lambda: [0, 0, 0])
+    uncovered = []
+    for name, group in sorted(by_name.items()):
+        first = group[0]
+        covered = any(e.count > 0 for e in group)
+        hits = [i for i, ex in enumerate(exclusions) if ex.matches(first)]
+        slot = counts[(first.design, first.module, first.kind)]
+        if hits:
+            for i in hits:
+                matched[i].append(covered)
+            slot[2] += 1
+            continue
+        slot[1] += 1
+        slot[0] += covered
+        if not covered:
+            uncovered.append((name, group))
+    stale = []
+    designs = {e.design for e in all_entries}
+    for i, ex in enumerate(exclusions):
+        if ex.design not in designs:          # that top level was not run: no verdict
+            continue
+        if not matched[i]:
+            stale.append((ex, "no such point (the source changed?)"))
+        elif all(matched[i]):
+            stale.append((ex, "covered: the point is reached"))
+    return Summary(dict(counts), uncovered, stale)
+
+
+# ---- the AXI top's runs ------------------------------------------------------------------
+
+@dataclasses.dataclass(frozen=True)
+class AxiCase:
+    """An AXI run of the coverage campaign: a configuration and seeds."""
+
+    name: str
+    config: dict
+    runs: int
+    design: str = "axi"
+
+
+def extra_cases() -> list:
+    """Coverage runs beyond the campaign's cases (stimulus the campaign's parameter sets
+    cannot give): a segmenter whose energy saturates (B_E = 9 for 8-bit pixels), so the
+    high bits of E and of the weighted sums toggle."""
+    from dptbd.sim.campaign import Case
+
+    every = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
+    return [Case("segmenter-24x16-in8-e9-sat", dict(width=24, height=16, segment_frames=6,
+                                                    input_bits=8, energy_bits=9,
+                                                    candidate_count=3, histogram_bits=6),
+                 "segmenter", 300, 4, every)]
+
+
+def axi_cases() -> list[AxiCase]:
+    """The AXI top's coverage runs (the scenario of ``tests/sim/test_verilator_axi.py``)."""
+    small = dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
+                 candidate_count=4, candidate_capacity=6, histogram_bits=6, histogram_shift=2)
+    return [AxiCase("axi-12x10-k2-faults", small, 8),
+            AxiCase("axi-12x10-e9-saturating", dict(small, energy_bits=9), 4)]
+
+
+def _axi_scene(cfg, seed: int):
+    import numpy as np
+
+    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.hw.register_map import FAULTS
+    from dptbd.sim.axi_stimulus import clean_beats, with_fault
+    from dptbd.sim.scenarios import make_frames
+
+    regs = constants_namespace(cfg)
+    frames = make_frames("two-targets", cfg, 4 + 2 * len(FAULTS), seed=seed)
+    beats, starts = clean_beats(frames[:4]), []
+    for i, kind in enumerate(FAULTS):
+        starts.append(len(beats))
+        beats = beats + with_fault(cfg, frames[4 + 2 * i:6 + 2 * i], kind)
+    frame = cfg.width * cfg.height
+    every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
+    halved = (np.asarray(cfg.weight_codes) // 2).tolist()
+    from dptbd.hw.register_map import LUT_WINDOW_BASE, register_map
+
+    names = [reg.name for reg in register_map(cfg).registers]
+    top = max(getattr(regs, f"REG_{n}") for n in names)
+    refused = [["w", regs.REG_SEGMENT_FRAMES + 1, 1], ["r", regs.REG_ID + 2, 0],  # unaligned
+               ["w", top + 4, 7], ["r", top + 4, 0],                           # unmapped
+               ["r", LUT_WINDOW_BASE, 0],                                       # a LUT read
+               ["w", LUT_WINDOW_BASE + 4, (1 << cfg.weight_frac_bits) + 1]]    # code > 2**F
+    steps = [{"check": {"ID": regs.MAGIC, **{n: None for n in names if n != "ID"}},
+              "writes": [["CONTROL", regs.CONTROL_CLEAR_COUNTERS_MASK]],   # nothing counted yet
+              "stop": 2 * frame},
+             {"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", 6],
+                         ["HISTOGRAM_SHIFT", cfg.energy_bits]], "refused": refused,
+              "stop": 4 * frame},
+             {"check": {"SEGMENTS": 3}, "lut_codes": halved,
+              "writes": [["SEGMENT_FRAMES", 3], ["ERROR", regs.ERROR_WRITE_REFUSED_MASK]],
+              "stop": starts[2]},
+             {"soft_reset": True, "writes": [["HISTOGRAM_SHIFT", 1]], "stop": len(beats)},
+             {"check": {"ERROR": every}, "writes": [["ERROR", every]], "stop": len(beats)}]
+    return beats, steps
+
+
+def check_axi_run(case: AxiCase, seed: int, root, coverage: str):
+    """Build (cached), run and check one AXI run on the coverage build."""
+    import numpy as np
+
+    from dptbd.sim.campaign import RunOutcome
+    from dptbd.sim.verilator import build
+    from dptbd.sim.verilator_axi import check_axi
+
+    start = time.perf_counter()
+    cfg = _config(case.config)
+    sim = build(cfg, "axi", root=root, coverage=True)
+    beats, steps = _axi_scene(cfg, seed)
+    rng = np.random.default_rng([seed, 0xA71])
+    gap, pause = float(rng.uniform(0.0, 0.5)), float(rng.uniform(0.0, 0.9))
+    result = check_axi(sim, beats, steps, valid_gap=gap, ready_pause=pause, seed=seed,
+                       coverage=coverage)
+    return RunOutcome(case.name, seed, result.passed, result.report(), len(beats),
+                      result.board.count, result.run.cycles, result.run.sim_seconds,
+                      time.perf_counter() - start, (f"gaps {gap:.2f}, back-pressure {pause:.2f}",))
+
+
+def _config(fields: dict):
+    """The configuration, its saturation warning silenced (a saturating set is chosen)."""
+    import warnings
+
+    from dptbd.config import DPConfig, EnergyWidthWarning
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        return DPConfig(**fields)
+
+
+def _check_run(case, seed, root, coverage):
+    from dptbd.sim.campaign import check_run
+    return check_run(case, seed, root, coverage=coverage)
+
+
+# ---- the campaign on coverage builds -------------------------------------------------------
+
+def run_coverage(out: pathlib.Path, cases: Sequence, *, axi: Sequence[AxiCase] = (),
+                 runs_scale: float = 1.0, base_seed: int = 0, workers: int | None = None,
+                 root=None, on_outcome: Callable | None = None):
+    """Run ``cases`` and ``axi`` on coverage builds, coverage files into ``out/runs``;
+    returns (outcomes, builds: {directory name: (design, build, [dat files])})."""
+    from dptbd.sim.verilator import build
+
+    runs_dir = out / "runs"
+    runs_dir.mkdir(parents=True, exist_ok=True)
+    workers = int(workers or os.cpu_count() or 1)
+    jobs, builds = [], {}
+    every = [(c, c.cfg, _check_run) for c in cases] + \
+        [(a, _config(a.config), check_axi_run) for a in axi]
+    for i, (case, cfg, fn) in enumerate(every):
+        sim = build(cfg, case.design, root=root, coverage=True)
+        entry = builds.setdefault(sim.directory.name, (case.design, sim, []))
+        for r in range(max(1, round(case.runs * runs_scale))):
+            seed = base_seed * 1_000_003 + 7919 * i + r
+            dat = runs_dir / f"{case.name}-{seed}.dat"
+            entry[2].append(dat)
+            jobs.append((fn, case, seed, str(dat)))
+    outcomes = []
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(fn, case, seed, root, dat) for fn, case, seed, dat in jobs]
+        for fut in futures:
+            outcome = fut.result()
+            outcomes.append(outcome)
+            if on_outcome is not None:
+                on_outcome(outcome)
+    return outcomes, builds
+
+
+def write_report(out: pathlib.Path, builds: dict, exclusions: Sequence = (),
+                 annotate_sources: bool = True) -> Summary:
+    """Merge each build's run files, map, summarise and write ``out``: ``report.md``,
+    ``coverage.json``, ``merged/<build>.dat``, ``verilog/<build>/`` and ``annotated/``
+    (``verilog/<build>/``: ``verilator_coverage --annotate``; ``amaranth/<design>/``: the
+    Amaranth files, each line prefixed with its covered / total line and branch points)."""
+    all_entries: list[Entry] = []
+    for name, (design, sim, dats) in sorted(builds.items()):
+        dats = [d for d in dats if pathlib.Path(d).exists()]
+        if not dats:
+            continue
+        merged = merge(dats, _mkdir(out / "merged") / f"{name}.dat")
+        verilog_src = sim.directory / f"{sim.toplevel}.v"
+        vdir = _mkdir(out / "verilog" / name)
+        shutil.copyfile(verilog_src, vdir / verilog_src.name)
+        text = verilog_src.read_text()
+        if annotate_sources:
+            annotate(merged, vdir, _mkdir(out / "annotated" / "verilog" / name))
+        all_entries += entries(design, name, text, read_dat(merged))
+    summary = summarise(all_entries, exclusions)
+    if annotate_sources:
+        _annotate_amaranth(out / "annotated" / "amaranth", all_entries)
+    (out / "coverage.json").write_text(json.dumps(_jsonable(summary), indent=1) + "\n")
+    (out / "report.md").write_text(_markdown(summary))
+    return summary
+
+
+def _mkdir(path: pathlib.Path) -> pathlib.Path:
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def _annotate_amaranth(out: pathlib.Path, all_entries: Sequence[Entry]) -> None:
+    from dptbd.sim.coverage.code import _REPO
+
+    per_line = collections.defaultdict(lambda: [0, 0])       # (design, file, line) -> [c, t]
+    by_name: dict[tuple, bool] = {}
+    for e in all_entries:
+        if e.kind != "toggle" and e.src:
+            by_name[e.name] = by_name.get(e.name, False) or e.count > 0
+    for (design, _, _, src, _), covered in by_name.items():
+        path, _, line = src.rpartition(":")
+        slot = per_line[(design, path, int(line))]
+        slot[1] += 1
+        slot[0] += covered
+    files = collections.defaultdict(dict)
+    for (design, path, line), counts in per_line.items():
+        files[(design, path)][line] = counts
+    for (design, path), lines in files.items():
+        source = _REPO / path
+        if not source.is_file():
+            continue
+        target = _mkdir((out / design / path).parent) / pathlib.Path(path).name
+        rows = []
+        for number, text in enumerate(source.read_text().splitlines(), 1):
+            if number in lines:
+                c, t = lines[number]
+                mark = "  " if c == t else "!!"
+                rows.append(f"{mark}{c:3d}/{t:<3d} {text}")
+            else:
+                rows.append(f"{'':10s}{text}")
+        target.write_text("\n".join(rows) + "\n")
+
+
+def _jsonable(summary: Summary) -> dict:
+    return {
+        "modules": [{"design": d, "module": m, "kind": k, "covered": c, "total": t,
+                     "excluded": x} for (d, m, k), (c, t, x) in sorted(summary.counts.items())],
+        "uncovered": [{"design": g[0].design, "module": g[0].module, "kind": g[0].kind,
+                       "src": g[0].src, "what": g[0].what,
+                       "verilog": sorted({f"{e.build}:{e.verilog_line}" for e in g})}
+                      for _, g in summary.uncovered],
+        "stale_exclusions": [{"point": ex.point, "kind": ex.kind, "design": ex.design,
+                              "what": ex.what, "reason": why} for ex, why in summary.stale],
+    }
+
+
+def _pct(covered: int, total: int) -> str:
+    return f"{100.0 * covered / total:6.2f} %" if total else f"{'-':>8s}"
+
+
+def format_table(summary: Summary) -> str:
+    """The terminal table: per design, line / branch / toggle against the goals."""
+    designs = sorted({d for d, _, _ in summary.counts})
+    rows = [f"{'design':22s} " + " ".join(f"{k + ' (covered/total)':>22s}"
+                                          for k in ("line", "branch", "toggle"))]
+    for d in designs:
+        cells = []
+        for kind in ("line", "branch", "toggle"):
+            c, t = summary.figure(d, kind)
+            goal = GOALS.get(d, {}).get(kind)
+            ok = "" if goal is None or not t else (" ok" if 100.0 * c >= goal * t else " <goal")
+            cells.append(f"{_pct(c, t)} {c:>6d}/{t:<6d}{ok}")
+        rows.append((f"{TOP_NAMES.get(d, d):22s} " + " ".join(f"{x:>22s}" for x in cells))
+                    .rstrip())
+    rows.append(f"goals (dptbd_axi, dptbd_seg): line {GOALS['axi']['line']:.0f} %, branch "
+                f"{GOALS['axi']['branch']:.0f} %, toggle {GOALS['axi']['toggle']:.0f} %, "
+                f"outside the exclusions; {len(summary.uncovered)} uncovered line/branch/"
+                f"toggle names, {len(summary.stale)} stale exclusion(s)")
+    return "\n".join(rows)
+
+
+def _verilog(group: Sequence[Entry]) -> str:
+    """Where a name's points are: ``verilog/<build>/…:line`` of the first, and how many more."""
+    first = min(group, key=lambda e: (e.build, e.verilog_line))
+    more = f" and {len(group) - 1} more" if len(group) > 1 else ""
+    return f"Verilog line {first.verilog_line} of `verilog/{first.build}/`{more}"
+
+
+def _markdown(summary: Summary) -> str:
+    lines = ["# Code coverage of the RTL", "",
+             "Figures are covered / total outside the exclusions "
+             "(`sim/coverage/exclusions.toml`); see `docs/simulation.md`, \"Code coverage\".",
+             "", "```", format_table(summary), "```", ""]
+    for d in sorted({d for d, _, _ in summary.counts}):
+        lines += [f"## {TOP_NAMES.get(d, d)} (`{d}`)", "",
+                  "| module | line | branch | toggle | excluded |", "|---|---|---|---|---|"]
+        modules = sorted({m for dd, m, _ in summary.counts if dd == d})
+        for m in modules:
+            cells = []
+            excluded = 0
+            for kind in ("line", "branch", "toggle"):
+                c, t, x = summary.counts.get((d, m, kind), [0, 0, 0])
+                excluded += x
+                cells.append(f"{_pct(c, t).strip()} ({c}/{t})")
+            lines.append(f"| `{m}` | " + " | ".join(cells) + f" | {excluded} |")
+        lines.append("")
+        missing = [(n, g) for n, g in summary.uncovered if g[0].design == d]
+        toggles = [g for _, g in missing if g[0].kind == "toggle"]
+        points = [g for _, g in missing if g[0].kind != "toggle"]
+        if points:
+            lines += ["Uncovered line and branch points (Amaranth source, what, Verilog):", ""]
+            for g in points:
+                e = g[0]
+                lines.append(f"- `{e.src or '?'}` {e.kind} `{e.what}` in `{e.module}` "
+                             f"({_verilog(g)})")
+            lines.append("")
+        if toggles:
+            lines += [f"Signal bits never toggled ({len(toggles)}; Amaranth declaration, "
+                      "module, bit):", ""]
+            for g in toggles[:400]:
+                e = g[0]
+                lines.append(f"- `{e.src or '?'}` `{e.module}` `{e.what}` ({_verilog(g)})")
+            if len(toggles) > 400:
+                lines.append(f"- … and {len(toggles) - 400} more (coverage.json)")
+            lines.append("")
+    if summary.stale:
+        lines += ["## Stale exclusions", ""]
+        lines += [f"- `{ex.point}` {ex.kind} `{ex.what or '*'}` ({ex.design}): {why}"
+                  for ex, why in summary.stale]
+        lines.append("")
+    return "\n".join(lines)

@@ -1,0 +1,41 @@
+"""``dptbd.sim.coverage.report``: points added up by name across builds (a toggle bit by
+register and index), the terminal table against the goals, the report's text."""
+
+from __future__ import annotations
+
+from dptbd.sim.coverage.report import Entry, _markdown, format_table, summarise
+
+
+def e(kind, src, what, count, build="b1", design="segmenter", module="dptbd_seg.segmenter"):
+    return Entry(design, build, module, kind, src, what, 7, count)
+
+
+def test_points_add_up_by_name_across_builds():
+    points = [e("line", "hw/a.py:3", "if", 0), e("line", "hw/a.py:3", "if", 2, build="b2"),
+              e("branch", "hw/a.py:5", "else", 0),
+              e("toggle", "hw/a.py:1", "q[0]", 1), e("toggle", "hw/a.py:1", "q[0]", 0, "b2"),
+              e("toggle", "hw/a.py:1", "q[9]", 0, "b2"),
+              e("line", "hw/b.py:9", "case", 1, design="axi", module="dptbd_axi.regs")]
+    s = summarise(points)
+    assert s.counts == {("segmenter", "dptbd_seg.segmenter", "line"): [1, 1, 0],
+                        ("segmenter", "dptbd_seg.segmenter", "branch"): [0, 1, 0],
+                        ("segmenter", "dptbd_seg.segmenter", "toggle"): [1, 2, 0],
+                        ("axi", "dptbd_axi.regs", "line"): [1, 1, 0]}
+    assert [n for n, _ in s.uncovered] == [
+        ("segmenter", "dptbd_seg.segmenter", "branch", "hw/a.py:5", "else"),
+        ("segmenter", "dptbd_seg.segmenter", "toggle", "", "q[9]")]
+    assert s.percent("segmenter", "toggle") == 50.0 and s.percent("dp", "line") is None
+    table = format_table(s).splitlines()
+    assert table[0] == ("design                   line (covered/total) branch (covered/total)"
+                        " toggle (covered/total)")
+    assert table[1] == ("dptbd_axi              100.00 %      1/1      ok        -      0/0"
+                        "             -      0/0")                # no point: no verdict
+    assert table[2] == ("dptbd_seg              100.00 %      1/1      ok   0.00 %      0/1"
+                        "      <goal  50.00 %      1/2      <goal")
+    assert table[3].startswith("goals (dptbd_axi, dptbd_seg): line 100 %, branch 100 %, "
+                               "toggle 95 %, outside the exclusions; 2 uncovered")
+    text = _markdown(s)
+    assert ("- `hw/a.py:5` branch `else` in `dptbd_seg.segmenter` (Verilog line 7 of "
+            "`verilog/b1/`)") in text
+    assert "- `hw/a.py:1` `dptbd_seg.segmenter` `q[9]` (Verilog line 7 of `verilog/b2/`)" in text
+    assert "| `dptbd_seg.segmenter` | 100.00 % (1/1) | 0.00 % (0/1) | 50.00 % (1/2) | 0 |" in text
