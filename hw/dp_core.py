@@ -207,11 +207,20 @@ class DPCore(wiring.Component):
             **run_time_k_members(cfg),
             "state_store": Out(StateStoreSignature(cfg)),
         })
+        self._resync = Signal(name="resync")
 
     @property
     def config(self) -> DPConfig:
         """The configuration this core was built for."""
         return self._cfg
+
+    @property
+    def resync(self) -> Signal:
+        """Not a port: pulses with ``segment_begin`` when the segment begins at a
+        resynchronisation (an unexpected ``first``, :class:`~dptbd.hw.controller.Controller`),
+        for ``DPSegmenter``, which passes only the settings of other segment starts to its
+        segmenter."""
+        return self._resync
 
     @property
     def schedule(self) -> PipelineSchedule:
@@ -267,6 +276,7 @@ class DPCore(wiring.Component):
             controller.first.eq(self.pixels.payload.first),
             controller.segment_frames.eq(self.segment_frames),
             self.segment_begin.eq(controller.segment_begin),
+            self._resync.eq(accept & controller.resync),
             self.state_store.read_addr.eq(controller.read_addr),
             self.state_store.read_en.eq(accept),
         ]

@@ -106,6 +106,11 @@ class DPPipeline(wiring.Component):
         return self._core.output_fifo_depth
 
     @property
+    def resync(self):
+        """Not a port: :attr:`DPCore.resync`."""
+        return self._core.resync
+
+    @property
     def core_options(self) -> dict:
         """The core's storage options (:attr:`DPCore.core_options`)."""
         return self._core.core_options

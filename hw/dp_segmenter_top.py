@@ -44,7 +44,8 @@ class DPSegmenter(wiring.Component):
         Run-time s. All three are sampled in the cycle the first pixel of a segment is
         accepted on ``pixels`` and hold for that segment (clamped to their ranges):
         K is its length, s bins its scored frame, n thresholds its histogram, which makes
-        the next segment's list (``docs/gateware.md``, "Run-time settings").
+        the next segment's list (``docs/gateware.md``, "Run-time settings"). The segmenter,
+        misaligned after a resync, keeps its settings until it realigns (same section).
     states : Out(stream.Signature(state_layout(cfg)))
         Only with ``state_output=True``: the DP pipeline's per-pixel (E, d) stream, which is
         then broadcast to it and to the segmenter
@@ -62,8 +63,10 @@ class DPSegmenter(wiring.Component):
         self._state_output = bool(state_output)
         self._dp = DPPipeline(cfg)
         # The segmenter takes its settings from registers loaded when the DP accepts a
-        # segment's first pixel; that is exact while fewer words than a segment are in
-        # flight between the two, which the DP's credit count guarantees.
+        # segment's first pixel, except at a resync; it takes them only at a segment's first
+        # word after reset or an end_of_segment, never the first of a resync's segment. That
+        # is exact while fewer words than a frame are in flight between the two (two such
+        # segment starts are a whole segment apart), which the DP's credit count guarantees.
         assert self._dp.output_fifo_depth < cfg.width * cfg.height
         self._segmenter = Segmenter(cfg, fifo_depth=fifo_depth)
         super().__init__({
@@ -112,15 +115,15 @@ class DPSegmenter(wiring.Component):
             dp.lut_we.eq(self.lut_we),
             dp.segment_frames.eq(self.segment_frames),
         ]
-        # Settings of the segment the DP input is in, handed to the segmenter, which takes
-        # them at the same segment's first word (at most one segment later).
+        # Settings of the last segment the DP input began other than at a resync, handed to
+        # the segmenter, which takes them at the same segment's first word.
         cfg = self._cfg
         for name, lo, hi in (("segment_frames", 1, cfg.k_max),
                              ("candidate_count", 0, cfg.record_capacity),
                              ("histogram_shift", 0, cfg.energy_bits - 1)):
             port = getattr(self, name)
             latched = Signal.like(port, name=f"input_{name}")
-            with m.If(dp.segment_begin):
+            with m.If(dp.segment_begin & ~dp.resync):
                 m.d.sync += latched.eq(clamped(port, lo, hi))
             m.d.comb += getattr(seg, name).eq(latched)
         trailer_out = (self.candidates.valid & self.candidates.ready

@@ -57,10 +57,11 @@ class Segmenter(wiring.Component):
 
     Run-time settings (``docs/gateware.md``, "Run-time settings"): the inputs
     ``segment_frames`` (K), ``candidate_count`` (n) and ``histogram_shift`` (s) are sampled
-    when the first word of a segment is accepted (the counters at (0, 0, k = 0): after
-    reset, after an ``end_of_segment`` and after a scored frame's last pixel) and hold for
-    that segment: K decides its scored frame, s bins its scored frame, and n thresholds its
-    histogram in the scan after its list, i.e. makes the *next* list's T.
+    when the first word of a segment is accepted, the first word after reset or after an
+    ``end_of_segment``, and hold for that segment: K decides its scored frame, s bins its
+    scored frame, and n thresholds its histogram in the scan after its list, i.e. makes the
+    *next* list's T. A segment the counters start after a scored frame's last pixel
+    without ``end_of_segment`` (misaligned after a resync) keeps the settings it has.
 
     Parameters
     ----------
@@ -77,8 +78,8 @@ class Segmenter(wiring.Component):
     segment_frames : In(range(1, K_max + 1), init=K)
     candidate_count : In(range(C + 1), init=n)
     histogram_shift : In(range(B_E), init=s)
-        Run-time settings of the segment whose first word is accepted (clamped to their
-        ranges).
+        Run-time settings of the segment whose first word (after reset or an
+        ``end_of_segment``) is accepted (clamped to their ranges).
     candidates : Out(stream.Signature(candidate_layout(cfg)))
         Records (raster order) and one trailer per list.
     """
@@ -133,12 +134,17 @@ class Segmenter(wiring.Component):
         # Registered flags keep the K comparison off the ready/accept path: `at_start` (the
         # next word is (0, 0) of frame 0) and `in_scored` (the next word, not at a start,
         # is in the scored frame). At a start, K = 1 (a port value <= 1) scores the frame.
+        # `taking`: the start is one the segmenter knows to be a segment's first word (after
+        # reset or an end_of_segment), the only starts that take the settings ports; a start
+        # reached by the counters alone (misaligned after a resync) keeps the settings.
         at_start = Signal(init=1)
+        aligned_start = Signal(init=1)           # the last word had end_of_segment / reset
+        taking = at_start & aligned_start
         in_scored = Signal()
-        eff_frames = Mux(at_start, clamped(self.segment_frames, 1, cfg.k_max), k_frames)
-        eff_count = Mux(at_start, clamped(self.candidate_count, 0, cfg.record_capacity), count)
-        eff_shift = Mux(at_start, clamped(self.histogram_shift, 0, cfg.energy_bits - 1), shift)
-        scored = Mux(at_start, self.segment_frames <= 1, in_scored)
+        eff_frames = Mux(taking, clamped(self.segment_frames, 1, cfg.k_max), k_frames)
+        eff_count = Mux(taking, clamped(self.candidate_count, 0, cfg.record_capacity), count)
+        eff_shift = Mux(taking, clamped(self.histogram_shift, 0, cfg.energy_bits - 1), shift)
+        scored = Mux(taking, self.segment_frames <= 1, in_scored)
         frame_end = Signal()                     # the next word is a frame's last pixel
         last = scored & frame_end
 
@@ -174,14 +180,16 @@ class Segmenter(wiring.Component):
             search.load.eq(~clearing),
             search.count.eq(list_count),
         ]
-        with m.If(accept & at_start):
+        with m.If(accept & taking):
             m.d.sync += [k_frames.eq(eff_frames), count.eq(eff_count), shift.eq(eff_shift)]
         with m.If(accept & ends):                  # this segment's n thresholds its histogram
             m.d.sync += list_count.eq(eff_count)
         with m.If(accept):
-            m.d.sync += [at_start.eq(0), in_scored.eq(scored), frame_end.eq(0)]
+            m.d.sync += [at_start.eq(0), aligned_start.eq(eos), in_scored.eq(scored),
+                         frame_end.eq(0)]
             with m.If(eos | last):                 # the segment ends: a new one starts
-                m.d.sync += [col.eq(0), row.eq(0), frame.eq(0), at_start.eq(1)]
+                m.d.sync += [col.eq(0), row.eq(0), frame.eq(0), at_start.eq(1),
+                             in_scored.eq(k_frames == 1)]   # used only if not taking
             with m.Elif(frame_end):                # the end of a frame that was not scored
                 m.d.sync += [col.eq(0), row.eq(0), frame.eq(frame + 1),
                              in_scored.eq(frame + 2 == k_frames)]

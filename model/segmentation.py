@@ -261,9 +261,11 @@ def segment_stream(states, cfg: DPConfig, settings=None) -> list[CandidateList]:
     resynchronisation) it equals :func:`segment_sequence` of the segments' images.
 
     ``settings``: ``(N, 3)`` run-time (K, n, s) per word, those of the segment the DP input
-    was in when it accepted that word's pixel; the segmenter takes them at the first word of
-    each of its segments (counters at (0, 0, 0)), and n at the list end for the scan.
-    ``None``: the build values throughout.
+    was in when it accepted that word's pixel; the segmenter takes them at the first word
+    after reset and after each ``end_of_segment`` (the first word of a segment, counters at
+    (0, 0, 0)), and n at the list end for the scan. A segment its counters start without
+    ``end_of_segment`` (misaligned after a resynchronisation) keeps the settings it has
+    (§6.5a). ``None``: the build values throughout.
     """
     width, height = cfg.width, cfg.height
     top = cfg.n_bins - 1
@@ -277,10 +279,12 @@ def segment_stream(states, cfg: DPConfig, settings=None) -> list[CandidateList]:
     records: list[tuple[int, int, int, int]] = []
     overflow = missed = False
     out: list[CandidateList] = []
+    taking = True                                       # reset or after an end_of_segment
     for index, word in enumerate(states):
         energy, direction, _eol, _eof, eos = (int(v) for v in word)
-        if settings is not None and col == row == k == 0:     # a segment's first word
+        if settings is not None and taking:             # a segment's first word
             k_frames, count, shift = (int(v) for v in settings[index])
+        taking = bool(eos)
         if k == k_frames - 1:                           # scored frame
             b = min(energy >> shift, top)
             hist[b] = min(hist[b] + 1, saturate)

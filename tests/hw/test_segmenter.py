@@ -8,7 +8,7 @@ import pytest
 from amaranth.hdl import ResetInserter, Signal
 
 from dptbd.hw.segmenter import Segmenter, scan_cycles
-from dptbd.model.segmentation import segment_stream
+from dptbd.model.segmentation import segment_stream, threshold_bin
 from helpers.hw_harness import simulate
 from helpers.seg_harness import make_config, pack_state_rows, run_lists, score
 
@@ -207,12 +207,12 @@ def scheduled_states(cfg, schedule, rng, **kw):
     return np.concatenate(parts), np.concatenate(settings)
 
 
-def settings_driver(dut, settings, rng):
+def settings_driver(dut, settings, rng, states):
     """Drive the settings ports with the offered word's segment's values at a segment's
-    first word and with random (also out-of-range) values elsewhere: only the first word's
-    values may matter."""
+    first word (the first word and each word after an end_of_segment) and with random (also
+    out-of-range) values elsewhere: only those words' values may matter."""
     first = np.ones(len(settings), dtype=bool)
-    first[1:] = (np.diff(settings, axis=0) != 0).any(axis=1)
+    first[1:] = states[:-1, 4] == 1
 
     def drive(ctx, index):
         ports = (dut.segment_frames, dut.candidate_count, dut.histogram_shift)
@@ -233,7 +233,8 @@ def rtl_segmenter_lists(cfg, states, settings, lists, seed):
     dut = Segmenter(cfg)
     return run_lists(cfg, dut, dut.states, dut.candidates, pack_state_rows(cfg, states), lists,
                      valid_probability=0.8, ready_probability=0.6, seed=seed,
-                     on_cycle=settings_driver(dut, settings, np.random.default_rng(seed)))
+                     on_cycle=settings_driver(dut, settings, np.random.default_rng(seed),
+                                              states))
 
 
 def settings_cases():
@@ -258,3 +259,27 @@ def test_run_time_settings_per_segment(case):
     assert len(lists) == len(schedule)
     assert all(lst.primed and lst.aligned for lst in lists[1:])
     assert len({lst.threshold for lst in lists}) >= 3          # the settings made a difference
+
+
+def test_settings_kept_at_a_misaligned_segment_start():
+    """docs/arithmetic.md §6.5a: K = 1 until a frame is cut after 10 words, then a resync's
+    segments of K = 3 (n = 1, s = 2). The counters' own segment starts (misaligned) keep
+    K = 1, n = 4, s = 4 — the ports carry random values there — until the word after the
+    resync segment's end_of_segment takes K = 3: one list per 24 words up to it."""
+    cfg = make_config(width=6, height=4, segment_frames=1, max_segment_frames=3,
+                      candidate_count=4, histogram_bits=4, histogram_shift=4)
+    from dptbd.model.settings import SegmentSettings as S
+    rng = np.random.default_rng(21)
+    before, _ = scheduled_states(cfg, [S(1, 4, 4), S(1, 4, 4)], rng, high=255)
+    after, _ = scheduled_states(cfg, [S(3, 1, 2)] * 3, rng, high=255)
+    cut = before[24:34].copy()
+    cut[:, 3:] = 0
+    states = np.concatenate([before[:24], cut, after])
+    settings = np.array([[1, 4, 4]] * 34 + [[3, 1, 2]] * len(after))
+    lists = ref_segmenter_lists(cfg, states, settings)
+    assert [(lst.aligned, lst.missed) for lst in lists] == (
+        [(True, False)] + [(False, False)] * 4 + [(True, False)] * 2)
+    assert [lst.threshold for lst in lists[1:6]] == [
+        threshold_bin(lst.histogram, cfg, 4) for lst in lists[0:5]]
+    assert lists[6].threshold == threshold_bin(lists[5].histogram, cfg, 1)
+    rtl_segmenter_lists(cfg, states, settings, lists, seed=21)

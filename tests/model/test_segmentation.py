@@ -238,6 +238,34 @@ def test_stream_model_realigns_on_end_of_segment():
         (True, False), (False, False), (True, True), (True, False)]
 
 
+def test_stream_model_keeps_the_settings_at_a_misaligned_segment_start():
+    """§6.5a: after a resync the segmenter takes settings only where it realigns. K = 1
+    until a frame is cut after 5 words, then a resync's segment of K = 3 (and n = 0): the
+    counters' own segment starts (words 24, 36, 48) keep K = 1 (a list per 12 words, the
+    last one cut at the end_of_segment of word 52); the word after it takes K = 3. Taking
+    the word's own segment's K = 3 at word 24 would give 4 lists."""
+    cfg = seg_config(width=4, height=3, segment_frames=1, max_segment_frames=3,
+                     candidate_count=2, histogram_bits=3, histogram_shift=5)
+    rng = np.random.default_rng(5)
+
+    def frames(n, k):
+        out = np.zeros((n, 3, 4, 5), int)
+        out[..., 0] = rng.integers(0, 256, (n, 3, 4))
+        out[:, :, -1, 2] = 1
+        out[:, -1, -1, 3] = 1
+        out[k - 1::k, -1, -1, 4] = 1
+        return out.reshape(-1, 5)
+
+    cut = frames(1, 1)[:5]
+    cut[:, 2:] = 0
+    stream = np.concatenate([frames(1, 1), cut, frames(6, 3)])
+    settings = np.array([[1, 2, 5]] * 17 + [[3, 0, 5]] * 72)
+    lists = segment_stream(stream, cfg, settings)
+    assert [(lst.aligned, lst.missed) for lst in lists] == [
+        (True, False), (False, False), (False, False), (False, False), (False, False),
+        (True, False)]
+
+
 def test_segment_fixed_shape_errors():
     cfg = seg_config(width=4, height=4)
     with pytest.raises(ValueError, match=(r"^energy and direction must both have shape \(H, "

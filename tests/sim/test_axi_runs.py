@@ -294,15 +294,12 @@ def test_the_stream_end_leaves_a_list_open(monkeypatch):
 
 @needs_verilator
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="model and RTL differ on the settings the segmenter "
-                   "takes at a misaligned segment start after a resync (docs/gateware.md, "
-                   "'Resynchronisation and settings'): the RTL takes the latest DP segment "
-                   "start's, segment_stream those of the DP segment of the word's pixel")
 def test_settings_at_a_misaligned_segment_start_after_a_resync():
     """K = 1 build (9 x 7, r = 2): frame 0 cut after 1.5 lines (sof_unexpected), K set to 3
-    at beat 25; the segmenter's next segment start (word 63) comes while the DP input has
-    begun its next segment (beat 76, K = 3), so the RTL's segmenter counts K = 3 frames where
-    the model counts 1."""
+    at beat 25; the segmenter's next segment start (word 63) is one its counters reach on
+    their own (misaligned) while the DP input has begun its next segment (beat 76, K = 3):
+    the segmenter keeps K = 1 until it realigns (docs/arithmetic.md §6.5a), in the model
+    and the RTL alike (they differed when the RTL took the latest DP segment start's K)."""
     cfg = make_config(width=9, height=7, segment_frames=1, max_segment_frames=3,
                       candidate_capacity=2, candidate_count=1, histogram_bits=4, radius=2,
                       weight_frac_bits=3)

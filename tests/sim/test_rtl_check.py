@@ -286,6 +286,28 @@ def test_run_time_settings(design, resets):
             assert result.words_out > counters["events_list_done"]      # records too
 
 
+@pytest.mark.parametrize("after", [1, 3, 12])
+def test_settings_of_a_segment_cut_at_once_by_a_resync(after):
+    """Segment 1 begins at word 576 with K = 1, n = 2, s = 3; other settings are written
+    at word 577 and a resync comes ``after`` words into segment 1, while its first word is
+    still in the DP pipeline. The segmenter takes segment 1's settings at its first word
+    (docs/arithmetic.md §6.5a), not the resync segment's, which began later at the DP
+    input: every word equals the stream model's."""
+    from dptbd.model.settings import SegmentSettings
+
+    cfg = BASE
+    sim = built(cfg, "segmenter")
+    words = pixel_words(cfg, make_frames("two-targets", cfg, 9, seed=5))
+    start = 3 * cfg.width * cfg.height
+    words[start + after] |= np.uint64(1 << cfg.input_bits)
+    changes = ((start, SegmentSettings(1, 2, 3)), (start + 1, SegmentSettings(2, 9, 0)))
+    pixels, first = split_words(cfg, words)
+    exp = expected_stream(cfg, pixels, first, settings_changes=dict(changes))
+    assert [tuple(exp.settings[i]) for i in (start, start + after)] == [(1, 2, 3), (2, 9, 0)]
+    result = check_stream(sim, words, Stimulus(0.2, 0.4, after, settings_changes=changes))
+    assert_passed(result)
+
+
 def test_core_random_store_with_faults():
     cfg = BASE
     sim = built(cfg, "core")
