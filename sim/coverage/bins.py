@@ -5,8 +5,10 @@ stimulus it offered (the input words, the stall densities, the cycle each word w
 and each output left, the resets, LUT and settings writes, the injected faults) and from the
 golden model's outputs, which the RTL matched bit for bit: a run that failed fills no bin.
 :func:`stream_bins` reads a compiled run of ``dp``, ``core`` or ``segmenter``
-(:func:`dptbd.sim.campaign.check_run`), :func:`axi_bins` the inputs of
-:func:`dptbd.sim.verilator_axi.check_axi` (the ``Beats`` and the bench's ``steps``).
+(:func:`dptbd.sim.campaign.check_run`), :func:`axi_bins` a run of ``dptbd_axi``
+(:func:`dptbd.sim.axi_runs.check_run`): the inputs of
+:func:`dptbd.sim.verilator_axi.check_axi` (the ``Beats``, the ``steps`` and the stall
+densities) and the cycle each beat was accepted and each register operation done.
 
 The bins are plain ``{name: hits}`` dicts: a run declares every bin its design and its
 case's faults can fill (with 0 hits), so merging runs is addition (:func:`merge`) and a bin
