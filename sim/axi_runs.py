@@ -12,14 +12,16 @@
   uniform in [0.35, 0.7]), the pair of bands the seed modulo 9 (nine consecutive seeds
   draw every pair);
 * steps (the bench's vocabulary, :func:`dptbd.sim.verilator_axi.step_operations`) at beats
-  drawn on frame starts, line starts and anywhere, each with some of: run-time K / n / s
-  writes (n often 0, 1, 2 or C, s mostly near the build's), refused setting writes (below or above every writable
-  register's range, the all-ones word, a strobed byte that takes the word out of range),
+  drawn on frame starts, line starts, inside a frame's first or last row and anywhere,
+  each with some of: run-time K / n / s writes (n often 0, 1, 2 or C, s mostly near the
+  build's), refused setting writes (below or above every writable register's range, the
+  all-ones word, a strobed byte that takes the word out of range),
   a write with no strobe (taken, nothing changes), ``VIDEO_INPUT.no_sof`` set and cleared,
   ``IRQ_ENABLE`` writes, a whole LUT (codes in [0, 2**F], 0 and 2**F included) or single
   entries (codes 0, 2**F, in between; refused: 2**F + 1, the field's maximum, all ones,
   strobes other than 1111), unaligned writes and reads, reads of the write-only LUT window
-  and of unmapped addresses, writes to unmapped and read-only registers, soft resets at
+  and of unmapped addresses, writes to unmapped and read-only registers (a
+  constant, a counter or STATUS, a third each), soft resets at
   any beat of a frame (the model restarts at the soft reset's beat), half of them after the
   pipeline drained (a list left open in a scored frame is then closed by the cut trailer:
   :class:`~dptbd.sim.axi_stimulus.CutList`), half with words in flight and back-pressure

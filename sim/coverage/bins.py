@@ -78,8 +78,8 @@ from typing import Iterable, Mapping
 import numpy as np
 
 __all__ = ["BANDS", "POSITIONS", "Group", "GROUPS", "band", "declared_stream", "declared_axi",
-           "stream_bins", "axi_bins", "bus_operations", "soft_reset_bin", "list_ends", "merge", "empty_bins", "table",
-           "empty_message"]
+           "stream_bins", "axi_bins", "bus_operations", "soft_reset_bin", "list_ends", "merge",
+           "empty_bins", "table", "empty_message", "ARESETN", "AXIL_WRITE_CYCLES"]
 
 STREAM = ("dp", "core", "segmenter")
 AXI = ("axi",)
