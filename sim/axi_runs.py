@@ -7,22 +7,30 @@
   frames, about a quarter of them (two frames or more) carrying one frame-sync fault of a
   class drawn from :data:`~dptbd.sim.axi_stimulus.FAULT_KINDS`
   (:func:`~dptbd.sim.axi_stimulus.with_fault`);
-* input gap and output back-pressure densities, each uniform in [0, 0.7] (a quarter of the
-  runs at full speed), as the campaign's other cases;
+* input gap and output back-pressure densities, each in a band of
+  :data:`~dptbd.sim.coverage.bins.BANDS` (none: 0; light: uniform in (0, 0.35); heavy:
+  uniform in [0.35, 0.7]), the pair of bands the seed modulo 9 (nine consecutive seeds
+  draw every pair);
 * steps (the bench's vocabulary, :func:`dptbd.sim.verilator_axi.step_operations`) at beats
-  drawn on frame starts, line starts and anywhere, each with some of: run-time K / n / s
-  writes (n often 0 or C, s mostly near the build's), refused setting writes (below or above every writable
-  register's range, the all-ones word, a strobed byte that takes the word out of range),
+  drawn on frame starts, line starts, inside a frame's first or last row and anywhere,
+  each with some of: run-time K / n / s writes (n often 0, 1, 2 or C, s mostly near the
+  build's), refused setting writes (below or above every writable register's range, the
+  all-ones word, a strobed byte that takes the word out of range),
   a write with no strobe (taken, nothing changes), ``VIDEO_INPUT.no_sof`` set and cleared,
   ``IRQ_ENABLE`` writes, a whole LUT (codes in [0, 2**F], 0 and 2**F included) or single
   entries (codes 0, 2**F, in between; refused: 2**F + 1, the field's maximum, all ones,
   strobes other than 1111), unaligned writes and reads, reads of the write-only LUT window
-  and of unmapped addresses, writes to unmapped and read-only registers, soft resets at
+  and of unmapped addresses, writes to unmapped and read-only registers (a
+  constant, a counter or STATUS, a third each), soft resets at
   any beat of a frame (the model restarts at the soft reset's beat), half of them after the
   pipeline drained (a list left open in a scored frame is then closed by the cut trailer:
   :class:`~dptbd.sim.axi_stimulus.CutList`), half with words in flight and back-pressure
-  (``soft_reset: "now"``: the lists before it whole, then at most one list's first records
-  closed by the cut trailer; the FRAMES … SATURATED counters are then not checked),
+  (``soft_reset: "now"``, after ``soft_reset_wait`` idle cycles, 0 half the time, else up
+  to :data:`NOW_WAIT`: the lists before it whole, then at most one list's first records
+  closed by the cut trailer; the FRAMES … SATURATED counters are then not checked), and in
+  the runs without input gaps a sweep of :data:`NOW_SWEEP` more of these at beats drawn
+  anywhere, with 0, 1, 2 … idle cycles before them (so that the campaign's soft resets
+  find every number of words in flight, 0 … L),
   ``CONTROL.clear_counters`` (the counters then read 0), reads of every readable register
   with the value the model gives where it knows it (constants, settings, enables, ERROR,
   the fault counters, STATUS, CONTROL), W1C clears of ERROR and IRQ_STATUS bits.
@@ -48,8 +56,8 @@ from dptbd.config import DPConfig
 from dptbd.hw.register_map import FAULTS, register_map
 from dptbd.sim.axi_stimulus import FAULT_KINDS, SETTINGS, Beats, clean_beats, with_fault
 
-__all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "AxiPlan", "draw_run", "check_run",
-           "list_classes"]
+__all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "NOW_SWEEP", "NOW_WAIT", "AxiPlan",
+           "draw_run", "check_run"]
 
 #: What an AXI case's runs may draw (``Case.faults``): the frame-sync fault classes,
 #: soft resets, ``aresetn`` pulses, run-time settings (with refused values,
@@ -108,15 +116,20 @@ def _stream(cfg: DPConfig, frames: np.ndarray, kinds, rng, drawn
 
 
 def _positions(cfg: DPConfig, n_beats: int, starts: list[int], rng) -> list[int]:
-    """Sorted step boundaries: frame starts, line starts, anywhere."""
+    """Sorted step boundaries: frame starts, line starts, inside a frame's first or last
+    row, anywhere."""
     out = []
     for _ in range(int(rng.integers(4, 12))):
         pick = rng.random()
-        if pick < 0.4:
-            out.append(int(starts[int(rng.integers(0, len(starts)))]))
-        elif pick < 0.6:
+        start = int(starts[int(rng.integers(0, len(starts)))])
+        if pick < 0.3:
+            out.append(start)
+        elif pick < 0.45:
             at = int(rng.integers(0, n_beats))
             out.append(at - at % cfg.width)
+        elif pick < 0.6:                        # inside a frame's first or last row
+            row = 0 if rng.random() < 0.5 else cfg.height - 1
+            out.append(min(n_beats, start + row * cfg.width + int(rng.integers(1, cfg.width))))
         else:
             out.append(int(rng.integers(0, n_beats + 1)))
     return sorted(out)
@@ -152,6 +165,8 @@ class _Drawer:
             if name == "HISTOGRAM_SHIFT":        # mostly near the build's s: lists with records
                 s = self.map[name].reset
                 choices += [s, s, max(lo, s - 1), min(hi, s + 1)]
+            elif name == "CANDIDATE_COUNT":      # small n: lists of exactly n records
+                choices += [min(hi, 1), min(hi, 2)]
             value = int(self.pick(choices))
             writes.append([str(name), value])
             self.values[name] = value
@@ -231,8 +246,9 @@ class _Drawer:
         elif kind == "unmapped_write":
             ops.append(["w", self.pick(self.unmapped), int(rng.integers(0, 2**32)), 0xF,
                         SLVERR])
-        else:
-            ro = [r for r in self.map.registers if r.access == "ro"]
+        else:                                    # a constant, a counter or the status
+            ro_kind = self.pick(["constant", "counter", "status"])
+            ro = [r for r in self.map.registers if r.access == "ro" and r.kind == ro_kind]
             ops.append(["w", self.pick(ro).address, int(rng.integers(0, 2**32)), 0xF,
                         SLVERR])
         self.drawn[kind] += 1
@@ -312,9 +328,33 @@ def _fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict]) -> np.ndarray:
     return pulses
 
 
+#: Soft resets of ``"now"`` that a run without input gaps draws besides its steps' (at beats
+#: drawn anywhere, each alone in its step), the j-th (from 0) after j idle cycles: at full
+#: input speed the j-th finds L - j words in flight (0 from j = L on; the builds' L is 17).
+NOW_SWEEP = 20
+#: Idle cycles before a soft reset of ``"now"``: 0 half the time, else uniform in
+#: 1 … ``NOW_WAIT`` (the builds' L is 17), so that it finds every number of words in flight.
+NOW_WAIT = 20
+
+
+def _density(band: int, rng) -> float:
+    """A stall density in band 0 (none: 0), 1 (light: below 0.35) or 2 (heavy: 0.35 up
+    to :data:`~dptbd.sim.campaign.MAX_STALL`), the bands of
+    :data:`dptbd.sim.coverage.bins.BANDS`."""
+    from dptbd.sim.campaign import MAX_STALL
+    from dptbd.sim.coverage.bins import BANDS
+
+    _, lo, hi = BANDS[band]
+    return 0.0 if band == 0 else float(rng.uniform(lo, min(hi, MAX_STALL)))
+
+
+def _wait(rng) -> int:
+    return 0 if rng.random() < 0.5 else int(rng.integers(1, NOW_WAIT + 1))
+
+
 def draw_run(case, seed: int) -> AxiPlan:
     """Run ``seed`` of the AXI case ``case`` (a :class:`~dptbd.sim.campaign.Case`)."""
-    from dptbd.sim.campaign import MAX_STALL, hostile_frames
+    from dptbd.sim.campaign import hostile_frames
 
     cfg = case.cfg
     rng = np.random.default_rng([seed, 0xA71])
@@ -323,13 +363,18 @@ def draw_run(case, seed: int) -> AxiPlan:
     allowed = set(case.faults)
     beats, starts, notes = _stream(cfg, frames, [k for k in FAULT_KINDS if k in allowed], rng,
                                    drawn)
-    gap, pause = (float(v) for v in rng.uniform(0.0, MAX_STALL, size=2))
-    if rng.random() < 0.25:
-        gap, pause = 0.0, 0.0                           # some runs at full speed
+    gap, pause = (_density(band, rng) for band in divmod(seed % 9, 3))
     d = _Drawer(cfg, rng, drawn)
     steps = []
     regmap = d.map
+    sweep = (sorted(int(b) for b in rng.integers(0, len(beats) + 1, size=NOW_SWEEP))
+             if gap == 0 and "soft_reset" in allowed else [])
+    waits = list(range(len(sweep)))
     for stop in [*_positions(cfg, len(beats), starts, rng), len(beats)]:
+        while sweep and sweep[0] < stop:        # soft resets with 0 … L words in flight
+            steps.append({"soft_reset": "now", "soft_reset_wait": waits.pop(0),
+                          "stop": sweep.pop(0)})
+            drawn["soft_reset_now"] += 1
         step = {}
         if rng.random() < 0.35:
             d.check(step)
@@ -351,11 +396,12 @@ def draw_run(case, seed: int) -> AxiPlan:
                 drawn["soft_reset"] += 1
             else:                                        # with words still in flight
                 step["soft_reset"] = "now"
+                step["soft_reset_wait"] = _wait(rng)
                 drawn["soft_reset_now"] += 1
         for p, action, what in ((0.4, d.settings, "settings"),
                                 (0.3, d.refused_setting, "settings"),
                                 (0.2, d.strobed, "settings"), (0.1, d.no_sof, "settings"),
-                                (0.15, d.irq_enable, "settings"), (0.1, d.lut_table, "lut"),
+                                (0.15, d.irq_enable, "settings"), (0.3, d.lut_table, "lut"),
                                 (0.3, d.lut_entries, "lut")):
             if rng.random() < p and what in allowed:
                 action(step)
@@ -387,40 +433,30 @@ def draw_run(case, seed: int) -> AxiPlan:
 def check_run(case, seed: int, root: str | None = None, coverage: str | None = None):
     """Build (cached), run and check run ``seed`` of the AXI case ``case``: a
     :class:`~dptbd.sim.campaign.RunOutcome` (``words_out``: candidate words and checked
-    register responses); with ``coverage`` (a file) on the coverage build, its coverage
-    data written there."""
+    register responses) with its bins; with ``coverage`` (a file) on the coverage build, its
+    coverage data written there; a case that saturates on purpose gives no
+    :class:`~dptbd.config.EnergyWidthWarning`."""
+    import warnings
+
+    from dptbd.config import EnergyWidthWarning
     from dptbd.sim.campaign import RunOutcome
+    from dptbd.sim.coverage.bins import axi_bins
     from dptbd.sim.verilator import build
     from dptbd.sim.verilator_axi import check_axi
 
     start = time.perf_counter()
     sim = build(case.cfg, "axi", root=root, coverage=coverage is not None)
     plan = draw_run(case, seed)
-    result = check_axi(sim, plan.beats, plan.steps, valid_gap=plan.valid_gap,
-                       ready_pause=plan.ready_pause, seed=seed, pulses=plan.pulses,
-                       coverage=coverage)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        result = check_axi(sim, plan.beats, plan.steps, valid_gap=plan.valid_gap,
+                           ready_pause=plan.ready_pause, seed=seed, pulses=plan.pulses,
+                           coverage=coverage)
+        bins = axi_bins(case.cfg, plan.beats, plan.steps, passed=result.passed,
+                        latency=sim.latency, valid_gap=plan.valid_gap,
+                        ready_pause=plan.ready_pause, run=result.run)
     report = "" if result.passed else f"seed {seed}: {result.report()}"
-    lists = list_classes(case.cfg, result.lists)
-    notes = (*plan.notes, "lists " + ", ".join(f"{k} {v}" for k, v in lists.items()))
     return RunOutcome(case.name, seed, result.passed, report, len(plan.beats),
                       len(result.run.out_words) + len(result.run.op_resp), result.run.cycles,
-                      result.run.sim_seconds, time.perf_counter() - start, notes)
+                      result.run.sim_seconds, time.perf_counter() - start, plan.notes, bins)
 
-
-def list_classes(cfg: DPConfig, lists) -> dict[str, int]:
-    """How many of the expected ``lists`` are empty, hold records below capacity C, are
-    at C without overflow, overflow (more than C pixels reached T), and were cut by a soft
-    reset."""
-    from dptbd.sim.axi_stimulus import CutList
-
-    out = dict(empty=0, some=0, capacity=0, overflow=0, cut=0)
-    for lst in lists:
-        if isinstance(lst, CutList):
-            out["cut"] += 1
-        elif lst.overflow:
-            out["overflow"] += 1
-        elif lst.count == cfg.record_capacity:
-            out["capacity"] += 1
-        else:
-            out["empty" if lst.count == 0 else "some"] += 1
-    return out

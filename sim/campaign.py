@@ -124,8 +124,9 @@ def default_cases() -> list[Case]:
 
 def axi_cases() -> list[Case]:
     """The AXI top level's cases (:mod:`dptbd.sim.axi_runs`): 001's setting, a small r = 2
-    one with a fractional LUT, a small binary-LUT one; K_max above K and small C, so that
-    run-time K, lists at capacity and overflowing lists occur."""
+    one with a fractional LUT, a small binary-LUT one with B_E = 9 (bright frames saturate);
+    K_max above K and small C, so that run-time K, lists at capacity and overflowing lists
+    occur."""
     from dptbd.sim.axi_runs import AXI_FAULTS
 
     p001 = dict(width=128, height=128, segment_frames=8, input_bits=12, energy_bits=16,
@@ -138,7 +139,7 @@ def axi_cases() -> list[Case]:
                                         histogram_bits=6), "axi", 80, 8, AXI_FAULTS),
         Case("axi-24x16-f0-k2", dict(width=24, height=16, segment_frames=2,
                                      max_segment_frames=4, weight_frac_bits=0,
-                                     candidate_count=3, candidate_capacity=6,
+                                     energy_bits=9, candidate_count=3, candidate_capacity=6,
                                      histogram_bits=6, histogram_shift=2),
              "axi", 160, 8, AXI_FAULTS),
     ]

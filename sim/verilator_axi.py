@@ -82,8 +82,9 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
     address, data], ...]``: unaligned or unmapped addresses, a LUT read, a LUT code out of
     range) must be answered SLVERR.
 
-    ``soft_reset`` may be ``"now"``: no settle before it, and then a wait until
-    ``STATUS.soft_reset_busy`` reads 0 (check ``("wait", "STATUS", beat)``). ``aresetn``
+    ``soft_reset`` may be ``"now"``: no settle before it (``soft_reset_wait`` idle cycles
+    if given), and then a wait until ``STATUS.soft_reset_busy`` reads 0 (check
+    ``("wait", "STATUS", beat)``). ``aresetn``
     (cycles) holds ``aresetn`` low after the settle and the check reads.
     Besides the bench's keys a step may hold ``clear_counters`` (a ``CONTROL.clear_counters``
     pulse after the settle and the check reads, before a soft reset), ``lut_writes``
@@ -113,6 +114,8 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
             ops.append((start, "a", int(step["aresetn"]), 0))
         if step.get("clear_counters"):
             write(start, regs.REG_CONTROL, regs.CONTROL_CLEAR_COUNTERS_MASK, OKAY, "CONTROL")
+        if step.get("soft_reset") == "now" and step.get("soft_reset_wait"):
+            ops.append((start, "i", int(step["soft_reset_wait"]), 0))
         if step.get("soft_reset"):
             write(start, regs.REG_CONTROL, regs.CONTROL_SOFT_RESET_MASK, OKAY, "CONTROL")
         if step.get("soft_reset") == "now":

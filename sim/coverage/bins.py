@@ -5,8 +5,10 @@ stimulus it offered (the input words, the stall densities, the cycle each word w
 and each output left, the resets, LUT and settings writes, the injected faults) and from the
 golden model's outputs, which the RTL matched bit for bit: a run that failed fills no bin.
 :func:`stream_bins` reads a compiled run of ``dp``, ``core`` or ``segmenter``
-(:func:`dptbd.sim.campaign.check_run`), :func:`axi_bins` the inputs of
-:func:`dptbd.sim.verilator_axi.check_axi` (the ``Beats`` and the bench's ``steps``).
+(:func:`dptbd.sim.campaign.check_run`), :func:`axi_bins` a run of ``dptbd_axi``
+(:func:`dptbd.sim.axi_runs.check_run`): the inputs of
+:func:`dptbd.sim.verilator_axi.check_axi` (the ``Beats``, the ``steps`` and the stall
+densities) and the cycle each beat was accepted and each register operation done.
 
 The bins are plain ``{name: hits}`` dicts: a run declares every bin its design and its
 case's faults can fill (with 0 hits), so merging runs is addition (:func:`merge`) and a bin
@@ -21,7 +23,8 @@ counts that pickles and adds is all that is needed.
 
 The bin groups and what a hit is (``docs/gateware.md``, "Verification campaign"):
 
-* ``stall``: input words accepted at a position of the frame (first / last row, first /
+* ``stall`` (also ``axi``, the positions by the model's counters of each piece between
+  resets): input words accepted at a position of the frame (first / last row, first /
   last column, interior, a segment-boundary frame: the first or the last frame of a
   segment, by the model's counters) in runs whose input gap density (``valid_gap``) and
   output back-pressure density (``ready_pause``) fall in a band each: none (0), light
@@ -32,9 +35,17 @@ The bin groups and what a hit is (``docs/gateware.md``, "Verification campaign")
   minus the outputs transferred since then, before the reset's cycle (every accepted word
   leaves as one output). ``segmenter`` (one output per list, not per word): the words
   accepted in the L cycles before the reset (the DP pipeline never stalls on a list).
-* ``soft reset`` (``axi``): soft resets (CONTROL.soft_reset) with 0 words in flight:
-  ``check_axi`` waits ``settle_cycles`` (more than the latency) before every soft reset, so
-  the pipeline holds none (the cocotb sweep of ``tb_axi`` covers every cycle of a frame).
+* ``soft reset`` (``axi``): soft resets (CONTROL.soft_reset) that found k words in flight,
+  k = 0 … L (L the AXI top's latency, the build's ``latency``: from a beat accepted on
+  ``s_axis_video`` to its state word, the DP pipeline's and the video input's): the beats
+  accepted in the L cycles before the cycle the soft reset's AXI4-Lite
+  write began (the harness offers no beat while an operation is under way; the register
+  block answers a write in its :data:`AXIL_WRITE_CYCLES`-th cycle, so the write began
+  that many cycles before its recorded response, less one). A soft reset after the step's
+  settle (``soft_reset: True``) finds 0; ``soft_reset: "now"`` is measured this way.
+* ``aresetn`` (``axi``): ``aresetn`` pulses with 0 words in flight, from the plan:
+  ``check_axi`` holds ``aresetn`` low only after the step's settle (more than L idle
+  cycles; ``aresetn`` with words in flight is not drawn).
 * ``fault``: injected faults of each class (:data:`dptbd.sim.campaign.FAULTS`,
   :data:`dptbd.sim.axi_stimulus.FAULT_KINDS`) followed by a clean segment: a whole segment
   (K complete frames from the counters' frame 0) that starts at or after the fault, with no
@@ -52,8 +63,10 @@ The bin groups and what a hit is (``docs/gateware.md``, "Verification campaign")
   ``docs/registers.md``: a value out of range per setting register and for the LUT window,
   a LUT write without wstrb = 1111, a LUT read, a write to a constant, counter or status
   register, unaligned and unmapped reads and writes. ``check_axi``'s ``steps`` express the
-  range refusals of the setting registers; the others come from raw bus operations
-  (``bus`` of :func:`axi_bins`).
+  range refusals of the setting registers, ``lut_writes`` and ``bus`` the LUT's and the
+  raw accesses (``bus`` of :func:`axi_bins` adds more); a write of a setting with some
+  strobes refuses the value it would make (the strobed bytes of the data over the
+  register's value held then).
 """
 
 from __future__ import annotations
@@ -65,8 +78,8 @@ from typing import Iterable, Mapping
 import numpy as np
 
 __all__ = ["BANDS", "POSITIONS", "Group", "GROUPS", "band", "declared_stream", "declared_axi",
-           "stream_bins", "axi_bins", "list_ends", "merge", "empty_bins", "table",
-           "empty_message"]
+           "stream_bins", "axi_bins", "bus_operations", "soft_reset_bin", "list_ends", "merge",
+           "empty_bins", "table", "empty_message", "ARESETN", "AXIL_WRITE_CYCLES"]
 
 STREAM = ("dp", "core", "segmenter")
 AXI = ("axi",)
@@ -94,14 +107,17 @@ class Group:
     designs: tuple[str, ...]
 
 
-GROUPS = (Group("stall", STREAM), Group("reset", STREAM), Group("soft reset", AXI),
-          Group("fault", STREAM + AXI), Group("LUT", STREAM + AXI),
+GROUPS = (Group("stall", STREAM + AXI), Group("reset", STREAM), Group("soft reset", AXI),
+          Group("aresetn", AXI), Group("fault", STREAM + AXI), Group("LUT", STREAM + AXI),
           Group("saturation", STREAM + AXI), Group("lists", ("segmenter",) + AXI),
           Group("ties", ("segmenter",) + AXI), Group("register", AXI))
 
 SATURATION = "saturation: a state word at E = 2**B_E - 1"
 TIES = "ties: two or more pixels in the threshold bin"
-SOFT_RESET = "soft reset: 0 words in flight"
+ARESETN = "aresetn: 0 words in flight"
+#: Cycles of an AXI4-Lite write in the AXI harness, from AW and W offered to the response
+#: taken (the register block's; ``tests/sim/test_axi_runs.py`` measures it).
+AXIL_WRITE_CYCLES = 3
 FIFO = "more than L words (output FIFO)"
 RANGE = " value out of range"
 BUS_REASONS = ("LUT write without wstrb = 1111", "LUT read", "write to a constant register",
@@ -143,11 +159,20 @@ def declared_stream(design: str, faults: Iterable[str], lut: bool, latency: int
     return out
 
 
-def declared_axi(cfg) -> dict[str, int]:
-    """Every bin (0 hits) a run of ``dptbd_axi`` fills."""
+def soft_reset_bin(k: int) -> str:
+    """The bin of a soft reset that found ``k`` words in flight."""
+    return _key("soft reset", _words(k))
+
+
+def declared_axi(cfg, latency: int) -> dict[str, int]:
+    """Every bin (0 hits) a run of ``dptbd_axi`` fills; ``latency`` the DP pipeline's L of
+    the build."""
     from dptbd.sim.axi_stimulus import FAULT_KINDS
 
-    out = {SOFT_RESET: 0}
+    out = {_key("stall", f"gaps {g}, back-pressure {b}, {p}"): 0
+           for g, *_ in BANDS for b, *_ in BANDS for p in POSITIONS}
+    out.update({soft_reset_bin(k): 0 for k in range(latency + 1)})
+    out[ARESETN] = 0
     out.update({_key("fault", f"{f} recovered"): 0 for f in FAULT_KINDS})
     out.update({_key("LUT", label): 0 for label in LUT_STAGES + LUT_CODES})
     out[SATURATION] = 0
@@ -365,8 +390,10 @@ def stream_bins(case, stimulus, result, events: Iterable[tuple[str, int]] = (),
     return counts
 
 
-def _bus_reason(regs, kind: str, address: int, data: int, wstrb: int) -> str | None:
-    """Why the register block refuses a raw access (``docs/registers.md``), or None."""
+def _bus_reason(regs, kind: str, address: int, data: int, wstrb: int,
+                held: Mapping[int, int]) -> str | None:
+    """Why the register block refuses a raw access (``docs/registers.md``), or None;
+    ``held``: the value each setting register (by address) holds before the access."""
     verb = "write" if kind == "w" else "read"
     if address % 4:
         return f"unaligned {verb}"
@@ -387,27 +414,81 @@ def _bus_reason(regs, kind: str, address: int, data: int, wstrb: int) -> str | N
                         "counter": "write to a counter",
                         "status": "write to the status register"}[reg.kind]
             lo, hi = reg.fields[0].limits or (None, None)
-            return None if lo is None or lo <= data <= hi else reg.name + RANGE
+            return None if lo is None or lo <= _merged(data, wstrb, held[address]) <= hi \
+                else reg.name + RANGE
     return f"unmapped {verb}"
 
 
-def axi_bins(cfg, beats, steps: list[dict], *, passed: bool,
+def _merged(data: int, wstrb: int, held: int) -> int:
+    """The word a write with strobes ``wstrb`` makes of a register holding ``held``."""
+    mask = sum(0xFF << 8 * lane for lane in range(4) if wstrb >> lane & 1)
+    return (data & mask) | (held & ~mask & 0xFFFFFFFF)
+
+
+def bus_operations(cfg, steps: list[dict]) -> list[tuple[int, tuple[str, int, int, int]]]:
+    """(step index, ``(kind "w" or "r", byte address, data, wstrb)``) of every register
+    access the ``steps`` make besides the checked reads, soft resets and counter clears, in
+    the order :func:`~dptbd.sim.verilator_axi.step_operations` performs them: ``writes``,
+    ``lut_codes``, ``lut_writes``, ``bus``."""
+    from dptbd.hw.register_map import register_map
+
+    regs = register_map(cfg)
+    lut = regs.window("LUT").base
+    out = []
+    for j, step in enumerate(steps):
+        ops = [("w", regs[name].address, int(value), 0xF)
+               for name, value in step.get("writes", [])]
+        if step.get("lut_codes") is not None:
+            ops += [("w", lut + 4 * cfg.lut_address(p, m), int(code), 0xF)
+                    for p, row in enumerate(step["lut_codes"]) for m, code in enumerate(row)]
+        ops += [("w", lut + 4 * cfg.lut_address(p, m), int(code), int(strobe))
+                for p, m, code, strobe in step.get("lut_writes", [])]
+        ops += [("w", int(a), int(rest[0]), int(rest[1])) if k == "w" else ("r", int(a), 0, 0)
+                for k, a, *rest in step.get("bus", [])]
+        out += [(j, op) for op in ops]
+    return out
+
+
+def _in_flight(cfg, steps: list[dict], run, latency: int) -> list[int]:
+    """Words in flight at each ``soft_reset: "now"`` (see the module doc): the beats
+    accepted in the ``latency`` cycles before its write began."""
+    from dptbd.sim.verilator_axi import step_operations
+
+    _, checks = step_operations(cfg, steps, 0, [])
+    accept = np.sort(np.asarray(run.accept_cycles, dtype=np.int64))
+    out = []
+    for i, (kind, _, _) in enumerate(checks):
+        if kind == "wait":                         # follows its soft reset's write
+            began = int(run.op_cycles[i - 1]) - (AXIL_WRITE_CYCLES - 1)
+            out.append(int(np.searchsorted(accept, began) -
+                           np.searchsorted(accept, began - latency)))
+    return out
+
+
+def axi_bins(cfg, beats, steps: list[dict], *, passed: bool, latency: int,
+             valid_gap: float = 0.0, ready_pause: float = 0.0, run=None,
              bus: Iterable[tuple[str, int, int, int]] = ()) -> dict[str, int]:
     """The bins of one run of ``dptbd_axi`` (:func:`dptbd.sim.verilator_axi.check_axi`
-    with these ``beats`` and ``steps``; ``passed`` its verdict). ``bus``: raw AXI4-Lite
-    operations the run also performed, ``(kind "w" or "r", byte address, data, wstrb)``.
+    with these ``beats``, ``steps``, ``valid_gap`` and ``ready_pause``; ``passed`` its
+    verdict, ``latency`` the build's L, ``VerilatorBuild.latency``). ``run``: the
+    :class:`~dptbd.sim.verilator_axi.AxiRun` (its ``accept_cycles`` and ``op_cycles``),
+    needed if a soft reset is ``"now"``. ``bus``: raw AXI4-Lite operations the run also
+    performed after the steps', ``(kind "w" or "r", byte address, data, wstrb)``.
 
-    A campaign case of design ``"axi"`` fills its outcome's bins with
-    ``axi_bins(sim.cfg, beats, steps, passed=check.passed)`` (``check`` what ``check_axi``
-    returned), which declares every bin of the AXI top."""
-    from dptbd.hw.register_map import register_map
+    :func:`dptbd.sim.axi_runs.check_run` fills an AXI run's bins with it."""
+    from dptbd.hw.register_map import FAULTS, register_map
     from dptbd.model.segmentation import segment_stream
-    from dptbd.sim.axi_stimulus import fault_pulses, stream_pieces
+    from dptbd.sim.axi_stimulus import stream_pieces
     from dptbd.sim.stream_model import expected_stream
+    from dptbd.sim.verilator_axi import fault_pulse_array
 
-    counts = declared_axi(cfg)
+    counts = declared_axi(cfg, latency)
     if not passed:
         return counts
+    now = sum(step.get("soft_reset") == "now" for step in steps)
+    if now and run is None:
+        raise ValueError("axi_bins needs the run's cycles (run=) to count the words in "
+                         "flight at a soft reset of \"now\"")
     pieces = []
     for piece in stream_pieces(cfg, steps):
         a, b = piece.start, piece.stop
@@ -416,28 +497,42 @@ def axi_bins(cfg, beats, steps: list[dict], *, passed: bool,
                               {i - a: st for i, st in piece.settings_changes.items()})
         pieces.append((a, exp, segment_stream(exp.fields, cfg, exp.settings), None))
     view = _view(cfg, pieces)
-    counts[SOFT_RESET] += sum(bool(step.get("soft_reset")) for step in steps)
+    _positions(view, cfg, counts, f"gaps {band(valid_gap)}, back-pressure {band(ready_pause)}")
+    counts[soft_reset_bin(0)] += sum(step.get("soft_reset") is True for step in steps)
+    for k in (_in_flight(cfg, steps, run, latency) if now else []):
+        counts[soft_reset_bin(k)] += 1
+    counts[ARESETN] += sum(bool(step.get("aresetn")) for step in steps)
     starts = [0] + [step["stop"] for step in steps[:-1]]
+    unity = 1 << cfg.weight_frac_bits
     writes = [(s, step["lut_codes"]) for s, step in zip(starts, steps)
               if step.get("lut_codes") is not None]
-    events = [(kind, i) for i, pulses in enumerate(fault_pulses(cfg, beats.first, beats.last))
-              for kind, hit in pulses.items() if hit]
+    entries = [code for step in steps for _, _, code, strobe in step.get("lut_writes", [])
+               if strobe == 0xF and 0 <= code <= unity]
+    pulses = fault_pulse_array(cfg, beats, steps)
+    events = [(kind, int(i)) for j, kind in enumerate(FAULTS)
+              for i in np.flatnonzero(pulses[:, j])]
     _recovered(view, events, counts, [s for s, step in zip(starts, steps)
-                                      if step.get("writes") or step.get("lut_codes") is not None])
+                                      if step.get("writes") or step.get("lut_writes")
+                                      or step.get("lut_codes") is not None])
     _lut(view, cfg, writes, counts)
+    for label, code in zip(LUT_CODES, (0, unity - 1, unity)):
+        counts[_key("LUT", label)] += entries.count(code)
     counts[SATURATION] += int(np.count_nonzero(view.energy == cfg.e_max))
     _lists(view, cfg, counts)
     regs = register_map(cfg)
-    limits = {r.name: r.fields[0].limits for r in regs.registers if r.kind == "setting"}
-    for step in steps:
-        for name, value in step.get("writes", []):
-            lo, hi = limits.get(name) or (None, None)
-            if lo is not None and not lo <= value <= hi:
-                counts[_key("register", name + RANGE)] += 1
-    for kind, address, data, wstrb in bus:
-        reason = _bus_reason(regs, kind, int(address), int(data), int(wstrb))
+    settings = {r.address: r.reset for r in regs.registers if r.kind == "setting"}
+    held, done = dict(settings), -1
+    for j, op in [*bus_operations(cfg, steps), *((len(steps), op) for op in bus)]:
+        for step in steps[done + 1:j + 1]:     # aresetn comes before the step's writes
+            if step.get("aresetn"):
+                held = dict(settings)
+        done = max(done, j)
+        kind, address, data, wstrb = op
+        reason = _bus_reason(regs, kind, int(address), int(data), int(wstrb), held)
         if reason is not None:
             counts[_key("register", reason)] += 1
+        elif kind == "w" and int(address) in held:
+            held[int(address)] = _merged(int(data), int(wstrb), held[int(address)])
     return counts
 
 

@@ -49,7 +49,7 @@ def test_verify_command_runs_one_case(capsys, tmp_path):
     assert data["runs"][0]["bins"] == data["bins"]
     assert text.rstrip().endswith(f"functional coverage: {len(empty)} empty bins: "
                                   + "; ".join(empty))
-    assert not any(name.startswith(("lists:", "ties:", "register:", "soft reset:"))
+    assert not any(name.startswith(("lists:", "ties:", "register:", "soft reset:", "aresetn:"))
                    for name in data["bins"])               # dp only: no bin of other designs
     assert "stall: gaps none, back-pressure none, first row" in text
 

@@ -14,10 +14,12 @@ from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS, register_map
 from dptbd.sim import axi_runs, axi_stimulus, verilator_axi
 from dptbd.sim import verilator as V
-from dptbd.sim.axi_runs import ACTIONS, AXI_FAULTS, REFUSALS, check_run, draw_run
+from dptbd.sim.axi_runs import (ACTIONS, AXI_FAULTS, NOW_SWEEP, REFUSALS, check_run,
+                                draw_run)
 from dptbd.sim.axi_stimulus import (FAULT_KINDS, SETTINGS, Beats, CutList, clean_beats,
                                     expected_outputs, fault_counts, with_fault)
 from dptbd.sim.campaign import Case
+from dptbd.sim.coverage import bins
 from dptbd.sim.candidate_scoreboard import list_words
 from dptbd.hw.candidate_layout import pack_cut_trailer, unpack_candidate
 from dptbd.sim.scenarios import make_frames
@@ -55,19 +57,30 @@ def test_every_class_is_drawn_over_twenty_seeds():
     for plan in plans:
         drawn.update(plan.drawn)
     assert dict(drawn) == {
-        "settings": 67, "no_strobe": 21, "no_sof": 17, "irq_enable": 22, "lut_table": 13,
-        "lut_entry": 51, "soft_reset": 16, "soft_reset_now": 20, "aresetn": 13,
-        "clear_counters": 23, "w1c_error": 26, "w1c_irq": 24, "check": 87,
-        "setting_range": 44, "setting_strobe": 16, "lut_code": 43, "lut_strobe": 32,
-        "unaligned_write": 22, "unaligned_read": 36, "lut_read": 24, "unmapped_read": 31,
-        "unmapped_write": 26, "read_only_write": 26, "sof_unexpected": 9, "frame_short": 10,
+        "settings": 73, "no_strobe": 19, "no_sof": 20, "irq_enable": 23, "lut_table": 47,
+        "lut_entry": 53, "soft_reset": 19, "soft_reset_now": 170, "aresetn": 12,
+        "clear_counters": 20, "w1c_error": 24, "w1c_irq": 31, "check": 84,
+        "setting_range": 50, "setting_strobe": 23, "lut_code": 51, "lut_strobe": 28,
+        "unaligned_write": 26, "unaligned_read": 38, "lut_read": 23, "unmapped_read": 25,
+        "unmapped_write": 28, "read_only_write": 31, "sof_unexpected": 9, "frame_short": 10,
         "frame_long": 9, "line_length": 20}
+    # a sweep of soft resets with words in flight in each run without input gaps (seeds
+    # 0, 1, 2, 9, 10, 11, 18, 19), the j-th after j idle cycles
+    sweeps = {seed: [step["soft_reset_wait"] for step in plan.steps
+                     if step.get("soft_reset") == "now" and len(step) == 3]
+              for seed, plan in enumerate(plans)}
+    assert [seed for seed, waits in sweeps.items() if waits == list(range(NOW_SWEEP))] == \
+        [0, 1, 2, 9, 10, 11, 18, 19]
+    assert all(plan.valid_gap == 0 for seed, plan in enumerate(plans) if seed % 9 < 3)
+    assert {(bins.band(p.valid_gap), bins.band(p.ready_pause)) for p in plans} == {
+        (g, b) for g, *_ in bins.BANDS for b, *_ in bins.BANDS}
     assert set(drawn) == {*ACTIONS, *REFUSALS, *FAULT_KINDS}
     # every range refusal of every writable register, every refused LUT code and strobe
+    # (over 30 seeds)
     cfg, regmap = CASE.cfg, register_map(CASE.cfg)
     unity = 1 << cfg.weight_frac_bits
     refused, codes, strobes = set(), set(), set()
-    for plan in plans:
+    for plan in plans + [draw_run(CASE, seed) for seed in range(20, 30)]:
         for step in plan.steps:
             for name, value in step.get("writes", []):
                 lo, hi = (regmap[name].fields[0].limits if regmap[name].kind == "setting"
@@ -163,19 +176,81 @@ def test_a_soft_reset_in_a_scored_frame_cuts_its_list():
 
 @needs_verilator
 def test_a_few_runs_are_bit_exact():
-    """Four seeds of the small case: every candidate word, flag, response and checked read."""
+    """Four seeds of the small case: every candidate word, flag, response and checked read;
+    the bins they fill (a failed run would fill none)."""
     outcomes = [check_run(CASE, seed) for seed in range(4)]
     assert [o.report for o in outcomes if not o.passed] == []
     assert sum(o.words_in for o in outcomes) == sum(len(draw_run(CASE, s).beats)
                                                     for s in range(4))
-    lists = collections.Counter()
-    for o in outcomes:
-        lists.update({k: int(v) for k, v in (part.split(" ") for part in
-                                             o.notes[-1][len("lists "):].split(", "))})
-    assert dict(lists) == LIST_CLASSES
+    merged = bins.merge(*(o.bins for o in outcomes))
+    assert {k: v for k, v in merged.items() if not k.startswith("stall")} == SLICE_BINS
+    # seeds 0 … 3: gaps none with back-pressure none, light, heavy; gaps light without
+    # back-pressure; no LUT written inside a first or last row, no saturation (B_E = 16)
+    drawn = {("none", "none"), ("none", "light"), ("none", "heavy"), ("light", "none")}
+    assert bins.empty_bins(merged) == [
+        f"stall: gaps {g}, back-pressure {b}, {p}" for g, *_ in bins.BANDS
+        for b, *_ in bins.BANDS if (g, b) not in drawn for p in bins.POSITIONS] + [
+        "LUT: written in the first row", "LUT: written in the last row", bins.SATURATION]
 
 
-LIST_CLASSES = {"empty": 50, "some": 9, "capacity": 1, "overflow": 12, "cut": 3}
+SLICE_BINS = {
+    **{bins.soft_reset_bin(k): hits for k, hits in enumerate(
+        [16, 3, 3, 3, 3, 3, 3, 3, 4, 3, 2, 3, 4, 3, 4, 3, 2, 1])},
+    "aresetn: 0 words in flight": 3, "fault: sof_unexpected recovered": 33,
+    "fault: frame_short recovered": 5, "fault: frame_long recovered": 28,
+    "fault: line_length recovered": 46, "LUT: written between frames": 4,
+    "LUT: written in the first row": 0, "LUT: written in a middle row": 5,
+    "LUT: written in the last row": 0, "LUT: code 0": 14, "LUT: code 2**F - 1": 5,
+    "LUT: code 2**F (the largest)": 13, bins.SATURATION: 0,
+    "lists: 0 records (empty)": 56, "lists: exactly n records (0 < n < C)": 1,
+    "lists: C records (at capacity)": 7, "lists: overflowing (more than C)": 5,
+    bins.TIES: 2, "register: SEGMENT_FRAMES value out of range": 3,
+    "register: CANDIDATE_COUNT value out of range": 6,
+    "register: HISTOGRAM_SHIFT value out of range": 2,
+    "register: VIDEO_INPUT value out of range": 5, "register: LUT value out of range": 4,
+    "register: LUT write without wstrb = 1111": 3, "register: LUT read": 5,
+    "register: write to a constant register": 1, "register: write to a counter": 2,
+    "register: write to the status register": 2, "register: unaligned write": 3,
+    "register: unaligned read": 10, "register: unmapped write": 5,
+    "register: unmapped read": 5}
+
+
+def _register_bins(plan, keep=lambda op: True):
+    """The register bins of a plan (its soft resets taken as drained: no cycles here), of
+    its raw bus operations only those ``keep`` keeps."""
+    steps = [{**step, "soft_reset": True} if step.get("soft_reset") else dict(step)
+             for step in plan.steps]
+    for step in steps:
+        step["bus"] = [op for op in step.get("bus", []) if keep(op)]
+    counts = bins.axi_bins(CASE.cfg, plan.beats, steps, passed=True, latency=17)
+    return {k: v for k, v in counts.items() if k.startswith("register: ")}
+
+
+def test_the_register_bins_count_the_refusals_the_plan_drew():
+    """Per refusal class drawn (:data:`REFUSALS`), the hits of its bins; without the plans'
+    unmapped reads their bin stays empty, and the verdict names it alone."""
+    plans = [draw_run(CASE, seed) for seed in range(8)]
+    for plan in plans:
+        hits = {k[len("register: "):]: v for k, v in _register_bins(plan).items()}
+        d = plan.drawn
+        assert sum(hits[f"{name} value out of range"] for name in (*SETTINGS, "VIDEO_INPUT")) \
+            == d["setting_range"] + d["setting_strobe"]
+        assert (hits["LUT value out of range"], hits["LUT write without wstrb = 1111"],
+                hits["LUT read"], hits["unaligned write"], hits["unaligned read"],
+                hits["unmapped write"], hits["unmapped read"]) == (
+            d["lut_code"], d["lut_strobe"], d["lut_read"], d["unaligned_write"],
+            d["unaligned_read"], d["unmapped_write"], d["unmapped_read"])
+        assert hits["write to a constant register"] + hits["write to a counter"] + \
+            hits["write to the status register"] == d["read_only_write"]
+    assert bins.empty_bins(bins.merge(*map(_register_bins, plans))) == []
+    regs = register_map(CASE.cfg)
+    lut = regs.window("LUT")
+    mapped = {r.address for r in regs.registers}
+    unmapped_read = (lambda op: op[0] == "r" and op[1] % 4 == 0 and op[1] not in mapped
+                     and not lut.base <= op[1] < lut.end)
+    empty = bins.empty_bins(bins.merge(*(_register_bins(plan, lambda op: not unmapped_read(op))
+                                         for plan in plans)))
+    assert bins.empty_message(empty) == "functional coverage: 1 empty bin: register: unmapped read"
 
 
 @needs_verilator
@@ -183,7 +258,7 @@ def test_a_wrong_model_fails_the_run(monkeypatch):
     """The check can fail: without the cut list, or with a wrong ERROR value, a run fails
     and its report names the seed and what differs."""
     seed = next(s for s in range(20) if any(
-        isinstance(lst, CutList) for lst in expected_outputs(
+        isinstance(lst, CutList) and lst.drained for lst in expected_outputs(
             CASE.cfg, draw_run(CASE, s).beats, draw_run(CASE, s).steps, cut_lists=True).lists))
     assert check_run(CASE, seed).passed
     monkeypatch.setattr(axi_stimulus, "_cut_list", lambda *args: None)
@@ -307,3 +382,24 @@ def test_settings_at_a_misaligned_segment_start_after_a_resync():
     steps = [{"stop": 25}, {"writes": [["SEGMENT_FRAMES", 3]], "stop": len(beats)}]
     result = check_axi(built(cfg, "axi"), beats, steps)
     assert result.passed, result.report()
+
+
+@needs_verilator
+def test_a_soft_reset_after_j_idle_cycles_finds_l_minus_j_words_in_flight():
+    """At full speed, soft resets of "now" 30 beats apart after j = 0 … 18 idle cycles: the
+    j-th finds L - j words in flight (0 from j = L on); the write is answered in its
+    third cycle (``AXIL_WRITE_CYCLES``) after the beat before it."""
+    cfg = make_config(**SMALL)
+    beats = clean_beats(make_frames("two-targets", cfg, 6, seed=1))
+    steps = [{"stop": 60}] + [{"soft_reset": "now", "soft_reset_wait": j, "stop": 90 + 30 * j}
+                              for j in range(19)] + [{"stop": len(beats)}]
+    sim = built(cfg, "axi")
+    result = check_axi(sim, beats, steps, seed=1)
+    assert result.passed, result.report()
+    _, checks = verilator_axi.step_operations(cfg, steps, 0, [])
+    first = next(i for i, c in enumerate(checks) if c[0] == "wait") - 1
+    assert result.run.op_cycles[first] - result.run.accept_cycles[59] == bins.AXIL_WRITE_CYCLES
+    counts = bins.axi_bins(cfg, beats, steps, passed=True, latency=sim.latency,
+                           run=result.run)
+    assert sim.latency == 17
+    assert [counts[bins.soft_reset_bin(k)] for k in range(18)] == [2] + [1] * 17

@@ -15,7 +15,7 @@ from dptbd.evaluation.execution import ExecutionError
 from dptbd.sim import campaign
 from dptbd.sim.campaign import (Case, campaign_task, campaign_tasks, default_cases,
                                 hostile_frames, make_run, run_campaign)
-from dptbd.sim.coverage.bins import GROUPS, POSITIONS
+from dptbd.sim.coverage.bins import GROUPS, POSITIONS, declared_axi
 from dptbd.sim.axi_runs import AXI_FAULTS
 
 
@@ -103,7 +103,7 @@ def test_a_slice_of_the_campaign_is_bit_exact():
     assert bins["reset: 0 words in flight"] >= 1
     assert sum(bins[f"reset: {k} word{'s' * (k != 1)} in flight"] > 0 for k in range(15)) >= 7
     assert {g.name for g in GROUPS} - {k.split(":")[0] for k in bins} == {"soft reset",
-                                                                         "register"}
+                                                                         "aresetn", "register"}
 
 
 def test_the_campaign_runs_an_axi_case():
@@ -116,7 +116,9 @@ def test_the_campaign_runs_an_axi_case():
         [("axi-12x10", "axi", 3, True)]
     plans = [make_run(case, o.seed) for o in result.outcomes]
     assert result.words_in == sum(len(p.beats) for p in plans)
-    assert all(o.notes[:-1] == p.notes for o, p in zip(result.outcomes, plans))
+    assert all(o.notes == p.notes for o, p in zip(result.outcomes, plans))
+    assert set(result.bins) == set(declared_axi(case.cfg, 17))       # L = 17: this build's
+    assert all(sum(o.bins.values()) > 0 for o in result.outcomes)
 
 
 def test_a_wrong_model_fails_the_campaign(monkeypatch):
