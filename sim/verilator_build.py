@@ -146,10 +146,13 @@ def _harness_sources(design: str) -> list[pathlib.Path]:
     return [source, source.with_name("harness_io.h")]
 
 
-def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool) -> str:
+def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
+               mutations: tuple[str, ...] = ()) -> str:
     from dptbd.hw.flow.source_hash import gateware_hash
 
     blob = json.dumps({
+        **({"mutations": list(mutations), "mutant_netlist": _mutant_netlist_hash()}
+           if mutations else {}),
         "config": cfg.to_mapping(), "design": design, "lut_style": lut_style,
         "waves": waves, "gateware": gateware_hash(),
         "harness": hashlib.sha256(b"".join(
@@ -157,6 +160,12 @@ def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool) -> str:
         "verilator_flags": VERILATOR_FLAGS, "cxx_flags": CXX_FLAGS, "tools": check_tools(),
     }, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def _mutant_netlist_hash() -> str:
+    """SHA-256 of the mutant design's generator (``sim/mutation/netlist.py``)."""
+    from dptbd.sim.mutation import netlist
+    return _sha256(pathlib.Path(netlist.__file__))
 
 
 def _sha256(path: pathlib.Path) -> str:
@@ -191,8 +200,8 @@ def _generate(cfg: DPConfig, design: str, lut_style: str) -> tuple[str, dict]:
 
 
 def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None = None,
-          waves: bool = False, lut_style: str = "auto", verbose: bool = False
-          ) -> VerilatorBuild:
+          waves: bool = False, lut_style: str = "auto", verbose: bool = False,
+          mutations: Sequence[str] = ()) -> VerilatorBuild:
     """Verilate and compile ``design`` for ``cfg``, or reuse the cached executable.
 
     Parameters
@@ -208,6 +217,11 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
         Compile FST tracing in (``run(..., trace=path)``).
     lut_style : str
         The weight LUT's storage (``docs/gateware.md``); the simulation is the same.
+    mutations : sequence of str
+        Yosys ``mutate`` commands (:mod:`dptbd.sim.mutation.netlist`): the build carries
+        mutation ``i`` behind ``mutsel == i`` and its harness selects one from the
+        environment (``DPTBD_MUTANT``; 0 or unset: the original). Designs ``segmenter`` and
+        ``axi`` only.
     """
     if design not in DESIGNS:
         raise ValueError(f"design must be one of {', '.join(DESIGNS)}, got {design!r}")
@@ -216,29 +230,37 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     check_supported(cfg)
     tools = check_tools()
     start = time.perf_counter()
-    key = _build_key(cfg, design, lut_style, waves)
+    mutations = tuple(str(m) for m in mutations)
+    key = _build_key(cfg, design, lut_style, waves, mutations)
     root = pathlib.Path(root) if root is not None else default_build_root()
-    directory = root.resolve() / f"{config_name(cfg)}-{design}{'-waves' if waves else ''}-{key[:12]}"
+    tag = f"-mut{len(mutations)}" if mutations else ""
+    directory = root.resolve() / f"{config_name(cfg)}-{design}{tag}{'-waves' if waves else ''}-{key[:12]}"
     with locked(root.resolve() / ".locks" / (directory.name + ".lock")):
         manifest = _stamp_ok(directory, key)
         cached = manifest is not None
         if not cached:
-            manifest = _compile(cfg, design, lut_style, waves, key, directory, tools, verbose)
+            manifest = _compile(cfg, design, lut_style, waves, key, directory, tools, verbose,
+                                mutations)
     return VerilatorBuild(cfg, design, directory, directory / EXECUTABLE, manifest, key,
                           time.perf_counter() - start, cached, waves)
 
 
 def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
-             directory: pathlib.Path, tools: dict, verbose: bool) -> dict:
+             directory: pathlib.Path, tools: dict, verbose: bool,
+             mutations: tuple[str, ...] = ()) -> dict:
     toplevel, define, _ = DESIGNS[design]
-    text, manifest = _generate(cfg, design, lut_style)
+    if mutations:
+        from dptbd.sim.mutation.netlist import mutant_verilog
+        text, manifest = mutant_verilog(cfg, design, mutations)
+    else:
+        text, manifest = _generate(cfg, design, lut_style)
     directory.parent.mkdir(parents=True, exist_ok=True)
     tmp = pathlib.Path(tempfile.mkdtemp(prefix=directory.name + ".", dir=directory.parent))
     try:
         verilog = tmp / f"{toplevel}.v"
         verilog.write_text(text)
         (tmp / f"{toplevel}.json").write_text(json.dumps(manifest, indent=2) + "\n")
-        defines = [f"-D{define}"]
+        defines = [f"-D{define}"] + (["-DDPTBD_MUTANT"] if mutations else [])
         if design == "core":
             store_bits = cfg.state_bits
             defines += [f"-DDPTBD_STORE_WORDS={cfg.width * cfg.height}ULL",

@@ -5,6 +5,12 @@ golden model, plus the 4-state checks of DPCore's external store on Icarus.
 Prints one line per case (design, runs, words in, words compared, words per second of
 simulation, verdict with the first failing run's report) and the totals; exit 1 on any
 mismatch. ``--json`` writes every run's outcome.
+
+``--mutants N`` runs the mutation score instead (:mod:`dptbd.sim.mutation`): N mutants of
+``--design`` (``seg``: ``dptbd_seg``, ``axi``: ``dptbd_axi``) sampled with ``--seed``, each
+through the verification slice; prints killed / total, the timeouts, crashes and mutations
+Yosys refused apart, and every survivor with its Amaranth source line and mutation
+(``--prove``: with its formal equivalence verdict). Exit 1 if a mutant survives unproven.
 """
 
 from __future__ import annotations
@@ -34,6 +40,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write every run's outcome as JSON (refused if it exists, unless "
                              "--force)")
     parser.add_argument("--force", action="store_true", help="overwrite --json")
+    mutation = parser.add_argument_group("mutation score (docs/verification.md)")
+    mutation.add_argument("--mutants", type=int, default=None, metavar="N",
+                          help="run N mutants of --design through the verification slice "
+                               "instead of the campaign (Yosys mutate, seed --seed)")
+    mutation.add_argument("--design", choices=("seg", "axi"), default="seg",
+                          help="the top level of --mutants: seg (dptbd_seg, default) or axi "
+                               "(dptbd_axi)")
+    mutation.add_argument("--prove", action="store_true",
+                          help="try to prove every survivor equivalent to the original "
+                               "(Yosys equiv_*, minutes each)")
+    mutation.add_argument("--scheduler", metavar="tcp://HOST:PORT", default=None,
+                          help="run the mutants on this existing dask cluster "
+                               "(docs/distributed.md)")
 
 
 def main(args: argparse.Namespace) -> int:
@@ -41,6 +60,8 @@ def main(args: argparse.Namespace) -> int:
 
     from dptbd.sim.campaign import default_cases, run_campaign
 
+    if args.mutants is not None:
+        return mutants_main(args)
     cases = default_cases()
     if args.list:
         for c in cases:
@@ -96,3 +117,66 @@ def main(args: argparse.Namespace) -> int:
             "runs": [dataclasses.asdict(o) for o in result.outcomes]}, indent=1) + "\n")
         tmp.replace(args.json)
     return 0 if result.passed else 1
+
+
+def mutants_main(args: argparse.Namespace) -> int:
+    """``--mutants N``: the mutation score of ``--design`` (see the module doc)."""
+    from tqdm import tqdm
+
+    from dptbd.sim.mutation.run import run_mutants
+
+    check_int("--mutants", args.mutants, 1)
+    if args.workers is not None:
+        check_int("--workers", args.workers, 1)
+    check_output_file(args.json, "--json", args.force, ".json")
+    design = {"seg": "segmenter", "axi": "axi"}[args.design]
+    bar = tqdm(total=args.mutants, unit="mutant", desc=f"dptbd verify --mutants ({args.design})")
+    result = run_mutants(design, args.mutants, args.seed, workers=args.workers,
+                         scheduler=args.scheduler, bar=bar)
+    bar.close()
+    proofs = {}
+    if args.prove:
+        from dptbd.sim.mutation.equivalence import prove_equivalent
+        from dptbd.sim.mutation.run import config
+        for outcome, mutation in result.of("survived"):
+            proofs[outcome.index] = prove_equivalent(config(design), design, mutation)
+    print(format_mutation_result(result, proofs))
+    if args.json is not None:
+        tmp = args.json.with_name(args.json.name + ".tmp")
+        tmp.write_text(json.dumps({
+            "design": design, "seed": result.seed, "total": result.total,
+            "killed": result.killed, "score": result.score,
+            "wall_seconds": result.wall_seconds, "workers": result.workers,
+            "runs": [list(r) for r in result.runs],
+            "mutants": [dict(dataclasses.asdict(o), source=m.source, mutation=m.command,
+                             equivalence=(dataclasses.asdict(proofs[o.index])
+                                          if o.index in proofs else None))
+                        for o, m in zip(result.outcomes, result.mutations)]}, indent=1) + "\n")
+        tmp.replace(args.json)
+    unproven = [o for o, _ in result.of("survived")
+                if o.index not in proofs or proofs[o.index].verdict != "equivalent"]
+    return 1 if unproven else 0
+
+
+def format_mutation_result(result, proofs: dict | None = None) -> str:
+    """The score line, the counts apart from killed, and one line per mutant not killed:
+    index, verdict, Amaranth source line, mutation (and the proof's verdict, if any)."""
+    from dptbd.sim.mutation.netlist import DESIGN_TOPS
+
+    proofs = proofs or {}
+    lines = [f"{DESIGN_TOPS[result.design]}: {result.killed} / {result.total} mutants killed "
+             f"({100 * result.score:.1f} %), seed {result.seed}, {len(result.runs)} runs per "
+             f"mutant at most, {result.wall_seconds:.1f} s wall on {result.workers} workers",
+             "not killed: " + ", ".join(f"{result.count(v)} {v}" for v in
+                                        ("survived", "timeout", "crashed", "no-build"))]
+    for verdict in ("survived", "timeout", "crashed", "no-build"):
+        for outcome, mutation in result.of(verdict):
+            proof = proofs.get(outcome.index)
+            what = f" [{proof.verdict}]" if proof is not None else ""
+            where = f" ({outcome.run}: {outcome.report[:120]})" if outcome.run else ""
+            lines.append(f"  #{outcome.index:<4d} {verdict}{what} {mutation.source}  "
+                         f"{mutation.describe()}{where}")
+    if proofs:
+        proven = sum(p.verdict == "equivalent" for p in proofs.values())
+        lines.append(f"survivors proven equivalent: {proven} of {len(proofs)}")
+    return "\n".join(lines)
