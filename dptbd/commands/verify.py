@@ -123,12 +123,14 @@ def mutants_main(args: argparse.Namespace) -> int:
     """``--mutants N``: the mutation score of ``--design`` (see the module doc)."""
     from tqdm import tqdm
 
+    from dptbd.sim.mutation.netlist import require_yosys
     from dptbd.sim.mutation.run import run_mutants
 
     check_int("--mutants", args.mutants, 1)
     if args.workers is not None:
         check_int("--workers", args.workers, 1)
     check_output_file(args.json, "--json", args.force, ".json")
+    require_yosys()
     design = {"seg": "segmenter", "axi": "axi"}[args.design]
     bar = tqdm(total=args.mutants, unit="mutant", desc=f"dptbd verify --mutants ({args.design})")
     result = run_mutants(design, args.mutants, args.seed, workers=args.workers,

@@ -6,7 +6,8 @@ select whose both inputs are equal whenever it matters). :func:`prove_equivalent
 Yosys: the original (``gold``) and the mutant (``gate``, the one ``mutate`` command applied
 with no ``mutsel``) are prepared as for the mutant design (:data:`~.netlist.PREPARE`),
 memories mapped to flip-flops, then ``equiv_make gold gate`` pairs their signals by name,
-``equiv_simple -seq N`` proves each pair from its input cone over N cycles and
+``equiv_struct`` merges the pairs driven by the same cells from the same inputs (most of
+them), ``equiv_simple -seq N`` proves each pair from its input cone over N cycles and
 ``equiv_induct -seq N`` proves the rest by temporal induction (every pair equal in N
 consecutive cycles implies equal in the next), and ``equiv_status -assert`` fails if any
 pair is unproven. A proof holds for every input sequence from every state where the paired
@@ -50,7 +51,7 @@ def equivalence_script(rtlil: str, design: str, command: str, seq: int = SEQ) ->
         _prepared(rtlil, design), command, f"rename {top} gate", "design -stash gate",
         "design -copy-from gold -as gold gold", "design -copy-from gate -as gate gate",
         "memory_map", "opt_clean", "equiv_make gold gate equiv", "hierarchy -top equiv",
-        f"equiv_simple -seq {int(seq)}", f"equiv_induct -seq {int(seq)}",
+        "equiv_struct", f"equiv_simple -seq {int(seq)}", f"equiv_induct -seq {int(seq)}",
         "equiv_status -assert"])
 
 

