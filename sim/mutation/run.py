@@ -59,11 +59,17 @@ CONFIGS = {
 SLICE_RUNS = {
     "segmenter": tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in range(8)]
                        + [("random-lut", s) for s in range(12)]
-                       + [("faults", s) for s in range(16)]),
+                       + [("faults", s) for s in range(16)]
+                       + [("backpressure", s) for s in range(4)]),
     # seed 11 is left out: the original dptbd_axi and the model disagree on it (a LUT
     # rewrite with K changed, then a soft reset: docs/simulation.md, "Mutation score")
-    "axi": tuple([("faults", s) for s in range(16) if s != 11]),
+    "axi": tuple([("faults", s) for s in range(16) if s != 11]
+                 + [("backpressure", s) for s in (1, 4, 7, 14)]),
 }
+
+#: Output back-pressure densities of the ``backpressure`` runs (seed % 4): the lists
+#: pile up behind the output, every FIFO and credit counter fills.
+BACKPRESSURE = (0.9, 0.95, 0.97, 0.99)
 
 #: Wall-clock seconds one run of a mutant may take (the harness exits with status 124).
 WALL_SECONDS = 60
@@ -134,10 +140,13 @@ def _segmenter_run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, make_run
     from dptbd.sim.rtl_check import check_stream
 
-    frames = {"clean": 12, "random-lut": 16, "faults": 24, "settings-edge": 16}[kind]
+    frames = {"clean": 12, "random-lut": 16, "faults": 24, "settings-edge": 16,
+              "backpressure": 8}[kind]
     case = Case(f"mutant-{kind}", CONFIGS["segmenter"], "segmenter", frames, 1,
                 () if kind != "faults" else _EVERY, kind in ("random-lut", "settings-edge"))
     words, stim, _ = make_run(case, seed)
+    if kind == "backpressure":                  # the output stalled most of the time
+        stim = dataclasses.replace(stim, valid_gap=0.0, ready_pause=BACKPRESSURE[seed % 4])
     if kind == "settings-edge":
         stim = dataclasses.replace(stim, settings_changes=_edge_settings(sim.cfg, len(words),
                                                                          seed))
@@ -199,6 +208,8 @@ def _axi_run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.verilator_axi import check_axi
 
     beats, steps, gap, pause = axi_scenario(sim.cfg, seed)
+    if kind == "backpressure":
+        gap, pause = 0.0, BACKPRESSURE[seed % 4]
     result = check_axi(sim, beats, steps, valid_gap=gap, ready_pause=pause, seed=seed)
     if result.run.status != "done" and not result.board.failed:
         return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
@@ -266,7 +277,7 @@ def mutant_design(cfg: DPConfig, design: str, mutations: Sequence[Mutation]
     """The commands of the mutations Yosys can apply and write as Verilog (a mutation it
     refuses is replaced by ``""``, which applies nothing, so every mutant keeps its index)
     and the 1-based indices of the refused ones (``no-build``). All are tried at once; only
-    if that fails, one by one."""
+    if that fails, each half in turn, down to the single mutations Yosys refuses."""
     from dptbd.sim.mutation.netlist import MUTSEL_WIDTH, _prepared, top_rtlil
 
     commands = [m.command for m in mutations]
@@ -280,10 +291,17 @@ def mutant_design(cfg: DPConfig, design: str, mutations: Sequence[Mutation]
             return False
         return True
 
-    every = [f"{c} -ctrl mutsel {MUTSEL_WIDTH} {i}" for i, c in enumerate(commands, 1)]
-    if applies(every):
-        return tuple(commands), []
-    refused = [i for i, line in enumerate(every, 1) if not applies([line])]
+    def refused_of(lines: list[tuple[int, str]]) -> list[int]:
+        """The indices of the refused mutations among ``lines``, by halves."""
+        if applies([line for _, line in lines]):
+            return []
+        if len(lines) == 1:
+            return [lines[0][0]]
+        half = len(lines) // 2
+        return refused_of(lines[:half]) + refused_of(lines[half:])
+
+    refused = refused_of([(i, f"{c} -ctrl mutsel {MUTSEL_WIDTH} {i}")
+                          for i, c in enumerate(commands, 1)])
     return tuple("" if i in refused else c for i, c in enumerate(commands, 1)), refused
 
 

@@ -98,3 +98,15 @@ def test_a_mutation_yosys_refuses_is_no_build_and_keeps_the_indices():
     commands, refused = mutant_design(cfg, "segmenter", [good[0], bad, good[1]])
     assert refused == [2]
     assert commands == (good[0].command, "", good[1].command)
+
+
+def test_the_build_key_includes_the_mutations():
+    from dptbd.sim import verilator_build as V
+    from dptbd.sim.mutation.run import config
+
+    cfg = config("segmenter")
+    plain = V._build_key(cfg, "segmenter", "auto", False)
+    one = V._build_key(cfg, "segmenter", "auto", False, ("mutate -mode inv -cell a",))
+    other = V._build_key(cfg, "segmenter", "auto", False, ("mutate -mode inv -cell b",))
+    assert len({plain, one, other}) == 3
+    assert V._build_key(cfg, "segmenter", "auto", False, ()) == plain
