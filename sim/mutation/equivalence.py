@@ -34,8 +34,8 @@ TIMEOUT = 900.0
 
 @dataclasses.dataclass(frozen=True)
 class Equivalence:
-    """``verdict``: ``equivalent`` (proven), ``not proven`` or ``timeout``; the last lines
-    of Yosys' ``equiv_status`` when not proven."""
+    """``verdict``: ``equivalent`` (proven), ``not proven`` (a pair Yosys could not prove
+    equal), ``timeout`` or ``error`` (Yosys failed otherwise); the last lines of its log."""
 
     verdict: str
     detail: str
@@ -47,8 +47,10 @@ def equivalence_script(rtlil: str, design: str, command: str, seq: int = SEQ) ->
     ``design`` read from ``rtlil``."""
     top = DESIGN_TOPS[design]
     return "\n".join([
-        _prepared(rtlil, design), f"rename {top} gold", "design -stash gold",
+        # the mutant first: a fresh session numbers Yosys' own cells ($procmux$N) as the
+        # session that listed the mutations did
         _prepared(rtlil, design), command, f"rename {top} gate", "design -stash gate",
+        _prepared(rtlil, design), f"rename {top} gold", "design -stash gold",
         "design -copy-from gold -as gold gold", "design -copy-from gate -as gate gate",
         "memory_map", "opt_clean", "equiv_make gold gate equiv", "hierarchy -top equiv",
         "equiv_struct", f"equiv_simple -seq {int(seq)}", f"equiv_induct -seq {int(seq)}",
@@ -68,5 +70,6 @@ def prove_equivalent(cfg: DPConfig, design: str, mutation: Mutation | str, *,
                            time.perf_counter() - start)
     except RuntimeError as exc:
         lines = [line for line in str(exc).splitlines() if line.strip()]
-        return Equivalence("not proven", "\n".join(lines[-4:]), time.perf_counter() - start)
+        verdict = "not proven" if "unproven $equiv cells" in str(exc) else "error"
+        return Equivalence(verdict, "\n".join(lines[-4:]), time.perf_counter() - start)
     return Equivalence("equivalent", "", time.perf_counter() - start)
