@@ -198,7 +198,7 @@ def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
               "stop": starts[2]},
              {"soft_reset": True, "writes": [["HISTOGRAM_SHIFT", s2]], "stop": len(beats)},
              {"check": {"ERROR": every, "SEGMENT_FRAMES": k2, "HISTOGRAM_SHIFT": s2,
-                        "STATUS": 0},
+                        "STATUS": 0, "INPUT_STALLS": None, "OUTPUT_STALLS": None},
               "writes": [["ERROR", every]], "stop": len(beats)}]
     gap, pause = (float(v) for v in rng.uniform(0.0, 0.5, size=2))
     return beats, steps, gap, pause
@@ -214,6 +214,13 @@ def _axi_run(sim, kind: str, seed: int) -> tuple[str, str]:
     if result.run.status != "done" and not result.board.failed:
         return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
                            f"{result.report()}")
+    # the stall counters against the harness's own count of the same cycles
+    stalls = [f"{name} = {result.reads.get(name)}, the harness counted {result.run.counters[key]}"
+              for name, key in (("INPUT_STALLS", "stalled_input_cycles"),
+                                ("OUTPUT_STALLS", "paused_output_cycles"))
+              if result.reads.get(name) != result.run.counters[key]]
+    if result.passed and stalls:
+        return "killed", "; ".join(stalls)
     return ("survived" if result.passed else "killed"), result.report()
 
 
