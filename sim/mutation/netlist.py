@@ -28,8 +28,8 @@ from dptbd.config import DPConfig
 from dptbd.errors import DptbdError
 
 __all__ = ["DESIGN_TOPS", "PREPARE", "MUTSEL_WIDTH", "YOSYS", "YosysMissingError", "Mutation",
-           "parse_mutations", "source_line", "require_yosys", "top_rtlil", "mutation_list", "mutant_verilog",
-           "run_yosys"]
+           "parse_mutations", "source_line", "require_yosys", "top_rtlil", "mutation_list",
+           "mutant_verilog", "run_yosys"]
 
 #: Designs with mutants: design name (:data:`dptbd.sim.verilator_build.DESIGNS`) -> module.
 DESIGN_TOPS = {"segmenter": "dptbd_seg", "axi": "dptbd_axi"}

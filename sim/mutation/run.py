@@ -40,12 +40,13 @@ from typing import Callable, Sequence
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, mutation_list, run_yosys
 
-__all__ = ["CONFIGS", "SLICE_RUNS", "WALL_SECONDS", "VERDICTS", "MutantOutcome",
+__all__ = ["CONFIGS", "SLICE_RUNS", "BACKPRESSURE", "WALL_SECONDS", "VERDICTS", "MutantOutcome",
            "MutationResult", "config", "slice_runs", "run_slice", "mutant_task",
-           "mutant_design", "run_mutants"]
+           "mutant_design", "run_mutants", "axi_scenario"]
 
 #: The configuration of each design's mutants: 12 x 10 frames, B_in = 6, B_E = 8 (the
-#: fewest bits that never saturate at K_max = 4), F = 4, n = 8 of C = 10, 16 bins.
+#: fewest bits that never saturate at K_max = 4), F = 4, n = 60 of C = 120 (lists long
+#: enough to carry most pixels), 16 bins of width 16 (s = 4).
 CONFIGS = {
     "segmenter": dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
                       input_bits=6, energy_bits=8, weight_frac_bits=4, candidate_count=60,
