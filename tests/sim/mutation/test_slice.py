@@ -58,3 +58,25 @@ def test_segmenter_slice_survivor_proofs(index):
     assert mutation.source == SURVIVORS[index]
     proof = prove_equivalent(config("segmenter"), "segmenter", mutation)
     assert proof.verdict in ("equivalent", "not proven"), proof.detail
+
+
+def test_a_run_past_the_wall_clock_limit_is_a_timeout_never_killed():
+    """The harness's own limit (DPTBD_MUTANT_SECONDS, exit 124) on a real mutant build: a
+    run of four million words outlasts one second."""
+    import numpy as np
+
+    from dptbd.sim.mutation.run import mutant_design, run_slice
+
+    cfg = config("segmenter")
+    commands, _ = mutant_design(cfg, "segmenter",
+                                netlist.mutation_list(cfg, "segmenter", COUNT, SEED))
+    sim = V.build(cfg, "segmenter", mutations=commands)
+    words = np.zeros(4_000_000, dtype=np.uint64)       # about 8 s here without the limit
+
+    def long_run(sim, kind, seed):
+        V.run(sim, words)
+        return "survived", ""
+
+    outcome = run_slice(sim, 0, (("long", 0),), wall_seconds=1, runner=long_run)
+    assert (outcome.verdict, outcome.run, outcome.report) == \
+        ("timeout", "long seed 0", "wall-clock limit of 1 s")
