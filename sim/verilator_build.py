@@ -159,13 +159,15 @@ def _harness_sources(design: str) -> list[pathlib.Path]:
 
 
 def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
-               coverage: bool = False) -> str:
+               coverage: bool = False, mutations: tuple[str, ...] = ()) -> str:
     from dptbd.hw.flow.source_hash import gateware_hash
 
     extra = {}                                # the plain build's key unchanged
     if coverage:                              # its text comes from source_text.py
         text = pathlib.Path(__file__).resolve().parent / "coverage" / "source_text.py"
         extra = {"coverage": COVERAGE_FLAGS, "text": _sha256(text)}
+    if mutations:
+        extra.update(mutations=list(mutations), mutant_netlist=_mutant_netlist_hash())
     blob = json.dumps({**extra,
         "config": cfg.to_mapping(), "design": design, "lut_style": lut_style,
         "waves": waves, "gateware": gateware_hash(),
@@ -174,6 +176,12 @@ def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
         "verilator_flags": VERILATOR_FLAGS, "cxx_flags": CXX_FLAGS, "tools": check_tools(),
     }, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def _mutant_netlist_hash() -> str:
+    """SHA-256 of the mutant design's generator (``sim/mutation/netlist.py``)."""
+    from dptbd.sim.mutation import netlist
+    return _sha256(pathlib.Path(netlist.__file__))
 
 
 def _sha256(path: pathlib.Path) -> str:
@@ -214,7 +222,7 @@ def _generate(cfg: DPConfig, design: str, lut_style: str, coverage: bool = False
 
 def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None = None,
           waves: bool = False, lut_style: str = "auto", verbose: bool = False,
-          coverage: bool = False) -> VerilatorBuild:
+          coverage: bool = False, mutations: Sequence[str] = ()) -> VerilatorBuild:
     """Verilate and compile ``design`` for ``cfg``, or reuse the cached executable.
 
     Parameters
@@ -232,6 +240,11 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
         The weight LUT's storage (``docs/gateware.md``); the simulation is the same.
     coverage : bool
         The coverage build (see the module doc): slower; runs write coverage data.
+    mutations : sequence of str
+        Yosys ``mutate`` commands (:mod:`dptbd.sim.mutation.netlist`): the build carries
+        mutation ``i`` behind ``mutsel == i`` and its harness selects one from the
+        environment (``DPTBD_MUTANT``; 0 or unset: the original). Designs ``segmenter`` and
+        ``axi`` only.
     """
     if design not in DESIGNS:
         raise ValueError(f"design must be one of {', '.join(DESIGNS)}, got {design!r}")
@@ -240,32 +253,40 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     check_supported(cfg)
     tools = check_tools()
     start = time.perf_counter()
-    key = _build_key(cfg, design, lut_style, waves, coverage)
+    mutations = tuple(str(m) for m in mutations)
+    if coverage and mutations:
+        raise ValueError("a build is a coverage build or a mutant build, not both")
+    key = _build_key(cfg, design, lut_style, waves, coverage, mutations)
     root = pathlib.Path(root) if root is not None else default_build_root()
-    kind = ("-waves" if waves else "") + ("-cov" if coverage else "")
+    kind = (f"-mut{len(mutations)}" if mutations else "") + ("-waves" if waves else "") \
+        + ("-cov" if coverage else "")
     directory = root.resolve() / f"{config_name(cfg)}-{design}{kind}-{key[:12]}"
     with locked(root.resolve() / ".locks" / (directory.name + ".lock")):
         manifest = _stamp_ok(directory, key)
         cached = manifest is not None
         if not cached:
             manifest = _compile(cfg, design, lut_style, waves, key, directory, tools, verbose,
-                                coverage)
+                                coverage, mutations)
     return VerilatorBuild(cfg, design, directory, directory / EXECUTABLE, manifest, key,
                           time.perf_counter() - start, cached, waves, coverage)
 
 
 def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
-             directory: pathlib.Path, tools: dict, verbose: bool, coverage: bool = False
-             ) -> dict:
+             directory: pathlib.Path, tools: dict, verbose: bool, coverage: bool = False,
+             mutations: tuple[str, ...] = ()) -> dict:
     toplevel, define, _ = DESIGNS[design]
-    text, manifest = _generate(cfg, design, lut_style, coverage)
+    if mutations:
+        from dptbd.sim.mutation.netlist import mutant_verilog
+        text, manifest = mutant_verilog(cfg, design, mutations)
+    else:
+        text, manifest = _generate(cfg, design, lut_style, coverage)
     directory.parent.mkdir(parents=True, exist_ok=True)
     tmp = pathlib.Path(tempfile.mkdtemp(prefix=directory.name + ".", dir=directory.parent))
     try:
         verilog = tmp / f"{toplevel}.v"
         verilog.write_text(text)
         (tmp / f"{toplevel}.json").write_text(json.dumps(manifest, indent=2) + "\n")
-        defines = [f"-D{define}"]
+        defines = [f"-D{define}"] + (["-DDPTBD_MUTANT"] if mutations else [])
         if design == "core":
             store_bits = cfg.state_bits
             defines += [f"-DDPTBD_STORE_WORDS={cfg.width * cfg.height}ULL",

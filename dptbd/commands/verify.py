@@ -15,6 +15,12 @@ AXI top's coverage runs) on coverage builds instead and writes the code-coverage
 and cover run (verdict, mode, depth reached, seconds; on a failure the Amaranth line of the
 assertion and the counterexample trace kept under ``--out``); exit 1 unless every verdict is
 the expected one.
+
+``--mutants N`` runs the mutation score instead (:mod:`dptbd.sim.mutation`): N mutants of
+``--design`` (``seg``: ``dptbd_seg``, ``axi``: ``dptbd_axi``) sampled with ``--seed``, each
+through the verification slice; prints killed / total, the timeouts, crashes and mutations
+Yosys refused apart, and every survivor with its Amaranth source line and mutation
+(``--prove``: with its formal equivalence verdict). Exit 1 if a mutant survives unproven.
 """
 
 from __future__ import annotations
@@ -25,7 +31,7 @@ import json
 import pathlib
 
 from dptbd.commands.options import add_execution_arguments
-from dptbd.errors import check_real
+from dptbd.errors import check_int, check_real
 from dptbd.evaluation.execution import check_worker_count
 from dptbd.output_folder import check_output_file
 
@@ -49,12 +55,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "branch, toggle per module, uncovered points with their Amaranth "
                              "source line, annotated sources) into DIR (refused if it exists, "
                              "unless --force)")
-    parser.add_argument("--force", action="store_true", help="overwrite --json, --coverage or --out")
+    parser.add_argument("--force", action="store_true",
+                        help="overwrite --json, --coverage or --out")
     parser.add_argument("--formal", action="store_true",
                         help="run the formal proofs (SymbiYosys, z3) instead of the campaign")
     parser.add_argument("--out", type=pathlib.Path, metavar="DIR",
                         help="with --formal: keep every run (SBY files, logs, counterexample "
                              "traces) and formal.json in this new folder")
+
+    mutation = parser.add_argument_group('mutation score (docs/gateware.md, "Mutation testing")')
+    mutation.add_argument("--mutants", type=int, default=None, metavar="N",
+                          help="run N mutants of --design through the verification slice "
+                               "instead of the campaign (Yosys mutate, seed --seed)")
+    mutation.add_argument("--design", choices=("seg", "axi"), default="seg",
+                          help="the top level of --mutants: seg (dptbd_seg, default) or axi "
+                               "(dptbd_axi)")
+    mutation.add_argument("--prove", action="store_true",
+                          help="try to prove every survivor equivalent to the original "
+                               "(Yosys equiv_*, minutes each)")
 
 
 #: Options of the campaign, refused with --formal: (attribute, option, default).
@@ -78,6 +96,8 @@ def main(args: argparse.Namespace) -> int:
 
     from dptbd.sim.campaign import default_cases, run_campaign
 
+    if args.mutants is not None:
+        return mutants_main(args)
     cases = default_cases()
     if args.list:
         for c in cases:
@@ -249,3 +269,68 @@ def _coverage(args: argparse.Namespace, cases: list, axi: list) -> int:
     print(f"\n{len(outcomes)} runs on coverage builds, {len(failed)} mismatching; report: "
           f"{args.coverage / 'report.md'}")
     return 0 if not failed else 1
+
+
+def mutants_main(args: argparse.Namespace) -> int:
+    """``--mutants N``: the mutation score of ``--design`` (see the module doc)."""
+    from tqdm import tqdm
+
+    from dptbd.sim.mutation.netlist import require_yosys
+    from dptbd.sim.mutation.run import run_mutants
+
+    check_int("--mutants", args.mutants, 1)
+    if args.workers is not None:
+        check_worker_count(args.workers)
+    check_output_file(args.json, "--json", args.force, ".json")
+    require_yosys()
+    design = {"seg": "segmenter", "axi": "axi"}[args.design]
+    bar = tqdm(total=args.mutants, unit="mutant", desc=f"dptbd verify --mutants ({args.design})")
+    result = run_mutants(design, args.mutants, args.seed, workers=args.workers,
+                         scheduler=args.scheduler, bar=bar)
+    bar.close()
+    proofs = {}
+    if args.prove:
+        from dptbd.sim.mutation.equivalence import prove_equivalent
+        from dptbd.sim.mutation.run import config
+        for outcome, mutation in result.of("survived"):
+            proofs[outcome.index] = prove_equivalent(config(design), design, mutation)
+    print(format_mutation_result(result, proofs))
+    if args.json is not None:
+        tmp = args.json.with_name(args.json.name + ".tmp")
+        tmp.write_text(json.dumps({
+            "design": design, "seed": result.seed, "total": result.total,
+            "killed": result.killed, "score": result.score,
+            "wall_seconds": result.wall_seconds, "workers": result.workers,
+            "runs": [list(r) for r in result.runs],
+            "mutants": [dict(dataclasses.asdict(o), source=m.source, mutation=m.command,
+                             equivalence=(dataclasses.asdict(proofs[o.index])
+                                          if o.index in proofs else None))
+                        for o, m in zip(result.outcomes, result.mutations)]}, indent=1) + "\n")
+        tmp.replace(args.json)
+    unproven = [o for o, _ in result.of("survived")
+                if o.index not in proofs or proofs[o.index].verdict != "equivalent"]
+    return 1 if unproven else 0
+
+
+def format_mutation_result(result, proofs: dict | None = None) -> str:
+    """The score line, the counts apart from killed, and one line per mutant not killed:
+    index, verdict, Amaranth source line, mutation (and the proof's verdict, if any)."""
+    from dptbd.sim.mutation.netlist import DESIGN_TOPS
+
+    proofs = proofs or {}
+    lines = [f"{DESIGN_TOPS[result.design]}: {result.killed} / {result.total} mutants killed "
+             f"({100 * result.score:.1f} %), seed {result.seed}, {len(result.runs)} runs per "
+             f"mutant at most, {result.wall_seconds:.1f} s wall on {result.workers} workers",
+             "not killed: " + ", ".join(f"{result.count(v)} {v}" for v in
+                                        ("survived", "timeout", "crashed", "no-build"))]
+    for verdict in ("survived", "timeout", "crashed", "no-build"):
+        for outcome, mutation in result.of(verdict):
+            proof = proofs.get(outcome.index)
+            what = f" [{proof.verdict}]" if proof is not None else ""
+            where = f" ({outcome.run}: {outcome.report[:120]})" if outcome.run else ""
+            lines.append(f"  #{outcome.index:<4d} {verdict}{what} {mutation.source}  "
+                         f"{mutation.describe()}{where}")
+    if proofs:
+        proven = sum(p.verdict == "equivalent" for p in proofs.values())
+        lines.append(f"survivors proven equivalent: {proven} of {len(proofs)}")
+    return "\n".join(lines)

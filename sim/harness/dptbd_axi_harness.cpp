@@ -105,6 +105,9 @@ int main(int argc, char** argv) {
 
     auto context = std::make_unique<VerilatedContext>();
     auto dut = std::make_unique<Vdut>(context.get());
+#ifdef DPTBD_MUTANT
+    dptbd_harness::select_mutant(dut.get());
+#endif
 
     Rng valid_rng{job.seed * 2 + 1}, ready_rng{job.seed * 2 + 2};
     const uint64_t gap_thr = threshold_of(job.valid_gap);

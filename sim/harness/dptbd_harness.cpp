@@ -141,6 +141,9 @@ int main(int argc, char** argv) {
 
     auto context = std::make_unique<VerilatedContext>();
     auto dut = std::make_unique<Vdut>(context.get());
+#ifdef DPTBD_MUTANT
+    dptbd_harness::select_mutant(dut.get());
+#endif
 #ifdef DPTBD_TRACE
     std::unique_ptr<VerilatedFstC> tfp;
     if (!job.trace.empty()) {

@@ -8,6 +8,10 @@
 #include <cstdlib>
 #include <string>
 #include <vector>
+#ifdef DPTBD_MUTANT
+#include <csignal>
+#include <unistd.h>
+#endif
 
 namespace dptbd_harness {
 
@@ -84,5 +88,22 @@ inline void check_coverage_job(const StreamJob& job) {
     (void)job;
 #endif
 }
+
+#ifdef DPTBD_MUTANT
+// Mutant builds (dptbd.sim.mutation): the design carries every sampled mutation behind its
+// input port `mutsel` (0: the original). select_mutant drives `mutsel` from the environment
+// variable DPTBD_MUTANT and, if DPTBD_MUTANT_SECONDS is set, ends the process with exit
+// status 124 after that many seconds of wall-clock time (a mutant that hangs the model).
+inline void mutant_alarm(int) { _exit(124); }
+template <class Dut> void select_mutant(Dut* dut) {
+    const char* index = std::getenv("DPTBD_MUTANT");
+    dut->mutsel = index ? std::strtoul(index, nullptr, 10) : 0;
+    const char* seconds = std::getenv("DPTBD_MUTANT_SECONDS");
+    if (seconds && std::strtoul(seconds, nullptr, 10) > 0) {
+        std::signal(SIGALRM, mutant_alarm);
+        alarm(static_cast<unsigned>(std::strtoul(seconds, nullptr, 10)));
+    }
+}
+#endif
 
 }  // namespace dptbd_harness

@@ -1,0 +1,5 @@
+"""Mutation testing of the top levels (MCY style): Yosys ``mutate`` samples mutations of a
+top's netlist (:mod:`.netlist`), one Verilator build carries them all behind the port
+``mutsel``, each mutant runs the verification slice (:mod:`.run`), and a survivor may be
+proven equivalent to the original (:mod:`.equivalence`). ``dptbd verify --mutants N`` is
+the command (``docs/gateware.md``, "Mutation testing")."""

@@ -1,0 +1,71 @@
+"""Mutant verdicts: a run that hangs, crashes or is refused by Yosys is reported as such and
+never counted as killed; the slice stops at a mutant's first failing run."""
+
+from __future__ import annotations
+
+import types
+
+import pytest
+
+from dptbd.sim.mutation import run as R
+from dptbd.sim.mutation.netlist import Mutation
+
+
+def fake(results: dict):
+    """A runner answering ``results[(kind, seed)]`` (default survived), recording calls and
+    the mutant selected through the environment."""
+    calls = []
+
+    def runner(sim, kind, seed):
+        import os
+        calls.append((kind, seed, os.environ["DPTBD_MUTANT"], os.environ["DPTBD_MUTANT_SECONDS"]))
+        answer = results.get((kind, seed), ("survived", ""))
+        if isinstance(answer, Exception):
+            raise answer
+        return answer
+
+    return runner, calls
+
+
+SIM = types.SimpleNamespace(design="segmenter")
+RUNS = (("clean", 0), ("faults", 0), ("faults", 1))
+
+
+@pytest.mark.parametrize("answer, verdict, report", [
+    (("killed", "first mismatch at output word 3"), "killed", "first mismatch at output word 3"),
+    (("timeout", "cycle budget ran out"), "timeout", "cycle budget ran out"),
+    (RuntimeError("dptbd_sim failed (exit 124): "), "timeout", "wall-clock limit of 5 s"),
+    (RuntimeError("dptbd_sim failed (exit -6): %Error: design did not converge\nmore"),
+     "crashed", "dptbd_sim failed (exit -6): %Error: design did not converge"),
+])
+def test_verdicts_stop_at_the_first_failing_run(answer, verdict, report):
+    runner, calls = fake({("faults", 0): answer})
+    outcome = R.run_slice(SIM, 7, RUNS, wall_seconds=5, runner=runner)
+    assert (outcome.index, outcome.verdict, outcome.run, outcome.report) == \
+        (7, verdict, "faults seed 0", report)
+    assert calls == [("clean", 0, "7", "5"), ("faults", 0, "7", "5")]
+
+
+def test_survivor_runs_every_run_and_environment_restored(monkeypatch):
+    monkeypatch.setenv("DPTBD_MUTANT", "keep")
+    monkeypatch.delenv("DPTBD_MUTANT_SECONDS", raising=False)
+    runner, calls = fake({})
+    outcome = R.run_slice(SIM, 2, RUNS, wall_seconds=9, runner=runner)
+    assert (outcome.verdict, outcome.run, outcome.report) == ("survived", "", "")
+    assert [c[:2] for c in calls] == list(RUNS)
+    import os
+    assert os.environ["DPTBD_MUTANT"] == "keep" and "DPTBD_MUTANT_SECONDS" not in os.environ
+
+
+def test_score_counts_only_killed():
+    m = Mutation("mutate -mode inv", "inv", "c", "Y", 0, None, None, None, ())
+    outcomes = tuple(R.MutantOutcome(i, v, "", "", 0.0) for i, v in
+                     enumerate(("killed", "survived", "timeout", "crashed", "no-build"), 1))
+    result = R.MutationResult("segmenter", 1, (m,) * 5, outcomes[0], outcomes, RUNS, 1.0, 1)
+    assert (result.killed, result.total, result.score) == (1, 5, 0.2)
+    assert [o.index for o, _ in result.of("timeout")] == [3]
+
+
+def test_slice_runs_scaled():
+    assert R.slice_runs("axi", 0.01) == (("faults", 0), ("backpressure", 1))
+    assert len(R.slice_runs("segmenter")) == len(R.SLICE_RUNS["segmenter"])
