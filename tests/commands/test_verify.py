@@ -156,8 +156,8 @@ def test_verify_mutants_refusals(capsys):
         assert capsys.readouterr().err == (f"dptbd verify: error: --mutants must be an integer "
                                            f"in [1, inf), got {bad}\n")
     assert main(["verify", "--mutants", "3", "--workers", "0"]) == 2
-    assert capsys.readouterr().err == ("dptbd verify: error: --workers must be an integer in "
-                                       "[1, inf), got 0\n")
+    assert capsys.readouterr().err == ("dptbd verify: error: workers must be an integer in "
+                                       "[1, 1024], got 0\n")
 
 
 def test_verify_mutants_without_yosys(capsys, monkeypatch):
