@@ -237,6 +237,7 @@ def _coverage(args: argparse.Namespace, cases: list, axi: list) -> int:
 
         outcomes, builds = run_coverage(tmp, cases, axi=axi, runs_scale=args.runs_scale,
                                         base_seed=args.seed, workers=args.workers,
+                                        scheduler=args.scheduler, dashboard=args.dashboard,
                                         on_outcome=seen)
         bar.close()
         summary = write_report(tmp, builds, exclusions)

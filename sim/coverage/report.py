@@ -22,13 +22,13 @@ total outside them.
 from __future__ import annotations
 
 import collections
+import contextlib
 import dataclasses
 import json
 import os
 import pathlib
 import shutil
 import time
-from concurrent.futures import ProcessPoolExecutor
 from typing import Callable, Sequence
 
 from dptbd.sim.coverage.code import (
@@ -44,7 +44,7 @@ from dptbd.sim.coverage.code import (
 )
 
 __all__ = ["GOALS", "Entry", "Summary", "AxiCase", "axi_cases", "extra_cases", "entries", "summarise",
-           "run_coverage", "write_report", "format_table"]
+           "coverage_run", "RunMerger", "run_coverage", "write_report", "format_table"]
 
 #: Goals per design: percent of line, branch and toggle points outside the exclusions.
 GOALS = {"axi": {"line": 100.0, "branch": 100.0, "toggle": 95.0},
@@ -247,42 +247,82 @@ def _config(fields: dict):
         return DPConfig(**fields)
 
 
-def _check_run(case, seed, root, coverage):
+def coverage_run(case, seed: int, root, coverage: str):
+    """One run of the coverage campaign (a task of the execution layer): a campaign
+    :class:`~dptbd.sim.campaign.Case` through :func:`~dptbd.sim.campaign.check_run` (an AXI
+    case to :func:`dptbd.sim.axi_runs.check_run`), an :class:`AxiCase` through
+    :func:`check_axi_run`; its coverage data written to the file ``coverage``."""
+    if isinstance(case, AxiCase):
+        return check_axi_run(case, seed, root, coverage)
     from dptbd.sim.campaign import check_run
     return check_run(case, seed, root, coverage=coverage)
+
+
+class RunMerger:
+    """The coverage files of one build merged as their runs finish: ``add(dat)`` merges
+    ``dat`` into ``target`` (``verilator_coverage --write`` into ``target.part``, then
+    renamed, so ``target`` is never half-written) and deletes ``dat`` unless ``keep``."""
+
+    def __init__(self, target: pathlib.Path, keep: bool = False):
+        self.target, self.keep, self.runs = pathlib.Path(target), keep, 0
+
+    def add(self, dat) -> None:
+        dat = pathlib.Path(dat)
+        if not dat.exists():
+            raise RuntimeError(f"coverage run wrote no coverage file {dat}")
+        part = self.target.with_name(self.target.name + ".part")
+        merge([self.target, dat] if self.target.exists() else [dat], part)
+        os.replace(part, self.target)
+        self.runs += 1
+        if not self.keep:
+            dat.unlink()
 
 
 # ---- the campaign on coverage builds -------------------------------------------------------
 
 def run_coverage(out: pathlib.Path, cases: Sequence, *, axi: Sequence[AxiCase] = (),
                  runs_scale: float = 1.0, base_seed: int = 0, workers: int | None = None,
-                 root=None, on_outcome: Callable | None = None):
-    """Run ``cases`` and ``axi`` on coverage builds, coverage files into ``out/runs``;
-    returns (outcomes, builds: {directory name: (design, build, [dat files])})."""
+                 scheduler: str | None = None, dashboard: bool = False, root=None,
+                 on_outcome: Callable | None = None, keep_runs: bool = False):
+    """Run ``cases`` and ``axi`` on coverage builds, as tasks of the execution layer
+    (:func:`dptbd.evaluation.execution.run_tasks`: ``workers`` local processes, or the
+    cluster at ``scheduler``; the run files are written where the workers see ``out``, so a
+    remote cluster needs ``out`` on a shared file system). Each run writes
+    ``out/runs/<case>-<seed>.dat``; as it finishes, the file is merged into its build's
+    ``out/merged/<build>.dat`` (:class:`RunMerger`) and deleted (kept with ``keep_runs``).
+    Returns (outcomes in task order, builds: {directory name: (design, build,
+    [merged file])})."""
+    from dptbd.evaluation.execution import job_execution, run_tasks
     from dptbd.sim.verilator import build
 
-    runs_dir = out / "runs"
-    runs_dir.mkdir(parents=True, exist_ok=True)
-    workers = int(workers or os.cpu_count() or 1)
-    jobs, builds = [], {}
-    every = [(c, c.cfg, _check_run) for c in cases] + \
-        [(a, _config(a.config), check_axi_run) for a in axi]
-    for i, (case, cfg, fn) in enumerate(every):
-        sim = build(cfg, case.design, root=root, coverage=True)
-        entry = builds.setdefault(sim.directory.name, (case.design, sim, []))
+    runs_dir = _mkdir(out / "runs")
+    merged_dir = _mkdir(out / "merged")
+    every = [(c, c.cfg) for c in cases] + [(a, _config(a.config)) for a in axi]
+    tasks, mergers, builds = [], [], {}
+    execution = job_execution(workers, scheduler=scheduler, dashboard=dashboard,
+                              tasks=sum(max(1, round(c.runs * runs_scale)) for c, _ in every))
+    sims = [build(cfg, case.design, root=root, coverage=True) for case, cfg in every]
+    by_build: dict[str, RunMerger] = {}
+    for i, ((case, _), sim) in enumerate(zip(every, sims)):
+        name = sim.directory.name
+        target = merged_dir / f"{name}.dat"
+        builds.setdefault(name, (case.design, sim, [target]))
+        merger = by_build.setdefault(name, RunMerger(target, keep_runs))
         for r in range(max(1, round(case.runs * runs_scale))):
             seed = base_seed * 1_000_003 + 7919 * i + r
             dat = runs_dir / f"{case.name}-{seed}.dat"
-            entry[2].append(dat)
-            jobs.append((fn, case, seed, str(dat)))
-    outcomes = []
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(fn, case, seed, root, dat) for fn, case, seed, dat in jobs]
-        for fut in futures:
-            outcome = fut.result()
-            outcomes.append(outcome)
-            if on_outcome is not None:
-                on_outcome(outcome)
+            tasks.append((case, seed, root, str(dat)))
+            mergers.append(merger)
+
+    def done(i: int, outcome) -> None:
+        mergers[i].add(tasks[i][3])
+        if on_outcome is not None:
+            on_outcome(outcome)
+
+    outcomes, _ = run_tasks(coverage_run, tasks, execution, on_result=done)
+    if not keep_runs:
+        with contextlib.suppress(OSError):
+            runs_dir.rmdir()
     return outcomes, builds
 
 
@@ -294,10 +334,12 @@ def write_report(out: pathlib.Path, builds: dict, exclusions: Sequence = (),
     Amaranth files, each line prefixed with its covered / total line and branch points)."""
     all_entries: list[Entry] = []
     for name, (design, sim, dats) in sorted(builds.items()):
-        dats = [d for d in dats if pathlib.Path(d).exists()]
+        dats = [pathlib.Path(d) for d in dats if pathlib.Path(d).exists()]
         if not dats:
             continue
-        merged = merge(dats, _mkdir(out / "merged") / f"{name}.dat")
+        merged = _mkdir(out / "merged") / f"{name}.dat"
+        if dats != [merged]:                   # run files (not merged yet by run_coverage)
+            merge(dats, merged)
         verilog_src = sim.directory / f"{sim.toplevel}.v"
         vdir = _mkdir(out / "verilog" / name)
         shutil.copyfile(verilog_src, vdir / verilog_src.name)
