@@ -240,7 +240,7 @@ def _coverage(args: argparse.Namespace, cases: list, axi: list) -> int:
                                         scheduler=args.scheduler, dashboard=args.dashboard,
                                         on_outcome=seen)
         bar.close()
-        summary = write_report(tmp, builds, exclusions)
+        summary = write_report(tmp, builds, exclusions, prove_constants=True)
         data = json.loads((tmp / "coverage.json").read_text())
         data = {"tool": COVERAGE_TOOL, "runs": len(outcomes), "mismatches": len(failed),
                 "cases": [c.name for c in [*cases, *axi]], "runs_scale": args.runs_scale,

@@ -96,6 +96,7 @@ class Summary:
     counts: dict                 # (design, module, kind) -> [covered, total, excluded]
     uncovered: list              # list of (name, [Entry, ...])
     stale: list                  # list of (Exclusion, reason)
+    constant: list = dataclasses.field(default_factory=list)  # names proven constant
 
     def figure(self, design: str, kind: str, module: str | None = None) -> tuple[int, int]:
         covered = total = 0
@@ -110,16 +111,29 @@ class Summary:
         return 100.0 * covered / total if total else None
 
 
-def summarise(all_entries: Sequence[Entry], exclusions: Sequence = ()) -> Summary:
-    """Add the points up by name (see the module doc) and apply the exclusion list."""
+def summarise(all_entries: Sequence[Entry], exclusions: Sequence = (),
+              constant: set = frozenset()) -> Summary:
+    """Add the points up by name (see the module doc) and apply the exclusion list.
+
+    ``constant``: (build, module, bit) of the register bits proven constant in that build
+    (:mod:`dptbd.sim.coverage.constant_bits`); a toggle name proven constant in every build
+    where it exists is excluded (``Summary.constant``), one that exists elsewhere too is
+    judged on the other builds."""
     by_name: dict[tuple, list[Entry]] = collections.defaultdict(list)
     for entry in all_entries:
         by_name[entry.name].append(entry)
     matched: dict[int, list[bool]] = {i: [] for i in range(len(exclusions))}
     counts: dict[tuple, list[int]] = collections.defaultdict(lambda: [0, 0, 0])
-    uncovered = []
+    uncovered, proven = [], []
     for name, group in sorted(by_name.items()):
         first = group[0]
+        if constant and first.kind == "toggle":
+            group = [e for e in group if (e.build, e.module, e.what) not in constant]
+            if not group:
+                counts[(first.design, first.module, first.kind)][2] += 1
+                proven.append(name)
+                continue
+            first = group[0]
         covered = any(e.count > 0 for e in group)
         hits = [i for i, ex in enumerate(exclusions) if ex.matches(first)]
         slot = counts[(first.design, first.module, first.kind)]
@@ -141,7 +155,7 @@ def summarise(all_entries: Sequence[Entry], exclusions: Sequence = ()) -> Summar
             stale.append((ex, "no such point (the source changed?)"))
         elif all(matched[i]):
             stale.append((ex, "covered: the point is reached"))
-    return Summary(dict(counts), uncovered, stale)
+    return Summary(dict(counts), uncovered, stale, proven)
 
 
 # ---- the AXI top's runs ------------------------------------------------------------------
@@ -327,12 +341,13 @@ def run_coverage(out: pathlib.Path, cases: Sequence, *, axi: Sequence[AxiCase] =
 
 
 def write_report(out: pathlib.Path, builds: dict, exclusions: Sequence = (),
-                 annotate_sources: bool = True) -> Summary:
+                 annotate_sources: bool = True, prove_constants: bool = False) -> Summary:
     """Merge each build's run files, map, summarise and write ``out``: ``report.md``,
     ``coverage.json``, ``merged/<build>.dat``, ``verilog/<build>/`` and ``annotated/``
     (``verilog/<build>/``: ``verilator_coverage --annotate``; ``amaranth/<design>/``: the
     Amaranth files, each line prefixed with its covered / total line and branch points)."""
     all_entries: list[Entry] = []
+    constant: set = set()
     for name, (design, sim, dats) in sorted(builds.items()):
         dats = [pathlib.Path(d) for d in dats if pathlib.Path(d).exists()]
         if not dats:
@@ -347,7 +362,10 @@ def write_report(out: pathlib.Path, builds: dict, exclusions: Sequence = (),
         if annotate_sources:
             annotate(merged, vdir, _mkdir(out / "annotated" / "verilog" / name))
         all_entries += entries(design, name, text, read_dat(merged))
-    summary = summarise(all_entries, exclusions)
+        if prove_constants:
+            from dptbd.sim.coverage.constant_bits import build_constant_bits
+            constant |= {(name, m, bit) for m, bit in build_constant_bits(sim)}
+    summary = summarise(all_entries, exclusions, constant)
     if annotate_sources:
         _annotate_amaranth(out / "annotated" / "amaranth", all_entries)
     (out / "coverage.json").write_text(json.dumps(_jsonable(summary), indent=1) + "\n")
@@ -400,6 +418,8 @@ def _jsonable(summary: Summary) -> dict:
                        "src": g[0].src, "what": g[0].what,
                        "verilog": sorted({f"{e.build}:{e.verilog_line}" for e in g})}
                       for _, g in summary.uncovered],
+        "proven_constant": [{"design": d, "module": m, "bit": w}
+                            for d, m, _, _, w in summary.constant],
         "stale_exclusions": [{"point": ex.point, "kind": ex.kind, "design": ex.design,
                               "what": ex.what, "reason": why} for ex, why in summary.stale],
     }
@@ -474,6 +494,17 @@ def _markdown(summary: Summary) -> str:
             if len(toggles) > 400:
                 lines.append(f"- … and {len(toggles) - 400} more (coverage.json)")
             lines.append("")
+    if summary.constant:
+        from dptbd.sim.coverage.constant_bits import REASON
+        lines += [f"## Register bits excluded as proven constant ({len(summary.constant)})", "",
+                  f"Reason: {REASON}.", ""]
+        by_reg = collections.defaultdict(list)
+        for d, m, _, _, w in summary.constant:
+            reg, _, bit = w.partition("[")
+            by_reg[(d, m, reg)].append(bit.rstrip("]") or "0")
+        lines += [f"- `{d}` `{m}` `{reg}` bits {', '.join(sorted(bits, key=int))}"
+                  for (d, m, reg), bits in sorted(by_reg.items())]
+        lines.append("")
     if summary.stale:
         lines += ["## Stale exclusions", ""]
         lines += [f"- `{ex.point}` {ex.kind} `{ex.what or '*'}` ({ex.design}): {why}"
