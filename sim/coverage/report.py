@@ -5,8 +5,10 @@
 ``VerilatedCov`` file ``runs/<case>-<seed>.dat``), plus the AXI top's runs
 (:func:`axi_cases`: the scenario of ``tests/sim/test_verilator_axi.py`` — every fault
 class, register writes refused and taken, a LUT rewrite, a soft reset — scored by
-:func:`~dptbd.sim.verilator_axi.check_axi`), merges the files of each build with
-``verilator_coverage --write`` and writes the report (:func:`write_report`).
+:func:`~dptbd.sim.verilator_axi.check_axi`), as tasks of the Dask execution layer; merges
+each run's file into its build's as the run finishes (``verilator_coverage --write``,
+:class:`RunMerger`) and writes the report (:func:`write_report`; with ``prove_constants``,
+register bits proven constant by Yosys are excluded: :mod:`dptbd.sim.coverage.constant_bits`).
 
 How points add up (:func:`summarise`): a **line** or **branch** point is named by its
 design, Verilog module (the Amaranth hierarchy), kind, Amaranth ``file:line`` and what
