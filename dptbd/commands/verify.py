@@ -257,9 +257,10 @@ def _coverage(args: argparse.Namespace, cases: list, axi: list) -> int:
 
         outcomes, builds = run_coverage(tmp, cases, axi=axi, runs_scale=args.runs_scale,
                                         base_seed=args.seed, workers=args.workers,
+                                        scheduler=args.scheduler, dashboard=args.dashboard,
                                         on_outcome=seen)
         bar.close()
-        summary = write_report(tmp, builds, exclusions)
+        summary = write_report(tmp, builds, exclusions, prove_constants=True)
         data = json.loads((tmp / "coverage.json").read_text())
         data = {"tool": COVERAGE_TOOL, "runs": len(outcomes), "mismatches": len(failed),
                 "cases": [c.name for c in [*cases, *axi]], "runs_scale": args.runs_scale,

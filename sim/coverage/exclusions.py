@@ -9,6 +9,8 @@
     what = "else"                    # optional: Verilator's if / elsif / else / case /
                                      # block, or the signal bit of a toggle; absent: all
     reason = "..."                   # why no stimulus can reach it
+    bits = "20-31"                   # optional, toggle only: the bits lo-hi of the register
+                                     # named by what (a bit class, e.g. a counter's high bits)
 
 An entry names the point by its Amaranth source, so it survives a renumbering of the
 Verilog. The report counts excluded points apart and lists an entry as stale when it
@@ -27,7 +29,7 @@ __all__ = ["EXCLUSIONS", "Exclusion", "load_exclusions"]
 EXCLUSIONS = pathlib.Path(__file__).resolve().parent / "exclusions.toml"
 
 _KINDS = ("line", "branch", "toggle")
-_KEYS = {"design", "point", "kind", "what", "reason"}
+_KEYS = {"design", "point", "kind", "what", "reason", "bits"}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -37,12 +39,19 @@ class Exclusion:
     kind: str
     what: str | None
     reason: str
+    bits: tuple[int, int] | None = None
 
     def matches(self, entry) -> bool:
         """Whether the located point ``entry`` (:class:`~dptbd.sim.coverage.report.Entry`)
         is this one."""
-        return (entry.design == self.design and entry.kind == self.kind
-                and entry.src == self.point and (self.what is None or entry.what == self.what))
+        if not (entry.design == self.design and entry.kind == self.kind
+                and entry.src == self.point):
+            return False
+        if self.bits is not None:
+            name, _, index = entry.what.partition("[")
+            return (name == self.what and index.endswith("]") and index[:-1].isdigit()
+                    and self.bits[0] <= int(index[:-1]) <= self.bits[1])
+        return self.what is None or entry.what == self.what
 
 
 def load_exclusions(path: str | os.PathLike = EXCLUSIONS) -> list[Exclusion]:
@@ -74,6 +83,16 @@ def load_exclusions(path: str | os.PathLike = EXCLUSIONS) -> list[Exclusion]:
         file, _, line = item["point"].rpartition(":")
         if not file or not line.isdigit():
             raise ValueError(f"{where}: point {item['point']!r} is not file.py:line")
+        bits = None
+        if "bits" in item:
+            lo, sep, hi = str(item["bits"]).partition("-")
+            if item["kind"] != "toggle" or not item.get("what"):
+                raise ValueError(f"{where}: bits is for a toggle exclusion whose what names "
+                                 f"the register")
+            if not (sep and lo.isdigit() and hi.isdigit() and int(lo) <= int(hi)):
+                raise ValueError(f"{where}: bits {item['bits']!r} is not lo-hi (bit indices, "
+                                 f"lo <= hi)")
+            bits = (int(lo), int(hi))
         out.append(Exclusion(item["design"], item["point"], item["kind"], item.get("what"),
-                             item["reason"]))
+                             item["reason"], bits))
     return out

@@ -5,8 +5,10 @@
 ``VerilatedCov`` file ``runs/<case>-<seed>.dat``), plus the AXI top's runs
 (:func:`axi_cases`: the scenario of ``tests/sim/test_verilator_axi.py`` — every fault
 class, register writes refused and taken, a LUT rewrite, a soft reset — scored by
-:func:`~dptbd.sim.verilator_axi.check_axi`), merges the files of each build with
-``verilator_coverage --write`` and writes the report (:func:`write_report`).
+:func:`~dptbd.sim.verilator_axi.check_axi`), as tasks of the Dask execution layer; merges
+each run's file into its build's as the run finishes (``verilator_coverage --write``,
+:class:`RunMerger`) and writes the report (:func:`write_report`; with ``prove_constants``,
+register bits proven constant by Yosys are excluded: :mod:`dptbd.sim.coverage.constant_bits`).
 
 How points add up (:func:`summarise`): a **line** or **branch** point is named by its
 design, Verilog module (the Amaranth hierarchy), kind, Amaranth ``file:line`` and what
@@ -22,13 +24,13 @@ total outside them.
 from __future__ import annotations
 
 import collections
+import contextlib
 import dataclasses
 import json
 import os
 import pathlib
 import shutil
 import time
-from concurrent.futures import ProcessPoolExecutor
 from typing import Callable, Sequence
 
 from dptbd.sim.coverage.code import (
@@ -44,7 +46,7 @@ from dptbd.sim.coverage.code import (
 )
 
 __all__ = ["GOALS", "Entry", "Summary", "AxiCase", "axi_cases", "extra_cases", "entries", "summarise",
-           "run_coverage", "write_report", "format_table"]
+           "coverage_run", "RunMerger", "run_coverage", "write_report", "format_table"]
 
 #: Goals per design: percent of line, branch and toggle points outside the exclusions.
 GOALS = {"axi": {"line": 100.0, "branch": 100.0, "toggle": 95.0},
@@ -96,6 +98,7 @@ class Summary:
     counts: dict                 # (design, module, kind) -> [covered, total, excluded]
     uncovered: list              # list of (name, [Entry, ...])
     stale: list                  # list of (Exclusion, reason)
+    constant: list = dataclasses.field(default_factory=list)  # names proven constant
 
     def figure(self, design: str, kind: str, module: str | None = None) -> tuple[int, int]:
         covered = total = 0
@@ -110,16 +113,29 @@ class Summary:
         return 100.0 * covered / total if total else None
 
 
-def summarise(all_entries: Sequence[Entry], exclusions: Sequence = ()) -> Summary:
-    """Add the points up by name (see the module doc) and apply the exclusion list."""
+def summarise(all_entries: Sequence[Entry], exclusions: Sequence = (),
+              constant: set = frozenset()) -> Summary:
+    """Add the points up by name (see the module doc) and apply the exclusion list.
+
+    ``constant``: (build, module, bit) of the register bits proven constant in that build
+    (:mod:`dptbd.sim.coverage.constant_bits`); a toggle name proven constant in every build
+    where it exists is excluded (``Summary.constant``), one that exists elsewhere too is
+    judged on the other builds."""
     by_name: dict[tuple, list[Entry]] = collections.defaultdict(list)
     for entry in all_entries:
         by_name[entry.name].append(entry)
     matched: dict[int, list[bool]] = {i: [] for i in range(len(exclusions))}
     counts: dict[tuple, list[int]] = collections.defaultdict(lambda: [0, 0, 0])
-    uncovered = []
+    uncovered, proven = [], []
     for name, group in sorted(by_name.items()):
         first = group[0]
+        if constant and first.kind == "toggle":
+            group = [e for e in group if (e.build, e.module, e.what) not in constant]
+            if not group:
+                counts[(first.design, first.module, first.kind)][2] += 1
+                proven.append(name)
+                continue
+            first = group[0]
         covered = any(e.count > 0 for e in group)
         hits = [i for i, ex in enumerate(exclusions) if ex.matches(first)]
         slot = counts[(first.design, first.module, first.kind)]
@@ -141,7 +157,7 @@ def summarise(all_entries: Sequence[Entry], exclusions: Sequence = ()) -> Summar
             stale.append((ex, "no such point (the source changed?)"))
         elif all(matched[i]):
             stale.append((ex, "covered: the point is reached"))
-    return Summary(dict(counts), uncovered, stale)
+    return Summary(dict(counts), uncovered, stale, proven)
 
 
 # ---- the AXI top's runs ------------------------------------------------------------------
@@ -247,57 +263,100 @@ def _config(fields: dict):
         return DPConfig(**fields)
 
 
-def _check_run(case, seed, root, coverage):
+def coverage_run(case, seed: int, root, coverage: str):
+    """One run of the coverage campaign (a task of the execution layer): a campaign
+    :class:`~dptbd.sim.campaign.Case` through :func:`~dptbd.sim.campaign.check_run` (an AXI
+    case to :func:`dptbd.sim.axi_runs.check_run`), an :class:`AxiCase` through
+    :func:`check_axi_run`; its coverage data written to the file ``coverage``."""
+    if isinstance(case, AxiCase):
+        return check_axi_run(case, seed, root, coverage)
     from dptbd.sim.campaign import check_run
     return check_run(case, seed, root, coverage=coverage)
+
+
+class RunMerger:
+    """The coverage files of one build merged as their runs finish: ``add(dat)`` merges
+    ``dat`` into ``target`` (``verilator_coverage --write`` into ``target.part``, then
+    renamed, so ``target`` is never half-written) and deletes ``dat`` unless ``keep``."""
+
+    def __init__(self, target: pathlib.Path, keep: bool = False):
+        self.target, self.keep, self.runs = pathlib.Path(target), keep, 0
+
+    def add(self, dat) -> None:
+        dat = pathlib.Path(dat)
+        if not dat.exists():
+            raise RuntimeError(f"coverage run wrote no coverage file {dat}")
+        part = self.target.with_name(self.target.name + ".part")
+        merge([self.target, dat] if self.target.exists() else [dat], part)
+        os.replace(part, self.target)
+        self.runs += 1
+        if not self.keep:
+            dat.unlink()
 
 
 # ---- the campaign on coverage builds -------------------------------------------------------
 
 def run_coverage(out: pathlib.Path, cases: Sequence, *, axi: Sequence[AxiCase] = (),
                  runs_scale: float = 1.0, base_seed: int = 0, workers: int | None = None,
-                 root=None, on_outcome: Callable | None = None):
-    """Run ``cases`` and ``axi`` on coverage builds, coverage files into ``out/runs``;
-    returns (outcomes, builds: {directory name: (design, build, [dat files])})."""
+                 scheduler: str | None = None, dashboard: bool = False, root=None,
+                 on_outcome: Callable | None = None, keep_runs: bool = False):
+    """Run ``cases`` and ``axi`` on coverage builds, as tasks of the execution layer
+    (:func:`dptbd.evaluation.execution.run_tasks`: ``workers`` local processes, or the
+    cluster at ``scheduler``; the run files are written where the workers see ``out``, so a
+    remote cluster needs ``out`` on a shared file system). Each run writes
+    ``out/runs/<case>-<seed>.dat``; as it finishes, the file is merged into its build's
+    ``out/merged/<build>.dat`` (:class:`RunMerger`) and deleted (kept with ``keep_runs``).
+    Returns (outcomes in task order, builds: {directory name: (design, build,
+    [merged file])})."""
+    from dptbd.evaluation.execution import job_execution, run_tasks
     from dptbd.sim.verilator import build
 
-    runs_dir = out / "runs"
-    runs_dir.mkdir(parents=True, exist_ok=True)
-    workers = int(workers or os.cpu_count() or 1)
-    jobs, builds = [], {}
-    every = [(c, c.cfg, _check_run) for c in cases] + \
-        [(a, _config(a.config), check_axi_run) for a in axi]
-    for i, (case, cfg, fn) in enumerate(every):
-        sim = build(cfg, case.design, root=root, coverage=True)
-        entry = builds.setdefault(sim.directory.name, (case.design, sim, []))
+    runs_dir = _mkdir(out / "runs")
+    merged_dir = _mkdir(out / "merged")
+    every = [(c, c.cfg) for c in cases] + [(a, _config(a.config)) for a in axi]
+    tasks, mergers, builds = [], [], {}
+    execution = job_execution(workers, scheduler=scheduler, dashboard=dashboard,
+                              tasks=sum(max(1, round(c.runs * runs_scale)) for c, _ in every))
+    sims = [build(cfg, case.design, root=root, coverage=True) for case, cfg in every]
+    by_build: dict[str, RunMerger] = {}
+    for i, ((case, _), sim) in enumerate(zip(every, sims)):
+        name = sim.directory.name
+        target = merged_dir / f"{name}.dat"
+        builds.setdefault(name, (case.design, sim, [target]))
+        merger = by_build.setdefault(name, RunMerger(target, keep_runs))
         for r in range(max(1, round(case.runs * runs_scale))):
             seed = base_seed * 1_000_003 + 7919 * i + r
             dat = runs_dir / f"{case.name}-{seed}.dat"
-            entry[2].append(dat)
-            jobs.append((fn, case, seed, str(dat)))
-    outcomes = []
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(fn, case, seed, root, dat) for fn, case, seed, dat in jobs]
-        for fut in futures:
-            outcome = fut.result()
-            outcomes.append(outcome)
-            if on_outcome is not None:
-                on_outcome(outcome)
+            tasks.append((case, seed, root, str(dat)))
+            mergers.append(merger)
+
+    def done(i: int, outcome) -> None:
+        mergers[i].add(tasks[i][3])
+        if on_outcome is not None:
+            on_outcome(outcome)
+
+    outcomes, _ = run_tasks(coverage_run, tasks, execution, on_result=done)
+    if not keep_runs:
+        with contextlib.suppress(OSError):
+            runs_dir.rmdir()
     return outcomes, builds
 
 
 def write_report(out: pathlib.Path, builds: dict, exclusions: Sequence = (),
-                 annotate_sources: bool = True) -> Summary:
+                 annotate_sources: bool = True, prove_constants: bool = False) -> Summary:
     """Merge each build's run files, map, summarise and write ``out``: ``report.md``,
     ``coverage.json``, ``merged/<build>.dat``, ``verilog/<build>/`` and ``annotated/``
     (``verilog/<build>/``: ``verilator_coverage --annotate``; ``amaranth/<design>/``: the
     Amaranth files, each line prefixed with its covered / total line and branch points)."""
     all_entries: list[Entry] = []
+    constant: set = set()
     for name, (design, sim, dats) in sorted(builds.items()):
-        dats = [d for d in dats if pathlib.Path(d).exists()]
+        dats = [pathlib.Path(d) for d in dats if pathlib.Path(d).exists()]
         if not dats:
             continue
-        merged = merge(dats, _mkdir(out / "merged") / f"{name}.dat")
+        merged = _mkdir(out / "merged") / f"{name}.dat"
+        if dats != [merged]:                   # run files (not merged yet by run_coverage)
+            merge(dats, merged)
         verilog_src = sim.directory / f"{sim.toplevel}.v"
         vdir = _mkdir(out / "verilog" / name)
         shutil.copyfile(verilog_src, vdir / verilog_src.name)
@@ -305,7 +364,10 @@ def write_report(out: pathlib.Path, builds: dict, exclusions: Sequence = (),
         if annotate_sources:
             annotate(merged, vdir, _mkdir(out / "annotated" / "verilog" / name))
         all_entries += entries(design, name, text, read_dat(merged))
-    summary = summarise(all_entries, exclusions)
+        if prove_constants:
+            from dptbd.sim.coverage.constant_bits import build_constant_bits
+            constant |= {(name, m, bit) for m, bit in build_constant_bits(sim)}
+    summary = summarise(all_entries, exclusions, constant)
     if annotate_sources:
         _annotate_amaranth(out / "annotated" / "amaranth", all_entries)
     (out / "coverage.json").write_text(json.dumps(_jsonable(summary), indent=1) + "\n")
@@ -358,6 +420,8 @@ def _jsonable(summary: Summary) -> dict:
                        "src": g[0].src, "what": g[0].what,
                        "verilog": sorted({f"{e.build}:{e.verilog_line}" for e in g})}
                       for _, g in summary.uncovered],
+        "proven_constant": [{"design": d, "module": m, "bit": w}
+                            for d, m, _, _, w in summary.constant],
         "stale_exclusions": [{"point": ex.point, "kind": ex.kind, "design": ex.design,
                               "what": ex.what, "reason": why} for ex, why in summary.stale],
     }
@@ -432,6 +496,17 @@ def _markdown(summary: Summary) -> str:
             if len(toggles) > 400:
                 lines.append(f"- … and {len(toggles) - 400} more (coverage.json)")
             lines.append("")
+    if summary.constant:
+        from dptbd.sim.coverage.constant_bits import REASON
+        lines += [f"## Register bits excluded as proven constant ({len(summary.constant)})", "",
+                  f"Reason: {REASON}.", ""]
+        by_reg = collections.defaultdict(list)
+        for d, m, _, _, w in summary.constant:
+            reg, _, bit = w.partition("[")
+            by_reg[(d, m, reg)].append(bit.rstrip("]") or "0")
+        lines += [f"- `{d}` `{m}` `{reg}` bits {', '.join(sorted(bits, key=int))}"
+                  for (d, m, reg), bits in sorted(by_reg.items())]
+        lines.append("")
     if summary.stale:
         lines += ["## Stale exclusions", ""]
         lines += [f"- `{ex.point}` {ex.kind} `{ex.what or '*'}` ({ex.design}): {why}"

@@ -37,6 +37,10 @@ def test_load_reads_an_entry(tmp_path):
     ("[other]\n", "unknown table(s) other; the file holds [[exclude]] tables only"),
     (GOOD.replace('what = "else"', 'line = 3'),
      "exclusion 1: unknown key(s) line; keys are design, point, kind, what, reason"),
+    (GOOD + 'bits = "20-31"\n',
+     "exclusion 1: bits is for a toggle exclusion whose what names the register"),
+    (GOOD.replace('"branch"', '"toggle"') + 'bits = "31-20"\n',
+     "exclusion 1: bits '31-20' is not lo-hi (bit indices, lo <= hi)"),
     (GOOD.replace('reason = "n is at least 1"', ''),
      "exclusion 1: reason missing; every exclusion names its design, point, kind and the "
      "reason it cannot be reached"),
@@ -78,3 +82,19 @@ def test_excluded_points_count_apart_and_stale_entries_are_reported():
     assert bare.figure("segmenter", "branch") == (4, 5)
     assert [name for name, _ in bare.uncovered] == [
         ("segmenter", "dptbd_seg.segmenter", "branch", "hw/segmenter.py:201", "else")]
+
+
+def test_a_bit_class_excludes_the_bits_of_its_range_only(tmp_path):
+    path = tmp_path / "x.toml"
+    path.write_text(GOOD.replace('"branch"', '"toggle"').replace('"else"', '"frames_value"')
+                    + 'bits = "20-31"\n')
+    (high,) = load_exclusions(path)
+    assert high.bits == (20, 31)
+    points = [entry("hw/segmenter.py:201", f"frames_value[{k}]", 0, "toggle")
+              for k in (0, 19, 20, 31)] + [entry("hw/segmenter.py:201", "frames", 0, "toggle"),
+                                           entry("hw/segmenter.py:201", "frames_value2[25]", 0,
+                                                 "toggle")]
+    summary = summarise(points, [high])
+    assert summary.counts == {("segmenter", "dptbd_seg.segmenter", "toggle"): [0, 4, 2]}
+    assert [name[4] for name, _ in summary.uncovered] == [
+        "frames", "frames_value2[25]", "frames_value[0]", "frames_value[19]"]

@@ -106,3 +106,24 @@ def test_a_real_coverage_run_names_the_weight_lut_write_port(tmp_path):
     assert summary == summarise(
         entries("segmenter", sim.directory.name, text,
                 read_dat(out / "merged" / f"{sim.directory.name}.dat")))
+
+
+def test_run_coverage_runs_campaign_cases_on_the_execution_layer_and_merges_as_it_goes(tmp_path):
+    from dptbd.sim.campaign import Case
+    from dptbd.sim.coverage.report import run_coverage
+
+    case = Case("tiny-cov", dict(width=8, height=6, segment_frames=2, candidate_count=2,
+                                 histogram_bits=4), "segmenter", 6, 2, ())
+    seen = []
+    outcomes, builds = run_coverage(tmp_path, [case], workers=1, on_outcome=seen.append)
+    sim = V.build(case.cfg, "segmenter", coverage=True)
+    merged = tmp_path / "merged" / f"{sim.directory.name}.dat"
+    assert [(o.case, o.seed, o.passed) for o in outcomes] == [("tiny-cov", 0, True),
+                                                            ("tiny-cov", 1, True)]
+    assert seen == outcomes
+    assert [(n, d, b.directory, f) for n, (d, b, f) in builds.items()] == [
+        (sim.directory.name, "segmenter", sim.directory, [merged])]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["merged"]   # run files merged, gone
+    assert sorted(p.name for p in merged.parent.iterdir()) == [merged.name]
+    summary = write_report(tmp_path, builds)       # the merged file is reported as it is
+    assert summary.figure("segmenter", "line")[0] > 0

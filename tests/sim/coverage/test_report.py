@@ -3,7 +3,13 @@ register and index), the terminal table against the goals, the report's text."""
 
 from __future__ import annotations
 
-from dptbd.sim.coverage.report import Entry, _markdown, format_table, summarise
+import shutil
+
+import pytest
+from helpers.refusals import whole
+
+from dptbd.sim.coverage.code import read_dat
+from dptbd.sim.coverage.report import Entry, RunMerger, _markdown, format_table, summarise
 
 
 def e(kind, src, what, count, build="b1", design="segmenter", module="dptbd_seg.segmenter"):
@@ -39,3 +45,31 @@ def test_points_add_up_by_name_across_builds():
             "`verilog/b1/`)") in text
     assert "- `hw/a.py:1` `dptbd_seg.segmenter` `q[9]` (Verilog line 7 of `verilog/b2/`)" in text
     assert "| `dptbd_seg.segmenter` | 100.00 % (1/1) | 0.00 % (0/1) | 50.00 % (1/2) | 0 |" in text
+
+
+def _dat(count: int) -> str:
+    key = "".join(f"\x01{k}\x02{v}" for k, v in
+                  dict(f="top.v", l=12, n=5, page="v_branch/top", o="if", h="TOP.top").items())
+    return f"# SystemC::Coverage-3\nC '{key}' {count}\n"
+
+
+@pytest.mark.skipif(shutil.which("verilator_coverage") is None,
+                    reason="needs verilator_coverage")
+def test_runs_merge_as_they_finish_and_their_files_go(tmp_path):
+    target = tmp_path / "merged" / "b1.dat"
+    target.parent.mkdir()
+    merger = RunMerger(target)
+    for i, count in enumerate((3, 4)):
+        run = tmp_path / f"r{i}.dat"
+        run.write_text(_dat(count))
+        merger.add(run)
+        assert not run.exists()                           # merged, then deleted
+    assert [p.count for p in read_dat(target)] == [7]     # 3 + 4
+    assert sorted(p.name for p in target.parent.iterdir()) == ["b1.dat"]  # no .part left
+    kept = tmp_path / "kept.dat"
+    kept.write_text(_dat(1))
+    RunMerger(target, keep=True).add(kept)
+    assert kept.exists() and [p.count for p in read_dat(target)] == [8]
+    with pytest.raises(RuntimeError, match=whole(
+            f"coverage run wrote no coverage file {tmp_path / 'none.dat'}")):
+        merger.add(tmp_path / "none.dat")
