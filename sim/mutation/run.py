@@ -16,9 +16,11 @@ A mutant's verdict (:class:`MutantOutcome`) is the first of its runs that is not
   check failed: a wrong, missing or extra word, a wrong flag, response, register or counter;
 * ``timeout``: a run ran out of its cycle budget with every word the model expects
   delivered right (:func:`hang_verdict`: the mutant hangs where no more output is due; one
-  that delivered a wrong or extra word, or left out words the model expects, is killed) or
-  ran past the wall-clock limit (:data:`WALL_SECONDS`, exit 124 of the harness): never
-  counted as killed;
+  that delivered a wrong or extra word, or left out words the model expects, is killed; in
+  ``dptbd_seg``'s runs without resets, the model is fed every offered word, so a mutant
+  that stops taking input while the model gives lists for the words it refused is killed
+  with ``hang: …``) or ran past the wall-clock limit (:data:`WALL_SECONDS`, exit 124 of the
+  harness): never counted as killed;
 * ``crashed``: the simulation process failed otherwise (e.g. Verilator's model did not
   converge): never counted as killed;
 * ``survived``: every run passed.
@@ -36,6 +38,8 @@ import dataclasses
 import os
 import time
 import warnings
+
+import numpy as np
 from typing import Callable, Sequence
 
 from dptbd.config import DPConfig, EnergyWidthWarning
@@ -157,6 +161,26 @@ def _edge_settings(cfg: DPConfig, n_words: int, seed: int) -> tuple:
     return tuple(out)
 
 
+def _missing_of_offered(sim, words, stim, result) -> str:
+    """For a run without resets whose cycle budget ran out with offered words not taken:
+    the golden model fed every offered word against what the design delivered; the report
+    of the missing (or wrong) words, or ``""`` if every word the model gives came out."""
+    from dptbd.sim.rtl_check import _checker, expected_stream, split_words
+
+    if stim.resets or result.raw.status == "done":
+        return ""
+    pixels, first = split_words(sim.cfg, np.asarray(words))
+    exp = expected_stream(sim.cfg, pixels, first,
+                          {int(i): codes for i, codes in stim.lut_changes},
+                          {int(i): entry for i, entry in stim.settings_changes})
+    board = _checker(sim.cfg, sim.output, exp, cut_by_reset=False)
+    board.receive_array(result.raw.out_words)
+    if board.done:
+        return ""
+    return (f"hang: {result.words_in} of {len(words)} offered words taken in {result.raw.cycles} "
+            f"cycles; against the model of every offered word: {board.report()}")
+
+
 def _segmenter_run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, make_run
     from dptbd.sim.rtl_check import check_stream
@@ -173,6 +197,9 @@ def _segmenter_run(sim, kind: str, seed: int) -> tuple[str, str]:
                                                                          seed))
     result = check_stream(sim, words, stim)
     if hang_verdict(result.raw.status, result.report):
+        missing = _missing_of_offered(sim, words, stim, result)
+        if missing:
+            return "killed", missing
         return "timeout", f"cycle budget ({result.raw.cycles} cycles) ran out: {result.report}"
     return ("survived" if result.passed else "killed"), result.report
 
