@@ -72,7 +72,7 @@ RANDOM_AXI_RUNS, RANDOM_AXI_FRAMES = 32, 24
 SLICE_RUNS = {
     "segmenter": tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in range(8)]
                        + [("random-lut", s) for s in range(12)]
-                       + [("faults", s) for s in range(16)]
+                       + [("faults", s) for s in range(32)]
                        + [("backpressure", s) for s in range(4)]),
     "axi": tuple([("faults", s) for s in range(16)]
                  + [("backpressure", s) for s in (1, 4, 7, 14)]
