@@ -14,10 +14,13 @@ A mutant's verdict (:class:`MutantOutcome`) is the first of its runs that is not
 
 * ``killed``: a run finished (the harness saw every word in and the output drain) and the
   check failed: a wrong, missing or extra word, a wrong flag, response, register or counter;
-* ``timeout``: a run ran out of its cycle budget with every word it delivered right (the
-  mutant hangs the stream; one that delivered a wrong or extra word first is killed) or
-  past the wall-clock limit (:data:`WALL_SECONDS`, exit 124 of the harness): never counted
-  as killed;
+* ``timeout``: a run ran out of its cycle budget with every word the model expects
+  delivered right (:func:`hang_verdict`: the mutant hangs where no more output is due; one
+  that delivered a wrong or extra word, or left out words the model expects, is killed; in
+  ``dptbd_seg``'s runs without resets, the model is fed every offered word, so a mutant
+  that stops taking input while the model gives lists for the words it refused is killed
+  with ``hang: …``) or ran past the wall-clock limit (:data:`WALL_SECONDS`, exit 124 of the
+  harness): never counted as killed;
 * ``crashed``: the simulation process failed otherwise (e.g. Verilator's model did not
   converge): never counted as killed;
 * ``survived``: every run passed.
@@ -35,14 +38,17 @@ import dataclasses
 import os
 import time
 import warnings
+
+import numpy as np
 from typing import Callable, Sequence
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, mutation_list, run_yosys
 
-__all__ = ["CONFIGS", "SLICE_RUNS", "BACKPRESSURE", "WALL_SECONDS", "VERDICTS", "MutantOutcome",
+__all__ = ["CONFIGS", "RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "SLICE_RUNS", "BACKPRESSURE",
+           "WALL_SECONDS", "VERDICTS", "MutantOutcome",
            "MutationResult", "config", "slice_runs", "run_slice", "mutant_task",
-           "mutant_design", "run_mutants", "axi_scenario"]
+           "mutant_design", "run_mutants", "axi_scenario", "hang_verdict"]
 
 #: The configuration of each design's mutants: 12 x 10 frames, B_in = 6, B_E = 8 (the
 #: fewest bits that never saturate at K_max = 4), F = 4, n = 60 of C = 120 (lists long
@@ -56,16 +62,21 @@ CONFIGS = {
                 candidate_capacity=120, histogram_bits=4, histogram_shift=4),
 }
 
+#: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi_runs.draw_run` on the slice's
+#: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
+#: soft resets with words in flight, aresetn, W1C, clear_counters, LUT and settings writes,
+#: every register read with its expected value.
+RANDOM_AXI_RUNS, RANDOM_AXI_FRAMES = 32, 24
+
 #: Runs of each design's slice: ``(kind, seed)``, run in this order.
 SLICE_RUNS = {
     "segmenter": tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in range(8)]
                        + [("random-lut", s) for s in range(12)]
-                       + [("faults", s) for s in range(16)]
+                       + [("faults", s) for s in range(32)]
                        + [("backpressure", s) for s in range(4)]),
-    # seed 11 is left out: the original dptbd_axi and the model disagree on it (a LUT
-    # rewrite with K changed, then a soft reset: docs/simulation.md, "Mutation score")
-    "axi": tuple([("faults", s) for s in range(16) if s != 11]
-                 + [("backpressure", s) for s in (1, 4, 7, 14)]),
+    "axi": tuple([("faults", s) for s in range(16)]
+                 + [("backpressure", s) for s in (1, 4, 7, 14)]
+                 + [("random", s) for s in range(RANDOM_AXI_RUNS)]),
 }
 
 #: Output back-pressure densities of the ``backpressure`` runs (seed % 4): the lists
@@ -112,9 +123,22 @@ class MutantOutcome:
     seconds: float
 
 
-#: What :func:`dptbd.sim.rtl_check.check_stream` reports for a wrong or an extra output
-#: word (:class:`dptbd.sim.checker.InOrderChecker`): a run that hangs after one is killed.
-_WRONG_WORD = ("first mismatch at", "beyond the")
+#: What :class:`dptbd.sim.checker.InOrderChecker` reports for a wrong, an extra or a
+#: missing output word: a run whose cycle budget ran out with one of these is killed.
+_DETECTED = ("first mismatch at", "beyond the", "incomplete: ")
+
+
+def hang_verdict(status: str, report: str) -> str | None:
+    """``"timeout"`` if a run that did not finish (``status`` is not ``"done"``: its cycle
+    budget, :func:`dptbd.sim.verilator.cycle_budget`, three times the cycles it needs, ran
+    out) has a ``report`` with no wrong, extra or missing output word (the mutant hangs
+    where the model expects no more output, e.g. the input stalls after the last list);
+    ``None`` otherwise (the run's own check decides: a hang where the model expects more
+    words is a failed check, ``incomplete: …``, and killed). A run past the wall-clock
+    limit never gets here: it is a timeout (:func:`run_slice`)."""
+    if status != "done" and not any(text in report for text in _DETECTED):
+        return "timeout"
+    return None
 
 
 def _edge_settings(cfg: DPConfig, n_words: int, seed: int) -> tuple:
@@ -137,6 +161,26 @@ def _edge_settings(cfg: DPConfig, n_words: int, seed: int) -> tuple:
     return tuple(out)
 
 
+def _missing_of_offered(sim, words, stim, result) -> str:
+    """For a run without resets whose cycle budget ran out with offered words not taken:
+    the golden model fed every offered word against what the design delivered; the report
+    of the missing (or wrong) words, or ``""`` if every word the model gives came out."""
+    from dptbd.sim.rtl_check import _checker, expected_stream, split_words
+
+    if stim.resets or result.raw.status == "done":
+        return ""
+    pixels, first = split_words(sim.cfg, np.asarray(words))
+    exp = expected_stream(sim.cfg, pixels, first,
+                          {int(i): codes for i, codes in stim.lut_changes},
+                          {int(i): entry for i, entry in stim.settings_changes})
+    board = _checker(sim.cfg, sim.output, exp, cut_by_reset=False)
+    board.receive_array(result.raw.out_words)
+    if board.done:
+        return ""
+    return (f"hang: {result.words_in} of {len(words)} offered words taken in {result.raw.cycles} "
+            f"cycles; against the model of every offered word: {board.report()}")
+
+
 def _segmenter_run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, make_run
     from dptbd.sim.rtl_check import check_stream
@@ -152,8 +196,10 @@ def _segmenter_run(sim, kind: str, seed: int) -> tuple[str, str]:
         stim = dataclasses.replace(stim, settings_changes=_edge_settings(sim.cfg, len(words),
                                                                          seed))
     result = check_stream(sim, words, stim)
-    wrong = any(text in result.report for text in _WRONG_WORD)
-    if result.raw.status != "done" and not wrong:
+    if hang_verdict(result.raw.status, result.report):
+        missing = _missing_of_offered(sim, words, stim, result)
+        if missing:
+            return "killed", missing
         return "timeout", f"cycle budget ({result.raw.cycles} cycles) ran out: {result.report}"
     return ("survived" if result.passed else "killed"), result.report
 
@@ -205,14 +251,31 @@ def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
     return beats, steps, gap, pause
 
 
+def _axi_random_run(sim, seed: int) -> tuple[str, str]:
+    from dptbd.sim.axi_runs import AXI_FAULTS, draw_run
+    from dptbd.sim.campaign import Case
+    from dptbd.sim.verilator_axi import check_axi
+
+    case = Case("mutant-axi-random", CONFIGS["axi"], "axi", RANDOM_AXI_FRAMES, 1, AXI_FAULTS)
+    plan = draw_run(case, seed)
+    result = check_axi(sim, plan.beats, plan.steps, valid_gap=plan.valid_gap,
+                       ready_pause=plan.ready_pause, seed=seed, pulses=plan.pulses)
+    if hang_verdict(result.run.status, result.report()):
+        return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
+                           f"{result.report()}")
+    return ("survived" if result.passed else "killed"), result.report()
+
+
 def _axi_run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.verilator_axi import check_axi
 
+    if kind == "random":
+        return _axi_random_run(sim, seed)
     beats, steps, gap, pause = axi_scenario(sim.cfg, seed)
     if kind == "backpressure":
         gap, pause = 0.0, BACKPRESSURE[seed % 4]
     result = check_axi(sim, beats, steps, valid_gap=gap, ready_pause=pause, seed=seed)
-    if result.run.status != "done" and not result.board.failed:
+    if hang_verdict(result.run.status, result.report()):
         return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
                            f"{result.report()}")
     # the stall counters against the harness's own count of the same cycles

@@ -106,7 +106,7 @@ def test_the_build_key_includes_the_mutations():
 
     cfg = config("segmenter")
     plain = V._build_key(cfg, "segmenter", "auto", False)
-    one = V._build_key(cfg, "segmenter", "auto", False, ("mutate -mode inv -cell a",))
-    other = V._build_key(cfg, "segmenter", "auto", False, ("mutate -mode inv -cell b",))
+    one = V._build_key(cfg, "segmenter", "auto", False, mutations=("mutate -mode inv -cell a",))
+    other = V._build_key(cfg, "segmenter", "auto", False, mutations=("mutate -mode inv -cell b",))
     assert len({plain, one, other}) == 3
-    assert V._build_key(cfg, "segmenter", "auto", False, ()) == plain
+    assert V._build_key(cfg, "segmenter", "auto", False, mutations=()) == plain

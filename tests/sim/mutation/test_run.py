@@ -67,5 +67,20 @@ def test_score_counts_only_killed():
 
 
 def test_slice_runs_scaled():
-    assert R.slice_runs("axi", 0.01) == (("faults", 0), ("backpressure", 1))
+    assert R.slice_runs("axi", 0.01) == (("faults", 0), ("backpressure", 1), ("random", 0))
     assert len(R.slice_runs("segmenter")) == len(R.SLICE_RUNS["segmenter"])
+
+
+@pytest.mark.parametrize("status, report, verdict", [
+    ("budget", "timeout after 9000 cycles: 70 of 120 words in", "timeout"),
+    ("budget", "done; bit-exact: 2 lists, 5 records, 7 words", "timeout"),
+    ("budget", "incomplete: 3 of 7 words received (1 list), all bit-exact", None),
+    ("budget", "first mismatch at output word 3", None),
+    ("budget", "2 word(s) beyond the 7 expected (1 list)", None),
+    ("done", "bit-exact: 2 lists", None),
+    ("done", "incomplete: 3 of 7 words received, all bit-exact", None),
+])
+def test_a_hang_is_killed_only_where_the_model_expects_more_words(status, report, verdict):
+    """A run out of its cycle budget: killed (the check decides) if a word the model expects
+    is missing, wrong or extra; a timeout if every expected word came."""
+    assert R.hang_verdict(status, report) == verdict
