@@ -13,7 +13,8 @@ Modules (one line each)
 - ``candidate_scoreboard``: the expected candidate lists, reported by segment, record and field.
 - ``rtl_check``: one compiled run checked against the model with the scoreboards.
 - ``rtl_trials``: Monte Carlo trials on the compiled RTL (``compare --rtl``, ``table1 --rtl``).
-- ``campaign``: the verification campaign (``dptbd verify``).
+- ``campaign``: the verification campaign (``dptbd verify``), its runs on the Dask execution layer.
+- ``axi_runs``: the campaign's random runs of the AXI top level ``dptbd_axi``, drawn from a seed.
 - ``sim_job``: the job of ``dptbd sim``: one scene on Verilator or Icarus, its cycle count, speed and verdict.
 - ``icarus``: the cocotb + Icarus build of the generated Verilog (``build/sim/<parameter set>/``) and its runs (``simulate``).
 - ``cocotb_drivers``: cocotb stream driver, back-pressure sink, monitor, pause generators and LUT writes.
@@ -27,8 +28,12 @@ Modules (one line each)
 - ``stimulus``: pixel words and LUT writes, packed with the gateware's layouts.
 - ``scenarios``: integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
 
-Sub-package ``coverage``: code coverage of the RTL (coverage builds' text, Verilator's points
-mapped to the Amaranth source, exclusions, report; ``dptbd verify --coverage``).
+Sub-packages: ``coverage`` (the campaign's functional coverage bins, and code coverage of the
+RTL: coverage builds' text, Verilator's points mapped to the Amaranth source, register bits
+proven constant, exclusions, report; ``dptbd verify --coverage``), ``mutation`` (the
+mutation score: Yosys ``mutate``, one mutant build, the verification slice, equivalence
+proofs; ``dptbd verify --mutants``), ``formal`` (SymbiYosys proofs of the interfaces and
+invariants; ``dptbd verify --formal``).
 
 From the command line: ``dptbd sim`` (one scene, cycle count, verdict), ``dptbd verify``
 (the campaign) and ``dptbd verilog`` (Verilog + manifest). Tests: ``pytest tests/sim`` (``-m slow`` for the

@@ -18,7 +18,8 @@ from dptbd.model.segmentation import CandidateList, segment_stream
 from dptbd.model.settings import SegmentSettings
 from dptbd.sim.stream_model import expected_stream
 
-__all__ = ["FAULT_KINDS", "SETTINGS", "Beats", "clean_beats", "with_fault", "fault_pulses",
+__all__ = ["FAULT_KINDS", "SETTINGS", "Beats", "clean_beats", "with_fault", "fault_stretches",
+           "fault_pulses",
            "fault_counts", "Piece", "Expected", "CutList", "stream_pieces", "expected_outputs"]
 
 #: What :func:`with_fault` can inject, each raising exactly one pulse of its class.
@@ -88,6 +89,17 @@ def with_fault(cfg: DPConfig, frames: np.ndarray, kind: str) -> Beats:
     else:
         head.last[w - 1] = False
     return head + tail
+
+
+def fault_stretches(cfg: DPConfig, frames: np.ndarray) -> tuple[Beats, list[int]]:
+    """Frames ``(4 + 2 * len(FAULT_KINDS), H, W)`` as beats: four clean frames, then two
+    frames with each frame-sync fault in turn (:func:`with_fault`); and the beat where each
+    fault's stretch starts."""
+    beats, starts = clean_beats(frames[:4]), []
+    for i, kind in enumerate(FAULT_KINDS):
+        starts.append(len(beats))
+        beats = beats + with_fault(cfg, frames[4 + 2 * i:6 + 2 * i], kind)
+    return beats, starts
 
 
 def _prefix(beats: Beats, n: int) -> Beats:

@@ -198,15 +198,12 @@ def _axi_scene(cfg, seed: int):
 
     from dptbd.hw.flow.register_export import constants_namespace
     from dptbd.hw.register_map import FAULTS
-    from dptbd.sim.axi_stimulus import clean_beats, with_fault
+    from dptbd.sim.axi_stimulus import fault_stretches
     from dptbd.sim.scenarios import make_frames
 
     regs = constants_namespace(cfg)
     frames = make_frames("two-targets", cfg, 4 + 2 * len(FAULTS), seed=seed)
-    beats, starts = clean_beats(frames[:4]), []
-    for i, kind in enumerate(FAULTS):
-        starts.append(len(beats))
-        beats = beats + with_fault(cfg, frames[4 + 2 * i:6 + 2 * i], kind)
+    beats, starts = fault_stretches(cfg, frames)
     frame = cfg.width * cfg.height
     every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
     halved = (np.asarray(cfg.weight_codes) // 2).tolist()

@@ -213,17 +213,14 @@ def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
 
     from dptbd.hw.flow.register_export import constants_namespace
     from dptbd.hw.register_map import FAULTS, register_map
-    from dptbd.sim.axi_stimulus import clean_beats, with_fault
+    from dptbd.sim.axi_stimulus import fault_stretches
     from dptbd.sim.scenarios import make_frames
 
     rng = np.random.default_rng([seed, 0xA71])
     regs = constants_namespace(cfg)
     frames = make_frames("two-targets" if seed % 2 == 0 else "mixed", cfg,
                          4 + 2 * len(FAULTS), seed=seed)
-    beats, starts = clean_beats(frames[:4]), []
-    for i, kind in enumerate(FAULTS):
-        starts.append(len(beats))
-        beats = beats + with_fault(cfg, frames[4 + 2 * i:6 + 2 * i], kind)
+    beats, starts = fault_stretches(cfg, frames)
     frame = cfg.width * cfg.height
     every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
     unity = 1 << cfg.weight_frac_bits

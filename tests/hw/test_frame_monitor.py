@@ -17,7 +17,7 @@ from amaranth.hdl import Elaboratable, Module
 from dptbd.hw.controller import Controller
 from dptbd.hw.frame_monitor import FrameMonitor
 from dptbd.hw.register_map import FAULTS
-from dptbd.sim.axi_stimulus import fault_counts, fault_pulses, with_fault
+from dptbd.sim.axi_stimulus import fault_counts, fault_pulses, fault_stretches, with_fault
 from helpers.hw_harness import simulate
 from helpers.seg_harness import make_config
 
@@ -156,3 +156,16 @@ def test_source_without_tuser_raises_nothing_with_no_sof():
     assert sum(f["frame_long"] for f in ref_faults(beats)) == 4
     got, _ = rtl_faults(beats, no_sof=True)
     assert sum(sum(g.values()) for g in got) == 0
+
+
+def test_fault_stretches_give_one_pulse_of_each_class_in_its_own_stretch():
+    cfg = make_config(width=W, height=H)
+    frames = np.arange(4 + 2 * len(FAULTS))[:, None, None] * np.ones((1, H, W), dtype=np.int64)
+    beats, starts = fault_stretches(cfg, frames)
+    assert starts[0] == 4 * H * W and len(starts) == len(FAULTS)
+    assert beats.pixel[:starts[0]].tolist() == np.repeat(np.arange(4), H * W).tolist()
+    pulses = fault_pulses(cfg, beats.first, beats.last)
+    fired = [(i, k) for i, p in enumerate(pulses) for k, v in p.items() if v]
+    bounds = [*starts, len(beats)]
+    assert [k for _, k in fired] == list(FAULTS)
+    assert all(bounds[j] <= i < bounds[j + 1] for j, (i, _) in enumerate(fired))
