@@ -55,6 +55,7 @@ import numpy as np
 from dptbd.config import DPConfig
 from dptbd.hw.register_map import FAULTS, register_map
 from dptbd.sim.axi_stimulus import FAULT_KINDS, SETTINGS, Beats, clean_beats, with_fault
+from dptbd.sim.verilator_axi import OKAY, SLVERR
 
 __all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "NOW_SWEEP", "NOW_WAIT", "AxiPlan",
            "draw_run", "check_run"]
@@ -75,8 +76,6 @@ ACTIONS = ("settings", "no_strobe", "no_sof", "irq_enable", "lut_table", "lut_en
 #: unmapped address, a write to a read-only register.
 REFUSALS = ("setting_range", "setting_strobe", "lut_code", "lut_strobe", "unaligned_write",
             "unaligned_read", "lut_read", "unmapped_read", "unmapped_write", "read_only_write")
-
-OKAY, SLVERR = 0, 2
 
 
 @dataclasses.dataclass(frozen=True)

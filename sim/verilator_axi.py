@@ -76,11 +76,9 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
                     ) -> tuple[list[tuple], list[tuple]]:
     """The harness operations of the bench's ``steps`` and, per w/r operation, what to
     check: ``("write", name, expected response)`` or ``("read", name, expected value or
-    None)``, or ``("refused read", address, None)``. Each step waits ``settle`` cycles
-    before its ``check`` reads or soft reset (as :mod:`dptbd.sim.tb_axi` does), then
-    writes; ``final_reads`` are read after the last beat and ``settle`` idle cycles. A step's ``refused`` accesses (``[["w" | "r", byte
-    address, data], ...]``: unaligned or unmapped addresses, a LUT read, a LUT code out of
-    range) must be answered SLVERR.
+    None)``. Each step waits ``settle`` cycles before its ``check`` reads or soft reset (as
+    :mod:`dptbd.sim.tb_axi` does), then writes; ``final_reads`` are read after the last beat
+    and ``settle`` idle cycles.
 
     ``soft_reset`` may be ``"now"``: no settle before it (``soft_reset_wait`` idle cycles
     if given), and then a wait until ``STATUS.soft_reset_busy`` reads 0 (check
@@ -126,12 +124,6 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
             limits = reg.fields[0].limits if reg.kind == "setting" else (0, 2**32 - 1)
             taken = reg.access != "ro" and limits[0] <= value <= limits[1]
             write(start, getattr(regs, f"REG_{name}"), value, OKAY if taken else SLVERR, name)
-        for kind, address, data in step.get("refused", []):  # must answer SLVERR, change nothing
-            if kind == "w":
-                write(start, int(address), data, SLVERR, f"0x{int(address):x}")
-            else:
-                ops.append((start, "r", int(address), 0))
-                checks.append(("refused read", f"0x{int(address):x}", None))
         if step.get("lut_codes") is not None:
             for p, row in enumerate(step["lut_codes"]):
                 for m, code in enumerate(row):
@@ -293,8 +285,6 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
             if resp != want_resp or (want_value is not None and data != want_value):
                 problems.append(f"read {name} = {int(data)}, response {int(resp)}, expected "
                                 f"{want_value} with response {want_resp}")
-        elif kind == "refused read" and resp != SLVERR:
-            problems.append(f"read {name}: response {int(resp)}, expected {SLVERR}")
         elif kind == "read":
             reads[name] = int(data)
             if resp != OKAY:

@@ -211,15 +211,19 @@ def _axi_scene(cfg, seed: int):
 
     names = [reg.name for reg in register_map(cfg).registers]
     top = max(getattr(regs, f"REG_{n}") for n in names)
-    refused = [["w", regs.REG_SEGMENT_FRAMES + 1, 1], ["r", regs.REG_ID + 2, 0],  # unaligned
-               ["w", top + 4, 7], ["r", top + 4, 0],                           # unmapped
-               ["r", LUT_WINDOW_BASE, 0],                                       # a LUT read
-               ["w", LUT_WINDOW_BASE + 4, (1 << cfg.weight_frac_bits) + 1]]    # code > 2**F
+    from dptbd.sim.verilator_axi import SLVERR as slverr  # each refused, changing nothing
+
+    refused = [["w", regs.REG_SEGMENT_FRAMES + 1, 1, 0xF, slverr],             # unaligned
+               ["r", regs.REG_ID + 2, slverr, None],
+               ["w", top + 4, 7, 0xF, slverr], ["r", top + 4, slverr, None],   # unmapped
+               ["r", LUT_WINDOW_BASE, slverr, None],                            # a LUT read
+               ["w", LUT_WINDOW_BASE + 4, (1 << cfg.weight_frac_bits) + 1, 0xF,  # code > 2**F
+                slverr]]
     steps = [{"check": {"ID": regs.MAGIC, **{n: None for n in names if n != "ID"}},
               "writes": [["CONTROL", regs.CONTROL_CLEAR_COUNTERS_MASK]],   # nothing counted yet
               "stop": 2 * frame},
              {"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", 6],
-                         ["HISTOGRAM_SHIFT", cfg.energy_bits]], "refused": refused,
+                         ["HISTOGRAM_SHIFT", cfg.energy_bits]], "bus": refused,
               "stop": 4 * frame},
              {"check": {"SEGMENTS": 3}, "lut_codes": halved,
               "writes": [["SEGMENT_FRAMES", 3], ["ERROR", regs.ERROR_WRITE_REFUSED_MASK]],
