@@ -1,14 +1,11 @@
 """Running the mutants: each mutant of a top level through the verification slice, one
 verdict per mutant, and the mutation score.
 
-The slice of ``segmenter`` (``dptbd_seg``) is seeded runs of the campaign
-(:func:`dptbd.sim.campaign.make_run`: hostile scenes, input gaps, output back-pressure,
-resets, misaligned / short / long frames, LUT and settings rewrites) checked by
-:func:`dptbd.sim.rtl_check.check_stream` against the golden model; the slice of ``axi``
-(``dptbd_axi``) is seeded runs of :func:`dptbd.sim.verilator_axi.check_axi` (every fault
-class, settings and LUT writes, refused writes, W1C, soft reset, register reads, gaps and
-back-pressure) — the checks the default suite runs, on :data:`CONFIGS` (small frames, narrow
-widths: every bit of the datapath is reached).
+The slices (:mod:`dptbd.sim.mutation.slices`: ``segmenter``, ``dptbd_seg``: seeded runs of
+the campaign checked by :func:`dptbd.sim.rtl_check.check_stream`; ``axi``, ``dptbd_axi``:
+seeded runs of :func:`dptbd.sim.verilator_axi.check_axi` and random AXI runs of the
+campaign) are the checks the default suite runs, on small frames and narrow widths (every
+bit of the datapath is reached).
 
 A mutant's verdict (:class:`MutantOutcome`) is the first of its runs that is not passed:
 
@@ -39,57 +36,21 @@ import os
 import time
 import warnings
 
-import numpy as np
 from typing import Callable, Sequence
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, mutation_list, run_yosys
+from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS, RUNNERS, SLICE_RUNS
+from dptbd.sim.mutation.slices.axi import RANDOM_AXI_FRAMES, RANDOM_AXI_RUNS, axi_scenario
+from dptbd.sim.mutation.verdict import VERDICTS, MutantOutcome, hang_verdict
 
 __all__ = ["CONFIGS", "RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "SLICE_RUNS", "BACKPRESSURE",
            "WALL_SECONDS", "VERDICTS", "MutantOutcome",
            "MutationResult", "config", "slice_runs", "run_slice", "mutant_task",
            "mutant_design", "run_mutants", "axi_scenario", "hang_verdict"]
 
-#: The configuration of each design's mutants: 12 x 10 frames, B_in = 6, B_E = 8 (the
-#: fewest bits that never saturate at K_max = 4), F = 4, n = 60 of C = 120 (lists long
-#: enough to carry most pixels), 16 bins of width 16 (s = 4).
-CONFIGS = {
-    "segmenter": dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
-                      input_bits=6, energy_bits=8, weight_frac_bits=4, candidate_count=60,
-                      candidate_capacity=120, histogram_bits=4, histogram_shift=4),
-    "axi": dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
-                input_bits=6, energy_bits=8, weight_frac_bits=4, candidate_count=60,
-                candidate_capacity=120, histogram_bits=4, histogram_shift=4),
-}
-
-#: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi_runs.draw_run` on the slice's
-#: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
-#: soft resets with words in flight, aresetn, W1C, clear_counters, LUT and settings writes,
-#: every register read with its expected value.
-RANDOM_AXI_RUNS, RANDOM_AXI_FRAMES = 32, 24
-
-#: Runs of each design's slice: ``(kind, seed)``, run in this order.
-SLICE_RUNS = {
-    "segmenter": tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in range(8)]
-                       + [("random-lut", s) for s in range(12)]
-                       + [("faults", s) for s in range(32)]
-                       + [("backpressure", s) for s in range(4)]),
-    "axi": tuple([("faults", s) for s in range(16)]
-                 + [("backpressure", s) for s in (1, 4, 7, 14)]
-                 + [("random", s) for s in range(RANDOM_AXI_RUNS)]),
-}
-
-#: Output back-pressure densities of the ``backpressure`` runs (seed % 4): the lists
-#: pile up behind the output, every FIFO and credit counter fills.
-BACKPRESSURE = (0.9, 0.95, 0.97, 0.99)
-
 #: Wall-clock seconds one run of a mutant may take (the harness exits with status 124).
 WALL_SECONDS = 60
-
-#: Verdicts, in the order they are listed.
-VERDICTS = ("killed", "survived", "timeout", "crashed", "no-build")
-
-_EVERY = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
 
 
 def config(design: str) -> DPConfig:
@@ -109,183 +70,6 @@ def slice_runs(design: str, scale: float = 1.0) -> tuple[tuple[str, int], ...]:
         seeds = [s for k, s in runs if k == kind]
         out += [(kind, s) for s in seeds[:max(1, round(len(seeds) * scale))]]
     return tuple(out)
-
-
-@dataclasses.dataclass(frozen=True)
-class MutantOutcome:
-    """The verdict of mutant ``index`` (0: the original), the run that decided it and its
-    report."""
-
-    index: int
-    verdict: str
-    run: str
-    report: str
-    seconds: float
-
-
-#: What :class:`dptbd.sim.checker.InOrderChecker` reports for a wrong, an extra or a
-#: missing output word: a run whose cycle budget ran out with one of these is killed.
-_DETECTED = ("first mismatch at", "beyond the", "incomplete: ")
-
-
-def hang_verdict(status: str, report: str) -> str | None:
-    """``"timeout"`` if a run that did not finish (``status`` is not ``"done"``: its cycle
-    budget, :func:`dptbd.sim.verilator.cycle_budget`, three times the cycles it needs, ran
-    out) has a ``report`` with no wrong, extra or missing output word (the mutant hangs
-    where the model expects no more output, e.g. the input stalls after the last list);
-    ``None`` otherwise (the run's own check decides: a hang where the model expects more
-    words is a failed check, ``incomplete: …``, and killed). A run past the wall-clock
-    limit never gets here: it is a timeout (:func:`run_slice`)."""
-    if status != "done" and not any(text in report for text in _DETECTED):
-        return "timeout"
-    return None
-
-
-def _edge_settings(cfg: DPConfig, n_words: int, seed: int) -> tuple:
-    """New n and s (K kept) a few words after most segment starts: inside the window between
-    the DP's segment start, where the top latches the ports, and the segmenter's, where it
-    takes them (so a latch at the wrong time is seen)."""
-    import numpy as np
-
-    from dptbd.model.settings import SegmentSettings
-
-    rng = np.random.default_rng([seed, 0xED6E])
-    size = cfg.width * cfg.height * cfg.segment_frames
-    out = []
-    for start in range(size, n_words, size):
-        at = start + int(rng.integers(0, 24))
-        if at < n_words:
-            out.append((at, SegmentSettings(cfg.segment_frames,
-                                            int(rng.integers(0, cfg.record_capacity + 1)),
-                                            int(rng.integers(0, cfg.energy_bits)))))
-    return tuple(out)
-
-
-def _missing_of_offered(sim, words, stim, result) -> str:
-    """For a run without resets whose cycle budget ran out with offered words not taken:
-    the golden model fed every offered word against what the design delivered; the report
-    of the missing (or wrong) words, or ``""`` if every word the model gives came out."""
-    from dptbd.sim.rtl_check import _checker, expected_stream, split_words
-
-    if stim.resets or result.raw.status == "done":
-        return ""
-    pixels, first = split_words(sim.cfg, np.asarray(words))
-    exp = expected_stream(sim.cfg, pixels, first,
-                          {int(i): codes for i, codes in stim.lut_changes},
-                          {int(i): entry for i, entry in stim.settings_changes})
-    board = _checker(sim.cfg, sim.output, exp, cut_by_reset=False)
-    board.receive_array(result.raw.out_words)
-    if board.done:
-        return ""
-    return (f"hang: {result.words_in} of {len(words)} offered words taken in {result.raw.cycles} "
-            f"cycles; against the model of every offered word: {board.report()}")
-
-
-def _segmenter_run(sim, kind: str, seed: int) -> tuple[str, str]:
-    from dptbd.sim.campaign import Case, make_run
-    from dptbd.sim.rtl_check import check_stream
-
-    frames = {"clean": 12, "random-lut": 16, "faults": 24, "settings-edge": 16,
-              "backpressure": 8}[kind]
-    case = Case(f"mutant-{kind}", CONFIGS["segmenter"], "segmenter", frames, 1,
-                () if kind != "faults" else _EVERY, kind in ("random-lut", "settings-edge"))
-    words, stim, _ = make_run(case, seed)
-    if kind == "backpressure":                  # the output stalled most of the time
-        stim = dataclasses.replace(stim, valid_gap=0.0, ready_pause=BACKPRESSURE[seed % 4])
-    if kind == "settings-edge":
-        stim = dataclasses.replace(stim, settings_changes=_edge_settings(sim.cfg, len(words),
-                                                                         seed))
-    result = check_stream(sim, words, stim)
-    if hang_verdict(result.raw.status, result.report):
-        missing = _missing_of_offered(sim, words, stim, result)
-        if missing:
-            return "killed", missing
-        return "timeout", f"cycle budget ({result.raw.cycles} cycles) ran out: {result.report}"
-    return ("survived" if result.passed else "killed"), result.report
-
-
-def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
-    """The beats, steps and stimulus of AXI run ``seed``: two clean segments and every fault
-    class (:func:`dptbd.sim.axi_stimulus.with_fault`), K / n / s writes (one refused), the
-    LUT rewritten, ERROR W1C, a soft reset, register checks; gaps and back-pressure from the
-    seed."""
-    import numpy as np
-
-    from dptbd.hw.flow.register_export import constants_namespace
-    from dptbd.hw.register_map import FAULTS, register_map
-    from dptbd.sim.axi_stimulus import fault_stretches
-    from dptbd.sim.scenarios import make_frames
-
-    rng = np.random.default_rng([seed, 0xA71])
-    regs = constants_namespace(cfg)
-    frames = make_frames("two-targets" if seed % 2 == 0 else "mixed", cfg,
-                         4 + 2 * len(FAULTS), seed=seed)
-    beats, starts = fault_stretches(cfg, frames)
-    frame = cfg.width * cfg.height
-    every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
-    unity = 1 << cfg.weight_frac_bits
-    codes = rng.integers(0, unity + 1, size=(cfg.n_moves + 1, cfg.n_moves)).tolist()
-    k1, k2 = (int(v) for v in rng.integers(1, cfg.k_max + 1, size=2))
-    n1 = int(rng.integers(1, cfg.record_capacity + 1))
-    s2 = int(rng.integers(0, cfg.energy_bits))
-    at_reset = {r.name: sum(f.reset << f.lsb for f in r.fields)
-                for r in register_map(cfg).registers if r.group != "status" or r.name in
-                ("ERROR", "IRQ_STATUS", "STATUS")}
-    steps = [{"check": at_reset, "writes": [["IRQ_ENABLE", 3]], "stop": 2 * frame},
-             {"writes": [["SEGMENT_FRAMES", k1], ["CANDIDATE_COUNT", n1],
-                         ["HISTOGRAM_SHIFT", cfg.energy_bits]], "stop": 4 * frame},
-             {"check": {"ERROR": regs.ERROR_WRITE_REFUSED_MASK, "SEGMENT_FRAMES": k1,
-                        "CANDIDATE_COUNT": n1, "HISTOGRAM_SHIFT": cfg.bin_shift,
-                        "IRQ_ENABLE": 3, "IRQ_STATUS": 3},
-              "lut_codes": codes,
-              "writes": [["SEGMENT_FRAMES", k2], ["ERROR", regs.ERROR_WRITE_REFUSED_MASK]],
-              "stop": starts[2]},
-             {"soft_reset": True, "writes": [["HISTOGRAM_SHIFT", s2]], "stop": len(beats)},
-             {"check": {"ERROR": every, "SEGMENT_FRAMES": k2, "HISTOGRAM_SHIFT": s2,
-                        "STATUS": 0, "INPUT_STALLS": None, "OUTPUT_STALLS": None},
-              "writes": [["ERROR", every]], "stop": len(beats)}]
-    gap, pause = (float(v) for v in rng.uniform(0.0, 0.5, size=2))
-    return beats, steps, gap, pause
-
-
-def _axi_random_run(sim, seed: int) -> tuple[str, str]:
-    from dptbd.sim.axi_runs import AXI_FAULTS, draw_run
-    from dptbd.sim.campaign import Case
-    from dptbd.sim.verilator_axi import check_axi
-
-    case = Case("mutant-axi-random", CONFIGS["axi"], "axi", RANDOM_AXI_FRAMES, 1, AXI_FAULTS)
-    plan = draw_run(case, seed)
-    result = check_axi(sim, plan.beats, plan.steps, valid_gap=plan.valid_gap,
-                       ready_pause=plan.ready_pause, seed=seed, pulses=plan.pulses)
-    if hang_verdict(result.run.status, result.report()):
-        return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
-                           f"{result.report()}")
-    return ("survived" if result.passed else "killed"), result.report()
-
-
-def _axi_run(sim, kind: str, seed: int) -> tuple[str, str]:
-    from dptbd.sim.verilator_axi import check_axi
-
-    if kind == "random":
-        return _axi_random_run(sim, seed)
-    beats, steps, gap, pause = axi_scenario(sim.cfg, seed)
-    if kind == "backpressure":
-        gap, pause = 0.0, BACKPRESSURE[seed % 4]
-    result = check_axi(sim, beats, steps, valid_gap=gap, ready_pause=pause, seed=seed)
-    if hang_verdict(result.run.status, result.report()):
-        return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
-                           f"{result.report()}")
-    # the stall counters against the harness's own count of the same cycles
-    stalls = [f"{name} = {result.reads.get(name)}, the harness counted {result.run.counters[key]}"
-              for name, key in (("INPUT_STALLS", "stalled_input_cycles"),
-                                ("OUTPUT_STALLS", "paused_output_cycles"))
-              if result.reads.get(name) != result.run.counters[key]]
-    if result.passed and stalls:
-        return "killed", "; ".join(stalls)
-    return ("survived" if result.passed else "killed"), result.report()
-
-
-_RUNNERS = {"segmenter": _segmenter_run, "axi": _axi_run}
 
 
 @contextlib.contextmanager
@@ -311,7 +95,7 @@ def run_slice(sim, index: int, runs: Sequence[tuple[str, int]], *,
     """Mutant ``index`` of the mutant build ``sim`` through ``runs``, stopping at the first
     run that is not passed (see the module doc for the verdicts). ``runner(sim, kind,
     seed) -> (verdict, report)`` replaces the design's runner (tests)."""
-    runner = runner or _RUNNERS[sim.design]
+    runner = runner or RUNNERS[sim.design]
     start = time.perf_counter()
     with _selected(index, wall_seconds):
         for kind, seed in runs:

@@ -1,0 +1,36 @@
+"""The verification slice of each design's mutants: the configuration, the runs
+(``(kind, seed)``, in order) and the runner ``run(sim, kind, seed) -> (verdict, report)``
+of ``segmenter`` (:mod:`.segmenter`, ``dptbd_seg``) and ``axi`` (:mod:`.axi`,
+``dptbd_axi``)."""
+
+from __future__ import annotations
+
+__all__ = ["CONFIGS", "BACKPRESSURE", "SLICE_RUNS", "RUNNERS"]
+
+#: The configuration of each design's mutants: 12 x 10 frames, B_in = 6, B_E = 8 (the
+#: fewest bits that never saturate at K_max = 4), F = 4, n = 60 of C = 120 (lists long
+#: enough to carry most pixels), 16 bins of width 16 (s = 4).
+CONFIGS = {
+    "segmenter": dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
+                      input_bits=6, energy_bits=8, weight_frac_bits=4, candidate_count=60,
+                      candidate_capacity=120, histogram_bits=4, histogram_shift=4),
+    "axi": dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
+                input_bits=6, energy_bits=8, weight_frac_bits=4, candidate_count=60,
+                candidate_capacity=120, histogram_bits=4, histogram_shift=4),
+}
+
+#: Output back-pressure densities of the ``backpressure`` runs (seed % 4): the lists
+#: pile up behind the output, every FIFO and credit counter fills.
+BACKPRESSURE = (0.9, 0.95, 0.97, 0.99)
+
+# the designs' modules use the constants above
+from dptbd.sim.mutation.slices import axi, segmenter  # noqa: E402
+
+#: Runs of each design's slice: ``(kind, seed)``, run in this order.
+SLICE_RUNS = {
+    "segmenter": segmenter.RUNS,
+    "axi": axi.RUNS,
+}
+
+#: Each design's runner.
+RUNNERS = {"segmenter": segmenter.run, "axi": axi.run}

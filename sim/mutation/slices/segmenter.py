@@ -1,0 +1,87 @@
+"""The ``segmenter`` slice (``dptbd_seg``): seeded runs of the campaign
+(:func:`dptbd.sim.campaign.make_run`: hostile scenes, input gaps, output back-pressure,
+resets, misaligned / short / long frames, LUT and settings rewrites) checked by
+:func:`dptbd.sim.rtl_check.check_stream` against the golden model."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from dptbd.config import DPConfig
+from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS
+from dptbd.sim.mutation.verdict import hang_verdict
+
+__all__ = ["RUNS", "run"]
+
+#: The runs of the slice: ``(kind, seed)``, in this order.
+RUNS = tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in range(8)]
+             + [("random-lut", s) for s in range(12)]
+             + [("faults", s) for s in range(32)]
+             + [("backpressure", s) for s in range(4)])
+
+_EVERY = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
+
+
+def _edge_settings(cfg: DPConfig, n_words: int, seed: int) -> tuple:
+    """New n and s (K kept) a few words after most segment starts: inside the window between
+    the DP's segment start, where the top latches the ports, and the segmenter's, where it
+    takes them (so a latch at the wrong time is seen)."""
+    import numpy as np
+
+    from dptbd.model.settings import SegmentSettings
+
+    rng = np.random.default_rng([seed, 0xED6E])
+    size = cfg.width * cfg.height * cfg.segment_frames
+    out = []
+    for start in range(size, n_words, size):
+        at = start + int(rng.integers(0, 24))
+        if at < n_words:
+            out.append((at, SegmentSettings(cfg.segment_frames,
+                                            int(rng.integers(0, cfg.record_capacity + 1)),
+                                            int(rng.integers(0, cfg.energy_bits)))))
+    return tuple(out)
+
+
+def _missing_of_offered(sim, words, stim, result) -> str:
+    """For a run without resets whose cycle budget ran out with offered words not taken:
+    the golden model fed every offered word against what the design delivered; the report
+    of the missing (or wrong) words, or ``""`` if every word the model gives came out."""
+    from dptbd.sim.rtl_check import _checker, expected_stream, split_words
+
+    if stim.resets or result.raw.status == "done":
+        return ""
+    pixels, first = split_words(sim.cfg, np.asarray(words))
+    exp = expected_stream(sim.cfg, pixels, first,
+                          {int(i): codes for i, codes in stim.lut_changes},
+                          {int(i): entry for i, entry in stim.settings_changes})
+    board = _checker(sim.cfg, sim.output, exp, cut_by_reset=False)
+    board.receive_array(result.raw.out_words)
+    if board.done:
+        return ""
+    return (f"hang: {result.words_in} of {len(words)} offered words taken in {result.raw.cycles} "
+            f"cycles; against the model of every offered word: {board.report()}")
+
+
+def run(sim, kind: str, seed: int) -> tuple[str, str]:
+    from dptbd.sim.campaign import Case, make_run
+    from dptbd.sim.rtl_check import check_stream
+
+    frames = {"clean": 12, "random-lut": 16, "faults": 24, "settings-edge": 16,
+              "backpressure": 8}[kind]
+    case = Case(f"mutant-{kind}", CONFIGS["segmenter"], "segmenter", frames, 1,
+                () if kind != "faults" else _EVERY, kind in ("random-lut", "settings-edge"))
+    words, stim, _ = make_run(case, seed)
+    if kind == "backpressure":                  # the output stalled most of the time
+        stim = dataclasses.replace(stim, valid_gap=0.0, ready_pause=BACKPRESSURE[seed % 4])
+    if kind == "settings-edge":
+        stim = dataclasses.replace(stim, settings_changes=_edge_settings(sim.cfg, len(words),
+                                                                         seed))
+    result = check_stream(sim, words, stim)
+    if hang_verdict(result.raw.status, result.report):
+        missing = _missing_of_offered(sim, words, stim, result)
+        if missing:
+            return "killed", missing
+        return "timeout", f"cycle budget ({result.raw.cycles} cycles) ran out: {result.report}"
+    return ("survived" if result.passed else "killed"), result.report
