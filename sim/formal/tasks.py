@@ -13,7 +13,12 @@ import dataclasses
 from typing import Callable
 
 from dptbd.config import DPConfig
-from dptbd.sim.formal import harnesses as h
+from dptbd.sim.formal.harness import Harness
+from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
+from dptbd.sim.formal.harnesses.known_bad import DroppingCandidatesHarness, EagerAXILiteHarness
+from dptbd.sim.formal.harnesses.registers import RegistersHarness
+from dptbd.sim.formal.harnesses.streams import CandidatesHarness, StatesHarness
+from dptbd.sim.formal.harnesses.top import AXITopHarness
 
 __all__ = ["FormalTask", "TASKS", "task"]
 
@@ -26,7 +31,7 @@ class FormalTask:
 
     name: str
     description: str
-    build: Callable[[], h.Harness]
+    build: Callable[[], Harness]
     mode: str
     depth: int
     cover_depth: int
@@ -36,31 +41,31 @@ class FormalTask:
 
 TASKS = (
     FormalTask("m_axis_cand", "CandidatesToAxis: AXI4-Stream manager, lists end with tlast, "
-               "soft reset", h.CandidatesHarness, "prove", 4, 12),
+               "soft reset", CandidatesHarness, "prove", 4, 12),
     FormalTask("m_axis_state", "StatesToAxis: AXI4-Stream manager, lines closed before the "
-               "core's soft reset", h.StatesHarness, "prove", 4, 12),
+               "core's soft reset", StatesHarness, "prove", 4, 12),
     FormalTask("credit_fifo", "InputCredit + pipeline + ThermometerFIFO: conservation, no "
-               "overflow or underflow", h.CreditFifoHarness, "prove", 4, 12),
+               "overflow or underflow", CreditFifoHarness, "prove", 4, 12),
     FormalTask("credit_fifo_order", "the same: words leave in order",
-               lambda: h.CreditFifoHarness(order=True), "bmc", 16, 0, fast=False),
+               lambda: CreditFifoHarness(order=True), "bmc", 16, 0, fast=False),
     FormalTask("s_axil_registers", "AXI4-Lite subordinate, refused writes, W1C bits",
-               h.RegistersHarness, "prove", 4, 12),
+               RegistersHarness, "prove", 4, 12),
     FormalTask("dp_pipeline", "DPPipeline 5x4: states stream, pixels in - words out",
-               h.PipelineHarness, "bmc", 20, 20, fast=False),
+               PipelineHarness, "bmc", 20, 20, fast=False),
     FormalTask("dptbd_axi", "dptbd_axi 5x4 with m_axis_state: every port, soft reset over "
-               "AXI4-Lite", h.AXITopHarness, "bmc", 18, 18, fast=False),
+               "AXI4-Lite", AXITopHarness, "bmc", 18, 18, fast=False),
     # the same proofs on the default build (128 x 128, C = 66): k-induction does not depend
     # on the counters' widths; the covers (lines of 128 words) run on the small build above
     FormalTask("m_axis_cand_128", "m_axis_cand on the default 128x128 build",
-               lambda: h.CandidatesHarness(DPConfig()), "prove", 4, 0),
+               lambda: CandidatesHarness(DPConfig()), "prove", 4, 0),
     FormalTask("m_axis_state_128", "m_axis_state on the default 128x128 build",
-               lambda: h.StatesHarness(DPConfig()), "prove", 4, 0),
+               lambda: StatesHarness(DPConfig()), "prove", 4, 0),
     FormalTask("s_axil_registers_128", "the registers of the default 128x128 build",
-               lambda: h.RegistersHarness(DPConfig()), "prove", 4, 0),
+               lambda: RegistersHarness(DPConfig()), "prove", 4, 0),
     FormalTask("known_bad_m_axis_cand", "a soft reset that drops an offered m_axis_cand word: "
-               "must FAIL", h.DroppingCandidatesHarness, "prove", 4, 0, expect="FAIL"),
+               "must FAIL", DroppingCandidatesHarness, "prove", 4, 0, expect="FAIL"),
     FormalTask("known_bad_s_axil", "an AXI4-Lite write answered before its W: must FAIL",
-               h.EagerAXILiteHarness, "prove", 4, 0, expect="FAIL"),
+               EagerAXILiteHarness, "prove", 4, 0, expect="FAIL"),
 )
 
 

@@ -11,7 +11,6 @@ from helpers.refusals import whole
 
 from dptbd.hw.input_credit import InputCredit
 from dptbd.sim.formal.harness import Elaborated, Harness
-from dptbd.sim.formal.harnesses import CandidatesHarness, tiny_config
 
 
 class CreditOnly(Harness):
@@ -37,11 +36,3 @@ def test_elaborated_reaches_inner_signals_and_refuses_unknown_names():
     with pytest.raises(KeyError, match=whole("\"InputCredit drives no signal 'nope'\"")):
         credit.signal("nope")
     assert credit.signal("ready").name == "ready"
-
-
-def test_tiny_config_and_a_harness_converts():
-    cfg = tiny_config()
-    assert (cfg.width, cfg.height, cfg.segment_frames, cfg.record_capacity) == (5, 4, 2, 2)
-    harness = CandidatesHarness(cfg)
-    il = rtlil.convert(Fragment.get(harness, None), name="top", ports=harness.ports())
-    assert '"m_axis_cand: tvalid dropped before the handshake"' in il

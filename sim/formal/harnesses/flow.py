@@ -1,0 +1,157 @@
+"""The harnesses of the flow control: the DP core's output path (:class:`CreditFifoHarness`:
+the input credit, a pipeline and the thermometer FIFO; conservation, no overflow or
+underflow, order) and the whole DP pipeline (:class:`PipelineHarness`: the states stream,
+pixels in against words out)."""
+
+from __future__ import annotations
+
+from amaranth.hdl import Assert, Cover, Signal
+
+from dptbd.config import DPConfig
+from dptbd.hw.dp_pipeline import DPPipeline
+from dptbd.hw.input_credit import InputCredit
+from dptbd.hw.thermometer_fifo import ThermometerFIFO
+from dptbd.sim.formal.harness import Elaborated, Harness
+from dptbd.sim.formal.harnesses.tiny import tiny_config
+from dptbd.sim.formal.properties import axis_manager, axis_subordinate
+
+__all__ = ["CreditFifoHarness", "PipelineHarness"]
+
+
+def _count(flags):
+    """Number of 1 bits of a thermometer code (its count)."""
+    total = 0
+    for bit in flags:
+        total = total + bit
+    return total
+
+
+def _thermometer(m, flags, name: str) -> None:
+    """Assert that ``flags`` is a thermometer code (``flags[k]`` implies ``flags[k - 1]``)."""
+    for k in range(1, len(flags)):
+        with m.If(flags[k]):
+            m.d.comb += Assert(flags[k - 1], f"{name}: not a thermometer code")
+
+
+class CreditFifoHarness(Harness):
+    """The DP core's output path: :class:`~dptbd.hw.input_credit.InputCredit` in front of a
+    pipeline of ``latency`` cycles (no stall) into a
+    :class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO` of ``depth`` words, as in
+    :class:`~dptbd.hw.dp_core.DPCore` (depth = latency + 2 by default), the consumer's
+    ``ready`` free. Each accepted word carries its sequence number.
+
+    Asserted: a word leaving the pipeline always finds room (no overflow); the FIFO never
+    offers a word it does not hold (no underflow); words accepted − words handed out ==
+    words in flight <= depth; after a reset nothing is offered before a word is accepted;
+    with ``order``: words come out in order (their sequence numbers, bounded proof).
+    """
+
+    def __init__(self, latency: int = 2, depth: int | None = None, order: bool = False):
+        super().__init__()
+        self.latency = latency
+        self.depth = depth if depth is not None else latency + 2
+        self.order = order
+
+    def check(self, m, past):
+        seq_bits = 4
+        credit = Elaborated(InputCredit(self.depth))
+        fifo = Elaborated(ThermometerFIFO(seq_bits, self.depth))
+        m.submodules.credit, m.submodules.fifo = credit.fragment, fifo.fragment
+        c, f = credit.component, fifo.component
+        valid, ready = self.free(1, "in_valid"), self.free(1, "out_ready")
+        accept = valid & c.ready
+        hand_out = f.r.valid & ready
+        pipe_valid = [accept]
+        seq_in, seq_out = Signal(seq_bits), Signal(seq_bits)
+        pipe_data = [seq_in]
+        for stage in range(self.latency):
+            v, d = Signal(name=f"pipe{stage}_valid"), Signal(seq_bits, name=f"pipe{stage}_seq")
+            m.d.sync += [v.eq(pipe_valid[-1]), d.eq(pipe_data[-1])]
+            pipe_valid.append(v)
+            pipe_data.append(d)
+        with m.If(accept):
+            m.d.sync += seq_in.eq(seq_in + 1)
+        with m.If(hand_out):
+            m.d.sync += seq_out.eq(seq_out + 1)
+        m.d.comb += [f.w.valid.eq(pipe_valid[-1]), f.w.payload.eq(pipe_data[-1]),
+                     f.r.ready.eq(ready), c.accept.eq(accept), c.handed_out.eq(hand_out)]
+        # conservation
+        in_flight = Signal(range(2 * self.depth + 2))
+        m.d.sync += in_flight.eq(in_flight + accept - hand_out)
+        stored = Signal(range(2 * self.depth + 2))       # written to the FIFO, not handed out
+        m.d.sync += stored.eq(stored + (f.w.valid & f.w.ready) - hand_out)
+        piped = _count(pipe_valid[1:])
+        started = Signal()                               # a word accepted since the reset
+        with m.If(accept):
+            m.d.sync += started.eq(1)
+        with m.If(f.w.valid):
+            m.d.comb += Assert(f.w.ready, "FIFO overflow: a word left the pipeline without room")
+        with m.If(f.r.valid):
+            m.d.comb += Assert(stored != 0, "FIFO underflow: a word offered that it does not hold")
+        with m.If(~started):
+            m.d.comb += Assert(~f.r.valid, "an output word before any input was accepted")
+        m.d.comb += [
+            Assert(in_flight == piped + stored, "accepted - handed out != words in flight"),
+            Assert(in_flight <= self.depth, "more words in flight than the FIFO holds"),
+        ]
+        if self.order:
+            with m.If(f.r.valid):
+                m.d.comb += Assert(f.r.payload == seq_out, "FIFO output out of order")
+        # invariants of the thermometer counters (what k-induction needs)
+        committed = credit.sub("committed").component.at_least
+        level = fifo.sub("level").component.at_least
+        _thermometer(m, committed, "InputCredit")
+        _thermometer(m, level, "ThermometerFIFO level")
+        m.d.comb += [
+            Assert(_count(committed) == in_flight, "credit count != words in flight"),
+            Assert(_count(level) + f.r.valid == stored, "FIFO level != words stored"),
+            Assert(c.ready == (past(_count(committed) < self.depth - 1, "past_room") & ~past.rst),
+                   "credit ready != room a cycle earlier"),
+        ]
+        m.d.comb += [
+            Cover(in_flight == self.depth),
+            Cover(hand_out & (seq_out == 3)),
+            Cover(valid & ~c.ready & started),
+        ]
+
+
+class PipelineHarness(Harness):
+    """:class:`~dptbd.hw.dp_pipeline.DPPipeline` on the tiny build: any pixel stream (the
+    stream rules assumed), any consumer, any run-time K; no LUT write (the flow control
+    does not depend on the weights; their writes only make the solver slower).
+
+    Asserted: the ``states`` stream keeps the stream rules; never more state words out than
+    pixels accepted; pixels accepted − state words out <= the output FIFO's depth (the
+    credit); nothing offered after a reset before a pixel is accepted.
+    """
+
+    def __init__(self, cfg: DPConfig | None = None):
+        super().__init__()
+        self.cfg = cfg or tiny_config()
+
+    def check(self, m, past):
+        m.submodules.dut = dut = DPPipeline(self.cfg)
+        self.free_inputs(m, dut, "dut", skip=("lut_addr", "lut_data", "lut_we"))
+        src, out = dut.pixels, dut.states
+        axis_subordinate(m, past, tvalid=src.valid, tready=src.ready,
+                         payload=[src.payload.as_value()], name="pixels")
+        axis_manager(m, past, tvalid=out.valid, tready=out.ready,
+                     payload=[out.payload.as_value()], name="states")
+        accepted = src.valid & src.ready
+        taken = out.valid & out.ready
+        in_flight = Signal(range(-4, 2 * dut.output_fifo_depth + 4))
+        m.d.sync += in_flight.eq(in_flight + accepted - taken)
+        started = Signal()
+        with m.If(accepted):
+            m.d.sync += started.eq(1)
+        m.d.comb += [
+            Assert(in_flight >= 0, "states: more words out than pixels accepted"),
+            Assert(in_flight <= dut.output_fifo_depth,
+                   "states: more pixels in flight than the output FIFO holds"),
+        ]
+        with m.If(~started):
+            m.d.comb += Assert(~out.valid, "states: a word before any pixel was accepted")
+        with m.If(taken):
+            m.d.comb += Assert(in_flight > 0, "states: a word without an accepted pixel")
+        m.d.comb += [Cover(taken & (in_flight == 1) & started),
+                     Cover(in_flight == dut.output_fifo_depth)]

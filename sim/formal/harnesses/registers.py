@@ -1,0 +1,93 @@
+"""The harness of the AXI4-Lite port and the register block (:class:`RegistersHarness`)."""
+
+from __future__ import annotations
+
+from amaranth.hdl import Assert, Cover
+
+from dptbd.config import DPConfig
+from dptbd.hw.register_file import RegisterFile
+from dptbd.sim.formal.harness import Elaborated, Harness
+from dptbd.sim.formal.harnesses.tiny import tiny_config
+from dptbd.sim.formal.properties import axil_subordinate
+
+__all__ = ["RegistersHarness"]
+
+
+class RegistersHarness(Harness):
+    """The AXI4-Lite port and the register block (:class:`~dptbd.hw.register_file.
+    RegisterFile`, its :class:`~dptbd.hw.axi_lite.AXILiteSubordinate` inside), any event
+    pulses, any manager that keeps the AXI4-Lite rules.
+
+    Asserted: the AXI4-Lite subordinate rules (:func:`~dptbd.sim.formal.properties.
+    axil_subordinate`: B and R held until taken and stable, no response without its request,
+    a write response only after both AW and W, one transaction at a time); a refused write
+    (SLVERR on a register that stores: a setting out of its limits, an unaligned address, a
+    LUT word out of range or not fully strobed) changes no setting, no enable bit, clears no
+    sticky / interrupt bit and writes no LUT entry; a sticky / interrupt bit (W1C) goes from
+    1 to 0 only in the cycle after an accepted write of a 1 to it.
+    """
+
+    def __init__(self, cfg: DPConfig | None = None):
+        super().__init__()
+        self.cfg = cfg or tiny_config()
+
+    def check(self, m, past):
+        regs = Elaborated(RegisterFile(self.cfg))
+        m.submodules.regs = regs.fragment
+        rf = regs.component
+        self.free_inputs(m, rf, "regs")
+        aw_out, w_out, ar_out = axil_subordinate(m, past, rf.axil)
+        bus = regs.sub("axil").component.bus
+        regmap = rf.register_map
+        refused = past(bus.w_stb & bus.w_err, "past_refused")
+        past_addr = past(bus.addr, "past_addr")
+        past_data = past(bus.w_data, "past_w_data")
+        past_strb = past(bus.w_strb, "past_w_strb")
+        past_write = past(bus.w_stb, "past_w_stb")
+        for reg in regmap.registers:
+            for field in reg.fields:
+                if field.kind == "setting":
+                    value = getattr(rf, field.name)
+                elif field.kind in ("enable", "sticky", "interrupt"):
+                    value = regs.signal(f"{reg.name}_{field.name}".lower())
+                else:
+                    continue
+                before = past(value, f"past_{reg.name}_{field.name}".lower())
+                what = f"{reg.name}.{field.name}"
+                with m.If(refused & ~past.rst):
+                    if field.kind in ("sticky", "interrupt"):
+                        m.d.comb += Assert((before & ~value) == 0,
+                                           f"{what}: cleared by a refused write")
+                    else:
+                        m.d.comb += Assert(value == before,
+                                           f"{what}: changed by a refused write")
+                if field.kind in ("sticky", "interrupt"):
+                    for bit in range(field.width):
+                        at = field.lsb + bit
+                        ones = (past_write & ~refused & (past_addr == reg.address)
+                                & past_strb[at // 8] & past_data[at])
+                        with m.If(before[bit] & ~value[bit] & ~past.rst):
+                            m.d.comb += Assert(ones, f"{what}[{bit}]: cleared without a "
+                                                     f"written 1 (W1C)")
+        with m.If(refused & ~past.rst):
+            m.d.comb += Assert(~rf.lut_we, "LUT: written by a refused write")
+        b, r = rf.axil.b, rf.axil.r
+        m.d.comb += [
+            Cover(b.bvalid & b.bready & (b.bresp == 0)),
+            Cover(b.bvalid & b.bready & (b.bresp == 2) & refused),     # a refused write
+            Cover(r.rvalid & r.rready & (r.rresp == 0)),
+        ]
+        for reg in regmap.registers:                    # an accepted write of a setting
+            if reg.kind == "setting":
+                m.d.comb += Cover(past_write & ~refused & (past_addr == reg.address))
+                break
+        port = regs.sub("axil")
+        m.d.comb += [
+            Assert(aw_out == port.signal("have_aw") + b.bvalid, "AW outstanding != held"),
+            Assert(w_out == port.signal("have_w") + b.bvalid, "W outstanding != held"),
+            Assert(ar_out == r.rvalid, "AR outstanding != rvalid"),
+        ]
+        irq_status = next(reg for reg in regmap.registers if reg.name == "IRQ_STATUS")
+        field = irq_status.fields[0]
+        bit = regs.signal(f"irq_status_{field.name}")
+        m.d.comb += Cover(past(bit, "past_irq_bit") & ~bit & ~past.rst)      # a W1C clear

@@ -1,0 +1,106 @@
+"""The harness of the whole ``dptbd_axi`` top level (:class:`AXITopHarness`): every port's
+protocol, the soft reset over AXI4-Lite, pixels in against state words out."""
+
+from __future__ import annotations
+
+from amaranth.hdl import Assert, Assume, Cover, Signal
+
+from dptbd.config import DPConfig
+from dptbd.hw.axi_top import AXITop
+from dptbd.sim.formal.harness import Elaborated, Harness
+from dptbd.sim.formal.harnesses.tiny import tiny_config
+from dptbd.sim.formal.properties import (axil_subordinate, axis_manager, axis_subordinate,
+                                         packet_open)
+
+__all__ = ["AXITopHarness"]
+
+
+class AXITopHarness(Harness):
+    """``dptbd_axi`` (:class:`~dptbd.hw.axi_top.AXITop`, ``state_output=True``) on the tiny
+    build: any video manager and AXI4-Lite manager that keep their protocol's rules, any
+    ``tready`` on both outputs, ``aresetn`` at any time.
+
+    Asserted: the AXI4-Stream manager rules on ``m_axis_cand`` and ``m_axis_state`` (through
+    soft resets written over AXI4-Lite); ``tuser[0]`` of ``m_axis_cand`` on exactly a list's
+    first word; the core is reset (soft reset) only with no list and no line open; the
+    AXI4-Lite subordinate rules; no output word after ``aresetn`` before a pixel is
+    accepted; never more state words (fillers aside) than pixels accepted since the last
+    reset.
+    """
+
+    defines_sync = False
+
+    def __init__(self, cfg: DPConfig | None = None):
+        super().__init__()
+        self.cfg = cfg or tiny_config()
+
+    def check(self, m, past):
+        top = Elaborated(AXITop(self.cfg, state_output=True))
+        m.submodules.dut = top.fragment
+        t = top.component
+        m.d.comb += [t.aclk.eq(self.clk), t.aresetn.eq(~self.rst)]
+        self.free_inputs(m, t, "dut", skip=("aclk", "aresetn"))
+        restart = top.sub("cand_out").component.restart
+        lut = t.register_map.window("LUT")
+        m.d.comb += Assume(~t.s_axil_awvalid | (t.s_axil_awaddr < lut.base)
+                           | (t.s_axil_awaddr >= lut.end))      # no LUT write (solver time)
+        axis_subordinate(m, past, tvalid=t.s_axis_video_tvalid, tready=t.s_axis_video_tready,
+                         payload=[t.s_axis_video_tdata, t.s_axis_video_tuser,
+                                  t.s_axis_video_tlast], name="s_axis_video")
+        opens = []
+        for port in ("m_axis_cand", "m_axis_state"):
+            tvalid, tready, tlast = (getattr(t, f"{port}_{n}") for n in ("tvalid", "tready",
+                                                                         "tlast"))
+            axis_manager(m, past, tvalid=tvalid, tready=tready,
+                         payload=[getattr(t, f"{port}_tdata"), getattr(t, f"{port}_tuser"),
+                                  tlast], name=port)
+            opened, after = packet_open(m, tvalid=tvalid, tready=tready, tlast=tlast,
+                                        name=port)
+            with m.If(restart):
+                m.d.sync += opened.eq(0)
+                m.d.comb += Assert(~after, f"{port}: soft reset of the core with a packet open")
+            opens.append(opened)
+        with m.If(t.m_axis_cand_tvalid):
+            m.d.comb += Assert(t.m_axis_cand_tuser[0] == ~opens[0],
+                               "m_axis_cand: tuser[0] not on exactly a list's first word")
+        axil_subordinate(m, past, _AxilView(t))
+        accepted = t.s_axis_video_tvalid & t.s_axis_video_tready
+        started = Signal()
+        with m.If(accepted):
+            m.d.sync += started.eq(1)
+        with m.If(~started):
+            m.d.comb += Assert(~t.m_axis_cand_tvalid & ~t.m_axis_state_tvalid,
+                               "an output word after aresetn before any pixel was accepted")
+        state_word = t.m_axis_state_tvalid & t.m_axis_state_tready & ~t.m_axis_state_tuser[3]
+        pending = Signal(8)                  # pixels accepted - state words, since a reset
+        with m.If(restart):
+            m.d.sync += pending.eq(0)
+        with m.Else():
+            m.d.sync += pending.eq(pending + accepted - state_word)
+        with m.If(state_word):
+            m.d.comb += Assert(pending != 0, "m_axis_state: a word without an accepted pixel")
+        # reachable within the bounded depth (a list needs two frames: the adapters' own
+        # harnesses cover lists and lines)
+        m.d.comb += [
+            Cover(restart & started),                        # a soft reset after a pixel
+            Cover(t.s_axil_bvalid & t.s_axil_bready),        # a write response
+            Cover(state_word),                               # a state word out
+        ]
+
+
+class _AxilView:
+    """The flat ``s_axil_*`` ports of the top as the channels :func:`axil_subordinate`
+    reads (``axil.aw.awvalid`` …)."""
+
+    def __init__(self, top):
+        class Channel:
+            pass
+        for channel, names in (("aw", ("awaddr", "awprot", "awvalid", "awready")),
+                               ("w", ("wdata", "wstrb", "wvalid", "wready")),
+                               ("b", ("bresp", "bvalid", "bready")),
+                               ("ar", ("araddr", "arprot", "arvalid", "arready")),
+                               ("r", ("rdata", "rresp", "rvalid", "rready"))):
+            view = Channel()
+            for name in names:
+                setattr(view, name, getattr(top, f"s_axil_{name}"))
+            setattr(self, channel, view)

@@ -1,0 +1,30 @@
+"""The flow-control harnesses (:mod:`dptbd.sim.formal.harnesses.flow`) convert and assert what
+they promise; their proofs run in ``tests/sim/formal/test_runner.py``."""
+
+from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
+
+CREDIT_FIFO = {
+    "FIFO overflow: a word left the pipeline without room",
+    "FIFO underflow: a word offered that it does not hold",
+    "an output word before any input was accepted",
+    "accepted - handed out != words in flight", "more words in flight than the FIFO holds",
+    "InputCredit: not a thermometer code", "ThermometerFIFO level: not a thermometer code",
+    "credit count != words in flight", "FIFO level != words stored",
+    "credit ready != room a cycle earlier"}
+
+
+def test_the_credit_fifo_harness_asserts_conservation_and_with_order_the_order(messages):
+    harness = CreditFifoHarness()
+    assert (harness.latency, harness.depth) == (2, 4)
+    assert messages(harness) == CREDIT_FIFO
+    assert messages(CreditFifoHarness(order=True)) == CREDIT_FIFO | {"FIFO output out of order"}
+
+
+def test_the_pipeline_harness_asserts_pixels_in_against_words_out(messages):
+    assert messages(PipelineHarness()) == {
+        "pixels: tvalid dropped before the handshake", "pixels: payload changed while held",
+        "states: tvalid dropped before the handshake", "states: payload changed while held",
+        "states: more words out than pixels accepted",
+        "states: more pixels in flight than the output FIFO holds",
+        "states: a word before any pixel was accepted",
+        "states: a word without an accepted pixel"}
