@@ -14,6 +14,9 @@ Modules (one line each)
 - ``rtl_check``: one compiled run checked against the model with the scoreboards.
 - ``rtl_trials``: Monte Carlo trials on the compiled RTL (``compare --rtl``, ``table1 --rtl``).
 - ``campaign``: the verification campaign (``dptbd verify``), its runs on the Dask execution layer.
+- ``campaign_cases``: the campaign's cases: parameter sets, top levels, faults, the 4-state store checks.
+- ``campaign_draw``: what each campaign run draws from its seed: hostile scenes, stalls, faults.
+- ``campaign_results``: a run's outcome (with its coverage bins), a case's and the campaign's result.
 - ``axi_runs``: the campaign's random runs of the AXI top level ``dptbd_axi``, drawn from a seed.
 - ``sim_job``: the job of ``dptbd sim``: one scene on Verilator or Icarus, its cycle count, speed and verdict.
 - ``icarus``: the cocotb + Icarus build of the generated Verilog (``build/sim/<parameter set>/``) and its runs (``simulate``).

@@ -13,70 +13,10 @@ from helpers.refusals import whole
 
 from dptbd.evaluation.execution import ExecutionError
 from dptbd.sim import campaign
-from dptbd.sim.campaign import (Case, campaign_task, campaign_tasks, default_cases,
-                                hostile_frames, make_run, run_campaign)
-from dptbd.sim.coverage.bins import GROUPS, POSITIONS, declared_axi
 from dptbd.sim.axi_runs import AXI_FAULTS
-
-
-def test_default_cases_cover_what_the_campaign_promises():
-    cases = default_cases()
-    assert len({c.name for c in cases}) == len(cases) >= 8
-    cfgs = [c.cfg for c in cases]
-    assert any((c.width, c.height) == (128, 128) and c.segment_frames == 8 and c.input_bits == 12
-               for c in cfgs)                                        # 001's setting
-    assert any(c.width & (c.width - 1) and c.height & (c.height - 1) for c in cfgs)
-    assert any(c.energy_bits < c.energy_bits_needed for c in cfgs)  # saturates
-    assert {0, 8} <= {c.weight_frac_bits for c in cfgs}
-    assert any(c.radius == 2 for c in cfgs)
-    assert any(c.random_lut for c in cases)
-    assert {"dp", "core", "segmenter", "axi"} <= {c.design for c in cases}
-    assert all(set(c.faults) >= {"reset", "misaligned_first", "short_frame", "long_frame", "lut",
-                                 "settings"} for c in cases if c.design != "axi")
-    axi = [c for c in cases if c.design == "axi"]
-    assert all(set(c.faults) == set(AXI_FAULTS) for c in axi)
-    assert any((c.cfg.width, c.cfg.height, c.cfg.segment_frames) == (128, 128, 8) for c in axi)
-    assert {1, 2} <= {c.cfg.radius for c in axi} and 0 in {c.cfg.weight_frac_bits for c in axi}
-    assert any(0 < c.cfg.weight_frac_bits < 8 for c in axi)
-    assert all(c.cfg.k_max > c.cfg.segment_frames for c in axi if c.cfg.width < 128)
-    assert any("store_garbage" in c.faults for c in cases)
-    assert sum(c.runs * c.words_per_run for c in cases if c.design != "segmenter") >= 10**8
-
-
-def test_hostile_frames_hold_every_kind_of_frame():
-    cfg = default_cases()[1].cfg
-    frames = hostile_frames(cfg, 400, np.random.default_rng(1))
-    assert frames.shape == (400, cfg.height, cfg.width) and frames.max() <= cfg.pixel_max
-    flat = frames.reshape(len(frames), -1)
-    assert (flat == cfg.pixel_max).all(axis=1).any()                 # all maximum
-    assert (flat == 0).all(axis=1).any()                             # all zero
-    assert (flat == flat[:, :1]).all(axis=1).sum() > 2               # constant
-    checker = (frames[:, 0::2, 0::2] == frames[:, :1, :1]).all(axis=(1, 2)) & \
-        (frames[:, 1::2, 0::2] != frames[:, :1, :1]).all(axis=(1, 2))
-    assert checker.any()                                             # checkerboards
-
-
-def test_runs_are_seeded_and_draw_their_faults():
-    case = default_cases()[1]
-    a, b = make_run(case, 5), make_run(case, 5)
-    assert np.array_equal(a[0], b[0]) and a[1].resets == b[1].resets and a[2] == b[2]
-    notes = " ".join(n for seed in range(6) for n in make_run(case, seed)[2])
-    for what in ("marker", "cut to", "runs", "LUT rewritten", "resets at cycles",
-                 "settings (K, n, s) rewritten"):
-        assert what in notes
-    stalls = [make_run(case, s)[1] for s in range(20)]
-    assert max(s.valid_gap for s in stalls) > 0.5 and min(s.valid_gap for s in stalls) == 0.0
-    assert any(s.valid_gap == 0 < s.ready_pause for s in stalls)       # back-pressure only
-    assert any(s.ready_pause == 0 < s.valid_gap for s in stalls)       # gaps only
-    # with the build's latency, some runs reset early: 2 cycles of power-up reset, then
-    # 0 … L + 1 cycles of words
-    early = [make_run(case, s, latency=13) for s in range(20)]
-    firsts = [stim.resets[0][0] for _, stim, notes in early
-              if any(n.startswith("early reset") for n in notes)]
-    assert len(firsts) >= 5 and all(2 <= c <= 2 + 14 for c in firsts)
-    assert all(make_run(case, s)[1].resets == stim.resets[len(stim.resets)
-                                                         - len(make_run(case, s)[1].resets):]
-               for s, (_, stim, _) in enumerate(early))       # the other draws unchanged
+from dptbd.sim.campaign import (Case, campaign_task, campaign_tasks, default_cases, make_run,
+                                run_campaign)
+from dptbd.sim.coverage.bins import GROUPS, POSITIONS, declared_axi
 
 
 def test_a_slice_of_the_campaign_is_bit_exact():

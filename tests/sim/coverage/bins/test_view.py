@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 from dptbd.model.segmentation import segment_stream
-from dptbd.sim.campaign import Case, _make_run
+from dptbd.sim.campaign_cases import Case
+from dptbd.sim.campaign_draw import make_stream_run
 from dptbd.sim.coverage import bins
 from dptbd.sim.stream_model import expected_stream, split_words
 
@@ -17,7 +18,7 @@ def test_list_ends_follow_the_segmenters_control_flow(seed):
     case = Case("t", dict(width=7, height=5, segment_frames=3, candidate_count=3), "segmenter",
                 40, 1, ("misaligned_first", "short_frame", "long_frame", "settings"))
     cfg = case.cfg
-    words, stim, _, events = _make_run(case, seed)
+    words, stim, _, events = make_stream_run(case, seed)
     assert {f for f, _ in events} == {"misaligned_first", "short_frame", "long_frame"}
     pixels, first = split_words(cfg, words)
     exp = expected_stream(cfg, pixels, first, None, {int(i): s for i, s in stim.settings_changes})

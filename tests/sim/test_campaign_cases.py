@@ -1,0 +1,38 @@
+"""The campaign's cases (:mod:`dptbd.sim.campaign_cases`): the parameter sets, top levels and
+faults the campaign promises (``docs/gateware.md``, "Verification campaign")."""
+
+from __future__ import annotations
+
+from dptbd.sim.axi_runs import AXI_FAULTS
+from dptbd.sim.campaign_cases import default_cases, x_store_cases
+
+
+def test_default_cases_cover_what_the_campaign_promises():
+    cases = default_cases()
+    assert len({c.name for c in cases}) == len(cases) >= 8
+    cfgs = [c.cfg for c in cases]
+    assert any((c.width, c.height) == (128, 128) and c.segment_frames == 8 and c.input_bits == 12
+               for c in cfgs)                                        # 001's setting
+    assert any(c.width & (c.width - 1) and c.height & (c.height - 1) for c in cfgs)
+    assert any(c.energy_bits < c.energy_bits_needed for c in cfgs)  # saturates
+    assert {0, 8} <= {c.weight_frac_bits for c in cfgs}
+    assert any(c.radius == 2 for c in cfgs)
+    assert any(c.random_lut for c in cases)
+    assert {"dp", "core", "segmenter", "axi"} <= {c.design for c in cases}
+    assert all(set(c.faults) >= {"reset", "misaligned_first", "short_frame", "long_frame", "lut",
+                                 "settings"} for c in cases if c.design != "axi")
+    axi = [c for c in cases if c.design == "axi"]
+    assert all(set(c.faults) == set(AXI_FAULTS) for c in axi)
+    assert any((c.cfg.width, c.cfg.height, c.cfg.segment_frames) == (128, 128, 8) for c in axi)
+    assert {1, 2} <= {c.cfg.radius for c in axi} and 0 in {c.cfg.weight_frac_bits for c in axi}
+    assert any(0 < c.cfg.weight_frac_bits < 8 for c in axi)
+    assert all(c.cfg.k_max > c.cfg.segment_frames for c in axi if c.cfg.width < 128)
+    assert any("store_garbage" in c.faults for c in cases)
+    assert sum(c.runs * c.words_per_run for c in cases if c.design != "segmenter") >= 10**8
+
+
+def test_the_store_checks_cover_both_inits_on_two_builds():
+    cases = x_store_cases()
+    assert len({n for n, _, _ in cases}) == len(cases) == 4
+    assert {(c["radius"] if "radius" in c else 1, init) for _, c, init in cases} == {
+        (1, "x"), (1, "random"), (2, "x"), (2, "random")}
