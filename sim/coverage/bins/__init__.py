@@ -79,8 +79,9 @@ bins: merge, table, empty-bin verdict). The public names are importable from thi
 from __future__ import annotations
 from dptbd.sim.coverage.bins.axi import (AXIL_WRITE_CYCLES, axi_bins, declared_axi,
                                          soft_reset_bin)
-from dptbd.sim.coverage.bins.groups import (ARESETN, BANDS, GROUPS, LIST_LABELS, POSITIONS,
-                                            SATURATION, TIES, Group, band)
+from dptbd.sim.coverage.bins.groups import (ARESETN, AXI, BANDS, BUS_REASONS, FIFO, GROUPS,
+                                            LIST_LABELS, LUT_CODES, LUT_STAGES, POSITIONS,
+                                            RANGE, SATURATION, STREAM, TIES, Group, band)
 from dptbd.sim.coverage.bins.registers import bus_operations
 from dptbd.sim.coverage.bins.stream import declared_stream, stream_bins
 from dptbd.sim.coverage.bins.table import empty_bins, empty_message, merge, table
@@ -89,4 +90,5 @@ from dptbd.sim.coverage.bins.view import list_ends
 __all__ = ["BANDS", "POSITIONS", "Group", "GROUPS", "band", "declared_stream", "declared_axi",
            "stream_bins", "axi_bins", "bus_operations", "soft_reset_bin", "list_ends", "merge",
            "empty_bins", "table", "empty_message", "ARESETN", "AXIL_WRITE_CYCLES",
-           "SATURATION", "TIES", "LIST_LABELS"]
+           "SATURATION", "TIES", "LIST_LABELS", "LUT_STAGES", "LUT_CODES", "STREAM", "AXI",
+           "FIFO", "RANGE", "BUS_REASONS"]
