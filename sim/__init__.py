@@ -13,10 +13,6 @@ Modules (one line each)
 - ``candidate_scoreboard``: the expected candidate lists, reported by segment, record and field.
 - ``rtl_check``: one compiled run checked against the model with the scoreboards.
 - ``rtl_trials``: Monte Carlo trials on the compiled RTL (``compare --rtl``, ``table1 --rtl``).
-- ``campaign``: the verification campaign (``dptbd verify``), its runs on the Dask execution layer.
-- ``campaign_cases``: the campaign's cases: parameter sets, top levels, faults, the 4-state store checks.
-- ``campaign_draw``: what each campaign run draws from its seed: hostile scenes, stalls, faults.
-- ``campaign_results``: a run's outcome (with its coverage bins), a case's and the campaign's result.
 - ``axi_runs``: the campaign's random runs of the AXI top level ``dptbd_axi``, drawn from a seed.
 - ``sim_job``: the job of ``dptbd sim``: one scene on Verilator or Icarus, its cycle count, speed and verdict.
 - ``icarus``: the cocotb + Icarus build of the generated Verilog (``build/sim/<parameter set>/``) and its runs (``simulate``).
@@ -31,7 +27,9 @@ Modules (one line each)
 - ``stimulus``: pixel words and LUT writes, packed with the gateware's layouts.
 - ``scenarios``: integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
 
-Sub-packages: ``coverage`` (the campaign's functional coverage bins, and code coverage of the
+Sub-packages: ``campaign`` (the verification campaign, ``dptbd verify``, its runs on the
+Dask execution layer: the cases, what each run draws from its seed, the results),
+``coverage`` (the campaign's functional coverage bins, and code coverage of the
 RTL: coverage builds' text, Verilator's points mapped to the Amaranth source, register bits
 proven constant, exclusions, report; ``dptbd verify --coverage``), ``mutation`` (the
 mutation score: Yosys ``mutate``, one mutant build, the verification slice, equivalence

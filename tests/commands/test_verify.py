@@ -1,5 +1,5 @@
 """``dptbd verify`` through the real CLI: the case list, its refusals, one case run and its JSON
-(the campaign itself is tested in ``tests/sim/test_campaign.py``)."""
+(the campaign itself is tested in ``tests/sim/campaign/test_campaign.py``)."""
 
 from __future__ import annotations
 

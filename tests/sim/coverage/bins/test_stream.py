@@ -1,7 +1,7 @@
 """The bins of the stream designs' runs (:mod:`dptbd.sim.coverage.bins.stream`): the
 extraction on hand-made runs of ``dp`` and ``segmenter`` with exact counts, a failed run and
 the empty bins it leaves; which bins the default suite's campaign slice fills is asserted in
-``tests/sim/test_campaign.py``."""
+``tests/sim/campaign/test_campaign.py``."""
 
 from __future__ import annotations
 

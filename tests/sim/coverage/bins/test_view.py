@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from dptbd.model.segmentation import segment_stream
-from dptbd.sim.campaign_cases import Case
-from dptbd.sim.campaign_draw import make_stream_run
+from dptbd.sim.campaign.cases import Case
+from dptbd.sim.campaign.draw import make_stream_run
 from dptbd.sim.coverage import bins
 from dptbd.sim.stream_model import expected_stream, split_words
 

@@ -10,7 +10,7 @@ from typing import Sequence
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.sim.campaign_cases import Case
+from dptbd.sim.campaign.cases import Case
 
 __all__ = ["MAX_STALL", "hostile_frames", "make_run", "make_stream_run"]
 

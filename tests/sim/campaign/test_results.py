@@ -1,11 +1,11 @@
-"""The campaign's results (:mod:`dptbd.sim.campaign_results`): a case's verdict from its runs,
+"""The campaign's results (:mod:`dptbd.sim.campaign.results`): a case's verdict from its runs,
 the campaign's totals and its functional coverage (bins added, the empty ones named)."""
 
 from __future__ import annotations
 
 import math
 
-from dptbd.sim.campaign_results import CampaignResult, RunOutcome, summarise
+from dptbd.sim.campaign.results import CampaignResult, RunOutcome, summarise
 
 
 def _outcome(seed, passed, bins):

@@ -1,12 +1,12 @@
-"""What a campaign run draws from its seed (:mod:`dptbd.sim.campaign_draw`): hostile scenes,
+"""What a campaign run draws from its seed (:mod:`dptbd.sim.campaign.draw`): hostile scenes,
 stalls and faults, the same for the same seed."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from dptbd.sim.campaign_cases import default_cases
-from dptbd.sim.campaign_draw import hostile_frames, make_run
+from dptbd.sim.campaign.cases import default_cases
+from dptbd.sim.campaign.draw import hostile_frames, make_run
 
 
 def test_hostile_frames_hold_every_kind_of_frame():

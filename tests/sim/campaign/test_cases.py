@@ -1,10 +1,10 @@
-"""The campaign's cases (:mod:`dptbd.sim.campaign_cases`): the parameter sets, top levels and
+"""The campaign's cases (:mod:`dptbd.sim.campaign.cases`): the parameter sets, top levels and
 faults the campaign promises (``docs/gateware.md``, "Verification campaign")."""
 
 from __future__ import annotations
 
 from dptbd.sim.axi_runs import AXI_FAULTS
-from dptbd.sim.campaign_cases import default_cases, x_store_cases
+from dptbd.sim.campaign.cases import default_cases, x_store_cases
 
 
 def test_default_cases_cover_what_the_campaign_promises():

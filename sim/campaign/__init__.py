@@ -23,12 +23,12 @@ X-initialised or garbage external store never reaches an output — is asked of 
 returns a :class:`CampaignResult` (per case: runs, words compared, words per second, verdict;
 the functional coverage bins of every run, :mod:`dptbd.sim.coverage.bins`, added up), the
 same for any number of workers. ``dptbd verify`` is the
-command; ``tests/sim/test_campaign.py`` runs a slice of it in the default suite.
+command; ``tests/sim/campaign/test_campaign.py`` runs a slice of it in the default suite.
 
-This module runs the campaign (a run built, run and checked: :func:`check_run`,
+This package runs the campaign (a run built, run and checked: :func:`check_run`,
 :func:`check_x_store`; the tasks on the execution layer: :func:`run_campaign`); the cases
-are in :mod:`dptbd.sim.campaign_cases`, what a run draws in :mod:`dptbd.sim.campaign_draw`,
-the results in :mod:`dptbd.sim.campaign_results`, all importable from here.
+are in :mod:`dptbd.sim.campaign.cases`, what a run draws in :mod:`dptbd.sim.campaign.draw`,
+the results in :mod:`dptbd.sim.campaign.results`, all importable from here.
 """
 
 from __future__ import annotations
@@ -39,9 +39,9 @@ from typing import Callable, Sequence
 import numpy as np
 
 from dptbd.config import DPConfig, EnergyWidthWarning
-from dptbd.sim.campaign_cases import FAULTS, Case, axi_cases, default_cases, x_store_cases
-from dptbd.sim.campaign_draw import MAX_STALL, hostile_frames, make_run, make_stream_run
-from dptbd.sim.campaign_results import CampaignResult, CaseResult, RunOutcome, summarise
+from dptbd.sim.campaign.cases import FAULTS, Case, axi_cases, default_cases, x_store_cases
+from dptbd.sim.campaign.draw import MAX_STALL, hostile_frames, make_run, make_stream_run
+from dptbd.sim.campaign.results import CampaignResult, CaseResult, RunOutcome, summarise
 
 __all__ = ["FAULTS", "MAX_STALL", "Case", "RunOutcome", "CaseResult", "CampaignResult",
            "default_cases", "axi_cases", "hostile_frames", "make_run", "make_stream_run",

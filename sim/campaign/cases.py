@@ -10,7 +10,7 @@ from dptbd.config import DPConfig, EnergyWidthWarning
 
 __all__ = ["FAULTS", "Case", "default_cases", "axi_cases", "x_store_cases"]
 
-#: Fault classes a case may draw from (see :func:`dptbd.sim.campaign_draw.make_run`).
+#: Fault classes a case may draw from (see :func:`dptbd.sim.campaign.draw.make_run`).
 FAULTS = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "store_garbage",
           "settings")
 
