@@ -3,9 +3,11 @@ of the campaign (:func:`dptbd.sim.campaign.make_run`: hostile scenes, input gaps
 back-pressure, resets, one early with the pipeline holding 0 … L words, misaligned / short /
 long frames, LUT rewrites, writes beyond the table, run-time K rewrites) checked by
 :func:`dptbd.sim.rtl_check.check_stream` bit-exact on every state word (E, d and the end
-flags) and, in runs without resets, on the counts of the ``events`` pulses; LUT tables of
-corner codes (every code bit of every entry set in one run, clear in another); at full speed
-the cycle of every word, exactly L after its acceptance, one word a cycle."""
+flags) and, in runs without resets, on the counts of the ``events`` pulses and on the
+``segment_begin`` pulses (how many, and the words they came with); K written out of its
+range (0, above K_max: clamped, ``docs/gateware.md`` "Run-time settings"); LUT tables of
+corner codes on noise (every code bit of every entry set in one run, clear in another); at
+full speed the cycle of every word, exactly L after its acceptance, one word a cycle."""
 
 from __future__ import annotations
 
@@ -19,8 +21,8 @@ from dptbd.sim.mutation.verdict import hang_verdict
 __all__ = ["RUNS", "FRAMES", "run"]
 
 #: Frames of each kind's runs (before the faults cut or lengthen them).
-FRAMES = {"clean": 12, "timing": 16, "k-edge": 16, "lut-corners": 12, "random-lut": 12,
-          "faults": 24, "backpressure": 8}
+FRAMES = {"clean": 12, "timing": 16, "k-edge": 16, "k-clamp": 16, "lut-corners": 12,
+          "random-lut": 12, "faults": 24, "backpressure": 8}
 
 _EVERY = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
 
@@ -30,6 +32,19 @@ def _corners(frac: int) -> tuple[int, ...]:
     unity = 1 << frac
     ones = unity - 1
     return (unity, ones, 0, ones & 0x5555, ones & 0xAAAA)
+
+
+def _noise_words(cfg: DPConfig, n_frames: int, seed: int):
+    """Uniform noise frames, each over [0, B_in max >> a], a in {0, 1, 2} at random: every
+    direction is taken and every LUT entry read, and the sums saturate only now and then."""
+    import numpy as np
+
+    from dptbd.sim.stimulus import pixel_words
+
+    rng = np.random.default_rng([seed, 0x401])
+    tops = cfg.pixel_max >> rng.integers(0, 3, size=n_frames)
+    frames = np.stack([rng.integers(0, top + 1, size=(cfg.height, cfg.width)) for top in tops])
+    return pixel_words(cfg, frames.astype(np.uint16))
 
 
 def _corner_luts(cfg: DPConfig, n_words: int, seed: int) -> tuple:
@@ -47,8 +62,8 @@ def _corner_luts(cfg: DPConfig, n_words: int, seed: int) -> tuple:
 #: The runs of the slice: ``(kind, seed)``, in this order (the cheap runs first: most
 #: mutants fall to the first).
 RUNS = tuple([("clean", s) for s in range(4)] + [("timing", s) for s in range(2)]
-             + [("k-edge", s) for s in range(8)]
-             + [("lut-corners", s) for s in range(len(_corners(0)))]
+             + [("k-edge", s) for s in range(8)] + [("k-clamp", s) for s in range(4)]
+             + [("lut-corners", s) for s in range(2 * len(_corners(0)))]
              + [("random-lut", s) for s in range(8)]
              + [("faults", s) for s in range(24)]
              + [("backpressure", s) for s in range(4)])
@@ -73,6 +88,64 @@ def _edge_k(cfg: DPConfig, n_words: int, seed: int) -> tuple:
     return tuple(out)
 
 
+def _edge_raw_k(cfg: DPConfig, n_words: int, seed: int) -> tuple:
+    """:func:`_edge_k` with port values out of range too: 0 and K_max + 1 … the port's
+    largest, as often as values in range."""
+    import numpy as np
+
+    rng = np.random.default_rng([seed, 0xC1A])
+    top = (1 << (cfg.k_max).bit_length()) - 1             # the port holds 0 … top
+    out = []
+    for at, entry in _edge_k(cfg, n_words, seed):
+        k = entry.segment_frames
+        if rng.random() < 0.5:
+            k = int(rng.choice([0, *range(cfg.k_max + 1, top + 1)]))
+        out.append((at, k))
+    return tuple(out)
+
+
+def _check_raw_k(sim, words, stim, changes) -> tuple[str, str]:
+    """``words`` with the K port driven to the raw values ``changes`` ((word index, K));
+    the model runs them clamped to [1, K_max]. No resets, LUT or other settings changes."""
+    from dptbd.model.settings import SegmentSettings
+    from dptbd.sim.rtl_check import _checker
+    from dptbd.sim.stream_model import expected_stream, split_words
+    from dptbd.sim.verilator import run as run_words
+
+    cfg = sim.cfg
+    raw = run_words(sim, words, valid_gap=stim.valid_gap, ready_pause=stim.ready_pause,
+                    seed=stim.seed, settings=[(i, k, cfg.n_candidates, cfg.bin_shift)
+                                              for i, k in changes])
+    pixels, first = split_words(cfg, words)
+    clamped = {i: SegmentSettings(min(max(k, 1), cfg.k_max), cfg.n_candidates, cfg.bin_shift)
+               for i, k in changes}
+    exp = expected_stream(cfg, pixels, first, {}, clamped)
+    board = _checker(cfg, "states", exp, cut_by_reset=False)
+    board.receive_array(raw.out_words)
+    report = f"K port {[k for _, k in changes]}: {board.report()}"
+    if raw.status != "done":
+        return hang_verdict(raw.status, board.report()) or "killed", report
+    if board.failed or not board.done:
+        return "killed", report
+    begins = _segment_begin_report(exp, raw.counters)
+    return ("killed", begins) if begins else ("survived", report)
+
+
+def _segment_begin_report(exp, counters: dict) -> str:
+    """``""`` if a run without resets (the model's expectation ``exp``, the harness's
+    ``counters``) saw one ``segment_begin`` pulse with every word that begins a segment in
+    the model (a frame 0: the stream's first word, every K-th frame, a resynchronisation)
+    and no other, else what differs."""
+    starts = [r.start for r in exp.runs if r.frame == 0]
+    want = (len(starts), sum(s + 1 for s in starts))
+    got = (counters.get("segment_begins"), counters.get("segment_begin_words"))
+    if got == want:
+        return ""
+    return (f"segment_begin: {got[0]} pulses with words summing (index + 1) to {got[1]}, "
+            f"model {want[0]} at words {starts[:8]}{' …' if len(starts) > 8 else ''} "
+            f"(sum {want[1]})")
+
+
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, _make_run
     from dptbd.sim.mutation.slices.segmenter import _missing_of_offered
@@ -89,7 +162,10 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
         stim = dataclasses.replace(stim, settings_changes=_edge_k(sim.cfg, len(words), seed))
     if kind == "timing":                        # full speed: no gap, no pause
         stim = dataclasses.replace(stim, valid_gap=0.0, ready_pause=0.0)
-    if kind == "lut-corners":
+    if kind == "k-clamp":
+        return _check_raw_k(sim, words, stim, _edge_raw_k(sim.cfg, len(words), seed))
+    if kind == "lut-corners":                   # noise scenes: every LUT entry is read
+        words = _noise_words(sim.cfg, FRAMES[kind], seed)
         stim = dataclasses.replace(stim, lut_changes=_corner_luts(sim.cfg, len(words), seed))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", EnergyWidthWarning)
@@ -103,6 +179,10 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
         late = _timing_report(result.raw, int(sim.latency))
         if late:
             return "killed", late
+    if result.passed and not stim.resets:
+        begins = _segment_begin_report(result.scored[-1][1], result.raw.counters)
+        if begins:
+            return "killed", begins
     return ("survived" if result.passed else "killed"), result.report
 
 
