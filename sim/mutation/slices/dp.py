@@ -5,9 +5,10 @@ long frames, LUT rewrites, writes beyond the table, run-time K rewrites) checked
 :func:`dptbd.sim.rtl_check.check_stream` bit-exact on every state word (E, d and the end
 flags) and, in runs without resets, on the counts of the ``events`` pulses and on the
 ``segment_begin`` pulses (how many, and the words they came with); K written out of its
-range (0, above K_max: clamped, ``docs/gateware.md`` "Run-time settings"); LUT tables of
-corner codes on noise (every code bit of every entry set in one run, clear in another); at
-full speed the cycle of every word, exactly L after its acceptance, one word a cycle."""
+range (0, above K_max: clamped, ``docs/gateware.md`` "Run-time settings") and LUT codes
+above 2^F (stored as 2^F); LUT tables of corner codes on noise (every code bit of every
+entry set in one run, clear in another); at full speed the cycle of every word, exactly L
+after its acceptance, one word a cycle."""
 
 from __future__ import annotations
 
@@ -22,7 +23,7 @@ __all__ = ["RUNS", "FRAMES", "run"]
 
 #: Frames of each kind's runs (before the faults cut or lengthen them).
 FRAMES = {"clean": 12, "timing": 16, "k-edge": 16, "k-clamp": 16, "lut-corners": 12,
-          "random-lut": 12, "faults": 24, "backpressure": 8}
+          "lut-clamp": 12, "random-lut": 12, "faults": 24, "backpressure": 8}
 
 _EVERY = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
 
@@ -64,6 +65,7 @@ def _corner_luts(cfg: DPConfig, n_words: int, seed: int) -> tuple:
 RUNS = tuple([("clean", s) for s in range(4)] + [("timing", s) for s in range(2)]
              + [("k-edge", s) for s in range(8)] + [("k-clamp", s) for s in range(4)]
              + [("lut-corners", s) for s in range(2 * len(_corners(0)))]
+             + [("lut-clamp", s) for s in range(4)]
              + [("random-lut", s) for s in range(8)]
              + [("faults", s) for s in range(24)]
              + [("backpressure", s) for s in range(4)])
@@ -104,25 +106,46 @@ def _edge_raw_k(cfg: DPConfig, n_words: int, seed: int) -> tuple:
     return tuple(out)
 
 
-def _check_raw_k(sim, words, stim, changes) -> tuple[str, str]:
-    """``words`` with the K port driven to the raw values ``changes`` ((word index, K));
-    the model runs them clamped to [1, K_max]. No resets, LUT or other settings changes."""
+def _wide_luts(cfg: DPConfig, n_words: int, seed: int) -> tuple:
+    """Two tables of codes over the whole ``lut_data`` port, 0 … 2^(F+1) - 1, about half of
+    them above 2^F (stored as 2^F, ``docs/gateware.md`` "Weight LUT"): from word 0 and from
+    the middle frame."""
+    import numpy as np
+
+    rng = np.random.default_rng([seed, 0x3C0D])
+    shape = (cfg.n_moves + 1, cfg.n_moves)
+    size = cfg.width * cfg.height
+    top = 1 << (cfg.weight_frac_bits + 1)
+    return tuple((at, rng.integers(0, top, size=shape))
+                 for at in (0, (n_words // size // 2) * size))
+
+
+def _check_raw(sim, words, stim, k_changes=(), luts=()) -> tuple[str, str]:
+    """``words`` with the K port driven to raw values (``k_changes``: (word index, K)) and
+    raw tables written through the LUT port (``luts``: (word index, codes)); the model runs
+    them as the design must take them: K clamped to [1, K_max], codes to [0, 2^F]. No
+    resets or other settings changes."""
+    import numpy as np
+
     from dptbd.model.settings import SegmentSettings
     from dptbd.sim.rtl_check import _checker
+    from dptbd.sim.stimulus import lut_writes
     from dptbd.sim.stream_model import expected_stream, split_words
     from dptbd.sim.verilator import run as run_words
 
     cfg = sim.cfg
     raw = run_words(sim, words, valid_gap=stim.valid_gap, ready_pause=stim.ready_pause,
-                    seed=stim.seed, settings=[(i, k, cfg.n_candidates, cfg.bin_shift)
-                                              for i, k in changes])
+                    seed=stim.seed,
+                    settings=[(i, k, cfg.n_candidates, cfg.bin_shift) for i, k in k_changes],
+                    lut_writes=[(i, a, c) for i, codes in luts for a, c in lut_writes(cfg, codes)])
     pixels, first = split_words(cfg, words)
     clamped = {i: SegmentSettings(min(max(k, 1), cfg.k_max), cfg.n_candidates, cfg.bin_shift)
-               for i, k in changes}
-    exp = expected_stream(cfg, pixels, first, {}, clamped)
+               for i, k in k_changes}
+    tables = {i: np.minimum(codes, 1 << cfg.weight_frac_bits) for i, codes in luts}
+    exp = expected_stream(cfg, pixels, first, tables, clamped)
     board = _checker(cfg, "states", exp, cut_by_reset=False)
     board.receive_array(raw.out_words)
-    report = f"K port {[k for _, k in changes]}: {board.report()}"
+    report = (f"K port {[k for _, k in k_changes]}: " if k_changes else "") + board.report()
     if raw.status != "done":
         return hang_verdict(raw.status, board.report()) or "killed", report
     if board.failed or not board.done:
@@ -163,7 +186,10 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
     if kind == "timing":                        # full speed: no gap, no pause
         stim = dataclasses.replace(stim, valid_gap=0.0, ready_pause=0.0)
     if kind == "k-clamp":
-        return _check_raw_k(sim, words, stim, _edge_raw_k(sim.cfg, len(words), seed))
+        return _check_raw(sim, words, stim, k_changes=_edge_raw_k(sim.cfg, len(words), seed))
+    if kind == "lut-clamp":
+        words = _noise_words(sim.cfg, FRAMES[kind], seed)
+        return _check_raw(sim, words, stim, luts=_wide_luts(sim.cfg, len(words), seed))
     if kind == "lut-corners":                   # noise scenes: every LUT entry is read
         words = _noise_words(sim.cfg, FRAMES[kind], seed)
         stim = dataclasses.replace(stim, lut_changes=_corner_luts(sim.cfg, len(words), seed))
