@@ -170,15 +170,21 @@ def _segment_begin_report(exp, counters: dict) -> str:
 
 
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
+    """Run ``(kind, seed)`` of the slice on ``sim`` (``DPTBD_MUTANT`` selects the mutant):
+    ``(verdict, report)``, the verdict ``killed``, ``timeout`` or ``survived``."""
+    with warnings.catch_warnings():             # B_E saturates on purpose (CONFIGS)
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        return _run(sim, kind, seed)
+
+
+def _run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, _make_run
     from dptbd.sim.mutation.slices.segmenter import _missing_of_offered
     from dptbd.sim.rtl_check import check_stream
 
     case = Case(f"mutant-{kind}", CONFIGS["dp"], "dp", FRAMES[kind], 1,
                 _EVERY if kind == "faults" else (), kind == "random-lut")
-    with warnings.catch_warnings():             # B_E saturates on purpose (CONFIGS)
-        warnings.simplefilter("ignore", EnergyWidthWarning)
-        words, stim, _, _ = _make_run(case, seed, int(sim.latency))
+    words, stim, _, _ = _make_run(case, seed, int(sim.latency))
     if kind == "backpressure":                  # the output stalled most of the time
         stim = dataclasses.replace(stim, valid_gap=0.0, ready_pause=BACKPRESSURE[seed % 4])
     if kind in ("k-edge", "timing"):
@@ -193,9 +199,7 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
     if kind == "lut-corners":                   # noise scenes: every LUT entry is read
         words = _noise_words(sim.cfg, FRAMES[kind], seed)
         stim = dataclasses.replace(stim, lut_changes=_corner_luts(sim.cfg, len(words), seed))
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EnergyWidthWarning)
-        result = check_stream(sim, words, stim)
+    result = check_stream(sim, words, stim)
     if hang_verdict(result.raw.status, result.report):
         missing = _missing_of_offered(sim, words, stim, result)
         if missing:
