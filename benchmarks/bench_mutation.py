@@ -1,6 +1,6 @@
-"""The mutation score of ``dptbd_seg`` and ``dptbd_axi``, measured: N mutants of each top
-(Yosys ``mutate``, :mod:`dptbd.sim.mutation`) through the verification slice, then every
-survivor tried for formal equivalence (Yosys ``equiv_*``).
+"""The mutation score of ``dptbd_seg`` and ``dptbd_axi`` (and ``dptbd_dp``), measured: N
+mutants of each top (Yosys ``mutate``, :mod:`dptbd.sim.mutation`) through the verification
+slice, then every survivor tried for formal equivalence (Yosys ``equiv_*``).
 
 Reported per design: killed / total, survivors / timeouts / crashes / mutations Yosys
 refused, the proven-equivalent survivors, wall time, time per mutant (the slice) and per
@@ -9,6 +9,7 @@ keeps every mutant's outcome.
 
     python benchmarks/bench_mutation.py                        # 300 mutants each, seed 1
     python benchmarks/bench_mutation.py --mutants 100 --designs segmenter --workers 2
+    python benchmarks/bench_mutation.py --designs dp           # dptbd_dp (not by default)
     python benchmarks/bench_mutation.py --no-prove --json mutation.json
 """
 
@@ -30,7 +31,7 @@ def main() -> None:
     parser.add_argument("--mutants", type=int, default=300)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--designs", nargs="+", default=["segmenter", "axi"],
-                        choices=["segmenter", "axi"])
+                        choices=["segmenter", "axi", "dp"])
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--no-prove", action="store_true", help="skip the equivalence proofs")
     parser.add_argument("--json", type=pathlib.Path, default=None)

@@ -243,8 +243,8 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     mutations : sequence of str
         Yosys ``mutate`` commands (:mod:`dptbd.sim.mutation.netlist`): the build carries
         mutation ``i`` behind ``mutsel == i`` and its harness selects one from the
-        environment (``DPTBD_MUTANT``; 0 or unset: the original). Designs ``segmenter`` and
-        ``axi`` only.
+        environment (``DPTBD_MUTANT``; 0 or unset: the original). Designs ``segmenter``,
+        ``axi`` and ``dp`` only.
     """
     if design not in DESIGNS:
         raise ValueError(f"design must be one of {', '.join(DESIGNS)}, got {design!r}")

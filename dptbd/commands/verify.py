@@ -17,10 +17,11 @@ assertion and the counterexample trace kept under ``--out``); exit 1 unless ever
 the expected one.
 
 ``--mutants N`` runs the mutation score instead (:mod:`dptbd.sim.mutation`): N mutants of
-``--design`` (``seg``: ``dptbd_seg``, ``axi``: ``dptbd_axi``) sampled with ``--seed``, each
-through the verification slice; prints killed / total, the timeouts, crashes and mutations
-Yosys refused apart, and every survivor with its Amaranth source line and mutation
-(``--prove``: with its formal equivalence verdict). Exit 1 if a mutant survives unproven.
+``--design`` (``seg``: ``dptbd_seg``, ``axi``: ``dptbd_axi``, ``dp``: ``dptbd_dp``) sampled
+with ``--seed``, each through the verification slice; prints killed / total, the timeouts,
+crashes and mutations Yosys refused apart, and every survivor with its Amaranth source line
+and mutation (``--prove``: with its formal equivalence verdict). Exit 1 if a mutant survives
+unproven.
 """
 
 from __future__ import annotations
@@ -67,9 +68,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     mutation.add_argument("--mutants", type=int, default=None, metavar="N",
                           help="run N mutants of --design through the verification slice "
                                "instead of the campaign (Yosys mutate, seed --seed)")
-    mutation.add_argument("--design", choices=("seg", "axi"), default="seg",
-                          help="the top level of --mutants: seg (dptbd_seg, default) or axi "
-                               "(dptbd_axi)")
+    mutation.add_argument("--design", choices=("seg", "axi", "dp"), default="seg",
+                          help="the top level of --mutants: seg (dptbd_seg, default), axi "
+                               "(dptbd_axi) or dp (dptbd_dp)")
     mutation.add_argument("--prove", action="store_true",
                           help="try to prove every survivor equivalent to the original "
                                "(Yosys equiv_*, minutes each)")
@@ -284,7 +285,7 @@ def mutants_main(args: argparse.Namespace) -> int:
         check_worker_count(args.workers)
     check_output_file(args.json, "--json", args.force, ".json")
     require_yosys()
-    design = {"seg": "segmenter", "axi": "axi"}[args.design]
+    design = {"seg": "segmenter", "axi": "axi", "dp": "dp"}[args.design]
     bar = tqdm(total=args.mutants, unit="mutant", desc=f"dptbd verify --mutants ({args.design})")
     result = run_mutants(design, args.mutants, args.seed, workers=args.workers,
                          scheduler=args.scheduler, bar=bar)

@@ -182,6 +182,10 @@ int main(int argc, char** argv) {
     bool offering = false;        // valid is high with in[next_word]
     size_t next_lut = 0, next_reset = 0, next_settings = 0;
     uint64_t events_frame = 0, events_segment = 0, events_list = 0, events_saturated = 0;
+#if defined(DPTBD_DESIGN_DP) || defined(DPTBD_DESIGN_CORE)
+    // `segment_begin` pulses, and the sum of (index + 1) of the words accepted with one
+    uint64_t segment_begins = 0, segment_begin_words = 0;
+#endif
     uint64_t reset_until = 2;     // power-up reset: cycles 0, 1
     uint64_t idle = 0, cycle = 0, lut_writes = 0, stalled_in = 0, paused_out = 0;
     std::string status = "timeout";
@@ -237,6 +241,12 @@ int main(int argc, char** argv) {
         const bool out_valid = OUT_PORT(valid);
         const bool input_busy = offering || dut->lut_we;   // the input side is not done
         if (!rst) {
+#if defined(DPTBD_DESIGN_DP) || defined(DPTBD_DESIGN_CORE)
+            if (dut->segment_begin) {
+                ++segment_begins;
+                if (offering && PORT(pixels, ready)) segment_begin_words += next_word + 1;
+            }
+#endif
             if (offering && PORT(pixels, ready)) {
                 accept_cycles[next_word] = cycle;
                 ++next_word;
@@ -310,6 +320,10 @@ int main(int argc, char** argv) {
                  events_saturated);
 #ifdef DPTBD_DESIGN_CORE
     std::fprintf(fh, "store_faults %" PRIu64 "\n", store_faults);
+#endif
+#if defined(DPTBD_DESIGN_DP) || defined(DPTBD_DESIGN_CORE)
+    std::fprintf(fh, "segment_begins %" PRIu64 "\nsegment_begin_words %" PRIu64 "\n",
+                 segment_begins, segment_begin_words);
 #endif
     std::fclose(fh);
     return 0;

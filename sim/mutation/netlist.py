@@ -32,7 +32,9 @@ __all__ = ["DESIGN_TOPS", "PREPARE", "MUTSEL_WIDTH", "YOSYS", "YosysMissingError
            "mutant_verilog", "run_yosys"]
 
 #: Designs with mutants: design name (:data:`dptbd.sim.verilator_build.DESIGNS`) -> module.
-DESIGN_TOPS = {"segmenter": "dptbd_seg", "axi": "dptbd_axi"}
+#: ``dp`` is ``DPPipeline`` (``core``, ``DPCore`` without the state store, has no mutants of its
+#: own: every cell of it is one of ``dp``'s, ``docs/gateware.md`` "Mutation testing").
+DESIGN_TOPS = {"segmenter": "dptbd_seg", "axi": "dptbd_axi", "dp": "dptbd_dp"}
 
 #: Yosys commands after ``read_rtlil``: the cells ``mutate`` samples from (MCY runs
 #: ``prep``; these are the passes :mod:`dptbd.hw.flow.to_verilog` runs, flattened, so a
@@ -190,6 +192,10 @@ def top_rtlil(cfg: DPConfig, design: str) -> tuple[str, dict]:
         from dptbd.hw.flow.segmenter_verilog import segmenter_manifest
         top = DPSegmenter(cfg)
         manifest = segmenter_manifest(cfg, top)
+    elif design == "dp":
+        from dptbd.hw.flow.verilog import build_top, manifest as dp_manifest
+        top = build_top(cfg)
+        manifest = dp_manifest(cfg, top)
     elif design == "axi":
         from dptbd.hw.axi_top import AXITop
         from dptbd.hw.flow.axi_package import axi_manifest

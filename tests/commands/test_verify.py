@@ -7,6 +7,8 @@ import json
 import re
 import socket
 
+import pytest
+
 from dptbd.cli import main
 
 
@@ -161,6 +163,12 @@ def test_verify_mutants_refusals(capsys):
     assert main(["verify", "--mutants", "3", "--workers", "0"]) == 2
     assert capsys.readouterr().err == ("dptbd verify: error: workers must be an integer in "
                                        "[1, 1024], got 0\n")
+    with pytest.raises(SystemExit) as exc:         # argparse: the usage, then the refusal
+        main(["verify", "--mutants", "3", "--design", "core"])
+    assert exc.value.code == 2
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        "dptbd verify: error: argument --design: invalid choice: 'core' (choose from 'seg', "
+        "'axi', 'dp')")
 
 
 def test_verify_mutants_without_yosys(capsys, monkeypatch):

@@ -67,6 +67,10 @@ def test_exact_cycles_dp_and_core(design, kw, n_frames):
     assert out[-1] - accept[0] + 1 == size + sim.latency
     assert raw.counters["stalled_input_cycles"] == 1      # cycle 2: ready still low
     assert raw.counters["paused_output_cycles"] == 0
+    # segment_begin pulses with the first word of every K-th frame: how many, sum of index + 1
+    begins = range(0, size, cfg.segment_frames * cfg.width * cfg.height)
+    assert (raw.counters["segment_begins"], raw.counters["segment_begin_words"]) == \
+        (len(begins), sum(i + 1 for i in begins))
     np.testing.assert_array_equal(raw.out_words, expected_words(cfg, frames).ravel())
     result = check_frames(sim, frames)
     assert result.passed and result.cycles == size + sim.latency

