@@ -52,8 +52,10 @@ from dptbd.sim.coverage.run_sets import (  # re-exported: their home was this mo
     extra_cases,
 )
 
-__all__ = ["GOALS", "Entry", "Summary", "AxiCase", "axi_cases", "extra_cases", "entries", "summarise",
-           "coverage_run", "RunMerger", "run_coverage", "write_report", "format_table"]
+__all__ = ["GOALS", "Entry", "Summary", "AxiCase", "axi_cases", "extra_cases", "entries",
+           "summarise",
+           "coverage_run", "RunMerger", "run_coverage", "write_report", "format_table",
+           "reachable_width", "reachable_toggle"]
 
 #: Goals per design: percent of line, branch and toggle points outside the exclusions.
 GOALS = {"axi": {"line": 100.0, "branch": 100.0, "toggle": 95.0},
@@ -107,6 +109,9 @@ class Summary:
     stale: list                  # list of (Exclusion, reason)
     constant: list = dataclasses.field(default_factory=list)  # names proven constant
     proofs: dict = dataclasses.field(default_factory=dict)    # build -> constant_bits.Proof
+    # design -> [covered, total, builds counted, builds]: toggle over the builds of reachable
+    # width only (reachable_width_builds)
+    reachable: dict = dataclasses.field(default_factory=dict)
 
     def figure(self, design: str, kind: str, module: str | None = None) -> tuple[int, int]:
         covered = total = 0
@@ -236,6 +241,30 @@ def run_coverage(out: pathlib.Path, cases: Sequence, *, axi: Sequence[AxiCase] =
     return outcomes, builds
 
 
+def reachable_width(cfg) -> bool:
+    """Whether a build's widths are all reachable: ``B_E`` no wider than the largest E any
+    input reaches (:attr:`~dptbd.config.DPConfig.energy_reach_bits`), as ``dptbd verilog``
+    builds it (:meth:`~dptbd.config.DPConfig.build_config`)."""
+    return cfg.energy_bits == cfg.energy_reach_bits
+
+
+def reachable_toggle(all_entries: Sequence[Entry], exclusions: Sequence, constant: set,
+                     configs: dict) -> dict:
+    """Toggle covered / total per design over the builds of reachable width only
+    (:func:`reachable_width`; ``configs``: build name -> its DPConfig): a build wider than
+    that has E's headroom bits, which no input reaches and the default build does not have.
+    design -> [covered, total, builds counted, builds]."""
+    keep = {name for name, cfg in configs.items() if reachable_width(cfg)}
+    out = {}
+    for design in sorted({e.design for e in all_entries}):
+        names = {e.build for e in all_entries if e.design == design}
+        sub = summarise([e for e in all_entries if e.design == design and e.build in keep
+                         and e.kind == "toggle"], exclusions, constant)
+        covered, total = sub.figure(design, "toggle")
+        out[design] = [covered, total, len(names & keep), len(names)]
+    return out
+
+
 def write_report(out: pathlib.Path, builds: dict, exclusions: Sequence = (),
                  annotate_sources: bool = True, prove_constants: bool = False,
                  proof_time_limit: float | None = None) -> Summary:
@@ -267,6 +296,8 @@ def write_report(out: pathlib.Path, builds: dict, exclusions: Sequence = (),
             constant |= {(name, m, bit) for m, bit in proofs[name].bits}
     summary = summarise(all_entries, exclusions, constant)
     summary.proofs = proofs
+    summary.reachable = reachable_toggle(all_entries, exclusions, constant, {
+        name: sim.cfg for name, (_, sim, _) in builds.items()})
     if annotate_sources:
         _annotate_amaranth(out / "annotated" / "amaranth", all_entries)
     (out / "coverage.json").write_text(json.dumps(_jsonable(summary), indent=1) + "\n")
@@ -321,6 +352,8 @@ def _jsonable(summary: Summary) -> dict:
                       for _, g in summary.uncovered],
         "proven_constant": [{"design": d, "module": m, "bit": w}
                             for d, m, _, _, w in summary.constant],
+        "toggle_reachable_width": {d: {"covered": c, "total": t, "builds": n, "of": a}
+                                   for d, (c, t, n, a) in sorted(summary.reachable.items())},
         "proofs": {name: {"bits": len(p.bits), "script": p.script,
                           "seconds": round(p.seconds, 1), "stopped_after": p.stopped_after}
                    for name, p in sorted(summary.proofs.items())},
@@ -347,6 +380,11 @@ def format_table(summary: Summary) -> str:
             cells.append(f"{_pct(c, t)} {c:>6d}/{t:<6d}{ok}")
         rows.append((f"{TOP_NAMES.get(d, d):22s} " + " ".join(f"{x:>22s}" for x in cells))
                     .rstrip())
+    for d, (c, t, n, a) in sorted(summary.reachable.items()):
+        goal = GOALS.get(d, {}).get("toggle")
+        ok = "" if goal is None or not t else (" ok" if 100.0 * c >= goal * t else " <goal")
+        rows.append(f"{TOP_NAMES.get(d, d)}: toggle on the builds of reachable width "
+                    f"({n} of {a}): {_pct(c, t).strip()} {c}/{t}{ok}")
     rows.append(f"goals (dptbd_axi, dptbd_seg): line {GOALS['axi']['line']:.0f} %, branch "
                 f"{GOALS['axi']['branch']:.0f} %, toggle {GOALS['axi']['toggle']:.0f} %, "
                 f"outside the exclusions; {len(summary.uncovered)} uncovered line/branch/"
