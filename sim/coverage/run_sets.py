@@ -13,17 +13,31 @@ from __future__ import annotations
 import dataclasses
 import time
 
-__all__ = ["AxiCase", "extra_cases", "axi_cases", "check_axi_run", "coverage_run"]
+__all__ = ["AxiCase", "COUNTER_EVENTS", "COUNTER_CONFIG", "extra_cases", "axi_cases",
+           "counter_scene", "check_axi_run", "coverage_run"]
 
 
 @dataclasses.dataclass(frozen=True)
 class AxiCase:
-    """An AXI run of the coverage campaign: a configuration and seeds."""
+    """An AXI run of the coverage campaign: a configuration, seeds and the scene
+    (``"faults"``: :func:`_axi_scene`; ``"counters"``: :func:`counter_scene`)."""
 
     name: str
     config: dict
     runs: int
     design: str = "axi"
+    scene: str = "faults"
+
+
+#: The event counters' bits up to 19 are reached by 2**19 events of each (bit k first
+#: becomes 1 at the 2**k-th event); bits 20-31 are excluded (``exclusions.toml``).
+COUNTER_EVENTS = 1 << 19
+
+#: The counter run's configuration: the smallest frame the read-ahead allows (3 x 6:
+#: ``check_supported``), K = 1 (a segment and a list per frame) and K_max = 2 with B_E = 8
+#: for 8-bit pixels (two bright frames saturate).
+COUNTER_CONFIG = dict(width=3, height=6, segment_frames=1, max_segment_frames=2,
+                      energy_bits=8, candidate_count=1, candidate_capacity=2, histogram_bits=2)
 
 
 def extra_cases() -> list:
@@ -44,7 +58,48 @@ def axi_cases() -> list[AxiCase]:
     small = dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
                  candidate_count=4, candidate_capacity=6, histogram_bits=6, histogram_shift=2)
     return [AxiCase("axi-12x10-k2-faults", small, 8),
-            AxiCase("axi-12x10-e9-saturating", dict(small, energy_bits=9), 4)]
+            AxiCase("axi-12x10-e9-saturating", dict(small, energy_bits=9), 4),
+            AxiCase("axi-3x6-counters", COUNTER_CONFIG, 1, scene="counters")]
+
+
+def counter_scene(cfg, seed: int, events: int = COUNTER_EVENTS):
+    """Beats and steps that raise every event counter of ``dptbd_axi`` at least ``events``
+    times (FRAMES, SEGMENTS, LISTS, each FAULT_* and SATURATED; the final reads are
+    checked against the golden model's and the fault rule's counts by
+    :func:`~dptbd.sim.verilator_axi.check_axi`), on :data:`COUNTER_CONFIG`:
+
+    1. ``events`` + 1 frames, each after the first without its start of frame: a frame
+       (segment, list) and a ``frame_long`` each;
+    2. ``events`` beats each ending a line of one beat: ``line_length``;
+    3. ``events`` pairs of beats, each starting a frame: ``sof_unexpected``;
+    4. ``events`` lines, each starting a frame: ``frame_short``;
+    5. a clean frame, then K = 2 (``SEGMENT_FRAMES`` written) and full-scale frames, each
+       second one saturating its energies: ``SATURATED`` >= ``events``.
+    """
+    import numpy as np
+
+    from dptbd.sim.axi_stimulus import Beats, clean_beats
+
+    rng = np.random.default_rng([seed, 0xC0])
+    w, h = cfg.width, cfg.height
+
+    def pixels(n):
+        return rng.integers(0, cfg.pixel_max + 1, size=n, dtype=np.int64)
+
+    long = clean_beats(pixels((events + 1) * w * h).reshape(events + 1, h, w))
+    long.first[w * h:] = False
+    line = Beats(pixels(events), np.zeros(events, bool), np.ones(events, bool))
+    sof = Beats(pixels(2 * events), np.tile([True, False], events), np.zeros(2 * events, bool))
+    short = Beats(pixels(w * events), np.tile(np.arange(w) == 0, events),
+                  np.tile(np.arange(w) == w - 1, events))
+    clean = clean_beats(pixels(w * h).reshape(1, h, w))
+    per_segment = w * h                   # the second frame of a segment saturates each pixel
+    bright_frames = 2 * (-(-events // per_segment) + 2)
+    bright = clean_beats(np.full((bright_frames, h, w), cfg.pixel_max, dtype=np.int64))
+    head = long + line + sof + short + clean
+    steps = [{"stop": len(head)},
+             {"writes": [["SEGMENT_FRAMES", 2]], "stop": len(head) + len(bright)}]
+    return head + bright, steps
 
 
 def _axi_scene(cfg, seed: int):
@@ -98,9 +153,13 @@ def check_axi_run(case: AxiCase, seed: int, root, coverage: str):
     start = time.perf_counter()
     cfg = _config(case.config)
     sim = build(cfg, "axi", root=root, coverage=True)
-    beats, steps = _axi_scene(cfg, seed)
     rng = np.random.default_rng([seed, 0xA71])
-    gap, pause = float(rng.uniform(0.0, 0.5)), float(rng.uniform(0.0, 0.9))
+    if case.scene == "counters":
+        beats, steps = counter_scene(cfg, seed)
+        gap, pause = 0.0, 0.5             # output stalls on every other cycle or so
+    else:
+        beats, steps = _axi_scene(cfg, seed)
+        gap, pause = float(rng.uniform(0.0, 0.5)), float(rng.uniform(0.0, 0.9))
     result = check_axi(sim, beats, steps, valid_gap=gap, ready_pause=pause, seed=seed,
                        coverage=coverage)
     return RunOutcome(case.name, seed, result.passed, result.report(), len(beats),
