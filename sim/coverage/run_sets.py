@@ -115,7 +115,12 @@ def _axi_scene(cfg, seed: int):
     beats, starts = fault_stretches(cfg, frames)
     frame = cfg.width * cfg.height
     every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
-    halved = (np.asarray(cfg.weight_codes) // 2).tolist()
+    # a LUT rewrite with random codes in [0, 2**F], 2**F - 1 and 2**F among them: every bit
+    # of a code, and of the weighted candidates' shift-and-add sums, is driven
+    unity = 1 << cfg.weight_frac_bits
+    codes = np.random.default_rng([seed, 0x107]).integers(
+        0, unity + 1, size=np.asarray(cfg.weight_codes).shape)
+    codes.flat[:2] = (unity - 1, unity)
     from dptbd.hw.register_map import LUT_WINDOW_BASE, register_map
 
     names = [reg.name for reg in register_map(cfg).registers]
@@ -134,8 +139,9 @@ def _axi_scene(cfg, seed: int):
              {"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", 6],
                          ["HISTOGRAM_SHIFT", cfg.energy_bits]], "bus": refused,
               "stop": 4 * frame},
-             {"check": {"SEGMENTS": 3}, "lut_codes": halved,
-              "writes": [["SEGMENT_FRAMES", 3], ["ERROR", regs.ERROR_WRITE_REFUSED_MASK]],
+             {"check": {"SEGMENTS": 3}, "lut_codes": codes.tolist(),
+              "writes": [["SEGMENT_FRAMES", 3], ["ERROR", regs.ERROR_WRITE_REFUSED_MASK],
+                         ["HISTOGRAM_SHIFT", min(6, cfg.energy_bits - 1)]],   # s's bit 2
               "stop": starts[2]},
              {"soft_reset": True, "writes": [["HISTOGRAM_SHIFT", 1]], "stop": len(beats)},
              {"check": {"ERROR": every}, "writes": [["ERROR", every]], "stop": len(beats)}]
