@@ -112,6 +112,7 @@ def _axi_scene(cfg, seed: int):
 
     regs = constants_namespace(cfg)
     frames = make_frames("two-targets", cfg, 4 + 2 * len(FAULTS), seed=seed)
+    frames[1, 1] = cfg.pixel_max           # a full-scale line: the pixels' top bits
     beats, starts = fault_stretches(cfg, frames)
     frame = cfg.width * cfg.height
     every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
