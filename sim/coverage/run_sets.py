@@ -20,7 +20,8 @@ __all__ = ["AxiCase", "COUNTER_EVENTS", "COUNTER_CONFIG", "extra_cases", "axi_ca
 @dataclasses.dataclass(frozen=True)
 class AxiCase:
     """An AXI run of the coverage campaign: a configuration, seeds and the scene
-    (``"faults"``: :func:`_axi_scene`; ``"counters"``: :func:`counter_scene`)."""
+    (``"faults"``: :func:`_axi_scene`; ``"bright"``: the same with a full-scale line in every
+    frame; ``"counters"``: :func:`counter_scene`)."""
 
     name: str
     config: dict
@@ -58,7 +59,7 @@ def axi_cases() -> list[AxiCase]:
     small = dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
                  candidate_count=4, candidate_capacity=6, histogram_bits=6, histogram_shift=2)
     return [AxiCase("axi-12x10-k2-faults", small, 8),
-            AxiCase("axi-12x10-e9-saturating", dict(small, energy_bits=9), 4),
+            AxiCase("axi-12x10-e9-saturating", dict(small, energy_bits=9), 4, scene="bright"),
             AxiCase("axi-3x6-counters", COUNTER_CONFIG, 1, scene="counters")]
 
 
@@ -102,7 +103,7 @@ def counter_scene(cfg, seed: int, events: int = COUNTER_EVENTS):
     return head + bright, steps
 
 
-def _axi_scene(cfg, seed: int):
+def _axi_scene(cfg, seed: int, bright: bool = False):
     import numpy as np
 
     from dptbd.hw.flow.register_export import constants_namespace
@@ -112,7 +113,8 @@ def _axi_scene(cfg, seed: int):
 
     regs = constants_namespace(cfg)
     frames = make_frames("two-targets", cfg, 4 + 2 * len(FAULTS), seed=seed)
-    frames[1, 1] = cfg.pixel_max           # a full-scale line: the pixels' top bits
+    if bright:                             # a full-scale line in every frame: E saturates,
+        frames[:, 1] = cfg.pixel_max       # the weighted sums reach their top bits
     beats, starts = fault_stretches(cfg, frames)
     frame = cfg.width * cfg.height
     every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
@@ -165,7 +167,7 @@ def check_axi_run(case: AxiCase, seed: int, root, coverage: str):
         beats, steps = counter_scene(cfg, seed)
         gap, pause = 0.0, 0.5             # output stalls on every other cycle or so
     else:
-        beats, steps = _axi_scene(cfg, seed)
+        beats, steps = _axi_scene(cfg, seed, bright=case.scene == "bright")
         gap, pause = float(rng.uniform(0.0, 0.5)), float(rng.uniform(0.0, 0.9))
     result = check_axi(sim, beats, steps, valid_gap=gap, ready_pause=pause, seed=seed,
                        coverage=coverage)
