@@ -213,6 +213,15 @@ class DPConfig(FamilyFields):
         return non_saturating_energy_bits(self.input_bits, self.k_max)
 
     @property
+    def energy_reach_bits(self) -> int:
+        """B_reach = ``min(B_E, energy_bits_needed)``: the width of the largest E any input
+        reaches (K_max full-scale pixels, weights at most 1, clipped at E_max). A build with
+        ``B_E > B_reach`` has headroom: E's bits B_reach … B_E - 1 (and those of every value
+        bounded by E) never leave 0 when the stored states are the core's own, and
+        :meth:`build_config` builds the gateware with ``B_E = B_reach`` (same bits)."""
+        return min(self.energy_bits, self.energy_bits_needed)
+
+    @property
     def state_bits(self) -> int:
         """Width of one stored state (E, d): ``B_E + B_d`` bits per pixel."""
         return self.energy_bits + self.direction_bits

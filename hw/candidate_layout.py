@@ -11,6 +11,7 @@ them and the testbenches (Amaranth and cocotb) pack and unpack with the same fun
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 from amaranth.hdl import Shape, unsigned
 from amaranth.lib import data
@@ -44,6 +45,7 @@ def _width(value_range: range) -> int:
     return Shape.cast(value_range).width
 
 
+@functools.lru_cache(maxsize=64)    # one layout per configuration: packing a word is hot
 def record_layout(cfg: DPConfig) -> data.StructLayout:
     """One candidate point, (row, col, E, d).
 
@@ -64,6 +66,7 @@ def record_layout(cfg: DPConfig) -> data.StructLayout:
     })
 
 
+@functools.lru_cache(maxsize=64)    # one layout per configuration: packing a word is hot
 def trailer_layout(cfg: DPConfig) -> data.StructLayout:
     """The last word of every list.
 
@@ -93,6 +96,7 @@ def trailer_layout(cfg: DPConfig) -> data.StructLayout:
     })
 
 
+@functools.lru_cache(maxsize=64)    # one layout per configuration: packing a word is hot
 def candidate_layout(cfg: DPConfig) -> data.StructLayout:
     """Payload of the output stream ``candidates``: ``body`` (a record or a trailer, both
     from bit 0) and ``end_of_list`` (1: the body is the list's trailer) above it."""
@@ -113,6 +117,11 @@ def candidate_field_offsets(cfg: DPConfig) -> dict[str, dict]:
     }
 
 
+@functools.lru_cache(maxsize=64)
+def _body_width(cfg: DPConfig) -> int:
+    return candidate_layout(cfg)["body"].width
+
+
 def pack_record(cfg: DPConfig, row: int, col: int, energy: int, direction: int) -> int:
     """The ``candidates`` payload of a record (``end_of_list`` = 0)."""
     return pack(record_layout(cfg), {"row": row, "col": col, "energy": energy,
@@ -122,8 +131,7 @@ def pack_record(cfg: DPConfig, row: int, col: int, energy: int, direction: int) 
 def pack_trailer(cfg: DPConfig, **fields: int) -> int:
     """The ``candidates`` payload of a trailer (``end_of_list`` = 1); every field of
     :func:`trailer_layout` must be given (a model list's ``trailer`` with ``cut=0``)."""
-    body_width = candidate_layout(cfg)["body"].width
-    return pack(trailer_layout(cfg), fields, "trailer") | (1 << body_width)
+    return pack(trailer_layout(cfg), fields, "trailer") | (1 << _body_width(cfg))
 
 
 def pack_cut_trailer(cfg: DPConfig, count: int) -> int:

@@ -504,3 +504,19 @@ def test_describe_is_the_one_summary_line():
     cfg = DPConfig(width=40, height=24, segment_frames=6, input_bits=12, energy_bits=20,
                    weight_frac_bits=3, radius=2, rounding="half_up")
     assert cfg.describe() == "40x24, K=6, B_in=12, B_E=20, F=3, r=2, half_up"
+
+
+@pytest.mark.parametrize("kw, reach", [
+    (dict(segment_frames=2), 9),                          # 2 * 255 = 510: 9 of B_E = 16 bits
+    (dict(segment_frames=4, max_segment_frames=6), 11),   # K_max = 6: 1530
+    (dict(segment_frames=6, energy_bits=9), 9),           # saturating: all of B_E
+    (dict(segment_frames=1, input_bits=12), 12),
+    (dict(segment_frames=8, input_bits=12, energy_bits=15), 15),  # exactly the needed width
+])
+def test_energy_reach_bits_is_the_width_of_the_largest_reachable_energy(kw, reach):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        cfg = DPConfig(**kw)
+    assert cfg.energy_reach_bits == reach
+    assert cfg.energy_reach_bits == min(cfg.e_max, cfg.k_max * cfg.pixel_max).bit_length()
+    assert cfg.build_config().energy_bits == reach          # what dptbd verilog builds

@@ -39,7 +39,8 @@ import subprocess
 from typing import Iterable, Sequence
 
 __all__ = ["KINDS", "Point", "CoverageToolMissing", "find_verilator_coverage", "parse_dat",
-           "read_dat", "merge", "annotate", "source_map", "locate", "relative_src", "registers",
+           "read_dat", "merge", "annotate", "source_map", "locate", "relative_src",
+           "SOURCE_FOLDERS", "registers",
            "unescape", "usable"]
 
 #: Verilator's page kinds and the names reported.
@@ -138,15 +139,31 @@ def annotate(dat: str | os.PathLike, verilog_dir: str | os.PathLike,
                            f"{(result.stderr or result.stdout).strip()[-2000:]}")
 
 
+#: The repository's source folders (``pyproject.toml``'s package-dir): a ``src`` of another
+#: checkout is mapped by its path below one of them.
+SOURCE_FOLDERS = ("hw", "model", "sim", "dptbd")
+
+
 def relative_src(src: str) -> str:
     """``file:line`` with the file relative to the repository (``hw/segmenter.py:183``) or,
-    for Amaranth's own files, to its package (``amaranth/lib/stream.py:50``)."""
+    for Amaranth's own files, to its package (``amaranth/lib/stream.py:50``).
+
+    A build's text holds the absolute paths of the checkout that generated it, and its build
+    key does not name the checkout (the same sources give the same build): a build directory
+    shared by two checkouts gives one the other's paths. A path outside this repository is
+    therefore mapped by its longest tail that begins with a source folder
+    (:data:`SOURCE_FOLDERS`) and names a file of this repository
+    (``/elsewhere/hw/segmenter.py`` is ``hw/segmenter.py``)."""
     path, _, line = src.rpartition(":")
     p = pathlib.Path(path)
     try:
         return f"{p.resolve().relative_to(_REPO).as_posix()}:{line}"
     except ValueError:
         parts = p.parts
+        for i, part in enumerate(parts):
+            tail = pathlib.PurePosixPath(*parts[i:])
+            if part in SOURCE_FOLDERS and (_REPO / tail).is_file():
+                return f"{tail}:{line}"
         if "amaranth" in parts:
             return f"{pathlib.PurePosixPath(*parts[len(parts) - parts[::-1].index('amaranth') - 1:])}:{line}"
         return src

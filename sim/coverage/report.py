@@ -30,7 +30,6 @@ import json
 import os
 import pathlib
 import shutil
-import time
 from typing import Callable, Sequence
 
 from dptbd.sim.coverage.code import (
@@ -45,8 +44,18 @@ from dptbd.sim.coverage.code import (
     usable,
 )
 
-__all__ = ["GOALS", "Entry", "Summary", "AxiCase", "axi_cases", "extra_cases", "entries", "summarise",
-           "coverage_run", "RunMerger", "run_coverage", "write_report", "format_table"]
+from dptbd.sim.coverage.run_sets import (  # re-exported: their home was this module
+    AxiCase,
+    _config,
+    axi_cases,
+    coverage_run,
+    extra_cases,
+)
+
+__all__ = ["GOALS", "Entry", "Summary", "AxiCase", "axi_cases", "extra_cases", "entries",
+           "summarise",
+           "coverage_run", "RunMerger", "run_coverage", "write_report", "format_table",
+           "reachable_width", "reachable_toggle"]
 
 #: Goals per design: percent of line, branch and toggle points outside the exclusions.
 GOALS = {"axi": {"line": 100.0, "branch": 100.0, "toggle": 95.0},
@@ -99,6 +108,10 @@ class Summary:
     uncovered: list              # list of (name, [Entry, ...])
     stale: list                  # list of (Exclusion, reason)
     constant: list = dataclasses.field(default_factory=list)  # names proven constant
+    proofs: dict = dataclasses.field(default_factory=dict)    # build -> constant_bits.Proof
+    # design -> [covered, total, builds counted, builds]: toggle over the builds of reachable
+    # width only (reachable_width_builds)
+    reachable: dict = dataclasses.field(default_factory=dict)
 
     def figure(self, design: str, kind: str, module: str | None = None) -> tuple[int, int]:
         covered = total = 0
@@ -158,121 +171,6 @@ def summarise(all_entries: Sequence[Entry], exclusions: Sequence = (),
         elif all(matched[i]):
             stale.append((ex, "covered: the point is reached"))
     return Summary(dict(counts), uncovered, stale, proven)
-
-
-# ---- the AXI top's runs ------------------------------------------------------------------
-
-@dataclasses.dataclass(frozen=True)
-class AxiCase:
-    """An AXI run of the coverage campaign: a configuration and seeds."""
-
-    name: str
-    config: dict
-    runs: int
-    design: str = "axi"
-
-
-def extra_cases() -> list:
-    """Coverage runs beyond the campaign's cases (stimulus the campaign's parameter sets
-    cannot give): a segmenter whose energy saturates (B_E = 9 for 8-bit pixels), so the
-    high bits of E and of the weighted sums toggle."""
-    from dptbd.sim.campaign import Case
-
-    every = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
-    return [Case("segmenter-24x16-in8-e9-sat", dict(width=24, height=16, segment_frames=6,
-                                                    input_bits=8, energy_bits=9,
-                                                    candidate_count=3, histogram_bits=6),
-                 "segmenter", 300, 4, every)]
-
-
-def axi_cases() -> list[AxiCase]:
-    """The AXI top's coverage runs (the scenario of ``tests/sim/test_verilator_axi.py``)."""
-    small = dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
-                 candidate_count=4, candidate_capacity=6, histogram_bits=6, histogram_shift=2)
-    return [AxiCase("axi-12x10-k2-faults", small, 8),
-            AxiCase("axi-12x10-e9-saturating", dict(small, energy_bits=9), 4)]
-
-
-def _axi_scene(cfg, seed: int):
-    import numpy as np
-
-    from dptbd.hw.flow.register_export import constants_namespace
-    from dptbd.hw.register_map import FAULTS
-    from dptbd.sim.axi_stimulus import fault_stretches
-    from dptbd.sim.scenarios import make_frames
-
-    regs = constants_namespace(cfg)
-    frames = make_frames("two-targets", cfg, 4 + 2 * len(FAULTS), seed=seed)
-    beats, starts = fault_stretches(cfg, frames)
-    frame = cfg.width * cfg.height
-    every = sum(getattr(regs, f"ERROR_{k.upper()}_MASK") for k in FAULTS)
-    halved = (np.asarray(cfg.weight_codes) // 2).tolist()
-    from dptbd.hw.register_map import LUT_WINDOW_BASE, register_map
-
-    names = [reg.name for reg in register_map(cfg).registers]
-    top = max(getattr(regs, f"REG_{n}") for n in names)
-    from dptbd.sim.verilator_axi import SLVERR as slverr  # each refused, changing nothing
-
-    refused = [["w", regs.REG_SEGMENT_FRAMES + 1, 1, 0xF, slverr],             # unaligned
-               ["r", regs.REG_ID + 2, slverr, None],
-               ["w", top + 4, 7, 0xF, slverr], ["r", top + 4, slverr, None],   # unmapped
-               ["r", LUT_WINDOW_BASE, slverr, None],                            # a LUT read
-               ["w", LUT_WINDOW_BASE + 4, (1 << cfg.weight_frac_bits) + 1, 0xF,  # code > 2**F
-                slverr]]
-    steps = [{"check": {"ID": regs.MAGIC, **{n: None for n in names if n != "ID"}},
-              "writes": [["CONTROL", regs.CONTROL_CLEAR_COUNTERS_MASK]],   # nothing counted yet
-              "stop": 2 * frame},
-             {"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", 6],
-                         ["HISTOGRAM_SHIFT", cfg.energy_bits]], "bus": refused,
-              "stop": 4 * frame},
-             {"check": {"SEGMENTS": 3}, "lut_codes": halved,
-              "writes": [["SEGMENT_FRAMES", 3], ["ERROR", regs.ERROR_WRITE_REFUSED_MASK]],
-              "stop": starts[2]},
-             {"soft_reset": True, "writes": [["HISTOGRAM_SHIFT", 1]], "stop": len(beats)},
-             {"check": {"ERROR": every}, "writes": [["ERROR", every]], "stop": len(beats)}]
-    return beats, steps
-
-
-def check_axi_run(case: AxiCase, seed: int, root, coverage: str):
-    """Build (cached), run and check one AXI run on the coverage build."""
-    import numpy as np
-
-    from dptbd.sim.campaign import RunOutcome
-    from dptbd.sim.verilator import build
-    from dptbd.sim.verilator_axi import check_axi
-
-    start = time.perf_counter()
-    cfg = _config(case.config)
-    sim = build(cfg, "axi", root=root, coverage=True)
-    beats, steps = _axi_scene(cfg, seed)
-    rng = np.random.default_rng([seed, 0xA71])
-    gap, pause = float(rng.uniform(0.0, 0.5)), float(rng.uniform(0.0, 0.9))
-    result = check_axi(sim, beats, steps, valid_gap=gap, ready_pause=pause, seed=seed,
-                       coverage=coverage)
-    return RunOutcome(case.name, seed, result.passed, result.report(), len(beats),
-                      result.board.count, result.run.cycles, result.run.sim_seconds,
-                      time.perf_counter() - start, (f"gaps {gap:.2f}, back-pressure {pause:.2f}",))
-
-
-def _config(fields: dict):
-    """The configuration, its saturation warning silenced (a saturating set is chosen)."""
-    import warnings
-
-    from dptbd.config import DPConfig, EnergyWidthWarning
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EnergyWidthWarning)
-        return DPConfig(**fields)
-
-
-def coverage_run(case, seed: int, root, coverage: str):
-    """One run of the coverage campaign (a task of the execution layer): a campaign
-    :class:`~dptbd.sim.campaign.Case` through :func:`~dptbd.sim.campaign.check_run` (an AXI
-    case to :func:`dptbd.sim.axi_runs.check_run`), an :class:`AxiCase` through
-    :func:`check_axi_run`; its coverage data written to the file ``coverage``."""
-    if isinstance(case, AxiCase):
-        return check_axi_run(case, seed, root, coverage)
-    from dptbd.sim.campaign import check_run
-    return check_run(case, seed, root, coverage=coverage)
 
 
 class RunMerger:
@@ -343,14 +241,40 @@ def run_coverage(out: pathlib.Path, cases: Sequence, *, axi: Sequence[AxiCase] =
     return outcomes, builds
 
 
+def reachable_width(cfg) -> bool:
+    """Whether a build's widths are all reachable: ``B_E`` no wider than the largest E any
+    input reaches (:attr:`~dptbd.config.DPConfig.energy_reach_bits`), as ``dptbd verilog``
+    builds it (:meth:`~dptbd.config.DPConfig.build_config`)."""
+    return cfg.energy_bits == cfg.energy_reach_bits
+
+
+def reachable_toggle(all_entries: Sequence[Entry], exclusions: Sequence, constant: set,
+                     configs: dict) -> dict:
+    """Toggle covered / total per design over the builds of reachable width only
+    (:func:`reachable_width`; ``configs``: build name -> its DPConfig): a build wider than
+    that has E's headroom bits, which no input reaches and the default build does not have.
+    design -> [covered, total, builds counted, builds]."""
+    keep = {name for name, cfg in configs.items() if reachable_width(cfg)}
+    out = {}
+    for design in sorted({e.design for e in all_entries}):
+        names = {e.build for e in all_entries if e.design == design}
+        sub = summarise([e for e in all_entries if e.design == design and e.build in keep
+                         and e.kind == "toggle"], exclusions, constant)
+        covered, total = sub.figure(design, "toggle")
+        out[design] = [covered, total, len(names & keep), len(names)]
+    return out
+
+
 def write_report(out: pathlib.Path, builds: dict, exclusions: Sequence = (),
-                 annotate_sources: bool = True, prove_constants: bool = False) -> Summary:
+                 annotate_sources: bool = True, prove_constants: bool = False,
+                 proof_time_limit: float | None = None) -> Summary:
     """Merge each build's run files, map, summarise and write ``out``: ``report.md``,
     ``coverage.json``, ``merged/<build>.dat``, ``verilog/<build>/`` and ``annotated/``
     (``verilog/<build>/``: ``verilator_coverage --annotate``; ``amaranth/<design>/``: the
     Amaranth files, each line prefixed with its covered / total line and branch points)."""
     all_entries: list[Entry] = []
     constant: set = set()
+    proofs: dict = {}
     for name, (design, sim, dats) in sorted(builds.items()):
         dats = [pathlib.Path(d) for d in dats if pathlib.Path(d).exists()]
         if not dats:
@@ -367,8 +291,13 @@ def write_report(out: pathlib.Path, builds: dict, exclusions: Sequence = (),
         all_entries += entries(design, name, text, read_dat(merged))
         if prove_constants:
             from dptbd.sim.coverage.constant_bits import build_constant_bits
-            constant |= {(name, m, bit) for m, bit in build_constant_bits(sim)}
+            proofs[name] = build_constant_bits(sim, **({} if proof_time_limit is None else
+                                                       {"time_limit": proof_time_limit}))
+            constant |= {(name, m, bit) for m, bit in proofs[name].bits}
     summary = summarise(all_entries, exclusions, constant)
+    summary.proofs = proofs
+    summary.reachable = reachable_toggle(all_entries, exclusions, constant, {
+        name: sim.cfg for name, (_, sim, _) in builds.items()})
     if annotate_sources:
         _annotate_amaranth(out / "annotated" / "amaranth", all_entries)
     (out / "coverage.json").write_text(json.dumps(_jsonable(summary), indent=1) + "\n")
@@ -423,6 +352,11 @@ def _jsonable(summary: Summary) -> dict:
                       for _, g in summary.uncovered],
         "proven_constant": [{"design": d, "module": m, "bit": w}
                             for d, m, _, _, w in summary.constant],
+        "toggle_reachable_width": {d: {"covered": c, "total": t, "builds": n, "of": a}
+                                   for d, (c, t, n, a) in sorted(summary.reachable.items())},
+        "proofs": {name: {"bits": len(p.bits), "script": p.script,
+                          "seconds": round(p.seconds, 1), "stopped_after": p.stopped_after}
+                   for name, p in sorted(summary.proofs.items())},
         "stale_exclusions": [{"point": ex.point, "kind": ex.kind, "design": ex.design,
                               "what": ex.what, "reason": why} for ex, why in summary.stale],
     }
@@ -446,6 +380,11 @@ def format_table(summary: Summary) -> str:
             cells.append(f"{_pct(c, t)} {c:>6d}/{t:<6d}{ok}")
         rows.append((f"{TOP_NAMES.get(d, d):22s} " + " ".join(f"{x:>22s}" for x in cells))
                     .rstrip())
+    for d, (c, t, n, a) in sorted(summary.reachable.items()):
+        goal = GOALS.get(d, {}).get("toggle")
+        ok = "" if goal is None or not t else (" ok" if 100.0 * c >= goal * t else " <goal")
+        rows.append(f"{TOP_NAMES.get(d, d)}: toggle on the builds of reachable width "
+                    f"({n} of {a}): {_pct(c, t).strip()} {c}/{t}{ok}")
     rows.append(f"goals (dptbd_axi, dptbd_seg): line {GOALS['axi']['line']:.0f} %, branch "
                 f"{GOALS['axi']['branch']:.0f} %, toggle {GOALS['axi']['toggle']:.0f} %, "
                 f"outside the exclusions; {len(summary.uncovered)} uncovered line/branch/"
@@ -458,6 +397,15 @@ def _verilog(group: Sequence[Entry]) -> str:
     first = min(group, key=lambda e: (e.build, e.verilog_line))
     more = f" and {len(group) - 1} more" if len(group) > 1 else ""
     return f"Verilog line {first.verilog_line} of `verilog/{first.build}/`{more}"
+
+
+def _proof(proof) -> str:
+    """One build's proof: its script, its seconds, and the time limit it fell back from."""
+    from dptbd.sim.coverage.constant_bits import SCRIPT
+    text = f"{len(proof.bits)} bits, `{proof.script}`, {proof.seconds:.0f} s"
+    if proof.script != SCRIPT and proof.stopped_after is not None:
+        text += f" (`{SCRIPT}` stopped at its limit of {proof.stopped_after} s of CPU time)"
+    return text
 
 
 def _markdown(summary: Summary) -> str:
@@ -497,10 +445,12 @@ def _markdown(summary: Summary) -> str:
             if len(toggles) > 400:
                 lines.append(f"- … and {len(toggles) - 400} more (coverage.json)")
             lines.append("")
-    if summary.constant:
+    if summary.constant or summary.proofs:
         from dptbd.sim.coverage.constant_bits import REASON
         lines += [f"## Register bits excluded as proven constant ({len(summary.constant)})", "",
                   f"Reason: {REASON}.", ""]
+        lines += [f"- `{name}`: {_proof(proof)}" for name, proof in sorted(summary.proofs.items())]
+        lines.append("")
         by_reg = collections.defaultdict(list)
         for d, m, _, _, w in summary.constant:
             reg, _, bit = w.partition("[")

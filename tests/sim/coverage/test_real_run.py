@@ -6,6 +6,7 @@ the ``m.Default`` (an address beyond the table) stays uncovered."""
 
 from __future__ import annotations
 
+import dataclasses
 import inspect
 import json
 import shutil
@@ -103,7 +104,10 @@ def test_a_real_coverage_run_names_the_weight_lut_write_port(tmp_path):
     rows = annotated.read_text().splitlines()
     assert rows[default_body - 1].startswith("!!  0/")      # never reached
     assert list((out / "annotated" / "verilog" / sim.directory.name).iterdir())
-    assert summary == summarise(
+    # the report's own figures beside summarise's: CFG's B_E = 16 with K = 2 has headroom
+    # (E reaches 9 bits), so no build of reachable width; no proof asked
+    assert (summary.reachable, summary.proofs) == ({"segmenter": [0, 0, 0, 1]}, {})
+    assert dataclasses.replace(summary, reachable={}) == summarise(
         entries("segmenter", sim.directory.name, text,
                 read_dat(out / "merged" / f"{sim.directory.name}.dat")))
 

@@ -73,3 +73,33 @@ def test_runs_merge_as_they_finish_and_their_files_go(tmp_path):
     with pytest.raises(RuntimeError, match=whole(
             f"coverage run wrote no coverage file {tmp_path / 'none.dat'}")):
         merger.add(tmp_path / "none.dat")
+
+
+def test_the_toggle_figure_on_the_builds_of_reachable_width():
+    """b16: B_E = 16 with K = 2 (E reaches 9 bits: headroom); b9: B_E = 9 (saturates: every
+    bit reachable). The figure counts b9's points only: a bit that exists in b16 only (the
+    headroom energy[12]) is not counted, and one b16 toggled but b9 did not (energy[8]) is
+    uncovered."""
+    import warnings
+
+    from dptbd.config import DPConfig, EnergyWidthWarning
+    from dptbd.sim.coverage.report import Summary, reachable_toggle, reachable_width
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        configs = {"b16": DPConfig(segment_frames=2),
+                   "b9": DPConfig(segment_frames=6, energy_bits=9)}
+    assert not reachable_width(configs["b16"]) and reachable_width(configs["b9"])
+    points = [e("toggle", "hw/a.py:1", "energy[3]", 1, "b16"),
+              e("toggle", "hw/a.py:1", "energy[3]", 1, "b9"),
+              e("toggle", "hw/a.py:1", "energy[8]", 1, "b16"),
+              e("toggle", "hw/a.py:1", "energy[8]", 0, "b9"),
+              e("toggle", "hw/a.py:1", "energy[12]", 0, "b16"),
+              e("line", "hw/a.py:3", "if", 0, "b9"),
+              e("toggle", "hw/a.py:1", "q[0]", 0, "b1", design="axi", module="dptbd_axi.regs")]
+    reach = reachable_toggle(points, (), set(), {**configs, "b1": configs["b16"]})
+    assert reach == {"segmenter": [1, 2, 1, 2], "axi": [0, 0, 0, 1]}
+    s = Summary({}, [], [], reachable=reach)
+    assert format_table(s).splitlines()[1:3] == [
+        "dptbd_axi: toggle on the builds of reachable width (0 of 1): - 0/0",
+        "dptbd_seg: toggle on the builds of reachable width (1 of 2): 50.00 % 1/2 <goal"]
