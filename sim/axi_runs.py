@@ -57,7 +57,8 @@ from dptbd.hw.register_map import FAULTS, register_map
 from dptbd.sim.axi_stimulus import FAULT_KINDS, SETTINGS, Beats, clean_beats, with_fault
 from dptbd.sim.verilator_axi import OKAY, SLVERR
 
-__all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "NOW_SWEEP", "NOW_WAIT", "AxiPlan",
+__all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "NOW_SWEEP", "NOW_WAIT", "ARESETN_NOW",
+           "AxiPlan",
            "draw_run", "check_run"]
 
 #: What an AXI case's runs may draw (``Case.faults``): the frame-sync fault classes,
@@ -69,7 +70,8 @@ AXI_FAULTS = (*FAULT_KINDS, "soft_reset", "aresetn", "settings", "lut", "bus",
 
 #: What a run's steps do besides the checked reads, counted in :attr:`AxiPlan.drawn`.
 ACTIONS = ("settings", "no_strobe", "no_sof", "irq_enable", "lut_table", "lut_entry",
-           "soft_reset", "soft_reset_now", "aresetn", "clear_counters", "w1c_error", "w1c_irq", "check")
+           "soft_reset", "soft_reset_now", "aresetn", "aresetn_now",
+           "clear_counters", "w1c_error", "w1c_irq", "check")
 #: The refused accesses, counted in :attr:`AxiPlan.drawn`: a setting out of range, a
 #: setting's strobed byte out of range, a LUT code out of range, a LUT write without all
 #: strobes, an unaligned write / read, a read of the LUT window, a read / write of an
@@ -137,8 +139,9 @@ def _positions(cfg: DPConfig, n_beats: int, starts: list[int], rng) -> list[int]
 class _Drawer:
     """Draws the steps' actions, tracking what the registers hold."""
 
-    def __init__(self, cfg: DPConfig, rng, drawn):
+    def __init__(self, cfg: DPConfig, rng, drawn, aux=None):
         self.cfg, self.rng, self.drawn = cfg, rng, drawn
+        self.aux = aux if aux is not None else rng     # draws added later: their own stream
         self.map = register_map(cfg)
         self.unity = 1 << cfg.weight_frac_bits
         self.reset_values()
@@ -146,6 +149,9 @@ class _Drawer:
         lut = self.map.window("LUT")
         self.unmapped = [a for a in range(0, 1 << self.map.address_bits, 4)
                          if a not in mapped and not lut.base <= a < lut.end]
+        taken = mapped | set(range(lut.base, lut.end, 4))
+        #: unmapped words next to a register or the LUT window (decoders' edges)
+        self.edges = [a for a in self.unmapped if a - 4 in taken or a + 4 in taken]
         self.lut = lut
 
     def reset_values(self):
@@ -243,8 +249,11 @@ class _Drawer:
         elif kind == "unmapped_read":
             ops.append(["r", self.pick(self.unmapped), SLVERR, 0])
         elif kind == "unmapped_write":
-            ops.append(["w", self.pick(self.unmapped), int(rng.integers(0, 2**32)), 0xF,
-                        SLVERR])
+            address, data = self.pick(self.unmapped), int(rng.integers(0, 2**32))
+            if self.aux.random() < 0.5:          # next to a decoded range, a word a LUT
+                address = self.edges[int(self.aux.integers(0, len(self.edges)))]
+                data = int(self.aux.integers(0, self.unity + 1))   # entry would take
+            ops.append(["w", address, data, 0xF, SLVERR])
         else:                                    # a constant, a counter or the status
             ro_kind = self.pick(["constant", "counter", "status"])
             ro = [r for r in self.map.registers if r.access == "ro" and r.kind == ro_kind]
@@ -331,6 +340,10 @@ def _fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict]) -> np.ndarray:
 #: drawn anywhere, each alone in its step), the j-th (from 0) after j idle cycles: at full
 #: input speed the j-th finds L - j words in flight (0 from j = L on; the builds' L is 17).
 NOW_SWEEP = 20
+#: Probability of an ``aresetn`` with words in flight after a step (``aresetn_wait``: held
+#: low 1–4 cycles at a beat drawn in the step's stretch, after 0 … :data:`NOW_WAIT` idle
+#: cycles; its own random stream, so the rest of a seed's run is drawn as without it).
+ARESETN_NOW = 0.1
 #: Idle cycles before a soft reset of ``"now"``: 0 half the time, else uniform in
 #: 1 … ``NOW_WAIT`` (the builds' L is 17), so that it finds every number of words in flight.
 NOW_WAIT = 20
@@ -363,12 +376,13 @@ def draw_run(case, seed: int) -> AxiPlan:
     beats, starts, notes = _stream(cfg, frames, [k for k in FAULT_KINDS if k in allowed], rng,
                                    drawn)
     gap, pause = (_density(band, rng) for band in divmod(seed % 9, 3))
-    d = _Drawer(cfg, rng, drawn)
+    d = _Drawer(cfg, rng, drawn, np.random.default_rng([seed, 0xA73]))
     steps = []
     regmap = d.map
     sweep = (sorted(int(b) for b in rng.integers(0, len(beats) + 1, size=NOW_SWEEP))
              if gap == 0 and "soft_reset" in allowed else [])
     waits = list(range(len(sweep)))
+    hard = np.random.default_rng([seed, 0xA72])         # aresetn with words in flight
     for stop in [*_positions(cfg, len(beats), starts, rng), len(beats)]:
         while sweep and sweep[0] < stop:        # soft resets with 0 … L words in flight
             steps.append({"soft_reset": "now", "soft_reset_wait": waits.pop(0),
@@ -412,6 +426,15 @@ def draw_run(case, seed: int) -> AxiPlan:
             drawn["w1c_irq"] += 1
         step["stop"] = stop
         steps.append(step)
+        begin = steps[-2]["stop"] if len(steps) > 1 else 0
+        if hard.random() < ARESETN_NOW and "aresetn" in allowed and stop > begin + 1:
+            # after the step's operations, at a beat drawn in its stretch, 0 … NOW_WAIT
+            # idle cycles after the last beat
+            step["stop"] = int(hard.integers(begin + 1, stop))
+            steps.append({"aresetn": int(hard.integers(1, 5)), "aresetn_wait": _wait(hard),
+                          "stop": stop})
+            d.reset_values()
+            drawn["aresetn_now"] += 1
     last = {"stop": len(beats)}
     d.check(last)                                        # everything, after the last beat
     steps.append(last)
