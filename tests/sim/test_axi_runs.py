@@ -126,7 +126,7 @@ def test_error_and_fault_counters_follow_pulses_refusals_and_clears():
                                              0xF, 0]], "stop": len(beats)},
              {"check": dict(model), "clear_counters": True, "stop": len(beats)},
              {"check": dict(model), "stop": len(beats)}]
-    pulses = axi_runs._fill_checks(cfg, beats, steps)
+    pulses = axi_runs.fill_checks(cfg, beats, steps)
     assert pulses.sum(axis=0).tolist() == [0, 1, 0, 0]
     assert [s["check"] for s in steps[1:]] == [
         {"ERROR": regs.ERROR_WRITE_REFUSED_MASK, "FAULT_FRAME_SHORT": 0, "FAULT_FRAME_LONG": 0},
@@ -241,14 +241,14 @@ def test_a_wrong_model_fails_the_run(monkeypatch):
     outcome = check_run(CASE, seed)
     assert not outcome.passed and outcome.report.startswith(f"seed {seed}: done; ")
     monkeypatch.undo()
-    fill = axi_runs._fill_checks
+    fill = axi_runs.fill_checks
 
     def wrong_error(cfg, beats, steps):
         pulses = fill(cfg, beats, steps)
         steps[-1]["check"]["ERROR"] ^= 1 << 31
         return pulses
 
-    monkeypatch.setattr(axi_runs, "_fill_checks", wrong_error)
+    monkeypatch.setattr(axi_runs, "fill_checks", wrong_error)
     outcome = check_run(CASE, 0)
     assert not outcome.passed and "read ERROR = " in outcome.report
 
