@@ -68,7 +68,7 @@ def test_score_counts_only_killed():
 
 def test_slice_runs_scaled():
     assert R.slice_runs("axi", 0.01) == (("faults", 0), ("backpressure", 1), ("random", 0),
-                                         ("counters", 0))
+                                         ("lut", 0), ("counters", 0))
     assert len(R.slice_runs("segmenter")) == len(R.SLICE_RUNS["segmenter"])
 
 
