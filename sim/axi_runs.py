@@ -11,7 +11,8 @@
   :data:`~dptbd.sim.coverage.bins.BANDS` (none: 0; light: uniform in (0, 0.35); heavy:
   uniform in [0.35, 0.7]), the pair of bands the seed modulo 9 (nine consecutive seeds
   draw every pair);
-* steps (the bench's vocabulary, :func:`dptbd.sim.verilator_axi.step_operations`) at beats
+* steps (the bench's vocabulary, :func:`dptbd.sim.verilator_axi.step_operations`; the
+  register traffic from :class:`~dptbd.sim.axi_actions.Drawer`) at beats
   drawn on frame starts, line starts, inside a frame's first or last row and anywhere,
   each with some of: run-time K / n / s writes (n often 0, 1, 2 or C, s mostly near the
   build's), refused setting writes (below or above every writable register's range, the
@@ -20,14 +21,16 @@
   ``IRQ_ENABLE`` writes, a whole LUT (codes in [0, 2**F], 0 and 2**F included) or single
   entries (codes 0, 2**F, in between; refused: 2**F + 1, the field's maximum, all ones,
   strobes other than 1111), unaligned writes and reads, reads of the write-only LUT window
-  and of unmapped addresses, writes to unmapped and read-only registers (a
+  and of unmapped addresses, writes to unmapped (half the time next to a register or the
+  LUT window, with a code the LUT would take) and read-only registers (a
   constant, a counter or STATUS, a third each), soft resets at
   any beat of a frame (the model restarts at the soft reset's beat), half of them after the
   pipeline drained (a list left open in a scored frame is then closed by the cut trailer:
   :class:`~dptbd.sim.axi_stimulus.CutList`), half with words in flight and back-pressure
   (``soft_reset: "now"``, after ``soft_reset_wait`` idle cycles, 0 half the time, else up
   to :data:`NOW_WAIT`: the lists before it whole, then at most one list's first records
-  closed by the cut trailer; the FRAMES … SATURATED counters are then not checked), and in
+  closed by the cut trailer; FRAMES … SATURATED read right after it, the base of their
+  check at the end), and in
   the runs without input gaps a sweep of :data:`NOW_SWEEP` more of these at beats drawn
   anywhere, with 0, 1, 2 … idle cycles before them (so that the campaign's soft resets
   find every number of words in flight, 0 … L),
@@ -39,9 +42,10 @@
 candidate word, its ``tuser[0]`` / ``tlast``, every response and checked read, the end
 counters). ``aresetn`` is held low for 1–4 cycles at some steps after the pipeline drained
 (every register but the LUT back to its reset value, the counters 0; a list left open is
-abandoned: its records sent, no trailer). Not drawn: ``aresetn`` with words in flight, and
-``m_axis_state`` (the Verilator build has none; the cocotb bench :mod:`dptbd.sim.tb_axi`
-checks it).
+abandoned: its records sent, no trailer) and after some steps with words in flight
+(``aresetn_wait``, :data:`ARESETN_NOW`: the lists before it whole, then at most one list's
+first records, no trailer). Not drawn: ``m_axis_state`` (the Verilator build has none; the
+cocotb bench :mod:`dptbd.sim.tb_axi` checks it).
 """
 
 from __future__ import annotations
@@ -53,11 +57,13 @@ import time
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.hw.register_map import FAULTS, register_map
-from dptbd.sim.axi_stimulus import FAULT_KINDS, SETTINGS, Beats, clean_beats, with_fault
-from dptbd.sim.verilator_axi import OKAY, SLVERR
+from dptbd.hw.register_map import FAULTS
+from dptbd.sim.axi_actions import ACTIONS, REFUSALS, Drawer, fill_checks
+from dptbd.sim.axi_stimulus import FAULT_KINDS, Beats, clean_beats, with_fault
+from dptbd.sim.verilator_axi import OKAY
 
-__all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "NOW_SWEEP", "NOW_WAIT", "AxiPlan",
+__all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "NOW_SWEEP", "NOW_WAIT", "ARESETN_NOW",
+           "AxiPlan",
            "draw_run", "check_run"]
 
 #: What an AXI case's runs may draw (``Case.faults``): the frame-sync fault classes,
@@ -66,17 +72,6 @@ __all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "NOW_SWEEP", "NOW_WAIT", "AxiPla
 #: and strobes), refused bus accesses, counter clears.
 AXI_FAULTS = (*FAULT_KINDS, "soft_reset", "aresetn", "settings", "lut", "bus",
               "clear_counters")
-
-#: What a run's steps do besides the checked reads, counted in :attr:`AxiPlan.drawn`.
-ACTIONS = ("settings", "no_strobe", "no_sof", "irq_enable", "lut_table", "lut_entry",
-           "soft_reset", "soft_reset_now", "aresetn", "clear_counters", "w1c_error", "w1c_irq", "check")
-#: The refused accesses, counted in :attr:`AxiPlan.drawn`: a setting out of range, a
-#: setting's strobed byte out of range, a LUT code out of range, a LUT write without all
-#: strobes, an unaligned write / read, a read of the LUT window, a read / write of an
-#: unmapped address, a write to a read-only register.
-REFUSALS = ("setting_range", "setting_strobe", "lut_code", "lut_strobe", "unaligned_write",
-            "unaligned_read", "lut_read", "unmapped_read", "unmapped_write", "read_only_write")
-
 
 @dataclasses.dataclass(frozen=True)
 class AxiPlan:
@@ -134,203 +129,14 @@ def _positions(cfg: DPConfig, n_beats: int, starts: list[int], rng) -> list[int]
     return sorted(out)
 
 
-class _Drawer:
-    """Draws the steps' actions, tracking what the registers hold."""
-
-    def __init__(self, cfg: DPConfig, rng, drawn):
-        self.cfg, self.rng, self.drawn = cfg, rng, drawn
-        self.map = register_map(cfg)
-        self.unity = 1 << cfg.weight_frac_bits
-        self.reset_values()
-        mapped = {r.address for r in self.map.registers}
-        lut = self.map.window("LUT")
-        self.unmapped = [a for a in range(0, 1 << self.map.address_bits, 4)
-                         if a not in mapped and not lut.base <= a < lut.end]
-        self.lut = lut
-
-    def reset_values(self):
-        """The writable registers' values after ``aresetn``."""
-        self.values = {name: self.map[name].reset for name in (*SETTINGS, "VIDEO_INPUT",
-                                                                "IRQ_ENABLE")}
-
-    def pick(self, seq):
-        return seq[int(self.rng.integers(0, len(seq)))]
-
-    def settings(self, step):
-        rng, writes = self.rng, step.setdefault("writes", [])
-        for name in rng.permutation(list(SETTINGS))[:int(rng.integers(1, 4))]:
-            lo, hi = self.map[name].fields[0].limits
-            choices = [lo, hi, int(rng.integers(lo, hi + 1))]
-            if name == "HISTOGRAM_SHIFT":        # mostly near the build's s: lists with records
-                s = self.map[name].reset
-                choices += [s, s, max(lo, s - 1), min(hi, s + 1)]
-            elif name == "CANDIDATE_COUNT":      # small n: lists of exactly n records
-                choices += [min(hi, 1), min(hi, 2)]
-            value = int(self.pick(choices))
-            writes.append([str(name), value])
-            self.values[name] = value
-        self.drawn["settings"] += 1
-
-    def refused_setting(self, step):
-        name = self.pick([*SETTINGS, "VIDEO_INPUT"])
-        lo, hi = self.map[name].fields[0].limits
-        value = self.pick(([lo - 1] if lo > 0 else []) + [hi + 1, 2**32 - 1])
-        step.setdefault("writes", []).append([name, int(value)])
-        self.drawn["setting_range"] += 1
-
-    def strobed(self, step):
-        """A setting written through one strobed byte: out of range (refused) or no strobe
-        at all (taken, nothing changes)."""
-        name = self.pick([*SETTINGS, "VIDEO_INPUT"])
-        address = self.map[name].address
-        if self.rng.random() < 0.5:
-            lane = int(self.rng.integers(1, 4))
-            assert self.map[name].fields[0].limits[1] < 256
-            step.setdefault("bus", []).append(["w", address, 2**32 - 1, 1 << lane, SLVERR])
-            self.drawn["setting_strobe"] += 1
-        else:
-            data = int(self.rng.integers(0, 2**32))
-            step.setdefault("bus", []).append(["w", address, data, 0, OKAY])
-            self.drawn["no_strobe"] += 1
-
-    def no_sof(self, step):
-        value = 1 - self.values["VIDEO_INPUT"]
-        step.setdefault("writes", []).append(["VIDEO_INPUT", value])
-        self.values["VIDEO_INPUT"] = value
-        self.drawn["no_sof"] += 1
-
-    def irq_enable(self, step):
-        value = int(self.rng.integers(0, 2**32))
-        step.setdefault("writes", []).append(["IRQ_ENABLE", value])
-        self.values["IRQ_ENABLE"] = value & 3
-        self.drawn["irq_enable"] += 1
-
-    def lut_table(self, step):
-        cfg, rng = self.cfg, self.rng
-        codes = rng.integers(0, self.unity + 1, size=(cfg.n_moves + 1, cfg.n_moves))
-        codes.flat[rng.integers(0, codes.size, size=2)] = [0, self.unity]
-        step["lut_codes"] = codes.tolist()
-        self.drawn["lut_table"] += 1
-
-    def lut_entries(self, step):
-        cfg, rng = self.cfg, self.rng
-        top = (1 << cfg.weight_bits) - 1
-        for _ in range(int(rng.integers(1, 5))):
-            p, m = int(rng.integers(0, cfg.n_moves + 1)), int(rng.integers(0, cfg.n_moves))
-            code = int(self.pick([0, self.unity, int(rng.integers(0, self.unity + 1)),
-                                  self.unity + 1, top, 2**32 - 1]))
-            strobe = 0xF if rng.random() < 0.75 else int(self.pick([0, 1, 7, 8, 0xE]))
-            step.setdefault("lut_writes", []).append([p, m, code, strobe])
-            if strobe != 0xF:
-                self.drawn["lut_strobe"] += 1
-            elif code > self.unity:
-                self.drawn["lut_code"] += 1
-            else:
-                self.drawn["lut_entry"] += 1
-
-    def bus(self, step):
-        rng, ops = self.rng, step.setdefault("bus", [])
-        kind = self.pick(REFUSALS[4:])
-        reg = self.pick(self.map.registers)
-        if kind == "unaligned_write":
-            ops.append(["w", reg.address + int(rng.integers(1, 4)),
-                        int(rng.integers(0, 2**32)), 0xF, SLVERR])
-        elif kind == "unaligned_read":
-            ops.append(["r", reg.address + int(rng.integers(1, 4)), SLVERR, 0])
-        elif kind == "lut_read":
-            ops.append(["r", self.lut.base + 4 * int(rng.integers(0, self.lut.entries)),
-                        SLVERR, 0])
-        elif kind == "unmapped_read":
-            ops.append(["r", self.pick(self.unmapped), SLVERR, 0])
-        elif kind == "unmapped_write":
-            ops.append(["w", self.pick(self.unmapped), int(rng.integers(0, 2**32)), 0xF,
-                        SLVERR])
-        else:                                    # a constant, a counter or the status
-            ro_kind = self.pick(["constant", "counter", "status"])
-            ro = [r for r in self.map.registers if r.access == "ro" and r.kind == ro_kind]
-            ops.append(["w", self.pick(ro).address, int(rng.integers(0, 2**32)), 0xF,
-                        SLVERR])
-        self.drawn[kind] += 1
-
-    def check(self, step):
-        """Reads of every readable register: the values known now, the rest filled in by
-        :func:`_fill_checks` (ERROR, fault counters) or left unchecked (None)."""
-        want = {}
-        for reg in self.map.registers:
-            if reg.kind == "constant":
-                want[reg.name] = reg.reset
-            elif reg.name in self.values:
-                want[reg.name] = self.values[reg.name]
-            elif reg.kind in ("pulse", "status"):
-                want[reg.name] = 0               # pulses read 0; no soft reset in progress
-            elif reg.name == "ERROR" or reg.name.startswith("FAULT_"):
-                want[reg.name] = "model"
-            else:
-                want[reg.name] = None
-        step["check"] = want
-        self.drawn["check"] += 1
-
-
-def _fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict]) -> np.ndarray:
-    """ERROR and FAULT_* of every check from the frame monitor's pulses
-    (:func:`~dptbd.sim.verilator_axi.fault_pulse_array`, returned), refused writes, W1C
-    clears and counter clears, in the order :func:`~dptbd.sim.verilator_axi.step_operations`
-    performs them."""
-    from dptbd.sim.verilator_axi import fault_pulse_array
-
-    regmap = register_map(cfg)
-    error = {f.name: f for f in regmap["ERROR"].fields}
-    pulses = fault_pulse_array(cfg, beats, steps)
-    seen = np.cumsum(np.vstack([np.zeros((1, len(FAULTS)), np.int64), pulses]), axis=0)
-    counted_from = 0                                  # beat of the last clear_counters
-    cleared_at = {name: 0 for name in FAULTS}         # beat of each bit's last W1C
-    refused = False
-    unity = 1 << cfg.weight_frac_bits
-    start = 0
-    for step in steps:
-        check = step.get("check") or {}
-        for i, name in enumerate(FAULTS):
-            if check.get(f"FAULT_{name.upper()}") == "model":
-                check[f"FAULT_{name.upper()}"] = int(seen[start, i] - seen[counted_from, i])
-        if check.get("ERROR") == "model":
-            word = sum(error[name].mask for i, name in enumerate(FAULTS)
-                       if seen[start, i] > seen[cleared_at[name], i])
-            check["ERROR"] = word | (error["write_refused"].mask if refused else 0)
-        if step.get("aresetn"):                   # everything but the LUT back to reset
-            counted_from, refused = start, False
-            cleared_at = {name: start for name in FAULTS}
-        if step.get("clear_counters"):
-            counted_from = start
-        for name, value in step.get("writes", []):
-            reg = regmap[name]
-            if reg.kind == "setting":
-                lo, hi = reg.fields[0].limits
-                refused |= not lo <= value <= hi
-        for p, m, code, strobe in step.get("lut_writes", []):
-            refused |= strobe != 0xF or not 0 <= code <= unity
-        for kind, address, *rest in step.get("bus", []):
-            if kind != "w":
-                continue
-            if address % 4:
-                refused = True
-            elif address == regmap["ERROR"].address:
-                data = rest[0]
-                for i, name in enumerate(FAULTS):
-                    if data >> error[name].lsb & 1:
-                        cleared_at[name] = start
-                if data >> error["write_refused"].lsb & 1:
-                    refused = False
-            elif rest[2] == SLVERR and any(r.address == address and r.kind == "setting"
-                                           for r in regmap.registers):
-                refused = True
-        start = step["stop"]
-    return pulses
-
-
 #: Soft resets of ``"now"`` that a run without input gaps draws besides its steps' (at beats
 #: drawn anywhere, each alone in its step), the j-th (from 0) after j idle cycles: at full
 #: input speed the j-th finds L - j words in flight (0 from j = L on; the builds' L is 17).
 NOW_SWEEP = 20
+#: Probability of an ``aresetn`` with words in flight after a step (``aresetn_wait``: held
+#: low 1–4 cycles at a beat drawn in the step's stretch, after 0 … :data:`NOW_WAIT` idle
+#: cycles; its own random stream, so the rest of a seed's run is drawn as without it).
+ARESETN_NOW = 0.1
 #: Idle cycles before a soft reset of ``"now"``: 0 half the time, else uniform in
 #: 1 … ``NOW_WAIT`` (the builds' L is 17), so that it finds every number of words in flight.
 NOW_WAIT = 20
@@ -363,12 +169,13 @@ def draw_run(case, seed: int) -> AxiPlan:
     beats, starts, notes = _stream(cfg, frames, [k for k in FAULT_KINDS if k in allowed], rng,
                                    drawn)
     gap, pause = (_density(band, rng) for band in divmod(seed % 9, 3))
-    d = _Drawer(cfg, rng, drawn)
+    d = Drawer(cfg, rng, drawn, np.random.default_rng([seed, 0xA73]))
     steps = []
     regmap = d.map
     sweep = (sorted(int(b) for b in rng.integers(0, len(beats) + 1, size=NOW_SWEEP))
              if gap == 0 and "soft_reset" in allowed else [])
     waits = list(range(len(sweep)))
+    hard = np.random.default_rng([seed, 0xA72])         # aresetn with words in flight
     for stop in [*_positions(cfg, len(beats), starts, rng), len(beats)]:
         while sweep and sweep[0] < stop:        # soft resets with 0 … L words in flight
             steps.append({"soft_reset": "now", "soft_reset_wait": waits.pop(0),
@@ -412,6 +219,15 @@ def draw_run(case, seed: int) -> AxiPlan:
             drawn["w1c_irq"] += 1
         step["stop"] = stop
         steps.append(step)
+        begin = steps[-2]["stop"] if len(steps) > 1 else 0
+        if hard.random() < ARESETN_NOW and "aresetn" in allowed and stop > begin + 1:
+            # after the step's operations, at a beat drawn in its stretch, 0 … NOW_WAIT
+            # idle cycles after the last beat
+            step["stop"] = int(hard.integers(begin + 1, stop))
+            steps.append({"aresetn": int(hard.integers(1, 5)), "aresetn_wait": _wait(hard),
+                          "stop": stop})
+            d.reset_values()
+            drawn["aresetn_now"] += 1
     last = {"stop": len(beats)}
     d.check(last)                                        # everything, after the last beat
     steps.append(last)
@@ -423,7 +239,7 @@ def draw_run(case, seed: int) -> AxiPlan:
                                                *(f"FAULT_{k.upper()}" for k in FAULTS))}
         steps[j]["stop"], follow["stop"] = follow["stop"], steps[j]["stop"]
         steps.insert(j + 1, follow)
-    pulses = _fill_checks(cfg, beats, steps)
+    pulses = fill_checks(cfg, beats, steps)
     notes = [f"gaps {gap:.2f}, back-pressure {pause:.2f}", f"{len(steps)} steps",
              *notes, "drawn " + ", ".join(f"{k} {v}" for k, v in drawn.items() if v)]
     return AxiPlan(beats, steps, gap, pause, tuple(notes), dict(drawn), pulses)

@@ -282,16 +282,18 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
     sampled as the gateware samples them. With ``cut_lists`` a soft reset's pipeline is taken
     as drained (the soft reset waits for the last beat's outputs) and the list it cuts, if
     one is open, follows the piece's lists (:class:`CutList`; ``drained`` False for a
-    ``soft_reset`` of ``"now"``, which loses the words in flight); without, soft resets are
+    ``soft_reset`` of ``"now"`` and an ``aresetn`` with ``aresetn_wait``, which lose the
+    words in flight); without, soft resets are
     taken to land where no list is open. With ``cut_lists``, ``open_records`` are the records
     of the list the stream's end leaves open (sent, never closed)."""
     lists, frames, segments, saturated = [], 0, 0, 0
     words, positions, first = [], [], []
     pieces = stream_pieces(cfg, steps)
-    now, hard, start = set(), set(), 0
+    now, hard, lost, start = set(), set(), set(), 0
     for step in steps:
         now |= {start} if step.get("soft_reset") == "now" else set()
         hard |= {start} if step.get("aresetn") else set()
+        lost |= {start} if step.get("aresetn") and "aresetn_wait" in step else set()
         start = step["stop"]
     list_starts, open_records = [], ()
     for n, piece in enumerate(pieces):
@@ -303,7 +305,9 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
         lists += piece_lists
         if cut_lists and n < len(pieces) - 1:
             cut = _cut_list(cfg, piece, beats, expect, piece_lists,
-                            piece.stop not in now or piece.stop in hard, piece.stop not in hard)
+                            piece.stop not in lost and (piece.stop not in now
+                                                        or piece.stop in hard),
+                            piece.stop not in hard)
             lists += [cut] if cut is not None else []
         elif cut_lists:                 # the stream ends inside a list: its records so far
             from dptbd.sim.candidate_scoreboard import list_words

@@ -25,16 +25,22 @@ import numpy as np
 
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS, register_map
-from dptbd.sim.axi_stimulus import (Beats, CutList, expected_outputs, fault_pulses,
-                                    stream_pieces)
-from dptbd.sim.candidate_scoreboard import CandidateScoreboard, list_words
+from dptbd.sim.axi_stimulus import Beats, expected_outputs, fault_pulses, stream_pieces
+from dptbd.sim.axi_scoring import (delivered_lists, flag_problems, score_exact,
+                                   score_in_parts, undrained_cuts)
+from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.verilator import _check_probability, cycle_budget
 from dptbd.sim.verilator_build import VerilatorBuild
 
-__all__ = ["OKAY", "SLVERR", "AxiRun", "AxiCheck", "beat_words", "step_operations", "run_axi",
+__all__ = ["OKAY", "SLVERR", "CUT_COUNTERS", "AxiRun", "AxiCheck", "beat_words", "step_operations", "run_axi",
            "check_axi", "fault_pulse_array", "no_sof_mask"]
 
 OKAY, SLVERR = 0, 2
+
+#: The counters of the core's events, which a reset with words in flight leaves at a count
+#: that depends on timing: read right after every ``soft_reset: "now"`` (the base of their
+#: check at the end) and LISTS checked there against the lists delivered.
+CUT_COUNTERS = ("FRAMES", "SEGMENTS", "LISTS", "SATURATED")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -81,9 +87,12 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
     and ``settle`` idle cycles.
 
     ``soft_reset`` may be ``"now"``: no settle before it (``soft_reset_wait`` idle cycles
-    if given), and then a wait until ``STATUS.soft_reset_busy`` reads 0 (check
-    ``("wait", "STATUS", beat)``). ``aresetn``
-    (cycles) holds ``aresetn`` low after the settle and the check reads.
+    if given), then a wait until ``STATUS.soft_reset_busy`` reads 0 (check
+    ``("wait", "STATUS", beat)``), then reads of :data:`CUT_COUNTERS` (checks ``("cut",
+    name, beat)``). ``aresetn`` (cycles) holds ``aresetn`` low after the settle and the
+    check reads; with ``aresetn_wait`` (idle cycles, may be 0) instead of the settle, with
+    words in flight, and then a read of STATUS (``("mark", "STATUS", beat)``: the cycle
+    of the cut).
     Besides the bench's keys a step may hold ``clear_counters`` (a ``CONTROL.clear_counters``
     pulse after the settle and the check reads, before a soft reset), ``lut_writes``
     (``[p, m, code, wstrb]``: single LUT entries, after ``lut_codes``; refused unless
@@ -104,12 +113,17 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
     unity = 1 << cfg.weight_frac_bits
     for step in steps:
         if (step.get("check") or step.get("soft_reset") is True or step.get("clear_counters")
-                or step.get("aresetn")):
+                or (step.get("aresetn") and "aresetn_wait" not in step)):
             ops.append((start, "i", settle, 0))
         for name, want in (step.get("check") or {}).items():
             read(start, name, want)
         if step.get("aresetn"):
+            if step.get("aresetn_wait"):
+                ops.append((start, "i", int(step["aresetn_wait"]), 0))
             ops.append((start, "a", int(step["aresetn"]), 0))
+        if step.get("aresetn") and "aresetn_wait" in step:   # the cycle of the cut
+            ops.append((start, "b", regs.REG_STATUS, 0))
+            checks.append(("mark", "STATUS", start))
         if step.get("clear_counters"):
             write(start, regs.REG_CONTROL, regs.CONTROL_CLEAR_COUNTERS_MASK, OKAY, "CONTROL")
         if step.get("soft_reset") == "now" and step.get("soft_reset_wait"):
@@ -119,6 +133,9 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
         if step.get("soft_reset") == "now":
             ops.append((start, "b", regs.REG_STATUS, 0))
             checks.append(("wait", "STATUS", start))
+            for name in CUT_COUNTERS:           # what the cut left: the base of the end check
+                ops.append((start, "r", getattr(regs, f"REG_{name}"), 0))
+                checks.append(("cut", name, start))
         for name, value in step.get("writes", []):
             reg = regmap[name]
             limits = reg.fields[0].limits if reg.kind == "setting" else (0, 2**32 - 1)
@@ -223,23 +240,6 @@ class AxiCheck:
         return "; ".join([self.run.status, self.board.report(), *self.problems[:10]])
 
 
-def _flag_problems(cfg, lists, flags: np.ndarray) -> list[str]:
-    """``tuser[0]`` on a list's first word, ``tlast`` on its trailer, for each word."""
-    sizes = np.asarray([len(words) for words in list_words(cfg, lists)], dtype=np.int64)
-    closed = np.asarray([getattr(lst, "closed", True) for lst in lists], dtype=bool)
-    first = np.zeros(sum(sizes), dtype=bool)
-    trailer = np.zeros(sum(sizes), dtype=bool)
-    ends = np.cumsum(sizes)                         # int64 also with no list
-    first[(ends - sizes)[sizes > 0]] = True
-    trailer[(ends - 1)[closed & (sizes > 0)]] = True
-    n = min(len(flags), len(first))
-    got_first = (flags[:n] & np.uint64(1)).astype(bool)
-    got_last = (flags[:n] >> np.uint64(1) & np.uint64(1)).astype(bool)
-    bad = np.flatnonzero((got_first != first[:n]) | (got_last != trailer[:n]))
-    return [f"list word {int(i)}: tuser[0] = {int(got_first[i])}, tlast = {int(got_last[i])}"
-            for i in bad[:5]]
-
-
 def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
               valid_gap: float = 0.0, ready_pause: float = 0.0, seed: int = 1,
               pulses: np.ndarray | None = None, coverage=None) -> AxiCheck:
@@ -263,22 +263,22 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
     ops, checks = step_operations(cfg, steps, settle_cycles(sim, ready_pause), list(final))
     run = run_axi(sim, beats, ops, valid_gap=valid_gap, ready_pause=ready_pause, seed=seed,
                   coverage=coverage)
-    cuts = _undrained_cuts({piece.start for piece in stream_pieces(cfg, steps)}, checks, run)
-    if cuts:                            # the counters lose the words in flight there
-        final.update({k: None for k in ("FRAMES", "SEGMENTS", "LISTS", "SATURATED")
-                      if any(beat > since for beat, _ in cuts)})
-        board, problems = _score_in_parts(cfg, expected, run, cuts)
+    cuts = undrained_cuts({piece.start for piece in stream_pieces(cfg, steps)}, checks, run)
+    lost = _starts(steps, lambda step: step.get("aresetn") and "aresetn_wait" in step)
+    if cuts:                            # words in flight lost there
+        board, problems = score_in_parts(cfg, expected, run, cuts, lost)
+        problems += _cut_counters(cfg, beats, steps, expected, run, ops, checks, since, final)
     else:
-        board, problems = _score_exact(cfg, expected.lists, expected.open_records,
-                                       run.out_words)
-        problems += _flag_problems(cfg, expected.lists, run.out_flags[:board.count])
+        board, problems = score_exact(cfg, expected.lists, expected.open_records,
+                                      run.out_words)
+        problems += flag_problems(cfg, expected.lists, run.out_flags[:board.count])
     if len(run.op_resp) != len(checks):
         problems.append(f"{len(run.op_resp)} of {len(checks)} register operations completed")
     reads = {}
     for (kind, name, want), data, resp in zip(checks, run.op_data, run.op_resp):
         if kind == "write" and resp != want:
             problems.append(f"write {name}: response {int(resp)}, expected {want}")
-        elif kind == "wait" and resp != OKAY:
+        elif kind in ("wait", "mark") and resp != OKAY:
             problems.append(f"wait for {name}: response {int(resp)}")
         elif kind == "bus-read":
             want_resp, want_value = want
@@ -329,86 +329,56 @@ def fault_pulse_array(cfg, beats: Beats, steps: list[dict]) -> np.ndarray:
     return out
 
 
-def _score_exact(cfg, lists: list, open_records: tuple, words: np.ndarray):
-    """The scoreboard of ``words`` against ``lists`` and the problem if the words after them
-    are not ``open_records`` (the records of a list the stream's end leaves open)."""
-    board = CandidateScoreboard(cfg, lists)
-    n = sum(len(w) for w in list_words(cfg, lists))
-    board.receive_array(words[:n])
-    tail = [int(w) for w in words[n:]]
-    problems = []
-    if len(words) >= n and tail != list(open_records):
-        problems.append(f"after the last list: {len(tail)} words {[hex(w) for w in tail[:4]]}, "
-                        f"the open list's records {[hex(w) for w in open_records[:4]]}")
-    return board, problems
+def _starts(steps: list[dict], test) -> list[int]:
+    """The first beats of the steps that pass ``test``."""
+    out, start = [], 0
+    for step in steps:
+        if test(step):
+            out.append(start)
+        start = step["stop"]
+    return out
 
 
-def _undrained_cuts(starts: set, checks: list, run: AxiRun) -> list[tuple[int, int]]:
-    """(beat, cycle) of each ``soft_reset: "now"`` that starts a piece of the model (a beat
-    of ``starts``): the cycle its wait for ``STATUS.soft_reset_busy`` = 0 ended (the old
-    piece's words all came before it, the new piece's after: the input is held until then)."""
-    waits = {}
-    for index, (kind, _name, beat) in enumerate(checks):
-        if kind == "wait" and beat not in waits and index < len(run.op_cycles):
-            waits[beat] = int(run.op_cycles[index])
-    return sorted((beat, cycle) for beat, cycle in waits.items() if beat > 0 and beat in starts)
-
-
-def _score_in_parts(cfg, expected, run: AxiRun, cuts: list[tuple[int, int]]):
-    """Score the words in parts split at the undrained soft resets ``cuts``: each part but
-    the last is its lists whole, then at most one list's first records closed by the cut
-    trailer (``pack_cut_trailer``) or nothing more; the last part exactly
-    (:class:`CandidateScoreboard`). ``tuser[0]`` on each list's first word, ``tlast`` on
-    each list's trailer (a list abandoned by ``aresetn`` has none)."""
-    from dptbd.hw.candidate_layout import pack_cut_trailer
-
-    problems, flags = [], []           # flags: (tuser[0], tlast) the words must carry
-
-    def packet(words, closed=True):
-        flags.extend((i == 0, closed and i == len(words) - 1) for i in range(len(words)))
-
-    starts = np.asarray(expected.list_starts, dtype=np.int64)
-    bounds = [0, *(beat for beat, _ in cuts)]
-    edges = [0, *(cycle for _, cycle in cuts)]
-    cycles = np.asarray(run.out_cycles, dtype=np.int64)
-    got_flags = np.asarray(run.out_flags, dtype=np.uint64)
-    for part, (lo_beat, hi_beat) in enumerate(zip(bounds, bounds[1:])):
-        lists = [lst for lst, s0 in zip(expected.lists, starts) if lo_beat <= s0 < hi_beat]
-        here = (cycles >= edges[part]) & (cycles < edges[part + 1])
-        got = [int(w) for w in run.out_words[here]]
-        open_list = None                 # the list the soft reset found open, if any
-        if lists and isinstance(lists[-1], CutList) and not lists[-1].drained:
-            open_list = lists.pop()
-        want = list_words(cfg, lists)
-        i = k = 0
-        while k < len(want) and got[i:i + len(want[k])] == want[k]:
-            packet(want[k], getattr(lists[k], "closed", True))
-            i, k = i + len(want[k]), k + 1
-        rest = got[i:]
-        records = (want[k][:-1] if k < len(want) else
-                   list_words(cfg, [open_list])[0][:-1] if open_list is not None else [])
-        ok = not rest or (len(rest) - 1 <= len(records) and rest[:-1] == records[:len(rest) - 1]
-                          and rest[-1] == pack_cut_trailer(cfg, len(rest) - 1))
-        if ok:
-            packet(rest)
-        else:
-            problems.append(f"before the soft reset at beat {hi_beat}: after {k} whole lists "
-                            f"of {len(want)}, words {[hex(w) for w in rest[:4]]} are not a "
-                            "list's first records closed by the cut trailer")
-            flags.extend((bool(f & np.uint64(1)), bool(f >> np.uint64(1) & np.uint64(1)))
-                         for f in got_flags[here][i:])
-    last = [lst for lst, s0 in zip(expected.lists, starts) if s0 >= bounds[-1]]
-    board, more = _score_exact(cfg, last, expected.open_records,
-                               run.out_words[cycles >= edges[-1]])
-    problems += more
-    for lst, words in zip(last, list_words(cfg, last)):
-        packet(words, getattr(lst, "closed", True))
-    packet(list(expected.open_records), False)
-    n = min(len(flags), len(got_flags))
-    first = (got_flags[:n] & np.uint64(1)).astype(bool)
-    tlast = (got_flags[:n] >> np.uint64(1) & np.uint64(1)).astype(bool)
-    want = np.asarray(flags[:n], dtype=bool).reshape(-1, 2)
-    bad = np.flatnonzero((first != want[:, 0]) | (tlast != want[:, 1]))
-    problems += [f"word {int(j)}: tuser[0] = {int(first[j])}, tlast = {int(tlast[j])}"
-                 for j in bad[:5]]
-    return board, problems
+def _cut_counters(cfg, beats: Beats, steps: list[dict], expected, run: AxiRun, ops: list,
+                  checks: list, since: int, final: dict) -> list[str]:
+    """The :data:`CUT_COUNTERS` across the soft resets of ``"now"`` (``final`` updated in
+    place): at the end, the value read right after the last of them since the last counter
+    clear or ``aresetn`` (beat ``since``) plus the model's counts of the beats after it (all
+    of them drained); at each, LISTS against the lists delivered (trailers without ``cut``)
+    since the previous one or the last counter clear or ``aresetn`` with words in flight
+    (from 0; after an ``aresetn`` that has no cycle mark, not checked). The problems."""
+    regs = constants_namespace(cfg)
+    problems, reads, base, index = [], {}, (0, 0), 0      # base: (LISTS, cycle)
+    for _at, kind, address, data in ops:
+        if kind == "a":
+            base = None
+        if kind not in "wrmb":
+            continue
+        if index >= len(run.op_cycles):
+            break
+        (what, name, beat), cycle = checks[index], int(run.op_cycles[index])
+        value, index = int(run.op_data[index]), index + 1
+        if kind == "w" and address == regs.REG_CONTROL and data & regs.CONTROL_CLEAR_COUNTERS_MASK:
+            base = (0, cycle)
+        elif what == "mark":
+            base = (0, cycle)
+        elif what == "cut":
+            reads.setdefault(beat, {})[name] = value
+            if name == "LISTS" and base is not None:
+                sent = delivered_lists(cfg, run, base[1], cycle)
+                if value - base[0] != sent:
+                    problems.append(f"after the soft reset at beat {beat}: LISTS went from "
+                                    f"{base[0]} to {value}, {sent} lists were delivered")
+            if name == "LISTS":
+                base = (value, cycle)
+    later = [beat for beat in sorted(reads) if beat > since]
+    if later:
+        beat = later[-1]
+        j = next(j for j, start in enumerate(_starts(steps, lambda step: True))
+                 if start == beat and steps[j].get("soft_reset") == "now")
+        before = expected_outputs(cfg, beats, steps[:j], cut_lists=True).counters()
+        total = expected.counters()
+        for name in CUT_COUNTERS:
+            final[name] = (reads[beat][name] + total[name] - before[name]
+                           if name in reads[beat] else None)
+    return problems

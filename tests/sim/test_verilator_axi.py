@@ -17,7 +17,8 @@ from dptbd.hw.register_map import FAULTS
 from dptbd.sim import verilator as V
 from dptbd.sim.axi_stimulus import clean_beats, with_fault
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.verilator_axi import beat_words, check_axi, run_axi, step_operations
+from dptbd.sim.verilator_axi import (CUT_COUNTERS, beat_words, check_axi, run_axi,
+                                     step_operations)
 from helpers.refusals import whole
 from helpers.verilator_harness import built, make_config
 
@@ -71,7 +72,8 @@ def test_operations_of_lut_entries_raw_accesses_and_counter_clears():
                                                       [1, 2, 0, 7]],
                "bus": [["w", 0x301, 5, 0xF, 2], ["r", lut, 2, 0]], "stop": 4},
               {"writes": [["VIDEO_INPUT", 2], ["IRQ_ENABLE", 2**32 - 1], ["ID", 0]],
-               "stop": 4}, {"soft_reset": "now", "stop": 6}, {"aresetn": 3, "stop": 6}],
+               "stop": 4}, {"soft_reset": "now", "stop": 6}, {"aresetn": 3, "stop": 6},
+              {"aresetn": 2, "aresetn_wait": 5, "stop": 8}],
         settle=7, final_reads=[])
     assert ops == [(0, "i", 7, 0), (0, "w", regs.REG_CONTROL, regs.CONTROL_CLEAR_COUNTERS_MASK),
                    (0, "m", lut, 256 | 0xF << 32), (0, "m", lut, 257 | 0xF << 32),
@@ -79,13 +81,17 @@ def test_operations_of_lut_entries_raw_accesses_and_counter_clears():
                    (4, "w", regs.REG_VIDEO_INPUT, 2), (4, "w", regs.REG_IRQ_ENABLE, 2**32 - 1),
                    (4, "w", regs.REG_ID, 0),
                    (4, "w", regs.REG_CONTROL, regs.CONTROL_SOFT_RESET_MASK),
-                   (4, "b", regs.REG_STATUS, 0), (6, "i", 7, 0), (6, "a", 3, 0),
-                   (6, "i", 7, 0)]
+                   (4, "b", regs.REG_STATUS, 0),
+                   *((4, "r", getattr(regs, f"REG_{name}"), 0) for name in CUT_COUNTERS),
+                   (6, "i", 7, 0), (6, "a", 3, 0),
+                   (6, "i", 5, 0), (6, "a", 2, 0), (6, "b", regs.REG_STATUS, 0),
+                   (8, "i", 7, 0)]
     assert checks == [("write", "CONTROL", 0), ("write", "LUT[1, 2]", 0),
                       ("write", "LUT[1, 2]", 2), ("write", "LUT[1, 2]", 2),
                       ("write", "0x301", 2), ("bus-read", f"{lut:#05x}", (2, 0)),
                       ("write", "VIDEO_INPUT", 2), ("write", "IRQ_ENABLE", 0),
-                      ("write", "ID", 2), ("write", "CONTROL", 0), ("wait", "STATUS", 4)]
+                      ("write", "ID", 2), ("write", "CONTROL", 0), ("wait", "STATUS", 4),
+                      *(("cut", name, 4) for name in CUT_COUNTERS), ("mark", "STATUS", 6)]
 
 
 def scene(cfg, seed):

@@ -44,9 +44,9 @@ The bin groups and what a hit is (``docs/gateware.md``, "Verification campaign")
   block answers a write in its :data:`AXIL_WRITE_CYCLES`-th cycle, so the write began
   that many cycles before its recorded response, less one). A soft reset after the step's
   settle (``soft_reset: True``) finds 0; ``soft_reset: "now"`` is measured this way.
-* ``aresetn`` (``axi``): ``aresetn`` pulses with 0 words in flight, from the plan:
-  ``check_axi`` holds ``aresetn`` low only after the step's settle (more than L idle
-  cycles; ``aresetn`` with words in flight is not drawn).
+* ``aresetn`` (``axi``): ``aresetn`` pulses with 0 words in flight, from the plan: those
+  ``check_axi`` holds low after the step's settle (more than L idle cycles; those with
+  words in flight, ``aresetn_wait``, are not counted here).
 * ``fault``: injected faults of each class (:data:`dptbd.sim.campaign.FAULTS`,
   :data:`dptbd.sim.axi_stimulus.FAULT_KINDS`) followed by a clean segment: a whole segment
   (K complete frames from the counters' frame 0) that starts at or after the fault, with no

@@ -101,7 +101,8 @@ def axi_bins(cfg, beats, steps: list[dict], *, passed: bool, latency: int,
     counts[soft_reset_bin(0)] += sum(step.get("soft_reset") is True for step in steps)
     for k in (_in_flight(cfg, steps, run, latency) if now else []):
         counts[soft_reset_bin(k)] += 1
-    counts[ARESETN] += sum(bool(step.get("aresetn")) for step in steps)
+    counts[ARESETN] += sum(bool(step.get("aresetn")) and "aresetn_wait" not in step
+                           for step in steps)
     starts = [0] + [step["stop"] for step in steps[:-1]]
     unity = 1 << cfg.weight_frac_bits
     writes = [(s, step["lut_codes"]) for s, step in zip(starts, steps)

@@ -1,7 +1,9 @@
 """The ``axi`` slice (``dptbd_axi``): seeded runs of
 :func:`dptbd.sim.verilator_axi.check_axi` (every fault class, settings and LUT writes,
-refused writes, W1C, soft reset, register reads, gaps and back-pressure) and random AXI runs
-of the campaign (:func:`dptbd.sim.axi_runs.draw_run`)."""
+refused writes, W1C, soft reset, register reads, gaps and back-pressure), random AXI runs
+of the campaign (:func:`dptbd.sim.axi_runs.draw_run`), runs with a random LUT at K_max
+(:func:`lut_scenario`) and one long run of the counters and the stall cycles
+(:func:`counter_plan`)."""
 
 from __future__ import annotations
 
@@ -9,7 +11,8 @@ from dptbd.config import DPConfig
 from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS
 from dptbd.sim.mutation.verdict import hang_verdict
 
-__all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "RUNS", "axi_scenario", "run"]
+__all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
+           "COUNTER_READS", "RUNS", "axi_scenario", "lut_scenario", "counter_plan", "run"]
 
 #: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi_runs.draw_run` on the slice's
 #: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
@@ -17,10 +20,111 @@ __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "RUNS", "axi_scenario", "run"
 #: every register read with its expected value.
 RANDOM_AXI_RUNS, RANDOM_AXI_FRAMES = 32, 24
 
+#: Frames of the ``counters`` run: K = 1 and n = 0 (each frame a segment, each list its
+#: trailer), so that FRAMES, SEGMENTS and LISTS pass 2**10 (bit 19 of FRAMES would take
+#: 2**19 frames, 63 M cycles: not in the slice); at full speed without back-pressure the
+#: input stalls exactly ``scan_cycles`` = 2**b + 4 cycles after each list (the histogram
+#: scan, ``docs/gateware.md``, "Timing"), the output never.
+COUNTER_FRAMES = 1100
+
+#: ``lut`` runs of the slice (:func:`lut_scenario`): a random LUT read at every energy.
+LUT_RUNS = 16
+
 #: The runs of the slice: ``(kind, seed)``, in this order.
 RUNS = tuple([("faults", s) for s in range(16)]
              + [("backpressure", s) for s in (1, 4, 7, 14)]
-             + [("random", s) for s in range(RANDOM_AXI_RUNS)])
+             + [("random", s) for s in range(RANDOM_AXI_RUNS)]
+             + [("lut", s) for s in range(LUT_RUNS)]
+             + [("counters", 0)])
+
+
+def lut_scenario(cfg: DPConfig, seed: int) -> tuple:
+    """The beats and steps of ``lut`` run ``seed``: 16 frames of two targets (even seeds) or
+    the mixed scene, K = K_max (the largest energies, where a weight's last bit shows in
+    the weighted sum), n = C, and a random LUT (codes in [0, 2**F]) from the first beat."""
+    import numpy as np
+
+    from dptbd.sim.axi_stimulus import clean_beats
+    from dptbd.sim.scenarios import make_frames
+
+    rng = np.random.default_rng([seed, 0xA75])
+    frames = make_frames("two-targets" if seed % 2 == 0 else "mixed", cfg, 16, seed=seed)
+    beats = clean_beats(frames)
+    unity = 1 << cfg.weight_frac_bits
+    codes = rng.integers(0, unity + 1, size=(cfg.n_moves + 1, cfg.n_moves)).tolist()
+    steps = [{"writes": [["SEGMENT_FRAMES", cfg.k_max],
+                         ["CANDIDATE_COUNT", cfg.record_capacity]],
+              "lut_codes": codes, "stop": len(beats)}]
+    return beats, steps
+
+#: What the ``counters`` run reads at its end.
+COUNTER_READS = ("FRAMES", "SEGMENTS", "LISTS", "SATURATED", "INPUT_STALLS", "OUTPUT_STALLS")
+
+_COUNTER_PLANS: dict = {}
+
+
+def counter_plan(cfg: DPConfig) -> tuple:
+    """The ``counters`` run for ``cfg`` (cached: the model of its :data:`COUNTER_FRAMES`
+    frames takes seconds): the beats, the operations (K = 1, n = 0, then after the last
+    beat and the settle reads of FRAMES, SEGMENTS, LISTS, SATURATED, INPUT_STALLS and
+    OUTPUT_STALLS), the model's words and the values those reads must give."""
+    if repr(cfg) not in _COUNTER_PLANS:
+        import numpy as np
+
+        from dptbd.hw.flow.register_export import constants_namespace
+        from dptbd.hw.segmenter import scan_cycles
+        from dptbd.sim.axi_stimulus import clean_beats, expected_outputs
+        from dptbd.sim.candidate_scoreboard import list_words
+        from dptbd.sim.verilator_axi import CUT_COUNTERS
+
+        regs = constants_namespace(cfg)
+        rng = np.random.default_rng([0, 0xA74])
+        frames = rng.integers(0, 1 << cfg.input_bits, size=(COUNTER_FRAMES, cfg.height,
+                                                             cfg.width))
+        beats = clean_beats(frames)
+        steps = [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", 0]],
+                  "stop": len(beats)}]
+        expected = expected_outputs(cfg, beats, steps, cut_lists=True)
+        words = [w for lst in list_words(cfg, expected.lists) for w in lst]
+        counts = expected.counters()
+        ops = [(0, "w", regs.REG_SEGMENT_FRAMES, 1), (0, "w", regs.REG_CANDIDATE_COUNT, 0),
+               (len(beats), "i", 64, 0)]
+        ops += [(len(beats), "r", getattr(regs, f"REG_{name}"), 0)
+                for name in COUNTER_READS]
+        want = [*(counts[n] for n in CUT_COUNTERS), (counts["LISTS"] - 1) * scan_cycles(cfg), 0]
+        _COUNTER_PLANS[repr(cfg)] = (beats, ops, words, want)
+    return _COUNTER_PLANS[repr(cfg)]
+
+
+def _counters_run(sim) -> tuple[str, str]:
+    """The ``counters`` run: every word the model's (each a list's trailer, ``tuser[0]``
+    and ``tlast`` set), both writes OKAY, the counters the model's counts."""
+    import numpy as np
+
+    from dptbd.sim.verilator_axi import run_axi
+
+    beats, ops, words, counts = counter_plan(sim.cfg)
+    run = run_axi(sim, beats, ops)
+    problems = []
+    if run.status != "done" or int(run.counters.get("accepted", -1)) != len(beats):
+        problems.append(f"{run.status}: {run.counters.get('accepted')} of {len(beats)} "
+                        "beats accepted")
+    got = [int(w) for w in run.out_words]
+    if got != words:
+        bad = next((i for i, (a, b) in enumerate(zip(got, words)) if a != b),
+                   min(len(got), len(words)))
+        problems.append(f"{len(got)} words, the model gives {len(words)}; first difference "
+                        f"at word {bad}")
+    if not np.all(np.asarray(run.out_flags) == 3):
+        problems.append("a list's word without tuser[0] and tlast")
+    if list(run.op_resp) != [0] * (2 + len(COUNTER_READS)):
+        problems.append(f"responses {list(run.op_resp)}")
+    reads = [int(v) for v in run.op_data[2:]]
+    if reads != counts:
+        problems.append(f"{', '.join(COUNTER_READS)} read {reads}, expected {counts}")
+    if run.status != "done" and not problems[1:]:
+        return "timeout", "; ".join(problems)
+    return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
 
 
 def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
@@ -87,6 +191,15 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
 
     if kind == "random":
         return _axi_random_run(sim, seed)
+    if kind == "counters":
+        return _counters_run(sim)
+    if kind == "lut":
+        beats, steps = lut_scenario(sim.cfg, seed)
+        result = check_axi(sim, beats, steps, seed=seed)
+        if hang_verdict(result.run.status, result.report()):
+            return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
+                               f"{result.report()}")
+        return ("survived" if result.passed else "killed"), result.report()
     beats, steps, gap, pause = axi_scenario(sim.cfg, seed)
     if kind == "backpressure":
         gap, pause = 0.0, BACKPRESSURE[seed % 4]

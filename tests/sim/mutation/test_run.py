@@ -67,7 +67,8 @@ def test_score_counts_only_killed():
 
 
 def test_slice_runs_scaled():
-    assert R.slice_runs("axi", 0.01) == (("faults", 0), ("backpressure", 1), ("random", 0))
+    assert R.slice_runs("axi", 0.01) == (("faults", 0), ("backpressure", 1), ("random", 0),
+                                         ("lut", 0), ("counters", 0))
     assert len(R.slice_runs("segmenter")) == len(R.SLICE_RUNS["segmenter"])
 
 
@@ -84,3 +85,23 @@ def test_a_hang_is_killed_only_where_the_model_expects_more_words(status, report
     """A run out of its cycle budget: killed (the check decides) if a word the model expects
     is missing, wrong or extra; a timeout if every expected word came."""
     assert R.hang_verdict(status, report) == verdict
+
+
+def test_the_axi_slice_lut_runs_are_their_seed_at_k_max():
+    """A ``lut`` run: the seed's LUT (codes in [0, 2**F], not all equal) from the first beat,
+    K = K_max and n = C written first, 16 whole frames; another seed, another LUT."""
+    from dptbd.sim.mutation.slices.axi import LUT_RUNS, RUNS, lut_scenario
+
+    cfg = R.config("axi")
+    beats, steps = lut_scenario(cfg, 3)
+    again, other = lut_scenario(cfg, 3)[1], lut_scenario(cfg, 4)[1]
+    (step,) = steps
+    assert step == again[0] and step["lut_codes"] != other[0]["lut_codes"]
+    assert step["writes"] == [["SEGMENT_FRAMES", cfg.k_max],
+                              ["CANDIDATE_COUNT", cfg.record_capacity]]
+    codes = [c for row in step["lut_codes"] for c in row]
+    assert len(codes) == cfg.lut_entries and len(set(codes)) > 1
+    assert min(codes) >= 0 and max(codes) <= 1 << cfg.weight_frac_bits
+    assert step["stop"] == len(beats) == 16 * cfg.width * cfg.height
+    assert [r for r in RUNS if r[0] == "lut"] == [("lut", s) for s in range(LUT_RUNS)]
+    assert RUNS[-1] == ("counters", 0)                 # the long run last: few reach it
