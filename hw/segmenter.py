@@ -18,7 +18,6 @@ from amaranth.lib.wiring import In, Out
 from dptbd.config import DPConfig
 from dptbd.hw.candidate_emitter import CandidateEmitter
 from dptbd.hw.candidate_layout import candidate_layout
-from dptbd.hw.controller import clamped
 from dptbd.hw.histogram import Histogram
 from dptbd.hw.layouts import state_layout
 from dptbd.hw.threshold import ThresholdSearch
@@ -79,7 +78,9 @@ class Segmenter(wiring.Component):
     candidate_count : In(range(C + 1), init=n)
     histogram_shift : In(range(B_E), init=s)
         Run-time settings of the segment whose first word (after reset or an
-        ``end_of_segment``) is accepted (clamped to their ranges).
+        ``end_of_segment``) is accepted. Taken as they are: a value outside its range
+        (K = 0, K > K_max, n > C) is the driver's to clamp, as
+        :class:`~dptbd.hw.dp_segmenter_top.DPSegmenter`'s settings registers do.
     candidates : Out(stream.Signature(candidate_layout(cfg)))
         Records (raster order) and one trailer per list.
     """
@@ -141,9 +142,10 @@ class Segmenter(wiring.Component):
         aligned_start = Signal(init=1)           # the last word had end_of_segment / reset
         taking = at_start & aligned_start
         in_scored = Signal()
-        eff_frames = Mux(taking, clamped(self.segment_frames, 1, cfg.k_max), k_frames)
-        eff_count = Mux(taking, clamped(self.candidate_count, 0, cfg.record_capacity), count)
-        eff_shift = Mux(taking, clamped(self.histogram_shift, 0, cfg.energy_bits - 1), shift)
+        # The ports are in range: DPSegmenter's settings registers hold clamped values.
+        eff_frames = Mux(taking, self.segment_frames, k_frames)
+        eff_count = Mux(taking, self.candidate_count, count)
+        eff_shift = Mux(taking, self.histogram_shift, shift)
         scored = Mux(taking, self.segment_frames <= 1, in_scored)
         frame_end = Signal()                     # the next word is a frame's last pixel
         last = scored & frame_end
