@@ -138,17 +138,24 @@ class Segmenter(wiring.Component):
         # `taking`: the start is one the segmenter knows to be a segment's first word (after
         # reset or an end_of_segment), the only starts that take the settings ports; a start
         # reached by the counters alone (misaligned after a resync) keeps the settings.
+        # The combinational terms below are signals, each one cell read by all its uses.
         at_start = Signal(init=1)
         aligned_start = Signal(init=1)           # the last word had end_of_segment / reset
-        taking = at_start & aligned_start
+        taking = Signal()
+        m.d.comb += taking.eq(at_start & aligned_start)
         in_scored = Signal()
         # The ports are in range: DPSegmenter's settings registers hold clamped values.
-        eff_frames = Mux(taking, self.segment_frames, k_frames)
-        eff_count = Mux(taking, self.candidate_count, count)
-        eff_shift = Mux(taking, self.histogram_shift, shift)
-        scored = Mux(taking, self.segment_frames <= 1, in_scored)
+        eff_frames = Signal.like(k_frames)
+        eff_count = Signal.like(count)
+        eff_shift = Signal.like(shift)
+        scored = Signal()
+        m.d.comb += [eff_frames.eq(Mux(taking, self.segment_frames, k_frames)),
+                     eff_count.eq(Mux(taking, self.candidate_count, count)),
+                     eff_shift.eq(Mux(taking, self.histogram_shift, shift)),
+                     scored.eq(Mux(taking, self.segment_frames <= 1, in_scored))]
         frame_end = Signal()                     # the next word is a frame's last pixel
-        last = scored & frame_end
+        last = Signal()
+        m.d.comb += last.eq(scored & frame_end)
 
         # ---- control: busy from a list end (or reset) until the scan has loaded T -------
         busy = Signal(init=1)           # the histogram is not ready for a scored pixel
@@ -159,9 +166,11 @@ class Segmenter(wiring.Component):
         word = self.states.payload
         ready = emitter.space & ~(busy & scored)
         m.d.comb += self.states.ready.eq(ready)
-        accept = self.states.valid & ready
+        accept = Signal()
+        m.d.comb += accept.eq(self.states.valid & self.states.ready)
         eos = word.end_of_segment
-        ends = scored & (last | eos)
+        ends = Signal()
+        m.d.comb += ends.eq(scored & (last | eos))
 
         # ---- cycle A: histogram read, counters ------------------------------------------
         # min(E >> s, 2**b - 1) without a comparator: any bit of E at or above b + s clamps.

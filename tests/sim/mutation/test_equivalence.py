@@ -80,7 +80,8 @@ def _dff_of(wire: str) -> str:
 def test_a_dropped_partial_sum_bit_is_proven_with_its_wire_unpaired():
     """Bit 2 of the first partial sum of a weighted candidate (F = 4, truncate): its
     XOR never carries, the other addend's low bits are 0 and the root drops bits 0 … 3.
-    With every signal paired the mutated wire differs: not proven; unpaired: equivalent."""
+    With every signal paired the mutated wire differs: not proven; with it (and what the
+    first round leaves unproven) unpaired: equivalent."""
     wire = "dp.core.weighted_5.sum_l2_0"
     command = (f"mutate -mode inv -module dptbd_seg -cell {_dff_of(wire)} -port Q "
                f"-portbit 2 -wire {wire} -wirebit 2")
@@ -88,8 +89,8 @@ def test_a_dropped_partial_sum_bit_is_proven_with_its_wire_unpaired():
     cfg = config("segmenter")
     assert prove_equivalent(cfg, "segmenter", command, rounds=1).verdict == "not proven"
     proof = prove_equivalent(cfg, "segmenter", mutation)
-    assert (proof.verdict, proof.detail.split(", ")[0]) == (
-        "equivalent", f"unpaired: {wire}"), proof.detail
+    assert proof.verdict == "equivalent", proof.detail
+    assert wire in proof.detail.removeprefix("unpaired: ").split(", ")
 
 
 @needs_yosys
