@@ -132,17 +132,15 @@ class Segmenter(wiring.Component):
         count = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)
         shift = Signal(range(cfg.energy_bits), init=cfg.bin_shift)
         list_count = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)
-        # Registered flags keep the K comparison off the ready/accept path: `at_start` (the
-        # next word is (0, 0) of frame 0) and `in_scored` (the next word, not at a start,
-        # is in the scored frame). At a start, K = 1 (a port value <= 1) scores the frame.
-        # `taking`: the start is one the segmenter knows to be a segment's first word (after
-        # reset or an end_of_segment), the only starts that take the settings ports; a start
-        # reached by the counters alone (misaligned after a resync) keeps the settings.
+        # Registered flags keep the K comparison off the ready/accept path:
+        # `aligned_start` (the next word is a segment's first word that the segmenter knows
+        # to be one: the first after reset or an end_of_segment; these are the only starts
+        # that take the settings ports, so `taking` is this flag) and `in_scored` (the next
+        # word, not taking, is in the scored frame). Taking, K = 1 scores the frame. A start
+        # the counters reach alone (misaligned after a resync) keeps the settings.
         # The combinational terms below are signals, each one cell read by all its uses.
-        at_start = Signal(init=1)
         aligned_start = Signal(init=1)           # the last word had end_of_segment / reset
-        taking = Signal()
-        m.d.comb += taking.eq(at_start & aligned_start)
+        taking = aligned_start
         in_scored = Signal()
         # The ports are in range: DPSegmenter's settings registers hold clamped values.
         eff_frames = Signal.like(k_frames)
@@ -152,7 +150,7 @@ class Segmenter(wiring.Component):
         m.d.comb += [eff_frames.eq(Mux(taking, self.segment_frames, k_frames)),
                      eff_count.eq(Mux(taking, self.candidate_count, count)),
                      eff_shift.eq(Mux(taking, self.histogram_shift, shift)),
-                     scored.eq(Mux(taking, self.segment_frames <= 1, in_scored))]
+                     scored.eq(Mux(taking, self.segment_frames == 1, in_scored))]
         frame_end = Signal()                     # the next word is a frame's last pixel
         last = Signal()
         m.d.comb += last.eq(scored & frame_end)
@@ -196,10 +194,10 @@ class Segmenter(wiring.Component):
         with m.If(accept & ends):                  # this segment's n thresholds its histogram
             m.d.sync += list_count.eq(eff_count)
         with m.If(accept):
-            m.d.sync += [at_start.eq(0), aligned_start.eq(eos), in_scored.eq(scored),
+            m.d.sync += [aligned_start.eq(eos), in_scored.eq(scored),
                          frame_end.eq(0)]
             with m.If(eos | last):                 # the segment ends: a new one starts
-                m.d.sync += [col.eq(0), row.eq(0), frame.eq(0), at_start.eq(1),
+                m.d.sync += [col.eq(0), row.eq(0), frame.eq(0),
                              in_scored.eq(k_frames == 1)]   # used only if not taking
             with m.Elif(frame_end):                # the end of a frame that was not scored
                 m.d.sync += [col.eq(0), row.eq(0), frame.eq(frame + 1),

@@ -72,8 +72,12 @@ def range_settings(cfg: DPConfig, n_words: int, seed: int) -> tuple:
         outside = rng.random() < 0.5
         k = int(rng.choice([0, *range(cfg.k_max + 1, k_top + 1)]) if outside
                 else rng.integers(1, cfg.k_max + 1))
+        # in range: n near its ends as often as anywhere (n = 0 against 1 selects nothing
+        # or the brightest pixel)
         n = int(rng.integers(cfg.record_capacity + 1, n_top + 1) if outside and
-                n_top > cfg.record_capacity else rng.integers(0, cfg.record_capacity + 1))
+                n_top > cfg.record_capacity else
+                rng.choice([0, 1, 2, cfg.record_capacity - 1, cfg.record_capacity])
+                if rng.random() < 0.5 else rng.integers(0, cfg.record_capacity + 1))
         s = int(rng.integers(0, s_top + 1))
         out.append((at, (k, n, s), SegmentSettings(min(max(k, 1), cfg.k_max),
                                                    min(n, cfg.record_capacity),
