@@ -20,7 +20,9 @@ the difference is masked; paired, they are unprovable and make every pair whose
 induction leans on them unprovable too. The proof therefore *unpairs* them, in rounds
 (:data:`ROUNDS`): first the mutated wire (its gate copy renamed, so ``equiv_make`` keeps
 gold's and gate's copies apart, each driven by its own logic), then every internal wire
-left with an unproven pair. Unpairing only drops assumptions, so what is then proven
+left with an unproven pair, and when those are unpaired already, the other names of
+their bits (:func:`aliases`, e.g. a port of a flattened submodule and the wire it drives).
+Unpairing only drops assumptions, so what is then proven
 still holds; the mutant is ``equivalent`` when every remaining pair, the top's outputs
 always among them, is proven, and ``not proven`` when an output is unproven or a round
 unpairs nothing new.
@@ -29,6 +31,7 @@ unpairs nothing new.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import re
 import subprocess
 import time
@@ -37,7 +40,7 @@ from dptbd.config import DPConfig
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 
 __all__ = ["SEQ", "ROUNDS", "TIMEOUT", "Equivalence", "equivalence_script", "unproven_wires",
-           "top_ports", "prove_equivalent"]
+           "top_ports", "aliases", "prove_equivalent"]
 
 #: Cycles of ``equiv_simple`` / ``equiv_induct`` (4: a partial sum's constant-zero low bits
 #: are three register levels of the shift-and-add tree behind its constant leaves).
@@ -91,6 +94,21 @@ def top_ports(rtlil: str, design: str) -> frozenset[str]:
                                 body, flags=re.M))
 
 
+@functools.lru_cache(maxsize=4)
+def aliases(rtlil: str, design: str) -> dict[str, frozenset[str]]:
+    """Each public wire of ``design``'s prepared top read from ``rtlil`` and the wires
+    connected to it directly (``connect``, whole or a slice): other names of its bits, which
+    ``equiv_make`` pairs too."""
+    prepared = run_yosys(_prepared(rtlil, design) + "\nwrite_rtlil prepared.il",
+                         ("prepared.il",))["prepared.il"]
+    near: dict[str, set[str]] = {}
+    for a, b in re.findall(r"^  connect \\(\S+)(?: \[[\d:]+\])? \\(\S+)(?: \[[\d:]+\])?$",
+                           prepared, flags=re.M):
+        near.setdefault(a, set()).add(b)
+        near.setdefault(b, set()).add(a)
+    return {name: frozenset(others) for name, others in near.items()}
+
+
 def prove_equivalent(cfg: DPConfig, design: str, mutation: Mutation | str, *,
                      seq: int = SEQ, timeout: float = TIMEOUT,
                      rounds: int = ROUNDS) -> Equivalence:
@@ -120,6 +138,10 @@ def prove_equivalent(cfg: DPConfig, design: str, mutation: Mutation | str, *,
                                time.perf_counter() - start)
         outputs = [w for w in wires if w in ports]
         new = tuple(w for w in wires if w not in ports and w not in unpaired)
+        if not new and not outputs:     # still paired through another name of their bits
+            near = aliases(text, design)
+            new = tuple(sorted({a for w in wires for a in near.get(w, ())
+                                if a not in ports and a not in unpaired}))
         if outputs or not new or attempt == rounds - 1:
             what = (f"output {', '.join(outputs)} unproven" if outputs else
                     f"{len(wires)} wires unproven: {', '.join(wires[:6])}"

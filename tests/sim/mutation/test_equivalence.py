@@ -11,8 +11,8 @@ import pytest
 
 from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
 from dptbd.sim.mutation import netlist
-from dptbd.sim.mutation.equivalence import (equivalence_script, prove_equivalent, top_ports,
-                                            unproven_wires)
+from dptbd.sim.mutation.equivalence import (aliases, equivalence_script, prove_equivalent,
+                                            top_ports, unproven_wires)
 from dptbd.sim.mutation.run import config
 
 try:
@@ -62,6 +62,17 @@ def test_top_ports_of_dptbd_seg():
         "candidates__payload", "candidates__valid", "candidates__ready", "events",
         "lut_addr", "lut_data", "lut_we", "segment_frames", "candidate_count",
         "histogram_shift"}
+
+
+@needs_yosys
+def test_aliases_are_the_other_names_of_a_wires_bits():
+    """A flattened submodule's port and the parent's wire it drives; a slice of a sum."""
+    text, _ = netlist.top_rtlil(config("segmenter"), "segmenter")
+    near = aliases(text, "segmenter")
+    assert "dp.core.position" in near["dp.core.controller.position"]
+    assert "dp.core.controller.position" in near["dp.core.position"]
+    assert near["dp.core.weighted_5.weighted"] == {"dp.core.weighted_5.sum_l3_0"}
+    assert all(not name.startswith("$") for names in near.values() for name in names)
 
 
 def _dff_of(wire: str) -> str:
