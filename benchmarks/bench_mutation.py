@@ -40,11 +40,20 @@ def main() -> None:
     for design in args.designs:
         result = run_mutants(design, args.mutants, args.seed, workers=args.workers)
         proofs, start = {}, time.perf_counter()
-        if not args.no_prove:
-            for outcome, mutation in result.of("survived"):
-                proofs[outcome.index] = prove_equivalent(config(design), design, mutation)
-                print(f"  proof #{outcome.index}: {proofs[outcome.index].verdict} "
-                      f"({proofs[outcome.index].seconds:.0f} s)", flush=True)
+        survivors = result.of("survived") if not args.no_prove else []
+        if survivors:                   # the proofs on the same workers as the mutants
+            from dptbd.evaluation.execution import job_execution, map_tasks
+
+            execution = job_execution(args.workers, tasks=len(survivors))
+            tasks = [(config(design), design, mutation) for _, mutation in survivors]
+
+            def report(i, proof):
+                print(f"  proof #{survivors[i][0].index}: {proof.verdict} "
+                      f"({proof.seconds:.0f} s) {proof.detail}", flush=True)
+
+            with execution.client() as client:
+                done = map_tasks(prove_equivalent, tasks, client, on_result=report)
+            proofs = {outcome.index: proof for (outcome, _), proof in zip(survivors, done)}
         prove_seconds = time.perf_counter() - start
         print(format_mutation_result(result, proofs))
         slice_seconds = sum(o.seconds for o in result.outcomes)

@@ -18,7 +18,6 @@ from amaranth.lib.wiring import In, Out
 from dptbd.config import DPConfig
 from dptbd.hw.candidate_emitter import CandidateEmitter
 from dptbd.hw.candidate_layout import candidate_layout
-from dptbd.hw.controller import clamped
 from dptbd.hw.histogram import Histogram
 from dptbd.hw.layouts import state_layout
 from dptbd.hw.threshold import ThresholdSearch
@@ -79,7 +78,9 @@ class Segmenter(wiring.Component):
     candidate_count : In(range(C + 1), init=n)
     histogram_shift : In(range(B_E), init=s)
         Run-time settings of the segment whose first word (after reset or an
-        ``end_of_segment``) is accepted (clamped to their ranges).
+        ``end_of_segment``) is accepted. Taken as they are: a value outside its range
+        (K = 0, K > K_max, n > C) is the driver's to clamp, as
+        :class:`~dptbd.hw.dp_segmenter_top.DPSegmenter`'s settings registers do.
     candidates : Out(stream.Signature(candidate_layout(cfg)))
         Records (raster order) and one trailer per list.
     """
@@ -131,22 +132,28 @@ class Segmenter(wiring.Component):
         count = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)
         shift = Signal(range(cfg.energy_bits), init=cfg.bin_shift)
         list_count = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)
-        # Registered flags keep the K comparison off the ready/accept path: `at_start` (the
-        # next word is (0, 0) of frame 0) and `in_scored` (the next word, not at a start,
-        # is in the scored frame). At a start, K = 1 (a port value <= 1) scores the frame.
-        # `taking`: the start is one the segmenter knows to be a segment's first word (after
-        # reset or an end_of_segment), the only starts that take the settings ports; a start
-        # reached by the counters alone (misaligned after a resync) keeps the settings.
-        at_start = Signal(init=1)
+        # Registered flags keep the K comparison off the ready/accept path:
+        # `aligned_start` (the next word is a segment's first word that the segmenter knows
+        # to be one: the first after reset or an end_of_segment; these are the only starts
+        # that take the settings ports, so `taking` is this flag) and `in_scored` (the next
+        # word, not taking, is in the scored frame). Taking, K = 1 scores the frame. A start
+        # the counters reach alone (misaligned after a resync) keeps the settings.
+        # The combinational terms below are signals, each one cell read by all its uses.
         aligned_start = Signal(init=1)           # the last word had end_of_segment / reset
-        taking = at_start & aligned_start
+        taking = aligned_start
         in_scored = Signal()
-        eff_frames = Mux(taking, clamped(self.segment_frames, 1, cfg.k_max), k_frames)
-        eff_count = Mux(taking, clamped(self.candidate_count, 0, cfg.record_capacity), count)
-        eff_shift = Mux(taking, clamped(self.histogram_shift, 0, cfg.energy_bits - 1), shift)
-        scored = Mux(taking, self.segment_frames <= 1, in_scored)
+        # The ports are in range: DPSegmenter's settings registers hold clamped values.
+        eff_frames = Signal.like(k_frames)
+        eff_count = Signal.like(count)
+        eff_shift = Signal.like(shift)
+        scored = Signal()
+        m.d.comb += [eff_frames.eq(Mux(taking, self.segment_frames, k_frames)),
+                     eff_count.eq(Mux(taking, self.candidate_count, count)),
+                     eff_shift.eq(Mux(taking, self.histogram_shift, shift)),
+                     scored.eq(Mux(taking, self.segment_frames == 1, in_scored))]
         frame_end = Signal()                     # the next word is a frame's last pixel
-        last = scored & frame_end
+        last = Signal()
+        m.d.comb += last.eq(scored & frame_end)
 
         # ---- control: busy from a list end (or reset) until the scan has loaded T -------
         busy = Signal(init=1)           # the histogram is not ready for a scored pixel
@@ -157,9 +164,11 @@ class Segmenter(wiring.Component):
         word = self.states.payload
         ready = emitter.space & ~(busy & scored)
         m.d.comb += self.states.ready.eq(ready)
-        accept = self.states.valid & ready
+        accept = Signal()
+        m.d.comb += accept.eq(self.states.valid & self.states.ready)
         eos = word.end_of_segment
-        ends = scored & (last | eos)
+        ends = Signal()
+        m.d.comb += ends.eq(scored & (last | eos))
 
         # ---- cycle A: histogram read, counters ------------------------------------------
         # min(E >> s, 2**b - 1) without a comparator: any bit of E at or above b + s clamps.
@@ -185,10 +194,10 @@ class Segmenter(wiring.Component):
         with m.If(accept & ends):                  # this segment's n thresholds its histogram
             m.d.sync += list_count.eq(eff_count)
         with m.If(accept):
-            m.d.sync += [at_start.eq(0), aligned_start.eq(eos), in_scored.eq(scored),
+            m.d.sync += [aligned_start.eq(eos), in_scored.eq(scored),
                          frame_end.eq(0)]
             with m.If(eos | last):                 # the segment ends: a new one starts
-                m.d.sync += [col.eq(0), row.eq(0), frame.eq(0), at_start.eq(1),
+                m.d.sync += [col.eq(0), row.eq(0), frame.eq(0),
                              in_scored.eq(k_frames == 1)]   # used only if not taking
             with m.Elif(frame_end):                # the end of a frame that was not scored
                 m.d.sync += [col.eq(0), row.eq(0), frame.eq(frame + 1),

@@ -1,7 +1,7 @@
 """The mutation slice in the default suite: 30 mutants of ``dptbd_seg`` (seed 3) through the
-verification slice on one mutant build; the original passes every run, the mutants the
-slice kills today stay killed, and the ones it does not are exactly those listed here (their
-equivalence proofs are the slow test's)."""
+verification slice on one mutant build; the original passes every run and the slice kills
+every mutant but the ones listed here, which are proven equivalent to the original (the
+slow test's proofs: Yosys ``equiv_*``, :mod:`dptbd.sim.mutation.equivalence`)."""
 
 from __future__ import annotations
 
@@ -24,20 +24,17 @@ pytestmark = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator, g++ and
 
 SEED, COUNT = 3, 30
 
-#: The mutants of the slice that survive it today: index -> Amaranth source line (the list
-#: of mutations is the netlist's: it changes with the gateware). Their proofs are the slow
-#: test's: a bit of a DP controller mux, the weight LUT's read selection, a low bit of a
-#: weighted sum whose carry the truncation may drop, a settings clamp of the segmenter that
-#: the top's own clamp makes redundant.
+#: The mutants of the slice that survive it, each proven equivalent: index -> Amaranth
+#: source line (the list of mutations is the netlist's: it changes with the gateware).
+#: 25: bit 1 of the K clamp's output XORed with NOT bit 0 in the copy of ``clamped(K)``
+#: that only feeds ``== 1`` (Amaranth repeats an expression per use): 2 -> 0, 4 -> 6,
+#: neither is 1, so no comparison changes.
 SURVIVORS = {
-    3: "?",                                   # DP controller $procmux: B[2] stuck at 0
-    9: "hw/weight_lut.py:97",
-    21: "hw/adder_tree.py:22",
-    27: "hw/segmenter.py:142",
+    25: "hw/controller.py:44",
 }
 
 
-def test_segmenter_slice_kills_all_but_the_listed_survivors():
+def test_segmenter_slice_kills_every_mutant_but_the_proven_equivalent():
     result = run_mutants("segmenter", COUNT, SEED, workers=1)
     assert result.original.verdict == "survived"          # the original passes every run
     assert result.total == COUNT
@@ -49,13 +46,12 @@ def test_segmenter_slice_kills_all_but_the_listed_survivors():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("index", sorted(SURVIVORS))
-def test_segmenter_slice_survivor_proofs(index):
-    """Each survivor's proof runs to a verdict (minutes each): equivalent or not proven,
-    never a Yosys error or a timeout."""
+def test_segmenter_slice_survivors_are_proven_equivalent(index):
+    """Each mutant the slice does not kill is equivalent to the original (minutes each)."""
     mutation = netlist.mutation_list(config("segmenter"), "segmenter", COUNT, SEED)[index - 1]
     assert mutation.source == SURVIVORS[index]
     proof = prove_equivalent(config("segmenter"), "segmenter", mutation)
-    assert proof.verdict in ("equivalent", "not proven"), proof.detail
+    assert proof.verdict == "equivalent", proof.detail
 
 
 def test_a_run_past_the_wall_clock_limit_is_a_timeout_never_killed():
@@ -78,3 +74,22 @@ def test_a_run_past_the_wall_clock_limit_is_a_timeout_never_killed():
     outcome = run_slice(sim, 0, (("long", 0),), wall_seconds=1, runner=long_run)
     assert (outcome.verdict, outcome.run, outcome.report) == \
         ("timeout", "long seed 0", "wall-clock limit of 1 s")
+
+
+def test_range_settings_drive_out_of_range_values_and_expect_them_clamped():
+    """The slice's ``settings-range`` runs: K = 0 and K > K_max, n > C driven on the ports
+    (within the ports' widths), the model given the clamped values."""
+    from dptbd.sim.mutation.slices.segmenter import range_settings
+
+    cfg = config("segmenter")
+    assert (cfg.k_max, cfg.record_capacity, cfg.energy_bits) == (4, 120, 8)
+    changes = [c for seed in range(4) for c in range_settings(cfg, 1920, seed)]
+    driven = {(k, n, s) for _, (k, n, s), _ in changes}
+    for _, (k, n, s), entry in changes:
+        assert 0 <= k < 8 and 0 <= n < 128 and 0 <= s < 8          # the ports' widths
+        assert (entry.segment_frames, entry.candidate_count, entry.histogram_shift) == \
+            (min(max(k, 1), 4), min(n, 120), s)
+    assert {k for k, _, _ in driven} == set(range(8))
+    ns = {n for _, n, _ in driven}
+    assert max(ns) > 120 and 120 in ns and min(ns) <= 2          # n above C, at C, near 0
+    assert all(0 < i < 1920 for i, _, _ in changes)
