@@ -13,7 +13,6 @@ Modules (one line each)
 - ``candidate_scoreboard``: the expected candidate lists, reported by segment, record and field.
 - ``rtl_check``: one compiled run checked against the model with the scoreboards.
 - ``rtl_trials``: Monte Carlo trials on the compiled RTL (``compare --rtl``, ``table1 --rtl``).
-- ``axi_runs``: the campaign's random runs of the AXI top level ``dptbd_axi``, drawn from a seed.
 - ``sim_job``: the job of ``dptbd sim``: one scene on Verilator or Icarus, its cycle count, speed and verdict.
 - ``icarus``: the cocotb + Icarus build of the generated Verilog (``build/sim/<parameter set>/``) and its runs (``simulate``).
 - ``cocotb_drivers``: cocotb stream driver, back-pressure sink, monitor, pause generators and LUT writes.
@@ -21,13 +20,15 @@ Modules (one line each)
 - ``tb_segmenter``: the cocotb test module of ``dptbd_seg`` (DP pipeline + segmenter).
 - ``tb_axi``: the cocotb test module of ``dptbd_axi`` (the AXI top level) with cocotbext-axi.
 - ``soft_reset_check``: what the soft-reset sweep of ``tb_axi`` checks: AXI4-Stream on every cycle, cut lists and filled state lines against the model.
-- ``axi_stimulus``: beat streams for the AXI video input with frame-sync faults, and the frame monitor's fault rule.
 - ``x_store``: 4-state (Icarus) check that an X- or garbage-initialised external store never reaches an output.
 - ``reset_x``: 4-state (Icarus) check of each top level around reset: ``ready`` and ``valid`` 0 in reset and the cycle after, no X on any output, valid offered in every cycle, bit-exact after.
 - ``stimulus``: pixel words and LUT writes, packed with the gateware's layouts.
 - ``scenarios``: integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
 
-Sub-packages: ``campaign`` (the verification campaign, ``dptbd verify``, its runs on the
+Sub-packages: ``axi`` (the AXI top level ``dptbd_axi``'s runs: the video beats with
+frame-sync faults and the frame monitor's fault rule, the campaign's random runs drawn from a
+seed, their register traffic, and the scoring of a run's candidate words against the model's
+lists across soft resets and ``aresetn``), ``campaign`` (the verification campaign, ``dptbd verify``, its runs on the
 Dask execution layer: the cases, what each run draws from its seed, the results),
 ``coverage`` (the campaign's functional coverage bins, and code coverage of the
 RTL: coverage builds' text, Verilator's points mapped to the Amaranth source, register bits

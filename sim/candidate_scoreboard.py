@@ -83,7 +83,7 @@ def state_stream(cfg: DPConfig, frames: np.ndarray) -> np.ndarray:
 
 def list_words(cfg: DPConfig, lists: list[CandidateList]) -> list[list[int]]:
     """The packed ``candidates`` payloads of each list: its records, then its trailer
-    (``cut`` = 0, but for a list cut by a soft reset: :class:`dptbd.sim.axi_stimulus.CutList`)."""
+    (``cut`` = 0, but for a list cut by a soft reset: :class:`dptbd.sim.axi.stimulus.CutList`)."""
     out = []
     for lst in lists:
         words = [pack_record(cfg, *(int(r[f]) for f in RECORD_FIELDS)) for r in lst.records]

@@ -3,7 +3,7 @@ the golden model bit for bit.
 
 Run through :func:`dptbd.sim.icarus.simulate` on a build made with ``build(cfg,
 design="axi")``; never imported outside a simulator. The job (``DPTBD_SIM_JOB``) carries the
-input beats (:class:`dptbd.sim.axi_stimulus.Beats`, faults included) and a list of *steps*;
+input beats (:class:`dptbd.sim.axi.stimulus.Beats`, faults included) and a list of *steps*;
 for each step the bench
 
 1. waits until every earlier beat was accepted, then ``settle`` cycles (default: latency
@@ -17,7 +17,7 @@ for each step the bench
    AXI-Stream frame: ``tlast`` where the beats have ``last``; ``tuser`` = ``first``).
 
 ``m_axis_cand`` goes to ``AxiStreamSink``; every word is scored in order against
-:func:`dptbd.sim.axi_stimulus.expected_outputs` (the golden model of the accepted stream, from
+:func:`dptbd.sim.axi.stimulus.expected_outputs` (the golden model of the accepted stream, from
 reset and after every soft reset, with the settings written and LUT changes at their beat),
 and ``tuser[0]`` / ``tlast`` are checked on every word. At the end the FRAMES, SEGMENTS,
 LISTS and SATURATED counters must read what the model gives. A step with ``soft_reset`` writes
@@ -46,7 +46,7 @@ from cocotbext.axi import (AxiLiteBus, AxiLiteMaster, AxiStreamBus, AxiStreamFra
 
 from dptbd.hw.candidate_layout import unpack_candidate
 from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.sim.axi_stimulus import Beats, expected_outputs
+from dptbd.sim.axi.stimulus import Beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.hw.layouts import pack_states
 from dptbd.sim.cocotb_drivers import Cycles, pause_generator, pause_probability

@@ -1,14 +1,14 @@
 """Long runs of the AXI top level ``dptbd_axi`` on Verilator, scored against the golden model.
 
 :func:`run_axi` streams input beats (pixel, ``tuser[0]``, ``tlast``; injected faults
-included, :mod:`dptbd.sim.axi_stimulus`) through a ``design="axi"`` build of
+included, :mod:`dptbd.sim.axi.stimulus`) through a ``design="axi"`` build of
 :mod:`dptbd.sim.verilator_build` (harness ``sim/harness/dptbd_axi_harness.cpp``) with seeded
 ``tvalid`` gaps and ``tready`` back-pressure, performing AXI4-Lite writes, reads and idle
 waits before given beats. :func:`check_axi` turns the steps of the cocotb bench
 (:mod:`dptbd.sim.tb_axi`: register ``writes``, ``lut_codes``, ``soft_reset``, ``check`` and
 ``stop``) into such operations, runs them, and scores every candidate word in order with
 :class:`~dptbd.sim.candidate_scoreboard.CandidateScoreboard` against
-:func:`~dptbd.sim.axi_stimulus.expected_outputs` (the same model as the cocotb bench), the
+:func:`~dptbd.sim.axi.stimulus.expected_outputs` (the same model as the cocotb bench), the
 ``tuser[0]`` / ``tlast`` of every word, every write's response, every ``check`` read and, at
 the end, the FRAMES / SEGMENTS / LISTS / SATURATED counters and the fault counters against
 the model. Nothing runs in Python per cycle.
@@ -25,8 +25,8 @@ import numpy as np
 
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS, register_map
-from dptbd.sim.axi_stimulus import Beats, expected_outputs, fault_pulses, stream_pieces
-from dptbd.sim.axi_scoring import (delivered_lists, flag_problems, score_exact,
+from dptbd.sim.axi.stimulus import Beats, expected_outputs, fault_pulses, stream_pieces
+from dptbd.sim.axi.scoring import (delivered_lists, flag_problems, score_exact,
                                    score_in_parts, undrained_cuts)
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.verilator import _check_probability, cycle_budget
@@ -317,7 +317,7 @@ def no_sof_mask(beats: Beats, steps: list[dict]) -> np.ndarray:
 
 def fault_pulse_array(cfg, beats: Beats, steps: list[dict]) -> np.ndarray:
     """The frame monitor's fault pulses, ``(beats, len(FAULTS))``: the monitor restarts at
-    every soft reset (:func:`~dptbd.sim.axi_stimulus.stream_pieces`) and raises no
+    every soft reset (:func:`~dptbd.sim.axi.stimulus.stream_pieces`) and raises no
     ``frame_long`` while ``no_sof`` is 1 (:func:`no_sof_mask`)."""
     out = np.zeros((len(beats), len(FAULTS)), dtype=np.int64)
     for piece in stream_pieces(cfg, steps):

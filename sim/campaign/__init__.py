@@ -66,7 +66,7 @@ def check_run(case: Case, seed: int, root: str | None = None,
     from dptbd.sim.verilator import build
 
     if case.design == "axi":
-        from dptbd.sim import axi_runs
+        from dptbd.sim.axi import runs as axi_runs
         return axi_runs.check_run(case, seed, root, coverage)
 
     start = time.perf_counter()

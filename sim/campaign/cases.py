@@ -25,7 +25,7 @@ class Case:
         :class:`~dptbd.config.DPConfig` fields (JSON-able, so a case pickles cheaply).
     design : str
         ``"dp"``, ``"core"``, ``"segmenter"`` or ``"axi"`` (:data:`dptbd.sim.verilator.DESIGNS`;
-        an ``"axi"`` case draws its runs with :mod:`dptbd.sim.axi_runs`, its own faults).
+        an ``"axi"`` case draws its runs with :mod:`dptbd.sim.axi.runs`, its own faults).
     frames : int
         Frames per run (before faults cut or lengthen them).
     runs : int
@@ -90,11 +90,11 @@ def default_cases() -> list[Case]:
 
 
 def axi_cases() -> list[Case]:
-    """The AXI top level's cases (:mod:`dptbd.sim.axi_runs`): 001's setting, a small r = 2
+    """The AXI top level's cases (:mod:`dptbd.sim.axi.runs`): 001's setting, a small r = 2
     one with a fractional LUT, a small binary-LUT one with B_E = 9 (bright frames saturate);
     K_max above K and small C, so that run-time K, lists at capacity and overflowing lists
     occur."""
-    from dptbd.sim.axi_runs import AXI_FAULTS
+    from dptbd.sim.axi.runs import AXI_FAULTS
 
     p001 = dict(width=128, height=128, segment_frames=8, input_bits=12, energy_bits=16,
                 weight_frac_bits=8)

@@ -132,11 +132,11 @@ def _settings_changes(cfg: DPConfig, n_words: int, rng: np.random.Generator):
 def make_run(case: Case, seed: int, latency: int | None = None):
     """The input words and :class:`~dptbd.sim.rtl_check.Stimulus` of run ``seed`` of ``case``,
     and a description of its faults; for ``design="axi"`` the
-    :class:`~dptbd.sim.axi_runs.AxiPlan` (:func:`dptbd.sim.axi_runs.draw_run`). ``latency``:
+    :class:`~dptbd.sim.axi.runs.AxiPlan` (:func:`dptbd.sim.axi.runs.draw_run`). ``latency``:
     the build's DP pipeline L (then about half the runs with resets get one more early on,
     soon after the first word, when the pipeline holds 0 … L words)."""
     if case.design == "axi":
-        from dptbd.sim.axi_runs import draw_run
+        from dptbd.sim.axi.runs import draw_run
         return draw_run(case, seed)
     return make_stream_run(case, seed, latency)[:3]
 

@@ -79,7 +79,7 @@ def counter_scene(cfg, seed: int, events: int = COUNTER_EVENTS):
     """
     import numpy as np
 
-    from dptbd.sim.axi_stimulus import Beats, clean_beats
+    from dptbd.sim.axi.stimulus import Beats, clean_beats
 
     rng = np.random.default_rng([seed, 0xC0])
     w, h = cfg.width, cfg.height
@@ -108,7 +108,7 @@ def _axi_scene(cfg, seed: int, bright: bool = False):
 
     from dptbd.hw.flow.register_export import constants_namespace
     from dptbd.hw.register_map import FAULTS
-    from dptbd.sim.axi_stimulus import fault_stretches
+    from dptbd.sim.axi.stimulus import fault_stretches
     from dptbd.sim.scenarios import make_frames
 
     regs = constants_namespace(cfg)
@@ -189,7 +189,7 @@ def _config(fields: dict):
 def coverage_run(case, seed: int, root, coverage: str):
     """One run of the coverage campaign (a task of the execution layer): a campaign
     :class:`~dptbd.sim.campaign.Case` through :func:`~dptbd.sim.campaign.check_run` (an AXI
-    case to :func:`dptbd.sim.axi_runs.check_run`), an :class:`AxiCase` through
+    case to :func:`dptbd.sim.axi.runs.check_run`), an :class:`AxiCase` through
     :func:`check_axi_run`; its coverage data written to the file ``coverage``."""
     if isinstance(case, AxiCase):
         return check_axi_run(case, seed, root, coverage)

@@ -17,7 +17,7 @@ import pytest
 from dptbd.hw.axi_top import AXITop
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.layouts import pack_states
-from dptbd.sim.axi_stimulus import clean_beats, expected_outputs
+from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import list_words
 from helpers.axil_harness import flat_axil, simulate_top
 from helpers.seg_harness import make_config

@@ -3,7 +3,7 @@
 
 Glasgow's pattern: ``cases()`` yields beat sequences ``[(first, last), …]`` for a W x H
 raster, each with one kind of fault (or none); ``ref_faults`` is the rule of
-``docs/integration.md`` written in Python (``dptbd.sim.axi_stimulus``); ``rtl_faults`` runs the gateware with random
+``docs/integration.md`` written in Python (``dptbd.sim.axi.stimulus``); ``rtl_faults`` runs the gateware with random
 gaps between beats.
 """
 
@@ -17,7 +17,7 @@ from amaranth.hdl import Elaboratable, Module
 from dptbd.hw.controller import Controller
 from dptbd.hw.frame_monitor import FrameMonitor
 from dptbd.hw.register_map import FAULTS
-from dptbd.sim.axi_stimulus import fault_counts, fault_pulses, fault_stretches, with_fault
+from dptbd.sim.axi.stimulus import fault_counts, fault_pulses, fault_stretches, with_fault
 from helpers.hw_harness import simulate
 from helpers.seg_harness import make_config
 
@@ -66,7 +66,7 @@ def cases():
 
 
 def ref_faults(beats, no_sof=False):
-    """Fault pulses per beat (dicts): :func:`dptbd.sim.axi_stimulus.fault_pulses`, the
+    """Fault pulses per beat (dicts): :func:`dptbd.sim.axi.stimulus.fault_pulses`, the
     controller's counting rule written in Python."""
     first, last = zip(*beats)
     return fault_pulses(make_config(width=W, height=H), first, last, no_sof=no_sof)

@@ -17,7 +17,7 @@ import pytest
 
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS
-from dptbd.sim.axi_stimulus import clean_beats, expected_outputs, fault_counts, with_fault
+from dptbd.sim.axi.stimulus import clean_beats, expected_outputs, fault_counts, with_fault
 from dptbd.sim.candidate_scoreboard import list_words
 from dptbd.sim.icarus import simulate
 from dptbd.sim.scenarios import make_frames
@@ -144,7 +144,7 @@ def test_every_fault_class_in_one_stream():
 
 
 def fault_pulses_of(cfg, beats):
-    from dptbd.sim.axi_stimulus import fault_pulses
+    from dptbd.sim.axi.stimulus import fault_pulses
     return [any(p.values()) for p in fault_pulses(cfg, beats.first, beats.last)]
 
 

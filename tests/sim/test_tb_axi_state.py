@@ -16,7 +16,7 @@ import pytest
 
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS
-from dptbd.sim.axi_stimulus import clean_beats, expected_outputs, fault_counts, with_fault
+from dptbd.sim.axi.stimulus import clean_beats, expected_outputs, fault_counts, with_fault
 from dptbd.sim.icarus import simulate
 from dptbd.sim.scenarios import make_frames
 from helpers.cocotb_harness import CYCLE, assert_passed, built, make_config, random_pause

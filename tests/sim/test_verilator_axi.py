@@ -15,7 +15,7 @@ import pytest
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS
 from dptbd.sim import verilator as V
-from dptbd.sim.axi_stimulus import clean_beats, with_fault
+from dptbd.sim.axi.stimulus import clean_beats, with_fault
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.verilator_axi import (CUT_COUNTERS, beat_words, check_axi, run_axi,
                                      step_operations)

@@ -7,7 +7,7 @@ and each output left, the resets, LUT and settings writes, the injected faults) 
 golden model's outputs, which the RTL matched bit for bit: a run that failed fills no bin.
 :func:`stream_bins` reads a compiled run of ``dp``, ``core`` or ``segmenter``
 (:func:`dptbd.sim.campaign.check_run`), :func:`axi_bins` a run of ``dptbd_axi``
-(:func:`dptbd.sim.axi_runs.check_run`): the inputs of
+(:func:`dptbd.sim.axi.runs.check_run`): the inputs of
 :func:`dptbd.sim.verilator_axi.check_axi` (the ``Beats``, the ``steps`` and the stall
 densities) and the cycle each beat was accepted and each register operation done.
 
@@ -48,7 +48,7 @@ The bin groups and what a hit is (``docs/gateware.md``, "Verification campaign")
   ``check_axi`` holds low after the step's settle (more than L idle cycles; those with
   words in flight, ``aresetn_wait``, are not counted here).
 * ``fault``: injected faults of each class (:data:`dptbd.sim.campaign.FAULTS`,
-  :data:`dptbd.sim.axi_stimulus.FAULT_KINDS`) followed by a clean segment: a whole segment
+  :data:`dptbd.sim.axi.stimulus.FAULT_KINDS`) followed by a clean segment: a whole segment
   (K complete frames from the counters' frame 0) that starts at or after the fault, with no
   fault, LUT or settings write inside it, all of whose outputs matched (the run passed).
 * ``LUT``: whole-table writes by the stage of the frame they come before (between frames:

@@ -1,4 +1,4 @@
-"""The bins of a run of the AXI top level ``dptbd_axi`` (:func:`dptbd.sim.axi_runs.check_run`):
+"""The bins of a run of the AXI top level ``dptbd_axi`` (:func:`dptbd.sim.axi.runs.check_run`):
 what the run fills (:func:`declared_axi`) and what it filled (:func:`axi_bins`), from the
 inputs of :func:`dptbd.sim.verilator_axi.check_axi` and the cycle each beat was accepted and
 each register operation done; the groups are described in :mod:`dptbd.sim.coverage.bins`."""
@@ -20,7 +20,7 @@ from dptbd.sim.coverage.bins.view import (count_lut, count_outputs, count_positi
 __all__ = ["AXIL_WRITE_CYCLES", "soft_reset_bin", "declared_axi", "axi_bins"]
 
 #: Cycles of an AXI4-Lite write in the AXI harness, from AW and W offered to the response
-#: taken (the register block's; ``tests/sim/test_axi_runs.py`` measures it).
+#: taken (the register block's; ``tests/sim/axi/test_runs.py`` measures it).
 AXIL_WRITE_CYCLES = 3
 
 
@@ -32,7 +32,7 @@ def soft_reset_bin(k: int) -> str:
 def declared_axi(cfg, latency: int) -> dict[str, int]:
     """Every bin (0 hits) a run of ``dptbd_axi`` fills; ``latency`` the DP pipeline's L of
     the build."""
-    from dptbd.sim.axi_stimulus import FAULT_KINDS
+    from dptbd.sim.axi.stimulus import FAULT_KINDS
 
     out = declared_stall()
     out.update({soft_reset_bin(k): 0 for k in range(latency + 1)})
@@ -74,10 +74,10 @@ def axi_bins(cfg, beats, steps: list[dict], *, passed: bool, latency: int,
     needed if a soft reset is ``"now"``. ``bus``: raw AXI4-Lite operations the run also
     performed after the steps', ``(kind "w" or "r", byte address, data, wstrb)``.
 
-    :func:`dptbd.sim.axi_runs.check_run` fills an AXI run's bins with it."""
+    :func:`dptbd.sim.axi.runs.check_run` fills an AXI run's bins with it."""
     from dptbd.hw.register_map import FAULTS, register_map
     from dptbd.model.segmentation import segment_stream
-    from dptbd.sim.axi_stimulus import stream_pieces
+    from dptbd.sim.axi.stimulus import stream_pieces
     from dptbd.sim.stream_model import expected_stream
     from dptbd.sim.verilator_axi import fault_pulse_array
 

@@ -1,7 +1,7 @@
 """The ``axi`` slice (``dptbd_axi``): seeded runs of
 :func:`dptbd.sim.verilator_axi.check_axi` (every fault class, settings and LUT writes,
 refused writes, W1C, soft reset, register reads, gaps and back-pressure), random AXI runs
-of the campaign (:func:`dptbd.sim.axi_runs.draw_run`), runs with a random LUT at K_max
+of the campaign (:func:`dptbd.sim.axi.runs.draw_run`), runs with a random LUT at K_max
 (:func:`lut_scenario`) and one long run of the counters and the stall cycles
 (:func:`counter_plan`)."""
 
@@ -14,7 +14,7 @@ from dptbd.sim.mutation.verdict import hang_verdict
 __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
            "COUNTER_READS", "RUNS", "axi_scenario", "lut_scenario", "counter_plan", "run"]
 
-#: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi_runs.draw_run` on the slice's
+#: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi.runs.draw_run` on the slice's
 #: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
 #: soft resets with words in flight, aresetn, W1C, clear_counters, LUT and settings writes,
 #: every register read with its expected value.
@@ -44,7 +44,7 @@ def lut_scenario(cfg: DPConfig, seed: int) -> tuple:
     the weighted sum), n = C, and a random LUT (codes in [0, 2**F]) from the first beat."""
     import numpy as np
 
-    from dptbd.sim.axi_stimulus import clean_beats
+    from dptbd.sim.axi.stimulus import clean_beats
     from dptbd.sim.scenarios import make_frames
 
     rng = np.random.default_rng([seed, 0xA75])
@@ -73,7 +73,7 @@ def counter_plan(cfg: DPConfig) -> tuple:
 
         from dptbd.hw.flow.register_export import constants_namespace
         from dptbd.hw.segmenter import scan_cycles
-        from dptbd.sim.axi_stimulus import clean_beats, expected_outputs
+        from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
         from dptbd.sim.candidate_scoreboard import list_words
         from dptbd.sim.verilator_axi import CUT_COUNTERS
 
@@ -129,14 +129,14 @@ def _counters_run(sim) -> tuple[str, str]:
 
 def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
     """The beats, steps and stimulus of AXI run ``seed``: two clean segments and every fault
-    class (:func:`dptbd.sim.axi_stimulus.with_fault`), K / n / s writes (one refused), the
+    class (:func:`dptbd.sim.axi.stimulus.with_fault`), K / n / s writes (one refused), the
     LUT rewritten, ERROR W1C, a soft reset, register checks; gaps and back-pressure from the
     seed."""
     import numpy as np
 
     from dptbd.hw.flow.register_export import constants_namespace
     from dptbd.hw.register_map import FAULTS, register_map
-    from dptbd.sim.axi_stimulus import fault_stretches
+    from dptbd.sim.axi.stimulus import fault_stretches
     from dptbd.sim.scenarios import make_frames
 
     rng = np.random.default_rng([seed, 0xA71])
@@ -172,7 +172,7 @@ def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
 
 
 def _axi_random_run(sim, seed: int) -> tuple[str, str]:
-    from dptbd.sim.axi_runs import AXI_FAULTS, draw_run
+    from dptbd.sim.axi.runs import AXI_FAULTS, draw_run
     from dptbd.sim.campaign import Case
     from dptbd.sim.verilator_axi import check_axi
 

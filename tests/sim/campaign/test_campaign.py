@@ -13,7 +13,7 @@ from helpers.refusals import whole
 
 from dptbd.evaluation.execution import ExecutionError
 from dptbd.sim import campaign
-from dptbd.sim.axi_runs import AXI_FAULTS
+from dptbd.sim.axi.runs import AXI_FAULTS
 from dptbd.sim.campaign import (Case, campaign_task, campaign_tasks, default_cases, make_run,
                                 run_campaign)
 from dptbd.sim.coverage.bins import GROUPS, POSITIONS, declared_axi
@@ -21,7 +21,7 @@ from dptbd.sim.coverage.bins import GROUPS, POSITIONS, declared_axi
 
 def test_a_slice_of_the_campaign_is_bit_exact():
     """>= 10^6 compared words over every default case but the AXI ones (their builds are
-    long; ``tests/sim/test_axi_runs.py`` and the test below run a small AXI case), the
+    long; ``tests/sim/axi/test_runs.py`` and the test below run a small AXI case), the
     4-state store checks included."""
     cases = [c for c in default_cases() if c.design != "axi"]
     result = run_campaign(cases, runs_scale=0.01, workers=2, base_seed=11)
@@ -47,7 +47,7 @@ def test_a_slice_of_the_campaign_is_bit_exact():
 
 
 def test_the_campaign_runs_an_axi_case():
-    """``design="axi"``: the runs come from :mod:`dptbd.sim.axi_runs`, through the pool."""
+    """``design="axi"``: the runs come from :mod:`dptbd.sim.axi.runs`, through the pool."""
     case = Case("axi-12x10", dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
                                   candidate_count=4, candidate_capacity=6, histogram_bits=6,
                                   histogram_shift=2), "axi", 20, 3, AXI_FAULTS)

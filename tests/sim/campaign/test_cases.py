@@ -3,7 +3,7 @@ faults the campaign promises (``docs/gateware.md``, "Verification campaign")."""
 
 from __future__ import annotations
 
-from dptbd.sim.axi_runs import AXI_FAULTS
+from dptbd.sim.axi.runs import AXI_FAULTS
 from dptbd.sim.campaign.cases import default_cases, x_store_cases
 
 

@@ -60,7 +60,7 @@ def fake(tmp_path, design):
 
 
 def test_runners_refuse_a_coverage_file_for_a_plain_build(tmp_path):
-    from dptbd.sim.axi_stimulus import Beats
+    from dptbd.sim.axi.stimulus import Beats
     from dptbd.sim.verilator_axi import run_axi
 
     message = whole("coverage needs a build made with coverage=True")

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from dptbd.sim.axi_stimulus import expected_outputs, fault_counts
+from dptbd.sim.axi.stimulus import expected_outputs, fault_counts
 from dptbd.sim.coverage.run_sets import (
     COUNTER_CONFIG,
     COUNTER_EVENTS,

@@ -9,7 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from dptbd.sim.axi_stimulus import clean_beats, with_fault
+from dptbd.sim.axi.stimulus import clean_beats, with_fault
 from dptbd.sim.campaign import Case
 from dptbd.sim.coverage import bins
 

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from dptbd.sim.axi_stimulus import CutList
+from dptbd.sim.axi.stimulus import CutList
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard, list_words
 
 if TYPE_CHECKING:

@@ -5,14 +5,14 @@
 
 * a video stream: :func:`~dptbd.sim.campaign.hostile_frames` cut into stretches of 1–4
   frames, about a quarter of them (two frames or more) carrying one frame-sync fault of a
-  class drawn from :data:`~dptbd.sim.axi_stimulus.FAULT_KINDS`
-  (:func:`~dptbd.sim.axi_stimulus.with_fault`);
+  class drawn from :data:`~dptbd.sim.axi.stimulus.FAULT_KINDS`
+  (:func:`~dptbd.sim.axi.stimulus.with_fault`);
 * input gap and output back-pressure densities, each in a band of
   :data:`~dptbd.sim.coverage.bins.BANDS` (none: 0; light: uniform in (0, 0.35); heavy:
   uniform in [0.35, 0.7]), the pair of bands the seed modulo 9 (nine consecutive seeds
   draw every pair);
 * steps (the bench's vocabulary, :func:`dptbd.sim.verilator_axi.step_operations`; the
-  register traffic from :class:`~dptbd.sim.axi_actions.Drawer`) at beats
+  register traffic from :class:`~dptbd.sim.axi.actions.Drawer`) at beats
   drawn on frame starts, line starts, inside a frame's first or last row and anywhere,
   each with some of: run-time K / n / s writes (n often 0, 1, 2 or C, s mostly near the
   build's), refused setting writes (below or above every writable register's range, the
@@ -26,7 +26,7 @@
   constant, a counter or STATUS, a third each), soft resets at
   any beat of a frame (the model restarts at the soft reset's beat), half of them after the
   pipeline drained (a list left open in a scored frame is then closed by the cut trailer:
-  :class:`~dptbd.sim.axi_stimulus.CutList`), half with words in flight and back-pressure
+  :class:`~dptbd.sim.axi.stimulus.CutList`), half with words in flight and back-pressure
   (``soft_reset: "now"``, after ``soft_reset_wait`` idle cycles, 0 half the time, else up
   to :data:`NOW_WAIT`: the lists before it whole, then at most one list's first records
   closed by the cut trailer; FRAMES … SATURATED read right after it, the base of their
@@ -58,8 +58,8 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.hw.register_map import FAULTS
-from dptbd.sim.axi_actions import ACTIONS, REFUSALS, Drawer, fill_checks
-from dptbd.sim.axi_stimulus import FAULT_KINDS, Beats, clean_beats, with_fault
+from dptbd.sim.axi.actions import ACTIONS, REFUSALS, Drawer, fill_checks
+from dptbd.sim.axi.stimulus import FAULT_KINDS, Beats, clean_beats, with_fault
 from dptbd.sim.verilator_axi import OKAY
 
 __all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "NOW_SWEEP", "NOW_WAIT", "ARESETN_NOW",

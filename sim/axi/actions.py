@@ -1,4 +1,4 @@
-"""The register traffic of a random AXI run (:func:`dptbd.sim.axi_runs.draw_run`):
+"""The register traffic of a random AXI run (:func:`dptbd.sim.axi.runs.draw_run`):
 :class:`Drawer` draws the steps' actions (settings, refused writes, strobes, ``no_sof``,
 ``IRQ_ENABLE``, LUT tables and entries, refused bus accesses, checked reads) tracking what
 the registers hold, and :func:`fill_checks` fills in the reads only the model knows (ERROR,
@@ -10,7 +10,7 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.hw.register_map import FAULTS, register_map
-from dptbd.sim.axi_stimulus import SETTINGS, Beats
+from dptbd.sim.axi.stimulus import SETTINGS, Beats
 from dptbd.sim.verilator_axi import OKAY, SLVERR
 
 __all__ = ["ACTIONS", "REFUSALS", "Drawer", "fill_checks"]

@@ -1,5 +1,5 @@
 """Lists that a reset or the stream's end leaves open in ``dptbd_axi``'s runs
-(:mod:`dptbd.sim.axi_stimulus` ``CutList``, :mod:`dptbd.sim.axi_scoring`): closed by the
+(:mod:`dptbd.sim.axi.stimulus` ``CutList``, :mod:`dptbd.sim.axi.scoring`): closed by the
 cut trailer at a soft reset, abandoned by ``aresetn``, left open at the end; resets with
 words in flight, and the counters across them."""
 
@@ -14,14 +14,14 @@ from dptbd.hw.candidate_layout import pack_cut_trailer, unpack_candidate
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.sim import verilator as V
 from dptbd.sim import verilator_axi
-from dptbd.sim.axi_stimulus import Beats, CutList, clean_beats, expected_outputs
+from dptbd.sim.axi.stimulus import Beats, CutList, clean_beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import list_words
 from dptbd.sim.coverage import bins
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.verilator_axi import check_axi
 from helpers.verilator_harness import built, make_config
 
-# the configuration of tests/sim/test_axi_runs.py and test_verilator_axi.py (one build)
+# the configuration of tests/sim/axi/test_runs.py and test_verilator_axi.py (one build)
 SMALL = dict(width=12, height=10, segment_frames=2, max_segment_frames=4, candidate_count=4,
              candidate_capacity=6, histogram_bits=6, histogram_shift=2)
 

@@ -1,4 +1,4 @@
-"""Random runs of ``dptbd_axi`` (:mod:`dptbd.sim.axi_runs`): drawn from the seed only, every
+"""Random runs of ``dptbd_axi`` (:mod:`dptbd.sim.axi.runs`): drawn from the seed only, every
 refusal class drawn, the model's register values (ERROR, fault counters) and the list a
 soft reset cuts; a few seeds on Verilator, bit-exact, and a wrong model caught."""
 
@@ -12,11 +12,11 @@ import pytest
 
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS, register_map
-from dptbd.sim import axi_runs, axi_stimulus
+from dptbd.sim.axi import runs as axi_runs, stimulus as axi_stimulus
 from dptbd.sim import verilator as V
-from dptbd.sim.axi_runs import (ACTIONS, AXI_FAULTS, NOW_SWEEP, REFUSALS, check_run,
+from dptbd.sim.axi.runs import (ACTIONS, AXI_FAULTS, NOW_SWEEP, REFUSALS, check_run,
                                 draw_run)
-from dptbd.sim.axi_stimulus import (FAULT_KINDS, SETTINGS, CutList, clean_beats,
+from dptbd.sim.axi.stimulus import (FAULT_KINDS, SETTINGS, CutList, clean_beats,
                                     expected_outputs, fault_counts, with_fault)
 from dptbd.sim.campaign import Case
 from dptbd.sim.coverage import bins
