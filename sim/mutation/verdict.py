@@ -1,11 +1,14 @@
-"""A mutant's verdict: :class:`MutantOutcome`, and :func:`hang_verdict` for a run whose cycle
-budget ran out (the verdicts are described in :mod:`dptbd.sim.mutation.run`)."""
+"""A mutant's verdict: :class:`MutantOutcome`, :func:`hang_verdict` for a run whose cycle
+budget ran out and :func:`stream_hang` for a stream run's (the verdicts are described in
+:mod:`dptbd.sim.mutation.run`)."""
 
 from __future__ import annotations
 
 import dataclasses
 
-__all__ = ["VERDICTS", "MutantOutcome", "hang_verdict"]
+import numpy as np
+
+__all__ = ["VERDICTS", "MutantOutcome", "hang_verdict", "stream_hang"]
 
 #: Verdicts, in the order they are listed.
 VERDICTS = ("killed", "survived", "timeout", "crashed", "no-build")
@@ -39,3 +42,36 @@ def hang_verdict(status: str, report: str) -> str | None:
     if status != "done" and not any(text in report for text in _DETECTED):
         return "timeout"
     return None
+
+
+def _missing_of_offered(sim, words, stim, result) -> str:
+    """For a run without resets whose cycle budget ran out with offered words not taken:
+    the golden model fed every offered word against what the design delivered; the report
+    of the missing (or wrong) words, or ``""`` if every word the model gives came out."""
+    from dptbd.sim.rtl_check import _checker, expected_stream, split_words
+
+    if stim.resets or result.raw.status == "done":
+        return ""
+    pixels, first = split_words(sim.cfg, np.asarray(words))
+    exp = expected_stream(sim.cfg, pixels, first,
+                          {int(i): codes for i, codes in stim.lut_changes},
+                          {int(i): entry for i, entry in stim.settings_changes})
+    board = _checker(sim.cfg, sim.output, exp, cut_by_reset=False)
+    board.receive_array(result.raw.out_words)
+    if board.done:
+        return ""
+    return (f"hang: {result.words_in} of {len(words)} offered words taken in {result.raw.cycles} "
+            f"cycles; against the model of every offered word: {board.report()}")
+
+
+def stream_hang(sim, words, stim, result) -> tuple[str, str] | None:
+    """The verdict of a stream run (:func:`dptbd.sim.rtl_check.check_stream`) whose cycle
+    budget ran out: ``killed`` with the missing words when the model of every offered word
+    gives words the design did not deliver, ``timeout`` otherwise (:func:`hang_verdict`);
+    ``None`` for a run that finished or whose own check decides."""
+    if not hang_verdict(result.raw.status, result.report):
+        return None
+    missing = _missing_of_offered(sim, words, stim, result)
+    if missing:
+        return "killed", missing
+    return "timeout", f"cycle budget ({result.raw.cycles} cycles) ran out: {result.report}"

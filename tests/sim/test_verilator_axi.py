@@ -20,15 +20,9 @@ from dptbd.sim.scenarios import make_frames
 from dptbd.sim.verilator_axi import (CUT_COUNTERS, beat_words, check_axi, run_axi,
                                      step_operations)
 from helpers.refusals import whole
-from helpers.verilator_harness import built, make_config
+from helpers.verilator_harness import built, make_config, needs_verilator
 
-try:
-    V.check_tools()
-    HAVE_TOOLS = True
-except V.ToolMissingError:
-    HAVE_TOOLS = False
-
-pytestmark = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator and a C++ compiler")
+pytestmark = needs_verilator
 
 # 12 x 10, K = 2 (K_max = 4), n = 4, C = 6, 64 bins of width 4: lists with records
 SMALL = dict(width=12, height=10, segment_frames=2, max_segment_frames=4, candidate_count=4,

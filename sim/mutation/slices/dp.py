@@ -17,7 +17,7 @@ import warnings
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS
-from dptbd.sim.mutation.verdict import hang_verdict
+from dptbd.sim.mutation.verdict import hang_verdict, stream_hang
 
 __all__ = ["RUNS", "FRAMES", "run"]
 
@@ -179,7 +179,6 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
 
 def _run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, _make_run
-    from dptbd.sim.mutation.slices.segmenter import _missing_of_offered
     from dptbd.sim.rtl_check import check_stream
 
     case = Case(f"mutant-{kind}", CONFIGS["dp"], "dp", FRAMES[kind], 1,
@@ -200,11 +199,9 @@ def _run(sim, kind: str, seed: int) -> tuple[str, str]:
         words = _noise_words(sim.cfg, FRAMES[kind], seed)
         stim = dataclasses.replace(stim, lut_changes=_corner_luts(sim.cfg, len(words), seed))
     result = check_stream(sim, words, stim)
-    if hang_verdict(result.raw.status, result.report):
-        missing = _missing_of_offered(sim, words, stim, result)
-        if missing:
-            return "killed", missing
-        return "timeout", f"cycle budget ({result.raw.cycles} cycles) ran out: {result.report}"
+    hung = stream_hang(sim, words, stim, result)
+    if hung:
+        return hung
     if result.passed and kind == "timing":
         late = _timing_report(result.raw, int(sim.latency))
         if late:

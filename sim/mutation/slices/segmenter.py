@@ -11,7 +11,7 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS
-from dptbd.sim.mutation.verdict import hang_verdict
+from dptbd.sim.mutation.verdict import stream_hang
 from dptbd.sim.rtl_check import NEVER
 
 __all__ = ["RUNS", "run"]
@@ -111,26 +111,6 @@ def _range_run(sim, words, stim, seed: int) -> tuple[str, str]:
     return "survived", board.report()
 
 
-def _missing_of_offered(sim, words, stim, result) -> str:
-    """For a run without resets whose cycle budget ran out with offered words not taken:
-    the golden model fed every offered word against what the design delivered; the report
-    of the missing (or wrong) words, or ``""`` if every word the model gives came out."""
-    from dptbd.sim.rtl_check import _checker, expected_stream, split_words
-
-    if stim.resets or result.raw.status == "done":
-        return ""
-    pixels, first = split_words(sim.cfg, np.asarray(words))
-    exp = expected_stream(sim.cfg, pixels, first,
-                          {int(i): codes for i, codes in stim.lut_changes},
-                          {int(i): entry for i, entry in stim.settings_changes})
-    board = _checker(sim.cfg, sim.output, exp, cut_by_reset=False)
-    board.receive_array(result.raw.out_words)
-    if board.done:
-        return ""
-    return (f"hang: {result.words_in} of {len(words)} offered words taken in {result.raw.cycles} "
-            f"cycles; against the model of every offered word: {board.report()}")
-
-
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, make_run
     from dptbd.sim.rtl_check import check_stream
@@ -149,9 +129,7 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
         stim = dataclasses.replace(stim, settings_changes=_edge_settings(sim.cfg, len(words),
                                                                          seed))
     result = check_stream(sim, words, stim)
-    if hang_verdict(result.raw.status, result.report):
-        missing = _missing_of_offered(sim, words, stim, result)
-        if missing:
-            return "killed", missing
-        return "timeout", f"cycle budget ({result.raw.cycles} cycles) ran out: {result.report}"
+    hung = stream_hang(sim, words, stim, result)
+    if hung:
+        return hung
     return ("survived" if result.passed else "killed"), result.report

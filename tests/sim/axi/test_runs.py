@@ -13,7 +13,6 @@ import pytest
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_map import FAULTS, register_map
 from dptbd.sim.axi import runs as axi_runs, stimulus as axi_stimulus
-from dptbd.sim import verilator as V
 from dptbd.sim.axi.runs import (ACTIONS, AXI_FAULTS, NOW_SWEEP, REFUSALS, check_run,
                                 draw_run)
 from dptbd.sim.axi.stimulus import (FAULT_KINDS, SETTINGS, CutList, clean_beats,
@@ -22,22 +21,13 @@ from dptbd.sim.campaign import Case
 from dptbd.sim.coverage import bins
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.verilator_axi import check_axi, fault_pulse_array
-from helpers.verilator_harness import built, make_config
+from helpers.verilator_harness import HAVE_VERILATOR, built, make_config, needs_verilator
 
 # the configuration of tests/sim/test_verilator_axi.py (one build): 12 x 10, K = 2 of
 # K_max = 4, n = 4, C = 6, 64 bins of width 4
 SMALL = dict(width=12, height=10, segment_frames=2, max_segment_frames=4, candidate_count=4,
              candidate_capacity=6, histogram_bits=6, histogram_shift=2)
 CASE = Case("axi-12x10", SMALL, "axi", 30, 4, AXI_FAULTS)
-
-try:
-    V.check_tools()
-    HAVE_TOOLS = True
-except V.ToolMissingError:
-    HAVE_TOOLS = False
-
-needs_verilator = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator and a C++ compiler")
-
 
 def test_a_run_is_its_seed():
     a, b, c = draw_run(CASE, 5), draw_run(CASE, 5), draw_run(CASE, 6)
@@ -132,7 +122,7 @@ def test_error_and_fault_counters_follow_pulses_refusals_and_clears():
         {"ERROR": regs.ERROR_WRITE_REFUSED_MASK, "FAULT_FRAME_SHORT": 0, "FAULT_FRAME_LONG": 0},
         {"ERROR": regs.ERROR_FRAME_SHORT_MASK, "FAULT_FRAME_SHORT": 1, "FAULT_FRAME_LONG": 0},
         {"ERROR": regs.ERROR_FRAME_SHORT_MASK, "FAULT_FRAME_SHORT": 0, "FAULT_FRAME_LONG": 0}]
-    if HAVE_TOOLS:
+    if HAVE_VERILATOR:
         result = check_axi(built(cfg, "axi"), beats, steps, valid_gap=0.3, ready_pause=0.3)
         assert result.passed, result.report()
         assert result.expected_counters["FAULT_FRAME_SHORT"] == 0      # cleared after it

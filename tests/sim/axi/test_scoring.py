@@ -8,31 +8,20 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-import pytest
 
 from dptbd.hw.candidate_layout import pack_cut_trailer, unpack_candidate
 from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.sim import verilator as V
 from dptbd.sim import verilator_axi
 from dptbd.sim.axi.stimulus import Beats, CutList, clean_beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import list_words
 from dptbd.sim.coverage import bins
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.verilator_axi import check_axi
-from helpers.verilator_harness import built, make_config
+from helpers.verilator_harness import HAVE_VERILATOR, built, make_config, needs_verilator
 
 # the configuration of tests/sim/axi/test_runs.py and test_verilator_axi.py (one build)
 SMALL = dict(width=12, height=10, segment_frames=2, max_segment_frames=4, candidate_count=4,
              candidate_capacity=6, histogram_bits=6, histogram_shift=2)
-
-try:
-    V.check_tools()
-    HAVE_TOOLS = True
-except V.ToolMissingError:
-    HAVE_TOOLS = False
-
-needs_verilator = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator and a C++ compiler")
-
 
 def test_a_soft_reset_in_a_scored_frame_cuts_its_list():
     """K = 2: frame 3 is segment 1's scored frame; a soft reset 6 lines into it closes the
@@ -50,7 +39,7 @@ def test_a_soft_reset_in_a_scored_frame_cuts_its_list():
     assert not any(isinstance(lst, CutList) for lst in expected_outputs(
         cfg, beats, [{"stop": 360}, {"soft_reset": True, "stop": len(beats)}],
         cut_lists=True).lists)                                          # on a frame boundary
-    if HAVE_TOOLS:
+    if HAVE_VERILATOR:
         result = check_axi(built(cfg, "axi"), beats, steps, valid_gap=0.2, ready_pause=0.4,
                            seed=3)
         assert result.passed, result.report()
@@ -116,7 +105,7 @@ def test_aresetn_abandons_the_open_list_and_resets_the_registers():
     assert [(lst.count, lst.closed) for lst in abandoned] == [(2, False)]
     assert [len(w) for w in list_words(cfg, abandoned)] == [2]              # no trailer
     assert expected.counters()["LISTS"] == len(expected.lists) - 1
-    if not HAVE_TOOLS:
+    if not HAVE_VERILATOR:
         return
     result = check_axi(built(cfg, "axi"), beats, steps, ready_pause=0.3, seed=2)
     assert result.passed, result.report()
@@ -135,7 +124,7 @@ def test_the_stream_end_leaves_a_list_open(monkeypatch):
     assert len(expected.lists) == 1 and len(expected.open_records) == 2
     assert [unpack_candidate(cfg, w)[1]["row"] for w in expected.open_records] == [3, 5]
     assert expected_outputs(cfg, part, [{"stop": 432}]).open_records == ()
-    if not HAVE_TOOLS:
+    if not HAVE_VERILATOR:
         return
     sim = built(cfg, "axi")
     result = check_axi(sim, part, [{"stop": 432}], ready_pause=0.3)

@@ -10,21 +10,16 @@ import json
 import numpy as np
 import pytest
 from helpers.refusals import whole
+from helpers.verilator_harness import HAVE_VERILATOR
 
 from dptbd.config import DPConfig
 from dptbd.sim import verilator as V
 from dptbd.sim import verilator_build as B
 
-try:
-    V.check_tools()
-    HAVE_TOOLS = True
-except V.ToolMissingError:
-    HAVE_TOOLS = False
-
 CFG = DPConfig(width=8, height=6, segment_frames=2, candidate_count=2, histogram_bits=4)
 
 
-@pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator and a C++ compiler")
+@pytest.mark.skipif(not HAVE_VERILATOR, reason="needs Verilator and a C++ compiler")
 def test_the_coverage_key_differs_and_the_plain_key_is_unchanged():
     from dptbd.hw.flow.source_hash import gateware_hash
 

