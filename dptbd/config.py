@@ -218,7 +218,8 @@ class DPConfig(FamilyFields):
         reaches (K_max full-scale pixels, weights at most 1, clipped at E_max). A build with
         ``B_E > B_reach`` has headroom: E's bits B_reach … B_E - 1 (and those of every value
         bounded by E) never leave 0 when the stored states are the core's own, and
-        :meth:`build_config` builds the gateware with ``B_E = B_reach`` (same bits)."""
+        :meth:`build_config` builds the gateware with ``B_E = B_reach`` (same bits; kept
+        above an explicit ``histogram_shift``)."""
         return min(self.energy_bits, self.energy_bits_needed)
 
     @property
@@ -389,8 +390,8 @@ class DPConfig(FamilyFields):
         LUT that can be written with fractional weights at run time. Every state, direction
         and candidate list equals the one ``self`` computes (``docs/synthesis.md``).
         """
-        energy = min(self.energy_bits, max(self.energy_bits_needed,
-                                           (self.histogram_shift or 0) + 1))
+        energy = max(self.energy_reach_bits,
+                     min(self.energy_bits, (self.histogram_shift or 0) + 1))
         frac = 0 if self.weights_binary and not fractional_lut else self.weight_frac_bits
         if (energy, frac) == (self.energy_bits, self.weight_frac_bits):
             return self
