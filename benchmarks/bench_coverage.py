@@ -33,7 +33,7 @@ def _cpu() -> float:
 
 def build_and_run(case_name: str, seed: int) -> None:
     from dptbd.sim.campaign import default_cases, make_run
-    from dptbd.sim.rtl_check import check_stream
+    from dptbd.sim.rtl.check import check_stream
     from dptbd.sim.verilator import build
 
     case = next(c for c in default_cases() if c.name == case_name)

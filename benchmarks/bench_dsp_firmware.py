@@ -6,7 +6,7 @@
 For each build-time capacity set ``CxNxPxA`` (``capacity`` C track records,
 ``max_candidates`` N, ``max_points`` P, ``output_capacity`` A; P and A default 64) the
 firmware is built
-(:func:`dptbd.dsp.firmware_build.build_shared_library`) and measured:
+(:func:`dptbd.dsp.firmware.build_shared_library`) and measured:
 
 * **static memory**: ``dptbd_track_context_bytes()``, the whole state (``sizeof`` the
   context struct; nothing else is allocated);

@@ -7,7 +7,7 @@
 The same run (the default :func:`dptbd.evaluation.compare.build_spec`, or ``--config``'s) is
 timed twice in this process, one after the other: on the golden model
 (``run_compare(spec)``) and with the fixed-point configurations on the compiled gateware
-(``run_compare(spec, rtl=True)``, :mod:`dptbd.sim.rtl_trials`). The RTL executables are
+(``run_compare(spec, rtl=True)``, :mod:`dptbd.sim.rtl.trials`). The RTL executables are
 built (or taken from the cache) first, outside the clock: :attr:`CompareResult.seconds` is
 the Monte Carlo alone in both cases (the float model runs in both). Printed: trials per
 second of each, their ratio, the pixel updates that went through the RTL, the Verilator
@@ -40,7 +40,7 @@ def main(argv=None) -> int:
     mapping = tomllib.loads(args.config.read_text()) if args.config else {}
     spec = build_spec(mapping, trials=args.trials, bootstrap=0)
 
-    from dptbd.sim.rtl_trials import prepare_builds
+    from dptbd.sim.rtl.trials import prepare_builds
     start = time.perf_counter()
     for cfg in make_plan(spec).fixed:     # compile or find in the cache, outside the clock
         prepare_builds(cfg)

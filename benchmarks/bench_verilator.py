@@ -25,7 +25,7 @@ import time
 
 from dptbd.config import DPConfig
 from dptbd.sim import icarus, verilator
-from dptbd.sim.rtl_check import check_frames
+from dptbd.sim.rtl.check import check_frames
 from dptbd.sim.scenarios import make_frames
 
 

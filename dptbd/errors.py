@@ -5,7 +5,7 @@ each area has its own subclass (``dptbd.scenes.SceneError``,
 ``dptbd.dsp.association.AssociationError``, …), defined where its area lives, so a caller
 can catch one area or all of them. :class:`ConfigError`, the refusal of a
 :class:`~dptbd.config.DPConfig` parameter, lives here: ``dptbd.config`` and
-``dptbd.config_family`` (the §8 half of the configuration) both raise it.
+``dptbd.config.family`` (the §8 half of the configuration) both raise it.
 
 The checks here write one message format, naming the parameter, its domain and the value
 given::

@@ -4,7 +4,7 @@
 (E, d) it emits, per segment, at most C records (row, col, E, d) and a trailer
 (``docs/gateware.md`` "Segmenter"). :mod:`dptbd.hw.flow.segmenter_verilog` converts it to
 the Verilog module ``dptbd_seg`` with a JSON manifest, like :mod:`dptbd.hw.flow.verilog` does
-for ``dptbd_dp``; the cocotb harness (:mod:`dptbd.sim.tb_segmenter`) drives that module.
+for ``dptbd_dp``; the cocotb harness (:mod:`dptbd.sim.benches.segmenter`) drives that module.
 """
 
 from __future__ import annotations

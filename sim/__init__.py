@@ -3,29 +3,25 @@ on Icarus (4-state protocol checks), scored against the golden model.
 
 Modules (one line each)
 -----------------------
-- ``verilator_build``: verilates one top level with the C++ harness ``sim/harness/`` into a cached executable (the build cache).
-- ``verilator``: :func:`~dptbd.sim.verilator.run` streams an input sequence through a Verilator build (stalls, resets, LUT writes).
-- ``verilator_axi``: long runs of the AXI top level ``dptbd_axi`` on Verilator, scored against the golden model.
+- ``verilator``: :func:`~dptbd.sim.verilator.run` streams an input sequence through a Verilator build (stalls, resets, LUT writes); its sub-modules ``verilator.cache`` (verilates one top level with the C++ harness ``sim/harness/`` into a cached executable: the build cache) and ``verilator.axi`` (long runs of the AXI top level ``dptbd_axi``, scored against the golden model).
 - ``build_dirs``: build-directory names and locking shared by the Verilator and the Icarus builds.
 - ``stream_model``: the golden model's output for any accepted stream, by the gateware's counter rule.
 - ``checker``: the one in-order checker (expected items, received items, the first mismatch with its position).
 - ``scoreboard``: the expected ``states`` words of the golden model, reported by frame, row, column and field.
 - ``candidate_scoreboard``: the expected candidate lists, reported by segment, record and field.
-- ``rtl_check``: one compiled run checked against the model with the scoreboards.
-- ``rtl_trials``: Monte Carlo trials on the compiled RTL (``compare --rtl``, ``table1 --rtl``).
 - ``sim_job``: the job of ``dptbd sim``: one scene on Verilator or Icarus, its cycle count, speed and verdict.
 - ``icarus``: the cocotb + Icarus build of the generated Verilog (``build/sim/<parameter set>/``) and its runs (``simulate``).
-- ``cocotb_drivers``: cocotb stream driver, back-pressure sink, monitor, pause generators and LUT writes.
-- ``tb_dp``: the cocotb test module of ``dptbd_dp`` (it reads ``DPTBD_SIM_JOB`` and ``DPTBD_SIM_SCENE``).
-- ``tb_segmenter``: the cocotb test module of ``dptbd_seg`` (DP pipeline + segmenter).
-- ``tb_axi``: the cocotb test module of ``dptbd_axi`` (the AXI top level) with cocotbext-axi.
-- ``soft_reset_check``: what the soft-reset sweep of ``tb_axi`` checks: AXI4-Stream on every cycle, cut lists and filled state lines against the model.
 - ``x_store``: 4-state (Icarus) check that an X- or garbage-initialised external store never reaches an output.
 - ``reset_x``: 4-state (Icarus) check of each top level around reset: ``ready`` and ``valid`` 0 in reset and the cycle after, no X on any output, valid offered in every cycle, bit-exact after.
 - ``stimulus``: pixel words and LUT writes, packed with the gateware's layouts.
 - ``scenarios``: integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
 
-Sub-packages: ``axi`` (the AXI top level ``dptbd_axi``'s runs: the video beats with
+Sub-packages: ``rtl`` (RTL in the loop: ``rtl.check``, one compiled run checked against the model
+with the scoreboards; ``rtl.trials``, Monte Carlo trials on the compiled RTL for ``compare
+--rtl`` and ``table1 --rtl``), ``benches`` (the cocotb 2.x test modules run on Icarus:
+``benches.dp``, ``benches.segmenter`` and ``benches.axi`` with cocotbext-axi, their stream
+drivers, sinks and monitors ``benches.drivers``, and what the soft-reset sweep of
+``benches.axi`` checks, ``benches.soft_reset_check``), ``axi`` (the AXI top level ``dptbd_axi``'s runs: the video beats with
 frame-sync faults and the frame monitor's fault rule, the campaign's random runs drawn from a
 seed, their register traffic, and the scoring of a run's candidate words against the model's
 lists across soft resets and ``aresetn``), ``campaign`` (the verification campaign, ``dptbd verify``, its runs on the

@@ -1,5 +1,5 @@
 """What the Icarus builds (:mod:`dptbd.sim.icarus`) and the Verilator builds
-(:mod:`dptbd.sim.verilator_build`) share: the directory name of a parameter set, a lock
+(:mod:`dptbd.sim.verilator.cache`) share: the directory name of a parameter set, a lock
 that serialises concurrent builds of one directory (pytest-xdist), and the facts a build
 reads from its design table and manifest (:class:`CompiledDesign`).
 """

@@ -2,7 +2,7 @@
 mismatching segment, record and field.
 
 Plain numpy and Python (no cocotb import), used by the cocotb test
-(:mod:`dptbd.sim.tb_segmenter`) and the Amaranth-simulator tests alike. Words are packed
+(:mod:`dptbd.sim.benches.segmenter`) and the Amaranth-simulator tests alike. Words are packed
 with :mod:`dptbd.hw.candidate_layout`, never with hand-written bit positions.
 :class:`CandidateScoreboard` is the ``candidates`` stream's
 :class:`~dptbd.sim.checker.InOrderChecker`.

@@ -46,18 +46,18 @@ __all__ = [
 ]
 
 TOPLEVEL = "dptbd_dp"
-TEST_MODULE = "dptbd.sim.tb_dp"
+TEST_MODULE = "dptbd.sim.benches.dp"
 TIMESCALE = ("1ns", "1ps")
 
 #: What :func:`build` can compile: design name -> (Verilog module, cocotb test module,
 #: build-directory suffix). ``dp`` is the DP pipeline (``dptbd.hw.flow.verilog``), ``segmenter``
 #: the DP pipeline plus segmenter (``dptbd.hw.flow.segmenter_verilog``, tests in
-#: ``dptbd.sim.tb_segmenter``).
+#: ``dptbd.sim.benches.segmenter``).
 DESIGNS = {
     "dp": (TOPLEVEL, TEST_MODULE, ""),
-    "segmenter": ("dptbd_seg", "dptbd.sim.tb_segmenter", "-seg"),
-    "axi": ("dptbd_axi", "dptbd.sim.tb_axi", "-axi"),      # dptbd.hw.axi_top, docs/integration.md
-    "axi-state": ("dptbd_axi", "dptbd.sim.tb_axi", "-axi-state"),   # with m_axis_state
+    "segmenter": ("dptbd_seg", "dptbd.sim.benches.segmenter", "-seg"),
+    "axi": ("dptbd_axi", "dptbd.sim.benches.axi", "-axi"),      # dptbd.hw.axi_top, docs/integration.md
+    "axi-state": ("dptbd_axi", "dptbd.sim.benches.axi", "-axi-state"),   # with m_axis_state
 }
 
 
@@ -195,7 +195,7 @@ def write_job(run_dir: pathlib.Path, sim: SimBuild, frames: np.ndarray, **option
     """Write ``scene.npy`` and ``job.json`` into ``run_dir``; return the environment to pass.
 
     ``options``: ``lut_codes`` ((M+1) x M codes written at run time before the first frame),
-    ``valid_pause``/``ready_pause`` (:func:`dptbd.sim.cocotb_drivers.pause_generator` specs),
+    ``valid_pause``/``ready_pause`` (:func:`dptbd.sim.benches.drivers.pause_generator` specs),
     ``exact_cycles`` (assert ``T*W*H + latency``), ``reset`` (``{"pre_frames", "cut_pixel",
     "hold_cycles"}`` for the ``mid_frame_reset`` test), ``truncate`` (``{"pre_frames",
     "keep_pixels"}`` for ``truncated_frame_resync``), ``corrupt_expected`` (``{"index",
@@ -221,7 +221,7 @@ def simulate(sim: SimBuild, frames: np.ndarray, *, testcase: str = "run_scene",
              run_name: str = "run", waves: str | os.PathLike | None = None,
              log_to_file: bool = True, seed: int = 1, **options) -> SimResult:
     """Run one cocotb test of the build's test module on a compiled build:
-    :mod:`dptbd.sim.tb_dp` for ``design="dp"``, :mod:`dptbd.sim.tb_segmenter` (test
+    :mod:`dptbd.sim.benches.dp` for ``design="dp"``, :mod:`dptbd.sim.benches.segmenter` (test
     ``run_scene``) for ``design="segmenter"``.
 
     Parameters

@@ -173,7 +173,7 @@ def run_sim(cfg: DPConfig, frames: np.ndarray, settings: SimSettings, *,
 
 def _run_verilator(cfg, frames, settings: SimSettings, log) -> SimOutcome:
     from dptbd.sim import verilator
-    from dptbd.sim.rtl_check import Stimulus, check_frames
+    from dptbd.sim.rtl.check import Stimulus, check_frames
 
     start = time.perf_counter()
     root = (settings.build_dir if settings.build_dir is not None

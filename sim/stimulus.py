@@ -1,6 +1,6 @@
 """Input words for the RTL: pixels packed with the gateware's own layout, LUT writes.
 
-Plain numpy (no simulator import): used by the cocotb tests (:mod:`dptbd.sim.tb_dp`), the
+Plain numpy (no simulator import): used by the cocotb tests (:mod:`dptbd.sim.benches.dp`), the
 compiled simulation (:mod:`dptbd.sim.verilator`) and the verification campaign alike.
 """
 

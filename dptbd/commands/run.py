@@ -44,7 +44,7 @@ import time
 
 from dptbd.commands.options import add_simulator_arguments
 from dptbd.dsp.c_tracker import DSP_IMPLEMENTATIONS, FirmwareError
-from dptbd.dsp.firmware_build import FirmwareBuildError, find_compiler
+from dptbd.dsp.firmware import FirmwareBuildError, find_compiler
 from dptbd.evaluation.run.job import effective_scenario, run_job
 from dptbd.evaluation.run.report import RUN_FILES, TOOL, write_run_folder
 from dptbd.evaluation.run.rtl import RtlCheck, RtlError, rtl_tools_missing

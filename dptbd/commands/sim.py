@@ -6,7 +6,7 @@ Two simulators (``--simulator``):
 ``verilator`` (default)
     The Verilog compiled by Verilator with the C++ harness (:mod:`dptbd.sim.verilator`):
     the whole scene streamed in one call and every output word compared with the golden
-    model (:mod:`dptbd.sim.rtl_check`). 001's 128 x 128, 100-frame scene takes well under a
+    model (:mod:`dptbd.sim.rtl.check`). 001's 128 x 128, 100-frame scene takes well under a
     second once built; builds are cached (``--build-dir``, default
     :func:`dptbd.sim.verilator.default_build_root`), and the summary says whether this one
     came from the cache. 2-state: X propagation is Icarus' job.

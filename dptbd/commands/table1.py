@@ -62,7 +62,7 @@ def main(args: argparse.Namespace) -> int:
             f"{time.perf_counter() - start:.0f} s"
             + (", DP detectors on the RTL" if rtl else ""))
     if run.rtl is not None:
-        from dptbd.sim.rtl_trials import summary_line
+        from dptbd.sim.rtl.trials import summary_line
         note += "\n" + summary_line(run.rtl)
     print(table)
     print(note)

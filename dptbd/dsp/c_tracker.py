@@ -11,7 +11,7 @@ the Python model keeps, so the two can be compared field by field
 :func:`tracker_class` (``"python"`` or ``"c"``).
 
 The library is built on first use with the capacities of the :class:`AssociationConfig`
-(compile-time constants of the firmware; :mod:`dptbd.dsp.firmware_build`), and cached.
+(compile-time constants of the firmware; :mod:`dptbd.dsp.firmware`), and cached.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import numpy as np
 
 from dptbd.dsp.association import (CANDIDATE_DTYPE, AssociationConfig, AssociationError,
                                      Tracker, check_candidate_list)
-from dptbd.dsp.firmware_build import build_shared_library, capacity_defines
+from dptbd.dsp.firmware import build_shared_library, capacity_defines
 
 __all__ = ["DSP_IMPLEMENTATIONS", "CTracker", "FirmwareError", "tracker_class", "load_firmware",
            "params_codes", "backtrack_starts", "trim_to_count", "PARAM_NAMES", "STATUS"]

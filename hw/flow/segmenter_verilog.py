@@ -1,7 +1,7 @@
 """Verilog generation of the segmenter top: :class:`~dptbd.hw.dp_segmenter_top.DPSegmenter` as
 the Verilog module ``dptbd_seg`` with a JSON manifest, like :mod:`dptbd.hw.flow.verilog` does
-for ``dptbd_dp``; the cocotb harness (:mod:`dptbd.sim.tb_segmenter`) and the Verilator harness
-(:mod:`dptbd.sim.verilator_build`) read the manifest.
+for ``dptbd_dp``; the cocotb harness (:mod:`dptbd.sim.benches.segmenter`) and the Verilator harness
+(:mod:`dptbd.sim.verilator.cache`) read the manifest.
 """
 
 from __future__ import annotations

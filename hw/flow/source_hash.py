@@ -12,7 +12,7 @@ def gateware_hash() -> str:
     """SHA-256 (24 hex digits) of the gateware's source: every ``.py`` file of ``dptbd.hw``.
 
     A synthesis result (:mod:`dptbd.evaluation.sweep`) or a compiled simulation
-    (:mod:`dptbd.sim.verilator_build`) cached under a key that includes it is rebuilt whenever
+    (:mod:`dptbd.sim.verilator.cache`) cached under a key that includes it is rebuilt whenever
     the gateware changes.
     """
     root = pathlib.Path(__file__).resolve().parents[1]  # hw/, the components and their flow

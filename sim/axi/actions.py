@@ -11,7 +11,7 @@ import numpy as np
 from dptbd.config import DPConfig
 from dptbd.hw.register_map import FAULTS, register_map
 from dptbd.sim.axi.stimulus import SETTINGS, Beats
-from dptbd.sim.verilator_axi import OKAY, SLVERR
+from dptbd.sim.verilator.axi import OKAY, SLVERR
 
 __all__ = ["ACTIONS", "REFUSALS", "Drawer", "fill_checks"]
 
@@ -175,10 +175,10 @@ class Drawer:
 
 def fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict]) -> np.ndarray:
     """ERROR and FAULT_* of every check from the frame monitor's pulses
-    (:func:`~dptbd.sim.verilator_axi.fault_pulse_array`, returned), refused writes, W1C
-    clears and counter clears, in the order :func:`~dptbd.sim.verilator_axi.step_operations`
+    (:func:`~dptbd.sim.verilator.axi.fault_pulse_array`, returned), refused writes, W1C
+    clears and counter clears, in the order :func:`~dptbd.sim.verilator.axi.step_operations`
     performs them."""
-    from dptbd.sim.verilator_axi import fault_pulse_array
+    from dptbd.sim.verilator.axi import fault_pulse_array
 
     regmap = register_map(cfg)
     error = {f.name: f for f in regmap["ERROR"].fields}

@@ -11,7 +11,7 @@
   :data:`~dptbd.sim.coverage.bins.BANDS` (none: 0; light: uniform in (0, 0.35); heavy:
   uniform in [0.35, 0.7]), the pair of bands the seed modulo 9 (nine consecutive seeds
   draw every pair);
-* steps (the bench's vocabulary, :func:`dptbd.sim.verilator_axi.step_operations`; the
+* steps (the bench's vocabulary, :func:`dptbd.sim.verilator.axi.step_operations`; the
   register traffic from :class:`~dptbd.sim.axi.actions.Drawer`) at beats
   drawn on frame starts, line starts, inside a frame's first or last row and anywhere,
   each with some of: run-time K / n / s writes (n often 0, 1, 2 or C, s mostly near the
@@ -38,14 +38,14 @@
   with the value the model gives where it knows it (constants, settings, enables, ERROR,
   the fault counters, STATUS, CONTROL), W1C clears of ERROR and IRQ_STATUS bits.
 
-:func:`check_run` runs one on Verilator (:func:`dptbd.sim.verilator_axi.check_axi`: every
+:func:`check_run` runs one on Verilator (:func:`dptbd.sim.verilator.axi.check_axi`: every
 candidate word, its ``tuser[0]`` / ``tlast``, every response and checked read, the end
 counters). ``aresetn`` is held low for 1–4 cycles at some steps after the pipeline drained
 (every register but the LUT back to its reset value, the counters 0; a list left open is
 abandoned: its records sent, no trailer) and after some steps with words in flight
 (``aresetn_wait``, :data:`ARESETN_NOW`: the lists before it whole, then at most one list's
 first records, no trailer). Not drawn: ``m_axis_state`` (the Verilator build has none; the
-cocotb bench :mod:`dptbd.sim.tb_axi` checks it).
+cocotb bench :mod:`dptbd.sim.benches.axi` checks it).
 """
 
 from __future__ import annotations
@@ -60,7 +60,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.register_map import FAULTS
 from dptbd.sim.axi.actions import ACTIONS, REFUSALS, Drawer, fill_checks
 from dptbd.sim.axi.stimulus import FAULT_KINDS, Beats, clean_beats, with_fault
-from dptbd.sim.verilator_axi import OKAY
+from dptbd.sim.verilator.axi import OKAY
 
 __all__ = ["AXI_FAULTS", "ACTIONS", "REFUSALS", "NOW_SWEEP", "NOW_WAIT", "ARESETN_NOW",
            "AxiPlan",
@@ -257,7 +257,7 @@ def check_run(case, seed: int, root: str | None = None, coverage: str | None = N
     from dptbd.sim.campaign import RunOutcome
     from dptbd.sim.coverage.bins import axi_bins
     from dptbd.sim.verilator import build
-    from dptbd.sim.verilator_axi import check_axi
+    from dptbd.sim.verilator.axi import check_axi
 
     start = time.perf_counter()
     sim = build(case.cfg, "axi", root=root, coverage=coverage is not None)

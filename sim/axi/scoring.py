@@ -1,4 +1,4 @@
-"""Scoring a run of ``dptbd_axi`` (:func:`dptbd.sim.verilator_axi.check_axi`): the candidate
+"""Scoring a run of ``dptbd_axi`` (:func:`dptbd.sim.verilator.axi.check_axi`): the candidate
 words against the model's lists, exactly (:func:`score_exact`) or in parts split at the
 resets that found words in flight (:func:`score_in_parts`: ``soft_reset: "now"`` and
 ``aresetn`` with ``aresetn_wait``), the ``tuser[0]`` / ``tlast`` of every word, and the
@@ -14,7 +14,7 @@ from dptbd.sim.axi.stimulus import CutList
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard, list_words
 
 if TYPE_CHECKING:
-    from dptbd.sim.verilator_axi import AxiRun
+    from dptbd.sim.verilator.axi import AxiRun
 
 __all__ = ["flag_problems", "score_exact", "undrained_cuts", "score_in_parts",
            "delivered_lists"]

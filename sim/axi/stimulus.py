@@ -1,7 +1,7 @@
 """Beat streams for the AXI top level's video input, with frame-sync faults injected, and
 the frame monitor's fault rule as a reference.
 
-Plain numpy (no simulator import): the cocotb bench :mod:`dptbd.sim.tb_axi`, its pytest
+Plain numpy (no simulator import): the cocotb bench :mod:`dptbd.sim.benches.axi`, its pytest
 driver and the monitor's unit test use it. A stream is three arrays over beats: the pixel,
 ``first`` (``tuser[0]``, start of frame) and ``last`` (``tlast``, end of line).
 """
@@ -177,7 +177,7 @@ class Expected:
 
 
 def stream_pieces(cfg: DPConfig, steps: list[dict]) -> list[Piece]:
-    """Cut a bench's steps (:mod:`dptbd.sim.tb_axi`) into pieces at every ``soft_reset`` and
+    """Cut a bench's steps (:mod:`dptbd.sim.benches.axi`) into pieces at every ``soft_reset`` and
     ``aresetn``.
 
     A step's writes to a setting register (``SEGMENT_FRAMES``, ``CANDIDATE_COUNT``,

@@ -13,7 +13,7 @@ number of seeded runs. Each run draws, from its own seed only,
   between and inside frames, an external store powered up with garbage, run-time settings
   (K, n, s) rewritten between and inside frames;
 
-and is checked by :func:`dptbd.sim.rtl_check.check_stream` against the promise of
+and is checked by :func:`dptbd.sim.rtl.check.check_stream` against the promise of
 ``docs/gateware.md`` ("Faults and what the output promises"). The 4-state question — an
 X-initialised or garbage external store never reaches an output — is asked of Icarus
 (:func:`dptbd.sim.x_store.run_x_store_check`): Verilator is 2-state.
@@ -62,7 +62,7 @@ def check_run(case: Case, seed: int, root: str | None = None,
     import warnings
 
     from dptbd.sim.coverage.bins import stream_bins
-    from dptbd.sim.rtl_check import check_stream
+    from dptbd.sim.rtl.check import check_stream
     from dptbd.sim.verilator import build
 
     if case.design == "axi":
@@ -134,7 +134,7 @@ def run_campaign(cases: Sequence[Case] | None = None, *, runs_scale: float = 1.0
     ``DPTBD_SCHEDULER`` environment variable) the workers that cluster must have (default:
     any). Refusals are the layer's (:class:`~dptbd.evaluation.execution.ExecutionError`),
     before any build. Every Verilator executable is built (or found in the cache) once, here,
-    before the tasks; each task calls :func:`~dptbd.sim.verilator.build` again, which on a
+    before the tasks; each task calls :func:`~dptbd.sim.verilator.cache` again, which on a
     worker that sees the same build root (this machine, or a shared file system) finds it
     and on any other builds it once into the worker's own cache (``root=None``: the worker's
     :func:`~dptbd.sim.verilator.default_build_root`; the build is locked, so the workers of

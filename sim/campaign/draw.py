@@ -1,7 +1,7 @@
 """What each run of the verification campaign draws from its seed only
 (:mod:`dptbd.sim.campaign`): hostile scenes (:func:`hostile_frames`), stall densities, the
 case's faults (framing faults, resets, LUT and settings rewrites, a garbage store), as the
-input words and :class:`~dptbd.sim.rtl_check.Stimulus` of a compiled run (:func:`make_run`)."""
+input words and :class:`~dptbd.sim.rtl.check.Stimulus` of a compiled run (:func:`make_run`)."""
 
 from __future__ import annotations
 
@@ -130,7 +130,7 @@ def _settings_changes(cfg: DPConfig, n_words: int, rng: np.random.Generator):
 
 
 def make_run(case: Case, seed: int, latency: int | None = None):
-    """The input words and :class:`~dptbd.sim.rtl_check.Stimulus` of run ``seed`` of ``case``,
+    """The input words and :class:`~dptbd.sim.rtl.check.Stimulus` of run ``seed`` of ``case``,
     and a description of its faults; for ``design="axi"`` the
     :class:`~dptbd.sim.axi.runs.AxiPlan` (:func:`dptbd.sim.axi.runs.draw_run`). ``latency``:
     the build's DP pipeline L (then about half the runs with resets get one more early on,
@@ -144,7 +144,7 @@ def make_run(case: Case, seed: int, latency: int | None = None):
 def make_stream_run(case: Case, seed: int, latency: int | None = None):
     """:func:`make_run` of a stream design and the framing faults' (fault, first word
     touched)."""
-    from dptbd.sim.rtl_check import Stimulus
+    from dptbd.sim.rtl.check import Stimulus
     from dptbd.sim.stimulus import pixel_words
     from dptbd.sim.verilator import cycle_budget
 

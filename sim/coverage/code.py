@@ -1,6 +1,6 @@
 """Code coverage of the RTL: Verilator's coverage data read, mapped to the Amaranth source.
 
-A coverage build (``build(cfg, design, coverage=True)``, :mod:`dptbd.sim.verilator_build`)
+A coverage build (``build(cfg, design, coverage=True)``, :mod:`dptbd.sim.verilator.cache`)
 is verilated with ``--coverage-line --coverage-toggle`` on the text of
 :mod:`dptbd.sim.coverage.source_text`, where every ``if`` / ``casez`` and every case item
 carries the ``src`` (``file.py:line``) of its ``m.If`` / ``m.Elif`` / ``m.Else`` /

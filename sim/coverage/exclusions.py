@@ -3,7 +3,7 @@
 ``sim/coverage/exclusions.toml`` holds one ``[[exclude]]`` table per point::
 
     [[exclude]]
-    design = "segmenter"             # the top level (dptbd.sim.verilator_build.DESIGNS)
+    design = "segmenter"             # the top level (dptbd.sim.verilator.cache.DESIGNS)
     point = "hw/segmenter.py:201"    # the Amaranth file:line (not the Verilog line)
     kind = "branch"                  # line, branch or toggle
     what = "else"                    # optional: Verilator's if / elsif / else / case /
@@ -56,7 +56,7 @@ class Exclusion:
 
 def load_exclusions(path: str | os.PathLike = EXCLUSIONS) -> list[Exclusion]:
     """The entries of ``path``; ValueError naming the entry and what is wrong with it."""
-    from dptbd.sim.verilator_build import DESIGNS
+    from dptbd.sim.verilator.cache import DESIGNS
 
     data = tomllib.loads(pathlib.Path(path).read_text())
     unknown = set(data) - {"exclude"}

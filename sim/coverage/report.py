@@ -3,9 +3,9 @@
 :func:`run_coverage` runs the campaign's cases (:mod:`dptbd.sim.campaign`) on coverage builds
 (each run checked bit-exact against the golden model, as every campaign run is; its
 ``VerilatedCov`` file ``runs/<case>-<seed>.dat``), plus the AXI top's runs
-(:func:`axi_cases`: the scenario of ``tests/sim/test_verilator_axi.py`` — every fault
+(:func:`axi_cases`: the scenario of ``tests/sim/verilator/test_axi.py`` — every fault
 class, register writes refused and taken, a LUT rewrite, a soft reset — scored by
-:func:`~dptbd.sim.verilator_axi.check_axi`), as tasks of the Dask execution layer; merges
+:func:`~dptbd.sim.verilator.axi.check_axi`), as tasks of the Dask execution layer; merges
 each run's file into its build's as the run finishes (``verilator_coverage --write``,
 :class:`RunMerger`) and writes the report (:func:`write_report`; with ``prove_constants``,
 register bits proven constant by Yosys are excluded: :mod:`dptbd.sim.coverage.constant_bits`).

@@ -2,9 +2,9 @@
 
 :func:`extra_cases`: campaign :class:`~dptbd.sim.campaign.Case` s run on coverage builds only
 (a segmenter whose energy saturates). :func:`axi_cases`: the AXI top's runs (:class:`AxiCase`:
-the scenario of ``tests/sim/test_verilator_axi.py`` — every fault class, register writes
+the scenario of ``tests/sim/verilator/test_axi.py`` — every fault class, register writes
 refused and taken, a LUT rewrite, a soft reset — scored by
-:func:`~dptbd.sim.verilator_axi.check_axi`). :func:`coverage_run` runs one of either, or a
+:func:`~dptbd.sim.verilator.axi.check_axi`). :func:`coverage_run` runs one of either, or a
 campaign case, as a task of the execution layer (:func:`dptbd.sim.coverage.report.run_coverage`).
 """
 
@@ -55,7 +55,7 @@ def extra_cases() -> list:
 
 
 def axi_cases() -> list[AxiCase]:
-    """The AXI top's coverage runs (the scenario of ``tests/sim/test_verilator_axi.py``)."""
+    """The AXI top's coverage runs (the scenario of ``tests/sim/verilator/test_axi.py``)."""
     small = dict(width=12, height=10, segment_frames=2, max_segment_frames=4,
                  candidate_count=4, candidate_capacity=6, histogram_bits=6, histogram_shift=2)
     return [AxiCase("axi-12x10-k2-faults", small, 8),
@@ -67,7 +67,7 @@ def counter_scene(cfg, seed: int, events: int = COUNTER_EVENTS):
     """Beats and steps that raise every event counter of ``dptbd_axi`` at least ``events``
     times (FRAMES, SEGMENTS, LISTS, each FAULT_* and SATURATED; the final reads are
     checked against the golden model's and the fault rule's counts by
-    :func:`~dptbd.sim.verilator_axi.check_axi`), on :data:`COUNTER_CONFIG`:
+    :func:`~dptbd.sim.verilator.axi.check_axi`), on :data:`COUNTER_CONFIG`:
 
     1. ``events`` + 1 frames, each after the first without its start of frame: a frame
        (segment, list) and a ``frame_long`` each;
@@ -128,7 +128,7 @@ def _axi_scene(cfg, seed: int, bright: bool = False):
 
     names = [reg.name for reg in register_map(cfg).registers]
     top = max(getattr(regs, f"REG_{n}") for n in names)
-    from dptbd.sim.verilator_axi import SLVERR as slverr  # each refused, changing nothing
+    from dptbd.sim.verilator.axi import SLVERR as slverr  # each refused, changing nothing
 
     refused = [["w", regs.REG_SEGMENT_FRAMES + 1, 1, 0xF, slverr],             # unaligned
                ["r", regs.REG_ID + 2, slverr, None],
@@ -157,7 +157,7 @@ def check_axi_run(case: AxiCase, seed: int, root, coverage: str):
 
     from dptbd.sim.campaign import RunOutcome
     from dptbd.sim.verilator import build
-    from dptbd.sim.verilator_axi import check_axi
+    from dptbd.sim.verilator.axi import check_axi
 
     start = time.perf_counter()
     cfg = _config(case.config)

@@ -2,7 +2,7 @@
 // streams the input beats (tdata, tuser[0], tlast; faults included) through
 // s_axis_video with seeded tvalid gaps, takes m_axis_cand with seeded tready
 // back-pressure, and performs AXI4-Lite writes, reads and idle waits before given input
-// beats. No Python runs per cycle; dptbd.sim.verilator_axi drives this program with
+// beats. No Python runs per cycle; dptbd.sim.verilator.axi drives this program with
 // binary files. A sibling of dptbd_harness.cpp (the dptbd_dp / dptbd_seg harness), with
 // the same job-file style, pause generator and cycle conventions.
 //

@@ -12,7 +12,7 @@ the same signal, or its inverse), a cell port bit and the ``src`` of the cell.
 :func:`mutant_verilog` applies every mutation ``i`` (1 … N) with ``-ctrl mutsel 16 i``: the
 design gets an input port ``mutsel`` and mutation ``i`` is active while ``mutsel == i``;
 ``mutsel == 0`` is the original design. One Verilator build (``build(...,
-mutations=...)``, :mod:`dptbd.sim.verilator_build`) then runs every mutant; its harness
+mutations=...)``, :mod:`dptbd.sim.verilator.cache`) then runs every mutant; its harness
 drives ``mutsel`` from ``DPTBD_MUTANT``.
 """
 
@@ -31,7 +31,7 @@ __all__ = ["DESIGN_TOPS", "PREPARE", "MUTSEL_WIDTH", "YOSYS", "YosysMissingError
            "parse_mutations", "source_line", "require_yosys", "top_rtlil", "mutation_list",
            "mutant_verilog", "run_yosys"]
 
-#: Designs with mutants: design name (:data:`dptbd.sim.verilator_build.DESIGNS`) -> module.
+#: Designs with mutants: design name (:data:`dptbd.sim.verilator.cache.DESIGNS`) -> module.
 #: ``dp`` is ``DPPipeline`` (``core``, ``DPCore`` without the state store, has no mutants of its
 #: own: every cell of it is one of ``dp``'s, ``docs/gateware.md`` "Mutation testing").
 DESIGN_TOPS = {"segmenter": "dptbd_seg", "axi": "dptbd_axi", "dp": "dptbd_dp"}

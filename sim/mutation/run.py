@@ -2,8 +2,8 @@
 verdict per mutant, and the mutation score.
 
 The slices (:mod:`dptbd.sim.mutation.slices`: ``segmenter``, ``dptbd_seg``: seeded runs of
-the campaign checked by :func:`dptbd.sim.rtl_check.check_stream`; ``axi``, ``dptbd_axi``:
-seeded runs of :func:`dptbd.sim.verilator_axi.check_axi` and random AXI runs of the
+the campaign checked by :func:`dptbd.sim.rtl.check.check_stream`; ``axi``, ``dptbd_axi``:
+seeded runs of :func:`dptbd.sim.verilator.axi.check_axi` and random AXI runs of the
 campaign) are the checks the default suite runs, on small frames and narrow widths (every
 bit of the datapath is reached).
 
@@ -118,7 +118,7 @@ def mutant_task(design: str, commands: tuple[str, ...], index: int,
                 runs: tuple[tuple[str, int], ...], wall_seconds: int,
                 root: str | None = None) -> MutantOutcome:
     """One task of :func:`run_mutants` (picklable arguments; the build is cached on disk)."""
-    from dptbd.sim.verilator_build import build
+    from dptbd.sim.verilator.cache import build
 
     sim = build(config(design), design, root=root, mutations=commands)
     return run_slice(sim, index, runs, wall_seconds=wall_seconds)
@@ -204,7 +204,7 @@ def run_mutants(design: str, count: int, seed: int = 1, *, workers: int | None =
         The original design fails the slice (a broken slice scores nothing).
     """
     from dptbd.evaluation.execution import job_execution, map_tasks
-    from dptbd.sim.verilator_build import build
+    from dptbd.sim.verilator.cache import build
 
     if design not in DESIGN_TOPS:
         raise ValueError(f"design must be one of {', '.join(DESIGN_TOPS)}, got {design!r}")

@@ -48,7 +48,7 @@ def _missing_of_offered(sim, words, stim, result) -> str:
     """For a run without resets whose cycle budget ran out with offered words not taken:
     the golden model fed every offered word against what the design delivered; the report
     of the missing (or wrong) words, or ``""`` if every word the model gives came out."""
-    from dptbd.sim.rtl_check import _checker, expected_stream, split_words
+    from dptbd.sim.rtl.check import _checker, expected_stream, split_words
 
     if stim.resets or result.raw.status == "done":
         return ""
@@ -65,7 +65,7 @@ def _missing_of_offered(sim, words, stim, result) -> str:
 
 
 def stream_hang(sim, words, stim, result) -> tuple[str, str] | None:
-    """The verdict of a stream run (:func:`dptbd.sim.rtl_check.check_stream`) whose cycle
+    """The verdict of a stream run (:func:`dptbd.sim.rtl.check.check_stream`) whose cycle
     budget ran out: ``killed`` with the missing words when the model of every offered word
     gives words the design did not deliver, ``timeout`` otherwise (:func:`hang_verdict`);
     ``None`` for a run that finished or whose own check decides."""

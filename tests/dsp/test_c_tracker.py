@@ -22,7 +22,7 @@ from dptbd.dsp.backtrack import backtrack
 from dptbd.dsp import association
 from dptbd.dsp.c_tracker import (CTracker, FirmwareError, _Candidate, _Params, backtrack_starts,
                                  load_firmware, params_codes, tracker_class, trim_to_count)
-from dptbd.dsp.firmware_build import build_shared_library, capacity_defines
+from dptbd.dsp.firmware import build_shared_library, capacity_defines
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 STATE = ("tracks", "history", "archive", "archive_history", "inbuf", "_head_row", "_head_col",
@@ -53,10 +53,10 @@ def assert_same(py, c, where):
 
 @functools.lru_cache(maxsize=None)
 def probe(capacity=64, max_candidates=128, max_points=64, output_capacity=64):
-    """The firmware's internals (tests/dsp/firmware_probe.c) for these capacities."""
+    """The firmware's internals (tests/dsp/firmware/probe.c) for these capacities."""
     lib = ctypes.CDLL(str(build_shared_library(
         capacity_defines(capacity, max_candidates, max_points, output_capacity),
-        sources=[pathlib.Path(__file__).with_name("firmware_probe.c")])))
+        sources=[pathlib.Path(__file__).parent / "firmware" / "probe.c"])))
     u64, i64 = ctypes.c_uint64, ctypes.c_int64
     for name, res, args in (("probe_isqrt", u64, [u64, u64]),
                             ("probe_mul_div", u64, [u64, u64, u64]),

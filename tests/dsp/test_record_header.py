@@ -12,7 +12,7 @@ from amaranth.lib import data
 
 from dptbd.config import DPConfig
 from dptbd.dsp import record_header as rh
-from dptbd.dsp.firmware_build import FIRMWARE_DIR, WARNING_FLAGS, find_compiler
+from dptbd.dsp.firmware import FIRMWARE_DIR, WARNING_FLAGS, find_compiler
 from dptbd.hw.candidate_layout import (candidate_layout, pack_record, record_layout,
                                        unpack_candidate)
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from dptbd.dsp.association_config import AssociationError
+from dptbd.dsp.association.config import AssociationError
 from dptbd.dsp.records import CANDIDATE_DTYPE, make_candidates
 
 

@@ -16,7 +16,7 @@ _BUILDS: dict = {}
 
 
 def random_pause(probability: float, seed: int) -> dict:
-    """A :func:`dptbd.sim.cocotb_drivers.pause_generator` spec pausing with ``probability``."""
+    """A :func:`dptbd.sim.benches.drivers.pause_generator` spec pausing with ``probability``."""
     return {"kind": "random", "probability": probability, "seed": seed}
 
 

@@ -1,5 +1,5 @@
 """Shared helpers of the compiled-simulation tests: small configurations and one build per
-(config, design) per test session (the builds themselves are cached on disk by :mod:`dptbd.sim.verilator_build`)."""
+(config, design) per test session (the builds themselves are cached on disk by :mod:`dptbd.sim.verilator.cache`)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """``AXITop`` in the Amaranth simulator: flat AXI port names, identification over the flat
 AXI4-Lite port, ``aresetn``, input-stall counting, the soft reset's hold-off cycle and its
 close of an open list or state line.
-(Whole scenes are scored by the cocotb tests, ``tests/sim/test_tb_axi.py``.)"""
+(Whole scenes are scored by the cocotb tests, ``tests/sim/benches/test_axi.py``.)"""
 
 
 import numpy as np

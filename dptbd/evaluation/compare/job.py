@@ -147,7 +147,7 @@ class CompareOutcome:
                  f"({result.trials_per_second:.2f} trials/s), total {run['total_seconds']:.1f} s"
                  + (" — fixed-point trials on the RTL" if result.rtl else "")]
         if result.rtl:
-            from dptbd.sim.rtl_trials import summary_line
+            from dptbd.sim.rtl.trials import summary_line
             lines.append(summary_line(result.rtl))
         lines.append("wrote " + ", ".join(str(p) for p in self.paths))
         return "\n".join(lines)

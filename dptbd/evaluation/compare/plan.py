@@ -40,7 +40,7 @@ class Plan:
     near_flat: np.ndarray             # (S, H*W) the same, flattened
     visible: np.ndarray               # (S,) target visible at the segment's end
     levels: np.ndarray                # (D, n_thr) thresholds in each detector's E units
-    rtl: tuple = ()                   # RTL in the loop: dptbd.sim.rtl_trials.RTLBuilds per
+    rtl: tuple = ()                   # RTL in the loop: dptbd.sim.rtl.trials.RTLBuilds per
     #                                   fixed behaviour (empty: the golden model)
 
     @property

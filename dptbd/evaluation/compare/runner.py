@@ -51,7 +51,7 @@ def _evaluate(plan: Plan, float_frames: np.ndarray, codes: Sequence[np.ndarray],
     for b, cfg in enumerate(plan.fixed):
         d = len(plan.floats) + b
         if plan.rtl:  # the gateware accumulates, every word checked (docs/compare.md)
-            from dptbd.sim.rtl_trials import accumulate_trials
+            from dptbd.sim.rtl.trials import accumulate_trials
             scene = (f"SNR {plan.spec.snr[kind]:g}" if with_target else "noise only")
             res = accumulate_trials(
                 plan.rtl[b], codes[plan.fixed_adc[b]], first_trial=first,
@@ -100,7 +100,7 @@ def _empty_out(plan: Plan, n: int) -> dict:
         "exceed": np.zeros((n, d, len(plan.spec.thresholds)), np.int64),
     }
     if plan.rtl:  # not per trial: summed over chunks by run_compare, not concatenated
-        from dptbd.sim.rtl_trials import RTLTally
+        from dptbd.sim.rtl.trials import RTLTally
         out["rtl"] = RTLTally()
     return out
 
@@ -159,7 +159,7 @@ class CompareResult:
 
     ``counts[name]`` has the trial axis first, trials in index order. ``rtl``: with
     ``run_compare(..., rtl=True)``, what went through the gateware and was checked
-    (:func:`dptbd.sim.rtl_trials.summary`), else None.
+    (:func:`dptbd.sim.rtl.trials.summary`), else None.
     """
 
     plan: Plan
@@ -197,7 +197,7 @@ def _warm(plan: Plan) -> None:
 
 def check_rtl(spec: CompareSpec) -> None:
     """Refuse (``ConfigError`` naming it) a configuration the gateware cannot run."""
-    from dptbd.sim.rtl_trials import check_configs
+    from dptbd.sim.rtl.trials import check_configs
 
     check_configs((f.name, f.cfg) for f in spec.configs)
 
@@ -214,7 +214,7 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
     it must have (default: whatever it has). ``dashboard``: print the dask dashboard's
     address. The counts depend on none of these. ``progress``: a tqdm bar on stderr.
     ``rtl``: the fixed-point configurations' trials are accumulated by the compiled
-    gateware (:func:`dptbd.sim.rtl_trials.accumulate_trials`, every output word checked
+    gateware (:func:`dptbd.sim.rtl.trials.accumulate_trials`, every output word checked
     against the golden model) instead of :func:`dptbd.model.fast.run_fixed_fast`; the
     float models stay as they are. The counts are the same (``docs/compare_results.md``,
     "RTL in the loop"). Configurations the gateware does not implement are refused first.
@@ -227,7 +227,7 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
         check_rtl(spec)
     plan = make_plan(spec)
     if rtl:  # build (or find in the cache) every executable here, before the workers start
-        from dptbd.sim.rtl_trials import prepare_builds
+        from dptbd.sim.rtl.trials import prepare_builds
         plan = dataclasses.replace(plan, rtl=tuple(prepare_builds(cfg) for cfg in plan.fixed))
     bar = None
     if progress:
@@ -248,7 +248,7 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
     counts = {k: np.concatenate([p[k] for p in parts], axis=0) for k in parts[0] if k != "rtl"}
     rtl_info = None
     if plan.rtl:
-        from dptbd.sim.rtl_trials import summary
+        from dptbd.sim.rtl.trials import summary
         tally = parts[0]["rtl"]
         for p in parts[1:]:
             tally = tally + p["rtl"]

@@ -97,7 +97,7 @@ class Paper000Result:
     arrays (:func:`paper000.map_statistics`'s fields, V_T-keyed ones as ``false_tracks@V_T``,
     plus ``target_is_max``); ``gain[dp]``: ``{"fixed": (S, N) bool, "float": (S, N) bool,
     "thresholds": {...}}`` detections per SNR and scene; ``rtl[variant]``: the
-    :class:`~dptbd.sim.rtl_trials.RTLTally` summed over the variant's runs.
+    :class:`~dptbd.sim.rtl.trials.RTLTally` summed over the variant's runs.
     """
 
     spec: Paper000Spec
@@ -193,7 +193,7 @@ def _builds(spec: Paper000Spec, plan: list[tuple]) -> dict:
     """The compiled gateware of every configuration (by its mapping), refused up front."""
     if spec.engine != "rtl":
         return {}
-    from dptbd.sim.rtl_trials import check_configs, prepare_builds
+    from dptbd.sim.rtl.trials import check_configs, prepare_builds
 
     configs = {}
     for _, key, case, variant, _ in plan:
@@ -224,8 +224,8 @@ def run_paper000(spec: Paper000Spec, *, workers: int | None = None, scheduler: s
     ------
     dptbd.errors.ConfigError
         ``engine="rtl"`` and a variant the gateware cannot build, before any run
-        (:func:`dptbd.sim.rtl_trials.check_configs`).
-    dptbd.sim.rtl_trials.RTLMismatchError
+        (:func:`dptbd.sim.rtl.trials.check_configs`).
+    dptbd.sim.rtl.trials.RTLMismatchError
         An RTL state word differs from the golden model: variant, scene, frame, row, column
         and field.
     """

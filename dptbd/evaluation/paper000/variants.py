@@ -7,7 +7,7 @@ this module builds them for 000's scenes (:func:`fixed_variant`) and runs them:
   128), 0, 255)`` (z in noise units, one sigma = 16 LSB, the window [-8, 8) sigma), either
   on the golden model (``engine="model"``: :func:`dptbd.model.fast_family.run_family_fast`)
   or on the compiled gateware (``engine="rtl"``:
-  :func:`dptbd.sim.rtl_trials.accumulate_trials`, every state word of every frame checked
+  :func:`dptbd.sim.rtl.trials.accumulate_trials`, every state word of every frame checked
   against the golden model); its final E is mapped back to the float scale of h with
   :meth:`FixedVariant.to_float`;
 * the **float** variant on the float measurements themselves: the existing float runs of
@@ -117,11 +117,11 @@ def float_maps(case: Case, frames: np.ndarray) -> np.ndarray:
 def fixed_maps(variant: FixedVariant, codes: np.ndarray, engine: str, builds=None,
                label: str = "", first_trial: int = 0):
     """The fixed-point variant's final map on the float scale of h, ``(N, H, W)``, and the
-    RTL's :class:`~dptbd.sim.rtl_trials.RTLTally` (None on the model).
+    RTL's :class:`~dptbd.sim.rtl.trials.RTLTally` (None on the model).
 
-    ``engine="rtl"`` runs ``builds`` (:func:`dptbd.sim.rtl_trials.prepare_builds` of
+    ``engine="rtl"`` runs ``builds`` (:func:`dptbd.sim.rtl.trials.prepare_builds` of
     ``variant.cfg``), checking every state word; a mismatch raises
-    :class:`~dptbd.sim.rtl_trials.RTLMismatchError` (``label`` and ``first_trial`` locate it).
+    :class:`~dptbd.sim.rtl.trials.RTLMismatchError` (``label`` and ``first_trial`` locate it).
     """
     if engine not in ENGINES:
         raise DetectorError(f"engine must be one of {ENGINES}, got {engine!r}")
@@ -131,7 +131,7 @@ def fixed_maps(variant: FixedVariant, codes: np.ndarray, engine: str, builds=Non
 
         energy = run_family_fast(codes, variant.cfg).energy[:, -1]
         return variant.to_float(energy, n_frames), None
-    from dptbd.sim.rtl_trials import accumulate_trials
+    from dptbd.sim.rtl.trials import accumulate_trials
 
     res = accumulate_trials(variant.cfg if builds is None else builds, codes,
                             first_trial=first_trial, label=label)

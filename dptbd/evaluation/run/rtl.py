@@ -61,7 +61,7 @@ def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Pa
     ``design="segmenter"``: the whole FPGA stage (``dptbd_seg``: DP pipeline + segmenter),
     every candidate list word checked against the golden models; ``"dp"``: the DP pipeline
     (``dptbd_dp``), every (E, d) word checked. ``simulator``: ``"verilator"``
-    (:mod:`dptbd.sim.rtl_check`) or ``"icarus"`` (cocotb, :mod:`dptbd.sim.icarus`).
+    (:mod:`dptbd.sim.rtl.check`) or ``"icarus"`` (cocotb, :mod:`dptbd.sim.icarus`).
     ``build_dir`` None: the simulator's default build root. ``log`` receives a line before
     the build and one before the simulation.
     """
@@ -90,7 +90,7 @@ def run_rtl(frames: np.ndarray, cfg, n_frames: int | None, build_dir: pathlib.Pa
 
 def _rtl_verilator(frames: np.ndarray, cfg, build_dir, design: str, log: Log) -> dict:
     from dptbd.sim import verilator
-    from dptbd.sim.rtl_check import check_frames
+    from dptbd.sim.rtl.check import check_frames
 
     root = verilator.default_build_root() if build_dir is None else pathlib.Path(build_dir)
     log(f"  RTL: building the Verilog for this configuration on Verilator in {root} …")

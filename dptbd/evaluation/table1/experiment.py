@@ -8,7 +8,7 @@ candidate count, on the same seeded scenes, in the bit-accurate fixed-point mode
 
 With ``rtl=True`` (``dptbd table1 --rtl``, ``docs/table1.md`` "RTL in the loop") the two DP
 detectors are accumulated by the compiled gateware instead
-(:func:`dptbd.sim.rtl_trials.accumulate_trials`: every output word and candidate list
+(:func:`dptbd.sim.rtl.trials.accumulate_trials`: every output word and candidate list
 checked against the golden model); the gateware needs ``segment_stride == segment_frames``.
 
 The trials run as tasks of ``chunk`` trials of one setting on
@@ -65,7 +65,7 @@ class Table1Row:
 @dataclasses.dataclass(frozen=True)
 class Table1Run:
     """The rows, and with ``rtl=True`` what went through the gateware
-    (:func:`dptbd.sim.rtl_trials.summary`; None on the model)."""
+    (:func:`dptbd.sim.rtl.trials.summary`; None on the model)."""
 
     rows: list[Table1Row]
     rtl: dict | None = None
@@ -75,7 +75,7 @@ def _accumulate(frames: np.ndarray, cfg: DPConfig, rtl=None, label: str = "",
                 first: int = 0):
     """E after every segment of ``frames``, and the RTL's tally (None on the model)."""
     if rtl is not None:
-        from dptbd.sim.rtl_trials import accumulate_trials
+        from dptbd.sim.rtl.trials import accumulate_trials
         res = accumulate_trials(rtl, frames, first_trial=first, label=label)
         return res.energy, res.tally
     try:  # the fused kernel when it is there; the plain model gives the same bits
@@ -158,7 +158,7 @@ def run_table1(trials: int = 50, *, segment_frames: int = 6, segment_stride: int
     cfg = table1_config(segment_frames, segment_stride, size=size)
     builds = None
     if rtl:
-        from dptbd.sim.rtl_trials import check_configs, prepare_builds
+        from dptbd.sim.rtl.trials import check_configs, prepare_builds
         plain = cfg.replace(weights=plain_weights(cfg.radius))
         check_configs([("direction-weighted DP", cfg), ("plain DP", plain)])
         builds = (prepare_builds(cfg), prepare_builds(plain))
@@ -179,7 +179,7 @@ def run_table1(trials: int = 50, *, segment_frames: int = 6, segment_stride: int
             for (snr, velocity), by_name in totals.items() for name, counts in by_name.items()]
     info = None
     if rtl:
-        from dptbd.sim.rtl_trials import RTLTally, summary
+        from dptbd.sim.rtl.trials import RTLTally, summary
         tally = RTLTally()
         for _, part in parts:
             tally = tally + part

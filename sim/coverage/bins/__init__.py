@@ -8,7 +8,7 @@ golden model's outputs, which the RTL matched bit for bit: a run that failed fil
 :func:`stream_bins` reads a compiled run of ``dp``, ``core`` or ``segmenter``
 (:func:`dptbd.sim.campaign.check_run`), :func:`axi_bins` a run of ``dptbd_axi``
 (:func:`dptbd.sim.axi.runs.check_run`): the inputs of
-:func:`dptbd.sim.verilator_axi.check_axi` (the ``Beats``, the ``steps`` and the stall
+:func:`dptbd.sim.verilator.axi.check_axi` (the ``Beats``, the ``steps`` and the stall
 densities) and the cycle each beat was accepted and each register operation done.
 
 The bins are plain ``{name: hits}`` dicts: a run declares every bin its design and its

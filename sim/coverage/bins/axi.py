@@ -1,6 +1,6 @@
 """The bins of a run of the AXI top level ``dptbd_axi`` (:func:`dptbd.sim.axi.runs.check_run`):
 what the run fills (:func:`declared_axi`) and what it filled (:func:`axi_bins`), from the
-inputs of :func:`dptbd.sim.verilator_axi.check_axi` and the cycle each beat was accepted and
+inputs of :func:`dptbd.sim.verilator.axi.check_axi` and the cycle each beat was accepted and
 each register operation done; the groups are described in :mod:`dptbd.sim.coverage.bins`."""
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ def _in_flight(cfg, steps: list[dict], run, latency: int) -> list[int]:
     """Words in flight at each ``soft_reset: "now"`` (the ``soft reset`` group of
     :mod:`dptbd.sim.coverage.bins`): the beats accepted in the ``latency`` cycles before its
     write began."""
-    from dptbd.sim.verilator_axi import step_operations
+    from dptbd.sim.verilator.axi import step_operations
 
     _, checks = step_operations(cfg, steps, 0, [])
     accept = np.sort(np.asarray(run.accept_cycles, dtype=np.int64))
@@ -67,10 +67,10 @@ def _in_flight(cfg, steps: list[dict], run, latency: int) -> list[int]:
 def axi_bins(cfg, beats, steps: list[dict], *, passed: bool, latency: int,
              valid_gap: float = 0.0, ready_pause: float = 0.0, run=None,
              bus: Iterable[tuple[str, int, int, int]] = ()) -> dict[str, int]:
-    """The bins of one run of ``dptbd_axi`` (:func:`dptbd.sim.verilator_axi.check_axi`
+    """The bins of one run of ``dptbd_axi`` (:func:`dptbd.sim.verilator.axi.check_axi`
     with these ``beats``, ``steps``, ``valid_gap`` and ``ready_pause``; ``passed`` its
     verdict, ``latency`` the build's L, ``VerilatorBuild.latency``). ``run``: the
-    :class:`~dptbd.sim.verilator_axi.AxiRun` (its ``accept_cycles`` and ``op_cycles``),
+    :class:`~dptbd.sim.verilator.axi.AxiRun` (its ``accept_cycles`` and ``op_cycles``),
     needed if a soft reset is ``"now"``. ``bus``: raw AXI4-Lite operations the run also
     performed after the steps', ``(kind "w" or "r", byte address, data, wstrb)``.
 
@@ -79,7 +79,7 @@ def axi_bins(cfg, beats, steps: list[dict], *, passed: bool, latency: int,
     from dptbd.model.segmentation import segment_stream
     from dptbd.sim.axi.stimulus import stream_pieces
     from dptbd.sim.stream_model import expected_stream
-    from dptbd.sim.verilator_axi import fault_pulse_array
+    from dptbd.sim.verilator.axi import fault_pulse_array
 
     counts = declared_axi(cfg, latency)
     if not passed:

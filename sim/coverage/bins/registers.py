@@ -57,7 +57,7 @@ def merged_write(data: int, wstrb: int, held: int) -> int:
 def bus_operations(cfg, steps: list[dict]) -> list[tuple[int, tuple[str, int, int, int]]]:
     """(step index, ``(kind "w" or "r", byte address, data, wstrb)``) of every register
     access the ``steps`` make besides the checked reads, soft resets and counter clears, in
-    the order :func:`~dptbd.sim.verilator_axi.step_operations` performs them: ``writes``,
+    the order :func:`~dptbd.sim.verilator.axi.step_operations` performs them: ``writes``,
     ``lut_codes``, ``lut_writes``, ``bus``."""
     from dptbd.hw.register_map import register_map
 

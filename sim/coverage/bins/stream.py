@@ -61,8 +61,8 @@ def stream_bins(case, stimulus, result, events: Iterable[tuple[str, int]] = (),
     Parameters
     ----------
     case : dptbd.sim.campaign.Case
-    stimulus : dptbd.sim.rtl_check.Stimulus
-    result : dptbd.sim.rtl_check.CheckResult
+    stimulus : dptbd.sim.rtl.check.Stimulus
+    result : dptbd.sim.rtl.check.CheckResult
     events : iterable of (fault, word index)
         The framing faults injected (``misaligned_first``, ``short_frame``,
         ``long_frame``) and the first word they touch; resets, LUT and settings writes and

@@ -1,5 +1,5 @@
 """The ``axi`` slice (``dptbd_axi``): seeded runs of
-:func:`dptbd.sim.verilator_axi.check_axi` (every fault class, settings and LUT writes,
+:func:`dptbd.sim.verilator.axi.check_axi` (every fault class, settings and LUT writes,
 refused writes, W1C, soft reset, register reads, gaps and back-pressure), random AXI runs
 of the campaign (:func:`dptbd.sim.axi.runs.draw_run`), runs with a random LUT at K_max
 (:func:`lut_scenario`) and one long run of the counters and the stall cycles
@@ -75,7 +75,7 @@ def counter_plan(cfg: DPConfig) -> tuple:
         from dptbd.hw.segmenter import scan_cycles
         from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
         from dptbd.sim.candidate_scoreboard import list_words
-        from dptbd.sim.verilator_axi import CUT_COUNTERS
+        from dptbd.sim.verilator.axi import CUT_COUNTERS
 
         regs = constants_namespace(cfg)
         rng = np.random.default_rng([0, 0xA74])
@@ -101,7 +101,7 @@ def _counters_run(sim) -> tuple[str, str]:
     and ``tlast`` set), both writes OKAY, the counters the model's counts."""
     import numpy as np
 
-    from dptbd.sim.verilator_axi import run_axi
+    from dptbd.sim.verilator.axi import run_axi
 
     beats, ops, words, counts = counter_plan(sim.cfg)
     run = run_axi(sim, beats, ops)
@@ -174,7 +174,7 @@ def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
 def _axi_random_run(sim, seed: int) -> tuple[str, str]:
     from dptbd.sim.axi.runs import AXI_FAULTS, draw_run
     from dptbd.sim.campaign import Case
-    from dptbd.sim.verilator_axi import check_axi
+    from dptbd.sim.verilator.axi import check_axi
 
     case = Case("mutant-axi-random", CONFIGS["axi"], "axi", RANDOM_AXI_FRAMES, 1, AXI_FAULTS)
     plan = draw_run(case, seed)
@@ -187,7 +187,7 @@ def _axi_random_run(sim, seed: int) -> tuple[str, str]:
 
 
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
-    from dptbd.sim.verilator_axi import check_axi
+    from dptbd.sim.verilator.axi import check_axi
 
     if kind == "random":
         return _axi_random_run(sim, seed)

@@ -2,7 +2,7 @@
 of the campaign (:func:`dptbd.sim.campaign.make_run`: hostile scenes, input gaps, output
 back-pressure, resets, one early with the pipeline holding 0 … L words, misaligned / short /
 long frames, LUT rewrites, writes beyond the table, run-time K rewrites) checked by
-:func:`dptbd.sim.rtl_check.check_stream` bit-exact on every state word (E, d and the end
+:func:`dptbd.sim.rtl.check.check_stream` bit-exact on every state word (E, d and the end
 flags) and, in runs without resets, on the counts of the ``events`` pulses and on the
 ``segment_begin`` pulses (how many, and the words they came with); K written out of its
 range (0, above K_max: clamped, ``docs/gateware.md`` "Run-time settings") and LUT codes
@@ -128,7 +128,7 @@ def _check_raw(sim, words, stim, k_changes=(), luts=()) -> tuple[str, str]:
     import numpy as np
 
     from dptbd.model.settings import SegmentSettings
-    from dptbd.sim.rtl_check import _checker
+    from dptbd.sim.rtl.check import _checker
     from dptbd.sim.stimulus import lut_writes
     from dptbd.sim.stream_model import expected_stream, split_words
     from dptbd.sim.verilator import run as run_words
@@ -179,7 +179,7 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
 
 def _run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, _make_run
-    from dptbd.sim.rtl_check import check_stream
+    from dptbd.sim.rtl.check import check_stream
 
     case = Case(f"mutant-{kind}", CONFIGS["dp"], "dp", FRAMES[kind], 1,
                 _EVERY if kind == "faults" else (), kind == "random-lut")

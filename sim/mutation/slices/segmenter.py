@@ -1,7 +1,7 @@
 """The ``segmenter`` slice (``dptbd_seg``): seeded runs of the campaign
 (:func:`dptbd.sim.campaign.make_run`: hostile scenes, input gaps, output back-pressure,
 resets, misaligned / short / long frames, LUT and settings rewrites) checked by
-:func:`dptbd.sim.rtl_check.check_stream` against the golden model."""
+:func:`dptbd.sim.rtl.check.check_stream` against the golden model."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import numpy as np
 from dptbd.config import DPConfig
 from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS
 from dptbd.sim.mutation.verdict import stream_hang
-from dptbd.sim.rtl_check import NEVER
+from dptbd.sim.rtl.check import NEVER
 
 __all__ = ["RUNS", "run"]
 
@@ -88,7 +88,7 @@ def range_settings(cfg: DPConfig, n_words: int, seed: int) -> tuple:
 def _range_run(sim, words, stim, seed: int) -> tuple[str, str]:
     """A run whose settings ports carry out-of-range values (:func:`range_settings`), checked
     word for word against the golden model with the clamped settings."""
-    from dptbd.sim.rtl_check import _checker, expected_stream, lut_writes, split_words
+    from dptbd.sim.rtl.check import _checker, expected_stream, lut_writes, split_words
     from dptbd.sim.verilator import run as run_words
 
     cfg = sim.cfg
@@ -113,7 +113,7 @@ def _range_run(sim, words, stim, seed: int) -> tuple[str, str]:
 
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, make_run
-    from dptbd.sim.rtl_check import check_stream
+    from dptbd.sim.rtl.check import check_stream
 
     frames = {"clean": 12, "random-lut": 16, "faults": 24, "settings-edge": 16,
               "backpressure": 8, "settings-range": 16}[kind]

@@ -54,7 +54,8 @@ def test_the_job_on_the_rtl_equals_the_job_on_the_golden_model_exactly():
 @needs_verilator
 def test_a_corrupted_rtl_state_is_reported_by_variant_seed_frame_row_column_and_field(monkeypatch):
     from dptbd.hw.layouts import state_layout
-    from dptbd.sim import rtl_trials, verilator
+    from dptbd.sim import verilator
+    from dptbd.sim.rtl import trials as rtl_trials
 
     real = verilator.run
     spec = Paper000Spec(engine="rtl", **dict(TINY, cases=("5.1 eq (15)",), gain=(), seeds=2))

@@ -12,7 +12,7 @@ from amaranth.hdl import Shape, unsigned
 from amaranth.lib import data
 
 from dptbd.config import ROUNDING_MODES, DPConfig
-from dptbd.dsp.firmware_build import find_compiler
+from dptbd.dsp.firmware import find_compiler
 from dptbd.hw.axis_video import candidate_out_signature
 from dptbd.hw.candidate_layout import (candidate_layout, pack_record, pack_trailer,
                                        record_layout, trailer_layout, unpack_candidate)

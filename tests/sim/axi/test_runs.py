@@ -20,10 +20,10 @@ from dptbd.sim.axi.stimulus import (FAULT_KINDS, SETTINGS, CutList, clean_beats,
 from dptbd.sim.campaign import Case
 from dptbd.sim.coverage import bins
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.verilator_axi import check_axi, fault_pulse_array
+from dptbd.sim.verilator.axi import check_axi, fault_pulse_array
 from helpers.verilator_harness import HAVE_VERILATOR, built, make_config, needs_verilator
 
-# the configuration of tests/sim/test_verilator_axi.py (one build): 12 x 10, K = 2 of
+# the configuration of tests/sim/verilator/test_axi.py (one build): 12 x 10, K = 2 of
 # K_max = 4, n = 4, C = 6, 64 bins of width 4
 SMALL = dict(width=12, height=10, segment_frames=2, max_segment_frames=4, candidate_count=4,
              candidate_capacity=6, histogram_bits=6, histogram_shift=2)

@@ -11,12 +11,12 @@ import numpy as np
 
 from dptbd.hw.candidate_layout import pack_cut_trailer, unpack_candidate
 from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.sim import verilator_axi
+from dptbd.sim.verilator import axi as verilator_axi
 from dptbd.sim.axi.stimulus import Beats, CutList, clean_beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import list_words
 from dptbd.sim.coverage import bins
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.verilator_axi import check_axi
+from dptbd.sim.verilator.axi import check_axi
 from helpers.verilator_harness import HAVE_VERILATOR, built, make_config, needs_verilator
 
 # the configuration of tests/sim/axi/test_runs.py and test_verilator_axi.py (one build)

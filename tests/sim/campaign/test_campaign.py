@@ -63,7 +63,7 @@ def test_the_campaign_runs_an_axi_case():
 
 def test_a_wrong_model_fails_the_campaign(monkeypatch):
     """The campaign can fail: a model whose LUT differs from the gateware's is caught."""
-    import dptbd.sim.rtl_check as rtl_check
+    import dptbd.sim.rtl.check as rtl_check
 
     real = rtl_check.expected_stream
 

@@ -1,4 +1,4 @@
-"""The coverage build option of :mod:`dptbd.sim.verilator_build`: a key and a directory of
+"""The coverage build option of :mod:`dptbd.sim.verilator.cache`: a key and a directory of
 its own, the plain build's key, flags and text unchanged; the runners refuse a coverage
 file for a plain build (before running anything)."""
 
@@ -14,7 +14,7 @@ from helpers.verilator_harness import HAVE_VERILATOR
 
 from dptbd.config import DPConfig
 from dptbd.sim import verilator as V
-from dptbd.sim import verilator_build as B
+from dptbd.sim.verilator import cache as B
 
 CFG = DPConfig(width=8, height=6, segment_frames=2, candidate_count=2, histogram_bits=4)
 
@@ -56,7 +56,7 @@ def fake(tmp_path, design):
 
 def test_runners_refuse_a_coverage_file_for_a_plain_build(tmp_path):
     from dptbd.sim.axi.stimulus import Beats
-    from dptbd.sim.verilator_axi import run_axi
+    from dptbd.sim.verilator.axi import run_axi
 
     message = whole("coverage needs a build made with coverage=True")
     with pytest.raises(ValueError, match=message):

@@ -19,7 +19,7 @@ from dptbd.config import DPConfig
 from dptbd.sim import verilator as V
 from dptbd.sim.coverage.code import read_dat
 from dptbd.sim.coverage.report import entries, summarise, write_report
-from dptbd.sim.rtl_check import Stimulus, check_stream
+from dptbd.sim.rtl.check import Stimulus, check_stream
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.stimulus import pixel_words
 

@@ -102,7 +102,7 @@ def test_a_mutation_yosys_refuses_is_no_build_and_keeps_the_indices():
 
 
 def test_the_build_key_includes_the_mutations():
-    from dptbd.sim import verilator_build as V
+    from dptbd.sim.verilator import cache as V
     from dptbd.sim.mutation.run import config
 
     cfg = config("segmenter")

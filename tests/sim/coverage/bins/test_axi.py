@@ -54,7 +54,7 @@ def _axi_run(cfg, steps):
     """The cycles of a hand-made run: beat i accepted at cycle 10 + 2 i, every register
     operation done at cycle 100 (the soft reset "now" before beat 44: its write began at
     98, beats 41, 42 and 43 accepted in the 6 cycles before)."""
-    from dptbd.sim.verilator_axi import step_operations
+    from dptbd.sim.verilator.axi import step_operations
 
     _, checks = step_operations(cfg, steps, 0, [])
     return SimpleNamespace(accept_cycles=10 + 2 * np.arange(68, dtype=np.uint64),

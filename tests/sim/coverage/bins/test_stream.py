@@ -17,7 +17,7 @@ from dptbd.sim.campaign import Case
 from dptbd.sim.candidate_scoreboard import list_words
 from dptbd.sim.coverage import bins
 from dptbd.sim.coverage.bins.stream import _reset_occupancy
-from dptbd.sim.rtl_check import Stimulus
+from dptbd.sim.rtl.check import Stimulus
 from dptbd.sim.stimulus import pixel_words
 from dptbd.sim.stream_model import expected_stream, split_words
 

@@ -32,7 +32,7 @@ __all__ = ["FIRMWARE_DIR", "SOURCES", "HEADERS", "WARNING_FLAGS", "OPT_FLAGS",
            "build_executable"]
 
 #: The firmware's sources.
-FIRMWARE_DIR = Path(__file__).resolve().parent / "firmware"
+FIRMWARE_DIR = Path(__file__).resolve().parent
 SOURCES = ("dptbd_track.c", "dptbd_backtrack.c", "dptbd_trim.c")
 HEADERS = ("dptbd_track.h", "dptbd_candidate_record.h")
 #: Every build: C99, every warning an error.

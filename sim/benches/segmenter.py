@@ -3,7 +3,7 @@ golden models, bit for bit.
 
 Run through :func:`dptbd.sim.icarus.simulate` on a build made with
 ``build(cfg, design="segmenter")``; never imported outside a simulator. The job and scene come
-from ``DPTBD_SIM_JOB`` / ``DPTBD_SIM_SCENE`` exactly as for :mod:`dptbd.sim.tb_dp`.
+from ``DPTBD_SIM_JOB`` / ``DPTBD_SIM_SCENE`` exactly as for :mod:`dptbd.sim.benches.dp`.
 
 ``run_scene``
     Optionally write a LUT through the LUT port, then stream every frame with the
@@ -27,12 +27,12 @@ import cocotb
 from cocotb.triggers import Event, First, RisingEdge, Timer
 
 from dptbd.hw.candidate_layout import bits_per_segment
-from dptbd.sim.cocotb_drivers import StreamMonitor, StreamSink, StreamSource, write_lut
-from dptbd.sim.cocotb_drivers import optional_pauses, pause_generator, pause_probability
-from dptbd.sim.cocotb_drivers import start_in_reset
+from dptbd.sim.benches.drivers import StreamMonitor, StreamSink, StreamSource, write_lut
+from dptbd.sim.benches.drivers import optional_pauses, pause_generator, pause_probability
+from dptbd.sim.benches.drivers import start_in_reset
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard, expected_lists
 from dptbd.sim.stimulus import lut_writes, pack_pixels
-from dptbd.sim.tb_dp import PERIOD_NS, load_job
+from dptbd.sim.benches.dp import PERIOD_NS, load_job
 
 
 @cocotb.test()

@@ -1,10 +1,10 @@
-"""``dptbd.sim.soft_reset_check``: the per-iteration verdicts of the soft-reset sweep and the
+"""``dptbd.sim.benches.soft_reset_check``: the per-iteration verdicts of the soft-reset sweep and the
 AXI4-Stream rules of :class:`PortWatch`, on hand-made transfers."""
 
 import types
 
 from dptbd.hw.axis_video import STATE_TUSER
-from dptbd.sim.soft_reset_check import PortWatch, score_iteration, score_state_iteration
+from dptbd.sim.benches.soft_reset_check import PortWatch, score_iteration, score_state_iteration
 from helpers.seg_harness import make_config
 
 

@@ -1,11 +1,11 @@
-"""Association parameters of ``dptbd.dsp.association_config``: domains, order, refusals."""
+"""Association parameters of ``dptbd.dsp.association.config``: domains, order, refusals."""
 
 import dataclasses
 
 import numpy as np
 import pytest
 
-from dptbd.dsp.association_config import AssociationConfig, AssociationError
+from dptbd.dsp.association.config import AssociationConfig, AssociationError
 from dptbd.errors import DptbdError
 from helpers.refusals import whole
 

@@ -22,7 +22,7 @@ from dptbd.sim.candidate_scoreboard import expected_lists
 
 pytestmark = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
 
-BUILD_ROOT = pathlib.Path(__file__).resolve().parents[2] / "build" / "sim"
+BUILD_ROOT = pathlib.Path(__file__).resolve().parents[3] / "build" / "sim"
 RANDOM = lambda p, seed: {"kind": "random", "probability": p, "seed": seed}  # noqa: E731
 
 _BUILDS: dict = {}

@@ -2,10 +2,10 @@
 
 :func:`run_axi` streams input beats (pixel, ``tuser[0]``, ``tlast``; injected faults
 included, :mod:`dptbd.sim.axi.stimulus`) through a ``design="axi"`` build of
-:mod:`dptbd.sim.verilator_build` (harness ``sim/harness/dptbd_axi_harness.cpp``) with seeded
+:mod:`dptbd.sim.verilator.cache` (harness ``sim/harness/dptbd_axi_harness.cpp``) with seeded
 ``tvalid`` gaps and ``tready`` back-pressure, performing AXI4-Lite writes, reads and idle
 waits before given beats. :func:`check_axi` turns the steps of the cocotb bench
-(:mod:`dptbd.sim.tb_axi`: register ``writes``, ``lut_codes``, ``soft_reset``, ``check`` and
+(:mod:`dptbd.sim.benches.axi`: register ``writes``, ``lut_codes``, ``soft_reset``, ``check`` and
 ``stop``) into such operations, runs them, and scores every candidate word in order with
 :class:`~dptbd.sim.candidate_scoreboard.CandidateScoreboard` against
 :func:`~dptbd.sim.axi.stimulus.expected_outputs` (the same model as the cocotb bench), the
@@ -30,7 +30,7 @@ from dptbd.sim.axi.scoring import (delivered_lists, flag_problems, score_exact,
                                    score_in_parts, undrained_cuts)
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.verilator import _check_probability, cycle_budget
-from dptbd.sim.verilator_build import VerilatorBuild
+from dptbd.sim.verilator.cache import VerilatorBuild
 
 __all__ = ["OKAY", "SLVERR", "CUT_COUNTERS", "AxiRun", "AxiCheck", "beat_words", "step_operations", "run_axi",
            "check_axi", "fault_pulse_array", "no_sof_mask"]
@@ -83,7 +83,7 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
     """The harness operations of the bench's ``steps`` and, per w/r operation, what to
     check: ``("write", name, expected response)`` or ``("read", name, expected value or
     None)``. Each step waits ``settle`` cycles before its ``check`` reads or soft reset (as
-    :mod:`dptbd.sim.tb_axi` does), then writes; ``final_reads`` are read after the last beat
+    :mod:`dptbd.sim.benches.axi` does), then writes; ``final_reads`` are read after the last beat
     and ``settle`` idle cycles.
 
     ``soft_reset`` may be ``"now"``: no settle before it (``soft_reset_wait`` idle cycles

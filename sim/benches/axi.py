@@ -22,7 +22,7 @@ reset and after every soft reset, with the settings written and LUT changes at t
 and ``tuser[0]`` / ``tlast`` are checked on every word. At the end the FRAMES, SEGMENTS,
 LISTS and SATURATED counters must read what the model gives. A step with ``soft_reset`` writes
 ``CONTROL.soft_reset`` after the earlier beats have drained. Both streams take the
-job's ``valid_pause`` / ``ready_pause`` (:func:`dptbd.sim.cocotb_drivers.pause_generator`). At
+job's ``valid_pause`` / ``ready_pause`` (:func:`dptbd.sim.benches.drivers.pause_generator`). At
 the end the ``final_check`` registers are read. The summary lists the cycles at which
 ``irq`` rose and fell and the cycle each beat was accepted.
 
@@ -49,10 +49,10 @@ from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.sim.axi.stimulus import Beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.hw.layouts import pack_states
-from dptbd.sim.cocotb_drivers import Cycles, pause_generator, pause_probability
+from dptbd.sim.benches.drivers import Cycles, pause_generator, pause_probability
 from dptbd.sim.scoreboard import Scoreboard
-from dptbd.sim.soft_reset_check import PortWatch, score_iteration, score_state_iteration
-from dptbd.sim.tb_dp import PERIOD_NS, load_job
+from dptbd.sim.benches.soft_reset_check import PortWatch, score_iteration, score_state_iteration
+from dptbd.sim.benches.dp import PERIOD_NS, load_job
 
 OKAY, SLVERR = 0, 2
 

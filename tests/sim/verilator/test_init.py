@@ -1,6 +1,6 @@
 """The compiled RTL simulator (:mod:`dptbd.sim.verilator`): exact cycle counts, the stimulus
 the harness takes, and every bad input refused before anything is run. The build cache is
-``test_verilator_build.py``.
+``test_cache.py``.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.hw.candidate_layout import unpack_candidate
 from dptbd.sim import verilator as V
-from dptbd.sim.rtl_check import Stimulus, check_frames, check_stream
+from dptbd.sim.rtl.check import Stimulus, check_frames, check_stream
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.scoreboard import expected_words
 from dptbd.sim.stimulus import lut_writes, pixel_words

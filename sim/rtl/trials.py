@@ -168,7 +168,7 @@ def expected_state_words(cfg: DPConfig, segments: np.ndarray) -> np.ndarray:
     :func:`~dptbd.model.fast_family.fast_family_step` frame by frame (bit-identical with the
     reference :mod:`dptbd.model.family`, ``tests/model/test_fast_family.py``, which with the
     §8 fields at their defaults is :mod:`dptbd.model.fixed` bit for bit, ``docs/arithmetic.md``
-    §8.8; ``tests/sim/test_rtl_trials.py`` checks it against
+    §8.8; ``tests/sim/rtl/test_trials.py`` checks it against
     :func:`dptbd.sim.scoreboard.model_frames`). Paper 001's configurations and paper 000's
     family (§8) go through the same code; flags by
     :func:`dptbd.sim.scoreboard.pack_frame_states`.

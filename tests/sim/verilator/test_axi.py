@@ -3,7 +3,7 @@
 ``tvalid`` gaps and ``tready`` back-pressure, AXI4-Lite writes (K, n, s, LUT entries, W1C,
 soft reset, refused values) and reads at given beats; every candidate word, its
 ``tuser[0]`` / ``tlast``, every write response, every check read and the end counters
-scored against the golden model (:func:`dptbd.sim.verilator_axi.check_axi`). A long
+scored against the golden model (:func:`dptbd.sim.verilator.axi.check_axi`). A long
 128 x 128 run behind ``-m slow``.
 """
 
@@ -17,7 +17,7 @@ from dptbd.hw.register_map import FAULTS
 from dptbd.sim import verilator as V
 from dptbd.sim.axi.stimulus import clean_beats, with_fault
 from dptbd.sim.scenarios import make_frames
-from dptbd.sim.verilator_axi import (CUT_COUNTERS, beat_words, check_axi, run_axi,
+from dptbd.sim.verilator.axi import (CUT_COUNTERS, beat_words, check_axi, run_axi,
                                      step_operations)
 from helpers.refusals import whole
 from helpers.verilator_harness import built, make_config, needs_verilator
@@ -47,7 +47,7 @@ def test_beat_words_and_operations():
     with pytest.raises(ValueError, match=r"^run_axi needs a build of design 'axi', got 'dp'$"):
         run_axi(built(make_config(), "dp"), beats, [])
     with pytest.raises(ValueError, match=r"^the 'axi' build has its own harness: use "
-                                         r"dptbd\.sim\.verilator_axi\.run_axi$"):
+                                         r"dptbd\.sim\.verilator\.axi\.run_axi$"):
         V.run(built(cfg, "axi"), beat_words(beats))
     with pytest.raises(ValueError, match=whole("operation 'x' before beat 3: kinds are w, r, "
                                                "i, m, b, a and beats 0 … 120")):

@@ -1,4 +1,4 @@
-"""RTL in the loop (``dptbd.sim.rtl_trials``): ``compare --rtl`` and ``table1 --rtl`` give the
+"""RTL in the loop (``dptbd.sim.rtl.trials``): ``compare --rtl`` and ``table1 --rtl`` give the
 golden model's numbers, a corrupted RTL word is caught and located, unsupported
 configurations are refused up front.
 
@@ -20,7 +20,8 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.errors import ConfigError
 from dptbd.hw.layouts import state_layout
-from dptbd.sim import rtl_trials, verilator
+from dptbd.sim import verilator
+from dptbd.sim.rtl import trials as rtl_trials
 from helpers.compare_spec import small_spec, spec_toml
 
 pytestmark = pytest.mark.skipif(shutil.which("verilator") is None,

@@ -6,7 +6,7 @@ store at power-up) into a job directory, runs the executable once, and returns e
 output transfer with its cycle and the cycle each input word was accepted (:class:`RawRun`).
 Nothing runs in Python per cycle.
 
-The executables come from the build cache :mod:`dptbd.sim.verilator_build`; its public
+The executables come from the build cache :mod:`dptbd.sim.verilator.cache`; its public
 names (:func:`build`, :func:`check_tools`, :class:`ToolMissingError`, :class:`VerilatorBuild`,
 :data:`DESIGNS`, …) are re-exported here, so ``from dptbd.sim import verilator;
 verilator.build(...)`` keeps working.
@@ -28,7 +28,7 @@ from typing import Iterable
 
 import numpy as np
 
-from dptbd.sim.verilator_build import (
+from dptbd.sim.verilator.cache import (
     CXX_FLAGS,
     DESIGNS,
     EXECUTABLE,
@@ -133,7 +133,7 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
     """
     if sim.design == "axi":
         raise ValueError("the 'axi' build has its own harness: use "
-                         "dptbd.sim.verilator_axi.run_axi")
+                         "dptbd.sim.verilator.axi.run_axi")
     words = np.asarray(words)
     if words.ndim != 1 or (words.size and words.dtype.kind not in "iu"):
         raise ValueError(f"words must be a 1-D integer array, got {words.dtype} {words.shape}")

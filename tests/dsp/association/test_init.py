@@ -9,7 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from dptbd.dsp import association, association_config, records as record_module
+from dptbd.dsp import association, records as record_module
+from dptbd.dsp.association import config as association_config
 from dptbd.dsp.association import (
     CANDIDATE_DTYPE, CONFIRMED, FREE, ONE, TENTATIVE, AssociationConfig, AssociationError,
     Tracker)

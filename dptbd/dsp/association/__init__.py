@@ -82,12 +82,12 @@ classes) and at most C x n cost evaluations in all (a track is in one class; eac
 multiplies and one integer square root); updates C; duplicate test m(m-1)/2 pairs of the m <= min(C, n) extended tracks; new
 tracks n(n-1)/2 insertion-sort compares and at most n + C free-slot probes. For C = 64,
 n = 33: about 1 100 + 2 000 + 2 100 + 64 + 2 000 + 530 + 100 operations, independent
-of the data (``tests/dsp/test_association.py::test_work_per_segment_is_bounded``). Nothing is
+of the data (``tests/dsp/association/test_init.py::test_work_per_segment_is_bounded``). Nothing is
 allocated per segment: every array, and the blank record written over freed records, is
 created in ``__init__`` (``test_no_allocation_per_segment_and_input_capacity``).
 
 The records and their fixed-point layout are in :mod:`dptbd.dsp.records`, the parameters
-in :mod:`dptbd.dsp.association_config`; their names are importable from here too.
+in :mod:`dptbd.dsp.association.config`; their names are importable from here too.
 """
 
 from __future__ import annotations
@@ -96,7 +96,7 @@ import math
 
 import numpy as np
 
-from dptbd.dsp.association_config import AssociationConfig, AssociationError
+from dptbd.dsp.association.config import AssociationConfig, AssociationError
 from dptbd.dsp import records
 from dptbd.dsp.records import (CANDIDATE_DTYPE, CONFIRMED, FREE, ONE, POINT_DTYPE, Q_BITS,
                                RATIO_BITS, RATIO_ONE, TENTATIVE, TRACK_DTYPE, ConfirmedTrack,

@@ -1,4 +1,4 @@
-"""The Verilator build cache (:mod:`dptbd.sim.verilator_build`): reuse, stale stamps,
+"""The Verilator build cache (:mod:`dptbd.sim.verilator.cache`): reuse, stale stamps,
 interrupted builds, the build root, and every bad input refused before anything is built.
 
 Builds are cached under ``~/.cache/dptbd/verilator``; the cache tests use a fresh root in
@@ -13,8 +13,8 @@ import shutil
 
 import pytest
 
-from dptbd.sim import verilator_build as V
-from dptbd.sim.rtl_check import check_frames
+from dptbd.sim.verilator import cache as V
+from dptbd.sim.rtl.check import check_frames
 from dptbd.sim.icarus import config_name
 from dptbd.sim.scenarios import make_frames
 

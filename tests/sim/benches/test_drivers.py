@@ -7,7 +7,7 @@ import itertools
 
 import pytest
 
-from dptbd.sim.cocotb_drivers import optional_pauses, pause_generator, pause_probability
+from dptbd.sim.benches.drivers import optional_pauses, pause_generator, pause_probability
 
 
 def test_pause_generators():

@@ -13,7 +13,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from dptbd.config_family import FamilyFields
+from dptbd.config.family import FamilyFields
 from dptbd.errors import ConfigError, check_int
 from dptbd.weights import check_move_table, move_offsets, paper_weights
 

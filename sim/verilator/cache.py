@@ -77,9 +77,9 @@ CXX_FLAGS = ("-O3",)
 #: branch of every ``if`` / ``case`` (line) and per bit of every signal (toggle).
 COVERAGE_FLAGS = ("--coverage-line", "--coverage-toggle")
 
-HARNESS = pathlib.Path(__file__).resolve().parent / "harness" / "dptbd_harness.cpp"
+HARNESS = pathlib.Path(__file__).resolve().parents[1] / "harness" / "dptbd_harness.cpp"
 #: Designs with a harness of their own (flat AXI ports, register operations):
-#: ``dptbd.sim.verilator_axi`` runs it.
+#: ``dptbd.sim.verilator.axi`` runs it.
 HARNESSES = {"axi": HARNESS.with_name("dptbd_axi_harness.cpp")}
 
 EXECUTABLE = "dptbd_sim"
@@ -164,7 +164,7 @@ def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
 
     extra = {}                                # the plain build's key unchanged
     if coverage:                              # its text comes from source_text.py
-        text = pathlib.Path(__file__).resolve().parent / "coverage" / "source_text.py"
+        text = pathlib.Path(__file__).resolve().parents[1] / "coverage" / "source_text.py"
         extra = {"coverage": COVERAGE_FLAGS, "text": _sha256(text)}
     if mutations:
         extra.update(mutations=list(mutations), mutant_netlist=_mutant_netlist_hash())

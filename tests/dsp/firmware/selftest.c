@@ -1,6 +1,6 @@
 /*
  * The firmware's bad-input behaviour, run under -fsanitize=address,undefined by
- * tests/dsp/test_firmware_build.py.  Prints "selftest: all passed" and exits 0, or names
+ * tests/dsp/firmware/test_init.py.  Prints "selftest: all passed" and exits 0, or names
  * the first failed check and exits 1.
  */
 #include <stdio.h>

@@ -1,4 +1,4 @@
-"""Compiled RTL runs scored against the golden model (:mod:`dptbd.sim.rtl_check`): whole
+"""Compiled RTL runs scored against the golden model (:mod:`dptbd.sim.rtl.check`): whole
 scenes bit for bit over parameter sets × input gaps × back-pressure, every fault class
 against the promise of docs/gateware.md ("Reset and resynchronisation", "Weight LUT write
 protocol"), and the checker's own failures (a flipped bit, an extra word, a missing word)
@@ -12,11 +12,11 @@ import shutil
 import numpy as np
 import pytest
 
-import dptbd.sim.rtl_check as rtl_check
+import dptbd.sim.rtl.check as rtl_check
 from dptbd.hw.candidate_layout import unpack_candidate
 from dptbd.hw.layouts import unpack_state
 from dptbd.sim import verilator as V
-from dptbd.sim.rtl_check import Stimulus, check_frames, check_stream, lut_change_words
+from dptbd.sim.rtl.check import Stimulus, check_frames, check_stream, lut_change_words
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.scoreboard import expected_words
 from dptbd.sim.candidate_scoreboard import expected_lists, list_words

@@ -44,7 +44,7 @@ import cocotb
 from cocotb.triggers import Event, First, RisingEdge, Timer
 
 from dptbd.config import DPConfig, EnergyWidthWarning
-from dptbd.sim.cocotb_drivers import (
+from dptbd.sim.benches.drivers import (
     Cycles,
     StreamMonitor,
     StreamSink,

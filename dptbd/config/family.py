@@ -5,7 +5,7 @@ LUT, forgetting factor, recursion).
 :class:`FamilyFields` is a base class of ``DPConfig`` holding no fields of its own: the
 fields stay in the one dataclass (``merit_codes``, ``merit_bits``, ``penalty_codes``,
 ``penalty_bits``, ``forgetting``, ``forgetting_bits``, ``recursive``), this module holds
-what is computed from them, so that ``dptbd/config.py`` stays the one home of every
+what is computed from them, so that ``dptbd/config/__init__.py`` stays the one home of every
 parameter without growing past one concept.
 """
 

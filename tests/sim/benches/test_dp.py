@@ -3,7 +3,7 @@
 Every test builds ``dptbd_dp`` for its parameter set in its own directory under
 ``build/sim/`` (cached between runs: Icarus recompiles only when the Verilog changed), writes
 the scene and the job into a run directory and runs a cocotb test of
-:mod:`dptbd.sim.tb_dp` through ``cocotb_tools.runner``. The cocotb scoreboard compares every
+:mod:`dptbd.sim.benches.dp` through ``cocotb_tools.runner``. The cocotb scoreboard compares every
 output word with :mod:`dptbd.model.fixed`, bit for bit, over whole multi-segment scenes.
 
 ``pytest -m slow tests/sim`` adds the longer 128 x 128 run.
@@ -26,7 +26,7 @@ from dptbd.sim.scoreboard import expected_words
 
 pytestmark = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
 
-BUILD_ROOT = pathlib.Path(__file__).resolve().parents[2] / "build" / "sim"
+BUILD_ROOT = pathlib.Path(__file__).resolve().parents[3] / "build" / "sim"
 
 RANDOM = lambda p, seed: {"kind": "random", "probability": p, "seed": seed}  # noqa: E731
 CYCLE_PAUSE = {"kind": "pattern", "pattern": [1, 1, 1, 0]}   # verilog-axis cycle_pause

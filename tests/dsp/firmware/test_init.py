@@ -1,5 +1,5 @@
 """Building the DSP firmware: compiler lookup, the cache, warnings under gcc and clang, and the
-firmware's bad-input behaviour under -fsanitize=address,undefined (firmware_selftest.c)."""
+firmware's bad-input behaviour under -fsanitize=address,undefined (tests/dsp/firmware/selftest.c)."""
 
 import os
 import pathlib
@@ -9,10 +9,10 @@ import subprocess
 
 import pytest
 
-from dptbd.dsp import firmware_build as fb
+from dptbd.dsp import firmware as fb
 
 HERE = pathlib.Path(__file__).resolve().parent
-EXAMPLE = HERE.parents[1] / "examples" / "dsp_tracker" / "main.c"
+EXAMPLE = HERE.parents[2] / "examples" / "dsp_tracker" / "main.c"
 CAPACITY_SETS = [(), fb.capacity_defines(1, 1, 1, 0), fb.capacity_defines(4, 16, 3, 1),
                  fb.capacity_defines(1000, 2000, 500, 0)]
 SANITIZE = ("-g", "-fsanitize=address,undefined", "-fno-sanitize-recover=all")
@@ -68,13 +68,13 @@ def test_warning_free_under_gcc_and_clang(compiler, tmp_path):
         for opt in ("-O0", "-O2", "-O3"):
             for source in fb.SOURCES:
                 _compile(compiler, fb.FIRMWARE_DIR / source, defines, opt, tmp_path)
-    for source in (EXAMPLE, HERE / "firmware_selftest.c", HERE / "firmware_probe.c"):
+    for source in (EXAMPLE, HERE / "selftest.c", HERE / "probe.c"):
         _compile(compiler, source, (), "-O2", tmp_path)
 
 
 @pytest.mark.parametrize("defines", CAPACITY_SETS[:3])
 def test_bad_input_under_the_sanitizers(defines, tmp_path):
-    exe = fb.build_executable([HERE / "firmware_selftest.c"], tmp_path / "selftest",
+    exe = fb.build_executable([HERE / "selftest.c"], tmp_path / "selftest",
                               defines=defines, extra_flags=SANITIZE)
     res = subprocess.run([str(exe)], capture_output=True, text=True,
                          env={**os.environ, "UBSAN_OPTIONS": "print_stacktrace=1"})

@@ -1,4 +1,4 @@
-"""What ``dptbd.sim.tb_axi.soft_reset_sweep`` checks of ``dptbd_axi``'s outputs around a soft
+"""What ``dptbd.sim.benches.axi.soft_reset_sweep`` checks of ``dptbd_axi``'s outputs around a soft
 reset: the AXI4-Stream rules on every cycle (:class:`PortWatch`) and, per iteration, the
 candidate lists (:func:`score_iteration`: whole, or the model's lists up to one cut by the
 cut trailer) and the ``m_axis_state`` words (:func:`score_state_iteration`: lines of W words
