@@ -19,7 +19,7 @@ from dptbd.sim.scenarios import make_frames
 from dptbd.sim.verilator.axi import check_axi
 from helpers.verilator_harness import HAVE_VERILATOR, built, make_config, needs_verilator
 
-# the configuration of tests/sim/axi/test_runs.py and test_verilator_axi.py (one build)
+# the configuration of tests/sim/axi/test_runs.py and tests/sim/verilator/test_axi.py (one build)
 SMALL = dict(width=12, height=10, segment_frames=2, max_segment_frames=4, candidate_count=4,
              candidate_capacity=6, histogram_bits=6, histogram_shift=2)
 
