@@ -15,7 +15,7 @@ golden model. :func:`accumulate_trials` is the one call they make instead of
 2. **Every** ``states`` word is compared with the golden model by
    :class:`dptbd.sim.scoreboard.Scoreboard` (the project's one state-word comparer). The
    expected words are the golden model's state after every frame; they are computed
-   frame by frame with the family kernel :mod:`dptbd.model.fast_family` (bit-identical with
+   frame by frame with the family kernel :mod:`dptbd.model.family.fast` (bit-identical with
    the reference :mod:`dptbd.model.family`, and with :mod:`dptbd.model.fixed` for paper
    001's configurations, ``docs/arithmetic.md`` §8.8) and packed with
    :func:`dptbd.hw.layouts.pack_states` (:func:`expected_state_words`). A mismatch raises :class:`RTLMismatchError`
@@ -164,16 +164,16 @@ def expected_state_words(cfg: DPConfig, segments: np.ndarray) -> np.ndarray:
     to back from reset: ``(N * K * H * W,)`` uint64 in stream order.
 
     State after frame j of a segment: the family kernel
-    :func:`~dptbd.model.fast_family.fast_family_start` on the segment's first frame, then
-    :func:`~dptbd.model.fast_family.fast_family_step` frame by frame (bit-identical with the
-    reference :mod:`dptbd.model.family`, ``tests/model/test_fast_family.py``, which with the
+    :func:`~dptbd.model.family.fast.fast_family_start` on the segment's first frame, then
+    :func:`~dptbd.model.family.fast.fast_family_step` frame by frame (bit-identical with the
+    reference :mod:`dptbd.model.family`, ``tests/model/family/test_fast.py``, which with the
     §8 fields at their defaults is :mod:`dptbd.model.fixed` bit for bit, ``docs/arithmetic.md``
     §8.8; ``tests/sim/rtl/test_trials.py`` checks it against
     :func:`dptbd.sim.scoreboard.model_frames`). Paper 001's configurations and paper 000's
     family (§8) go through the same code; flags by
     :func:`dptbd.sim.scoreboard.pack_frame_states`.
     """
-    from dptbd.model.fast_family import fast_family_start, fast_family_step
+    from dptbd.model.family.fast import fast_family_start, fast_family_step
     from dptbd.sim.scoreboard import pack_frame_states
 
     n, k, h, w = segments.shape

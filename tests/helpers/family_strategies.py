@@ -1,5 +1,5 @@
 """Hypothesis strategies for paper 000's DP family (``docs/arithmetic.md`` §8), shared by
-``test_family.py``, ``test_fast_family.py`` and ``test_family_oracle.py``."""
+``tests/model/family/``: ``test_init.py``, ``test_fast.py`` and ``test_oracle.py``."""
 
 from __future__ import annotations
 

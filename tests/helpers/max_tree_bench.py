@@ -9,7 +9,7 @@ import random
 import numpy as np
 
 from dptbd.hw.max_tree import MaxTree
-from dptbd.model.family_operators import INVALID_SIGNED
+from dptbd.model.family.operators import INVALID_SIGNED
 from dptbd.model.operators import INVALID, argmax_lowest_index
 from helpers.hw_harness import simulate
 

@@ -13,7 +13,7 @@ from amaranth.hdl import signed, unsigned
 
 from dptbd.config import DPConfig
 from dptbd.hw.accumulator import Accumulator, ClampedAccumulator
-from dptbd.model.family_operators import add_clamped
+from dptbd.model.family.operators import add_clamped
 from dptbd.model.operators import add_saturating, saturated_sum
 from helpers.hw_harness import simulate
 

@@ -12,7 +12,7 @@ from amaranth.hdl import signed, unsigned
 
 from dptbd.config import DPConfig
 from dptbd.hw.forgetting_multiplier import ForgettingMultiplier
-from dptbd.model.family_operators import scale_by_forgetting
+from dptbd.model.family.operators import scale_by_forgetting
 from helpers.hw_harness import simulate
 
 

@@ -14,7 +14,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.merit_lut import MeritLUT
-from dptbd.model.family_operators import lookup_merit_code
+from dptbd.model.family.operators import lookup_merit_code
 from helpers.hw_harness import simulate
 
 

@@ -12,7 +12,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.penalised_candidate import PenalisedCandidate
-from dptbd.model.family_operators import subtract_penalty
+from dptbd.model.family.operators import subtract_penalty
 from helpers.hw_harness import simulate
 
 

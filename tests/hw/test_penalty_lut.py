@@ -13,7 +13,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.penalty_lut import PenaltyLUT
-from dptbd.model.family_operators import lookup_penalty_code
+from dptbd.model.family.operators import lookup_penalty_code
 from helpers.hw_harness import simulate
 
 

@@ -17,7 +17,7 @@ The scene (paper 001 §4, scaled down by default)
     noise without the target is trial ``i``'s noise-only scene.
 
 What each model sees
-    The **float model** (:func:`dptbd.model.fast_float.run_float_fast`, bit-identical to
+    The **float model** (:func:`dptbd.model.fast.floating.run_float_fast`, bit-identical to
     ``run_float``) sees the float sensor output. A **fixed configuration**
     (:func:`dptbd.model.fast.run_fixed_fast`, bit-identical to ``run_fixed``) sees the
     same frames through its ADC: ``code = clip(rint(gain * x + offset), 0, 2**B_in - 1)``

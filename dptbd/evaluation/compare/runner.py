@@ -35,7 +35,7 @@ def _evaluate(plan: Plan, float_frames: np.ndarray, codes: Sequence[np.ndarray],
     """Run every detector on one batch (one SNR, or noise only) of trials ``first ..`` and
     store per-trial counts."""
     from dptbd.model.fast import run_fixed_fast
-    from dptbd.model.fast_float import run_float_fast
+    from dptbd.model.fast.floating import run_float_fast
 
     n_trials = float_frames.shape[0]
     n_seg = len(plan.ends)

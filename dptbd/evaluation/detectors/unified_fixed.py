@@ -4,7 +4,7 @@
 the input pixel code and an additive (subtracted) penalty LUT in place of 001's weight
 multiplier (:func:`quantise_unified` builds them from a float merit and transition table;
 :func:`run_unified_fixed` runs them). It is the independent reference the tests hold the
-golden model's §8 family (``dptbd.model.fast_family``) and the family gateware against
+golden model's §8 family (``dptbd.model.family.fast``) and the family gateware against
 (``docs/arithmetic.md`` §8.9, ``docs/detectors.md`` §1.3); the float recursion is
 :mod:`dptbd.evaluation.detectors.unified`.
 """

@@ -25,7 +25,7 @@ from dptbd.errors import check_int, check_real
 from dptbd.evaluation.metrics import DetectionCounts, first_level_counts
 from dptbd.evaluation.table1.experiment import FALSE_ALARM_RATE, SETTINGS, table1_config
 from dptbd.model.fast import run_fixed_fast
-from dptbd.model.fast_family import run_family_fast
+from dptbd.model.family.fast import run_family_fast
 from dptbd.model.segmentation import candidate_mask, count_for_rate
 from dptbd.scenes import synthetic as scenes
 from dptbd.scenes.synthetic import ADC_GAIN, INPUT_BITS

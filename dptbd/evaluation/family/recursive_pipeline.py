@@ -23,7 +23,7 @@ from dptbd.dsp.backtrack import candidate_paths, track_positions
 from dptbd.dsp.c_tracker import tracker_class
 from dptbd.evaluation.chain import PipelineResult
 from dptbd.errors import check_int
-from dptbd.model.fast_family import fast_family_start, fast_family_step
+from dptbd.model.family.fast import fast_family_start, fast_family_step
 from dptbd.model.segmentation import candidates as map_candidates
 from dptbd.model.segments import SegmentOutput
 

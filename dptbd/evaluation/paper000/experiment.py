@@ -10,7 +10,7 @@
 
 each variant twice: **fixed point** (:func:`dptbd.evaluation.paper000.variants.fixed_maps`,
 on the golden model or — ``engine="rtl"`` — on the compiled gateware with every state word
-of every frame checked bit for bit against :mod:`dptbd.model.fast_family`) and **float**
+of every frame checked bit for bit against :mod:`dptbd.model.family.fast`) and **float**
 (:func:`~dptbd.evaluation.paper000.variants.float_maps`, the float runs of §1.4–1.5).
 Fixed and float are compared as ``dptbd compare`` compares them: on the same scenes, with
 paired intervals (:func:`dptbd.evaluation.compare.report.paired_difference`, clustered by

@@ -5,7 +5,7 @@ this module builds them for 000's scenes (:func:`fixed_variant`) and runs them:
 
 * the **fixed-point** variant on 8-bit ADC codes of the scene, ``code = clip(rint(16 z +
   128), 0, 255)`` (z in noise units, one sigma = 16 LSB, the window [-8, 8) sigma), either
-  on the golden model (``engine="model"``: :func:`dptbd.model.fast_family.run_family_fast`)
+  on the golden model (``engine="model"``: :func:`dptbd.model.family.fast.run_family_fast`)
   or on the compiled gateware (``engine="rtl"``:
   :func:`dptbd.sim.rtl.trials.accumulate_trials`, every state word of every frame checked
   against the golden model); its final E is mapped back to the float scale of h with
@@ -127,7 +127,7 @@ def fixed_maps(variant: FixedVariant, codes: np.ndarray, engine: str, builds=Non
         raise DetectorError(f"engine must be one of {ENGINES}, got {engine!r}")
     n_frames = codes.shape[1]
     if engine == "model":
-        from dptbd.model.fast_family import run_family_fast
+        from dptbd.model.family.fast import run_family_fast
 
         energy = run_family_fast(codes, variant.cfg).energy[:, -1]
         return variant.to_float(energy, n_frames), None

@@ -3,7 +3,7 @@
 ``dptbd.model.fixed`` is the readable reference: one numpy pass per operator and move,
 ``int64`` temporaries, every frame materialised. This module computes the same bits
 (``docs/arithmetic.md`` §4-§5) with numba, fused into one loop per output row, and is
-checked against the reference bit for bit by ``tests/model/test_fast.py``. Public functions
+checked against the reference bit for bit by ``tests/model/fast/test_init.py``. Public functions
 mirror the reference: :func:`fast_segment_start`, :func:`fast_dp_step`,
 :func:`run_fixed_fast` (same arguments, results and errors; an optional keyword
 ``threads``).

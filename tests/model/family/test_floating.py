@@ -13,7 +13,7 @@ from dptbd.config import DPConfig
 from dptbd.weights import plain_weights
 from dptbd.evaluation.detectors import merits, transitions, unified, unified_fixed
 from dptbd.model.family import run_family_fixed
-from dptbd.model.family_float import run_family_float
+from dptbd.model.family.floating import run_family_float
 from dptbd.scenes.synthetic import paper000_scenario
 from helpers.model_strategies import SETTINGS
 

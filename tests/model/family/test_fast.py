@@ -1,4 +1,4 @@
-"""``dptbd.model.fast_family`` equals ``dptbd.model.family`` bit for bit (§8)."""
+"""``dptbd.model.family.fast`` equals ``dptbd.model.family`` bit for bit (§8)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from dptbd.config import DPConfig
 from dptbd.model.family import family_step, run_family_fixed
-from dptbd.model.fast_family import fast_family_step, run_family_fast
+from dptbd.model.family.fast import fast_family_step, run_family_fast
 from helpers.family_strategies import family_configs, family_frames
 from helpers.model_strategies import SETTINGS
 

@@ -1,4 +1,4 @@
-"""The float kernel of ``dptbd compare`` (:func:`dptbd.model.fast_float.run_float_fast`):
+"""The float kernel of ``dptbd compare`` (:func:`dptbd.model.fast.floating.run_float_fast`):
 bit-identical to :func:`dptbd.model.reference.run_float`, refusing what it refuses."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.weights import plain_weights
-from dptbd.model.fast_float import run_float_fast
+from dptbd.model.fast.floating import run_float_fast
 from dptbd.model.reference import run_float
 
 

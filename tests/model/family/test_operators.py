@@ -1,4 +1,4 @@
-"""The family's RTL operators (``dptbd.model.family_operators``) against ``docs/arithmetic.md`` §8."""
+"""The family's RTL operators (``dptbd.model.family.operators``) against ``docs/arithmetic.md`` §8."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from dptbd.model.family_operators import (
+from dptbd.model.family.operators import (
     INVALID_SIGNED, add_clamped, lookup_merit_code, lookup_penalty_code, scale_by_forgetting,
     subtract_penalty)
 from helpers.model_strategies import FAST

@@ -3,7 +3,7 @@
 :func:`dptbd.model.reference.run_float` is the readable float64 reference (one numpy pass
 per move). :func:`run_float_fast` computes the same float64 numbers with one numba loop
 per pixel, faster, for the Monte Carlo of
-``dptbd compare`` (:mod:`dptbd.evaluation.compare`). ``tests/model/test_fast_float.py`` checks it
+``dptbd compare`` (:mod:`dptbd.evaluation.compare`). ``tests/model/fast/test_floating.py`` checks it
 against ``run_float`` bit for bit.
 
 Same operations in the same order as the reference, so the results are identical, not

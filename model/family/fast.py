@@ -1,5 +1,5 @@
 """Numba kernel of paper 000's DP family (``docs/arithmetic.md`` §8), bit-exact with
-:mod:`dptbd.model.family` (checked by ``tests/model/test_fast_family.py``).
+:mod:`dptbd.model.family` (checked by ``tests/model/family/test_fast.py``).
 
 One compiled loop per frame over every trial, pixel and move, with the same integer
 operations in the same order as the readable model: weighted candidate, penalty, max with

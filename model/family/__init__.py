@@ -10,7 +10,7 @@ One pixel update, operator by operator (§8.7)::
 
 and a segment's (or the recursion's) first frame is ``E = clamp(P, 0, E_max)``, d = START
 (000 eq (26)). With the §8 fields at their defaults this is :mod:`dptbd.model.fixed` bit
-for bit (tested). :mod:`dptbd.model.fast_family` is its numba kernel.
+for bit (tested). :mod:`dptbd.model.family.fast` is its numba kernel.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.model.family_operators import (
+from dptbd.model.family.operators import (
     INVALID_SIGNED,
     add_clamped,
     lookup_merit_code,
