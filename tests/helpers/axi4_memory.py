@@ -34,8 +34,11 @@ class Axi4Memory:
     Parameters
     ----------
     latency : (int, int)
-        Cycles from an address handshake to the first read beat / to the write response
-        (after the last write beat), uniform in this closed range.
+        Cycles from a read address handshake to the first read beat, and from a write's
+        last beat to its response, uniform in this closed range.
+    write_latency : (int, int) or None
+        The write responses' own range, when it differs (slow writes, fast reads: the
+        case where a read could overtake an earlier write).
     ready, valid : float
         Probability of each ready (AR, AW, W) and each valid (R, B) being high in a cycle.
     """
@@ -44,6 +47,7 @@ class Axi4Memory:
     store: AxiStoreConfig
     seed: int = 0
     latency: tuple = (0, 0)
+    write_latency: tuple | None = None
     ready: float = 1.0
     valid: float = 1.0
     errors: dict = dataclasses.field(default_factory=dict)
@@ -199,5 +203,5 @@ class Axi4Memory:
                 raise AxiRuleError(f"W: WLAST {int(wlast)} on beat {len(data)} of {beats}")
             if len(data) == beats:
                 self.write_bursts.popleft()
-                due = self.cycle + self.rng.randint(*self.latency)
+                due = self.cycle + self.rng.randint(*(self.write_latency or self.latency))
                 self.responses.append([due, addr, data, self.resp(addr, beats)])

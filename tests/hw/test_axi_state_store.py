@@ -22,7 +22,7 @@ LATENCY = 14
 
 
 def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offer=1.0,
-              resync_at=(), errors=None, base=None):
+              resync_at=(), errors=None, base=None, write_latency=None):
     """Drive ``pixels`` accepted pixels through an AxiStateStore; returns (mismatches,
     checked reads, cycles, memory, error pulses)."""
     cfg = store.frame
@@ -30,7 +30,7 @@ def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offe
     ahead = read_ahead_distance(cfg)
     dut = AxiStateStore(store, write_latency=LATENCY)
     memory = Axi4Memory(dut.axi, store, seed=seed, latency=latency, ready=ready, valid=valid,
-                        errors=errors or {})
+                        errors=errors or {}, write_latency=write_latency)
     rng = random.Random(seed)
     out = {"mismatches": [], "checked": 0, "cycles": 0, "errors": [0, 0]}
     width = len(dut.bus.read_data.as_value())
@@ -43,7 +43,7 @@ def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offe
         if base is not None:
             ctx.set(dut.base, base)
         while accepted < pixels or writes:
-            if cycle > 4 * pixels * (1 + latency[1]) + 2000:
+            if cycle > 4 * pixels * (1 + latency[1]) + 20 * (write_latency or (0, 0))[1] + 2000:
                 raise AssertionError(f"hang: {accepted}/{pixels} accepted after {cycle} cycles")
             offering = accepted < pixels and rng.random() < offer
             take = offering and ctx.get(dut.ready)
@@ -115,6 +115,18 @@ def test_random_latency_and_stalls_change_no_read(latency, ready, valid, offer, 
     assert out["checked"] == 3 * 192 + 5 - (192 - 17)
 
 
+def test_a_read_waits_for_the_response_of_the_write_it_depends_on():
+    """Slow write responses, immediate reads, a prefetch as deep as the frame allows: a read
+    issued before the previous frame's write of its words was answered could return the
+    old contents (the memory model applies a write only with its response)."""
+    store = DPConfig(width=16, height=12).axi_store(data_bits=128, burst_beats=4,
+                                                    outstanding=16)
+    out, memory = run_store(store, pixels=4 * 192, seed=5, write_latency=(150, 400))
+    assert out["mismatches"] == []
+    assert out["checked"] == 4 * 192 - (192 - 17)
+    assert out["cycles"] > 4 * 192 + 150          # the reads did wait
+
+
 def test_resynchronisations_restart_the_prefetch():
     store = DPConfig(width=16, height=12).axi_store(data_bits=64, burst_beats=4)
     out, _ = run_store(store, pixels=5 * 192, seed=7, latency=(0, 50), ready=0.8,
@@ -123,3 +135,14 @@ def test_resynchronisations_restart_the_prefetch():
     # checked: positions 175 … 191 of each start frame (17 x 4), then every pixel up to
     # the next resynchronisation (5 + 1 + 15 + 68)
     assert out["checked"] == 17 * 4 + 5 + 1 + 15 + 68
+
+
+@pytest.mark.parametrize("code", [RESP_SLVERR, RESP_DECERR])
+def test_error_responses_are_flagged_and_never_hang(code):
+    """Beat 5 (words 10, 11) answers with an error: its read each frame (pixels 185, 377,
+    569, 761) and the write burst of beats 4 … 7 each frame are flagged once each."""
+    store = DPConfig(width=16, height=12).axi_store(data_bits=64, burst_beats=4)
+    out, memory = run_store(store, pixels=4 * 192, seed=9, latency=(0, 20),
+                            errors={5 * 8 + 3: code})
+    assert out["errors"] == [4, 4]
+    assert memory.stats["write_bursts"] >= 4 * 192 // 8 - 1
