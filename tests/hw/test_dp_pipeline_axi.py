@@ -2,11 +2,14 @@
 
 import numpy as np
 import pytest
+from amaranth.back import verilog
 
 from dptbd.config import DPConfig
 from dptbd.hw.dp_pipeline_axi import DPPipelineAxi
 from helpers.axi4_memory import Axi4Memory
-from helpers.hw_harness import assert_states_equal, frames_to_stream, reference_states, run_stream
+from helpers.hw_harness import (assert_states_equal, assert_verilator_lints_clean,
+                                frames_to_stream, reference_states, run_stream)
+from helpers.verilator_harness import needs_verilator
 
 
 def run_axi(cfg, frames, *, store_fields=(), latency=(0, 0), ready=1.0, valid=1.0,
@@ -72,3 +75,16 @@ def test_a_zero_latency_memory_keeps_one_pixel_per_cycle():
     run, _ = run_axi(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4))
     assert run.accept_cycles == list(range(4, 4 + 4 * 192))
     assert_states_equal(run.outputs, reference_states(cfg, frames))
+
+
+@needs_verilator
+@pytest.mark.parametrize("kw, store_fields", [
+    (dict(width=640, height=512), dict(data_bits=64)),              # 2 states per beat
+    (dict(width=16, height=12), dict(data_bits=32, burst_beats=2)),  # 1 state per beat
+    (dict(width=1280, height=1024, segment_frames=8), dict(data_bits=128)),
+])
+def test_verilog_lints_clean(tmp_path, kw, store_fields):
+    store = DPConfig(**kw).build_config().axi_store(**store_fields)
+    path = tmp_path / "dptbd_dp_axi.v"
+    path.write_text(verilog.convert(DPPipelineAxi(store), name="dptbd_dp_axi"))
+    assert_verilator_lints_clean(path, "dptbd_dp_axi")
