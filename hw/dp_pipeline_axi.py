@@ -21,7 +21,16 @@ from dptbd.hw.dp_core import (DPCore, family_write_members, family_write_ports,
 from dptbd.hw.layouts import pixel_layout, state_layout
 from dptbd.hw.schedule import PipelineSchedule
 
-__all__ = ["DPPipelineAxi"]
+__all__ = ["AXI_PREFIX", "DPPipelineAxi"]
+
+#: Prefix of the flattened AXI4 manager port: ``m_axi_state_araddr`` and so on.
+AXI_PREFIX = "m_axi_state"
+
+
+def _flat(signature: wiring.Signature) -> dict:
+    """``{m_axi_state_<AXI name>: member}`` of every signal of the AXI4 signature."""
+    return {f"{AXI_PREFIX}_{path[-1]}": member for path, member in signature.members.flatten()
+            if member.is_port}
 
 
 class DPPipelineAxi(wiring.Component):
@@ -38,8 +47,9 @@ class DPPipelineAxi(wiring.Component):
     -------
     pixels, states, lut_*, merit_*, penalty_*, segment_frames, segment_begin, events
         As for :class:`~dptbd.hw.dp_pipeline.DPPipeline`.
-    axi : Out(axi4_signature(store))
-        The state store's AXI4 manager port.
+    m_axi_state_awid … m_axi_state_rready
+        The state store's AXI4 manager port (:func:`~dptbd.hw.axi4.axi4_signature`, flat
+        with the AXI names; :meth:`channel` gives a channel's signals by their names).
     state_base : In(address_bits, init=store.base_address)
         Byte address of pixel 0's state slot (bits below the burst size ignored); change it
         only between frames while the core is idle.
@@ -62,7 +72,7 @@ class DPPipelineAxi(wiring.Component):
             **lut_write_members(cfg),
             **family_write_members(cfg),
             **run_time_k_members(cfg),
-            "axi": Out(axi4_signature(store)),
+            **_flat(axi4_signature(store)),
             "state_base": In(store.address_bits, init=store.base_address),
             "read_error": Out(1),
             "write_error": Out(1),
@@ -89,16 +99,41 @@ class DPPipelineAxi(wiring.Component):
         return self._core.latency
 
     @property
+    def output_fifo_depth(self) -> int:
+        """Entries of the output FIFO."""
+        return self._core.output_fifo_depth
+
+    @property
+    def lut_style(self) -> str:
+        """The weight LUT's resolved storage: ``"bram"`` or ``"logic"``."""
+        return self._core.lut_style
+
+    @property
+    def core_options(self) -> dict:
+        """The core's storage options (:attr:`DPCore.core_options`)."""
+        return self._core.core_options
+
+    @property
     def resync(self):
         """Not a port: :attr:`DPCore.resync`."""
         return self._core.resync
+
+    def channel(self, name: str):
+        """The signals of AXI4 channel ``name`` (``"ar"``, ``"r"``, ``"aw"``, ``"w"``,
+        ``"b"``) as attributes named as in the AXI specification (``.araddr``)."""
+        members = axi4_signature(self._store).members[name].signature.members
+        return type(name, (), {n: getattr(self, f"{AXI_PREFIX}_{n}") for n in members})
 
     def elaborate(self, platform):
         m = Module()
         m.submodules.core = core = self._core
         m.submodules.state_store = store = self._store_block
         wiring.connect(m, core.state_store, store.bus)
-        wiring.connect(m, store.axi, wiring.flipped(self.axi))
+        for path, member in axi4_signature(self._store).members.flatten():
+            if member.is_port:
+                inner = getattr(getattr(store.axi, path[0]), path[-1])
+                outer = getattr(self, f"{AXI_PREFIX}_{path[-1]}")
+                m.d.comb += outer.eq(inner) if member.flow == Out else inner.eq(outer)
         wiring.connect(m, core.states, wiring.flipped(self.states))
         m.d.comb += [
             # a pixel enters only when its read word is prefetched and its write has room

@@ -29,7 +29,8 @@ class AxiRuleError(AssertionError):
 
 @dataclasses.dataclass
 class Axi4Memory:
-    """Memory model behind ``port`` (the DUT's ``axi`` member), see the module doc.
+    """Memory model behind ``port`` (the DUT's ``axi`` member, or a DUT with flat AXI ports
+    and a ``channel(name)`` method), see the module doc.
 
     Parameters
     ----------
@@ -105,6 +106,8 @@ class Axi4Memory:
     # ---- the process ---------------------------------------------------------------
     def process(self):
         p = self.port
+        if hasattr(p, "channel"):            # flat m_axi_state_* ports (DPPipelineAxi)
+            p = type("port", (), {name: p.channel(name) for name in ("ar", "r", "aw", "w", "b")})
         store = self.store
         names = [p.ar.arvalid, p.ar.araddr, p.ar.arlen, p.ar.arsize, p.ar.arburst,
                  p.aw.awvalid, p.aw.awaddr, p.aw.awlen, p.aw.awsize, p.aw.awburst,

@@ -17,7 +17,7 @@ def run_axi(cfg, frames, *, store_fields=(), latency=(0, 0), ready=1.0, valid=1.
             write_latency=None):
     store = cfg.axi_store(**dict(store_fields))
     dut = DPPipelineAxi(store)
-    memory = Axi4Memory(dut.axi, store, seed=seed, latency=latency, ready=ready, valid=valid,
+    memory = Axi4Memory(dut, store, seed=seed, latency=latency, ready=ready, valid=valid,
                         write_latency=write_latency)
     stream = frames_to_stream(frames) if stream is None else stream
     slow = max(latency[1], 1) * 4 * len(stream) + 20 * (write_latency or (0, 0))[1] + 5000
