@@ -17,6 +17,7 @@ Modules (one line each)
 - ``icarus``: the cocotb + Icarus build of the generated Verilog (``build/sim/<parameter set>/``) and its runs (``simulate``).
 - ``cocotb_drivers``: cocotb stream driver, back-pressure sink, monitor, pause generators and LUT writes.
 - ``tb_dp``: the cocotb test module of ``dptbd_dp`` (it reads ``DPTBD_SIM_JOB`` and ``DPTBD_SIM_SCENE``).
+- ``tb_dp_axi``: the cocotb test module of ``dptbd_dp`` built with ``--state-store axi``, its state in cocotbext-axi's ``AxiRam``.
 - ``tb_segmenter``: the cocotb test module of ``dptbd_seg`` (DP pipeline + segmenter).
 - ``tb_axi``: the cocotb test module of ``dptbd_axi`` (the AXI top level) with cocotbext-axi.
 - ``soft_reset_check``: what the soft-reset sweep of ``tb_axi`` checks: AXI4-Stream on every cycle, cut lists and filled state lines against the model.
