@@ -19,8 +19,11 @@ import collections
 import dataclasses
 import random
 
+from amaranth.hdl import Elaboratable, Module
+from amaranth.lib import wiring
+
 from dptbd.config import AxiStoreConfig
-from dptbd.hw.axi4 import BURST_INCR, size_code
+from dptbd.hw.axi4 import BURST_INCR, axi4_signature, size_code
 
 
 class AxiRuleError(AssertionError):
@@ -57,6 +60,7 @@ class Axi4Memory:
         self.rng = random.Random(self.seed)
         self.contents: dict[int, int] = {}
         self.stats = collections.Counter()
+        self.bursts = []                           # ("AR" | "AW", address, beats) in order
         self.read_bursts = collections.deque()    # [due, addr, beats left, data list]
         self.write_bursts = collections.deque()   # AW accepted: [addr, beats]
         self.write_data = collections.deque()     # W beats: (data, strb, last)
@@ -130,6 +134,7 @@ class Axi4Memory:
                 held["ar"] = ar if arvalid and not ar_ready else None
                 if arvalid and ar_ready:
                     self.check_address("AR", araddr, arlen, arsize, arburst)
+                    self.bursts.append(("AR", araddr, arlen + 1))
                     if len(self.read_bursts) >= store.outstanding:
                         raise AxiRuleError(f"AR: more than {store.outstanding} reads in flight")
                     due = self.cycle + rng.randint(*self.latency)
@@ -142,6 +147,7 @@ class Axi4Memory:
                 held["aw"] = aw if awvalid and not aw_ready else None
                 if awvalid and aw_ready:
                     self.check_address("AW", awaddr, awlen, awsize, awburst)
+                    self.bursts.append(("AW", awaddr, awlen + 1))
                     if self.writes_open >= store.outstanding:
                         raise AxiRuleError(f"AW: more than {store.outstanding} writes in flight")
                     self.writes_open += 1
@@ -208,3 +214,21 @@ class Axi4Memory:
                 self.write_bursts.popleft()
                 due = self.cycle + self.rng.randint(*(self.write_latency or self.latency))
                 self.responses.append([due, addr, data, self.resp(addr, beats)])
+
+
+class OneSided(Elaboratable):
+    """A component with only the write (``aw``, ``w``, ``b``) or only the read (``ar``,
+    ``r``) channels of an AXI4 port, given the full port ``axi`` the memory model drives
+    (the other direction idle)."""
+
+    def __init__(self, inner, store):
+        self.inner = inner
+        self.axi = axi4_signature(store).create()
+
+    def elaborate(self, platform):
+        m = Module()
+        m.submodules.inner = self.inner
+        for name in ("ar", "r", "aw", "w", "b"):
+            if hasattr(self.inner, name):
+                wiring.connect(m, getattr(self.inner, name), wiring.flipped(getattr(self.axi, name)))
+        return m
