@@ -6,7 +6,7 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.hw.axi_read_prefetcher import AxiReadPrefetcher
 from dptbd.hw.schedule import read_ahead_distance
-from helpers.axi4_memory import Axi4Memory, OneSided
+from dptbd.sim.axi4_memory import Axi4Memory, OneSided
 from helpers.hw_harness import simulate
 
 

@@ -15,7 +15,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.axi_state_store import AxiStateStore
 from dptbd.hw.axi4 import RESP_DECERR, RESP_SLVERR
 from dptbd.hw.schedule import read_ahead_distance
-from helpers.axi4_memory import Axi4Memory
+from dptbd.sim.axi4_memory import Axi4Memory
 from helpers.hw_harness import simulate
 
 LATENCY = 14

@@ -8,7 +8,7 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.hw.axi4 import RESP_SLVERR
 from dptbd.hw.axi_write_behind import AxiWriteBehind
-from helpers.axi4_memory import Axi4Memory, OneSided
+from dptbd.sim.axi4_memory import Axi4Memory, OneSided
 from helpers.hw_harness import simulate
 
 

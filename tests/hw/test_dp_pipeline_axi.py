@@ -6,7 +6,7 @@ from amaranth.back import verilog
 
 from dptbd.config import DPConfig
 from dptbd.hw.dp_pipeline_axi import DPPipelineAxi
-from helpers.axi4_memory import Axi4Memory
+from dptbd.sim.axi4_memory import Axi4Memory
 from helpers.hw_harness import (assert_states_equal, assert_verilator_lints_clean,
                                 frames_to_stream, reference_states, run_stream)
 from helpers.verilator_harness import needs_verilator

@@ -1,4 +1,6 @@
-"""A Python AXI4 subordinate (memory) for the Amaranth simulator, adversarial and strict.
+"""A Python AXI4 subordinate (memory) for the Amaranth simulator, adversarial and strict
+(used by the AXI4 state store's tests, ``tests/hw/test_axi_*.py``, and
+``benchmarks/bench_axi_store.py``).
 
 :class:`Axi4Memory` answers an AXI4 manager port (:func:`dptbd.hw.axi4.axi4_signature`)
 with a random latency per burst and random ready/valid on every channel, and checks every
