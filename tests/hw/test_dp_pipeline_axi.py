@@ -88,3 +88,60 @@ def test_verilog_lints_clean(tmp_path, kw, store_fields):
     path = tmp_path / "dptbd_dp_axi.v"
     path.write_text(verilog.convert(DPPipelineAxi(store), name="dptbd_dp_axi"))
     assert_verilator_lints_clean(path, "dptbd_dp_axi")
+
+
+def test_unexpected_first_resynchronises():
+    """A frame cut short, then frames with `first`: a new segment starts at the `first`;
+    the prefetcher restarts under a random-latency memory."""
+    from helpers.hw_harness import FIELDS
+    cfg = DPConfig(width=16, height=12, segment_frames=3)
+    frames = np.random.default_rng(12).integers(0, 256, size=(6, cfg.height, cfg.width))
+    cut = 100
+    stream = frames_to_stream(frames[:1]) + frames_to_stream(frames[1:2])[:cut] \
+        + frames_to_stream(frames[2:])
+    run, _ = run_axi(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4),
+                     latency=(0, 50), ready=0.7, valid=0.7, valid_probability=0.8,
+                     ready_probability=0.8, seed=4, stream=stream)
+    head = reference_states(cfg, frames[:2])
+    truncated = head[1].reshape(-1, len(FIELDS))[:cut].copy()
+    truncated[:, 3:] = 0                          # the cut frame never ends
+    tail = reference_states(cfg, frames[2:])      # a new segment from frame 2
+    expected = np.concatenate([head[0].reshape(-1, len(FIELDS)), truncated,
+                               tail.reshape(-1, len(FIELDS))])
+    assert len(run.outputs) == len(expected)
+    for n, (got, want) in enumerate(zip(run.outputs, expected)):
+        assert [got[f] for f in FIELDS] == want.tolist(), f"output {n}"
+
+
+@pytest.mark.parametrize("name", ["recursive-r1", "likelihood-r2",
+                                  "forgetting-truncate-penalty"])
+def test_paper_000_family_is_bit_exact(name):
+    """§8 variants (merit and penalty LUTs, forgetting, recursive mode) at 16 x 12."""
+    from helpers.family_harness import family_reference_states, variant
+    fields, n_frames = variant(name)
+    cfg = DPConfig(**{**fields, "width": 16, "height": 12})
+    frames = np.random.default_rng(6).integers(0, 1 << cfg.input_bits,
+                                               size=(n_frames, cfg.height, cfg.width))
+    run, _ = run_axi(cfg, frames, store_fields=dict(data_bits=64, burst_beats=2),
+                     latency=(0, 40), ready=0.7, valid=0.7, seed=5)
+    assert_states_equal(run.outputs, family_reference_states(cfg, frames))
+
+
+def test_recursive_restarts_only_on_a_resync():
+    from helpers.family_harness import family_reference_states, variant
+    cfg = DPConfig(**{**variant("recursive-r1")[0], "width": 16, "height": 12})
+    pixels = cfg.width * cfg.height
+    rng = np.random.default_rng(30)
+    before = rng.integers(0, 256, size=(3, cfg.height, cfg.width))
+    after = rng.integers(0, 256, size=(3, cfg.height, cfg.width))
+    cut = 57
+    stream = frames_to_stream(before)[: 2 * pixels + cut] + frames_to_stream(after)
+    run, _ = run_axi(cfg, before, store_fields=dict(data_bits=32, burst_beats=4),
+                     latency=(0, 30), seed=3, stream=stream)
+    first = family_reference_states(cfg, before)
+    second = family_reference_states(cfg, after)
+    assert_states_equal(run.outputs[: 2 * pixels], first[:2])
+    partial = first[2].reshape(-1, first.shape[-1])[:cut]
+    assert [list(o.values()) for o in run.outputs[2 * pixels: 2 * pixels + cut]] == \
+        partial.tolist()
+    assert_states_equal(run.outputs[2 * pixels + cut:], second)
