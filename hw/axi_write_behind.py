@@ -18,12 +18,12 @@ their B response, in pixel order (a dropped word counts with the next burst), fo
 
 from __future__ import annotations
 
-from amaranth.hdl import Cat, Module, Mux, Signal
+from amaranth.hdl import Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.fifo import SyncFIFO, SyncFIFOBuffered
 from amaranth.lib.wiring import In, Out
 
-from dptbd.config import AxiStoreConfig, DPConfig
+from dptbd.config import AxiStoreConfig
 from dptbd.hw.axi4 import BURST_INCR, CACHE_MODIFIABLE, address_channel, axi4_signature, size_code
 from dptbd.hw.axi_read_prefetcher import pixel_count_bits
 from dptbd.hw.layouts import state_word_layout
@@ -90,7 +90,6 @@ class AxiWriteBehind(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         store = self._store
-        cfg: DPConfig = store.frame
         per_beat = store.states_per_beat
         beats = store.frame_beats
         count_bits = pixel_count_bits(store)
