@@ -4,6 +4,7 @@ on Icarus (4-state protocol checks), scored against the golden model.
 Modules (one line each)
 -----------------------
 - ``axi4_memory``: a strict Python AXI4 memory for the Amaranth simulator (random latency and ready/valid, every AXI4 rule it sees checked), behind the AXI4 state store's tests and bench.
+- ``verilator_dp_axi``: ``dptbd_dp`` built with ``--state-store axi`` on Verilator, its state in the harness's C++ AXI4 memory model (random latency, every AXI4 rule checked), scored against the golden model.
 - ``verilator_build``: verilates one top level with the C++ harness ``sim/harness/`` into a cached executable (the build cache).
 - ``verilator``: :func:`~dptbd.sim.verilator.run` streams an input sequence through a Verilator build (stalls, resets, LUT writes).
 - ``verilator_axi``: long runs of the AXI top level ``dptbd_axi`` on Verilator, scored against the golden model.
