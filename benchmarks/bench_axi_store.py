@@ -3,6 +3,11 @@ against the memory's latency, in Amaranth simulation.
 
     python benchmarks/bench_axi_store.py                      # 64 x 32, 3 frames
     python benchmarks/bench_axi_store.py --latency 0 100 500 --outstanding 4 8 16
+    python benchmarks/bench_axi_store.py --simulator verilator --width 640 --height 512 --frames 30
+
+``--simulator verilator`` runs the Verilog on Verilator with the harness's C++ AXI4 memory
+model (:mod:`dptbd.sim.verilator_dp_axi`; data widths 32 and 64), the same conditions.
+The frames are uniform random pixels (throughput does not depend on the scene).
 
 The memory (:class:`dptbd.sim.axi4_memory.Axi4Memory`) answers every burst after a fixed
 latency (cycles from the address handshake to the first read beat, and from the last write
@@ -75,19 +80,26 @@ def main() -> None:
     parser.add_argument("--outstanding", type=int, nargs="+", default=[4, 16])
     parser.add_argument("--data-bits", type=int, default=64)
     parser.add_argument("--burst-beats", type=int, default=16)
+    parser.add_argument("--simulator", choices=("amaranth", "verilator"), default="amaranth")
     args = parser.parse_args()
     cfg = DPConfig(width=args.width, height=args.height).build_config()
     frames = np.random.default_rng(1).integers(0, 256, size=(args.frames, cfg.height, cfg.width))
     print(f"{cfg.describe()}, {args.frames} frames, AXI {args.data_bits}-bit, bursts of "
-          f"{args.burst_beats} beats")
+          f"{args.burst_beats} beats, {args.simulator}")
     print("| latency (cycles) | outstanding | cycles per pixel | estimate | bit-exact |")
     print("|---|---|---|---|---|")
     for outstanding in args.outstanding:
         store = cfg.axi_store(data_bits=args.data_bits, burst_beats=args.burst_beats,
                               outstanding=outstanding)
         for latency in args.latency:
-            cpp, exact = measure(cfg, frames, latency, data_bits=args.data_bits,
-                                 burst_beats=args.burst_beats, outstanding=outstanding)
+            if args.simulator == "verilator":
+                from dptbd.sim import verilator_dp_axi
+                run = verilator_dp_axi.run(verilator_dp_axi.build(store), frames,
+                                           latency=(latency, latency))
+                cpp, exact = run.cycles_per_pixel, run.bit_exact and not run.result["violations"]
+            else:
+                cpp, exact = measure(cfg, frames, latency, data_bits=args.data_bits,
+                                     burst_beats=args.burst_beats, outstanding=outstanding)
             estimate = max(1.0, (latency + args.burst_beats + 3)
                            / (outstanding * store.burst_states))
             print(f"| {latency} | {outstanding} | {cpp:.3f} | {estimate:.3f} | {exact} |")
