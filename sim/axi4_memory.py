@@ -12,7 +12,9 @@ It is adversarial about ordering: a read takes the memory's contents when its ad
 accepted, and a write changes them only when its response is sent, so a read issued
 before an earlier write's response may see the old data, as AXI4 allows. Bytes never
 written read as seeded random values. ``errors`` maps byte addresses to a response code:
-a read beat or a write burst that touches one gets that response.
+a read beat or a write burst that touches one gets that response, like a failing DRAM: the
+read beat carries garbage, the write is not applied. With ``once=True`` an address fails
+only its first read beat and its first write burst (a transient fault).
 """
 
 from __future__ import annotations
@@ -57,12 +59,14 @@ class Axi4Memory:
     ready: float = 1.0
     valid: float = 1.0
     errors: dict = dataclasses.field(default_factory=dict)
+    once: bool = False
 
     def __post_init__(self):
         self.rng = random.Random(self.seed)
         self.contents: dict[int, int] = {}
         self.stats = collections.Counter()
         self.bursts = []                           # ("AR" | "AW", address, beats) in order
+        self.used = set()                          # (address, direction) errors used up
         self.read_bursts = collections.deque()    # [due, addr, beats left, data list]
         self.write_bursts = collections.deque()   # AW accepted: [addr, beats]
         self.write_data = collections.deque()     # W beats: (data, strb, last)
@@ -80,9 +84,15 @@ class Axi4Memory:
         return int.from_bytes(bytes(self.byte(addr + k) for k in range(self.store.beat_bytes)),
                               "little")
 
-    def resp(self, addr: int, beats: int) -> int:
+    def resp(self, addr: int, beats: int, direction: str = "") -> int:
+        """The response of ``beats`` beats from ``addr``: the worst error code among the
+        addresses they touch (0: OKAY). With ``once``, a ``direction`` ("read" / "write")
+        uses up the addresses' errors for that direction."""
         span = range(addr, addr + beats * self.store.beat_bytes)
-        return max((code for a, code in self.errors.items() if a in span), default=0)
+        hits = [a for a in self.errors if a in span and (a, direction) not in self.used]
+        if self.once and direction:
+            self.used.update((a, direction) for a in hits)
+        return max((self.errors[a] for a in hits), default=0)
 
     # ---- rules ---------------------------------------------------------------------
     def check_address(self, channel: str, addr: int, length: int, size: int, burst: int):
@@ -140,8 +150,11 @@ class Axi4Memory:
                     if len(self.read_bursts) >= store.outstanding:
                         raise AxiRuleError(f"AR: more than {store.outstanding} reads in flight")
                     due = self.cycle + rng.randint(*self.latency)
-                    data = [self.beat(araddr + k * store.beat_bytes) for k in range(arlen + 1)]
-                    self.read_bursts.append([due, araddr, data, self.resp_list(araddr, arlen)])
+                    codes = self.resp_list(araddr, arlen)
+                    data = [rng.randrange(1 << store.data_bits) if code else
+                            self.beat(araddr + k * store.beat_bytes)
+                            for k, code in enumerate(codes)]
+                    self.read_bursts.append([due, araddr, data, codes])
                     self.stats["read_bursts"] += 1
                     self.stats["read_beats"] += arlen + 1
                 aw = (awvalid, awaddr, awlen, awsize, awburst)
@@ -170,7 +183,7 @@ class Axi4Memory:
                     r_beat = None
                 if b_resp is not None and bready:
                     due, addr, data, code = self.responses.popleft()
-                    for k, beat in enumerate(data):
+                    for k, beat in enumerate(data if not code else ()):  # failed: not applied
                         for j in range(store.beat_bytes):
                             self.contents[addr + k * store.beat_bytes + j] = beat >> (8 * j) & 255
                     self.writes_open -= 1
@@ -200,7 +213,8 @@ class Axi4Memory:
         return run
 
     def resp_list(self, addr: int, length: int) -> list:
-        return [self.resp(addr + k * self.store.beat_bytes, 1) for k in range(length + 1)]
+        return [self.resp(addr + k * self.store.beat_bytes, 1, "read")
+                for k in range(length + 1)]
 
     def take_write_beats(self):
         """Match W beats to accepted AW bursts in order; a complete burst gets its response
@@ -215,7 +229,7 @@ class Axi4Memory:
             if len(data) == beats:
                 self.write_bursts.popleft()
                 due = self.cycle + self.rng.randint(*(self.write_latency or self.latency))
-                self.responses.append([due, addr, data, self.resp(addr, beats)])
+                self.responses.append([due, addr, data, self.resp(addr, beats, "write")])
 
 
 class OneSided(Elaboratable):
