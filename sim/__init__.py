@@ -3,7 +3,7 @@ on Icarus (4-state protocol checks), scored against the golden model.
 
 Modules (one line each)
 -----------------------
-- ``verilator``: :func:`~dptbd.sim.verilator.run` streams an input sequence through a Verilator build (stalls, resets, LUT writes); its sub-modules ``verilator.cache`` (verilates one top level with the C++ harness ``sim/harness/`` into a cached executable: the build cache) and ``verilator.axi`` (long runs of the AXI top level ``dptbd_axi``, scored against the golden model).
+- ``axi4_memory``: a strict Python AXI4 memory for the Amaranth simulator (random latency and ready/valid, every AXI4 rule it sees checked), behind the AXI4 state store's tests and bench.
 - ``build_dirs``: build-directory names and locking shared by the Verilator and the Icarus builds.
 - ``stream_model``: the golden model's output for any accepted stream, by the gateware's counter rule.
 - ``checker``: the one in-order checker (expected items, received items, the first mismatch with its position).
@@ -16,10 +16,16 @@ Modules (one line each)
 - ``stimulus``: pixel words and LUT writes, packed with the gateware's layouts.
 - ``scenarios``: integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
 
-Sub-packages: ``rtl`` (RTL in the loop: ``rtl.check``, one compiled run checked against the model
+Sub-packages: ``verilator`` (:func:`~dptbd.sim.verilator.run` streams an input sequence
+through a Verilator build: stalls, resets, LUT writes; ``verilator.cache`` verilates one top
+level with the C++ harness ``sim/harness/`` into a cached executable, the build cache;
+``verilator.axi``, long runs of the AXI top level ``dptbd_axi`` scored against the golden
+model; ``verilator.dp_axi``, ``dptbd_dp`` built with ``--state-store axi``, its state in the
+harness's C++ AXI4 memory model: random latency, every AXI4 rule checked), ``rtl`` (RTL in the loop: ``rtl.check``, one compiled run checked against the model
 with the scoreboards; ``rtl.trials``, Monte Carlo trials on the compiled RTL for ``compare
 --rtl`` and ``table1 --rtl``), ``benches`` (the cocotb 2.x test modules run on Icarus:
-``benches.dp``, ``benches.segmenter`` and ``benches.axi`` with cocotbext-axi, their stream
+``benches.dp``, ``benches.dp_axi`` (``dptbd_dp`` built with ``--state-store axi``, its state in
+cocotbext-axi's ``AxiRam``), ``benches.segmenter`` and ``benches.axi`` with cocotbext-axi, their stream
 drivers, sinks and monitors ``benches.drivers``, and what the soft-reset sweep of
 ``benches.axi`` checks, ``benches.soft_reset_check``), ``axi`` (the AXI top level ``dptbd_axi``'s runs: the video beats with
 frame-sync faults and the frame monitor's fault rule, the campaign's random runs drawn from a

@@ -18,6 +18,13 @@ synthesis flow uses for that family (:attr:`~dptbd.hw.flow.family.Family.core_op
 ones measured in ``docs/synthesis.md``; the manifest records them under ``core_options``)
 and refuses a radius the family cannot build (:meth:`~dptbd.hw.flow.family.Family.check_radius`).
 
+``--state-store axi`` builds ``dptbd_dp`` with the state in external memory behind an AXI4
+manager port ``m_axi_state_*`` (:class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi`; the
+layout is :meth:`DPConfig.axi_store` of ``--axi-data-bits``, ``--axi-burst-beats``,
+``--axi-id-bits``, ``--axi-address-bits``, ``--axi-outstanding`` and ``--state-base``, each
+refused with its limit when the layout cannot use it; the manifest records it under
+``state_store``). ``dptbd_axi`` keeps its state on chip.
+
 The build is :meth:`DPConfig.build_config` of the parameters: B_E narrowed to what K_max
 full-scale pixels need and, for a binary weight LUT, F = 0 (the same bits as asked;
 ``--fractional-lut`` keeps F so fractional weights can be written at run time). ``--top axi``
@@ -34,6 +41,11 @@ from dptbd.commands.options import add_config_arguments, config_from_args
 from dptbd.output_folder import check_new_files
 
 __all__ = ["add_arguments", "main"]
+
+#: ``--state-store axi`` options: (option, AxiStoreConfig field).
+AXI_STORE_OPTIONS = (("--axi-data-bits", "data_bits"), ("--axi-burst-beats", "burst_beats"),
+                     ("--axi-id-bits", "id_bits"), ("--axi-address-bits", "address_bits"),
+                     ("--axi-outstanding", "outstanding"), ("--state-base", "base_address"))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -72,7 +84,53 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--allow-saturation", action="store_true",
                         help="--top axi: build even if K_max full-scale pixels can saturate E "
                              "(refused by default)")
+    parser.add_argument("--state-store", choices=("chip", "axi"), default="chip",
+                        help="--top dp: chip (default): the state store in block RAM; axi: in "
+                             "external memory behind the AXI4 manager port m_axi_state_* "
+                             "(docs/integration.md, \"State store in external memory\")")
+    axi = parser.add_argument_group("--state-store axi (defaults: AxiStoreConfig's)")
+    axi.add_argument("--axi-data-bits", type=int, default=None,
+                     help="AXI4 data width: 32, 64 (default) or 128")
+    axi.add_argument("--axi-burst-beats", type=int, default=None,
+                     help="beats of a full INCR burst, a power of two, at most 4096 bytes "
+                          "(default 16)")
+    axi.add_argument("--axi-id-bits", type=int, default=None,
+                     help="width of the AXI ID signals, in [1, 16] (default 1; ID 0 is used)")
+    axi.add_argument("--axi-address-bits", type=int, default=None,
+                     help="width of ARADDR / AWADDR, in [12, 64] (default 32)")
+    axi.add_argument("--axi-outstanding", type=int, default=None,
+                     help="most bursts in flight per direction, in [1, 16] (default 4)")
+    axi.add_argument("--state-base", type=lambda text: int(text, 0), default=None,
+                     metavar="ADDRESS",
+                     help="reset value of the state's base address, a multiple of the burst "
+                          "size (default 0; 0x… accepted)")
     add_config_arguments(parser)
+
+
+def _axi_store(args: argparse.Namespace, cfg):
+    """The :class:`~dptbd.config.AxiStoreConfig` asked for, or None for the on-chip store."""
+    given = [option for option, field in AXI_STORE_OPTIONS
+             if getattr(args, field_attr(option)) is not None]
+    if args.state_store != "axi":
+        if given:
+            verb = "applies" if len(given) == 1 else "apply"
+            raise ValueError(f"{', '.join(given)} {verb} to --state-store axi only")
+        return None
+    if args.top == "axi":
+        raise ValueError("--state-store axi applies to --top dp only; dptbd_axi keeps its "
+                         "state store on chip")
+    if args.external_state_store:
+        raise ValueError("--state-store axi and --external-state-store exclude each other: "
+                         "the state store is either behind the AXI4 port or outside the "
+                         "module")
+    return cfg.axi_store(**{field: getattr(args, field_attr(option))
+                            for option, field in AXI_STORE_OPTIONS
+                            if getattr(args, field_attr(option)) is not None})
+
+
+def field_attr(option: str) -> str:
+    """The argparse attribute of ``option``: ``--axi-data-bits`` -> ``axi_data_bits``."""
+    return option[2:].replace("-", "_")
 
 
 def _write_axi(args: argparse.Namespace, cfg) -> int:
@@ -114,6 +172,7 @@ def main(args: argparse.Namespace) -> int:
               f"and K_max={asked.k_max}"
               + ("" if args.fractional_lut or cfg.weight_frac_bits == asked.weight_frac_bits
                  else "; --fractional-lut keeps F"))
+    state_store = _axi_store(args, cfg)
     if args.top == "axi":
         return _write_axi(args, cfg)
     if args.clock_mhz is not None:
@@ -131,7 +190,8 @@ def main(args: argparse.Namespace) -> int:
         core_options = dict(family.core_options)
     check_new_files([out, manifest], args.force)
     text, info = generate_verilog(cfg, external_state_store=args.external_state_store,
-                                  lut_style=args.lut_style, core_options=core_options)
+                                  lut_style=args.lut_style, core_options=core_options,
+                                  state_store=state_store)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(text)
     manifest.write_text(json.dumps(info, indent=2) + "\n")
@@ -141,5 +201,10 @@ def main(args: argparse.Namespace) -> int:
     print(f"  {cfg.describe()}; weight LUT in {info['lut_style']}; latency {info['latency']} cycles")
     print("  core options: " + ", ".join(f"{k}={v}" for k, v in info["core_options"].items())
           + ("" if args.family is None else f" (the {args.family} build)"))
+    if state_store is not None:
+        print(f"  state store: AXI4 {state_store.data_bits}-bit, {state_store.states_per_beat} "
+              f"states of {state_store.slot_bits} bits per beat, bursts of "
+              f"{state_store.burst_beats} beats, {state_store.frame_bytes} bytes per frame "
+              f"from {state_store.base_address:#x}")
     print(f"  ports: {ports}")
     return 0

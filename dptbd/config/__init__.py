@@ -19,6 +19,8 @@ from dptbd.weights import check_move_table, move_offsets, paper_weights
 
 __all__ = [
     "DPConfig",
+    "AxiStoreConfig",
+    "AXI_DATA_BITS",
     "EnergyWidthWarning",
     "ROUNDING_MODES",
     "DEFAULT_FALSE_ALARM_RATE",
@@ -232,6 +234,18 @@ class DPConfig(FamilyFields):
         """Entries of the weight LUT, ``(M + 1) * M``."""
         return (self.n_moves + 1) * self.n_moves
 
+    @property
+    def state_slot_bits(self) -> int:
+        """Bits one state (E, d) occupies in external memory: the smallest power of two
+        >= :attr:`state_bits` and >= 8 (a byte-addressable slot; ``docs/integration.md``,
+        "State store in external memory")."""
+        return max(8, 1 << (self.state_bits - 1).bit_length())
+
+    def axi_store(self, **fields: Any) -> "AxiStoreConfig":
+        """The validated layout of this configuration's state in external memory behind an
+        AXI4 manager port (:class:`AxiStoreConfig`; ``fields`` are its parameters)."""
+        return AxiStoreConfig(frame=self, **fields)
+
     def lut_address(self, predecessor: int, move: int) -> int:
         """Address of the weight LUT entry ``[predecessor direction p, move m]``: ``p * M + m``.
 
@@ -442,3 +456,7 @@ _FAMILY_DEFAULTS = dict(merit_codes=None, merit_bits=None, penalty_codes=None,
 def _validate_weights(lut: Any, radius: int) -> tuple:
     arr = check_move_table("weights", lut, radius, 0.0, 1.0)
     return tuple(tuple(float(v) for v in row) for row in arr)  # hashable and immutable
+
+
+# the AXI4 state store's parameters use DPConfig (hence imported after it)
+from dptbd.config.axi_store import AXI_DATA_BITS, AxiStoreConfig  # noqa: E402

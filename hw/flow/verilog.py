@@ -1,7 +1,9 @@
 """Verilog generation of the DP pipeline, with a JSON manifest for the HDL testbenches.
 
 ``generate_verilog(cfg)`` converts :class:`~dptbd.hw.dp_pipeline.DPPipeline` (or, with
-``external_state_store=True``, :class:`~dptbd.hw.dp_core.DPCore`) to one Verilog module and
+``external_state_store=True``, :class:`~dptbd.hw.dp_core.DPCore`; with ``state_store=`` an
+:class:`~dptbd.config.AxiStoreConfig`, :class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi`,
+the state in external memory over AXI4) to one Verilog module and
 describes it in a manifest: the configuration, the weight LUT's storage (``lut_style``),
 the derived widths, every port with its direction and width, the latency, and the bit
 fields of the stream payloads. A cocotb
@@ -26,7 +28,7 @@ from typing import Mapping
 from amaranth.hdl import Shape
 from amaranth.lib import wiring
 
-from dptbd.config import DPConfig
+from dptbd.config import AxiStoreConfig, DPConfig
 from dptbd.hw.dp_core import DPCore
 from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.hw.flow.to_verilog import to_verilog
@@ -50,13 +52,25 @@ VERILATOR_LINT_FLAGS = (
 
 
 def build_top(cfg: DPConfig, *, external_state_store: bool = False, lut_style: str = "auto",
-              core_options: Mapping[str, str] | None = None):
-    """The top-level component: ``DPPipeline(cfg)``, or ``DPCore(cfg)`` without a store.
+              core_options: Mapping[str, str] | None = None,
+              state_store: AxiStoreConfig | None = None):
+    """The top-level component: ``DPPipeline(cfg)``, or ``DPCore(cfg)`` without a store, or
+    ``DPPipelineAxi(state_store)`` with the store in external memory (``state_store.frame``
+    must be ``cfg``).
 
     ``lut_style`` (``"auto"``, ``"bram"``, ``"logic"``) is passed on (weight LUT storage),
     and so are ``core_options`` (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`, e.g.
     ``{"line_buffer_style": "lutram"}``; default: DPCore's defaults).
     """
+    if state_store is not None:
+        if external_state_store:
+            raise ValueError("external_state_store and state_store exclude each other: the "
+                             "state store is either outside the module or behind its AXI4 "
+                             "port")
+        if state_store.frame != cfg:
+            raise ValueError("state_store was made for another configuration than cfg")
+        from dptbd.hw.axi_store.pipeline import DPPipelineAxi
+        return DPPipelineAxi(state_store, lut_style=lut_style, **dict(core_options or {}))
     kind = DPCore if external_state_store else DPPipeline
     return kind(cfg, lut_style=lut_style, **dict(core_options or {}))
 
@@ -101,9 +115,20 @@ def manifest_interface(cfg: DPConfig) -> dict:
     }
 
 
+def manifest_state_store(store: AxiStoreConfig) -> dict:
+    """The ``state_store`` entry of a build with the state in external memory: its AXI4
+    parameters and memory layout (``docs/integration.md``)."""
+    names = ("data_bits", "id_bits", "burst_beats", "address_bits", "base_address",
+             "outstanding", "slot_bits", "states_per_beat", "beat_bytes", "burst_bytes",
+             "frame_bytes")
+    return {"kind": "axi4", "prefix": "m_axi_state",
+            **{name: getattr(store, name) for name in names}}
+
+
 def manifest(cfg: DPConfig, top) -> dict:
     """Machine-readable description of the generated module (JSON-serialisable)."""
     schedule = top.schedule
+    store = getattr(top, "store", None)
     return {
         **manifest_header(cfg, MODULE_NAME, top),
         "lut_style": top.lut_style,
@@ -127,12 +152,14 @@ def manifest(cfg: DPConfig, top) -> dict:
             "state": field_offsets(state_layout(cfg)),
             "state_word": field_offsets(state_word_layout(cfg)),
         },
+        **({} if store is None else {"state_store": manifest_state_store(store)}),
     }
 
 
 def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
                      lut_style: str = "auto", core_options: Mapping[str, str] | None = None,
-                     manifest_path: str | pathlib.Path | None = None) -> tuple[str, dict]:
+                     manifest_path: str | pathlib.Path | None = None,
+                     state_store: AxiStoreConfig | None = None) -> tuple[str, dict]:
     """Convert the pipeline for ``cfg`` to Verilog.
 
     Parameters
@@ -153,6 +180,10 @@ def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
         behaviour or latency. The manifest records them under ``core_options``.
     manifest_path : path-like, optional
         Also write the manifest there as JSON.
+    state_store : AxiStoreConfig, optional
+        Convert :class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi` (the state in external
+        memory behind the ``m_axi_state_*`` AXI4 port, laid out as ``state_store`` says);
+        the manifest gets a ``state_store`` entry.
 
     Returns
     -------
@@ -160,7 +191,7 @@ def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,
         The Verilog text of module ``dptbd_dp`` and its manifest.
     """
     top = build_top(cfg, external_state_store=external_state_store, lut_style=lut_style,
-                    core_options=core_options)
+                    core_options=core_options, state_store=state_store)
     text = to_verilog(top, MODULE_NAME)
     info = manifest(cfg, top)
     if manifest_path is not None:

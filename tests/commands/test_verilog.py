@@ -294,3 +294,53 @@ def test_verilog_family_refuses_a_radius_it_cannot_build(tmp_path):
     assert not out.exists()
     assert verilog_command.main(parse(["-o", out, "--width", 16, "--height", 8, "--radius", 2,
                                        "--family", "ecp5"])) == 0
+
+
+def test_verilog_state_store_axi_writes_the_axi4_port_and_its_layout(tmp_path, capsys):
+    out = tmp_path / "dp.v"
+    args = parse(["-o", out, "--width", 640, "--height", 512, "--state-store", "axi",
+                  "--axi-data-bits", 128, "--axi-burst-beats", 8, "--state-base", "0x80000000"])
+    assert verilog_command.main(args) == 0
+    assert "module dptbd_dp(" in out.read_text()
+    manifest = json.loads((tmp_path / "dp.json").read_text())
+    assert manifest["top"] == "DPPipelineAxi"
+    assert manifest["state_store"] == {
+        "kind": "axi4", "prefix": "m_axi_state", "data_bits": 128, "id_bits": 1,
+        "burst_beats": 8, "address_bits": 32, "base_address": 0x80000000, "outstanding": 4,
+        "slot_bits": 16, "states_per_beat": 8, "beat_bytes": 16, "burst_bytes": 128,
+        "frame_bytes": 640 * 512 * 2}
+    names = {p["name"]: p["width"] for p in manifest["ports"]}
+    assert names["m_axi_state_araddr"] == 32 and names["m_axi_state_wdata"] == 128
+    assert names["m_axi_state_wstrb"] == 16 and names["m_axi_state_awlen"] == 8
+    assert "state store: AXI4 128-bit, 8 states of 16 bits per beat, bursts of 8 beats, " \
+           "655360 bytes per frame from 0x80000000" in capsys.readouterr().out
+
+
+def test_verilog_on_chip_build_has_no_state_store_entry(tmp_path):
+    out = tmp_path / "dp.v"
+    assert verilog_command.main(parse(["-o", out, "--width", 8, "--height", 6])) == 0
+    assert "state_store" not in json.loads((tmp_path / "dp.json").read_text())
+    assert "m_axi_state" not in out.read_text()
+
+
+@pytest.mark.parametrize("argv, error, message", [
+    (["--axi-data-bits", 32], ValueError, "--axi-data-bits applies to --state-store axi only"),
+    (["--axi-id-bits", 2, "--state-base", 0], ValueError,
+     "--axi-id-bits, --state-base apply to --state-store axi only"),
+    (["--state-store", "axi", "--top", "axi"], ValueError,
+     "--state-store axi applies to --top dp only; dptbd_axi keeps its state store on chip"),
+    (["--state-store", "axi", "--external-state-store"], ValueError,
+     "--state-store axi and --external-state-store exclude each other: the state store is "
+     "either behind the AXI4 port or outside the module"),
+    (["--state-store", "axi", "--axi-data-bits", 16], ConfigError,
+     "data_bits must be one of (32, 64, 128), got 16"),
+    (["--state-store", "axi", "--state-base", "0x1010"], ConfigError,
+     "base_address=0x1010 is not aligned to the burst size of 128 bytes (16 beats of 8)"),
+    (["--state-store", "axi", "--axi-address-bits", 12], ConfigError,   # 128 x 128 x 2 bytes
+     "the state of a frame ends at 0x8000 (base_address=0x0 + 32768 bytes), beyond "
+     "address_bits=12 (0x1000); use more address bits or a lower base"),
+])
+def test_verilog_state_store_refusals(tmp_path, argv, error, message):
+    with pytest.raises(error, match=whole(message)):
+        verilog_command.main(parse(["-o", tmp_path / "dp.v", *argv]))
+    assert not (tmp_path / "dp.v").exists()

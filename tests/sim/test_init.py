@@ -13,3 +13,11 @@ def test_the_module_map_lists_every_module_once():
     listed = re.findall(r"^- ``(\w+)``: ", dptbd.sim.__doc__, re.M)
     assert sorted(listed) == modules
     assert len(listed) == len(set(listed))
+
+
+def test_the_sub_packages_paragraph_names_every_sub_package():
+    folder = pathlib.Path(dptbd.sim.__file__).parent
+    packages = sorted(p.parent.name for p in folder.glob("*/__init__.py"))
+    paragraph = dptbd.sim.__doc__.split("Sub-packages: ", 1)[1].split("\n\n", 1)[0]
+    named = set(re.findall(r"``(\w+)`` \(", paragraph))
+    assert [p for p in packages if p not in named] == []

@@ -23,8 +23,9 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.layouts import pack_pixel, unpack_state
-from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
+from dptbd.hw.flow.verilog import MODULE_NAME, build_top, generate_verilog
 from dptbd.hw.schedule import PipelineSchedule
+from helpers.refusals import whole
 from helpers.family_harness import VARIANTS, family_reference_states, likelihood_merit, variant
 from helpers.hw_harness import (
     assert_states_equal,
@@ -333,3 +334,18 @@ def test_icarus_runs_the_family_verilog_bit_exact(tmp_path):
                             idle_inputs=("merit_addr", "merit_data", "merit_we",
                                          "penalty_addr", "penalty_data", "penalty_we"))
     assert_states_equal(outputs, family_reference_states(cfg, frames))
+
+
+def test_build_top_with_an_axi_state_store():
+    from dptbd.hw.axi_store.pipeline import DPPipelineAxi
+    cfg = DPConfig(width=16, height=12)
+    store = cfg.axi_store(data_bits=32, burst_beats=2)
+    top = build_top(cfg, state_store=store)
+    assert isinstance(top, DPPipelineAxi) and top.store is store
+    with pytest.raises(ValueError, match=whole(
+            "external_state_store and state_store exclude each other: the state store is "
+            "either outside the module or behind its AXI4 port")):
+        build_top(cfg, state_store=store, external_state_store=True)
+    with pytest.raises(ValueError, match=whole(
+            "state_store was made for another configuration than cfg")):
+        build_top(cfg.replace(segment_frames=2), state_store=store)

@@ -1,0 +1,109 @@
+"""Cycles per pixel of the DP pipeline with its state in external memory (``DPPipelineAxi``)
+against the memory's latency, in Amaranth simulation.
+
+    python benchmarks/bench_axi_store.py                      # 64 x 32, 3 frames
+    python benchmarks/bench_axi_store.py --latency 0 100 500 --outstanding 4 8 16
+    python benchmarks/bench_axi_store.py --simulator verilator --width 640 --height 512 --frames 30
+
+``--simulator verilator`` runs the Verilog on Verilator with the harness's C++ AXI4 memory
+model (:mod:`dptbd.sim.verilator.dp_axi`; data widths 32 and 64), the same conditions.
+The frames are uniform random pixels (throughput does not depend on the scene).
+
+The memory (:class:`dptbd.sim.axi4_memory.Axi4Memory`) answers every burst after a fixed
+latency (cycles from the address handshake to the first read beat, and from the last write
+beat to the response), all channels always ready; the input offers a pixel in every cycle
+and the output always takes. Reported: cycles from the first to the last accepted pixel
+over the pixels (1.0 = one pixel per clock), and the estimate ``(latency + burst_beats + 3)
+/ (outstanding * burst_states)`` cycles per pixel (at least 1) of the prefetch depth (a
+burst is in flight for its latency plus its beats plus a few register cycles; the beat
+FIFO's credit returns only when a beat is consumed, so a slow run is somewhat slower). Every run is checked
+bit-exact against the golden model. This script only reports.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from dptbd.config import DPConfig
+from dptbd.hw.axi_store.pipeline import DPPipelineAxi
+from dptbd.hw.layouts import pack_pixel
+from dptbd.sim.axi4_memory import Axi4Memory
+from dptbd.sim.scoreboard import expected_words
+
+
+def measure(cfg: DPConfig, frames: np.ndarray, latency: int, **store_fields) -> tuple[float, bool]:
+    """(cycles per accepted pixel, bit-exact) of one run."""
+    from amaranth.sim import Simulator
+
+    store = cfg.axi_store(**store_fields)
+    dut = DPPipelineAxi(store)
+    memory = Axi4Memory(dut, store, latency=(latency, latency))
+    stream = [(int(p), y == 0 and x == 0) for frame in frames
+              for y, row in enumerate(frame) for x, p in enumerate(row)]
+    accepted, outputs = [], []
+
+    async def bench(ctx):
+        ctx.set(dut.states.ready, 1)
+        cycle = 0
+        while len(outputs) < len(stream):
+            if len(accepted) < len(stream):
+                pixel, first = stream[len(accepted)]
+                ctx.set(dut.pixels.payload.as_value(), pack_pixel(cfg, pixel, first))
+                ctx.set(dut.pixels.valid, 1)
+            else:
+                ctx.set(dut.pixels.valid, 0)
+            took = len(accepted) < len(stream) and ctx.get(dut.pixels.ready)
+            if ctx.get(dut.states.valid):
+                outputs.append(ctx.get(dut.states.payload.as_value()))
+            await ctx.tick()
+            if took:
+                accepted.append(cycle)
+            cycle += 1
+
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    sim.add_testbench(memory.process(), background=True)
+    sim.run()
+    exact = outputs == [int(w) for w in expected_words(cfg, frames).reshape(-1)]
+    return (accepted[-1] - accepted[0] + 1) / len(stream), exact
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--width", type=int, default=64)
+    parser.add_argument("--height", type=int, default=32)
+    parser.add_argument("--frames", type=int, default=3)
+    parser.add_argument("--latency", type=int, nargs="+", default=[0, 100, 500])
+    parser.add_argument("--outstanding", type=int, nargs="+", default=[4, 16])
+    parser.add_argument("--data-bits", type=int, default=64)
+    parser.add_argument("--burst-beats", type=int, default=16)
+    parser.add_argument("--simulator", choices=("amaranth", "verilator"), default="amaranth")
+    args = parser.parse_args()
+    cfg = DPConfig(width=args.width, height=args.height).build_config()
+    frames = np.random.default_rng(1).integers(0, 256, size=(args.frames, cfg.height, cfg.width))
+    print(f"{cfg.describe()}, {args.frames} frames, AXI {args.data_bits}-bit, bursts of "
+          f"{args.burst_beats} beats, {args.simulator}")
+    print("| latency (cycles) | outstanding | cycles per pixel | estimate | bit-exact |")
+    print("|---|---|---|---|---|")
+    for outstanding in args.outstanding:
+        store = cfg.axi_store(data_bits=args.data_bits, burst_beats=args.burst_beats,
+                              outstanding=outstanding)
+        for latency in args.latency:
+            if args.simulator == "verilator":
+                from dptbd.sim.verilator import dp_axi as verilator_dp_axi
+                run = verilator_dp_axi.run(verilator_dp_axi.build(store), frames,
+                                           latency=(latency, latency))
+                cpp, exact = run.cycles_per_pixel, run.bit_exact and not run.result["violations"]
+            else:
+                cpp, exact = measure(cfg, frames, latency, data_bits=args.data_bits,
+                                     burst_beats=args.burst_beats, outstanding=outstanding)
+            estimate = max(1.0, (latency + args.burst_beats + 3)
+                           / (outstanding * store.burst_states))
+            print(f"| {latency} | {outstanding} | {cpp:.3f} | {estimate:.3f} | {exact} |")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,107 @@
+"""The state store in external memory: the pipeline's one-cycle synchronous store port
+served over an AXI4 manager port, and the gate that makes that possible.
+
+:class:`~dptbd.hw.dp_core.DPCore` reads one state word per accepted pixel and expects it
+in the next cycle, and writes one state a fixed latency later without waiting. External
+memory answers after any latency, so the adaptor serves reads from the
+:class:`~dptbd.hw.axi_store.prefetcher.AxiReadPrefetcher`'s FIFO and writes into the
+:class:`~dptbd.hw.axi_store.write_behind.AxiWriteBehind`'s, and ``ready`` lets a pixel in only
+when the word it reads is prefetched and the write-behind has room for every state still in
+the pipeline. Memory latency and back-pressure on any channel therefore only hold the
+input back; they never change a bit (``docs/gateware.md``, "State store in external
+memory").
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Signal
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import AxiStoreConfig
+from dptbd.hw.axi_store.bus import axi4_signature
+from dptbd.hw.axi_store.prefetcher import AxiReadPrefetcher
+from dptbd.hw.axi_store.write_behind import AxiWriteBehind
+from dptbd.hw.layouts import state_word_layout
+from dptbd.hw.state_store import StateStoreSignature
+
+__all__ = ["AxiStateStore"]
+
+
+class AxiStateStore(wiring.Component):
+    """State store behind an AXI4 manager port (see the module doc).
+
+    Parameters
+    ----------
+    store : AxiStoreConfig
+        Frame, packing, bursts.
+    write_latency : int
+        Cycles from a pixel's acceptance to its state write
+        (:attr:`~dptbd.hw.schedule.PipelineSchedule.write_latency`).
+
+    Members
+    -------
+    bus : In(StateStoreSignature(cfg))
+        The pipeline's side. ``read_en`` must only be high while ``ready`` is.
+    axi : Out(axi4_signature(store))
+        The AXI4 manager port.
+    base : In(address_bits, init=store.base_address)
+        Byte address of pixel 0's slot; low bits below the burst size are ignored. Change
+        it only while the core is idle between frames.
+    ready : Out(1)
+        A pixel may be accepted in this cycle.
+    restart : In(1)
+        The pixel accepted in this cycle resynchronised
+        (:attr:`~dptbd.hw.dp_core.DPCore.resync`).
+    read_error, write_error : Out(1)
+        Pulses: a read beat / a write response came back with ``SLVERR`` or ``DECERR``.
+    """
+
+    def __init__(self, store: AxiStoreConfig, *, write_latency: int):
+        self._store = store
+        self._reader = AxiReadPrefetcher(store)
+        self._writer = AxiWriteBehind(store, in_flight=write_latency + 1)
+        super().__init__({
+            "bus": In(StateStoreSignature(store.frame)),
+            "axi": Out(axi4_signature(store)),
+            "base": In(store.address_bits, init=store.base_address),
+            "ready": Out(1),
+            "restart": In(1),
+            "read_error": Out(1),
+            "write_error": Out(1),
+        })
+
+    @property
+    def store(self) -> AxiStoreConfig:
+        """The memory layout this store was built for."""
+        return self._store
+
+    def elaborate(self, platform):
+        m = Module()
+        store = self._store
+        m.submodules.reader = reader = self._reader
+        m.submodules.writer = writer = self._writer
+        wiring.connect(m, reader.ar, wiring.flipped(self.axi.ar))
+        wiring.connect(m, reader.r, wiring.flipped(self.axi.r))
+        wiring.connect(m, writer.aw, wiring.flipped(self.axi.aw))
+        wiring.connect(m, writer.w, wiring.flipped(self.axi.w))
+        wiring.connect(m, writer.b, wiring.flipped(self.axi.b))
+        aligned = self.base & ~(store.burst_bytes - 1)
+        read_data = Signal(state_word_layout(store.frame))
+        with m.If(self.bus.read_en):
+            m.d.sync += read_data.eq(reader.word)
+        m.d.comb += [
+            reader.base.eq(aligned),
+            writer.base.eq(aligned),
+            reader.written.eq(writer.written),
+            reader.take.eq(self.bus.read_en),
+            reader.restart.eq(self.restart),
+            self.bus.read_data.eq(read_data),
+            writer.write_en.eq(self.bus.write_en),
+            writer.write_addr.eq(self.bus.write_addr),
+            writer.write_data.eq(self.bus.write_data),
+            self.ready.eq(reader.available & writer.room),
+            self.read_error.eq(reader.error),
+            self.write_error.eq(writer.error),
+        ]
+        return m

@@ -1,0 +1,192 @@
+"""Read prefetcher of the state store in external memory: AXI4 INCR bursts in raster order,
+kept in flight ahead of the pipeline, unpacked into one state word per taken pixel.
+
+The pipeline reads the state store in raster order, ``read_ahead_distance`` words ahead of
+the accepted pixel, wrapping at the frame's end (:class:`~dptbd.hw.controller.Controller`);
+the prefetcher reads that same sequence ahead of time. It issues a burst when
+
+* the beat FIFO has room for all its beats (counting the beats of bursts in flight), so
+  ``RREADY`` only drops if the memory sends beats it was not asked for;
+* fewer than ``outstanding`` bursts are in flight;
+* every word of the burst has been written by the previous frame and that write answered
+  (``written``, the count of pixels whose write bursts have their B response, from
+  :class:`~dptbd.hw.axi_store.write_behind.AxiWriteBehind`): the pixel taking read word ``i``
+  needs the state written by pixel ``i + D - W*H``, ``D`` the read-ahead. AXI4 does not
+  order reads after writes, so the prefetcher waits for the write's response.
+
+Bursts start at the next beat and end at a burst-aligned boundary or at the frame's last
+beat, so with a burst-aligned base address they never cross a 4 KB boundary.
+
+Restart: a resynchronisation (``restart`` with ``take``) moves the pipeline's read address
+back to the start of a frame. The prefetcher drops every beat requested so far (those in
+flight are received and discarded) and starts again at word ``D + 1``. Pixels of the frame
+that follows a resynchronisation ignore their predecessors (a segment's start frame), so
+the words they take in the meantime do not matter; only the order rule above does.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Mux, Signal
+from amaranth.lib import wiring
+from amaranth.lib.fifo import SyncFIFOBuffered
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import AxiStoreConfig, DPConfig
+from dptbd.hw.axi_store.bus import BURST_INCR, CACHE_MODIFIABLE, address_channel, axi4_signature, size_code
+from dptbd.hw.layouts import state_word_layout
+from dptbd.hw.schedule import read_ahead_distance
+
+__all__ = ["pixel_count_bits", "AxiReadPrefetcher"]
+
+
+def pixel_count_bits(store: AxiStoreConfig) -> int:
+    """Width of the modular pixel counters that order reads after writes: room for four
+    frames plus every buffered word, so the signed difference of two of them never wraps."""
+    frame = store.frame
+    span = 4 * frame.width * frame.height + 4 * store.outstanding * store.burst_states
+    return span.bit_length() + 1
+
+
+class AxiReadPrefetcher(wiring.Component):
+    """AR / R channels of the state store's AXI4 port (see the module doc).
+
+    Parameters
+    ----------
+    store : AxiStoreConfig
+        Frame, packing, burst length and outstanding limit.
+
+    Members
+    -------
+    ar : Out(address_channel("ar", …))
+        AXI4 read address channel.
+    r : Out(…)
+        AXI4 read data channel (``rready`` out).
+    base : In(address_bits)
+        Byte address of pixel 0's slot (a multiple of the burst size).
+    written : In(pixel_count_bits(store))
+        Pixels whose state writes have been answered (modular count since reset).
+    available : Out(1)
+        A word is ready: ``word`` holds it.
+    word : Out(state_word_layout(cfg))
+        The next state word in raster read-ahead order.
+    take : In(1)
+        The word is consumed in this cycle (only with ``available``).
+    restart : In(1)
+        With ``take``: the pixel taking the word resynchronised (see the module doc).
+    error : Out(1)
+        Pulse: a read beat came back with ``SLVERR`` or ``DECERR``.
+    """
+
+    def __init__(self, store: AxiStoreConfig):
+        self._store = store
+        axi = axi4_signature(store)
+        super().__init__({
+            "ar": Out(address_channel("ar", store.address_bits, store.id_bits)),
+            "r": Out(axi.members["r"].signature),
+            "base": In(store.address_bits, init=store.base_address),
+            "written": In(pixel_count_bits(store)),
+            "available": Out(1),
+            "word": Out(state_word_layout(store.frame)),
+            "take": In(1),
+            "restart": In(1),
+            "error": Out(1),
+        })
+
+    @property
+    def fifo_depth(self) -> int:
+        """Beats the R FIFO holds: ``outstanding`` full bursts."""
+        return self._store.outstanding * self._store.burst_beats
+
+    def elaborate(self, platform):
+        m = Module()
+        store = self._store
+        cfg: DPConfig = store.frame
+        pixels = cfg.width * cfg.height
+        per_beat = store.states_per_beat
+        beats = store.frame_beats
+        ahead = read_ahead_distance(cfg)
+        first_word = ahead % pixels                  # what the controller reads first
+        restart_word = (ahead + 1) % pixels          # and after a resync pixel
+        count_bits = pixel_count_bits(store)
+        depth = self.fifo_depth
+
+        m.submodules.fifo = fifo = SyncFIFOBuffered(width=store.data_bits, depth=depth)
+        m.d.comb += [
+            fifo.w_data.eq(self.r.rdata),
+            fifo.w_en.eq(self.r.rvalid),
+            self.r.rready.eq(fifo.w_rdy),
+            self.error.eq(self.r.rvalid & self.r.rready & self.r.rresp[1]),
+        ]
+
+        # ---- issue side: next beat, read index of its first new word, credits ------------
+        next_beat = Signal(range(beats), init=first_word // per_beat)
+        skip = Signal(range(per_beat), init=first_word % per_beat)   # words before the start
+        issue_index = Signal(count_bits)             # read index of the next burst's 1st word
+        reserved = Signal(range(depth + 1))          # beats requested and not popped
+        in_flight = Signal(range(store.outstanding + 1))
+        to_boundary = store.burst_beats - next_beat[:(store.burst_beats - 1).bit_length()]
+        to_end = beats - next_beat
+        length = Signal(range(store.burst_beats + 1))
+        m.d.comb += length.eq(Mux(to_end < to_boundary, to_end, to_boundary))
+        # the pixel taking the burst's last word needs the writes of pixels up to
+        # its index + D - W*H answered
+        need = Signal(count_bits)
+        m.d.comb += need.eq(issue_index + length * per_beat - skip + (ahead - pixels))
+        ordered = Signal()
+        m.d.comb += ordered.eq((self.written - need)[:count_bits].as_signed() >= 0)
+
+        rlast_seen = self.r.rvalid & self.r.rready & self.r.rlast
+        issue = Signal()
+        m.d.comb += issue.eq(~self.ar.arvalid & ~self.restart & ordered
+                             & (reserved + length <= depth)
+                             & (in_flight < store.outstanding))
+        m.d.comb += [
+            self.ar.arid.eq(0),
+            self.ar.arsize.eq(size_code(store.beat_bytes)),
+            self.ar.arburst.eq(BURST_INCR),
+            self.ar.arcache.eq(CACHE_MODIFIABLE),
+        ]
+        with m.If(self.ar.arvalid & self.ar.arready):
+            m.d.sync += self.ar.arvalid.eq(0)
+        with m.If(issue):
+            m.d.sync += [
+                self.ar.arvalid.eq(1),
+                self.ar.araddr.eq(self.base + next_beat * store.beat_bytes),
+                self.ar.arlen.eq(length - 1),
+                next_beat.eq(Mux(next_beat + length == beats, 0, next_beat + length)),
+                issue_index.eq(issue_index + length * per_beat - skip),
+                skip.eq(0),
+            ]
+        m.d.sync += in_flight.eq(in_flight + (self.ar.arvalid & self.ar.arready) - rlast_seen)
+
+        # ---- take side: unpack the head beat, drop stale beats --------------------------
+        offset = Signal(range(per_beat), init=first_word % per_beat)
+        stale = Signal(range(depth + 1))             # beats to drop after a restart
+        taken = Signal(count_bits)                   # words taken since reset
+        pop = Signal()
+        m.d.comb += [
+            self.available.eq(fifo.r_rdy & (stale == 0)),
+            self.word.as_value().eq(
+                fifo.r_data.word_select(offset, store.slot_bits)[:cfg.state_bits]),
+            fifo.r_en.eq(pop),
+        ]
+        with m.If(self.take):
+            m.d.sync += taken.eq(taken + 1)
+        with m.If(self.take & self.restart):
+            m.d.sync += [
+                stale.eq(reserved),
+                offset.eq(restart_word % per_beat),
+                next_beat.eq(restart_word // per_beat),
+                skip.eq(restart_word % per_beat),
+                issue_index.eq(taken + 1),
+            ]
+        with m.Elif(stale != 0):
+            m.d.comb += pop.eq(fifo.r_rdy)
+            with m.If(pop):
+                m.d.sync += stale.eq(stale - 1)
+        with m.Elif(self.take):
+            last = offset == per_beat - 1
+            m.d.comb += pop.eq(last)
+            m.d.sync += offset.eq(Mux(last, 0, offset + 1))
+        m.d.sync += reserved.eq(reserved + Mux(issue, length, 0) - pop)
+        return m

@@ -1,0 +1,192 @@
+"""Write-behind buffer of the state store in external memory: packs the pipeline's state
+writes into beats and sends them as AXI4 INCR bursts, never stalling the pipeline.
+
+The pipeline writes one state per processed pixel, in raster order, a fixed latency after
+accepting it, and cannot wait: the write-behind takes every ``write_en``. It packs S states
+per beat (slot ``addr mod S``), queues full beats in the W FIFO and cuts them into bursts
+that end at a burst-aligned boundary or at the frame's last beat. ``room`` tells the input
+gate whether the FIFO can take every state of the pixels already in the pipeline plus one
+more (``in_flight`` of them at most).
+
+A resynchronisation restarts the write addresses at 0: the open burst is closed where it
+stands, and the partial beat of the interrupted frame is dropped (its states are never
+read: the frame after a resynchronisation is a segment's start frame, which writes every
+address before the next frame reads it). ``written`` counts the pixels whose writes have
+their B response, in pixel order (a dropped word counts with the next burst), for
+:class:`~dptbd.hw.axi_store.prefetcher.AxiReadPrefetcher`.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Mux, Signal
+from amaranth.lib import data, wiring
+from amaranth.lib.fifo import SyncFIFO, SyncFIFOBuffered
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import AxiStoreConfig
+from dptbd.hw.axi_store.bus import BURST_INCR, CACHE_MODIFIABLE, address_channel, axi4_signature, size_code
+from dptbd.hw.axi_store.prefetcher import pixel_count_bits
+from dptbd.hw.layouts import state_word_layout
+
+__all__ = ["AxiWriteBehind"]
+
+
+class AxiWriteBehind(wiring.Component):
+    """AW / W / B channels of the state store's AXI4 port (see the module doc).
+
+    Parameters
+    ----------
+    store : AxiStoreConfig
+        Frame, packing, burst length and outstanding limit.
+    in_flight : int
+        The most writes that may still arrive after ``room`` was last high (the pipeline's
+        write latency + 1).
+
+    Members
+    -------
+    aw, w, b : AXI4 write channels.
+    base : In(address_bits)
+        Byte address of pixel 0's slot.
+    write_en, write_addr, write_data : In
+        The pipeline's state write (:class:`~dptbd.hw.state_store.StateStoreSignature`).
+    room : Out(1)
+        The W FIFO has room for ``in_flight`` more states.
+    written : Out(pixel_count_bits(store))
+        Pixels whose writes have their B response (modular count since reset).
+    error : Out(1)
+        Pulse: a write response was ``SLVERR`` or ``DECERR``.
+    """
+
+    def __init__(self, store: AxiStoreConfig, *, in_flight: int):
+        self._store = store
+        self._in_flight = in_flight
+        cfg = store.frame
+        axi = axi4_signature(store)
+        super().__init__({
+            "aw": Out(address_channel("aw", store.address_bits, store.id_bits)),
+            "w": Out(axi.members["w"].signature),
+            "b": Out(axi.members["b"].signature),
+            "base": In(store.address_bits, init=store.base_address),
+            "write_en": In(1),
+            "write_addr": In(range(cfg.width * cfg.height)),
+            "write_data": In(state_word_layout(cfg)),
+            "room": Out(1),
+            "written": Out(pixel_count_bits(store)),
+            "error": Out(1),
+        })
+
+    @property
+    def margin(self) -> int:
+        """W FIFO beats kept free for the pipeline: ``in_flight`` states, the packing
+        register and the beat stage."""
+        per_beat = self._store.states_per_beat
+        return -(-(self._in_flight + per_beat - 1) // per_beat) + 2
+
+    @property
+    def fifo_depth(self) -> int:
+        """Beats of the W FIFO: two full bursts plus :attr:`margin`."""
+        return 2 * self._store.burst_beats + self.margin
+
+    def elaborate(self, platform):
+        m = Module()
+        store = self._store
+        per_beat = store.states_per_beat
+        beats = store.frame_beats
+        count_bits = pixel_count_bits(store)
+        depth = self.fifo_depth
+        slot_select = (per_beat - 1).bit_length()
+
+        # ---- packing: state into slot addr mod S; a full beat goes to the beat stage ------
+        packing = Signal(store.data_bits)
+        count = Signal(count_bits)                   # states written since reset
+        beat_valid = Signal()
+        beat_index = Signal(range(beats))
+        beat_upto = Signal(count_bits)
+        slot = self.write_addr[:slot_select]
+        with m.If(self.write_en):
+            m.d.sync += [
+                packing.word_select(slot, store.slot_bits).eq(self.write_data.as_value()),
+                count.eq(count + 1)]
+        full = self.write_en & (slot == per_beat - 1) if slot_select else self.write_en
+        m.d.sync += beat_valid.eq(full)
+        with m.If(full):
+            m.d.sync += [beat_index.eq(self.write_addr >> slot_select),
+                         beat_upto.eq(count + 1)]
+
+        # ---- bursts: runs of consecutive beats, closed at a boundary, the frame's end,
+        # or a jump (resynchronisation) -----------------------------------------------------
+        m.submodules.w_fifo = w_fifo = SyncFIFOBuffered(width=store.data_bits, depth=depth)
+        descriptor = data.StructLayout({"beat": range(beats), "len": 8, "upto": count_bits})
+        m.submodules.bursts = bursts = SyncFIFO(width=descriptor.size, depth=depth)
+        m.d.comb += [w_fifo.w_data.eq(packing), w_fifo.w_en.eq(beat_valid)]
+        run_open = Signal()
+        run_start = Signal(range(beats))
+        run_len = Signal(8)                          # beats - 1
+        run_upto = Signal(count_bits)
+        expect = Signal(range(beats))
+        closing = data.View(descriptor, bursts.w_data)
+        block_end = ((beat_index & (store.burst_beats - 1)) == store.burst_beats - 1) | (
+            beat_index == beats - 1)
+        with m.If(beat_valid):
+            m.d.sync += expect.eq(Mux(beat_index == beats - 1, 0, beat_index + 1))
+            jump = run_open & (beat_index != expect)
+            starts = ~run_open | jump
+            start = Mux(starts, beat_index, run_start)
+            length = Mux(starts, 0, run_len + 1)
+            with m.If(jump):                         # never also a block end: beat 0
+                m.d.comb += [closing.beat.eq(run_start), closing.len.eq(run_len),
+                             closing.upto.eq(run_upto), bursts.w_en.eq(1)]
+            with m.Elif(block_end):
+                m.d.comb += [closing.beat.eq(start), closing.len.eq(length),
+                             closing.upto.eq(beat_upto), bursts.w_en.eq(1)]
+            m.d.sync += [run_open.eq(~block_end), run_start.eq(start), run_len.eq(length),
+                         run_upto.eq(beat_upto)]
+        m.d.comb += self.room.eq(w_fifo.level <= depth - self.margin)
+
+        # ---- AW: one burst at a time from the descriptor FIFO ---------------------------
+        head = data.View(descriptor, bursts.r_data)
+        m.submodules.lengths = lengths = SyncFIFO(width=8, depth=store.outstanding)
+        m.submodules.uptos = uptos = SyncFIFO(width=count_bits, depth=store.outstanding)
+        in_flight = Signal(range(store.outstanding + 1))
+        issue = Signal()
+        m.d.comb += [
+            issue.eq(bursts.r_rdy & ~self.aw.awvalid & (in_flight < store.outstanding)),
+            bursts.r_en.eq(issue),
+            lengths.w_data.eq(head.len), lengths.w_en.eq(issue),
+            uptos.w_data.eq(head.upto), uptos.w_en.eq(issue),
+            self.aw.awid.eq(0),
+            self.aw.awsize.eq(size_code(store.beat_bytes)),
+            self.aw.awburst.eq(BURST_INCR),
+            self.aw.awcache.eq(CACHE_MODIFIABLE),
+        ]
+        with m.If(self.aw.awvalid & self.aw.awready):
+            m.d.sync += self.aw.awvalid.eq(0)
+        with m.If(issue):
+            m.d.sync += [self.aw.awvalid.eq(1),
+                         self.aw.awaddr.eq(self.base + head.beat * store.beat_bytes),
+                         self.aw.awlen.eq(head.len)]
+
+        # ---- W: the beats of issued bursts, WLAST from their lengths ---------------------
+        sent = Signal(8)
+        m.d.comb += [
+            self.w.wdata.eq(w_fifo.r_data),
+            self.w.wstrb.eq((1 << (store.data_bits // 8)) - 1),
+            self.w.wvalid.eq(w_fifo.r_rdy & lengths.r_rdy),
+            self.w.wlast.eq(sent == lengths.r_data),
+            w_fifo.r_en.eq(self.w.wvalid & self.w.wready),
+            lengths.r_en.eq(self.w.wvalid & self.w.wready & self.w.wlast),
+        ]
+        with m.If(self.w.wvalid & self.w.wready):
+            m.d.sync += sent.eq(Mux(self.w.wlast, 0, sent + 1))
+
+        # ---- B: count the answered pixels, flag errors ----------------------------------
+        answered = self.b.bvalid & self.b.bready
+        m.d.comb += [
+            self.b.bready.eq(1),
+            uptos.r_en.eq(answered),
+            self.error.eq(answered & self.b.bresp[1]),
+        ]
+        with m.If(answered):
+            m.d.sync += self.written.eq(uptos.r_data)
+        m.d.sync += in_flight.eq(in_flight + issue - answered)
+        return m

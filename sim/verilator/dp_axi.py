@@ -1,0 +1,139 @@
+"""Compiled RTL simulation of ``dptbd_dp`` built with ``--state-store axi``
+(:class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi`) on Verilator, its state in the C++ AXI4
+memory model of ``sim/harness/dptbd_dp_axi_harness.cpp`` (random latency per burst, random
+ready / valid, every AXI4 rule it sees checked, writes applied with their response).
+
+:func:`build` verilates the Verilog of an :class:`~dptbd.config.AxiStoreConfig` with that
+harness into a cached executable (key: the Verilog text, the harness sources, the flags);
+:func:`run` streams frames through it and scores the outputs against the golden model
+(:func:`dptbd.sim.scoreboard.expected_words`). The C++ model takes data widths of 32 and 64
+bits; 128 is refused.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import os
+import pathlib
+import shutil
+import subprocess
+import tempfile
+
+import numpy as np
+
+from dptbd.config import AxiStoreConfig
+from dptbd.sim.verilator.cache import CXX_FLAGS, VERILATOR_FLAGS, check_tools, default_build_root
+
+__all__ = ["HARNESS", "AxiStoreBuild", "AxiStoreRun", "build", "run"]
+
+HARNESS = pathlib.Path(__file__).resolve().parents[1] / "harness" / "dptbd_dp_axi_harness.cpp"
+EXECUTABLE = "dptbd_sim"
+
+
+@dataclasses.dataclass(frozen=True)
+class AxiStoreBuild:
+    """A compiled executable of one :class:`AxiStoreConfig`."""
+
+    store: AxiStoreConfig
+    directory: pathlib.Path
+    executable: pathlib.Path
+    manifest: dict
+
+
+@dataclasses.dataclass
+class AxiStoreRun:
+    """What one run reported: ``result`` (``result.txt``), the outputs and their cycles,
+    the acceptance cycles, and whether the outputs equal the golden model's."""
+
+    result: dict
+    outputs: np.ndarray
+    accept_cycles: np.ndarray
+    bit_exact: bool
+    first_mismatch: int | None
+
+    @property
+    def cycles_per_pixel(self) -> float:
+        """Cycles from the first to the last accepted pixel, over the pixels."""
+        a = self.accept_cycles
+        return float(a[-1] - a[0] + 1) / len(a)
+
+
+def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None) -> AxiStoreBuild:
+    """Verilate ``store``'s ``dptbd_dp`` with the AXI4 memory harness, or reuse the build."""
+    if store.data_bits > 64:
+        raise ValueError(f"the Verilator AXI4 memory model takes data_bits 32 or 64, got "
+                         f"{store.data_bits}")
+    from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
+    from dptbd.hw.schedule import check_supported
+
+    check_supported(store.frame)
+    tools = check_tools()
+    text, manifest = generate_verilog(store.frame, state_store=store)
+    defines = {"DPTBD_AXI_DATA_BITS": store.data_bits,
+               "DPTBD_AXI_OUTSTANDING": store.outstanding,
+               "DPTBD_FRAME_BYTES": store.frame_bytes}
+    sources = [HARNESS, HARNESS.with_name("harness_io.h")]
+    key = hashlib.sha256(repr((text, [p.read_bytes() for p in sources], defines,
+                               VERILATOR_FLAGS, CXX_FLAGS, tools)).encode()).hexdigest()[:16]
+    root = pathlib.Path(root) if root is not None else default_build_root()
+    directory = root / f"dp-axi-store-{key}"
+    executable = directory / EXECUTABLE
+    if not executable.exists():
+        root.mkdir(parents=True, exist_ok=True)
+        tmp = pathlib.Path(tempfile.mkdtemp(dir=root, prefix=".dp-axi-store-"))
+        try:
+            (tmp / f"{MODULE_NAME}.v").write_text(text)
+            cflags = " ".join([*CXX_FLAGS, *(f"-D{k}={v}" for k, v in defines.items()),
+                               f"-I{HARNESS.parent}"])
+            subprocess.run(["verilator", *VERILATOR_FLAGS, "--build", "-j", "2",
+                            "--top-module", MODULE_NAME, "-CFLAGS", cflags,
+                            "-Mdir", str(tmp / "obj"), "-o", str(tmp / EXECUTABLE),
+                            str(tmp / f"{MODULE_NAME}.v"), str(HARNESS)],
+                           check=True, capture_output=True, text=True)
+            if directory.exists():
+                shutil.rmtree(directory)
+            tmp.rename(directory)
+        except subprocess.CalledProcessError as err:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise RuntimeError(f"verilator failed:\n{err.stderr[-4000:]}") from None
+    return AxiStoreBuild(store, directory, executable, manifest)
+
+
+def run(sim: AxiStoreBuild, frames: np.ndarray, *, latency=(0, 0), write_latency=None,
+        axi_ready: float = 1.0, axi_valid: float = 1.0, valid_gap: float = 0.0,
+        ready_pause: float = 0.0, seed: int = 1, max_cycles: int | None = None,
+        job_dir: str | os.PathLike | None = None) -> AxiStoreRun:
+    """Stream ``frames`` (``(T, H, W)``) through ``sim``; score against the golden model."""
+    from dptbd.sim.scoreboard import expected_words
+    from dptbd.sim.stimulus import pack_pixels
+
+    cfg = sim.store.frame
+    words = np.asarray(pack_pixels(cfg, frames), dtype=np.uint64)
+    if max_cycles is None:
+        slow = (1 + max(latency[1], (write_latency or latency)[1]) / 8) \
+            / max(0.05, (1 - valid_gap) * (1 - ready_pause) * axi_ready * axi_valid)
+        max_cycles = int(len(words) * 4 * slow) + 100_000
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = pathlib.Path(job_dir or tmp)
+        folder.mkdir(parents=True, exist_ok=True)
+        words.astype("<u8").tofile(folder / "in.bin")
+        wl = write_latency or latency
+        (folder / "job.txt").write_text(
+            f"words {len(words)}\nseed {seed}\nmax_cycles {max_cycles}\ndrain 64\n"
+            f"valid_gap {valid_gap}\nready_pause {ready_pause}\n"
+            f"latency {latency[0]} {latency[1]}\nwrite_latency {wl[0]} {wl[1]}\n"
+            f"axi_ready {axi_ready}\naxi_valid {axi_valid}\nbase {sim.store.base_address}\n"
+            f"segment_frames {cfg.segment_frames}\n")
+        subprocess.run([str(sim.executable), str(folder)], check=True)
+        result = {}
+        for line in (folder / "result.txt").read_text().splitlines():
+            key, _, value = line.partition(" ")
+            result[key] = value if key in ("status", "first_violation") else float(value)
+        outputs = np.fromfile(folder / "out.bin", dtype="<u8")
+        accepted = np.fromfile(folder / "accept_cycles.bin", dtype="<u8")
+    expected = np.asarray(expected_words(cfg, frames), dtype=np.uint64).reshape(-1)
+    n = min(len(outputs), len(expected))
+    diff = np.flatnonzero(outputs[:n] != expected[:n])
+    first = int(diff[0]) if len(diff) else (None if len(outputs) == len(expected) else n)
+    return AxiStoreRun(result, outputs, accepted, first is None, first)

@@ -1,0 +1,86 @@
+"""AxiReadPrefetcher: its bursts against a reference of the issue rule, the words it hands
+out, and a restart, behind the strict AXI4 memory model."""
+
+import pytest
+
+from dptbd.config import DPConfig
+from dptbd.hw.axi_store.prefetcher import AxiReadPrefetcher
+from dptbd.hw.schedule import read_ahead_distance
+from dptbd.sim.axi4_memory import Axi4Memory, OneSided
+from helpers.hw_harness import simulate
+
+
+def ref_bursts(store, written):
+    """The bursts the prefetcher issues with nothing taken and ``written`` pixels answered:
+    from word D on, aligned bursts while the beat FIFO has room and every word's write is
+    answered (pixel i needs written >= i + 1 + D - W*H)."""
+    cfg = store.frame
+    pixels, per_beat = cfg.width * cfg.height, store.states_per_beat
+    ahead = read_ahead_distance(cfg) % pixels
+    beat, skip, index, reserved, out = ahead // per_beat, ahead % per_beat, 0, 0, []
+    depth = store.outstanding * store.burst_beats
+    while True:
+        length = min(store.burst_beats - beat % store.burst_beats, store.frame_beats - beat)
+        need = index + length * per_beat - skip + read_ahead_distance(cfg) - pixels
+        if need > written or reserved + length > depth:
+            return out
+        out.append(("AR", store.base_address + beat * store.beat_bytes, length))
+        index += length * per_beat - skip
+        reserved += length
+        beat, skip = (beat + length) % store.frame_beats, 0
+
+
+def run_prefetch(store, *, written, takes=None, seed=0, latency=(0, 0), cycles=400):
+    """Hold ``written``; in the cycles listed in ``takes`` (cycle -> restart flag) take a
+    word if one is available; return the memory and the words taken."""
+    dut = AxiReadPrefetcher(store)
+    top = OneSided(dut, store)
+    memory = Axi4Memory(top.axi, store, seed=seed, latency=latency)
+    taken = []
+
+    async def bench(ctx):
+        ctx.set(dut.written, written)
+        for cycle in range(cycles):
+            restart = (takes or {}).get(cycle)
+            take = restart is not None and ctx.get(dut.available)
+            ctx.set(dut.take, take)
+            ctx.set(dut.restart, take and restart)
+            if take:
+                taken.append(ctx.get(dut.word.as_value()))
+            await ctx.tick()
+
+    simulate(top, bench, background=[memory.process()])
+    return memory, taken
+
+
+def memory_word(memory, store, addr):
+    slot_bytes = store.slot_bits // 8
+    start = store.base_address + addr * slot_bytes
+    value = int.from_bytes(bytes(memory.byte(start + k) for k in range(slot_bytes)), "little")
+    return value & ((1 << store.frame.state_bits) - 1)
+
+
+@pytest.mark.parametrize("fields, written", [
+    (dict(data_bits=128, burst_beats=4, outstanding=16), 0),     # the order rule stops it
+    (dict(data_bits=128, burst_beats=4, outstanding=16), 40),
+    (dict(data_bits=64, burst_beats=2, outstanding=3), 175),       # the FIFO stops it
+    (dict(data_bits=32, burst_beats=16, outstanding=2, base_address=0x1000), 0),
+])
+def test_bursts_follow_the_issue_rule(fields, written):
+    store = DPConfig(width=16, height=12).axi_store(**fields)
+    memory, _ = run_prefetch(store, written=written)
+    assert memory.bursts == ref_bursts(store, written)
+    assert memory.bursts                                   # it did prefetch
+
+
+def test_words_come_out_in_read_ahead_order_and_restart_at_d_plus_one():
+    """Take 30 words (addresses 17 …), restart on the 31st, then take 10 more: the
+    restart's own word is the 31st of the old sequence; the next ones are 18, 19, …"""
+    store = DPConfig(width=16, height=12).axi_store(data_bits=64, burst_beats=4)
+    takes = {c: False for c in range(20, 50)}
+    takes[50] = True
+    takes.update({c: False for c in range(51, 200)})
+    memory, taken = run_prefetch(store, written=300, takes=takes, latency=(0, 9))
+    words = [memory_word(memory, store, a) for a in range(192)]
+    assert taken[:31] == words[17:48]
+    assert taken[31:41] == words[18:28]

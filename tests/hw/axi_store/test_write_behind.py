@@ -1,0 +1,104 @@
+"""AxiWriteBehind: packing, burst cutting, the jump of a resynchronisation, ``written`` and
+``room``, behind the strict AXI4 memory model."""
+
+import random
+
+import pytest
+
+from dptbd.config import DPConfig
+from dptbd.hw.axi_store.bus import RESP_SLVERR
+from dptbd.hw.axi_store.write_behind import AxiWriteBehind
+from dptbd.sim.axi4_memory import Axi4Memory, OneSided
+from helpers.hw_harness import simulate
+
+
+def run_writes(store, addresses, *, seed=0, latency=(0, 0), ready=1.0, valid=1.0, errors=None,
+               base=None, tail=60):
+    """Write a random state to each address in turn, one per cycle while ``room`` allows,
+    then idle ``tail`` cycles; return the memory, the data written and ``written`` /
+    ``room`` / error pulses per cycle."""
+    dut = AxiWriteBehind(store, in_flight=4)
+    top = OneSided(dut, store)
+    memory = Axi4Memory(top.axi, store, seed=seed, latency=latency, ready=ready, valid=valid,
+                        errors=errors or {})
+    rng = random.Random(seed)
+    width = len(dut.write_data.as_value())
+    data = [rng.randrange(1 << width) for _ in addresses]
+    trace = {"written": [], "room": [], "errors": 0}
+
+    async def bench(ctx):
+        # like the pipeline: a write is "accepted" only while room is high and arrives
+        # in_flight - 1 = 3 cycles later
+        if base is not None:
+            ctx.set(dut.base, base)
+        due, accepted, step, idle = {}, 0, 0, 0
+        while idle < tail:
+            room = ctx.get(dut.room)
+            trace["room"].append(room)
+            if room and accepted < len(addresses):
+                due[step + 3] = accepted
+                accepted += 1
+            k = due.pop(step, None)
+            ctx.set(dut.write_en, k is not None)
+            if k is not None:
+                ctx.set(dut.write_addr, addresses[k])
+                ctx.set(dut.write_data.as_value(), data[k])
+            trace["errors"] += ctx.get(dut.error)
+            await ctx.tick()
+            trace["written"].append(ctx.get(dut.written))
+            step += 1
+            idle = idle + 1 if accepted == len(addresses) and not due else 0
+
+    simulate(top, bench, background=[memory.process()])
+    return memory, data, trace
+
+
+def stored(memory, store, addr):
+    """The state in slot ``addr`` of the memory."""
+    slot_bytes = store.slot_bits // 8
+    start = store.base_address + addr * slot_bytes
+    value = int.from_bytes(bytes(memory.byte(start + k) for k in range(slot_bytes)), "little")
+    return value
+
+
+@pytest.mark.parametrize("data_bits, burst_beats", [(32, 2), (64, 4), (128, 16)])
+def test_a_frame_is_written_in_aligned_bursts_and_slots(data_bits, burst_beats):
+    store = DPConfig(width=16, height=12).axi_store(data_bits=data_bits, burst_beats=burst_beats,
+                                                    base_address=0x2000)
+    memory, data, trace = run_writes(store, list(range(192)), seed=data_bits)
+    beats = store.frame_beats
+    expected = [("AW", 0x2000 + b * store.beat_bytes, min(burst_beats, beats - b))
+                for b in range(0, beats, burst_beats)]
+    assert memory.bursts == expected
+    assert [stored(memory, store, a) for a in range(192)] == data
+    assert trace["written"][-1] == 192                 # every pixel's write answered
+    assert all(trace["room"])
+
+
+def test_a_resynchronisation_closes_the_open_burst_and_drops_the_partial_beat():
+    """Addresses 0 … 12 then, after a resync, 0 … 191: the burst of beats 4 … 5 (words 8 …
+    11) is cut at 2 beats, word 12 (an unfinished beat) is never written, and the pixels
+    answered count every write, the dropped one with the next burst."""
+    store = DPConfig(width=16, height=12).axi_store(data_bits=64, burst_beats=4)
+    addresses = list(range(13)) + list(range(192))
+    memory, data, trace = run_writes(store, addresses, seed=4)
+    assert memory.bursts[:3] == [("AW", 0, 4), ("AW", 32, 2), ("AW", 0, 4)]
+    assert len(memory.bursts) == 2 + 96 // 4
+    assert [stored(memory, store, a) for a in range(192)] == data[13:]
+    assert trace["written"][-1] == 13 + 192
+
+
+def test_random_latency_and_stalls_keep_every_word():
+    store = DPConfig(width=16, height=12).axi_store(data_bits=64, burst_beats=4, outstanding=2)
+    memory, data, trace = run_writes(store, list(range(192)) * 2, seed=6, latency=(0, 80),
+                                     ready=0.3, valid=0.5, tail=3000)
+    assert [stored(memory, store, a) for a in range(192)] == data[192:]
+    assert trace["written"][-1] == 384
+    assert not all(trace["room"])                      # the FIFO did fill: room went low
+
+
+def test_an_error_response_is_flagged_once_per_burst():
+    store = DPConfig(width=16, height=12).axi_store(data_bits=64, burst_beats=4)
+    _, _, trace = run_writes(store, list(range(192)), errors={0x44: RESP_SLVERR})
+    assert trace["errors"] == 1
+    assert trace["written"][-1] == 192
