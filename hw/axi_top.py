@@ -26,6 +26,8 @@ is the core reset.
 
 from __future__ import annotations
 
+from typing import Mapping
+
 from amaranth.hdl import ClockDomain, Module, ResetInserter
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
@@ -85,12 +87,18 @@ class AXITop(wiring.Component):
         AXI4-Lite control port (12-bit byte addresses, 32-bit data).
     irq : Out(1)
         Level interrupt: any pending and enabled ``IRQ_STATUS`` bit.
+
+    ``core_options`` (optional): the DP core's implementation options, passed on to
+    :class:`~dptbd.hw.dp_segmenter_top.DPSegmenter` (``None``: DPCore's defaults;
+    ``dptbd verilog --top axi --family`` passes the family's).
     """
 
-    def __init__(self, cfg: DPConfig, *, state_output: bool = False):
+    def __init__(self, cfg: DPConfig, *, state_output: bool = False,
+                 core_options: Mapping[str, str] | None = None):
         self._cfg = cfg
         self._state_output = bool(state_output)
-        self._core = DPSegmenter(cfg, state_output=self._state_output)
+        self._core = DPSegmenter(cfg, state_output=self._state_output,
+                                 core_options=core_options)
         self._bundles = _bundle_signatures(cfg, self._state_output)
         self._register_map = register_map(cfg)
         members = {"aclk": In(1), "aresetn": In(1)}

@@ -9,6 +9,8 @@ for ``dptbd_dp``; the cocotb harness (:mod:`dptbd.sim.tb_segmenter`) drives that
 
 from __future__ import annotations
 
+from typing import Mapping
+
 from amaranth.hdl import Module, Signal
 from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out
@@ -51,17 +53,27 @@ class DPSegmenter(wiring.Component):
         then broadcast to it and to the segmenter
         (:class:`~dptbd.hw.axis_broadcast.StreamBroadcast`: one register stage, so the
         latency grows by one; back-pressure on either consumer stalls the DP pipeline).
+
+    Parameters
+    ----------
+    core_options : Mapping[str, str], optional
+        :class:`~dptbd.hw.dp_core.DPCore`'s implementation options
+        (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`), passed on to the DP pipeline; ``None``
+        (the default) builds DPCore's defaults. ``dptbd verilog --family`` passes a family's
+        (:attr:`~dptbd.hw.flow.family.Family.core_options`); ``max_tree="split"`` adds its
+        cycles to :attr:`latency`.
     events : Out(event_layout(cfg))
         One-cycle pulses: ``frame_done`` / ``segment_done`` / ``saturated`` with the
         DP pipeline's ``states`` handshake, ``list_done`` with a trailer's handshake on
         ``candidates`` (:func:`~dptbd.hw.layouts.event_layout`).
     """
 
-    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, state_output: bool = False):
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, state_output: bool = False,
+                 core_options: Mapping[str, str] | None = None):
         cfg.require_paper001_datapath("the segmenter top (dptbd.hw.dp_segmenter_top)")
         self._cfg = cfg
         self._state_output = bool(state_output)
-        self._dp = DPPipeline(cfg)
+        self._dp = DPPipeline(cfg, **dict(core_options or {}))
         # The segmenter takes its settings from registers loaded when the DP accepts a
         # segment's first pixel, except at a resync; it takes them only at a segment's first
         # word after reset or an end_of_segment, never the first of a resync's segment. That
@@ -85,6 +97,11 @@ class DPSegmenter(wiring.Component):
     @property
     def schedule(self):
         return self._dp.schedule
+
+    @property
+    def core_options(self) -> dict:
+        """The DP core's implementation options (:attr:`DPCore.core_options`)."""
+        return self._dp.core_options
 
     @property
     def latency(self) -> int:
