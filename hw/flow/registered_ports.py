@@ -15,7 +15,7 @@ with more ports than the package has pins onto two pins.
 
 from __future__ import annotations
 
-from amaranth.hdl import Cat, Module, Signal, Value
+from amaranth.hdl import Cat, ClockDomain, Module, Signal, Value
 from amaranth.lib import wiring
 from amaranth.lib.wiring import Flow, In, Out
 
@@ -84,25 +84,28 @@ class FoldedPorts(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         m.submodules.core = core = self._core
-        m.d.comb += [core.aclk.eq(self.aclk), core.aresetn.eq(self.aresetn)]
+        # the wrapper's own domain on the same clock and reset as the core's
+        m.domains.fold = fold = ClockDomain("fold", local=True)
+        m.d.comb += [fold.clk.eq(self.aclk), fold.rst.eq(~self.aresetn),
+                     core.aclk.eq(self.aclk), core.aresetn.eq(self.aresetn)]
         inputs, outputs = [], []
         for path, member, inner in core.signature.flatten(core):
             if path[-1] in ("aclk", "aresetn"):
                 continue
             (inputs if member.flow == Flow.In else outputs).append(inner)
         width = sum(len(Value.cast(v)) for v in inputs)
-        chain = Signal(width)                     # the core's domain "sync", on aclk
-        m.d.sync += chain.eq(Cat(self.fold_in, chain[:-1]))
+        chain = Signal(width)
+        m.d.fold += chain.eq(Cat(self.fold_in, chain[:-1]))
         offset = 0
         for value in inputs:
             n = len(Value.cast(value))
             m.d.comb += value.eq(chain[offset:offset + n])
             offset += n
         level = Signal(sum(len(Value.cast(v)) for v in outputs))
-        m.d.sync += level.eq(Cat(*outputs))
+        m.d.fold += level.eq(Cat(*outputs))
         while len(level) > 1:
             folded = Signal((len(level) + 3) // 4)
-            m.d.sync += folded.eq(Cat(*[level[i:i + 4].xor() for i in range(0, len(level), 4)]))
+            m.d.fold += folded.eq(Cat(*[level[i:i + 4].xor() for i in range(0, len(level), 4)]))
             level = folded
         m.d.comb += self.fold_out.eq(level)
         return m
