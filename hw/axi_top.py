@@ -26,6 +26,8 @@ is the core reset.
 
 from __future__ import annotations
 
+from typing import Mapping
+
 from amaranth.hdl import ClockDomain, Module, ResetInserter
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
@@ -38,6 +40,7 @@ from dptbd.hw.axis_video import (AxisToPixels, CandidatesToAxis, StatesToAxis,
 from dptbd.hw.dp_segmenter_top import DPSegmenter
 from dptbd.hw.frame_monitor import FrameMonitor
 from dptbd.hw.register_file import RegisterFile
+from dptbd.hw.state_store import StateStoreSignature
 from dptbd.hw.register_map import ADDRESS_BITS, FAULTS, register_map
 
 __all__ = ["AXI_MODULE_NAME", "BUNDLES", "AXITop"]
@@ -85,13 +88,30 @@ class AXITop(wiring.Component):
         AXI4-Lite control port (12-bit byte addresses, 32-bit data).
     irq : Out(1)
         Level interrupt: any pending and enabled ``IRQ_STATUS`` bit.
+
+    state_store_read_addr … state_store_write_en
+        Only with ``external_state_store=True``: the DP core's state-store port
+        (:class:`~dptbd.hw.state_store.StateStoreSignature`: one-cycle synchronous read,
+        one write per cycle), the W*H-word store outside the module (an SRAM; for a device
+        whose block RAM cannot hold it, such as the iCE40 HX8K at 128 x 128). Off by default.
+
+    ``core_options`` (optional): the DP core's implementation options, passed on to
+    :class:`~dptbd.hw.dp_segmenter_top.DPSegmenter` (``None``: DPCore's defaults;
+    ``dptbd verilog --top axi --family`` passes the family's).
     """
 
-    def __init__(self, cfg: DPConfig, *, state_output: bool = False):
+    def __init__(self, cfg: DPConfig, *, state_output: bool = False,
+                 core_options: Mapping[str, str] | None = None,
+                 external_state_store: bool = False):
         self._cfg = cfg
         self._state_output = bool(state_output)
-        self._core = DPSegmenter(cfg, state_output=self._state_output)
+        self._external = bool(external_state_store)
+        self._core = DPSegmenter(cfg, state_output=self._state_output,
+                                 core_options=core_options,
+                                 external_state_store=self._external)
         self._bundles = _bundle_signatures(cfg, self._state_output)
+        if self._external:
+            self._bundles["state_store"] = StateStoreSignature(cfg)
         self._register_map = register_map(cfg)
         members = {"aclk": In(1), "aresetn": In(1)}
         for prefix, signature in self._bundles.items():
@@ -168,6 +188,8 @@ class AXITop(wiring.Component):
             regs.soft_reset_busy.eq(cand_out.busy),
         ]
         state_stalled = self._state_port(m, core, cand_out)
+        if self._external:
+            self._connect_flat(m, "state_store", core.state_store)
         # run-time settings and the LUT write port
         m.d.comb += [core.lut_addr.eq(regs.lut_addr), core.lut_data.eq(regs.lut_data),
                      core.lut_we.eq(regs.lut_we)]

@@ -9,17 +9,20 @@ for ``dptbd_dp``; the cocotb harness (:mod:`dptbd.sim.benches.segmenter`) drives
 
 from __future__ import annotations
 
+from typing import Mapping
+
 from amaranth.hdl import Module, Signal
 from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
 from dptbd.hw.candidate_layout import candidate_layout
-from dptbd.hw.dp_core import lut_write_members
+from dptbd.hw.dp_core import DPCore, lut_write_members
 from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.hw.controller import clamped
 from dptbd.hw.axis_broadcast import StreamBroadcast
 from dptbd.hw.layouts import event_layout, pixel_layout, state_layout
+from dptbd.hw.state_store import StateStoreSignature
 from dptbd.hw.segmenter import Segmenter, segmenter_setting_members
 
 __all__ = ["DPSegmenter"]
@@ -51,17 +54,35 @@ class DPSegmenter(wiring.Component):
         then broadcast to it and to the segmenter
         (:class:`~dptbd.hw.axis_broadcast.StreamBroadcast`: one register stage, so the
         latency grows by one; back-pressure on either consumer stalls the DP pipeline).
+
+    Parameters
+    ----------
+    core_options : Mapping[str, str], optional
+        :class:`~dptbd.hw.dp_core.DPCore`'s implementation options
+        (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`), passed on to the DP pipeline; ``None``
+        (the default) builds DPCore's defaults. ``dptbd verilog --family`` passes a family's
+        (:attr:`~dptbd.hw.flow.family.Family.core_options`); ``max_tree="split"`` adds its
+        cycles to :attr:`latency`.
+    external_state_store : bool
+        Build :class:`~dptbd.hw.dp_core.DPCore` without the on-chip store and bring its
+        state-store port out as the member ``state_store``
+        (:class:`~dptbd.hw.state_store.StateStoreSignature`, the W*H-word store outside, e.g.
+        an SRAM: a device too small for the store on chip, such as the iCE40 HX8K at
+        128 x 128). Off by default (the on-chip :class:`~dptbd.hw.dp_pipeline.DPPipeline`).
     events : Out(event_layout(cfg))
         One-cycle pulses: ``frame_done`` / ``segment_done`` / ``saturated`` with the
         DP pipeline's ``states`` handshake, ``list_done`` with a trailer's handshake on
         ``candidates`` (:func:`~dptbd.hw.layouts.event_layout`).
     """
 
-    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, state_output: bool = False):
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, state_output: bool = False,
+                 core_options: Mapping[str, str] | None = None,
+                 external_state_store: bool = False):
         cfg.require_paper001_datapath("the segmenter top (dptbd.hw.dp_segmenter_top)")
         self._cfg = cfg
         self._state_output = bool(state_output)
-        self._dp = DPPipeline(cfg)
+        self._external = bool(external_state_store)
+        self._dp = (DPCore if self._external else DPPipeline)(cfg, **dict(core_options or {}))
         # The segmenter takes its settings from registers loaded when the DP accepts a
         # segment's first pixel, except at a resync; it takes them only at a segment's first
         # word after reset or an end_of_segment, never the first of a resync's segment. That
@@ -76,6 +97,7 @@ class DPSegmenter(wiring.Component):
             **segmenter_setting_members(cfg),
             "events": Out(event_layout(cfg)),
             **({"states": Out(stream.Signature(state_layout(cfg)))} if state_output else {}),
+            **({"state_store": Out(StateStoreSignature(cfg))} if self._external else {}),
         })
 
     @property
@@ -85,6 +107,16 @@ class DPSegmenter(wiring.Component):
     @property
     def schedule(self):
         return self._dp.schedule
+
+    @property
+    def external_state_store(self) -> bool:
+        """The state store is outside (the ``state_store`` member)."""
+        return self._external
+
+    @property
+    def core_options(self) -> dict:
+        """The DP core's implementation options (:attr:`DPCore.core_options`)."""
+        return self._dp.core_options
 
     @property
     def latency(self) -> int:
@@ -101,6 +133,8 @@ class DPSegmenter(wiring.Component):
         m.submodules.dp = dp = self._dp
         m.submodules.segmenter = seg = self._segmenter
         wiring.connect(m, wiring.flipped(self.pixels), dp.pixels)
+        if self._external:
+            wiring.connect(m, dp.state_store, wiring.flipped(self.state_store))
         if self._state_output:
             m.submodules.state_broadcast = fork = StreamBroadcast(state_layout(self._cfg))
             wiring.connect(m, dp.states, fork.input)

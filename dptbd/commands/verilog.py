@@ -1,10 +1,13 @@
 """``dptbd verilog``: write the DP pipeline's top-level Verilog and its manifest.
 
-``--top dp`` (default) converts the DP pipeline (``dptbd_dp``). ``--top axi`` converts the AXI
-top level ``dptbd_axi`` (AXI4-Stream video in, candidate lists out, AXI4-Lite registers;
-``docs/integration.md``) and writes, beside ``FILE.v`` and ``FILE.json``, the register header
-``dptbd_regs.h``, the ``aclk`` constraints ``FILE.sdc`` / ``FILE.xdc`` at ``--clock-mhz``
-(default 100) and the FuseSoC core ``FILE.core`` (:func:`dptbd.hw.flow.axi_package.axi_package`).
+``--top dp`` (default) converts the DP pipeline (``dptbd_dp``). ``--top seg`` converts the
+pipeline with the segmenter (``dptbd_seg``: pixels in, candidate lists out,
+:func:`dptbd.hw.flow.segmenter_verilog.generate_segmenter_verilog`). ``--top axi`` converts
+the AXI top level ``dptbd_axi`` (AXI4-Stream video in, candidate lists out, AXI4-Lite
+registers; ``docs/integration.md``) and writes, beside ``FILE.v`` and ``FILE.json``, the
+register header ``dptbd_regs.h``, the ``aclk`` constraints ``FILE.sdc`` / ``FILE.xdc`` at
+``--clock-mhz`` (default 100) and the FuseSoC core ``FILE.core``
+(:func:`dptbd.hw.flow.axi_package.axi_package`).
 
 Parameters come from options named after the :class:`~dptbd.config.DPConfig` fields, from a
 TOML file of those fields (``--config``; unknown keys are refused), or both (options win).
@@ -13,10 +16,11 @@ The manifest JSON beside the Verilog lists the parameters, the weight LUT storag
 latency and the payload bit fields (:func:`dptbd.hw.flow.verilog.manifest`). ``--lut-style``
 chooses the weight LUT's storage (``auto``, the default: logic for r = 1, block RAM for
 r = 2; ``bram``; ``logic``), a synthesis choice that does not change behaviour.
-``--family ice40|ecp5`` builds ``dptbd_dp`` with the DPCore implementation options the
+``--family ice40|ecp5`` builds the DPCore of every top with the implementation options the
 synthesis flow uses for that family (:attr:`~dptbd.hw.flow.family.Family.core_options`, the
-ones measured in ``docs/synthesis.md``; the manifest records them under ``core_options``)
+ones measured in ``docs/synthesis.md``; every manifest records them under ``core_options``)
 and refuses a radius the family cannot build (:meth:`~dptbd.hw.flow.family.Family.check_radius`).
+Without ``--family`` every top is built with DPCore's defaults.
 
 ``--state-store axi`` builds ``dptbd_dp`` with the state in external memory behind an AXI4
 manager port ``m_axi_state_*`` (:class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi`; the
@@ -40,7 +44,10 @@ import pathlib
 from dptbd.commands.options import add_config_arguments, config_from_args
 from dptbd.output_folder import check_new_files
 
-__all__ = ["add_arguments", "main"]
+__all__ = ["TOPS", "add_arguments", "main"]
+
+#: The modules ``--top`` selects: ``dptbd_dp``, ``dptbd_seg``, ``dptbd_axi``.
+TOPS = ("dp", "seg", "axi")
 
 #: ``--state-store axi`` options: (option, AxiStoreConfig field).
 AXI_STORE_OPTIONS = (("--axi-data-bits", "data_bits"), ("--axi-burst-beats", "burst_beats"),
@@ -52,9 +59,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", type=pathlib.Path, required=True, metavar="FILE.v",
                         help="Verilog file to write; the manifest goes to FILE.json beside it")
     parser.add_argument("--force", action="store_true", help="overwrite existing files")
-    parser.add_argument("--top", choices=("dp", "axi"), default="dp",
-                        help="dp: the DP pipeline dptbd_dp (default); axi: the AXI top level "
-                             "dptbd_axi with its register header and FuseSoC core")
+    parser.add_argument("--top", choices=TOPS, default="dp",
+                        help="dp: the DP pipeline dptbd_dp (default); seg: the pipeline and "
+                             "the segmenter, dptbd_seg; axi: the AXI top level dptbd_axi with "
+                             "its register header and FuseSoC core")
     parser.add_argument("--external-state-store", action="store_true",
                         help="convert DPCore: the W*H-word state store outside the module")
     parser.add_argument("--lut-style", choices=("auto", "bram", "logic"), default="auto",
@@ -63,7 +71,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "multiplexers, no block RAM; lets the 64x64 top level fit an "
                              "iCE40-HX8K)")
     parser.add_argument("--family", choices=("ice40", "ecp5"), default=None,
-                        help="--top dp: build DPCore with the implementation options measured "
+                        help="every --top: build DPCore with the implementation options measured "
                              "best for this FPGA family (ice40: line buffer in block RAM, side "
                              "band in a block RAM, compact max tree; ecp5: line buffer in LUT "
                              "RAM, side band in registers, max tree split over two stages per "
@@ -116,9 +124,9 @@ def _axi_store(args: argparse.Namespace, cfg):
             verb = "applies" if len(given) == 1 else "apply"
             raise ValueError(f"{', '.join(given)} {verb} to --state-store axi only")
         return None
-    if args.top == "axi":
-        raise ValueError("--state-store axi applies to --top dp only; dptbd_axi keeps its "
-                         "state store on chip")
+    if args.top != "dp":
+        raise ValueError("--state-store axi applies to --top dp only; dptbd_seg and dptbd_axi "
+                         "keep their state store on chip")
     if args.external_state_store:
         raise ValueError("--state-store axi and --external-state-store exclude each other: "
                          "the state store is either behind the AXI4 port or outside the "
@@ -133,20 +141,49 @@ def field_attr(option: str) -> str:
     return option[2:].replace("-", "_")
 
 
-def _write_axi(args: argparse.Namespace, cfg) -> int:
+def _core_options(args: argparse.Namespace, cfg) -> dict | None:
+    """The DPCore options of ``--family`` (``None`` without it: DPCore's defaults); refuses a
+    radius the family cannot build."""
+    if args.family is None:
+        return None
+    from dptbd.hw.flow.family import get_family
+    family = get_family(args.family)
+    family.check_radius(cfg)
+    return dict(family.core_options)
+
+
+def _write_seg(args: argparse.Namespace, cfg, core_options: dict | None) -> int:
+    from dptbd.hw.flow.segmenter_verilog import generate_segmenter_verilog
+
+    out = args.output
+    manifest = out.with_suffix(".json")
+    check_new_files([out, manifest], args.force)
+    text, info = generate_segmenter_verilog(cfg, core_options=core_options)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(text)
+    manifest.write_text(json.dumps(info, indent=2) + "\n")
+    print(f"wrote {out} (module {info['module']}, {info['top']}, {text.count(chr(10))} lines) "
+          f"and {manifest}")
+    print(f"  {cfg.describe()}; latency {info['latency']} cycles")
+    _print_core_options(args, info)
+    return 0
+
+
+def _print_core_options(args: argparse.Namespace, info: dict) -> None:
+    print("  core options: " + ", ".join(f"{k}={v}" for k, v in info["core_options"].items())
+          + ("" if args.family is None else f" (the {args.family} build)"))
+
+
+def _write_axi(args: argparse.Namespace, cfg, core_options: dict | None) -> int:
     from dptbd.hw.flow.axi_package import (DEFAULT_CLOCK_MHZ, axi_package, check_clock_mhz,
                                            package_file_names)
 
-    if args.external_state_store or args.lut_style != "auto" or args.family is not None:
-        raise ValueError("--external-state-store, --lut-style and --family apply to --top dp "
-                         "only; --top axi keeps the state store on chip with the automatic LUT "
-                         "style and DPCore's default options")
     clock_mhz = check_clock_mhz(DEFAULT_CLOCK_MHZ if args.clock_mhz is None else args.clock_mhz,
                                 "--clock-mhz")
     out = args.output
     check_new_files([out.parent / name for name in package_file_names(out.stem)], args.force)
     files = axi_package(cfg, out.stem, clock_mhz, state_output=args.state_output,
-                        allow_saturation=args.allow_saturation)
+                        allow_saturation=args.allow_saturation, core_options=core_options)
     out.parent.mkdir(parents=True, exist_ok=True)
     for name, text in files.items():
         (out.parent / name).write_text(text)
@@ -154,7 +191,28 @@ def _write_axi(args: argparse.Namespace, cfg) -> int:
     print(f"wrote {', '.join(str(out.parent / n) for n in files)} (module {info['module']}, "
           f"{cfg.width}x{cfg.height}, latency {info['latency']} cycles, aclk "
           f"{clock_mhz:g} MHz)")
+    _print_core_options(args, info)
     return 0
+
+
+def _check_top_options(args: argparse.Namespace) -> None:
+    """Refuse an option the chosen ``--top`` does not take, before anything is built."""
+    if args.top != "dp" and (args.external_state_store or args.lut_style != "auto"):
+        raise ValueError(f"--external-state-store and --lut-style apply to --top dp only; "
+                         f"--top {args.top} keeps the state store on chip with the automatic "
+                         f"LUT style")
+    if args.top == "axi":
+        return
+    shipped = {"dp": "dptbd_dp", "seg": "dptbd_seg"}[args.top]
+    if args.clock_mhz is not None:
+        raise ValueError(f"--clock-mhz applies to --top axi only ({shipped} ships no "
+                         f"constraints)")
+    if args.allow_saturation:
+        raise ValueError("--allow-saturation applies to --top axi only")
+    if args.state_output:
+        raise ValueError("--state-output applies to --top axi only (dptbd_dp always outputs "
+                         "its states)" if args.top == "dp" else
+                         "--state-output applies to --top axi only")
 
 
 def main(args: argparse.Namespace) -> int:
@@ -163,6 +221,7 @@ def main(args: argparse.Namespace) -> int:
     out = args.output
     if out.suffix == ".json":
         raise ValueError(f"output {out} would collide with its manifest; use a .v name")
+    _check_top_options(args)
     manifest = out.with_suffix(".json")
     asked = config_from_args(args)
     cfg = asked.build_config(fractional_lut=args.fractional_lut)
@@ -173,21 +232,11 @@ def main(args: argparse.Namespace) -> int:
               + ("" if args.fractional_lut or cfg.weight_frac_bits == asked.weight_frac_bits
                  else "; --fractional-lut keeps F"))
     state_store = _axi_store(args, cfg)
+    core_options = _core_options(args, cfg)
     if args.top == "axi":
-        return _write_axi(args, cfg)
-    if args.clock_mhz is not None:
-        raise ValueError("--clock-mhz applies to --top axi only (dptbd_dp ships no constraints)")
-    if args.allow_saturation:
-        raise ValueError("--allow-saturation applies to --top axi only")
-    if args.state_output:
-        raise ValueError("--state-output applies to --top axi only (dptbd_dp always outputs "
-                         "its states)")
-    core_options = None
-    if args.family is not None:
-        from dptbd.hw.flow.family import get_family
-        family = get_family(args.family)
-        family.check_radius(cfg)
-        core_options = dict(family.core_options)
+        return _write_axi(args, cfg, core_options)
+    if args.top == "seg":
+        return _write_seg(args, cfg, core_options)
     check_new_files([out, manifest], args.force)
     text, info = generate_verilog(cfg, external_state_store=args.external_state_store,
                                   lut_style=args.lut_style, core_options=core_options,
@@ -199,8 +248,7 @@ def main(args: argparse.Namespace) -> int:
     print(f"wrote {out} (module {info['module']}, {info['top']}, {text.count(chr(10))} lines) "
           f"and {manifest}")
     print(f"  {cfg.describe()}; weight LUT in {info['lut_style']}; latency {info['latency']} cycles")
-    print("  core options: " + ", ".join(f"{k}={v}" for k, v in info["core_options"].items())
-          + ("" if args.family is None else f" (the {args.family} build)"))
+    _print_core_options(args, info)
     if state_store is not None:
         print(f"  state store: AXI4 {state_store.data_bits}-bit, {state_store.states_per_beat} "
               f"states of {state_store.slot_bits} bits per beat, bursts of "

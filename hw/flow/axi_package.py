@@ -21,6 +21,7 @@ core description, as texts (the library job behind ``dptbd verilog --top axi``).
 from __future__ import annotations
 
 import json
+from typing import Mapping
 
 from amaranth.hdl import Shape
 from amaranth.lib import data, wiring
@@ -105,6 +106,7 @@ def axi_manifest(cfg: DPConfig, top: AXITop) -> dict:
     core = top.core
     return {
         **manifest_header(cfg, AXI_MODULE_NAME, top),
+        "core_options": core.core_options,
         "clock": {"name": "aclk", "edge": "rising"},
         "reset": {"name": "aresetn", "polarity": "active_low", "kind": "synchronous"},
         "latency": core.latency,
@@ -176,10 +178,12 @@ def fusesoc_core(cfg: DPConfig, stem: str, version: str) -> str:
     ])
 
 
-def generate_axi_verilog(cfg: DPConfig, *, state_output: bool = False) -> tuple[str, dict]:
-    """Module ``dptbd_axi`` for ``cfg`` (with ``m_axis_state`` if ``state_output``): its
-    Verilog text and its manifest."""
-    top = AXITop(cfg, state_output=state_output)
+def generate_axi_verilog(cfg: DPConfig, *, state_output: bool = False,
+                         core_options: Mapping[str, str] | None = None) -> tuple[str, dict]:
+    """Module ``dptbd_axi`` for ``cfg`` (with ``m_axis_state`` if ``state_output``; the DP
+    core built with ``core_options``, ``None`` for DPCore's defaults): its Verilog text and
+    its manifest."""
+    top = AXITop(cfg, state_output=state_output, core_options=core_options)
     return to_verilog(top, AXI_MODULE_NAME), axi_manifest(cfg, top)
 
 
@@ -212,9 +216,12 @@ def check_no_saturation(cfg: DPConfig) -> None:
 
 def axi_package(cfg: DPConfig, stem: str = AXI_MODULE_NAME,
                 clock_mhz: float = DEFAULT_CLOCK_MHZ, *,
-                state_output: bool = False, allow_saturation: bool = False) -> dict[str, str]:
+                state_output: bool = False, allow_saturation: bool = False,
+                core_options: Mapping[str, str] | None = None) -> dict[str, str]:
     """``{file name: text}`` of the package (see the module doc), constraints at
-    ``clock_mhz`` (in :data:`CLOCK_MHZ_RANGE`), ``m_axis_state`` if ``state_output``.
+    ``clock_mhz`` (in :data:`CLOCK_MHZ_RANGE`), ``m_axis_state`` if ``state_output``, the DP
+    core built with ``core_options`` (``None``: DPCore's defaults; ``dptbd verilog --family``
+    passes the family's :attr:`~dptbd.hw.flow.family.Family.core_options`).
 
     A configuration whose E can saturate is refused (:func:`check_no_saturation`) unless
     ``allow_saturation``."""
@@ -223,7 +230,8 @@ def axi_package(cfg: DPConfig, stem: str = AXI_MODULE_NAME,
     if not allow_saturation:
         check_no_saturation(cfg)
     clock_mhz = check_clock_mhz(clock_mhz)
-    text, info = generate_axi_verilog(cfg, state_output=state_output)
+    text, info = generate_axi_verilog(cfg, state_output=state_output,
+                                      core_options=core_options)
     info["clock"]["frequency_mhz"] = clock_mhz
     info["constraints"] = {"sdc": f"{stem}.sdc", "xdc": f"{stem}.xdc",
                            "period_ns": round(1000.0 / clock_mhz, 3)}

@@ -103,7 +103,7 @@ class Family:
                 f"{device}'s block RAM with an on-chip state store: {cfg.width * cfg.height} "
                 f"words of state_bits={cfg.state_bits} need at least {need} bits, the device has "
                 f"{count * bits_each} ({count} x {bits_each}); build the core with the store "
-                f"outside (DPCore, variant 'core') or choose a larger device")
+                f"outside (variant 'core', 'segmenter-ext' or 'axi-ext') or choose a larger device")
 
     def check_radius(self, cfg: DPConfig) -> None:
         """Refuse a search radius the family cannot build (:attr:`max_radius`).

@@ -9,16 +9,17 @@ behind other registers (the AXI top level's adapters). ``RegisteredPorts(core)``
 core's signature and puts one register between every port and the core (on an ECP5 or
 iCE40 the I/O-to-register paths are then the only ones at the pins and, unconstrained, are
 not timed), as an out-of-context flow does. Its cells are counted with the core's, so the
-``core-regio`` variant is for Fmax only.
+``core-regio`` variant is for Fmax only. :class:`FoldedPorts` folds the ports of a top level
+with more ports than the package has pins onto two pins.
 """
 
 from __future__ import annotations
 
-from amaranth.hdl import Module
+from amaranth.hdl import Cat, ClockDomain, Module, Signal, Value
 from amaranth.lib import wiring
-from amaranth.lib.wiring import Flow
+from amaranth.lib.wiring import Flow, In, Out
 
-__all__ = ["RegisteredPorts"]
+__all__ = ["RegisteredPorts", "FoldedPorts"]
 
 
 class RegisteredPorts(wiring.Component):
@@ -53,4 +54,58 @@ class RegisteredPorts(wiring.Component):
                 m.d.sync += inner.eq(outer)
             else:
                 m.d.sync += outer.eq(inner)
+        return m
+
+
+class FoldedPorts(wiring.Component):
+    """A top level with its own ``aclk`` / ``aresetn`` (:class:`~dptbd.hw.axi_top.AXITop`)
+    behind two pins: every other input fed from a shift register on ``fold_in``, every
+    output registered and XOR-folded, one register per level of 4, onto ``fold_out``.
+
+    For measuring a core with more ports than the package has pins (``dptbd_axi`` with its
+    state store outside, 221 pins, on the iCE40 HX8K's ct256, 206 I/O): the inputs take any
+    value and every output bit reaches ``fold_out``, so synthesis removes nothing, and the
+    wrapper's own paths are one LUT level between registers. Its cells are counted with the
+    core's (about one flip-flop per port bit), so the ``axi-ext`` variant is for Fmax and an
+    upper bound of the cost. Members: ``aclk``, ``aresetn``, ``fold_in`` (In), ``fold_out``
+    (Out); ``config``, ``latency`` and ``core_options`` are the core's.
+    """
+
+    def __init__(self, core: wiring.Component):
+        self._core = core
+        super().__init__({"aclk": In(1), "aresetn": In(1), "fold_in": In(1),
+                          "fold_out": Out(1)})
+
+    def __getattr__(self, name):
+        if name in ("latency", "core_options", "config"):
+            return getattr(self._core, name)
+        raise AttributeError(name)
+
+    def elaborate(self, platform):
+        m = Module()
+        m.submodules.core = core = self._core
+        # the wrapper's own domain on the same clock and reset as the core's
+        m.domains.fold = fold = ClockDomain("fold", local=True)
+        m.d.comb += [fold.clk.eq(self.aclk), fold.rst.eq(~self.aresetn),
+                     core.aclk.eq(self.aclk), core.aresetn.eq(self.aresetn)]
+        inputs, outputs = [], []
+        for path, member, inner in core.signature.flatten(core):
+            if path[-1] in ("aclk", "aresetn"):
+                continue
+            (inputs if member.flow == Flow.In else outputs).append(inner)
+        width = sum(len(Value.cast(v)) for v in inputs)
+        chain = Signal(width)
+        m.d.fold += chain.eq(Cat(self.fold_in, chain[:-1]))
+        offset = 0
+        for value in inputs:
+            n = len(Value.cast(value))
+            m.d.comb += value.eq(chain[offset:offset + n])
+            offset += n
+        level = Signal(sum(len(Value.cast(v)) for v in outputs))
+        m.d.fold += level.eq(Cat(*outputs))
+        while len(level) > 1:
+            folded = Signal((len(level) + 3) // 4)
+            m.d.fold += folded.eq(Cat(*[level[i:i + 4].xor() for i in range(0, len(level), 4)]))
+            level = folded
+        m.d.comb += self.fold_out.eq(level)
         return m

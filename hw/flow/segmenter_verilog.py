@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import pathlib
+from typing import Mapping
 
 from amaranth.lib import data
 
@@ -31,6 +32,7 @@ def segmenter_manifest(cfg: DPConfig, top: DPSegmenter) -> dict:
     bits = bits_per_segment(cfg)
     return {
         **manifest_header(cfg, SEGMENTER_MODULE_NAME, top),
+        "core_options": top.core_options,
         "derived": {
             "n_moves": cfg.n_moves,
             "direction_bits": cfg.direction_bits,
@@ -57,9 +59,14 @@ def segmenter_manifest(cfg: DPConfig, top: DPSegmenter) -> dict:
     }
 
 
-def generate_segmenter_verilog(cfg: DPConfig, *, manifest_path: str | pathlib.Path | None = None
+def generate_segmenter_verilog(cfg: DPConfig, *, core_options: Mapping[str, str] | None = None,
+                               manifest_path: str | pathlib.Path | None = None
                                ) -> tuple[str, dict]:
     """Convert :class:`DPSegmenter` for ``cfg`` to Verilog module ``dptbd_seg``.
+
+    ``core_options``: the DP core's implementation options (``None``: DPCore's defaults;
+    :attr:`~dptbd.hw.flow.family.Family.core_options` for a family's build), recorded in the
+    manifest under ``core_options``.
 
     Returns
     -------
@@ -79,7 +86,7 @@ def generate_segmenter_verilog(cfg: DPConfig, *, manifest_path: str | pathlib.Pa
             f"candidate_count: n = 0 candidate points per segment (0.2 % of {cfg.width}x"
             f"{cfg.height} = {cfg.width * cfg.height} pixels rounds to 0) gives a segmenter "
             f"that emits no points; set candidate_count to 1 … {cfg.width * cfg.height}")
-    top = DPSegmenter(cfg)
+    top = DPSegmenter(cfg, core_options=core_options)
     text = to_verilog(top, SEGMENTER_MODULE_NAME)
     info = segmenter_manifest(cfg, top)
     if manifest_path is not None:

@@ -2,9 +2,11 @@
 
 ``synthesize(cfg, family=…, device=…)`` generates the Verilog of
 :class:`~dptbd.hw.dp_core.DPCore` (``variant="core"``, state store outside),
-:class:`~dptbd.hw.dp_pipeline.DPPipeline` (``variant="top"``, on-chip state store) or
+:class:`~dptbd.hw.dp_pipeline.DPPipeline` (``variant="top"``, on-chip state store),
 :class:`~dptbd.hw.dp_segmenter_top.DPSegmenter` (``variant="segmenter"``: the pipeline and
-the segmenter), synthesises it with Yosys (``synth_ice40`` / ``synth_ecp5``), places and
+the segmenter; ``"segmenter-ext"`` with the store outside) or the AXI top level
+:class:`~dptbd.hw.axi_top.AXITop` (``"axi"``; ``"axi-ext"`` with the store outside, see
+:data:`VARIANTS`), each DPCore with the family's implementation options, synthesises it with Yosys (``synth_ice40`` / ``synth_ecp5``), places and
 routes it with nextpnr once per placement seed, and returns a :class:`SynthResult`: Yosys
 cell counts (LUT4, flip-flops, carry, block RAM, DSP), and per seed the post-route Fmax, the
 device utilisation, the critical path and whether the design fits; with ``breakdown=True``
@@ -73,8 +75,20 @@ __all__ = [
 #: (on-chip store); ``"segmenter"``: DPSegmenter (DPPipeline and Segmenter);
 #: ``"core-regio"``: DPCore behind a register on every port
 #: (:class:`~dptbd.hw.flow.registered_ports.RegisteredPorts`: its Fmax without the pins'
-#: pull on the core's registers; its cells include the port registers).
-VARIANTS = ("core", "top", "segmenter", "core-regio")
+#: pull on the core's registers; its cells include the port registers);
+#: ``"segmenter-ext"``: DPSegmenter with the state store outside (``state_store__*``);
+#: ``"axi"``: the AXI top level (:class:`~dptbd.hw.axi_top.AXITop`, on-chip store);
+#: ``"axi-ext"``: AXITop with the state store outside, its ports folded onto two pins
+#: (:class:`~dptbd.hw.flow.registered_ports.FoldedPorts`: 221 ports do not fit the HX8K's
+#: 206 I/O; its cells include about one flip-flop per port bit).
+VARIANTS = ("core", "top", "segmenter", "core-regio", "segmenter-ext", "axi", "axi-ext")
+
+#: The variants with the W*H-word state store on chip (checked against the device's block
+#: RAM before any tool runs).
+ON_CHIP_STORE = ("top", "segmenter", "axi")
+
+#: The variants of a segmenter top (DPSegmenter, AXITop): the weight LUT's style is automatic.
+SEGMENTER_TOPS = ("segmenter", "segmenter-ext", "axi", "axi-ext")
 
 VERILOG_NAME = "dptbd_dp.v"
 
@@ -195,19 +209,22 @@ def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: Ma
                                    lut_style=lut_style, core_options=core_options,
                                    manifest_path=work / "dptbd_dp.json")
         return text
-    from dptbd.hw.dp_segmenter_top import DPSegmenter
     from dptbd.hw.flow.to_verilog import to_verilog
-    return to_verilog(DPSegmenter(cfg), MODULE_NAME)
+    external = variant.endswith("-ext")
+    if variant.startswith("axi"):
+        from dptbd.hw.axi_top import AXITop
+        from dptbd.hw.flow.registered_ports import FoldedPorts
+        top = AXITop(cfg, core_options=core_options, external_state_store=external)
+        return to_verilog(FoldedPorts(top) if external else top, MODULE_NAME)
+    from dptbd.hw.dp_segmenter_top import DPSegmenter
+    return to_verilog(DPSegmenter(cfg, core_options=core_options,
+                                  external_state_store=external), MODULE_NAME)
 
 
-def _core_options(fam: Family, variant: str, core_options: Mapping | None) -> dict:
+def _core_options(fam: Family, core_options: Mapping | None) -> dict:
     """The DPCore storage options of a run: the family's, overridden by ``core_options``."""
     from dptbd.hw.dp_core import CORE_OPTIONS
     given = dict(core_options or {})
-    if variant == "segmenter":
-        if given:
-            raise ValueError(f"core_options must be empty for variant 'segmenter', got {given}")
-        return {}
     for key, value in given.items():
         if key not in CORE_OPTIONS:
             raise ValueError(f"core_options keys must be in {tuple(CORE_OPTIONS)}, got {key!r}")
@@ -233,10 +250,14 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     ----------
     cfg : DPConfig
         The configuration.
-    variant : {"core", "top", "segmenter"}
-        ``"core"``: :class:`DPCore` (state store outside, on the module's ports);
-        ``"top"``: :class:`DPPipeline` (W*H-word on-chip state store);
-        ``"segmenter"``: :class:`DPSegmenter` (``DPPipeline`` and the segmenter).
+    variant : str
+        One of :data:`VARIANTS`. ``"core"``: :class:`DPCore` (state store outside, on the
+        module's ports); ``"top"``: :class:`DPPipeline` (W*H-word on-chip state store);
+        ``"segmenter"``: :class:`DPSegmenter` (``DPPipeline`` and the segmenter);
+        ``"segmenter-ext"``: the same with the store outside; ``"axi"``: :class:`AXITop`
+        (``dptbd_axi``, on-chip store); ``"axi-ext"``: AXITop with the store outside, its
+        ports folded onto two pins (:class:`~dptbd.hw.flow.registered_ports.FoldedPorts`).
+        Every variant's Verilog module is ``dptbd_dp``.
     family : {"ice40", "ecp5"}
         The FPGA family (:data:`FAMILIES`).
     device, package : str, optional
@@ -263,15 +284,14 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         Weight LUT storage, passed to the gateware
         (:class:`~dptbd.hw.weight_lut.WeightLUT`); the resolved style is
         ``SynthResult.params["lut_style"]``. ``ValueError`` for anything else, and for
-        anything but ``"auto"`` with the ``segmenter`` variant (which has no such option).
+        anything but ``"auto"`` with a segmenter or AXI variant (which have no such option).
     core_options : Mapping[str, str], optional
-        ``DPCore``'s storage options (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`) for the
-        ``core`` and ``top`` variants, over the family's
+        ``DPCore``'s storage options (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`) for every
+        variant (the DPCore inside the segmenter and AXI tops too), over the family's
         (:attr:`~dptbd.hw.flow.family.Family.core_options`: iCE40 line buffer in block RAM
         and side band in a block RAM; ECP5 line buffer in LUT RAM and side band in
         registers). Recorded in ``SynthResult.params["core_options"]``. ``ValueError`` for
-        an unknown option or value, and for any option with the ``segmenter`` variant
-        (built with DPCore's defaults).
+        an unknown option or value.
     breakdown : bool
         Also synthesise without flattening and record each block's cells
         (``SynthResult.blocks``).
@@ -289,8 +309,8 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     SynthToolError
         A tool failed for a reason other than the design not fitting.
     dptbd.errors.ConfigError
-        The gateware does not support ``cfg``; or, for the ``top`` and ``segmenter``
-        variants, the W x H state store cannot fit the device's block RAM
+        The gateware does not support ``cfg``; or, for the variants with the store on
+        chip (:data:`ON_CHIP_STORE`), the W x H state store cannot fit the device's block RAM
         (:meth:`~dptbd.hw.flow.family.Family.check_on_chip_store`), before any tool runs.
     """
     from dptbd.hw.weight_lut import resolve_lut_style
@@ -298,15 +318,15 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     style = resolve_lut_style(cfg, lut_style)   # ValueError before any tool runs
     if variant not in VARIANTS:
         raise ValueError(f"variant must be one of {VARIANTS}, got {variant!r}")
-    if variant == "segmenter" and lut_style != "auto":
-        raise ValueError(f"lut_style must be 'auto' for variant 'segmenter', got {lut_style!r}")
+    if variant in SEGMENTER_TOPS and lut_style != "auto":
+        raise ValueError(f"lut_style must be 'auto' for variant {variant!r}, got {lut_style!r}")
     fam = get_family(family)
-    options = _core_options(fam, variant, core_options)
+    options = _core_options(fam, core_options)
     device = fam.default_device if device is None else device
     package = fam.default_package if package is None else package
     target_mhz = fam.default_target_mhz if target_mhz is None else float(target_mhz)
     fam.check_device(device)
-    if variant not in ("core", "core-regio"):
+    if variant in ON_CHIP_STORE:
         fam.check_on_chip_store(cfg, device)
     seeds = tuple(int(s) for s in seeds)
     if len(set(seeds)) != len(seeds):

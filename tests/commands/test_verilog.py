@@ -251,13 +251,12 @@ def test_verilog_top_axi_refuses_existing_files_and_dp_only_options(tmp_path):
     with pytest.raises(FileExistsError,
                        match=whole(f"{three} and {names[1]} exist; pass --force to overwrite")):
         verilog_command.main(parse(["-o", out, "--top", "axi", "--width", 8, "--height", 6]))
-    for option in (["--lut-style", "logic"], ["--family", "ecp5"]):
-        with pytest.raises(ValueError, match=r"^--external-state-store, --lut-style and "
-                                             r"--family apply to --top dp only; --top axi "
-                                             r"keeps the state store on chip with the "
-                                             r"automatic LUT style and DPCore's default "
-                                             r"options$"):
-            verilog_command.main(parse(["-o", out, "--top", "axi", *option, "--force"]))
+    for top in ("axi", "seg"):
+        for option in (["--lut-style", "logic"], ["--external-state-store"]):
+            with pytest.raises(ValueError, match=whole(
+                    f"--external-state-store and --lut-style apply to --top dp only; --top "
+                    f"{top} keeps the state store on chip with the automatic LUT style")):
+                verilog_command.main(parse(["-o", out, "--top", top, *option, "--force"]))
     toml = tmp_path / "p.toml"
     toml.write_text("width = 8\nheight = 6\ncandidate_count = 2\n")
     assert verilog_command.main(parse(["-o", out, "--top", "axi", "--config", toml,
@@ -328,7 +327,11 @@ def test_verilog_on_chip_build_has_no_state_store_entry(tmp_path):
     (["--axi-id-bits", 2, "--state-base", 0], ValueError,
      "--axi-id-bits, --state-base apply to --state-store axi only"),
     (["--state-store", "axi", "--top", "axi"], ValueError,
-     "--state-store axi applies to --top dp only; dptbd_axi keeps its state store on chip"),
+     "--state-store axi applies to --top dp only; dptbd_seg and dptbd_axi keep their state "
+     "store on chip"),
+    (["--state-store", "axi", "--top", "seg"], ValueError,
+     "--state-store axi applies to --top dp only; dptbd_seg and dptbd_axi keep their state "
+     "store on chip"),
     (["--state-store", "axi", "--external-state-store"], ValueError,
      "--state-store axi and --external-state-store exclude each other: the state store is "
      "either behind the AXI4 port or outside the module"),
@@ -344,3 +347,56 @@ def test_verilog_state_store_refusals(tmp_path, argv, error, message):
     with pytest.raises(error, match=whole(message)):
         verilog_command.main(parse(["-o", tmp_path / "dp.v", *argv]))
     assert not (tmp_path / "dp.v").exists()
+
+
+ECP5_OPTIONS = {"line_buffer_style": "lutram", "sideband_delay": "registers", "max_tree": "split"}
+ICE40_OPTIONS = {"line_buffer_style": "bram", "sideband_delay": "memory", "max_tree": "compact"}
+DEFAULT_OPTIONS = {"line_buffer_style": "bram", "sideband_delay": "registers",
+                   "max_tree": "compact"}
+
+
+@pytest.mark.parametrize("top, module", [("seg", "dptbd_seg"), ("axi", "dptbd_axi")])
+@pytest.mark.parametrize("family, options, extra", [
+    (None, DEFAULT_OPTIONS, 0), ("ice40", ICE40_OPTIONS, 0), ("ecp5", ECP5_OPTIONS, 4)])
+def test_verilog_family_applies_to_every_top(tmp_path, capsys, top, module, family, options,
+                                             extra):
+    """The DPCore inside dptbd_seg / dptbd_axi gets the family's options (ECP5's split max
+    tree: 4 cycles more, in the manifest's latency and dp_latency); without --family,
+    DPCore's defaults."""
+    out = tmp_path / f"{top}.v"
+    toml = tmp_path / "p.toml"
+    toml.write_text("width = 8\nheight = 6\ncandidate_count = 2\n")
+    argv = ["-o", out, "--top", top, "--config", toml]
+    assert verilog_command.main(parse(argv + ([] if family is None
+                                              else ["--family", family]))) == 0
+    manifest = json.loads((tmp_path / f"{top}.json").read_text())
+    assert manifest["module"] == module and manifest["core_options"] == options
+    assert (manifest["dp_latency"], manifest["latency"]) == (11 + extra, 14 + extra)
+    assert f"module {module}(" in out.read_text()
+    said = capsys.readouterr().out
+    assert ("  core options: " + ", ".join(f"{k}={v}" for k, v in options.items())
+            + ("" if family is None else f" (the {family} build)")) in said.splitlines()
+
+
+@pytest.mark.parametrize("top", ["dp", "seg", "axi"])
+def test_verilog_family_refuses_a_radius_it_cannot_build_for_every_top(tmp_path, top):
+    out = tmp_path / "t.v"
+    with pytest.raises(ConfigError, match=whole(
+            "radius=2 is beyond the ice40 family's resources: radius must be in [1, 1] for "
+            "ice40 (docs/synthesis.md); build for ecp5")):
+        verilog_command.main(parse(["-o", out, "--top", top, "--width", 16, "--height", 8,
+                                    "--radius", 2, "--family", "ice40"]))
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_verilog_top_seg_refuses_the_axi_only_options(tmp_path):
+    out = tmp_path / "s.v"
+    for option, message in (
+            (["--clock-mhz", 50], "--clock-mhz applies to --top axi only (dptbd_seg ships no "
+                                  "constraints)"),
+            (["--allow-saturation"], "--allow-saturation applies to --top axi only"),
+            (["--state-output"], "--state-output applies to --top axi only")):
+        with pytest.raises(ValueError, match=whole(message)):
+            verilog_command.main(parse(["-o", out, "--top", "seg", "--width", 8, "--height", 6,
+                                        *option]))
+    assert list(tmp_path.iterdir()) == []

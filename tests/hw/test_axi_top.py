@@ -6,6 +6,7 @@ close of an open list or state line.
 
 import numpy as np
 from amaranth.hdl import Fragment
+from amaranth.lib.wiring import In, Out
 
 from dptbd.hw.axi_lite import RESP_OKAY, RESP_SLVERR
 from dptbd.hw.axi_top import AXITop
@@ -283,3 +284,25 @@ def test_soft_reset_completes_the_open_state_line_and_waits_for_it():
     assert got == [int(w) for w in want.words]
     assert [u & 1 for _d, u, _l in seen["words"]] == [1] + [0] * (len(frame) - 1)
     assert [last for _d, _u, last in seen["words"]] == [f[2] for f in frame]
+
+
+def test_external_state_store_ports_and_core_options():
+    """``external_state_store=True`` brings the DP core's state-store port out as
+    ``state_store_*`` (flows as the core sees them), between the AXI bundles and ``irq``;
+    ``core_options`` reach the DP core. Off by default."""
+    cfg = config()
+    options = {"line_buffer_style": "lutram", "sideband_delay": "memory", "max_tree": "split"}
+    top = AXITop(cfg, external_state_store=True, core_options=options)
+    ports = {path[0]: member.flow for path, member, _v in top.signature.flatten(top)}
+    store = [n for n in ports if n.startswith("state_store_")]
+    assert store == ["state_store_read_addr", "state_store_read_en", "state_store_read_data",
+                     "state_store_write_addr", "state_store_write_data",
+                     "state_store_write_en"]
+    assert [ports[n] for n in store] == [Out, Out, In, Out, Out, Out]
+    assert list(ports)[-1] == "irq"
+    assert top.core.external_state_store and top.core.core_options == options
+    plain = AXITop(cfg)
+    Fragment.get(plain, None)
+    assert not plain.core.external_state_store
+    assert not [p for p, _m, _v in plain.signature.flatten(plain) if p[0].startswith("state")]
+    Fragment.get(top, None)

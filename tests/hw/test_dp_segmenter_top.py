@@ -3,9 +3,12 @@ candidate lists out, compared with ``dptbd.model.fixed`` + ``segment_sequence``.
 
 import numpy as np
 import pytest
+from amaranth.hdl import Elaboratable, Fragment, Module
+from amaranth.lib import wiring
 
 from dptbd.hw.dp_core import DPCore
 from dptbd.hw.dp_segmenter_top import DPSegmenter
+from dptbd.hw.state_store import StateStore
 from dptbd.sim.scenarios import make_frames
 from dptbd.sim.candidate_scoreboard import expected_lists
 from helpers.hw_harness import event_counter, refused
@@ -132,3 +135,40 @@ def test_the_segmenter_top_refuses_a_family_configuration():
             r"dptbd\.model\.family\.run_family_fixed$")):
         DPSegmenter(cfg)
     DPCore(cfg)._MustUse__silence = True   # the DP core itself builds it
+
+
+class _WithStore(Elaboratable):
+    """``DPSegmenter(external_state_store=True)`` with a :class:`StateStore` on its port."""
+
+    def __init__(self, dut):
+        self.dut = dut
+
+    def elaborate(self, platform):
+        m = Module()
+        m.submodules.dut = self.dut
+        m.submodules.store = store = StateStore(self.dut.config)
+        wiring.connect(m, self.dut.state_store, store.bus)
+        return m
+
+
+@pytest.mark.parametrize("core_options", [None, {"line_buffer_style": "lutram",
+                                                 "sideband_delay": "memory",
+                                                 "max_tree": "split"}])
+def test_external_state_store_and_core_options_keep_the_bits(core_options):
+    """The store outside (the ``state_store`` member, here a StateStore on it) and DPCore's
+    implementation options build the same lists; ``split`` adds its cycles to the latency."""
+    kw, scenario, n_frames, seed, (valid, ready) = CASES["8x6-k3-random"]
+    cfg = make_config(**kw)
+    frames = make_frames(scenario, cfg, n_frames, seed=seed)
+    lists = expected_lists(cfg, frames)
+    dut = DPSegmenter(cfg, external_state_store=True, core_options=core_options)
+    plain = DPSegmenter(cfg)
+    Fragment.get(plain, None)                  # elaborated: no UnusedElaboratable warning
+    assert dut.external_state_store and not plain.external_state_store
+    assert dut.latency == plain.latency + (4 if core_options else 0)
+    assert dut.core_options == (core_options or {"line_buffer_style": "bram",
+                                                 "sideband_delay": "registers",
+                                                 "max_tree": "compact"})
+    run_lists(cfg, _WithStore(dut), dut.pixels, dut.candidates, pack_frames(cfg, frames),
+              lists, valid_probability=valid, ready_probability=ready, seed=n_frames)
+    assert sum(lst.count for lst in lists) >= 7

@@ -5,7 +5,7 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.errors import ConfigError
 from dptbd.hw.flow.family import ECP5, FAMILIES, ICE40, get_family
-from dptbd.hw.flow.synth import synthesize
+from dptbd.hw.flow.synth import ToolNotFoundError, synthesize
 
 
 def test_families():
@@ -40,16 +40,25 @@ def test_a_frame_beyond_the_block_ram_is_refused_naming_the_limit():
     with pytest.raises(ConfigError, match=(
             r"^width=128 x height=128 does not fit the ice40 hx8k's block RAM with an on-chip "
             r"state store: 16384 words of state_bits=20 need at least 327680 bits, the device "
-            r"has 131072 \(32 x 4096\); build the core with the store outside \(DPCore, "
-            r"variant 'core'\) or choose a larger device$")):
+            r"has 131072 \(32 x 4096\); build the core with the store outside \(variant "
+            r"'core', 'segmenter-ext' or 'axi-ext'\) or choose a larger device$")):
         ICE40.check_on_chip_store(DPConfig(width=128, height=128), "hx8k")
     with pytest.raises(ConfigError, match=r"^width=640 x height=512 does not fit the ecp5 25k's"):
         ECP5.check_on_chip_store(DPConfig(width=640, height=512), "25k")
 
 
-def test_synthesize_refuses_the_store_before_any_tool_runs():
+@pytest.mark.parametrize("variant", ["top", "segmenter", "axi"])
+def test_synthesize_refuses_the_store_before_any_tool_runs(variant):
     with pytest.raises(ConfigError, match=r"^width=128 x height=128 does not fit the ice40 hx8k"):
-        synthesize(DPConfig(width=128, height=128), variant="top", family="ice40",
+        synthesize(DPConfig(width=128, height=128), variant=variant, family="ice40",
+                   yosys="/nonexistent/yosys", seeds=())
+
+
+@pytest.mark.parametrize("variant", ["core", "core-regio", "segmenter-ext", "axi-ext"])
+def test_the_store_outside_is_not_checked(variant):
+    """The variants with the store outside go on to the tools (here: a missing Yosys)."""
+    with pytest.raises(ToolNotFoundError, match=r"^'/nonexistent/yosys' not found on PATH"):
+        synthesize(DPConfig(width=128, height=128), variant=variant, family="ice40",
                    yosys="/nonexistent/yosys", seeds=())
 
 

@@ -1,14 +1,15 @@
 """RegisteredPorts: one register on every port, the core's signature and properties."""
 
+import numpy as np
 from amaranth.back import rtlil
-from amaranth.hdl import Module
+from amaranth.hdl import Cat, ClockDomain, Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 from amaranth.sim import Simulator
 
 from dptbd.config import DPConfig
 from dptbd.hw.dp_core import DPCore
-from dptbd.hw.flow.registered_ports import RegisteredPorts
+from dptbd.hw.flow.registered_ports import FoldedPorts, RegisteredPorts
 
 
 class Adder(wiring.Component):
@@ -52,3 +53,63 @@ def test_core_properties_pass_through():
     assert (dut.latency, dut.schedule, dut.core_options) == \
         (core.latency, core.schedule, core.core_options)
     assert "core" in rtlil.convert(dut)    # elaborated: the core is its submodule
+
+
+class Toy(wiring.Component):
+    """A top level with its own clock: ``y`` = ``Cat(a, b)`` registered on ``aclk``."""
+
+    aclk: In(1)
+    aresetn: In(1)
+    a: In(3)
+    b: In(2)
+    y: Out(5)
+
+    def elaborate(self, platform):
+        m = Module()
+        m.domains.sync = sync = ClockDomain("sync")
+        m.d.comb += [sync.clk.eq(self.aclk), sync.rst.eq(~self.aresetn)]
+        m.d.sync += self.y.eq(Cat(self.a, self.b))
+        return m
+
+
+def test_folded_ports_shift_the_inputs_in_and_fold_the_outputs():
+    """Inputs: a shift register on ``fold_in`` (the newest bit in ``a[0]``); outputs:
+    registered, then XOR-folded four bits to a register per level (5 bits: 2, then 1), so
+    ``fold_out`` is the parity of ``y`` three cycles earlier."""
+    dut = FoldedPorts(Toy())
+    assert list(dut.signature.members) == ["aclk", "aresetn", "fold_in", "fold_out"]
+    rng = np.random.default_rng(1)
+    bits = [int(b) for b in rng.integers(0, 2, 40)]
+    seen = []
+
+    async def clock(ctx):
+        while True:
+            ctx.set(dut.aclk, 0)
+            await ctx.delay(5e-9)
+            ctx.set(dut.aclk, 1)
+            await ctx.delay(5e-9)
+
+    async def bench(ctx):
+        ctx.set(dut.aresetn, 1)
+        for bit in bits:
+            await ctx.delay(2e-9)           # away from the rising edges (at 5, 15, … ns)
+            ctx.set(dut.fold_in, bit)
+            seen.append(ctx.get(dut.fold_out))
+            await ctx.delay(8e-9)
+
+    sim = Simulator(dut)
+    sim.add_testbench(clock, background=True)
+    sim.add_testbench(bench)
+    sim.run()
+    # model: chain (5), y (5), the level register (5), folds (2, 1), each one edge later
+    chain = y = level = 0
+    fold2 = fold1 = 0
+    expect = []
+    for bit in bits:
+        expect.append(fold1)
+        fold1 = bin(fold2).count("1") & 1
+        fold2 = (bin(level & 0xF).count("1") & 1) | ((level >> 4 & 1) << 1)
+        level = y
+        y = chain
+        chain = ((chain << 1) | bit) & 0x1F
+    assert seen == expect and any(seen)

@@ -16,6 +16,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.flow.synth import (
     CellCounts, PnrRun, SynthResult, ToolNotFoundError, get_family, require_tool, synthesize,
 )
+from helpers.refusals import whole
 
 
 def _have(tool: str) -> bool:
@@ -72,8 +73,8 @@ def test_missing_nextpnr_is_reported_before_any_work(tmp_path):
 
 def test_bad_arguments():
     with pytest.raises(ValueError, match=(
-            r"^variant must be one of \('core', 'top', 'segmenter', 'core-regio'\), "
-            r"got 'board'$")):
+            r"^variant must be one of \('core', 'top', 'segmenter', 'core-regio', "
+            r"'segmenter-ext', 'axi', 'axi-ext'\), got 'board'$")):
         synthesize(DPConfig(), variant="board")
     with pytest.raises(ValueError, match=(
             r"^device must be one of \('lp384', 'lp1k', 'lp4k', 'lp8k', 'hx1k', 'hx4k', "
@@ -96,10 +97,10 @@ def test_bad_arguments():
             r"^core_options\['sideband_delay'\] must be one of \('registers', 'memory'\), "
             r"got 'bram'$")):
         synthesize(DPConfig(), core_options={"sideband_delay": "bram"})
-    with pytest.raises(ValueError, match=(
-            r"^core_options must be empty for variant 'segmenter', "
-            r"got \{'sideband_delay': 'memory'\}$")):
-        synthesize(DPConfig(), variant="segmenter", core_options={"sideband_delay": "memory"})
+    for variant in ("segmenter-ext", "axi", "axi-ext"):
+        with pytest.raises(ValueError, match=whole(
+                f"lut_style must be 'auto' for variant {variant!r}, got 'logic'")):
+            synthesize(DPConfig(), variant=variant, lut_style="logic")
 
 
 # ---- real tools ------------------------------------------------------------------------
