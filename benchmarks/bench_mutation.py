@@ -1,11 +1,13 @@
 """The mutation score of ``dptbd_seg`` and ``dptbd_axi`` (and ``dptbd_dp``), measured: N
 mutants of each top (Yosys ``mutate``, :mod:`dptbd.sim.mutation`) through the verification
-slice, then every survivor tried for formal equivalence (Yosys ``equiv_*``).
+slice, then every survivor the equivalence registry (:mod:`dptbd.sim.mutation.equivalents`)
+does not list tried for formal equivalence (Yosys ``equiv_*``).
 
-Reported per design: killed / total, survivors / timeouts / crashes / mutations Yosys
-refused, the proven-equivalent survivors, wall time, time per mutant (the slice) and per
-proof; one line per mutant not killed (Amaranth source line, mutation, verdict). ``--json``
-keeps every mutant's outcome.
+Reported per design (:func:`dptbd.commands.verify.format_mutation_result`): the score, MCY's:
+killed / (total − shown equivalent), and killed / total next to it; survivors proven
+equivalent, argued equivalent (the registry) and not shown equivalent, timeouts, crashes and
+mutations Yosys refused, one line each (Amaranth source line, mutation); wall time, time per
+mutant (the slice) and per proof. ``--json`` keeps every mutant's outcome.
 
     python benchmarks/bench_mutation.py                        # 300 mutants each, seed 1
     python benchmarks/bench_mutation.py --mutants 100 --designs segmenter --workers 2
@@ -23,6 +25,7 @@ import time
 
 from dptbd.commands.verify import format_mutation_result
 from dptbd.sim.mutation.equivalence import prove_equivalent
+from dptbd.sim.mutation.equivalents import load_registry
 from dptbd.sim.mutation.run import config, run_mutants
 
 
@@ -39,8 +42,11 @@ def main() -> None:
     report = {}
     for design in args.designs:
         result = run_mutants(design, args.mutants, args.seed, workers=args.workers)
+        registry = load_registry(design)
         proofs, start = {}, time.perf_counter()
-        survivors = result.of("survived") if not args.no_prove else []
+        listed = result.shown_equivalent(registry)
+        survivors = ([(o, m) for o, m in result.of("survived") if o.index not in listed]
+                     if not args.no_prove else [])
         if survivors:                   # the proofs on the same workers as the mutants
             from dptbd.evaluation.execution import job_execution, map_tasks
 
@@ -55,18 +61,22 @@ def main() -> None:
                 done = map_tasks(prove_equivalent, tasks, client, on_result=report)
             proofs = {outcome.index: proof for (outcome, _), proof in zip(survivors, done)}
         prove_seconds = time.perf_counter() - start
-        print(format_mutation_result(result, proofs))
+        print(format_mutation_result(result, proofs, registry))
+        shown = result.shown_equivalent(registry, proofs)
         slice_seconds = sum(o.seconds for o in result.outcomes)
         print(f"slice: {slice_seconds / result.total:.2f} s per mutant (sum of runs), "
               f"proofs: {prove_seconds / max(1, len(proofs)):.0f} s each "
               f"({len(proofs)} tried)\n", flush=True)
         report[design] = {
-            "killed": result.killed, "total": result.total, "score": result.score,
+            "killed": result.killed, "total": result.total, "score": result.score(shown),
+            "killed_fraction": result.killed_fraction,
             "counts": {v: result.count(v) for v in ("survived", "timeout", "crashed",
                                                     "no-build")},
-            "proven_equivalent": sum(p.verdict == "equivalent" for p in proofs.values()),
+            "shown_equivalent": {how: sum(h == how for h in shown.values()) for how in
+                                 ("proven", "argued", "proven in this run")},
             "wall_seconds": result.wall_seconds, "prove_seconds": prove_seconds,
             "mutants": [dict(dataclasses.asdict(o), source=m.source, mutation=m.command,
+                             shown_equivalent=shown.get(o.index),
                              proof=proofs[o.index].verdict if o.index in proofs else None)
                         for o, m in zip(result.outcomes, result.mutations)]}
     if args.json is not None:

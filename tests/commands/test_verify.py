@@ -196,11 +196,14 @@ def test_format_mutation_result():
                 MutantOutcome(3, "timeout", "clean seed 1", "cycle budget ran out", 0.3))
     result = MutationResult("segmenter", 5, mutations, MutantOutcome(0, "survived", "", "", 0.1),
                             outcomes, (("clean", 0),), 2.0, 1)
-    text = format_mutation_result(result, {2: Equivalence("equivalent", "", 3.0)})
+    text = format_mutation_result(result, {2: Equivalence("equivalent", "", 3.0)}, {})
     assert text.splitlines() == [
-        "dptbd_seg: 1 / 3 mutants killed (33.3 %), seed 5, 1 runs per mutant at most, 2.0 s "
-        "wall on 1 workers",
-        "not killed: 1 survived, 1 timeout, 0 crashed, 0 no-build",
-        "  #2    survived [equivalent] ?  const0 $c2.A[2]",
-        "  #3    timeout ?  const1 $c3.B[1] (clean seed 1: cycle budget ran out)",
-        "survivors proven equivalent: 1 of 1"]
+        "dptbd_seg: score (MCY's: killed / (total - shown equivalent)) 1 / 2 = 50.0 %; "
+        "killed / total 1 / 3 = 33.3 %",
+        "seed 5, 1 runs per mutant at most, 2.0 s wall on 1 workers",
+        "not killed: 1 survived (1 proven equivalent, 0 argued equivalent, 0 not shown "
+        "equivalent), 1 timeout, 0 crashed, 0 no-build",
+        "survived, proven equivalent (1):",
+        "  #2    ?  const0 $c2.A[2] [proven in this run, not in the registry]",
+        "timeout (1):",
+        "  #3    ?  const1 $c3.B[1] (clean seed 1: cycle budget ran out)"]
