@@ -13,6 +13,7 @@ mutant (the slice) and per proof. ``--json`` keeps every mutant's outcome.
     python benchmarks/bench_mutation.py --mutants 100 --designs segmenter --workers 2
     python benchmarks/bench_mutation.py --designs dp           # dptbd_dp (not by default)
     python benchmarks/bench_mutation.py --no-prove --json mutation.json
+    python benchmarks/bench_mutation.py --rescore mutation.json   # today's registry, no runs
 """
 
 from __future__ import annotations
@@ -26,7 +27,8 @@ import time
 from dptbd.commands.verify import format_mutation_result
 from dptbd.sim.mutation.equivalence import prove_equivalent
 from dptbd.sim.mutation.equivalents import load_registry
-from dptbd.sim.mutation.run import config, run_mutants
+from dptbd.sim.mutation.netlist import parse_mutations
+from dptbd.sim.mutation.run import MutantOutcome, MutationResult, config, run_mutants
 
 
 def main() -> None:
@@ -38,7 +40,14 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--no-prove", action="store_true", help="skip the equivalence proofs")
     parser.add_argument("--json", type=pathlib.Path, default=None)
+    parser.add_argument("--rescore", type=pathlib.Path, default=None, metavar="JSON",
+                        help="report the runs saved by --json again with today's registry "
+                             "(no simulation, no proofs)")
     args = parser.parse_args()
+    if args.rescore is not None:
+        for design, saved in json.loads(args.rescore.read_text()).items():
+            print(format_mutation_result(saved_result(design, saved), {}, load_registry(design)))
+        return
     report = {}
     for design in args.designs:
         result = run_mutants(design, args.mutants, args.seed, workers=args.workers)
@@ -75,12 +84,25 @@ def main() -> None:
             "shown_equivalent": {how: sum(h == how for h in shown.values()) for how in
                                  ("proven", "argued", "proven in this run")},
             "wall_seconds": result.wall_seconds, "prove_seconds": prove_seconds,
+            "seed": result.seed, "workers": result.workers,
+            "runs": [list(r) for r in result.runs],
+            "original": dataclasses.asdict(result.original),
             "mutants": [dict(dataclasses.asdict(o), source=m.source, mutation=m.command,
                              shown_equivalent=shown.get(o.index),
                              proof=proofs[o.index].verdict if o.index in proofs else None)
                         for o, m in zip(result.outcomes, result.mutations)]}
     if args.json is not None:
         args.json.write_text(json.dumps(report, indent=1) + "\n")
+
+
+def saved_result(design: str, saved: dict) -> MutationResult:
+    """The :class:`MutationResult` of one design's entry of a ``--json`` report."""
+    fields = [f.name for f in dataclasses.fields(MutantOutcome)]
+    outcomes = tuple(MutantOutcome(**{k: m[k] for k in fields}) for m in saved["mutants"])
+    mutations = tuple(parse_mutations("\n".join(m["mutation"] for m in saved["mutants"])))
+    return MutationResult(design, saved["seed"], mutations, MutantOutcome(**saved["original"]),
+                          outcomes, tuple(tuple(r) for r in saved["runs"]),
+                          saved["wall_seconds"], saved["workers"])
 
 
 if __name__ == "__main__":
