@@ -27,7 +27,7 @@ RUNS = tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in r
              + [("backpressure", s) for s in range(4)]
              + [("settings-range", s) for s in range(4)]
              + [("lut-corners", s) for s in range(10)] + [("lut-wide", s) for s in range(4)]
-             + [("cycles", s) for s in range(4)])
+             + [("settings-resync", s) for s in range(6)] + [("cycles", s) for s in range(4)])
 
 _EVERY = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
 
@@ -165,7 +165,23 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
 
 
 #: Frames of the runs on noise scenes (:func:`_noise_run`).
-NOISE_FRAMES = {"lut-corners": 20, "lut-wide": 20}
+NOISE_FRAMES = {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12}
+
+
+def resync_settings(cfg: DPConfig, seed: int) -> tuple[int, tuple, int]:
+    """The ``settings-resync`` run of ``seed``: ``(word index, (K, n, s), resync word)``.
+    One word after the start of segment 1, 2 or 3 (the build's K, every start aligned so
+    far) the ports change, K to another value, and 1 … 3 words later a ``first`` restarts
+    the DP's counters: the DP began that segment (the top latched its settings) but the
+    segmenter has not taken them yet (the pipeline holds more words than that), so a latch
+    at the resync would hand the segmenter the new values instead (``docs/gateware.md``,
+    "Resynchronisation and settings": a resync's segment start is never latched)."""
+    rng = np.random.default_rng([seed, 0x2E5C])
+    start = (1 + seed % 3) * cfg.segment_frames * cfg.width * cfg.height
+    k = int(rng.choice([k for k in range(1, cfg.k_max + 1) if k != cfg.segment_frames]))
+    settings = (k, int(rng.integers(0, cfg.record_capacity + 1)),
+                int(rng.integers(0, cfg.energy_bits)))
+    return start + 1, settings, start + 2 + seed % 3
 
 
 def _noise_run(sim, kind: str, seed: int) -> tuple[str, str]:
@@ -176,7 +192,9 @@ def _noise_run(sim, kind: str, seed: int) -> tuple[str, str]:
       code bit of every entry set in one run and clear in another), n = C (every pixel of
       the scored frame listed, so every weighted sum that wins shows);
     * ``lut-wide``: random tables over the whole ``lut_data`` port, about half of the codes
-      above 2^F (stored as 2^F), n = C.
+      above 2^F (stored as 2^F), n = C;
+    * ``settings-resync``: new settings one word into a segment and a resync a few words
+      later (:func:`resync_settings`).
 
     K = K_max (:func:`_all_listed`); the first table from word 0, the second from the third
     segment on."""
@@ -186,6 +204,15 @@ def _noise_run(sim, kind: str, seed: int) -> tuple[str, str]:
     cfg = sim.cfg
     words = _noise_words(cfg, NOISE_FRAMES[kind], seed)
     stim = Stimulus(seed=seed)
+    if kind == "settings-resync":
+        from dptbd.model.settings import SegmentSettings
+        from dptbd.sim.stimulus import pixel_words
+
+        at, settings, resync = resync_settings(cfg, seed)
+        first = pixel_words(cfg, np.zeros((1, cfg.height, cfg.width), dtype=np.uint16))[0]
+        words = words.copy()
+        words[resync] |= first                     # the first word's only bit: `first`
+        return _raw_run(sim, words, stim, ((at, settings, SegmentSettings(*settings)),))
     # two tables: from word 0 (the first list, after reset, is empty: T selects nothing) and
     # from the third segment's first word on, each in force for at least one whole segment
     second = 2 * cfg.k_max * cfg.width * cfg.height

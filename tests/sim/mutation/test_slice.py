@@ -91,8 +91,24 @@ def test_the_lut_runs_list_every_pixel_at_k_max_and_the_cycles_runs_come_last():
 
     cfg = config("segmenter")
     assert _all_listed(cfg) == ((0, (4, 120, 4), SegmentSettings(4, 120, 4)),)
-    assert NOISE_FRAMES == {"lut-corners": 20, "lut-wide": 20}   # 5 segments of K_max
-    assert RUNS[-18:] == (*[("lut-corners", s) for s in range(10)],
+    assert NOISE_FRAMES == {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12}
+    assert RUNS[-24:] == (*[("lut-corners", s) for s in range(10)],
                           *[("lut-wide", s) for s in range(4)],
+                          *[("settings-resync", s) for s in range(6)],
                           *[("cycles", s) for s in range(4)])
     assert min(CYCLES_PAUSE) > 0 and len(CYCLES_PAUSE) == 4
+
+
+def test_settings_resync_changes_k_then_resyncs_inside_an_aligned_segment():
+    """``settings-resync``: the ports change one word after the start of segment 1, 2 or 3
+    (K = 2 from reset: starts at multiples of 240 words), K to another value, and a resync
+    follows 1 … 3 words later, before the segmenter takes that segment's first word."""
+    from dptbd.sim.mutation.slices.segmenter import resync_settings
+
+    cfg = config("segmenter")
+    seen = [resync_settings(cfg, seed) for seed in range(6)]
+    assert [(at, resync) for at, _, resync in seen] == \
+        [(241, 242), (481, 483), (721, 724), (241, 242), (481, 483), (721, 724)]
+    for _, (k, n, s), _ in seen:
+        assert k in (1, 3, 4) and 0 <= n <= 120 and 0 <= s < 8
+    assert resync_settings(cfg, 4) == seen[4]                  # seeded
