@@ -18,10 +18,14 @@ the expected one.
 
 ``--mutants N`` runs the mutation score instead (:mod:`dptbd.sim.mutation`): N mutants of
 ``--design`` (``seg``: ``dptbd_seg``, ``axi``: ``dptbd_axi``, ``dp``: ``dptbd_dp``) sampled
-with ``--seed``, each through the verification slice; prints killed / total, the timeouts,
-crashes and mutations Yosys refused apart, and every survivor with its Amaranth source line
-and mutation (``--prove``: with its formal equivalence verdict). Exit 1 if a mutant survives
-unproven.
+with ``--seed``, each through the verification slice; prints the score, MCY's: killed /
+(total − shown equivalent), with killed / total next to it, and every mutant not killed
+with its Amaranth source line and mutation: the survivors proven equivalent, argued
+equivalent (both from the equivalence registry, :mod:`dptbd.sim.mutation.equivalents`) and
+not shown equivalent, then the timeouts, crashes and mutations Yosys refused (``--prove``:
+each survivor the registry does not list is tried for formal equivalence, and one proven
+counts as proven, marked as not yet in the registry). Exit 1 if a mutant survives without
+being shown equivalent.
 """
 
 from __future__ import annotations
@@ -72,8 +76,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                           help="the top level of --mutants: seg (dptbd_seg, default), axi "
                                "(dptbd_axi) or dp (dptbd_dp)")
     mutation.add_argument("--prove", action="store_true",
-                          help="try to prove every survivor equivalent to the original "
-                               "(Yosys equiv_*, minutes each)")
+                          help="try to prove every survivor the equivalence registry does "
+                               "not list equivalent to the original (Yosys equiv_*, "
+                               "minutes each)")
 
 
 #: Options of the campaign, refused with --formal: (attribute, option, default).
@@ -277,6 +282,7 @@ def mutants_main(args: argparse.Namespace) -> int:
     """``--mutants N``: the mutation score of ``--design`` (see the module doc)."""
     from tqdm import tqdm
 
+    from dptbd.sim.mutation.equivalents import load_registry
     from dptbd.sim.mutation.netlist import require_yosys
     from dptbd.sim.mutation.run import run_mutants
 
@@ -290,49 +296,85 @@ def mutants_main(args: argparse.Namespace) -> int:
     result = run_mutants(design, args.mutants, args.seed, workers=args.workers,
                          scheduler=args.scheduler, bar=bar)
     bar.close()
+    registry = load_registry(design)
     proofs = {}
-    if args.prove:
+    if args.prove:                      # the survivors the registry does not list
         from dptbd.sim.mutation.equivalence import prove_equivalent
         from dptbd.sim.mutation.run import config
+        listed = result.shown_equivalent(registry)
         for outcome, mutation in result.of("survived"):
-            proofs[outcome.index] = prove_equivalent(config(design), design, mutation)
-    print(format_mutation_result(result, proofs))
+            if outcome.index not in listed:
+                proofs[outcome.index] = prove_equivalent(config(design), design, mutation)
+    print(format_mutation_result(result, proofs, registry))
+    shown = result.shown_equivalent(registry, proofs)
     if args.json is not None:
         tmp = args.json.with_name(args.json.name + ".tmp")
         tmp.write_text(json.dumps({
             "design": design, "seed": result.seed, "total": result.total,
-            "killed": result.killed, "score": result.score,
+            "killed": result.killed, "shown_equivalent": len(shown),
+            "score": result.score(shown), "killed_fraction": result.killed_fraction,
             "wall_seconds": result.wall_seconds, "workers": result.workers,
             "runs": [list(r) for r in result.runs],
             "mutants": [dict(dataclasses.asdict(o), source=m.source, mutation=m.command,
+                             shown_equivalent=shown.get(o.index),
                              equivalence=(dataclasses.asdict(proofs[o.index])
                                           if o.index in proofs else None))
                         for o, m in zip(result.outcomes, result.mutations)]}, indent=1) + "\n")
         tmp.replace(args.json)
-    unproven = [o for o, _ in result.of("survived")
-                if o.index not in proofs or proofs[o.index].verdict != "equivalent"]
-    return 1 if unproven else 0
+    unshown = [o for o, _ in result.of("survived") if o.index not in shown]
+    return 1 if unshown else 0
 
 
-def format_mutation_result(result, proofs: dict | None = None) -> str:
-    """The score line, the counts apart from killed, and one line per mutant not killed:
-    index, verdict, Amaranth source line, mutation (and the proof's verdict, if any)."""
+def format_mutation_result(result, proofs: dict | None = None,
+                           registry: dict | None = None) -> str:
+    """The score (MCY's: killed / (total − shown equivalent)) with killed / total next to
+    it, the counts of the mutants not killed, then every one of them by class: survivors
+    proven equivalent, argued equivalent (``registry``, default the design's file in
+    :mod:`dptbd.sim.mutation.equivalents`; ``proofs``: this run's proofs, index ->
+    :class:`~dptbd.sim.mutation.equivalence.Equivalence`), not shown equivalent, then the
+    timeouts, crashes and no-builds: index, Amaranth source line, mutation."""
+    from dptbd.sim.mutation.equivalents import load_registry
     from dptbd.sim.mutation.netlist import DESIGN_TOPS
 
     proofs = proofs or {}
-    lines = [f"{DESIGN_TOPS[result.design]}: {result.killed} / {result.total} mutants killed "
-             f"({100 * result.score:.1f} %), seed {result.seed}, {len(result.runs)} runs per "
-             f"mutant at most, {result.wall_seconds:.1f} s wall on {result.workers} workers",
-             "not killed: " + ", ".join(f"{result.count(v)} {v}" for v in
-                                        ("survived", "timeout", "crashed", "no-build"))]
-    for verdict in ("survived", "timeout", "crashed", "no-build"):
-        for outcome, mutation in result.of(verdict):
-            proof = proofs.get(outcome.index)
-            what = f" [{proof.verdict}]" if proof is not None else ""
-            where = f" ({outcome.run}: {outcome.report[:120]})" if outcome.run else ""
-            lines.append(f"  #{outcome.index:<4d} {verdict}{what} {mutation.source}  "
-                         f"{mutation.describe()}{where}")
-    if proofs:
-        proven = sum(p.verdict == "equivalent" for p in proofs.values())
-        lines.append(f"survivors proven equivalent: {proven} of {len(proofs)}")
+    registry = load_registry(result.design) if registry is None else registry
+    shown = result.shown_equivalent(registry, proofs)
+    left = result.total - len(shown)
+    proven = [i for i, how in shown.items() if how != "argued"]
+    here = [i for i, how in shown.items() if how == "proven in this run"]
+    survivors = result.of("survived")
+    lines = [f"{DESIGN_TOPS[result.design]}: score (MCY's: killed / (total - shown "
+             f"equivalent)) {result.killed} / {left} = {100 * result.score(shown):.1f} %; "
+             f"killed / total {result.killed} / {result.total} = "
+             f"{100 * result.killed_fraction:.1f} %",
+             f"seed {result.seed}, {len(result.runs)} runs per mutant at most, "
+             f"{result.wall_seconds:.1f} s wall on {result.workers} workers",
+             f"not killed: {len(survivors)} survived ({len(proven)} proven equivalent, "
+             f"{len(shown) - len(proven)} argued equivalent, {len(survivors) - len(shown)} not "
+             f"shown equivalent), " + ", ".join(f"{result.count(v)} {v}" for v in
+                                                 ("timeout", "crashed", "no-build"))]
+
+    def line(outcome, mutation, note: str = "") -> str:
+        where = f" ({outcome.run}: {outcome.report[:120]})" if outcome.run else ""
+        return (f"  #{outcome.index:<4d} {mutation.source}  {mutation.describe()}{note}"
+                f"{where}")
+
+    groups = [("survived, proven equivalent", [
+                  (o, m, " [proven in this run, not in the registry]" if o.index in here else "")
+                  for o, m in survivors if o.index in proven]),
+              ("survived, argued equivalent",
+               [(o, m, "") for o, m in survivors if shown.get(o.index) == "argued"]),
+              ("survived, not shown equivalent", [
+                  (o, m, f" [proof: {proofs[o.index].verdict}]" if o.index in proofs else "")
+                  for o, m in survivors if o.index not in shown])]
+    groups += [(verdict, [(o, m, "") for o, m in result.of(verdict)])
+               for verdict in ("timeout", "crashed", "no-build")]
+    for title, members in groups:
+        if members:
+            lines.append(f"{title} ({len(members)}):")
+            lines += [line(o, m, note) for o, m, note in members]
+    wrong = result.registered_not_surviving(registry)
+    if wrong:
+        lines.append(f"in the registry as equivalent but not surviving ({len(wrong)}): "
+                     + ", ".join(f"#{o.index} {o.verdict}" for o, _ in wrong))
     return "\n".join(lines)

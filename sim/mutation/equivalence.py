@@ -40,7 +40,7 @@ from dptbd.config import DPConfig
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 
 __all__ = ["SEQ", "ROUNDS", "TIMEOUT", "Equivalence", "equivalence_script", "unproven_wires",
-           "top_ports", "aliases", "prove_equivalent"]
+           "unproven_count", "top_ports", "aliases", "prove_equivalent"]
 
 #: Cycles of ``equiv_simple`` / ``equiv_induct`` (4: a partial sum's constant-zero low bits
 #: are three register levels of the shift-and-add tree behind its constant leaves).
@@ -81,9 +81,24 @@ def equivalence_script(rtlil: str, design: str, command: str, seq: int = SEQ,
 
 
 def unproven_wires(status: str) -> list[str]:
-    """The names of the wires with an unproven pair in ``equiv_status``'s report, sorted."""
-    return sorted(set(re.findall(r"^\s*Unproven \$equiv \S+: \\(\S+?)_gold \[", status,
-                                 flags=re.M)))
+    """The names of the wires with an unproven pair in ``equiv_status``'s report, sorted: a
+    bit of a wide wire (``\\name_gold [3]``) or a one-bit wire (``\\name_gold``, no index)."""
+    return sorted(set(re.findall(r"^\s*Unproven \$equiv \S+: \\(\S+?)_gold(?: \[\d+\])? \\",
+                                 status, flags=re.M)))
+
+
+def unproven_count(status: str) -> int:
+    """The number of unproven ``$equiv`` cells ``equiv_status`` reports.
+
+    Raises
+    ------
+    RuntimeError
+        The report names no ``$equiv`` cells (nothing was compared: no proof).
+    """
+    found = re.search(r"Of those cells (\d+) are proven and (\d+) are unproven", status)
+    if found is None:
+        raise RuntimeError(f"equiv_status compared nothing: {status.strip()[:200]!r}")
+    return int(found.group(2))
 
 
 def top_ports(rtlil: str, design: str) -> frozenset[str]:
@@ -132,10 +147,17 @@ def prove_equivalent(cfg: DPConfig, design: str, mutation: Mutation | str, *,
         except RuntimeError as exc:
             lines = [line for line in str(exc).splitlines() if line.strip()]
             return Equivalence("error", "\n".join(lines[-4:]), time.perf_counter() - start)
+        try:
+            count = unproven_count(status)
+        except RuntimeError as exc:
+            return Equivalence("error", str(exc), time.perf_counter() - start)
         wires = unproven_wires(status)
-        if not wires:
+        if count == 0:
             return Equivalence("equivalent", _unpaired_note(unpaired),
                                time.perf_counter() - start)
+        if not wires:                   # unproven cells whose lines were not understood
+            return Equivalence("not proven", f"{count} unproven $equiv cells; "
+                               f"{_unpaired_note(unpaired)}", time.perf_counter() - start)
         outputs = [w for w in wires if w in ports]
         new = tuple(w for w in wires if w not in ports and w not in unpaired)
         if not new and not outputs:     # still paired through another name of their bits

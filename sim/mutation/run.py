@@ -26,6 +26,12 @@ A mutation Yosys cannot apply is ``no-build`` (:func:`mutant_design`). The runs 
 mutant's first failing run. Mutants are independent tasks of the Dask execution layer
 (:func:`dptbd.evaluation.execution.map_tasks`); index 0, the original design, is run first
 and must pass every run of the slice.
+
+The score is MCY's: killed / (total − shown equivalent) (:meth:`MutationResult.score`),
+where a survivor is shown equivalent by its entry in the equivalence registry
+(:mod:`dptbd.sim.mutation.equivalents`: proven or argued) or by a proof of this run
+(:meth:`MutationResult.shown_equivalent`); killed / total (:attr:`MutationResult.killed_fraction`)
+is reported next to it.
 """
 
 from __future__ import annotations
@@ -36,9 +42,10 @@ import os
 import time
 import warnings
 
-from typing import Callable, Sequence
+from typing import Callable, Mapping, Sequence
 
 from dptbd.config import DPConfig, EnergyWidthWarning
+from dptbd.sim.mutation.equivalents import Equivalent, load_registry, mutation_key
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, mutation_list, run_yosys
 from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS, RUNNERS, SLICE_RUNS
 from dptbd.sim.mutation.slices.axi import RANDOM_AXI_FRAMES, RANDOM_AXI_RUNS, axi_scenario
@@ -46,7 +53,7 @@ from dptbd.sim.mutation.verdict import VERDICTS, MutantOutcome, hang_verdict
 
 __all__ = ["CONFIGS", "RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "SLICE_RUNS", "BACKPRESSURE",
            "WALL_SECONDS", "VERDICTS", "MutantOutcome",
-           "MutationResult", "config", "slice_runs", "run_slice", "mutant_task",
+           "MutationResult", "Equivalent", "load_registry", "mutation_key", "config", "slice_runs", "run_slice", "mutant_task",
            "mutant_design", "run_mutants", "axi_scenario", "hang_verdict"]
 
 #: Wall-clock seconds one run of a mutant may take (the harness exits with status 124).
@@ -182,21 +189,56 @@ class MutationResult:
         return len(self.outcomes)
 
     @property
-    def score(self) -> float:
+    def killed_fraction(self) -> float:
         """Killed / total: survivors, timeouts, crashes and no-builds all count against."""
         return self.killed / self.total if self.total else float("nan")
 
     def of(self, verdict: str) -> list[tuple[MutantOutcome, Mutation]]:
         return [(o, self.mutations[o.index - 1]) for o in self.outcomes if o.verdict == verdict]
 
+    def shown_equivalent(self, registry: Mapping[str, Equivalent] | None = None,
+                         proofs: Mapping[int, object] | None = None) -> dict[int, str]:
+        """Each survivor shown equivalent, index -> how: ``proven`` / ``argued`` (its entry
+        in ``registry``, :mod:`dptbd.sim.mutation.equivalents`, by :func:`mutation_key`;
+        default: the design's file) or ``proven in this run`` (``proofs[index]``, an
+        :class:`~dptbd.sim.mutation.equivalence.Equivalence`, says ``equivalent`` and the
+        registry does not list it). Only survivors: a killed mutant, a timeout, a crash or
+        a no-build is never left out of the score."""
+        registry = load_registry(self.design) if registry is None else registry
+        proofs = proofs or {}
+        out = {}
+        for outcome, mutation in self.of("survived"):
+            entry = registry.get(mutation_key(mutation.command))
+            if entry is not None:
+                out[outcome.index] = entry.shown
+            elif getattr(proofs.get(outcome.index), "verdict", None) == "equivalent":
+                out[outcome.index] = "proven in this run"
+        return out
+
+    def registered_not_surviving(self, registry: Mapping[str, Equivalent] | None = None
+                                 ) -> list[tuple[MutantOutcome, Mutation]]:
+        """The mutants ``registry`` lists as equivalent that did not survive (a wrong entry
+        or a broken slice: an equivalent mutant cannot be killed)."""
+        registry = load_registry(self.design) if registry is None else registry
+        return [(o, m) for o, m in zip(self.outcomes, self.mutations)
+                if o.verdict != "survived" and mutation_key(m.command) in registry]
+
+    def score(self, shown: Mapping[int, str] | int) -> float:
+        """MCY's score: killed / (total − shown equivalent); ``shown``: the mutants shown
+        equivalent (:meth:`shown_equivalent`) or their count."""
+        left = self.total - (shown if isinstance(shown, int) else len(shown))
+        return self.killed / left if left else float("nan")
+
 
 def run_mutants(design: str, count: int, seed: int = 1, *, workers: int | None = 1,
                 scheduler: str | None = None, scale: float = 1.0,
                 wall_seconds: int = WALL_SECONDS, root: str | None = None,
-                bar=None) -> MutationResult:
+                bar=None, mutations: Sequence[Mutation] | None = None) -> MutationResult:
     """Sample ``count`` mutations of ``design`` (``mutate -list count -seed seed``), build
     the mutant design once, check the original passes the slice, then run every mutant
     through it (``workers`` / ``scheduler``: :func:`~dptbd.evaluation.execution.job_execution`).
+    ``mutations``: run these instead of the sample (e.g. a sample without the mutants shown
+    equivalent; ``count`` and ``seed`` are then only recorded).
 
     Raises
     ------
@@ -210,7 +252,8 @@ def run_mutants(design: str, count: int, seed: int = 1, *, workers: int | None =
         raise ValueError(f"design must be one of {', '.join(DESIGN_TOPS)}, got {design!r}")
     start = time.perf_counter()
     cfg = config(design)
-    mutations = tuple(mutation_list(cfg, design, count, seed))
+    mutations = tuple(mutation_list(cfg, design, count, seed) if mutations is None
+                      else mutations)
     commands, refused = mutant_design(cfg, design, mutations)
     sim = build(cfg, design, root=root, mutations=commands)
     runs = slice_runs(design, scale)

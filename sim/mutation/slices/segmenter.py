@@ -1,7 +1,11 @@
 """The ``segmenter`` slice (``dptbd_seg``): seeded runs of the campaign
 (:func:`dptbd.sim.campaign.make_run`: hostile scenes, input gaps, output back-pressure,
 resets, misaligned / short / long frames, LUT and settings rewrites) checked by
-:func:`dptbd.sim.rtl.check.check_stream` against the golden model."""
+:func:`dptbd.sim.rtl.check.check_stream` against the golden model; settings ports driven out
+of range (``settings-range``); noise scenes at K = K_max and n = C under tables of corner
+codes (``lut-corners``) and of codes above 2^F (``lut-wide``), where every LUT entry's bits
+reach a listed weighted sum; and clean runs under back-pressure whose every input and output
+cycle must be the original design's (``cycles``)."""
 
 from __future__ import annotations
 
@@ -21,7 +25,9 @@ RUNS = tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in r
              + [("random-lut", s) for s in range(12)]
              + [("faults", s) for s in range(32)]
              + [("backpressure", s) for s in range(4)]
-             + [("settings-range", s) for s in range(4)])
+             + [("settings-range", s) for s in range(4)]
+             + [("lut-corners", s) for s in range(10)] + [("lut-wide", s) for s in range(4)]
+             + [("settings-resync", s) for s in range(6)] + [("cycles", s) for s in range(4)])
 
 _EVERY = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
 
@@ -85,20 +91,23 @@ def range_settings(cfg: DPConfig, n_words: int, seed: int) -> tuple:
     return tuple(out)
 
 
-def _range_run(sim, words, stim, seed: int) -> tuple[str, str]:
-    """A run whose settings ports carry out-of-range values (:func:`range_settings`), checked
-    word for word against the golden model with the clamped settings."""
+def _raw_run(sim, words, stim, changes=(), luts=None) -> tuple[str, str]:
+    """A run without resets whose settings ports carry ``changes`` (``(word index, (K, n, s)
+    driven, SegmentSettings in force)``) and whose LUT port writes ``luts`` (``(word index,
+    codes)``, codes up to the port's maximum; default the stimulus' tables), checked word for
+    word against the golden model with the values in force (codes clamped to 2^F)."""
     from dptbd.sim.rtl.check import _checker, expected_stream, lut_writes, split_words
     from dptbd.sim.verilator import run as run_words
 
     cfg = sim.cfg
-    changes = range_settings(cfg, len(words), seed)
-    writes = [(int(i), a, c) for i, codes in stim.lut_changes for a, c in lut_writes(cfg, codes)]
+    luts = tuple(stim.lut_changes) if luts is None else tuple(luts)
+    writes = [(int(i), a, c) for i, codes in luts for a, c in lut_writes(cfg, codes)]
     raw = run_words(sim, words, valid_gap=stim.valid_gap, ready_pause=stim.ready_pause,
                     seed=stim.seed, lut_writes=writes,
                     settings=[(i, *driven) for i, driven, _ in changes])
     pixels, first = split_words(cfg, np.asarray(words))
-    exp = expected_stream(cfg, pixels, first, {int(i): c for i, c in stim.lut_changes},
+    exp = expected_stream(cfg, pixels, first,
+                          {int(i): np.minimum(c, 1 << cfg.weight_frac_bits) for i, c in luts},
                           {i: entry for i, _, entry in changes})
     board = _checker(cfg, sim.output, exp, cut_by_reset=False)
     board.receive_array(raw.out_words)
@@ -111,10 +120,30 @@ def _range_run(sim, words, stim, seed: int) -> tuple[str, str]:
     return "survived", board.report()
 
 
+def _range_run(sim, words, stim, seed: int) -> tuple[str, str]:
+    """A run whose settings ports carry out-of-range values (:func:`range_settings`), checked
+    word for word against the golden model with the clamped settings."""
+    return _raw_run(sim, words, stim, range_settings(sim.cfg, len(words), seed))
+
+
+def _all_listed(cfg: DPConfig) -> tuple:
+    """From word 0: K = K_max (the weight LUT's rows of every direction are read: with K = 2
+    only the START row is, a segment's first frame having d = START) and n = C, every pixel
+    of the scored frame in its list (s the build's)."""
+    from dptbd.model.settings import SegmentSettings
+
+    entry = SegmentSettings(cfg.k_max, cfg.record_capacity, cfg.bin_shift)
+    return ((0, (entry.segment_frames, entry.candidate_count, entry.histogram_shift), entry),)
+
+
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, make_run
     from dptbd.sim.rtl.check import check_stream
 
+    if kind in NOISE_FRAMES:
+        return _noise_run(sim, kind, seed)
+    if kind == "cycles":
+        return _cycles_run(sim, seed)
     frames = {"clean": 12, "random-lut": 16, "faults": 24, "settings-edge": 16,
               "backpressure": 8, "settings-range": 16}[kind]
     case = Case(f"mutant-{kind}", CONFIGS["segmenter"], "segmenter", frames, 1,
@@ -133,3 +162,123 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
     if hung:
         return hung
     return ("survived" if result.passed else "killed"), result.report
+
+
+#: Frames of the runs on noise scenes (:func:`_noise_run`).
+NOISE_FRAMES = {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12}
+
+
+def resync_settings(cfg: DPConfig, seed: int) -> tuple[int, tuple, int]:
+    """The ``settings-resync`` run of ``seed``: ``(word index, (K, n, s), resync word)``.
+    One word after the start of segment 1, 2 or 3 (the build's K, every start aligned so
+    far) the ports change, K to another value, and 1 … 3 words later a ``first`` restarts
+    the DP's counters: the DP began that segment (the top latched its settings) but the
+    segmenter has not taken them yet (the pipeline holds more words than that), so a latch
+    at the resync would hand the segmenter the new values instead (``docs/gateware.md``,
+    "Resynchronisation and settings": a resync's segment start is never latched)."""
+    rng = np.random.default_rng([seed, 0x2E5C])
+    start = (1 + seed % 3) * cfg.segment_frames * cfg.width * cfg.height
+    k = int(rng.choice([k for k in range(1, cfg.k_max + 1) if k != cfg.segment_frames]))
+    settings = (k, int(rng.integers(0, cfg.record_capacity + 1)),
+                int(rng.integers(0, cfg.energy_bits)))
+    return start + 1, settings, start + 2 + seed % 3
+
+
+def _noise_run(sim, kind: str, seed: int) -> tuple[str, str]:
+    """Uniform noise frames (every direction taken, every LUT entry read, ``dp`` slice's
+    :func:`~dptbd.sim.mutation.slices.dp._noise_words`), without gaps or pauses:
+
+    * ``lut-corners``: tables of one corner code each (2^F, 2^F - 1, 0, alternate bits: every
+      code bit of every entry set in one run and clear in another), n = C (every pixel of
+      the scored frame listed, so every weighted sum that wins shows);
+    * ``lut-wide``: random tables over the whole ``lut_data`` port, about half of the codes
+      above 2^F (stored as 2^F), n = C;
+    * ``settings-resync``: new settings one word into a segment and a resync a few words
+      later (:func:`resync_settings`).
+
+    K = K_max (:func:`_all_listed`); the first table from word 0, the second from the third
+    segment on."""
+    from dptbd.sim.mutation.slices.dp import _corners, _noise_words, _wide_luts
+    from dptbd.sim.rtl.check import Stimulus
+
+    cfg = sim.cfg
+    words = _noise_words(cfg, NOISE_FRAMES[kind], seed)
+    stim = Stimulus(seed=seed)
+    if kind == "settings-resync":
+        from dptbd.model.settings import SegmentSettings
+        from dptbd.sim.stimulus import pixel_words
+
+        at, settings, resync = resync_settings(cfg, seed)
+        first = pixel_words(cfg, np.zeros((1, cfg.height, cfg.width), dtype=np.uint16))[0]
+        words = words.copy()
+        words[resync] |= first                     # the first word's only bit: `first`
+        return _raw_run(sim, words, stim, ((at, settings, SegmentSettings(*settings)),))
+    # two tables: from word 0 (the first list, after reset, is empty: T selects nothing) and
+    # from the third segment's first word on, each in force for at least one whole segment
+    second = 2 * cfg.k_max * cfg.width * cfg.height
+    shape = (cfg.n_moves + 1, cfg.n_moves)
+    if kind == "lut-corners":
+        corners = _corners(cfg.weight_frac_bits)
+        luts = ((0, np.full(shape, corners[seed % len(corners)])),
+                (second, np.full(shape, corners[(seed + 1) % len(corners)])))
+    else:
+        luts = tuple((at, codes) for (_, codes), at in
+                     zip(_wide_luts(cfg, len(words), seed), (0, second)))
+    return _raw_run(sim, words, stim, _all_listed(cfg), luts)
+
+
+#: Output back-pressure of the ``cycles`` runs (seed % 4): the FIFO fills to its ``space``
+#: limit and drains, so the cycle each word goes in and out depends on every flow-control bit.
+CYCLES_PAUSE = (0.5, 0.7, 0.8, 0.9)
+
+#: The original design's runs of the ``cycles`` kind, per build and seed (one per process).
+_ORIGINAL_RUNS: dict = {}
+
+
+def _cycles_run(sim, seed: int) -> tuple[str, str]:
+    """A clean run (12 frames, K = 2) under output back-pressure (:data:`CYCLES_PAUSE`),
+    checked word for word against the model and then cycle for cycle against the original
+    design (``mutsel = 0``, MCY's reference): the cycle of every input word's acceptance and
+    of every output transfer must be the original's. The harness' back-pressure is a seeded
+    function of the cycle and the run, so the same stimulus gives the same cycles; a mutant
+    that changes only when words move (a flow-control limit, a stall) changes an output
+    (``ready``, ``valid``) and is killed here."""
+    import os
+
+    from dptbd.sim.campaign import Case, make_run
+    from dptbd.sim.rtl.check import check_stream
+
+    case = Case("mutant-cycles", CONFIGS["segmenter"], "segmenter", 12, 1, (), False)
+    words, stim, _ = make_run(case, seed)
+    stim = dataclasses.replace(stim, valid_gap=0.0, ready_pause=CYCLES_PAUSE[seed % 4])
+    key = (str(sim.executable), seed)
+    if key not in _ORIGINAL_RUNS:
+        mutant = os.environ.get("DPTBD_MUTANT")
+        os.environ["DPTBD_MUTANT"] = "0"
+        try:
+            _ORIGINAL_RUNS[key] = check_stream(sim, words, stim)
+        finally:
+            if mutant is None:
+                os.environ.pop("DPTBD_MUTANT", None)
+            else:
+                os.environ["DPTBD_MUTANT"] = mutant
+    original = _ORIGINAL_RUNS[key]
+    if not original.passed:
+        raise RuntimeError(f"the original fails the cycles run of seed {seed}: "
+                           f"{original.report}")
+    result = check_stream(sim, words, stim)
+    hung = stream_hang(sim, words, stim, result)
+    if hung:
+        return hung
+    if not result.passed:
+        return "killed", result.report
+    for what, got, want in (("input word", result.raw.accept_cycles,
+                             original.raw.accept_cycles),
+                            ("output word", result.raw.out_cycles, original.raw.out_cycles)):
+        if len(got) != len(want) or (got != want).any():
+            i = int(np.argmax(got != want)) if len(got) == len(want) else min(len(got),
+                                                                               len(want))
+            return "killed", (f"{what} {i} moved at cycle {int(got[i]) if i < len(got) else '-'}"
+                              f", the original's at {int(want[i]) if i < len(want) else '-'}; "
+                              f"{result.report}")
+    return "survived", result.report

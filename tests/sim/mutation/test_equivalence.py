@@ -8,11 +8,12 @@ from __future__ import annotations
 import re
 
 import pytest
+from helpers.refusals import whole
 
 from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
 from dptbd.sim.mutation import netlist
 from dptbd.sim.mutation.equivalence import (aliases, equivalence_script, prove_equivalent,
-                                            top_ports, unproven_wires)
+                                            top_ports, unproven_count, unproven_wires)
 from dptbd.sim.mutation.run import config
 
 try:
@@ -32,6 +33,25 @@ STATUS = """Found 4816 $equiv cells in equiv:
   Unproven $equiv $auto$equiv_make.cc:295:find_same_wires$1: \\candidates__valid_gold [0] \\candidates__valid_gate [0]
 Found a total of 4 unproven $equiv cells.
 """
+
+
+#: A one-bit wire's unproven pair: no bit index (the only unproven cell of a mutant that
+#: forces the DP's resync to 0; before one-bit lines were read, it passed for proven).
+ONE_BIT = """Found 4856 $equiv cells in equiv:
+  Of those cells 4855 are proven and 1 are unproven.
+  Unproven $equiv $auto$equiv_make.cc:295:find_same_wires$25476: \\dp.core.resync_gold \\dp.core.resync_gate
+Found a total of 1 unproven $equiv cells.
+"""
+
+
+def test_a_one_bit_wire_unproven_is_read_and_counted():
+    assert unproven_wires(ONE_BIT) == ["dp.core.resync"]
+    assert (unproven_count(ONE_BIT), unproven_count(STATUS)) == (1, 4)
+    assert unproven_count("Found 12 $equiv cells in equiv:\n  Of those cells 12 are proven "
+                          "and 0 are unproven.\n  Equivalence successfully proven!\n") == 0
+    with pytest.raises(RuntimeError, match=whole(
+            "equiv_status compared nothing: 'No $equiv cells found in equiv.'")):
+        unproven_count("No $equiv cells found in equiv.\n")
 
 
 def test_unproven_wires_one_name_per_wire_sorted():

