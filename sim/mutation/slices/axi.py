@@ -2,8 +2,10 @@
 :func:`dptbd.sim.verilator_axi.check_axi` (every fault class, settings and LUT writes,
 refused writes, W1C, soft reset, register reads, gaps and back-pressure), random AXI runs
 of the campaign (:func:`dptbd.sim.axi.runs.draw_run`), runs with a random LUT at K_max
-(:func:`lut_scenario`) and one long run of the counters and the stall cycles
-(:func:`counter_plan`)."""
+(:func:`lut_scenario`), one long run of the counters and the stall cycles
+(:func:`counter_plan`) and two runs of exact cycles: ``irq`` after every IRQ_ENABLE and
+IRQ_STATUS write (:func:`irq_plan`) and the first beat taken after a soft reset
+(:func:`restart_plan`)."""
 
 from __future__ import annotations
 
@@ -12,7 +14,8 @@ from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS
 from dptbd.sim.mutation.verdict import hang_verdict
 
 __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
-           "COUNTER_READS", "RUNS", "axi_scenario", "lut_scenario", "counter_plan", "run"]
+           "COUNTER_READS", "IRQ_WRITES", "RESTART_DELAY", "RUNS", "axi_scenario",
+           "lut_scenario", "counter_plan", "irq_plan", "restart_plan", "run"]
 
 #: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi.runs.draw_run` on the slice's
 #: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
@@ -35,7 +38,7 @@ RUNS = tuple([("faults", s) for s in range(16)]
              + [("backpressure", s) for s in (1, 4, 7, 14)]
              + [("random", s) for s in range(RANDOM_AXI_RUNS)]
              + [("lut", s) for s in range(LUT_RUNS)]
-             + [("counters", 0)])
+             + [("counters", 0), ("irq", 0), ("restart", 0)])
 
 
 def lut_scenario(cfg: DPConfig, seed: int) -> tuple:
@@ -186,9 +189,150 @@ def _axi_random_run(sim, seed: int) -> tuple[str, str]:
     return ("survived" if result.passed else "killed"), result.report()
 
 
+#: The writes of the ``irq`` run after its segment, both IRQ_STATUS bits pending:
+#: ``(register, value, irq after it)``; ``irq`` is IRQ_STATUS & IRQ_ENABLE, so it changes
+#: exactly where the value after a write differs from the value before.
+IRQ_WRITES = (("IRQ_ENABLE", 1, 1), ("IRQ_ENABLE", 0, 0), ("IRQ_ENABLE", 2, 1),
+              ("IRQ_ENABLE", 0, 0), ("IRQ_ENABLE", 3, 1), ("IRQ_STATUS", 1, 1),
+              ("IRQ_STATUS", 2, 0), ("IRQ_ENABLE", 0, 0))
+
+
+def irq_plan(cfg: DPConfig) -> tuple:
+    """The ``irq`` run: a refused write of SEGMENT_FRAMES (0) sets ``ERROR.write_refused``,
+    hence ``IRQ_STATUS.fault``; two frames (one segment of K = 2) set
+    ``IRQ_STATUS.segment_done``; after the settle, the :data:`IRQ_WRITES`. The beats, the
+    operations and, per w/r operation, the response expected."""
+    import numpy as np
+
+    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.sim.axi.stimulus import clean_beats
+    from dptbd.sim.verilator_axi import OKAY, SLVERR
+
+    regs = constants_namespace(cfg)
+    rng = np.random.default_rng([0, 0xA76])
+    beats = clean_beats(rng.integers(0, 1 << cfg.input_bits, size=(2, cfg.height, cfg.width)))
+    end = len(beats)
+    ops = [(0, "w", regs.REG_SEGMENT_FRAMES, 0), (0, "w", regs.REG_SEGMENT_FRAMES, 2),
+           (end, "i", 256, 0), (end, "r", regs.REG_IRQ_STATUS, 0)]
+    ops += [(end, "w", getattr(regs, f"REG_{name}"), value) for name, value, _ in IRQ_WRITES]
+    responses = [SLVERR, OKAY, OKAY] + [OKAY] * len(IRQ_WRITES)
+    return beats, ops, responses
+
+
+def _irq_run(sim) -> tuple[str, str]:
+    """The ``irq`` run: IRQ_STATUS reads 3 after the segment, every response as expected,
+    and ``irq`` changes exactly in the cycles of the B responses of the
+    :data:`IRQ_WRITES` that change it (the register block updates IRQ_ENABLE and
+    IRQ_STATUS at the clock edge that ends the write's strobe cycle, and ``bvalid`` rises
+    in the next cycle, where ``irq``, a combinational AND-OR of the two, shows the new
+    value) and nowhere else."""
+    from dptbd.sim.verilator_axi import run_axi
+
+    beats, ops, responses = irq_plan(sim.cfg)
+    run = run_axi(sim, beats, ops)
+    problems = []
+    if run.status != "done":
+        problems.append(f"{run.status} after {run.cycles} cycles")
+    if list(run.op_resp) != responses:
+        problems.append(f"responses {list(run.op_resp)}, expected {responses}")
+    elif int(run.op_data[2]) != 3:
+        problems.append(f"IRQ_STATUS read {int(run.op_data[2])} after the segment, expected 3")
+    else:
+        level, want = 0, []
+        for (_name, _value, after), cycle in zip(IRQ_WRITES, run.op_cycles[3:]):
+            if after != level:
+                want.append(int(cycle))
+            level = after
+        got = [int(c) for c in run.irq_cycles]
+        if got != want:
+            problems.append(f"irq changed in cycles {got}, expected {want} (the B responses "
+                            "of the writes that change it)")
+    return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
+
+
+#: Cycles from a soft reset's ``restart`` (the cut trailer's transfer, or the cycle of the
+#: write's B response when no list is open) to the first beat taken after it: the input is
+#: held up to ``restart`` included (``busy``), the harness offers the next beat in the
+#: cycle after the write's response, and the core, reset at the end of the ``restart``
+#: cycle, takes it one cycle later.
+RESTART_DELAY = 2
+
+
+def restart_plan(cfg: DPConfig) -> tuple:
+    """The ``restart`` run: K = 1, n = C (long lists), three frames at full speed and, 10
+    beats into the third, a soft reset 40 idle cycles on, while the second frame's list is
+    being sent (its cut trailer is the restart); then two more frames, the settle and a
+    second soft reset with no list open; one more frame. The beats, the operations, the
+    beats before which the two soft resets are written, and the index of the two writes
+    among the w/r operations."""
+    import numpy as np
+
+    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    regs = constants_namespace(cfg)
+    rng = np.random.default_rng([0, 0xA77])
+    beats = clean_beats(rng.integers(0, 1 << cfg.input_bits, size=(6, cfg.height, cfg.width)))
+    frame = cfg.width * cfg.height
+    cut_at, idle_at = 2 * frame + 10, 5 * frame
+    ops = [(0, "w", regs.REG_SEGMENT_FRAMES, 1), (0, "w", regs.REG_CANDIDATE_COUNT,
+                                                  cfg.record_capacity),
+           (cut_at, "i", 40, 0), (cut_at, "w", regs.REG_CONTROL, regs.CONTROL_SOFT_RESET_MASK),
+           (idle_at, "i", 512, 0),
+           (idle_at, "w", regs.REG_CONTROL, regs.CONTROL_SOFT_RESET_MASK)]
+    return beats, ops, (cut_at, idle_at), (2, 3)
+
+
+def _restart_run(sim) -> tuple[str, str]:
+    """The ``restart`` run: after the first soft reset the cut trailer
+    (:func:`~dptbd.hw.candidate_layout.pack_cut_trailer` of the records sent) comes in the
+    cycle of the write's B response, and the next beat is taken :data:`RESTART_DELAY`
+    cycles after it; after the second (no list open) the next beat is taken
+    :data:`RESTART_DELAY` cycles after the B response."""
+    from dptbd.hw.candidate_layout import pack_cut_trailer
+    from dptbd.sim.verilator_axi import run_axi
+
+    beats, ops, (cut_at, idle_at), (first, second) = restart_plan(sim.cfg)
+    run = run_axi(sim, beats, ops)
+    problems = []
+    if run.status != "done" or int(run.counters.get("accepted", -1)) != len(beats):
+        problems.append(f"{run.status}: {run.counters.get('accepted')} of {len(beats)} "
+                        "beats accepted")
+    elif list(run.op_resp) != [0] * 4:
+        problems.append(f"responses {list(run.op_resp)}")
+    else:
+        words, flags, cycles = (list(map(int, a)) for a in (run.out_words, run.out_flags,
+                                                            run.out_cycles))
+        done = int(run.op_cycles[first])
+        at = next((j for j, c in enumerate(cycles) if c >= done), None)
+        if at is None or cycles[at] != done or flags[at] & 2 == 0:
+            problems.append(f"no trailer in cycle {done}, the soft reset's B response")
+        else:
+            start = max(j for j in range(at + 1) if flags[j] & 1)
+            want = pack_cut_trailer(sim.cfg, at - start)
+            if words[at] != want:
+                problems.append(f"the cut trailer is {words[at]:#x}, expected {want:#x}")
+            taken = int(run.accept_cycles[cut_at])
+            if taken != cycles[at] + RESTART_DELAY:
+                problems.append(f"after the cut trailer (cycle {cycles[at]}) beat {cut_at} "
+                                f"was taken in cycle {taken}, expected "
+                                f"{cycles[at] + RESTART_DELAY}")
+        done = int(run.op_cycles[second])
+        taken = int(run.accept_cycles[idle_at])
+        if taken != done + RESTART_DELAY:
+            problems.append(f"after the soft reset with no list open (B response in cycle "
+                            f"{done}) beat {idle_at} was taken in cycle {taken}, expected "
+                            f"{done + RESTART_DELAY}")
+    return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
+
+
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.verilator_axi import check_axi
 
+    if kind == "irq":
+        return _irq_run(sim)
+    if kind == "restart":
+        return _restart_run(sim)
     if kind == "random":
         return _axi_random_run(sim, seed)
     if kind == "counters":
