@@ -5,7 +5,9 @@ of the campaign (:func:`dptbd.sim.axi.runs.draw_run`), runs with a random LUT at
 (:func:`lut_scenario`), one long run of the counters and the stall cycles
 (:func:`counter_plan`) and two runs of exact cycles: ``irq`` after every IRQ_ENABLE and
 IRQ_STATUS write (:func:`irq_plan`) and the first beat taken after a soft reset
-(:func:`restart_plan`)."""
+(:func:`restart_plan`); a sweep of the whole register address space (:func:`decode_steps`) and
+a run through many values of n (:func:`n_steps`) and one of 2**21 cycles of output
+back-pressure (:func:`stall_plan`)."""
 
 from __future__ import annotations
 
@@ -15,7 +17,8 @@ from dptbd.sim.mutation.verdict import hang_verdict
 
 __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
            "COUNTER_READS", "IRQ_WRITES", "RESTART_DELAY", "RUNS", "axi_scenario",
-           "lut_scenario", "counter_plan", "irq_plan", "restart_plan", "run"]
+           "lut_scenario", "counter_plan", "irq_plan", "restart_plan", "N_VALUES",
+           "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "run"]
 
 #: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi.runs.draw_run` on the slice's
 #: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
@@ -38,7 +41,8 @@ RUNS = tuple([("faults", s) for s in range(16)]
              + [("backpressure", s) for s in (1, 4, 7, 14)]
              + [("random", s) for s in range(RANDOM_AXI_RUNS)]
              + [("lut", s) for s in range(LUT_RUNS)]
-             + [("counters", 0), ("irq", 0), ("restart", 0)])
+             + [("counters", 0), ("irq", 0), ("restart", 0), ("decode", 0),
+                ("n-values", 0), ("stalls", 0)])
 
 
 def lut_scenario(cfg: DPConfig, seed: int) -> tuple:
@@ -326,9 +330,128 @@ def _restart_run(sim) -> tuple[str, str]:
     return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
 
 
+def decode_steps(cfg: DPConfig) -> tuple:
+    """The beats and steps of the ``decode`` run: right after reset, a read of every word
+    address of the register space (2**ADDRESS_BITS bytes; a mapped register gives its reset
+    value with OKAY, the write-only LUT window and every other address 0 with SLVERR) and
+    of every mapped register's three unaligned addresses (0, SLVERR); then a write of all
+    ones to every address that takes no write (unmapped, past the LUT window, constant,
+    counter and status registers: SLVERR, nothing changes, no ERROR bit) and the read sweep
+    again; then two frames (one segment of K = 2) checked against the model."""
+    import numpy as np
+
+    from dptbd.hw.register_map import register_map
+    from dptbd.sim.axi.stimulus import clean_beats
+    from dptbd.sim.verilator_axi import OKAY, SLVERR
+
+    regmap = register_map(cfg)
+    lut = regmap.window("LUT")
+    mapped = {r.address: r for r in regmap.registers}
+    reset = {a: sum(f.reset << f.lsb for f in r.fields if f.kind != "pulse")
+             for a, r in mapped.items()}
+    reads = []
+    for address in range(0, 1 << regmap.address_bits, 4):
+        reads.append(["r", address, OKAY, reset[address]] if address in mapped
+                     else ["r", address, SLVERR, 0])
+    reads += [["r", a + k, SLVERR, 0] for a in sorted(mapped) for k in (1, 2, 3)]
+    writes = [["w", a, 2**32 - 1, 0xF, SLVERR] for a in range(0, 1 << regmap.address_bits, 4)
+              if not lut.base <= a < lut.end
+              and (a not in mapped or mapped[a].kind in ("constant", "counter", "status"))]
+    rng = np.random.default_rng([0, 0xA78])
+    beats = clean_beats(rng.integers(0, 1 << cfg.input_bits, size=(2, cfg.height, cfg.width)))
+    return beats, [{"bus": reads + writes + reads, "stop": 0}, {"stop": len(beats)}]
+
+
+#: The values of n of the ``n-values`` run, one segment (K = 1) each: every bit of n set
+#: and clear, the ends 0, 1, C − 1, C, and 89 … 95 (the values whose bit 5 inverted
+#: passes C).
+N_VALUES = (0, 1, 2, 3, 4, 5, 8, 16, 31, 32, 33, 47, 63, 64, 65, 89, 90, 91, 92, 93, 94, 95,
+            96, 100, 111, 119, 120)
+
+
+def n_steps(cfg: DPConfig) -> tuple:
+    """The beats and steps of the ``n-values`` run: K = 1, one frame of uniform noise per
+    value of :data:`N_VALUES` (n written before the frame, taken at its first pixel), every
+    list against the model."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    rng = np.random.default_rng([0, 0xA79])
+    frames = rng.integers(0, 1 << cfg.input_bits, size=(len(N_VALUES), cfg.height, cfg.width))
+    beats = clean_beats(frames)
+    frame = cfg.width * cfg.height
+    steps = [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", n]], "stop": (j + 1) * frame}
+             for j, n in enumerate(N_VALUES)]
+    return beats, steps
+
+
+#: Idle cycles of the ``stalls`` run between its two reads of OUTPUT_STALLS: past 2**21, so
+#: that the second read has bit 21 set (the highest bit any register of the slice's other
+#: runs never reads as 1; a counter bit above it takes 2**22 cycles and more).
+STALL_CYCLES = (1 << 21) + 1000
+
+
+def stall_plan(cfg: DPConfig) -> tuple:
+    """The ``stalls`` run: K = 1 and one frame, whose list's trailer ``m_axis_cand`` offers
+    and never hands over (``tready`` held low); OUTPUT_STALLS read 300 cycles on and again
+    :data:`STALL_CYCLES` cycles later; then ``aresetn`` (the only way to drop the word).
+    The beats and the operations."""
+    import numpy as np
+
+    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    regs = constants_namespace(cfg)
+    rng = np.random.default_rng([0, 0xA7A])
+    beats = clean_beats(rng.integers(0, 1 << cfg.input_bits, size=(1, cfg.height, cfg.width)))
+    end = len(beats)
+    ops = [(0, "w", regs.REG_SEGMENT_FRAMES, 1), (end, "i", 300, 0),
+           (end, "r", regs.REG_OUTPUT_STALLS, 0), (end, "i", STALL_CYCLES, 0),
+           (end, "r", regs.REG_OUTPUT_STALLS, 0), (end, "a", 4, 0)]
+    return beats, ops
+
+
+def _stalls_run(sim) -> tuple[str, str]:
+    """The ``stalls`` run: OUTPUT_STALLS counts every cycle of the held word, so the two
+    reads differ by exactly the cycles between them (both reads take the same cycles from
+    request to response) and the second is past 2**21."""
+    from dptbd.sim.verilator_axi import run_axi
+
+    beats, ops = stall_plan(sim.cfg)
+    run = run_axi(sim, beats, ops, ready_pause=1.0 - 2.0**-52,
+                  max_cycles=STALL_CYCLES + 20 * len(beats) + 10_000)
+    problems = []
+    if run.status != "done" or int(run.counters.get("accepted", -1)) != len(beats):
+        problems.append(f"{run.status}: {run.counters.get('accepted')} of {len(beats)} "
+                        "beats accepted")
+    elif list(run.op_resp) != [0, 0, 0] or len(run.out_words):
+        problems.append(f"responses {list(run.op_resp)}, {len(run.out_words)} words out")
+    else:
+        first, second = (int(v) for v in run.op_data[1:3])
+        cycles = int(run.op_cycles[2]) - int(run.op_cycles[1])
+        if not 0 < first < 300 or second - first != cycles:
+            problems.append(f"OUTPUT_STALLS read {first}, then {second} {cycles} cycles "
+                            f"later (expected {first + cycles})")
+    return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
+
+
+def _checked(result) -> tuple[str, str]:
+    if hang_verdict(result.run.status, result.report()):
+        return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
+                           f"{result.report()}")
+    return ("survived" if result.passed else "killed"), result.report()
+
+
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.verilator_axi import check_axi
 
+    if kind == "stalls":
+        return _stalls_run(sim)
+    if kind == "decode":
+        return _checked(check_axi(sim, *decode_steps(sim.cfg)))
+    if kind == "n-values":
+        return _checked(check_axi(sim, *n_steps(sim.cfg)))
     if kind == "irq":
         return _irq_run(sim)
     if kind == "restart":
