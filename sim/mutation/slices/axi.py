@@ -7,7 +7,8 @@ of the campaign (:func:`dptbd.sim.axi.runs.draw_run`), runs with a random LUT at
 IRQ_STATUS write (:func:`irq_plan`) and the first beat taken after a soft reset
 (:func:`restart_plan`); a sweep of the whole register address space (:func:`decode_steps`) and
 a run through many values of n (:func:`n_steps`) and one of 2**21 cycles of output
-back-pressure (:func:`stall_plan`)."""
+back-pressure (:func:`stall_plan`); ``noise`` runs under the build's LUT
+(:func:`noise_steps`)."""
 
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ from dptbd.sim.mutation.verdict import hang_verdict
 __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
            "COUNTER_READS", "IRQ_WRITES", "RESTART_DELAY", "RUNS", "axi_scenario",
            "lut_scenario", "counter_plan", "irq_plan", "restart_plan", "N_VALUES",
-           "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "run"]
+           "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "noise_steps", "run"]
 
 #: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi.runs.draw_run` on the slice's
 #: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
@@ -42,7 +43,7 @@ RUNS = tuple([("faults", s) for s in range(16)]
              + [("random", s) for s in range(RANDOM_AXI_RUNS)]
              + [("lut", s) for s in range(LUT_RUNS)]
              + [("counters", 0), ("irq", 0), ("restart", 0), ("decode", 0),
-                ("n-values", 0), ("stalls", 0)])
+                ("n-values", 0), ("noise", 0), ("noise", 1), ("stalls", 0)])
 
 
 def lut_scenario(cfg: DPConfig, seed: int) -> tuple:
@@ -436,6 +437,23 @@ def _stalls_run(sim) -> tuple[str, str]:
     return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
 
 
+def noise_steps(cfg: DPConfig, seed: int) -> tuple:
+    """The beats and steps of ``noise`` run ``seed``: 16 frames of uniform noise under the
+    build's LUT (never written: every predecessor direction and move reached with the
+    build's codes, which the ``lut`` runs overwrite from their first beat), K = K_max,
+    n = C (every pixel's E and direction in the lists)."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    rng = np.random.default_rng([seed, 0xA7B])
+    beats = clean_beats(rng.integers(0, 1 << cfg.input_bits,
+                                     size=(16, cfg.height, cfg.width)))
+    return beats, [{"writes": [["SEGMENT_FRAMES", cfg.k_max],
+                               ["CANDIDATE_COUNT", cfg.record_capacity]],
+                    "stop": len(beats)}]
+
+
 def _checked(result) -> tuple[str, str]:
     if hang_verdict(result.run.status, result.report()):
         return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
@@ -448,6 +466,8 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
 
     if kind == "stalls":
         return _stalls_run(sim)
+    if kind == "noise":
+        return _checked(check_axi(sim, *noise_steps(sim.cfg, seed)))
     if kind == "decode":
         return _checked(check_axi(sim, *decode_steps(sim.cfg)))
     if kind == "n-values":
