@@ -8,7 +8,9 @@ IRQ_STATUS write (:func:`irq_plan`) and the first beat taken after a soft reset
 (:func:`restart_plan`); a sweep of the whole register address space (:func:`decode_steps`) and
 a run through many values of n (:func:`n_steps`) and one of 2**21 cycles of output
 back-pressure (:func:`stall_plan`); ``noise`` runs under the build's LUT
-(:func:`noise_steps`)."""
+(:func:`noise_steps`); settings written inside a segment that a resync then ends
+(:func:`resync_steps`); the LUT written from its last entry to its first
+(:func:`lut_scenario`, ``lut-reverse``)."""
 
 from __future__ import annotations
 
@@ -19,7 +21,7 @@ from dptbd.sim.mutation.verdict import hang_verdict
 __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
            "COUNTER_READS", "IRQ_WRITES", "RESTART_DELAY", "RUNS", "axi_scenario",
            "lut_scenario", "counter_plan", "irq_plan", "restart_plan", "N_VALUES",
-           "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "noise_steps", "run"]
+           "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "noise_steps", "resync_steps", "run"]
 
 #: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi.runs.draw_run` on the slice's
 #: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
@@ -43,13 +45,17 @@ RUNS = tuple([("faults", s) for s in range(16)]
              + [("random", s) for s in range(RANDOM_AXI_RUNS)]
              + [("lut", s) for s in range(LUT_RUNS)]
              + [("counters", 0), ("irq", 0), ("restart", 0), ("decode", 0),
-                ("n-values", 0), ("noise", 0), ("noise", 1), ("stalls", 0)])
+                ("n-values", 0), ("noise", 0), ("noise", 1),
+                ("resync", 0), ("resync", 1), ("resync", 2),
+                ("lut-reverse", 0), ("lut-reverse", 1), ("stalls", 0)])
 
 
-def lut_scenario(cfg: DPConfig, seed: int) -> tuple:
+def lut_scenario(cfg: DPConfig, seed: int, reverse: bool = False) -> tuple:
     """The beats and steps of ``lut`` run ``seed``: 16 frames of two targets (even seeds) or
     the mixed scene, K = K_max (the largest energies, where a weight's last bit shows in
-    the weighted sum), n = C, and a random LUT (codes in [0, 2**F]) from the first beat."""
+    the weighted sum), n = C, and a random LUT (codes in [0, 2**F]) from the first beat;
+    ``reverse``: its entries written from the last address to the first (a write that
+    also reaches a later entry is then not overwritten by that entry's own write)."""
     import numpy as np
 
     from dptbd.sim.axi.stimulus import clean_beats
@@ -62,7 +68,13 @@ def lut_scenario(cfg: DPConfig, seed: int) -> tuple:
     codes = rng.integers(0, unity + 1, size=(cfg.n_moves + 1, cfg.n_moves)).tolist()
     steps = [{"writes": [["SEGMENT_FRAMES", cfg.k_max],
                          ["CANDIDATE_COUNT", cfg.record_capacity]],
-              "lut_codes": codes, "stop": len(beats)}]
+              "stop": len(beats)}]
+    if reverse:
+        steps[0]["lut_writes"] = [[p, m, codes[p][m], 0xF]
+                                  for p in reversed(range(cfg.n_moves + 1))
+                                  for m in reversed(range(cfg.n_moves))]
+    else:
+        steps[0]["lut_codes"] = codes
     return beats, steps
 
 #: What the ``counters`` run reads at its end.
@@ -338,7 +350,10 @@ def decode_steps(cfg: DPConfig) -> tuple:
     of every mapped register's three unaligned addresses (0, SLVERR); then a write of all
     ones to every address that takes no write (unmapped, past the LUT window, constant,
     counter and status registers: SLVERR, nothing changes, no ERROR bit) and the read sweep
-    again; then two frames (one segment of K = 2) checked against the model."""
+    again; then, for every setting register and every bit above its upper limit, a write of
+    its reset value with that bit set (refused, SLVERR: every bit of the written word is
+    compared), each register read back unchanged and ERROR.write_refused set; then two
+    frames (one segment of K = 2) checked against the model."""
     import numpy as np
 
     from dptbd.hw.register_map import register_map
@@ -358,9 +373,21 @@ def decode_steps(cfg: DPConfig) -> tuple:
     writes = [["w", a, 2**32 - 1, 0xF, SLVERR] for a in range(0, 1 << regmap.address_bits, 4)
               if not lut.base <= a < lut.end
               and (a not in mapped or mapped[a].kind in ("constant", "counter", "status"))]
+    bits, back = [], []
+    for reg in regmap.registers:
+        if reg.kind != "setting":
+            continue
+        (field,) = reg.fields
+        bits += [["w", reg.address, reset[reg.address] | 1 << b, 0xF, SLVERR]
+                 for b in range(32) if 1 << b > field.limits[1]]
+        back.append(["r", reg.address, OKAY, reset[reg.address]])
+    refused = sum(f.reset << f.lsb for f in regmap["ERROR"].fields) | next(
+        1 << f.lsb for f in regmap["ERROR"].fields if f.name == "write_refused")
+    back.append(["r", regmap["ERROR"].address, OKAY, refused])
     rng = np.random.default_rng([0, 0xA78])
     beats = clean_beats(rng.integers(0, 1 << cfg.input_bits, size=(2, cfg.height, cfg.width)))
-    return beats, [{"bus": reads + writes + reads, "stop": 0}, {"stop": len(beats)}]
+    return beats, [{"bus": reads + writes + reads + bits + back, "stop": 0},
+                   {"stop": len(beats)}]
 
 
 #: The values of n of the ``n-values`` run, one segment (K = 1) each: every bit of n set
@@ -454,6 +481,30 @@ def noise_steps(cfg: DPConfig, seed: int) -> tuple:
                     "stop": len(beats)}]
 
 
+def resync_steps(cfg: DPConfig, seed: int) -> tuple:
+    """The beats and steps of ``resync`` run ``seed``: 8 frames of two targets (K = 2);
+    inside the segment that begins at frame 2, K (seed 0), n (seed 1) or s (seed 2) is
+    written, and 20 beats later a start of frame in mid-line (``sof_unexpected``) begins a
+    segment at a resync, which keeps the settings of the segment before it
+    (``docs/arithmetic.md`` §6.5a); the next segment start takes the written value."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import Beats, clean_beats
+    from dptbd.sim.scenarios import make_frames
+
+    beats = clean_beats(make_frames("two-targets", cfg, 8, seed=seed))
+    frame = cfg.width * cfg.height
+    write_at, resync_at = 2 * frame + 10, 2 * frame + 30
+    first = np.asarray(beats.first).copy()
+    first[resync_at] = True
+    beats = Beats(beats.pixel, first, beats.last)
+    name, value = (("SEGMENT_FRAMES", 3), ("CANDIDATE_COUNT", 7),
+                   ("HISTOGRAM_SHIFT", 2))[seed % 3]
+    steps = [{"writes": [["CANDIDATE_COUNT", cfg.record_capacity]], "stop": write_at},
+             {"writes": [[name, value]], "stop": len(beats)}]
+    return beats, steps
+
+
 def _checked(result) -> tuple[str, str]:
     if hang_verdict(result.run.status, result.report()):
         return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
@@ -468,6 +519,10 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
         return _stalls_run(sim)
     if kind == "noise":
         return _checked(check_axi(sim, *noise_steps(sim.cfg, seed)))
+    if kind == "resync":
+        return _checked(check_axi(sim, *resync_steps(sim.cfg, seed)))
+    if kind == "lut-reverse":
+        return _checked(check_axi(sim, *lut_scenario(sim.cfg, seed, reverse=True), seed=seed))
     if kind == "decode":
         return _checked(check_axi(sim, *decode_steps(sim.cfg)))
     if kind == "n-values":
