@@ -363,8 +363,7 @@ def decode_steps(cfg: DPConfig) -> tuple:
     regmap = register_map(cfg)
     lut = regmap.window("LUT")
     mapped = {r.address: r for r in regmap.registers}
-    reset = {a: sum(f.reset << f.lsb for f in r.fields if f.kind != "pulse")
-             for a, r in mapped.items()}
+    reset = {a: r.reset for a, r in mapped.items()}
     reads = []
     for address in range(0, 1 << regmap.address_bits, 4):
         reads.append(["r", address, OKAY, reset[address]] if address in mapped
