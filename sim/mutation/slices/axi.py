@@ -10,7 +10,8 @@ a run through many values of n (:func:`n_steps`) and one of 2**21 cycles of outp
 back-pressure (:func:`stall_plan`); ``noise`` runs under the build's LUT
 (:func:`noise_steps`); settings written inside a segment that a resync then ends
 (:func:`resync_steps`); the LUT written from its last entry to its first
-(:func:`lut_scenario`, ``lut-reverse``)."""
+(:func:`lut_scenario`, ``lut-reverse``); 8 292 one-frame lists read at both clock
+parities (:func:`lists_plan`)."""
 
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ from dptbd.sim.mutation.verdict import hang_verdict
 __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
            "COUNTER_READS", "IRQ_WRITES", "RESTART_DELAY", "RUNS", "axi_scenario",
            "lut_scenario", "counter_plan", "irq_plan", "restart_plan", "N_VALUES",
-           "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "noise_steps", "resync_steps", "run"]
+           "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "noise_steps", "resync_steps", "LIST_COUNT", "lists_plan", "run"]
 
 #: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi.runs.draw_run` on the slice's
 #: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
@@ -47,7 +48,7 @@ RUNS = tuple([("faults", s) for s in range(16)]
              + [("counters", 0), ("irq", 0), ("restart", 0), ("decode", 0),
                 ("n-values", 0), ("noise", 0), ("noise", 1),
                 ("resync", 0), ("resync", 1), ("resync", 2),
-                ("lut-reverse", 0), ("lut-reverse", 1), ("stalls", 0)])
+                ("lut-reverse", 0), ("lut-reverse", 1), ("stalls", 0), ("lists", 0)])
 
 
 def lut_scenario(cfg: DPConfig, seed: int, reverse: bool = False) -> tuple:
@@ -504,6 +505,66 @@ def resync_steps(cfg: DPConfig, seed: int) -> tuple:
     return beats, steps
 
 
+#: Lists of the ``lists`` run (K = 1, one a frame): past 2**13, with bit 13 set.
+LIST_COUNT = (1 << 13) + 100
+
+
+def lists_plan(cfg: DPConfig) -> tuple:
+    """The ``lists`` run: one frame of noise offered :data:`LIST_COUNT` times over
+    (:func:`~dptbd.sim.verilator_axi.run_axi`'s ``repeat``) at K = 1 and n = 0 (each list
+    its trailer); after the settle FRAMES, SEGMENTS and LISTS read three times, 0, 1 and 2
+    idle cycles apart (a counter bit that toggles every cycle is read at both parities).
+    The frame's beats, the operations and the model's words of the first three lists
+    (from the third on, every list is the same: the same frame, primed)."""
+    import numpy as np
+
+    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
+    from dptbd.sim.candidate_scoreboard import list_words
+
+    regs = constants_namespace(cfg)
+    rng = np.random.default_rng([0, 0xA7C])
+    frame = rng.integers(0, 1 << cfg.input_bits, size=(1, cfg.height, cfg.width))
+    beats = clean_beats(frame)
+    steps = [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", 0]], "stop": 3 * len(beats)}]
+    three = clean_beats(np.repeat(frame, 3, axis=0))
+    words = [w for lst in list_words(cfg, expected_outputs(cfg, three, steps).lists)
+             for w in lst]
+    end = len(beats) * LIST_COUNT
+    ops = [(0, "w", regs.REG_SEGMENT_FRAMES, 1), (0, "w", regs.REG_CANDIDATE_COUNT, 0),
+           (end, "i", 400, 0)]
+    for idle in (0, 1, 2):
+        if idle:
+            ops.append((end, "i", idle, 0))
+        ops += [(end, "r", getattr(regs, f"REG_{name}"), 0)
+                for name in ("FRAMES", "SEGMENTS", "LISTS")]
+    return beats, ops, [int(w) for w in words]
+
+
+def _lists_run(sim) -> tuple[str, str]:
+    """The ``lists`` run: every beat taken, :data:`LIST_COUNT` words, each a trailer with
+    ``tuser[0]`` and ``tlast``, the first three the model's and the rest equal to the
+    third, and every read of FRAMES, SEGMENTS and LISTS :data:`LIST_COUNT`."""
+    import numpy as np
+
+    from dptbd.sim.verilator_axi import run_axi
+
+    beats, ops, words = lists_plan(sim.cfg)
+    run = run_axi(sim, beats, ops, repeat=LIST_COUNT)
+    problems = []
+    got = [int(w) for w in run.out_words]
+    if run.status != "done" or int(run.counters.get("accepted", -1)) != len(beats) * LIST_COUNT:
+        problems.append(f"{run.status}: {run.counters.get('accepted')} beats accepted")
+    elif got != words + [words[-1]] * (LIST_COUNT - len(words)):
+        problems.append(f"{len(got)} words, not {LIST_COUNT} trailers as the model's")
+    elif not np.all(np.asarray(run.out_flags) == 3):
+        problems.append("a list's word without tuser[0] and tlast")
+    elif list(run.op_resp) != [0] * 11 or list(run.op_data[2:]) != [LIST_COUNT] * 9:
+        problems.append(f"FRAMES, SEGMENTS, LISTS read {list(map(int, run.op_data[2:]))} "
+                        f"(responses {list(map(int, run.op_resp))}), expected {LIST_COUNT}")
+    return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
+
+
 def _checked(result) -> tuple[str, str]:
     if hang_verdict(result.run.status, result.report()):
         return "timeout", (f"cycle budget ({result.run.cycles} cycles) ran out: "
@@ -514,6 +575,8 @@ def _checked(result) -> tuple[str, str]:
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.verilator_axi import check_axi
 
+    if kind == "lists":
+        return _lists_run(sim)
     if kind == "stalls":
         return _stalls_run(sim)
     if kind == "noise":
