@@ -5,7 +5,7 @@ IRQ_ENABLE.segment_done flop clocked on the falling edge (``irq`` one cycle earl
 IRQ_ENABLE write), the copy of ``cut`` in ``restart`` inverted (the soft reset's restart
 one cycle after the cut trailer), a bit of the AXI4-Lite write data stuck at 0, ``lut_we``
 inverted, a LUT column's write enable XORed with another's, bit 21 of the read data stuck
-at 0."""
+at 0, LISTS' bit 22 XORed with its bit 13."""
 
 from __future__ import annotations
 
@@ -29,8 +29,8 @@ IRQ_ENABLE_ON_FALLING_EDGE = ("mutate -mode inv -module dptbd_axi -cell $flatten
 RESTART_AFTER_THE_CUT_TRAILER = ("mutate -mode inv -module dptbd_axi -cell "
                                  "$flatten\\cand_out.$93 -port Y -portbit 0 "
                                  "-src hw/axis_video.py:166")
-#: The four the ``decode``, ``noise``, ``lut-reverse`` and ``stalls`` runs kill (mutants
-#: 97, 65, 114 and 41 of ``--seed 1``, 300 mutants, today's netlist).
+#: The five the ``decode``, ``noise``, ``lut-reverse``, ``stalls`` and ``lists`` runs kill
+#: (mutants 97, 65, 114, 41 and 177 of ``--seed 1``, 300 mutants, today's netlist).
 WRITE_DATA_BIT_11 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$70 "
                      "-port Q -portbit 11 -wire regs.axil.w_data -wirebit 11 "
                      "-src hw/axi_lite.py:86")
@@ -40,6 +40,9 @@ LUT_COLUMN_8_WITH_4 = ("mutate -mode cnot1 -module dptbd_axi -cell "
                        "$flatten\\core.\\dp.\\core.\\weight_lut.$406 -port Q -portbit 8 "
                        "-ctrlbit 4 -wire core.dp.core.weight_lut.write__en$225 -wirebit 0 "
                        "-src hw/weight_lut.py:230")
+LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$446 "
+                        "-port Q -portbit 22 -ctrlbit 13 -wire regs.lists -wirebit 22 "
+                        "-src hw/register_file.py:104")
 READ_DATA_BIT_21 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$80 "
                     "-port D -portbit 21 -src hw/axi_lite.py:41")
 
@@ -144,17 +147,32 @@ def test_n_values_noise_resync_and_backward_lut_runs():
 def test_the_new_runs_kill_what_no_earlier_run_kills():
     cfg = config("axi")
     mutations = parse_mutations("\n".join([WRITE_DATA_BIT_11, LUT_WE_INVERTED,
-                                           LUT_COLUMN_8_WITH_4, READ_DATA_BIT_21]))
+                                           LUT_COLUMN_8_WITH_4, READ_DATA_BIT_21,
+                                           LISTS_BIT_22_WITH_13]))
     commands, refused = mutant_design(cfg, "axi", mutations)
     assert refused == []
     sim = V.build(cfg, "axi", mutations=commands)
     new = tuple(r for r in S.RUNS if r[0] in ("decode", "n-values", "noise", "resync",
-                                              "lut-reverse", "stalls"))
+                                              "lut-reverse", "stalls", "lists"))
     assert run_slice(sim, 0, new).verdict == "survived"
     for index, run, report in ((1, "decode seed 0", "write 0x"),
                                (2, "noise seed 0", "done; first mismatch at output word "),
                                (3, "lut-reverse seed 0", "done; first mismatch at output word "),
-                               (4, "stalls seed 0", "OUTPUT_STALLS read ")):
+                               (4, "stalls seed 0", "OUTPUT_STALLS read "),
+                               (5, "lists seed 0", "FRAMES, SEGMENTS, LISTS read ")):
         outcome = run_slice(sim, index, new)
         assert (outcome.verdict, outcome.run) == ("killed", run), (index, outcome)
         assert report in outcome.report
+
+
+def test_lists_plan_reads_the_counters_at_both_parities():
+    cfg = config("axi")
+    regs = constants_namespace(cfg)
+    beats, ops, words = S.lists_plan(cfg)
+    assert len(beats) == cfg.width * cfg.height and S.LIST_COUNT >> 13 == 1
+    end = len(beats) * S.LIST_COUNT
+    reads = [op for op in ops if op[1] == "r"]
+    assert reads == 3 * [(end, "r", regs.REG_FRAMES, 0), (end, "r", regs.REG_SEGMENTS, 0),
+                         (end, "r", regs.REG_LISTS, 0)]
+    assert [op[2] for op in ops if op[1] == "i"] == [400, 1, 2]
+    assert len(words) == 3 and words[1] == words[2]      # one word a list, primed from 2
