@@ -27,12 +27,17 @@
 //                                            a = hold aresetn low A cycles (A >= 1)
 //                       coverage PATH        write the run's VerilatedCov data there at
 //                                            the end (coverage builds only)
-//   JOB_DIR/in.bin    N little-endian uint64 beats: tdata | tuser[0] << 32 | tlast << 33
+//                       period P             in.bin holds P beats, repeated: beat i is
+//                                            in.bin's beat i % P (long runs; then
+//                                            accept_cycles.bin is left empty)
+//   JOB_DIR/in.bin    N (or P) little-endian uint64 beats: tdata | tuser[0] << 32 | tlast << 33
 // Writes into JOB_DIR:
 //   out.bin           uint64 tdata of every m_axis_cand transfer, in order
 //   out_flags.bin     uint64 tuser[0] | tlast << 1 of each transfer
 //   out_cycles.bin    uint64 cycle of each transfer
 //   accept_cycles.bin uint64 cycle in which each input beat was accepted
+//   irq_cycles.bin    uint64 cycle of every change of irq (sampled as the handshakes are,
+//                     before the rising edge, aresetn high): its rises and falls in turn
 //   ops.bin           per w/r operation: uint64 data (reads) | resp << 32 | done cycle << 34
 //   result.txt        "key value" lines: status, cycles, accepted, outputs, seconds,
 //                     irq_rises, stalled_input_cycles, paused_output_cycles
@@ -67,6 +72,7 @@ struct Op { uint64_t before_word; char kind; uint64_t addr, data; };
 
 struct Job : dptbd_harness::StreamJob {
     std::vector<Op> ops;
+    uint64_t period = 0;
 };
 
 Job read_job(const std::string& path) {
@@ -87,6 +93,9 @@ Job read_job(const std::string& path) {
                 fail("op needs WORD w|r|i|m|b|a ADDR DATA");
             op.kind = kind[0];
             job.ops.push_back(op);
+        } else if (k == "period") {
+            job.period = std::strtoull(rest, nullptr, 10);
+            if (job.period == 0) fail("period must be at least 1");
         } else fail("unknown job key " + k);
     }
     std::fclose(fh);
@@ -101,7 +110,8 @@ int main(int argc, char** argv) {
     const std::string dir = argv[1];
     const Job job = read_job(dir + "/job.txt");
     dptbd_harness::check_coverage_job(job);
-    const std::vector<uint64_t> in = read_words(dir + "/in.bin", job.words);
+    const uint64_t stored = job.period ? job.period : job.words;
+    const std::vector<uint64_t> in = read_words(dir + "/in.bin", stored);
 
     auto context = std::make_unique<VerilatedContext>();
     auto dut = std::make_unique<Vdut>(context.get());
@@ -113,8 +123,8 @@ int main(int argc, char** argv) {
     const uint64_t gap_thr = threshold_of(job.valid_gap);
     const uint64_t pause_thr = threshold_of(job.ready_pause);
 
-    std::vector<uint64_t> out, out_flags, out_cycles, ops_out;
-    std::vector<uint64_t> accept_cycles(job.words, ~0ULL);
+    std::vector<uint64_t> out, out_flags, out_cycles, ops_out, irq_cycles;
+    std::vector<uint64_t> accept_cycles(job.period ? 0 : job.words, ~0ULL);
     out.reserve(job.words / 8 + 1024);
 
     uint64_t next_word = 0, cycle = 0, idle = 0, stalled_in = 0, paused_out = 0;
@@ -159,7 +169,7 @@ int main(int argc, char** argv) {
                 && !(next_op < job.ops.size() && job.ops[next_op].before_word <= next_word)) {
             offering = !(gap_thr && valid_rng.next() < gap_thr);
         }
-        const uint64_t beat = offering ? in[next_word] : 0;
+        const uint64_t beat = offering ? in[job.period ? next_word % job.period : next_word] : 0;
         dut->s_axis_video_tvalid = offering;
         dut->s_axis_video_tdata = static_cast<uint32_t>(beat & 0xFFFFFFFFULL);
         dut->s_axis_video_tuser = (beat >> 32) & 1;
@@ -172,7 +182,8 @@ int main(int argc, char** argv) {
         const bool out_valid = dut->m_axis_cand_tvalid;
         if (!rst) {
             if (offering && dut->s_axis_video_tready) {
-                accept_cycles[next_word++] = cycle;
+                if (!job.period) accept_cycles[next_word] = cycle;
+                ++next_word;
                 offering = false;
             } else if (offering) {
                 ++stalled_in;
@@ -210,6 +221,7 @@ int main(int argc, char** argv) {
             }
             const bool level = dut->irq;
             irq_rises += level && !irq;
+            if (level != irq) irq_cycles.push_back(cycle);
             irq = level;
         }
         dut->aclk = 1;
@@ -237,6 +249,7 @@ int main(int argc, char** argv) {
     write_words(dir + "/out_cycles.bin", out_cycles);
     write_words(dir + "/accept_cycles.bin", accept_cycles);
     write_words(dir + "/ops.bin", ops_out);
+    write_words(dir + "/irq_cycles.bin", irq_cycles);
     FILE* fh = std::fopen((dir + "/result.txt").c_str(), "w");
     if (!fh) fail("cannot write result.txt");
     std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"

@@ -58,6 +58,7 @@ class AxiRun:
     counters: dict               # accepted, outputs, stalled_input_cycles, irq_rises, …
     sim_seconds: float
     op_cycles: np.ndarray = None  # int64 per w/r/m/b operation: the cycle it completed
+    irq_cycles: np.ndarray = None  # uint64 cycle of every change of irq: rises, falls in turn
 
     @property
     def cycles_per_second(self) -> float:
@@ -167,36 +168,43 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
 
 def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: float = 0.0,
             ready_pause: float = 0.0, seed: int = 1, drain: int | None = None,
-            max_cycles: int | None = None, coverage=None) -> AxiRun:
+            max_cycles: int | None = None, coverage=None, repeat: int = 1) -> AxiRun:
     """Stream ``beats`` through a ``design="axi"`` build with the operations ``ops``
     (``(beat index, "w" | "r" | "i" | "m" | "b", address or idle cycles, data)``, performed
     in order before that beat is offered; ``"m"`` is a write with ``wstrb`` = data >> 32,
     ``"b"`` reads the address until its bit 0 is 0, ``"a"`` holds ``aresetn`` low for the
     given cycles; see the harness's header); ``coverage``: write the run's coverage data to
-    that file (a build with ``coverage=True``)."""
+    that file (a build with ``coverage=True``); ``repeat``: offer ``beats`` that many times
+    over (``len(beats) * repeat`` beats; operation indices count them all; long runs:
+    ``accept_cycles`` is then empty)."""
     if sim.design != "axi":
         raise ValueError(f"run_axi needs a build of design 'axi', got {sim.design!r}")
     if coverage is not None and not sim.coverage:
         raise ValueError("coverage needs a build made with coverage=True")
     valid_gap = _check_probability("valid_gap", valid_gap)
     ready_pause = _check_probability("ready_pause", ready_pause)
+    if isinstance(repeat, bool) or not isinstance(repeat, int) or repeat < 1:
+        raise ValueError(f"repeat must be an integer of at least 1, got {repeat!r}")
     words = beat_words(beats)
+    total = len(words) * repeat
     for index, kind, *_ in ops:
-        if not 0 <= index <= len(words) or kind not in ("w", "r", "i", "m", "b", "a"):
+        if not 0 <= index <= total or kind not in ("w", "r", "i", "m", "b", "a"):
             raise ValueError(f"operation {kind!r} before beat {index}: kinds are w, r, i, m, "
-                             f"b, a and beats 0 … {len(words)}")
+                             f"b, a and beats 0 … {total}")
     if drain is None:
         drain = settle_cycles(sim, 0.0)
     if max_cycles is None:
-        max_cycles = cycle_budget(len(words), valid_gap, ready_pause,
+        max_cycles = cycle_budget(total, valid_gap, ready_pause,
                                   drain + sum(o[2] if o[1] == "i" else 8 for o in ops))
     with tempfile.TemporaryDirectory(prefix="dptbd-verilator-axi-") as job_dir:
         job = pathlib.Path(job_dir)
         np.ascontiguousarray(words, dtype="<u8").tofile(job / "in.bin")
-        lines = [f"words {len(words)}", f"valid_gap {valid_gap!r}",
+        lines = [f"words {total}", f"valid_gap {valid_gap!r}",
                  f"ready_pause {ready_pause!r}", f"seed {int(seed)}",
                  f"max_cycles {int(max_cycles)}", f"drain {int(drain)}"]
         lines += [f"op {int(i)} {k} {int(a)} {int(d)}" for i, k, a, d in ops]
+        if repeat > 1:
+            lines.append(f"period {len(words)}")
         if coverage is not None:
             lines.append(f"coverage {pathlib.Path(coverage).resolve()}")
         (job / "job.txt").write_text("\n".join(lines) + "\n")
@@ -217,6 +225,7 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
             op_data=(done & np.uint64(0xFFFFFFFF)).astype(np.int64),
             op_resp=((done >> np.uint64(32)) & np.uint64(3)).astype(np.int64),
             op_cycles=(done >> np.uint64(34)).astype(np.int64),
+            irq_cycles=np.fromfile(job / "irq_cycles.bin", dtype="<u8"),
             counters={k: int(v) for k, v in result.items() if k != "seconds"},
             sim_seconds=float(result["seconds"]))
 

@@ -69,7 +69,10 @@ def test_score_counts_only_killed():
 
 def test_slice_runs_scaled():
     assert R.slice_runs("axi", 0.01) == (("faults", 0), ("backpressure", 1), ("random", 0),
-                                         ("lut", 0), ("counters", 0))
+                                         ("lut", 0), ("counters", 0), ("irq", 0),
+                                         ("restart", 0), ("decode", 0), ("n-values", 0),
+                                         ("noise", 0), ("resync", 0), ("lut-reverse", 0),
+                                         ("stalls", 0), ("lists", 0))
     assert len(R.slice_runs("segmenter")) == len(R.SLICE_RUNS["segmenter"])
 
 
@@ -105,4 +108,4 @@ def test_the_axi_slice_lut_runs_are_their_seed_at_k_max():
     assert min(codes) >= 0 and max(codes) <= 1 << cfg.weight_frac_bits
     assert step["stop"] == len(beats) == 16 * cfg.width * cfg.height
     assert [r for r in RUNS if r[0] == "lut"] == [("lut", s) for s in range(LUT_RUNS)]
-    assert RUNS[-1] == ("counters", 0)                 # the long run last: few reach it
+    assert RUNS[-2:] == (("stalls", 0), ("lists", 0))  # the long runs last: few reach them

@@ -158,3 +158,33 @@ def test_a_run_without_lists():
     result = check_axi(built(cfg, "axi"), beats, [{"stop": len(beats)}])
     assert result.passed, result.report()
     assert result.board.lists == [] and len(result.run.out_words) == 0
+
+
+def test_repeated_beats_and_the_cycles_of_irq():
+    """``repeat`` offers the beats again and again (the operations count every beat): the
+    same transfers, in the same cycles, as the beats written out, and no accept cycles;
+    ``irq_cycles`` holds the cycles in which ``irq`` rose and fell, in turn."""
+    cfg = make_config(**SMALL)
+    regs = constants_namespace(cfg)
+    frame = clean_beats(make_frames("two-targets", cfg, 1, seed=1))
+    three = clean_beats(np.tile(make_frames("two-targets", cfg, 1, seed=1), (3, 1, 1)))
+    ops = [(120, "w", regs.REG_IRQ_ENABLE, 1), (360, "i", 200, 0),
+           (360, "w", regs.REG_IRQ_STATUS, 1), (360, "r", regs.REG_FRAMES, 0)]
+    sim = built(cfg, "axi")
+    once, thrice = run_axi(sim, three, ops), run_axi(sim, frame, ops, repeat=3)
+    for name in ("out_words", "out_flags", "out_cycles", "op_data", "op_cycles", "irq_cycles"):
+        assert np.array_equal(getattr(once, name), getattr(thrice, name)), name
+    assert once.cycles == thrice.cycles and len(once.accept_cycles) == 360
+    assert len(thrice.accept_cycles) == 0 and thrice.counters["accepted"] == 360
+    assert int(thrice.op_data[2]) == 3 and once.counters["irq_rises"] == 1
+    # irq rises with the first segment's end (K = 2: after frame 1) and falls in the cycle
+    # of the IRQ_STATUS write's B response
+    rise, fall = (int(c) for c in once.irq_cycles)
+    assert once.accept_cycles[239] < rise < int(once.op_cycles[1]) - 200
+    assert fall == int(once.op_cycles[1])
+    with pytest.raises(ValueError, match=whole("repeat must be an integer of at least 1, "
+                                               "got 0")):
+        run_axi(sim, frame, [], repeat=0)
+    with pytest.raises(ValueError, match=whole("operation 'r' before beat 361: kinds are w, r, "
+                                               "i, m, b, a and beats 0 … 360")):
+        run_axi(sim, frame, [(361, "r", 0, 0)], repeat=3)
