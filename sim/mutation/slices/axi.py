@@ -47,7 +47,7 @@ RUNS = tuple([("faults", s) for s in range(16)]
              + [("lut", s) for s in range(LUT_RUNS)]
              + [("counters", 0), ("irq", 0), ("restart", 0), ("decode", 0),
                 ("n-values", 0), ("noise", 0), ("noise", 1),
-                ("resync", 0), ("resync", 1), ("resync", 2),
+                *(("resync", s) for s in range(6)),
                 ("lut-reverse", 0), ("lut-reverse", 1), ("stalls", 0), ("lists", 0)])
 
 
@@ -224,7 +224,7 @@ def irq_plan(cfg: DPConfig) -> tuple:
 
     from dptbd.hw.flow.register_export import constants_namespace
     from dptbd.sim.axi.stimulus import clean_beats
-    from dptbd.sim.verilator_axi import OKAY, SLVERR
+    from dptbd.sim.verilator.axi import OKAY, SLVERR
 
     regs = constants_namespace(cfg)
     rng = np.random.default_rng([0, 0xA76])
@@ -244,7 +244,7 @@ def _irq_run(sim) -> tuple[str, str]:
     IRQ_STATUS at the clock edge that ends the write's strobe cycle, and ``bvalid`` rises
     in the next cycle, where ``irq``, a combinational AND-OR of the two, shows the new
     value) and nowhere else."""
-    from dptbd.sim.verilator_axi import run_axi
+    from dptbd.sim.verilator.axi import run_axi
 
     beats, ops, responses = irq_plan(sim.cfg)
     run = run_axi(sim, beats, ops)
@@ -308,7 +308,7 @@ def _restart_run(sim) -> tuple[str, str]:
     cycles after it; after the second (no list open) the next beat is taken
     :data:`RESTART_DELAY` cycles after the B response."""
     from dptbd.hw.candidate_layout import pack_cut_trailer
-    from dptbd.sim.verilator_axi import run_axi
+    from dptbd.sim.verilator.axi import run_axi
 
     beats, ops, (cut_at, idle_at), (first, second) = restart_plan(sim.cfg)
     run = run_axi(sim, beats, ops)
@@ -359,7 +359,7 @@ def decode_steps(cfg: DPConfig) -> tuple:
 
     from dptbd.hw.register_map import register_map
     from dptbd.sim.axi.stimulus import clean_beats
-    from dptbd.sim.verilator_axi import OKAY, SLVERR
+    from dptbd.sim.verilator.axi import OKAY, SLVERR
 
     regmap = register_map(cfg)
     lut = regmap.window("LUT")
@@ -444,7 +444,7 @@ def _stalls_run(sim) -> tuple[str, str]:
     """The ``stalls`` run: OUTPUT_STALLS counts every cycle of the held word, so the two
     reads differ by exactly the cycles between them (both reads take the same cycles from
     request to response) and the second is past 2**21."""
-    from dptbd.sim.verilator_axi import run_axi
+    from dptbd.sim.verilator.axi import run_axi
 
     beats, ops = stall_plan(sim.cfg)
     run = run_axi(sim, beats, ops, ready_pause=1.0 - 2.0**-52,
@@ -483,10 +483,13 @@ def noise_steps(cfg: DPConfig, seed: int) -> tuple:
 
 def resync_steps(cfg: DPConfig, seed: int) -> tuple:
     """The beats and steps of ``resync`` run ``seed``: 8 frames of two targets (K = 2);
-    inside the segment that begins at frame 2, K (seed 0), n (seed 1) or s (seed 2) is
-    written, and 20 beats later a start of frame in mid-line (``sof_unexpected``) begins a
-    segment at a resync, which keeps the settings of the segment before it
-    (``docs/arithmetic.md`` §6.5a); the next segment start takes the written value."""
+    inside the segment that begins at frame 2, K (seed 0, 3), n (seed 1, 4) or s (seed 2, 5)
+    is written, and 20 beats later a start of frame in mid-line (``sof_unexpected``) begins
+    a segment at a resync, which keeps the settings of the segment before it
+    (``docs/arithmetic.md`` §6.5a); the next segment start takes the written value. Seeds 3
+    to 5 write one beat after the segment's first and resynchronise two beats later, before
+    that first beat has reached the segmenter: a top that latched its settings at the
+    resync would hand the segmenter the written value for the segment begun at frame 2."""
     import numpy as np
 
     from dptbd.sim.axi.stimulus import Beats, clean_beats
@@ -494,7 +497,8 @@ def resync_steps(cfg: DPConfig, seed: int) -> tuple:
 
     beats = clean_beats(make_frames("two-targets", cfg, 8, seed=seed))
     frame = cfg.width * cfg.height
-    write_at, resync_at = 2 * frame + 10, 2 * frame + 30
+    write_at, resync_at = ((2 * frame + 10, 2 * frame + 30) if seed < 3
+                           else (2 * frame + 1, 2 * frame + 3))
     first = np.asarray(beats.first).copy()
     first[resync_at] = True
     beats = Beats(beats.pixel, first, beats.last)
@@ -511,7 +515,7 @@ LIST_COUNT = (1 << 13) + 100
 
 def lists_plan(cfg: DPConfig) -> tuple:
     """The ``lists`` run: one frame of noise offered :data:`LIST_COUNT` times over
-    (:func:`~dptbd.sim.verilator_axi.run_axi`'s ``repeat``) at K = 1 and n = 0 (each list
+    (:func:`~dptbd.sim.verilator.axi.run_axi`'s ``repeat``) at K = 1 and n = 0 (each list
     its trailer); after the settle FRAMES, SEGMENTS and LISTS read three times, 0, 1 and 2
     idle cycles apart (a counter bit that toggles every cycle is read at both parities).
     The frame's beats, the operations and the model's words of the first three lists
@@ -547,7 +551,7 @@ def _lists_run(sim) -> tuple[str, str]:
     third, and every read of FRAMES, SEGMENTS and LISTS :data:`LIST_COUNT`."""
     import numpy as np
 
-    from dptbd.sim.verilator_axi import run_axi
+    from dptbd.sim.verilator.axi import run_axi
 
     beats, ops, words = lists_plan(sim.cfg)
     run = run_axi(sim, beats, ops, repeat=LIST_COUNT)

@@ -43,6 +43,11 @@ LUT_COLUMN_8_WITH_4 = ("mutate -mode cnot1 -module dptbd_axi -cell "
 LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$446 "
                         "-port Q -portbit 22 -ctrlbit 13 -wire regs.lists -wirebit 22 "
                         "-src hw/register_file.py:104")
+#: DPCore's resync stuck at 0 (mutant 77 of ``--seed 1``): DPSegmenter latches the settings
+#: at a resync too, which the ``resync`` runs of seeds 3-5 see.
+RESYNC_STUCK_AT_0 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\dp.\\core.$25 "
+                     "-port Y -portbit 0 -wire core.resync -wirebit 0 -src hw/dp_core.py:210 "
+                     "-src hw/dp_core.py:279")
 READ_DATA_BIT_21 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$80 "
                     "-port D -portbit 21 -src hw/axi_lite.py:41")
 
@@ -132,6 +137,10 @@ def test_n_values_noise_resync_and_backward_lut_runs():
     assert [j for j in range(len(beats)) if beats.first[j]] == [
         *(f * frame for f in range(3)), 2 * frame + 30, *(f * frame for f in range(3, 8))]
     assert steps[1]["writes"] == [["CANDIDATE_COUNT", 7]] and steps[0]["stop"] < 2 * frame + 30
+    beats, steps = S.resync_steps(cfg, 3)      # before the segment's first beat is scored
+    assert [j for j in range(len(beats)) if beats.first[j]] == [
+        *(f * frame for f in range(3)), 2 * frame + 3, *(f * frame for f in range(3, 8))]
+    assert steps[0]["stop"] == 2 * frame + 1 and steps[1]["writes"] == [["SEGMENT_FRAMES", 3]]
     forward, backward = S.lut_scenario(cfg, 3), S.lut_scenario(cfg, 3, reverse=True)
     writes = backward[1][0]["lut_writes"]
     assert [(p, m) for p, m, _, _ in writes][:2] == [(cfg.n_moves, cfg.n_moves - 1),
@@ -148,7 +157,7 @@ def test_the_new_runs_kill_what_no_earlier_run_kills():
     cfg = config("axi")
     mutations = parse_mutations("\n".join([WRITE_DATA_BIT_11, LUT_WE_INVERTED,
                                            LUT_COLUMN_8_WITH_4, READ_DATA_BIT_21,
-                                           LISTS_BIT_22_WITH_13]))
+                                           LISTS_BIT_22_WITH_13, RESYNC_STUCK_AT_0]))
     commands, refused = mutant_design(cfg, "axi", mutations)
     assert refused == []
     sim = V.build(cfg, "axi", mutations=commands)
@@ -159,7 +168,8 @@ def test_the_new_runs_kill_what_no_earlier_run_kills():
                                (2, "noise seed 0", "done; first mismatch at output word "),
                                (3, "lut-reverse seed 0", "done; first mismatch at output word "),
                                (4, "stalls seed 0", "OUTPUT_STALLS read "),
-                               (5, "lists seed 0", "FRAMES, SEGMENTS, LISTS read ")):
+                               (5, "lists seed 0", "FRAMES, SEGMENTS, LISTS read "),
+                               (6, "resync seed 3", "done; first mismatch at output word ")):
         outcome = run_slice(sim, index, new)
         assert (outcome.verdict, outcome.run) == ("killed", run), (index, outcome)
         assert report in outcome.report
