@@ -18,8 +18,8 @@ from dptbd.hw.axi_store.bus import axi4_signature
 from dptbd.hw.axi_store import AxiStateStore
 from dptbd.hw.dp_core import (DPCore, family_write_members, family_write_ports,
                                lut_write_members, run_time_k_members)
+from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.hw.layouts import pixel_layout, state_layout
-from dptbd.hw.schedule import PipelineSchedule
 
 __all__ = ["AXI_PREFIX", "DPPipelineAxi"]
 
@@ -33,8 +33,10 @@ def _flat(signature: wiring.Signature) -> dict:
             if member.is_port}
 
 
-class DPPipelineAxi(wiring.Component):
-    """Streaming DP with the state in external memory (see the module doc).
+class DPPipelineAxi(DPPipeline):
+    """Streaming DP with the state in external memory (see the module doc); the properties
+    (``config``, ``schedule``, ``latency``, ``output_fifo_depth``, ``lut_style``,
+    ``core_options``, ``resync``) are :class:`~dptbd.hw.dp_pipeline.DPPipeline`'s.
 
     Parameters
     ----------
@@ -66,7 +68,7 @@ class DPPipelineAxi(wiring.Component):
         self._store_block = AxiStateStore(store, write_latency=self._core.schedule.write_latency)
         self._cfg = cfg
         self._store = store
-        super().__init__({
+        wiring.Component.__init__(self, {
             "pixels": In(stream.Signature(pixel_layout(cfg))),
             "states": Out(stream.Signature(state_layout(cfg))),
             **lut_write_members(cfg),
@@ -79,44 +81,9 @@ class DPPipelineAxi(wiring.Component):
         })
 
     @property
-    def config(self):
-        """The configuration this pipeline was built for."""
-        return self._cfg
-
-    @property
     def store(self) -> AxiStoreConfig:
         """The external memory layout."""
         return self._store
-
-    @property
-    def schedule(self) -> PipelineSchedule:
-        """Cycle offsets of every stage (:attr:`DPCore.schedule`)."""
-        return self._core.schedule
-
-    @property
-    def latency(self) -> int:
-        """Cycles from a pixel's acceptance to its result (no back-pressure)."""
-        return self._core.latency
-
-    @property
-    def output_fifo_depth(self) -> int:
-        """Entries of the output FIFO."""
-        return self._core.output_fifo_depth
-
-    @property
-    def lut_style(self) -> str:
-        """The weight LUT's resolved storage: ``"bram"`` or ``"logic"``."""
-        return self._core.lut_style
-
-    @property
-    def core_options(self) -> dict:
-        """The core's storage options (:attr:`DPCore.core_options`)."""
-        return self._core.core_options
-
-    @property
-    def resync(self):
-        """Not a port: :attr:`DPCore.resync`."""
-        return self._core.resync
 
     def channel(self, name: str):
         """The signals of AXI4 channel ``name`` (``"ar"``, ``"r"``, ``"aw"``, ``"w"``,
