@@ -1,0 +1,125 @@
+"""Runs of the ``axi`` slice that drive the register block
+(:mod:`dptbd.sim.mutation.slices.axi`): a sweep of the whole register address space
+(:func:`decode_steps`), a run through many values of n (:func:`n_steps`), ``noise`` runs
+under the build's LUT (:func:`noise_steps`) and settings written inside a segment that a
+resync then ends (:func:`resync_steps`)."""
+
+from __future__ import annotations
+
+from dptbd.config import DPConfig
+
+__all__ = ["N_VALUES", "decode_steps", "n_steps", "noise_steps", "resync_steps"]
+
+def decode_steps(cfg: DPConfig) -> tuple:
+    """The beats and steps of the ``decode`` run: right after reset, a read of every word
+    address of the register space (2**ADDRESS_BITS bytes; a mapped register gives its reset
+    value with OKAY, the write-only LUT window and every other address 0 with SLVERR) and
+    of every mapped register's three unaligned addresses (0, SLVERR); then a write of all
+    ones to every address that takes no write (unmapped, past the LUT window, constant,
+    counter and status registers: SLVERR, nothing changes, no ERROR bit) and the read sweep
+    again; then, for every setting register and every bit above its upper limit, a write of
+    its reset value with that bit set (refused, SLVERR: every bit of the written word is
+    compared), each register read back unchanged and ERROR.write_refused set; then two
+    frames (one segment of K = 2) checked against the model."""
+    import numpy as np
+
+    from dptbd.hw.register_map import register_map
+    from dptbd.sim.axi.stimulus import clean_beats
+    from dptbd.sim.verilator.axi import OKAY, SLVERR
+
+    regmap = register_map(cfg)
+    lut = regmap.window("LUT")
+    mapped = {r.address: r for r in regmap.registers}
+    reset = {a: r.reset for a, r in mapped.items()}
+    reads = []
+    for address in range(0, 1 << regmap.address_bits, 4):
+        reads.append(["r", address, OKAY, reset[address]] if address in mapped
+                     else ["r", address, SLVERR, 0])
+    reads += [["r", a + k, SLVERR, 0] for a in sorted(mapped) for k in (1, 2, 3)]
+    writes = [["w", a, 2**32 - 1, 0xF, SLVERR] for a in range(0, 1 << regmap.address_bits, 4)
+              if not lut.base <= a < lut.end
+              and (a not in mapped or mapped[a].kind in ("constant", "counter", "status"))]
+    bits, back = [], []
+    for reg in regmap.registers:
+        if reg.kind != "setting":
+            continue
+        (field,) = reg.fields
+        bits += [["w", reg.address, reset[reg.address] | 1 << b, 0xF, SLVERR]
+                 for b in range(32) if 1 << b > field.limits[1]]
+        back.append(["r", reg.address, OKAY, reset[reg.address]])
+    refused = sum(f.reset << f.lsb for f in regmap["ERROR"].fields) | next(
+        1 << f.lsb for f in regmap["ERROR"].fields if f.name == "write_refused")
+    back.append(["r", regmap["ERROR"].address, OKAY, refused])
+    rng = np.random.default_rng([0, 0xA78])
+    beats = clean_beats(rng.integers(0, 1 << cfg.input_bits, size=(2, cfg.height, cfg.width)))
+    return beats, [{"bus": reads + writes + reads + bits + back, "stop": 0},
+                   {"stop": len(beats)}]
+
+
+#: The values of n of the ``n-values`` run, one segment (K = 1) each: every bit of n set
+#: and clear, the ends 0, 1, C − 1, C, and 89 … 95 (the values whose bit 5 inverted
+#: passes C).
+N_VALUES = (0, 1, 2, 3, 4, 5, 8, 16, 31, 32, 33, 47, 63, 64, 65, 89, 90, 91, 92, 93, 94, 95,
+            96, 100, 111, 119, 120)
+
+
+def n_steps(cfg: DPConfig) -> tuple:
+    """The beats and steps of the ``n-values`` run: K = 1, one frame of uniform noise per
+    value of :data:`N_VALUES` (n written before the frame, taken at its first pixel), every
+    list against the model."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    rng = np.random.default_rng([0, 0xA79])
+    frames = rng.integers(0, 1 << cfg.input_bits, size=(len(N_VALUES), cfg.height, cfg.width))
+    beats = clean_beats(frames)
+    frame = cfg.width * cfg.height
+    steps = [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", n]], "stop": (j + 1) * frame}
+             for j, n in enumerate(N_VALUES)]
+    return beats, steps
+
+
+def noise_steps(cfg: DPConfig, seed: int) -> tuple:
+    """The beats and steps of ``noise`` run ``seed``: 16 frames of uniform noise under the
+    build's LUT (never written: every predecessor direction and move reached with the
+    build's codes, which the ``lut`` runs overwrite from their first beat), K = K_max,
+    n = C (every pixel's E and direction in the lists)."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    rng = np.random.default_rng([seed, 0xA7B])
+    beats = clean_beats(rng.integers(0, 1 << cfg.input_bits,
+                                     size=(16, cfg.height, cfg.width)))
+    return beats, [{"writes": [["SEGMENT_FRAMES", cfg.k_max],
+                               ["CANDIDATE_COUNT", cfg.record_capacity]],
+                    "stop": len(beats)}]
+
+
+def resync_steps(cfg: DPConfig, seed: int) -> tuple:
+    """The beats and steps of ``resync`` run ``seed``: 8 frames of two targets (K = 2);
+    inside the segment that begins at frame 2, K (seed 0, 3), n (seed 1, 4) or s (seed 2, 5)
+    is written, and 20 beats later a start of frame in mid-line (``sof_unexpected``) begins
+    a segment at a resync, which keeps the settings of the segment before it
+    (``docs/arithmetic.md`` §6.5a); the next segment start takes the written value. Seeds 3
+    to 5 write one beat after the segment's first and resynchronise two beats later, before
+    that first beat has reached the segmenter: a top that latched its settings at the
+    resync would hand the segmenter the written value for the segment begun at frame 2."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import Beats, clean_beats
+    from dptbd.sim.scenarios import make_frames
+
+    beats = clean_beats(make_frames("two-targets", cfg, 8, seed=seed))
+    frame = cfg.width * cfg.height
+    write_at, resync_at = ((2 * frame + 10, 2 * frame + 30) if seed < 3
+                           else (2 * frame + 1, 2 * frame + 3))
+    first = np.asarray(beats.first).copy()
+    first[resync_at] = True
+    beats = Beats(beats.pixel, first, beats.last)
+    name, value = (("SEGMENT_FRAMES", 3), ("CANDIDATE_COUNT", 7),
+                   ("HISTOGRAM_SHIFT", 2))[seed % 3]
+    steps = [{"writes": [["CANDIDATE_COUNT", cfg.record_capacity]], "stop": write_at},
+             {"writes": [[name, value]], "stop": len(beats)}]
+    return beats, steps
