@@ -24,7 +24,10 @@
 //                                            b = read address A again until bit 0 of the
 //                                            data is 0 (STATUS.soft_reset_busy: wait
 //                                            for a soft reset), reported as one read,
-//                                            a = hold aresetn low A cycles (A >= 1)
+//                                            a = hold aresetn low A cycles (A >= 1),
+//                                            p = load counter A (bit A of preset_load)
+//                                            with D for one cycle (mutant builds of
+//                                            sim/mutation/presets.py only)
 //                       coverage PATH        write the run's VerilatedCov data there at
 //                                            the end (coverage builds only)
 //                       period P             in.bin holds P beats, repeated: beat i is
@@ -89,9 +92,12 @@ Job read_job(const std::string& path) {
             char kind[8];
             if (std::sscanf(rest, "%" SCNu64 " %7s %" SCNu64 " %" SCNu64, &op.before_word,
                             kind, &op.addr, &op.data) != 4 || std::strlen(kind) != 1
-                    || std::strchr("wrimba", kind[0]) == nullptr)
-                fail("op needs WORD w|r|i|m|b|a ADDR DATA");
+                    || std::strchr("wrimbap", kind[0]) == nullptr)
+                fail("op needs WORD w|r|i|m|b|a|p ADDR DATA");
             op.kind = kind[0];
+#ifndef DPTBD_MUTANT
+            if (op.kind == 'p') fail("op p (a counter preset) needs a mutant build");
+#endif
             job.ops.push_back(op);
         } else if (k == "period") {
             job.period = std::strtoull(rest, nullptr, 10);
@@ -131,7 +137,7 @@ int main(int argc, char** argv) {
     uint64_t irq_rises = 0;
     bool offering = false, irq = false;
     size_t next_op = 0;
-    // the AXI4-Lite operation in progress: kind 0 (none), 'w', 'r', 'i'
+    // the operation in progress: kind 0 (none) or the op's kind
     char busy = 0;
     bool aw_done = false, w_done = false, ar_done = false;
     uint64_t idle_left = 0;
@@ -164,6 +170,10 @@ int main(int argc, char** argv) {
         dut->s_axil_arvalid = reading && !ar_done;
         dut->s_axil_araddr = reading ? op->addr : 0;
         dut->s_axil_rready = 1;
+#ifdef DPTBD_MUTANT
+        dut->preset_load = busy == 'p' ? 1u << op->addr : 0;
+        dut->preset_value = busy == 'p' ? static_cast<uint32_t>(op->data) : 0;
+#endif
         // ---- input beat
         if (!busy && !offering && next_word < job.words
                 && !(next_op < job.ops.size() && job.ops[next_op].before_word <= next_word)) {
@@ -215,6 +225,9 @@ int main(int argc, char** argv) {
                     busy = 0;
                     ++next_op;
                 }
+            } else if (busy == 'p') {                      // one cycle
+                busy = 0;
+                ++next_op;
             } else if (busy == 'i') {
                 if (idle_left <= 1) { busy = 0; ++next_op; }
                 else --idle_left;

@@ -224,11 +224,21 @@ def mutant_verilog(cfg: DPConfig, design: str, mutations: list[Mutation] | tuple
                    ) -> tuple[str, dict]:
     """The Verilog of ``design``'s top with mutation ``i`` (1-based) of ``mutations``
     (:class:`Mutation` or its command; an empty command applies nothing) active while the
-    input ``mutsel`` equals ``i``, and the top's manifest."""
+    input ``mutsel`` equals ``i``, and the top's manifest. The ``axi`` design also gets its
+    counters' presets (:mod:`~dptbd.sim.mutation.presets`)."""
     text, manifest = top_rtlil(cfg, design)
     commands = [m.command if isinstance(m, Mutation) else str(m) for m in mutations]
     lines = [f"{c} -ctrl mutsel {MUTSEL_WIDTH} {i}" for i, c in enumerate(commands, 1)
              if c]                                   # "": a refused mutation, left out
-    out = run_yosys("\n".join([_prepared(text, design), *lines, "write_verilog mutant.v"]),
-                    ("mutant.v",))
+    if design != "axi":
+        out = run_yosys("\n".join([_prepared(text, design), *lines,
+                                   "write_verilog mutant.v"]), ("mutant.v",))
+        return out["mutant.v"], manifest
+    from dptbd.sim.mutation.presets import add_presets, preset_counters, tag_commands
+
+    tagged = run_yosys("\n".join([_prepared(text, design), *tag_commands(cfg), *lines,
+                                  "write_rtlil mutant.il"]), ("mutant.il",))["mutant.il"]
+    preset = add_presets(tagged, DESIGN_TOPS[design], preset_counters(cfg))
+    out = run_yosys(f"read_rtlil <<rtlil\n{preset}\nrtlil\ncheck -assert\n"
+                    "write_verilog mutant.v", ("mutant.v",))
     return out["mutant.v"], manifest

@@ -173,7 +173,9 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
     (``(beat index, "w" | "r" | "i" | "m" | "b", address or idle cycles, data)``, performed
     in order before that beat is offered; ``"m"`` is a write with ``wstrb`` = data >> 32,
     ``"b"`` reads the address until its bit 0 is 0, ``"a"`` holds ``aresetn`` low for the
-    given cycles; see the harness's header); ``coverage``: write the run's coverage data to
+    given cycles, ``"p"`` loads counter ``address`` (:func:`~dptbd.sim.mutation.presets.
+    preset_counters`' index) with ``data`` in one cycle, in mutant builds only; see the
+    harness's header); ``coverage``: write the run's coverage data to
     that file (a build with ``coverage=True``); ``repeat``: offer ``beats`` that many times
     over (``len(beats) * repeat`` beats; operation indices count them all; long runs:
     ``accept_cycles`` is then empty)."""
@@ -188,9 +190,11 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
     words = beat_words(beats)
     total = len(words) * repeat
     for index, kind, *_ in ops:
-        if not 0 <= index <= total or kind not in ("w", "r", "i", "m", "b", "a"):
+        if not 0 <= index <= total or kind not in ("w", "r", "i", "m", "b", "a", "p"):
             raise ValueError(f"operation {kind!r} before beat {index}: kinds are w, r, i, m, "
-                             f"b, a and beats 0 … {total}")
+                             f"b, a, p and beats 0 … {total}")
+        if kind == "p" and not sim.mutant:
+            raise ValueError("operation 'p' (a counter preset) needs a mutant build")
     if drain is None:
         drain = settle_cycles(sim, 0.0)
     if max_cycles is None:

@@ -145,6 +145,7 @@ class VerilatorBuild(CompiledDesign):
     cached: bool          # the executable came from the cache
     waves: bool
     coverage: bool = False   # a coverage build (COVERAGE_FLAGS): runs may write coverage data
+    mutant: bool = False     # a mutant build (mutations given): mutsel, counter presets (axi)
 
     @property
     def output(self) -> str:
@@ -179,9 +180,11 @@ def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
 
 
 def _mutant_netlist_hash() -> str:
-    """SHA-256 of the mutant design's generator (``sim/mutation/netlist.py``)."""
-    from dptbd.sim.mutation import netlist
-    return _sha256(pathlib.Path(netlist.__file__))
+    """SHA-256 of the mutant design's generators (``sim/mutation/netlist.py`` and
+    ``presets.py``)."""
+    from dptbd.sim.mutation import netlist, presets
+    return hashlib.sha256(b"".join(pathlib.Path(m.__file__).read_bytes()
+                                   for m in (netlist, presets))).hexdigest()
 
 
 def _sha256(path: pathlib.Path) -> str:
@@ -268,7 +271,8 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
             manifest = _compile(cfg, design, lut_style, waves, key, directory, tools, verbose,
                                 coverage, mutations)
     return VerilatorBuild(cfg, design, directory, directory / EXECUTABLE, manifest, key,
-                          time.perf_counter() - start, cached, waves, coverage)
+                          time.perf_counter() - start, cached, waves, coverage,
+                          bool(mutations))
 
 
 def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,

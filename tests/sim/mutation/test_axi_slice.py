@@ -5,7 +5,8 @@ IRQ_ENABLE.segment_done flop clocked on the falling edge (``irq`` one cycle earl
 IRQ_ENABLE write), the copy of ``cut`` in ``restart`` inverted (the soft reset's restart
 one cycle after the cut trailer), a bit of the AXI4-Lite write data stuck at 0, ``lut_we``
 inverted, a LUT column's write enable XORed with another's, bit 21 of the read data stuck
-at 0, LISTS' bit 22 XORed with its bit 13."""
+at 0, LISTS' bit 22 XORed with its bit 13; and, with the counters preset, LISTS' bit 29
+XORed with its bit 16 and FRAMES' bit 19 with its bit 25."""
 
 from __future__ import annotations
 
@@ -48,6 +49,14 @@ LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\re
 RESYNC_STUCK_AT_0 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\dp.\\core.$25 "
                      "-port Y -portbit 0 -wire core.resync -wirebit 0 -src hw/dp_core.py:210 "
                      "-src hw/dp_core.py:279")
+#: Mutants 100 and 151 of ``--seed 1``: a counter's high bit XORed with a bit it reaches
+#: only after 2**16 lists or 2**25 frames; the ``presets`` run loads both.
+LISTS_BIT_29_WITH_16 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$446 "
+                        "-port Q -portbit 29 -ctrlbit 16 -wire regs.lists -wirebit 29 "
+                        "-src hw/register_file.py:104")
+FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$442 "
+                         "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames -wirebit 19 "
+                         "-src hw/register_file.py:104")
 READ_DATA_BIT_21 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$80 "
                     "-port D -portbit 21 -src hw/axi_lite.py:41")
 
@@ -186,3 +195,38 @@ def test_lists_plan_reads_the_counters_at_both_parities():
                          (end, "r", regs.REG_LISTS, 0)]
     assert [op[2] for op in ops if op[1] == "i"] == [400, 1, 2]
     assert len(words) == 3 and words[1] == words[2]      # one word a list, primed from 2
+
+
+def test_presets_plan_sets_every_counter_bit_both_ways_then_wraps():
+    from dptbd.sim.mutation.presets import preset_counters
+
+    cfg = config("axi")
+    counters = preset_counters(cfg)
+    beats, ops, want = S.presets_plan(cfg)
+    assert S.PRESETS[0] | S.PRESETS[1] == 0xFFFF_FFFF and S.PRESETS[0] & S.PRESETS[1] == 0
+    assert len(beats) == S.PRESET_FRAMES * cfg.width * cfg.height
+    presets = [op for op in ops if op[1] == "p"]
+    assert presets == [(0, "p", i, v) for v in S.PRESETS for i in range(len(counters))]
+    reads = [op for op in ops if op[1] == "r"]
+    assert len(reads) == len(want) == 2 * len(counters) * (len(S.PRESETS) + 1)
+    assert want[:2 * len(counters)] == [S.PRESETS[0]] * 2 * len(counters)
+    end = dict(zip(counters, want[-len(counters):]))
+    assert end["frames"] == end["segments"] == end["lists"] == 3          # 2**32 - 3 + 6
+    assert end["output_stalls"] == end["fault_frame_long"] == 0xFFFF_FFFD
+
+
+@tools
+def test_the_presets_run_kills_counter_bits_no_count_reaches():
+    cfg = config("axi")
+    mutations = parse_mutations("\n".join([LISTS_BIT_29_WITH_16, FRAMES_BIT_19_WITH_25]))
+    commands, refused = mutant_design(cfg, "axi", mutations)
+    assert refused == []
+    sim = V.build(cfg, "axi", mutations=commands)
+    counting = (("counters", 0), ("lists", 0))
+    assert run_slice(sim, 0, (("presets", 0), *counting)).verdict == "survived"
+    for index, report in ((1, "read 32 (LISTS) gave 0x75555555, expected 0x55555555"),
+                          (2, "read 10 (FRAMES) gave 0xaaa2aaaa, expected 0xaaaaaaaa")):
+        assert run_slice(sim, index, counting).verdict == "survived"
+        outcome = run_slice(sim, index, (("presets", 0),))
+        assert (outcome.verdict, outcome.run, outcome.report) == \
+            ("killed", "presets seed 0", report)

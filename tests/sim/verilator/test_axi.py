@@ -50,10 +50,10 @@ def test_beat_words_and_operations():
                                          r"dptbd\.sim\.verilator\.axi\.run_axi$"):
         V.run(built(cfg, "axi"), beat_words(beats))
     with pytest.raises(ValueError, match=whole("operation 'x' before beat 3: kinds are w, r, "
-                                               "i, m, b, a and beats 0 … 120")):
+                                               "i, m, b, a, p and beats 0 … 120")):
         run_axi(built(cfg, "axi"), beats, [(3, "x", 0, 0)])
     with pytest.raises(ValueError, match=whole("operation 'r' before beat 121: kinds are w, r, "
-                                               "i, m, b, a and beats 0 … 120")):
+                                               "i, m, b, a, p and beats 0 … 120")):
         run_axi(built(cfg, "axi"), beats, [(121, "r", 0, 0)])
 
 
@@ -186,5 +186,5 @@ def test_repeated_beats_and_the_cycles_of_irq():
                                                "got 0")):
         run_axi(sim, frame, [], repeat=0)
     with pytest.raises(ValueError, match=whole("operation 'r' before beat 361: kinds are w, r, "
-                                               "i, m, b, a and beats 0 … 360")):
+                                               "i, m, b, a, p and beats 0 … 360")):
         run_axi(sim, frame, [(361, "r", 0, 0)], repeat=3)

@@ -11,7 +11,8 @@ back-pressure (:func:`stall_plan`); ``noise`` runs under the build's LUT
 (:func:`noise_steps`); settings written inside a segment that a resync then ends
 (:func:`resync_steps`); the LUT written from its last entry to its first
 (:func:`lut_scenario`, ``lut-reverse``); 8 292 one-frame lists read at both clock
-parities (:func:`lists_plan`). The runs of exact cycles and counters are in
+parities (:func:`lists_plan`); every counter preset, read and counted on to a wrap
+(:func:`presets_plan`). The runs of exact cycles and counters are in
 :mod:`~dptbd.sim.mutation.slices.axi.timing`, those driving the register block in
 :mod:`~dptbd.sim.mutation.slices.axi.registers`; their names are re-exported here."""
 
@@ -21,16 +22,18 @@ from dptbd.config import DPConfig
 from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS
 from dptbd.sim.mutation.slices.axi.registers import (N_VALUES, decode_steps, n_steps,
                                                      noise_steps, resync_steps)
-from dptbd.sim.mutation.slices.axi.timing import (IRQ_WRITES, LIST_COUNT, RESTART_DELAY,
-                                                  STALL_CYCLES, irq_plan, irq_run,
-                                                  lists_plan, lists_run, restart_plan,
+from dptbd.sim.mutation.slices.axi.timing import (IRQ_WRITES, LIST_COUNT, PRESET_FRAMES,
+                                                  PRESETS, RESTART_DELAY, STALL_CYCLES, irq_plan,
+                                                  irq_run, lists_plan, lists_run,
+                                                  presets_plan, presets_run, restart_plan,
                                                   restart_run, stall_plan, stalls_run)
 from dptbd.sim.mutation.verdict import hang_verdict
 
 __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
            "COUNTER_READS", "IRQ_WRITES", "RESTART_DELAY", "RUNS", "axi_scenario",
            "lut_scenario", "counter_plan", "irq_plan", "restart_plan", "N_VALUES",
-           "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "noise_steps", "resync_steps", "LIST_COUNT", "lists_plan", "run"]
+           "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "noise_steps", "resync_steps",
+           "LIST_COUNT", "lists_plan", "PRESETS", "PRESET_FRAMES", "presets_plan", "run"]
 
 #: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi.runs.draw_run` on the slice's
 #: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
@@ -39,8 +42,8 @@ __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
 RANDOM_AXI_RUNS, RANDOM_AXI_FRAMES = 32, 24
 
 #: Frames of the ``counters`` run: K = 1 and n = 0 (each frame a segment, each list its
-#: trailer), so that FRAMES, SEGMENTS and LISTS pass 2**10 (bit 19 of FRAMES would take
-#: 2**19 frames, 63 M cycles: not in the slice); at full speed without back-pressure the
+#: trailer), so that FRAMES, SEGMENTS and LISTS pass 2**10 (their high bits are reached by
+#: the ``presets`` run, :func:`presets_plan`); at full speed without back-pressure the
 #: input stalls exactly ``scan_cycles`` = 2**b + 4 cycles after each list (the histogram
 #: scan, ``docs/gateware.md``, "Timing"), the output never.
 COUNTER_FRAMES = 1100
@@ -53,7 +56,7 @@ RUNS = tuple([("faults", s) for s in range(16)]
              + [("backpressure", s) for s in (1, 4, 7, 14)]
              + [("random", s) for s in range(RANDOM_AXI_RUNS)]
              + [("lut", s) for s in range(LUT_RUNS)]
-             + [("counters", 0), ("irq", 0), ("restart", 0), ("decode", 0),
+             + [("counters", 0), ("presets", 0), ("irq", 0), ("restart", 0), ("decode", 0),
                 ("n-values", 0), ("noise", 0), ("noise", 1),
                 *(("resync", s) for s in range(6)),
                 ("lut-reverse", 0), ("lut-reverse", 1), ("stalls", 0), ("lists", 0)])
@@ -244,6 +247,8 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
         return _axi_random_run(sim, seed)
     if kind == "counters":
         return _counters_run(sim)
+    if kind == "presets":
+        return presets_run(sim)
     if kind == "lut":
         return _checked(check_axi(sim, *lut_scenario(sim.cfg, seed), seed=seed))
     beats, steps, gap, pause = axi_scenario(sim.cfg, seed)

@@ -2,7 +2,8 @@
 (:mod:`dptbd.sim.mutation.slices.axi`): ``irq`` after every IRQ_ENABLE and IRQ_STATUS write
 (:func:`irq_plan`), the first beat taken after a soft reset (:func:`restart_plan`), 2**21
 cycles of output back-pressure (:func:`stall_plan`) and 8 292 one-frame lists read at both
-clock parities (:func:`lists_plan`)."""
+clock parities (:func:`lists_plan`); every counter preset to values that set each of its
+bits to 1 and to 0, read, and counted on to a wrap (:func:`presets_plan`)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from dptbd.config import DPConfig
 
 __all__ = ["IRQ_WRITES", "RESTART_DELAY", "STALL_CYCLES", "LIST_COUNT", "irq_plan",
            "restart_plan", "stall_plan", "lists_plan", "irq_run", "restart_run",
-           "stalls_run", "lists_run"]
+           "stalls_run", "lists_run", "PRESETS", "PRESET_FRAMES", "presets_plan", "presets_run"]
 
 #: The writes of the ``irq`` run after its segment, both IRQ_STATUS bits pending:
 #: ``(register, value, irq after it)``; ``irq`` is IRQ_STATUS & IRQ_ENABLE, so it changes
@@ -256,4 +257,75 @@ def lists_run(sim) -> tuple[str, str]:
     elif list(run.op_resp) != [0] * 11 or list(run.op_data[2:]) != [LIST_COUNT] * 9:
         problems.append(f"FRAMES, SEGMENTS, LISTS read {list(map(int, run.op_data[2:]))} "
                         f"(responses {list(map(int, run.op_resp))}), expected {LIST_COUNT}")
+    return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
+
+
+#: The values the ``presets`` run loads into every counter, each then read back: every bit
+#: at 1 in one of the first two and at 0 in the other (a mutation that flips, inverts or
+#: sticks a counter bit, while another bit is 1 or 0, shows in one of the reads), the last
+#: three below 2**32 so that the frames after it carry through every bit and wrap.
+PRESETS = (0xAAAA_AAAA, 0x5555_5555, 0xFFFF_FFFD)
+
+#: Frames of the ``presets`` run after its last preset (K = 1 and n = 0: a list each).
+PRESET_FRAMES = 6
+
+
+def presets_plan(cfg: DPConfig) -> tuple:
+    """The ``presets`` run (mutant builds: :mod:`dptbd.sim.mutation.presets`): K = 1, n = 0;
+    each of :data:`PRESETS` loaded into every counter and every counter read, twice, one
+    idle cycle apart (a mutant counter bit that toggles every cycle is read at both clock
+    parities, as in the ``lists`` run); then :data:`PRESET_FRAMES` frames of noise at full
+    speed, the settle and every counter read again, twice. The beats, the operations and the value each read must give: the preset, and at
+    the end the last preset plus the model's count modulo 2**32 (FRAMES, SEGMENTS, LISTS,
+    SATURATED; no fault; INPUT_STALLS the histogram scans of all lists but the last,
+    ``scan_cycles`` each, as in the ``counters`` run; no OUTPUT_STALLS)."""
+    import numpy as np
+
+    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.hw.segmenter import scan_cycles
+    from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
+    from dptbd.sim.mutation.presets import preset_counters
+
+    regs = constants_namespace(cfg)
+    counters = preset_counters(cfg)
+    rng = np.random.default_rng([0, 0xA7D])
+    beats = clean_beats(rng.integers(0, 1 << cfg.input_bits,
+                                     size=(PRESET_FRAMES, cfg.height, cfg.width)))
+    steps = [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", 0]], "stop": len(beats)}]
+    counts = expected_outputs(cfg, beats, steps, cut_lists=True).counters()
+    counts["INPUT_STALLS"] = (counts["LISTS"] - 1) * scan_cycles(cfg)
+    ops = [(0, "w", regs.REG_SEGMENT_FRAMES, 1), (0, "w", regs.REG_CANDIDATE_COUNT, 0)]
+    reads = [("r", getattr(regs, f"REG_{name.upper()}"), 0) for name in counters]
+    want = []
+    for value in PRESETS:
+        ops += [(0, "p", i, value) for i in range(len(counters))]
+        ops += [(0, *r) for r in reads] + [(0, "i", 1, 0)] + [(0, *r) for r in reads]
+        want += [value] * (2 * len(counters))
+    end = len(beats)
+    ops += [(end, "i", 64, 0)] + [(end, *r) for r in reads] + [(end, "i", 1, 0)]
+    ops += [(end, *r) for r in reads]
+    want += 2 * [(PRESETS[-1] + counts.get(name.upper(), 0)) % (1 << 32) for name in counters]
+    return beats, ops, want
+
+
+def presets_run(sim) -> tuple[str, str]:
+    """The ``presets`` run: every beat taken, every response OKAY, every read the value of
+    :func:`presets_plan` (the first difference reported)."""
+    from dptbd.sim.mutation.presets import preset_counters
+    from dptbd.sim.verilator.axi import run_axi
+
+    beats, ops, want = presets_plan(sim.cfg)
+    run = run_axi(sim, beats, ops)
+    problems = []
+    reads = [int(v) for v in run.op_data[2:]]
+    if run.status != "done" or int(run.counters.get("accepted", -1)) != len(beats):
+        problems.append(f"{run.status}: {run.counters.get('accepted')} of {len(beats)} "
+                        "beats accepted")
+    elif any(int(r) for r in run.op_resp):
+        problems.append(f"responses {list(map(int, run.op_resp))}")
+    elif reads != want:
+        counters = preset_counters(sim.cfg)
+        bad = next(i for i, (a, b) in enumerate(zip(reads, want)) if a != b)
+        problems.append(f"read {bad} ({counters[bad % len(counters)].upper()}) gave "
+                        f"{reads[bad]:#010x}, expected {want[bad]:#010x}")
     return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
