@@ -10,8 +10,9 @@
 // them when its response is sent. It checks every AXI4 rule it sees (INCR, full-width
 // beats, aligned addresses, at most 256 beats, no 4 KB crossing, full strobes, WLAST on
 // exactly the last beat, at most `outstanding` bursts in flight per direction, the region
-// [base, base + frame bytes), valid and payload held until the handshake) and counts
-// violations (the first one's text is kept).
+// [base, base + span) (span: the frame's bytes unless given), valid and payload held until
+// the handshake) and counts violations (the first one's text is kept). It logs every
+// address handshake (cycle, direction, address: `log`).
 //
 // Error responses: a read burst whose AR handshake falls in [error_from, error_to) is
 // answered with SLVERR on every beat (random data) with probability read_error; a write
@@ -41,7 +42,7 @@ namespace dptbd_harness {
 
 // The memory's settings (the job keys of the harnesses that use it).
 struct Axi4MemoryJob {
-    uint64_t lat_min = 0, lat_max = 0, wlat_min = 0, wlat_max = 0, base = 0;
+    uint64_t lat_min = 0, lat_max = 0, wlat_min = 0, wlat_max = 0, base = 0, span = 0;
     bool write_latency_given = false;
     double axi_ready = 1.0, axi_valid = 1.0, read_error = 0.0, write_error = 0.0;
     uint64_t error_from = 0, error_to = ~0ULL;
@@ -54,6 +55,7 @@ struct Axi4MemoryJob {
 //   axi_ready P            probability of each of ARREADY, AWREADY, WREADY per cycle
 //   axi_valid P            probability of RVALID / BVALID when a beat / response is due
 //   base ADDR              the state's base address (decimal)
+//   span BYTES             bytes of memory from base (default: the frame's state)
 //   read_error P           probability that a read burst is answered with SLVERR
 //   write_error P          probability that a write burst is answered with SLVERR
 //   error_cycles A B       errors only for bursts whose address handshake is in [A, B)
@@ -69,6 +71,7 @@ inline bool read_memory_key(const std::string& k, const char* rest, Axi4MemoryJo
     } else if (k == "axi_ready") job.axi_ready = std::strtod(rest, nullptr);
     else if (k == "axi_valid") job.axi_valid = std::strtod(rest, nullptr);
     else if (k == "base") job.base = std::strtoull(rest, nullptr, 10);
+    else if (k == "span") job.span = std::strtoull(rest, nullptr, 10);
     else if (k == "read_error") job.read_error = std::strtod(rest, nullptr);
     else if (k == "write_error") job.write_error = std::strtod(rest, nullptr);
     else if (k == "error_cycles") {
@@ -121,13 +124,15 @@ class Axi4Memory {
     using Data = Beat<BEAT>;
 
     uint64_t read_bursts = 0, write_bursts = 0, violations = 0;
-    uint64_t read_errors = 0, write_errors = 0;   // error responses sent (bursts)
+    uint64_t read_errors = 0, write_errors = 0;   // error beats (R), bursts (B) sent
+    uint64_t first_read_error = ~0ULL, first_write_error = ~0ULL;   // their first handshake
     std::string first_violation;
+    std::vector<uint64_t> log;   // per address handshake: cycle << 1 | is_write, address
 
     Axi4Memory(const Axi4MemoryJob& job, uint64_t frame_bytes, uint64_t outstanding,
                uint64_t seed)
-        : job_(job), frame_bytes_(frame_bytes), outstanding_(outstanding),
-          bytes_(frame_bytes), rng_{seed * 2 + 3}, error_rng_{seed ^ 0xE77E77E77E77E77EULL},
+        : job_(job), frame_bytes_(job.span ? job.span : frame_bytes), outstanding_(outstanding),
+          bytes_(frame_bytes_), rng_{seed * 2 + 3}, error_rng_{seed ^ 0xE77E77E77E77E77EULL},
           ready_thr_(threshold_of(1.0 - job.axi_ready)),
           valid_thr_(threshold_of(1.0 - job.axi_valid)),
           read_error_thr_(threshold_of(job.read_error)),
@@ -168,6 +173,8 @@ class Axi4Memory {
         ar_h_[1] = ar_now[1];
         if (dut->m_axi_state_arvalid && ar_ready_) {
             ++read_bursts;
+            log.push_back(cycle << 1);
+            log.push_back(uint64_t(dut->m_axi_state_araddr));
             if (reads_.size() >= outstanding_) violate("AR: too many reads in flight");
             const uint64_t addr = dut->m_axi_state_araddr, len = dut->m_axi_state_arlen;
             ReadBurst rb{cycle + draw(job_.lat_min, job_.lat_max), {},
@@ -191,6 +198,8 @@ class Axi4Memory {
         aw_h_[1] = aw_now[1];
         if (dut->m_axi_state_awvalid && aw_ready_) {
             ++write_bursts;
+            log.push_back(cycle << 1 | 1);
+            log.push_back(uint64_t(dut->m_axi_state_awaddr));
             if (writes_open_ >= outstanding_) violate("AW: too many writes in flight");
             ++writes_open_;
             const uint64_t addr = dut->m_axi_state_awaddr, len = dut->m_axi_state_awlen;
@@ -224,11 +233,13 @@ class Axi4Memory {
         }
         if (r_on_ && dut->m_axi_state_rready) {
             r_on_ = false;
-            read_errors += r_error_ && r_last_;
+            read_errors += r_error_;
+            if (r_error_ && first_read_error == ~0ULL) first_read_error = cycle;
             if (r_last_) reads_.pop_front();
         }
         if (b_on_ && dut->m_axi_state_bready) {
             const Response& rsp = responses_.front();
+            if (rsp.error && first_write_error == ~0ULL) first_write_error = cycle;
             if (rsp.error) ++write_errors;
             else
                 for (size_t k = 0; k < rsp.data.size(); ++k) write(rsp.addr + k * BEAT, rsp.data[k]);
@@ -324,7 +335,7 @@ class Axi4Memory {
         if (addr / 4096 != (addr + beats * BEAT - 1) / 4096)
             violate(std::string(ch) + ": burst crosses a 4 KB boundary");
         if (addr < job_.base || addr + beats * BEAT > job_.base + frame_bytes_) {
-            violate(std::string(ch) + ": burst outside the frame's state");
+            violate(std::string(ch) + ": burst outside the memory");
             return false;
         }
         return true;
