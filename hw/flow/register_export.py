@@ -123,10 +123,11 @@ def candidate_constants(cfg: DPConfig) -> dict[str, int]:
     return out
 
 
-def constants_namespace(cfg: DPConfig) -> types.SimpleNamespace:
-    """:func:`register_constants` of ``cfg``'s map as attributes (``regs.REG_ERROR``): what
-    the testbenches read every offset and field through."""
-    return types.SimpleNamespace(**register_constants(register_map(cfg)))
+def constants_namespace(cfg: DPConfig, store=None) -> types.SimpleNamespace:
+    """:func:`register_constants` of ``cfg``'s map (with the state store ``store``, an
+    :class:`~dptbd.config.AxiStoreConfig`, if given) as attributes (``regs.REG_ERROR``):
+    what the testbenches read every offset and field through."""
+    return types.SimpleNamespace(**register_constants(register_map(cfg, store)))
 
 
 def _bits(field) -> str:

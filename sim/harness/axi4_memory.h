@@ -178,7 +178,7 @@ class Axi4Memory {
             if (reads_.size() >= outstanding_) violate("AR: too many reads in flight");
             const uint64_t addr = dut->m_axi_state_araddr, len = dut->m_axi_state_arlen;
             ReadBurst rb{cycle + draw(job_.lat_min, job_.lat_max), {},
-                         inject(read_error_thr_, cycle)};
+                         inject(read_error_thr_, job_.read_error, cycle)};
             if (check_address("AR", addr, len, dut->m_axi_state_arsize,
                               dut->m_axi_state_arburst)) {
                 for (uint64_t k = 0; k <= len; ++k) rb.beats.push_back(
@@ -206,7 +206,7 @@ class Axi4Memory {
             const bool inside = check_address("AW", addr, len, dut->m_axi_state_awsize,
                                               dut->m_axi_state_awburst);
             writes_.push_back({inside ? addr : job_.base, len + 1, {},
-                               inject(write_error_thr_, cycle) || !inside});
+                               inject(write_error_thr_, job_.write_error, cycle) || !inside});
         }
         const Data w_now = beat_of<BEAT>(dut->m_axi_state_wdata);
         const bool w_last = dut->m_axi_state_wlast;
@@ -305,9 +305,10 @@ class Axi4Memory {
     static uint64_t strobe_all() { return BEAT == 16 ? 0xFFFFULL : (1ULL << BEAT) - 1; }
     uint64_t draw(uint64_t lo, uint64_t hi) { return lo + rng_.next() % (hi - lo + 1); }
     bool chance(uint64_t thr) { return !(thr && rng_.next() < thr); }
-    bool inject(uint64_t thr, uint64_t cycle) {
-        return thr && cycle >= job_.error_from && cycle < job_.error_to
-               && error_rng_.next() < thr;
+    // an error response for a burst taken in `cycle`, with probability p (1: always)
+    bool inject(uint64_t thr, double p, uint64_t cycle) {
+        if (p <= 0.0 || cycle < job_.error_from || cycle >= job_.error_to) return false;
+        return p >= 1.0 || error_rng_.next() < thr;
     }
     Data garbage_beat() {
         Data d;
