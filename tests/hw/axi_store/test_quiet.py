@@ -9,22 +9,28 @@ from helpers.hw_harness import simulate
 
 def cases(seed: int, cycles: int, outstanding: int):
     """Per cycle ``{signal: 0/1}``: a manager that keeps at most ``outstanding`` bursts in
-    flight per direction, bursts of 1 to 3 beats, random ready / valid on both sides; it
-    issues new bursts only in the first 60 of every 100 cycles (then the port drains)."""
+    flight per direction, read bursts of 1 to 3 beats, one-beat writes whose W may come
+    before, with or after their AW (AXI4 allows each), random ready / valid on both sides;
+    it issues new bursts only in the first 60 of every 100 cycles (then the port drains)."""
     rng = np.random.default_rng(seed)
-    reads, writes, beats_left = 0, 0, []        # beats of each read burst still to come
-    arvalid = awvalid = wvalid = False
-    w_left = 0                                  # W beats of issued bursts still to send
-    b_due = 0                                   # write bursts whose W is done, B not yet
+    reads, beats_left = 0, []                   # beats of each read burst still to come
+    writes = []                                 # per write burst: [AW taken, W taken]
+    arvalid = awvalid = False
     for cycle in range(cycles):
         issuing = cycle % 100 < 60
         arvalid = arvalid or (issuing and reads < outstanding and rng.random() < 0.3)
-        awvalid = awvalid or (issuing and writes < outstanding and rng.random() < 0.3)
-        wvalid = w_left > 0 and rng.random() < 0.7
+        if issuing and len(writes) < outstanding and rng.random() < 0.3:
+            writes.append([False, False])       # a new burst: its AW and W each come later
+        if not awvalid and any(not w[0] for w in writes) and rng.random() < 0.4:
+            awvalid = True
+        unsent = [w for w in writes if not w[1]]
+        ready = [w for w in writes if w[0] and w[1]]
         step = {"arvalid": arvalid, "arready": rng.random() < 0.5,
                 "rvalid": bool(beats_left) and rng.random() < 0.6, "rready": rng.random() < 0.8,
-                "awvalid": awvalid, "awready": rng.random() < 0.5, "wvalid": wvalid,
-                "bvalid": b_due > 0 and rng.random() < 0.5, "bready": rng.random() < 0.8}
+                "awvalid": awvalid, "awready": rng.random() < 0.5,
+                "wvalid": bool(unsent) and rng.random() < 0.7,
+                "bvalid": bool(writes) and writes[0] in ready and rng.random() < 0.5,
+                "bready": rng.random() < 0.8}
         step["rlast"] = step["rvalid"] and beats_left[0] == 1
         if step["arvalid"] and step["arready"]:
             reads += 1
@@ -36,15 +42,12 @@ def cases(seed: int, cycles: int, outstanding: int):
                 beats_left.pop(0)
                 reads -= 1
         if step["awvalid"] and step["awready"]:
-            writes += 1
-            w_left += 1
+            next(w for w in writes if not w[0])[0] = True
             awvalid = False
-        if wvalid and rng.random() < 0.5:       # the W beat taken: its burst's last
-            w_left -= 1
-            b_due += 1
+        if step["wvalid"] and rng.random() < 0.5:           # WREADY: the beat taken
+            unsent[0][1] = True
         if step["bvalid"] and step["bready"]:
-            b_due -= 1
-            writes -= 1
+            writes.pop(0)
         yield {k: int(v) for k, v in step.items()}
 
 
@@ -82,3 +85,6 @@ def test_quiet_counts_bursts_in_flight_cycle_by_cycle():
         assert rtl_quiet(steps, outstanding) == want
         assert 0 < sum(q for *_, q in want) < len(want)        # both states visited
         assert max(r for r, *_ in want) == outstanding          # the limit reached
+        # W offered before its AW was taken, nothing else in flight: not quiet
+        assert any(s["wvalid"] and not s["awvalid"] and r == w == 0
+                   for s, (r, w, _q) in zip(steps, want))
