@@ -153,7 +153,7 @@ class AXITop(wiring.Component):
         m.domains.sync = sync = ClockDomain("sync")
         m.d.comb += [sync.clk.eq(self.aclk), sync.rst.eq(~self.aresetn)]
 
-        m.submodules.regs = regs = RegisterFile(cfg)
+        m.submodules.regs = regs = RegisterFile(cfg, self._register_map)
         # a soft reset: the output adapters close the list and the state line being sent,
         # then restart pulses, which resets the core, the frame monitor and m_axis_state's
         # adapter

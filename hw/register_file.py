@@ -35,9 +35,9 @@ from dptbd.hw.register_map import ADDRESS_BITS, COUNTER_BITS, EVENTS, register_m
 __all__ = ["event_port_layout", "RegisterFile"]
 
 
-def event_port_layout() -> data.StructLayout:
-    """One bit per counted event pulse (:data:`~dptbd.hw.register_map.EVENTS`)."""
-    return data.StructLayout({name: 1 for name in EVENTS})
+def event_port_layout(events=EVENTS) -> data.StructLayout:
+    """One bit per counted event pulse (default :data:`~dptbd.hw.register_map.EVENTS`)."""
+    return data.StructLayout({name: 1 for name in events})
 
 
 class RegisterFile(wiring.Component):
@@ -60,12 +60,12 @@ class RegisterFile(wiring.Component):
     irq : Out(1)
     """
 
-    def __init__(self, cfg: DPConfig):
+    def __init__(self, cfg: DPConfig, regmap=None):   # regmap: register_map(cfg) if None
         self._cfg = cfg
-        self._map = register_map(cfg)
+        self._map = register_map(cfg) if regmap is None else regmap
         members = {
             "axil": In(axi_lite_signature(ADDRESS_BITS)),
-            "events": In(event_port_layout()),
+            "events": In(event_port_layout(self._map.events)),
         }
         for _reg, field in self._map.fields("setting"):
             members[field.name] = Out(range(field.limits[1] + 1), init=field.reset)
@@ -90,7 +90,7 @@ class RegisterFile(wiring.Component):
         written_ones = bus.w_data & byte_mask
         refused = Signal()
         raised = {}                                  # event name -> pulse this cycle
-        for name in EVENTS:
+        for name in regmap.events:
             raised[name] = self.events[name]
         raised["write_refused"] = refused
         raised["fault"] = Cat(raised[f.event] for _r, f in regmap.fields("sticky")).any()
@@ -176,7 +176,7 @@ class RegisterFile(wiring.Component):
             if kind == "setting":
                 (field,) = reg.fields
                 lo, hi = field.limits
-                ok = (merged >= lo) & (merged <= hi) if lo else merged <= hi
+                ok = (merged >= lo) & (merged <= hi) if lo else _align(merged <= hi, merged, field)
                 with m.If(ok):
                     m.d.sync += storage[reg.name, field.name].eq(merged)
                 with m.Else():
@@ -190,3 +190,12 @@ class RegisterFile(wiring.Component):
                         m.d.sync += storage[reg.name, field.name].eq(0)
                 elif kind == "pulse":
                     m.d.sync += getattr(self, field.name).eq(written_ones[part].any())
+
+
+def _align(ok, merged, field):
+    """``ok`` and, for a setting with ``align`` (a power of two), ``merged`` a multiple of
+    it (``ok`` itself without ``align``)."""
+    if field.align is None:
+        return ok
+    assert field.align & (field.align - 1) == 0
+    return ok & ~merged[:field.align.bit_length() - 1].any()

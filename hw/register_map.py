@@ -44,6 +44,7 @@ __all__ = [
     "FIELD_KINDS",
     "FIELD_ACCESS",
     "EVENTS",
+    "STORE_EVENTS",
     "FAULTS",
     "Field",
     "Register",
@@ -85,6 +86,10 @@ FAULTS = ("sof_unexpected", "frame_short", "frame_long", "line_length")
 #: (``frame_done`` … ``saturated``), the frame monitor's faults, and the stream stalls.
 EVENTS = ("frame_done", "segment_done", "list_done", "saturated", *FAULTS,
           "input_stall", "output_stall")
+#: Event pulses added by the build with the state store in external memory
+#: (``--state-store axi``): an error response (SLVERR / DECERR) to a state read burst's beat
+#: or a state write burst.
+STORE_EVENTS = ("state_read_error", "state_write_error")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -93,7 +98,8 @@ class Field:
 
     ``event`` names the pulse that counts / sets a ``counter``, ``sticky`` or ``interrupt``
     field: one of :data:`EVENTS`, ``"write_refused"`` or ``"fault"`` (any sticky bit set).
-    ``limits`` is the allowed ``(lo, hi)`` of a ``setting``, checked on the whole written word.
+    ``limits`` is the allowed ``(lo, hi)`` of a ``setting``, checked on the whole written word;
+    ``align`` (a setting's, optional): the written word must also be a multiple of it.
     """
 
     name: str
@@ -104,6 +110,7 @@ class Field:
     doc: str
     limits: tuple[int, int] | None = None
     event: str | None = None
+    align: int | None = None
 
     @property
     def mask(self) -> int:
@@ -163,6 +170,8 @@ class RegisterMap:
     registers: tuple[Register, ...]
     windows: tuple[Window, ...]
     address_bits: int = ADDRESS_BITS
+    #: the event pulses the register block counts, in the order of its ``events`` port
+    events: tuple[str, ...] = EVENTS
 
     def __getitem__(self, name: str) -> Register:
         for reg in self.registers:
@@ -249,7 +258,7 @@ def _control(cfg: DPConfig, k_max: int) -> list[tuple]:
     ]
 
 
-def _status(cfg: DPConfig) -> list[tuple]:
+def _status(cfg: DPConfig, store=None) -> list[tuple]:
     sticky = tuple(Field(name, i, 1, "sticky", 0, doc, event=name) for i, (name, doc) in
                    enumerate([*zip(FAULTS, ("start of frame in the middle of a line",
                                             "start of frame at the first column of lines "
@@ -260,6 +269,8 @@ def _status(cfg: DPConfig) -> list[tuple]:
                                             "a line (the beats up to tlast) whose length "
                                             "is not W: one event per such line")),
                               ("write_refused", "a register write was refused")]))
+    if store is not None:
+        sticky += _store_sticky(len(sticky))
     counters = [("FRAMES", "frame_done", "frames output by the DP pipeline"),
                 ("SEGMENTS", "segment_done", "segments output by the DP pipeline"),
                 ("LISTS", "list_done", "candidate lists (trailers) sent"),
@@ -285,16 +296,29 @@ def _status(cfg: DPConfig) -> list[tuple]:
     ]
 
 
-def register_map(cfg: DPConfig) -> RegisterMap:
-    """The register map of ``dptbd_axi`` built for ``cfg``.
+def register_map(cfg: DPConfig, store=None) -> RegisterMap:
+    """The register map of ``dptbd_axi`` built for ``cfg``; with ``store`` (an
+    :class:`~dptbd.config.AxiStoreConfig` of ``cfg``) the map of the build with the state
+    store in external memory (``--state-store axi``), which adds the registers of
+    :func:`_store_registers` after each group's own and the bits ``state_read`` /
+    ``state_write`` to ``ERROR``.
 
     Identification registers from 0x000, control from 0x040, status from 0x080, the weight
     LUT window from 0x400 (entry ``cfg.lut_address(p, m)`` at ``0x400 + 4 * address``).
+
+    Raises
+    ------
+    dptbd.errors.ConfigError
+        ``store`` with more than 32 address bits (``STATE_BASE`` is one 32-bit register) or
+        made for another configuration.
     """
     k_max = cfg.k_max
     registers = []
-    for base, group in ((0x000, _identification(cfg, k_max)), (0x040, _control(cfg, k_max)),
-                        (0x080, _status(cfg))):
+    groups = [_identification(cfg, k_max), _control(cfg, k_max), _status(cfg, store)]
+    if store is not None:
+        for group, extra in zip(groups, _store_registers(cfg, store)):
+            group.extend(extra)
+    for base, group in zip((0x000, 0x040, 0x080), groups):
         for i, (name, _group, doc, fields) in enumerate(group):
             registers.append(Register(name, base + 4 * i, _group, doc, fields))
     unity = 1 << cfg.weight_frac_bits
@@ -305,4 +329,73 @@ def register_map(cfg: DPConfig) -> RegisterMap:
                  "weight LUT entry [p, m] at LUT + 4 * (p * M + m) (DPConfig.lut_address); "
                  "write-only (reads SLVERR), whole-word writes (wstrb = 1111)")
     assert lut.end <= 1 << ADDRESS_BITS
-    return RegisterMap(tuple(registers), (lut,))
+    assert all(r.address < 0x040 for r in registers if r.group == "identification")
+    assert all(r.address < 0x080 for r in registers if r.group == "control")
+    events = EVENTS if store is None else (*EVENTS, *STORE_EVENTS)
+    return RegisterMap(tuple(registers), (lut,), events=events)
+
+
+#: Most address bits of the state store of ``dptbd_axi`` (``STATE_BASE`` is one register).
+STORE_ADDRESS_BITS = 32
+
+
+def _store_sticky(first_bit: int) -> tuple[Field, ...]:
+    """The ``ERROR`` bits of the build with the state store in external memory."""
+    return (Field("state_read", first_bit, 1, "sticky", 0,
+                  "a state read burst was answered with SLVERR or DECERR (on any beat)",
+                  event="state_read_error"),
+            Field("state_write", first_bit + 1, 1, "sticky", 0,
+                  "a state write burst was answered with SLVERR or DECERR",
+                  event="state_write_error"))
+
+
+def _store_registers(cfg: DPConfig, store) -> tuple[list, list, list]:
+    """The registers the state store in external memory adds, per group (identification,
+    control, status); see ``docs/integration.md``, "State store in external memory"."""
+    from dptbd.errors import ConfigError
+
+    if store.frame != cfg:
+        raise ConfigError("the state store was made for another configuration than the "
+                          "register map's")
+    if store.address_bits > STORE_ADDRESS_BITS:
+        raise ConfigError(
+            f"address_bits={store.address_bits}: dptbd_axi's STATE_BASE register holds "
+            f"{STORE_ADDRESS_BITS} bits; use address_bits <= {STORE_ADDRESS_BITS}")
+    top = (1 << store.address_bits) - store.frame_bytes
+    highest = top - top % store.burst_bytes
+    identification = [
+        ("BUILD_STATE_STORE", "identification", "the state store's AXI4 manager port",
+         (Field("data_bits", 0, 8, "constant", store.data_bits, "data width"),
+          Field("address_bits", 8, 8, "constant", store.address_bits, "address width"),
+          Field("id_bits", 16, 8, "constant", store.id_bits, "ID width (ID 0 is used)"),
+          Field("outstanding", 24, 8, "constant", store.outstanding,
+                "most bursts in flight per direction"))),
+        ("BUILD_STATE_LAYOUT", "identification", "the state's layout in memory",
+         (Field("burst_beats", 0, 16, "constant", store.burst_beats, "beats of a full burst"),
+          Field("slot_bits", 16, 8, "constant", store.slot_bits, "bits per state slot"))),
+        ("BUILD_STATE_BYTES", "identification", "bytes of one frame's state",
+         _one("frame_bytes", "constant", store.frame_bytes,
+              "W * H * slot_bits / 8, from STATE_BASE")),
+    ]
+    control = [
+        ("STATE_BASE", "control", "state store base address",
+         (Field("state_base", 0, store.address_bits, "setting", store.base_address,
+                f"byte address of pixel 0's state slot, a multiple of the burst size "
+                f"({store.burst_bytes} bytes) with the frame's {store.frame_bytes} bytes "
+                f"below 2**{store.address_bits}, else refused; taken by the store at the "
+                f"next CONTROL.soft_reset (STATE_BASE_ACTIVE)",
+                limits=(0, highest), align=store.burst_bytes),)),
+    ]
+    status = [
+        *[(name, "status", doc, _one(name, "counter", 0, doc, event=event, field="count"))
+          for name, event, doc in (
+              ("STATE_READ_ERRORS", "state_read_error",
+               "state read beats answered with SLVERR or DECERR"),
+              ("STATE_WRITE_ERRORS", "state_write_error",
+               "state write bursts answered with SLVERR or DECERR"))],
+        ("STATE_BASE_ACTIVE", "status", "the state base address in use",
+         (Field("state_base_active", 0, store.address_bits, "status", store.base_address,
+                "the STATE_BASE the store uses: taken at aresetn and at every "
+                "CONTROL.soft_reset"),)),
+    ]
+    return identification, control, status

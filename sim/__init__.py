@@ -25,7 +25,8 @@ harness's C++ AXI4 memory model: random latency, every AXI4 rule checked), ``rtl
 with the scoreboards; ``rtl.trials``, Monte Carlo trials on the compiled RTL for ``compare
 --rtl`` and ``table1 --rtl``), ``benches`` (the cocotb 2.x test modules run on Icarus:
 ``benches.dp``, ``benches.dp_axi`` (``dptbd_dp`` built with ``--state-store axi``, its state in
-cocotbext-axi's ``AxiRam``), ``benches.segmenter`` and ``benches.axi`` with cocotbext-axi, their stream
+cocotbext-axi's ``AxiRam``), ``benches.segmenter`` and ``benches.axi`` with cocotbext-axi,
+``benches.axi_store`` (``dptbd_axi`` built with ``--state-store axi`` on ``AxiRam``), their stream
 drivers, sinks and monitors ``benches.drivers``, and what the soft-reset sweep of
 ``benches.axi`` checks, ``benches.soft_reset_check``), ``axi`` (the AXI top level ``dptbd_axi``'s runs: the video beats with
 frame-sync faults and the frame monitor's fault rule, the campaign's random runs drawn from a

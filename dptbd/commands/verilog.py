@@ -22,12 +22,16 @@ ones measured in ``docs/synthesis.md``; every manifest records them under ``core
 and refuses a radius the family cannot build (:meth:`~dptbd.hw.flow.family.Family.check_radius`).
 Without ``--family`` every top is built with DPCore's defaults.
 
-``--state-store axi`` builds ``dptbd_dp`` with the state in external memory behind an AXI4
-manager port ``m_axi_state_*`` (:class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi`; the
-layout is :meth:`DPConfig.axi_store` of ``--axi-data-bits``, ``--axi-burst-beats``,
-``--axi-id-bits``, ``--axi-address-bits``, ``--axi-outstanding`` and ``--state-base``, each
-refused with its limit when the layout cannot use it; the manifest records it under
-``state_store``). ``dptbd_axi`` keeps its state on chip.
+``--state-store axi`` builds ``dptbd_dp`` (``--top dp``) or ``dptbd_axi`` (``--top axi``)
+with the state in external memory behind an AXI4 manager port ``m_axi_state_*``
+(:class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi`,
+:class:`~dptbd.hw.axi_store.top.AXITopStore`; the layout is :meth:`DPConfig.axi_store` of
+``--axi-data-bits``, ``--axi-burst-beats``, ``--axi-id-bits``, ``--axi-address-bits``,
+``--axi-outstanding`` and ``--state-base``, each refused with its limit when the layout
+cannot use it; the manifest records it under ``state_store``; ``dptbd_axi`` adds the
+registers ``STATE_BASE``, ``STATE_BASE_ACTIVE``, ``STATE_READ_ERRORS``,
+``STATE_WRITE_ERRORS`` and two ERROR bits, and takes at most 32 address bits).
+``dptbd_seg`` keeps its state on chip.
 
 The build is :meth:`DPConfig.build_config` of the parameters: B_E narrowed to what K_max
 full-scale pixels need and, for a binary weight LUT, F = 0 (the same bits as asked;
@@ -93,8 +97,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="--top axi: build even if K_max full-scale pixels can saturate E "
                              "(refused by default)")
     parser.add_argument("--state-store", choices=("chip", "axi"), default="chip",
-                        help="--top dp: chip (default): the state store in block RAM; axi: in "
-                             "external memory behind the AXI4 manager port m_axi_state_* "
+                        help="--top dp, --top axi: chip (default): the state store in block "
+                             "RAM; axi: in external memory behind the AXI4 manager port "
+                             "m_axi_state_* "
                              "(docs/integration.md, \"State store in external memory\")")
     axi = parser.add_argument_group("--state-store axi (defaults: AxiStoreConfig's)")
     axi.add_argument("--axi-data-bits", type=int, default=None,
@@ -124,9 +129,9 @@ def _axi_store(args: argparse.Namespace, cfg):
             verb = "applies" if len(given) == 1 else "apply"
             raise ValueError(f"{', '.join(given)} {verb} to --state-store axi only")
         return None
-    if args.top != "dp":
-        raise ValueError("--state-store axi applies to --top dp only; dptbd_seg and dptbd_axi "
-                         "keep their state store on chip")
+    if args.top == "seg":
+        raise ValueError("--state-store axi applies to --top dp and --top axi only; dptbd_seg "
+                         "keeps its state store on chip")
     if args.external_state_store:
         raise ValueError("--state-store axi and --external-state-store exclude each other: "
                          "the state store is either behind the AXI4 port or outside the "
@@ -174,7 +179,8 @@ def _print_core_options(args: argparse.Namespace, info: dict) -> None:
           + ("" if args.family is None else f" (the {args.family} build)"))
 
 
-def _write_axi(args: argparse.Namespace, cfg, core_options: dict | None) -> int:
+def _write_axi(args: argparse.Namespace, cfg, core_options: dict | None,
+               state_store=None) -> int:
     from dptbd.hw.flow.axi_package import (DEFAULT_CLOCK_MHZ, axi_package, check_clock_mhz,
                                            package_file_names)
 
@@ -183,7 +189,8 @@ def _write_axi(args: argparse.Namespace, cfg, core_options: dict | None) -> int:
     out = args.output
     check_new_files([out.parent / name for name in package_file_names(out.stem)], args.force)
     files = axi_package(cfg, out.stem, clock_mhz, state_output=args.state_output,
-                        allow_saturation=args.allow_saturation, core_options=core_options)
+                        allow_saturation=args.allow_saturation, core_options=core_options,
+                        state_store=state_store)
     out.parent.mkdir(parents=True, exist_ok=True)
     for name, text in files.items():
         (out.parent / name).write_text(text)
@@ -192,6 +199,8 @@ def _write_axi(args: argparse.Namespace, cfg, core_options: dict | None) -> int:
           f"{cfg.width}x{cfg.height}, latency {info['latency']} cycles, aclk "
           f"{clock_mhz:g} MHz)")
     _print_core_options(args, info)
+    if state_store is not None:
+        _print_state_store(state_store)
     return 0
 
 
@@ -234,7 +243,7 @@ def main(args: argparse.Namespace) -> int:
     state_store = _axi_store(args, cfg)
     core_options = _core_options(args, cfg)
     if args.top == "axi":
-        return _write_axi(args, cfg, core_options)
+        return _write_axi(args, cfg, core_options, state_store)
     if args.top == "seg":
         return _write_seg(args, cfg, core_options)
     check_new_files([out, manifest], args.force)
@@ -250,9 +259,12 @@ def main(args: argparse.Namespace) -> int:
     print(f"  {cfg.describe()}; weight LUT in {info['lut_style']}; latency {info['latency']} cycles")
     _print_core_options(args, info)
     if state_store is not None:
-        print(f"  state store: AXI4 {state_store.data_bits}-bit, {state_store.states_per_beat} "
-              f"states of {state_store.slot_bits} bits per beat, bursts of "
-              f"{state_store.burst_beats} beats, {state_store.frame_bytes} bytes per frame "
-              f"from {state_store.base_address:#x}")
+        _print_state_store(state_store)
     print(f"  ports: {ports}")
     return 0
+
+
+def _print_state_store(store) -> None:
+    print(f"  state store: AXI4 {store.data_bits}-bit, {store.states_per_beat} states of "
+          f"{store.slot_bits} bits per beat, bursts of {store.burst_beats} beats, "
+          f"{store.frame_bytes} bytes per frame from {store.base_address:#x}")

@@ -123,10 +123,11 @@ def candidate_constants(cfg: DPConfig) -> dict[str, int]:
     return out
 
 
-def constants_namespace(cfg: DPConfig) -> types.SimpleNamespace:
-    """:func:`register_constants` of ``cfg``'s map as attributes (``regs.REG_ERROR``): what
-    the testbenches read every offset and field through."""
-    return types.SimpleNamespace(**register_constants(register_map(cfg)))
+def constants_namespace(cfg: DPConfig, store=None) -> types.SimpleNamespace:
+    """:func:`register_constants` of ``cfg``'s map (with the state store ``store``, an
+    :class:`~dptbd.config.AxiStoreConfig`, if given) as attributes (``regs.REG_ERROR``):
+    what the testbenches read every offset and field through."""
+    return types.SimpleNamespace(**register_constants(register_map(cfg, store)))
 
 
 def _bits(field) -> str:
@@ -135,11 +136,17 @@ def _bits(field) -> str:
 
 
 def _range(field) -> str:
-    return "" if field.limits is None else f"[{field.limits[0]}, {field.limits[1]}]"
+    if field.limits is None:
+        return ""
+    lo, hi = field.limits
+    text = f"[{lo}, {hi}]" if hi <= 0xFFFF else f"[0x{lo:X}, 0x{hi:X}]"
+    return text + ("" if field.align is None else f", a multiple of {field.align}")
 
 
-def markdown(regmap: RegisterMap, cfg: DPConfig) -> str:
-    """The register tables as Markdown (the body of ``docs/registers.md``)."""
+def markdown(regmap: RegisterMap, cfg: DPConfig, store_map: RegisterMap | None = None) -> str:
+    """The register tables as Markdown (the body of ``docs/registers.md``); with
+    ``store_map`` (the map of the same configuration with the state store in external
+    memory) a last section lists what that build adds."""
     lines = [
         "*Reference document: what is true by design.*",
         "",
@@ -159,26 +166,49 @@ def markdown(regmap: RegisterMap, cfg: DPConfig) -> str:
         *[f"| {kind} | {FIELD_ACCESS[kind]} | {_KIND_TEXT[kind]} |" for kind in FIELD_KINDS],
     ]
     for group in ("identification", "control", "status"):
-        lines += ["", f"## {group.capitalize()}", "",
-                  "| address | register | field | bits | kind | reset | range | meaning |",
-                  "|---|---|---|---|---|---|---|---|"]
-        for reg in regmap.registers:
-            if reg.group != group:
-                continue
-            for i, field in enumerate(reg.fields):
-                head = (f"0x{reg.address:03X} | {reg.name}" if i == 0 else " | ")
-                doc = field.doc if i or field.doc == reg.doc else f"{reg.doc}: {field.doc}"
-                reset = "—" if field.kind == "pulse" else (
-                    f"0x{field.reset:X}" if field.reset > 0xFFFF else str(field.reset))
-                lines.append(f"| {head} | {field.name} | {_bits(field)} | {field.kind} | "
-                             f"{reset} | {_range(field)} | {doc} |")
+        lines += ["", f"## {group.capitalize()}", ""]
+        lines += _table([(reg, reg.fields) for reg in regmap.registers if reg.group == group])
     lines += ["", "## Windows", "",
               "| address | window | entries | bits | range | meaning |", "|---|---|---|---|---|---|"]
     for win in regmap.windows:
         lines.append(f"| 0x{win.base:03X} … 0x{win.end - 4:03X} | {win.name} | {win.entries} | "
                      f"{_bits(win.field)} | {_range(win.field)} | {win.doc}; "
                      f"{win.field.doc} |")
+    if store_map is not None:
+        lines += _store_section(regmap, store_map)
     return "\n".join(lines) + "\n"
+
+
+def _table(rows) -> list[str]:
+    """A register table of ``(register, fields)`` rows."""
+    lines = ["| address | register | field | bits | kind | reset | range | meaning |",
+             "|---|---|---|---|---|---|---|---|"]
+    for reg, fields in rows:
+        for i, field in enumerate(fields):
+            head = (f"0x{reg.address:03X} | {reg.name}" if i == 0 else " | ")
+            doc = field.doc if i or field.doc == reg.doc else f"{reg.doc}: {field.doc}"
+            reset = "—" if field.kind == "pulse" else (
+                f"0x{field.reset:X}" if field.reset > 0xFFFF else str(field.reset))
+            lines.append(f"| {head} | {field.name} | {_bits(field)} | {field.kind} | "
+                         f"{reset} | {_range(field)} | {doc} |")
+    return lines
+
+
+def _store_section(regmap: RegisterMap, store_map: RegisterMap) -> list[str]:
+    """What the build with the state store in external memory adds to ``regmap``."""
+    old = {reg.name: reg for reg in regmap.registers}
+    rows = []
+    for reg in store_map.registers:
+        known = {f.name for f in old[reg.name].fields} if reg.name in old else set()
+        fields = [f for f in reg.fields if f.name not in known]
+        if fields:
+            rows.append((reg, fields))
+    return ["", "## With `--state-store axi`", "",
+            "`dptbd verilog --top axi --state-store axi` (the state in external memory behind "
+            "`m_axi_state_*`, `docs/integration.md`) adds these registers and `ERROR` bits; "
+            "every other register is where it is above. Reset values and ranges here are "
+            "those of the default store (`DPConfig().axi_store()`); they follow the build.",
+            "", *_table(rows)]
 
 
 def c_header(regmap: RegisterMap, cfg: DPConfig) -> str:
@@ -245,7 +275,7 @@ def main(argv=None) -> int:
     parser.add_argument("--markdown", type=pathlib.Path, required=True)
     args = parser.parse_args(argv)
     cfg = DPConfig()
-    args.markdown.write_text(markdown(register_map(cfg), cfg))
+    args.markdown.write_text(markdown(register_map(cfg), cfg, register_map(cfg, cfg.axi_store())))
     print(f"wrote {args.markdown}")
     return 0
 

@@ -46,6 +46,16 @@
 //                     irq_rises, stalled_input_cycles, paused_output_cycles
 // Cycle 0 is the first simulated cycle; aresetn is low in cycles 0 and 1 and during the
 // cycles of an a operation.
+//
+// Built with DPTBD_AXI_STORE (dptbd_axi --state-store axi; DPTBD_AXI_DATA_BITS,
+// DPTBD_AXI_OUTSTANDING, DPTBD_FRAME_BYTES): the state store's port m_axi_state_* is
+// served by the AXI4 memory model of axi4_memory.h (its job keys: latency, write_latency,
+// axi_ready, axi_valid, base, span, read_error, write_error, error_cycles; aresetn
+// abandons its bursts); result.txt also holds read_bursts, write_bursts, violations,
+// read_error_beats, write_error_bursts, first_read_error / first_write_error (cycle of the
+// first error beat's / response's handshake, 2**64-1: none), memory_idle (1: no burst in
+// flight at the end) and, last, first_violation (text, "none" without one), and
+// bursts.bin the memory's log: per address handshake uint64 cycle << 1 | is_write, address.
 #include <chrono>
 #include <cinttypes>
 #include <cstdint>
@@ -57,6 +67,9 @@
 
 #include "Vdut.h"
 #include "harness_io.h"
+#ifdef DPTBD_AXI_STORE
+#include "axi4_memory.h"
+#endif
 #include "verilated.h"
 #if VM_COVERAGE
 #include "verilated_cov.h"
@@ -76,6 +89,9 @@ struct Op { uint64_t before_word; char kind; uint64_t addr, data; };
 struct Job : dptbd_harness::StreamJob {
     std::vector<Op> ops;
     uint64_t period = 0;
+#ifdef DPTBD_AXI_STORE
+    dptbd_harness::Axi4MemoryJob memory;
+#endif
 };
 
 Job read_job(const std::string& path) {
@@ -87,6 +103,9 @@ Job read_job(const std::string& path) {
         if (!std::fgets(rest, sizeof rest, fh)) rest[0] = 0;
         std::string k(key);
         if (read_stream_key(k, rest, job)) continue;
+#ifdef DPTBD_AXI_STORE
+        if (dptbd_harness::read_memory_key(k, rest, job.memory)) continue;
+#endif
         if (k == "op") {
             Op op{};
             char kind[8];
@@ -123,6 +142,10 @@ int main(int argc, char** argv) {
     auto dut = std::make_unique<Vdut>(context.get());
 #ifdef DPTBD_MUTANT
     dptbd_harness::select_mutant(dut.get());
+#endif
+#ifdef DPTBD_AXI_STORE
+    dptbd_harness::Axi4Memory<Vdut, DPTBD_AXI_DATA_BITS> mem(
+        job.memory, DPTBD_FRAME_BYTES, DPTBD_AXI_OUTSTANDING, job.seed);
 #endif
 
     Rng valid_rng{job.seed * 2 + 1}, ready_rng{job.seed * 2 + 2};
@@ -186,6 +209,9 @@ int main(int argc, char** argv) {
         dut->s_axis_video_tlast = (beat >> 33) & 1;
         const bool ready = !(pause_thr && ready_rng.next() < pause_thr);
         dut->m_axis_cand_tready = ready;
+#ifdef DPTBD_AXI_STORE
+        mem.drive(dut.get(), rst);
+#endif
         dut->aclk = 0;
         dut->eval();
         // ---- sample the handshakes before the rising edge
@@ -232,6 +258,9 @@ int main(int argc, char** argv) {
                 if (idle_left <= 1) { busy = 0; ++next_op; }
                 else --idle_left;
             }
+#ifdef DPTBD_AXI_STORE
+            mem.sample(dut.get(), cycle);
+#endif
             const bool level = dut->irq;
             irq_rises += level && !irq;
             if (level != irq) irq_cycles.push_back(cycle);
@@ -270,6 +299,18 @@ int main(int argc, char** argv) {
                  "irq_rises %" PRIu64 "\nseconds %.9f\n",
                  status.c_str(), cycle, next_word, out.size(), stalled_in, paused_out,
                  irq_rises, seconds);
+#ifdef DPTBD_AXI_STORE
+    std::fprintf(fh, "read_bursts %" PRIu64 "\nwrite_bursts %" PRIu64 "\nviolations %" PRIu64
+                 "\nread_error_beats %" PRIu64 "\nwrite_error_bursts %" PRIu64
+                 "\nfirst_read_error %" PRIu64 "\nfirst_write_error %" PRIu64
+                 "\nmemory_idle %d\nfirst_violation %s\n",
+                 mem.read_bursts, mem.write_bursts, mem.violations, mem.read_errors,
+                 mem.write_errors, mem.first_read_error, mem.first_write_error, int(mem.idle()),
+                 mem.first_violation.empty() ? "none" : mem.first_violation.c_str());
+#endif
     std::fclose(fh);
+#ifdef DPTBD_AXI_STORE
+    write_words(dir + "/bursts.bin", mem.log);
+#endif
     return 0;
 }

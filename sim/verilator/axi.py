@@ -12,6 +12,12 @@ waits before given beats. :func:`check_axi` turns the steps of the cocotb bench
 ``tuser[0]`` / ``tlast`` of every word, every write's response, every ``check`` read and, at
 the end, the FRAMES / SEGMENTS / LISTS / SATURATED counters and the fault counters against
 the model. Nothing runs in Python per cycle.
+
+A build with the state store in external memory (``build(cfg, "axi", state_store=store)``)
+runs with the harness's AXI4 memory model on ``m_axi_state_*``; ``run_axi(memory=...)``
+sets it (:data:`MEMORY_KEYS`) and the run's ``counters`` then also hold the model's
+``read_bursts``, ``write_bursts``, ``violations`` (AXI4 rules broken; the first in
+``first_violation``), ``read_error_beats``, ``write_error_bursts`` and ``memory_idle``.
 """
 
 from __future__ import annotations
@@ -32,7 +38,7 @@ from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.verilator import _check_probability, cycle_budget
 from dptbd.sim.verilator.cache import VerilatorBuild
 
-__all__ = ["OKAY", "SLVERR", "CUT_COUNTERS", "AxiRun", "AxiCheck", "beat_words", "step_operations", "run_axi",
+__all__ = ["OKAY", "SLVERR", "CUT_COUNTERS", "MEMORY_KEYS", "AxiRun", "AxiCheck", "beat_words", "step_operations", "run_axi",
            "check_axi", "fault_pulse_array", "no_sof_mask"]
 
 OKAY, SLVERR = 0, 2
@@ -41,6 +47,12 @@ OKAY, SLVERR = 0, 2
 #: that depends on timing: read right after every ``soft_reset: "now"`` (the base of their
 #: check at the end) and LISTS checked there against the lists delivered.
 CUT_COUNTERS = ("FRAMES", "SEGMENTS", "LISTS", "SATURATED")
+
+#: The AXI4 memory model's settings (``sim/harness/axi4_memory.h``) ``run_axi`` takes in
+#: ``memory``: two-number ranges (latency, write_latency: cycles; error_cycles: [from, to)),
+#: probabilities (axi_ready, axi_valid, read_error, write_error) and the base address.
+MEMORY_KEYS = {"latency": 2, "write_latency": 2, "error_cycles": 2, "axi_ready": 1,
+               "axi_valid": 1, "read_error": 1, "write_error": 1, "base": 1, "span": 1}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -59,6 +71,8 @@ class AxiRun:
     sim_seconds: float
     op_cycles: np.ndarray = None  # int64 per w/r/m/b operation: the cycle it completed
     irq_cycles: np.ndarray = None  # uint64 cycle of every change of irq: rises, falls in turn
+    first_violation: str | None = None  # the memory model's first AXI4 rule broken (store builds)
+    bursts: np.ndarray = None    # store builds: (n, 3) int64 cycle, is_write, address per burst
 
     @property
     def cycles_per_second(self) -> float:
@@ -168,7 +182,8 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
 
 def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: float = 0.0,
             ready_pause: float = 0.0, seed: int = 1, drain: int | None = None,
-            max_cycles: int | None = None, coverage=None, repeat: int = 1) -> AxiRun:
+            max_cycles: int | None = None, coverage=None, repeat: int = 1,
+            memory: dict | None = None) -> AxiRun:
     """Stream ``beats`` through a ``design="axi"`` build with the operations ``ops``
     (``(beat index, "w" | "r" | "i" | "m" | "b", address or idle cycles, data)``, performed
     in order before that beat is offered; ``"m"`` is a write with ``wstrb`` = data >> 32,
@@ -178,7 +193,9 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
     harness's header); ``coverage``: write the run's coverage data to
     that file (a build with ``coverage=True``); ``repeat``: offer ``beats`` that many times
     over (``len(beats) * repeat`` beats; operation indices count them all; long runs:
-    ``accept_cycles`` is then empty)."""
+    ``accept_cycles`` is then empty); ``memory``: the AXI4 memory model's settings
+    (:data:`MEMORY_KEYS`; a build with ``state_store`` only, whose base address the model
+    takes by default)."""
     if sim.design != "axi":
         raise ValueError(f"run_axi needs a build of design 'axi', got {sim.design!r}")
     if coverage is not None and not sim.coverage:
@@ -187,6 +204,15 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
     ready_pause = _check_probability("ready_pause", ready_pause)
     if isinstance(repeat, bool) or not isinstance(repeat, int) or repeat < 1:
         raise ValueError(f"repeat must be an integer of at least 1, got {repeat!r}")
+    store = getattr(sim, "state_store", None)
+    if memory is not None and store is None:
+        raise ValueError("memory applies to a build with state_store only")
+    memory = dict(memory or {})
+    for key in memory:
+        if key not in MEMORY_KEYS:
+            raise ValueError(f"memory key {key!r}: the keys are {', '.join(MEMORY_KEYS)}")
+    if store is not None:
+        memory.setdefault("base", store.base_address)
     words = beat_words(beats)
     total = len(words) * repeat
     for index, kind, *_ in ops:
@@ -195,11 +221,18 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
                              f"b, a, p and beats 0 … {total}")
         if kind == "p" and not sim.mutant:
             raise ValueError("operation 'p' (a counter preset) needs a mutant build")
-    if drain is None:
-        drain = settle_cycles(sim, 0.0)
+    slow, rate = 0, 1.0                 # the memory's latency and handshake rate
+    if store is not None:
+        slow = max(memory.get("latency", (0, 0))[1],
+                   memory.get("write_latency", memory.get("latency", (0, 0)))[1])
+        rate = max(0.05, float(memory.get("axi_ready", 1.0)) * float(memory.get("axi_valid", 1.0)))
+    if drain is None:                   # with a store: its writes answered too
+        drain = settle_cycles(sim, 0.0) + (0 if store is None else int(
+            store.outstanding * (slow + 2 * store.burst_beats) / rate))
     if max_cycles is None:
         max_cycles = cycle_budget(total, valid_gap, ready_pause,
                                   drain + sum(o[2] if o[1] == "i" else 8 for o in ops))
+        max_cycles = int(max_cycles * (1 + slow / 8) / rate)
     with tempfile.TemporaryDirectory(prefix="dptbd-verilator-axi-") as job_dir:
         job = pathlib.Path(job_dir)
         np.ascontiguousarray(words, dtype="<u8").tofile(job / "in.bin")
@@ -209,6 +242,12 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
         lines += [f"op {int(i)} {k} {int(a)} {int(d)}" for i, k, a, d in ops]
         if repeat > 1:
             lines.append(f"period {len(words)}")
+        for key, value in memory.items():
+            values = value if MEMORY_KEYS[key] == 2 else (value,)
+            lines.append(f"{key} " + " ".join(str(int(v) if key in ("latency", "write_latency",
+                                                                    "error_cycles", "base",
+                                                                    "span")
+                                                  else float(v)) for v in values))
         if coverage is not None:
             lines.append(f"coverage {pathlib.Path(coverage).resolve()}")
         (job / "job.txt").write_text("\n".join(lines) + "\n")
@@ -219,6 +258,7 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
                                f"{(out.stderr or out.stdout).strip()[-2000:]}")
         result = dict(line.partition(" ")[::2]
                       for line in (job / "result.txt").read_text().splitlines())
+        violation = result.pop("first_violation", None)
         done = np.fromfile(job / "ops.bin", dtype="<u8")
         return AxiRun(
             status=result.pop("status"), cycles=int(result.pop("cycles")),
@@ -231,7 +271,9 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
             op_cycles=(done >> np.uint64(34)).astype(np.int64),
             irq_cycles=np.fromfile(job / "irq_cycles.bin", dtype="<u8"),
             counters={k: int(v) for k, v in result.items() if k != "seconds"},
-            sim_seconds=float(result["seconds"]))
+            sim_seconds=float(result["seconds"]),
+            first_violation=None if violation in (None, "none") else violation,
+            bursts=_bursts(job / "bursts.bin"))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -255,10 +297,13 @@ class AxiCheck:
 
 def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
               valid_gap: float = 0.0, ready_pause: float = 0.0, seed: int = 1,
-              pulses: np.ndarray | None = None, coverage=None) -> AxiCheck:
+              pulses: np.ndarray | None = None, coverage=None,
+              memory: dict | None = None) -> AxiCheck:
     """Run the bench's ``steps`` on Verilator and score everything (see the module doc);
     ``pulses``: :func:`fault_pulse_array` of these beats and steps if already known;
-    ``coverage``: write the run's coverage data to that file."""
+    ``coverage``: write the run's coverage data to that file; ``memory``: the AXI4 memory
+    model's settings (a build with ``state_store``; :func:`run_axi`), whose AXI4 rule
+    violations and bursts left in flight at the end are problems too."""
     cfg = sim.cfg
     expected = expected_outputs(cfg, beats, steps, cut_lists=True)
     cleared = [j for j, step in enumerate(steps)
@@ -275,7 +320,7 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
     final = {**counters, **{f"FAULT_{k.upper()}": int(v) for k, v in zip(FAULTS, faults)}}
     ops, checks = step_operations(cfg, steps, settle_cycles(sim, ready_pause), list(final))
     run = run_axi(sim, beats, ops, valid_gap=valid_gap, ready_pause=ready_pause, seed=seed,
-                  coverage=coverage)
+                  coverage=coverage, memory=memory)
     cuts = undrained_cuts({piece.start for piece in stream_pieces(cfg, steps)}, checks, run)
     lost = _starts(steps, lambda step: step.get("aresetn") and "aresetn_wait" in step)
     if cuts:                            # words in flight lost there
@@ -307,6 +352,11 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
     for name, want in final.items():
         if name in reads and want is not None and reads[name] != want:
             problems.append(f"at the end: {name} = {reads[name]}, the model gives {want}")
+    if run.counters.get("violations"):
+        problems.append(f"{run.counters['violations']} AXI4 violations on m_axi_state, the "
+                        f"first: {run.first_violation}")
+    if run.counters.get("memory_idle") == 0:
+        problems.append("m_axi_state: bursts still in flight at the end")
     if int(run.counters.get("accepted", -1)) != len(beats):
         problems.append(f"{run.counters.get('accepted')} of {len(beats)} beats accepted")
     return AxiCheck(run, board, problems, reads, final, tuple(expected.lists))
@@ -395,3 +445,11 @@ def _cut_counters(cfg, beats: Beats, steps: list[dict], expected, run: AxiRun, o
             final[name] = (reads[beat][name] + total[name] - before[name]
                            if name in reads[beat] else None)
     return problems
+
+
+def _bursts(path: pathlib.Path) -> np.ndarray | None:
+    """The memory model's log (``bursts.bin``) as ``(n, 3)``: cycle, is_write, address."""
+    if not path.exists():
+        return None
+    raw = np.fromfile(path, dtype="<u8").reshape(-1, 2).astype(np.int64)
+    return np.stack([raw[:, 0] >> 1, raw[:, 0] & 1, raw[:, 1]], axis=1)

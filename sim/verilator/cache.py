@@ -145,6 +145,7 @@ class VerilatorBuild(CompiledDesign):
     cached: bool          # the executable came from the cache
     waves: bool
     coverage: bool = False   # a coverage build (COVERAGE_FLAGS): runs may write coverage data
+    state_store: object = None   # design "axi" with the state in external memory: its AxiStoreConfig
     mutant: bool = False     # a mutant build (mutations given): mutsel, counter presets (axi)
 
     @property
@@ -154,13 +155,27 @@ class VerilatorBuild(CompiledDesign):
 
 
 def _harness_sources(design: str) -> list[pathlib.Path]:
-    """The harness source of ``design`` and the header every harness shares."""
+    """The harness source of ``design``, the header every harness shares and, for ``axi``,
+    the AXI4 memory model it includes with the state store in external memory."""
     source = HARNESSES.get(design, HARNESS)
-    return [source, source.with_name("harness_io.h")]
+    return [source, source.with_name("harness_io.h"),
+            *([source.with_name("axi4_memory.h")] if design == "axi" else [])]
+
+
+def _store_fields(store) -> dict:
+    """The parameters of an :class:`~dptbd.config.AxiStoreConfig` but its frame."""
+    return {f.name: getattr(store, f.name) for f in dataclasses.fields(store) if f.name != "frame"}
+
+
+def _store_defines(store) -> list[str]:
+    """The harness defines of a build with the state in external memory (``axi4_memory.h``)."""
+    return ["-DDPTBD_AXI_STORE", f"-DDPTBD_AXI_DATA_BITS={store.data_bits}",
+            f"-DDPTBD_AXI_OUTSTANDING={store.outstanding}",
+            f"-DDPTBD_FRAME_BYTES={store.frame_bytes}ULL"]
 
 
 def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
-               coverage: bool = False, mutations: tuple[str, ...] = ()) -> str:
+               coverage: bool = False, mutations: tuple[str, ...] = (), store=None) -> str:
     from dptbd.hw.flow.source_hash import gateware_hash
 
     extra = {}                                # the plain build's key unchanged
@@ -169,6 +184,8 @@ def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
         extra = {"coverage": COVERAGE_FLAGS, "text": _sha256(text)}
     if mutations:
         extra.update(mutations=list(mutations), mutant_netlist=_mutant_netlist_hash())
+    if store is not None:
+        extra["state_store"] = _store_fields(store)
     blob = json.dumps({**extra,
         "config": cfg.to_mapping(), "design": design, "lut_style": lut_style,
         "waves": waves, "gateware": gateware_hash(),
@@ -203,17 +220,17 @@ def _stamp_ok(directory: pathlib.Path, key: str) -> dict | None:
     return None
 
 
-def _generate(cfg: DPConfig, design: str, lut_style: str, coverage: bool = False
-              ) -> tuple[str, dict]:
+def _generate(cfg: DPConfig, design: str, lut_style: str, coverage: bool = False,
+              store=None) -> tuple[str, dict]:
     if coverage:
         from dptbd.sim.coverage.source_text import coverage_text
         with coverage_text():
-            return _generate(cfg, design, lut_style)
+            return _generate(cfg, design, lut_style, store=store)
     if design == "axi":
         from dptbd.hw.flow.axi_package import generate_axi_verilog
         if lut_style != "auto":
             raise ValueError("the AXI top takes the default lut_style 'auto' only")
-        return generate_axi_verilog(cfg)
+        return generate_axi_verilog(cfg, state_store=store)
     if design == "segmenter":
         from dptbd.hw.flow.segmenter_verilog import generate_segmenter_verilog
         if lut_style != "auto":
@@ -225,7 +242,8 @@ def _generate(cfg: DPConfig, design: str, lut_style: str, coverage: bool = False
 
 def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None = None,
           waves: bool = False, lut_style: str = "auto", verbose: bool = False,
-          coverage: bool = False, mutations: Sequence[str] = ()) -> VerilatorBuild:
+          coverage: bool = False, mutations: Sequence[str] = (),
+          state_store=None) -> VerilatorBuild:
     """Verilate and compile ``design`` for ``cfg``, or reuse the cached executable.
 
     Parameters
@@ -248,6 +266,9 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
         mutation ``i`` behind ``mutsel == i`` and its harness selects one from the
         environment (``DPTBD_MUTANT``; 0 or unset: the original). Designs ``segmenter``,
         ``axi`` and ``dp`` only.
+    state_store : AxiStoreConfig, optional
+        Design ``axi`` only: ``dptbd_axi --state-store axi`` of ``state_store`` (made for
+        ``cfg``), its port served by the harness's AXI4 memory model (``axi4_memory.h``).
     """
     if design not in DESIGNS:
         raise ValueError(f"design must be one of {', '.join(DESIGNS)}, got {design!r}")
@@ -259,38 +280,43 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     mutations = tuple(str(m) for m in mutations)
     if coverage and mutations:
         raise ValueError("a build is a coverage build or a mutant build, not both")
-    key = _build_key(cfg, design, lut_style, waves, coverage, mutations)
+    if state_store is not None and (design != "axi" or mutations):
+        raise ValueError("state_store applies to design 'axi' without mutations only")
+    if state_store is not None and state_store.frame != cfg:
+        raise ValueError("state_store was made for another configuration than cfg")
+    key = _build_key(cfg, design, lut_style, waves, coverage, mutations, state_store)
     root = pathlib.Path(root) if root is not None else default_build_root()
     kind = (f"-mut{len(mutations)}" if mutations else "") + ("-waves" if waves else "") \
-        + ("-cov" if coverage else "")
+        + ("-cov" if coverage else "") + ("" if state_store is None else "-store")
     directory = root.resolve() / f"{config_name(cfg)}-{design}{kind}-{key[:12]}"
     with locked(root.resolve() / ".locks" / (directory.name + ".lock")):
         manifest = _stamp_ok(directory, key)
         cached = manifest is not None
         if not cached:
             manifest = _compile(cfg, design, lut_style, waves, key, directory, tools, verbose,
-                                coverage, mutations)
+                                coverage, mutations, state_store)
     return VerilatorBuild(cfg, design, directory, directory / EXECUTABLE, manifest, key,
-                          time.perf_counter() - start, cached, waves, coverage,
+                          time.perf_counter() - start, cached, waves, coverage, state_store,
                           bool(mutations))
 
 
 def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
              directory: pathlib.Path, tools: dict, verbose: bool, coverage: bool = False,
-             mutations: tuple[str, ...] = ()) -> dict:
+             mutations: tuple[str, ...] = (), store=None) -> dict:
     toplevel, define, _ = DESIGNS[design]
     if mutations:
         from dptbd.sim.mutation.netlist import mutant_verilog
         text, manifest = mutant_verilog(cfg, design, mutations)
     else:
-        text, manifest = _generate(cfg, design, lut_style, coverage)
+        text, manifest = _generate(cfg, design, lut_style, coverage, store)
     directory.parent.mkdir(parents=True, exist_ok=True)
     tmp = pathlib.Path(tempfile.mkdtemp(prefix=directory.name + ".", dir=directory.parent))
     try:
         verilog = tmp / f"{toplevel}.v"
         verilog.write_text(text)
         (tmp / f"{toplevel}.json").write_text(json.dumps(manifest, indent=2) + "\n")
-        defines = [f"-D{define}"] + (["-DDPTBD_MUTANT"] if mutations else [])
+        defines = [f"-D{define}"] + (["-DDPTBD_MUTANT"] if mutations else []) \
+            + ([] if store is None else _store_defines(store))
         if design == "core":
             store_bits = cfg.state_bits
             defines += [f"-DDPTBD_STORE_WORDS={cfg.width * cfg.height}ULL",

@@ -12,6 +12,7 @@ from fusesoc.capi2.core import CoreInterface
 from fusesoc.capi2.coreparser import Core2Parser
 
 from dptbd.errors import DptbdError
+from dptbd.hw.flow import register_export
 from dptbd.hw.flow.axi_package import axi_package, clock_constraints
 from dptbd.hw.flow.verilog import VERILATOR_LINT_FLAGS
 from dptbd.hw.register_map import register_map
@@ -143,3 +144,29 @@ def test_state_output_adds_m_axis_state_to_ports_and_manifest():
     plain = json.loads(axi_package(cfg, "p")["p.json"])
     assert "m_axis_state" not in plain["streams"]
     assert manifest["latency"] == plain["latency"] + 1          # the broadcast's register
+
+
+@pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
+@pytest.mark.parametrize("data_bits", [32, 128])
+def test_state_store_package_lints_clean_and_names_the_port(tmp_path, data_bits):
+    """``--state-store axi``: the Verilog (with ``m_axi_state_*``) under the same lint, the
+    core file parsed by FuseSoC, the manifest's ``state_store`` entry and the header's
+    registers."""
+    cfg = make_config(width=12, height=10, candidate_count=3).build_config()
+    store = cfg.axi_store(data_bits=data_bits, burst_beats=2, id_bits=2)
+    files = axi_package(cfg, "top", state_store=store)
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "top.v", "--top-module",
+                          "dptbd_axi"], cwd=tmp_path, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    manifest = json.loads(files["top.json"])
+    assert manifest["state_store"]["data_bits"] == data_bits
+    ports = {p["name"]: p["width"] for p in manifest["ports"]}
+    assert ports["m_axi_state_rdata"] == data_bits and ports["m_axi_state_bid"] == 2
+    assert manifest["registers"] == register_export.register_constants(
+        register_map(cfg, store))
+    core = CoreInterface(Core2Parser(), tmp_path / "top.core")
+    assert core.get_toplevel({"target": "lint"}) == "dptbd_axi"
+    assert "m_axi_state_*" in (tmp_path / "top.core").read_text().splitlines()[2]
+    assert "#define DPTBD_REG_STATE_BASE 0x00000058u" in files["dptbd_regs.h"]

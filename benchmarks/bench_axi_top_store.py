@@ -1,0 +1,97 @@
+"""Cycles per pixel of the drop-in core ``dptbd_axi`` with its state in external memory
+(``dptbd verilog --top axi --state-store axi``) against the memory's latency, on Verilator.
+
+    python benchmarks/bench_axi_top_store.py                  # 640 x 512, 8 frames
+    python benchmarks/bench_axi_top_store.py --latency 0 100 500 --outstanding 4 16
+    python benchmarks/bench_axi_top_store.py --synth ecp5      # does it fit? (Yosys, nextpnr)
+
+The build is ``dptbd.sim.verilator.build(cfg, "axi", state_store=...)``, the AXI harness
+with the C++ AXI4 memory model (``sim/harness/axi4_memory.h``): every burst answered after
+a fixed latency (cycles from the address handshake to the first read beat, and from the
+last write beat to the response), every channel always ready; the input offers a beat in
+every cycle and ``m_axis_cand`` always takes. The frames are uniform random pixels.
+Reported: cycles from the first to the last accepted pixel over the pixels (1.0 = one
+pixel per clock), and whether every list word, flag and counter is the golden model's with
+no AXI4 rule broken (:func:`dptbd.sim.verilator.axi.check_axi`), with the lists and records
+scored. This script only reports.
+
+``--synth FAMILY`` instead synthesises and places-and-routes the core (the family's DPCore
+options, as ``dptbd verilog --family``) on the family's default device with one placement
+seed (:func:`dptbd.hw.flow.synth.synthesize`); its ports, more than the package has pins,
+folded onto two (:class:`~dptbd.hw.flow.registered_ports.FoldedPorts`, as the ``axi-ext``
+synthesis case: about one flip-flop per port bit more), and reports the cells, whether it
+fits, the utilisation and Fmax.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from dptbd.config import DPConfig
+from dptbd.sim import verilator as V
+from dptbd.sim.axi.stimulus import clean_beats
+from dptbd.sim.verilator.axi import check_axi
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--width", type=int, default=640)
+    parser.add_argument("--height", type=int, default=512)
+    parser.add_argument("--frames", type=int, default=8)
+    parser.add_argument("--latency", type=int, nargs="+", default=[0, 100, 500])
+    parser.add_argument("--outstanding", type=int, nargs="+", default=[4, 16])
+    parser.add_argument("--data-bits", type=int, default=64)
+    parser.add_argument("--burst-beats", type=int, default=16)
+    parser.add_argument("--synth", choices=("ice40", "ecp5"), default=None)
+    args = parser.parse_args()
+    cfg = DPConfig(width=args.width, height=args.height).build_config()
+    if args.synth:
+        return synth(cfg, cfg.axi_store(data_bits=args.data_bits, burst_beats=args.burst_beats,
+                                        outstanding=args.outstanding[0]), args.synth)
+    frames = np.random.default_rng(1).integers(0, 256, size=(args.frames, cfg.height, cfg.width))
+    beats = clean_beats(frames)
+    print(f"dptbd_axi --state-store axi, {cfg.describe()}, {args.frames} frames, AXI "
+          f"{args.data_bits}-bit, bursts of {args.burst_beats} beats, Verilator")
+    print("| latency (cycles) | outstanding | cycles per pixel | bit-exact | lists (records) |")
+    print("|---|---|---|---|---|")
+    for outstanding in args.outstanding:
+        store = cfg.axi_store(data_bits=args.data_bits, burst_beats=args.burst_beats,
+                              outstanding=outstanding)
+        sim = V.build(cfg, "axi", state_store=store)
+        for latency in args.latency:
+            result = check_axi(sim, beats, [{"stop": len(beats)}],
+                               memory=dict(latency=(latency, latency)))
+            accepted = result.run.accept_cycles
+            cpp = float(accepted[-1] - accepted[0] + 1) / len(accepted)
+            board = result.board
+            print(f"| {latency} | {outstanding} | {cpp:.3f} | {result.passed} | "
+                  f"{len(board.lists)} ({board.records_expected}) |", flush=True)
+
+
+def synth(cfg: DPConfig, store, family: str) -> None:
+    """Synthesis and place-and-route of the core with its ports folded (see the module doc)."""
+    from dptbd.hw.axi_store.top import AXITopStore
+    from dptbd.hw.flow.family import get_family
+    from dptbd.hw.flow.registered_ports import FoldedPorts
+    from dptbd.hw.flow.synth import synthesize
+    from dptbd.hw.flow.to_verilog import to_verilog
+
+    options = dict(get_family(family).core_options)
+    text = to_verilog(FoldedPorts(AXITopStore(store, core_options=options)), "dptbd_dp")
+    # the axi-ext case's generation, its text replaced by this core's
+    res = synthesize(cfg, variant="axi-ext", family=family, seeds=(1,),
+                     verilog_filter=lambda _text: text)
+    print(f"dptbd_axi --state-store axi, {cfg.describe()}, AXI {store.data_bits}-bit, bursts "
+          f"of {store.burst_beats}, {store.outstanding} outstanding, {family} {res.device} "
+          f"{res.package}, ports folded")
+    print(f"cells: {res.cells}")
+    for run in res.runs:
+        used = ", ".join(f"{bel} {u}/{a}" for bel, (u, a) in sorted(run.utilisation.items()))
+        print(f"seed {run.seed}: fits {run.fits}, Fmax {run.fmax_mhz} MHz; {used}"
+              + (f"; {run.error}" if run.error else ""))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,82 @@
+"""The DP pipeline with its state in external memory feeding the segmenter:
+:class:`~dptbd.hw.dp_segmenter_top.DPSegmenter` built on
+:class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi` (``dptbd_axi --state-store axi``'s
+core). The same streams, settings, latency and bits; the input is held back whenever the
+external memory is behind.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+from amaranth.lib import stream, wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import AxiStoreConfig
+from dptbd.hw.axi_store.bus import axi4_signature
+from dptbd.hw.axi_store.pipeline import AXI_PREFIX, DPPipelineAxi
+from dptbd.hw.candidate_layout import candidate_layout
+from dptbd.hw.dp_core import lut_write_members
+from dptbd.hw.dp_segmenter_top import DPSegmenter
+from dptbd.hw.layouts import event_layout, pixel_layout, state_layout
+from dptbd.hw.segmenter import Segmenter, segmenter_setting_members
+
+__all__ = ["axi_port_members", "DPSegmenterAxi"]
+
+
+def axi_port_members(store: AxiStoreConfig) -> dict:
+    """``{m_axi_state_<AXI name>: member}`` of the state store's AXI4 manager port."""
+    return {f"{AXI_PREFIX}_{path[-1]}": member
+            for path, member in axi4_signature(store).members.flatten() if member.is_port}
+
+
+class DPSegmenterAxi(DPSegmenter):
+    """:class:`~dptbd.hw.dp_segmenter_top.DPSegmenter` with the state in external memory.
+
+    Members
+    -------
+    pixels, candidates, lut_*, segment_frames, candidate_count, histogram_shift, events, states
+        As for ``DPSegmenter``.
+    m_axi_state_awid … m_axi_state_rready, state_base, read_error, write_error
+        As for :class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi`.
+    """
+
+    def __init__(self, store: AxiStoreConfig, *, fifo_depth: int = 8,
+                 state_output: bool = False, core_options: Mapping[str, str] | None = None):
+        cfg = store.frame
+        cfg.require_paper001_datapath("the segmenter top (dptbd.hw.dp_segmenter_top)")
+        self._cfg = cfg
+        self._store = store
+        self._state_output = bool(state_output)
+        self._external = False
+        self._dp = DPPipelineAxi(store, **dict(core_options or {}))
+        assert self._dp.output_fifo_depth < cfg.width * cfg.height   # as DPSegmenter's
+        self._segmenter = Segmenter(cfg, fifo_depth=fifo_depth)
+        wiring.Component.__init__(self, {
+            "pixels": In(stream.Signature(pixel_layout(cfg))),
+            "candidates": Out(stream.Signature(candidate_layout(cfg))),
+            **lut_write_members(cfg),
+            **segmenter_setting_members(cfg),
+            "events": Out(event_layout(cfg)),
+            **({"states": Out(stream.Signature(state_layout(cfg)))} if state_output else {}),
+            **axi_port_members(store),
+            "state_base": In(store.address_bits, init=store.base_address),
+            "read_error": Out(1),
+            "write_error": Out(1),
+        })
+
+    @property
+    def store(self) -> AxiStoreConfig:
+        """The external memory layout."""
+        return self._store
+
+    def elaborate(self, platform):
+        m = super().elaborate(platform)
+        dp = self._dp
+        for name, member in axi_port_members(self._store).items():
+            outer, inner = getattr(self, name), getattr(dp, name)
+            m.d.comb += outer.eq(inner) if member.flow == Out else inner.eq(outer)
+        m.d.comb += [dp.state_base.eq(self.state_base),
+                     self.read_error.eq(dp.read_error),
+                     self.write_error.eq(dp.write_error)]
+        return m

@@ -1,0 +1,61 @@
+"""AXITopStore (``dptbd_axi --state-store axi``): its ports are the on-chip top's with the
+AXI4 manager port instead of the store inside, its register map the store's, and a store
+the map cannot hold is refused at construction. Its behaviour is run on Verilator
+(``tests/sim/verilator/test_axi_store.py``)."""
+
+import gc
+import warnings
+
+import pytest
+from amaranth.hdl import Shape
+from amaranth.lib.wiring import In, Out
+
+from dptbd.errors import ConfigError
+from dptbd.hw.axi_store.top import AXITopStore
+from dptbd.hw.axi_top import AXITop
+from dptbd.hw.flow.to_verilog import to_verilog
+from dptbd.hw.register_map import register_map
+from helpers.refusals import whole
+from helpers.seg_harness import make_config
+
+
+def config():
+    return make_config(width=12, height=10, segment_frames=2, candidate_count=4)
+
+
+@pytest.mark.parametrize("state_output", [False, True])
+def test_ports_are_the_axi_tops_plus_the_manager_port(state_output):
+    cfg = config()
+    store = cfg.axi_store(data_bits=128, burst_beats=2, id_bits=5, address_bits=20)
+    top = AXITopStore(store, state_output=state_output)
+    plain = AXITop(cfg, state_output=state_output)
+    to_verilog(plain, "dptbd_axi")
+    ports = dict(top.signature.members)
+    added = {name: member for name, member in ports.items()
+             if name not in plain.signature.members}
+    assert all(name.startswith("m_axi_state_") for name in added)
+    assert {name: (m.flow, Shape.cast(m.shape).width) for name, m in added.items()
+            if name in ("m_axi_state_araddr", "m_axi_state_awid", "m_axi_state_rdata",
+                        "m_axi_state_wstrb", "m_axi_state_rready")} == {
+        "m_axi_state_araddr": (Out, 20), "m_axi_state_awid": (Out, 5),
+        "m_axi_state_rdata": (In, 128), "m_axi_state_wstrb": (Out, 16),
+        "m_axi_state_rready": (Out, 1)}
+    assert len(added) == 37                   # AW, AR 11 each, W 5, B 4, R 6
+    assert set(plain.signature.members) <= set(ports)
+    assert top.register_map == register_map(cfg, store)
+    assert top.store is store and top.core.latency == plain.core.latency
+    text = to_verilog(top, "dptbd_axi")                # it elaborates, with m_axis_state too
+    assert "input [127:0] m_axi_state_rdata;" in text
+    assert ("output m_axis_state_tvalid;" in text) == state_output
+
+
+def test_a_store_the_register_map_cannot_hold_is_refused_without_a_warning():
+    cfg = config()
+    gc.collect()                        # other tests' components collected outside the check
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ConfigError, match=whole(
+                "address_bits=48: dptbd_axi's STATE_BASE register holds 32 bits; use "
+                "address_bits <= 32")):
+            AXITopStore(cfg.axi_store(address_bits=48))
+        gc.collect()                    # an UnusedElaboratable warning would be an error here
