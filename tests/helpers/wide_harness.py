@@ -24,11 +24,12 @@ def frames_to_beats(cfg: DPConfig, frames: np.ndarray) -> list[tuple[tuple[int, 
 
 
 def run_beats(dut, cfg: DPConfig, beats, *, valid_probability=1.0, ready_probability=1.0,
-              seed=0, lut_writes=None, max_cycles=None, on_cycle=None) -> StreamRun:
+              seed=0, lut_writes=None, max_cycles=None, on_cycle=None, processes=()) -> StreamRun:
     """Simulate ``dut`` until every beat of ``beats`` has come out; ``outputs`` are the
     states per pixel (:func:`~dptbd.hw.dp_wide.unpack_beat_states`), ``accept_cycles`` and
     ``output_cycles`` per beat. ``lut_writes`` as :func:`helpers.hw_harness.run_stream`'s
-    (index: the beat before which they are written, the input idle meanwhile)."""
+    (index: the beat before which they are written, the input idle meanwhile); ``processes``
+    run beside (e.g. a state-store model, an event counter)."""
     rng = random.Random(seed)
     pending = {k: list(v) for k, v in (lut_writes or {}).items()}
     if max_cycles is None:
@@ -63,5 +64,5 @@ def run_beats(dut, cfg: DPConfig, beats, *, valid_probability=1.0, ready_probabi
         words = list(result.outputs)
         result.outputs[:] = [state for word in words for state in unpack_beat_states(cfg, word)]
 
-    simulate(dut, bench)
+    simulate(dut, bench, background=processes)
     return result
