@@ -266,3 +266,11 @@ def test_refuses_bad_options(option, value, message):
     cfg = DPConfig(width=8, height=5, pixels_per_clock=2)
     with refused(ValueError, match=whole(message)):
         DPPipelineWide(cfg, **{option: value})
+
+
+def test_build_top_refuses_the_axi_store_at_p_above_one():
+    from dptbd.hw.flow.verilog import build_top
+    cfg = DPConfig(width=64, height=16, pixels_per_clock=2)
+    with pytest.raises(ValueError, match=whole(
+            "the AXI4 state store is built for pixels_per_clock=1 only, got pixels_per_clock=2")):
+        build_top(cfg, state_store=cfg.axi_store())
