@@ -251,6 +251,11 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     from dptbd.hw.schedule import check_supported
 
     check_supported(cfg)
+    if cfg.pixels_per_clock > 1 and design not in ("dp", "core"):
+        raise ValueError(f"design {design!r} takes one pixel per clock; pixels_per_clock="
+                         f"{cfg.pixels_per_clock} builds the designs 'dp' and 'core' only")
+    if cfg.pixels_per_clock > 1 and mutations:
+        raise ValueError("mutant builds are of the default designs, at pixels_per_clock=1")
     tools = check_tools()
     start = time.perf_counter()
     mutations = tuple(str(m) for m in mutations)
@@ -288,8 +293,8 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
         (tmp / f"{toplevel}.json").write_text(json.dumps(manifest, indent=2) + "\n")
         defines = [f"-D{define}"] + (["-DDPTBD_MUTANT"] if mutations else [])
         if design == "core":
-            store_bits = cfg.state_bits
-            defines += [f"-DDPTBD_STORE_WORDS={cfg.width * cfg.height}ULL",
+            store_bits = cfg.state_bits * cfg.pixels_per_clock     # a beat's P states
+            defines += [f"-DDPTBD_STORE_WORDS={cfg.frame_beats}ULL",
                         f"-DDPTBD_STORE_BITS={store_bits}"]
         trace = []
         if waves:
