@@ -105,9 +105,10 @@ def check_wide(cfg: DPConfig, *, max_tree: str = "compact") -> PipelineSchedule:
     dptbd.errors.ConfigError
         * ``pixels_per_clock == 1``: that is :class:`~dptbd.hw.dp_core.DPCore`.
         * a paper-000 family field in use (``docs/arithmetic.md`` §8).
-        * whatever :func:`~dptbd.hw.schedule.check_supported` refuses for ``cfg``.
         * a frame too small for the read-ahead counted in beats:
           ``(W/P)*H - r*(W/P + 1) <= write latency`` (``docs/gateware.md``).
+        * whatever :func:`~dptbd.hw.schedule.check_supported` refuses for the beat
+          configuration (e.g. overlapping segments).
     """
     p = cfg.pixels_per_clock
     if p == 1:
@@ -117,7 +118,6 @@ def check_wide(cfg: DPConfig, *, max_tree: str = "compact") -> PipelineSchedule:
     if used:
         raise ConfigError(f"pixels_per_clock={p} is built for paper 001's DP only; the "
                           f"paper-000 field(s) {used} need pixels_per_clock=1")
-    check_supported(cfg, max_tree=max_tree)
     beats = cfg.beat_config()
     schedule = PipelineSchedule.from_config(beats, max_tree=max_tree)
     margin = cfg.frame_beats - read_ahead_distance(beats)

@@ -401,10 +401,12 @@ class DPConfig(FamilyFields):
 
     def describe(self) -> str:
         """The one-line summary every command prints:
-        ``"128x128, K=4, B_in=8, B_E=16, F=8, r=1, truncate"``."""
+        ``"128x128, K=4, B_in=8, B_E=16, F=8, r=1, truncate"`` (``", P=2"`` appended at
+        P > 1)."""
         return (f"{self.width}x{self.height}, K={self.segment_frames}, B_in={self.input_bits}, "
                 f"B_E={self.energy_bits}, F={self.weight_frac_bits}, r={self.radius}, "
-                f"{self.rounding}")
+                f"{self.rounding}"
+                + (f", P={self.pixels_per_clock}" if self.pixels_per_clock > 1 else ""))
 
     def replace(self, **changes: Any) -> "DPConfig":
         """A copy with some parameters changed (validated again).

@@ -250,12 +250,16 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
         raise ValueError(f"design must be one of {', '.join(DESIGNS)}, got {design!r}")
     from dptbd.hw.schedule import check_supported
 
-    check_supported(cfg)
+    if cfg.pixels_per_clock == 1:
+        check_supported(cfg)
     if cfg.pixels_per_clock > 1 and design not in ("dp", "core"):
         raise ValueError(f"design {design!r} takes one pixel per clock; pixels_per_clock="
                          f"{cfg.pixels_per_clock} builds the designs 'dp' and 'core' only")
     if cfg.pixels_per_clock > 1 and mutations:
         raise ValueError("mutant builds are of the default designs, at pixels_per_clock=1")
+    if cfg.pixels_per_clock > 1:
+        from dptbd.hw.dp_wide import check_wide
+        check_wide(cfg)
     tools = check_tools()
     start = time.perf_counter()
     mutations = tuple(str(m) for m in mutations)

@@ -566,3 +566,9 @@ def test_beat_config_keeps_an_explicit_candidate_count_out():
 def test_pixels_per_clock_refusals(overrides, message):
     with pytest.raises(ConfigError, match=whole(message)):
         DPConfig(**overrides)
+
+
+def test_describe_names_p_above_one_only():
+    assert DPConfig(width=12, pixels_per_clock=4).describe() == \
+        "12x128, K=4, B_in=8, B_E=16, F=8, r=1, truncate, P=4"
+    assert DPConfig(width=12, pixels_per_clock=1).describe().endswith("truncate")

@@ -225,7 +225,7 @@ def test_dp_pipeline_picks_by_p():
     two = dp_pipeline(DPConfig(width=8, height=5, pixels_per_clock=2), lut_style="bram")
     assert type(one) is DPPipeline and type(two) is DPPipelineWide
     assert two.lut_style == "bram"
-    for dut in (one, two):
+    for dut in (one, two, one._core, two._core):   # built, never elaborated: fine
         dut._MustUse__silence = True
 
 
@@ -246,7 +246,8 @@ def test_refuses_paper_000_fields():
 
 def test_refuses_frames_too_small_for_the_read_ahead_in_beats():
     cfg = DPConfig(width=12, height=4, pixels_per_clock=4)   # 12 - 4 = 8 beats <= 12
-    DPPipeline(cfg.replace(pixels_per_clock=1))._MustUse__silence = True   # fine at P = 1
+    one = DPPipeline(cfg.replace(pixels_per_clock=1))                       # fine at P = 1
+    one._MustUse__silence = one._core._MustUse__silence = True
     with refused(ConfigError, match=whole(
             "width=12 x height=4 is too small for the read-ahead of radius=1 at "
             "pixels_per_clock=4: the gateware needs (width/P)*height - radius*(width/P+1) > "
@@ -274,3 +275,26 @@ def test_build_top_refuses_the_axi_store_at_p_above_one():
     with pytest.raises(ValueError, match=whole(
             "the AXI4 state store is built for pixels_per_clock=1 only, got pixels_per_clock=2")):
         build_top(cfg, state_store=cfg.axi_store())
+
+
+def test_one_pixel_blocks_refuse_p_above_one():
+    """DPCore (and so DPPipeline, the segmenter, the AXI tops) never builds a P = 1 design
+    for a P > 1 configuration."""
+    cfg = DPConfig(width=8, height=6, pixels_per_clock=2)
+    message = ("pixels_per_clock=2: this block takes one pixel per clock; P = 2 and 4 are "
+               "built by DPCoreWide and DPPipelineWide (hw/dp_wide.py, the dp top of dptbd "
+               "verilog)")
+    with refused(ConfigError, match=whole(message)):
+        DPPipeline(cfg)
+    from dptbd.hw.dp_segmenter_top import DPSegmenter
+    with refused(ConfigError, match=whole(message)):
+        DPSegmenter(cfg)
+
+
+def test_refuses_overlapping_segments_at_p_above_one():
+    cfg = DPConfig(width=8, height=6, segment_frames=4, segment_stride=2, pixels_per_clock=2)
+    with refused(ConfigError, match=whole(
+            "segment_stride=2 is not supported by the gateware: only non-overlapping segments "
+            "(segment_stride == segment_frames == 4) are implemented, with a single state "
+            "store")):
+        DPPipelineWide(cfg)
