@@ -298,3 +298,20 @@ def test_refuses_overlapping_segments_at_p_above_one():
             "(segment_stride == segment_frames == 4) are implemented, with a single state "
             "store")):
         DPPipelineWide(cfg)
+
+
+@pytest.mark.parametrize("p, radius, external", [(2, 2, False), (4, 1, True)])
+def test_verilator_lints_clean_at_128x128(tmp_path, p, radius, external):
+    """The generated Verilog at P = 2 and 4, default frame size, with the project's lint flags."""
+    import shutil
+    from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
+    from helpers.hw_harness import assert_verilator_lints_clean
+
+    if shutil.which("verilator") is None:
+        pytest.skip("needs Verilator")
+    cfg = DPConfig(radius=radius, pixels_per_clock=p).build_config()
+    text, info = generate_verilog(cfg, external_state_store=external)
+    assert info["top"] == ("DPCoreWide" if external else "DPPipelineWide")
+    path = tmp_path / "dptbd_dp.v"
+    path.write_text(text)
+    assert_verilator_lints_clean(path, MODULE_NAME)
