@@ -177,11 +177,13 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
               seed=stimulus.seed, resets=stimulus.resets, lut_writes=writes,
               settings=settings, store_init=stimulus.store_init, trace=trace,
               coverage=coverage)
-    # per pixel from here on: at P > 1 a beat's P pixels (states) share its cycle
+    # per pixel from here on: at P > 1 a beat's P pixels (and its P states) share its cycle
     p = cfg.pixels_per_clock
     all_pixels, all_first = split_words(cfg, words) if p == 1 else split_beats(cfg, words)
-    accept_cycles, out_cycles = np.repeat(raw.accept_cycles, p), np.repeat(raw.out_cycles, p)
-    out_words = raw.out_words if p == 1 else beat_state_words(cfg, raw.out_words)
+    accept_cycles, out_cycles, out_words = np.repeat(raw.accept_cycles, p), raw.out_cycles, \
+        raw.out_words
+    if p > 1 and sim.output == "states":
+        out_cycles, out_words = np.repeat(out_cycles, p), beat_state_words(cfg, out_words)
     accepted = accept_cycles != NEVER
     n_in = int(np.count_nonzero(accepted))
     pixels, first = all_pixels[:n_in], all_first[:n_in]
