@@ -352,7 +352,11 @@ class DPCoreWide(wiring.Component):
         ]
         m.submodules.line_buffer = line_buffer = LineBuffer(
             beat_word_layout(cfg), depth=cfg.row_beats, taps=2 * r,
-            ram_style=LINE_BUFFER_RAM_STYLE[self._line_buffer_style])
+            ram_style=LINE_BUFFER_RAM_STYLE[self._line_buffer_style],
+            # DPCore's read structure in LUT RAM: no address fan-out nor multiplexer between
+            # the memory and a register (docs/synthesis.md, "The line buffer's read")
+            interleaved_read=(self._line_buffer_style == "lutram" and cfg.row_beats % 2 == 0
+                              and cfg.row_beats >= 4))
         m.d.comb += line_buffer.advance.eq(accept)
 
         # ---- cycle 1 (fetch): new beat column ----------------------------------------

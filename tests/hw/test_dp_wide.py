@@ -95,6 +95,26 @@ def test_core_options_change_nothing(options):
     assert_states_equal(run.outputs, reference_states(cfg, frames))
 
 
+@pytest.mark.parametrize("width, interleaved", [(16, True), (12, False), (24, False)],
+                         ids=["4-beats", "3-beats", "6-beats-bram"])
+def test_lutram_line_buffer_reads_interleaved_on_an_even_row(monkeypatch, width, interleaved):
+    """At P = 4 the LUT-RAM line buffer reads interleaved (as DPCore's) when a row has an
+    even number of beats >= 4; bit for bit either way."""
+    import dptbd.hw.dp_wide as dp_wide
+
+    made = []
+    real = dp_wide.LineBuffer
+    monkeypatch.setattr(dp_wide, "LineBuffer", lambda *a, **k: made.append(k) or real(*a, **k))
+    cfg = make_config(width=width, height=6, segment_frames=3, pixels_per_clock=4)
+    style = "bram" if width == 24 else "lutram"
+    dut = DPPipelineWide(cfg, line_buffer_style=style)
+    frames = random_frames(cfg, 4, seed=width)
+    run = run_beats(dut, cfg, frames_to_beats(cfg, frames), valid_probability=0.8,
+                    ready_probability=0.7, seed=3)
+    assert [k["interleaved_read"] for k in made] == [interleaved]
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+
+
 def sram_model(bus, words, seed):
     """A one-cycle synchronous memory of random contents; ``read_data`` is random except in
     the cycle after a read (the core must use neither)."""
