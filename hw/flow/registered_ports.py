@@ -68,13 +68,19 @@ class FoldedPorts(wiring.Component):
     wrapper's own paths are one LUT level between registers. Its cells are counted with the
     core's (about one flip-flop per port bit), so the ``axi-ext`` variant is for Fmax and an
     upper bound of the cost. Members: ``aclk``, ``aresetn``, ``fold_in`` (In), ``fold_out``
-    (Out); ``config``, ``latency`` and ``core_options`` are the core's.
+    (Out); ``config``, ``latency`` and ``core_options`` are the core's. A core without
+    ``aclk`` (on the ``sync`` domain: :class:`~dptbd.hw.dp_core.DPCore`,
+    :class:`~dptbd.hw.dp_wide.DPCoreWide`) is wrapped on that domain, with the members
+    ``fold_in`` and ``fold_out`` only.
     """
 
     def __init__(self, core: wiring.Component):
         self._core = core
-        super().__init__({"aclk": In(1), "aresetn": In(1), "fold_in": In(1),
-                          "fold_out": Out(1)})
+        # a core without aclk (DPCore, DPCoreWide) runs on the sync domain, and so does the
+        # wrapper: then its members are fold_in and fold_out only
+        self._own_clock = "aclk" in core.signature.members
+        clock = {"aclk": In(1), "aresetn": In(1)} if self._own_clock else {}
+        super().__init__({**clock, "fold_in": In(1), "fold_out": Out(1)})
 
     def __getattr__(self, name):
         if name in ("latency", "core_options", "config"):
@@ -84,10 +90,14 @@ class FoldedPorts(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         m.submodules.core = core = self._core
-        # the wrapper's own domain on the same clock and reset as the core's
-        m.domains.fold = fold = ClockDomain("fold", local=True)
-        m.d.comb += [fold.clk.eq(self.aclk), fold.rst.eq(~self.aresetn),
-                     core.aclk.eq(self.aclk), core.aresetn.eq(self.aresetn)]
+        if self._own_clock:
+            # the wrapper's own domain on the same clock and reset as the core's
+            m.domains.fold = fold = ClockDomain("fold", local=True)
+            m.d.comb += [fold.clk.eq(self.aclk), fold.rst.eq(~self.aresetn),
+                         core.aclk.eq(self.aclk), core.aresetn.eq(self.aresetn)]
+            domain = m.d.fold
+        else:
+            domain = m.d.sync
         inputs, outputs = [], []
         for path, member, inner in core.signature.flatten(core):
             if path[-1] in ("aclk", "aresetn"):
@@ -95,17 +105,17 @@ class FoldedPorts(wiring.Component):
             (inputs if member.flow == Flow.In else outputs).append(inner)
         width = sum(len(Value.cast(v)) for v in inputs)
         chain = Signal(width)
-        m.d.fold += chain.eq(Cat(self.fold_in, chain[:-1]))
+        domain += chain.eq(Cat(self.fold_in, chain[:-1]))
         offset = 0
         for value in inputs:
             n = len(Value.cast(value))
             m.d.comb += value.eq(chain[offset:offset + n])
             offset += n
         level = Signal(sum(len(Value.cast(v)) for v in outputs))
-        m.d.fold += level.eq(Cat(*outputs))
+        domain += level.eq(Cat(*outputs))
         while len(level) > 1:
             folded = Signal((len(level) + 3) // 4)
-            m.d.fold += folded.eq(Cat(*[level[i:i + 4].xor() for i in range(0, len(level), 4)]))
+            domain += folded.eq(Cat(*[level[i:i + 4].xor() for i in range(0, len(level), 4)]))
             level = folded
         m.d.comb += self.fold_out.eq(level)
         return m

@@ -81,7 +81,10 @@ __all__ = [
 #: ``"axi-ext"``: AXITop with the state store outside, its ports folded onto two pins
 #: (:class:`~dptbd.hw.flow.registered_ports.FoldedPorts`: 221 ports do not fit the HX8K's
 #: 206 I/O; its cells include about one flip-flop per port bit).
-VARIANTS = ("core", "top", "segmenter", "core-regio", "segmenter-ext", "axi", "axi-ext")
+#: ``"core-folded"``: ``"core"``'s module with its ports folded onto two pins the same way
+#: (DPCoreWide's state-store ports at 4 pixels per clock exceed the ECP5 CABGA256's I/O).
+VARIANTS = ("core", "top", "segmenter", "core-regio", "segmenter-ext", "axi",
+            "axi-ext", "core-folded")
 
 #: The variants with the W*H-word state store on chip (checked against the device's block
 #: RAM before any tool runs).
@@ -198,12 +201,13 @@ def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: Ma
     """The Verilog text of module ``dptbd_dp`` for ``variant`` (its manifest beside it for
     ``core`` / ``top``)."""
     from dptbd.hw.flow.verilog import MODULE_NAME, build_top, generate_verilog  # on demand
-    if variant == "core-regio":
-        from dptbd.hw.flow.registered_ports import RegisteredPorts
+    if variant in ("core-regio", "core-folded"):
+        from dptbd.hw.flow.registered_ports import FoldedPorts, RegisteredPorts
         from dptbd.hw.flow.to_verilog import to_verilog
         core = build_top(cfg, external_state_store=True, lut_style=lut_style,
                          core_options=core_options)
-        return to_verilog(RegisteredPorts(core), MODULE_NAME)
+        wrap = RegisteredPorts if variant == "core-regio" else FoldedPorts
+        return to_verilog(wrap(core), MODULE_NAME)
     if variant in ("core", "top"):
         text, _ = generate_verilog(cfg, external_state_store=(variant == "core"),
                                    lut_style=lut_style, core_options=core_options,
@@ -256,8 +260,9 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         ``"segmenter"``: :class:`DPSegmenter` (``DPPipeline`` and the segmenter);
         ``"segmenter-ext"``: the same with the store outside; ``"axi"``: :class:`AXITop`
         (``dptbd_axi``, on-chip store); ``"axi-ext"``: AXITop with the store outside, its
-        ports folded onto two pins (:class:`~dptbd.hw.flow.registered_ports.FoldedPorts`).
-        Every variant's Verilog module is ``dptbd_dp``.
+        ports folded onto two pins (:class:`~dptbd.hw.flow.registered_ports.FoldedPorts`);
+        ``"core-folded"``: ``"core"`` with its ports folded so. Every variant's Verilog
+        module is ``dptbd_dp``.
     family : {"ice40", "ecp5"}
         The FPGA family (:data:`FAMILIES`).
     device, package : str, optional

@@ -56,7 +56,8 @@ def build_top(cfg: DPConfig, *, external_state_store: bool = False, lut_style: s
               state_store: AxiStoreConfig | None = None):
     """The top-level component: ``DPPipeline(cfg)``, or ``DPCore(cfg)`` without a store, or
     ``DPPipelineAxi(state_store)`` with the store in external memory (``state_store.frame``
-    must be ``cfg``).
+    must be ``cfg``); at ``cfg.pixels_per_clock`` 2 or 4 ``DPPipelineWide(cfg)`` or
+    ``DPCoreWide(cfg)`` (:mod:`dptbd.hw.dp_wide`).
 
     ``lut_style`` (``"auto"``, ``"bram"``, ``"logic"``) is passed on (weight LUT storage),
     and so are ``core_options`` (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`, e.g.
@@ -69,8 +70,15 @@ def build_top(cfg: DPConfig, *, external_state_store: bool = False, lut_style: s
                              "port")
         if state_store.frame != cfg:
             raise ValueError("state_store was made for another configuration than cfg")
+        if cfg.pixels_per_clock > 1:
+            raise ValueError(f"the AXI4 state store is built for pixels_per_clock=1 only, got "
+                             f"pixels_per_clock={cfg.pixels_per_clock}")
         from dptbd.hw.axi_store.pipeline import DPPipelineAxi
         return DPPipelineAxi(state_store, lut_style=lut_style, **dict(core_options or {}))
+    if cfg.pixels_per_clock > 1:        # docs/gateware.md, "P pixels per clock"
+        from dptbd.hw.dp_wide import DPCoreWide, DPPipelineWide
+        kind = DPCoreWide if external_state_store else DPPipelineWide
+        return kind(cfg, lut_style=lut_style, **dict(core_options or {}))
     kind = DPCore if external_state_store else DPPipeline
     return kind(cfg, lut_style=lut_style, **dict(core_options or {}))
 
@@ -148,12 +156,21 @@ def manifest(cfg: DPConfig, top) -> dict:
         "output_fifo_depth": top.output_fifo_depth,
         "ports": port_list(top),
         "layouts": {
-            "pixel": field_offsets(pixel_layout(cfg)),
-            "state": field_offsets(state_layout(cfg)),
+            "pixel": field_offsets(_beat_layouts(cfg)[0]),
+            "state": field_offsets(_beat_layouts(cfg)[1]),
             "state_word": field_offsets(state_word_layout(cfg)),
         },
         **({} if store is None else {"state_store": manifest_state_store(store)}),
     }
+
+
+def _beat_layouts(cfg: DPConfig) -> tuple:
+    """The ``pixels`` and ``states`` payload layouts of ``dptbd_dp`` for ``cfg``: one pixel at
+    P = 1, one beat of P pixels otherwise (:mod:`dptbd.hw.dp_wide`)."""
+    if cfg.pixels_per_clock == 1:
+        return pixel_layout(cfg), state_layout(cfg)
+    from dptbd.hw.dp_wide import wide_pixel_layout, wide_state_layout
+    return wide_pixel_layout(cfg), wide_state_layout(cfg)
 
 
 def generate_verilog(cfg: DPConfig, *, external_state_store: bool = False,

@@ -30,9 +30,12 @@
 //                       trace PATH           FST file (DPTBD_TRACE builds only)
 //                       coverage PATH        write the run's VerilatedCov data there at
 //                                            the end (coverage builds only)
-//   JOB_DIR/in.bin    N little-endian uint64 input payloads (pixel | first << B_in)
+//   JOB_DIR/in.bin    N little-endian uint64 input payloads (pixel | first << B_in); a
+//                     payload wider than 64 bits (a beat of P pixels, P > 1) is
+//                     ceil(bits / 64) uint64 words, the low bits first: N times as many
 // Writes into JOB_DIR:
-//   out.bin           uint64 payload of every output transfer, in order
+//   out.bin           uint64 payload of every output transfer, in order (as in.bin:
+//                     ceil(bits / 64) words each for a payload wider than 64 bits)
 //   out_cycles.bin    uint64 cycle of each output transfer
 //   accept_cycles.bin uint64 cycle in which each input word was accepted
 //   result.txt        "key value" lines: status, cycles, accepted, outputs, seconds, the
@@ -40,6 +43,7 @@
 // Cycle 0 is the first simulated cycle; rst is high in cycles 0 and 1 (power-up reset).
 // A transfer is valid & ready sampled before a rising edge at which rst is low: a word
 // on offer while rst is high is not taken, and the source offers it again after reset.
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cstdint>
@@ -47,6 +51,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "Vdut.h"
@@ -77,6 +82,29 @@ using dptbd_harness::read_stream_key;
 using dptbd_harness::read_words;
 using dptbd_harness::threshold_of;
 using dptbd_harness::write_words;
+
+// A port of up to 64 bits is an integer; a wider one (a beat of P pixels or states at
+// P > 1, docs/gateware.md "P pixels per clock") is a VlWide<N> of N 32-bit words. Both
+// travel as Port<T>::words uint64 words, the low bits first.
+template <typename T>
+struct Port {
+    static constexpr size_t words = 1;
+    static void set(T& port, const uint64_t* w) { port = static_cast<T>(w[0]); }
+    static void get(const T& port, uint64_t* w) { w[0] = static_cast<uint64_t>(port); }
+};
+template <std::size_t N>
+struct Port<VlWide<N>> {
+    static constexpr size_t words = (N + 1) / 2;
+    static void set(VlWide<N>& port, const uint64_t* w) {
+        for (size_t i = 0; i < N; ++i) port.at(i) = static_cast<EData>(w[i / 2] >> (32 * (i % 2)));
+    }
+    static void get(const VlWide<N>& port, uint64_t* w) {
+        for (size_t i = 0; i < words; ++i) w[i] = 0;
+        for (size_t i = 0; i < N; ++i) w[i / 2] |= static_cast<uint64_t>(port.at(i)) << (32 * (i % 2));
+    }
+};
+template <typename T>
+using PortOf = Port<std::remove_cv_t<std::remove_reference_t<T>>>;
 
 struct Reset { uint64_t cycle, hold; };
 struct LutWrite { uint64_t before_word, addr, data; };
@@ -137,10 +165,13 @@ int main(int argc, char** argv) {
     const std::string dir = argv[1];
     const Job job = read_job(dir + "/job.txt");
     dptbd_harness::check_coverage_job(job);
-    const std::vector<uint64_t> in = read_words(dir + "/in.bin", job.words);
-
     auto context = std::make_unique<VerilatedContext>();
     auto dut = std::make_unique<Vdut>(context.get());
+    using InPort = PortOf<decltype(PORT(pixels, payload))>;
+    using OutPort = PortOf<decltype(OUT_PORT(payload))>;
+    const std::vector<uint64_t> in = read_words(dir + "/in.bin", job.words * InPort::words);
+    const std::vector<uint64_t> no_input(InPort::words, 0);
+    std::vector<uint64_t> out_payload(OutPort::words, 0);
 #ifdef DPTBD_MUTANT
     dptbd_harness::select_mutant(dut.get());
 #endif
@@ -157,17 +188,22 @@ int main(int argc, char** argv) {
 #ifdef DPTBD_DESIGN_CORE
     // The external state store: W*H words, one synchronous read port (the word read in
     // cycle t is on read_data in cycle t+1), one write port, read before write.
+    // A word of DPTBD_STORE_BITS (P states at P > 1) is StorePort::words uint64s.
+    using StorePort = PortOf<decltype(PORT(state_store, read_data))>;
+    constexpr size_t sw = StorePort::words;
     const uint64_t store_words = DPTBD_STORE_WORDS;
-    const uint64_t store_mask = (DPTBD_STORE_BITS >= 64) ? ~0ULL
-                                                         : ((1ULL << DPTBD_STORE_BITS) - 1);
-    std::vector<uint64_t> store(store_words, 0);
+    const uint64_t top_bits = DPTBD_STORE_BITS - 64 * (sw - 1);
+    const uint64_t store_mask = (top_bits >= 64) ? ~0ULL : ((1ULL << top_bits) - 1);
+    std::vector<uint64_t> store(store_words * sw, 0);
     if (job.store_init == "random") {
         Rng garbage{job.seed ^ 0x5A5A5A5A5A5A5A5AULL};
-        for (auto& w : store) w = garbage.next() & store_mask;
+        for (size_t i = 0; i < store.size(); ++i)
+            store[i] = garbage.next() & (i % sw == sw - 1 ? store_mask : ~0ULL);
     } else if (job.store_init != "zero") {
         fail("store_init must be zero or random");
     }
-    uint64_t read_data = 0, store_faults = 0;
+    std::vector<uint64_t> read_data(sw, 0), write_data(sw, 0);
+    uint64_t store_faults = 0;
 #endif
 
     Rng valid_rng{job.seed * 2 + 1}, ready_rng{job.seed * 2 + 2};
@@ -226,11 +262,12 @@ int main(int argc, char** argv) {
             offering = !(gap_thr && valid_rng.next() < gap_thr);
         }
         PORT(pixels, valid) = offering;
-        PORT(pixels, payload) = offering ? in[next_word] : 0;
+        InPort::set(PORT(pixels, payload),
+                    offering ? &in[next_word * InPort::words] : no_input.data());
         const bool ready = !(pause_thr && ready_rng.next() < pause_thr);
         OUT_PORT(ready) = ready;
 #ifdef DPTBD_DESIGN_CORE
-        PORT(state_store, read_data) = read_data;
+        StorePort::set(PORT(state_store, read_data), read_data.data());
 #endif
         dut->clk = 0;
         dut->eval();
@@ -262,7 +299,8 @@ int main(int argc, char** argv) {
             events_list += (events >> 2) & 1;
             events_saturated += (events >> 3) & 1;
             if (out_valid && ready) {
-                out.push_back(static_cast<uint64_t>(OUT_PORT(payload)));
+                OutPort::get(OUT_PORT(payload), out_payload.data());
+                out.insert(out.end(), out_payload.begin(), out_payload.end());
                 out_cycles.push_back(cycle);
             } else if (out_valid) {
                 ++paused_out;
@@ -271,14 +309,19 @@ int main(int argc, char** argv) {
 #ifdef DPTBD_DESIGN_CORE
         if (PORT(state_store, read_en)) {
             const uint64_t a = PORT(state_store, read_addr);
-            if (a < store_words) read_data = store[a];
+            if (a < store_words)
+                read_data.assign(store.begin() + a * sw, store.begin() + (a + 1) * sw);
             else ++store_faults;
         }
         if (PORT(state_store, write_en)) {
             const uint64_t a = PORT(state_store, write_addr);
-            if (a < store_words) store[a] = static_cast<uint64_t>(PORT(state_store, write_data))
-                                            & store_mask;
-            else ++store_faults;
+            if (a < store_words) {
+                StorePort::get(PORT(state_store, write_data), write_data.data());
+                write_data[sw - 1] &= store_mask;
+                std::copy(write_data.begin(), write_data.end(), store.begin() + a * sw);
+            } else {
+                ++store_faults;
+            }
         }
 #endif
         dut->clk = 1;
@@ -315,7 +358,8 @@ int main(int argc, char** argv) {
                  "paused_output_cycles %" PRIu64 "\nseconds %.9f\n"
                  "events_frame_done %" PRIu64 "\nevents_segment_done %" PRIu64 "\n"
                  "events_list_done %" PRIu64 "\nevents_saturated %" PRIu64 "\n",
-                 status.c_str(), cycle, next_word, out.size(), lut_writes, stalled_in,
+                 status.c_str(), cycle, next_word, out.size() / OutPort::words, lut_writes,
+                 stalled_in,
                  paused_out, seconds, events_frame, events_segment, events_list,
                  events_saturated);
 #ifdef DPTBD_DESIGN_CORE

@@ -32,9 +32,10 @@ from dptbd.model.settings import SegmentSettings
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.stimulus import lut_writes
 from dptbd.sim.stream_model import StreamExpectation, expected_stream, split_words
-from dptbd.sim.verilator import RawRun, VerilatorBuild, run
+from dptbd.sim.verilator import RawRun, VerilatorBuild, beat_values, run
 
-__all__ = ["Stimulus", "CheckResult", "check_stream", "check_frames"]
+__all__ = ["Stimulus", "CheckResult", "check_stream", "check_frames", "split_beats",
+           "beat_state_words"]
 
 NEVER = np.uint64(2**64 - 1)
 
@@ -150,7 +151,11 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
     sim : VerilatorBuild
     words : numpy.ndarray
         Packed ``pixels`` payloads (:func:`dptbd.sim.stimulus.pixel_words`), any framing:
-        short, long or misaligned frames are modelled by the counter rule.
+        short, long or misaligned frames are modelled by the counter rule. At P > 1 pixels
+        per clock: beats as :func:`dptbd.sim.verilator.run` takes them (one row of uint64
+        words per beat of :func:`~dptbd.hw.dp_wide.pack_beat`); the word indices of the
+        stimulus's LUT and settings changes then count beats, and the verdict's words (in,
+        out, compared) count pixels and states.
     stimulus : Stimulus
     trace : path, optional
         FST waveform (a build with ``waves=True``).
@@ -172,26 +177,33 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
               seed=stimulus.seed, resets=stimulus.resets, lut_writes=writes,
               settings=settings, store_init=stimulus.store_init, trace=trace,
               coverage=coverage)
-    accepted = raw.accept_cycles != NEVER
+    # per pixel from here on: at P > 1 a beat's P pixels (and its P states) share its cycle
+    p = cfg.pixels_per_clock
+    all_pixels, all_first = split_words(cfg, words) if p == 1 else split_beats(cfg, words)
+    accept_cycles, out_cycles, out_words = np.repeat(raw.accept_cycles, p), raw.out_cycles, \
+        raw.out_words
+    if p > 1 and sim.output == "states":
+        out_cycles, out_words = np.repeat(out_cycles, p), beat_state_words(cfg, out_words)
+    accepted = accept_cycles != NEVER
     n_in = int(np.count_nonzero(accepted))
-    pixels, first = split_words(cfg, np.asarray(words)[:n_in])
+    pixels, first = all_pixels[:n_in], all_first[:n_in]
     resets = sorted(c for c, _ in stimulus.resets)
     # epoch boundaries: words accepted and outputs transferred before each reset cycle
-    in_cuts = [0] + [int(np.searchsorted(raw.accept_cycles[:n_in], c)) for c in resets] + [n_in]
-    out_cuts = [0] + [int(np.searchsorted(raw.out_cycles, c)) for c in resets] + \
-        [len(raw.out_words)]
+    in_cuts = [0] + [int(np.searchsorted(accept_cycles[:n_in], c)) for c in resets] + [n_in]
+    out_cuts = [0] + [int(np.searchsorted(out_cycles, c)) for c in resets] + \
+        [len(out_words)]
     report, passed, compared = "", True, 0
     scored = []
     for e in range(len(in_cuts) - 1):
         a, b = in_cuts[e], in_cuts[e + 1]
-        changes = {int(i) - a: codes for i, codes in stimulus.lut_changes}
+        changes = {int(i) * p - a: codes for i, codes in stimulus.lut_changes}
         # the harness keeps driving the settings ports through a reset: a change before
         # this epoch is in force at its start
-        written = {int(i) - a: entry for i, entry in stimulus.settings_changes}
+        written = {int(i) * p - a: entry for i, entry in stimulus.settings_changes}
         exp = expected_stream(cfg, pixels[a:b], first[a:b], changes, written)
         last = e == len(in_cuts) - 2
         board = _checker(cfg, sim.output, exp, cut_by_reset=not last)
-        got = raw.out_words[out_cuts[e]:out_cuts[e + 1]]
+        got = out_words[out_cuts[e]:out_cuts[e + 1]]
         board.receive_array(got)
         compared += board.count
         scored.append((a, exp, board))
@@ -205,10 +217,11 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
     if passed:
         if raw.status != "done":
             passed = False
-            report += f"timeout after {raw.cycles} cycles: {n_in} of {len(words)} words in"
-        elif n_in != len(words):
+            report += (f"timeout after {raw.cycles} cycles: {n_in} of {len(all_pixels)} "
+                       f"words in")
+        elif n_in != len(all_pixels):
             passed = False
-            report += f"only {n_in} of {len(words)} words accepted"
+            report += f"only {n_in} of {len(all_pixels)} words accepted"
         else:
             report += board.report()
             events = _event_report(sim.output, exp, board, raw) if not resets else ""
@@ -216,7 +229,7 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
                 passed = False
                 report += "; " + events
     cycles = None
-    if n_in and len(raw.out_words):
+    if n_in and len(out_words):
         cycles = int(raw.out_cycles[-1]) - int(raw.accept_cycles[0]) + 1
     return CheckResult(passed, report, n_in, compared, cycles, len(in_cuts) - 1, raw,
                        tuple(scored))
@@ -225,14 +238,53 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
 def check_frames(sim: VerilatorBuild, frames: np.ndarray, stimulus: Stimulus = Stimulus(),
                  *, trace=None) -> CheckResult:
     """:func:`check_stream` on whole frames ``(T, H, W)`` (refused like ``dptbd sim``: wrong
-    frame size, pixels wider than B_in)."""
+    frame size, pixels wider than B_in); at P > 1 as beats of P pixels, ``first`` on each
+    frame's first beat."""
     from dptbd.sim.icarus import check_scene
     from dptbd.sim.stimulus import pixel_words
 
-    frames = check_scene(sim.cfg, frames)
-    return check_stream(sim, pixel_words(sim.cfg, frames), stimulus, trace=trace)
+    cfg = sim.cfg
+    frames = check_scene(cfg, frames)
+    if cfg.pixels_per_clock == 1:
+        return check_stream(sim, pixel_words(cfg, frames), stimulus, trace=trace)
+    from dptbd.hw.dp_wide import pack_beat
+    from dptbd.sim.verilator import beat_words, payload_words
+
+    p = cfg.pixels_per_clock
+    flat = np.asarray(frames).reshape(len(frames), -1)
+    values = [pack_beat(cfg, frame[i:i + p], i == 0) for frame in flat
+              for i in range(0, frame.size, p)]
+    return check_stream(sim, beat_words(values, payload_words(sim, "pixels")), stimulus,
+                        trace=trace)
 
 
 def lut_change_words(changes: Sequence[tuple[int, np.ndarray]], words_per_frame: int):
     """``(word index, codes)`` for LUT changes given per frame ``(frame, codes)``."""
     return tuple((int(f) * words_per_frame, np.asarray(c)) for f, c in changes)
+
+
+def split_beats(cfg: DPConfig, words: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(pixel, first)`` per pixel of ``pixels`` beats at P > 1 pixels per clock (rows of
+    uint64 words, :func:`dptbd.sim.verilator.beat_words`): a beat's ``first`` on its pixel 0."""
+    from dptbd.hw.dp_wide import wide_pixel_layout
+    from dptbd.hw.layouts import unpack
+
+    p = cfg.pixels_per_clock
+    pixels, first = [], []
+    for value in beat_values(words):
+        fields = unpack(wide_pixel_layout(cfg), value)
+        pixels += [fields[f"pixel_{k}"] for k in range(p)]
+        first += [bool(fields["first"])] + [False] * (p - 1)
+    return np.array(pixels, dtype=np.int64), np.array(first, dtype=bool)
+
+
+def beat_state_words(cfg: DPConfig, words: np.ndarray) -> np.ndarray:
+    """The ``states`` payloads of one pixel each (:func:`~dptbd.hw.layouts.state_layout`, as
+    a P = 1 design gives them) of ``states`` beats at P > 1 (rows of uint64 words)."""
+    from dptbd.hw.dp_wide import unpack_beat_states
+    from dptbd.hw.layouts import pack_states
+
+    states = [s for value in beat_values(words) for s in unpack_beat_states(cfg, value)]
+    names = ("energy", "direction", "end_of_line", "end_of_frame", "end_of_segment")
+    return pack_states(cfg, **{n: np.array([s[n] for s in states], dtype=np.int64)
+                               for n in names})

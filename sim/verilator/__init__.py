@@ -56,6 +56,9 @@ __all__ = [
     "check_tools",
     "build",
     "cycle_budget",
+    "payload_words",
+    "beat_words",
+    "beat_values",
     "run",
 ]
 
@@ -83,6 +86,35 @@ def _check_probability(name: str, value: float) -> float:
             or not 0.0 <= float(value) < 1.0:
         raise ValueError(f"{name} must be a probability in [0, 1), got {value!r}")
     return float(value)
+
+
+def payload_words(sim: VerilatorBuild, stream: str) -> int:
+    """uint64 words per payload of ``stream`` (``"pixels"``, ``"states"``, …) in the
+    harness's files: 1 up to 64 bits; ``ceil(bits / 64)`` for a wider one (a beat of P
+    pixels or states, ``docs/gateware.md`` "P pixels per clock"), the low bits first, in
+    ``words`` (one row per beat) and ``RawRun.out_words`` (likewise)."""
+    if sim.cfg.pixels_per_clock == 1:       # every payload of a P = 1 design fits 64 bits
+        return 1
+    widths = {port["name"]: port["width"] for port in sim.manifest["ports"]}
+    return max(1, -(-widths[f"{stream}__payload"] // 64))
+
+
+def beat_words(values, per_beat: int) -> np.ndarray:
+    """Python integers (payloads of any width) as ``(n, per_beat)`` uint64 words, low first
+    (``per_beat`` 1: a 1-D array)."""
+    mask = (1 << 64) - 1
+    rows = [[(int(v) >> (64 * k)) & mask for k in range(per_beat)] for v in values]
+    out = np.array(rows, dtype=np.uint64).reshape(len(rows), per_beat)
+    return out[:, 0].copy() if per_beat == 1 else out
+
+
+def beat_values(words: np.ndarray) -> list[int]:
+    """The inverse of :func:`beat_words`: one Python integer per row (or per element of a
+    1-D array)."""
+    words = np.asarray(words, dtype=np.uint64)
+    if words.ndim == 1:
+        return [int(w) for w in words]
+    return [sum(int(w) << (64 * k) for k, w in enumerate(row)) for row in words]
 
 
 def cycle_budget(words: int, valid_gap: float, ready_pause: float, extra: int) -> int:
@@ -135,7 +167,14 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
         raise ValueError("the 'axi' build has its own harness: use "
                          "dptbd.sim.verilator.axi.run_axi")
     words = np.asarray(words)
-    if words.ndim != 1 or (words.size and words.dtype.kind not in "iu"):
+    per_beat = payload_words(sim, "pixels")
+    if per_beat > 1:        # a beat of P pixels wider than 64 bits: (beats, per_beat) words
+        if words.ndim != 2 or words.shape[1] != per_beat \
+                or (words.size and words.dtype.kind not in "iu"):
+            raise ValueError(f"words must be a (beats, {per_beat}) integer array of uint64 "
+                             f"words for this build's {per_beat * 64 - 63}..{per_beat * 64}-bit "
+                             f"pixels payloads, got {words.dtype} {words.shape}")
+    elif words.ndim != 1 or (words.size and words.dtype.kind not in "iu"):
         raise ValueError(f"words must be a 1-D integer array, got {words.dtype} {words.shape}")
     valid_gap = _check_probability("valid_gap", valid_gap)
     ready_pause = _check_probability("ready_pause", ready_pause)
@@ -207,9 +246,13 @@ def run(sim: VerilatorBuild, words: np.ndarray, *, valid_gap: float = 0.0,
         for line in (job / "result.txt").read_text().splitlines():
             k, _, v = line.partition(" ")
             result[k] = v
+        out_words = np.fromfile(job / "out.bin", dtype="<u8")
+        per_output = payload_words(sim, sim.output)
+        if per_output > 1:
+            out_words = out_words.reshape(-1, per_output)
         return RawRun(
             status=result.pop("status"), cycles=int(result.pop("cycles")),
-            out_words=np.fromfile(job / "out.bin", dtype="<u8"),
+            out_words=out_words,
             out_cycles=np.fromfile(job / "out_cycles.bin", dtype="<u8"),
             accept_cycles=np.fromfile(job / "accept_cycles.bin", dtype="<u8"),
             counters={k: float(v) if "." in v else int(v) for k, v in result.items()

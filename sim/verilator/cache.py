@@ -274,7 +274,16 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
         raise ValueError(f"design must be one of {', '.join(DESIGNS)}, got {design!r}")
     from dptbd.hw.schedule import check_supported
 
-    check_supported(cfg)
+    if cfg.pixels_per_clock == 1:
+        check_supported(cfg)
+    if cfg.pixels_per_clock > 1 and design not in ("dp", "core"):
+        raise ValueError(f"design {design!r} takes one pixel per clock; pixels_per_clock="
+                         f"{cfg.pixels_per_clock} builds the designs 'dp' and 'core' only")
+    if cfg.pixels_per_clock > 1 and mutations:
+        raise ValueError("mutant builds are of the default designs, at pixels_per_clock=1")
+    if cfg.pixels_per_clock > 1:
+        from dptbd.hw.dp_wide import check_wide
+        check_wide(cfg)
     tools = check_tools()
     start = time.perf_counter()
     mutations = tuple(str(m) for m in mutations)
@@ -318,8 +327,8 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
         defines = [f"-D{define}"] + (["-DDPTBD_MUTANT"] if mutations else []) \
             + ([] if store is None else _store_defines(store))
         if design == "core":
-            store_bits = cfg.state_bits
-            defines += [f"-DDPTBD_STORE_WORDS={cfg.width * cfg.height}ULL",
+            store_bits = cfg.state_bits * cfg.pixels_per_clock     # a beat's P states
+            defines += [f"-DDPTBD_STORE_WORDS={cfg.frame_beats}ULL",
                         f"-DDPTBD_STORE_BITS={store_bits}"]
         trace = []
         if waves:

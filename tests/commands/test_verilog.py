@@ -109,7 +109,8 @@ def test_verilog_refuses_unknown_toml_keys_and_bad_values(tmp_path):
     allowed = ("['candidate_capacity', 'candidate_count', 'energy_bits', 'forgetting', "
                "'forgetting_bits', 'height', 'histogram_bits', 'histogram_shift', 'input_bits', "
                "'max_segment_frames', 'merit_bits', 'merit_codes', 'penalty_bits', "
-               "'penalty_codes', 'radius', 'recursive', 'rounding', 'segment_frames', "
+               "'penalty_codes', 'pixels_per_clock', 'radius', 'recursive', 'rounding', "
+               "'segment_frames', "
                "'segment_stride', 'weight_frac_bits', "
                "'weights', 'width']")
     with pytest.raises(ConfigError, match=whole(f"unknown parameter(s) ['hieght']; "
@@ -449,3 +450,58 @@ def test_verilog_top_seg_refuses_the_axi_only_options(tmp_path):
             verilog_command.main(parse(["-o", out, "--top", "seg", "--width", 8, "--height", 6,
                                         *option]))
     assert list(tmp_path.iterdir()) == []
+
+
+# ---- --pixels-per-clock ------------------------------------------------------------------
+@pytest.mark.parametrize("p", [2, 4])
+def test_pixels_per_clock_builds_the_beat_pipeline(tmp_path, capsys, p):
+    out = tmp_path / "dp.v"
+    args = parse(["-o", out, "--width", 12, "--height", 8, "--pixels-per-clock", p])
+    assert verilog_command.main(args) == 0
+    assert "module dptbd_dp(" in out.read_text()
+    manifest = json.loads(out.with_suffix(".json").read_text())
+    assert manifest["top"] == "DPPipelineWide" and manifest["parameters"]["pixels_per_clock"] == p
+    assert manifest["latency"] == 11                                  # F = 0 (binary LUT)
+    names = {port["name"]: port["width"] for port in manifest["ports"]}
+    assert names["pixels__payload"] == 8 * p + 1                     # P pixels + first
+    assert names["states__payload"] == p * (10 + 4) + 3               # P (E, d) + end flags
+    assert manifest["layouts"]["pixel"]["pixel_1"] == {"offset": 8, "width": 8}
+    assert manifest["layouts"]["state"]["energy_1"] == {"offset": 14, "width": 10}
+    assert "latency 11 cycles" in capsys.readouterr().out
+
+
+def test_pixels_per_clock_with_an_external_store_and_from_toml(tmp_path):
+    toml = tmp_path / "p.toml"
+    toml.write_text("width = 12\nheight = 8\npixels_per_clock = 4\n")
+    out = tmp_path / "dp.v"
+    assert verilog_command.main(parse(["-o", out, "--config", toml,
+                                       "--external-state-store"])) == 0
+    manifest = json.loads(out.with_suffix(".json").read_text())
+    assert manifest["top"] == "DPCoreWide"
+    names = {port["name"]: port["width"] for port in manifest["ports"]}
+    assert names["state_store__read_data"] == 4 * (10 + 4)             # one beat of states
+    assert verilog_command.main(parse(["-o", tmp_path / "one.v", "--config", toml,
+                                       "--pixels-per-clock", 1, "--width", 12])) == 0
+    one = json.loads((tmp_path / "one.json").read_text())
+    assert one["top"] == "DPPipeline" and one["parameters"]["pixels_per_clock"] == 1
+
+
+@pytest.mark.parametrize("argv, error, message", [
+    (["--width", 12, "--pixels-per-clock", 3], ConfigError,
+     "pixels_per_clock must be one of (1, 2, 4), got 3"),
+    (["--width", 10, "--pixels-per-clock", 4], ConfigError,
+     "width=10 is not a multiple of pixels_per_clock=4: a beat of P pixels never straddles "
+     "two rows"),
+    (["--width", 12, "--pixels-per-clock", 2, "--top", "seg"], ValueError,
+     "pixels_per_clock=2 applies to --top dp only; --top seg takes one pixel per clock"),
+    (["--width", 12, "--pixels-per-clock", 4, "--top", "axi"], ValueError,
+     "pixels_per_clock=4 applies to --top dp only; --top axi takes one pixel per clock"),
+    (["--width", 12, "--pixels-per-clock", 2, "--state-store", "axi"], ValueError,
+     "pixels_per_clock=2 keeps the state store on chip; --state-store axi takes one pixel "
+     "per clock"),
+])
+def test_pixels_per_clock_refusals(tmp_path, argv, error, message):
+    out = tmp_path / "dp.v"
+    with pytest.raises(error, match=whole(message)):
+        verilog_command.main(parse(["-o", out, "--height", 8, *argv]))
+    assert not out.exists()

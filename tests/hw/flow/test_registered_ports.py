@@ -113,3 +113,46 @@ def test_folded_ports_shift_the_inputs_in_and_fold_the_outputs():
         y = chain
         chain = ((chain << 1) | bit) & 0x1F
     assert seen == expect and any(seen)
+
+
+class SyncToy(wiring.Component):
+    """A core on the sync domain (as DPCore): ``y`` = ``Cat(a, b)`` registered."""
+
+    a: In(3)
+    b: In(2)
+    y: Out(5)
+
+    def elaborate(self, platform):
+        m = Module()
+        m.d.sync += self.y.eq(Cat(self.a, self.b))
+        return m
+
+
+def test_folded_ports_of_a_sync_core_are_on_its_domain():
+    """Without ``aclk`` the wrapper has ``fold_in`` / ``fold_out`` only and runs on the sync
+    domain: the same chain, level and folds as above, one edge each."""
+    dut = FoldedPorts(SyncToy())
+    assert list(dut.signature.members) == ["fold_in", "fold_out"]
+    bits = [int(b) for b in np.random.default_rng(2).integers(0, 2, 40)]
+    seen = []
+
+    async def bench(ctx):
+        for bit in bits:
+            ctx.set(dut.fold_in, bit)
+            seen.append(ctx.get(dut.fold_out))
+            await ctx.tick()
+
+    sim = Simulator(dut)
+    sim.add_clock(1e-8)
+    sim.add_testbench(bench)
+    sim.run()
+    chain = y = level = fold2 = fold1 = 0
+    expect = []
+    for bit in bits:
+        expect.append(fold1)
+        fold1 = bin(fold2).count("1") & 1
+        fold2 = (bin(level & 0xF).count("1") & 1) | ((level >> 4 & 1) << 1)
+        level = y
+        y = chain
+        chain = ((chain << 1) | bit) & 0x1F
+    assert seen == expect and any(seen)

@@ -1,0 +1,87 @@
+"""The segmentation histogram at P pixels per clock: P banks, one increment per bank per
+clock, merged at the scan (``docs/gateware.md``, "P pixels per clock").
+
+Each bank is a :class:`~dptbd.hw.histogram.Histogram` (one memory, one increment per clock,
+the read-and-clear scan); lane k of a beat increments bank k. The scan reads the P banks in
+lockstep and outputs, per bin, the sum of their counts clamped at all ones
+(``2**bin_count_bits - 1``). That is exactly the count one histogram of every increment
+gives (§6.2): if no bank saturated the sum is the true count, clamped exactly when the true
+count reaches all ones; if one did, both are all ones. So the threshold scan (§6.3) sees the
+same counts at every P.
+"""
+
+from __future__ import annotations
+
+from amaranth.hdl import Module, Mux, Signal, unsigned
+from amaranth.lib import wiring
+from amaranth.lib.wiring import In, Out
+
+from dptbd.config import DPConfig
+from dptbd.hw.histogram import Histogram
+
+__all__ = ["BankedHistogram"]
+
+
+class BankedHistogram(wiring.Component):
+    """P histogram banks, merged at the scan.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        Bins, counter width and P (``pixels_per_clock``; 1 builds one bank, no adder).
+
+    Members
+    -------
+    add_bin : In(range(2**b)).array(P), add_en : In(P)
+        Lane k's increment request (bit k of ``add_en``); any lanes in any cycle.
+    scan_start : In(1)
+        Start a scan of every bank (ignored while one is under way), as
+        :class:`~dptbd.hw.histogram.Histogram`'s: no increment in flight or issued until
+        ``scanning`` falls.
+    scan_valid, scan_last : Out(1); scan_bin : Out(range(2**b)); scan_count : Out(bin_count_bits)
+        The merged counts, top bin first, with :class:`Histogram`'s timing (the sum is
+        combinational after the banks' reads).
+    scanning : Out(1)
+        A scan is under way.
+    """
+
+    def __init__(self, cfg: DPConfig):
+        self._cfg = cfg
+        lanes = cfg.pixels_per_clock
+        super().__init__({
+            "add_bin": In(range(cfg.n_bins)).array(lanes),
+            "add_en": In(lanes),
+            "scan_start": In(1),
+            "scan_valid": Out(1),
+            "scan_bin": Out(range(cfg.n_bins)),
+            "scan_count": Out(cfg.bin_count_bits),
+            "scan_last": Out(1),
+            "scanning": Out(1),
+        })
+
+    def elaborate(self, platform):
+        m = Module()
+        cfg = self._cfg
+        lanes = cfg.pixels_per_clock
+        full = (1 << cfg.bin_count_bits) - 1
+        banks = []
+        for lane in range(lanes):
+            bank = Histogram(cfg)
+            m.submodules[f"bank_{lane}"] = bank
+            m.d.comb += [
+                bank.add_bin.eq(self.add_bin[lane]),
+                bank.add_en.eq(self.add_en[lane]),
+                bank.scan_start.eq(self.scan_start),
+            ]
+            banks.append(bank)
+        # every bank scans in lockstep: bank 0's scan outputs stand for all of them
+        total = Signal(unsigned(cfg.bin_count_bits + (lanes - 1).bit_length()))
+        m.d.comb += total.eq(sum(bank.scan_count for bank in banks))
+        m.d.comb += [
+            self.scan_valid.eq(banks[0].scan_valid),
+            self.scan_bin.eq(banks[0].scan_bin),
+            self.scan_last.eq(banks[0].scan_last),
+            self.scanning.eq(banks[0].scanning),
+            self.scan_count.eq(Mux(total > full, full, total)),
+        ]
+        return m

@@ -1,0 +1,42 @@
+"""4-state (Icarus) runs of ``dptbd_dp`` at P = 2 and 4 pixels per clock around reset
+(:mod:`dptbd.sim.reset_x`): a beat offered in every cycle, in reset and in the first cycle
+after it; ``ready`` 0 during reset and in that cycle, no X on any output, no deadlock,
+every state after the reset bit-exact (the P = 1 runs are ``test_reset_x.py``)."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+
+from dptbd.config import DPConfig
+from dptbd.sim.reset_x import run_reset_x_check
+
+pytestmark = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
+
+#: (first reset cycle, reset cycles), as test_reset_x.py's
+RESETS = [(0, 4), (0, 1), (1, 1), (2, 3), (5, 2)]
+
+
+@pytest.mark.parametrize("p, radius", [(2, 2), (4, 1)])
+def test_reset_sweep_at_p(p, radius):
+    cfg = DPConfig(width=8 * p, height=9, segment_frames=2, radius=radius,
+                   pixels_per_clock=p).build_config()
+    results = run_reset_x_check(cfg, 4, top="dp", resets=RESETS, seed=p)
+    assert [r.ok for r in results] == [True] * len(RESETS), \
+        "\n".join(r.report for r in results)
+    assert {r.words for r in results} == {4 * cfg.frame_beats}     # beats after the reset
+
+
+def test_a_wrong_state_is_reported():
+    """The beat comparison can fail: the model's frames differ from the ones streamed."""
+    import numpy as np
+    from dptbd.sim import reset_x
+
+    cfg = DPConfig(width=8, height=9, segment_frames=2, pixels_per_clock=2).build_config()
+    frames = np.random.default_rng(1).integers(0, 256, size=(2, 9, 8))
+    words = [0] * cfg.frame_beats * 2
+    problems = reset_x._compare(cfg, frames, "dp", words, [])
+    assert len(problems) == 1 and problems[0].startswith("beat 0: got [")
+    short = reset_x._compare(cfg, frames, "dp", words[:-1], [])
+    assert short[0] == f"{2 * cfg.frame_beats - 1} states beats, the model gives 72"
