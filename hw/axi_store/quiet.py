@@ -11,7 +11,7 @@ the state store in external memory holds a soft reset's restart until its port i
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Signal
+from amaranth.hdl import Module
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
-from amaranth.hdl import Module, Signal
+from amaranth.hdl import Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
