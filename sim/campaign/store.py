@@ -16,7 +16,8 @@ burst size, so the frame's bursts end at 4 KB boundaries at varying offsets), an
 * with the faults ``"read_error"`` / ``"write_error"`` (:data:`STORE_FAULTS`), runs on the
   Amaranth simulator with :class:`~dptbd.sim.axi4_memory.Axi4Memory` (the Verilator harness
   answers OKAY only), which answers the first read beat and / or the first write burst
-  touching one random slot from the first pixel of a random frame t on with SLVERR or DECERR
+  touching a random slot (a second error: the slot half a frame further) from the first pixel
+of a random frame t on with SLVERR or DECERR
 (seed mod 4 picks one of the four (code, direction) pairs, the other direction fails too in
 about half the runs);
   the promise of ``docs/integration.md`` ("State store in external memory") is checked: each
@@ -65,14 +66,19 @@ class StorePlan:
     #: the frame from whose first pixel on the slot's next read / write fails
     target: int = 0
 
+    def slots(self, pixels: int) -> tuple[int, ...]:
+        """The slot of each error: :attr:`slot`, and half a frame further for a second."""
+        return tuple((self.slot + i * (pixels // 2)) % pixels for i in range(len(self.errors)))
+
     @property
     def notes(self) -> tuple[str, ...]:
         out = [f"gaps {self.valid_gap:.2f}, back-pressure {self.ready_pause:.2f}",
                f"read latency {self.latency[0]} … {self.latency[1]}, write response "
                f"{self.write_latency[0]} … {self.write_latency[1]}",
                f"AXI ready {self.axi_ready:.2f}, valid {self.axi_valid:.2f}, base {self.base:#x}"]
-        out += [f"{code} on the first {direction} of slot {self.slot} from frame {self.target}"
-                for code, direction in self.errors]
+        pixels = self.frames.shape[1] * self.frames.shape[2]
+        out += [f"{code} on the first {direction} of slot {slot} from frame {self.target}"
+                for (code, direction), slot in zip(self.errors, self.slots(pixels))]
         return tuple(out)
 
 
@@ -232,17 +238,17 @@ def _check_errors(case, plan: StorePlan, seed: int):
     store = dataclasses.replace(_store(case), base_address=plan.base)
     dut = DPPipelineAxi(store)
     code = {"SLVERR": RESP_SLVERR, "DECERR": RESP_DECERR}
-    address = plan.base + plan.slot * store.frame.state_slot_bits // 8
     by_direction = {direction: code[c] for c, direction in plan.errors}
     memory = Axi4Memory(dut, store, seed=seed, latency=plan.latency,
                         write_latency=plan.write_latency, ready=plan.axi_ready,
                         valid=plan.axi_valid, once=True)
-    if "read" not in by_direction:
-        memory.used.add((address, "read"))
-    if "write" not in by_direction:
-        memory.used.add((address, "write"))
     words = [int(w) for w in pixel_words(cfg, plan.frames)]
     size = cfg.width * cfg.height
+    armed = {}                                # byte address: code, one slot per direction
+    for (name, direction), slot in zip(plan.errors, plan.slots(size)):
+        address = plan.base + slot * store.frame.state_slot_bits // 8
+        armed[address] = code[name]
+        memory.used.add((address, "write" if direction == "read" else "read"))
     limit = len(words) * (8 + plan.latency[1] + plan.write_latency[1]) + 10_000
     state = dict(outputs=[], cycles=0, pulses={"read": [], "write": []}, timeout=False)
     rng = random.Random(seed)
@@ -253,7 +259,7 @@ def _check_errors(case, plan: StorePlan, seed: int):
         accepted, offering = 0, False
         while len(state["outputs"]) < len(words):
             if accepted == plan.target * size and not memory.errors:
-                memory.errors[address] = max(by_direction.values())    # armed from here
+                memory.errors.update(armed)                           # from here on
             if state["cycles"] >= limit:
                 state["timeout"] = True
                 return
