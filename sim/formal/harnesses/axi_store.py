@@ -13,7 +13,7 @@ from dptbd.sim.formal.harness import Harness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import axis_manager, axis_subordinate
 
-__all__ = ["tiny_store", "AxiStoreHarness"]
+__all__ = ["tiny_store", "AxiStoreHarness", "WriteBehindHarness"]
 
 
 def tiny_store(cfg: DPConfig | None = None) -> AxiStoreConfig:
@@ -38,6 +38,82 @@ def _queue(m, name: str, depth: int, width: int, push, value, pop):
     return count, entries[0]
 
 
+def _address_rules(m, past, store: AxiStoreConfig, ch, prefix: str) -> None:
+    """The manager's rules of address channel ``ch`` (``"ar"`` or ``"aw"``): valid held until
+    ready with a stable payload, INCR bursts of full beats at aligned addresses, no 4 KB
+    crossing, length below ``burst_beats``."""
+    name = prefix.upper()
+
+    def s(n):
+        return getattr(ch, f"{prefix}{n}")
+
+    axis_manager(m, past, tvalid=s("valid"), tready=s("ready"),
+                 payload=[s(n) for n in ("addr", "len", "size", "burst", "id", "cache")],
+                 name=name)
+    with m.If(s("valid")):
+        m.d.comb += [
+            Assert(s("addr")[:12] + (s("len") + 1) * store.beat_bytes <= 4096,
+                   f"{name}: burst crosses a 4 KB boundary"),
+            Assert(s("len") < store.burst_beats, f"{name}: {name}LEN above burst_beats - 1"),
+            Assert((s("size") == size_code(store.beat_bytes)) & (s("burst") == BURST_INCR),
+                   f"{name}: not an INCR burst of full beats"),
+            Assert(s("addr")[:(store.beat_bytes - 1).bit_length()] == 0,
+                   f"{name}: address not aligned to the beat"),
+        ]
+
+
+def _write_rules(m, past, store: AxiStoreConfig, aw, w, b):
+    """The write channels: the AW rules (:func:`_address_rules`), W held with stable data,
+    strobe and last, full strobes, every W beat of a burst whose AW was offered, ``WLAST``
+    on beat ``AWLEN`` + 1, ``BREADY`` high, at most ``outstanding`` writes in flight;
+    assumed of the subordinate: B held with a stable payload, only for a burst whose AW and
+    last W beat were accepted, ID 0. Returns (AW accepted without their W done, writes in
+    flight, W bursts done before their AW) for cover statements."""
+    _address_rules(m, past, store, aw, "aw")
+    axis_manager(m, past, tvalid=w.wvalid, tready=w.wready,
+                 payload=[w.wdata, w.wstrb, w.wlast], name="W")
+    axis_subordinate(m, past, tvalid=b.bvalid, tready=b.bready, payload=[b.bresp, b.bid],
+                     name="B")
+    m.d.comb += Assume(b.bid == 0)
+    with m.If(w.wvalid):
+        m.d.comb += Assert(w.wstrb == (1 << store.beat_bytes) - 1, "W: strobe not all ones")
+    m.d.comb += Assert(b.bready, "B: BREADY low")
+    aw_hs = aw.awvalid & aw.awready
+    w_hs = w.wvalid & w.wready
+    b_hs = b.bvalid & b.bready
+    depth = store.outstanding + 1
+    # ---- writes: AW accepted without their W, W bursts done before their AW -----------
+    w_last = w_hs & w.wlast
+    pushed, popped = Signal(), Signal()
+    aw_open, open_len = _queue(m, "aw_open", depth, 8, pushed, aw.awlen, popped)
+    early = Signal(range(4))                  # W bursts done, their AW not accepted yet
+    pending_done = w_last & (aw_open == 0)    # the offered AW's burst done by W first
+    m.d.comb += [pushed.eq(aw_hs & (early == 0) & ~pending_done),
+                 popped.eq(w_last & (aw_open != 0))]
+    m.d.sync += early.eq(early + (pending_done & ~aw_hs) - (aw_hs & (early != 0)))
+    w_beat = Signal(8)
+    with m.If(w_hs):
+        m.d.sync += w_beat.eq(Mux(w.wlast, 0, w_beat + 1))
+    with m.If(w.wvalid & (aw_open == 0)):
+        m.d.comb += Assert(aw.awvalid & (early == 0),
+                           "W: a beat of a burst whose AW was not offered")
+    burst_len = Mux(aw_open != 0, open_len, aw.awlen)
+    with m.If(w.wvalid):
+        m.d.comb += Assert(w.wlast == (w_beat == burst_len),
+                           "W: WLAST not on beat AWLEN + 1")
+    complete = Signal(range(2 * depth + 2))  # AW and last W accepted, no B yet
+    done_now = (w_last & (aw_open != 0)) | (aw_hs & ((early != 0) | pending_done))
+    m.d.sync += complete.eq(complete + done_now - b_hs)
+    with m.If(b.bvalid):
+        m.d.comb += Assume(complete != 0)
+    writes = Signal(range(2 * depth + 2))    # AW accepted, no B yet
+    m.d.sync += writes.eq(writes + aw_hs - b_hs)
+    m.d.comb += Assert(writes <= store.outstanding,
+                       f"AW: more than {store.outstanding} writes in flight")
+    return aw_open, writes, early
+
+
+
 class AxiStoreHarness(Harness):
     """:class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi` of :func:`tiny_store`; every input
     free (pixels, consumer ``ready``, ``state_base`` and K at any time), no LUT write.
@@ -46,9 +122,6 @@ class AxiStoreHarness(Harness):
     a read beat only for an accepted AR burst, ``RLAST`` on exactly its last beat; a write
     response only for a burst whose AW and last W beat were accepted; ID 0; the pixel
     stream's rules. Any ``RRESP`` / ``BRESP`` (errors included), any latency and stalls.
-    ``RDATA`` is 0 unless ``free_data``: no handshake, address or length depends on the
-    state words read (they only reach ``states`` and ``WDATA``), and a free ``RDATA``
-    makes the solver carry the DP datapath's values (several times slower per step).
 
     Asserted: AR, AW and W valid held until ready with address, length, size, burst
     (and ID, cache) or data, strobe and last stable while held; INCR bursts of full beats,
@@ -64,10 +137,9 @@ class AxiStoreHarness(Harness):
     stream's rules, never more words out than pixels accepted.
     """
 
-    def __init__(self, store: AxiStoreConfig | None = None, *, free_data: bool = False):
+    def __init__(self, store: AxiStoreConfig | None = None):
         super().__init__()
         self.store = store or tiny_store()
-        self.free_data = free_data
 
     def check(self, m, past):
         store = self.store
@@ -83,46 +155,18 @@ class AxiStoreHarness(Harness):
         axis_manager(m, past, tvalid=out.valid, tready=out.ready,
                      payload=[out.payload.as_value()], name="states")
         # ---- the manager's rules on AR, AW, W -------------------------------------------
-        for ch in ("ar", "aw"):
-            axis_manager(m, past, tvalid=p(f"{ch}valid"), tready=p(f"{ch}ready"),
-                         payload=[p(f"{ch}{n}") for n in ("addr", "len", "size", "burst",
-                                                           "id", "cache")], name=ch.upper())
-        axis_manager(m, past, tvalid=p("wvalid"), tready=p("wready"),
-                     payload=[p("wdata"), p("wstrb"), p("wlast")], name="W")
+        _address_rules(m, past, store, dut.channel("ar"), "ar")
         # ---- the subordinate's rules on R, B (assumed) -------------------------------------
         axis_subordinate(m, past, tvalid=p("rvalid"), tready=p("rready"),
                          payload=[p("rdata"), p("rresp"), p("rlast"), p("rid")], name="R")
-        axis_subordinate(m, past, tvalid=p("bvalid"), tready=p("bready"),
-                         payload=[p("bresp"), p("bid")], name="B")
-        m.d.comb += [Assume(p("rid") == 0), Assume(p("bid") == 0)]
-        if not self.free_data:
-            m.d.comb += Assume(p("rdata") == 0)
+        m.d.comb += Assume(p("rid") == 0)
 
         ar_hs = p("arvalid") & p("arready")
         aw_hs = p("awvalid") & p("awready")
         w_hs = p("wvalid") & p("wready")
         r_hs = p("rvalid") & p("rready")
-        b_hs = p("bvalid") & p("bready")
         depth = store.outstanding + 1
         page = 4096
-        for ch in ("ar", "aw"):
-            name = ch.upper()
-            with m.If(p(f"{ch}valid")):
-                m.d.comb += [
-                    Assert(p(f"{ch}addr")[:12] + (p(f"{ch}len") + 1) * store.beat_bytes
-                           <= page, f"{name}: burst crosses a 4 KB boundary"),
-                    Assert(p(f"{ch}len") < store.burst_beats,
-                           f"{name}: {name}LEN above burst_beats - 1"),
-                    Assert((p(f"{ch}size") == size_code(store.beat_bytes))
-                           & (p(f"{ch}burst") == BURST_INCR),
-                           f"{name}: not an INCR burst of full beats"),
-                    Assert(p(f"{ch}addr")[:(store.beat_bytes - 1).bit_length()] == 0,
-                           f"{name}: address not aligned to the beat"),
-                ]
-        with m.If(p("wvalid")):
-            m.d.comb += Assert(p("wstrb") == (1 << store.beat_bytes) - 1,
-                               "W: strobe not all ones")
-
         # ---- reads: the accepted bursts' lengths, RLAST assumed on the last beat ----------
         r_last = r_hs & p("rlast")
         reads, read_len = _queue(m, "reads", depth, 8, ar_hs, p("arlen"), r_last)
@@ -134,39 +178,13 @@ class AxiStoreHarness(Harness):
         m.d.comb += Assert(reads <= store.outstanding,
                            f"AR: more than {store.outstanding} reads in flight")
 
-        # ---- writes: AW accepted without their W, W bursts done before their AW -----------
-        w_last = w_hs & p("wlast")
-        pushed, popped = Signal(), Signal()
-        aw_open, open_len = _queue(m, "aw_open", depth, 8, pushed, p("awlen"), popped)
-        early = Signal(range(4))                  # W bursts done, their AW not accepted yet
-        pending_done = w_last & (aw_open == 0)    # the offered AW's burst done by W first
-        m.d.comb += [pushed.eq(aw_hs & (early == 0) & ~pending_done),
-                     popped.eq(w_last & (aw_open != 0))]
-        m.d.sync += early.eq(early + (pending_done & ~aw_hs) - (aw_hs & (early != 0)))
-        w_beat = Signal(8)
-        with m.If(w_hs):
-            m.d.sync += w_beat.eq(Mux(p("wlast"), 0, w_beat + 1))
-        with m.If(p("wvalid") & (aw_open == 0)):
-            m.d.comb += Assert(p("awvalid") & (early == 0),
-                               "W: a beat of a burst whose AW was not offered")
-        burst_len = Mux(aw_open != 0, open_len, p("awlen"))
-        with m.If(p("wvalid")):
-            m.d.comb += Assert(p("wlast") == (w_beat == burst_len),
-                               "W: WLAST not on beat AWLEN + 1")
-        complete = Signal(range(2 * depth + 2))  # AW and last W accepted, no B yet
-        done_now = (w_last & (aw_open != 0)) | (aw_hs & ((early != 0) | pending_done))
-        m.d.sync += complete.eq(complete + done_now - b_hs)
-        with m.If(p("bvalid")):
-            m.d.comb += Assume(complete != 0)
-        writes = Signal(range(2 * depth + 2))    # AW accepted, no B yet
-        m.d.sync += writes.eq(writes + aw_hs - b_hs)
-        m.d.comb += Assert(writes <= store.outstanding,
-                           f"AW: more than {store.outstanding} writes in flight")
+        # ---- writes (also the write-behind's harness) --------------------------------------
+        aw_open, writes, _ = _write_rules(m, past, store, dut.channel("aw"), dut.channel("w"),
+                                          dut.channel("b"))
 
         # ---- ready, reset, work -------------------------------------------------------------
         with m.If(p("rvalid")):
             m.d.comb += Assert(p("rready"), "R: a requested beat not taken at once")
-        m.d.comb += Assert(p("bready"), "B: BREADY low")
         with m.If(past.rst):
             m.d.comb += Assert(~p("arvalid") & ~p("awvalid") & ~p("wvalid") & ~out.valid,
                                "a valid in the first cycle after reset")
@@ -196,4 +214,68 @@ class AxiStoreHarness(Harness):
             Cover(dut.read_error),
             Cover(dut.write_error),
             Cover(taken & (in_flight == 1)),
+        ]
+
+
+class WriteBehindHarness(Harness):
+    """:class:`~dptbd.hw.axi_store.write_behind.AxiWriteBehind` of :func:`tiny_store` alone
+    (``in_flight`` as in :class:`DPPipelineAxi` of that build), so that the bound reaches
+    many bursts: the pipeline's writes in raster order (the next address, or 0 after a
+    resynchronisation), each only while ``room`` is high (a subset of the pipeline's
+    behaviour, which may still write ``in_flight`` states after ``room`` fell), state words
+    of one free bit (bit 0; the rest 0: no handshake depends on the data), any ``base``
+    aligned to the burst size; the subordinate as in
+    :class:`AxiStoreHarness` (B only for a burst whose AW and last W beat were accepted,
+    held until taken, any ``BRESP``).
+
+    Asserted: the AW and W rules of :class:`AxiStoreHarness` (held valid, stable payload,
+    INCR of full beats, aligned, no 4 KB crossing, ``AWLEN`` < ``burst_beats``, W never
+    ahead of its AW, ``WLAST`` on beat ``AWLEN`` + 1, full strobes), ``BREADY`` high, at
+    most ``outstanding`` writes in flight, no valid in the first cycle after reset or before
+    the first write.
+    """
+
+    def __init__(self, store: AxiStoreConfig | None = None):
+        super().__init__()
+        self.store = store or tiny_store()
+
+    def check(self, m, past):
+        from dptbd.hw.axi_store.write_behind import AxiWriteBehind
+        from dptbd.hw.schedule import check_supported
+
+        store = self.store
+        in_flight = check_supported(store.frame).write_latency + 1
+        m.submodules.dut = dut = AxiWriteBehind(store, in_flight=in_flight)
+        self.free_inputs(m, dut, "dut")
+        aw, w, b = dut.aw, dut.w, dut.b
+        pixels = store.frame.width * store.frame.height
+        next_addr = Signal(range(pixels))
+        with m.If(dut.write_en):
+            m.d.sync += next_addr.eq(Mux(dut.write_addr == pixels - 1, 0, dut.write_addr + 1))
+        with m.If(dut.write_en):
+            m.d.comb += [Assume(dut.room),
+                         Assume((dut.write_addr == next_addr) | (dut.write_addr == 0))]
+        m.d.comb += [Assume(dut.base[:(store.burst_bytes - 1).bit_length()] == 0),
+                     # one data bit free: the W data's stability is still checked, and the
+                     # solver need not carry whole words through the FIFO
+                     Assume(dut.write_data.as_value()[1:] == 0)]
+        chans = _write_rules(m, past, store, aw, w, b)
+        started = Signal()
+        with m.If(dut.write_en):
+            m.d.sync += started.eq(1)
+        with m.If(past.rst):
+            m.d.comb += Assert(~aw.awvalid & ~w.wvalid, "a valid in the first cycle after reset")
+        with m.If(~started):
+            m.d.comb += Assert(~aw.awvalid & ~w.wvalid, "AW or W valid before any write")
+        aw_open, writes, early = chans
+        page = 4096
+        end = aw.awaddr[:12] + (aw.awlen + 1) * store.beat_bytes
+        m.d.comb += [
+            Cover(aw.awvalid & aw.awready & (aw.awlen == store.burst_beats - 1) & (end == page)),
+            Cover(aw.awvalid & ~aw.awready & (aw_open != 0)),
+            Cover(w.wvalid & w.wready & w.wlast & (aw_open == 0)),
+            Cover(writes == store.outstanding),
+            Cover(dut.error),
+            Cover(dut.write_en & (dut.write_addr == 0) & (next_addr != 0) & started),
+            Cover(aw.awvalid & aw.awready & (aw.awlen == 0)),        # a burst cut short
         ]
