@@ -5,9 +5,16 @@ against the memory's latency, in Amaranth simulation.
     python benchmarks/bench_axi_store.py --latency 0 100 500 --outstanding 4 8 16
     python benchmarks/bench_axi_store.py --simulator verilator --width 640 --height 512 --frames 30
 
+    python benchmarks/bench_axi_store.py --simulator verilator --width 4096 --height 256 \
+        --frames 4 --scene range_doppler --outstanding 4 16
+
 ``--simulator verilator`` runs the Verilog on Verilator with the harness's C++ AXI4 memory
 model (:mod:`dptbd.sim.verilator.dp_axi`; data widths 32 and 64), the same conditions.
-The frames are uniform random pixels (throughput does not depend on the scene).
+The frames are uniform random pixels (``--scene uniform``, the default), or
+(``--scene range_doppler``) a range–Doppler scene of :func:`dptbd.scenes.range_doppler.rd_scene`:
+Rayleigh noise with a Swerling 1 target at 10 dB on a straight track, ``width`` range cells
+along each line and ``height`` Doppler cells, quantised at 16 LSB per unit of the noise's
+Rayleigh parameter (the throughput does not depend on the scene; the bits are checked on it).
 
 The memory (:class:`dptbd.sim.axi4_memory.Axi4Memory`) answers every burst after a fixed
 latency (cycles from the address handshake to the first read beat, and from the last write
@@ -71,6 +78,19 @@ def measure(cfg: DPConfig, frames: np.ndarray, latency: int, **store_fields) -> 
     return (accepted[-1] - accepted[0] + 1) / len(stream), exact
 
 
+def scene_frames(cfg: DPConfig, frames: int, scene: str) -> np.ndarray:
+    """``(frames, H, W)`` integer pixels of ``scene`` (``"uniform"`` or
+    ``"range_doppler"``, see the module doc)."""
+    if scene == "uniform":
+        return np.random.default_rng(1).integers(0, 256, size=(frames, cfg.height, cfg.width))
+    from dptbd.scenes.adc import quantise
+    from dptbd.scenes.range_doppler import rd_scene, straight_track
+
+    track = straight_track((cfg.width / 3, cfg.height / 2), (2.0, 0.5), frames)
+    rd = rd_scene((cfg.width, cfg.height), frames, track, snr_db=10.0, seed=1)
+    return quantise(np.swapaxes(rd.frames, 1, 2), cfg.input_bits, gain=16.0)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--width", type=int, default=64)
@@ -81,11 +101,12 @@ def main() -> None:
     parser.add_argument("--data-bits", type=int, default=64)
     parser.add_argument("--burst-beats", type=int, default=16)
     parser.add_argument("--simulator", choices=("amaranth", "verilator"), default="amaranth")
+    parser.add_argument("--scene", choices=("uniform", "range_doppler"), default="uniform")
     args = parser.parse_args()
     cfg = DPConfig(width=args.width, height=args.height).build_config()
-    frames = np.random.default_rng(1).integers(0, 256, size=(args.frames, cfg.height, cfg.width))
-    print(f"{cfg.describe()}, {args.frames} frames, AXI {args.data_bits}-bit, bursts of "
-          f"{args.burst_beats} beats, {args.simulator}")
+    frames = scene_frames(cfg, args.frames, args.scene)
+    print(f"{cfg.describe()}, {args.frames} frames ({args.scene}), AXI {args.data_bits}-bit, "
+          f"bursts of {args.burst_beats} beats, {args.simulator}")
     print("| latency (cycles) | outstanding | cycles per pixel | estimate | bit-exact |")
     print("|---|---|---|---|---|")
     for outstanding in args.outstanding:

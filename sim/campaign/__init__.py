@@ -27,7 +27,8 @@ command; ``tests/sim/campaign/test_campaign.py`` runs a slice of it in the defau
 
 This package runs the campaign (a run built, run and checked: :func:`check_run`,
 :func:`check_x_store`; the tasks on the execution layer: :func:`run_campaign`); the cases
-are in :mod:`dptbd.sim.campaign.cases`, what a run draws in :mod:`dptbd.sim.campaign.draw`,
+are in :mod:`dptbd.sim.campaign.cases`, what a run draws in :mod:`dptbd.sim.campaign.draw`
+(the runs of ``dptbd_dp --state-store axi``, design ``"dp_axi"``: :mod:`dptbd.sim.campaign.store`),
 the results in :mod:`dptbd.sim.campaign.results`, all importable from here.
 """
 
@@ -39,12 +40,14 @@ from typing import Callable, Sequence
 import numpy as np
 
 from dptbd.config import DPConfig, EnergyWidthWarning
-from dptbd.sim.campaign.cases import FAULTS, Case, axi_cases, default_cases, x_store_cases
+from dptbd.sim.campaign.cases import (FAULTS, Case, axi_cases, default_cases, store_cases,
+                                      x_store_cases)
 from dptbd.sim.campaign.draw import MAX_STALL, hostile_frames, make_run, make_stream_run
 from dptbd.sim.campaign.results import CampaignResult, CaseResult, RunOutcome, summarise
 
 __all__ = ["FAULTS", "MAX_STALL", "Case", "RunOutcome", "CaseResult", "CampaignResult",
-           "default_cases", "axi_cases", "hostile_frames", "make_run", "make_stream_run",
+           "default_cases", "axi_cases", "store_cases", "hostile_frames", "make_run",
+           "make_stream_run",
            "check_run", "check_x_store", "x_store_cases", "campaign_task", "campaign_tasks",
            "run_campaign", "summarise"]
 
@@ -68,6 +71,9 @@ def check_run(case: Case, seed: int, root: str | None = None,
     if case.design == "axi":
         from dptbd.sim.axi import runs as axi_runs
         return axi_runs.check_run(case, seed, root, coverage)
+    if case.design == "dp_axi":
+        from dptbd.sim.campaign.store import check_store_run
+        return check_store_run(case, seed, root)
 
     start = time.perf_counter()
     sim = build(case.cfg, case.design, root=root, coverage=coverage is not None)
@@ -151,8 +157,12 @@ def run_campaign(cases: Sequence[Case] | None = None, *, runs_scale: float = 1.0
                               tasks=len(tasks))
 
     def build_all() -> None:                  # once, up front (then cached)
+        from dptbd.sim.campaign.store import build_store
         for case in cases:
-            build(case.cfg, case.design, root=root)
+            if case.design == "dp_axi":
+                build_store(case, root=root)
+            else:
+                build(case.cfg, case.design, root=root)
 
     start = time.perf_counter()
     outcomes, used = run_tasks(

@@ -8,7 +8,7 @@ import dataclasses
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 
-__all__ = ["FAULTS", "Case", "default_cases", "axi_cases", "x_store_cases"]
+__all__ = ["FAULTS", "Case", "default_cases", "axi_cases", "store_cases", "x_store_cases"]
 
 #: Fault classes a case may draw from (see :func:`dptbd.sim.campaign.draw.make_run`).
 FAULTS = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "store_garbage",
@@ -25,7 +25,8 @@ class Case:
         :class:`~dptbd.config.DPConfig` fields (JSON-able, so a case pickles cheaply).
     design : str
         ``"dp"``, ``"core"``, ``"segmenter"`` or ``"axi"`` (:data:`dptbd.sim.verilator.DESIGNS`;
-        an ``"axi"`` case draws its runs with :mod:`dptbd.sim.axi.runs`, its own faults).
+        an ``"axi"`` case draws its runs with :mod:`dptbd.sim.axi.runs`, its own faults), or
+        ``"dp_axi"`` (``dptbd_dp --state-store axi``, runs of :mod:`dptbd.sim.campaign.store`).
     frames : int
         Frames per run (before faults cut or lengthen them).
     runs : int
@@ -34,6 +35,9 @@ class Case:
         Fault classes (:data:`FAULTS`) each run may draw.
     random_lut : bool
         The run starts by writing a random LUT (codes in [0, 2**F]).
+    store : dict or None
+        ``design="dp_axi"`` (``dptbd_dp --state-store axi``, :mod:`dptbd.sim.campaign.store`):
+        the :class:`~dptbd.config.AxiStoreConfig` fields (:meth:`DPConfig.axi_store`).
     """
 
     name: str
@@ -43,6 +47,7 @@ class Case:
     runs: int
     faults: tuple[str, ...] = ()
     random_lut: bool = False
+    store: dict | None = None
 
     @property
     def cfg(self) -> DPConfig:
@@ -86,7 +91,14 @@ def default_cases() -> list[Case]:
                                            candidate_count=3, histogram_bits=6),
              "segmenter", 400, 8, every),
         *axi_cases(),
+        *store_cases(),
     ]
+
+
+def store_cases() -> list[Case]:
+    """The ``"dp_axi"`` cases (:func:`dptbd.sim.campaign.store.store_cases`)."""
+    from dptbd.sim.campaign.store import store_cases as cases
+    return cases()
 
 
 def axi_cases() -> list[Case]:

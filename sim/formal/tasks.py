@@ -14,6 +14,7 @@ from typing import Callable
 
 from dptbd.config import DPConfig
 from dptbd.sim.formal.harness import Harness
+from dptbd.sim.formal.harnesses.axi_store import AxiStoreHarness, WriteBehindHarness
 from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
 from dptbd.sim.formal.harnesses.known_bad import DroppingCandidatesHarness, EagerAXILiteHarness
 from dptbd.sim.formal.harnesses.registers import RegistersHarness
@@ -54,6 +55,13 @@ TASKS = (
                PipelineHarness, "bmc", 20, 20, fast=False),
     FormalTask("dptbd_axi", "dptbd_axi 5x4 with m_axis_state: every port, soft reset over "
                "AXI4-Lite", AXITopHarness, "bmc", 18, 18, fast=False),
+    FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "
+               "the AXI4 manager port (dptbd_dp --state-store axi)", AxiStoreHarness,
+               "bmc", 15, 28, fast=False),
+    FormalTask("m_axi_state_short", "the same, 6 cycles after reset (the default suite's)",
+               AxiStoreHarness, "bmc", 6, 0),
+    FormalTask("axi_write_behind", "AxiWriteBehind of that build alone: AW, W, B",
+               WriteBehindHarness, "bmc", 12, 14, fast=False),
     # the same proofs on the default build (128 x 128, C = 66): k-induction does not depend
     # on the counters' widths; the covers (lines of 128 words) run on the small build above
     FormalTask("m_axis_cand_128", "m_axis_cand on the default 128x128 build",

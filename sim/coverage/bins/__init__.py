@@ -60,6 +60,14 @@ The bin groups and what a hit is (``docs/gateware.md``, "Verification campaign")
   and with the overflow flag (more than C pixels reached the threshold).
 * ``ties``: lists whose scored frame has two or more pixels in the list's threshold bin T
   (T < 2**b): a tie at the threshold, every one of them selected.
+* ``store`` (``dp_axi``, ``dptbd_dp --state-store axi``, :mod:`dptbd.sim.campaign.store`):
+  read bursts by the class of the read latency range their run drew (0; 1 … 99; 100 … 499;
+  500 or more cycles); each AXI4 channel stalled by the memory (AR, AW, W ready or R, B
+  valid driven low at random; every burst of that direction in such a run); each error
+  response (SLVERR, DECERR) on a read and on a write, flagged once and recovered from
+  (the run's later segments exact); read and write bursts ending at a 4 KB boundary (one
+  per multiple of 4096 in (base, base + frame bytes] per frame: the port moves every slot
+  once a frame in bursts aligned to the burst size).
 * ``register`` (``axi``): AXI4-Lite accesses refused (SLVERR) for each reason of
   ``docs/registers.md``: a value out of range per setting register and for the LUT window,
   a LUT write without wstrb = 1111, a LUT read, a write to a constant, counter or status
@@ -72,7 +80,8 @@ The bin groups and what a hit is (``docs/gateware.md``, "Verification campaign")
 Modules: ``groups`` (the groups, bands, positions and bin names), ``view`` (the model's view
 of a whole run and the bins every kind of run counts from it), ``stream`` (the runs of
 ``dp``, ``core`` and ``segmenter``), ``axi`` (the runs of ``dptbd_axi``), ``registers``
-(the register accesses of an AXI run and why one is refused), ``table`` (the campaign's
+(the register accesses of an AXI run and why one is refused), ``store`` (the runs of
+``dptbd_dp --state-store axi``), ``table`` (the campaign's
 bins: merge, table, empty-bin verdict). The public names are importable from this package.
 """
 
@@ -81,8 +90,10 @@ from dptbd.sim.coverage.bins.axi import (AXIL_WRITE_CYCLES, axi_bins, declared_a
                                          soft_reset_bin)
 from dptbd.sim.coverage.bins.groups import (ARESETN, AXI, BANDS, BUS_REASONS, FIFO, GROUPS,
                                             LIST_LABELS, LUT_CODES, LUT_STAGES, POSITIONS,
-                                            RANGE, SATURATION, STREAM, TIES, Group, band)
+                                            RANGE, SATURATION, STORE, STREAM, TIES, Group,
+                                            band)
 from dptbd.sim.coverage.bins.registers import bus_operations
+from dptbd.sim.coverage.bins.store import declared_store, store_bins
 from dptbd.sim.coverage.bins.stream import declared_stream, stream_bins
 from dptbd.sim.coverage.bins.table import empty_bins, empty_message, merge, table
 from dptbd.sim.coverage.bins.view import list_ends
@@ -91,4 +102,4 @@ __all__ = ["BANDS", "POSITIONS", "Group", "GROUPS", "band", "declared_stream", "
            "stream_bins", "axi_bins", "bus_operations", "soft_reset_bin", "list_ends", "merge",
            "empty_bins", "table", "empty_message", "ARESETN", "AXIL_WRITE_CYCLES",
            "SATURATION", "TIES", "LIST_LABELS", "LUT_STAGES", "LUT_CODES", "STREAM", "AXI",
-           "FIFO", "RANGE", "BUS_REASONS"]
+           "FIFO", "RANGE", "BUS_REASONS", "STORE", "declared_store", "store_bins"]

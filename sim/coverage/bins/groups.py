@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import dataclasses
 
-__all__ = ["STREAM", "AXI", "BANDS", "POSITIONS", "LIST_LABELS", "LUT_STAGES", "LUT_CODES",
+__all__ = ["STREAM", "AXI", "STORE", "BANDS", "POSITIONS", "LIST_LABELS", "LUT_STAGES", "LUT_CODES",
            "Group", "GROUPS", "SATURATION", "TIES", "ARESETN", "FIFO", "RANGE", "BUS_REASONS",
            "band", "key", "words_in_flight", "declared_stall"]
 
 STREAM = ("dp", "core", "segmenter")
 AXI = ("axi",)
+#: ``dptbd_dp --state-store axi`` (:mod:`dptbd.sim.campaign.store`).
+STORE = ("dp_axi",)
 
 #: Stall density bands: (name, lowest density, highest density excluded).
 BANDS = (("none", 0.0, 0.0), ("light", 0.0, 0.35), ("heavy", 0.35, 1.0))
@@ -38,7 +40,7 @@ class Group:
 GROUPS = (Group("stall", STREAM + AXI), Group("reset", STREAM), Group("soft reset", AXI),
           Group("aresetn", AXI), Group("fault", STREAM + AXI), Group("LUT", STREAM + AXI),
           Group("saturation", STREAM + AXI), Group("lists", ("segmenter",) + AXI),
-          Group("ties", ("segmenter",) + AXI), Group("register", AXI))
+          Group("ties", ("segmenter",) + AXI), Group("register", AXI), Group("store", STORE))
 
 SATURATION = "saturation: a state word at E = 2**B_E - 1"
 TIES = "ties: two or more pixels in the threshold bin"

@@ -6,5 +6,7 @@ statements that show the properties are not vacuous (``Cover``). ``docs/gateware
 Modules: ``tiny`` (the small build the proofs run on), ``streams`` (the AXI4-Stream output
 adapters, ``m_axis_cand`` and ``m_axis_state``), ``flow`` (the flow control: credit, pipeline
 and FIFO; the DP pipeline), ``registers`` (the AXI4-Lite port and the register block),
-``top`` (the whole ``dptbd_axi``), ``known_bad`` (broken components whose proofs must FAIL).
+``top`` (the whole ``dptbd_axi``), ``axi_store`` (the AXI4 manager port of
+``dptbd_dp --state-store axi``, and its write-behind alone), ``known_bad`` (broken
+components whose proofs must FAIL).
 """

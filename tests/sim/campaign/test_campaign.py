@@ -21,9 +21,10 @@ from dptbd.sim.coverage.bins import GROUPS, POSITIONS, declared_axi
 
 def test_a_slice_of_the_campaign_is_bit_exact():
     """>= 10^6 compared words over every default case but the AXI ones (their builds are
-    long; ``tests/sim/axi/test_runs.py`` and the test below run a small AXI case), the
-    4-state store checks included."""
-    cases = [c for c in default_cases() if c.design != "axi"]
+    long; ``tests/sim/axi/test_runs.py`` and the test below run a small AXI case) and the
+    AXI4 state store's (``tests/sim/campaign/test_store.py``), the 4-state store checks
+    included."""
+    cases = [c for c in default_cases() if c.design not in ("axi", "dp_axi")]
     result = run_campaign(cases, runs_scale=0.01, workers=2, base_seed=11)
     failures = [f"{o.case} seed {o.seed}: {o.report} ({o.notes})" for o in result.outcomes
                 if not o.passed]
@@ -42,8 +43,8 @@ def test_a_slice_of_the_campaign_is_bit_exact():
         assert all(bins[f"{band}, {p}"] > 0 for p in POSITIONS), band
     assert bins["reset: 0 words in flight"] >= 1
     assert sum(bins[f"reset: {k} word{'s' * (k != 1)} in flight"] > 0 for k in range(15)) >= 7
-    assert {g.name for g in GROUPS} - {k.split(":")[0] for k in bins} == {"soft reset",
-                                                                         "aresetn", "register"}
+    assert {g.name for g in GROUPS} - {k.split(":")[0] for k in bins} == {
+        "soft reset", "aresetn", "register", "store"}
 
 
 def test_the_campaign_runs_an_axi_case():

@@ -1,0 +1,281 @@
+"""The harness of the AXI4 state store's manager port (:class:`AxiStoreHarness`):
+``dptbd_dp --state-store axi`` (:class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi`) on a
+small build, any subordinate that keeps the AXI4 rules, any pixel stream and consumer."""
+
+from __future__ import annotations
+
+from amaranth.hdl import Assert, Assume, Cover, Mux, Signal
+
+from dptbd.config import AxiStoreConfig, DPConfig
+from dptbd.hw.axi_store.bus import BURST_INCR, size_code
+from dptbd.hw.axi_store.pipeline import DPPipelineAxi
+from dptbd.sim.formal.harness import Harness
+from dptbd.sim.formal.harnesses.tiny import tiny_config
+from dptbd.sim.formal.properties import axis_manager, axis_subordinate
+
+__all__ = ["tiny_store", "AxiStoreHarness", "WriteBehindHarness"]
+
+
+def tiny_store(cfg: DPConfig | None = None) -> AxiStoreConfig:
+    """The small store build of the proofs: the tiny 5 x 4 frames with B_E = 10 (16-bit
+    slots: 2 per beat), a 32-bit bus, 2-beat bursts (8 bytes), 13 address bits (the region
+    can straddle the 4 KB boundary at 4096), 2 bursts in flight per direction."""
+    cfg = cfg or tiny_config(energy_bits=10)
+    return cfg.axi_store(data_bits=32, burst_beats=2, address_bits=13, outstanding=2)
+
+
+def _queue(m, name: str, depth: int, width: int, push, value, pop):
+    """A shadow FIFO of the harness: (count, head); ``pop`` takes the head, ``push`` puts
+    ``value`` behind the rest (both in one cycle allowed); reset with the design."""
+    entries = [Signal(width, name=f"{name}_q{i}") for i in range(depth)]
+    count = Signal(range(depth + 2), name=f"{name}_count")
+    slot = Signal(range(depth + 2), name=f"{name}_slot")
+    m.d.comb += slot.eq(count - pop)
+    for i, entry in enumerate(entries):
+        shifted = Mux(pop, entries[i + 1] if i + 1 < depth else 0, entry)
+        m.d.sync += entry.eq(Mux(push & (slot == i), value, shifted))
+    m.d.sync += count.eq(count + push - pop)
+    return count, entries[0]
+
+
+def _address_rules(m, past, store: AxiStoreConfig, ch, prefix: str) -> None:
+    """The manager's rules of address channel ``ch`` (``"ar"`` or ``"aw"``): valid held until
+    ready with a stable payload, INCR bursts of full beats at aligned addresses, no 4 KB
+    crossing, length below ``burst_beats``."""
+    name = prefix.upper()
+
+    def s(n):
+        return getattr(ch, f"{prefix}{n}")
+
+    axis_manager(m, past, tvalid=s("valid"), tready=s("ready"),
+                 payload=[s(n) for n in ("addr", "len", "size", "burst", "id", "cache")],
+                 name=name)
+    with m.If(s("valid")):
+        m.d.comb += [
+            Assert(s("addr")[:12] + (s("len") + 1) * store.beat_bytes <= 4096,
+                   f"{name}: burst crosses a 4 KB boundary"),
+            Assert(s("len") < store.burst_beats, f"{name}: {name}LEN above burst_beats - 1"),
+            Assert((s("size") == size_code(store.beat_bytes)) & (s("burst") == BURST_INCR),
+                   f"{name}: not an INCR burst of full beats"),
+            Assert(s("addr")[:(store.beat_bytes - 1).bit_length()] == 0,
+                   f"{name}: address not aligned to the beat"),
+        ]
+
+
+def _write_rules(m, past, store: AxiStoreConfig, aw, w, b):
+    """The write channels: the AW rules (:func:`_address_rules`), W held with stable data,
+    strobe and last, full strobes, every W beat of a burst whose AW was offered, ``WLAST``
+    on beat ``AWLEN`` + 1, ``BREADY`` high, at most ``outstanding`` writes in flight;
+    assumed of the subordinate: B held with a stable payload, only for a burst whose AW and
+    last W beat were accepted, ID 0. Returns (AW accepted without their W done, writes in
+    flight, W bursts done before their AW) for cover statements."""
+    _address_rules(m, past, store, aw, "aw")
+    axis_manager(m, past, tvalid=w.wvalid, tready=w.wready,
+                 payload=[w.wdata, w.wstrb, w.wlast], name="W")
+    axis_subordinate(m, past, tvalid=b.bvalid, tready=b.bready, payload=[b.bresp, b.bid],
+                     name="B")
+    m.d.comb += Assume(b.bid == 0)
+    with m.If(w.wvalid):
+        m.d.comb += Assert(w.wstrb == (1 << store.beat_bytes) - 1, "W: strobe not all ones")
+    m.d.comb += Assert(b.bready, "B: BREADY low")
+    aw_hs = aw.awvalid & aw.awready
+    w_hs = w.wvalid & w.wready
+    b_hs = b.bvalid & b.bready
+    depth = store.outstanding + 1
+    # ---- writes: AW accepted without their W, W bursts done before their AW -----------
+    w_last = w_hs & w.wlast
+    pushed, popped = Signal(), Signal()
+    aw_open, open_len = _queue(m, "aw_open", depth, 8, pushed, aw.awlen, popped)
+    early = Signal(range(4))                  # W bursts done, their AW not accepted yet
+    pending_done = w_last & (aw_open == 0)    # the offered AW's burst done by W first
+    m.d.comb += [pushed.eq(aw_hs & (early == 0) & ~pending_done),
+                 popped.eq(w_last & (aw_open != 0))]
+    m.d.sync += early.eq(early + (pending_done & ~aw_hs) - (aw_hs & (early != 0)))
+    w_beat = Signal(8)
+    with m.If(w_hs):
+        m.d.sync += w_beat.eq(Mux(w.wlast, 0, w_beat + 1))
+    with m.If(w.wvalid & (aw_open == 0)):
+        m.d.comb += Assert(aw.awvalid & (early == 0),
+                           "W: a beat of a burst whose AW was not offered")
+    burst_len = Mux(aw_open != 0, open_len, aw.awlen)
+    with m.If(w.wvalid):
+        m.d.comb += Assert(w.wlast == (w_beat == burst_len),
+                           "W: WLAST not on beat AWLEN + 1")
+    complete = Signal(range(2 * depth + 2))  # AW and last W accepted, no B yet
+    done_now = (w_last & (aw_open != 0)) | (aw_hs & ((early != 0) | pending_done))
+    m.d.sync += complete.eq(complete + done_now - b_hs)
+    with m.If(b.bvalid):
+        m.d.comb += Assume(complete != 0)
+    writes = Signal(range(2 * depth + 2))    # AW accepted, no B yet
+    m.d.sync += writes.eq(writes + aw_hs - b_hs)
+    m.d.comb += Assert(writes <= store.outstanding,
+                       f"AW: more than {store.outstanding} writes in flight")
+    return aw_open, writes, early
+
+
+
+class AxiStoreHarness(Harness):
+    """:class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi` of :func:`tiny_store`; every input
+    free (pixels, consumer ``ready``, ``state_base`` and K at any time), no LUT write.
+
+    Assumed (the subordinate keeps AXI4): R and B held until taken with a stable payload;
+    a read beat only for an accepted AR burst, ``RLAST`` on exactly its last beat; a write
+    response only for a burst whose AW and last W beat were accepted; ID 0; the pixel
+    stream's rules. Any ``RRESP`` / ``BRESP`` (errors included), any latency and stalls.
+
+    Asserted: AR, AW and W valid held until ready with address, length, size, burst
+    (and ID, cache) or data, strobe and last stable while held; INCR bursts of full beats,
+    ``WSTRB`` all ones; no burst crosses a 4 KB boundary; ``ARLEN`` / ``AWLEN`` below
+    ``burst_beats``; every W beat belongs to a burst whose AW was offered (W may run ahead
+    of the AW handshake, as AXI4 allows, never of the AW itself) and ``WLAST`` is on exactly
+    beat ``AWLEN`` + 1; every read beat (all requested, by the assumptions) taken in the
+    cycle it is offered (``docs/gateware.md``: ``RREADY`` drops only for unrequested beats;
+    it may be low while no beat is offered and the beat FIFO is full), ``BREADY`` always
+    high; at most ``outstanding`` bursts in flight per
+    direction; no valid on AR, AW, W or ``states`` in the first cycle after a reset, and
+    none on AW, W or ``states`` before a pixel was accepted since the reset; the ``states``
+    stream's rules, never more words out than pixels accepted.
+    """
+
+    def __init__(self, store: AxiStoreConfig | None = None):
+        super().__init__()
+        self.store = store or tiny_store()
+
+    def check(self, m, past):
+        store = self.store
+        m.submodules.dut = dut = DPPipelineAxi(store)
+        self.free_inputs(m, dut, "dut", skip=("lut_addr", "lut_data", "lut_we"))
+
+        def p(name):
+            return getattr(dut, f"m_axi_state_{name}")
+
+        src, out = dut.pixels, dut.states
+        axis_subordinate(m, past, tvalid=src.valid, tready=src.ready,
+                         payload=[src.payload.as_value()], name="pixels")
+        axis_manager(m, past, tvalid=out.valid, tready=out.ready,
+                     payload=[out.payload.as_value()], name="states")
+        # ---- the manager's rules on AR, AW, W -------------------------------------------
+        _address_rules(m, past, store, dut.channel("ar"), "ar")
+        # ---- the subordinate's rules on R, B (assumed) -------------------------------------
+        axis_subordinate(m, past, tvalid=p("rvalid"), tready=p("rready"),
+                         payload=[p("rdata"), p("rresp"), p("rlast"), p("rid")], name="R")
+        m.d.comb += Assume(p("rid") == 0)
+
+        ar_hs = p("arvalid") & p("arready")
+        aw_hs = p("awvalid") & p("awready")
+        w_hs = p("wvalid") & p("wready")
+        r_hs = p("rvalid") & p("rready")
+        depth = store.outstanding + 1
+        page = 4096
+        # ---- reads: the accepted bursts' lengths, RLAST assumed on the last beat ----------
+        r_last = r_hs & p("rlast")
+        reads, read_len = _queue(m, "reads", depth, 8, ar_hs, p("arlen"), r_last)
+        r_beat = Signal(8)
+        with m.If(r_hs):
+            m.d.sync += r_beat.eq(Mux(p("rlast"), 0, r_beat + 1))
+        with m.If(p("rvalid")):
+            m.d.comb += [Assume(reads != 0), Assume(p("rlast") == (r_beat == read_len))]
+        m.d.comb += Assert(reads <= store.outstanding,
+                           f"AR: more than {store.outstanding} reads in flight")
+
+        # ---- writes (also the write-behind's harness) --------------------------------------
+        aw_open, writes, _ = _write_rules(m, past, store, dut.channel("aw"), dut.channel("w"),
+                                          dut.channel("b"))
+
+        # ---- ready, reset, work -------------------------------------------------------------
+        with m.If(p("rvalid")):
+            m.d.comb += Assert(p("rready"), "R: a requested beat not taken at once")
+        with m.If(past.rst):
+            m.d.comb += Assert(~p("arvalid") & ~p("awvalid") & ~p("wvalid") & ~out.valid,
+                               "a valid in the first cycle after reset")
+        accepted = src.valid & src.ready
+        started = Signal()
+        with m.If(accepted):
+            m.d.sync += started.eq(1)
+        with m.If(~started):
+            m.d.comb += Assert(~p("awvalid") & ~p("wvalid") & ~out.valid,
+                               "AW, W or states valid before any pixel was accepted")
+        taken = out.valid & out.ready
+        in_flight = Signal(range(-4, 64))
+        m.d.sync += in_flight.eq(in_flight + accepted - taken)
+        m.d.comb += Assert(in_flight >= 0, "states: more words out than pixels accepted")
+
+        # ---- covers: every property reached --------------------------------------------
+        end = lambda ch: p(f"{ch}addr")[:12] + (p(f"{ch}len") + 1) * store.beat_bytes  # noqa: E731
+        m.d.comb += [
+            Cover(ar_hs & (p("arlen") == store.burst_beats - 1) & (end("ar") == page)),
+            Cover(aw_hs & (p("awlen") == store.burst_beats - 1) & (end("aw") == page)),
+            Cover(p("arvalid") & ~p("arready") & started),
+            Cover(p("awvalid") & ~p("awready") & (aw_open != 0)),
+            Cover(w_hs & p("wlast") & (aw_open == 0)),          # W ahead of its AW handshake
+            Cover(p("wvalid") & ~p("wready") & ~p("wlast")),
+            Cover(reads == store.outstanding),
+            Cover(writes == store.outstanding),
+            Cover(dut.read_error),
+            Cover(dut.write_error),
+            Cover(taken & (in_flight == 1)),
+        ]
+
+
+class WriteBehindHarness(Harness):
+    """:class:`~dptbd.hw.axi_store.write_behind.AxiWriteBehind` of :func:`tiny_store` alone
+    (``in_flight`` as in :class:`DPPipelineAxi` of that build), so that the bound reaches
+    many bursts: the pipeline's writes in raster order (the next address, or 0 after a
+    resynchronisation), each only while ``room`` is high (a subset of the pipeline's
+    behaviour, which may still write ``in_flight`` states after ``room`` fell), state words
+    of one free bit (bit 0; the rest 0: no handshake depends on the data), any ``base``
+    aligned to the burst size; the subordinate as in
+    :class:`AxiStoreHarness` (B only for a burst whose AW and last W beat were accepted,
+    held until taken, any ``BRESP``).
+
+    Asserted: the AW and W rules of :class:`AxiStoreHarness` (held valid, stable payload,
+    INCR of full beats, aligned, no 4 KB crossing, ``AWLEN`` < ``burst_beats``, W never
+    ahead of its AW, ``WLAST`` on beat ``AWLEN`` + 1, full strobes), ``BREADY`` high, at
+    most ``outstanding`` writes in flight, no valid in the first cycle after reset or before
+    the first write.
+    """
+
+    def __init__(self, store: AxiStoreConfig | None = None):
+        super().__init__()
+        self.store = store or tiny_store()
+
+    def check(self, m, past):
+        from dptbd.hw.axi_store.write_behind import AxiWriteBehind
+        from dptbd.hw.schedule import check_supported
+
+        store = self.store
+        in_flight = check_supported(store.frame).write_latency + 1
+        m.submodules.dut = dut = AxiWriteBehind(store, in_flight=in_flight)
+        self.free_inputs(m, dut, "dut")
+        aw, w, b = dut.aw, dut.w, dut.b
+        pixels = store.frame.width * store.frame.height
+        next_addr = Signal(range(pixels))
+        with m.If(dut.write_en):
+            m.d.sync += next_addr.eq(Mux(dut.write_addr == pixels - 1, 0, dut.write_addr + 1))
+        with m.If(dut.write_en):
+            m.d.comb += [Assume(dut.room),
+                         Assume((dut.write_addr == next_addr) | (dut.write_addr == 0))]
+        m.d.comb += [Assume(dut.base[:(store.burst_bytes - 1).bit_length()] == 0),
+                     # one data bit free: the W data's stability is still checked, and the
+                     # solver need not carry whole words through the FIFO
+                     Assume(dut.write_data.as_value()[1:] == 0)]
+        chans = _write_rules(m, past, store, aw, w, b)
+        started = Signal()
+        with m.If(dut.write_en):
+            m.d.sync += started.eq(1)
+        with m.If(past.rst):
+            m.d.comb += Assert(~aw.awvalid & ~w.wvalid, "a valid in the first cycle after reset")
+        with m.If(~started):
+            m.d.comb += Assert(~aw.awvalid & ~w.wvalid, "AW or W valid before any write")
+        aw_open, writes, early = chans
+        page = 4096
+        end = aw.awaddr[:12] + (aw.awlen + 1) * store.beat_bytes
+        m.d.comb += [
+            Cover(aw.awvalid & aw.awready & (aw.awlen == store.burst_beats - 1) & (end == page)),
+            Cover(aw.awvalid & ~aw.awready & (aw_open != 0)),
+            Cover(w.wvalid & w.wready & w.wlast & (aw_open == 0)),
+            Cover(writes == store.outstanding),
+            Cover(dut.error),
+            Cover(dut.write_en & (dut.write_addr == 0) & (next_addr != 0) & started),
+            Cover(aw.awvalid & aw.awready & (aw.awlen == 0)),        # a burst cut short
+        ]

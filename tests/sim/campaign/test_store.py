@@ -1,0 +1,123 @@
+"""The campaign's runs of ``dptbd_dp --state-store axi`` (:mod:`dptbd.sim.campaign.store`):
+whole scenes bit-exact on Verilator at every latency class with random AXI4 ready / valid,
+error responses on the Amaranth simulator flagged and recovered from, the ``store`` bins."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+
+import numpy as np
+import pytest
+from helpers.refusals import whole
+from helpers.verilator_harness import needs_verilator
+
+from dptbd.sim import campaign
+from dptbd.sim.campaign.store import (boundary_bursts, check_store_run, draw_store_run,
+                                      store_cases)
+from dptbd.sim.coverage.bins import declared_store
+from dptbd.sim.coverage.bins.store import (ERROR_BINS, LATENCY_CLASSES, latency_class,
+                                           store_bins)
+
+
+def _short(case, frames, runs=1):
+    """``case`` with fewer frames: the same parameter set, so the same build."""
+    return dataclasses.replace(case, name=case.name + "-short", frames=frames, runs=runs)
+
+
+def test_the_cases_are_two_verilator_builds_and_an_error_case():
+    cases = store_cases()
+    assert {c.design for c in cases} == {"dp_axi"}
+    stores = [c.cfg.axi_store(**c.store) for c in cases]
+    assert any(s.frame_bytes > 4096 for s in stores)          # bursts at 4 KB boundaries
+    assert {s.data_bits for s in stores} == {32, 64} and 1 in {s.outstanding for s in stores}
+    assert [c.faults for c in cases] == [(), (), ("read_error", "write_error")]
+
+
+def test_consecutive_seeds_draw_every_latency_class_and_error():
+    verilator, errors = store_cases()[0], store_cases()[2]
+    plans = [draw_store_run(verilator, s) for s in range(4)]
+    assert [latency_class(*p.latency) for p in plans] == [c[0] for c in LATENCY_CLASSES]
+    assert max(p.latency[1] for p in plans) >= 500
+    assert all(p.base % 32 == 0 and not p.errors for p in plans)
+    assert draw_store_run(verilator, 7).notes == draw_store_run(verilator, 7).notes
+    firsts = [draw_store_run(errors, s).errors[0] for s in range(4)]
+    assert firsts == [("SLVERR", "read"), ("DECERR", "read"), ("SLVERR", "write"),
+                      ("DECERR", "write")]
+
+
+def test_a_latency_range_across_classes_is_refused():
+    with pytest.raises(ValueError, match=whole(
+            "latency range (50, 120) is not inside one class of [(0, 0), (1, 99), (100, 499), "
+            "(500, 1000000000)]")):
+        latency_class(50, 120)
+
+
+def test_bursts_ending_at_a_4_kb_boundary():
+    store = store_cases()[0].cfg.axi_store(**store_cases()[0].store)
+    assert store.frame_bytes == 64 * 48 * 4                  # 32-bit slots: 3 pages
+    assert boundary_bursts(store, 0, 2) == 2 * 3              # 4096, 8192, 12288 (the end)
+    assert boundary_bursts(store, 32, 1) == 3                 # 4096, 8192, 12288
+    small = store_cases()[1].cfg.axi_store(**store_cases()[1].store)
+    assert small.frame_bytes == 40 * 24 * 4
+    assert boundary_bursts(small, 0, 5) == 0
+    assert boundary_bursts(small, 4096 - 32, 5) == 5          # 4096
+    assert boundary_bursts(small, 4096 - 3840, 1) == 1        # the region ends at 4096
+
+
+@needs_verilator
+def test_whole_scenes_at_each_latency_class_are_bit_exact():
+    """Seeds 0 … 3: read latency 0, 1 … 99, 100 … 499, 500 … 700 cycles; every run's bins."""
+    case = _short(store_cases()[1], 4)
+    outcomes = [check_store_run(case, seed) for seed in range(4)]
+    assert [(o.passed, o.report) for o in outcomes] == [(True, "")] * 4
+    assert all(o.words_out == 4 * 40 * 24 for o in outcomes)
+    bins = campaign.CampaignResult((), tuple(outcomes), 0.0, 1).bins
+    assert all(bins[f"store: {c[0]}"] > 0 for c in LATENCY_CLASSES)
+    assert set(bins) == set(declared_store())
+
+
+@needs_verilator
+def test_a_wrong_word_is_reported_by_frame_row_column_and_field(monkeypatch):
+    import dptbd.sim.scoreboard as scoreboard
+
+    true_words = scoreboard.expected_words
+
+    def off(cfg, frames):
+        words = true_words(cfg, frames).copy()
+        words[1, 2, 3] ^= np.uint64(1)                     # frame 1, row 2, col 3: E's bit 0
+        return words
+
+    monkeypatch.setattr(scoreboard, "expected_words", off)
+    case = _short(store_cases()[1], 2)
+    outcome = check_store_run(case, 0)
+    assert not outcome.passed and sum(outcome.bins.values()) == 0
+    assert re.fullmatch(r"first mismatch at output 1043: frame 1, row 2, col 3, field energy.*",
+                        outcome.report), outcome.report
+
+
+def test_error_responses_are_flagged_once_and_the_later_segments_are_exact():
+    """Seeds 0 … 3 of the error case: SLVERR and DECERR on a read and on a write."""
+    case = store_cases()[2]
+    outcomes = [check_store_run(case, seed) for seed in range(4)]
+    assert [(o.passed, o.report) for o in outcomes] == [(True, "")] * 4
+    bins = campaign.CampaignResult((), tuple(outcomes), 0.0, 1).bins
+    assert all(bins[f"store: {label}"] >= 1 for label in ERROR_BINS)
+
+
+def test_an_error_that_is_not_flagged_fails_the_run(monkeypatch):
+    """A memory that answers OKAY where the run injected an error: the run fails."""
+    from dptbd.sim.axi4_memory import Axi4Memory
+
+    monkeypatch.setattr(Axi4Memory, "resp", lambda self, addr, beats, direction="": 0)
+    outcome = check_store_run(store_cases()[2], 0)              # SLVERR on a read
+    assert not outcome.passed
+    assert outcome.report == "read_error pulsed 0 times, expected 1"
+
+
+def test_a_failed_run_fills_no_bin():
+    plan = draw_store_run(store_cases()[0], 3)
+    assert store_bins(plan, passed=False, read_bursts=5, write_bursts=5) == declared_store()
+    hit = store_bins(plan, passed=True, read_bursts=5, write_bursts=4, boundary_bursts=(1, 2))
+    assert hit["store: read latency 500 cycles or more"] == 5
+    assert hit["store: write burst ending at a 4 KB boundary"] == 2
