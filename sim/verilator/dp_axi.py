@@ -1,13 +1,13 @@
 """Compiled RTL simulation of ``dptbd_dp`` built with ``--state-store axi``
 (:class:`~dptbd.hw.axi_store.pipeline.DPPipelineAxi`) on Verilator, its state in the C++ AXI4
-memory model of ``sim/harness/dptbd_dp_axi_harness.cpp`` (random latency per burst, random
-ready / valid, every AXI4 rule it sees checked, writes applied with their response).
+memory model ``sim/harness/axi4_memory.h`` (random latency per burst, random ready /
+valid, every AXI4 rule it sees checked, writes applied with their response).
 
 :func:`build` verilates the Verilog of an :class:`~dptbd.config.AxiStoreConfig` with that
 harness into a cached executable (key: the Verilog text, the harness sources, the flags);
 :func:`run` streams frames through it and scores the outputs against the golden model
-(:func:`dptbd.sim.scoreboard.expected_words`). The C++ model takes data widths of 32 and 64
-bits; 128 is refused.
+(:func:`dptbd.sim.scoreboard.expected_words`). The C++ model takes data widths of 32, 64 and
+128 bits.
 """
 
 from __future__ import annotations
@@ -61,9 +61,6 @@ class AxiStoreRun:
 
 def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None) -> AxiStoreBuild:
     """Verilate ``store``'s ``dptbd_dp`` with the AXI4 memory harness, or reuse the build."""
-    if store.data_bits > 64:
-        raise ValueError(f"the Verilator AXI4 memory model takes data_bits 32 or 64, got "
-                         f"{store.data_bits}")
     from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
     from dptbd.hw.schedule import check_supported
 
@@ -73,7 +70,7 @@ def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None) -> Ax
     defines = {"DPTBD_AXI_DATA_BITS": store.data_bits,
                "DPTBD_AXI_OUTSTANDING": store.outstanding,
                "DPTBD_FRAME_BYTES": store.frame_bytes}
-    sources = [HARNESS, HARNESS.with_name("harness_io.h")]
+    sources = [HARNESS, HARNESS.with_name("harness_io.h"), HARNESS.with_name("axi4_memory.h")]
     key = hashlib.sha256(repr((text, [p.read_bytes() for p in sources], defines,
                                VERILATOR_FLAGS, CXX_FLAGS, tools)).encode()).hexdigest()[:16]
     root = pathlib.Path(root) if root is not None else default_build_root()
