@@ -35,3 +35,42 @@ def built(cfg: DPConfig, design: str):
 
 def assert_passed(result) -> None:
     assert result.passed, f"{result.report}\n--- {result.log} (tail) ---\n{result.log_tail()}"
+
+
+def run_store_bench(tmp_path, cfg: DPConfig, frames, store_fields: dict, *, verilog: str,
+                    module: str, bench: str, pause: float = 0.0, seed: int = 0):
+    """Build ``verilog`` (the top ``module`` with the AXI4 state store ``store_fields``) on
+    Icarus with cocotb's runner and run the cocotb module ``bench`` on ``frames`` with
+    cocotbext-axi's ``AxiRam``: whether every cocotb test passed, the bench's summary and the
+    log's tail."""
+    import json
+    import xml.etree.ElementTree as ET
+
+    import numpy as np
+    from cocotb_tools.runner import get_runner
+
+    from dptbd.sim.icarus import TIMESCALE
+
+    source = tmp_path / f"{module}.v"
+    source.write_text(verilog)
+    runner = get_runner("icarus")
+    runner.build(sources=[source], hdl_toplevel=module, build_dir=tmp_path, timescale=TIMESCALE)
+    np.save(tmp_path / "scene.npy", frames)
+    job = {"config": cfg.to_mapping(), "store": store_fields, "pause": pause, "seed": seed,
+           "summary": str(tmp_path / "summary.json")}
+    (tmp_path / "job.json").write_text(json.dumps(job))
+    try:
+        runner.test(test_module=bench, hdl_toplevel=module, hdl_toplevel_lang="verilog",
+                    build_dir=tmp_path, test_dir=tmp_path,
+                    extra_env={"DPTBD_SIM_JOB": str(tmp_path / "job.json"),
+                               "DPTBD_SIM_SCENE": str(tmp_path / "scene.npy")},
+                    timescale=TIMESCALE, log_file=tmp_path / "sim.log")
+    except (SystemExit, RuntimeError):
+        pass
+    summary_path = tmp_path / "summary.json"
+    summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
+    cases = [case for xml in tmp_path.glob("*.xml")
+             for case in ET.parse(xml).getroot().iter("testcase")]
+    passed = bool(cases) and all(case.find("failure") is None and case.find("error") is None
+                                 for case in cases)
+    return passed, summary, (tmp_path / "sim.log").read_text()[-3000:]

@@ -1,44 +1,19 @@
 """dptbd.sim.benches.dp_axi: the --state-store axi build of dptbd_dp on Icarus (4-state) with
 cocotbext-axi's AxiRam, bit-exact with the golden model, X-free, with random pauses."""
 
-import json
-import xml.etree.ElementTree as ET
-
 import numpy as np
 import pytest
 
 from dptbd.config import DPConfig
 from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
-from dptbd.sim.icarus import TIMESCALE
+
+from helpers.cocotb_harness import run_store_bench
 
 
 def run_bench(tmp_path, cfg, frames, store_fields, *, pause=0.0, seed=0):
-    from cocotb_tools.runner import get_runner
-    store = cfg.axi_store(**store_fields)
-    text, _ = generate_verilog(cfg, state_store=store)
-    verilog = tmp_path / f"{MODULE_NAME}.v"
-    verilog.write_text(text)
-    runner = get_runner("icarus")
-    runner.build(sources=[verilog], hdl_toplevel=MODULE_NAME, build_dir=tmp_path,
-                 timescale=TIMESCALE)
-    np.save(tmp_path / "scene.npy", frames)
-    job = {"config": cfg.to_mapping(), "store": store_fields, "pause": pause, "seed": seed,
-           "summary": str(tmp_path / "summary.json")}
-    (tmp_path / "job.json").write_text(json.dumps(job))
-    try:
-        runner.test(test_module="dptbd.sim.benches.dp_axi", hdl_toplevel=MODULE_NAME,
-                    hdl_toplevel_lang="verilog", build_dir=tmp_path, test_dir=tmp_path,
-                    extra_env={"DPTBD_SIM_JOB": str(tmp_path / "job.json"),
-                               "DPTBD_SIM_SCENE": str(tmp_path / "scene.npy")},
-                    timescale=TIMESCALE, log_file=tmp_path / "sim.log")
-    except (SystemExit, RuntimeError):
-        pass
-    summary_path = tmp_path / "summary.json"
-    summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
-    cases = [case for xml in tmp_path.glob("*.xml") for case in ET.parse(xml).getroot().iter("testcase")]
-    passed = bool(cases) and all(case.find("failure") is None and case.find("error") is None
-                                 for case in cases)
-    return passed, summary, (tmp_path / "sim.log").read_text()[-3000:]
+    text, _ = generate_verilog(cfg, state_store=cfg.axi_store(**store_fields))
+    return run_store_bench(tmp_path, cfg, frames, store_fields, verilog=text, module=MODULE_NAME,
+                           bench="dptbd.sim.benches.dp_axi", pause=pause, seed=seed)
 
 
 @pytest.mark.parametrize("store_fields, pause", [
