@@ -22,7 +22,7 @@ need and F = 0 for the binary LUT; see ``docs/synthesis.md``):
   206 I/O; its cells include ~220 port flip-flops), the HX8K's configuration.
 * ``core640x512`` — ``DPCore`` for a 640 x 512 infrared frame, state store outside,
   default build. ``core640x512-p1`` / ``-p2`` / ``-p4``: the same at 1 / 2 / 4 pixels per
-  clock (``DPCoreWide`` at P > 1, ``hw/dp_wide.py``: beats of P pixels, a store word of P
+  clock (``DPCoreWide`` at P > 1, ``hw/wide/``: beats of P pixels, a store word of P
   states), every port but the clock and reset folded onto two pins (``FoldedPorts``: the
   state-store ports at P = 4 alone are 2 x 56 data bits, 263 port bits against the ECP5
   CABGA256's 197 I/O; the cells include about one flip-flop per port bit), so the three are

@@ -155,13 +155,13 @@ def check_supported(cfg: DPConfig, *, max_tree: str = "compact") -> PipelineSche
           the target FPGAs' block RAM. Every other §8 configuration is built
           (:class:`~dptbd.hw.family_blocks.FamilyBlocks`).
         * ``pixels_per_clock`` above 1: the blocks that call this take one pixel per clock;
-          :mod:`dptbd.hw.dp_wide` builds P = 2 and 4 (it checks its beat configuration,
+          :mod:`dptbd.hw.wide` builds P = 2 and 4 (it checks its beat configuration,
           P = 1, here).
     """
     if cfg.pixels_per_clock > 1:
         raise ConfigError(
             f"pixels_per_clock={cfg.pixels_per_clock}: this block takes one pixel per clock; "
-            f"P = 2 and 4 are built by DPCoreWide and DPPipelineWide (hw/dp_wide.py, the dp "
+            f"P = 2 and 4 are built by DPCoreWide and DPPipelineWide (hw/wide/, the dp "
             f"top of dptbd verilog)")
     # ---- paper 000's family (docs/arithmetic.md §8) ------------------------------------
     if FamilyBlocks.from_config(cfg).merit_lut and cfg.input_bits > MERIT_LUT_MAX_INPUT_BITS:

@@ -270,7 +270,7 @@ def _run(cfg, frames, top, resets, directory: pathlib.Path) -> list[ResetXCheck]
     if top == "axi":
         stream = [int(p) for p in frames.ravel()]
     elif cfg.pixels_per_clock > 1:     # beats of P pixels (docs/gateware.md, "P pixels per clock")
-        from dptbd.hw.dp_wide import pack_beat
+        from dptbd.hw.wide import pack_beat
         p = cfg.pixels_per_clock
         stream = [pack_beat(cfg, frame.ravel()[i:i + p], i == 0)
                   for frame in frames for i in range(0, frame.size, p)]
@@ -358,7 +358,7 @@ def _compare(cfg, frames, top, words: list[int], flags: list[list[str]]) -> list
 def _compare_beats(cfg, frames, words: list[int]) -> list[str]:
     """:func:`_compare` of ``dptbd_dp`` at P > 1: each output beat's P states against the
     model's states of its P pixels."""
-    from dptbd.hw.dp_wide import unpack_beat_states
+    from dptbd.hw.wide import unpack_beat_states
     p = cfg.pixels_per_clock
     expected = [unpack_state(cfg, int(w)) for w in expected_words(cfg, frames).ravel()]
     problems = [f"{len(words)} states beats, the model gives {len(expected) // p}"] \

@@ -39,7 +39,7 @@ full-scale pixels need and, for a binary weight LUT, F = 0 (the same bits as ask
 refuses a configuration whose E can saturate unless ``--allow-saturation``.
 
 ``--pixels-per-clock P`` (2 or 4; ``--top dp`` only) builds ``dptbd_dp`` for P pixels per
-clock: input beats of P pixels, output beats of P states (:mod:`dptbd.hw.dp_wide`;
+clock: input beats of P pixels, output beats of P states (:mod:`dptbd.hw.wide`;
 ``docs/gateware.md``, "P pixels per clock"); the manifest's ``layouts`` are the beats'.
 """
 

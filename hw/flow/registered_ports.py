@@ -70,7 +70,7 @@ class FoldedPorts(wiring.Component):
     upper bound of the cost. Members: ``aclk``, ``aresetn``, ``fold_in`` (In), ``fold_out``
     (Out); ``config``, ``latency`` and ``core_options`` are the core's. A core without
     ``aclk`` (on the ``sync`` domain: :class:`~dptbd.hw.dp_core.DPCore`,
-    :class:`~dptbd.hw.dp_wide.DPCoreWide`) is wrapped on that domain, with the members
+    :class:`~dptbd.hw.wide.DPCoreWide`) is wrapped on that domain, with the members
     ``fold_in`` and ``fold_out`` only.
     """
 

@@ -57,7 +57,7 @@ def build_top(cfg: DPConfig, *, external_state_store: bool = False, lut_style: s
     """The top-level component: ``DPPipeline(cfg)``, or ``DPCore(cfg)`` without a store, or
     ``DPPipelineAxi(state_store)`` with the store in external memory (``state_store.frame``
     must be ``cfg``); at ``cfg.pixels_per_clock`` 2 or 4 ``DPPipelineWide(cfg)`` or
-    ``DPCoreWide(cfg)`` (:mod:`dptbd.hw.dp_wide`).
+    ``DPCoreWide(cfg)`` (:mod:`dptbd.hw.wide`).
 
     ``lut_style`` (``"auto"``, ``"bram"``, ``"logic"``) is passed on (weight LUT storage),
     and so are ``core_options`` (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`, e.g.
@@ -76,7 +76,7 @@ def build_top(cfg: DPConfig, *, external_state_store: bool = False, lut_style: s
         from dptbd.hw.axi_store.pipeline import DPPipelineAxi
         return DPPipelineAxi(state_store, lut_style=lut_style, **dict(core_options or {}))
     if cfg.pixels_per_clock > 1:        # docs/gateware.md, "P pixels per clock"
-        from dptbd.hw.dp_wide import DPCoreWide, DPPipelineWide
+        from dptbd.hw.wide import DPCoreWide, DPPipelineWide
         kind = DPCoreWide if external_state_store else DPPipelineWide
         return kind(cfg, lut_style=lut_style, **dict(core_options or {}))
     kind = DPCore if external_state_store else DPPipeline
@@ -166,10 +166,10 @@ def manifest(cfg: DPConfig, top) -> dict:
 
 def _beat_layouts(cfg: DPConfig) -> tuple:
     """The ``pixels`` and ``states`` payload layouts of ``dptbd_dp`` for ``cfg``: one pixel at
-    P = 1, one beat of P pixels otherwise (:mod:`dptbd.hw.dp_wide`)."""
+    P = 1, one beat of P pixels otherwise (:mod:`dptbd.hw.wide`)."""
     if cfg.pixels_per_clock == 1:
         return pixel_layout(cfg), state_layout(cfg)
-    from dptbd.hw.dp_wide import wide_pixel_layout, wide_state_layout
+    from dptbd.hw.wide import wide_pixel_layout, wide_state_layout
     return wide_pixel_layout(cfg), wide_state_layout(cfg)
 
 

@@ -153,7 +153,7 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
         Packed ``pixels`` payloads (:func:`dptbd.sim.stimulus.pixel_words`), any framing:
         short, long or misaligned frames are modelled by the counter rule. At P > 1 pixels
         per clock: beats as :func:`dptbd.sim.verilator.run` takes them (one row of uint64
-        words per beat of :func:`~dptbd.hw.dp_wide.pack_beat`); the word indices of the
+        words per beat of :func:`~dptbd.hw.wide.pack_beat`); the word indices of the
         stimulus's LUT and settings changes then count beats, and the verdict's words (in,
         out, compared) count pixels and states.
     stimulus : Stimulus
@@ -247,7 +247,7 @@ def check_frames(sim: VerilatorBuild, frames: np.ndarray, stimulus: Stimulus = S
     frames = check_scene(cfg, frames)
     if cfg.pixels_per_clock == 1:
         return check_stream(sim, pixel_words(cfg, frames), stimulus, trace=trace)
-    from dptbd.hw.dp_wide import pack_beat
+    from dptbd.hw.wide import pack_beat
     from dptbd.sim.verilator import beat_words, payload_words
 
     p = cfg.pixels_per_clock
@@ -266,7 +266,7 @@ def lut_change_words(changes: Sequence[tuple[int, np.ndarray]], words_per_frame:
 def split_beats(cfg: DPConfig, words: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(pixel, first)`` per pixel of ``pixels`` beats at P > 1 pixels per clock (rows of
     uint64 words, :func:`dptbd.sim.verilator.beat_words`): a beat's ``first`` on its pixel 0."""
-    from dptbd.hw.dp_wide import wide_pixel_layout
+    from dptbd.hw.wide import wide_pixel_layout
     from dptbd.hw.layouts import unpack
 
     p = cfg.pixels_per_clock
@@ -281,7 +281,7 @@ def split_beats(cfg: DPConfig, words: np.ndarray) -> tuple[np.ndarray, np.ndarra
 def beat_state_words(cfg: DPConfig, words: np.ndarray) -> np.ndarray:
     """The ``states`` payloads of one pixel each (:func:`~dptbd.hw.layouts.state_layout`, as
     a P = 1 design gives them) of ``states`` beats at P > 1 (rows of uint64 words)."""
-    from dptbd.hw.dp_wide import unpack_beat_states
+    from dptbd.hw.wide import unpack_beat_states
     from dptbd.hw.layouts import pack_states
 
     states = [s for value in beat_values(words) for s in unpack_beat_states(cfg, value)]

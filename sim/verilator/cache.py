@@ -282,7 +282,7 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     if cfg.pixels_per_clock > 1 and mutations:
         raise ValueError("mutant builds are of the default designs, at pixels_per_clock=1")
     if cfg.pixels_per_clock > 1:
-        from dptbd.hw.dp_wide import check_wide
+        from dptbd.hw.wide import check_wide
         check_wide(cfg)
     tools = check_tools()
     start = time.perf_counter()

@@ -1,4 +1,4 @@
-"""Amaranth-simulator harness for the P-pixel pipeline (``dptbd.hw.dp_wide``): beats in,
+"""Amaranth-simulator harness for the P-pixel pipeline (``dptbd.hw.wide``): beats in,
 beats out, scored per pixel with :mod:`helpers.hw_harness`'s ``reference_states`` and
 ``assert_states_equal``."""
 
@@ -9,7 +9,7 @@ import random
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.hw.dp_wide import pack_beat, unpack_beat_states
+from dptbd.hw.wide import pack_beat, unpack_beat_states
 from helpers.hw_harness import StreamRun, simulate, stream_cycle
 
 
@@ -26,7 +26,7 @@ def frames_to_beats(cfg: DPConfig, frames: np.ndarray) -> list[tuple[tuple[int, 
 def run_beats(dut, cfg: DPConfig, beats, *, valid_probability=1.0, ready_probability=1.0,
               seed=0, lut_writes=None, max_cycles=None, on_cycle=None, processes=()) -> StreamRun:
     """Simulate ``dut`` until every beat of ``beats`` has come out; ``outputs`` are the
-    states per pixel (:func:`~dptbd.hw.dp_wide.unpack_beat_states`), ``accept_cycles`` and
+    states per pixel (:func:`~dptbd.hw.wide.unpack_beat_states`), ``accept_cycles`` and
     ``output_cycles`` per beat. ``lut_writes`` as :func:`helpers.hw_harness.run_stream`'s
     (index: the beat before which they are written, the input idle meanwhile); ``processes``
     run beside (e.g. a state-store model, an event counter)."""

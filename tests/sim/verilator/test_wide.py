@@ -1,4 +1,4 @@
-"""``dptbd_dp`` at P = 2 and 4 pixels per clock on Verilator (``hw/dp_wide.py``): bit for
+"""``dptbd_dp`` at P = 2 and 4 pixels per clock on Verilator (``hw/wide/``): bit for
 bit against the golden model, exact cycle counts, payloads wider than 64 bits (the harness's
 multi-word beats), the external store of random contents, LUT writes, valid gaps and ready
 back-pressure, resets mid-frame scored per pixel by ``check_stream``."""
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import dptbd.sim.rtl.check as rtl_check
-from dptbd.hw.dp_wide import pack_beat, unpack_beat_states, wide_state_layout
+from dptbd.hw.wide import pack_beat, unpack_beat_states, wide_state_layout
 from dptbd.hw.layouts import pack, pack_states
 from dptbd.sim import verilator as V
 from dptbd.sim.rtl.check import Stimulus, beat_state_words, check_frames, split_beats

@@ -1,25 +1,10 @@
-"""The DP pipeline at P = 2 or 4 pixels per clock (``DPConfig.pixels_per_clock``).
-
-``docs/gateware.md``, "P pixels per clock", describes the design: a *beat* of P pixels of
-one row per clock; the frame controller, the read-ahead and the line buffer of P = 1 built
-for the beat configuration (:meth:`~dptbd.config.DPConfig.beat_config`, W / P columns);
-a window of r + 2 beats (:class:`WideWindow`); and the per-pixel datapath (weight LUT,
-weighted candidates, max tree, accumulator) built once per lane. Every state is the one the
-golden model computes, as at P = 1. At P = 1 use :class:`~dptbd.hw.dp_core.DPCore` and
-:class:`~dptbd.hw.dp_pipeline.DPPipeline` (:func:`dp_pipeline` picks by P).
-
-The per-pixel datapath is the one of :meth:`DPCore.elaborate
-<dptbd.hw.dp_core.DPCore.elaborate>` for paper 001 (identity merit, no penalty, no
-forgetting), written again per lane here: the P = 1 core stays as it is (its netlist is the
-one under mutation testing). Paper 000's family (``docs/arithmetic.md`` §8) is refused at
-P > 1.
-"""
+"""DPCoreWide: the DP core at P = 2 or 4 pixels per clock, its state store outside, and the
+check of a configuration it builds."""
 
 from __future__ import annotations
 
 from amaranth.hdl import Cat, Module, Mux, Signal, unsigned
 from amaranth.lib import data, stream, wiring
-from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
@@ -27,11 +12,9 @@ from dptbd.errors import ConfigError
 from dptbd.hw.accumulator import Accumulator
 from dptbd.hw.controller import Controller
 from dptbd.hw.delay import delayed, delayed_in_memory
-from dptbd.hw.dp_core import (LINE_BUFFER_RAM_STYLE, LINE_BUFFER_STYLES,
-                              SIDEBAND_DELAYS, lut_write_members, run_time_k_members,
-                              state_events)
+from dptbd.hw.dp_core import (LINE_BUFFER_RAM_STYLE, LINE_BUFFER_STYLES, SIDEBAND_DELAYS,
+                              lut_write_members, run_time_k_members, state_events)
 from dptbd.hw.input_credit import InputCredit
-from dptbd.hw.layouts import pack, state_word_layout, unpack
 from dptbd.hw.line_buffer import LineBuffer
 from dptbd.hw.max_tree import MaxTree
 from dptbd.hw.pipelined_max import SplitMaxTree
@@ -39,62 +22,9 @@ from dptbd.hw.schedule import PipelineSchedule, check_supported, read_ahead_dist
 from dptbd.hw.thermometer_fifo import ThermometerFIFO
 from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
-
-__all__ = ["wide_pixel_layout", "wide_state_layout", "beat_word_layout", "pack_beat",
-           "unpack_beat_states", "check_wide", "WideStateStoreSignature", "WideStateStore",
-           "WideWindow", "DPCoreWide", "DPPipelineWide", "dp_pipeline"]
-
-
-# ---- the streams' beats -------------------------------------------------------------------
-def wide_pixel_layout(cfg: DPConfig) -> data.StructLayout:
-    """Payload of the input stream ``pixels`` at P pixels per clock: one beat, the pixels
-    ``(y, gP)`` … ``(y, gP + P - 1)`` of a row, pixel 0 in the low bits.
-
-    ========== ====== ============================================================
-    field      width  meaning
-    ========== ====== ============================================================
-    pixel_k    B_in   pixel k of the beat (k = 0 … P-1, in this order from bit 0)
-    first      1      start of frame: this beat holds pixel (0, 0) of a frame
-    ========== ====== ============================================================
-    """
-    fields = {f"pixel_{k}": unsigned(cfg.input_bits) for k in range(cfg.pixels_per_clock)}
-    return data.StructLayout({**fields, "first": unsigned(1)})
-
-
-def wide_state_layout(cfg: DPConfig) -> data.StructLayout:
-    """Payload of the output stream ``states`` at P pixels per clock: the new (E, d) of the P
-    pixels of one beat, pixel 0 in the low bits, then the beat's end flags
-    (:func:`~dptbd.hw.layouts.state_layout`'s, ``end_of_line`` on a row's last beat)."""
-    fields = {}
-    for k in range(cfg.pixels_per_clock):
-        fields[f"energy_{k}"] = unsigned(cfg.energy_bits)
-        fields[f"direction_{k}"] = unsigned(cfg.direction_bits)
-    return data.StructLayout({**fields, "end_of_line": unsigned(1), "end_of_frame": unsigned(1),
-                              "end_of_segment": unsigned(1)})
-
-
-def beat_word_layout(cfg: DPConfig) -> data.ArrayLayout:
-    """One word of the state store and of the line buffer: the P states (E, d) of a beat,
-    state 0 in the low bits."""
-    return data.ArrayLayout(state_word_layout(cfg), cfg.pixels_per_clock)
-
-
-def pack_beat(cfg: DPConfig, pixels, first: bool) -> int:
-    """The integer value of a ``pixels`` beat of P pixel values."""
-    values = {f"pixel_{k}": int(v) for k, v in enumerate(pixels)}
-    return pack(wide_pixel_layout(cfg), {**values, "first": int(bool(first))}, "beat")
-
-
-def unpack_beat_states(cfg: DPConfig, word: int) -> list[dict[str, int]]:
-    """The P states of a ``states`` beat, each as :func:`~dptbd.hw.layouts.unpack_state`
-    gives a P = 1 state: ``end_of_line``, ``end_of_frame`` and ``end_of_segment`` only on
-    the beat's last pixel."""
-    fields = unpack(wide_state_layout(cfg), word)
-    last = cfg.pixels_per_clock - 1
-    return [{"energy": fields[f"energy_{k}"], "direction": fields[f"direction_{k}"],
-             **{flag: fields[flag] if k == last else 0
-                for flag in ("end_of_line", "end_of_frame", "end_of_segment")}}
-            for k in range(cfg.pixels_per_clock)]
+from dptbd.hw.wide.layouts import beat_word_layout, wide_pixel_layout, wide_state_layout
+from dptbd.hw.wide.state_store import WideStateStoreSignature
+from dptbd.hw.wide.window import WideWindow
 
 
 def check_wide(cfg: DPConfig, *, max_tree: str = "compact") -> PipelineSchedule:
@@ -131,140 +61,6 @@ def check_wide(cfg: DPConfig, *, max_tree: str = "compact") -> PipelineSchedule:
     return check_supported(beats, max_tree=max_tree)
 
 
-# ---- the state store: W*H/P words of P states -----------------------------------------------
-class WideStateStoreSignature(wiring.Signature):
-    """:class:`~dptbd.hw.state_store.StateStoreSignature` with one word per beat: addresses
-    are beat positions ``row * W/P + beat`` in ``[0, W*H/P)``, data
-    :func:`beat_word_layout`; the same timing."""
-
-    def __init__(self, cfg: DPConfig):
-        self._cfg = cfg
-        words = cfg.frame_beats
-        layout = beat_word_layout(cfg)
-        super().__init__({
-            "read_addr": Out(range(words)),
-            "read_en": Out(1),
-            "read_data": In(layout),
-            "write_addr": Out(range(words)),
-            "write_data": Out(layout),
-            "write_en": Out(1),
-        })
-
-    def __eq__(self, other):
-        return type(other) is type(self) and other._cfg == self._cfg
-
-    def __repr__(self):
-        return (f"WideStateStoreSignature({self._cfg.width}x{self._cfg.height}, "
-                f"P={self._cfg.pixels_per_clock})")
-
-
-class WideStateStore(wiring.Component):
-    """On-chip state store of W*H/P words of P states (one synchronous non-transparent read
-    port, one write port; contents start at 0), as :class:`~dptbd.hw.state_store.StateStore`.
-
-    Members
-    -------
-    bus : In(WideStateStoreSignature(cfg))
-    """
-
-    def __init__(self, cfg: DPConfig):
-        self._cfg = cfg
-        super().__init__({"bus": In(WideStateStoreSignature(cfg))})
-
-    def elaborate(self, platform):
-        m = Module()
-        cfg = self._cfg
-        m.submodules.memory = memory = Memory(
-            shape=beat_word_layout(cfg), depth=cfg.frame_beats, init=[])
-        read = memory.read_port(domain="sync")
-        write = memory.write_port(domain="sync")
-        m.d.comb += [
-            read.addr.eq(self.bus.read_addr),
-            read.en.eq(self.bus.read_en),
-            self.bus.read_data.eq(read.data),
-            write.addr.eq(self.bus.write_addr),
-            write.data.eq(self.bus.write_data),
-            write.en.eq(self.bus.write_en),
-        ]
-        return m
-
-
-# ---- the window -----------------------------------------------------------------------------
-def lane_column(cfg: DPConfig, lane: int, j: int) -> tuple[int, int]:
-    """Where lane ``lane``'s window column j (predecessor column ``gP + lane + r - j``)
-    sits in :class:`WideWindow`'s beat registers: ``(slot, word)``, slot 0 the newest beat
-    (g + r), slot r + 1 the oldest (g - 1)."""
-    p, r = cfg.pixels_per_clock, cfg.radius
-    offset = p + lane + r - j           # columns from the first of beat g - 1, >= 0 as r <= P
-    return r + 1 - offset // p, offset % p
-
-
-class WideWindow(wiring.Component):
-    """The window of P lanes: a shift register of r + 2 beat columns and the lanes'
-    per-move image-edge flags.
-
-    Members
-    -------
-    column : In(beat_word_layout(cfg)).array(2r+1)
-        The new beat column: ``column[i]`` holds the P states of row ``y + r - i`` at beat
-        ``g + r`` (the store's word and the line buffer's taps).
-    shift : In(1)
-        Shift ``column`` in at this cycle's edge.
-    row_inside : In(2r+1)
-        As :class:`~dptbd.hw.window.Window`'s: bit i set when row ``y + r - i`` is inside.
-    first_beat, last_beat : In(1)
-        Beat g is its row's first (g = 0) / last (g = W/P - 1).
-    cells : Out(state_word_layout(cfg)).array(P, M)
-        ``cells[k][m]``: the predecessor state of move m of lane k (pixel ``(y, gP + k)``),
-        wires from the beat registers.
-    inside : Out(M).array(P)
-        Registered: bit m of ``inside[k]`` is set when that predecessor is inside the image.
-    """
-
-    def __init__(self, cfg: DPConfig):
-        self._cfg = cfg
-        side = 2 * cfg.radius + 1
-        word = state_word_layout(cfg)
-        super().__init__({
-            "column": In(beat_word_layout(cfg)).array(side),
-            "shift": In(1),
-            "row_inside": In(side),
-            "first_beat": In(1),
-            "last_beat": In(1),
-            "cells": Out(word).array(cfg.pixels_per_clock, side * side),
-            "inside": Out(side * side).array(cfg.pixels_per_clock),
-        })
-
-    def elaborate(self, platform):
-        m = Module()
-        cfg = self._cfg
-        p, r = cfg.pixels_per_clock, cfg.radius
-        side = 2 * r + 1
-        beats = [[Signal(beat_word_layout(cfg), name=f"beat{slot}_row{i}")
-                  for i in range(side)] for slot in range(r + 2)]
-        with m.If(self.shift):
-            for i in range(side):
-                m.d.sync += beats[0][i].eq(self.column[i])
-                for slot in range(1, r + 2):
-                    m.d.sync += beats[slot][i].eq(beats[slot - 1][i])
-            for lane in range(p):
-                bits = []
-                for i in range(side):
-                    for j in range(side):
-                        column = lane + r - j          # relative to the beat's first pixel
-                        col_ok = (~self.first_beat if column < 0 else
-                                  ~self.last_beat if column >= p else 1)
-                        bits.append(self.row_inside[i] & col_ok)
-                m.d.sync += self.inside[lane].eq(Cat(*bits))
-        for lane in range(p):
-            for i in range(side):
-                for j in range(side):
-                    slot, word = lane_column(cfg, lane, j)
-                    m.d.comb += self.cells[lane][i * side + j].eq(beats[slot][i][word])
-        return m
-
-
-# ---- the core -------------------------------------------------------------------------------
 class DPCoreWide(wiring.Component):
     """Streaming direction-weighted DP, P = 2 or 4 pixels per clock, external state store.
 
@@ -302,7 +98,8 @@ class DPCoreWide(wiring.Component):
         if output_fifo_depth is None:
             output_fifo_depth = self._schedule.latency + 2
         if output_fifo_depth < 3:
-            raise ValueError(f"output_fifo_depth must be an integer in [3, inf), got {output_fifo_depth}")
+            raise ValueError(f"output_fifo_depth must be an integer in [3, inf), got "
+                             f"{output_fifo_depth}")
         self._fifo_depth = output_fifo_depth
         super().__init__({
             "pixels": In(stream.Signature(wide_pixel_layout(cfg))),
@@ -483,59 +280,3 @@ class DPCoreWide(wiring.Component):
             input_ready.eq(credit.ready),
         ]
         return m
-
-
-class DPPipelineWide(wiring.Component):
-    """:class:`DPCoreWide` plus its on-chip :class:`WideStateStore`: the ``dptbd_dp`` top
-    at P = 2 or 4. Members as :class:`~dptbd.hw.dp_pipeline.DPPipeline`'s with the beats'
-    layouts (:func:`wide_pixel_layout`, :func:`wide_state_layout`)."""
-
-    def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
-                 lut_style: str = "auto", **core_options):
-        self._core = DPCoreWide(cfg, output_fifo_depth=output_fifo_depth, lut_style=lut_style,
-                                **core_options)
-        self._cfg = cfg
-        super().__init__({
-            "pixels": In(stream.Signature(wide_pixel_layout(cfg))),
-            "states": Out(stream.Signature(wide_state_layout(cfg))),
-            **lut_write_members(cfg),
-            **run_time_k_members(cfg),
-        })
-
-    config = property(lambda self: self._cfg, doc="The configuration.")
-    schedule = property(lambda self: self._core.schedule, doc="Cycle offsets of every stage.")
-    latency = property(lambda self: self._core.latency,
-                       doc="Cycles from a beat's acceptance to its states on ``states``.")
-    output_fifo_depth = property(lambda self: self._core.output_fifo_depth,
-                                 doc="Output FIFO entries.")
-    resync = property(lambda self: self._core.resync, doc=":attr:`DPCoreWide.resync`.")
-    core_options = property(lambda self: self._core.core_options,
-                            doc=":attr:`DPCoreWide.core_options`.")
-    lut_style = property(lambda self: self._core.lut_style, doc="The weight LUTs' storage.")
-
-    def elaborate(self, platform):
-        m = Module()
-        m.submodules.core = core = self._core
-        m.submodules.state_store = store = WideStateStore(self._cfg)
-        wiring.connect(m, core.state_store, store.bus)
-        wiring.connect(m, wiring.flipped(self.pixels), core.pixels)
-        wiring.connect(m, core.states, wiring.flipped(self.states))
-        m.d.comb += [
-            core.lut_addr.eq(self.lut_addr),
-            core.lut_data.eq(self.lut_data),
-            core.lut_we.eq(self.lut_we),
-            core.segment_frames.eq(self.segment_frames),
-            self.segment_begin.eq(core.segment_begin),
-            self.events.eq(core.events),
-        ]
-        return m
-
-
-def dp_pipeline(cfg: DPConfig, **options):
-    """The ``dptbd_dp`` top for ``cfg``: :class:`~dptbd.hw.dp_pipeline.DPPipeline` at P = 1,
-    :class:`DPPipelineWide` at P = 2 or 4; ``options`` are passed on."""
-    if cfg.pixels_per_clock == 1:
-        from dptbd.hw.dp_pipeline import DPPipeline
-        return DPPipeline(cfg, **options)
-    return DPPipelineWide(cfg, **options)
-

@@ -1,4 +1,4 @@
-"""The P-pixel pipeline (``hw/dp_wide.py``) against the golden model, bit for bit.
+"""The P-pixel pipeline (``hw/wide/``) against the golden model, bit for bit.
 
 Whole small scenes stream through ``DPPipelineWide`` (and ``DPCoreWide`` with a memory
 model) in the Amaranth simulator with random input gaps and output back-pressure; every
@@ -16,7 +16,7 @@ from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.errors import ConfigError
 from dptbd.hw.dp_core import CORE_OPTIONS
 from dptbd.hw.dp_pipeline import DPPipeline
-from dptbd.hw.dp_wide import (DPCoreWide, DPPipelineWide, check_wide, dp_pipeline,
+from dptbd.hw.wide import (DPCoreWide, DPPipelineWide, check_wide, dp_pipeline,
                               lane_column, pack_beat, unpack_beat_states, wide_pixel_layout,
                               wide_state_layout)
 from dptbd.hw.layouts import pack
@@ -100,11 +100,11 @@ def test_core_options_change_nothing(options):
 def test_lutram_line_buffer_reads_interleaved_on_an_even_row(monkeypatch, width, interleaved):
     """At P = 4 the LUT-RAM line buffer reads interleaved (as DPCore's) when a row has an
     even number of beats >= 4; bit for bit either way."""
-    import dptbd.hw.dp_wide as dp_wide
+    import dptbd.hw.wide.core as core
 
     made = []
-    real = dp_wide.LineBuffer
-    monkeypatch.setattr(dp_wide, "LineBuffer", lambda *a, **k: made.append(k) or real(*a, **k))
+    real = core.LineBuffer
+    monkeypatch.setattr(core, "LineBuffer", lambda *a, **k: made.append(k) or real(*a, **k))
     cfg = make_config(width=width, height=6, segment_frames=3, pixels_per_clock=4)
     style = "bram" if width == 24 else "lutram"
     dut = DPPipelineWide(cfg, line_buffer_style=style)
@@ -302,7 +302,7 @@ def test_one_pixel_blocks_refuse_p_above_one():
     for a P > 1 configuration."""
     cfg = DPConfig(width=8, height=6, pixels_per_clock=2)
     message = ("pixels_per_clock=2: this block takes one pixel per clock; P = 2 and 4 are "
-               "built by DPCoreWide and DPPipelineWide (hw/dp_wide.py, the dp top of dptbd "
+               "built by DPCoreWide and DPPipelineWide (hw/wide/, the dp top of dptbd "
                "verilog)")
     with refused(ConfigError, match=whole(message)):
         DPPipeline(cfg)
