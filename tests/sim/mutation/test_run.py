@@ -69,7 +69,8 @@ def test_score_counts_only_killed():
 
 def test_slice_runs_scaled():
     assert R.slice_runs("axi", 0.01) == (("faults", 0), ("backpressure", 1), ("random", 0),
-                                         ("lut", 0), ("counters", 0), ("irq", 0),
+                                         ("lut", 0), ("counters", 0), ("presets", 0),
+                                         ("irq", 0),
                                          ("restart", 0), ("decode", 0), ("n-values", 0),
                                          ("noise", 0), ("resync", 0), ("lut-reverse", 0),
                                          ("stalls", 0), ("lists", 0))
