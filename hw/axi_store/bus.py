@@ -15,7 +15,8 @@ from amaranth.lib.wiring import In, Out
 from dptbd.config import AxiStoreConfig
 
 __all__ = ["BURST_INCR", "RESP_OKAY", "RESP_EXOKAY", "RESP_SLVERR", "RESP_DECERR",
-           "CACHE_MODIFIABLE", "axi4_signature", "address_channel", "size_code"]
+           "CACHE_MODIFIABLE", "AXI_PREFIX", "axi4_signature", "address_channel", "size_code",
+           "axi_port_members", "store_port_members", "connect_axi_ports"]
 
 #: ``AxBURST`` of an incrementing burst.
 BURST_INCR = 0b01
@@ -24,6 +25,8 @@ RESP_OKAY, RESP_EXOKAY, RESP_SLVERR, RESP_DECERR = 0b00, 0b01, 0b10, 0b11
 #: ``AxCACHE`` the port drives: normal non-cacheable bufferable (0b0011), what a DMA
 #: engine streaming to DRAM uses.
 CACHE_MODIFIABLE = 0b0011
+#: Prefix of the flattened AXI4 manager port: ``m_axi_state_araddr`` and so on.
+AXI_PREFIX = "m_axi_state"
 
 
 def size_code(beat_bytes: int) -> int:
@@ -62,3 +65,26 @@ def axi4_signature(store: AxiStoreConfig) -> wiring.Signature:
         "r": Out(wiring.Signature({"rid": In(i), "rdata": In(d), "rresp": In(2),
                                    "rlast": In(1), "rvalid": In(1), "rready": Out(1)})),
     })
+
+
+def axi_port_members(store: AxiStoreConfig) -> dict:
+    """``{m_axi_state_<AXI name>: member}`` of the state store's AXI4 manager port."""
+    return {f"{AXI_PREFIX}_{path[-1]}": member
+            for path, member in axi4_signature(store).members.flatten() if member.is_port}
+
+
+def store_port_members(store: AxiStoreConfig) -> dict:
+    """The members a component with the store outside has beyond its own: the flattened
+    manager port, the base address (reset: the configured one) and the error pulses."""
+    return {**axi_port_members(store),
+            "state_base": In(store.address_bits, init=store.base_address),
+            "read_error": Out(1),
+            "write_error": Out(1)}
+
+
+def connect_axi_ports(store: AxiStoreConfig, outer, inner) -> list:
+    """The statements that pass ``inner``'s flattened manager port through ``outer``'s
+    (outputs outward, inputs inward)."""
+    return [getattr(outer, name).eq(getattr(inner, name)) if member.flow == Out
+            else getattr(inner, name).eq(getattr(outer, name))
+            for name, member in axi_port_members(store).items()]

@@ -14,24 +14,14 @@ from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import AxiStoreConfig
-from dptbd.hw.axi_store.bus import axi4_signature
+from dptbd.hw.axi_store.bus import AXI_PREFIX, axi4_signature, store_port_members
 from dptbd.hw.axi_store import AxiStateStore
 from dptbd.hw.dp_core import (DPCore, family_write_members, family_write_ports,
                                lut_write_members, run_time_k_members)
 from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.hw.layouts import pixel_layout, state_layout
 
-__all__ = ["AXI_PREFIX", "DPPipelineAxi"]
-
-#: Prefix of the flattened AXI4 manager port: ``m_axi_state_araddr`` and so on.
-AXI_PREFIX = "m_axi_state"
-
-
-def _flat(signature: wiring.Signature) -> dict:
-    """``{m_axi_state_<AXI name>: member}`` of every signal of the AXI4 signature."""
-    return {f"{AXI_PREFIX}_{path[-1]}": member for path, member in signature.members.flatten()
-            if member.is_port}
-
+__all__ = ["DPPipelineAxi"]
 
 class DPPipelineAxi(DPPipeline):
     """Streaming DP with the state in external memory (see the module doc); the properties
@@ -74,10 +64,7 @@ class DPPipelineAxi(DPPipeline):
             **lut_write_members(cfg),
             **family_write_members(cfg),
             **run_time_k_members(cfg),
-            **_flat(axi4_signature(store)),
-            "state_base": In(store.address_bits, init=store.base_address),
-            "read_error": Out(1),
-            "write_error": Out(1),
+            **store_port_members(store),
         })
 
     @property

@@ -13,21 +13,15 @@ from amaranth.lib import stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import AxiStoreConfig
-from dptbd.hw.axi_store.bus import axi4_signature
-from dptbd.hw.axi_store.pipeline import AXI_PREFIX, DPPipelineAxi
+from dptbd.hw.axi_store.bus import connect_axi_ports, store_port_members
+from dptbd.hw.axi_store.pipeline import DPPipelineAxi
 from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.dp_core import lut_write_members
 from dptbd.hw.dp_segmenter_top import DPSegmenter
 from dptbd.hw.layouts import event_layout, pixel_layout, state_layout
 from dptbd.hw.segmenter import Segmenter, segmenter_setting_members
 
-__all__ = ["axi_port_members", "DPSegmenterAxi"]
-
-
-def axi_port_members(store: AxiStoreConfig) -> dict:
-    """``{m_axi_state_<AXI name>: member}`` of the state store's AXI4 manager port."""
-    return {f"{AXI_PREFIX}_{path[-1]}": member
-            for path, member in axi4_signature(store).members.flatten() if member.is_port}
+__all__ = ["DPSegmenterAxi"]
 
 
 class DPSegmenterAxi(DPSegmenter):
@@ -59,10 +53,7 @@ class DPSegmenterAxi(DPSegmenter):
             **segmenter_setting_members(cfg),
             "events": Out(event_layout(cfg)),
             **({"states": Out(stream.Signature(state_layout(cfg)))} if state_output else {}),
-            **axi_port_members(store),
-            "state_base": In(store.address_bits, init=store.base_address),
-            "read_error": Out(1),
-            "write_error": Out(1),
+            **store_port_members(store),
         })
 
     @property
@@ -73,9 +64,7 @@ class DPSegmenterAxi(DPSegmenter):
     def elaborate(self, platform):
         m = super().elaborate(platform)
         dp = self._dp
-        for name, member in axi_port_members(self._store).items():
-            outer, inner = getattr(self, name), getattr(dp, name)
-            m.d.comb += outer.eq(inner) if member.flow == Out else inner.eq(outer)
+        m.d.comb += connect_axi_ports(self._store, self, dp)
         m.d.comb += [dp.state_base.eq(self.state_base),
                      self.read_error.eq(dp.read_error),
                      self.write_error.eq(dp.write_error)]

@@ -32,7 +32,8 @@ from amaranth.lib.wiring import In, Out
 from dptbd.config import AxiStoreConfig
 from dptbd.errors import ConfigError
 from dptbd.hw.axi_store.quiet import QUIET_INPUTS, AxiQuiet
-from dptbd.hw.axi_store.segmenter import DPSegmenterAxi, axi_port_members
+from dptbd.hw.axi_store.bus import axi_port_members, connect_axi_ports
+from dptbd.hw.axi_store.segmenter import DPSegmenterAxi
 from dptbd.hw.axi_top import AXITop, _bundle_signatures, _flat
 from dptbd.hw.register_map import register_map
 
@@ -91,9 +92,7 @@ class AXITopStore(AXITop):
         store = self._store
         core, regs = m.submodules["core"], m.submodules["regs"]
         cand_out = m.submodules["cand_out"]
-        for name, member in axi_port_members(store).items():
-            outer, inner = getattr(self, name), getattr(core, name)
-            m.d.comb += outer.eq(inner) if member.flow == Out else inner.eq(outer)
+        m.d.comb += connect_axi_ports(store, self, core)
         m.submodules.state_quiet = quiet = AxiQuiet(store.outstanding)
         for name in QUIET_INPUTS:
             m.d.comb += getattr(quiet, name).eq(getattr(self, f"m_axi_state_{name}"))

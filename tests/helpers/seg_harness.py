@@ -103,3 +103,28 @@ def run_lists(cfg: DPConfig, dut, source, sink, words: list[int], lists, **kw) -
     score(cfg, lists, result.outputs)
     return result
 
+
+
+async def scan_histogram(ctx, dut, scans: int) -> tuple[list, list]:
+    """Scan a ``Histogram`` / ``BankedHistogram`` ``scans`` times from idle: the scans'
+    (bin, count) lists in output order and the cycles from each scan_start to its last
+    count; ``scanning`` is asserted throughout each scan and low after it."""
+    out_scans, spans = [], []
+    for _ in range(scans):
+        ctx.set(dut.scan_start, 1)
+        await ctx.tick()
+        ctx.set(dut.scan_start, 0)
+        got, cycles = [], 1
+        while True:
+            assert ctx.get(dut.scanning)
+            if ctx.get(dut.scan_valid):
+                got.append((ctx.get(dut.scan_bin), ctx.get(dut.scan_count)))
+                if ctx.get(dut.scan_last):
+                    break
+            await ctx.tick()
+            cycles += 1
+        await ctx.tick()
+        assert not ctx.get(dut.scanning)
+        out_scans.append(got)
+        spans.append(cycles)
+    return out_scans, spans

@@ -8,7 +8,7 @@ import pytest
 
 from dptbd.hw.banked_histogram import BankedHistogram
 from helpers.hw_harness import simulate
-from helpers.seg_harness import make_config
+from helpers.seg_harness import make_config, scan_histogram
 
 
 def ref_counts(cfg, beats):
@@ -24,7 +24,7 @@ def rtl_scans(cfg, beats, *, seed=0, scans=2):
     and the cycles from each scan_start to its last count."""
     dut = BankedHistogram(cfg)
     rng = random.Random(seed)
-    out_scans, spans = [], []
+    result = []
 
     async def bench(ctx):
         for beat in beats:
@@ -37,26 +37,10 @@ def rtl_scans(cfg, beats, *, seed=0, scans=2):
             await ctx.tick()
         ctx.set(dut.add_en, 0)
         await ctx.tick()
-        for _ in range(scans):
-            ctx.set(dut.scan_start, 1)
-            await ctx.tick()
-            ctx.set(dut.scan_start, 0)
-            got, cycles = [], 1
-            while True:
-                assert ctx.get(dut.scanning)
-                if ctx.get(dut.scan_valid):
-                    got.append((ctx.get(dut.scan_bin), ctx.get(dut.scan_count)))
-                    if ctx.get(dut.scan_last):
-                        break
-                await ctx.tick()
-                cycles += 1
-            await ctx.tick()
-            assert not ctx.get(dut.scanning)
-            out_scans.append(got)
-            spans.append(cycles)
+        result.extend(await scan_histogram(ctx, dut, scans))
 
     simulate(dut, bench)
-    return out_scans, spans
+    return tuple(result)
 
 
 def cases():

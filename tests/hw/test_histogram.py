@@ -7,7 +7,7 @@ import pytest
 
 from dptbd.hw.histogram import Histogram
 from helpers.hw_harness import simulate
-from helpers.seg_harness import make_config
+from helpers.seg_harness import make_config, scan_histogram
 
 
 def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2):
@@ -17,8 +17,7 @@ def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2):
     from each scan_start to its last count."""
     dut = Histogram(cfg)
     rng = random.Random(seed)
-    scans_out = []
-    spans = []
+    result = []
 
     async def bench(ctx):
         for b in bins:
@@ -30,27 +29,10 @@ def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2):
             await ctx.tick()
         ctx.set(dut.add_en, 0)
         await ctx.tick()                        # the last write-back
-        for _ in range(scans):
-            ctx.set(dut.scan_start, 1)
-            await ctx.tick()
-            ctx.set(dut.scan_start, 0)
-            out = []
-            cycles = 1
-            while True:
-                assert ctx.get(dut.scanning)
-                if ctx.get(dut.scan_valid):
-                    out.append((ctx.get(dut.scan_bin), ctx.get(dut.scan_count)))
-                    if ctx.get(dut.scan_last):
-                        break
-                await ctx.tick()
-                cycles += 1
-            await ctx.tick()
-            assert not ctx.get(dut.scanning)
-            scans_out.append(out)
-            spans.append(cycles)
+        result.extend(await scan_histogram(ctx, dut, scans))
 
     simulate(dut, bench)
-    return scans_out, spans
+    return tuple(result)
 
 
 @pytest.mark.parametrize("gaps", [0.0, 0.4])
