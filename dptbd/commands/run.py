@@ -14,7 +14,12 @@ at (54, 40) with V = (0.4, 0.6), 0.2 % false-alarm threshold):
    (:mod:`dptbd.sim.verilator`, a cached compiled build: a few seconds for the built-in scene
    once built); ``--rtl-simulator icarus`` keeps the cocotb + Icarus bench (about 12 min for
    it). The printed summary and ``summary.json`` (``rtl``) say which simulator, which frames,
-   the words compared, the cycles and the simulator's speed.
+   the words compared, the cycles and the simulator's speed. A frame whose state does not fit
+   in the block RAM of the largest device the flow builds for (640 x 512, 4096 x 256) runs
+   through ``dptbd_axi --state-store axi`` (``dptbd_dp`` with ``--lists ideal``), its state
+   in the Verilator harness's AXI4 memory model, and the summary adds the cycles per pixel
+   (``--rtl-state-store``: ``auto``, the default, ``chip`` or ``axi``;
+   :mod:`dptbd.evaluation.run.rtl`).
 2. **DSP stage** — the fixed-capacity track association of 001 §3
    (:mod:`dptbd.dsp.association`), candidates' paths recovered by backtracking the
    direction maps (:mod:`dptbd.dsp.backtrack`); ``--dsp c`` runs it on the C firmware
@@ -47,7 +52,7 @@ from dptbd.dsp.c_tracker import DSP_IMPLEMENTATIONS, FirmwareError
 from dptbd.dsp.firmware import FirmwareBuildError, find_compiler
 from dptbd.evaluation.run.job import effective_scenario, run_job
 from dptbd.evaluation.run.report import RUN_FILES, TOOL, write_run_folder
-from dptbd.evaluation.run.rtl import RtlCheck, RtlError, rtl_tools_missing
+from dptbd.evaluation.run.rtl import STATE_STORES, RtlCheck, RtlError, rtl_tools_missing
 from dptbd.output_folder import check_output_folder
 
 
@@ -86,6 +91,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     dp.add_argument("--rtl-frames", type=int, default=0, metavar="N",
                     help="frames to simulate with --rtl (default 0: all; N: the first N, the "
                          "rest come from the model only, as the summary says)")
+    dp.add_argument("--rtl-state-store", choices=STATE_STORES, default="auto",
+                    help="where the simulated design keeps its state with --rtl: chip "
+                         "(dptbd_seg / dptbd_dp, block RAM), axi (dptbd_axi / dptbd_dp built "
+                         "with --state-store axi, its state in the Verilator harness's AXI4 "
+                         "memory; Verilator only) or auto (default: axi when the frame's state "
+                         "exceeds the block RAM of the largest device the flow builds for, "
+                         "e.g. 640 x 512; chip otherwise)")
     dsp = parser.add_argument_group("DSP stage")
     dsp.add_argument("--dsp", choices=DSP_IMPLEMENTATIONS, default="python",
                      help="the track association: python (default, the readable reference "
@@ -149,7 +161,8 @@ def _main(args: argparse.Namespace) -> int:
         if why is not None:
             print(f"dptbd run: error: {why}", file=sys.stderr)
             return 2
-        rtl = RtlCheck(args.rtl_simulator, args.rtl_frames, args.rtl_build_dir)
+        rtl = RtlCheck(args.rtl_simulator, args.rtl_frames, args.rtl_build_dir,
+                       args.rtl_state_store)
     try:
         if args.dsp == "c":
             find_compiler()                   # a missing C compiler: refused before any work

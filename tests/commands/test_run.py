@@ -291,6 +291,99 @@ def test_rtl_checks_every_frame_on_verilator_by_default(tmp_path, small, capsys)
     assert json.loads((out / "summary.json").read_text())["rtl"]["build_cached"] is True
 
 
+@VERILATOR
+def test_rtl_with_the_axi_state_store(tmp_path, small, capsys):
+    """``--rtl-state-store axi``: dptbd_axi with its state in the harness's AXI4 memory gives
+    the lists, words and cycles dptbd_seg gives; with ideal lists dptbd_dp does."""
+    out = tmp_path / "r"
+    build = tmp_path / "build"
+    args = ["run", "--no-progress", "--scenario", str(small), "--rtl", "--rtl-build-dir",
+            str(build), "--rtl-state-store", "axi", "--out", str(out)]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    line = ("RTL (dptbd_axi --state-store axi on Verilator) checked frames 0-23 of 24: "
+            "bit-exact, 50 candidate-list words compared, 24594 cycles")
+    assert f"\n{line}\n" in text and line in (out / "table.md").read_text()
+    assert re.search(r"^  RTL: bit-exact: 4 lists, 46 records, 50 words — the generated Verilog "
+                     r"\(dptbd_axi --state-store axi on Verilator\) matches the golden model on "
+                     r"all 24 frames: 50 candidate-list words compared, 24594 cycles, "
+                     r"([0-9.]+ M|\d+) cycles/s \([0-9.]+ s in all\); 1.000 cycles per pixel "
+                     r"with the AXI4 store at latency 0$", text, re.M), text
+    rtl = json.loads((out / "summary.json").read_text())["rtl"]
+    assert (rtl["simulator"], rtl["design"], rtl["module"], rtl["state_store"]) == (
+        "verilator", "axi", "dptbd_axi", "axi")
+    assert (rtl["words_in"], rtl["words_compared"], rtl["cycles"]) == (24 * 1024, 50, 24594)
+    assert (rtl["data_bits"], rtl["burst_beats"], rtl["outstanding"]) == (64, 16, 4)
+    assert (rtl["memory_latency"], rtl["cycles_per_pixel"]) == (0, 1.0)
+    # ideal lists: dptbd_dp, every (E, d) word; the cycles simulated (64 of drain included)
+    assert main(args + ["--force", "--lists", "ideal", "--rtl-frames", "12"]) == 0
+    text = capsys.readouterr().out
+    line = ("RTL (dptbd_dp --state-store axi on Verilator) checked frames 0-11 of 24: "
+            "bit-exact, 12288 (E, d) words compared, 12372 cycles; frames 12-23 come from the "
+            "golden model only (--rtl-frames 0 checks all)")
+    assert f"\n{line}\n" in text
+    rtl = json.loads((out / "summary.json").read_text())["rtl"]
+    assert (rtl["design"], rtl["module"], rtl["state_store"], rtl["cycles_per_pixel"]) == (
+        "dp", "dptbd_dp", "axi", 1.0)
+
+
+def test_rtl_axi_store_on_icarus_is_refused(tmp_path, small, capsys, monkeypatch):
+    from dptbd.sim import sim_job
+
+    monkeypatch.setattr(sim_job, "simulator_tools_missing", lambda sim, option: None)
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(small), "--rtl", "--rtl-simulator",
+                 "icarus", "--rtl-state-store", "axi", "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (
+        "dptbd run: error: --rtl-state-store axi: only the Verilator harness models the AXI4 "
+        "memory; use --rtl-simulator verilator\n")
+    assert leftovers(tmp_path) == []
+    with pytest.raises(SystemExit):
+        main(["run", "--rtl", "--rtl-state-store", "dram"])
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        "dptbd run: error: argument --rtl-state-store: invalid choice: 'dram' (choose from "
+        "'auto', 'chip', 'axi')")
+
+
+SENSOR = """\
+name = "sensor-640x512"
+[scene]
+size = [512, 640]
+frames = 12
+snr = 3.0
+seed = 1
+[[scene.targets]]
+start = [100.0, 200.0]
+velocity = [0.8, 0.6]
+[[scene.targets]]
+start = [400.0, 500.0]
+velocity = [-0.5, 0.7]
+[segmentation]
+false_alarm_rate = 0.0002
+"""
+
+
+@pytest.mark.slow
+@VERILATOR
+def test_rtl_at_640x512_takes_the_axi_state_store(tmp_path, capsys):
+    """A 640 x 512 scenario (12 frames: two segments of K = 6): its 6.5 Mbit of state
+    exceed the largest device's block RAM, so --rtl runs dptbd_axi --state-store axi (about
+    3 minutes on a loaded 2-core machine, the build included)."""
+    scenario = tmp_path / "sensor.toml"
+    scenario.write_text(SENSOR)
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(scenario), "--rtl",
+                 "--rtl-build-dir", str(tmp_path / "build"), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    # 12 frames of 327 680 pixels at one per clock, + latency 17 + 1
+    line = ("RTL (dptbd_axi --state-store axi on Verilator) checked frames 0-11 of 12: "
+            "bit-exact, 130 candidate-list words compared, 3932178 cycles")
+    assert f"\n{line}\n" in text
+    rtl = json.loads((out / "summary.json").read_text())["rtl"]
+    assert (rtl["state_store"], rtl["cycles_per_pixel"], rtl["words_in"]) == (
+        "axi", 1.0, 12 * 640 * 512)
+
+
 @pytest.mark.skipif(shutil.which("iverilog") is None, reason="Icarus Verilog not installed")
 def test_rtl_on_icarus_checks_the_generated_verilog_against_the_model(tmp_path, small, capsys):
     out = tmp_path / "r"
@@ -403,7 +496,8 @@ def test_rtl_summary_says_which_frames_were_checked(tmp_path, small, capsys, mon
     calls = []
 
     def fake_rtl(frames, cfg, n_frames, build_dir, design="segmenter", simulator="verilator",
-                 log=None):
+                 log=None, state_store="chip"):
+        assert state_store == "auto"          # --rtl-state-store's default
         calls.append((n_frames, build_dir, design, simulator))
         total = frames.shape[0]
         n = total if not n_frames else n_frames
