@@ -122,8 +122,9 @@ def main(args: argparse.Namespace) -> int:
     if args.coverage is not None:
         from dptbd.sim.coverage.report import axi_cases, extra_cases
         axi = axi_cases()
-        # dptbd_dp --state-store axi has no coverage build: its cases run without --coverage
-        cases = [c for c in cases if c.design != "dp_axi"] + extra_cases()
+        # the --state-store axi builds have no coverage build: their cases run without
+        # --coverage
+        cases = [c for c in cases if c.design not in ("dp_axi", "axi_store")] + extra_cases()
     if args.cases:
         known = {c.name for c in cases} | {a.name for a in axi}
         unknown = [n for n in args.cases if n not in known]

@@ -28,7 +28,8 @@ command; ``tests/sim/campaign/test_campaign.py`` runs a slice of it in the defau
 This package runs the campaign (a run built, run and checked: :func:`check_run`,
 :func:`check_x_store`; the tasks on the execution layer: :func:`run_campaign`); the cases
 are in :mod:`dptbd.sim.campaign.cases`, what a run draws in :mod:`dptbd.sim.campaign.draw`
-(the runs of ``dptbd_dp --state-store axi``, design ``"dp_axi"``: :mod:`dptbd.sim.campaign.store`),
+(the runs of ``dptbd_dp --state-store axi``, design ``"dp_axi"``, and of ``dptbd_axi
+--state-store axi``, design ``"axi_store"``: :mod:`dptbd.sim.campaign.store`),
 the results in :mod:`dptbd.sim.campaign.results`, all importable from here.
 """
 
@@ -74,6 +75,9 @@ def check_run(case: Case, seed: int, root: str | None = None,
     if case.design == "dp_axi":
         from dptbd.sim.campaign.store import check_store_run
         return check_store_run(case, seed, root)
+    if case.design == "axi_store":
+        from dptbd.sim.campaign.store import check_axi_store_run
+        return check_axi_store_run(case, seed, root)
 
     start = time.perf_counter()
     sim = build(case.cfg, case.design, root=root, coverage=coverage is not None)
@@ -157,10 +161,12 @@ def run_campaign(cases: Sequence[Case] | None = None, *, runs_scale: float = 1.0
                               tasks=len(tasks))
 
     def build_all() -> None:                  # once, up front (then cached)
-        from dptbd.sim.campaign.store import build_store
+        from dptbd.sim.campaign.store import build_axi_store, build_store
         for case in cases:
             if case.design == "dp_axi":
                 build_store(case, root=root)
+            elif case.design == "axi_store":
+                build_axi_store(case, root=root)
             else:
                 build(case.cfg, case.design, root=root)
 

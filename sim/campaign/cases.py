@@ -26,7 +26,9 @@ class Case:
     design : str
         ``"dp"``, ``"core"``, ``"segmenter"`` or ``"axi"`` (:data:`dptbd.sim.verilator.DESIGNS`;
         an ``"axi"`` case draws its runs with :mod:`dptbd.sim.axi.runs`, its own faults), or
-        ``"dp_axi"`` (``dptbd_dp --state-store axi``, runs of :mod:`dptbd.sim.campaign.store`).
+        ``"dp_axi"`` (``dptbd_dp --state-store axi``, runs of :mod:`dptbd.sim.campaign.store`)
+        or ``"axi_store"`` (``dptbd_axi --state-store axi``: an ``"axi"`` case's runs with
+        resets on the store build, :func:`dptbd.sim.campaign.store.check_axi_store_run`).
     frames : int
         Frames per run (before faults cut or lengthen them).
     runs : int
@@ -36,7 +38,7 @@ class Case:
     random_lut : bool
         The run starts by writing a random LUT (codes in [0, 2**F]).
     store : dict or None
-        ``design="dp_axi"`` (``dptbd_dp --state-store axi``, :mod:`dptbd.sim.campaign.store`):
+        ``design="dp_axi"`` or ``"axi_store"`` (:mod:`dptbd.sim.campaign.store`):
         the :class:`~dptbd.config.AxiStoreConfig` fields (:meth:`DPConfig.axi_store`).
     """
 
@@ -96,9 +98,10 @@ def default_cases() -> list[Case]:
 
 
 def store_cases() -> list[Case]:
-    """The ``"dp_axi"`` cases (:func:`dptbd.sim.campaign.store.store_cases`)."""
-    from dptbd.sim.campaign.store import store_cases as cases
-    return cases()
+    """The ``"dp_axi"`` cases (:func:`dptbd.sim.campaign.store.store_cases`) and the
+    ``"axi_store"`` ones (:func:`dptbd.sim.campaign.store.axi_store_cases`)."""
+    from dptbd.sim.campaign.store import axi_store_cases, store_cases as cases
+    return cases() + axi_store_cases()
 
 
 def axi_cases() -> list[Case]:

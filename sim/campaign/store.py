@@ -12,7 +12,10 @@ burst size, so the frame's bursts end at 4 KB boundaries at varying offsets), an
 * without faults, runs on Verilator (:mod:`dptbd.sim.verilator.dp_axi`, the C++ memory model
   that checks every AXI4 rule it sees): every output word equal to the golden model's bit for
   bit (the first mismatch reported by frame, row, column and field), no AXI4 rule broken, no
-  error flagged;
+  error flagged, and as many bursts of each direction ending at a 4 KB boundary as the
+  layout gives (:func:`boundary_bursts`); the ``store`` bins count what the memory model
+  observed (stalled cycles of each channel, bursts ending at a 4 KB boundary:
+  :data:`~dptbd.sim.coverage.bins.store.OBSERVED`);
 * with the faults ``"read_error"`` / ``"write_error"`` (:data:`STORE_FAULTS`), runs on the
   Amaranth simulator with :class:`~dptbd.sim.axi4_memory.Axi4Memory` (the Verilator harness
   answers OKAY only), which answers the first read beat and / or the first write burst
@@ -26,8 +29,21 @@ about half the runs);
   segment after t + 1's on are bit-exact (the failed transfers are frame t - 1's or t's
   write, t's or t + 1's read).
 
-Resets in the middle of a run are not drawn: neither memory model drops its bursts in flight
-on a reset.
+The ``"axi_store"`` cases (:func:`axi_store_cases`) run the drop-in core ``dptbd_axi``
+built with ``--state-store axi`` on Verilator (``dptbd.sim.verilator.build(cfg, "axi",
+state_store=...)``, the harness's C++ memory model on its state port, which forgets every
+burst in flight while ``aresetn`` is low, as AXI4 lets a reset abandon them): each run is an
+``"axi"`` case's run of :func:`dptbd.sim.axi.runs.draw_run` — frame-sync faults, soft resets
+(after the pipeline drained and with words in flight), ``aresetn`` pulses after the pipeline
+drained and with words and bursts in flight at a beat drawn anywhere in a frame, run-time
+settings, LUT writes, counter clears — with the memory of :func:`draw_memory` (a read
+latency class in turn, write-response latency, random AXI ready / valid) and
+:func:`dptbd.sim.verilator.axi.check_axi` scores every candidate word, flag, response and
+counter, with no AXI4 rule broken and no burst left in flight at the end; their ``store``
+bins are the memory model's observations. Not drawn there: the refused bus accesses of the
+``"axi"`` cases (``"bus"``: their unmapped addresses assume the map without the store's
+registers) and error responses (a failed read leaves wrong states, which the candidate
+scoring cannot tell from a bug; the error case above checks the recovery).
 """
 
 from __future__ import annotations
@@ -38,7 +54,8 @@ import time
 import numpy as np
 
 __all__ = ["STORE_FAULTS", "StorePlan", "draw_store_run", "check_store_run", "store_cases",
-           "boundary_bursts"]
+           "boundary_bursts", "MemoryPlan", "draw_memory", "axi_store_cases",
+           "check_axi_store_run"]
 
 #: Fault classes of a ``"dp_axi"`` case.
 STORE_FAULTS = ("read_error", "write_error")
@@ -165,15 +182,11 @@ def check_store_run(case, seed: int, root=None):
     start = time.perf_counter()
     plan = draw_store_run(case, seed)
     if plan.errors:
-        passed, report, words, cycles, sim_seconds, reads, writes = _check_errors(case, plan,
-                                                                                   seed)
+        passed, report, words, cycles, sim_seconds, observed = _check_errors(case, plan, seed)
     else:
-        passed, report, words, cycles, sim_seconds, reads, writes = _check_verilator(
+        passed, report, words, cycles, sim_seconds, observed = _check_verilator(
             case, plan, seed, root)
-    store = _store(case)
-    n = boundary_bursts(store, plan.base, case.frames)
-    bins = store_bins(plan, passed=passed, read_bursts=reads, write_bursts=writes,
-                      boundary_bursts=(n, n) if not plan.errors else (0, 0))
+    bins = store_bins(plan, passed=passed, observed=observed)
     return RunOutcome(case.name, seed, passed, report, words, words, cycles, sim_seconds,
                       time.perf_counter() - start, plan.notes, bins)
 
@@ -198,6 +211,7 @@ def _mismatch(cfg, outputs: np.ndarray, expected: np.ndarray, skip=()) -> str:
 
 
 def _check_verilator(case, plan: StorePlan, seed: int, root):
+    from dptbd.sim.coverage.bins.store import OBSERVED
     from dptbd.sim.scoreboard import expected_words
     from dptbd.sim.verilator import dp_axi
 
@@ -218,8 +232,15 @@ def _check_verilator(case, plan: StorePlan, seed: int, root):
     elif int(r["read_errors"]) or int(r["write_errors"]):
         report = (f"read_error {int(r['read_errors'])}, write_error {int(r['write_errors'])} "
                   f"cycles with an OKAY memory")
+    observed = {name: int(r[name]) for name in OBSERVED}
+    want = boundary_bursts(sim.store, plan.base, case.frames)
+    for direction in ("read", "write"):
+        seen = observed[f"{direction}_boundary_bursts"]
+        if not report and seen != want:
+            report = (f"{seen} {direction} bursts ended at a 4 KB boundary, the layout "
+                      f"gives {want}")
     return (not report, report, len(run.outputs), int(r["cycles"]), float(r["seconds"]),
-            int(r["read_bursts"]), int(r["write_bursts"]))
+            observed)
 
 
 def _check_errors(case, plan: StorePlan, seed: int):
@@ -306,5 +327,102 @@ def _check_errors(case, plan: StorePlan, seed: int):
         k, t = cfg.segment_frames, plan.target
         report = _mismatch(cfg, outputs, expected, skip=range(t, ((t + 1) // k + 1) * k))
     mem_stats = memory.stats
+    # the Amaranth model counts bursts only: these runs fill no stall or boundary bin
     return (not report, report, len(outputs), state["cycles"], seconds,
-            int(mem_stats["read_bursts"]), int(mem_stats["write_bursts"]))
+            {"read_bursts": int(mem_stats["read_bursts"]),
+             "write_bursts": int(mem_stats["write_bursts"])})
+
+
+# ---- dptbd_axi --state-store axi: the AXI cases' runs with resets, on the store build ------
+
+@dataclasses.dataclass(frozen=True)
+class MemoryPlan:
+    """What run ``seed`` of an ``"axi_store"`` case drew for its memory (no errors)."""
+
+    latency: tuple[int, int]
+    write_latency: tuple[int, int]
+    axi_ready: float
+    axi_valid: float
+    errors: tuple = ()
+
+    def memory(self) -> dict:
+        """:func:`dptbd.sim.verilator.axi.run_axi`'s ``memory``."""
+        return dict(latency=self.latency, write_latency=self.write_latency,
+                    axi_ready=self.axi_ready, axi_valid=self.axi_valid)
+
+    @property
+    def notes(self) -> tuple[str, ...]:
+        return (f"read latency {self.latency[0]} … {self.latency[1]}, write response "
+                f"{self.write_latency[0]} … {self.write_latency[1]}",
+                f"AXI ready {self.axi_ready:.2f}, valid {self.axi_valid:.2f}")
+
+
+def draw_memory(seed: int) -> MemoryPlan:
+    """The memory of run ``seed``: a read latency class in turn (seed mod 4), a range inside
+    it, a write-response range, the AXI ready and valid probabilities (as
+    :func:`draw_store_run`)."""
+    rng = np.random.default_rng([seed, 0xA716])
+    lo_c, hi_c = _LATENCY_DRAW[seed % 4]
+    lo, hi = sorted(int(v) for v in rng.integers(lo_c, hi_c + 1, size=2))
+    wl = tuple(sorted(int(v) for v in rng.integers(0, max(hi, 1) + 1, size=2)))
+    axi_ready, axi_valid = (1.0 if rng.random() < 0.3 else float(rng.uniform(0.3, 1.0))
+                            for _ in range(2))
+    return MemoryPlan((lo, hi), wl, axi_ready, axi_valid)
+
+
+def axi_store_cases():
+    """The ``"axi_store"`` cases of the default campaign: the small ``"axi"`` case's
+    parameter set (24 × 16, K = 2 of K_max 4, F = 0, B_E = 9, n = 3 of C = 6) with its state
+    in AXI4 memory on a 32-bit bus, 4-beat bursts, 2 in flight."""
+    from dptbd.sim.axi.runs import AXI_FAULTS
+    from dptbd.sim.campaign.cases import Case
+
+    return [
+        Case("axi-store-24x16-f0-k2", dict(width=24, height=16, segment_frames=2,
+                                           max_segment_frames=4, weight_frac_bits=0,
+                                           energy_bits=9, candidate_count=3,
+                                           candidate_capacity=6, histogram_bits=6,
+                                           histogram_shift=2),
+             "axi_store", 40, 8, tuple(f for f in AXI_FAULTS if f != "bus"),
+             store=dict(data_bits=32, burst_beats=4, outstanding=2)),
+    ]
+
+
+def build_axi_store(case, root=None):
+    """The Verilator build of an ``"axi_store"`` case."""
+    from dptbd.sim.verilator import build
+
+    return build(case.cfg, "axi", root=root, state_store=_store(case))
+
+
+def check_axi_store_run(case, seed: int, root=None):
+    """Draw, run and check run ``seed`` of an ``"axi_store"`` case (see the module doc):
+    the :class:`~dptbd.sim.campaign.results.RunOutcome` with its ``axi`` and ``store``
+    bins."""
+    import warnings
+
+    from dptbd.config import EnergyWidthWarning
+    from dptbd.sim.axi.runs import draw_run
+    from dptbd.sim.campaign.results import RunOutcome
+    from dptbd.sim.coverage.bins import axi_bins
+    from dptbd.sim.coverage.bins.store import store_bins
+    from dptbd.sim.verilator.axi import check_axi
+
+    start = time.perf_counter()
+    sim = build_axi_store(case, root)
+    plan = draw_run(case, seed)
+    memory = draw_memory(seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        result = check_axi(sim, plan.beats, plan.steps, valid_gap=plan.valid_gap,
+                           ready_pause=plan.ready_pause, seed=seed, pulses=plan.pulses,
+                           memory=memory.memory())
+        bins = axi_bins(case.cfg, plan.beats, plan.steps, passed=result.passed,
+                        latency=sim.latency, valid_gap=plan.valid_gap,
+                        ready_pause=plan.ready_pause, run=result.run)
+    bins.update(store_bins(memory, passed=result.passed, observed=result.run.counters))
+    report = "" if result.passed else f"seed {seed}: {result.report()}"
+    return RunOutcome(case.name, seed, result.passed, report, len(plan.beats),
+                      len(result.run.out_words) + len(result.run.op_resp), result.run.cycles,
+                      result.run.sim_seconds, time.perf_counter() - start,
+                      plan.notes + memory.notes, bins)

@@ -126,6 +126,11 @@ class Axi4Memory {
     uint64_t read_bursts = 0, write_bursts = 0, violations = 0;
     uint64_t read_errors = 0, write_errors = 0;   // error beats (R), bursts (B) sent
     uint64_t first_read_error = ~0ULL, first_write_error = ~0ULL;   // their first handshake
+    // Observed stalls: cycles the manager's AR / AW / W valid waited on a low ready, and
+    // cycles an R beat or a B response was due but its valid was held low; bursts whose
+    // last byte is the last byte of a 4 KB page (read, write).
+    uint64_t ar_stalls = 0, aw_stalls = 0, w_stalls = 0, r_stalls = 0, b_stalls = 0;
+    uint64_t read_boundary_bursts = 0, write_boundary_bursts = 0;
     std::string first_violation;
     std::vector<uint64_t> log;   // per address handshake: cycle << 1 | is_write, address
 
@@ -169,6 +174,7 @@ class Axi4Memory {
                           && ar_now[1] == ar_h_[1]))
             violate("AR: valid or payload changed before the handshake");
         ar_held_ = dut->m_axi_state_arvalid && !ar_ready_;
+        ar_stalls += ar_held_;
         ar_h_[0] = ar_now[0];
         ar_h_[1] = ar_now[1];
         if (dut->m_axi_state_arvalid && ar_ready_) {
@@ -177,6 +183,7 @@ class Axi4Memory {
             log.push_back(uint64_t(dut->m_axi_state_araddr));
             if (reads_.size() >= outstanding_) violate("AR: too many reads in flight");
             const uint64_t addr = dut->m_axi_state_araddr, len = dut->m_axi_state_arlen;
+            read_boundary_bursts += (addr + (len + 1) * BEAT) % 4096 == 0;
             ReadBurst rb{cycle + draw(job_.lat_min, job_.lat_max), {},
                          inject(read_error_thr_, job_.read_error, cycle)};
             if (check_address("AR", addr, len, dut->m_axi_state_arsize,
@@ -194,6 +201,7 @@ class Axi4Memory {
                           && aw_now[1] == aw_h_[1]))
             violate("AW: valid or payload changed before the handshake");
         aw_held_ = dut->m_axi_state_awvalid && !aw_ready_;
+        aw_stalls += aw_held_;
         aw_h_[0] = aw_now[0];
         aw_h_[1] = aw_now[1];
         if (dut->m_axi_state_awvalid && aw_ready_) {
@@ -203,6 +211,7 @@ class Axi4Memory {
             if (writes_open_ >= outstanding_) violate("AW: too many writes in flight");
             ++writes_open_;
             const uint64_t addr = dut->m_axi_state_awaddr, len = dut->m_axi_state_awlen;
+            write_boundary_bursts += (addr + (len + 1) * BEAT) % 4096 == 0;
             const bool inside = check_address("AW", addr, len, dut->m_axi_state_awsize,
                                               dut->m_axi_state_awburst);
             writes_.push_back({inside ? addr : job_.base, len + 1, {},
@@ -213,6 +222,7 @@ class Axi4Memory {
         if (w_held_ && !(dut->m_axi_state_wvalid && w_now == w_h_ && w_last == w_last_h_))
             violate("W: valid or payload changed before the handshake");
         w_held_ = dut->m_axi_state_wvalid && !w_ready_;
+        w_stalls += w_held_;
         w_h_ = w_now;
         w_last_h_ = w_last;
         if (dut->m_axi_state_wvalid && w_ready_) {
@@ -251,16 +261,30 @@ class Axi4Memory {
         ar_ready_ = chance(ready_thr_);
         aw_ready_ = chance(ready_thr_);
         w_ready_ = chance(ready_thr_);
-        if (!r_on_ && !reads_.empty() && reads_.front().due <= cycle && chance(valid_thr_)) {
-            r_data_ = reads_.front().beats.front();
-            reads_.front().beats.pop_front();
-            r_last_ = reads_.front().beats.empty();
-            r_error_ = reads_.front().error;
-            r_on_ = true;
+        if (!r_on_ && !reads_.empty() && reads_.front().due <= cycle) {
+            if (chance(valid_thr_)) {
+                r_data_ = reads_.front().beats.front();
+                reads_.front().beats.pop_front();
+                r_last_ = reads_.front().beats.empty();
+                r_error_ = reads_.front().error;
+                r_on_ = true;
+            } else {
+                ++r_stalls;                  // a beat due, its valid held low
+            }
         }
-        if (!b_on_ && !responses_.empty() && responses_.front().due <= cycle
-                && chance(valid_thr_))
-            b_on_ = true;
+        if (!b_on_ && !responses_.empty() && responses_.front().due <= cycle) {
+            if (chance(valid_thr_)) b_on_ = true;
+            else ++b_stalls;                 // a response due, its valid held low
+        }
+    }
+
+    // The observed counters above, one "key value" line each (result.txt).
+    void report(std::FILE* fh) const {
+        std::fprintf(fh, "ar_stalls %" PRIu64 "\naw_stalls %" PRIu64 "\nw_stalls %" PRIu64
+                     "\nr_stalls %" PRIu64 "\nb_stalls %" PRIu64 "\nread_boundary_bursts %"
+                     PRIu64 "\nwrite_boundary_bursts %" PRIu64 "\n", ar_stalls, aw_stalls,
+                     w_stalls, r_stalls, b_stalls, read_boundary_bursts,
+                     write_boundary_bursts);
     }
 
     // Nothing in flight (every burst answered) and nothing offered.

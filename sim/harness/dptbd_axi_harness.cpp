@@ -307,6 +307,7 @@ int main(int argc, char** argv) {
                  mem.read_bursts, mem.write_bursts, mem.violations, mem.read_errors,
                  mem.write_errors, mem.first_read_error, mem.first_write_error, int(mem.idle()),
                  mem.first_violation.empty() ? "none" : mem.first_violation.c_str());
+    mem.report(fh);
 #endif
     std::fclose(fh);
 #ifdef DPTBD_AXI_STORE

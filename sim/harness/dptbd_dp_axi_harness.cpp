@@ -144,6 +144,7 @@ int main(int argc, char** argv) {
                  status.c_str(), cycle, next_word, out.size(), seconds, mem.read_bursts,
                  mem.write_bursts, mem.violations, read_errors, write_errors,
                  mem.first_violation.empty() ? "none" : mem.first_violation.c_str());
+    mem.report(fh);
     std::fclose(fh);
     return 0;
 }

@@ -60,7 +60,8 @@ The bin groups and what a hit is (``docs/gateware.md``, "Verification campaign")
   and with the overflow flag (more than C pixels reached the threshold).
 * ``ties``: lists whose scored frame has two or more pixels in the list's threshold bin T
   (T < 2**b): a tie at the threshold, every one of them selected.
-* ``store`` (``dp_axi``, ``dptbd_dp --state-store axi``, :mod:`dptbd.sim.campaign.store`):
+* ``store`` (``dp_axi``, ``dptbd_dp --state-store axi``, and ``axi_store``, ``dptbd_axi
+  --state-store axi``: :mod:`dptbd.sim.campaign.store`):
   read bursts by the class of the read latency range their run drew (0; 1 … 99; 100 … 499;
   500 or more cycles); each AXI4 channel stalled by the memory (AR, AW, W ready or R, B
   valid driven low at random; every burst of that direction in such a run); each error

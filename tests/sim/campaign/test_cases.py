@@ -18,7 +18,7 @@ def test_default_cases_cover_what_the_campaign_promises():
     assert {0, 8} <= {c.weight_frac_bits for c in cfgs}
     assert any(c.radius == 2 for c in cfgs)
     assert any(c.random_lut for c in cases)
-    assert {"dp", "core", "segmenter", "axi", "dp_axi"} <= {c.design for c in cases}
+    assert {"dp", "core", "segmenter", "axi", "dp_axi", "axi_store"} <= {c.design for c in cases}
     assert all(set(c.faults) >= {"reset", "misaligned_first", "short_frame", "long_frame", "lut",
                                  "settings"} for c in cases if c.design in ("dp", "core",
                                                                              "segmenter"))

@@ -13,11 +13,11 @@ from helpers.refusals import whole
 from helpers.verilator_harness import needs_verilator
 
 from dptbd.sim import campaign
-from dptbd.sim.campaign.store import (boundary_bursts, check_store_run, draw_store_run,
-                                      store_cases)
+from dptbd.sim.campaign.store import (axi_store_cases, boundary_bursts, check_store_run,
+                                      draw_memory, draw_store_run, store_cases)
 from dptbd.sim.coverage.bins import declared_store
-from dptbd.sim.coverage.bins.store import (ERROR_BINS, LATENCY_CLASSES, latency_class,
-                                           store_bins)
+from dptbd.sim.coverage.bins.store import (ERROR_BINS, LATENCY_CLASSES, OBSERVED,
+                                           STALLED_CHANNELS, latency_class, store_bins)
 
 
 def _short(case, frames, runs=1):
@@ -115,9 +115,78 @@ def test_an_error_that_is_not_flagged_fails_the_run(monkeypatch):
     assert outcome.report == "read_error pulsed 0 times, expected 1"
 
 
-def test_a_failed_run_fills_no_bin():
+def test_a_failed_run_fills_no_bin_and_a_passed_one_what_was_observed():
     plan = draw_store_run(store_cases()[0], 3)
-    assert store_bins(plan, passed=False, read_bursts=5, write_bursts=5) == declared_store()
-    hit = store_bins(plan, passed=True, read_bursts=5, write_bursts=4, boundary_bursts=(1, 2))
+    seen = dict(zip(OBSERVED, (5, 4, 1, 2, 3, 6, 7, 1, 2)))
+    assert store_bins(plan, passed=False, observed=seen) == declared_store()
+    hit = store_bins(plan, passed=True, observed=seen)
     assert hit["store: read latency 500 cycles or more"] == 5
+    assert [hit[f"store: {label}"] for label in STALLED_CHANNELS] == [1, 2, 3, 6, 7]
+    assert hit["store: read burst ending at a 4 KB boundary"] == 1
     assert hit["store: write burst ending at a 4 KB boundary"] == 2
+    assert sum(hit.values()) == 5 + 1 + 2 + 3 + 6 + 7 + 1 + 2
+    # nothing observed: only nothing
+    assert sum(store_bins(plan, passed=True).values()) == 0
+
+
+@needs_verilator
+def test_the_memory_model_observes_stalls_and_4_kb_boundaries():
+    """Case 0 (6 KB of state on a 32-bit bus): seed 1 draws random AXI ready and valid; its
+    run's stalls on every channel and its bursts ending at 4 KB boundaries are counted by the
+    memory model, the boundary bursts as many as the layout gives."""
+    case = _short(store_cases()[0], 4)
+    seed = next(s for s in range(40) if draw_store_run(case, s).axi_ready < 1
+                and draw_store_run(case, s).axi_valid < 1 and draw_store_run(case, s).latency[1] < 100)
+    plan = draw_store_run(case, seed)
+    outcome = check_store_run(case, seed)
+    assert (outcome.passed, outcome.report) == (True, "")
+    want = boundary_bursts(case.cfg.axi_store(**case.store), plan.base, 4)
+    assert want >= 4
+    assert outcome.bins["store: read burst ending at a 4 KB boundary"] == want
+    assert outcome.bins["store: write burst ending at a 4 KB boundary"] == want
+    assert all(outcome.bins[f"store: {label}"] > 0 for label in STALLED_CHANNELS)
+
+
+@needs_verilator
+def test_a_boundary_count_other_than_the_layout_fails_the_run(monkeypatch):
+    from dptbd.sim.campaign import store as store_module
+
+    monkeypatch.setattr(store_module, "boundary_bursts", lambda store, base, frames: 99)
+    case = _short(store_cases()[0], 2)
+    outcome = check_store_run(case, 0)
+    assert not outcome.passed and sum(outcome.bins.values()) == 0
+    want = boundary_bursts(case.cfg.axi_store(**case.store), draw_store_run(case, 0).base, 2)
+    assert outcome.report == f"{want} read bursts ended at a 4 KB boundary, the layout gives 99"
+
+
+def test_the_axi_store_case_draws_the_axi_runs_resets_and_every_latency_class():
+    from dptbd.sim.axi.runs import AXI_FAULTS, draw_run
+
+    (case,) = axi_store_cases()
+    assert case.design == "axi_store" and case in campaign.default_cases()
+    assert set(case.faults) == set(AXI_FAULTS) - {"bus"}
+    assert {"aresetn", "soft_reset"} <= set(case.faults)
+    memories = [draw_memory(s) for s in range(4)]
+    assert [latency_class(*m.latency) for m in memories] == [c[0] for c in LATENCY_CLASSES]
+    assert all(not m.errors for m in memories) and draw_memory(5) == draw_memory(5)
+    assert memories[0].memory() == dict(latency=(0, 0), write_latency=(0, 0),
+                                        axi_ready=memories[0].axi_ready,
+                                        axi_valid=memories[0].axi_valid)
+    # seed 0: aresetn with words and bursts in flight, and soft resets with words in flight
+    assert draw_run(case, 0).drawn["aresetn_now"] >= 1
+    assert draw_run(case, 0).drawn["soft_reset_now"] >= 1
+
+
+@needs_verilator
+def test_axi_store_runs_with_resets_pass_at_each_latency_class():
+    """Seeds 0 … 3 of the dptbd_axi --state-store axi case: every candidate word, flag,
+    response and counter as the model's, no AXI4 rule broken, across aresetn pulses with
+    bursts in flight; the axi and store bins filled."""
+    (case,) = axi_store_cases()
+    outcomes = [campaign.check_run(case, seed) for seed in range(4)]
+    assert [(o.passed, o.report) for o in outcomes] == [(True, "")] * 4
+    bins = campaign.CampaignResult((), tuple(outcomes), 0.0, 1).bins
+    assert all(bins[f"store: {c[0]}"] > 0 for c in LATENCY_CLASSES)
+    assert all(bins[f"store: {label}"] > 0 for label in STALLED_CHANNELS)
+    assert set(declared_store()) <= set(bins)
+    assert any(k.startswith("soft reset:") and v for k, v in bins.items())
