@@ -42,8 +42,19 @@ latency class in turn, write-response latency, random AXI ready / valid) and
 counter, with no AXI4 rule broken and no burst left in flight at the end; their ``store``
 bins are the memory model's observations. Not drawn there: the refused bus accesses of the
 ``"axi"`` cases (``"bus"``: their unmapped addresses assume the map without the store's
-registers) and error responses (a failed read leaves wrong states, which the candidate
-scoring cannot tell from a bug; the error case above checks the recovery).
+registers). An ``"axi_store"`` case with the faults ``"read_error"`` / ``"write_error"``
+draws error runs instead (:func:`draw_error_window`): a clean hostile stream with input gaps
+and back-pressure, the memory above, and every burst whose address handshake falls in a
+window of cycles answered SLVERR (reads, writes or both, in turn by seed; the window spans
+1 … 6 bursts from the first of its direction after a drawn fraction of the run, found in a
+first run without errors: :func:`window_cycles`); the run passes when the stream never
+stops (every beat taken, every list sent), no
+AXI4 rule broke, ``STATE_READ_ERRORS`` / ``STATE_WRITE_ERRORS`` count what the memory sent
+(at least one error), the ``ERROR`` bits are set exactly for the directions that failed,
+``LISTS`` counts every list, and every list of a segment that neither it nor the segment
+before came near the window (its pixels accepted more than :func:`error_margin` pixels away
+from those accepted in it) is the model's, the last segment's among them
+(``docs/integration.md``, "State store in external memory").
 """
 
 from __future__ import annotations
@@ -55,7 +66,8 @@ import numpy as np
 
 __all__ = ["STORE_FAULTS", "StorePlan", "draw_store_run", "check_store_run", "store_cases",
            "boundary_bursts", "MemoryPlan", "draw_memory", "axi_store_cases",
-           "check_axi_store_run"]
+           "check_axi_store_run", "ErrorWindow", "draw_error_window", "window_cycles",
+           "error_margin"]
 
 #: Fault classes of a ``"dp_axi"`` case.
 STORE_FAULTS = ("read_error", "write_error")
@@ -373,7 +385,8 @@ def draw_memory(seed: int) -> MemoryPlan:
 def axi_store_cases():
     """The ``"axi_store"`` cases of the default campaign: the small ``"axi"`` case's
     parameter set (24 × 16, K = 2 of K_max 4, F = 0, B_E = 9, n = 3 of C = 6) with its state
-    in AXI4 memory on a 32-bit bus, 4-beat bursts, 2 in flight."""
+    in AXI4 memory on a 32-bit bus, 4-beat bursts, 2 in flight: the AXI runs with resets,
+    and (the same build) SLVERR windows."""
     from dptbd.sim.axi.runs import AXI_FAULTS
     from dptbd.sim.campaign.cases import Case
 
@@ -384,6 +397,13 @@ def axi_store_cases():
                                            candidate_capacity=6, histogram_bits=6,
                                            histogram_shift=2),
              "axi_store", 40, 8, tuple(f for f in AXI_FAULTS if f != "bus"),
+             store=dict(data_bits=32, burst_beats=4, outstanding=2)),
+        Case("axi-store-24x16-f0-k2-errors", dict(width=24, height=16, segment_frames=2,
+                                                  max_segment_frames=4, weight_frac_bits=0,
+                                                  energy_bits=9, candidate_count=3,
+                                                  candidate_capacity=6, histogram_bits=6,
+                                                  histogram_shift=2),
+             "axi_store", 16, 6, STORE_FAULTS,
              store=dict(data_bits=32, burst_beats=4, outstanding=2)),
     ]
 
@@ -409,6 +429,14 @@ def check_axi_store_run(case, seed: int, root=None):
     from dptbd.sim.verilator.axi import check_axi
 
     start = time.perf_counter()
+    if any(f in STORE_FAULTS for f in case.faults):
+        passed, report, words, cycles, seconds, flagged, counters, notes = _check_error_run(
+            case, seed, root)
+        memory = dataclasses.replace(draw_memory(seed), errors=flagged)
+        return RunOutcome(case.name, seed, passed, f"seed {seed}: {report}" if report else "",
+                          case.frames * case.cfg.width * case.cfg.height, words, cycles,
+                          seconds, time.perf_counter() - start, notes,
+                          store_bins(memory, passed=passed, observed=counters))
     sim = build_axi_store(case, root)
     plan = draw_run(case, seed)
     memory = draw_memory(seed)
@@ -426,3 +454,137 @@ def check_axi_store_run(case, seed: int, root=None):
                       len(result.run.out_words) + len(result.run.op_resp), result.run.cycles,
                       result.run.sim_seconds, time.perf_counter() - start,
                       plan.notes + memory.notes, bins)
+
+
+# ---- dptbd_axi --state-store axi: SLVERR windows ----------------------------------------------
+
+@dataclasses.dataclass(frozen=True)
+class ErrorWindow:
+    """The SLVERR window of an ``"axi_store"`` error run, as drawn: where it falls in the
+    run's bursts (:func:`window_cycles`)."""
+
+    directions: tuple[str, ...]     # "read", "write" or both
+    at: float                       # the window opens at the first burst of a direction
+    bursts: int                     # after the pixel at this fraction of the run, and
+                                    # closes after this many bursts (any direction)
+    valid_gap: float
+    ready_pause: float
+
+
+def draw_error_window(case, seed: int) -> ErrorWindow:
+    """Run ``seed``'s window: the directions in turn (seed mod 3: read, write, both), input
+    gaps and back-pressure (each 0 in 30 % of the runs, else uniform in [0, 0.5)), where it
+    opens (uniform in [0.2, 0.6) of the run's pixels) and how many bursts it spans (1 … 6)."""
+    rng = np.random.default_rng([seed, 0xE770])
+    directions = (("read",), ("write",), ("read", "write"))[seed % 3]
+    gap, pause = (0.0 if rng.random() < 0.3 else float(rng.uniform(0.0, 0.5))
+                  for _ in range(2))
+    return ErrorWindow(directions, float(rng.uniform(0.2, 0.6)), int(rng.integers(1, 7)),
+                       gap, pause)
+
+
+def window_cycles(window: ErrorWindow, bursts: np.ndarray, accepted: np.ndarray
+                  ) -> tuple[int, int]:
+    """``[from, to)`` cycles of ``window`` in a run without errors whose address handshakes
+    are ``bursts`` (rows cycle, is_write, address) and pixels were accepted in the cycles
+    ``accepted``: from the first burst of one of its directions at or after the pixel at
+    ``window.at`` of the run to just after ``window.bursts`` bursts. The memory model's
+    errors draw from a generator of their own, so the run with the window is the same run."""
+    after = int(accepted[int(window.at * len(accepted))])
+    kinds = [d == "write" for d in window.directions]
+    rows = np.flatnonzero((bursts[:, 0] >= after) & np.isin(bursts[:, 1], kinds))
+    if not len(rows):
+        raise ValueError(f"no {' or '.join(window.directions)} burst after cycle {after}")
+    first = int(rows[0])
+    last = min(first + window.bursts - 1, len(bursts) - 1)
+    return int(bursts[first, 0]), int(bursts[last, 0]) + 1
+
+
+def error_margin(store, latency: int) -> int:
+    """Pixels, each side of those accepted in the window, whose states a failed transfer may
+    touch: the read-ahead and write-behind (``2 · outstanding`` bursts of ``burst_states``,
+    two bursts of packing) and the pipeline's ``latency``."""
+    return 2 * (store.outstanding + 2) * store.burst_states + latency
+
+
+def _check_error_run(case, seed: int, root):
+    """An ``"axi_store"`` error run (see the module doc): (passed, report, words, cycles,
+    sim seconds, errors flagged ((code, direction), …), memory counters, notes)."""
+    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
+    from dptbd.sim.campaign.draw import hostile_frames
+    from dptbd.sim.candidate_scoreboard import list_words
+    from dptbd.sim.verilator.axi import run_axi
+
+    sim = build_axi_store(case, root)
+    cfg, store = sim.cfg, sim.state_store
+    regs = constants_namespace(cfg, store)
+    frames = hostile_frames(cfg, case.frames, np.random.default_rng([seed, 0xE771]))
+    beats = clean_beats(frames)
+    window = draw_error_window(case, seed)
+    memory = draw_memory(seed)
+    reads = ["ERROR", "STATE_READ_ERRORS", "STATE_WRITE_ERRORS", "LISTS"]
+    ops = [(len(beats), "i", sim.latency + 64 + memory.latency[1] + memory.write_latency[1],
+            0), *[(len(beats), "r", getattr(regs, f"REG_{name}"), 0) for name in reads]]
+    stalls = dict(valid_gap=window.valid_gap, ready_pause=window.ready_pause, seed=seed)
+    clean = run_axi(sim, beats, ops, memory=memory.memory(), **stalls)
+    cycles = window_cycles(window, clean.bursts, clean.accept_cycles)
+    setting = dict(memory.memory(), error_cycles=cycles,
+                   **{f"{d}_error": 1.0 for d in window.directions})
+    run = run_axi(sim, beats, ops, memory=setting, **stalls)
+    c = run.counters
+    got = dict(zip(reads, (int(v) for v in run.op_data)))
+    sent = {"read": int(c.get("read_error_beats", 0)),
+            "write": int(c.get("write_error_bursts", 0))}
+    expected = list_words(cfg, expected_outputs(cfg, beats, [{"stop": len(beats)}]).lists)
+    delivered, current = [], []
+    for word, flag in zip(run.out_words, run.out_flags):
+        current.append(int(word))
+        if int(flag) & 2:
+            delivered.append(current)
+            current = []
+    report = ""
+    if run.status != "done" or int(c["accepted"]) != len(beats):
+        report = f"status {run.status}: {c['accepted']} of {len(beats)} beats accepted"
+    elif c.get("violations"):
+        report = f"{c['violations']} AXI4 violations, the first: {run.first_violation}"
+    elif not c.get("memory_idle"):
+        report = "m_axi_state: bursts still in flight at the end"
+    elif not any(sent[d] for d in window.directions):
+        report = f"no burst in the window {cycles}: no error sent"
+    elif (got["STATE_READ_ERRORS"], got["STATE_WRITE_ERRORS"]) != (sent["read"],
+                                                                     sent["write"]):
+        report = (f"STATE_READ_ERRORS {got['STATE_READ_ERRORS']}, STATE_WRITE_ERRORS "
+                  f"{got['STATE_WRITE_ERRORS']}; the memory sent {sent['read']} error beats, "
+                  f"{sent['write']} error responses")
+    else:
+        want_error = sum(getattr(regs, f"ERROR_STATE_{d.upper()}_MASK")
+                         for d in ("read", "write") if sent[d])
+        if got["ERROR"] != want_error:
+            report = f"ERROR = {got['ERROR']:#x}, expected {want_error:#x}"
+        elif not len(delivered) == len(expected) == got["LISTS"]:
+            report = (f"{len(delivered)} lists delivered, LISTS = {got['LISTS']}, the model "
+                      f"gives {len(expected)}")
+    if not report:
+        accepted = np.asarray(run.accept_cycles, dtype=np.int64)
+        inside = np.flatnonzero((accepted >= cycles[0]) & (accepted < cycles[1]))
+        lo = int(np.searchsorted(accepted, cycles[0]))
+        hi = int(inside[-1]) if len(inside) else lo
+        margin = error_margin(store, sim.latency)
+        lo, hi = lo - margin, hi + margin
+        segment = cfg.segment_frames * cfg.width * cfg.height
+        clean = [(s + 1) * segment <= lo or s * segment > hi for s in range(len(expected))]
+        exact = [j for j in range(len(expected)) if clean[j] and (j == 0 or clean[j - 1])]
+        if not exact or exact[-1] != len(expected) - 1:
+            report = (f"the window (pixels {lo} … {hi} with the margin) leaves no clean "
+                      f"last segment of {len(expected)}: draw a shorter run")
+        for j in exact:
+            if not report and delivered[j] != expected[j]:
+                report = f"list {j} (a segment clear of the window) differs from the model's"
+    flagged = tuple(("SLVERR", d) for d in ("read", "write") if sent[d])
+    notes = (f"SLVERR on {' and '.join(window.directions)} bursts taken in cycles "
+             f"[{cycles[0]}, {cycles[1]})",
+             f"gaps {window.valid_gap:.2f}, back-pressure {window.ready_pause:.2f}",
+             *memory.notes)
+    return (not report, report, len(run.out_words) + len(run.op_resp), int(run.cycles),
+            float(run.sim_seconds), flagged, c, notes)

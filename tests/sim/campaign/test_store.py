@@ -13,8 +13,9 @@ from helpers.refusals import whole
 from helpers.verilator_harness import needs_verilator
 
 from dptbd.sim import campaign
-from dptbd.sim.campaign.store import (axi_store_cases, boundary_bursts, check_store_run,
-                                      draw_memory, draw_store_run, store_cases)
+from dptbd.sim.campaign.store import (STORE_FAULTS, axi_store_cases, boundary_bursts,
+                                      check_store_run, draw_error_window, draw_memory,
+                                      draw_store_run, store_cases)
 from dptbd.sim.coverage.bins import declared_store
 from dptbd.sim.coverage.bins.store import (ERROR_BINS, LATENCY_CLASSES, OBSERVED,
                                            STALLED_CHANNELS, latency_class, store_bins)
@@ -162,7 +163,7 @@ def test_a_boundary_count_other_than_the_layout_fails_the_run(monkeypatch):
 def test_the_axi_store_case_draws_the_axi_runs_resets_and_every_latency_class():
     from dptbd.sim.axi.runs import AXI_FAULTS, draw_run
 
-    (case,) = axi_store_cases()
+    case = axi_store_cases()[0]
     assert case.design == "axi_store" and case in campaign.default_cases()
     assert set(case.faults) == set(AXI_FAULTS) - {"bus"}
     assert {"aresetn", "soft_reset"} <= set(case.faults)
@@ -182,7 +183,7 @@ def test_axi_store_runs_with_resets_pass_at_each_latency_class():
     """Seeds 0 … 3 of the dptbd_axi --state-store axi case: every candidate word, flag,
     response and counter as the model's, no AXI4 rule broken, across aresetn pulses with
     bursts in flight; the axi and store bins filled."""
-    (case,) = axi_store_cases()
+    case = axi_store_cases()[0]
     outcomes = [campaign.check_run(case, seed) for seed in range(4)]
     assert [(o.passed, o.report) for o in outcomes] == [(True, "")] * 4
     bins = campaign.CampaignResult((), tuple(outcomes), 0.0, 1).bins
@@ -190,3 +191,49 @@ def test_axi_store_runs_with_resets_pass_at_each_latency_class():
     assert all(bins[f"store: {label}"] > 0 for label in STALLED_CHANNELS)
     assert set(declared_store()) <= set(bins)
     assert any(k.startswith("soft reset:") and v for k, v in bins.items())
+
+
+def test_the_error_window_opens_at_a_burst_of_its_direction():
+    from dptbd.sim.campaign.store import ErrorWindow, window_cycles
+
+    bursts = np.array([[10, 0, 0], [12, 1, 0], [30, 0, 32], [31, 1, 32], [50, 0, 64]])
+    accepted = np.arange(0, 100, 2)                       # 50 pixels, one every 2 cycles
+    write = ErrorWindow(("write",), 0.2, 2, 0.0, 0.0)     # after pixel 10: cycle 20
+    assert window_cycles(write, bursts, accepted) == (31, 51)
+    both = ErrorWindow(("read", "write"), 0.1, 1, 0.0, 0.0)   # after cycle 10
+    assert window_cycles(both, bursts, accepted) == (10, 11)
+    late = ErrorWindow(("read",), 0.6, 9, 0.0, 0.0)        # after cycle 60: none
+    with pytest.raises(ValueError, match=whole("no read burst after cycle 60")):
+        window_cycles(late, bursts, accepted)
+    assert [draw_error_window(axi_store_cases()[1], s).directions for s in range(3)] == [
+        ("read",), ("write",), ("read", "write")]
+
+
+@needs_verilator
+def test_axi_store_slverr_windows_are_counted_flagged_and_recovered_from():
+    """Seeds 0 … 2 of the error case (SLVERR on reads, writes, both): every beat taken,
+    every list sent, the counters equal to the errors the memory sent, the ERROR bits, and
+    every list clear of the window the model's."""
+    case = axi_store_cases()[1]
+    assert case.design == "axi_store" and set(case.faults) == set(STORE_FAULTS)
+    outcomes = [campaign.check_run(case, seed) for seed in range(3)]
+    assert [(o.passed, o.report) for o in outcomes] == [(True, "")] * 3
+    bins = campaign.CampaignResult((), tuple(outcomes), 0.0, 1).bins
+    assert bins["store: SLVERR on a read, flagged, recovered"] == 2
+    assert bins["store: SLVERR on a write, flagged, recovered"] == 2
+
+
+@needs_verilator
+def test_an_error_run_compares_the_lists_clear_of_the_window(monkeypatch):
+    """With no margin around the window every list is compared: in seed 1 (SLVERR on
+    writes) list 3 is one the failed writes changed, and the run fails. (Most windows change
+    no list: three candidates of 384 pixels rarely move; seeds 0 … 11 change one.)"""
+    from dptbd.sim.campaign import store as store_module
+
+    case = axi_store_cases()[1]
+    assert campaign.check_run(case, 1).passed
+    monkeypatch.setattr(store_module, "error_margin", lambda store, latency: -10**9)
+    outcome = campaign.check_run(case, 1)
+    assert not outcome.passed and sum(outcome.bins.values()) == 0
+    assert outcome.report == "seed 1: list 3 (a segment clear of the window) differs from " \
+        "the model's"
