@@ -12,8 +12,8 @@ burst size, so the frame's bursts end at 4 KB boundaries at varying offsets), an
 * without faults, runs on Verilator (:mod:`dptbd.sim.verilator.dp_axi`, the C++ memory model
   that checks every AXI4 rule it sees): every output word equal to the golden model's bit for
   bit (the first mismatch reported by frame, row, column and field), no AXI4 rule broken, no
-  error flagged, and as many bursts of each direction ending at a 4 KB boundary as the
-  layout gives (:func:`boundary_bursts`); the ``store`` bins count what the memory model
+  error flagged, and as many write bursts ending at a 4 KB boundary as the layout gives
+  (:func:`boundary_bursts`), as many read bursts or up to a frame's more (the read-ahead); the ``store`` bins count what the memory model
   observed (stalled cycles of each channel, bursts ending at a 4 KB boundary:
   :data:`~dptbd.sim.coverage.bins.store.OBSERVED`);
 * with the faults ``"read_error"`` / ``"write_error"`` (:data:`STORE_FAULTS`), runs on the
@@ -246,11 +246,13 @@ def _check_verilator(case, plan: StorePlan, seed: int, root):
                   f"cycles with an OKAY memory")
     observed = {name: int(r[name]) for name in OBSERVED}
     want = boundary_bursts(sim.store, plan.base, case.frames)
-    for direction in ("read", "write"):
+    # the read-ahead may also fetch the start of a frame after the last (less than a frame)
+    ahead = boundary_bursts(sim.store, plan.base, 1)
+    for direction, most in (("read", want + ahead), ("write", want)):
         seen = observed[f"{direction}_boundary_bursts"]
-        if not report and seen != want:
+        if not report and not want <= seen <= most:
             report = (f"{seen} {direction} bursts ended at a 4 KB boundary, the layout "
-                      f"gives {want}")
+                      f"gives {want if most == want else f'{want} … {most}'}")
     return (not report, report, len(run.outputs), int(r["cycles"]), float(r["seconds"]),
             observed)
 
@@ -448,6 +450,13 @@ def check_axi_store_run(case, seed: int, root=None):
         bins = axi_bins(case.cfg, plan.beats, plan.steps, passed=result.passed,
                         latency=sim.latency, valid_gap=plan.valid_gap,
                         ready_pause=plan.ready_pause, run=result.run)
+    if "bus" not in case.faults:
+        # refusals only the raw accesses reach: not declared (a refused LUT strobe comes
+        # from the LUT writes)
+        from dptbd.sim.coverage.bins.groups import BUS_REASONS, key
+
+        for reason in BUS_REASONS[1:]:
+            bins.pop(key("register", reason), None)
     bins.update(store_bins(memory, passed=result.passed, observed=result.run.counters))
     report = "" if result.passed else f"seed {seed}: {result.report()}"
     return RunOutcome(case.name, seed, result.passed, report, len(plan.beats),

@@ -11,8 +11,9 @@ __all__ = ["STREAM", "AXI", "STORE", "BANDS", "POSITIONS", "LIST_LABELS", "LUT_S
 
 STREAM = ("dp", "core", "segmenter")
 AXI = ("axi",)
-#: ``dptbd_dp --state-store axi`` (:mod:`dptbd.sim.campaign.store`).
-STORE = ("dp_axi",)
+#: ``dptbd_dp --state-store axi`` and ``dptbd_axi --state-store axi``
+#: (:mod:`dptbd.sim.campaign.store`).
+STORE = ("dp_axi", "axi_store")
 
 #: Stall density bands: (name, lowest density, highest density excluded).
 BANDS = (("none", 0.0, 0.0), ("light", 0.0, 0.35), ("heavy", 0.35, 1.0))
