@@ -470,6 +470,26 @@ def test_pixels_per_clock_builds_the_beat_pipeline(tmp_path, capsys, p):
     assert "latency 11 cycles" in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("p", [2, 4])
+def test_pixels_per_clock_builds_the_wide_segmenter(tmp_path, capsys, p):
+    out = tmp_path / "seg.v"
+    toml = tmp_path / "seg.toml"
+    toml.write_text("width = 12\nheight = 8\ncandidate_count = 3\n")
+    args = parse(["-o", out, "--top", "seg", "--config", toml, "--pixels-per-clock", p])
+    assert verilog_command.main(args) == 0
+    assert "module dptbd_seg(" in out.read_text()
+    manifest = json.loads(out.with_suffix(".json").read_text())
+    assert manifest["top"] == "DPSegmenterWide"
+    assert manifest["parameters"]["pixels_per_clock"] == p
+    assert manifest["latency"] == 11 + 3 and manifest["scan_cycles"] == manifest["derived"][
+        "n_bins"] + 4
+    names = {port["name"]: port["width"] for port in manifest["ports"]}
+    assert names["pixels__payload"] == 8 * p + 1                      # P pixels + first
+    assert names["candidates__payload"] == manifest["layouts"]["candidate_width"]
+    assert manifest["layouts"]["pixel"]["pixel_1"] == {"offset": 8, "width": 8}
+    assert "latency 14 cycles" in capsys.readouterr().out
+
+
 def test_pixels_per_clock_with_an_external_store_and_from_toml(tmp_path):
     toml = tmp_path / "p.toml"
     toml.write_text("width = 12\nheight = 8\npixels_per_clock = 4\n")
@@ -492,10 +512,9 @@ def test_pixels_per_clock_with_an_external_store_and_from_toml(tmp_path):
     (["--width", 10, "--pixels-per-clock", 4], ConfigError,
      "width=10 is not a multiple of pixels_per_clock=4: a beat of P pixels never straddles "
      "two rows"),
-    (["--width", 12, "--pixels-per-clock", 2, "--top", "seg"], ValueError,
-     "pixels_per_clock=2 applies to --top dp only; --top seg takes one pixel per clock"),
     (["--width", 12, "--pixels-per-clock", 4, "--top", "axi"], ValueError,
-     "pixels_per_clock=4 applies to --top dp only; --top axi takes one pixel per clock"),
+     "pixels_per_clock=4 applies to --top dp and --top seg only; --top axi takes one pixel "
+     "per clock"),
     (["--width", 12, "--pixels-per-clock", 2, "--state-store", "axi"], ValueError,
      "pixels_per_clock=2 keeps the state store on chip; --state-store axi takes one pixel "
      "per clock"),
