@@ -64,10 +64,6 @@ DESIGNS = {
     "axi": ("dptbd_axi", "DPTBD_DESIGN_AXI", "m_axis_cand"),     # hw/axi_top.py
 }
 
-#: The designs built at ``pixels_per_clock`` 2 and 4 (``docs/gateware.md``, "P pixels per
-#: clock").
-WIDE_DESIGNS = ("dp", "core", "segmenter")
-
 #: Verilator flags. ``-O3 --x-assign fast --x-initial fast --noassert`` measured fastest
 #: here; ``--threads`` is far slower on this design and is not used. ``-Wno-WIDTH``: Yosys'
 #: ``write_verilog`` relies on implicit extension (``hw/flow/verilog.py``, lint waivers).
@@ -280,11 +276,13 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
 
     if cfg.pixels_per_clock == 1:
         check_supported(cfg)
-    if cfg.pixels_per_clock > 1 and design not in WIDE_DESIGNS:
-        raise ValueError(f"design {design!r} takes one pixel per clock; pixels_per_clock="
-                         f"{cfg.pixels_per_clock} builds the designs "
-                         f"{', '.join(repr(d) for d in WIDE_DESIGNS[:-1])} and "
-                         f"{WIDE_DESIGNS[-1]!r} only")
+    if cfg.pixels_per_clock > 1 and design == "axi" and state_store is None:
+        from dptbd.hw.wide.axis_video import lane_bits
+        bits = cfg.pixels_per_clock * lane_bits(cfg)
+        if bits > 32:
+            raise ValueError(f"design 'axi' at pixels_per_clock={cfg.pixels_per_clock}: "
+                             f"s_axis_video_tdata of {bits} bits; the AXI harness drives at "
+                             f"most 32")
     if cfg.pixels_per_clock > 1 and mutations:
         raise ValueError("mutant builds are of the default designs, at pixels_per_clock=1")
     if cfg.pixels_per_clock > 1:

@@ -125,13 +125,6 @@ def test_a_frame_cut_short_resynchronises():
     assert flags == {True, False}
 
 
-def test_refusal_of_a_cycle_budget_design():
-    with pytest.raises(ValueError, match="^design 'axi' takes one pixel per clock; "
-                                         "pixels_per_clock=4 builds the designs 'dp', "
-                                         "'core' and 'segmenter' only$"):
-        V.build(make_config(**P4), "axi")
-
-
 @pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
 def test_reset_x_at_p2():
     """4-state: a beat offered in every cycle, in reset and right after it; no X on any
