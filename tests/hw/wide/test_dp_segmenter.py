@@ -68,22 +68,15 @@ def test_run_time_settings_per_segment():
 
     def drive(ctx, index):
         entry = starts.get(index)
-        for port in (dut.segment_frames, dut.candidate_count, dut.histogram_shift):
-            value = (getattr(entry, _member(dut, port)) if entry
-                     else int(rng.integers(0, 1 << len(port))))
-            ctx.set(port, value)
+        for name in ("segment_frames", "candidate_count", "histogram_shift"):
+            port = getattr(dut, name)
+            ctx.set(port, getattr(entry, name) if entry
+                    else int(rng.integers(0, 1 << len(port))))
 
     run_lists(cfg, dut, dut.pixels, dut.candidates, beat_payloads(cfg, frames), lists,
               valid_probability=0.8, ready_probability=0.7, seed=6, on_cycle=drive)
     assert len(lists) == len(schedule) and len({lst.threshold for lst in lists}) >= 3
     assert sum(lst.count for lst in lists) >= 10
-
-
-def _member(dut, port):
-    for name in ("segment_frames", "candidate_count", "histogram_shift"):
-        if getattr(dut, name) is port:
-            return name
-    raise AssertionError(port)
 
 
 def test_exact_cycles_k2():

@@ -15,7 +15,7 @@ from dptbd.model.segmentation import segment_stream
 from dptbd.model.settings import SegmentSettings as S
 from helpers.hw_harness import refused, simulate
 from helpers.refusals import whole
-from helpers.seg_harness import make_config, run_lists, score
+from helpers.seg_harness import make_config, pack_state_rows, run_lists, score
 
 
 def synthetic_states(cfg, n_frames, rng, *, low=0, high=None, first_k=0, low_fraction=0.0,
@@ -321,3 +321,22 @@ def test_refuses_one_pixel_per_clock():
             "SegmenterWide takes pixels_per_clock 2 or 4; at 1 use "
             "dptbd.hw.segmenter.Segmenter (dptbd.hw.wide.segmenter.segmenter picks by P)")):
         SegmenterWide(make_config(width=8, height=4))
+
+
+@pytest.mark.parametrize("lanes", [2, 4])
+def test_same_words_as_the_one_pixel_segmenter(lanes):
+    """The P = 1 ``Segmenter`` and ``SegmenterWide`` on the same states (a resync
+    included): the same candidate words, in the same order."""
+    cfg = make_config(width=12, height=4, segment_frames=2, candidate_count=5,
+                      candidate_capacity=6, histogram_bits=4, histogram_shift=4,
+                      pixels_per_clock=lanes)
+    one = cfg.replace(pixels_per_clock=1)
+    states = truncated_stream(cfg, np.random.default_rng(30 + lanes), 3, 5, 8, high=255)
+    lists = segment_stream(states, cfg)
+    narrow = Segmenter(one)
+    a = run_lists(one, narrow, narrow.states, narrow.candidates,
+                  pack_state_rows(one, states), lists, valid_probability=0.9,
+                  ready_probability=0.7, seed=1)
+    _, b = check(cfg, states, valid=0.6, ready=0.4, seed=2)
+    assert a.outputs == b.outputs and sum(lst.count for lst in lists) > 10
+    assert any(lst.overflow for lst in lists) and not all(lst.aligned for lst in lists)
