@@ -91,3 +91,19 @@ def test_tdata_wider_than_the_harness_is_refused():
             "design 'axi' at pixels_per_clock=4: s_axis_video_tdata of 64 bits; the AXI "
             "harness drives at most 32")):
         V.build(cfg, "axi")
+
+
+@pytest.mark.skipif(__import__("shutil").which("iverilog") is None,
+                    reason="needs Icarus Verilog")
+def test_reset_x_at_p2():
+    """4-state (``dptbd.sim.reset_x``): a beat of 2 pixels offered in every cycle, in reset
+    and right after it; no X on any output of dptbd_axi, tready low where promised, every
+    list after the reset exact."""
+    from dptbd.config import DPConfig
+    from dptbd.sim.reset_x import run_reset_x_check
+
+    cfg = DPConfig(width=16, height=9, segment_frames=2, candidate_count=4,
+                   histogram_bits=4, histogram_shift=4, pixels_per_clock=2).build_config()
+    results = run_reset_x_check(cfg, 4, top="axi", resets=[(0, 4), (1, 1), (5, 2)], seed=2)
+    assert [r.ok for r in results] == [True] * 3, "\n".join(r.report for r in results)
+    assert min(r.words for r in results) >= 2
