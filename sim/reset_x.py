@@ -144,7 +144,7 @@ def testbench_verilog(cfg: DPConfig, top: str, info: dict, *, pixels: int, power
 // {spec['module']} around reset: every input a reg set by its declaration (no event at time
 // 0), changed at falling edges. Written by dptbd.sim.reset_x; do not edit.
 module {_TB_MODULE};
-  localparam integer PIXELS = {pixels}, FRAME = {cfg.width * cfg.height}, WIDTH = {cfg.width};
+  localparam integer PIXELS = {pixels}, FRAME = {cfg.frame_beats}, WIDTH = {cfg.row_beats};
   integer RESET_AT = 0, RESET_END = 4;   // +reset_at=A +reset_end=E
   reg [8*256-1:0] out_name;
   localparam integer TIMEOUT = {4 * pixels + 4000};
@@ -267,7 +267,13 @@ def _run(cfg, frames, top, resets, directory: pathlib.Path) -> list[ResetXCheck]
     design = directory / f"{TOPS[top]['module']}.v"
     design.write_text(text)
     pixel_file = directory / "pixels.hex"
-    if top == "axi":
+    if top == "axi" and cfg.pixels_per_clock > 1:   # P byte lanes, pixel 0 low
+        from dptbd.hw.wide.axis_video import lane_bits
+        p, lane = cfg.pixels_per_clock, lane_bits(cfg)
+        flat = frames.ravel()
+        stream = [sum(int(v) << (lane * k) for k, v in enumerate(flat[i:i + p]))
+                  for i in range(0, flat.size, p)]
+    elif top == "axi":
         stream = [int(p) for p in frames.ravel()]
     elif cfg.pixels_per_clock > 1:     # beats of P pixels (docs/gateware.md, "P pixels per clock")
         from dptbd.hw.wide import pack_beat

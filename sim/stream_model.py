@@ -215,3 +215,16 @@ def expected_stream(cfg: DPConfig, pixels: np.ndarray, first: np.ndarray,
                         end_of_line=fields[:, 2], end_of_frame=fields[:, 3],
                         end_of_segment=fields[:, 4])
     return StreamExpectation(words, fields, positions, tuple(runs), saturated, settings)
+
+
+def saturated_events(cfg: DPConfig, saturated) -> int:
+    """The ``saturated`` event pulses of a stream whose words' clipped flags are
+    ``saturated`` (a run from a beat boundary): one per clipped word at P = 1, one per beat
+    with a clipped pixel at P > 1 (the lanes' flags ORed, ``docs/gateware.md`` "P pixels
+    per clock")."""
+    p = cfg.pixels_per_clock
+    flags = np.asarray(saturated, dtype=bool)
+    if p == 1:
+        return int(flags.sum())
+    flags = np.concatenate([flags, np.zeros(-len(flags) % p, dtype=bool)])
+    return int(flags.reshape(-1, p).any(axis=1).sum())

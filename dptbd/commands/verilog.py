@@ -38,9 +38,12 @@ full-scale pixels need and, for a binary weight LUT, F = 0 (the same bits as ask
 ``--fractional-lut`` keeps F so fractional weights can be written at run time). ``--top axi``
 refuses a configuration whose E can saturate unless ``--allow-saturation``.
 
-``--pixels-per-clock P`` (2 or 4; ``--top dp`` only) builds ``dptbd_dp`` for P pixels per
-clock: input beats of P pixels, output beats of P states (:mod:`dptbd.hw.wide`;
-``docs/gateware.md``, "P pixels per clock"); the manifest's ``layouts`` are the beats'.
+``--pixels-per-clock P`` (2 or 4) builds ``dptbd_dp``, ``dptbd_seg`` or ``dptbd_axi`` for P
+pixels per clock: input beats of P pixels (``dptbd_axi``: ``s_axis_video`` with P pixels per
+beat, pixel 0 in the low bits), output beats of P states (``dptbd_dp``) or the candidate
+lists of P = 1 (:mod:`dptbd.hw.wide`; ``docs/gateware.md``, "P pixels per clock"); the
+manifest's ``layouts`` are the beats'. ``dptbd_axi`` at P > 1 keeps its state on chip and
+has no ``--state-output``.
 """
 
 from __future__ import annotations
@@ -81,7 +84,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "multiplexers, no block RAM; lets the 64x64 top level fit an "
                              "iCE40-HX8K)")
     parser.add_argument("--pixels-per-clock", type=int, default=None, metavar="P",
-                        help="--top dp: pixels per clock and per input beat, 1 (default), 2 "
+                        help="pixels per clock and per input beat, 1 (default), 2 "
                              "or 4 (W a multiple of P; docs/gateware.md, \"P pixels per "
                              "clock\"); overrides the TOML's pixels_per_clock")
     parser.add_argument("--family", choices=("ice40", "ecp5"), default=None,
@@ -247,9 +250,9 @@ def main(args: argparse.Namespace) -> int:
         with warnings.catch_warnings():     # config_from_args printed it already
             warnings.simplefilter("ignore", EnergyWidthWarning)
             asked = asked.replace(pixels_per_clock=args.pixels_per_clock)
-    if asked.pixels_per_clock > 1 and args.top != "dp":
-        raise ValueError(f"pixels_per_clock={asked.pixels_per_clock} applies to --top dp only; "
-                         f"--top {args.top} takes one pixel per clock")
+    if asked.pixels_per_clock > 1 and args.state_output:
+        raise ValueError(f"pixels_per_clock={asked.pixels_per_clock} has no m_axis_state; "
+                         f"--state-output takes one pixel per clock")
     if asked.pixels_per_clock > 1 and args.state_store == "axi":
         raise ValueError(f"pixels_per_clock={asked.pixels_per_clock} keeps the state store on "
                          f"chip; --state-store axi takes one pixel per clock")

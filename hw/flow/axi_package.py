@@ -3,7 +3,9 @@ core description, as texts (the library job behind ``dptbd verilog --top axi``).
 
 :func:`axi_package` returns ``{file name: text}`` for a stem (default ``dptbd_axi``):
 
-- ``<stem>.v``: module ``dptbd_axi`` (:class:`~dptbd.hw.axi_top.AXITop`);
+- ``<stem>.v``: module ``dptbd_axi`` (:class:`~dptbd.hw.axi_top.AXITop`;
+  :class:`~dptbd.hw.wide.axi_top.AXITopWide` at ``pixels_per_clock`` 2 or 4, whose header
+  adds ``DPTBD_PIXELS_PER_CLOCK`` and whose core description names P);
 - ``<stem>.json``: its manifest: parameters, derived widths, every port, the stream
   conventions, the register constants;
 - ``dptbd_regs.h``: the C register header (:func:`~dptbd.hw.flow.register_export.c_header`);
@@ -120,9 +122,7 @@ def axi_manifest(cfg: DPConfig, top: AXITop) -> dict:
         "scan_cycles": core.scan_cycles,
         "ports": axi_ports(top),
         "streams": {
-            "s_axis_video": {"tdata": "pixel in bits [B_in-1:0]", "tuser[0]": "start of frame",
-                             "tlast": "end of line",
-                             "layout": field_offsets(video_tdata_layout(cfg))},
+            "s_axis_video": _video_stream(cfg),
             "m_axis_cand": {"tdata": "candidate word (record or trailer)",
                             "tuser[0]": "first word of a list", "tlast": "trailer",
                             "layout": candidate_field_offsets(cfg),
@@ -144,6 +144,22 @@ def axi_manifest(cfg: DPConfig, top: AXITop) -> dict:
     }
 
 
+def _video_stream(cfg: DPConfig) -> dict:
+    """The manifest's ``s_axis_video`` entry: one pixel per beat, or P at P > 1."""
+    if cfg.pixels_per_clock == 1:
+        return {"tdata": "pixel in bits [B_in-1:0]", "tuser[0]": "start of frame",
+                "tlast": "end of line", "layout": field_offsets(video_tdata_layout(cfg))}
+    from dptbd.hw.wide.axis_video import lane_bits, video_tdata_layout_wide
+    lane = lane_bits(cfg)
+    return {"tdata": f"P = {cfg.pixels_per_clock} pixels per beat, pixel k (column "
+                     f"P*g + k of beat g) in bits [{lane}*k + B_in-1:{lane}*k], pixel 0 "
+                     f"in the low bits",
+            "tuser[0]": "start of frame (the frame's first beat)",
+            "tlast": "end of line (the row's last beat)",
+            "pixels_per_beat": cfg.pixels_per_clock,
+            "layout": field_offsets(video_tdata_layout_wide(cfg))}
+
+
 def fusesoc_core(cfg: DPConfig, stem: str, version: str, state_store=None) -> str:
     """A FuseSoC CAPI2 core file for the package's files (YAML text); with ``state_store``
     its description names the AXI4 manager port of the state in external memory."""
@@ -153,6 +169,9 @@ def fusesoc_core(cfg: DPConfig, stem: str, version: str, state_store=None) -> st
         f"({state_store.data_bits}-bit data, {state_store.address_bits}-bit addresses, "
         f"{state_store.frame_bytes} bytes from STATE_BASE)")
     option = "" if state_store is None else " --state-store axi"
+    if cfg.pixels_per_clock > 1:
+        store += f", {cfg.pixels_per_clock} pixels per clock"
+        option += f" --pixels-per-clock {cfg.pixels_per_clock}"
     return "\n".join([
         "CAPI=2:",
         f"name: dptbd:dptbd:{stem}:{version}",
@@ -200,7 +219,10 @@ def generate_axi_verilog(cfg: DPConfig, *, state_output: bool = False,
     core built with ``core_options``, ``None`` for DPCore's defaults; with the state in
     external memory as ``state_store`` says, an :class:`~dptbd.config.AxiStoreConfig` of
     ``cfg``): its Verilog text and its manifest."""
-    if state_store is None:
+    if state_store is None and cfg.pixels_per_clock > 1:
+        from dptbd.hw.wide.axi_top import axi_top
+        top = axi_top(cfg, state_output=state_output, core_options=core_options)
+    elif state_store is None:
         top = AXITop(cfg, state_output=state_output, core_options=core_options)
     else:
         from dptbd.hw.axi_store.top import AXITopStore
@@ -262,7 +284,18 @@ def axi_package(cfg: DPConfig, stem: str = AXI_MODULE_NAME,
                            "period_ns": round(1000.0 / clock_mhz, 3)}
     names = package_file_names(stem)
     texts = [text, json.dumps(info, indent=2) + "\n",
-             c_header(register_map(cfg, state_store), cfg),
+             _pixels_per_clock_line(c_header(register_map(cfg, state_store), cfg), cfg),
              clock_constraints(clock_mhz, "sdc"), clock_constraints(clock_mhz, "xdc"),
              fusesoc_core(cfg, stem, version("dptbd"), state_store)]
     return dict(zip(names, texts))
+
+
+def _pixels_per_clock_line(header: str, cfg: DPConfig) -> str:
+    """``dptbd_regs.h`` with, at P > 1, ``DPTBD_PIXELS_PER_CLOCK`` (pixels per
+    ``s_axis_video`` beat) after the register constants' guard."""
+    if cfg.pixels_per_clock == 1:
+        return header
+    guard = "#define DPTBD_REGS_H\n"
+    line = (f"/* s_axis_video carries {cfg.pixels_per_clock} pixels per beat, pixel 0 in the "
+            f"low bits */\n#define DPTBD_PIXELS_PER_CLOCK {cfg.pixels_per_clock}u\n")
+    return header.replace(guard, guard + line, 1)

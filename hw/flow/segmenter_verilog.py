@@ -19,7 +19,7 @@ from dptbd.hw.candidate_layout import bits_per_segment, candidate_field_offsets,
 from dptbd.hw.dp_segmenter_top import DPSegmenter
 from dptbd.hw.flow.to_verilog import to_verilog
 from dptbd.hw.flow.verilog import manifest_header, manifest_interface, port_list
-from dptbd.hw.layouts import field_offsets, pixel_layout
+from dptbd.hw.layouts import field_offsets
 
 __all__ = ["SEGMENTER_MODULE_NAME", "segmenter_manifest", "generate_segmenter_verilog"]
 
@@ -28,7 +28,13 @@ SEGMENTER_MODULE_NAME = "dptbd_seg"
 
 
 def segmenter_manifest(cfg: DPConfig, top: DPSegmenter) -> dict:
-    """Machine-readable description of ``dptbd_seg`` (JSON-serialisable)."""
+    """Machine-readable description of ``dptbd_seg`` (JSON-serialisable); at P > 1
+    (:class:`~dptbd.hw.wide.dp_segmenter.DPSegmenterWide`) its ``pixel`` layout is the
+    beat's."""
+    if cfg.pixels_per_clock > 1:
+        from dptbd.hw.wide.layouts import wide_pixel_layout as pixel_layout
+    else:
+        from dptbd.hw.layouts import pixel_layout
     bits = bits_per_segment(cfg)
     return {
         **manifest_header(cfg, SEGMENTER_MODULE_NAME, top),
@@ -62,7 +68,8 @@ def segmenter_manifest(cfg: DPConfig, top: DPSegmenter) -> dict:
 def generate_segmenter_verilog(cfg: DPConfig, *, core_options: Mapping[str, str] | None = None,
                                manifest_path: str | pathlib.Path | None = None
                                ) -> tuple[str, dict]:
-    """Convert :class:`DPSegmenter` for ``cfg`` to Verilog module ``dptbd_seg``.
+    """Convert :class:`DPSegmenter` for ``cfg`` to Verilog module ``dptbd_seg``
+    (:class:`~dptbd.hw.wide.dp_segmenter.DPSegmenterWide` at ``pixels_per_clock`` 2 or 4).
 
     ``core_options``: the DP core's implementation options (``None``: DPCore's defaults;
     :attr:`~dptbd.hw.flow.family.Family.core_options` for a family's build), recorded in the
@@ -86,7 +93,8 @@ def generate_segmenter_verilog(cfg: DPConfig, *, core_options: Mapping[str, str]
             f"candidate_count: n = 0 candidate points per segment (0.2 % of {cfg.width}x"
             f"{cfg.height} = {cfg.width * cfg.height} pixels rounds to 0) gives a segmenter "
             f"that emits no points; set candidate_count to 1 … {cfg.width * cfg.height}")
-    top = DPSegmenter(cfg, core_options=core_options)
+    from dptbd.hw.wide.dp_segmenter import dp_segmenter
+    top = dp_segmenter(cfg, core_options=core_options)
     text = to_verilog(top, SEGMENTER_MODULE_NAME)
     info = segmenter_manifest(cfg, top)
     if manifest_path is not None:

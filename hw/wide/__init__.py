@@ -16,7 +16,8 @@ one under mutation testing). Paper 000's family (``docs/arithmetic.md`` §8) is 
 P > 1.
 
 Modules: :mod:`.layouts` (the beats), :mod:`.state_store`, :mod:`.window`, :mod:`.core`
-(``DPCoreWide``, ``check_wide``), :mod:`.pipeline` (``DPPipelineWide``, ``dp_pipeline``);
+(``DPCoreWide``, ``check_wide``), :mod:`.pipeline` (``DPPipelineWide``, ``dp_pipeline``),
+:mod:`.segmenter` (``SegmenterWide``, ``segmenter``);
 their names are re-exported here.
 """
 
@@ -26,9 +27,11 @@ from dptbd.hw.wide.core import DPCoreWide, check_wide
 from dptbd.hw.wide.layouts import (beat_word_layout, pack_beat, unpack_beat_states,
                                    wide_pixel_layout, wide_state_layout)
 from dptbd.hw.wide.pipeline import DPPipelineWide, dp_pipeline
+from dptbd.hw.wide.segmenter import SegmenterWide, segmenter
 from dptbd.hw.wide.state_store import WideStateStore, WideStateStoreSignature
 from dptbd.hw.wide.window import WideWindow, lane_column
 
 __all__ = ["wide_pixel_layout", "wide_state_layout", "beat_word_layout", "pack_beat",
            "unpack_beat_states", "check_wide", "WideStateStoreSignature", "WideStateStore",
-           "lane_column", "WideWindow", "DPCoreWide", "DPPipelineWide", "dp_pipeline"]
+           "lane_column", "WideWindow", "DPCoreWide", "DPPipelineWide", "dp_pipeline",
+           "SegmenterWide", "segmenter"]

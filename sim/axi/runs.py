@@ -162,12 +162,15 @@ def draw_run(case, seed: int) -> AxiPlan:
     from dptbd.sim.campaign import hostile_frames
 
     cfg = case.cfg
+    # at P pixels per clock the stream and the step positions are drawn in beats (the
+    # beat configuration's W/P columns), then each beat widened to P pixels (_widen)
+    geometry = cfg.beat_config()
     rng = np.random.default_rng([seed, 0xA71])
     drawn = collections.Counter({k: 0 for k in (*ACTIONS, *REFUSALS, *FAULT_KINDS)})
-    frames = hostile_frames(cfg, case.frames, rng)
+    frames = hostile_frames(geometry, case.frames, rng)
     allowed = set(case.faults)
-    beats, starts, notes = _stream(cfg, frames, [k for k in FAULT_KINDS if k in allowed], rng,
-                                   drawn)
+    beats, starts, notes = _stream(geometry, frames, [k for k in FAULT_KINDS if k in allowed],
+                                   rng, drawn)
     gap, pause = (_density(band, rng) for band in divmod(seed % 9, 3))
     d = Drawer(cfg, rng, drawn, np.random.default_rng([seed, 0xA73]))
     steps = []
@@ -176,7 +179,7 @@ def draw_run(case, seed: int) -> AxiPlan:
              if gap == 0 and "soft_reset" in allowed else [])
     waits = list(range(len(sweep)))
     hard = np.random.default_rng([seed, 0xA72])         # aresetn with words in flight
-    for stop in [*_positions(cfg, len(beats), starts, rng), len(beats)]:
+    for stop in [*_positions(geometry, len(beats), starts, rng), len(beats)]:
         while sweep and sweep[0] < stop:        # soft resets with 0 … L words in flight
             steps.append({"soft_reset": "now", "soft_reset_wait": waits.pop(0),
                           "stop": sweep.pop(0)})
@@ -239,10 +242,30 @@ def draw_run(case, seed: int) -> AxiPlan:
                                                *(f"FAULT_{k.upper()}" for k in FAULTS))}
         steps[j]["stop"], follow["stop"] = follow["stop"], steps[j]["stop"]
         steps.insert(j + 1, follow)
+    if cfg.pixels_per_clock > 1:
+        beats, steps = _widen(cfg, beats, steps, np.random.default_rng([seed, 0xA74]))
     pulses = fill_checks(cfg, beats, steps)
     notes = [f"gaps {gap:.2f}, back-pressure {pause:.2f}", f"{len(steps)} steps",
              *notes, "drawn " + ", ".join(f"{k} {v}" for k, v in drawn.items() if v)]
     return AxiPlan(beats, steps, gap, pause, tuple(notes), dict(drawn), pulses)
+
+
+def _widen(cfg: DPConfig, beats: Beats, steps: list, rng) -> tuple[Beats, list]:
+    """A run drawn in beats of the beat configuration as P pixels per beat: beat i's pixel
+    becomes pixel P*i (its lane 0, with its ``tuser[0]``), lanes 1 … P-1 take the same value
+    or a random one (half the beats each), ``tlast`` on lane P-1; every step's ``stop``
+    (a beat index) times P."""
+    p = cfg.pixels_per_clock
+    n = len(beats)
+    pixel = np.repeat(np.asarray(beats.pixel, dtype=np.int64), p).reshape(n, p)
+    fresh = rng.random(n) < 0.5
+    pixel[fresh, 1:] = rng.integers(0, cfg.pixel_max + 1, size=(int(fresh.sum()), p - 1))
+    first = np.zeros((n, p), dtype=bool)
+    last = np.zeros((n, p), dtype=bool)
+    first[:, 0] = beats.first
+    last[:, -1] = beats.last
+    wide = Beats(pixel.ravel(), first.ravel(), last.ravel())
+    return wide, [{**step, "stop": step["stop"] * p} for step in steps]
 
 
 def check_run(case, seed: int, root: str | None = None, coverage: str | None = None):
@@ -267,9 +290,12 @@ def check_run(case, seed: int, root: str | None = None, coverage: str | None = N
         result = check_axi(sim, plan.beats, plan.steps, valid_gap=plan.valid_gap,
                            ready_pause=plan.ready_pause, seed=seed, pulses=plan.pulses,
                            coverage=coverage)
+        p = case.cfg.pixels_per_clock       # words in flight at a soft reset: beats
+        run = result.run if p == 1 else dataclasses.replace(
+            result.run, accept_cycles=result.run.accept_cycles[::p])
         bins = axi_bins(case.cfg, plan.beats, plan.steps, passed=result.passed,
                         latency=sim.latency, valid_gap=plan.valid_gap,
-                        ready_pause=plan.ready_pause, run=result.run)
+                        ready_pause=plan.ready_pause, run=run)
     report = "" if result.passed else f"seed {seed}: {result.report()}"
     return RunOutcome(case.name, seed, result.passed, report, len(plan.beats),
                       len(result.run.out_words) + len(result.run.op_resp), result.run.cycles,

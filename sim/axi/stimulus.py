@@ -16,7 +16,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.register_map import FAULTS, register_map
 from dptbd.model.segmentation import CandidateList, segment_stream
 from dptbd.model.settings import SegmentSettings
-from dptbd.sim.stream_model import expected_stream
+from dptbd.sim.stream_model import expected_stream, saturated_events
 
 __all__ = ["FAULT_KINDS", "SETTINGS", "Beats", "clean_beats", "with_fault", "fault_stretches",
            "fault_pulses",
@@ -317,7 +317,7 @@ def expected_outputs(cfg: DPConfig, beats: Beats, steps: list[dict], *,
         frames += sum(run.complete for run in expect.runs)
         segments += sum(run.complete and run.frame == run.segment_frames - 1
                         for run in expect.runs)
-        saturated += int(expect.saturated.sum())
+        saturated += saturated_events(cfg, expect.saturated)
         starts = np.ones(len(expect.words), dtype=bool)
         starts[1:] = expect.fields[:-1, 3] == 1
         offset = positions[-1][-1, 0] + 1 if positions and len(positions[-1]) else 0

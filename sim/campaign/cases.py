@@ -8,7 +8,8 @@ import dataclasses
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 
-__all__ = ["FAULTS", "Case", "default_cases", "axi_cases", "store_cases", "x_store_cases"]
+__all__ = ["FAULTS", "Case", "default_cases", "wide_cases", "axi_cases", "store_cases",
+           "x_store_cases"]
 
 #: Fault classes a case may draw from (see :func:`dptbd.sim.campaign.draw.make_run`).
 FAULTS = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "store_garbage",
@@ -92,8 +93,39 @@ def default_cases() -> list[Case]:
         Case("segmenter-33x17-k2-n3", dict(width=33, height=17, segment_frames=2,
                                            candidate_count=3, histogram_bits=6),
              "segmenter", 400, 8, every),
+        *wide_cases(every),
         *axi_cases(),
         *store_cases(),
+    ]
+
+
+def wide_cases(faults: tuple[str, ...]) -> list[Case]:
+    """``dptbd_seg`` and ``dptbd_axi`` at P = 2 and 4 pixels per clock (``docs/gateware.md``,
+    "P pixels per clock"). ``dptbd_seg``: ``faults`` (those of P = 1) at beat boundaries
+    (``make_stream_run``), n small against the frame so lists overflow, and (K - 1)
+    frames of beats shorter than the scan at P = 4 so the scan stalls the input.
+    ``dptbd_axi``: the AXI cases' faults, drawn in beats (:func:`dptbd.sim.axi.runs.draw_run`),
+    a binary-LUT case at P = 2 and an r = 2 fractional one at P = 4."""
+    from dptbd.sim.axi.runs import AXI_FAULTS
+
+    return [
+        Case("axi-p2-48x16-f0-k2", dict(width=48, height=16, segment_frames=2,
+                                        max_segment_frames=4, weight_frac_bits=0,
+                                        energy_bits=9, candidate_count=3, candidate_capacity=6,
+                                        histogram_bits=6, histogram_shift=2,
+                                        pixels_per_clock=2), "axi", 80, 8, AXI_FAULTS),
+        Case("axi-p4-48x23-r2-f4-k3", dict(width=48, height=23, segment_frames=3,
+                                           max_segment_frames=5, radius=2, weight_frac_bits=4,
+                                           candidate_count=4, candidate_capacity=8,
+                                           histogram_bits=6, pixels_per_clock=4),
+             "axi", 60, 8, AXI_FAULTS),
+        Case("segmenter-p2-64x24-k3-e9-sat", dict(width=64, height=24, segment_frames=3,
+                                                  energy_bits=9, candidate_count=6,
+                                                  histogram_bits=6, pixels_per_clock=2),
+             "segmenter", 120, 8, faults),
+        Case("segmenter-p4-48x17-k2-n3", dict(width=48, height=17, segment_frames=2,
+                                              candidate_count=3, histogram_bits=8,
+                                              pixels_per_clock=4), "segmenter", 200, 8, faults),
     ]
 
 

@@ -75,9 +75,11 @@ def hostile_frames(cfg: DPConfig, n_frames: int, rng: np.random.Generator) -> np
 # ---- one run --------------------------------------------------------------------------------
 
 def _faulty_stream(cfg: DPConfig, words: np.ndarray, faults: Sequence[str],
-                   rng: np.random.Generator) -> tuple[np.ndarray, list[str], list]:
+                   rng: np.random.Generator, align: int = 1
+                   ) -> tuple[np.ndarray, list[str], list]:
     """Cut, lengthen or mark frames of a clean word stream; what was done, for the report,
-    and (fault, index of the first word it touches) for the coverage bins."""
+    and (fault, index of the first word it touches) for the coverage bins. ``align`` = P
+    at P pixels per clock: every fault at a multiple of P pixels (a beat boundary)."""
     from dptbd.hw.layouts import field_offsets, pixel_layout
 
     size = cfg.width * cfg.height
@@ -90,17 +92,17 @@ def _faulty_stream(cfg: DPConfig, words: np.ndarray, faults: Sequence[str],
             continue
         f = int(rng.integers(1, n_frames - 1))
         if fault == "misaligned_first":
-            p = int(rng.integers(1, size))
+            p = align * int(rng.integers(1, size // align))
             frames[f][p] |= first_bit                        # a start marker mid-frame
             notes.append(f"start-of-frame marker at pixel {p} of frame {f}")
             touched.append((fault, f, p))
         elif fault == "short_frame":
-            keep = int(rng.integers(1, size))
+            keep = align * int(rng.integers(1, size // align))
             frames[f] = frames[f][:keep]
             notes.append(f"frame {f} cut to {keep} of {size} pixels")
             touched.append((fault, f + 1, 0))
         else:
-            extra = int(rng.integers(1, size))
+            extra = align * int(rng.integers(1, size // align))
             tail = frames[f][:extra].copy()
             tail &= ~first_bit
             frames[f] = np.concatenate([frames[f], tail])
@@ -153,9 +155,10 @@ def make_stream_run(case: Case, seed: int, latency: int | None = None):
     from dptbd.sim.verilator import cycle_budget
 
     cfg = case.cfg
+    p = cfg.pixels_per_clock
     rng = np.random.default_rng([seed, 0x7E57])
     frames = hostile_frames(cfg, case.frames, rng)
-    words, notes, events = _faulty_stream(cfg, pixel_words(cfg, frames), case.faults, rng)
+    words, notes, events = _faulty_stream(cfg, pixel_words(cfg, frames), case.faults, rng, p)
     gap, pause = (float(v) for v in rng.uniform(0.0, MAX_STALL, size=2))
     speed = rng.random()
     if speed < 0.25:
@@ -185,7 +188,7 @@ def make_stream_run(case: Case, seed: int, latency: int | None = None):
         notes.append(f"LUT rewritten before words {[i for i, _ in luts if i]}")
     resets = []
     if "reset" in case.faults and rng.random() < 0.7:
-        budget = int(len(words) / ((1 - gap) * (1 - pause)))
+        budget = int(len(words) // p / ((1 - gap) * (1 - pause)))     # cycles of the run
         for c in sorted(rng.integers(1000, max(1001, budget), size=int(rng.integers(1, 3)))):
             if not resets or c > resets[-1][0] + 10:
                 resets.append((int(c), int(rng.integers(1, 6))))
@@ -211,9 +214,33 @@ def make_stream_run(case: Case, seed: int, latency: int | None = None):
                   int(extra.integers(cfg.lut_entries, span)), int(extra.integers(0, unity + 1))),)
         notes.append(f"LUT write beyond the table (address {stray[0][1]}) before word "
                      f"{stray[0][0]}")
+    if p > 1:       # beats of P pixels; the changes before a pixel go before its beat
+        words = _pixel_beats(cfg, words)
+        luts = [(i // p, codes) for i, codes in luts]
+        settings = tuple((i // p, entry) for i, entry in settings)
+        stray = tuple((i // p, a, c) for i, a, c in stray)
     stim = Stimulus(valid_gap=gap, ready_pause=pause, seed=int(seed), resets=tuple(resets),
                     lut_changes=tuple(luts), store_init=store, settings_changes=settings,
                     stray_lut_writes=stray)
     notes.insert(0, f"gaps {gap:.2f}, back-pressure {pause:.2f}")
     assert all(c < cycle_budget(len(words), gap, pause, 0) for c, _ in resets)
     return words, stim, notes, tuple(events)
+
+
+def _pixel_beats(cfg: DPConfig, words: np.ndarray) -> np.ndarray:
+    """``pixels`` words of one pixel each (a multiple of P, ``first`` only on a beat's
+    first pixel) as the beats of P pixels the harness takes at P > 1
+    (:func:`dptbd.sim.verilator.beat_words`)."""
+    from amaranth.lib import data
+
+    from dptbd.hw.layouts import field_offsets, pixel_layout
+    from dptbd.hw.wide import pack_beat, wide_pixel_layout
+    from dptbd.sim.verilator import beat_words
+
+    p = cfg.pixels_per_clock
+    first = int(field_offsets(pixel_layout(cfg))["first"]["offset"])
+    values = np.asarray(words, dtype=np.uint64).reshape(-1, p)
+    beats = [pack_beat(cfg, [int(v) & ((1 << first) - 1) for v in row], bool(int(row[0]) >> first))
+             for row in values]
+    per_beat = -(-data.Layout.cast(wide_pixel_layout(cfg)).size // 64)
+    return beat_words(beats, per_beat)

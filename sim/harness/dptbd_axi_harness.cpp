@@ -34,6 +34,8 @@
 //                                            in.bin's beat i % P (long runs; then
 //                                            accept_cycles.bin is left empty)
 //   JOB_DIR/in.bin    N (or P) little-endian uint64 beats: tdata | tuser[0] << 32 | tlast << 33
+//                     (a dptbd_axi of P pixels per clock: tdata holds the beat's P byte
+//                     lanes, at most 32 bits; dptbd.sim.verilator.axi.wide_beat_words)
 // Writes into JOB_DIR:
 //   out.bin           uint64 tdata of every m_axis_cand transfer, in order
 //   out_flags.bin     uint64 tuser[0] | tlast << 1 of each transfer

@@ -31,7 +31,8 @@ from dptbd.model.segmentation import segment_stream
 from dptbd.model.settings import SegmentSettings
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.stimulus import lut_writes
-from dptbd.sim.stream_model import StreamExpectation, expected_stream, split_words
+from dptbd.sim.stream_model import (StreamExpectation, expected_stream, saturated_events,
+                                   split_words)
 from dptbd.sim.verilator import RawRun, VerilatorBuild, beat_values, run
 
 __all__ = ["Stimulus", "CheckResult", "check_stream", "check_frames", "split_beats",
@@ -111,11 +112,12 @@ def _checker(cfg: DPConfig, design_output: str, exp: StreamExpectation, *, cut_b
     return CandidateScoreboard(cfg, segment_stream(fields, cfg, settings))
 
 
-def _event_report(design_output: str, exp: StreamExpectation, board, raw: RawRun) -> str:
+def _event_report(design_output: str, exp: StreamExpectation, board, raw: RawRun,
+                  cfg: DPConfig) -> str:
     """'' when the harness's event counts equal the model's, else what differs."""
     want = {"frame_done": int(exp.fields[:, 3].sum()), "segment_done": int(exp.fields[:, 4].sum()),
             "list_done": len(board.lists) if design_output == "candidates" else 0,
-            "saturated": int(exp.saturated.sum())}
+            "saturated": saturated_events(cfg, exp.saturated)}
     bad = [f"{name} counted {raw.counters.get('events_' + name)}, model {value}"
            for name, value in want.items() if raw.counters.get("events_" + name) != value]
     return "events: " + "; ".join(bad) if bad else ""
@@ -224,7 +226,7 @@ def check_stream(sim: VerilatorBuild, words: np.ndarray, stimulus: Stimulus = St
             report += f"only {n_in} of {len(all_pixels)} words accepted"
         else:
             report += board.report()
-            events = _event_report(sim.output, exp, board, raw) if not resets else ""
+            events = _event_report(sim.output, exp, board, raw, cfg) if not resets else ""
             if events:
                 passed = False
                 report += "; " + events

@@ -86,6 +86,40 @@ def beat_words(beats: Beats) -> np.ndarray:
             | np.asarray(beats.last, dtype=np.uint64) << np.uint64(33))
 
 
+def wide_beat_words(cfg, beats: Beats) -> np.ndarray:
+    """The harness's input words at P = 2 or 4 pixels per clock: every P consecutive pixels
+    of ``beats`` (one pixel each, as at P = 1) in one ``s_axis_video`` beat, pixel k in
+    byte lane k of ``tdata`` (:func:`~dptbd.hw.wide.axis_video.lane_bits`), ``tuser[0]``
+    of its first pixel, ``tlast`` of its last. Refused: a pixel count that is not a
+    multiple of P, or ``tuser[0]`` / ``tlast`` inside a beat."""
+    from dptbd.hw.wide.axis_video import lane_bits
+
+    p = cfg.pixels_per_clock
+    if len(beats) % p:
+        raise ValueError(f"{len(beats)} pixels do not fill beats of pixels_per_clock={p}")
+    pixel = np.asarray(beats.pixel, dtype=np.uint64).reshape(-1, p)
+    first = np.asarray(beats.first, dtype=bool).reshape(-1, p)
+    last = np.asarray(beats.last, dtype=bool).reshape(-1, p)
+    if first[:, 1:].any() or last[:, :-1].any():
+        raise ValueError(f"at pixels_per_clock={p} tuser[0] (start of frame) may be set on "
+                         f"the first pixel of a beat of {p} and tlast (end of line) on its "
+                         f"last only")
+    lane = lane_bits(cfg)
+    tdata = np.zeros(len(pixel), dtype=np.uint64)
+    for k in range(p):
+        tdata |= pixel[:, k] << np.uint64(lane * k)
+    return beat_words(Beats(tdata, first[:, 0], last[:, -1]))
+
+
+def _beat_index(p: int, index: int, kind: str) -> int:
+    """The beat before which an operation given before pixel ``index`` is performed."""
+    if index % p:
+        raise ValueError(f"operation {kind!r} before pixel {index}: at pixels_per_clock={p} "
+                         f"operations come between beats, before a pixel index that is a "
+                         f"multiple of {p}")
+    return index // p
+
+
 def settle_cycles(sim: VerilatorBuild, ready_pause: float) -> int:
     """Idle cycles after the last beat before reading counters or a soft reset: the latency
     plus two histogram scans, stretched by the output back-pressure."""
@@ -213,7 +247,12 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
             raise ValueError(f"memory key {key!r}: the keys are {', '.join(MEMORY_KEYS)}")
     if store is not None:
         memory.setdefault("base", store.base_address)
-    words = beat_words(beats)
+    p = sim.cfg.pixels_per_clock
+    if p > 1:                           # P pixels per beat: indices of pixels, as at P = 1
+        words = wide_beat_words(sim.cfg, beats)
+        ops = [(_beat_index(p, index, kind), kind, *rest) for index, kind, *rest in ops]
+    else:
+        words = beat_words(beats)
     total = len(words) * repeat
     for index, kind, *_ in ops:
         if not 0 <= index <= total or kind not in ("w", "r", "i", "m", "b", "a", "p"):
@@ -260,12 +299,16 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
                       for line in (job / "result.txt").read_text().splitlines())
         violation = result.pop("first_violation", None)
         done = np.fromfile(job / "ops.bin", dtype="<u8")
+        accepts = np.fromfile(job / "accept_cycles.bin", dtype="<u8")
+        if p > 1:                       # per pixel: a beat's P pixels share its cycle
+            accepts = np.repeat(accepts, p)
+            result["accepted"] = str(int(result["accepted"]) * p)
         return AxiRun(
             status=result.pop("status"), cycles=int(result.pop("cycles")),
             out_words=np.fromfile(job / "out.bin", dtype="<u8"),
             out_flags=np.fromfile(job / "out_flags.bin", dtype="<u8"),
             out_cycles=np.fromfile(job / "out_cycles.bin", dtype="<u8"),
-            accept_cycles=np.fromfile(job / "accept_cycles.bin", dtype="<u8"),
+            accept_cycles=accepts,
             op_data=(done & np.uint64(0xFFFFFFFF)).astype(np.int64),
             op_resp=((done >> np.uint64(32)) & np.uint64(3)).astype(np.int64),
             op_cycles=(done >> np.uint64(34)).astype(np.int64),

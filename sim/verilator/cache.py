@@ -276,9 +276,13 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
 
     if cfg.pixels_per_clock == 1:
         check_supported(cfg)
-    if cfg.pixels_per_clock > 1 and design not in ("dp", "core"):
-        raise ValueError(f"design {design!r} takes one pixel per clock; pixels_per_clock="
-                         f"{cfg.pixels_per_clock} builds the designs 'dp' and 'core' only")
+    if cfg.pixels_per_clock > 1 and design == "axi" and state_store is None:
+        from dptbd.hw.wide.axis_video import lane_bits
+        bits = cfg.pixels_per_clock * lane_bits(cfg)
+        if bits > 32:
+            raise ValueError(f"design 'axi' at pixels_per_clock={cfg.pixels_per_clock}: "
+                             f"s_axis_video_tdata of {bits} bits; the AXI harness drives at "
+                             f"most 32")
     if cfg.pixels_per_clock > 1 and mutations:
         raise ValueError("mutant builds are of the default designs, at pixels_per_clock=1")
     if cfg.pixels_per_clock > 1:

@@ -81,19 +81,23 @@ def stream_bins(case, stimulus, result, events: Iterable[tuple[str, int]] = (),
     count_positions(view, cfg, counts, f"gaps {band(stimulus.valid_gap)}, "
                                        f"back-pressure {band(stimulus.ready_pause)}")
     raw = result.raw
-    accept = raw.accept_cycles[:result.words_in].astype(np.int64)
+    accept = raw.accept_cycles[:result.words_in // cfg.pixels_per_clock].astype(np.int64)
     if "reset" in case.faults:
         for k in _reset_occupancy(case.design, stimulus.resets, accept,
                                   raw.out_cycles.astype(np.int64), latency):
             counts[key("reset", words_in_flight(k) if k <= latency else FIFO)] += 1
+    # the view counts pixels; at P > 1 the stimulus's indices and the harness's accept
+    # cycles count beats of P pixels
+    p = cfg.pixels_per_clock
     found = list(events)
-    found += [("reset", int(np.searchsorted(accept, c))) for c, _ in stimulus.resets]
-    found += [("lut", int(i)) for i, _ in stimulus.lut_changes if int(i) > 0]
-    found += [("settings", int(i)) for i, _ in stimulus.settings_changes]
+    found += [("reset", p * int(np.searchsorted(accept, c))) for c, _ in stimulus.resets]
+    found += [("lut", p * int(i)) for i, _ in stimulus.lut_changes if int(i) > 0]
+    found += [("settings", p * int(i)) for i, _ in stimulus.settings_changes]
     if stimulus.store_init == "random":
         found.append(("store_garbage", 0))
     count_recovered(view, [e for e in found if e[0] in case.faults], counts)
     if lut:
-        count_lut(view, cfg, stimulus.lut_changes, counts)
+        count_lut(view, cfg, [(p * int(i), codes) for i, codes in stimulus.lut_changes],
+                  counts)
     count_outputs(view, cfg, counts)
     return counts

@@ -62,6 +62,24 @@ def test_the_campaign_runs_an_axi_case():
     assert all(sum(o.bins.values()) > 0 for o in result.outcomes)
 
 
+def test_the_campaign_runs_the_wide_cases():
+    """``dptbd_seg`` and ``dptbd_axi`` at P = 2 and 4 (``wide_cases``): two shortened runs
+    each, bit-exact with their faults (beats of P pixels through ``check_stream`` and
+    ``check_axi``)."""
+    from dptbd.sim.campaign.cases import wide_cases
+
+    cases = [dataclasses.replace(c, frames=c.frames // 4, runs=2)
+             for c in wide_cases(default_cases()[1].faults)]
+    result = run_campaign(cases, workers=1, x_store=False, base_seed=3)
+    assert [(c.name, c.runs, c.passed) for c in result.cases] == \
+        [(c.name, 2, True) for c in cases], [o.report for o in result.outcomes]
+    pixels = {c.name: c.cfg.pixels_per_clock for c in cases if c.design == "segmenter"}
+    assert sum(o.words_in for o in result.outcomes if o.case in pixels) == sum(
+        len(make_run(c, o.seed)[0]) * pixels[c.name]
+        for c in cases for o in result.outcomes if o.case == c.name and c.name in pixels)
+    assert all(sum(o.bins.values()) > 0 for o in result.outcomes)
+
+
 def test_a_wrong_model_fails_the_campaign(monkeypatch):
     """The campaign can fail: a model whose LUT differs from the gateware's is caught."""
     import dptbd.sim.rtl.check as rtl_check

@@ -30,6 +30,15 @@ def test_default_cases_cover_what_the_campaign_promises():
     assert all(c.cfg.k_max > c.cfg.segment_frames for c in axi if c.cfg.width < 128)
     assert any("store_garbage" in c.faults for c in cases)
     assert sum(c.runs * c.words_per_run for c in cases if c.design != "segmenter") >= 10**8
+    # dptbd_seg and dptbd_axi at P = 2 and 4 with the faults of P = 1; at P = 4 the
+    # segmenter's scan stalls the input
+    wide = {(c.design, c.cfg.pixels_per_clock): c for c in cases if c.cfg.pixels_per_clock > 1}
+    assert set(wide) == {(d, p) for d in ("segmenter", "axi") for p in (2, 4)}
+    assert all(set(c.faults) == set(cases[1].faults) for (d, _), c in wide.items()
+               if d == "segmenter")
+    assert all(set(c.faults) == set(AXI_FAULTS) for (d, _), c in wide.items() if d == "axi")
+    four = wide["segmenter", 4].cfg
+    assert (four.segment_frames - 1) * four.frame_beats < four.n_bins + 4
 
 
 def test_the_store_checks_cover_both_inits_on_two_builds():

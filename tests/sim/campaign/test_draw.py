@@ -43,3 +43,31 @@ def test_runs_are_seeded_and_draw_their_faults():
     assert all(make_run(case, s)[1].resets == stim.resets[len(stim.resets)
                                                          - len(make_run(case, s)[1].resets):]
                for s, (_, stim, _) in enumerate(early))       # the other draws unchanged
+
+
+def test_runs_at_p_pixels_per_clock_fault_at_beat_boundaries():
+    """P = 2 and 4: the words are beats of P pixels; every framing fault falls on a beat
+    boundary, ``first`` only on a beat's pixel 0, every change before a beat of the run and
+    every reset within the run's cycles."""
+    import re
+
+    from dptbd.sim.campaign.cases import wide_cases
+    from dptbd.sim.rtl.check import split_beats
+    from dptbd.sim.verilator import cycle_budget
+
+    for case in [c for c in wide_cases(default_cases()[1].faults) if c.design == "segmenter"]:
+        cfg, p = case.cfg, case.cfg.pixels_per_clock
+        notes = []
+        for seed in range(4):
+            words, stim, run_notes = make_run(case, seed)
+            notes += run_notes
+            pixels, first = split_beats(cfg, words)
+            assert len(pixels) == p * len(words)
+            assert first.sum() == first[::p].sum() > case.frames // 2
+            assert all(c < cycle_budget(len(words), stim.valid_gap, stim.ready_pause, 0)
+                       for c, _ in stim.resets)
+            assert all(0 <= i <= len(words)
+                       for i, _ in (*stim.lut_changes, *stim.settings_changes))
+        positions = [int(v) for v in re.findall(r"(?:marker at pixel|cut to|runs) (\d+)",
+                                                " ".join(notes))]
+        assert len(positions) == 12 and all(v % p == 0 for v in positions), positions

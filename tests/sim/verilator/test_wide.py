@@ -87,11 +87,6 @@ def test_gaps_back_pressure_and_lut_writes(kw):
 
 
 def test_refusals(tmp_path):
-    cfg = make_config(**NARROW)
-    with pytest.raises(ValueError, match="^design 'segmenter' takes one pixel per clock; "
-                                         "pixels_per_clock=2 builds the designs 'dp' and "
-                                         "'core' only$"):
-        V.build(cfg, "segmenter")
     sim = built(make_config(**WIDE), "dp")
     with pytest.raises(ValueError, match=r"^words must be a \(beats, 2\) integer array of "
                                          r"uint64 words for this build's 65\.\.128-bit pixels "

@@ -1,0 +1,342 @@
+"""``SegmenterWide`` (P = 2, 4) against the word-by-word model ``segment_stream`` — the
+lists the P = 1 ``Segmenter`` gives on the same states, bit for bit: random state streams
+with input gaps and output back-pressure, the cap and overflow, the clamped top bin,
+resynchronised streams, run-time settings per segment, reset; and its exact timing."""
+
+import numpy as np
+import pytest
+from amaranth.hdl import ResetInserter, Signal
+
+from dptbd.hw.segmenter import Segmenter, scan_cycles
+from dptbd.hw.wide.layouts import wide_state_layout
+from dptbd.hw.layouts import pack
+from dptbd.hw.wide.segmenter import SegmenterWide, segmenter
+from dptbd.model.segmentation import segment_stream
+from dptbd.model.settings import SegmentSettings as S
+from helpers.hw_harness import refused, simulate
+from helpers.refusals import whole
+from helpers.seg_harness import make_config, pack_state_rows, run_lists, score
+
+
+def synthetic_states(cfg, n_frames, rng, *, low=0, high=None, first_k=0, low_fraction=0.0,
+                     segment_frames=None):
+    """``(T*H*W, 5)`` state words (E, d, eol, eof, eos), random E in [low, high] (a
+    ``low_fraction`` exactly ``low``), flags as the DP pipeline sets them."""
+    high = cfg.e_max if high is None else high
+    k = segment_frames or cfg.segment_frames
+    h, w = cfg.height, cfg.width
+    out = np.zeros((n_frames, h, w, 5), dtype=np.int64)
+    out[..., 0] = rng.integers(low, high + 1, size=(n_frames, h, w))
+    out[..., 0][rng.random((n_frames, h, w)) < low_fraction] = low
+    out[..., 1] = rng.integers(0, cfg.n_moves + 1, size=(n_frames, h, w))
+    out[:, :, -1, 2] = 1
+    out[:, -1, -1, 3] = 1
+    for t in range(n_frames):
+        out[t, -1, -1, 4] = int((t + first_k) % k == k - 1)
+    return out.reshape(-1, 5)
+
+
+def pack_state_beats(cfg, states) -> list[int]:
+    """``states`` beats of P consecutive rows of ``states`` (the flags of each beat's last
+    state; a beat never straddles a flag)."""
+    p = cfg.pixels_per_clock
+    rows = np.asarray(states)
+    assert len(rows) % p == 0 and not rows.reshape(-1, p, 5)[:, :-1, 2:].any()
+    layout = wide_state_layout(cfg)
+    out = []
+    for group in rows.reshape(-1, p, 5):
+        fields = {}
+        for k, (energy, direction, *_rest) in enumerate(group):
+            fields[f"energy_{k}"] = int(energy)
+            fields[f"direction_{k}"] = int(direction)
+        eol, eof, eos = (int(v) for v in group[-1, 2:])
+        out.append(pack(layout, {**fields, "end_of_line": eol, "end_of_frame": eof,
+                                 "end_of_segment": eos}, "beat"))
+    return out
+
+
+def check(cfg, states, *, valid=0.7, ready=0.5, seed=0, settings=None, on_cycle=None):
+    lists = segment_stream(states, cfg, settings)
+    dut = SegmenterWide(cfg)
+    result = run_lists(cfg, dut, dut.states, dut.candidates, pack_state_beats(cfg, states),
+                       lists, valid_probability=valid, ready_probability=ready, seed=seed,
+                       on_cycle=None if on_cycle is None else on_cycle(dut))
+    return lists, result
+
+
+CASES = {
+    # name: (config, frames, (E range, fraction at the bottom))
+    "k3-n4-narrow-E": (dict(width=12, height=6, segment_frames=3, candidate_count=4,
+                            histogram_bits=4, histogram_shift=0), 12, (0, 15, 0.5)),
+    "k2-n6-cap6-shift2": (dict(width=12, height=5, segment_frames=2, candidate_count=6,
+                               candidate_capacity=6, histogram_bits=5, histogram_shift=2),
+                          8, (0, 140)),
+    "k1-n3-ties": (dict(width=12, height=4, segment_frames=1, candidate_count=3,
+                        histogram_bits=3, histogram_shift=0), 5, (0, 4)),
+    "k4-n0": (dict(width=12, height=4, segment_frames=4, candidate_count=0, histogram_bits=3),
+              8, (0, 255)),
+    "k2-e12-clamped-top-bin": (dict(width=12, height=4, segment_frames=2, input_bits=8,
+                                    energy_bits=12, candidate_count=5, histogram_bits=4,
+                                    histogram_shift=3), 8, (100, 4095)),
+    "k2-all-pixels": (dict(width=12, height=4, segment_frames=2, candidate_count=48,
+                           histogram_bits=3), 6, (0, 255)),
+}
+
+
+@pytest.mark.parametrize("lanes", [2, 4])
+@pytest.mark.parametrize("name", list(CASES))
+def test_random_streams_match_model(name, lanes):
+    kw, n_frames, (low, high, *bottom) = CASES[name]
+    cfg = make_config(**kw, pixels_per_clock=lanes)
+    rng = np.random.default_rng(len(name) + lanes)
+    states = synthetic_states(cfg, n_frames, rng, low=low, high=high,
+                              low_fraction=bottom[0] if bottom else 0.0)
+    lists, _ = check(cfg, states, seed=len(name) + lanes)
+    assert len(lists) == n_frames // cfg.segment_frames
+    assert all(lst.primed and lst.aligned and not lst.missed for lst in lists[1:])
+    if name == "k2-n6-cap6-shift2":
+        assert any(lst.overflow for lst in lists) and max(lst.count for lst in lists) == 6
+    if name == "k2-all-pixels":
+        assert [lst.count for lst in lists[1:]] == [48, 48]
+
+
+def test_heavy_back_pressure():
+    cfg = make_config(width=12, height=6, segment_frames=2, candidate_count=16,
+                      histogram_bits=4, histogram_shift=4, pixels_per_clock=4)
+    states = synthetic_states(cfg, 8, np.random.default_rng(9), high=255)
+    lists, _ = check(cfg, states, valid=0.9, ready=0.08, seed=4)
+    assert sum(lst.count for lst in lists) > 40
+
+
+def truncated_stream(cfg, rng, pre_frames, keep, post_frames, **kw):
+    """A resynchronisation as the wide DP pipeline outputs it: ``pre_frames`` whole frames,
+    the first ``keep`` beats of the next without end_of_frame/end_of_segment, then
+    ``post_frames`` frames of a new segment."""
+    frame = cfg.width * cfg.height
+    a = synthetic_states(cfg, pre_frames + 1, rng, **kw)
+    cut = a[pre_frames * frame:][:keep * cfg.pixels_per_clock].copy()
+    cut[:, 3:] = 0
+    b = synthetic_states(cfg, post_frames, rng, **kw)
+    return np.concatenate([a[: pre_frames * frame], cut, b])
+
+
+@pytest.mark.parametrize("lanes", [2, 4])
+def test_resynchronised_streams_match_model(lanes):
+    cfg = make_config(width=12, height=4, segment_frames=3, candidate_count=3,
+                      histogram_bits=4, histogram_shift=4, pixels_per_clock=lanes)
+    rng = np.random.default_rng(12 + lanes)
+    flags = set()
+    for pre, keep in [(1, 3), (2, 7), (4, 5), (3, 1), (5, 6)]:
+        states = truncated_stream(cfg, rng, pre, keep, 9, high=255)
+        lists, _ = check(cfg, states, valid=0.8, ready=0.6, seed=pre)
+        flags |= {(lst.aligned, lst.missed) for lst in lists}
+    assert {(False, False), (True, True), (True, False)} <= flags
+
+
+# ---- run-time settings (docs/gateware.md, "Run-time settings") ---------------------------
+
+def scheduled_states(cfg, schedule, rng, **kw):
+    parts, settings = [], []
+    for entry in schedule:
+        k = entry.segment_frames
+        part = synthetic_states(cfg, k, rng, segment_frames=k, **kw)
+        parts.append(part)
+        settings.append(np.tile([k, entry.candidate_count, entry.histogram_shift],
+                                (len(part), 1)))
+    return np.concatenate(parts), np.concatenate(settings)
+
+
+def settings_driver(cfg, states, settings, seed):
+    """Drive the settings ports with the offered beat's segment's values at a segment's
+    first beat and random (also out-of-range) values elsewhere."""
+    p = cfg.pixels_per_clock
+    rng = np.random.default_rng(seed)
+    beat_settings = settings[p - 1::p]
+    first = np.ones(len(beat_settings), dtype=bool)
+    first[1:] = states[p - 1::p][:-1, 4] == 1
+
+    def make(dut):
+        def drive(ctx, index):
+            for column, port in enumerate((dut.segment_frames, dut.candidate_count,
+                                           dut.histogram_shift)):
+                if index < len(beat_settings) and first[index]:
+                    value = int(beat_settings[index, column])
+                else:
+                    value = int(rng.integers(0, 1 << len(port)))
+                ctx.set(port, value)
+        return drive
+    return make
+
+
+@pytest.mark.parametrize("lanes", [2, 4])
+def test_run_time_settings_per_segment(lanes):
+    cfg = make_config(width=12, height=4, segment_frames=2, max_segment_frames=4,
+                      candidate_count=3, candidate_capacity=6, histogram_bits=4,
+                      histogram_shift=4, pixels_per_clock=lanes)
+    schedule = [S(2, 3, 4), S(3, 5, 2), S(1, 2, 3), S(4, 0, 5), S(2, 6, 0), S(1, 6, 4),
+                S(3, 1, 4)]
+    states, settings = scheduled_states(cfg, schedule, np.random.default_rng(lanes), high=255)
+    lists, _ = check(cfg, states, valid=0.8, ready=0.6, seed=lanes, settings=settings,
+                     on_cycle=settings_driver(cfg, states, settings, lanes))
+    assert len(lists) == len(schedule)
+    assert len({lst.threshold for lst in lists}) >= 3
+
+
+def test_settings_kept_at_a_misaligned_segment_start():
+    """As the P = 1 test of the same name: a cut frame, then segments of K = 3; the
+    counters' own segment starts keep K = 1, n = 4, s = 4 until the resync segment's
+    end_of_segment."""
+    cfg = make_config(width=12, height=4, segment_frames=1, max_segment_frames=3,
+                      candidate_count=4, histogram_bits=4, histogram_shift=4,
+                      pixels_per_clock=2)
+    rng = np.random.default_rng(21)
+    before, _ = scheduled_states(cfg, [S(1, 4, 4), S(1, 4, 4)], rng, high=255)
+    after, _ = scheduled_states(cfg, [S(3, 1, 2)] * 3, rng, high=255)
+    cut = before[48:60].copy()
+    cut[:, 3:] = 0
+    states = np.concatenate([before[:48], cut, after])
+    settings = np.array([[1, 4, 4]] * 60 + [[3, 1, 2]] * len(after))
+    lists, _ = check(cfg, states, valid=0.8, ready=0.6, seed=21, settings=settings,
+                     on_cycle=settings_driver(cfg, states, settings, 21))
+    assert [(lst.aligned, lst.missed) for lst in lists][:2] == [(True, False), (False, False)]
+    assert lists[-1].aligned
+
+
+def test_reset_in_a_scored_frame_clears_the_histogram():
+    cfg = make_config(width=12, height=4, segment_frames=2, candidate_count=4,
+                      histogram_bits=4, histogram_shift=4, pixels_per_clock=4)
+    rng = np.random.default_rng(5)
+    before = pack_state_beats(cfg, synthetic_states(cfg, 3, rng, high=255))[: 12 + 5]
+    after_states = synthetic_states(cfg, 6, rng, high=255)
+    after = pack_state_beats(cfg, after_states)
+    lists = segment_stream(after_states, cfg)
+    rst = Signal()
+    dut = SegmenterWide(cfg)
+    top = ResetInserter({"sync": rst})(dut)
+    outputs = []
+
+    async def bench(ctx):
+        ctx.set(dut.candidates.ready, 1)
+        for phase, words in (("before", before), ("after", after)):
+            sent = idle = 0
+            while sent < len(words) or (phase == "after" and idle < 60):
+                ctx.set(dut.states.valid, sent < len(words))
+                if sent < len(words):
+                    ctx.set(dut.states.payload.as_value(), words[sent])
+                took = sent < len(words) and ctx.get(dut.states.ready)
+                if ctx.get(dut.candidates.valid) and phase == "after":
+                    outputs.append(ctx.get(dut.candidates.payload.as_value()))
+                await ctx.tick()
+                sent += took
+                idle = idle + 1 if sent == len(words) else 0
+            if phase == "before":
+                ctx.set(dut.states.valid, 0)
+                ctx.set(rst, 1)
+                await ctx.tick()
+                ctx.set(rst, 0)
+
+    simulate(top, bench)
+    score(cfg, lists, outputs)
+    assert not lists[0].primed and lists[1].primed
+
+
+# ---- timing (docs/gateware.md, "P pixels per clock") ---------------------------------------
+
+def expected_timing(cfg, states, lists):
+    """Accept cycle of every beat (from the first) and output cycle of every word, valid and
+    ready always high and no stall for the scan: a scored beat's lanes to hand out are its
+    selected lanes and, on a list's last beat, lane P-1; they leave one per cycle from the
+    cycle after the acceptance, each record 3 cycles after its hand-out, the trailer 4; the
+    next scored beat is accepted in the cycle of the last hand-out (one later after a list's
+    end), the next beat of another frame in the next cycle."""
+    p = cfg.pixels_per_clock
+    frame = cfg.width * cfg.height
+    k = cfg.segment_frames
+    selected = {}
+    for s, lst in enumerate(lists):
+        base = (s * k + k - 1) * frame
+        for r in lst.records:
+            selected[base + int(r["row"]) * cfg.width + int(r["col"])] = True
+    accepts, outputs = [], []
+    cycle, free_at = 0, 0
+    for beat in range(len(states) // p):
+        first = beat * p
+        in_scored = (first // frame) % k == k - 1
+        if in_scored:
+            cycle = max(cycle, free_at)
+        accepts.append(cycle)
+        if in_scored:
+            lanes = [j for j in range(p) if selected.get(first + j)]
+            end = bool(states[first + p - 1, 3])
+            hand = sorted(set(lanes) | ({p - 1} if end else set()))
+            for i, j in enumerate(hand):
+                if j in lanes:
+                    outputs.append(cycle + 1 + i + 2)
+            if end:
+                outputs.append(cycle + 1 + len(hand) + 2)
+            free_at = cycle + max(1, len(hand)) + end
+        cycle += 1
+    return accepts, outputs
+
+
+@pytest.mark.parametrize("lanes", [2, 4])
+def test_exact_cycles_k2(lanes):
+    """K = 2, valid and ready always high: every beat's acceptance and every output word's
+    cycle as :func:`expected_timing` says (the scan never stalls: W*H/P >= 2**b + 4)."""
+    cfg = make_config(width=16, height=6, segment_frames=2, candidate_count=30,
+                      candidate_capacity=64, histogram_bits=4, histogram_shift=4,
+                      pixels_per_clock=lanes)
+    assert cfg.frame_beats >= scan_cycles(cfg) + lanes
+    states = synthetic_states(cfg, 8, np.random.default_rng(lanes), high=255)
+    lists, result = check(cfg, states, valid=1.0, ready=1.0)
+    accepts, outputs = expected_timing(cfg, states, lists)
+    start = result.accept_cycles[0]
+    assert [c - start for c in result.accept_cycles] == accepts
+    assert [c - start for c in result.output_cycles] == outputs
+    assert sum(lst.count for lst in lists) > 10
+    assert any(b - a > 1 for a, b in zip(accepts, accepts[1:]))   # beats of > 1 record held it
+
+
+@pytest.mark.parametrize("lanes", [2, 4])
+def test_k1_stalls_for_the_scan(lanes):
+    """K = 1: the next frame's first beat waits 2**b + 4 cycles after the last beat."""
+    cfg = make_config(width=12, height=5, segment_frames=1, candidate_count=0,
+                      histogram_bits=4, pixels_per_clock=lanes)
+    states = synthetic_states(cfg, 4, np.random.default_rng(3), high=255)
+    _, result = check(cfg, states, valid=1.0, ready=1.0)
+    beats = cfg.frame_beats
+    accepts = result.accept_cycles
+    gaps = [accepts[t * beats] - accepts[t * beats - 1] for t in range(1, 4)]
+    assert gaps == [scan_cycles(cfg)] * 3
+
+
+def test_segmenter_picks_by_p():
+    assert isinstance(segmenter(make_config(width=8, height=4)), Segmenter)
+    assert isinstance(segmenter(make_config(width=12, height=4, pixels_per_clock=2)),
+                      SegmenterWide)
+
+
+def test_refuses_one_pixel_per_clock():
+    with refused(ValueError, whole(
+            "SegmenterWide takes pixels_per_clock 2 or 4; at 1 use "
+            "dptbd.hw.segmenter.Segmenter (dptbd.hw.wide.segmenter.segmenter picks by P)")):
+        SegmenterWide(make_config(width=8, height=4))
+
+
+@pytest.mark.parametrize("lanes", [2, 4])
+def test_same_words_as_the_one_pixel_segmenter(lanes):
+    """The P = 1 ``Segmenter`` and ``SegmenterWide`` on the same states (a resync
+    included): the same candidate words, in the same order."""
+    cfg = make_config(width=12, height=4, segment_frames=2, candidate_count=5,
+                      candidate_capacity=6, histogram_bits=4, histogram_shift=4,
+                      pixels_per_clock=lanes)
+    one = cfg.replace(pixels_per_clock=1)
+    states = truncated_stream(cfg, np.random.default_rng(30 + lanes), 3, 5, 8, high=255)
+    lists = segment_stream(states, cfg)
+    narrow = Segmenter(one)
+    a = run_lists(one, narrow, narrow.states, narrow.candidates,
+                  pack_state_rows(one, states), lists, valid_probability=0.9,
+                  ready_probability=0.7, seed=1)
+    _, b = check(cfg, states, valid=0.6, ready=0.4, seed=2)
+    assert a.outputs == b.outputs and sum(lst.count for lst in lists) > 10
+    assert any(lst.overflow for lst in lists) and not all(lst.aligned for lst in lists)
