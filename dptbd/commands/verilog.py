@@ -40,7 +40,9 @@ refuses a configuration whose E can saturate unless ``--allow-saturation``.
 
 ``--pixels-per-clock P`` (2 or 4; ``--top dp`` only) builds ``dptbd_dp`` for P pixels per
 clock: input beats of P pixels, output beats of P states (:mod:`dptbd.hw.wide`;
-``docs/gateware.md``, "P pixels per clock"); the manifest's ``layouts`` are the beats'.
+``docs/gateware.md``, "P pixels per clock"); the manifest's ``layouts`` are the beats'. With
+``--state-store axi`` the store words of P states travel over the AXI4 port in the same
+byte layout as at P = 1 (``--axi-data-bits`` must hold P state slots).
 """
 
 from __future__ import annotations
@@ -250,9 +252,6 @@ def main(args: argparse.Namespace) -> int:
     if asked.pixels_per_clock > 1 and args.top != "dp":
         raise ValueError(f"pixels_per_clock={asked.pixels_per_clock} applies to --top dp only; "
                          f"--top {args.top} takes one pixel per clock")
-    if asked.pixels_per_clock > 1 and args.state_store == "axi":
-        raise ValueError(f"pixels_per_clock={asked.pixels_per_clock} keeps the state store on "
-                         f"chip; --state-store axi takes one pixel per clock")
     cfg = asked.build_config(fractional_lut=args.fractional_lut)
     if cfg != asked:
         print(f"building B_E={cfg.energy_bits}, F={cfg.weight_frac_bits} (asked "
