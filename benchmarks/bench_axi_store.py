@@ -7,6 +7,12 @@ against the memory's latency, in Amaranth simulation.
 
     python benchmarks/bench_axi_store.py --simulator verilator --width 4096 --height 256 \
         --frames 4 --scene range_doppler --outstanding 4 16
+    python benchmarks/bench_axi_store.py --simulator verilator --width 640 --height 512 \
+        --frames 4 --pixels-per-clock 2 4 --outstanding 4 16
+
+``--pixels-per-clock`` builds the P-pixel core (``DPCoreWide``, store words of P states in the
+same byte layout); cycles per pixel are then cycles per accepted beat over P (1/P = one
+beat of P pixels per clock).
 
 ``--simulator verilator`` runs the Verilog on Verilator with the harness's C++ AXI4 memory
 model (:mod:`dptbd.sim.verilator.dp_axi`; data widths 32 and 64), the same conditions.
@@ -47,8 +53,15 @@ def measure(cfg: DPConfig, frames: np.ndarray, latency: int, **store_fields) -> 
     store = cfg.axi_store(**store_fields)
     dut = DPPipelineAxi(store)
     memory = Axi4Memory(dut, store, latency=(latency, latency))
-    stream = [(int(p), y == 0 and x == 0) for frame in frames
-              for y, row in enumerate(frame) for x, p in enumerate(row)]
+    p = cfg.pixels_per_clock
+    flat = np.asarray(frames).reshape(len(frames), -1)
+    stream = [(tuple(int(v) for v in frame[i:i + p]), i == 0) for frame in flat
+              for i in range(0, frame.size, p)]
+    if p == 1:
+        pack = lambda pixels, first: pack_pixel(cfg, pixels[0], first)  # noqa: E731
+    else:
+        from dptbd.hw.wide import pack_beat as pack_wide
+        pack = lambda pixels, first: pack_wide(cfg, pixels, first)  # noqa: E731
     accepted, outputs = [], []
 
     async def bench(ctx):
@@ -57,7 +70,7 @@ def measure(cfg: DPConfig, frames: np.ndarray, latency: int, **store_fields) -> 
         while len(outputs) < len(stream):
             if len(accepted) < len(stream):
                 pixel, first = stream[len(accepted)]
-                ctx.set(dut.pixels.payload.as_value(), pack_pixel(cfg, pixel, first))
+                ctx.set(dut.pixels.payload.as_value(), pack(pixel, first))
                 ctx.set(dut.pixels.valid, 1)
             else:
                 ctx.set(dut.pixels.valid, 0)
@@ -74,8 +87,11 @@ def measure(cfg: DPConfig, frames: np.ndarray, latency: int, **store_fields) -> 
     sim.add_testbench(bench)
     sim.add_testbench(memory.process(), background=True)
     sim.run()
+    if p > 1:
+        from dptbd.sim.rtl.check import beat_state_words
+        outputs = [int(w) for w in beat_state_words(cfg, np.array(outputs, dtype=np.uint64))]
     exact = outputs == [int(w) for w in expected_words(cfg, frames).reshape(-1)]
-    return (accepted[-1] - accepted[0] + 1) / len(stream), exact
+    return (accepted[-1] - accepted[0] + 1) / (len(stream) * p), exact
 
 
 def scene_frames(cfg: DPConfig, frames: int, scene: str) -> np.ndarray:
@@ -102,13 +118,27 @@ def main() -> None:
     parser.add_argument("--burst-beats", type=int, default=16)
     parser.add_argument("--simulator", choices=("amaranth", "verilator"), default="amaranth")
     parser.add_argument("--scene", choices=("uniform", "range_doppler"), default="uniform")
+    parser.add_argument("--pixels-per-clock", type=int, nargs="+", default=[1],
+                        help="P: pixels per clock (1, 2, 4), one table row set per P")
     args = parser.parse_args()
-    cfg = DPConfig(width=args.width, height=args.height).build_config()
-    frames = scene_frames(cfg, args.frames, args.scene)
-    print(f"{cfg.describe()}, {args.frames} frames ({args.scene}), AXI {args.data_bits}-bit, "
-          f"bursts of {args.burst_beats} beats, {args.simulator}")
-    print("| latency (cycles) | outstanding | cycles per pixel | estimate | bit-exact |")
-    print("|---|---|---|---|---|")
+    first = True
+    for p in args.pixels_per_clock:
+        cfg = DPConfig(width=args.width, height=args.height,
+                       pixels_per_clock=p).build_config()
+        frames = scene_frames(cfg, args.frames, args.scene)
+        if first:
+            print(f"{cfg.describe()}, {args.frames} frames ({args.scene}), AXI "
+                  f"{args.data_bits}-bit, bursts of {args.burst_beats} beats, {args.simulator}")
+            print("| P | latency (cycles) | outstanding | cycles per pixel | 1/P + 1 % | "
+                  "estimate | bit-exact |")
+            print("|---|---|---|---|---|---|---|")
+            first = False
+        table(args, cfg, frames)
+
+
+def table(args, cfg: DPConfig, frames: np.ndarray) -> None:
+    """The rows of one P: every outstanding limit and latency."""
+    p = cfg.pixels_per_clock
     for outstanding in args.outstanding:
         store = cfg.axi_store(data_bits=args.data_bits, burst_beats=args.burst_beats,
                               outstanding=outstanding)
@@ -121,9 +151,10 @@ def main() -> None:
             else:
                 cpp, exact = measure(cfg, frames, latency, data_bits=args.data_bits,
                                      burst_beats=args.burst_beats, outstanding=outstanding)
-            estimate = max(1.0, (latency + args.burst_beats + 3)
+            estimate = max(1.0 / p, (latency + args.burst_beats + 3)
                            / (outstanding * store.burst_states))
-            print(f"| {latency} | {outstanding} | {cpp:.3f} | {estimate:.3f} | {exact} |")
+            print(f"| {p} | {latency} | {outstanding} | {cpp:.3f} | {1 / p * 1.01:.3f} | "
+                  f"{estimate:.3f} | {exact} |")
 
 
 if __name__ == "__main__":

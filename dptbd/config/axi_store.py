@@ -27,7 +27,10 @@ class AxiStoreConfig:
 
     Pixel ``a = row * W + col`` keeps its state (E in the low bits, d above it) in the
     :attr:`DPConfig.state_slot_bits`-bit slot at byte address
-    ``base_address + a * slot_bits / 8``, little endian; one frame's states, in place.
+    ``base_address + a * slot_bits / 8``, little endian; one frame's states, in place. The
+    layout is the same at every :attr:`DPConfig.pixels_per_clock` P: the store port's word
+    of P states (one beat of pixels) is P consecutive slots, ``words_per_beat = S / P`` of
+    them in a data beat, so ``data_bits`` must hold P slots.
 
     Parameters
     ----------
@@ -67,6 +70,16 @@ class AxiStoreConfig:
             raise ConfigError(
                 f"data_bits={self.data_bits} cannot hold one {slot}-bit state slot "
                 f"(state_bits={self.frame.state_bits}); use data_bits >= {slot}")
+        lanes = self.frame.pixels_per_clock
+        if self.states_per_beat < lanes:
+            need = lanes * slot
+            fix = (f"use data_bits >= {need}" if need <= max(AXI_DATA_BITS) else
+                   f"no data_bits in {AXI_DATA_BITS} holds them; use fewer pixels_per_clock "
+                   f"or a narrower state")
+            raise ConfigError(
+                f"data_bits={self.data_bits} holds {self.states_per_beat} {slot}-bit state "
+                f"slot(s) per beat, fewer than the {lanes} states of a store word at "
+                f"pixels_per_clock={lanes} (a word is never split over beats); {fix}")
         check_int("id_bits", self.id_bits, 1, 16, error=ConfigError)
         check_int("address_bits", self.address_bits, 12, 64, error=ConfigError)
         check_int("outstanding", self.outstanding, 1, 16, error=ConfigError)
@@ -82,13 +95,13 @@ class AxiStoreConfig:
                 f"width*height={pixels} is not a multiple of the {self.states_per_beat} "
                 f"states per {self.data_bits}-bit beat; choose a frame size or data_bits "
                 f"that divides it")
-        ahead = self.frame.radius * (self.frame.width + 1)
+        ahead = self.frame.radius * (self.frame.width + lanes)   # the read-ahead, in states
         if pixels - ahead < 2 * self.burst_states:
             raise ConfigError(
                 f"width={self.frame.width} x height={self.frame.height} is too small for "
                 f"bursts of {self.burst_states} states: the external state store needs "
-                f"width*height - radius*(width+1) >= 2 * {self.burst_states}, but it is "
-                f"{pixels - ahead}; use a larger frame or fewer burst_beats")
+                f"width*height - radius*(width+{lanes}) >= 2 * {self.burst_states}, but it "
+                f"is {pixels - ahead}; use a larger frame or fewer burst_beats")
         check_int("base_address", self.base_address, 0, error=ConfigError)
         if self.base_address % self.burst_bytes:
             raise ConfigError(
@@ -130,6 +143,32 @@ class AxiStoreConfig:
     def frame_beats(self) -> int:
         """Data beats of one frame's state, ``W * H / S``."""
         return self.frame.width * self.frame.height // self.states_per_beat
+
+    @property
+    def word_states(self) -> int:
+        """P, states in one word of the store port (the pipeline's beat):
+        :attr:`DPConfig.pixels_per_clock`."""
+        return self.frame.pixels_per_clock
+
+    @property
+    def word_bits(self) -> int:
+        """Bits of one store word in memory: P slots, ``P * slot_bits``."""
+        return self.word_states * self.slot_bits
+
+    @property
+    def words_per_beat(self) -> int:
+        """Store words in one data beat, ``S / P`` (a power of two, at least 1)."""
+        return self.states_per_beat // self.word_states
+
+    @property
+    def frame_words(self) -> int:
+        """Store words of one frame, ``W * H / P`` (the store port's addresses)."""
+        return self.frame.width * self.frame.height // self.word_states
+
+    @property
+    def burst_words(self) -> int:
+        """Store words of a full burst, ``burst_beats * words_per_beat``."""
+        return self.burst_beats * self.words_per_beat
 
     @property
     def frame_bytes(self) -> int:

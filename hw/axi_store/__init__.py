@@ -20,12 +20,21 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.config import AxiStoreConfig
 from dptbd.hw.axi_store.bus import axi4_signature
-from dptbd.hw.axi_store.prefetcher import AxiReadPrefetcher
+from dptbd.hw.axi_store.prefetcher import AxiReadPrefetcher, store_word_layout
 from dptbd.hw.axi_store.write_behind import AxiWriteBehind
-from dptbd.hw.layouts import state_word_layout
 from dptbd.hw.state_store import StateStoreSignature
 
-__all__ = ["AxiStateStore"]
+__all__ = ["store_signature", "AxiStateStore"]
+
+
+def store_signature(store: AxiStoreConfig):
+    """The pipeline's store port for ``store``: :class:`StateStoreSignature` at P = 1,
+    :class:`~dptbd.hw.wide.state_store.WideStateStoreSignature` (a word of P states per
+    beat) at P > 1."""
+    if store.word_states == 1:
+        return StateStoreSignature(store.frame)
+    from dptbd.hw.wide.state_store import WideStateStoreSignature
+    return WideStateStoreSignature(store.frame)
 
 
 class AxiStateStore(wiring.Component):
@@ -42,7 +51,10 @@ class AxiStateStore(wiring.Component):
     Members
     -------
     bus : In(StateStoreSignature(cfg))
-        The pipeline's side. ``read_en`` must only be high while ``ready`` is.
+        The pipeline's side. ``read_en`` must only be high while ``ready`` is. At P = 2 or 4
+        pixels per clock :class:`~dptbd.hw.wide.state_store.WideStateStoreSignature`: one
+        word of P states per beat (:attr:`AxiStoreConfig.word_states`), P consecutive slots
+        in memory.
     axi : Out(axi4_signature(store))
         The AXI4 manager port.
     base : In(address_bits, init=store.base_address)
@@ -62,7 +74,7 @@ class AxiStateStore(wiring.Component):
         self._reader = AxiReadPrefetcher(store)
         self._writer = AxiWriteBehind(store, in_flight=write_latency + 1)
         super().__init__({
-            "bus": In(StateStoreSignature(store.frame)),
+            "bus": In(store_signature(store)),
             "axi": Out(axi4_signature(store)),
             "base": In(store.address_bits, init=store.base_address),
             "ready": Out(1),
@@ -87,7 +99,7 @@ class AxiStateStore(wiring.Component):
         wiring.connect(m, writer.w, wiring.flipped(self.axi.w))
         wiring.connect(m, writer.b, wiring.flipped(self.axi.b))
         aligned = self.base & ~(store.burst_bytes - 1)
-        read_data = Signal(state_word_layout(store.frame))
+        read_data = Signal(store_word_layout(store))
         with m.If(self.bus.read_en):
             m.d.sync += read_data.eq(reader.word)
         m.d.comb += [

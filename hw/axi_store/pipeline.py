@@ -1,8 +1,11 @@
 """The DP pipeline with its state store in external memory: :class:`~dptbd.hw.dp_core.DPCore`
-plus :class:`~dptbd.hw.axi_store.AxiStateStore` behind an AXI4 manager port.
+(:class:`~dptbd.hw.wide.core.DPCoreWide` at P = 2 or 4 pixels per clock) plus
+:class:`~dptbd.hw.axi_store.AxiStateStore` behind an AXI4 manager port.
 
 The same streams, LUT ports and run-time settings as
-:class:`~dptbd.hw.dp_pipeline.DPPipeline`, the same bits; the input is held back
+:class:`~dptbd.hw.dp_pipeline.DPPipeline` (at P > 1
+:class:`~dptbd.hw.wide.pipeline.DPPipelineWide`, beats of P pixels), the same bits; the
+input is held back
 (``pixels.ready`` low) whenever the external memory is behind (``docs/gateware.md``,
 "State store in external memory").
 """
@@ -21,6 +24,16 @@ from dptbd.hw.dp_core import (DPCore, family_write_members, family_write_ports,
 from dptbd.hw.dp_pipeline import DPPipeline
 from dptbd.hw.layouts import pixel_layout, state_layout
 
+
+def _core_and_layouts(store: AxiStoreConfig, **options):
+    """The core of ``store.frame`` (DPCore at P = 1, DPCoreWide at P > 1) and its
+    ``pixels`` / ``states`` payload layouts."""
+    cfg = store.frame
+    if cfg.pixels_per_clock == 1:
+        return DPCore(cfg, **options), pixel_layout(cfg), state_layout(cfg)
+    from dptbd.hw.wide import DPCoreWide, wide_pixel_layout, wide_state_layout
+    return DPCoreWide(cfg, **options), wide_pixel_layout(cfg), wide_state_layout(cfg)
+
 __all__ = ["DPPipelineAxi"]
 
 class DPPipelineAxi(DPPipeline):
@@ -38,7 +51,8 @@ class DPPipelineAxi(DPPipeline):
     Members
     -------
     pixels, states, lut_*, merit_*, penalty_*, segment_frames, segment_begin, events
-        As for :class:`~dptbd.hw.dp_pipeline.DPPipeline`.
+        As for :class:`~dptbd.hw.dp_pipeline.DPPipeline`; at P = 2 or 4 as for
+        :class:`~dptbd.hw.wide.pipeline.DPPipelineWide` (beats of P pixels and states).
     m_axi_state_awid … m_axi_state_rready
         The state store's AXI4 manager port (:func:`~dptbd.hw.axi_store.bus.axi4_signature`, flat
         with the AXI names; :meth:`channel` gives a channel's signals by their names).
@@ -53,14 +67,14 @@ class DPPipelineAxi(DPPipeline):
     def __init__(self, store: AxiStoreConfig, *, output_fifo_depth: int | None = None,
                  lut_style: str = "auto", **core_options):
         cfg = store.frame
-        self._core = DPCore(cfg, output_fifo_depth=output_fifo_depth, lut_style=lut_style,
-                            **core_options)
+        self._core, pixels, states = _core_and_layouts(
+            store, output_fifo_depth=output_fifo_depth, lut_style=lut_style, **core_options)
         self._store_block = AxiStateStore(store, write_latency=self._core.schedule.write_latency)
         self._cfg = cfg
         self._store = store
         wiring.Component.__init__(self, {
-            "pixels": In(stream.Signature(pixel_layout(cfg))),
-            "states": Out(stream.Signature(state_layout(cfg))),
+            "pixels": In(stream.Signature(pixels)),
+            "states": Out(stream.Signature(states)),
             **lut_write_members(cfg),
             **family_write_members(cfg),
             **run_time_k_members(cfg),

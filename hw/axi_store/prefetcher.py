@@ -1,9 +1,14 @@
 """Read prefetcher of the state store in external memory: AXI4 INCR bursts in raster order,
-kept in flight ahead of the pipeline, unpacked into one state word per taken pixel.
+kept in flight ahead of the pipeline, unpacked into one store word per taken pixel.
 
-The pipeline reads the state store in raster order, ``read_ahead_distance`` words ahead of
-the accepted pixel, wrapping at the frame's end (:class:`~dptbd.hw.controller.Controller`);
-the prefetcher reads that same sequence ahead of time. It issues a burst when
+A *store word* is what the pipeline's store port reads and writes at a time: one state at
+P = 1 pixel per clock, the P states of a beat at P = 2 or 4
+(:class:`~dptbd.hw.wide.state_store.WideStateStoreSignature`); "pixel" below means one
+accepted input beat, "word" one store word (P consecutive state slots in memory, the same
+byte layout at every P). The pipeline reads the state store in raster order,
+``read_ahead_distance`` words ahead of the accepted pixel (of the beat configuration at
+P > 1), wrapping at the frame's end (:class:`~dptbd.hw.controller.Controller`); the
+prefetcher reads that same sequence ahead of time. It issues a burst when
 
 * the beat FIFO has room for all its beats (counting the beats of bursts in flight), so
   ``RREADY`` only drops if the memory sends beats it was not asked for;
@@ -11,7 +16,7 @@ the prefetcher reads that same sequence ahead of time. It issues a burst when
 * every word of the burst has been written by the previous frame and that write answered
   (``written``, the count of pixels whose write bursts have their B response, from
   :class:`~dptbd.hw.axi_store.write_behind.AxiWriteBehind`): the pixel taking read word ``i``
-  needs the state written by pixel ``i + D - W*H``, ``D`` the read-ahead. AXI4 does not
+  needs the state written by pixel ``i + D - W*H/P``, ``D`` the read-ahead. AXI4 does not
   order reads after writes, so the prefetcher waits for the write's response.
 
 Bursts start at the next beat and end at a burst-aligned boundary or at the frame's last
@@ -26,7 +31,7 @@ the words they take in the meantime do not matter; only the order rule above doe
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal
+from amaranth.hdl import Cat, Const, Module, Mux, Signal, Value
 from amaranth.lib import wiring
 from amaranth.lib.fifo import SyncFIFOBuffered
 from amaranth.lib.wiring import In, Out
@@ -36,7 +41,36 @@ from dptbd.hw.axi_store.bus import BURST_INCR, CACHE_MODIFIABLE, address_channel
 from dptbd.hw.layouts import state_word_layout
 from dptbd.hw.schedule import read_ahead_distance
 
-__all__ = ["pixel_count_bits", "AxiReadPrefetcher"]
+__all__ = ["pixel_count_bits", "store_word_layout", "to_slots", "AxiReadPrefetcher"]
+
+
+def store_word_layout(store: AxiStoreConfig):
+    """The store port's word: one state (:func:`~dptbd.hw.layouts.state_word_layout`) at
+    P = 1, the P states of a beat (:func:`~dptbd.hw.wide.layouts.beat_word_layout`) at
+    P > 1."""
+    if store.word_states == 1:
+        return state_word_layout(store.frame)
+    from dptbd.hw.wide.layouts import beat_word_layout
+    return beat_word_layout(store.frame)
+
+
+def to_slots(store: AxiStoreConfig, word: Value) -> Value:
+    """A store word's bits as laid out in memory: each state zero-extended to its slot
+    (``store.word_bits`` bits; at P = 1 the word itself, extended where it is assigned)."""
+    if store.word_states == 1:
+        return word
+    bits, pad = store.frame.state_bits, store.slot_bits - store.frame.state_bits
+    return Cat(*[Cat(word[k * bits:(k + 1) * bits], Const(0, pad))
+                 for k in range(store.word_states)])
+
+
+def from_slots(store: AxiStoreConfig, chunk: Value) -> Value:
+    """The inverse of :func:`to_slots`: the store word in a ``word_bits`` chunk of a beat."""
+    bits = store.frame.state_bits
+    if store.word_states == 1:
+        return chunk[:bits]
+    return Cat(*[chunk.word_select(k, store.slot_bits)[:bits]
+                 for k in range(store.word_states)])
 
 
 def pixel_count_bits(store: AxiStoreConfig) -> int:
@@ -67,8 +101,8 @@ class AxiReadPrefetcher(wiring.Component):
         Pixels whose state writes have been answered (modular count since reset).
     available : Out(1)
         A word is ready: ``word`` holds it.
-    word : Out(state_word_layout(cfg))
-        The next state word in raster read-ahead order.
+    word : Out(store_word_layout(store))
+        The next store word in raster read-ahead order.
     take : In(1)
         The word is consumed in this cycle (only with ``available``).
     restart : In(1)
@@ -86,7 +120,7 @@ class AxiReadPrefetcher(wiring.Component):
             "base": In(store.address_bits, init=store.base_address),
             "written": In(pixel_count_bits(store)),
             "available": Out(1),
-            "word": Out(state_word_layout(store.frame)),
+            "word": Out(store_word_layout(store)),
             "take": In(1),
             "restart": In(1),
             "error": Out(1),
@@ -101,10 +135,10 @@ class AxiReadPrefetcher(wiring.Component):
         m = Module()
         store = self._store
         cfg: DPConfig = store.frame
-        pixels = cfg.width * cfg.height
-        per_beat = store.states_per_beat
+        pixels = store.frame_words                   # store words (beats of pixels at P > 1)
+        per_beat = store.words_per_beat
         beats = store.frame_beats
-        ahead = read_ahead_distance(cfg)
+        ahead = read_ahead_distance(cfg.beat_config())
         first_word = ahead % pixels                  # what the controller reads first
         restart_word = (ahead + 1) % pixels          # and after a resync pixel
         count_bits = pixel_count_bits(store)
@@ -120,7 +154,9 @@ class AxiReadPrefetcher(wiring.Component):
 
         # ---- issue side: next beat, read index of its first new word, credits ------------
         next_beat = Signal(range(beats), init=first_word // per_beat)
-        skip = Signal(range(per_beat), init=first_word % per_beat)   # words before the start
+        # one word per beat: offset and skip stay 0 (one bit, not a zero-width vector)
+        positions = range(max(per_beat, 2))
+        skip = Signal(positions, init=first_word % per_beat)   # words before the start
         issue_index = Signal(count_bits)             # read index of the next burst's 1st word
         reserved = Signal(range(depth + 1))          # beats requested and not popped
         in_flight = Signal(range(store.outstanding + 1))
@@ -160,14 +196,14 @@ class AxiReadPrefetcher(wiring.Component):
         m.d.sync += in_flight.eq(in_flight + (self.ar.arvalid & self.ar.arready) - rlast_seen)
 
         # ---- take side: unpack the head beat, drop stale beats --------------------------
-        offset = Signal(range(per_beat), init=first_word % per_beat)
+        offset = Signal(positions, init=first_word % per_beat)
         stale = Signal(range(depth + 1))             # beats to drop after a restart
         taken = Signal(count_bits)                   # words taken since reset
         pop = Signal()
         m.d.comb += [
             self.available.eq(fifo.r_rdy & (stale == 0)),
             self.word.as_value().eq(
-                fifo.r_data.word_select(offset, store.slot_bits)[:cfg.state_bits]),
+                from_slots(store, fifo.r_data.word_select(offset, store.word_bits))),
             fifo.r_en.eq(pop),
         ]
         with m.If(self.take):

@@ -1,9 +1,11 @@
 """Write-behind buffer of the state store in external memory: packs the pipeline's state
 writes into beats and sends them as AXI4 INCR bursts, never stalling the pipeline.
 
-The pipeline writes one state per processed pixel, in raster order, a fixed latency after
-accepting it, and cannot wait: the write-behind takes every ``write_en``. It packs S states
-per beat (slot ``addr mod S``), queues full beats in the W FIFO and cuts them into bursts
+The pipeline writes one store word per processed pixel (one state at P = 1, the P states of
+a beat at P > 1, each in its own slot: :func:`~dptbd.hw.axi_store.prefetcher.to_slots`), in
+raster order, a fixed latency after accepting it, and cannot wait: the write-behind takes
+every ``write_en``. It packs ``S / P`` words per beat (position ``addr mod S/P``), queues
+full beats in the W FIFO and cuts them into bursts
 that end at a burst-aligned boundary or at the frame's last beat. ``room`` tells the input
 gate whether the FIFO can take every state of the pixels already in the pipeline plus one
 more (``in_flight`` of them at most).
@@ -25,8 +27,7 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.config import AxiStoreConfig
 from dptbd.hw.axi_store.bus import BURST_INCR, CACHE_MODIFIABLE, address_channel, axi4_signature, size_code
-from dptbd.hw.axi_store.prefetcher import pixel_count_bits
-from dptbd.hw.layouts import state_word_layout
+from dptbd.hw.axi_store.prefetcher import pixel_count_bits, store_word_layout, to_slots
 
 __all__ = ["AxiWriteBehind"]
 
@@ -48,9 +49,10 @@ class AxiWriteBehind(wiring.Component):
     base : In(address_bits)
         Byte address of pixel 0's slot.
     write_en, write_addr, write_data : In
-        The pipeline's state write (:class:`~dptbd.hw.state_store.StateStoreSignature`).
+        The pipeline's store-word write (:class:`~dptbd.hw.state_store.StateStoreSignature`,
+        :class:`~dptbd.hw.wide.state_store.WideStateStoreSignature` at P > 1).
     room : Out(1)
-        The W FIFO has room for ``in_flight`` more states.
+        The W FIFO has room for ``in_flight`` more words.
     written : Out(pixel_count_bits(store))
         Pixels whose writes have their B response (modular count since reset).
     error : Out(1)
@@ -60,7 +62,6 @@ class AxiWriteBehind(wiring.Component):
     def __init__(self, store: AxiStoreConfig, *, in_flight: int):
         self._store = store
         self._in_flight = in_flight
-        cfg = store.frame
         axi = axi4_signature(store)
         super().__init__({
             "aw": Out(address_channel("aw", store.address_bits, store.id_bits)),
@@ -68,8 +69,8 @@ class AxiWriteBehind(wiring.Component):
             "b": Out(axi.members["b"].signature),
             "base": In(store.address_bits, init=store.base_address),
             "write_en": In(1),
-            "write_addr": In(range(cfg.width * cfg.height)),
-            "write_data": In(state_word_layout(cfg)),
+            "write_addr": In(range(store.frame_words)),
+            "write_data": In(store_word_layout(store)),
             "room": Out(1),
             "written": Out(pixel_count_bits(store)),
             "error": Out(1),
@@ -77,9 +78,9 @@ class AxiWriteBehind(wiring.Component):
 
     @property
     def margin(self) -> int:
-        """W FIFO beats kept free for the pipeline: ``in_flight`` states, the packing
+        """W FIFO beats kept free for the pipeline: ``in_flight`` words, the packing
         register and the beat stage."""
-        per_beat = self._store.states_per_beat
+        per_beat = self._store.words_per_beat
         return -(-(self._in_flight + per_beat - 1) // per_beat) + 2
 
     @property
@@ -90,22 +91,23 @@ class AxiWriteBehind(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         store = self._store
-        per_beat = store.states_per_beat
+        per_beat = store.words_per_beat
         beats = store.frame_beats
         count_bits = pixel_count_bits(store)
         depth = self.fifo_depth
         slot_select = (per_beat - 1).bit_length()
 
-        # ---- packing: state into slot addr mod S; a full beat goes to the beat stage ------
+        # ---- packing: word into position addr mod S/P; a full beat goes to the beat stage ---
         packing = Signal(store.data_bits)
-        count = Signal(count_bits)                   # states written since reset
+        count = Signal(count_bits)                   # words written since reset
         beat_valid = Signal()
         beat_index = Signal(range(beats))
         beat_upto = Signal(count_bits)
         slot = self.write_addr[:slot_select]
         with m.If(self.write_en):
             m.d.sync += [
-                packing.word_select(slot, store.slot_bits).eq(self.write_data.as_value()),
+                packing.word_select(slot, store.word_bits).eq(
+                    to_slots(store, self.write_data.as_value())),
                 count.eq(count + 1)]
         full = self.write_en & (slot == per_beat - 1) if slot_select else self.write_en
         m.d.sync += beat_valid.eq(full)

@@ -57,7 +57,8 @@ def build_top(cfg: DPConfig, *, external_state_store: bool = False, lut_style: s
     """The top-level component: ``DPPipeline(cfg)``, or ``DPCore(cfg)`` without a store, or
     ``DPPipelineAxi(state_store)`` with the store in external memory (``state_store.frame``
     must be ``cfg``); at ``cfg.pixels_per_clock`` 2 or 4 ``DPPipelineWide(cfg)`` or
-    ``DPCoreWide(cfg)`` (:mod:`dptbd.hw.wide`).
+    ``DPCoreWide(cfg)`` (:mod:`dptbd.hw.wide`), and ``DPPipelineAxi`` around a
+    ``DPCoreWide`` with ``state_store``.
 
     ``lut_style`` (``"auto"``, ``"bram"``, ``"logic"``) is passed on (weight LUT storage),
     and so are ``core_options`` (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`, e.g.
@@ -70,9 +71,6 @@ def build_top(cfg: DPConfig, *, external_state_store: bool = False, lut_style: s
                              "port")
         if state_store.frame != cfg:
             raise ValueError("state_store was made for another configuration than cfg")
-        if cfg.pixels_per_clock > 1:
-            raise ValueError(f"the AXI4 state store is built for pixels_per_clock=1 only, got "
-                             f"pixels_per_clock={cfg.pixels_per_clock}")
         from dptbd.hw.axi_store.pipeline import DPPipelineAxi
         return DPPipelineAxi(state_store, lut_style=lut_style, **dict(core_options or {}))
     if cfg.pixels_per_clock > 1:        # docs/gateware.md, "P pixels per clock"

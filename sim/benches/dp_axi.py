@@ -12,7 +12,9 @@ of the RAM and on the input and output streams), ``seed``, ``summary``;
     five AXI channels, score every output word, and check in every cycle after reset that
     the AXI valid / ready outputs, ``pixels__ready`` and ``states__valid`` are 0 or 1 (no X:
     Icarus is 4-state) and that ``read_error`` / ``write_error`` stay 0. ``AxiRam`` itself
-    asserts that no burst crosses a 4 KB boundary.
+    asserts that no burst crosses a 4 KB boundary. At P = 2 or 4 pixels per clock the
+    input is beats of P pixels and each output beat is scored per pixel
+    (:func:`dptbd.sim.rtl.check.beat_state_words`).
 """
 
 from __future__ import annotations
@@ -62,8 +64,8 @@ async def run_scene_axi_ram(dut):
     bench.sink = StreamSink(dut.clk, dut.states__ready,
                             pause=_pauses(pause, seed * 10 + 8) if pause else None)
     bench.monitor = StreamMonitor(dut.clk, dut.states__valid, dut.states__ready,
-                                  dut.states__payload, bench._received, cycles=bench.cycles,
-                                  reset=dut.rst)
+                                  dut.states__payload, _per_pixel(cfg, bench._received),
+                                  cycles=bench.cycles, reset=dut.rst)
     bad = []
 
     async def watch():
@@ -79,7 +81,7 @@ async def run_scene_axi_ram(dut):
     cocotb.start_soon(watch())
     scoreboard = Scoreboard(cfg, expected_words(cfg, frames))
     bench.score_with(scoreboard)
-    words = pack_pixels(cfg, frames)
+    words = _input_words(cfg, frames)
     bench.source.send(words)
     finished = await bench.wait_done(scoreboard, 20 * len(words))
     summary = {
@@ -88,9 +90,37 @@ async def run_scene_axi_ram(dut):
         ("mismatch" if scoreboard.failed or bad else "timeout"),
         "report": scoreboard.report() if finished else f"timeout: {scoreboard.report()}",
         "x_or_error": bad[:10],
-        "pixels": len(words),
+        "pixels": len(words) * cfg.pixels_per_clock,
         "outputs": bench.monitor.count,
     }
     bench.write_summary(summary)
     assert not bad, bad[:10]
     assert summary["verdict"] == "bit-exact", summary["report"]
+
+
+def _input_words(cfg, frames) -> list[int]:
+    """The ``pixels`` payloads: one per pixel at P = 1, one per beat of P pixels at P > 1."""
+    p = cfg.pixels_per_clock
+    if p == 1:
+        return pack_pixels(cfg, frames)
+    from dptbd.hw.wide import pack_beat
+    flat = [[int(v) for v in frame.ravel()] for frame in frames]
+    return [pack_beat(cfg, frame[i:i + p], i == 0) for frame in flat
+            for i in range(0, len(frame), p)]
+
+
+def _per_pixel(cfg, receive):
+    """``receive(word, cycle)`` per pixel: at P > 1 each ``states`` beat split into the P
+    states a P = 1 design would give."""
+    if cfg.pixels_per_clock == 1:
+        return receive
+    import numpy as np
+    from dptbd.sim.rtl.check import beat_state_words
+    from dptbd.sim.verilator import beat_words
+
+    def split(word: int, cycle: int) -> None:
+        per_beat = max(1, -(-int(word).bit_length() // 64))
+        rows = beat_words([int(word)], per_beat)
+        for state in np.asarray(beat_state_words(cfg, rows)).reshape(-1):
+            receive(int(state), cycle)
+    return split

@@ -1,6 +1,8 @@
 // Verilator harness of dptbd_dp built with --state-store axi (DPPipelineAxi): streams an
 // input word sequence through the design, its state in a C++ AXI4 memory model below, and
-// writes every output transfer. dptbd.sim.verilator.dp_axi builds and drives it.
+// writes every output transfer. dptbd.sim.verilator.dp_axi builds and drives it. At P > 1
+// pixels per clock a payload wider than 64 bits (a beat of P pixels or states) travels as
+// several uint64 words, the low bits first, in in.bin and out.bin.
 //
 // The memory is the shared model of axi4_memory.h (random latency per burst, random
 // ready / valid, every AXI4 rule it sees checked, optional SLVERR responses).
@@ -11,7 +13,7 @@
 //   the memory's keys (axi4_memory.h: latency, write_latency, axi_ready, axi_valid,
 //   base, read_error, write_error, error_cycles); state_base is driven with base
 //   segment_frames K       the run-time K driven on segment_frames
-// JOB_DIR/in.bin: input payloads. Writes out.bin, out_cycles.bin, accept_cycles.bin and
+// JOB_DIR/in.bin: input payloads (words: beats). Writes out.bin, out_cycles.bin, accept_cycles.bin and
 // result.txt (status, cycles, accepted, outputs, seconds, read_bursts, write_bursts,
 // violations, first_violation, read_errors, write_errors).
 #include <chrono>
@@ -21,6 +23,7 @@
 #include <deque>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "Vdut.h"
@@ -40,6 +43,28 @@ using dptbd_harness::threshold_of;
 using dptbd_harness::write_words;
 
 using Memory = dptbd_harness::Axi4Memory<Vdut, DPTBD_AXI_DATA_BITS>;
+
+// A port of up to 64 bits is an integer; a wider one a VlWide<N> of N 32-bit words; both
+// travel as Port<T>::words uint64 words, the low bits first (as in dptbd_harness.cpp).
+template <typename T>
+struct Port {
+    static constexpr size_t words = 1;
+    static void set(T& port, const uint64_t* w) { port = static_cast<T>(w[0]); }
+    static void get(const T& port, uint64_t* w) { w[0] = static_cast<uint64_t>(port); }
+};
+template <std::size_t N>
+struct Port<VlWide<N>> {
+    static constexpr size_t words = (N + 1) / 2;
+    static void set(VlWide<N>& port, const uint64_t* w) {
+        for (size_t i = 0; i < N; ++i) port.at(i) = static_cast<EData>(w[i / 2] >> (32 * (i % 2)));
+    }
+    static void get(const VlWide<N>& port, uint64_t* w) {
+        for (size_t i = 0; i < words; ++i) w[i] = 0;
+        for (size_t i = 0; i < N; ++i) w[i / 2] |= static_cast<uint64_t>(port.at(i)) << (32 * (i % 2));
+    }
+};
+template <typename T>
+using PortOf = Port<std::remove_cv_t<std::remove_reference_t<T>>>;
 
 struct Job : dptbd_harness::StreamJob {
     dptbd_harness::Axi4MemoryJob memory;
@@ -70,10 +95,13 @@ int main(int argc, char** argv) {
     if (argc != 2) fail("usage: dptbd_sim JOB_DIR");
     const std::string dir = argv[1];
     const Job job = read_job(dir + "/job.txt");
-    const std::vector<uint64_t> in = read_words(dir + "/in.bin", job.words);
-
     auto context = std::make_unique<VerilatedContext>();
     auto dut = std::make_unique<Vdut>(context.get());
+    using InPort = PortOf<decltype(PORT(pixels, payload))>;
+    using OutPort = PortOf<decltype(PORT(states, payload))>;
+    const std::vector<uint64_t> in = read_words(dir + "/in.bin", job.words * InPort::words);
+    const std::vector<uint64_t> no_input(InPort::words, 0);
+    std::vector<uint64_t> out_payload(OutPort::words, 0);
 
     Memory mem(job.memory, DPTBD_FRAME_BYTES, DPTBD_AXI_OUTSTANDING, job.seed);
     Rng valid_rng{job.seed * 2 + 1}, ready_rng{job.seed * 2 + 2};
@@ -100,7 +128,8 @@ int main(int argc, char** argv) {
         if (!offering && next_word < job.words)
             offering = !(gap_thr && valid_rng.next() < gap_thr);
         PORT(pixels, valid) = offering;
-        PORT(pixels, payload) = offering ? in[next_word] : 0;
+        InPort::set(PORT(pixels, payload),
+                    offering ? &in[next_word * InPort::words] : no_input.data());
         const bool ready = !(pause_thr && ready_rng.next() < pause_thr);
         PORT(states, ready) = ready;
         mem.drive(dut.get(), false);
@@ -113,7 +142,8 @@ int main(int argc, char** argv) {
                 offering = false;
             }
             if (out_valid && ready) {
-                out.push_back(uint64_t(PORT(states, payload)));
+                OutPort::get(PORT(states, payload), out_payload.data());
+                out.insert(out.end(), out_payload.begin(), out_payload.end());
                 out_cycles.push_back(cycle);
             }
             read_errors += dut->read_error;
@@ -141,7 +171,8 @@ int main(int argc, char** argv) {
                  "seconds %.9f\nread_bursts %" PRIu64 "\nwrite_bursts %" PRIu64 "\n"
                  "violations %" PRIu64 "\nread_errors %" PRIu64 "\nwrite_errors %" PRIu64 "\n"
                  "first_violation %s\n",
-                 status.c_str(), cycle, next_word, out.size(), seconds, mem.read_bursts,
+                 status.c_str(), cycle, next_word, out.size() / OutPort::words, seconds,
+                 mem.read_bursts,
                  mem.write_bursts, mem.violations, read_errors, write_errors,
                  mem.first_violation.empty() ? "none" : mem.first_violation.c_str());
     mem.report(fh);

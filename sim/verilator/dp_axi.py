@@ -7,7 +7,9 @@ valid, every AXI4 rule it sees checked, writes applied with their response).
 harness into a cached executable (key: the Verilog text, the harness sources, the flags);
 :func:`run` streams frames through it and scores the outputs against the golden model
 (:func:`dptbd.sim.scoreboard.expected_words`). The C++ model takes data widths of 32, 64 and
-128 bits.
+128 bits. At P = 2 or 4 pixels per clock (``DPCoreWide`` inside, store words of P states)
+the input is beats of P pixels and the outputs, beats of P states, are scored per pixel
+(:func:`dptbd.sim.rtl.check.beat_state_words`).
 """
 
 from __future__ import annotations
@@ -43,28 +45,32 @@ class AxiStoreBuild:
 
 @dataclasses.dataclass
 class AxiStoreRun:
-    """What one run reported: ``result`` (``result.txt``), the outputs and their cycles,
-    the acceptance cycles, and whether the outputs equal the golden model's."""
+    """What one run reported: ``result`` (``result.txt``), the outputs (one packed state
+    per pixel, as a P = 1 design gives them), the acceptance cycles (one per input beat: per
+    pixel at P = 1), and whether the outputs equal the golden model's."""
 
     result: dict
     outputs: np.ndarray
     accept_cycles: np.ndarray
     bit_exact: bool
     first_mismatch: int | None
+    pixels_per_clock: int = 1
 
     @property
     def cycles_per_pixel(self) -> float:
-        """Cycles from the first to the last accepted pixel, over the pixels."""
+        """Cycles from the first to the last accepted beat, over the pixels (1 / P when a
+        beat of P pixels enters every cycle)."""
         a = self.accept_cycles
-        return float(a[-1] - a[0] + 1) / len(a)
+        return float(a[-1] - a[0] + 1) / (len(a) * self.pixels_per_clock)
 
 
 def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None) -> AxiStoreBuild:
     """Verilate ``store``'s ``dptbd_dp`` with the AXI4 memory harness, or reuse the build."""
     from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
     from dptbd.hw.schedule import check_supported
+    from dptbd.hw.wide import check_wide
 
-    check_supported(store.frame)
+    (check_supported if store.frame.pixels_per_clock == 1 else check_wide)(store.frame)
     tools = check_tools()
     text, manifest = generate_verilog(store.frame, state_store=store)
     defines = {"DPTBD_AXI_DATA_BITS": store.data_bits,
@@ -103,10 +109,9 @@ def run(sim: AxiStoreBuild, frames: np.ndarray, *, latency=(0, 0), write_latency
         job_dir: str | os.PathLike | None = None) -> AxiStoreRun:
     """Stream ``frames`` (``(T, H, W)``) through ``sim``; score against the golden model."""
     from dptbd.sim.scoreboard import expected_words
-    from dptbd.sim.stimulus import pack_pixels
 
     cfg = sim.store.frame
-    words = np.asarray(pack_pixels(cfg, frames), dtype=np.uint64)
+    words = _input_words(sim, frames)
     if max_cycles is None:
         slow = (1 + max(latency[1], (write_latency or latency)[1]) / 8) \
             / max(0.05, (1 - valid_gap) * (1 - ready_pause) * axi_ready * axi_valid)
@@ -114,7 +119,7 @@ def run(sim: AxiStoreBuild, frames: np.ndarray, *, latency=(0, 0), write_latency
     with tempfile.TemporaryDirectory() as tmp:
         folder = pathlib.Path(job_dir or tmp)
         folder.mkdir(parents=True, exist_ok=True)
-        words.astype("<u8").tofile(folder / "in.bin")
+        words.astype("<u8").tofile(folder / "in.bin")      # (beats, words per beat) at P > 1
         wl = write_latency or latency
         (folder / "job.txt").write_text(
             f"words {len(words)}\nseed {seed}\nmax_cycles {max_cycles}\ndrain 64\n"
@@ -127,10 +132,46 @@ def run(sim: AxiStoreBuild, frames: np.ndarray, *, latency=(0, 0), write_latency
         for line in (folder / "result.txt").read_text().splitlines():
             key, _, value = line.partition(" ")
             result[key] = value if key in ("status", "first_violation") else float(value)
-        outputs = np.fromfile(folder / "out.bin", dtype="<u8")
+        outputs = _pixel_states(sim, np.fromfile(folder / "out.bin", dtype="<u8"))
         accepted = np.fromfile(folder / "accept_cycles.bin", dtype="<u8")
     expected = np.asarray(expected_words(cfg, frames), dtype=np.uint64).reshape(-1)
     n = min(len(outputs), len(expected))
     diff = np.flatnonzero(outputs[:n] != expected[:n])
     first = int(diff[0]) if len(diff) else (None if len(outputs) == len(expected) else n)
-    return AxiStoreRun(result, outputs, accepted, first is None, first)
+    return AxiStoreRun(result, outputs, accepted, first is None, first, cfg.pixels_per_clock)
+
+
+def _payload_words(sim: AxiStoreBuild, stream: str) -> int:
+    """uint64 words per ``stream`` payload in the harness's files (1 up to 64 bits)."""
+    widths = {port["name"]: port["width"] for port in sim.manifest["ports"]}
+    return max(1, -(-widths[f"{stream}__payload"] // 64))
+
+
+def _input_words(sim: AxiStoreBuild, frames: np.ndarray) -> np.ndarray:
+    """The ``pixels`` payloads of ``frames``: one uint64 per pixel at P = 1, rows of
+    uint64 words per beat of P pixels at P > 1."""
+    from dptbd.sim.stimulus import pack_pixels
+
+    cfg = sim.store.frame
+    p = cfg.pixels_per_clock
+    if p == 1:
+        return np.asarray(pack_pixels(cfg, frames), dtype=np.uint64)
+    from dptbd.hw.wide import pack_beat
+    from dptbd.sim.verilator import beat_words
+
+    flat = np.asarray(frames).reshape(len(frames), -1)
+    values = [pack_beat(cfg, frame[i:i + p], i == 0) for frame in flat
+              for i in range(0, frame.size, p)]
+    return beat_words(values, _payload_words(sim, "pixels"))
+
+
+def _pixel_states(sim: AxiStoreBuild, words: np.ndarray) -> np.ndarray:
+    """out.bin's words as one packed state per pixel (beats split at P > 1)."""
+    cfg = sim.store.frame
+    if cfg.pixels_per_clock == 1:
+        return words
+    from dptbd.sim.rtl.check import beat_state_words
+
+    per_beat = _payload_words(sim, "states")
+    rows = words.reshape(-1, per_beat) if per_beat > 1 else words
+    return np.asarray(beat_state_words(cfg, rows), dtype=np.uint64).reshape(-1)

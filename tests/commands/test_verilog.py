@@ -527,6 +527,18 @@ def test_pixels_per_clock_with_an_external_store_and_from_toml(tmp_path):
     assert one["top"] == "DPPipeline" and one["parameters"]["pixels_per_clock"] == 1
 
 
+@pytest.mark.parametrize("p", [2, 4])
+def test_pixels_per_clock_with_the_axi_state_store(tmp_path, p):
+    out = tmp_path / "dp.v"
+    assert verilog_command.main(parse(["-o", out, "--width", 64, "--height", 16,
+                                       "--pixels-per-clock", p, "--state-store", "axi"])) == 0
+    manifest = json.loads(out.with_suffix(".json").read_text())
+    assert manifest["top"] == "DPPipelineAxi" and manifest["parameters"]["pixels_per_clock"] == p
+    assert manifest["state_store"]["states_per_beat"] == 4              # 16-bit slots, 64-bit
+    names = {port["name"]: port["width"] for port in manifest["ports"]}
+    assert names["pixels__payload"] == 8 * p + 1 and names["m_axi_state_wdata"] == 64
+
+
 @pytest.mark.parametrize("argv, error, message", [
     (["--width", 12, "--pixels-per-clock", 3], ConfigError,
      "pixels_per_clock must be one of (1, 2, 4), got 3"),
@@ -535,9 +547,13 @@ def test_pixels_per_clock_with_an_external_store_and_from_toml(tmp_path):
      "two rows"),
     (["--width", 12, "--pixels-per-clock", 4, "--top", "axi", "--state-output"], ValueError,
      "pixels_per_clock=4 has no m_axis_state; --state-output takes one pixel per clock"),
-    (["--width", 12, "--pixels-per-clock", 2, "--state-store", "axi"], ValueError,
-     "pixels_per_clock=2 keeps the state store on chip; --state-store axi takes one pixel "
-     "per clock"),
+    (["--width", 12, "--pixels-per-clock", 2, "--top", "axi", "--state-store", "axi"],
+     ValueError, "pixels_per_clock=2 keeps dptbd_axi's state store on chip; --top axi "
+     "--state-store axi takes one pixel per clock"),
+    (["--width", 16, "--height", 12, "--pixels-per-clock", 4, "--state-store", "axi",
+      "--axi-data-bits", 32], ConfigError,
+     "data_bits=32 holds 2 16-bit state slot(s) per beat, fewer than the 4 states of a store "
+     "word at pixels_per_clock=4 (a word is never split over beats); use data_bits >= 64"),
 ])
 def test_pixels_per_clock_refusals(tmp_path, argv, error, message):
     out = tmp_path / "dp.v"

@@ -51,6 +51,17 @@ AXI_STORE_BAD = [
      "width=16 x height=4 is too small for bursts of 32 states: the external state store "
      "needs width*height - radius*(width+1) >= 2 * 32, but it is 47; use a larger frame or "
      "fewer burst_beats"),
+    (dict(width=16, height=12, pixels_per_clock=4), dict(data_bits=64),
+     "data_bits=64 holds 2 32-bit state slot(s) per beat, fewer than the 4 states of a store "
+     "word at pixels_per_clock=4 (a word is never split over beats); use data_bits >= 128"),
+    (dict(width=16, height=12, pixels_per_clock=4, energy_bits=32), dict(data_bits=128),
+     "data_bits=128 holds 2 64-bit state slot(s) per beat, fewer than the 4 states of a store "
+     "word at pixels_per_clock=4 (a word is never split over beats); no data_bits in (32, 64, "
+     "128) holds them; use fewer pixels_per_clock or a narrower state"),
+    (dict(width=12, height=3, pixels_per_clock=4), dict(data_bits=128, burst_beats=4),
+     "width=12 x height=3 is too small for bursts of 16 states: the external state store "
+     "needs width*height - radius*(width+4) >= 2 * 16, but it is 20; use a larger frame or "
+     "fewer burst_beats"),
     (dict(), dict(base_address=-1), "base_address must be an integer in [0, inf), got -1"),
     (dict(), dict(base_address=0x1040),
      "base_address=0x1040 is not aligned to the burst size of 128 bytes (16 beats of 8)"),
@@ -79,3 +90,23 @@ def test_axi_store_accepts_the_4kb_burst_and_a_full_address_space():
     assert store.burst_bytes == 4096
     assert DPConfig(width=640, height=512).axi_store(
         address_bits=21, base_address=0x200000 - 640 * 512 * 4).frame_bytes == 1310720
+
+
+@pytest.mark.parametrize("kw, fields, words_per_beat, frame_words", [
+    (dict(pixels_per_clock=2, energy_bits=10), dict(data_bits=32), 1, 96),   # 16-bit slots
+    (dict(pixels_per_clock=2, energy_bits=10), dict(data_bits=128, burst_beats=2), 4, 96),
+    (dict(pixels_per_clock=4), dict(data_bits=128), 1, 48),                  # 32-bit slots
+    (dict(), dict(data_bits=64), 2, 192),
+])
+def test_a_store_word_is_p_slots_in_the_p1_layout(kw, fields, words_per_beat, frame_words):
+    """The byte layout does not depend on P: a store word is P consecutive slots, and a
+    beat holds S / P of them."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        cfg = DPConfig(width=16, height=12, **kw)
+    store = cfg.axi_store(**fields)
+    p = cfg.pixels_per_clock
+    assert (store.word_states, store.word_bits) == (p, p * store.slot_bits)
+    assert (store.words_per_beat, store.frame_words) == (words_per_beat, frame_words)
+    assert store.burst_words * p == store.burst_states
+    assert store.frame_bytes == 16 * 12 * store.slot_bits // 8           # as at P = 1

@@ -83,6 +83,8 @@ def test_a_zero_latency_memory_keeps_one_pixel_per_cycle():
     (dict(width=640, height=512), dict(data_bits=64)),              # 2 states per beat
     (dict(width=16, height=12), dict(data_bits=32, burst_beats=2)),  # 1 state per beat
     (dict(width=1280, height=1024, segment_frames=8), dict(data_bits=128)),
+    (dict(width=64, height=16, pixels_per_clock=2), dict(data_bits=32, burst_beats=2)),
+    (dict(width=640, height=512, pixels_per_clock=4), dict(data_bits=64)),  # 1 word per beat
 ])
 def test_verilog_lints_clean(tmp_path, kw, store_fields):
     store = DPConfig(**kw).build_config().axi_store(**store_fields)
@@ -172,3 +174,76 @@ def test_a_transient_memory_error_is_flagged_and_the_next_segment_is_right_again
     assert pulses == {"read": 1, "write": 1}
     with pytest.raises(AssertionError):       # the lost write did reach frame 1
         assert_states_equal(run.outputs[192:2 * 192], expected[1:2])
+
+
+# ---- P = 2 and 4 pixels per clock (DPCoreWide inside, store words of P states) -----------
+def run_axi_beats(cfg, frames, *, store_fields=(), latency=(0, 0), ready=1.0, valid=1.0,
+                  valid_probability=1.0, ready_probability=1.0, seed=0, beats=None):
+    from helpers.wide_harness import frames_to_beats, run_beats
+    store = cfg.axi_store(**dict(store_fields))
+    dut = DPPipelineAxi(store)
+    memory = Axi4Memory(dut, store, seed=seed, latency=latency, ready=ready, valid=valid)
+    beats = frames_to_beats(cfg, frames) if beats is None else beats
+    run = run_beats(dut, cfg, beats, valid_probability=valid_probability,
+                    ready_probability=ready_probability, seed=seed,
+                    processes=[memory.process()],
+                    max_cycles=max(latency[1], 1) * 4 * len(beats) + 5000)
+    return run, memory
+
+
+@pytest.mark.parametrize("p, store_fields", [
+    (2, dict(data_bits=64, burst_beats=4)),      # 2 words of 2 states per beat
+    (2, dict(data_bits=32, burst_beats=2)),      # 1 word per beat
+    (4, dict(data_bits=64, burst_beats=4)),      # 1 word of 4 states per beat
+    (4, dict(data_bits=128, burst_beats=2)),     # 2 words per beat
+])
+def test_p_pixels_per_clock_keep_one_beat_per_cycle_at_zero_latency(p, store_fields):
+    """A memory always ready without latency: the first beat enters in cycle 4 (as at
+    P = 1), then one beat of P pixels every cycle, the golden model's bits."""
+    cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=p).build_config()
+    frames = np.random.default_rng(p).integers(0, 256, size=(4, cfg.height, cfg.width))
+    run, memory = run_axi_beats(cfg, frames, store_fields=store_fields)
+    beats = 4 * cfg.frame_beats
+    if store_fields["data_bits"] == 32:          # 2-beat bursts, one AR every other cycle
+        assert run.accept_cycles[0] == 4 and run.accept_cycles[-1] - 4 < beats + 8
+    else:
+        assert run.accept_cycles == list(range(4, 4 + beats))
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+    # the state did go through memory (the last frame's bursts may still be on their way)
+    assert memory.stats["write_beats"] >= 3 * cfg.axi_store(**store_fields).frame_beats
+
+
+@pytest.mark.parametrize("p, latency, seed", [(2, (0, 300), 1), (4, (0, 500), 2),
+                                              (4, (100, 200), 3)])
+def test_p_pixels_latency_and_stalls_change_no_bit(p, latency, seed):
+    cfg = DPConfig(width=16, height=12, segment_frames=2, pixels_per_clock=p).build_config()
+    frames = np.random.default_rng(seed).integers(0, 256, size=(4, cfg.height, cfg.width))
+    run, _ = run_axi_beats(cfg, frames, store_fields=dict(data_bits=64, burst_beats=2,
+                                                          outstanding=3),
+                           latency=latency, ready=0.6, valid=0.7, valid_probability=0.8,
+                           ready_probability=0.8, seed=seed)
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+
+
+def test_p_pixels_unexpected_first_resynchronises():
+    """P = 2: a frame cut short after 30 beats, then frames with `first`: a new segment
+    starts there, the prefetcher restarts (words of 2 states) under a random latency."""
+    from helpers.hw_harness import FIELDS
+    from helpers.wide_harness import frames_to_beats
+    cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=2).build_config()
+    frames = np.random.default_rng(12).integers(0, 256, size=(6, cfg.height, cfg.width))
+    cut = 30
+    beats = frames_to_beats(cfg, frames[:1]) + frames_to_beats(cfg, frames[1:2])[:cut] \
+        + frames_to_beats(cfg, frames[2:])
+    run, _ = run_axi_beats(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4),
+                           latency=(0, 50), ready=0.7, valid=0.7, valid_probability=0.8,
+                           ready_probability=0.8, seed=4, beats=beats)
+    head = reference_states(cfg, frames[:2])
+    truncated = head[1].reshape(-1, len(FIELDS))[:2 * cut].copy()
+    truncated[:, 3:] = 0                          # the cut frame never ends
+    tail = reference_states(cfg, frames[2:])      # a new segment from frame 2
+    expected = np.concatenate([head[0].reshape(-1, len(FIELDS)), truncated,
+                               tail.reshape(-1, len(FIELDS))])
+    assert len(run.outputs) == len(expected)
+    for n, (got, want) in enumerate(zip(run.outputs, expected)):
+        assert [got[f] for f in FIELDS] == want.tolist(), f"output {n}"

@@ -11,11 +11,12 @@ from helpers.hw_harness import simulate
 
 
 def ref_bursts(store, written):
-    """The bursts the prefetcher issues with nothing taken and ``written`` pixels answered:
+    """The bursts the prefetcher issues with nothing taken and ``written`` words answered:
     from word D on, aligned bursts while the beat FIFO has room and every word's write is
-    answered (pixel i needs written >= i + 1 + D - W*H)."""
-    cfg = store.frame
-    pixels, per_beat = cfg.width * cfg.height, store.states_per_beat
+    answered (word i needs written >= i + 1 + D - W*H/P; words of P states, D the
+    read-ahead of the beat configuration)."""
+    cfg = store.frame.beat_config()
+    pixels, per_beat = store.frame_words, store.words_per_beat
     ahead = read_ahead_distance(cfg) % pixels
     beat, skip, index, reserved, out = ahead // per_beat, ahead % per_beat, 0, 0, []
     depth = store.outstanding * store.burst_beats
@@ -65,9 +66,15 @@ def memory_word(memory, store, addr):
     (dict(data_bits=128, burst_beats=4, outstanding=16), 40),
     (dict(data_bits=64, burst_beats=2, outstanding=3), 175),       # the FIFO stops it
     (dict(data_bits=32, burst_beats=16, outstanding=2, base_address=0x1000), 0),
+    (dict(data_bits=128, burst_beats=4, outstanding=16, p=2), 20),  # words of 2 states
+    (dict(data_bits=64, burst_beats=2, outstanding=3, p=4), 40),
+    (dict(data_bits=64, burst_beats=4, outstanding=16, p=4), 0),
 ])
 def test_bursts_follow_the_issue_rule(fields, written):
-    store = DPConfig(width=16, height=12).axi_store(**fields)
+    fields = dict(fields)
+    p = fields.pop("p", 1)
+    cfg = DPConfig(width=16, height=12, pixels_per_clock=p)
+    store = (cfg.build_config() if p > 1 else cfg).axi_store(**fields)   # 16-bit slots at P > 1
     memory, _ = run_prefetch(store, written=written)
     assert memory.bursts == ref_bursts(store, written)
     assert memory.bursts                                   # it did prefetch
@@ -84,3 +91,26 @@ def test_words_come_out_in_read_ahead_order_and_restart_at_d_plus_one():
     words = [memory_word(memory, store, a) for a in range(192)]
     assert taken[:31] == words[17:48]
     assert taken[31:41] == words[18:28]
+
+
+@pytest.mark.parametrize("p", [2, 4])
+def test_a_word_of_p_states_is_p_consecutive_slots(p):
+    """At P pixels per clock a word is the P states of slots ``P*a`` … ``P*a + P - 1`` (the
+    P = 1 byte layout), state 0 in the low bits; the restart rule counts words."""
+    cfg = DPConfig(width=16, height=12, pixels_per_clock=p).build_config()   # 16-bit slots
+    store = cfg.axi_store(data_bits=64, burst_beats=2)
+    ahead = read_ahead_distance(cfg.beat_config())
+    takes = {c: False for c in range(20, 40)}
+    takes[40] = True
+    takes.update({c: False for c in range(41, 120)})
+    memory, taken = run_prefetch(store, written=300, takes=takes, latency=(0, 5))
+    bits = cfg.state_bits
+    words = [sum(memory_word(memory, store, a * p + k) << (k * bits) for k in range(p))
+             for a in range(store.frame_words)]
+    n = len(words)
+    # the restart's word (the take in cycle 40, after those the latency allowed) ends the
+    # first run of the read-ahead sequence; the next run starts at word D + 1
+    cut = next(i for i in range(1, len(taken)) if taken[i] != words[(ahead + i) % n])
+    assert 10 <= cut <= 21 and len(taken) > cut + 40       # it wrapped past the frame's end
+    assert taken == ([words[(ahead + i) % n] for i in range(cut)]
+                     + [words[(ahead + 1 + i) % n] for i in range(len(taken) - cut)])

@@ -102,3 +102,21 @@ def test_an_error_response_is_flagged_once_per_burst():
     _, _, trace = run_writes(store, list(range(192)), errors={0x44: RESP_SLVERR})
     assert trace["errors"] == 1
     assert trace["written"][-1] == 192
+
+
+@pytest.mark.parametrize("p, data_bits", [(2, 32), (2, 64), (4, 64), (4, 128)])
+def test_a_word_of_p_states_fills_p_consecutive_slots(p, data_bits):
+    """At P pixels per clock word ``a`` (P states, state 0 in the low bits) lands in slots
+    ``P*a`` … ``P*a + P - 1``: the byte layout of P = 1, each state zero-extended in its
+    slot; bursts as at P = 1."""
+    cfg = DPConfig(width=16, height=12, pixels_per_clock=p).build_config()   # 16-bit slots
+    store = cfg.axi_store(data_bits=data_bits, burst_beats=4, base_address=0x1000)
+    words = store.frame_words
+    memory, data, trace = run_writes(store, list(range(words)), seed=p)
+    bits = cfg.state_bits
+    assert [stored(memory, store, a) for a in range(192)] == [
+        data[a // p] >> (a % p * bits) & ((1 << bits) - 1) for a in range(192)]
+    assert memory.bursts == [("AW", 0x1000 + b * store.beat_bytes,
+                              min(4, store.frame_beats - b))
+                             for b in range(0, store.frame_beats, 4)]
+    assert trace["written"][-1] == words

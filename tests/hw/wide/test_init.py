@@ -289,12 +289,16 @@ def test_refuses_bad_options(option, value, message):
         DPPipelineWide(cfg, **{option: value})
 
 
-def test_build_top_refuses_the_axi_store_at_p_above_one():
+@pytest.mark.parametrize("p", [2, 4])
+def test_build_top_puts_the_axi_store_around_dpcorewide(p):
+    from dptbd.hw.axi_store.pipeline import DPPipelineAxi
     from dptbd.hw.flow.verilog import build_top
-    cfg = DPConfig(width=64, height=16, pixels_per_clock=2)
-    with pytest.raises(ValueError, match=whole(
-            "the AXI4 state store is built for pixels_per_clock=1 only, got pixels_per_clock=2")):
-        build_top(cfg, state_store=cfg.axi_store())
+    cfg = DPConfig(width=64, height=16, pixels_per_clock=p).build_config()
+    top = build_top(cfg, state_store=cfg.axi_store())
+    assert type(top) is DPPipelineAxi and type(top._core) is DPCoreWide
+    assert top.latency == DPCoreWide(cfg).latency
+    payload = top.signature.members["pixels"].signature.members["payload"]
+    assert payload.shape.size == 8 * p + 1                  # a beat of P pixels and first
 
 
 def test_one_pixel_blocks_refuse_p_above_one():

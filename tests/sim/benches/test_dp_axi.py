@@ -26,3 +26,19 @@ def test_axi_ram_bench_is_bit_exact_and_x_free(tmp_path, store_fields, pause):
     passed, summary, log = run_bench(tmp_path, cfg, frames, store_fields, pause=pause, seed=3)
     assert passed and summary["verdict"] == "bit-exact", (summary, log)
     assert summary["outputs"] == 4 * 192 and summary["x_or_error"] == []
+
+
+@pytest.mark.parametrize("p, store_fields, pause", [
+    (2, dict(data_bits=64, burst_beats=4), 0.3),       # 2 words of 2 states per beat
+    (4, dict(data_bits=64, burst_beats=2, outstanding=2), 0.0),
+])
+def test_p_pixels_per_clock_on_axi_ram_are_bit_exact_and_x_free(tmp_path, p, store_fields,
+                                                                 pause):
+    """P = 2 and 4 on Icarus (4-state): beats offered from the first cycle after reset,
+    store words of P states in cocotbext-axi's AxiRam, no X on any handshake output."""
+    cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=p).build_config()
+    frames = np.random.default_rng(p).integers(0, 256, size=(4, cfg.height, cfg.width))
+    passed, summary, log = run_bench(tmp_path, cfg, frames, store_fields, pause=pause, seed=p)
+    assert passed and summary["verdict"] == "bit-exact", (summary, log)
+    assert summary["outputs"] == 4 * cfg.frame_beats and summary["x_or_error"] == []
+    assert summary["pixels"] == 4 * 192

@@ -54,3 +54,48 @@ def test_a_128_bit_port():
     sim = V.build(CFG.axi_store(data_bits=128, burst_beats=2, outstanding=2))
     run = V.run(sim, FRAMES, latency=(0, 100), axi_ready=0.5, axi_valid=0.5, seed=7)
     assert run.bit_exact and run.result["violations"] == 0
+
+
+# ---- P = 2 and 4 pixels per clock: store words of P states over the same port ----------
+@pytest.fixture(scope="module", params=[2, 4])
+def wide(request):
+    """P = 2 / 4 at 16 x 12, 64-bit, bursts of 4, 16 in flight."""
+    p = request.param
+    cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=p).build_config()
+    return V.build(cfg.axi_store(data_bits=64, burst_beats=4, outstanding=16))
+
+
+@needs_verilator
+def test_p_pixels_at_zero_latency_take_one_beat_per_cycle(wide):
+    run = V.run(wide, FRAMES)
+    assert run.bit_exact and run.result["violations"] == 0
+    assert run.result["status"] == "done"
+    p = wide.store.frame.pixels_per_clock
+    assert run.cycles_per_pixel == 1 / p                     # one beat of P pixels per cycle
+    assert len(run.accept_cycles) == FRAMES.size // p
+
+
+@needs_verilator
+@pytest.mark.parametrize("kw", [
+    dict(latency=(0, 500), axi_ready=0.6, axi_valid=0.6, valid_gap=0.2, ready_pause=0.2,
+         seed=3),
+    dict(latency=(0, 0), write_latency=(150, 400), seed=4),   # slow writes, immediate reads
+    dict(latency=(300, 500), axi_ready=0.8, axi_valid=0.7, valid_gap=0.1, seed=5),
+])
+def test_p_pixels_random_latency_and_stalls_change_no_bit(wide, kw):
+    run = V.run(wide, FRAMES, **kw)
+    assert run.result["violations"] == 0, run.result["first_violation"]
+    assert run.bit_exact, f"first mismatch at output {run.first_mismatch}"
+    assert run.result["read_errors"] == run.result["write_errors"] == 0
+
+
+@needs_verilator
+def test_p4_beats_wider_than_64_bits():
+    """P = 4 with 20-bit states: 83-bit output beats (two uint64 words each in the
+    harness's files), 32-bit slots, two 128-bit beats per burst."""
+    cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=4)
+    sim = V.build(cfg.axi_store(data_bits=128, burst_beats=2, outstanding=4))
+    widths = {port["name"]: port["width"] for port in sim.manifest["ports"]}
+    assert widths["states__payload"] == 4 * 20 + 3
+    run = V.run(sim, FRAMES, latency=(0, 100), axi_ready=0.5, axi_valid=0.5, seed=7)
+    assert run.bit_exact and run.result["violations"] == 0
