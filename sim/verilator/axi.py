@@ -17,7 +17,9 @@ A build with the state store in external memory (``build(cfg, "axi", state_store
 runs with the harness's AXI4 memory model on ``m_axi_state_*``; ``run_axi(memory=...)``
 sets it (:data:`MEMORY_KEYS`) and the run's ``counters`` then also hold the model's
 ``read_bursts``, ``write_bursts``, ``violations`` (AXI4 rules broken; the first in
-``first_violation``), ``read_error_beats``, ``write_error_bursts`` and ``memory_idle``.
+``first_violation``), ``read_error_beats``, ``write_error_bursts`` and ``memory_idle``; the
+bursts of an error window (``read_error`` / ``write_error``, ``error_cycles``) are answered
+with ``error_response`` (``"SLVERR"``, the default, or ``"DECERR"``).
 """
 
 from __future__ import annotations
@@ -38,10 +40,14 @@ from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.verilator import _check_probability, cycle_budget
 from dptbd.sim.verilator.cache import VerilatorBuild
 
-__all__ = ["OKAY", "SLVERR", "CUT_COUNTERS", "MEMORY_KEYS", "AxiRun", "AxiCheck", "beat_words", "step_operations", "run_axi",
-           "check_axi", "fault_pulse_array", "no_sof_mask"]
+__all__ = ["OKAY", "SLVERR", "DECERR", "ERROR_RESPONSES", "CUT_COUNTERS", "MEMORY_KEYS",
+           "AxiRun", "AxiCheck", "beat_words", "step_operations", "run_axi", "check_axi",
+           "fault_pulse_array", "no_sof_mask"]
 
-OKAY, SLVERR = 0, 2
+OKAY, SLVERR, DECERR = 0, 2, 3
+
+#: The responses the memory model's errors can carry (its ``error_response``).
+ERROR_RESPONSES = ("SLVERR", "DECERR")
 
 #: The counters of the core's events, which a reset with words in flight leaves at a count
 #: that depends on timing: read right after every ``soft_reset: "now"`` (the base of their
@@ -50,9 +56,11 @@ CUT_COUNTERS = ("FRAMES", "SEGMENTS", "LISTS", "SATURATED")
 
 #: The AXI4 memory model's settings (``sim/harness/axi4_memory.h``) ``run_axi`` takes in
 #: ``memory``: two-number ranges (latency, write_latency: cycles; error_cycles: [from, to)),
-#: probabilities (axi_ready, axi_valid, read_error, write_error) and the base address.
+#: probabilities (axi_ready, axi_valid, read_error, write_error), the base address, the span
+#: and the errors' response (error_response: one of :data:`ERROR_RESPONSES`).
 MEMORY_KEYS = {"latency": 2, "write_latency": 2, "error_cycles": 2, "axi_ready": 1,
-               "axi_valid": 1, "read_error": 1, "write_error": 1, "base": 1, "span": 1}
+               "axi_valid": 1, "read_error": 1, "write_error": 1, "base": 1, "span": 1,
+               "error_response": 1}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -211,6 +219,9 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
     for key in memory:
         if key not in MEMORY_KEYS:
             raise ValueError(f"memory key {key!r}: the keys are {', '.join(MEMORY_KEYS)}")
+    if memory.get("error_response", "SLVERR") not in ERROR_RESPONSES:
+        raise ValueError(f"memory error_response {memory['error_response']!r}: the "
+                         f"responses are {', '.join(ERROR_RESPONSES)}")
     if store is not None:
         memory.setdefault("base", store.base_address)
     words = beat_words(beats)
@@ -243,6 +254,9 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
         if repeat > 1:
             lines.append(f"period {len(words)}")
         for key, value in memory.items():
+            if key == "error_response":
+                lines.append(f"{key} {value}")
+                continue
             values = value if MEMORY_KEYS[key] == 2 else (value,)
             lines.append(f"{key} " + " ".join(str(int(v) if key in ("latency", "write_latency",
                                                                     "error_cycles", "base",
