@@ -39,9 +39,10 @@ settings, LUT writes, counter clears — with the memory of :func:`draw_memory` 
 latency class in turn, write-response latency, random AXI ready / valid) and
 :func:`dptbd.sim.verilator.axi.check_axi` scores every candidate word, flag, response and
 counter, with no AXI4 rule broken and no burst left in flight at the end; their ``store``
-bins are the memory model's observations. Not drawn there: the refused bus accesses of the
-``"axi"`` cases (``"bus"``: their unmapped addresses assume the map without the store's
-registers). An ``"axi_store"`` case with the faults ``"read_error"`` / ``"write_error"``
+bins are the memory model's observations; the refused bus accesses (``"bus"``) are drawn
+on the store build's register map (:class:`~dptbd.sim.axi.actions.Drawer`: its registers
+not unmapped, read by the checks, and refused ``STATE_BASE`` writes, unaligned or out of
+range). An ``"axi_store"`` case with the faults ``"read_error"`` / ``"write_error"``
 draws error runs instead (:func:`draw_error_window`): a clean hostile stream with input gaps
 and back-pressure, the memory above, and every burst whose address handshake falls in a
 window of cycles answered SLVERR or DECERR (reads, writes or both in turn by seed mod 3, the
@@ -397,7 +398,7 @@ def axi_store_cases():
                                            energy_bits=9, candidate_count=3,
                                            candidate_capacity=6, histogram_bits=6,
                                            histogram_shift=2),
-             "axi_store", 40, 8, tuple(f for f in AXI_FAULTS if f != "bus"),
+             "axi_store", 40, 8, AXI_FAULTS,
              store=dict(data_bits=32, burst_beats=4, outstanding=2)),
         Case("axi-store-24x16-f0-k2-errors", dict(width=24, height=16, segment_frames=2,
                                                   max_segment_frames=4, weight_frac_bits=0,
@@ -448,7 +449,7 @@ def check_axi_store_run(case, seed: int, root=None):
                            memory=memory.memory())
         bins = axi_bins(case.cfg, plan.beats, plan.steps, passed=result.passed,
                         latency=sim.latency, valid_gap=plan.valid_gap,
-                        ready_pause=plan.ready_pause, run=result.run)
+                        ready_pause=plan.ready_pause, run=result.run, store=sim.state_store)
     if "bus" not in case.faults:
         # refusals only the raw accesses reach: not declared (a refused LUT strobe comes
         # from the LUT writes)

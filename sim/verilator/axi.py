@@ -101,8 +101,8 @@ def settle_cycles(sim: VerilatorBuild, ready_pause: float) -> int:
     return int((sim.latency + 2 * scan + 64) * (1 + 3 * ready_pause))
 
 
-def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
-                    ) -> tuple[list[tuple], list[tuple]]:
+def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str],
+                    store=None) -> tuple[list[tuple], list[tuple]]:
     """The harness operations of the bench's ``steps`` and, per w/r operation, what to
     check: ``("write", name, expected response)`` or ``("read", name, expected value or
     None)``. Each step waits ``settle`` cycles before its ``check`` reads or soft reset (as
@@ -121,8 +121,9 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
     (``[p, m, code, wstrb]``: single LUT entries, after ``lut_codes``; refused unless
     ``wstrb`` = 0xF and the code is in [0, 2**F]) and ``bus`` (raw accesses, last:
     ``["w", address, data, wstrb, response]`` or ``["r", address, response, value or
-    None]``; what is to be checked is given)."""
-    regs, regmap = constants_namespace(cfg), register_map(cfg)
+    None]``; what is to be checked is given). ``store``: the build's state store, whose
+    registers a ``check`` may then read."""
+    regs, regmap = constants_namespace(cfg, store), register_map(cfg, store)
     ops, checks, start = [], [], 0
 
     def read(at, name, want=None):
@@ -332,7 +333,8 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
         pulses = fault_pulse_array(cfg, beats, steps)
     faults = pulses[since:].sum(axis=0)
     final = {**counters, **{f"FAULT_{k.upper()}": int(v) for k, v in zip(FAULTS, faults)}}
-    ops, checks = step_operations(cfg, steps, settle_cycles(sim, ready_pause), list(final))
+    ops, checks = step_operations(cfg, steps, settle_cycles(sim, ready_pause), list(final),
+                                  store=getattr(sim, "state_store", None))
     run = run_axi(sim, beats, ops, valid_gap=valid_gap, ready_pause=ready_pause, seed=seed,
                   coverage=coverage, memory=memory)
     cuts = undrained_cuts({piece.start for piece in stream_pieces(cfg, steps)}, checks, run)
