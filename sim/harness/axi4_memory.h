@@ -134,6 +134,8 @@ class Axi4Memory {
 
     uint64_t read_bursts = 0, write_bursts = 0, violations = 0;
     uint64_t read_errors = 0, write_errors = 0;   // error beats (R), bursts (B) sent
+    // of those, the ones whose RRESP / BRESP read DECERR on the port at the handshake
+    uint64_t read_decerrs = 0, write_decerrs = 0;
     uint64_t first_read_error = ~0ULL, first_write_error = ~0ULL;   // their first handshake
     // Observed stalls: cycles the manager's AR / AW / W valid waited on a low ready, and
     // cycles an R beat or a B response was due but its valid was held low; bursts whose
@@ -253,12 +255,14 @@ class Axi4Memory {
         if (r_on_ && dut->m_axi_state_rready) {
             r_on_ = false;
             read_errors += r_error_;
+            read_decerrs += r_error_ && dut->m_axi_state_rresp == 3;
             if (r_error_ && first_read_error == ~0ULL) first_read_error = cycle;
             if (r_last_) reads_.pop_front();
         }
         if (b_on_ && dut->m_axi_state_bready) {
             const Response& rsp = responses_.front();
             if (rsp.error && first_write_error == ~0ULL) first_write_error = cycle;
+            write_decerrs += rsp.error && dut->m_axi_state_bresp == 3;
             if (rsp.error) ++write_errors;
             else
                 for (size_t k = 0; k < rsp.data.size(); ++k) write(rsp.addr + k * BEAT, rsp.data[k]);
@@ -289,6 +293,8 @@ class Axi4Memory {
 
     // The observed counters above, one "key value" line each (result.txt).
     void report(std::FILE* fh) const {
+        std::fprintf(fh, "read_decerrs %" PRIu64 "\nwrite_decerrs %" PRIu64 "\n",
+                     read_decerrs, write_decerrs);
         std::fprintf(fh, "ar_stalls %" PRIu64 "\naw_stalls %" PRIu64 "\nw_stalls %" PRIu64
                      "\nr_stalls %" PRIu64 "\nb_stalls %" PRIu64 "\nread_boundary_bursts %"
                      PRIu64 "\nwrite_boundary_bursts %" PRIu64 "\n", ar_stalls, aw_stalls,

@@ -19,7 +19,9 @@ sets it (:data:`MEMORY_KEYS`) and the run's ``counters`` then also hold the mode
 ``read_bursts``, ``write_bursts``, ``violations`` (AXI4 rules broken; the first in
 ``first_violation``), ``read_error_beats``, ``write_error_bursts`` and ``memory_idle``; the
 bursts of an error window (``read_error`` / ``write_error``, ``error_cycles``) are answered
-with ``error_response`` (``"SLVERR"``, the default, or ``"DECERR"``).
+with ``error_response`` (``"SLVERR"``, the default, or ``"DECERR"``; ``read_decerrs`` /
+``write_decerrs`` count the error beats / responses whose RRESP / BRESP read DECERR on the
+port).
 """
 
 from __future__ import annotations

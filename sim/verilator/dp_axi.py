@@ -10,7 +10,8 @@ harness into a cached executable (key: the Verilog text, the harness sources, th
 128 bits; it answers the bursts whose address handshake falls in ``error_cycles`` with
 ``error_response`` (SLVERR or DECERR) with probability ``read_error`` / ``write_error``, and
 ``result`` then holds the error beats / responses it sent (``read_error_beats``,
-``write_error_bursts``) and the cycles the design's ``read_error`` / ``write_error`` pulsed
+``write_error_bursts``; of them with DECERR on the port: ``read_decerrs``,
+``write_decerrs``) and the cycles the design's ``read_error`` / ``write_error`` pulsed
 (``read_errors``, ``write_errors``).
 """
 

@@ -180,6 +180,7 @@ def test_error_responses_are_counted_flagged_interrupt_and_the_lists_recover(kin
     got = dict(zip(reads, (int(v) for v in run.op_data[1:])))
     sent = {"read": run.counters["read_error_beats"], "write": run.counters["write_error_bursts"]}
     assert sent[kind] > 0 and sent[{"read": "write", "write": "read"}[kind]] == 0
+    assert run.counters[f"{kind}_decerrs"] == (sent[kind] if code == "DECERR" else 0)
     assert got["ERROR"] == getattr(regs, f"ERROR_STATE_{kind.upper()}_MASK")
     assert got["IRQ_STATUS"] == regs.IRQ_STATUS_FAULT_MASK | regs.IRQ_STATUS_SEGMENT_DONE_MASK
     assert (got["STATE_READ_ERRORS"], got["STATE_WRITE_ERRORS"]) == (

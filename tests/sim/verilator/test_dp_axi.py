@@ -75,6 +75,8 @@ def test_slverr_and_decerr_pulse_the_error_output_once_per_beat_or_response(deep
     other = {"read": "write", "write": "read"}[kind]
     assert sent[kind] > 0 and sent[other] == 0
     assert (r["read_errors"], r["write_errors"]) == (sent["read"], sent["write"])
+    decerrs = {"read": r["read_decerrs"], "write": r["write_decerrs"]}
+    assert decerrs[kind] == (sent[kind] if code == "DECERR" else 0)
     assert run.first_mismatch is None or run.first_mismatch >= int(
         np.searchsorted(run.accept_cycles, 300)) - 16 * 12
 
