@@ -2,7 +2,10 @@
 :class:`Drawer` draws the steps' actions (settings, refused writes, strobes, ``no_sof``,
 ``IRQ_ENABLE``, LUT tables and entries, refused bus accesses, checked reads) tracking what
 the registers hold, and :func:`fill_checks` fills in the reads only the model knows (ERROR,
-the fault counters)."""
+the fault counters). Both take the build's register map: with ``store`` (the
+:class:`~dptbd.config.AxiStoreConfig` of a ``--state-store axi`` build) the store's
+registers are mapped (not drawn as unmapped), read by the checks, and ``STATE_BASE``
+draws refused writes of its own (:data:`STORE_REFUSALS`)."""
 
 from __future__ import annotations
 
@@ -13,7 +16,7 @@ from dptbd.hw.register_map import FAULTS, register_map
 from dptbd.sim.axi.stimulus import SETTINGS, Beats
 from dptbd.sim.verilator.axi import OKAY, SLVERR
 
-__all__ = ["ACTIONS", "REFUSALS", "Drawer", "fill_checks"]
+__all__ = ["ACTIONS", "REFUSALS", "STORE_REFUSALS", "Drawer", "fill_checks"]
 
 #: What a run's steps do besides the checked reads, counted in :attr:`AxiPlan.drawn`.
 ACTIONS = ("settings", "no_strobe", "no_sof", "irq_enable", "lut_table", "lut_entry",
@@ -25,6 +28,12 @@ ACTIONS = ("settings", "no_strobe", "no_sof", "irq_enable", "lut_table", "lut_en
 #: unmapped address, a write to a read-only register.
 REFUSALS = ("setting_range", "setting_strobe", "lut_code", "lut_strobe", "unaligned_write",
             "unaligned_read", "lut_read", "unmapped_read", "unmapped_write", "read_only_write")
+#: The refused accesses a store build's runs add, counted in :attr:`AxiPlan.drawn`: a
+#: ``STATE_BASE`` write that is not a multiple of the burst size, one above the highest
+#: base (each refused with SLVERR, ``ERROR.write_refused`` set, the base kept).
+STORE_REFUSALS = ("state_base_unaligned", "state_base_range")
+#: Probability that a refused bus access of a store build's run is a ``STATE_BASE`` one.
+STATE_BASE_SHARE = 0.3
 
 
 
@@ -32,10 +41,10 @@ REFUSALS = ("setting_range", "setting_strobe", "lut_code", "lut_strobe", "unalig
 class Drawer:
     """Draws the steps' actions, tracking what the registers hold."""
 
-    def __init__(self, cfg: DPConfig, rng, drawn, aux=None):
-        self.cfg, self.rng, self.drawn = cfg, rng, drawn
+    def __init__(self, cfg: DPConfig, rng, drawn, aux=None, store=None):
+        self.cfg, self.rng, self.drawn, self.store = cfg, rng, drawn, store
         self.aux = aux if aux is not None else rng     # draws added later: their own stream
-        self.map = register_map(cfg)
+        self.map = register_map(cfg, store)
         self.unity = 1 << cfg.weight_frac_bits
         self.reset_values()
         mapped = {r.address for r in self.map.registers}
@@ -49,8 +58,9 @@ class Drawer:
 
     def reset_values(self):
         """The writable registers' values after ``aresetn``."""
-        self.values = {name: self.map[name].reset for name in (*SETTINGS, "VIDEO_INPUT",
-                                                                "IRQ_ENABLE")}
+        names = (*SETTINGS, "VIDEO_INPUT", "IRQ_ENABLE",
+                 *(("STATE_BASE",) if self.store is not None else ()))
+        self.values = {name: self.map[name].reset for name in names}
 
     def pick(self, seq):
         return seq[int(self.rng.integers(0, len(seq)))]
@@ -129,6 +139,9 @@ class Drawer:
 
     def bus(self, step):
         rng, ops = self.rng, step.setdefault("bus", [])
+        if self.store is not None and self.aux.random() < STATE_BASE_SHARE:
+            self.state_base(ops)
+            return
         kind = self.pick(REFUSALS[4:])
         reg = self.pick(self.map.registers)
         if kind == "unaligned_write":
@@ -154,6 +167,23 @@ class Drawer:
                         SLVERR])
         self.drawn[kind] += 1
 
+    def state_base(self, ops):
+        """A refused ``STATE_BASE`` write (store builds): a base in range that is not a
+        multiple of the burst size, or one above the highest (an aligned one above it half
+        the time, else all ones)."""
+        aux, field = self.aux, self.map["STATE_BASE"].fields[0]
+        lo, hi = field.limits
+        if aux.random() < 0.5:
+            value = int(aux.integers(lo // field.align, hi // field.align + 1)) * field.align \
+                + int(aux.integers(1, field.align))
+            kind = "state_base_unaligned"
+        else:
+            value = hi + field.align if aux.random() < 0.5 and hi + field.align < 2**32 \
+                else 2**32 - 1
+            kind = "state_base_range"
+        ops.append(["w", self.map["STATE_BASE"].address, value, 0xF, SLVERR])
+        self.drawn[kind] += 1
+
     def check(self, step):
         """Reads of every readable register: the values known now, the rest filled in by
         :func:`fill_checks` (ERROR, fault counters) or left unchecked (None)."""
@@ -163,6 +193,10 @@ class Drawer:
                 want[reg.name] = reg.reset
             elif reg.name in self.values:
                 want[reg.name] = self.values[reg.name]
+            elif reg.name == "STATE_BASE_ACTIVE":  # the build's: no base write is taken
+                want[reg.name] = reg.reset
+            elif reg.name in ("STATE_READ_ERRORS", "STATE_WRITE_ERRORS"):
+                want[reg.name] = 0               # the drawn runs' memory answers OKAY
             elif reg.kind in ("pulse", "status"):
                 want[reg.name] = 0               # pulses read 0; no soft reset in progress
             elif reg.name == "ERROR" or reg.name.startswith("FAULT_"):
@@ -173,14 +207,14 @@ class Drawer:
         self.drawn["check"] += 1
 
 
-def fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict]) -> np.ndarray:
+def fill_checks(cfg: DPConfig, beats: Beats, steps: list[dict], store=None) -> np.ndarray:
     """ERROR and FAULT_* of every check from the frame monitor's pulses
     (:func:`~dptbd.sim.verilator.axi.fault_pulse_array`, returned), refused writes, W1C
     clears and counter clears, in the order :func:`~dptbd.sim.verilator.axi.step_operations`
-    performs them."""
+    performs them; ``store``: the build's state store (its map), if any."""
     from dptbd.sim.verilator.axi import fault_pulse_array
 
-    regmap = register_map(cfg)
+    regmap = register_map(cfg, store)
     error = {f.name: f for f in regmap["ERROR"].fields}
     pulses = fault_pulse_array(cfg, beats, steps)
     seen = np.cumsum(np.vstack([np.zeros((1, len(FAULTS)), np.int64), pulses]), axis=0)

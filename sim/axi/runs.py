@@ -158,13 +158,16 @@ def _wait(rng) -> int:
 
 
 def draw_run(case, seed: int) -> AxiPlan:
-    """Run ``seed`` of the AXI case ``case`` (a :class:`~dptbd.sim.campaign.Case`)."""
+    """Run ``seed`` of the AXI case ``case`` (a :class:`~dptbd.sim.campaign.Case`); an
+    ``"axi_store"`` case's register traffic uses the store build's register map
+    (:class:`~dptbd.sim.axi.actions.Drawer`)."""
     from dptbd.sim.campaign import hostile_frames
 
     cfg = case.cfg
     # at P pixels per clock the stream and the step positions are drawn in beats (the
     # beat configuration's W/P columns), then each beat widened to P pixels (_widen)
     geometry = cfg.beat_config()
+    store = cfg.axi_store(**dict(case.store or {})) if case.design == "axi_store" else None
     rng = np.random.default_rng([seed, 0xA71])
     drawn = collections.Counter({k: 0 for k in (*ACTIONS, *REFUSALS, *FAULT_KINDS)})
     frames = hostile_frames(geometry, case.frames, rng)
@@ -172,7 +175,7 @@ def draw_run(case, seed: int) -> AxiPlan:
     beats, starts, notes = _stream(geometry, frames, [k for k in FAULT_KINDS if k in allowed],
                                    rng, drawn)
     gap, pause = (_density(band, rng) for band in divmod(seed % 9, 3))
-    d = Drawer(cfg, rng, drawn, np.random.default_rng([seed, 0xA73]))
+    d = Drawer(cfg, rng, drawn, np.random.default_rng([seed, 0xA73]), store=store)
     steps = []
     regmap = d.map
     sweep = (sorted(int(b) for b in rng.integers(0, len(beats) + 1, size=NOW_SWEEP))
@@ -244,7 +247,7 @@ def draw_run(case, seed: int) -> AxiPlan:
         steps.insert(j + 1, follow)
     if cfg.pixels_per_clock > 1:
         beats, steps = _widen(cfg, beats, steps, np.random.default_rng([seed, 0xA74]))
-    pulses = fill_checks(cfg, beats, steps)
+    pulses = fill_checks(cfg, beats, steps, store)
     notes = [f"gaps {gap:.2f}, back-pressure {pause:.2f}", f"{len(steps)} steps",
              *notes, "drawn " + ", ".join(f"{k} {v}" for k, v in drawn.items() if v)]
     return AxiPlan(beats, steps, gap, pause, tuple(notes), dict(drawn), pulses)

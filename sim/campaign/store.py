@@ -4,30 +4,29 @@
 A run draws from its seed only (:func:`draw_store_run`) a hostile scene
 (:func:`~dptbd.sim.campaign.draw.hostile_frames`), input gaps and output back-pressure, a
 read latency class (0; 1 … 99; 100 … 499; 500 … 700 cycles, in turn: seed mod 4; an error
-run 0 or 1 … 99, in turn every fourth seed) with a
-range inside it and a write-response range of its own, the memory's ready (AR, AW, W) and valid (R, B)
-probabilities (1, or uniform in [0.3, 1)) and the state's base address (a multiple of the
-burst size, so the frame's bursts end at 4 KB boundaries at varying offsets), and:
+run 0 or 1 … 99, in turn every fourth seed) with a range inside it and a write-response
+range of its own, the memory's ready (AR, AW, W) and valid (R, B) probabilities (1, or
+uniform in [0.3, 1)) and the state's base address (a multiple of the burst size, so the
+frame's bursts end at 4 KB boundaries at varying offsets), and:
 
 * without faults, runs on Verilator (:mod:`dptbd.sim.verilator.dp_axi`, the C++ memory model
   that checks every AXI4 rule it sees): every output word equal to the golden model's bit for
   bit (the first mismatch reported by frame, row, column and field), no AXI4 rule broken, no
   error flagged, and as many write bursts ending at a 4 KB boundary as the layout gives
-  (:func:`boundary_bursts`), as many read bursts or up to a frame's more (the read-ahead); the ``store`` bins count what the memory model
-  observed (stalled cycles of each channel, bursts ending at a 4 KB boundary:
-  :data:`~dptbd.sim.coverage.bins.store.OBSERVED`);
+  (:func:`boundary_bursts`), as many read bursts or up to a frame's more (the read-ahead);
+  the ``store`` bins count what the memory model observed (stalled cycles of each channel,
+  bursts ending at a 4 KB boundary: :data:`~dptbd.sim.coverage.bins.store.OBSERVED`);
 * with the faults ``"read_error"`` / ``"write_error"`` (:data:`STORE_FAULTS`), runs on the
-  Amaranth simulator with :class:`~dptbd.sim.axi4_memory.Axi4Memory` (the Verilator harness
-  answers OKAY only), which answers the first read beat and / or the first write burst
-  touching a random slot (a second error: the slot half a frame further) from the first pixel
-of a random frame t on with SLVERR or DECERR
-(seed mod 4 picks one of the four (code, direction) pairs, the other direction fails too in
-about half the runs);
-  the promise of ``docs/integration.md`` ("State store in external memory") is checked: each
-  error pulses ``read_error`` / ``write_error`` exactly once, every pixel still comes out (the
-  core never waits on a failed transfer), the frames before t and every frame from the
-  segment after t + 1's on are bit-exact (the failed transfers are frame t - 1's or t's
-  write, t's or t + 1's read).
+  Amaranth simulator with :class:`~dptbd.sim.axi4_memory.Axi4Memory` (its errors are tied to
+  a slot's address; the C++ model's to a window of cycles), which answers the first read
+  beat and / or the first write burst touching a random slot (a second error: the slot half
+  a frame further) from the first pixel of a random frame t on with SLVERR or DECERR (seed
+  mod 4 picks one of the four (code, direction) pairs, the other direction fails too in
+  about half the runs); the promise of ``docs/integration.md`` ("State store in external
+  memory") is checked: each error pulses ``read_error`` / ``write_error`` exactly once,
+  every pixel still comes out (the core never waits on a failed transfer), the frames before
+  t and every frame from the segment after t + 1's on are bit-exact (the failed transfers
+  are frame t - 1's or t's write, t's or t + 1's read).
 
 The ``"axi_store"`` cases (:func:`axi_store_cases`) run the drop-in core ``dptbd_axi``
 built with ``--state-store axi`` on Verilator (``dptbd.sim.verilator.build(cfg, "axi",
@@ -40,20 +39,21 @@ settings, LUT writes, counter clears — with the memory of :func:`draw_memory` 
 latency class in turn, write-response latency, random AXI ready / valid) and
 :func:`dptbd.sim.verilator.axi.check_axi` scores every candidate word, flag, response and
 counter, with no AXI4 rule broken and no burst left in flight at the end; their ``store``
-bins are the memory model's observations. Not drawn there: the refused bus accesses of the
-``"axi"`` cases (``"bus"``: their unmapped addresses assume the map without the store's
-registers). An ``"axi_store"`` case with the faults ``"read_error"`` / ``"write_error"``
+bins are the memory model's observations; the refused bus accesses (``"bus"``) are drawn
+on the store build's register map (:class:`~dptbd.sim.axi.actions.Drawer`: its registers
+not unmapped, read by the checks, and refused ``STATE_BASE`` writes, unaligned or out of
+range). An ``"axi_store"`` case with the faults ``"read_error"`` / ``"write_error"``
 draws error runs instead (:func:`draw_error_window`): a clean hostile stream with input gaps
 and back-pressure, the memory above, and every burst whose address handshake falls in a
-window of cycles answered SLVERR (reads, writes or both, in turn by seed; the window spans
-1 … 6 bursts from the first of its direction after a drawn fraction of the run, found in a
-first run without errors: :func:`window_cycles`); the run passes when the stream never
-stops (every beat taken, every list sent), no
-AXI4 rule broke, ``STATE_READ_ERRORS`` / ``STATE_WRITE_ERRORS`` count what the memory sent
-(at least one error), the ``ERROR`` bits are set exactly for the directions that failed,
-``LISTS`` counts every list, and every list of a segment that neither it nor the segment
-before came near the window (its pixels accepted more than :func:`error_margin` pixels away
-from those accepted in it) is the model's, the last segment's among them
+window of cycles answered SLVERR or DECERR (reads, writes or both in turn by seed mod 3, the
+response in turn by seed mod 2; the window spans 1 … 6 bursts from the first of its
+direction after a drawn fraction of the run, found in a first run without errors:
+:func:`window_cycles`); the run passes when the stream never stops (every beat taken, every
+list sent), no AXI4 rule broke, ``STATE_READ_ERRORS`` / ``STATE_WRITE_ERRORS`` count what
+the memory sent (at least one error), the ``ERROR`` bits are set exactly for the directions
+that failed, ``LISTS`` counts every list, and every list of a segment that neither it nor
+the segment before came near the window (its pixels accepted more than :func:`error_margin`
+pixels away from those accepted in it) is the model's, the last segment's among them
 (``docs/integration.md``, "State store in external memory").
 """
 
@@ -388,7 +388,7 @@ def axi_store_cases():
     """The ``"axi_store"`` cases of the default campaign: the small ``"axi"`` case's
     parameter set (24 × 16, K = 2 of K_max 4, F = 0, B_E = 9, n = 3 of C = 6) with its state
     in AXI4 memory on a 32-bit bus, 4-beat bursts, 2 in flight: the AXI runs with resets,
-    and (the same build) SLVERR windows."""
+    and (the same build) SLVERR / DECERR windows."""
     from dptbd.sim.axi.runs import AXI_FAULTS
     from dptbd.sim.campaign.cases import Case
 
@@ -398,7 +398,7 @@ def axi_store_cases():
                                            energy_bits=9, candidate_count=3,
                                            candidate_capacity=6, histogram_bits=6,
                                            histogram_shift=2),
-             "axi_store", 40, 8, tuple(f for f in AXI_FAULTS if f != "bus"),
+             "axi_store", 40, 8, AXI_FAULTS,
              store=dict(data_bits=32, burst_beats=4, outstanding=2)),
         Case("axi-store-24x16-f0-k2-errors", dict(width=24, height=16, segment_frames=2,
                                                   max_segment_frames=4, weight_frac_bits=0,
@@ -449,7 +449,7 @@ def check_axi_store_run(case, seed: int, root=None):
                            memory=memory.memory())
         bins = axi_bins(case.cfg, plan.beats, plan.steps, passed=result.passed,
                         latency=sim.latency, valid_gap=plan.valid_gap,
-                        ready_pause=plan.ready_pause, run=result.run)
+                        ready_pause=plan.ready_pause, run=result.run, store=sim.state_store)
     if "bus" not in case.faults:
         # refusals only the raw accesses reach: not declared (a refused LUT strobe comes
         # from the LUT writes)
@@ -465,12 +465,12 @@ def check_axi_store_run(case, seed: int, root=None):
                       plan.notes + memory.notes, bins)
 
 
-# ---- dptbd_axi --state-store axi: SLVERR windows ----------------------------------------------
+# ---- dptbd_axi --state-store axi: SLVERR / DECERR windows -------------------------------------
 
 @dataclasses.dataclass(frozen=True)
 class ErrorWindow:
-    """The SLVERR window of an ``"axi_store"`` error run, as drawn: where it falls in the
-    run's bursts (:func:`window_cycles`)."""
+    """The error window of an ``"axi_store"`` error run, as drawn: where it falls in the
+    run's bursts (:func:`window_cycles`) and the response its bursts get."""
 
     directions: tuple[str, ...]     # "read", "write" or both
     at: float                       # the window opens at the first burst of a direction
@@ -478,10 +478,12 @@ class ErrorWindow:
                                     # closes after this many bursts (any direction)
     valid_gap: float
     ready_pause: float
+    response: str = "SLVERR"        # "SLVERR" or "DECERR"
 
 
 def draw_error_window(case, seed: int) -> ErrorWindow:
-    """Run ``seed``'s window: the directions in turn (seed mod 3: read, write, both), input
+    """Run ``seed``'s window: the directions in turn (seed mod 3: read, write, both), the
+    response in turn (seed mod 2: SLVERR, DECERR; seeds 0 … 5 give each pair), input
     gaps and back-pressure (each 0 in 30 % of the runs, else uniform in [0, 0.5)), where it
     opens (uniform in [0.2, 0.6) of the run's pixels) and how many bursts it spans (1 … 6)."""
     rng = np.random.default_rng([seed, 0xE770])
@@ -489,7 +491,7 @@ def draw_error_window(case, seed: int) -> ErrorWindow:
     gap, pause = (0.0 if rng.random() < 0.3 else float(rng.uniform(0.0, 0.5))
                   for _ in range(2))
     return ErrorWindow(directions, float(rng.uniform(0.2, 0.6)), int(rng.integers(1, 7)),
-                       gap, pause)
+                       gap, pause, ("SLVERR", "DECERR")[seed % 2])
 
 
 def window_cycles(window: ErrorWindow, bursts: np.ndarray, accepted: np.ndarray
@@ -538,7 +540,7 @@ def _check_error_run(case, seed: int, root):
     stalls = dict(valid_gap=window.valid_gap, ready_pause=window.ready_pause, seed=seed)
     clean = run_axi(sim, beats, ops, memory=memory.memory(), **stalls)
     cycles = window_cycles(window, clean.bursts, clean.accept_cycles)
-    setting = dict(memory.memory(), error_cycles=cycles,
+    setting = dict(memory.memory(), error_cycles=cycles, error_response=window.response,
                    **{f"{d}_error": 1.0 for d in window.directions})
     run = run_axi(sim, beats, ops, memory=setting, **stalls)
     c = run.counters
@@ -590,8 +592,8 @@ def _check_error_run(case, seed: int, root):
         for j in exact:
             if not report and delivered[j] != expected[j]:
                 report = f"list {j} (a segment clear of the window) differs from the model's"
-    flagged = tuple(("SLVERR", d) for d in ("read", "write") if sent[d])
-    notes = (f"SLVERR on {' and '.join(window.directions)} bursts taken in cycles "
+    flagged = tuple((window.response, d) for d in ("read", "write") if sent[d])
+    notes = (f"{window.response} on {' and '.join(window.directions)} bursts taken in cycles "
              f"[{cycles[0]}, {cycles[1]})",
              f"gaps {window.valid_gap:.2f}, back-pressure {window.ready_pause:.2f}",
              *memory.notes)

@@ -15,9 +15,9 @@
 // address handshake (cycle, direction, address: `log`).
 //
 // Error responses: a read burst whose AR handshake falls in [error_from, error_to) is
-// answered with SLVERR on every beat (random data) with probability read_error; a write
-// burst whose AW handshake falls there gets BRESP = SLVERR with probability write_error and
-// changes nothing. Their draws use a generator of their own: without errors the run is the
+// answered with the error response (SLVERR, or DECERR: `error_response`) on every beat
+// (random data) with probability read_error; a write burst whose AW handshake falls there
+// gets that BRESP with probability write_error and changes nothing. Their draws use a generator of their own: without errors the run is the
 // one without this feature, cycle for cycle.
 //
 // Data widths: 32, 64 and 128 bits (a beat is kept as bytes; Verilator's 128-bit ports
@@ -46,6 +46,7 @@ struct Axi4MemoryJob {
     bool write_latency_given = false;
     double axi_ready = 1.0, axi_valid = 1.0, read_error = 0.0, write_error = 0.0;
     uint64_t error_from = 0, error_to = ~0ULL;
+    uint8_t error_response = 2;   // RRESP / BRESP of an error: SLVERR (2) or DECERR (3)
 };
 
 // Parse one of the memory's job keys; false if `key` is not one of them.
@@ -56,9 +57,10 @@ struct Axi4MemoryJob {
 //   axi_valid P            probability of RVALID / BVALID when a beat / response is due
 //   base ADDR              the state's base address (decimal)
 //   span BYTES             bytes of memory from base (default: the frame's state)
-//   read_error P           probability that a read burst is answered with SLVERR
-//   write_error P          probability that a write burst is answered with SLVERR
+//   read_error P           probability that a read burst is answered with an error
+//   write_error P          probability that a write burst is answered with an error
 //   error_cycles A B       errors only for bursts whose address handshake is in [A, B)
+//   error_response R       the errors' response: SLVERR (the default) or DECERR
 inline bool read_memory_key(const std::string& k, const char* rest, Axi4MemoryJob& job) {
     if (k == "latency") {
         if (std::sscanf(rest, "%" SCNu64 " %" SCNu64, &job.lat_min, &job.lat_max) != 2)
@@ -77,6 +79,13 @@ inline bool read_memory_key(const std::string& k, const char* rest, Axi4MemoryJo
     else if (k == "error_cycles") {
         if (std::sscanf(rest, "%" SCNu64 " %" SCNu64, &job.error_from, &job.error_to) != 2)
             fail("error_cycles needs FROM TO");
+    } else if (k == "error_response") {
+        char name[16] = {};
+        if (std::sscanf(rest, "%15s", name) != 1) fail("error_response needs SLVERR or DECERR");
+        const std::string r(name);
+        if (r == "SLVERR") job.error_response = 2;
+        else if (r == "DECERR") job.error_response = 3;
+        else fail("error_response " + r + ": the responses are SLVERR, DECERR");
     } else return false;
     return true;
 }
@@ -125,6 +134,8 @@ class Axi4Memory {
 
     uint64_t read_bursts = 0, write_bursts = 0, violations = 0;
     uint64_t read_errors = 0, write_errors = 0;   // error beats (R), bursts (B) sent
+    // of those, the ones whose RRESP / BRESP read DECERR on the port at the handshake
+    uint64_t read_decerrs = 0, write_decerrs = 0;
     uint64_t first_read_error = ~0ULL, first_write_error = ~0ULL;   // their first handshake
     // Observed stalls: cycles the manager's AR / AW / W valid waited on a low ready, and
     // cycles an R beat or a B response was due but its valid was held low; bursts whose
@@ -158,11 +169,11 @@ class Axi4Memory {
         dut->m_axi_state_rvalid = r_on_;
         set_port<BEAT>(dut->m_axi_state_rdata, r_on_ ? r_data_ : Data{});
         dut->m_axi_state_rlast = r_on_ && r_last_;
-        dut->m_axi_state_rresp = r_on_ && r_error_ ? SLVERR : 0;
+        dut->m_axi_state_rresp = r_on_ && r_error_ ? job_.error_response : 0;
         dut->m_axi_state_rid = 0;
         dut->m_axi_state_bvalid = b_on_;
         dut->m_axi_state_bresp = b_on_ && !responses_.empty() && responses_.front().error
-                                     ? SLVERR : 0;
+                                     ? job_.error_response : 0;
         dut->m_axi_state_bid = 0;
     }
 
@@ -244,12 +255,14 @@ class Axi4Memory {
         if (r_on_ && dut->m_axi_state_rready) {
             r_on_ = false;
             read_errors += r_error_;
+            read_decerrs += r_error_ && dut->m_axi_state_rresp == 3;
             if (r_error_ && first_read_error == ~0ULL) first_read_error = cycle;
             if (r_last_) reads_.pop_front();
         }
         if (b_on_ && dut->m_axi_state_bready) {
             const Response& rsp = responses_.front();
             if (rsp.error && first_write_error == ~0ULL) first_write_error = cycle;
+            write_decerrs += rsp.error && dut->m_axi_state_bresp == 3;
             if (rsp.error) ++write_errors;
             else
                 for (size_t k = 0; k < rsp.data.size(); ++k) write(rsp.addr + k * BEAT, rsp.data[k]);
@@ -280,6 +293,8 @@ class Axi4Memory {
 
     // The observed counters above, one "key value" line each (result.txt).
     void report(std::FILE* fh) const {
+        std::fprintf(fh, "read_decerrs %" PRIu64 "\nwrite_decerrs %" PRIu64 "\n",
+                     read_decerrs, write_decerrs);
         std::fprintf(fh, "ar_stalls %" PRIu64 "\naw_stalls %" PRIu64 "\nw_stalls %" PRIu64
                      "\nr_stalls %" PRIu64 "\nb_stalls %" PRIu64 "\nread_boundary_bursts %"
                      PRIu64 "\nwrite_boundary_bursts %" PRIu64 "\n", ar_stalls, aw_stalls,
@@ -294,7 +309,6 @@ class Axi4Memory {
     }
 
   private:
-    static constexpr uint8_t SLVERR = 2;
     struct ReadBurst { uint64_t due; std::deque<Data> beats; bool error; };
     struct WriteBurst { uint64_t addr, beats; std::vector<Data> data; bool error; };
     struct Response { uint64_t due, addr; std::vector<Data> data; bool error; };

@@ -52,12 +52,13 @@
 // Built with DPTBD_AXI_STORE (dptbd_axi --state-store axi; DPTBD_AXI_DATA_BITS,
 // DPTBD_AXI_OUTSTANDING, DPTBD_FRAME_BYTES): the state store's port m_axi_state_* is
 // served by the AXI4 memory model of axi4_memory.h (its job keys: latency, write_latency,
-// axi_ready, axi_valid, base, span, read_error, write_error, error_cycles; aresetn
-// abandons its bursts); result.txt also holds read_bursts, write_bursts, violations,
-// read_error_beats, write_error_bursts, first_read_error / first_write_error (cycle of the
-// first error beat's / response's handshake, 2**64-1: none), memory_idle (1: no burst in
-// flight at the end) and, last, first_violation (text, "none" without one), and
-// bursts.bin the memory's log: per address handshake uint64 cycle << 1 | is_write, address.
+// axi_ready, axi_valid, base, span, read_error, write_error, error_cycles,
+// error_response; aresetn abandons its bursts); result.txt also holds read_bursts,
+// write_bursts, violations, read_error_beats, write_error_bursts, first_read_error /
+// first_write_error (cycle of the first error beat's / response's handshake, 2**64-1:
+// none), memory_idle (1: no burst in flight at the end) and, last, first_violation
+// (text, "none" without one), and bursts.bin the memory's log: per address handshake
+// uint64 cycle << 1 | is_write, address.
 #include <chrono>
 #include <cinttypes>
 #include <cstdint>

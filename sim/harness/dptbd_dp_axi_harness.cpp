@@ -5,17 +5,20 @@
 // several uint64 words, the low bits first, in in.bin and out.bin.
 //
 // The memory is the shared model of axi4_memory.h (random latency per burst, random
-// ready / valid, every AXI4 rule it sees checked, optional SLVERR responses).
+// ready / valid, every AXI4 rule it sees checked, optional SLVERR or DECERR responses in a cycle window).
 //
 // Compile-time: DPTBD_AXI_DATA_BITS (32, 64 or 128), DPTBD_AXI_OUTSTANDING,
 // DPTBD_FRAME_BYTES.
 // Usage: dptbd_sim JOB_DIR; JOB_DIR/job.txt holds the StreamJob keys (harness_io.h) and
 //   the memory's keys (axi4_memory.h: latency, write_latency, axi_ready, axi_valid,
-//   base, read_error, write_error, error_cycles); state_base is driven with base
+//   base, read_error, write_error, error_cycles, error_response); state_base is driven
+//   with base
 //   segment_frames K       the run-time K driven on segment_frames
 // JOB_DIR/in.bin: input payloads (words: beats). Writes out.bin, out_cycles.bin, accept_cycles.bin and
 // result.txt (status, cycles, accepted, outputs, seconds, read_bursts, write_bursts,
-// violations, first_violation, read_errors, write_errors).
+// violations, first_violation, read_errors, write_errors: cycles read_error / write_error
+// was high, read_error_beats, write_error_bursts: error beats / responses the memory sent,
+// and the memory's observed counters).
 #include <chrono>
 #include <cinttypes>
 #include <cstdint>
@@ -175,6 +178,8 @@ int main(int argc, char** argv) {
                  mem.read_bursts,
                  mem.write_bursts, mem.violations, read_errors, write_errors,
                  mem.first_violation.empty() ? "none" : mem.first_violation.c_str());
+    std::fprintf(fh, "read_error_beats %" PRIu64 "\nwrite_error_bursts %" PRIu64 "\n",
+                 mem.read_errors, mem.write_errors);
     mem.report(fh);
     std::fclose(fh);
     return 0;

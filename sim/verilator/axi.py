@@ -17,7 +17,11 @@ A build with the state store in external memory (``build(cfg, "axi", state_store
 runs with the harness's AXI4 memory model on ``m_axi_state_*``; ``run_axi(memory=...)``
 sets it (:data:`MEMORY_KEYS`) and the run's ``counters`` then also hold the model's
 ``read_bursts``, ``write_bursts``, ``violations`` (AXI4 rules broken; the first in
-``first_violation``), ``read_error_beats``, ``write_error_bursts`` and ``memory_idle``.
+``first_violation``), ``read_error_beats``, ``write_error_bursts`` and ``memory_idle``; the
+bursts of an error window (``read_error`` / ``write_error``, ``error_cycles``) are answered
+with ``error_response`` (``"SLVERR"``, the default, or ``"DECERR"``; ``read_decerrs`` /
+``write_decerrs`` count the error beats / responses whose RRESP / BRESP read DECERR on the
+port).
 """
 
 from __future__ import annotations
@@ -38,10 +42,14 @@ from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.sim.verilator import _check_probability, cycle_budget
 from dptbd.sim.verilator.cache import VerilatorBuild
 
-__all__ = ["OKAY", "SLVERR", "CUT_COUNTERS", "MEMORY_KEYS", "AxiRun", "AxiCheck", "beat_words", "step_operations", "run_axi",
-           "check_axi", "fault_pulse_array", "no_sof_mask"]
+__all__ = ["OKAY", "SLVERR", "DECERR", "ERROR_RESPONSES", "CUT_COUNTERS", "MEMORY_KEYS",
+           "AxiRun", "AxiCheck", "beat_words", "step_operations", "run_axi", "check_axi",
+           "fault_pulse_array", "no_sof_mask"]
 
-OKAY, SLVERR = 0, 2
+OKAY, SLVERR, DECERR = 0, 2, 3
+
+#: The responses the memory model's errors can carry (its ``error_response``).
+ERROR_RESPONSES = ("SLVERR", "DECERR")
 
 #: The counters of the core's events, which a reset with words in flight leaves at a count
 #: that depends on timing: read right after every ``soft_reset: "now"`` (the base of their
@@ -50,9 +58,11 @@ CUT_COUNTERS = ("FRAMES", "SEGMENTS", "LISTS", "SATURATED")
 
 #: The AXI4 memory model's settings (``sim/harness/axi4_memory.h``) ``run_axi`` takes in
 #: ``memory``: two-number ranges (latency, write_latency: cycles; error_cycles: [from, to)),
-#: probabilities (axi_ready, axi_valid, read_error, write_error) and the base address.
+#: probabilities (axi_ready, axi_valid, read_error, write_error), the base address, the span
+#: and the errors' response (error_response: one of :data:`ERROR_RESPONSES`).
 MEMORY_KEYS = {"latency": 2, "write_latency": 2, "error_cycles": 2, "axi_ready": 1,
-               "axi_valid": 1, "read_error": 1, "write_error": 1, "base": 1, "span": 1}
+               "axi_valid": 1, "read_error": 1, "write_error": 1, "base": 1, "span": 1,
+               "error_response": 1}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -127,8 +137,8 @@ def settle_cycles(sim: VerilatorBuild, ready_pause: float) -> int:
     return int((sim.latency + 2 * scan + 64) * (1 + 3 * ready_pause))
 
 
-def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
-                    ) -> tuple[list[tuple], list[tuple]]:
+def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str],
+                    store=None) -> tuple[list[tuple], list[tuple]]:
     """The harness operations of the bench's ``steps`` and, per w/r operation, what to
     check: ``("write", name, expected response)`` or ``("read", name, expected value or
     None)``. Each step waits ``settle`` cycles before its ``check`` reads or soft reset (as
@@ -147,8 +157,9 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str]
     (``[p, m, code, wstrb]``: single LUT entries, after ``lut_codes``; refused unless
     ``wstrb`` = 0xF and the code is in [0, 2**F]) and ``bus`` (raw accesses, last:
     ``["w", address, data, wstrb, response]`` or ``["r", address, response, value or
-    None]``; what is to be checked is given)."""
-    regs, regmap = constants_namespace(cfg), register_map(cfg)
+    None]``; what is to be checked is given). ``store``: the build's state store, whose
+    registers a ``check`` may then read."""
+    regs, regmap = constants_namespace(cfg, store), register_map(cfg, store)
     ops, checks, start = [], [], 0
 
     def read(at, name, want=None):
@@ -245,6 +256,9 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
     for key in memory:
         if key not in MEMORY_KEYS:
             raise ValueError(f"memory key {key!r}: the keys are {', '.join(MEMORY_KEYS)}")
+    if memory.get("error_response", "SLVERR") not in ERROR_RESPONSES:
+        raise ValueError(f"memory error_response {memory['error_response']!r}: the "
+                         f"responses are {', '.join(ERROR_RESPONSES)}")
     if store is not None:
         memory.setdefault("base", store.base_address)
     p = sim.cfg.pixels_per_clock
@@ -282,6 +296,9 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
         if repeat > 1:
             lines.append(f"period {len(words)}")
         for key, value in memory.items():
+            if key == "error_response":
+                lines.append(f"{key} {value}")
+                continue
             values = value if MEMORY_KEYS[key] == 2 else (value,)
             lines.append(f"{key} " + " ".join(str(int(v) if key in ("latency", "write_latency",
                                                                     "error_cycles", "base",
@@ -361,7 +378,8 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
         pulses = fault_pulse_array(cfg, beats, steps)
     faults = pulses[since:].sum(axis=0)
     final = {**counters, **{f"FAULT_{k.upper()}": int(v) for k, v in zip(FAULTS, faults)}}
-    ops, checks = step_operations(cfg, steps, settle_cycles(sim, ready_pause), list(final))
+    ops, checks = step_operations(cfg, steps, settle_cycles(sim, ready_pause), list(final),
+                                  store=getattr(sim, "state_store", None))
     run = run_axi(sim, beats, ops, valid_gap=valid_gap, ready_pause=ready_pause, seed=seed,
                   coverage=coverage, memory=memory)
     cuts = undrained_cuts({piece.start for piece in stream_pieces(cfg, steps)}, checks, run)

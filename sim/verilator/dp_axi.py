@@ -7,7 +7,13 @@ valid, every AXI4 rule it sees checked, writes applied with their response).
 harness into a cached executable (key: the Verilog text, the harness sources, the flags);
 :func:`run` streams frames through it and scores the outputs against the golden model
 (:func:`dptbd.sim.scoreboard.expected_words`). The C++ model takes data widths of 32, 64 and
-128 bits. At P = 2 or 4 pixels per clock (``DPCoreWide`` inside, store words of P states)
+128 bits; it answers the bursts whose address handshake falls in ``error_cycles`` with
+``error_response`` (SLVERR or DECERR) with probability ``read_error`` / ``write_error``, and
+``result`` then holds the error beats / responses it sent (``read_error_beats``,
+``write_error_bursts``; of them with DECERR on the port: ``read_decerrs``,
+``write_decerrs``) and the cycles the design's ``read_error`` / ``write_error`` pulsed
+(``read_errors``, ``write_errors``).
+At P = 2 or 4 pixels per clock (``DPCoreWide`` inside, store words of P states)
 the input is beats of P pixels and the outputs, beats of P states, are scored per pixel
 (:func:`dptbd.sim.rtl.check.beat_state_words`).
 """
@@ -106,9 +112,19 @@ def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None) -> Ax
 def run(sim: AxiStoreBuild, frames: np.ndarray, *, latency=(0, 0), write_latency=None,
         axi_ready: float = 1.0, axi_valid: float = 1.0, valid_gap: float = 0.0,
         ready_pause: float = 0.0, seed: int = 1, max_cycles: int | None = None,
-        job_dir: str | os.PathLike | None = None) -> AxiStoreRun:
-    """Stream ``frames`` (``(T, H, W)``) through ``sim``; score against the golden model."""
+        job_dir: str | os.PathLike | None = None, read_error: float = 0.0,
+        write_error: float = 0.0, error_cycles: tuple[int, int] | None = None,
+        error_response: str = "SLVERR") -> AxiStoreRun:
+    """Stream ``frames`` (``(T, H, W)``) through ``sim``; score against the golden model.
+    ``read_error`` / ``write_error``: the probability that a read / write burst whose address
+    handshake falls in ``error_cycles`` (``[from, to)``; None: every cycle) is answered with
+    ``error_response`` (one of :data:`~dptbd.sim.verilator.axi.ERROR_RESPONSES`)."""
     from dptbd.sim.scoreboard import expected_words
+    from dptbd.sim.verilator.axi import ERROR_RESPONSES
+
+    if error_response not in ERROR_RESPONSES:
+        raise ValueError(f"error_response {error_response!r}: the responses are "
+                         f"{', '.join(ERROR_RESPONSES)}")
 
     cfg = sim.store.frame
     words = _input_words(sim, frames)
@@ -126,7 +142,11 @@ def run(sim: AxiStoreBuild, frames: np.ndarray, *, latency=(0, 0), write_latency
             f"valid_gap {valid_gap}\nready_pause {ready_pause}\n"
             f"latency {latency[0]} {latency[1]}\nwrite_latency {wl[0]} {wl[1]}\n"
             f"axi_ready {axi_ready}\naxi_valid {axi_valid}\nbase {sim.store.base_address}\n"
-            f"segment_frames {cfg.segment_frames}\n")
+            f"segment_frames {cfg.segment_frames}\n"
+            f"read_error {float(read_error)!r}\nwrite_error {float(write_error)!r}\n"
+            f"error_response {error_response}\n"
+            + ("" if error_cycles is None else
+               f"error_cycles {int(error_cycles[0])} {int(error_cycles[1])}\n"))
         subprocess.run([str(sim.executable), str(folder)], check=True)
         result = {}
         for line in (folder / "result.txt").read_text().splitlines():

@@ -69,8 +69,11 @@ The bin groups and what a hit is (``docs/gateware.md``, "Verification campaign")
   (the run's later segments exact); read and write bursts ending at a 4 KB boundary (one
   per multiple of 4096 in (base, base + frame bytes] per frame: the port moves every slot
   once a frame in bursts aligned to the burst size).
-* ``register`` (``axi``): AXI4-Lite accesses refused (SLVERR) for each reason of
-  ``docs/registers.md``: a value out of range per setting register and for the LUT window,
+* ``register`` (``axi``, ``axi_store``): AXI4-Lite accesses refused (SLVERR) for each
+  reason of ``docs/registers.md``, judged on the build's register map (a store build's
+  adds ``STATE_BASE`` and the store's registers): a value out of range per setting
+  register and for the LUT window, a value in range that is not aligned (``STATE_BASE``: a
+  multiple of the burst size),
   a LUT write without wstrb = 1111, a LUT read, a write to a constant, counter or status
   register, unaligned and unmapped reads and writes. ``check_axi``'s ``steps`` express the
   range refusals of the setting registers, ``lut_writes`` and ``bus`` the LUT's and the

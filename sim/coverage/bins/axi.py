@@ -9,11 +9,11 @@ from typing import Iterable
 
 import numpy as np
 
-from dptbd.sim.coverage.bins.groups import (ARESETN, BUS_REASONS, LIST_LABELS, LUT_CODES,
-                                            LUT_STAGES, RANGE, SATURATION, TIES, band,
-                                            declared_stall, key, words_in_flight)
-from dptbd.sim.coverage.bins.registers import (bus_operations, bus_reason, merged_write,
-                                               ranged_registers)
+from dptbd.sim.coverage.bins.groups import (ALIGN, ARESETN, BUS_REASONS, LIST_LABELS,
+                                            LUT_CODES, LUT_STAGES, RANGE, SATURATION, TIES,
+                                            band, declared_stall, key, words_in_flight)
+from dptbd.sim.coverage.bins.registers import (aligned_registers, bus_operations, bus_reason,
+                                               merged_write, ranged_registers)
 from dptbd.sim.coverage.bins.view import (count_lut, count_outputs, count_positions,
                                           count_recovered, view_of)
 
@@ -29,9 +29,9 @@ def soft_reset_bin(k: int) -> str:
     return key("soft reset", words_in_flight(k))
 
 
-def declared_axi(cfg, latency: int) -> dict[str, int]:
+def declared_axi(cfg, latency: int, store=None) -> dict[str, int]:
     """Every bin (0 hits) a run of ``dptbd_axi`` fills; ``latency`` the DP pipeline's L of
-    the build."""
+    the build, ``store`` its state store (``--state-store axi``), if any."""
     from dptbd.sim.axi.stimulus import FAULT_KINDS
 
     out = declared_stall()
@@ -42,18 +42,19 @@ def declared_axi(cfg, latency: int) -> dict[str, int]:
     out[SATURATION] = 0
     out.update({key("lists", label): 0 for label in LIST_LABELS})
     out[TIES] = 0
-    out.update({key("register", name + RANGE): 0 for name in ranged_registers(cfg)})
+    out.update({key("register", name + RANGE): 0 for name in ranged_registers(cfg, store)})
+    out.update({key("register", name + ALIGN): 0 for name in aligned_registers(cfg, store)})
     out.update({key("register", reason): 0 for reason in BUS_REASONS})
     return out
 
 
-def _in_flight(cfg, steps: list[dict], run, latency: int) -> list[int]:
+def _in_flight(cfg, steps: list[dict], run, latency: int, store=None) -> list[int]:
     """Words in flight at each ``soft_reset: "now"`` (the ``soft reset`` group of
     :mod:`dptbd.sim.coverage.bins`): the beats accepted in the ``latency`` cycles before its
     write began."""
     from dptbd.sim.verilator.axi import step_operations
 
-    _, checks = step_operations(cfg, steps, 0, [])
+    _, checks = step_operations(cfg, steps, 0, [], store=store)
     accept = np.sort(np.asarray(run.accept_cycles, dtype=np.int64))
     out = []
     for i, (kind, _, _) in enumerate(checks):
@@ -66,13 +67,15 @@ def _in_flight(cfg, steps: list[dict], run, latency: int) -> list[int]:
 
 def axi_bins(cfg, beats, steps: list[dict], *, passed: bool, latency: int,
              valid_gap: float = 0.0, ready_pause: float = 0.0, run=None,
-             bus: Iterable[tuple[str, int, int, int]] = ()) -> dict[str, int]:
+             bus: Iterable[tuple[str, int, int, int]] = (), store=None) -> dict[str, int]:
     """The bins of one run of ``dptbd_axi`` (:func:`dptbd.sim.verilator.axi.check_axi`
     with these ``beats``, ``steps``, ``valid_gap`` and ``ready_pause``; ``passed`` its
     verdict, ``latency`` the build's L, ``VerilatorBuild.latency``). ``run``: the
     :class:`~dptbd.sim.verilator.axi.AxiRun` (its ``accept_cycles`` and ``op_cycles``),
     needed if a soft reset is ``"now"``. ``bus``: raw AXI4-Lite operations the run also
     performed after the steps', ``(kind "w" or "r", byte address, data, wstrb)``.
+    ``store``: the build's state store (``--state-store axi``), whose register map then
+    judges the accesses.
 
     :func:`dptbd.sim.axi.runs.check_run` fills an AXI run's bins with it."""
     from dptbd.hw.register_map import FAULTS, register_map
@@ -81,7 +84,7 @@ def axi_bins(cfg, beats, steps: list[dict], *, passed: bool, latency: int,
     from dptbd.sim.stream_model import expected_stream
     from dptbd.sim.verilator.axi import fault_pulse_array
 
-    counts = declared_axi(cfg, latency)
+    counts = declared_axi(cfg, latency, store)
     if not passed:
         return counts
     now = sum(step.get("soft_reset") == "now" for step in steps)
@@ -99,7 +102,7 @@ def axi_bins(cfg, beats, steps: list[dict], *, passed: bool, latency: int,
     count_positions(view, cfg, counts,
                     f"gaps {band(valid_gap)}, back-pressure {band(ready_pause)}")
     counts[soft_reset_bin(0)] += sum(step.get("soft_reset") is True for step in steps)
-    for k in (_in_flight(cfg, steps, run, latency) if now else []):
+    for k in (_in_flight(cfg, steps, run, latency, store) if now else []):
         counts[soft_reset_bin(k)] += 1
     counts[ARESETN] += sum(bool(step.get("aresetn")) and "aresetn_wait" not in step
                            for step in steps)
@@ -119,7 +122,7 @@ def axi_bins(cfg, beats, steps: list[dict], *, passed: bool, latency: int,
     for label, code in zip(LUT_CODES, (0, unity - 1, unity)):
         counts[key("LUT", label)] += entries.count(code)
     count_outputs(view, cfg, counts)
-    regs = register_map(cfg)
+    regs = register_map(cfg, store)
     settings = {r.address: r.reset for r in regs.registers if r.kind == "setting"}
     held, done = dict(settings), -1
     for j, op in [*bus_operations(cfg, steps), *((len(steps), op) for op in bus)]:

@@ -6,8 +6,8 @@ from __future__ import annotations
 import dataclasses
 
 __all__ = ["STREAM", "AXI", "STORE", "BANDS", "POSITIONS", "LIST_LABELS", "LUT_STAGES", "LUT_CODES",
-           "Group", "GROUPS", "SATURATION", "TIES", "ARESETN", "FIFO", "RANGE", "BUS_REASONS",
-           "band", "key", "words_in_flight", "declared_stall"]
+           "Group", "GROUPS", "SATURATION", "TIES", "ARESETN", "FIFO", "RANGE", "ALIGN",
+           "BUS_REASONS", "band", "key", "words_in_flight", "declared_stall"]
 
 STREAM = ("dp", "core", "segmenter")
 AXI = ("axi",)
@@ -48,6 +48,9 @@ TIES = "ties: two or more pixels in the threshold bin"
 ARESETN = "aresetn: 0 words in flight"
 FIFO = "more than L words (output FIFO)"
 RANGE = " value out of range"
+#: A setting with an alignment (``Field.align``: ``STATE_BASE`` of a store build) written a
+#: value in range that is not a multiple of it.
+ALIGN = " value not aligned"
 BUS_REASONS = ("LUT write without wstrb = 1111", "LUT read", "write to a constant register",
                "write to a counter", "write to the status register", "unaligned write",
                "unaligned read", "unmapped write", "unmapped read")

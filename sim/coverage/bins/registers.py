@@ -5,18 +5,29 @@ from __future__ import annotations
 
 from typing import Mapping
 
-from dptbd.sim.coverage.bins.groups import RANGE
+from dptbd.sim.coverage.bins.groups import ALIGN, RANGE
 
-__all__ = ["ranged_registers", "bus_reason", "merged_write", "bus_operations"]
+__all__ = ["ranged_registers", "aligned_registers", "bus_reason", "merged_write",
+           "bus_operations"]
 
 
-def ranged_registers(cfg) -> list[str]:
-    """The registers (and the LUT window) that refuse a value out of range."""
+def ranged_registers(cfg, store=None) -> list[str]:
+    """The registers (and the LUT window) that refuse a value out of range; ``store``: the
+    build's state store (its map), if any."""
     from dptbd.hw.register_map import register_map
 
-    regs = register_map(cfg)
+    regs = register_map(cfg, store)
     return [r.name for r in regs.registers if r.kind == "setting"] + \
         [w.name for w in regs.windows]
+
+
+def aligned_registers(cfg, store=None) -> list[str]:
+    """The settings that refuse a value in range that is not a multiple of their
+    ``align`` (``STATE_BASE`` of a store build)."""
+    from dptbd.hw.register_map import register_map
+
+    return [r.name for r in register_map(cfg, store).registers
+            if r.kind == "setting" and r.fields[0].align]
 
 
 def bus_reason(regs, kind: str, address: int, data: int, wstrb: int,
@@ -42,9 +53,13 @@ def bus_reason(regs, kind: str, address: int, data: int, wstrb: int,
                 return {"constant": "write to a constant register",
                         "counter": "write to a counter",
                         "status": "write to the status register"}[reg.kind]
-            lo, hi = reg.fields[0].limits or (None, None)
-            return None if lo is None or lo <= merged_write(data, wstrb, held[address]) <= hi \
-                else reg.name + RANGE
+            if reg.fields[0].limits is None:
+                return None
+            lo, hi = reg.fields[0].limits
+            value, align = merged_write(data, wstrb, held[address]), reg.fields[0].align
+            if not lo <= value <= hi:
+                return reg.name + RANGE
+            return reg.name + ALIGN if align and value % align else None
     return f"unmapped {verb}"
 
 

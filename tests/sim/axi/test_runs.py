@@ -233,8 +233,8 @@ def test_a_wrong_model_fails_the_run(monkeypatch):
     monkeypatch.undo()
     fill = axi_runs.fill_checks
 
-    def wrong_error(cfg, beats, steps):
-        pulses = fill(cfg, beats, steps)
+    def wrong_error(cfg, beats, steps, store=None):
+        pulses = fill(cfg, beats, steps, store)
         steps[-1]["check"]["ERROR"] ^= 1 << 31
         return pulses
 

@@ -3,6 +3,10 @@ faults the campaign promises (``docs/gateware.md``, "Verification campaign")."""
 
 from __future__ import annotations
 
+import collections
+import pathlib
+import re
+
 from dptbd.sim.axi.runs import AXI_FAULTS
 from dptbd.sim.campaign.cases import default_cases, x_store_cases
 
@@ -46,3 +50,32 @@ def test_the_store_checks_cover_both_inits_on_two_builds():
     assert len({n for n, _, _ in cases}) == len(cases) == 4
     assert {(c["radius"] if "radius" in c else 1, init) for _, c, init in cases} == {
         (1, "x"), (1, "random"), (2, "x"), (2, "random")}
+
+
+_WORDS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen "
+          "fourteen fifteen sixteen seventeen eighteen nineteen twenty twenty-one twenty-two "
+          "twenty-three twenty-four twenty-five twenty-six").split()
+_ROOT = pathlib.Path(__file__).resolve().parents[3]
+
+
+def test_the_docs_state_the_campaigns_true_case_counts():
+    """README.md and docs/gateware.md ("Verification campaign") state how many parameter
+    sets ``dptbd verify`` runs, of which designs, and how many 4-state store checks: the
+    numbers of :mod:`dptbd.sim.campaign.cases`; the table lists every case once; no other
+    count of parameter sets is stated there (it would go stale)."""
+    cases = default_cases()
+    n = collections.Counter(c.design for c in cases)
+    readme = (_ROOT / "README.md").read_text()
+    gateware = (_ROOT / "docs" / "gateware.md").read_text()
+    assert (f"{_WORDS[len(cases)]} parameter sets ({_WORDS[n['axi']]} of them the drop-in "
+            f"`dptbd_axi`") in readme
+    assert (f"{_WORDS[n['dp_axi']]} `dptbd_dp` and {_WORDS[n['axi_store']]} `dptbd_axi` with "
+            f"the state store on AXI4") in readme
+    assert f"runs {_WORDS[len(cases)]} parameter sets" in " ".join(gateware.split())
+    assert f"Icarus' {_WORDS[len(x_store_cases())]} 4-state store" in gateware
+    counts = re.compile(r"\b(" + "|".join(_WORDS) + r"|\d+) parameter sets")
+    assert len(counts.findall(readme)) == 1 and len(counts.findall(gateware)) == 1
+    section = gateware.split("### Verification campaign")[1].split("\n\n")
+    table = next(block for block in section if block.startswith("| case |"))
+    names = re.findall(r"^\| `([^`]+)`", table, flags=re.M)
+    assert names[:-1] == [c.name for c in cases]      # the last row: the 4-state checks

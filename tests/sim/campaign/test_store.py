@@ -166,7 +166,7 @@ def test_the_axi_store_case_draws_the_axi_runs_resets_and_every_latency_class():
 
     case = axi_store_cases()[0]
     assert case.design == "axi_store" and case in campaign.default_cases()
-    assert set(case.faults) == set(AXI_FAULTS) - {"bus"}
+    assert set(case.faults) == set(AXI_FAULTS)
     assert {"aresetn", "soft_reset"} <= set(case.faults)
     memories = [draw_memory(s) for s in range(4)]
     assert [latency_class(*m.latency) for m in memories] == [c[0] for c in LATENCY_CLASSES]
@@ -177,6 +177,41 @@ def test_the_axi_store_case_draws_the_axi_runs_resets_and_every_latency_class():
     # seed 0: aresetn with words and bursts in flight, and soft resets with words in flight
     assert draw_run(case, 0).drawn["aresetn_now"] >= 1
     assert draw_run(case, 0).drawn["soft_reset_now"] >= 1
+
+
+def test_the_axi_store_runs_draw_refused_accesses_on_the_store_builds_map():
+    """The refused bus accesses use the store build's register map: a STATE_BASE write not
+    a multiple of the burst size and one above the highest base, refused (SLVERR); no
+    access of the store's registers taken for unmapped; the checks read the store's
+    registers (STATE_BASE_ACTIVE: the build's base, its error counters 0)."""
+    from dptbd.hw.register_map import register_map
+    from dptbd.sim.axi.actions import Drawer
+    from dptbd.sim.axi.runs import draw_run
+    from dptbd.sim.verilator.axi import SLVERR
+
+    case = axi_store_cases()[0]
+    store = case.cfg.axi_store(**case.store)
+    regs = register_map(case.cfg, store)
+    base, align = regs["STATE_BASE"], store.burst_bytes
+    plans = [draw_run(case, s) for s in range(4)]
+    drawn = {k: sum(p.drawn.get(k, 0) for p in plans)
+             for k in ("state_base_unaligned", "state_base_range", "unmapped_read",
+                       "unmapped_write")}
+    assert all(drawn.values()), drawn
+    ops = [op for p in plans for step in p.steps for op in step.get("bus", [])]
+    writes = [op for op in ops if op[0] == "w" and op[1] == base.address]
+    assert len(writes) == drawn["state_base_unaligned"] + drawn["state_base_range"]
+    assert all(op[3] == 0xF and op[4] == SLVERR for op in writes)
+    assert sum(op[2] % align != 0 and op[2] <= base.fields[0].limits[1]
+               for op in writes) == drawn["state_base_unaligned"]
+    store_addresses = {r.address for r in regs.registers if "STATE" in r.name}
+    rng = np.random.default_rng(0)
+    assert not store_addresses & set(Drawer(case.cfg, rng, {}, store=store).unmapped)
+    assert store_addresses <= set(Drawer(case.cfg, rng, {}).unmapped)
+    checks = [step["check"] for p in plans for step in p.steps if step.get("check")]
+    assert all(c["STATE_BASE_ACTIVE"] == c["STATE_BASE"] == store.base_address
+               and c["STATE_READ_ERRORS"] == 0 for c in checks if "STATE_BASE" in c)
+    assert sum("STATE_BASE" in c for c in checks) > 0
 
 
 @needs_verilator
@@ -192,6 +227,10 @@ def test_axi_store_runs_with_resets_pass_at_each_latency_class():
     assert all(bins[f"store: {label}"] > 0 for label in STALLED_CHANNELS)
     assert set(declared_store()) <= set(bins)
     assert any(k.startswith("soft reset:") and v for k, v in bins.items())
+    # the refused accesses, judged on the store build's map
+    assert bins["register: STATE_BASE value not aligned"] > 0
+    assert bins["register: STATE_BASE value out of range"] > 0
+    assert bins["register: unmapped read"] > 0
 
 
 def test_the_error_window_opens_at_a_burst_of_its_direction():
@@ -206,27 +245,32 @@ def test_the_error_window_opens_at_a_burst_of_its_direction():
     late = ErrorWindow(("read",), 0.6, 9, 0.0, 0.0)        # after cycle 60: none
     with pytest.raises(ValueError, match=whole("no read burst after cycle 60")):
         window_cycles(late, bursts, accepted)
-    assert [draw_error_window(axi_store_cases()[1], s).directions for s in range(3)] == [
-        ("read",), ("write",), ("read", "write")]
+    windows = [draw_error_window(axi_store_cases()[1], s) for s in range(6)]
+    assert [(w.directions, w.response) for w in windows] == [
+        (("read",), "SLVERR"), (("write",), "DECERR"), (("read", "write"), "SLVERR"),
+        (("read",), "DECERR"), (("write",), "SLVERR"), (("read", "write"), "DECERR")]
 
 
 @needs_verilator
-def test_axi_store_slverr_windows_are_counted_flagged_and_recovered_from():
-    """Seeds 0 … 2 of the error case (SLVERR on reads, writes, both): every beat taken,
-    every list sent, the counters equal to the errors the memory sent, the ERROR bits, and
-    every list clear of the window the model's."""
+def test_axi_store_slverr_and_decerr_windows_are_counted_flagged_and_recovered_from():
+    """Seeds 0 … 2 of the error case (SLVERR on reads, DECERR on writes, SLVERR on both):
+    every beat taken, every list sent, the counters equal to the errors the memory sent,
+    the ERROR bits, and every list clear of the window the model's."""
     case = axi_store_cases()[1]
     assert case.design == "axi_store" and set(case.faults) == set(STORE_FAULTS)
     outcomes = [campaign.check_run(case, seed) for seed in range(3)]
     assert [(o.passed, o.report) for o in outcomes] == [(True, "")] * 3
     bins = campaign.CampaignResult((), tuple(outcomes), 0.0, 1).bins
     assert bins["store: SLVERR on a read, flagged, recovered"] == 2
-    assert bins["store: SLVERR on a write, flagged, recovered"] == 2
+    assert bins["store: SLVERR on a write, flagged, recovered"] == 1
+    assert bins["store: DECERR on a write, flagged, recovered"] == 1
+    assert bins["store: DECERR on a read, flagged, recovered"] == 0
+    assert outcomes[1].notes[0].startswith("DECERR on write bursts taken in cycles")
 
 
 @needs_verilator
 def test_an_error_run_compares_the_lists_clear_of_the_window(monkeypatch):
-    """With no margin around the window every list is compared: in seed 1 (SLVERR on
+    """With no margin around the window every list is compared: in seed 1 (DECERR on
     writes) list 3 is one the failed writes changed, and the run fails. (Most windows change
     no list: three candidates of 384 pixels rarely move; seeds 0 … 11 change one.)"""
     from dptbd.sim.campaign import store as store_module

@@ -156,13 +156,15 @@ def _lists(words: np.ndarray, flags: np.ndarray) -> list[list[int]]:
     return out
 
 
-@pytest.mark.parametrize("kind", ["read", "write"])
-def test_error_responses_are_counted_flagged_interrupt_and_the_lists_recover(kind):
-    """Every burst whose address is taken in cycles [500, 560) answered with SLVERR: the
-    stream never stops (every beat taken, every list sent), ERROR.state_<kind> and the fault
-    interrupt rise one cycle after the first error beat / response, the counter counts what
-    the memory sent, and every list of a segment that neither it nor the segment before
-    touched the error window is the model's (docs/integration.md)."""
+@pytest.mark.parametrize("kind, code", [("read", "SLVERR"), ("write", "SLVERR"),
+                                        ("read", "DECERR"), ("write", "DECERR")])
+def test_error_responses_are_counted_flagged_interrupt_and_the_lists_recover(kind, code):
+    """Every burst whose address is taken in cycles [500, 560) answered with SLVERR or
+    DECERR, each the same way (docs/integration.md, "Error responses"): the stream never
+    stops (every beat taken, every list sent), ERROR.state_<kind> and the fault interrupt
+    rise one cycle after the first error beat / response, the counter counts what the
+    memory sent, and every list of a segment that neither it nor the segment before
+    touched the error window is the model's."""
     sim = store_build()
     cfg, store = sim.cfg, sim.state_store
     regs = constants_namespace(cfg, store)
@@ -171,13 +173,14 @@ def test_error_responses_are_counted_flagged_interrupt_and_the_lists_recover(kin
     ops = [(0, "w", regs.REG_IRQ_ENABLE, regs.IRQ_ENABLE_FAULT_MASK),
            (len(beats), "i", 400, 0),
            *[(len(beats), "r", getattr(regs, f"REG_{name}"), 0) for name in reads]]
-    memory = {f"{kind}_error": 1.0, "error_cycles": (500, 560)}
+    memory = {f"{kind}_error": 1.0, "error_cycles": (500, 560), "error_response": code}
     run = run_axi(sim, beats, ops, memory=memory)
     assert run.status == "done" and run.counters["accepted"] == len(beats)
     assert run.counters["violations"] == 0 and run.counters["memory_idle"] == 1
     got = dict(zip(reads, (int(v) for v in run.op_data[1:])))
     sent = {"read": run.counters["read_error_beats"], "write": run.counters["write_error_bursts"]}
     assert sent[kind] > 0 and sent[{"read": "write", "write": "read"}[kind]] == 0
+    assert run.counters[f"{kind}_decerrs"] == (sent[kind] if code == "DECERR" else 0)
     assert got["ERROR"] == getattr(regs, f"ERROR_STATE_{kind.upper()}_MASK")
     assert got["IRQ_STATUS"] == regs.IRQ_STATUS_FAULT_MASK | regs.IRQ_STATUS_SEGMENT_DONE_MASK
     assert (got["STATE_READ_ERRORS"], got["STATE_WRITE_ERRORS"]) == (
@@ -203,8 +206,11 @@ def test_memory_settings_need_a_store_build_and_known_keys():
     beats = beats_of(1)
     with pytest.raises(ValueError, match=whole(
             "memory key 'delay': the keys are latency, write_latency, error_cycles, "
-            "axi_ready, axi_valid, read_error, write_error, base, span")):
+            "axi_ready, axi_valid, read_error, write_error, base, span, error_response")):
         run_axi(sim, beats, [], memory={"delay": 3})
+    with pytest.raises(ValueError, match=whole(
+            "memory error_response 'OKAY': the responses are SLVERR, DECERR")):
+        run_axi(sim, beats, [], memory={"error_response": "OKAY"})
     with pytest.raises(ValueError, match=whole(
             "state_store applies to design 'axi' without mutations only")):
         V.build(sim.cfg, "dp", state_store=sim.state_store)

@@ -1,5 +1,6 @@
 """dptbd.sim.verilator.dp_axi: the --state-store axi build on Verilator with the C++ AXI4
-memory model, bit-exact with the golden model under random latency and stalls."""
+memory model, bit-exact with the golden model under random latency and stalls; SLVERR and
+DECERR responses each pulse the design's error output once per error beat / response."""
 
 import numpy as np
 import pytest
@@ -99,3 +100,34 @@ def test_p4_beats_wider_than_64_bits():
     assert widths["states__payload"] == 4 * 20 + 3
     run = V.run(sim, FRAMES, latency=(0, 100), axi_ready=0.5, axi_valid=0.5, seed=7)
     assert run.bit_exact and run.result["violations"] == 0
+
+
+@needs_verilator
+@pytest.mark.parametrize("code", ["SLVERR", "DECERR"])
+@pytest.mark.parametrize("kind", ["read", "write"])
+def test_slverr_and_decerr_pulse_the_error_output_once_per_beat_or_response(deep, kind,
+                                                                           code):
+    """Every burst of one direction whose address is taken in cycles [300, 400) answered
+    with the code: the design pulses read_error once per error beat, write_error once per
+    error response (docs/gateware.md, "Errors"), the other never, every pixel still comes
+    out and the frames before the window are the model's."""
+    run = V.run(deep, FRAMES, latency=(0, 40), seed=8, error_cycles=(300, 400),
+                error_response=code, **{f"{kind}_error": 1.0})
+    r = run.result
+    assert r["status"] == "done" and r["violations"] == 0, r["first_violation"]
+    assert len(run.outputs) == FRAMES.size
+    sent = {"read": r["read_error_beats"], "write": r["write_error_bursts"]}
+    other = {"read": "write", "write": "read"}[kind]
+    assert sent[kind] > 0 and sent[other] == 0
+    assert (r["read_errors"], r["write_errors"]) == (sent["read"], sent["write"])
+    decerrs = {"read": r["read_decerrs"], "write": r["write_decerrs"]}
+    assert decerrs[kind] == (sent[kind] if code == "DECERR" else 0)
+    assert run.first_mismatch is None or run.first_mismatch >= int(
+        np.searchsorted(run.accept_cycles, 300)) - 16 * 12
+
+
+@needs_verilator
+def test_an_unknown_error_response_is_refused(deep):
+    with pytest.raises(ValueError, match=whole(
+            "error_response 'OKAY': the responses are SLVERR, DECERR")):
+        V.run(deep, FRAMES, error_response="OKAY")

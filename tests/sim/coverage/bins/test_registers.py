@@ -7,8 +7,8 @@ import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.hw.register_map import register_map
-from dptbd.sim.coverage.bins.registers import (bus_operations, bus_reason, merged_write,
-                                               ranged_registers)
+from dptbd.sim.coverage.bins.registers import (aligned_registers, bus_operations, bus_reason,
+                                               merged_write, ranged_registers)
 
 CFG = DPConfig(width=4, height=3, segment_frames=2, candidate_count=2)
 
@@ -42,6 +42,33 @@ def test_each_refusal_has_its_reason():
     assert [bus_reason(regs, *op, held) for op, _ in cases] == [why for _, why in cases]
     assert ranged_registers(CFG) == [r.name for r in regs.registers if r.kind == "setting"] + \
         ["LUT"]
+
+
+def test_the_store_builds_map_judges_state_base():
+    """With the state store (``--state-store axi``) STATE_BASE is a setting of its map:
+    a base in range that is not a multiple of the burst size is refused as not aligned, one
+    above the highest as out of range; without the store its address is unmapped."""
+    store = CFG.axi_store(data_bits=32, burst_beats=2, outstanding=2)
+    assert store.burst_bytes == 8
+    regs = register_map(CFG, store)
+    base = regs["STATE_BASE"]
+    hi = base.fields[0].limits[1]
+    held = {r.address: r.reset for r in regs.registers if r.kind == "setting"}
+    cases = [(("w", base.address, 32, 0xF), None),
+             (("w", base.address, 36, 0xF), "STATE_BASE value not aligned"),
+             (("w", base.address, 0x5510, 0x1), None),        # the strobed byte: 16
+             (("w", base.address, 0x550C, 0x1), "STATE_BASE value not aligned"),
+             (("w", base.address, hi + 8, 0xF), "STATE_BASE value out of range"),
+             (("w", base.address, 2**32 - 1, 0xF), "STATE_BASE value out of range"),
+             (("r", regs["STATE_BASE_ACTIVE"].address, 0, 0), None),
+             (("w", regs["STATE_READ_ERRORS"].address, 0, 0xF), "write to a counter"),
+             (("w", regs["BUILD_STATE_BYTES"].address, 0, 0xF),
+              "write to a constant register")]
+    assert [bus_reason(regs, *op, held) for op, _ in cases] == [why for _, why in cases]
+    assert bus_reason(register_map(CFG), "w", base.address, 32, 0xF, {}) == "unmapped write"
+    assert aligned_registers(CFG) == [] and aligned_registers(CFG, store) == ["STATE_BASE"]
+    assert "STATE_BASE" in ranged_registers(CFG, store)
+    assert "STATE_BASE" not in ranged_registers(CFG)
 
 
 def test_the_steps_accesses_come_in_the_order_they_are_made():
