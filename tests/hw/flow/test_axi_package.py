@@ -126,6 +126,17 @@ def test_verilog_lints_clean(package):
     assert run.returncode == 0, run.stderr
 
 
+@pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
+@pytest.mark.parametrize("p", [2, 4])
+def test_wide_verilog_lints_clean(tmp_path, p):
+    """At P = 2 and 4 pixels per clock (``AXITopWide``) under the same lint."""
+    cfg = make_config(width=12, height=10, candidate_count=3, pixels_per_clock=p)
+    (tmp_path / "top.v").write_text(axi_package(cfg.build_config(), "top")["top.v"])
+    run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "top.v", "--top-module",
+                          "dptbd_axi"], cwd=tmp_path, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+
+
 def test_state_output_adds_m_axis_state_to_ports_and_manifest():
     cfg = make_config(width=8, height=6, candidate_count=2)
     manifest = json.loads(axi_package(cfg, "s", state_output=True)["s.json"])
@@ -147,7 +158,7 @@ def test_state_output_adds_m_axis_state_to_ports_and_manifest():
 
 
 @pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
-@pytest.mark.parametrize("data_bits, p", [(32, 1), (128, 1)])
+@pytest.mark.parametrize("data_bits, p", [(32, 1), (128, 1), (128, 2), (128, 4)])
 def test_state_store_package_lints_clean_and_names_the_port(tmp_path, data_bits, p):
     """``--state-store axi`` (at P = 1, 2 and 4 pixels per clock): the Verilog (with
     ``m_axi_state_*``) under the same lint, the core file parsed by FuseSoC, the manifest's
