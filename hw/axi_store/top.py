@@ -36,7 +36,6 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import AxiStoreConfig
-from dptbd.errors import ConfigError
 from dptbd.hw.axi_store.quiet import QUIET_INPUTS, AxiQuiet
 from dptbd.hw.axi_store.bus import axi_port_members, connect_axi_ports
 from dptbd.hw.axi_store.segmenter import DPSegmenterAxi
@@ -80,7 +79,7 @@ class AXITopStore(AXITop):
             self._register_map = register_map(cfg, store)
             self._core = DPSegmenterAxi(store, state_output=self._state_output,
                                         core_options=core_options)
-        except (ConfigError, ValueError):
+        except ValueError:                     # ConfigError included
             self._MustUse__silence = True      # refused: no "created but never used" warning
             raise
         self._bundles = (wide_bundle_signatures(cfg) if cfg.pixels_per_clock > 1
