@@ -6,6 +6,7 @@
     python benchmarks/bench_axi_top_store.py --width 4096 --height 256 --frames 8 \
         --scene range_doppler
     python benchmarks/bench_axi_top_store.py --synth ecp5      # does it fit? (Yosys, nextpnr)
+    python benchmarks/bench_axi_top_store.py --pixels-per-clock 2 --frames 4
 
 The build is ``dptbd.sim.verilator.build(cfg, "axi", state_store=...)``, the AXI harness
 with the C++ AXI4 memory model (``sim/harness/axi4_memory.h``): every burst answered after
@@ -15,8 +16,9 @@ every cycle and ``m_axis_cand`` always takes. The frames are uniform random pixe
 (``--scene uniform``, the default) or (``--scene range_doppler``) the range–Doppler scene of
 ``benchmarks/bench_axi_store.py`` (:func:`dptbd.scenes.range_doppler.rd_scene`, ``width``
 range cells along each line, ``height`` Doppler lines, a Swerling 1 target at 10 dB).
-Reported: cycles from the first to the last accepted pixel over the pixels (1.0 = one
-pixel per clock), that over the same build's figure at the first latency (the slowdown the
+``--pixels-per-clock P`` (2 or 4) builds the core for beats of P pixels (1.0 / P = one beat
+per clock). Reported: cycles from the first to the last accepted pixel over the pixels
+(1.0 = one pixel per clock), that over the same build's figure at the first latency (the slowdown the
 memory's latency causes), and whether every list word, flag and counter is the golden model's with
 no AXI4 rule broken (:func:`dptbd.sim.verilator.axi.check_axi`), with the lists and records
 scored. This script only reports.
@@ -69,9 +71,11 @@ def main() -> None:
     parser.add_argument("--outstanding", type=int, nargs="+", default=[4, 16])
     parser.add_argument("--data-bits", type=int, default=64)
     parser.add_argument("--burst-beats", type=int, default=16)
+    parser.add_argument("--pixels-per-clock", type=int, default=1)
     parser.add_argument("--synth", choices=("ice40", "ecp5"), default=None)
     args = parser.parse_args()
-    cfg = DPConfig(width=args.width, height=args.height).build_config()
+    cfg = DPConfig(width=args.width, height=args.height,
+                   pixels_per_clock=args.pixels_per_clock).build_config()
     if args.synth:
         return synth(cfg, cfg.axi_store(data_bits=args.data_bits, burst_beats=args.burst_beats,
                                         outstanding=args.outstanding[0]), args.synth)

@@ -42,10 +42,10 @@ refuses a configuration whose E can saturate unless ``--allow-saturation``.
 pixels per clock: input beats of P pixels (``dptbd_axi``: ``s_axis_video`` with P pixels per
 beat, pixel 0 in the low bits), output beats of P states (``dptbd_dp``) or the candidate
 lists of P = 1 (:mod:`dptbd.hw.wide`; ``docs/gateware.md``, "P pixels per clock"); the
-manifest's ``layouts`` are the beats'. ``dptbd_axi`` at P > 1 keeps its state on chip and
-has no ``--state-output``. ``dptbd_dp`` with ``--state-store axi`` moves store words of P
-states over the AXI4 port in the same byte layout as at P = 1 (``--axi-data-bits`` must hold
-P state slots).
+manifest's ``layouts`` are the beats'. ``dptbd_axi`` at P > 1 has no ``--state-output``.
+``dptbd_dp`` and ``dptbd_axi`` with ``--state-store axi`` move store words of P states over
+the AXI4 port in the same byte layout as at P = 1 (``--axi-data-bits`` must hold P state
+slots).
 """
 
 from __future__ import annotations
@@ -255,9 +255,6 @@ def main(args: argparse.Namespace) -> int:
     if asked.pixels_per_clock > 1 and args.state_output:
         raise ValueError(f"pixels_per_clock={asked.pixels_per_clock} has no m_axis_state; "
                          f"--state-output takes one pixel per clock")
-    if asked.pixels_per_clock > 1 and args.state_store == "axi" and args.top == "axi":
-        raise ValueError(f"pixels_per_clock={asked.pixels_per_clock} keeps dptbd_axi's state "
-                         f"store on chip; --top axi --state-store axi takes one pixel per clock")
     cfg = asked.build_config(fractional_lut=args.fractional_lut)
     if cfg != asked:
         print(f"building B_E={cfg.energy_bits}, F={cfg.weight_frac_bits} (asked "

@@ -19,6 +19,12 @@ What the store adds to the AXI top:
   held until the port is quiet (:class:`~dptbd.hw.axi_store.quiet.AxiQuiet`: no burst in
   flight, no valid offered), as it is held until the output streams are closed;
   ``STATUS.soft_reset_busy`` stays 1 until then. Only ``aresetn`` abandons bursts.
+
+At P = 2 or 4 pixels per clock the same class is built on
+:class:`~dptbd.hw.wide.axi_top.AXITopWide`'s blocks (``s_axis_video`` of P pixels per beat,
+the frame monitor counting beats; no ``m_axis_state``) around the wide
+:class:`~dptbd.hw.axi_store.segmenter.DPSegmenterAxi`, whose store words hold P states in the
+P = 1 byte layout.
 """
 
 from __future__ import annotations
@@ -30,12 +36,12 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import AxiStoreConfig
-from dptbd.errors import ConfigError
 from dptbd.hw.axi_store.quiet import QUIET_INPUTS, AxiQuiet
 from dptbd.hw.axi_store.bus import axi_port_members, connect_axi_ports
 from dptbd.hw.axi_store.segmenter import DPSegmenterAxi
 from dptbd.hw.axi_top import AXITop, _bundle_signatures, _flat
 from dptbd.hw.register_map import register_map
+from dptbd.hw.wide.axi_top import AXITopWide, wide_bundle_signatures
 
 __all__ = ["AXITopStore"]
 
@@ -49,12 +55,14 @@ class AXITopStore(AXITop):
         The configuration (``store.frame``) and its memory layout; ``address_bits`` at
         most 32 (:func:`~dptbd.hw.register_map.register_map` refuses more).
     state_output, core_options
-        As for :class:`~dptbd.hw.axi_top.AXITop`.
+        As for :class:`~dptbd.hw.axi_top.AXITop`; ``state_output`` is refused at
+        ``pixels_per_clock`` 2 or 4.
 
     Members
     -------
     aclk … irq
-        As for :class:`~dptbd.hw.axi_top.AXITop` (no ``state_store_*``).
+        As for :class:`~dptbd.hw.axi_top.AXITop` (no ``state_store_*``); at P = 2 or 4 as
+        for :class:`~dptbd.hw.wide.axi_top.AXITopWide` (``s_axis_video_tdata`` of P lanes).
     m_axi_state_awid … m_axi_state_rready
         The state store's AXI4 manager port (:func:`~dptbd.hw.axi_store.bus.axi4_signature`,
         flat with the AXI names).
@@ -69,12 +77,13 @@ class AXITopStore(AXITop):
         self._external = False
         try:
             self._register_map = register_map(cfg, store)
-        except ConfigError:
+            self._core = DPSegmenterAxi(store, state_output=self._state_output,
+                                        core_options=core_options)
+        except ValueError:                     # ConfigError included
             self._MustUse__silence = True      # refused: no "created but never used" warning
             raise
-        self._core = DPSegmenterAxi(store, state_output=self._state_output,
-                                    core_options=core_options)
-        self._bundles = _bundle_signatures(cfg, self._state_output)
+        self._bundles = (wide_bundle_signatures(cfg) if cfg.pixels_per_clock > 1
+                         else _bundle_signatures(cfg, self._state_output))
         members = {"aclk": In(1), "aresetn": In(1)}
         for prefix, signature in self._bundles.items():
             members.update(_flat(prefix, signature))
@@ -88,7 +97,10 @@ class AXITopStore(AXITop):
         return self._store
 
     def elaborate(self, platform):
-        m = super().elaborate(platform)
+        # the on-chip top's blocks, of P = 1 or of P = 2, 4 (AXITopWide's, which use only
+        # what this __init__ sets as AXITopWide's does), then the store's additions
+        base = AXITopWide if self._cfg.pixels_per_clock > 1 else AXITop
+        m = base.elaborate(self, platform)
         store = self._store
         core, regs = m.submodules["core"], m.submodules["regs"]
         cand_out = m.submodules["cand_out"]

@@ -23,7 +23,9 @@ With ``state_store`` (an :class:`~dptbd.config.AxiStoreConfig`; ``dptbd verilog 
 --state-store axi``) the module is :class:`~dptbd.hw.axi_store.top.AXITopStore`: the state in
 external memory behind ``m_axi_state_*``; the manifest records the port and layout under
 ``state_store``, the header and manifest carry the store's registers, and the core's
-description names the port.
+description names the port. At ``pixels_per_clock`` 2 or 4 it is the same class on the wide
+blocks (``s_axis_video`` of P pixels per beat, store words of P states): the header adds
+``DPTBD_PIXELS_PER_CLOCK`` and the core's description names P and the store.
 """
 
 from __future__ import annotations
@@ -218,7 +220,7 @@ def generate_axi_verilog(cfg: DPConfig, *, state_output: bool = False,
     """Module ``dptbd_axi`` for ``cfg`` (with ``m_axis_state`` if ``state_output``; the DP
     core built with ``core_options``, ``None`` for DPCore's defaults; with the state in
     external memory as ``state_store`` says, an :class:`~dptbd.config.AxiStoreConfig` of
-    ``cfg``): its Verilog text and its manifest."""
+    ``cfg``, at any ``pixels_per_clock``): its Verilog text and its manifest."""
     if state_store is None and cfg.pixels_per_clock > 1:
         from dptbd.hw.wide.axi_top import axi_top
         top = axi_top(cfg, state_output=state_output, core_options=core_options)

@@ -7,8 +7,8 @@ low lane, ``tuser[0]`` on a frame's first beat, ``tlast`` on a row's last beat).
 same blocks as at P = 1 around :class:`~dptbd.hw.wide.dp_segmenter.DPSegmenterWide`: the
 register file, the candidate output adapter with its soft reset, and the frame monitor
 built for the beat configuration (W/P beats per line), so its fault classes count beats.
-``m_axis_state`` (``state_output``), the external state store and the AXI4 state store are
-not built at P > 1.
+``m_axis_state`` (``state_output``) and the external state store are not built at P > 1;
+the AXI4 state store is (:class:`~dptbd.hw.axi_store.top.AXITopStore`, on these blocks).
 """
 
 from __future__ import annotations
@@ -29,7 +29,17 @@ from dptbd.hw.register_map import ADDRESS_BITS, FAULTS, register_map
 from dptbd.hw.wide.axis_video import AxisToBeats, video_in_signature_wide
 from dptbd.hw.wide.dp_segmenter import DPSegmenterWide
 
-__all__ = ["AXITopWide", "axi_top"]
+__all__ = ["AXITopWide", "axi_top", "wide_bundle_signatures"]
+
+
+def wide_bundle_signatures(cfg: DPConfig) -> dict[str, wiring.Signature]:
+    """The AXI bundles of ``dptbd_axi`` at P > 1 (flattened with their prefixes): the
+    video input of P pixels per beat, the candidate lists, the register port."""
+    return {
+        "s_axis_video": video_in_signature_wide(cfg).flip(),
+        "m_axis_cand": candidate_out_signature(cfg),
+        "s_axil": axi_lite_signature(ADDRESS_BITS).flip(),
+    }
 
 
 class AXITopWide(AXITop):
@@ -45,11 +55,7 @@ class AXITopWide(AXITop):
         self._state_output = False
         self._external = False
         self._core = DPSegmenterWide(cfg, core_options=core_options)
-        self._bundles = {
-            "s_axis_video": video_in_signature_wide(cfg).flip(),
-            "m_axis_cand": candidate_out_signature(cfg),
-            "s_axil": axi_lite_signature(ADDRESS_BITS).flip(),
-        }
+        self._bundles = wide_bundle_signatures(cfg)
         self._register_map = register_map(cfg)
         members = {"aclk": wiring.In(1), "aresetn": wiring.In(1)}
         for prefix, signature in self._bundles.items():
@@ -89,7 +95,6 @@ class AXITopWide(AXITop):
             core.candidates.ready.eq(cand_out.candidates.ready),
             cand_out.soft_reset.eq(regs.soft_reset),
             regs.soft_reset_busy.eq(cand_out.busy),
-            cand_out.hold.eq(0),
             core.lut_addr.eq(regs.lut_addr),
             core.lut_data.eq(regs.lut_data),
             core.lut_we.eq(regs.lut_we),

@@ -229,10 +229,12 @@ class SegmenterWide(wiring.Component):
             ]
         energy_out = Signal(cfg.energy_bits)
         direction_out = Signal(cfg.direction_bits)
-        with m.Switch(lane):
-            for k in range(lanes):
-                with m.Case(k):
-                    m.d.comb += [energy_out.eq(energies[k]), direction_out.eq(directions[k])]
+        # lane k's fields (a shift, not a case: Yosys writes a P-way case on a one-hot
+        # select whose patterns Verilator's lint reports as overlapping)
+        m.d.comb += [
+            energy_out.eq(Cat(*energies).word_select(lane, cfg.energy_bits)),
+            direction_out.eq(Cat(*directions).word_select(lane, cfg.direction_bits)),
+        ]
         m.d.comb += [
             emitter.valid.eq(hand_out),
             emitter.selected.eq((chosen & lowest).any()),

@@ -13,7 +13,9 @@ the RAM and on both streams), ``seed``, ``summary``; ``DPTBD_SIM_SCENE``: the fr
     compare each with the model's, read ``STATE_READ_ERRORS`` / ``STATE_WRITE_ERRORS`` /
     ``ERROR`` (0) and ``STATE_BASE_ACTIVE``, and check in every cycle after reset that no
     handshake output, no valid payload and ``irq`` is X or Z. ``AxiRam`` asserts the 4 KB
-    rule.
+    rule. At P = 2 or 4 pixels per clock every ``s_axis_video`` beat carries P pixels
+    (:func:`~dptbd.sim.verilator.axi.wide_beat_words`: pixel 0 in the low lane, ``tuser[0]``
+    on a frame's first beat, ``tlast`` on a row's last).
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ import json
 
 import cocotb
 from cocotb.triggers import RisingEdge, with_timeout
-from cocotbext.axi import AxiBus, AxiRam
+from cocotbext.axi import AxiBus, AxiRam, AxiStreamFrame
 
 from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
@@ -40,6 +42,22 @@ PAYLOADS = (("m_axis_cand_tvalid", ("m_axis_cand_tdata", "m_axis_cand_tlast")),
             ("m_axi_state_arvalid", ("m_axi_state_araddr", "m_axi_state_arlen")),
             ("m_axi_state_awvalid", ("m_axi_state_awaddr", "m_axi_state_awlen")),
             ("m_axi_state_wvalid", ("m_axi_state_wdata", "m_axi_state_wlast")))
+
+
+def video_frames(cfg, beats) -> list[AxiStreamFrame]:
+    """The input as AXI-Stream frames of one line each: one pixel per element at P = 1
+    (:func:`~dptbd.sim.benches.axi.line_frames`), one beat of P pixels at P = 2 or 4."""
+    if cfg.pixels_per_clock == 1:
+        return line_frames(beats, 0, len(beats))
+    from dptbd.sim.verilator.axi import wide_beat_words
+    frames, line = [], []
+    for word in (int(w) for w in wide_beat_words(cfg, beats)):
+        line.append(word)
+        if word >> 33 & 1:                                  # tlast: the row's last beat
+            frames.append(AxiStreamFrame(tdata=[w & 0xFFFFFFFF for w in line],
+                                         tuser=[w >> 32 & 1 for w in line]))
+            line = []
+    return frames
 
 
 def _pauses(probability: float, seed: int):
@@ -66,7 +84,7 @@ async def run_store_stream(dut):
         bench.source.set_pause_generator(_pauses(pause, seed * 10 + 7))
         bench.sink.set_pause_generator(_pauses(pause, seed * 10 + 8))
     beats = clean_beats(frames)
-    for frame in line_frames(beats, 0, len(beats)):   # queued before the reset ends
+    for frame in video_frames(cfg, beats):           # queued before the reset ends
         bench.source.send_nowait(frame)
     bad = []
 

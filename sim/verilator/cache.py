@@ -276,7 +276,7 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
 
     if cfg.pixels_per_clock == 1:
         check_supported(cfg)
-    if cfg.pixels_per_clock > 1 and design == "axi" and state_store is None:
+    if cfg.pixels_per_clock > 1 and design == "axi":
         from dptbd.hw.wide.axis_video import lane_bits
         bits = cfg.pixels_per_clock * lane_bits(cfg)
         if bits > 32:

@@ -1,6 +1,7 @@
 """AXITopStore (``dptbd_axi --state-store axi``): its ports are the on-chip top's with the
-AXI4 manager port instead of the store inside, its register map the store's, and a store
-the map cannot hold is refused at construction. Its behaviour is run on Verilator
+AXI4 manager port instead of the store inside (at P = 2 and 4 ``AXITopWide``'s), its register
+map the store's, and a store the map cannot hold, or ``state_output`` at P > 1, is refused at
+construction. Its behaviour is run on Verilator
 (``tests/sim/verilator/test_axi_store.py``)."""
 
 import gc
@@ -15,6 +16,7 @@ from dptbd.hw.axi_store.top import AXITopStore
 from dptbd.hw.axi_top import AXITop
 from dptbd.hw.flow.to_verilog import to_verilog
 from dptbd.hw.register_map import register_map
+from dptbd.hw.wide.axi_top import AXITopWide
 from helpers.refusals import whole
 from helpers.seg_harness import make_config
 
@@ -59,3 +61,39 @@ def test_a_store_the_register_map_cannot_hold_is_refused_without_a_warning():
                 "address_bits <= 32")):
             AXITopStore(cfg.axi_store(address_bits=48))
         gc.collect()                    # an UnusedElaboratable warning would be an error here
+
+
+@pytest.mark.parametrize("p", [2, 4])
+def test_at_p_above_1_the_ports_are_the_wide_tops_plus_the_manager_port(p):
+    cfg = make_config(width=16, height=12, segment_frames=2, candidate_count=4,
+                      pixels_per_clock=p)
+    store = cfg.axi_store(data_bits=128, burst_beats=2)
+    top = AXITopStore(store)
+    wide = AXITopWide(cfg)
+    ports = {name: (m.flow, Shape.cast(m.shape).width)
+             for name, m in top.signature.members.items()}
+    plain = {name: (m.flow, Shape.cast(m.shape).width)
+             for name, m in wide.signature.members.items()}
+    assert {name: ports[name] for name in plain} == plain
+    assert ports["s_axis_video_tdata"] == (In, 8 * p)
+    added = set(ports) - set(plain)
+    assert len(added) == 37 and all(name.startswith("m_axi_state_") for name in added)
+    assert top.register_map == register_map(cfg, store)
+    assert top.core.latency == wide.core.latency and top.core.scan_cycles == wide.core.scan_cycles
+    text = to_verilog(top, "dptbd_axi")
+    to_verilog(wide, "dptbd_axi")
+    assert f"input [{8 * p - 1}:0] s_axis_video_tdata;" in text
+    assert "input [127:0] m_axi_state_rdata;" in text
+
+
+def test_state_output_at_p_above_1_is_refused_without_a_warning():
+    cfg = make_config(width=16, height=12, segment_frames=2, candidate_count=4,
+                      pixels_per_clock=2)
+    gc.collect()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=whole(
+                "state_output: not built at pixels_per_clock=2; dptbd_axi at P > 1 has no "
+                "m_axis_state")):
+            AXITopStore(cfg.axi_store(data_bits=128), state_output=True)
+        gc.collect()

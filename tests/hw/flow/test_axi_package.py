@@ -126,6 +126,17 @@ def test_verilog_lints_clean(package):
     assert run.returncode == 0, run.stderr
 
 
+@pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
+@pytest.mark.parametrize("p", [2, 4])
+def test_wide_verilog_lints_clean(tmp_path, p):
+    """At P = 2 and 4 pixels per clock (``AXITopWide``) under the same lint."""
+    cfg = make_config(width=12, height=10, candidate_count=3, pixels_per_clock=p)
+    (tmp_path / "top.v").write_text(axi_package(cfg.build_config(), "top")["top.v"])
+    run = subprocess.run(["verilator", *VERILATOR_LINT_FLAGS, "top.v", "--top-module",
+                          "dptbd_axi"], cwd=tmp_path, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+
+
 def test_state_output_adds_m_axis_state_to_ports_and_manifest():
     cfg = make_config(width=8, height=6, candidate_count=2)
     manifest = json.loads(axi_package(cfg, "s", state_output=True)["s.json"])
@@ -147,12 +158,13 @@ def test_state_output_adds_m_axis_state_to_ports_and_manifest():
 
 
 @pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
-@pytest.mark.parametrize("data_bits", [32, 128])
-def test_state_store_package_lints_clean_and_names_the_port(tmp_path, data_bits):
-    """``--state-store axi``: the Verilog (with ``m_axi_state_*``) under the same lint, the
-    core file parsed by FuseSoC, the manifest's ``state_store`` entry and the header's
-    registers."""
-    cfg = make_config(width=12, height=10, candidate_count=3).build_config()
+@pytest.mark.parametrize("data_bits, p", [(32, 1), (128, 1), (128, 2), (128, 4)])
+def test_state_store_package_lints_clean_and_names_the_port(tmp_path, data_bits, p):
+    """``--state-store axi`` (at P = 1, 2 and 4 pixels per clock): the Verilog (with
+    ``m_axi_state_*``) under the same lint, the core file parsed by FuseSoC, the manifest's
+    ``state_store`` entry and the header's registers."""
+    cfg = make_config(width=12, height=10, candidate_count=3,
+                      pixels_per_clock=p).build_config()
     store = cfg.axi_store(data_bits=data_bits, burst_beats=2, id_bits=2)
     files = axi_package(cfg, "top", state_store=store)
     for name, text in files.items():
@@ -170,3 +182,5 @@ def test_state_store_package_lints_clean_and_names_the_port(tmp_path, data_bits)
     assert core.get_toplevel({"target": "lint"}) == "dptbd_axi"
     assert "m_axi_state_*" in (tmp_path / "top.core").read_text().splitlines()[2]
     assert "#define DPTBD_REG_STATE_BASE 0x00000058u" in files["dptbd_regs.h"]
+    assert manifest["top"] == "AXITopStore" and ports["s_axis_video_tdata"] == 8 * p
+    assert ("#define DPTBD_PIXELS_PER_CLOCK" in files["dptbd_regs.h"]) == (p > 1)

@@ -24,12 +24,15 @@ def run_bench(tmp_path, cfg, frames, store_fields, *, pause=0.0, seed=0):
                            bench="dptbd.sim.benches.axi_store", pause=pause, seed=seed)
 
 
-@pytest.mark.parametrize("store_fields, pause", [
-    (dict(data_bits=64, burst_beats=4), 0.0),
-    (dict(data_bits=32, burst_beats=2, outstanding=2), 0.3),
+@pytest.mark.parametrize("store_fields, pause, p", [
+    (dict(data_bits=64, burst_beats=4), 0.0, 1),
+    (dict(data_bits=32, burst_beats=2, outstanding=2), 0.3, 1),
+    (dict(data_bits=64, burst_beats=2, outstanding=2), 0.3, 2),
+    (dict(data_bits=64, burst_beats=4), 0.0, 4),
 ])
-def test_axi_ram_bench_lists_exact_and_x_free(tmp_path, store_fields, pause):
-    cfg = make_config(**SMALL).build_config()
+def test_axi_ram_bench_lists_exact_and_x_free(tmp_path, store_fields, pause, p):
+    """At P = 1, 2 and 4 pixels per clock (beats of P pixels)."""
+    cfg = make_config(**SMALL, pixels_per_clock=p).build_config()
     frames = make_frames("two-targets", cfg, 6, seed=1)
     passed, summary, log = run_bench(tmp_path, cfg, frames, store_fields, pause=pause, seed=3)
     assert passed, (summary, log)

@@ -4,7 +4,9 @@ with ``DPTBD_AXI_STORE``, the state behind the AXI4 memory model of
 against the golden model (:func:`dptbd.sim.verilator.axi.check_axi`) under random memory
 latency, ready and valid, with every AXI4 rule the model sees checked; ``STATE_BASE`` taken
 at a soft reset; a soft reset with bursts in flight; error responses counted, flagged,
-interrupting, and the lists exact again two segments on.
+interrupting, and the lists exact again two segments on; at P = 2 and 4 pixels per clock
+(``AXITopStore`` on the wide blocks), the lists bit-exact under random memory latency,
+ready and valid.
 """
 
 from __future__ import annotations
@@ -31,8 +33,12 @@ FRAME = 12 * 10
 _BUILDS: dict = {}
 
 
-def store_build(data_bits=64, burst_beats=4, outstanding=4, base_address=0):
-    cfg = make_config(**SMALL)
+# at P = 2 and 4: 16 x 12 (a row of 8 or 4 beats), the rest as SMALL
+WIDE = dict(SMALL, width=16, height=12)
+
+
+def store_build(data_bits=64, burst_beats=4, outstanding=4, base_address=0, p=1):
+    cfg = make_config(**SMALL) if p == 1 else make_config(**WIDE, pixels_per_clock=p)
     store = cfg.axi_store(data_bits=data_bits, burst_beats=burst_beats,
                           outstanding=outstanding, base_address=base_address)
     if store not in _BUILDS:
@@ -68,6 +74,36 @@ def test_lists_are_bit_exact_under_memory_latency_and_stalls(store, memory):
     counters = result.run.counters
     assert counters["violations"] == 0 and counters["memory_idle"] == 1
     assert counters["read_bursts"] > 0 and counters["write_bursts"] > 0
+
+
+@pytest.mark.parametrize("p, store, memory", [
+    (2, dict(data_bits=64, burst_beats=2, outstanding=2),
+     dict(latency=(0, 200), axi_ready=0.6, axi_valid=0.6)),
+    (4, dict(data_bits=128, burst_beats=4),
+     dict(latency=(100, 400), write_latency=(0, 50), axi_ready=0.7, axi_valid=0.8)),
+])
+def test_wide_lists_are_bit_exact_under_memory_latency_and_stalls(p, store, memory):
+    """P = 2 and 4 (store words of P states): K and n written between segments, a soft
+    reset in the middle of a frame with bursts in flight, input gaps, output back-pressure
+    and the memory's random latency, ready and valid: every word, flag and counter the
+    model's, no AXI4 rule broken, nothing left in flight, every burst in the frame's
+    region."""
+    sim = store_build(**store, p=p)
+    cfg = sim.cfg
+    frame = cfg.width * cfg.height
+    beats = clean_beats(make_frames("two-targets", cfg, 10, seed=p))
+    steps = [{"stop": 2 * frame},
+             {"writes": [["SEGMENT_FRAMES", 3], ["CANDIDATE_COUNT", 6]], "stop": 5 * frame + 36},
+             {"soft_reset": "now", "writes": [["SEGMENT_FRAMES", 2]], "stop": len(beats)}]
+    result = check_axi(sim, beats, steps, valid_gap=0.1, ready_pause=0.2, seed=p,
+                       memory=memory)
+    assert result.passed, result.report()
+    assert result.board.records_expected >= 2
+    counters = result.run.counters
+    assert counters["violations"] == 0 and counters["memory_idle"] == 1
+    assert counters["read_bursts"] > 0 and counters["write_bursts"] > 0
+    assert counters["stalled_input_cycles"] > 0
+    assert result.run.bursts[:, 2].max() < sim.state_store.frame_bytes
 
 
 def test_aresetn_abandons_the_bursts_in_flight():
