@@ -392,21 +392,15 @@ def axi_store_cases():
     from dptbd.sim.axi.runs import AXI_FAULTS
     from dptbd.sim.campaign.cases import Case
 
+    frame = dict(width=24, height=16, segment_frames=2, max_segment_frames=4,
+                 weight_frac_bits=0, energy_bits=9, candidate_count=3, candidate_capacity=6,
+                 histogram_bits=6, histogram_shift=2)
+    store = dict(data_bits=32, burst_beats=4, outstanding=2)
     return [
-        Case("axi-store-24x16-f0-k2", dict(width=24, height=16, segment_frames=2,
-                                           max_segment_frames=4, weight_frac_bits=0,
-                                           energy_bits=9, candidate_count=3,
-                                           candidate_capacity=6, histogram_bits=6,
-                                           histogram_shift=2),
-             "axi_store", 40, 8, AXI_FAULTS,
-             store=dict(data_bits=32, burst_beats=4, outstanding=2)),
-        Case("axi-store-24x16-f0-k2-errors", dict(width=24, height=16, segment_frames=2,
-                                                  max_segment_frames=4, weight_frac_bits=0,
-                                                  energy_bits=9, candidate_count=3,
-                                                  candidate_capacity=6, histogram_bits=6,
-                                                  histogram_shift=2),
-             "axi_store", 16, 6, STORE_FAULTS,
-             store=dict(data_bits=32, burst_beats=4, outstanding=2)),
+        Case("axi-store-24x16-f0-k2", dict(frame), "axi_store", 40, 8, AXI_FAULTS,
+             store=dict(store)),
+        Case("axi-store-24x16-f0-k2-errors", dict(frame), "axi_store", 16, 6, STORE_FAULTS,
+             store=dict(store)),
     ]
 
 
