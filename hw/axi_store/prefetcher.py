@@ -152,28 +152,33 @@ class AxiReadPrefetcher(wiring.Component):
             self.error.eq(self.r.rvalid & self.r.rready & self.r.rresp[1]),
         ]
 
-        # ---- issue side: next beat, read index of its first new word, credits ------------
-        next_beat = Signal(range(beats), init=first_word // per_beat)
-        # one word per beat: offset and skip stay 0 (one bit, not a zero-width vector)
-        positions = range(max(per_beat, 2))
-        skip = Signal(positions, init=first_word % per_beat)   # words before the start
-        issue_index = Signal(count_bits)             # read index of the next burst's 1st word
+        # ---- issue side: next beat, its burst's length, the write count it needs -----------
+        # ``need``: the written count the burst at ``next_beat`` waits for (the word taking its
+        # last word, index i, needs the writes of words up to i + D - W*H/P answered). It and
+        # ``length`` are registers, brought up to date in the cycle after an issue (ARVALID is
+        # high then, so no burst issues on stale values) and set outright by a restart; the
+        # issue decision is one subtraction and one comparison away from registers.
+        def burst_length(beat: int) -> int:
+            return min(store.burst_beats - beat % store.burst_beats, beats - beat)
+
+        modulus = 1 << count_bits
+        first_beat, first_skip = first_word // per_beat, first_word % per_beat
+        restart_beat, restart_skip = restart_word // per_beat, restart_word % per_beat
+        next_beat = Signal(range(beats), init=first_beat)
+        length = Signal(range(store.burst_beats + 1), init=burst_length(first_beat))
+        need = Signal(count_bits, init=(burst_length(first_beat) * per_beat - first_skip
+                                        + ahead - pixels) % modulus)
+        issued = Signal()                            # a burst issued in the previous cycle
         reserved = Signal(range(depth + 1))          # beats requested and not popped
         in_flight = Signal(range(store.outstanding + 1))
-        to_boundary = store.burst_beats - next_beat[:(store.burst_beats - 1).bit_length()]
-        to_end = beats - next_beat
-        length = Signal(range(store.burst_beats + 1))
-        m.d.comb += length.eq(Mux(to_end < to_boundary, to_end, to_boundary))
-        # the pixel taking the burst's last word needs the writes of pixels up to
-        # its index + D - W*H answered
-        need = Signal(count_bits)
-        m.d.comb += need.eq(issue_index + length * per_beat - skip + (ahead - pixels))
         ordered = Signal()
         m.d.comb += ordered.eq((self.written - need)[:count_bits].as_signed() >= 0)
 
         rlast_seen = self.r.rvalid & self.r.rready & self.r.rlast
         issue = Signal()
-        m.d.comb += issue.eq(~self.ar.arvalid & ~self.restart & ordered
+        # not gated by ``restart`` (that comes from the pipeline's input handshake): a burst
+        # issued in a restart's cycle belongs to the old sequence and is dropped as stale
+        m.d.comb += issue.eq(~self.ar.arvalid & ordered
                              & (reserved + length <= depth)
                              & (in_flight < store.outstanding))
         m.d.comb += [
@@ -184,19 +189,26 @@ class AxiReadPrefetcher(wiring.Component):
         ]
         with m.If(self.ar.arvalid & self.ar.arready):
             m.d.sync += self.ar.arvalid.eq(0)
+        m.d.sync += issued.eq(issue & ~(self.take & self.restart))   # a restart sets both
         with m.If(issue):
             m.d.sync += [
                 self.ar.arvalid.eq(1),
                 self.ar.araddr.eq(self.base + next_beat * store.beat_bytes),
                 self.ar.arlen.eq(length - 1),
                 next_beat.eq(Mux(next_beat + length == beats, 0, next_beat + length)),
-                issue_index.eq(issue_index + length * per_beat - skip),
-                skip.eq(0),
             ]
+        with m.If(issued):
+            # the next burst: a burst ends at a boundary or the frame's end, so next_beat is
+            # aligned here and the burst is a full one unless it is the frame's last block
+            last_block = (beats - 1) // store.burst_beats * store.burst_beats
+            following = Mux(next_beat == last_block, beats - last_block, store.burst_beats)
+            m.d.sync += [length.eq(following),
+                         need.eq(need + following * per_beat)]
         m.d.sync += in_flight.eq(in_flight + (self.ar.arvalid & self.ar.arready) - rlast_seen)
 
         # ---- take side: unpack the head beat, drop stale beats --------------------------
-        offset = Signal(positions, init=first_word % per_beat)
+        # one word per beat: offset stays 0 (one bit, not a zero-width vector)
+        offset = Signal(range(max(per_beat, 2)), init=first_skip)
         stale = Signal(range(depth + 1))             # beats to drop after a restart
         taken = Signal(count_bits)                   # words taken since reset
         pop = Signal()
@@ -210,11 +222,13 @@ class AxiReadPrefetcher(wiring.Component):
             m.d.sync += taken.eq(taken + 1)
         with m.If(self.take & self.restart):
             m.d.sync += [
-                stale.eq(reserved),
-                offset.eq(restart_word % per_beat),
-                next_beat.eq(restart_word // per_beat),
-                skip.eq(restart_word % per_beat),
-                issue_index.eq(taken + 1),
+                stale.eq(reserved + Mux(issue, length, 0)),   # a burst issued now is stale
+                offset.eq(restart_skip),
+                next_beat.eq(restart_beat),
+                length.eq(burst_length(restart_beat)),
+                # the burst at restart_beat: words taken + 1 … on, from the restart's skip
+                need.eq(taken + (1 + burst_length(restart_beat) * per_beat - restart_skip
+                                 + ahead - pixels) % modulus),
             ]
         with m.Elif(stale != 0):
             m.d.comb += pop.eq(fifo.r_rdy)

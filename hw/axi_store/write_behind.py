@@ -52,7 +52,8 @@ class AxiWriteBehind(wiring.Component):
         The pipeline's store-word write (:class:`~dptbd.hw.state_store.StateStoreSignature`,
         :class:`~dptbd.hw.wide.state_store.WideStateStoreSignature` at P > 1).
     room : Out(1)
-        The W FIFO has room for ``in_flight`` more words.
+        The W FIFO has room for ``in_flight`` more words (a register: its level in the
+        cycle before, with one beat of margin more).
     written : Out(pixel_count_bits(store))
         Pixels whose writes have their B response (modular count since reset).
     error : Out(1)
@@ -79,9 +80,10 @@ class AxiWriteBehind(wiring.Component):
     @property
     def margin(self) -> int:
         """W FIFO beats kept free for the pipeline: ``in_flight`` words, the packing
-        register and the beat stage."""
+        register, the beat stage, and the beat that may enter while ``room`` (a register,
+        the level of the cycle before) is stale."""
         per_beat = self._store.words_per_beat
-        return -(-(self._in_flight + per_beat - 1) // per_beat) + 2
+        return -(-(self._in_flight + per_beat - 1) // per_beat) + 3
 
     @property
     def fifo_depth(self) -> int:
@@ -143,7 +145,10 @@ class AxiWriteBehind(wiring.Component):
                              closing.upto.eq(beat_upto), bursts.w_en.eq(1)]
             m.d.sync += [run_open.eq(~block_end), run_start.eq(start), run_len.eq(length),
                          run_upto.eq(beat_upto)]
-        m.d.comb += self.room.eq(w_fifo.level <= depth - self.margin)
+        # registered: the level rises by at most one beat a cycle, which the margin counts
+        room = Signal(init=1)
+        m.d.sync += room.eq(w_fifo.level <= depth - self.margin)
+        m.d.comb += self.room.eq(room)
 
         # ---- AW: one burst at a time from the descriptor FIFO ---------------------------
         head = data.View(descriptor, bursts.r_data)

@@ -83,8 +83,11 @@ __all__ = [
 #: 206 I/O; its cells include about one flip-flop per port bit).
 #: ``"core-folded"``: ``"core"``'s module with its ports folded onto two pins the same way
 #: (DPCoreWide's state-store ports at 4 pixels per clock exceed the ECP5 CABGA256's I/O).
+#: ``"dp-axi"``: ``dptbd_dp --state-store axi`` (the DP core with its state in external
+#: memory behind the AXI4 port, ``cfg.axi_store()``'s defaults: 64-bit, bursts of 16, 4
+#: outstanding), its ports folded onto two pins the same way.
 VARIANTS = ("core", "top", "segmenter", "core-regio", "segmenter-ext", "axi",
-            "axi-ext", "core-folded")
+            "axi-ext", "core-folded", "dp-axi")
 
 #: The variants with the W*H-word state store on chip (checked against the device's block
 #: RAM before any tool runs).
@@ -208,6 +211,12 @@ def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: Ma
                          core_options=core_options)
         wrap = RegisteredPorts if variant == "core-regio" else FoldedPorts
         return to_verilog(wrap(core), MODULE_NAME)
+    if variant == "dp-axi":
+        from dptbd.hw.flow.registered_ports import FoldedPorts
+        from dptbd.hw.flow.to_verilog import to_verilog
+        top = build_top(cfg, lut_style=lut_style, core_options=core_options,
+                        state_store=cfg.axi_store())
+        return to_verilog(FoldedPorts(top), MODULE_NAME)
     if variant in ("core", "top"):
         text, _ = generate_verilog(cfg, external_state_store=(variant == "core"),
                                    lut_style=lut_style, core_options=core_options,
@@ -261,8 +270,9 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         ``"segmenter-ext"``: the same with the store outside; ``"axi"``: :class:`AXITop`
         (``dptbd_axi``, on-chip store); ``"axi-ext"``: AXITop with the store outside, its
         ports folded onto two pins (:class:`~dptbd.hw.flow.registered_ports.FoldedPorts`);
-        ``"core-folded"``: ``"core"`` with its ports folded so. Every variant's Verilog
-        module is ``dptbd_dp``.
+        ``"core-folded"``: ``"core"`` with its ports folded so; ``"dp-axi"``: the DP core
+        with its state behind the AXI4 port (``cfg.axi_store()``), ports folded so. Every
+        variant's Verilog module is ``dptbd_dp``.
     family : {"ice40", "ecp5"}
         The FPGA family (:data:`FAMILIES`).
     device, package : str, optional
