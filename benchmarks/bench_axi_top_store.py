@@ -37,7 +37,6 @@ import argparse
 import pathlib
 import sys
 
-import numpy as np
 
 from dptbd.config import DPConfig
 from dptbd.sim import verilator as V
