@@ -37,7 +37,6 @@ import argparse
 import pathlib
 import sys
 
-
 from dptbd.config import DPConfig
 from dptbd.sim import verilator as V
 from dptbd.sim.axi.stimulus import clean_beats
