@@ -117,8 +117,8 @@ def synth(cfg: DPConfig, store, family: str) -> None:
 
     options = dict(get_family(family).core_options)
     text = to_verilog(FoldedPorts(AXITopStore(store, core_options=options)), "dptbd_dp")
-    # the axi-ext case's generation, its text replaced by this core's
-    res = synthesize(cfg, variant="axi-ext", family=family, seeds=(1,),
+    # the axi-store variant's flow, its text this core's (the store's options as asked)
+    res = synthesize(cfg, variant="axi-store", family=family, seeds=(1,),
                      verilog_filter=lambda _text: text)
     print(f"dptbd_axi --state-store axi, {cfg.describe()}, AXI {store.data_bits}-bit, bursts "
           f"of {store.burst_beats}, {store.outstanding} outstanding, {family} {res.device} "

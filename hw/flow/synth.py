@@ -85,16 +85,18 @@ __all__ = [
 #: (DPCoreWide's state-store ports at 4 pixels per clock exceed the ECP5 CABGA256's I/O).
 #: ``"dp-axi"``: ``dptbd_dp --state-store axi`` (the DP core with its state in external
 #: memory behind the AXI4 port, ``cfg.axi_store()``'s defaults: 64-bit, bursts of 16, 4
-#: outstanding), its ports folded onto two pins the same way.
+#: outstanding), its ports folded onto two pins the same way; ``"axi-store"``: ``dptbd_axi
+#: --state-store axi`` (:class:`~dptbd.hw.axi_store.top.AXITopStore`, the same store), its
+#: ports folded.
 VARIANTS = ("core", "top", "segmenter", "core-regio", "segmenter-ext", "axi",
-            "axi-ext", "core-folded", "dp-axi")
+            "axi-ext", "core-folded", "dp-axi", "axi-store")
 
 #: The variants with the W*H-word state store on chip (checked against the device's block
 #: RAM before any tool runs).
 ON_CHIP_STORE = ("top", "segmenter", "axi")
 
 #: The variants of a segmenter top (DPSegmenter, AXITop): the weight LUT's style is automatic.
-SEGMENTER_TOPS = ("segmenter", "segmenter-ext", "axi", "axi-ext")
+SEGMENTER_TOPS = ("segmenter", "segmenter-ext", "axi", "axi-ext", "axi-store")
 
 VERILOG_NAME = "dptbd_dp.v"
 
@@ -217,6 +219,12 @@ def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: Ma
         top = build_top(cfg, lut_style=lut_style, core_options=core_options,
                         state_store=cfg.axi_store())
         return to_verilog(FoldedPorts(top), MODULE_NAME)
+    if variant == "axi-store":
+        from dptbd.hw.axi_store.top import AXITopStore
+        from dptbd.hw.flow.registered_ports import FoldedPorts
+        from dptbd.hw.flow.to_verilog import to_verilog
+        top = AXITopStore(cfg.axi_store(), core_options=core_options)
+        return to_verilog(FoldedPorts(top), MODULE_NAME)
     if variant in ("core", "top"):
         text, _ = generate_verilog(cfg, external_state_store=(variant == "core"),
                                    lut_style=lut_style, core_options=core_options,
@@ -271,8 +279,9 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         (``dptbd_axi``, on-chip store); ``"axi-ext"``: AXITop with the store outside, its
         ports folded onto two pins (:class:`~dptbd.hw.flow.registered_ports.FoldedPorts`);
         ``"core-folded"``: ``"core"`` with its ports folded so; ``"dp-axi"``: the DP core
-        with its state behind the AXI4 port (``cfg.axi_store()``), ports folded so. Every
-        variant's Verilog module is ``dptbd_dp``.
+        with its state behind the AXI4 port (``cfg.axi_store()``), ports folded so;
+        ``"axi-store"``: ``dptbd_axi`` with that store, ports folded so. Every variant's
+        Verilog module is ``dptbd_dp``.
     family : {"ice40", "ecp5"}
         The FPGA family (:data:`FAMILIES`).
     device, package : str, optional
