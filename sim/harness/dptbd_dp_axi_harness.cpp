@@ -47,27 +47,7 @@ using dptbd_harness::write_words;
 
 using Memory = dptbd_harness::Axi4Memory<Vdut, DPTBD_AXI_DATA_BITS>;
 
-// A port of up to 64 bits is an integer; a wider one a VlWide<N> of N 32-bit words; both
-// travel as Port<T>::words uint64 words, the low bits first (as in dptbd_harness.cpp).
-template <typename T>
-struct Port {
-    static constexpr size_t words = 1;
-    static void set(T& port, const uint64_t* w) { port = static_cast<T>(w[0]); }
-    static void get(const T& port, uint64_t* w) { w[0] = static_cast<uint64_t>(port); }
-};
-template <std::size_t N>
-struct Port<VlWide<N>> {
-    static constexpr size_t words = (N + 1) / 2;
-    static void set(VlWide<N>& port, const uint64_t* w) {
-        for (size_t i = 0; i < N; ++i) port.at(i) = static_cast<EData>(w[i / 2] >> (32 * (i % 2)));
-    }
-    static void get(const VlWide<N>& port, uint64_t* w) {
-        for (size_t i = 0; i < words; ++i) w[i] = 0;
-        for (size_t i = 0; i < N; ++i) w[i / 2] |= static_cast<uint64_t>(port.at(i)) << (32 * (i % 2));
-    }
-};
-template <typename T>
-using PortOf = Port<std::remove_cv_t<std::remove_reference_t<T>>>;
+using dptbd_harness::PortOf;
 
 struct Job : dptbd_harness::StreamJob {
     dptbd_harness::Axi4MemoryJob memory;

@@ -1,13 +1,17 @@
 // Helpers shared by dptbd's Verilator harnesses: the seeded pause generator, error exit,
-// and the binary word files (little-endian uint64). Header-only; included by
-// dptbd_harness.cpp and dptbd_axi_harness.cpp.
+// the binary word files (little-endian uint64) and Port (a design port as uint64 words).
+// Header-only; included by dptbd_harness.cpp, dptbd_axi_harness.cpp and
+// dptbd_dp_axi_harness.cpp.
 #pragma once
 
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <type_traits>
 #include <vector>
+
+#include "verilated.h"
 #ifdef DPTBD_MUTANT
 #include <csignal>
 #include <unistd.h>
@@ -105,5 +109,28 @@ template <class Dut> void select_mutant(Dut* dut) {
     }
 }
 #endif
+
+// A port of up to 64 bits is an integer; a wider one (a beat of P pixels or states at
+// P > 1, docs/gateware.md "P pixels per clock") is a VlWide<N> of N 32-bit words. Both
+// travel as Port<T>::words uint64 words, the low bits first.
+template <typename T>
+struct Port {
+    static constexpr size_t words = 1;
+    static void set(T& port, const uint64_t* w) { port = static_cast<T>(w[0]); }
+    static void get(const T& port, uint64_t* w) { w[0] = static_cast<uint64_t>(port); }
+};
+template <std::size_t N>
+struct Port<VlWide<N>> {
+    static constexpr size_t words = (N + 1) / 2;
+    static void set(VlWide<N>& port, const uint64_t* w) {
+        for (size_t i = 0; i < N; ++i) port.at(i) = static_cast<EData>(w[i / 2] >> (32 * (i % 2)));
+    }
+    static void get(const VlWide<N>& port, uint64_t* w) {
+        for (size_t i = 0; i < words; ++i) w[i] = 0;
+        for (size_t i = 0; i < N; ++i) w[i / 2] |= static_cast<uint64_t>(port.at(i)) << (32 * (i % 2));
+    }
+};
+template <typename T>
+using PortOf = Port<std::remove_cv_t<std::remove_reference_t<T>>>;
 
 }  // namespace dptbd_harness
