@@ -119,34 +119,73 @@ class RegisterFile(wiring.Component):
             return word
 
         lut = regmap.window("LUT")
-        in_lut = (bus.addr >= lut.base) & (bus.addr < lut.end)
         for _reg, field in regmap.fields("pulse"):
             m.d.sync += getattr(self, field.name).eq(0)
         m.d.sync += self.lut_we.eq(0)
-
         values = {reg.name: value(reg) for reg in regmap.registers}
-        word = bus.addr[2:]
-        full_strobe = bus.w_strb.all()
-        with m.If(bus.addr[:2].any()):                # unaligned: refused, nothing changes
-            m.d.comb += [bus.r_err.eq(1), bus.w_err.eq(1), refused.eq(bus.w_stb)]
-        # an If/Elif chain, not a Switch: Yosys writes a Switch with a default as a casez
-        # that Verilator's lint calls incomplete (CASEINCOMPLETE)
+
+        # A read is decoded from its address in its handshake cycle. An If/Elif chain, not a
+        # Switch: Yosys writes a Switch with a default as a casez that Verilator's lint calls
+        # incomplete (CASEINCOMPLETE).
+        with m.If(bus.r_addr[:2].any()):              # unaligned
+            m.d.comb += bus.r_err.eq(1)
         for reg in regmap.registers:
-            with m.Elif(word == reg.address >> 2):
+            with m.Elif(bus.r_addr[2:] == reg.address >> 2):
+                m.d.comb += bus.r_data.eq(values[reg.name])
+        with m.Else():
+            m.d.comb += bus.r_err.eq(1)              # unmapped, or a LUT read
+
+        # A write is decoded at its AW handshake and its data checked at its W handshake,
+        # both into registers: the write's cycle (w_stb) only combines registers. A setting
+        # cannot change between its W handshake and the write (only a write changes it, and
+        # no W is taken until the write before it has been answered).
+        def registered(strobe, name, condition):
+            bit = Signal(name=name)
+            with m.If(strobe):
+                m.d.sync += bit.eq(condition)
+            return bit
+
+        aw = bus.aw_in_addr
+        aligned = ~aw[:2].any()
+        at_reg = {reg.name: aligned & (aw[2:] == reg.address >> 2) for reg in regmap.registers}
+        unaligned = registered(bus.aw_in_stb, "write_unaligned", ~aligned)
+        at = {name: registered(bus.aw_in_stb, f"write_at_{name.lower()}", hit)
+              for name, hit in at_reg.items()}
+        at_lut = registered(bus.aw_in_stb, "write_at_lut",
+                            aligned & ~Cat(at_reg.values()).any()
+                            & (aw >= lut.base) & (aw < lut.end))
+        in_mask = Cat(bit.replicate(8) for bit in bus.w_in_strb)
+        in_ones = bus.w_in_data & in_mask
+        ok = {}
+        for reg in regmap.registers:
+            if reg.kind == "setting":
+                (field,) = reg.fields
+                lo, hi = field.limits
+                merged_in = (values[reg.name] & ~in_mask) | in_ones
+                ok[reg.name] = registered(
+                    bus.w_in_stb, f"write_ok_{reg.name.lower()}",
+                    (merged_in >= lo) & (merged_in <= hi) if lo
+                    else _align(merged_in <= hi, merged_in, field))
+        lut_ok = registered(bus.w_in_stb, "write_ok_lut",
+                            bus.w_in_strb.all() & (bus.w_in_data <= lut.field.limits[1]))
+
+        with m.If(unaligned):                         # refused, nothing changes
+            m.d.comb += [bus.w_err.eq(1), refused.eq(bus.w_stb)]
+        for reg in regmap.registers:
+            with m.Elif(at[reg.name]):
                 current = values[reg.name]
                 merged = (current & ~byte_mask) | written_ones
-                m.d.comb += bus.r_data.eq(current)
-                self._write(m, bus, reg, storage, merged, written_ones, refused)
+                self._write(m, bus, reg, storage, merged, written_ones, refused,
+                            ok.get(reg.name))
+        with m.Elif(at_lut):
+            with m.If(lut_ok):
+                with m.If(bus.w_stb):
+                    m.d.sync += [self.lut_addr.eq((bus.w_addr - lut.base)[2:]),
+                                 self.lut_data.eq(bus.w_data), self.lut_we.eq(1)]
+            with m.Else():
+                m.d.comb += [bus.w_err.eq(1), refused.eq(bus.w_stb)]
         with m.Else():
-            m.d.comb += [bus.r_err.eq(1), bus.w_err.eq(1)]   # unmapped, or a LUT read
-            code = bus.w_data
-            with m.If(bus.w_stb & in_lut):
-                with m.If(full_strobe & (code <= lut.field.limits[1])):
-                    m.d.comb += bus.w_err.eq(0)
-                    m.d.sync += [self.lut_addr.eq((bus.addr - lut.base)[2:]),
-                                 self.lut_data.eq(code), self.lut_we.eq(1)]
-                with m.Else():
-                    m.d.comb += refused.eq(1)
+            m.d.comb += bus.w_err.eq(1)              # unmapped
 
         clear = self.clear_counters
         pending = []
@@ -167,7 +206,7 @@ class RegisterFile(wiring.Component):
         m.d.comb += self.irq.eq(Cat(pending).any())
         return m
 
-    def _write(self, m, bus, reg, storage, merged, written_ones, refused):
+    def _write(self, m, bus, reg, storage, merged, written_ones, refused, ok):
         kind = reg.kind
         if kind in ("constant", "counter", "status"):
             m.d.comb += bus.w_err.eq(1)
@@ -175,8 +214,6 @@ class RegisterFile(wiring.Component):
         with m.If(bus.w_stb):
             if kind == "setting":
                 (field,) = reg.fields
-                lo, hi = field.limits
-                ok = (merged >= lo) & (merged <= hi) if lo else _align(merged <= hi, merged, field)
                 with m.If(ok):
                     m.d.sync += storage[reg.name, field.name].eq(merged)
                 with m.Else():
