@@ -24,6 +24,9 @@ field kinds (:data:`~dptbd.hw.register_map.FIELD_KINDS`):
 
 from __future__ import annotations
 
+import functools
+import operator
+
 from amaranth.hdl import Cat, Module, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
@@ -124,16 +127,17 @@ class RegisterFile(wiring.Component):
         m.d.sync += self.lut_we.eq(0)
         values = {reg.name: value(reg) for reg in regmap.registers}
 
-        # A read is decoded from its address in its handshake cycle. An If/Elif chain, not a
-        # Switch: Yosys writes a Switch with a default as a casez that Verilator's lint calls
-        # incomplete (CASEINCOMPLETE).
-        with m.If(bus.r_addr[:2].any()):              # unaligned
-            m.d.comb += bus.r_err.eq(1)
-        for reg in regmap.registers:
-            with m.Elif(bus.r_addr[2:] == reg.address >> 2):
-                m.d.comb += bus.r_data.eq(values[reg.name])
-        with m.Else():
-            m.d.comb += bus.r_err.eq(1)              # unmapped, or a LUT read
+        # A read is decoded from its address in its handshake cycle, one select per register
+        # and an AND-OR of the selected word (the registers' addresses are distinct):
+        # unaligned, unmapped and LUT addresses select none, read 0 and answer an error.
+        ra = bus.r_addr
+        r_sel = [~ra[:2].any() & (ra[2:] == reg.address >> 2) for reg in regmap.registers]
+        m.d.comb += [
+            bus.r_data.eq(functools.reduce(operator.or_, [
+                values[reg.name] & sel.replicate(32)
+                for reg, sel in zip(regmap.registers, r_sel)])),
+            bus.r_err.eq(~Cat(*r_sel).any()),
+        ]
 
         # A write is decoded at its AW handshake and its data checked at its W handshake,
         # both into registers: the write's cycle (w_stb) only combines registers. A setting
@@ -169,23 +173,28 @@ class RegisterFile(wiring.Component):
         lut_ok = registered(bus.w_in_stb, "write_ok_lut",
                             bus.w_in_strb.all() & (bus.w_in_data <= lut.field.limits[1]))
 
-        with m.If(unaligned):                         # refused, nothing changes
-            m.d.comb += [bus.w_err.eq(1), refused.eq(bus.w_stb)]
+        # the answer as flat logic of those registers (the selects are exclusive; an
+        # unaligned address selects none): refused, SLVERR, or taken
+        writing = bus.w_stb
+        bad_lut = at_lut & ~lut_ok
+        refusals = [unaligned, bad_lut]
+        errors = [~Cat(*at.values(), at_lut).any(), bad_lut]    # unaligned or unmapped
         for reg in regmap.registers:
-            with m.Elif(at[reg.name]):
+            if reg.kind in ("constant", "counter", "status"):
+                errors.append(at[reg.name])
+            elif reg.kind == "setting":
+                refusals.append(at[reg.name] & ~ok[reg.name])
+                errors.append(at[reg.name] & ~ok[reg.name])
+        m.d.comb += [bus.w_err.eq(Cat(*errors).any()),
+                     refused.eq(writing & Cat(*refusals).any())]
+        for reg in regmap.registers:
+            with m.If(writing & at[reg.name]):
                 current = values[reg.name]
                 merged = (current & ~byte_mask) | written_ones
-                self._write(m, bus, reg, storage, merged, written_ones, refused,
-                            ok.get(reg.name))
-        with m.Elif(at_lut):
-            with m.If(lut_ok):
-                with m.If(bus.w_stb):
-                    m.d.sync += [self.lut_addr.eq((bus.w_addr - lut.base)[2:]),
-                                 self.lut_data.eq(bus.w_data), self.lut_we.eq(1)]
-            with m.Else():
-                m.d.comb += [bus.w_err.eq(1), refused.eq(bus.w_stb)]
-        with m.Else():
-            m.d.comb += bus.w_err.eq(1)              # unmapped
+                self._write(m, reg, storage, merged, written_ones, ok.get(reg.name))
+        with m.If(writing & at_lut & lut_ok):
+            m.d.sync += [self.lut_addr.eq((bus.w_addr - lut.base)[2:]),
+                         self.lut_data.eq(bus.w_data), self.lut_we.eq(1)]
 
         clear = self.clear_counters
         pending = []
@@ -206,27 +215,24 @@ class RegisterFile(wiring.Component):
         m.d.comb += self.irq.eq(Cat(pending).any())
         return m
 
-    def _write(self, m, bus, reg, storage, merged, written_ones, refused, ok):
+    def _write(self, m, reg, storage, merged, written_ones, ok):
+        """The stores of a write to ``reg`` (in the write's cycle; ``ok``: a setting's
+        data in its limits)."""
         kind = reg.kind
-        if kind in ("constant", "counter", "status"):
-            m.d.comb += bus.w_err.eq(1)
+        if kind == "setting":
+            (field,) = reg.fields
+            with m.If(ok):
+                m.d.sync += storage[reg.name, field.name].eq(merged)
             return
-        with m.If(bus.w_stb):
-            if kind == "setting":
-                (field,) = reg.fields
-                with m.If(ok):
-                    m.d.sync += storage[reg.name, field.name].eq(merged)
-                with m.Else():
-                    m.d.comb += [bus.w_err.eq(1), refused.eq(1)]
-            for field in reg.fields:
-                part = slice(field.lsb, field.lsb + field.width)
-                if kind == "enable":
-                    m.d.sync += storage[reg.name, field.name].eq(merged[part])
-                elif kind in ("sticky", "interrupt"):
-                    with m.If(written_ones[part].any()):
-                        m.d.sync += storage[reg.name, field.name].eq(0)
-                elif kind == "pulse":
-                    m.d.sync += getattr(self, field.name).eq(written_ones[part].any())
+        for field in reg.fields:
+            part = slice(field.lsb, field.lsb + field.width)
+            if kind == "enable":
+                m.d.sync += storage[reg.name, field.name].eq(merged[part])
+            elif kind in ("sticky", "interrupt"):
+                with m.If(written_ones[part].any()):
+                    m.d.sync += storage[reg.name, field.name].eq(0)
+            elif kind == "pulse":
+                m.d.sync += getattr(self, field.name).eq(written_ones[part].any())
 
 
 def _align(ok, merged, field):

@@ -94,6 +94,10 @@ class RegistersHarness(Harness):
                     regs.signal(f"write_at_{reg.name.lower()}")
                     == (w_addr == reg.address), f"write_at_{reg.name.lower()} != the held "
                                                 f"address's")
+            lut = regmap.window("LUT")
+            m.d.comb += Assert(regs.signal("write_at_lut")
+                               == (~w_addr[:2].any() & (w_addr >= lut.base) & (w_addr < lut.end)),
+                               "write_at_lut != the held address's")
         m.d.comb += [
             Assert(aw_out == port.signal("have_aw") + b.bvalid, "AW outstanding != held"),
             Assert(w_out == port.signal("have_w") + b.bvalid, "W outstanding != held"),
