@@ -18,7 +18,8 @@ field kinds (:data:`~dptbd.hw.register_map.FIELD_KINDS`):
 - a LUT window write is taken if all four bytes are strobed (``wstrb`` = 1111) and the word
   lies in the code's ``limits``; otherwise refused (entry unchanged,
   ``ERROR.write_refused`` set, SLVERR);
-- counters add 1 per cycle their event is high and wrap modulo 2**32;
+- counters add 1 per cycle their event is high (registered first: counted a cycle later) and
+  wrap modulo 2**32;
 - ``irq`` is high while any ``IRQ_STATUS`` bit and its ``IRQ_ENABLE`` bit are both 1.
 """
 
@@ -51,7 +52,9 @@ class RegisterFile(wiring.Component):
     axil : In(axi_lite_signature(ADDRESS_BITS))
         The control port (:class:`~dptbd.hw.axi_lite.AXILiteSubordinate` inside).
     events : In(event_port_layout())
-        One-cycle event pulses, counted and turned into sticky / interrupt bits.
+        One-cycle event pulses, counted and turned into sticky / interrupt bits, registered
+        first: a pulse in cycle c is counted, sets its bit and raises ``irq`` at the end of
+        c+1 (visible from c+2).
     segment_frames, candidate_count, histogram_shift : Out
         The run-time settings (one per ``setting`` field), reset to the build values.
     soft_reset, clear_counters : Out(1)
@@ -92,9 +95,13 @@ class RegisterFile(wiring.Component):
         byte_mask = Cat(bit.replicate(8) for bit in bus.w_strb)
         written_ones = bus.w_data & byte_mask
         refused = Signal()
+        # The event pulses are registered first (they come from across the design): each
+        # counts, sets its bit and reaches irq one cycle after its pulse.
+        events = Signal(event_port_layout(regmap.events))
+        m.d.sync += events.eq(self.events)
         raised = {}                                  # event name -> pulse this cycle
         for name in regmap.events:
-            raised[name] = self.events[name]
+            raised[name] = events[name]
         raised["write_refused"] = refused
         raised["fault"] = Cat(raised[f.event] for _r, f in regmap.fields("sticky")).any()
 
