@@ -10,7 +10,10 @@ it accepts nothing new; a write (AW and W, in either order or together) wins ove
 arriving in the same cycle. A write reaches the register bus one cycle after its last
 handshake and its response (``bvalid``) follows in the next cycle; a read's address goes to
 the bus in its handshake cycle and ``rvalid`` follows in the next cycle. The register bus
-answers with ``r_err`` / ``w_err``, turned into ``SLVERR``; otherwise ``OKAY``.
+answers with ``r_err`` / ``w_err``, turned into ``SLVERR``; otherwise ``OKAY``. The bus also
+shows each AW and W handshake as it happens (``aw_in_*``, ``w_in_*``), so that a register
+block can decode the address and check the data in those cycles and answer the write from
+registers.
 """
 
 from __future__ import annotations
@@ -46,15 +49,25 @@ def axi_lite_signature(address_bits: int, data_bits: int = 32) -> wiring.Signatu
 def register_bus_signature(address_bits: int, data_bits: int = 32) -> wiring.Signature:
     """The adapter's side of a register block, as the adapter sees it.
 
-    ``addr`` is valid with ``r_stb`` / ``w_stb`` (one cycle each); ``r_data``, ``r_err`` and
-    ``w_err`` are combinational answers of the register block for ``addr`` in that cycle.
+    A read: ``r_addr`` with ``r_stb`` (one cycle); ``r_data`` and ``r_err`` are the register
+    block's combinational answers in that cycle. A write: ``w_addr``, ``w_data``, ``w_strb``
+    with ``w_stb`` (one cycle, after both handshakes); ``w_err`` is the answer in that cycle.
+    They hold from the handshakes until the write: the AW handshake is ``aw_in_stb`` with its
+    address ``aw_in_addr`` (``w_addr`` from the next cycle on), the W handshake ``w_in_stb``
+    with ``w_in_data`` / ``w_in_strb`` (``w_data`` / ``w_strb`` from the next cycle on).
     """
     return wiring.Signature({
-        "addr": Out(address_bits),
+        "r_addr": Out(address_bits),
         "r_stb": Out(1),
+        "w_addr": Out(address_bits),
         "w_stb": Out(1),
         "w_data": Out(data_bits),
         "w_strb": Out(data_bits // 8),
+        "aw_in_stb": Out(1),
+        "aw_in_addr": Out(address_bits),
+        "w_in_stb": Out(1),
+        "w_in_data": Out(data_bits),
+        "w_in_strb": Out(data_bits // 8),
         "r_data": In(data_bits),
         "r_err": In(1),
         "w_err": In(1),
@@ -92,15 +105,21 @@ class AXILiteSubordinate(wiring.Component):
             aw.awready.eq(~have_aw & ~busy),
             w.wready.eq(~have_w & ~busy),
             ar.arready.eq(~busy & ~have_aw & ~have_w & ~aw.awvalid & ~w.wvalid),
-            bus.addr.eq(Mux(writing, aw_addr, ar.araddr)),
+            bus.r_addr.eq(ar.araddr),
+            bus.w_addr.eq(aw_addr),
             bus.w_stb.eq(writing),
             bus.w_data.eq(w_data),
             bus.w_strb.eq(w_strb),
             bus.r_stb.eq(ar.arvalid & ar.arready),
+            bus.aw_in_stb.eq(aw.awvalid & aw.awready),
+            bus.aw_in_addr.eq(aw.awaddr),
+            bus.w_in_stb.eq(w.wvalid & w.wready),
+            bus.w_in_data.eq(w.wdata),
+            bus.w_in_strb.eq(w.wstrb),
         ]
-        with m.If(aw.awvalid & aw.awready):
+        with m.If(bus.aw_in_stb):
             m.d.sync += [have_aw.eq(1), aw_addr.eq(aw.awaddr)]
-        with m.If(w.wvalid & w.wready):
+        with m.If(bus.w_in_stb):
             m.d.sync += [have_w.eq(1), w_data.eq(w.wdata), w_strb.eq(w.wstrb)]
         with m.If(writing):
             m.d.sync += [have_aw.eq(0), have_w.eq(0), b.bvalid.eq(1),

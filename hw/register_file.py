@@ -18,11 +18,15 @@ field kinds (:data:`~dptbd.hw.register_map.FIELD_KINDS`):
 - a LUT window write is taken if all four bytes are strobed (``wstrb`` = 1111) and the word
   lies in the code's ``limits``; otherwise refused (entry unchanged,
   ``ERROR.write_refused`` set, SLVERR);
-- counters add 1 per cycle their event is high and wrap modulo 2**32;
+- counters add 1 per cycle their event is high (registered first: counted a cycle later) and
+  wrap modulo 2**32;
 - ``irq`` is high while any ``IRQ_STATUS`` bit and its ``IRQ_ENABLE`` bit are both 1.
 """
 
 from __future__ import annotations
+
+import functools
+import operator
 
 from amaranth.hdl import Cat, Module, Signal
 from amaranth.lib import data, wiring
@@ -48,7 +52,9 @@ class RegisterFile(wiring.Component):
     axil : In(axi_lite_signature(ADDRESS_BITS))
         The control port (:class:`~dptbd.hw.axi_lite.AXILiteSubordinate` inside).
     events : In(event_port_layout())
-        One-cycle event pulses, counted and turned into sticky / interrupt bits.
+        One-cycle event pulses, counted and turned into sticky / interrupt bits, registered
+        first: a pulse in cycle c is counted, sets its bit and raises ``irq`` at the end of
+        c+1 (visible from c+2).
     segment_frames, candidate_count, histogram_shift : Out
         The run-time settings (one per ``setting`` field), reset to the build values.
     soft_reset, clear_counters : Out(1)
@@ -89,9 +95,13 @@ class RegisterFile(wiring.Component):
         byte_mask = Cat(bit.replicate(8) for bit in bus.w_strb)
         written_ones = bus.w_data & byte_mask
         refused = Signal()
+        # The event pulses are registered first (they come from across the design): each
+        # counts, sets its bit and reaches irq one cycle after its pulse.
+        events = Signal(event_port_layout(regmap.events))
+        m.d.sync += events.eq(self.events)
         raised = {}                                  # event name -> pulse this cycle
         for name in regmap.events:
-            raised[name] = self.events[name]
+            raised[name] = events[name]
         raised["write_refused"] = refused
         raised["fault"] = Cat(raised[f.event] for _r, f in regmap.fields("sticky")).any()
 
@@ -119,34 +129,79 @@ class RegisterFile(wiring.Component):
             return word
 
         lut = regmap.window("LUT")
-        in_lut = (bus.addr >= lut.base) & (bus.addr < lut.end)
         for _reg, field in regmap.fields("pulse"):
             m.d.sync += getattr(self, field.name).eq(0)
         m.d.sync += self.lut_we.eq(0)
-
         values = {reg.name: value(reg) for reg in regmap.registers}
-        word = bus.addr[2:]
-        full_strobe = bus.w_strb.all()
-        with m.If(bus.addr[:2].any()):                # unaligned: refused, nothing changes
-            m.d.comb += [bus.r_err.eq(1), bus.w_err.eq(1), refused.eq(bus.w_stb)]
-        # an If/Elif chain, not a Switch: Yosys writes a Switch with a default as a casez
-        # that Verilator's lint calls incomplete (CASEINCOMPLETE)
+
+        # A read is decoded from its address in its handshake cycle, one select per register
+        # and an AND-OR of the selected word (the registers' addresses are distinct):
+        # unaligned, unmapped and LUT addresses select none, read 0 and answer an error.
+        ra = bus.r_addr
+        r_sel = [~ra[:2].any() & (ra[2:] == reg.address >> 2) for reg in regmap.registers]
+        m.d.comb += [
+            bus.r_data.eq(functools.reduce(operator.or_, [
+                values[reg.name] & sel.replicate(32)
+                for reg, sel in zip(regmap.registers, r_sel)])),
+            bus.r_err.eq(~Cat(*r_sel).any()),
+        ]
+
+        # A write is decoded at its AW handshake and its data checked at its W handshake,
+        # both into registers: the write's cycle (w_stb) only combines registers. A setting
+        # cannot change between its W handshake and the write (only a write changes it, and
+        # no W is taken until the write before it has been answered).
+        def registered(strobe, name, condition):
+            bit = Signal(name=name)
+            with m.If(strobe):
+                m.d.sync += bit.eq(condition)
+            return bit
+
+        aw = bus.aw_in_addr
+        aligned = ~aw[:2].any()
+        at_reg = {reg.name: aligned & (aw[2:] == reg.address >> 2) for reg in regmap.registers}
+        unaligned = registered(bus.aw_in_stb, "write_unaligned", ~aligned)
+        at = {name: registered(bus.aw_in_stb, f"write_at_{name.lower()}", hit)
+              for name, hit in at_reg.items()}
+        at_lut = registered(bus.aw_in_stb, "write_at_lut",
+                            aligned & ~Cat(at_reg.values()).any()
+                            & (aw >= lut.base) & (aw < lut.end))
+        in_mask = Cat(bit.replicate(8) for bit in bus.w_in_strb)
+        in_ones = bus.w_in_data & in_mask
+        ok = {}
         for reg in regmap.registers:
-            with m.Elif(word == reg.address >> 2):
+            if reg.kind == "setting":
+                (field,) = reg.fields
+                lo, hi = field.limits
+                merged_in = (values[reg.name] & ~in_mask) | in_ones
+                ok[reg.name] = registered(
+                    bus.w_in_stb, f"write_ok_{reg.name.lower()}",
+                    (merged_in >= lo) & (merged_in <= hi) if lo
+                    else _align(merged_in <= hi, merged_in, field))
+        lut_ok = registered(bus.w_in_stb, "write_ok_lut",
+                            bus.w_in_strb.all() & (bus.w_in_data <= lut.field.limits[1]))
+
+        # the answer as flat logic of those registers (the selects are exclusive; an
+        # unaligned address selects none): refused, SLVERR, or taken
+        writing = bus.w_stb
+        bad_lut = at_lut & ~lut_ok
+        refusals = [unaligned, bad_lut]
+        errors = [~Cat(*at.values(), at_lut).any(), bad_lut]    # unaligned or unmapped
+        for reg in regmap.registers:
+            if reg.kind in ("constant", "counter", "status"):
+                errors.append(at[reg.name])
+            elif reg.kind == "setting":
+                refusals.append(at[reg.name] & ~ok[reg.name])
+                errors.append(at[reg.name] & ~ok[reg.name])
+        m.d.comb += [bus.w_err.eq(Cat(*errors).any()),
+                     refused.eq(writing & Cat(*refusals).any())]
+        for reg in regmap.registers:
+            with m.If(writing & at[reg.name]):
                 current = values[reg.name]
                 merged = (current & ~byte_mask) | written_ones
-                m.d.comb += bus.r_data.eq(current)
-                self._write(m, bus, reg, storage, merged, written_ones, refused)
-        with m.Else():
-            m.d.comb += [bus.r_err.eq(1), bus.w_err.eq(1)]   # unmapped, or a LUT read
-            code = bus.w_data
-            with m.If(bus.w_stb & in_lut):
-                with m.If(full_strobe & (code <= lut.field.limits[1])):
-                    m.d.comb += bus.w_err.eq(0)
-                    m.d.sync += [self.lut_addr.eq((bus.addr - lut.base)[2:]),
-                                 self.lut_data.eq(code), self.lut_we.eq(1)]
-                with m.Else():
-                    m.d.comb += refused.eq(1)
+                self._write(m, reg, storage, merged, written_ones, ok.get(reg.name))
+        with m.If(writing & at_lut & lut_ok):
+            m.d.sync += [self.lut_addr.eq((bus.w_addr - lut.base)[2:]),
+                         self.lut_data.eq(bus.w_data), self.lut_we.eq(1)]
 
         clear = self.clear_counters
         pending = []
@@ -167,29 +222,24 @@ class RegisterFile(wiring.Component):
         m.d.comb += self.irq.eq(Cat(pending).any())
         return m
 
-    def _write(self, m, bus, reg, storage, merged, written_ones, refused):
+    def _write(self, m, reg, storage, merged, written_ones, ok):
+        """The stores of a write to ``reg`` (in the write's cycle; ``ok``: a setting's
+        data in its limits)."""
         kind = reg.kind
-        if kind in ("constant", "counter", "status"):
-            m.d.comb += bus.w_err.eq(1)
+        if kind == "setting":
+            (field,) = reg.fields
+            with m.If(ok):
+                m.d.sync += storage[reg.name, field.name].eq(merged)
             return
-        with m.If(bus.w_stb):
-            if kind == "setting":
-                (field,) = reg.fields
-                lo, hi = field.limits
-                ok = (merged >= lo) & (merged <= hi) if lo else _align(merged <= hi, merged, field)
-                with m.If(ok):
-                    m.d.sync += storage[reg.name, field.name].eq(merged)
-                with m.Else():
-                    m.d.comb += [bus.w_err.eq(1), refused.eq(1)]
-            for field in reg.fields:
-                part = slice(field.lsb, field.lsb + field.width)
-                if kind == "enable":
-                    m.d.sync += storage[reg.name, field.name].eq(merged[part])
-                elif kind in ("sticky", "interrupt"):
-                    with m.If(written_ones[part].any()):
-                        m.d.sync += storage[reg.name, field.name].eq(0)
-                elif kind == "pulse":
-                    m.d.sync += getattr(self, field.name).eq(written_ones[part].any())
+        for field in reg.fields:
+            part = slice(field.lsb, field.lsb + field.width)
+            if kind == "enable":
+                m.d.sync += storage[reg.name, field.name].eq(merged[part])
+            elif kind in ("sticky", "interrupt"):
+                with m.If(written_ones[part].any()):
+                    m.d.sync += storage[reg.name, field.name].eq(0)
+            elif kind == "pulse":
+                m.d.sync += getattr(self, field.name).eq(written_ones[part].any())
 
 
 def _align(ok, merged, field):

@@ -218,6 +218,18 @@ class Segmenter(wiring.Component):
         with m.Elif(accept & ~scored & eos):
             m.d.sync += missed.eq(1)
 
+        # bin >= T without the bin on the path: for T <= 2**b - 1, min(E >> s, 2**b - 1) >= T
+        # is floor(E / 2**s) >= T, i.e. E >= T << s, and T = 2**b (bit b) selects nothing.
+        # T << s is formed from registers (T, s), so the word's E, which may come straight
+        # out of the DP output FIFO's block RAM, meets it in one comparison.
+        e_bits = cfg.energy_bits
+        shifted_threshold = search.threshold[:b] << eff_shift      # full width: any s
+        t_energy = Signal(len(shifted_threshold))
+        m.d.comb += t_energy.eq(shifted_threshold)
+        selected = Signal()
+        m.d.comb += selected.eq(~search.threshold[b] & ~t_energy[e_bits:].any()
+                                & (word.energy >= t_energy[:e_bits]))
+
         # ---- cycle B: emit ----------------------------------------------------------------
         valid_b = Signal()
         selected_b = Signal()
@@ -227,7 +239,7 @@ class Segmenter(wiring.Component):
         m.d.sync += valid_b.eq(accept & scored)
         with m.If(accept):
             m.d.sync += [
-                selected_b.eq(energy_bin >= search.threshold),
+                selected_b.eq(selected),
                 ends_b.eq(ends),
                 aligned_b.eq(last & eos),
                 missed_b.eq(missed),

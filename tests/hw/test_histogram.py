@@ -10,8 +10,9 @@ from helpers.hw_harness import simulate
 from helpers.seg_harness import make_config, scan_histogram
 
 
-def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2):
-    """Increment ``bins`` (back to back unless gaps), then scan ``scans`` times.
+def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2, settle=1):
+    """Increment ``bins`` (back to back unless gaps), then, ``settle`` cycles after the last
+    increment (1: the first cycle after it, as the segmenter does), scan ``scans`` times.
 
     Returns the list of scans, each a list of (bin, count) in output order, and the cycles
     from each scan_start to its last count."""
@@ -28,7 +29,8 @@ def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2):
             ctx.set(dut.add_en, 1)
             await ctx.tick()
         ctx.set(dut.add_en, 0)
-        await ctx.tick()                        # the last write-back
+        for _ in range(settle - 1):
+            await ctx.tick()
         result.extend(await scan_histogram(ctx, dut, scans))
 
     simulate(dut, bench)
@@ -51,3 +53,24 @@ def test_counts_saturate_and_scan_clears(gaps):
     assert (np.bincount(bins, minlength=16) > 7).any()
     assert all(c == 0 for _, c in scans[1])                         # cleared
     assert spans[0] == 16 + 1                                       # 2**b reads + 1
+
+
+@pytest.mark.parametrize("settle", [1, 2, 3])
+def test_back_to_back_increments_of_near_bins_and_an_early_scan(settle):
+    """Increments of one bin one and two cycles apart (the pipeline's hazards: the count is
+    taken from the last two writes), with gaps, and the scan started in the first cycle
+    after the last increment (``settle=1``, the segmenter's timing) whose last increments
+    hit the first bins it reads."""
+    cfg = make_config(width=16, height=16, histogram_bits=3, candidate_count=20,
+                      candidate_capacity=40)
+    top = cfg.n_bins - 1
+    rng = np.random.default_rng(settle)
+    bins = np.concatenate([rng.choice([top, top - 1, 0], 80), [top - 1, top, top - 1, top]])
+    for gaps in (0.0, 0.3):
+        scans, spans = simulate_histogram(cfg, bins, gap_probability=gaps, seed=settle,
+                                          settle=settle)
+        want = np.minimum(np.bincount(bins, minlength=cfg.n_bins), (1 << cfg.bin_count_bits) - 1)
+        assert [c for _, c in scans[0]][::-1] == want.tolist()
+        assert want[top] > 20 and want[top - 1] > 20
+        assert all(c == 0 for _, c in scans[1])
+        assert spans == [cfg.n_bins + 1] * 2

@@ -173,12 +173,19 @@ def test_sticky_bits_interrupts_and_mask():
     dut = RegisterFile(cfg)
 
     async def pulse(ctx, name):
+        """``name`` high in one cycle c; its bit is set at the end of c + 1 (the pulses are
+        registered), so the bench goes on in c + 2."""
         ctx.set(dut.events[name], 1)
         await ctx.tick()
         ctx.set(dut.events[name], 0)
+        await ctx.tick()
 
     async def bench(ctx):
-        await pulse(ctx, "segment_done")
+        ctx.set(dut.events.segment_done, 1)
+        await ctx.tick()
+        ctx.set(dut.events.segment_done, 0)
+        status, _ = await axil_read(ctx, dut.axil, regs.REG_IRQ_STATUS)    # AR in c + 1
+        assert status == 0                                       # not yet: registered pulse
         assert not ctx.get(dut.irq)                              # masked at reset
         status, _ = await axil_read(ctx, dut.axil, regs.REG_IRQ_STATUS)
         assert status == regs.IRQ_STATUS_SEGMENT_DONE_MASK

@@ -24,7 +24,9 @@ class RegistersHarness(Harness):
     (SLVERR on a register that stores: a setting out of its limits, an unaligned address, a
     LUT word out of range or not fully strobed) changes no setting, no enable bit, clears no
     sticky / interrupt bit and writes no LUT entry; a sticky / interrupt bit (W1C) goes from
-    1 to 0 only in the cycle after an accepted write of a 1 to it.
+    1 to 0 only in the cycle after an accepted write of a 1 to it. Invariants (for the
+    induction): while an AW is held, the register block's decode of it, registered at its
+    handshake, is its address's.
     """
 
     def __init__(self, cfg: DPConfig | None = None):
@@ -40,7 +42,7 @@ class RegistersHarness(Harness):
         bus = regs.sub("axil").component.bus
         regmap = rf.register_map
         refused = past(bus.w_stb & bus.w_err, "past_refused")
-        past_addr = past(bus.addr, "past_addr")
+        past_addr = past(bus.w_addr, "past_addr")
         past_data = past(bus.w_data, "past_w_data")
         past_strb = past(bus.w_strb, "past_w_strb")
         past_write = past(bus.w_stb, "past_w_stb")
@@ -82,6 +84,20 @@ class RegistersHarness(Harness):
                 m.d.comb += Cover(past_write & ~refused & (past_addr == reg.address))
                 break
         port = regs.sub("axil")
+        # invariants for the induction: a held AW's registered decode is its address's
+        w_addr = bus.w_addr
+        with m.If(port.signal("have_aw")):
+            m.d.comb += Assert(regs.signal("write_unaligned") == w_addr[:2].any(),
+                               "write_unaligned != the held address's")
+            for reg in regmap.registers:
+                m.d.comb += Assert(
+                    regs.signal(f"write_at_{reg.name.lower()}")
+                    == (w_addr == reg.address), f"write_at_{reg.name.lower()} != the held "
+                                                f"address's")
+            lut = regmap.window("LUT")
+            m.d.comb += Assert(regs.signal("write_at_lut")
+                               == (~w_addr[:2].any() & (w_addr >= lut.base) & (w_addr < lut.end)),
+                               "write_at_lut != the held address's")
         m.d.comb += [
             Assert(aw_out == port.signal("have_aw") + b.bvalid, "AW outstanding != held"),
             Assert(w_out == port.signal("have_w") + b.bvalid, "W outstanding != held"),

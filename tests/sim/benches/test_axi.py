@@ -100,8 +100,9 @@ def test_lut_rewritten_mid_run_and_refused_writes():
 @pytest.mark.parametrize("kind", FAULTS)
 def test_fault_is_counted_flagged_and_interrupts(kind):
     """One fault of ``kind`` in frame 0: its counter reads 1 and the others 0, its sticky
-    bit is set (W1C clears it), the fault interrupt rises two cycles after the faulty beat
-    is accepted (monitor register, then the pending bit) and the lists after the fault
+    bit is set (W1C clears it), the fault interrupt rises three cycles after the faulty beat
+    is accepted (monitor register, the register block's event register, then the pending
+    bit) and the lists after the fault
     match the model of the stream actually accepted."""
     cfg = make_config(**SCENE_CFG)
     regs = constants_namespace(cfg)
@@ -116,12 +117,12 @@ def test_fault_is_counted_flagged_and_interrupts(kind):
     rises = [cycle for cycle, level in s["irq_edges"] if level]
     assert len(rises) == 1
     pulses = [i for i, p in enumerate(fault_pulses_of(cfg, beats)) if p]
-    assert rises[0] == s["accept_cycles"][pulses[0]] + 2
+    assert rises[0] == s["accept_cycles"][pulses[0]] + 3
 
 
 def test_every_fault_class_in_one_stream():
     """The four faults one after the other (each followed by a clean frame): every counter
-    reads 1, every sticky bit is set and cleared by W1C, the fault interrupt rises two
+    reads 1, every sticky bit is set and cleared by W1C, the fault interrupt rises three
     cycles after the first faulty beat and stays (nobody clears IRQ_STATUS), and the lists
     match the model of the stream accepted."""
     cfg = make_config(**SCENE_CFG)
@@ -140,7 +141,7 @@ def test_every_fault_class_in_one_stream():
     rises = [cycle for cycle, level in s["irq_edges"] if level]
     assert len(rises) == 1
     pulses = [i for i, p in enumerate(fault_pulses_of(cfg, beats)) if p]
-    assert rises[0] == s["accept_cycles"][pulses[0]] + 2
+    assert rises[0] == s["accept_cycles"][pulses[0]] + 3
 
 
 def fault_pulses_of(cfg, beats):
@@ -167,8 +168,9 @@ def test_segment_interrupt_timing_and_mask():
     assert len(rises) == 1                                   # masked during segment 1
     sim = built(cfg, "axi")
     last_of_segment_2 = s["accept_cycles"][len(beats) - 1]
-    # segment_done leaves the DP L cycles after its last pixel; the pending bit the next cycle
-    assert rises[0] == last_of_segment_2 + sim.manifest["dp_latency"] + 1
+    # segment_done leaves the DP L cycles after its last pixel; the register block registers
+    # the pulse, then sets the pending bit: two cycles later
+    assert rises[0] == last_of_segment_2 + sim.manifest["dp_latency"] + 2
 
 
 @pytest.mark.slow
