@@ -186,7 +186,7 @@ def test_command_writes_table_and_figure(tmp_path, capsys):
         run_cli(["--markdown", str(md)])
     with pytest.raises(DetectorError, match=(r"^unknown detector 'foo'; known: dw-dp, "
                                              r"dp-amplitude, dp-penalty, dp-likelihood, info, "
-                                             r"grid-bayes, ca-cfar$")):
+                                             r"grid-bayes, ca-cfar, pf-tbd$")):
         run_cli(["--detectors", "info,foo"])
     with pytest.raises(DetectorError, match=(r"^false_alarm_rate must be a finite real number "
                                              r"in \(0, 1\), got 2\.0$")):

@@ -1,0 +1,163 @@
+"""Equal false-alarm rate per pixel: a threshold calibrated on noise-only scenes, and ROC points.
+
+The second operating point of every detection-map comparison (``docs/detectors.md`` §7),
+beside a fixed list length: a detector's maps are thresholded at the level that noise-only
+maps exceed on a stated fraction ``pfa`` of their pixels.
+
+* :func:`check_pfa` — a false-alarm probability per pixel in (0, 1);
+* :func:`pixel_threshold` — the threshold of a given set of noise-only map values: with
+  N pixel values and n = floor(pfa * N), the (n+1)-th largest; a pixel is a false alarm
+  when *strictly* above it, so at most n of the N are (fewer when values tie at the
+  threshold; the rule of ``docs/arithmetic.md`` §6);
+* :func:`calibrate_pixel_threshold` — the same on the maps a detector makes of noise-only
+  scenes named by their seeds (seeded, reproducible: the same seeds give the same
+  threshold), with the measured exceedance count (:class:`Calibration`);
+* :func:`roc_points` — Pd against Pfa per pixel at a list of Pfa levels, from the
+  calibration's values and one detection statistic per opportunity.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any, Callable, Iterable, Sequence
+
+import numpy as np
+
+from dptbd.errors import DptbdError, check_int, check_prob
+
+__all__ = ["PfaError", "check_pfa", "pixel_threshold", "Calibration", "calibrate_pixel_threshold",
+           "roc_points", "parse_pfas"]
+
+
+class PfaError(DptbdError):
+    """A false-alarm probability or its calibration set is invalid; the message names it."""
+
+
+def check_pfa(value: Any, name: str = "pfa (false-alarm probability per pixel)") -> float:
+    """A false-alarm probability per pixel in the open interval (0, 1), as ``float``."""
+    return check_prob(name, value, error=PfaError)
+
+
+def parse_pfas(text: Any) -> tuple[float, ...]:
+    """``"1e-3,1e-4"`` (or a sequence of numbers) -> checked Pfa values, in the given order."""
+    if isinstance(text, str):
+        parts = [p.strip() for p in text.split(",") if p.strip()]
+        values = []
+        for p in parts:
+            try:
+                values.append(float(p))
+            except ValueError:
+                raise PfaError(f"pfa must be comma-separated numbers in (0, 1), got {text!r}") from None
+    else:
+        values = list(text)
+    if not values:
+        raise PfaError("pfa must hold at least one false-alarm probability in (0, 1)")
+    return tuple(check_pfa(v) for v in values)
+
+
+def _needed(pfa: float) -> int:
+    """Noise-only pixels needed for ``pfa``: at least one allowed exceedance, floor(pfa N) >= 1."""
+    return math.ceil(1.0 / pfa - 1e-9)
+
+
+def pixel_threshold(values: Any, pfa: float) -> float:
+    """The threshold that at most ``pfa`` of the noise-only pixel ``values`` exceed.
+
+    With N finite values and n = floor(pfa * N), the (n+1)-th largest value; a pixel is a
+    false alarm when strictly above it.
+
+    Raises
+    ------
+    PfaError
+        ``pfa`` outside (0, 1), or fewer than ceil(1 / pfa) values (n would be 0: the rate
+        cannot be resolved).
+    """
+    pfa = check_pfa(pfa)
+    v = np.asarray(values, dtype=np.float64).ravel()
+    v = v[np.isfinite(v)]
+    n = int(math.floor(pfa * v.size))
+    if n < 1:
+        raise PfaError(f"pfa={pfa:g} needs at least {_needed(pfa)} noise-only pixels, got {v.size}; "
+                       f"add noise-only scenes or raise pfa")
+    k = v.size - n - 1
+    return float(np.partition(v, k)[k])
+
+
+@dataclasses.dataclass(frozen=True)
+class Calibration:
+    """One threshold calibrated on noise-only scenes.
+
+    ``threshold``: :func:`pixel_threshold` of every pixel of every map of the scenes
+    ``seeds``; ``pixels``: how many; ``above``: how many of them are strictly above it
+    (<= floor(pfa * pixels)); ``values``: the sorted noise-only values (for further levels,
+    :func:`roc_points`).
+    """
+
+    pfa: float
+    threshold: float
+    seeds: tuple[int, ...]
+    pixels: int
+    above: int
+    values: np.ndarray = dataclasses.field(repr=False, compare=False)
+
+    @property
+    def measured_pfa(self) -> float:
+        """``above / pixels``, the false-alarm rate per pixel on the calibration scenes."""
+        return self.above / self.pixels
+
+    def threshold_for(self, pfa: float) -> float:
+        """:func:`pixel_threshold` of the same noise-only values at another ``pfa``."""
+        return pixel_threshold(self.values, pfa)
+
+
+def calibrate_pixel_threshold(noise_maps: Callable[[int], Any], seeds: Iterable[int],
+                              pfa: float) -> Calibration:
+    """Calibrate a per-pixel threshold on the maps of noise-only scenes named by seed.
+
+    Parameters
+    ----------
+    noise_maps : callable
+        ``noise_maps(seed) -> array`` of the detector's map values (any shape; every entry
+        one pixel of one map) on the noise-only scene(s) of that seed. It must be
+        deterministic in ``seed``; then so is the threshold.
+    seeds : iterable of int
+        The noise-only scenes, each a distinct integer >= 0.
+    pfa : float
+        False-alarm probability per pixel, in (0, 1).
+    """
+    pfa = check_pfa(pfa)
+    seeds = tuple(seeds)
+    if not seeds:
+        raise PfaError("seeds must name at least one noise-only scene")
+    for s in seeds:
+        check_int("seed (noise-only scene)", s, 0, error=PfaError)
+    if len(set(seeds)) != len(seeds):
+        raise PfaError(f"seeds must be distinct, got {list(seeds)}")
+    values = np.sort(np.concatenate([np.asarray(noise_maps(s), dtype=np.float64).ravel()
+                                     for s in seeds]))
+    values = values[np.isfinite(values)]
+    thr = pixel_threshold(values, pfa)
+    above = int(values.size - np.searchsorted(values, thr, side="right"))
+    return Calibration(pfa, thr, seeds, int(values.size), above, values)
+
+
+def roc_points(calibration: Calibration, pfas: Sequence[float], statistic: Any
+               ) -> list[tuple[float, float, float, int, int]]:
+    """Pd against Pfa per pixel: one point per level of ``pfas``.
+
+    ``statistic``: one value per detection opportunity (the largest map value within the
+    gate of the target's true pixel; NaN or -inf where there is none). At each level the
+    threshold is :meth:`Calibration.threshold_for`; an opportunity is a detection when its
+    statistic is strictly above it. Returns ``(pfa, measured pfa, threshold, detections,
+    opportunities)`` per level.
+    """
+    stat = np.asarray(statistic, dtype=np.float64).ravel()
+    out = []
+    for p in pfas:
+        thr = calibration.threshold_for(p)
+        above = int(calibration.values.size - np.searchsorted(calibration.values, thr, side="right"))
+        with np.errstate(invalid="ignore"):
+            hits = int(np.count_nonzero(stat > thr))
+        out.append((float(p), above / calibration.pixels, thr, hits, int(stat.size)))
+    return out
