@@ -2,6 +2,7 @@
 
     python benchmarks/bench_family_detection.py                  # sweep, then report
     python benchmarks/bench_family_detection.py --alpha 0.95     # report only
+    python benchmarks/bench_family_detection.py --alpha 0.97 --pfa 1e-3,1e-4 --roc roc.png
 
 1. **Sweep** alpha on the *tuning* scenes (``--tune-seed``, default 1000; ``--tune-trials``
    per Table 1 setting): the alpha with the largest first-level Pd pooled over the six
@@ -13,6 +14,14 @@
    one scene are correlated, so that interval is optimistic), and the paired difference
    of per-scene Pd against each segment variant with a 95 % interval over scenes; false
    points per map; maps per scene.
+3. **Equal Pfa per pixel** (``--pfa``, default 1e-3,1e-4; ``--pfa none`` skips it): the
+   same variants and target scenes, each map thresholded at the level its own noise-only
+   maps of the same index exceed on that fraction of pixels
+   (``dptbd.evaluation.family.equal_pfa``; noise-only scenes ``--noise-seed`` ..
+   ``--noise-seed + --noise-scenes - 1``): threshold, measured noise-only Pfa, Pd per map
+   [95 % Wilson], false alarms per map on the target scenes, paired differences. ``--roc
+   FILE.png`` draws Pd against Pfa at the levels ``--roc-pfa``. ``--workers`` / ``--scheduler``:
+   the execution layer.
 
 Library: ``dptbd.evaluation.family.detection``. This script reports; it asserts nothing.
 """
@@ -20,10 +29,15 @@ Library: ``dptbd.evaluation.family.detection``. This script reports; it asserts 
 from __future__ import annotations
 
 import argparse
+import pathlib
 
 from dptbd.evaluation.family import detection as fd
+from dptbd.evaluation.family import equal_pfa as ep
 from dptbd.evaluation.metrics import DetectionCounts
+from dptbd.evaluation.pfa import figure_roc, parse_pfas
 from dptbd.evaluation.stats import wilson_interval
+
+ROC_PFAS = "1e-5,3e-5,1e-4,3e-4,1e-3,3e-3,1e-2"
 
 ALPHAS = (0.5, 0.7, 0.8, 0.85, 0.9, 0.95, 0.97, 0.98, 0.99)
 
@@ -86,6 +100,47 @@ def report(alpha: float, seed: int, trials: int) -> None:
               f"{mean:+.3f} [{lo:+.3f}, {hi:+.3f}]")
 
 
+def report_equal_pfa(alpha: float, seed: int, trials: int, pfas: tuple, noise_seed: int,
+                     noise_scenes: int, roc: pathlib.Path | None, roc_pfas: tuple, workers: int,
+                     scheduler: str | None) -> None:
+    variants = [fd.segments(6), fd.segments(8), fd.recursive(alpha)]
+    levels = tuple(sorted(set(pfas) | (set(roc_pfas) if roc else set()), reverse=True))
+    noise = range(noise_seed, noise_seed + noise_scenes)
+    res = ep.compare_equal_pfa(variants, levels, trials=trials, seed=seed, noise_seeds=noise,
+                               workers=workers, scheduler=scheduler)
+    labels = res.labels
+    n_scenes = len(res.per_scene(labels[0], 0))
+    for p in pfas:
+        i = levels.index(p)
+        print(f"\nequal Pfa {p:g} per pixel (target seed {seed}, {trials} scenes per setting; "
+              f"noise-only seeds {noise_seed}..{noise_seed + noise_scenes - 1}, one threshold per "
+              f"map index):")
+        print("| variant | threshold (first .. last map) | noise-only Pfa | Pd per map [95 %] | "
+              "false alarms per map |")
+        print("|---|---|---|---|---|")
+        for name in labels:
+            thr = res.thresholds[name][i]
+            c = res.pooled(name, i)
+            print(f"| {name} | {thr[0]:g} .. {thr[-1]:g} | {res.measured[name][i]:.2e} | {_cell(c)} | "
+                  f"{c.mean_false_points:.1f} |")
+        rec = res.per_scene(labels[2], i)
+        for name in labels[:2]:
+            mean, lo, hi = fd.paired_pd_difference(res.per_scene(name, i), rec)
+            print(f"\nPd({labels[2]}) - Pd({name}) at Pfa {p:g}, paired over {n_scenes} scenes: "
+                  f"{mean:+.3f} [{lo:+.3f}, {hi:+.3f}]")
+    if roc:
+        curves = {}
+        for name in labels:
+            pts = []
+            for i, p in enumerate(levels):
+                c = res.pooled(name, i)
+                lo, hi = wilson_interval(c.detections, c.opportunities)
+                pts.append((p, c.pd, lo, hi))
+            curves[name] = pts
+        figure_roc(curves, roc, title=f"Table 1 settings pooled, {n_scenes} scenes, seed {seed}")
+        print(f"\nwrote {roc}")
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tune-seed", type=int, default=1000)
@@ -93,9 +148,26 @@ def main(argv=None) -> None:
     ap.add_argument("--seed", type=int, default=2003)
     ap.add_argument("--trials", type=int, default=20)
     ap.add_argument("--alpha", type=float, default=None, help="skip the sweep")
+    ap.add_argument("--pfa", default="1e-3,1e-4",
+                    help="false-alarm probabilities per pixel of the equal-Pfa report, or none")
+    ap.add_argument("--noise-seed", type=int, default=ep.NOISE_SEED,
+                    help=f"first noise-only scene's seed (default {ep.NOISE_SEED})")
+    ap.add_argument("--noise-scenes", type=int, default=10, help="noise-only scenes (default 10)")
+    ap.add_argument("--roc", type=pathlib.Path, default=None, help="write the ROC figure (PNG) here")
+    ap.add_argument("--roc-pfa", default=ROC_PFAS, help=f"ROC levels (default {ROC_PFAS})")
+    ap.add_argument("--workers", type=int, default=1, help="local worker processes (default 1)")
+    ap.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a dask cluster")
     args = ap.parse_args(argv)
+    pfas = () if args.pfa == "none" else parse_pfas(args.pfa)
+    roc_pfas = parse_pfas(args.roc_pfa)
+    if args.roc is not None and args.roc.suffix != ".png":
+        ap.error(f"--roc must name a .png file, got {args.roc}")
     alpha = sweep(args.tune_seed, args.tune_trials) if args.alpha is None else args.alpha
+    fd.recursive(alpha)  # refuse a bad alpha before any run
     report(alpha, args.seed, args.trials)
+    if pfas or args.roc:
+        report_equal_pfa(alpha, args.seed, args.trials, pfas, args.noise_seed, args.noise_scenes,
+                         args.roc, roc_pfas, args.workers, args.scheduler)
 
 
 if __name__ == "__main__":

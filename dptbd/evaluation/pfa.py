@@ -26,8 +26,8 @@ import numpy as np
 
 from dptbd.errors import DptbdError, check_int, check_prob
 
-__all__ = ["PfaError", "check_pfa", "pixel_threshold", "Calibration", "calibrate_pixel_threshold",
-           "roc_points", "parse_pfas"]
+__all__ = ["PfaError", "check_pfa", "parse_pfas", "allowed_false_alarms", "pixel_threshold",
+           "Calibration", "check_noise_seeds", "calibrate_pixel_threshold", "roc_points", "figure_roc"]
 
 
 class PfaError(DptbdError):
@@ -76,12 +76,26 @@ def pixel_threshold(values: Any, pfa: float) -> float:
     pfa = check_pfa(pfa)
     v = np.asarray(values, dtype=np.float64).ravel()
     v = v[np.isfinite(v)]
-    n = int(math.floor(pfa * v.size))
-    if n < 1:
-        raise PfaError(f"pfa={pfa:g} needs at least {_needed(pfa)} noise-only pixels, got {v.size}; "
-                       f"add noise-only scenes or raise pfa")
-    k = v.size - n - 1
+    k = v.size - allowed_false_alarms(pfa, v.size) - 1
     return float(np.partition(v, k)[k])
+
+
+def allowed_false_alarms(pfa: float, pixels: int) -> int:
+    """n = floor(pfa * pixels): the false alarms ``pixels`` noise-only pixels allow at
+    ``pfa``; refused when 0 (the rate cannot be resolved)."""
+    pfa = check_pfa(pfa)
+    n = int(math.floor(pfa * pixels))
+    if n < 1:
+        raise PfaError(f"pfa={pfa:g} needs at least {_needed(pfa)} noise-only pixels, got {pixels}; "
+                       f"add noise-only scenes or raise pfa")
+    return n
+
+
+def _sorted_threshold(values: np.ndarray, pfa: float) -> tuple[float, int]:
+    """:func:`pixel_threshold` of ascending ``values`` and how many are strictly above it."""
+    pfa = check_pfa(pfa)
+    thr = values[values.size - allowed_false_alarms(pfa, values.size) - 1]
+    return float(thr), int(values.size - np.searchsorted(values, thr, side="right"))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -108,7 +122,23 @@ class Calibration:
 
     def threshold_for(self, pfa: float) -> float:
         """:func:`pixel_threshold` of the same noise-only values at another ``pfa``."""
-        return pixel_threshold(self.values, pfa)
+        return _sorted_threshold(self.values, pfa)[0]
+
+    def count_above(self, threshold: float) -> int:
+        """Noise-only pixels strictly above ``threshold``."""
+        return int(self.values.size - np.searchsorted(self.values, threshold, side="right"))
+
+
+def check_noise_seeds(seeds: Iterable[int]) -> tuple[int, ...]:
+    """The seeds of noise-only scenes: at least one, distinct integers >= 0."""
+    seeds = tuple(seeds)
+    if not seeds:
+        raise PfaError("seeds must name at least one noise-only scene")
+    for s in seeds:
+        check_int("seed (noise-only scene)", s, 0, error=PfaError)
+    if len(set(seeds)) != len(seeds):
+        raise PfaError(f"seeds must be distinct, got {list(seeds)}")
+    return seeds
 
 
 def calibrate_pixel_threshold(noise_maps: Callable[[int], Any], seeds: Iterable[int],
@@ -127,18 +157,12 @@ def calibrate_pixel_threshold(noise_maps: Callable[[int], Any], seeds: Iterable[
         False-alarm probability per pixel, in (0, 1).
     """
     pfa = check_pfa(pfa)
-    seeds = tuple(seeds)
-    if not seeds:
-        raise PfaError("seeds must name at least one noise-only scene")
-    for s in seeds:
-        check_int("seed (noise-only scene)", s, 0, error=PfaError)
-    if len(set(seeds)) != len(seeds):
-        raise PfaError(f"seeds must be distinct, got {list(seeds)}")
-    values = np.sort(np.concatenate([np.asarray(noise_maps(s), dtype=np.float64).ravel()
-                                     for s in seeds]))
-    values = values[np.isfinite(values)]
-    thr = pixel_threshold(values, pfa)
-    above = int(values.size - np.searchsorted(values, thr, side="right"))
+    seeds = check_noise_seeds(seeds)
+    # the maps' own dtype (integer energies stay 4 bytes a pixel), sorted once
+    values = np.sort(np.concatenate([np.asarray(noise_maps(s)).ravel() for s in seeds]))
+    if values.dtype.kind == "f":
+        values = values[np.isfinite(values)]
+    thr, above = _sorted_threshold(values, pfa)
     return Calibration(pfa, thr, seeds, int(values.size), above, values)
 
 
@@ -155,9 +179,38 @@ def roc_points(calibration: Calibration, pfas: Sequence[float], statistic: Any
     stat = np.asarray(statistic, dtype=np.float64).ravel()
     out = []
     for p in pfas:
-        thr = calibration.threshold_for(p)
-        above = int(calibration.values.size - np.searchsorted(calibration.values, thr, side="right"))
+        thr, above = _sorted_threshold(calibration.values, p)
         with np.errstate(invalid="ignore"):
             hits = int(np.count_nonzero(stat > thr))
         out.append((float(p), above / calibration.pixels, thr, hits, int(stat.size)))
     return out
+
+
+def figure_roc(curves: dict, path: Any, *, title: str = "") -> Any:
+    """ROC figure (PNG): Pd against Pfa per pixel, one line per curve, Pfa on a log axis.
+
+    ``curves``: ``{label: [(pfa, pd, lo, hi), ...]}``, ``lo``/``hi`` the bounds of Pd's
+    interval (drawn as bars; NaN Pd: no point, no bar).
+    """
+    from dptbd.figures import new_figure, save_figure
+
+    fig, ax = new_figure(6.4, 4.2)
+    for label, points in curves.items():
+        pts = sorted(points)
+        x = [p[0] for p in pts]
+        pd = np.array([p[1] for p in pts], dtype=np.float64)
+        lo = np.array([p[2] for p in pts], dtype=np.float64)
+        hi = np.array([p[3] for p in pts], dtype=np.float64)
+        below = np.where(np.isnan(pd), 0.0, pd - lo)
+        above = np.where(np.isnan(pd), 0.0, hi - pd)
+        ax.errorbar(x, pd, yerr=[below, above], marker="o", ms=3, capsize=2, label=label)
+    ax.set_xscale("log")
+    ax.set_xlabel("Pfa per pixel (noise-only calibration)")
+    ax.set_ylabel("Pd")
+    ax.set_ylim(-0.02, 1.02)
+    ax.grid(alpha=0.3, which="both")
+    if title:
+        ax.set_title(title, fontsize=10)
+    ax.legend(fontsize=8, loc="best")
+    fig.tight_layout()
+    return save_figure(fig, path)

@@ -84,3 +84,17 @@ def test_calibration_refusals(call, message):
 def test_parse_pfas():
     assert parse_pfas("1e-3, 1e-4") == (1e-3, 1e-4)
     assert parse_pfas([0.01]) == (0.01,)
+
+
+def test_calibration_keeps_integer_maps_and_counts_above():
+    cal = calibrate_pixel_threshold(lambda s: np.arange(1000, dtype=np.uint32) + s, [0], 0.01)
+    assert cal.values.dtype == np.uint32 and cal.threshold == 989.0
+    assert (cal.count_above(989.0), cal.count_above(989.5), cal.count_above(-1)) == (10, 10, 1000)
+
+
+def test_figure_roc_writes_a_png(tmp_path):
+    from dptbd.evaluation.pfa import figure_roc
+
+    path = figure_roc({"a": [(1e-3, 0.5, 0.4, 0.6), (1e-4, float("nan"), float("nan"), float("nan"))],
+                       "b": [(1e-3, 0.9, 0.8, 1.0)]}, tmp_path / "roc.png", title="t")
+    assert path.read_bytes()[:4] == b"\x89PNG"

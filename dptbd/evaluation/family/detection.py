@@ -30,7 +30,7 @@ from dptbd.model.segmentation import candidate_mask, count_for_rate
 from dptbd.scenes import synthetic as scenes
 from dptbd.scenes.synthetic import ADC_GAIN, INPUT_BITS
 
-__all__ = ["Variant", "segments", "recursive", "variant_config", "variant_trial_counts",
+__all__ = ["Variant", "segments", "recursive", "variant_config", "variant_maps", "variant_trial_counts",
            "variant_counts", "compare", "paired_pd_difference"]
 
 #: E width of the recursive variants: 12-bit pixels / (1 - alpha) stays below 2**20 for
@@ -72,7 +72,9 @@ def segments(k: int) -> Variant:
 
 def recursive(alpha: float, warmup: int = 7, segment_frames: int = 6,
               zero_move_penalty: int = 0) -> Variant:
-    """The recursive DP with forgetting factor ``alpha`` in (0, 1).
+    """The recursive DP with forgetting factor ``alpha`` in (0, 1] (1: no forgetting, a sum
+    that never resets; the E of :data:`RECURSIVE_ENERGY_BITS` holds 256 frames of 12-bit
+    pixels).
 
     ``warmup``: the first scored map (first level, :func:`variant_counts`);
     ``segment_frames``: the frames a candidate's path is backtracked over and the cadence
@@ -80,7 +82,7 @@ def recursive(alpha: float, warmup: int = 7, segment_frames: int = 6,
     ``zero_move_penalty``: a penalty code (``docs/arithmetic.md`` §8.2) on the zero move
     after any predecessor but ``START``, against the recursion's wake.
     """
-    alpha = check_real("forgetting", alpha, 0.0, 1.0, lo_open=True, hi_open=True)
+    alpha = check_real("forgetting", alpha, 0.0, 1.0, lo_open=True)
     pen = check_int("zero_move_penalty", zero_move_penalty, 0, 65535)
     label = f"recursive alpha={alpha:g}" + (f" zero-move penalty {pen}" if pen else "")
     return Variant(label, forgetting=alpha,
@@ -106,18 +108,25 @@ def variant_trial_counts(variant: Variant, snr: float, velocity: tuple[float, fl
         scene = scenes.table1_scenario(snr, velocity, size=size, seed=seed,
                                        trials=min(chunk, trials - first), first_trial=first,
                                        dtype=np.float32)
-        frames = scene.quantised(INPUT_BITS, gain=ADC_GAIN)
-        if cfg.recursive:
-            ends = np.arange(variant.warmup, scene.n_frames)
-            images = run_family_fast(frames, cfg).energy[:, ends]
-        else:
-            res = run_fixed_fast(frames, cfg)
-            ends, images = res.end_frames, res.energy
+        ends, images = variant_maps(variant, scene.quantised(INPUT_BITS, gain=ADC_GAIN), cfg)
         truth = scene.truth[0]
         for trial_image in candidate_mask(images, count):
             out.append(first_level_counts(trial_image, truth.pixel[ends][:, None],
                                           truth.visible[ends][:, None]))
     return out
+
+
+def variant_maps(variant: Variant, frames: np.ndarray, cfg: DPConfig
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """``(ends, maps)``: the scored maps of ``variant`` on ADC codes ``frames (N, T, H, W)``
+    (``cfg`` = :func:`variant_config`): a segment variant's maps of every segment, a
+    recursive variant's maps of the frames ``warmup .. T - 1``; ``maps`` is ``(N, S, H, W)``
+    and ``ends`` the last frame of each."""
+    if cfg.recursive:
+        ends = np.arange(variant.warmup, frames.shape[-3])
+        return ends, run_family_fast(frames, cfg).energy[:, ends]
+    res = run_fixed_fast(frames, cfg)
+    return res.end_frames, res.energy
 
 
 def variant_counts(variant: Variant, snr: float, velocity: tuple[float, float], *, trials: int,

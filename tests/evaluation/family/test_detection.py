@@ -30,9 +30,17 @@ def test_zero_move_penalty_is_on_the_centre_move_after_a_moving_or_still_predece
     assert table.sum() == 9 * 24
 
 
+def test_alpha_one_is_a_recursion_without_forgetting():
+    cfg = fd.variant_config(fd.recursive(1.0))
+    assert cfg.recursive and cfg.forgetting_code == 256 and cfg.energy_bits == 20
+    assert fd.recursive(1.0).label == "recursive alpha=1"
+
+
 @pytest.mark.parametrize("call, message", [
-    (lambda: fd.recursive(1.0), "forgetting must be a finite real number in (0, 1), got 1.0"),
-    (lambda: fd.recursive(0.0), "forgetting must be a finite real number in (0, 1), got 0.0"),
+    (lambda: fd.recursive(1.5), "forgetting must be a finite real number in (0, 1], got 1.5"),
+    (lambda: fd.recursive(0.0), "forgetting must be a finite real number in (0, 1], got 0.0"),
+    (lambda: fd.recursive(-0.2), "forgetting must be a finite real number in (0, 1], got -0.2"),
+    (lambda: fd.recursive(float("nan")), "forgetting must be a finite real number in (0, 1], got nan"),
     (lambda: fd.recursive(0.5, warmup=100), "warmup must be an integer in [0, 99], got 100"),
     (lambda: fd.segments(0), "segment_frames must be an integer in [1, 100], got 0"),
     (lambda: fd.recursive(0.5, zero_move_penalty=-1),
