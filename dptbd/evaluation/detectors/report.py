@@ -8,6 +8,8 @@ import csv
 import math
 import pathlib
 
+import numpy as np
+
 from dptbd.evaluation.detectors.pd_vs_snr import CompareResult
 from dptbd.evaluation.stats import wilson_interval
 from dptbd.figures import new_figure, save_figure
@@ -140,8 +142,12 @@ def figure_roc(res: CompareResult, path: pathlib.Path) -> None:
     axis), one panel per SNR, one line per detector (:func:`roc_rows`)."""
     records = roc_rows(res)
     n = len(res.snrs_db)
-    fig, axes = new_figure(3.2 * n, 3.4, ncols=n, dpi=100)
-    axes = [axes] if n == 1 else list(axes)
+    cols = min(n, 3)
+    rows = -(-n // cols)
+    fig, axes = new_figure(3.2 * cols, 3.0 * rows + 0.4, nrows=rows, ncols=cols, dpi=100)
+    axes = list(np.ravel(axes))
+    for ax in axes[n:]:
+        ax.set_visible(False)
     for ax, s in zip(axes, res.snrs_db):
         for name in res.detectors:
             mine = [r for r in records if r["detector"] == name and r["snr_db"] == s]
@@ -155,8 +161,9 @@ def figure_roc(res: CompareResult, path: pathlib.Path) -> None:
         ax.grid(alpha=0.3, which="both")
         ax.set_title(f"{s:g} dB", fontsize=10)
         ax.set_xlabel("Pfa per decision")
-    axes[0].set_ylabel("Pd (per scored frame)")
-    axes[-1].legend(fontsize=7, loc="best")
+    for ax in axes[::cols]:
+        ax.set_ylabel("Pd (per scored frame)")
+    axes[n - 1].legend(fontsize=7, loc="best")
     p = res.params
     fig.suptitle(f"ROC, {p['scene']} scenes, {p['frames']} frames, {p['noise_trials']} noise-only "
                  f"scenes", fontsize=10)
