@@ -1,4 +1,4 @@
-"""Equal false-alarm rate per pixel: a threshold calibrated on noise-only scenes, and ROC points.
+"""Equal false-alarm rate per pixel: a threshold calibrated on noise-only scenes, and the ROC figure.
 
 The second operating point of every detection-map comparison (``docs/detectors.md`` §7),
 beside a fixed list length: a detector's maps are thresholded at the level that noise-only
@@ -12,22 +12,21 @@ maps exceed on a stated fraction ``pfa`` of their pixels.
 * :func:`calibrate_pixel_threshold` — the same on the maps a detector makes of noise-only
   scenes named by their seeds (seeded, reproducible: the same seeds give the same
   threshold), with the measured exceedance count (:class:`Calibration`);
-* :func:`roc_points` — Pd against Pfa per pixel at a list of Pfa levels, from the
-  calibration's values and one detection statistic per opportunity.
+* :func:`figure_roc` — the ROC figure: Pd against Pfa per pixel, one line per detector.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any, Callable, Iterable
 
 import numpy as np
 
 from dptbd.errors import DptbdError, check_int, check_prob
 
 __all__ = ["PfaError", "check_pfa", "parse_pfas", "allowed_false_alarms", "pixel_threshold",
-           "Calibration", "check_noise_seeds", "calibrate_pixel_threshold", "roc_points", "figure_roc"]
+           "Calibration", "check_noise_seeds", "calibrate_pixel_threshold", "figure_roc"]
 
 
 class PfaError(DptbdError):
@@ -104,8 +103,8 @@ class Calibration:
 
     ``threshold``: :func:`pixel_threshold` of every pixel of every map of the scenes
     ``seeds``; ``pixels``: how many; ``above``: how many of them are strictly above it
-    (<= floor(pfa * pixels)); ``values``: the sorted noise-only values (for further levels,
-    :func:`roc_points`).
+    (<= floor(pfa * pixels)); ``values``: the sorted noise-only values (further levels:
+    :meth:`threshold_for`, :meth:`count_above`).
     """
 
     pfa: float
@@ -164,26 +163,6 @@ def calibrate_pixel_threshold(noise_maps: Callable[[int], Any], seeds: Iterable[
         values = values[np.isfinite(values)]
     thr, above = _sorted_threshold(values, pfa)
     return Calibration(pfa, thr, seeds, int(values.size), above, values)
-
-
-def roc_points(calibration: Calibration, pfas: Sequence[float], statistic: Any
-               ) -> list[tuple[float, float, float, int, int]]:
-    """Pd against Pfa per pixel: one point per level of ``pfas``.
-
-    ``statistic``: one value per detection opportunity (the largest map value within the
-    gate of the target's true pixel; NaN or -inf where there is none). At each level the
-    threshold is :meth:`Calibration.threshold_for`; an opportunity is a detection when its
-    statistic is strictly above it. Returns ``(pfa, measured pfa, threshold, detections,
-    opportunities)`` per level.
-    """
-    stat = np.asarray(statistic, dtype=np.float64).ravel()
-    out = []
-    for p in pfas:
-        thr, above = _sorted_threshold(calibration.values, p)
-        with np.errstate(invalid="ignore"):
-            hits = int(np.count_nonzero(stat > thr))
-        out.append((float(p), above / calibration.pixels, thr, hits, int(stat.size)))
-    return out
 
 
 def figure_roc(curves: dict, path: Any, *, title: str = "") -> Any:

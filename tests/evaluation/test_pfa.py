@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from dptbd.evaluation.pfa import (PfaError, calibrate_pixel_threshold, check_pfa, parse_pfas,
-                                  pixel_threshold, roc_points)
+                                  pixel_threshold)
 from helpers.refusals import whole
 
 
@@ -38,13 +38,6 @@ def test_calibration_on_seeded_scenes_is_the_known_quantile_and_reproducible():
     assert cal.measured_pfa == 1e-3
     assert cal == calibrate_pixel_threshold(_scene, [0, 1, 2, 3], 1e-3)
     assert cal.threshold_for(0.01) == 3959.0
-
-
-def test_roc_points_count_strictly_above_each_threshold():
-    cal = calibrate_pixel_threshold(_scene, [0, 1], 0.01)  # values 0 .. 1999
-    stat = np.array([1998.0, 1990.0, 1980.5, np.nan, -np.inf])
-    pts = roc_points(cal, [0.001, 0.01], stat)
-    assert pts == [(0.001, 0.001, 1997.0, 1, 5), (0.01, 0.01, 1979.0, 3, 5)]
 
 
 @pytest.mark.parametrize("value, message", [
