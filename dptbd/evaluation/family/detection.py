@@ -21,7 +21,7 @@ import dataclasses
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.errors import check_int, check_real
+from dptbd.errors import check_int
 from dptbd.evaluation.metrics import DetectionCounts, first_level_counts
 from dptbd.evaluation.table1.experiment import FALSE_ALARM_RATE, SETTINGS, table1_config
 from dptbd.model.fast import run_fixed_fast
@@ -82,7 +82,8 @@ def recursive(alpha: float, warmup: int = 7, segment_frames: int = 6,
     ``zero_move_penalty``: a penalty code (``docs/arithmetic.md`` §8.2) on the zero move
     after any predecessor but ``START``, against the recursion's wake.
     """
-    alpha = check_real("forgetting", alpha, 0.0, 1.0, lo_open=True)
+    # DPConfig is alpha's home: (0, 1], and a code of forgetting_bits = 8 that is not 0
+    alpha = DPConfig(forgetting=alpha, forgetting_bits=8).forgetting
     pen = check_int("zero_move_penalty", zero_move_penalty, 0, 65535)
     label = f"recursive alpha={alpha:g}" + (f" zero-move penalty {pen}" if pen else "")
     return Variant(label, forgetting=alpha,

@@ -41,6 +41,9 @@ def test_alpha_one_is_a_recursion_without_forgetting():
     (lambda: fd.recursive(0.0), "forgetting must be a finite real number in (0, 1], got 0.0"),
     (lambda: fd.recursive(-0.2), "forgetting must be a finite real number in (0, 1], got -0.2"),
     (lambda: fd.recursive(float("nan")), "forgetting must be a finite real number in (0, 1], got nan"),
+    (lambda: fd.recursive(0.001),  # DPConfig's refusal: alpha's 8-bit code would be 0
+     "forgetting must be a finite real number in [0.00195312, 1] for forgetting_bits=8 (its code "
+     "round(forgetting * 2**8) must be >= 1), got 0.001"),
     (lambda: fd.recursive(0.5, warmup=100), "warmup must be an integer in [0, 99], got 100"),
     (lambda: fd.segments(0), "segment_frames must be an integer in [1, 100], got 0"),
     (lambda: fd.recursive(0.5, zero_move_penalty=-1),
