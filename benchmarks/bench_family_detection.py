@@ -31,10 +31,11 @@ from __future__ import annotations
 import argparse
 import pathlib
 
+from dptbd.errors import DptbdError
 from dptbd.evaluation.family import detection as fd
 from dptbd.evaluation.family import equal_pfa as ep
 from dptbd.evaluation.metrics import DetectionCounts
-from dptbd.evaluation.pfa import figure_roc, parse_pfas
+from dptbd.evaluation.pfa import allowed_false_alarms, check_noise_seeds, figure_roc, parse_pfas
 from dptbd.evaluation.stats import wilson_interval
 
 ROC_PFAS = "1e-5,3e-5,1e-4,3e-4,1e-3,3e-3,1e-2"
@@ -158,12 +159,19 @@ def main(argv=None) -> None:
     ap.add_argument("--workers", type=int, default=1, help="local worker processes (default 1)")
     ap.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a dask cluster")
     args = ap.parse_args(argv)
-    pfas = () if args.pfa == "none" else parse_pfas(args.pfa)
-    roc_pfas = parse_pfas(args.roc_pfa)
+    try:  # every refusal before any run
+        pfas = () if args.pfa == "none" else parse_pfas(args.pfa)
+        roc_pfas = parse_pfas(args.roc_pfa)
+        if args.alpha is not None:
+            fd.recursive(args.alpha)
+        check_noise_seeds(range(args.noise_seed, args.noise_seed + args.noise_scenes))
+        for p in pfas + (roc_pfas if args.roc else ()):  # one threshold per map index
+            allowed_false_alarms(p, args.noise_scenes * 128 * 128)
+    except DptbdError as exc:
+        ap.error(str(exc))
     if args.roc is not None and args.roc.suffix != ".png":
         ap.error(f"--roc must name a .png file, got {args.roc}")
     alpha = sweep(args.tune_seed, args.tune_trials) if args.alpha is None else args.alpha
-    fd.recursive(alpha)  # refuse a bad alpha before any run
     report(alpha, args.seed, args.trials)
     if pfas or args.roc:
         report_equal_pfa(alpha, args.seed, args.trials, pfas, args.noise_seed, args.noise_scenes,
