@@ -193,6 +193,8 @@ def test_an_interrupted_build_leaves_nothing_behind(tmp_path, monkeypatch, exc):
     with pytest.raises(type(exc)):
         V.build(CACHE_CFG, "dp", root=root)
     assert [p.name for p in root.iterdir() if p.name.startswith(config_name(CACHE_CFG))] == []
+    if isinstance(exc, KeyboardInterrupt):
+        return          # the build after an interruption: the same for either (a compile)
     monkeypatch.setattr(V, "_step", real_step)
     sim = V.build(CACHE_CFG, "dp", root=root)
     assert not sim.cached
