@@ -63,14 +63,16 @@ def test_the_campaign_runs_an_axi_case():
     assert all(sum(o.bins.values()) > 0 for o in result.outcomes)
 
 
-def test_the_campaign_runs_the_wide_cases():
-    """``dptbd_seg`` and ``dptbd_axi`` at P = 2 and 4 (``wide_cases``): two shortened runs
-    each, bit-exact with their faults (beats of P pixels through ``check_stream`` and
-    ``check_axi``)."""
+@pytest.mark.parametrize("p", [pytest.param(2, marks=pytest.mark.slow), 4])
+def test_the_campaign_runs_the_wide_cases(p):
+    """``dptbd_seg`` and ``dptbd_axi`` at P = 2 and 4 (``wide_cases``; the default suite
+    P = 4, ``-m slow`` both): two shortened runs each, bit-exact with their faults (beats of
+    P pixels through ``check_stream`` and ``check_axi``)."""
     from dptbd.sim.campaign.cases import wide_cases
 
     cases = [dataclasses.replace(c, frames=c.frames // 4, runs=2)
-             for c in wide_cases(default_cases()[1].faults)]
+             for c in wide_cases(default_cases()[1].faults) if c.cfg.pixels_per_clock == p]
+    assert {c.design for c in cases} == {"segmenter", "axi"}
     result = run_campaign(cases, workers=1, x_store=False, base_seed=3)
     assert [(c.name, c.runs, c.passed) for c in result.cases] == \
         [(c.name, 2, True) for c in cases], [o.report for o in result.outcomes]
