@@ -112,14 +112,12 @@ def _json_null(directory):
 
 
 def _foreign_key(directory):
-    import json
     stamp = json.loads((directory / V.STAMP).read_text())
     stamp["key"] = "f" * 64
     (directory / V.STAMP).write_text(json.dumps(stamp))
 
 
 def _no_manifest(directory):
-    import json
     stamp = json.loads((directory / V.STAMP).read_text())
     del stamp["manifest"]
     (directory / V.STAMP).write_text(json.dumps(stamp))
