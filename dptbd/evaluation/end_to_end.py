@@ -41,7 +41,7 @@ from dptbd.evaluation.stats import median_interval, wilson_interval
 from dptbd.scenes import chain as chain_scenes
 
 __all__ = ["SCENARIOS", "ChainError", "RunOutcome", "ChainSummary", "scenario", "parse_seeds",
-           "run_outcome", "run_chain"]
+           "variant", "run_outcome", "run_chain"]
 
 #: The named scenarios, the built-in one first.
 SCENARIOS = ("paper001-experiment-2", "manoeuvring", "crossing")
@@ -168,7 +168,16 @@ class ChainSummary:
                 f"runs with a false track: {wil(self.with_false_track)}; false tracks "
                 f"{self.false_tracks} ({self.false_tracks / n:.2f} per run)",
                 f"frames until output: median {self.median:g} [{lo:g}, {hi:g}] over "
-                f"{len(self.frames_until_output)} confirmed target(s)"]
+                f"{len(self.frames_until_output)} confirmed target(s)"] + [
+                f"target {j + 1}: confirmed {wil(len(fs))}, median frames until output "
+                + (f"{statistics.median(fs):g}" if fs else "-")
+                for j, fs in enumerate(self.per_target())]
+
+    def per_target(self) -> list[list[int]]:
+        """Per target, its frames until output in the runs that confirmed it."""
+        n = len(self.runs[0].frames_until_output) if self.runs else 0
+        return [[r.frames_until_output[j] for r in self.runs
+                 if r.frames_until_output[j] is not None] for j in range(n)]
 
 
 def _check_lists(lists: Any) -> str:
@@ -192,12 +201,27 @@ def run_outcome(sc: Scenario | str, seed: int, lists: str = "ideal") -> RunOutco
                       ev.false_tracks, n_lists)
 
 
+def variant(sc: Scenario | str, *, dp: dict | None = None,
+            association: dict | None = None) -> Scenario:
+    """Scenario ``sc`` with ``[dp]`` (DPConfig fields, e.g. ``segment_frames``) and
+    ``[association]`` (AssociationConfig fields) overridden, checked
+    (:class:`~dptbd.evaluation.run.scenario.ScenarioError` names a bad key or value): another
+    chain on the same scenes."""
+    sc = scenario(sc) if isinstance(sc, str) else sc
+    sc = sc.replace(dp={**sc.dp, **(dp or {})},
+                    association={**sc.association, **(association or {})})
+    sc.check()
+    return sc
+
+
 def run_chain(sc: Scenario | str, seeds: range | str, *, lists: str = "ideal",
               workers: int | None = 1, scheduler: str | None = None) -> ChainSummary:
     """Every seed of ``seeds`` (a range or ``"A-B"``) of scenario ``sc`` through the chain.
 
-    Refused before any run: an unknown scenario name, a bad seed range, a bad ``lists``, a
-    bad worker count. The result does not depend on ``workers``.
+    ``sc``: a name of :data:`SCENARIOS` (today's default chain) or a :class:`Scenario`
+    (e.g. :func:`variant`: another K or association on the same scenes). Refused before any
+    run: an unknown scenario name, a bad seed range, a bad ``lists``, a bad worker count.
+    The result does not depend on ``workers``.
     """
     sc = scenario(sc) if isinstance(sc, str) else sc
     seeds = parse_seeds(seeds) if isinstance(seeds, str) else seeds

@@ -24,6 +24,10 @@ def _bench():
     (["--seeds", "9-1"], "seeds A-B need A <= B, got '9-1'"),
     (["--seeds", "a-b"], "seeds must be A-B (integers 0 <= A <= B) or A, got 'a-b'"),
     (["--lists", "best"], "lists must be one of 'gateware', 'ideal', got 'best'"),
+    (["--set", "confirm_hits"], "--set takes KEY=VALUE with a TOML value, got 'confirm_hits'"),
+    (["--dp", "segment_frames=["], "--dp takes KEY=VALUE with a TOML value, got 'segment_frames=['"),
+    (["--dp", "segment_frames=0"],
+     "scenario 'paper001-experiment-2': segment_frames must be an integer in [1, 65535], got 0"),
 ])
 def test_refusals_are_usage_errors(args, message, capsys, monkeypatch):
     bench = _bench()
@@ -44,3 +48,12 @@ def test_one_seed_prints_the_summary_and_writes_the_runs(tmp_path, capsys):
     rows = list(csv.reader(out.open()))
     assert rows == [["seed", "frames_until_output_1", "frames_until_output_2", "false_tracks",
                      "clean"], ["0", "30", "", "0", "0"]]
+
+
+def test_a_variant_prints_its_chain(capsys):
+    bench = _bench()
+    bench.main(["--scenario", "crossing", "--seeds", "0", "--dp", "segment_frames=8",
+                "--set", "confirm_hits=3"])
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == "chain: [dp] {'segment_frames': 8}, [association] {'confirm_hits': 3}"
+    assert lines[1] == "scenario crossing, seeds 0-0, ideal lists"

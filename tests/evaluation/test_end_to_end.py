@@ -7,7 +7,7 @@ import math
 import pytest
 
 from dptbd.evaluation import end_to_end as e2e
-from dptbd.evaluation.run.scenario import TargetSpec, default_scenario
+from dptbd.evaluation.run.scenario import ScenarioError, TargetSpec, default_scenario
 from dptbd.scenes import chain as chain_scenes
 from helpers.refusals import whole
 
@@ -32,7 +32,35 @@ def test_the_chain_on_two_seeds_of_a_small_scene_gives_its_exact_outcome():
         "clean runs (all targets confirmed, no false track): 1/2 [0.09, 0.91]",
         "all targets confirmed: 1/2 [0.09, 0.91]",
         "runs with a false track: 0/2 [0.00, 0.66]; false tracks 0 (0.00 per run)",
-        "frames until output: median 36 [30, 36] over 3 confirmed target(s)"]
+        "frames until output: median 36 [30, 36] over 3 confirmed target(s)",
+        "target 1: confirmed 2/2 [0.34, 1.00], median frames until output 33",
+        "target 2: confirmed 1/2 [0.09, 0.91], median frames until output 36"]
+    assert summary.per_target() == [[36, 30], [36]]
+
+
+def test_a_variant_is_another_chain_on_the_same_scenes():
+    sc = e2e.variant(_tiny(), dp={"segment_frames": 8}, association={"confirm_hits": 3})
+    assert sc.dp["segment_frames"] == 8 and sc.association == {"confirm_hits": 3}
+    assert sc.replace(dp=_tiny().dp, association={}) == _tiny()
+    summary = e2e.run_chain(sc, "0-1")
+    # 4 lists of K = 8 in 36 frames; confirmed after 3 hits: 24 frames, a false track on seed 1
+    assert summary.runs == (e2e.RunOutcome(0, (24, None), 0, 4), e2e.RunOutcome(1, (24, 24), 1, 4))
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"dp": {"segment_frames": 0}},
+     "scenario 'tiny': segment_frames must be an integer in [1, 65535], got 0"),
+    ({"association": {"nokey": 1}},
+     "scenario 'tiny': unknown association parameter(s) ['nokey']; allowed: ['capacity', "
+     "'max_candidates', 'max_points', 'output_capacity', 'max_speed', 'merge_radius', "
+     "'duplicate_radius', 'seed_gate', 'gate_base', 'gate_growth', 'gate_growth_segments', "
+     "'gate_miss', 'gate_max', 'manoeuvre', 'link_gate', 'heading_weight', 'reject_reversed', "
+     "'heading_min', 'confirm_hits', 'confirm_ratio', 'predict_hits', 'predict_ratio', "
+     "'delete_ratio', 'max_misses']"),
+])
+def test_a_bad_variant_is_refused_naming_the_key(kwargs, message):
+    with pytest.raises(ScenarioError, match=whole(message)):
+        e2e.variant(_tiny(), **kwargs)
 
 
 def test_a_false_track_makes_a_run_unclean():
