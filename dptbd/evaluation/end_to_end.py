@@ -21,8 +21,8 @@ workers) and summarises them (:class:`ChainSummary`). The metrics are defined in
 Scenarios (:data:`SCENARIOS`): ``paper001-experiment-2`` (``dptbd run``'s built-in scenario),
 ``manoeuvring`` and ``crossing`` (:mod:`dptbd.scenes.chain`), each with the built-in
 scenario's DP, ADC, false-alarm rate and association; ``lists`` is ``"ideal"`` (each
-segment's own n largest pixels, the lists of the issue's reference figures) or
-``"gateware"`` (the segmenter's lists, ``dptbd run``'s default).
+segment's own n largest pixels: the lists of the chain comparison's reference figures in
+``docs/tracking.md``) or ``"gateware"`` (the segmenter's lists, ``dptbd run``'s default).
 """
 
 from __future__ import annotations

@@ -5,12 +5,12 @@ The main job's scene (``dptbd run``'s built-in scenario) is paper 001's second e
 with the same frame size, length, noise (mean 30, variance 3) and SNR convention (001's
 linear SNR, default 2.0) test what straight tracks do not:
 
-* :func:`manoeuvring_target` — one target that turns and changes speed
+* :func:`manoeuvring_scene` — one target that turns and changes speed
   (:data:`MANOEUVRING`): right at 0.9 px/frame, a right turn (-90 degrees) at frame 30 (down
   at 0.9), a turn and slow-down at frame 55 (down-left at (0.45, -0.45)), a turn and speed-up
   at frame 75 (up-left at (-0.3, -0.9)). It passes (20, 20), (20, 47) at frame 30,
   (42.5, 47) at 55, (51.5, 38) at 75 and (44.3, 16.4) at 99.
-* :func:`crossing_targets` — two targets whose tracks cross mid-sequence
+* :func:`crossing_scene` — two targets whose tracks cross mid-sequence
   (:data:`CROSSING`): from (24, 24) at (0.8, 0.8) and from (104, 24) at (-0.8, 0.8), both at
   (64, 64) in frame 50 (the same pixel: their amplitudes add there), apart again after it.
 
@@ -32,7 +32,7 @@ from dptbd.scenes.synthetic import TABLE1_MU, TABLE1_SIGMA, Scene, make_scene
 from dptbd.scenes.targets import Target, Turn
 
 __all__ = ["SIZE", "FRAMES", "MANOEUVRING", "CROSSING", "manoeuvring_targets",
-           "crossing_targets", "manoeuvring_target", "crossing_targets_scene"]
+           "crossing_targets", "manoeuvring_scene", "crossing_scene"]
 
 #: Frame size and length of both scenes: those of the main job's scene.
 SIZE = (128, 128)
@@ -56,12 +56,12 @@ def _targets(motions, snr: Any) -> list[Target]:
 
 
 def manoeuvring_targets(snr: float = 2.0) -> list[Target]:
-    """The target of :func:`manoeuvring_target` (amplitude ``snr * sigma``, ``snr`` > 0)."""
+    """The target of :func:`manoeuvring_scene` (amplitude ``snr * sigma``, ``snr`` > 0)."""
     return _targets(MANOEUVRING, snr)
 
 
 def crossing_targets(snr: float = 2.0) -> list[Target]:
-    """The targets of :func:`crossing_targets_scene` (amplitude ``snr * sigma``, ``snr`` > 0)."""
+    """The targets of :func:`crossing_scene` (amplitude ``snr * sigma``, ``snr`` > 0)."""
     return _targets(CROSSING, snr)
 
 
@@ -74,7 +74,7 @@ def _scene(targets: list[Target], name: str, snr: float, seed: Any, radius: Any,
     return scene
 
 
-def manoeuvring_target(snr: float = 2.0, *, seed: Any = 0, radius: int = 1,
+def manoeuvring_scene(snr: float = 2.0, *, seed: Any = 0, radius: int = 1,
                        **kwargs: Any) -> Scene:
     """128 x 128, 100 frames, noise mean 30 / variance 3, one manoeuvring target at ``snr``.
 
@@ -86,12 +86,12 @@ def manoeuvring_target(snr: float = 2.0, *, seed: Any = 0, radius: int = 1,
     return _scene(manoeuvring_targets(snr), "manoeuvring", snr, seed, radius, kwargs)
 
 
-def crossing_targets_scene(snr: float = 2.0, *, seed: Any = 0, radius: int = 1,
+def crossing_scene(snr: float = 2.0, *, seed: Any = 0, radius: int = 1,
                            **kwargs: Any) -> Scene:
     """128 x 128, 100 frames, noise mean 30 / variance 3, two crossing targets at ``snr``.
 
     The targets are :data:`CROSSING` (the same pixel in frame 50); checked against the
-    move set of ``radius`` like :func:`manoeuvring_target`, same keywords.
+    move set of ``radius`` like :func:`manoeuvring_scene`, same keywords.
     """
     return _scene(crossing_targets(snr), "crossing", snr, seed, radius, kwargs)
 

@@ -13,7 +13,7 @@ from helpers.refusals import whole
 
 
 def test_the_manoeuvring_target_is_where_its_definition_puts_it():
-    scene = chain.manoeuvring_target(seed=0)
+    scene = chain.manoeuvring_scene(seed=0)
     (truth,) = scene.truth
     pos = truth.position
     # right at 0.9 to frame 30, down at 0.9 to 55, (0.45, -0.45) to 75, (-0.3, -0.9) to 99
@@ -31,14 +31,14 @@ def test_the_manoeuvring_target_is_where_its_definition_puts_it():
 
 
 def test_the_crossing_targets_share_a_pixel_in_frame_50_only():
-    scene = chain.crossing_targets_scene(seed=0)
+    scene = chain.crossing_scene(seed=0)
     a, b = scene.truth
     np.testing.assert_allclose(a.position[[0, 50, 99]], [[24, 24], [64, 64], [103.2, 103.2]])
     np.testing.assert_allclose(b.position[[0, 50, 99]], [[104, 24], [64, 64], [24.8, 103.2]])
     assert np.flatnonzero((a.pixel == b.pixel).all(axis=1)).tolist() == [50]
     assert a.visible.all() and b.visible.all()
     # the amplitudes add on the shared pixel
-    clean = chain.crossing_targets_scene(seed=0, noise=False)
+    clean = chain.crossing_scene(seed=0, noise=False)
     assert clean.frames[50, 64, 64] == pytest.approx(TABLE1_MU + 2 * 2.0 * TABLE1_SIGMA)
 
 
@@ -50,7 +50,7 @@ def test_every_step_is_within_the_move_set_of_radius_1(targets):
         assert np.abs(np.diff(pixel, axis=0)).max() == 1
 
 
-@pytest.mark.parametrize("make", [chain.manoeuvring_target, chain.crossing_targets_scene])
+@pytest.mark.parametrize("make", [chain.manoeuvring_scene, chain.crossing_scene])
 def test_same_seed_same_scene_other_seed_other_noise(make):
     a, b, c = make(seed=7), make(seed=7), make(seed=8)
     np.testing.assert_array_equal(a.frames, b.frames)
@@ -58,7 +58,7 @@ def test_same_seed_same_scene_other_seed_other_noise(make):
     assert make(snr=3.0, seed=7).truth[0].amplitude == pytest.approx(3.0 * TABLE1_SIGMA)
 
 
-@pytest.mark.parametrize("make", [chain.manoeuvring_target, chain.crossing_targets_scene])
+@pytest.mark.parametrize("make", [chain.manoeuvring_scene, chain.crossing_scene])
 @pytest.mark.parametrize("kwargs, message", [
     ({"snr": 0.0}, "snr must be a finite real number in (0, inf), got 0.0"),
     ({"snr": float("nan")}, "snr must be a finite real number in (0, inf), got nan"),
@@ -74,4 +74,4 @@ def test_a_motion_beyond_reach_would_be_refused_when_the_scene_is_built(monkeypa
     with pytest.raises(SceneError, match=whole(
             "target 1 moves (2, 0) pixels from frame 0 to frame 1, beyond the move set's reach: "
             "its row and column steps must be integers in [-1, 1] (radius=1)")):
-        chain.manoeuvring_target()
+        chain.manoeuvring_scene()
