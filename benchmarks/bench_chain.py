@@ -4,6 +4,7 @@
     python benchmarks/bench_chain.py --scenario manoeuvring --seeds 0-39 --workers 2
     python benchmarks/bench_chain.py --scenario crossing --seeds 0-39 --runs runs.csv
     python benchmarks/bench_chain.py --seeds 100-199 --dp segment_frames=8 --set link_gate=2
+    python benchmarks/bench_chain.py --seeds 100-199 --false-alarm-rate 0.003
 
 Today's default chain (K = 6 segments, ``--lists`` ideal or gateware, the DSP association
 with its default settings) on ``--scenario`` (``paper001-experiment-2``, ``manoeuvring``,
@@ -11,7 +12,9 @@ with its default settings) on ``--scenario`` (``paper001-experiment-2``, ``manoe
 confirmed, false tracks, median frames until output with its 95 % interval) and, with
 ``--runs FILE.csv``, writes one row per run. ``--workers`` / ``--scheduler``: the execution
 layer. Another chain on the same scenes: ``--dp segment_frames=8`` (``[dp]`` fields),
-``--set KEY=VALUE`` (``[association]`` fields), as in a scenario file. Definitions:
+``--set KEY=VALUE`` (``[association]`` fields), as in a scenario file;
+``--false-alarm-rate R`` (``[segmentation]``: n = R x pixels candidates per list, default
+0.002: n = 33). Definitions:
 ``docs/association.md`` §8, "The chain end to end".
 
 Library: ``dptbd.evaluation.end_to_end``. This script reports; it asserts nothing.
@@ -68,19 +71,24 @@ def main(argv=None) -> None:
                     help="a [dp] (DPConfig) field of the chain, e.g. segment_frames=8 (repeatable)")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="an [association] field of the chain (repeatable)")
+    ap.add_argument("--false-alarm-rate", type=float, default=None, metavar="R",
+                    help="[segmentation] false_alarm_rate: n = R x pixels candidates per list "
+                         "(default 0.002)")
     args = ap.parse_args(argv)
     try:
         sc = e2e.scenario(args.scenario)
-        if args.dp or args.set:
-            sc = e2e.variant(sc, dp=_pairs("--dp", args.dp), association=_pairs("--set", args.set))
+        if args.dp or args.set or args.false_alarm_rate is not None:
+            sc = e2e.variant(sc, dp=_pairs("--dp", args.dp), association=_pairs("--set", args.set),
+                             false_alarm_rate=args.false_alarm_rate)
         seeds = e2e.parse_seeds(args.seeds)
         if args.lists not in LISTS:
             raise e2e.ChainError(f"lists must be one of {', '.join(map(repr, LISTS))}, "
                                  f"got {args.lists!r}")
     except DptbdError as exc:
         ap.error(str(exc))
-    if args.dp or args.set:
-        print(f"chain: [dp] {dict(sc.dp)}, [association] {dict(sc.association)}")
+    if args.dp or args.set or args.false_alarm_rate is not None:
+        print(f"chain: [dp] {dict(sc.dp)}, [association] {dict(sc.association)}, "
+              f"false_alarm_rate {sc.false_alarm_rate:g}")
     report(e2e.run_chain(sc, seeds, lists=args.lists, workers=args.workers,
                          scheduler=args.scheduler), args.runs)
 

@@ -38,6 +38,7 @@ from dptbd.evaluation.chain import LISTS, run_pipeline
 from dptbd.evaluation.execution import job_execution, run_tasks
 from dptbd.evaluation.run.scenario import Scenario, TargetSpec, default_scenario
 from dptbd.evaluation.stats import median_interval, wilson_interval
+from dptbd.model.segmentation import count_for_rate
 from dptbd.scenes import chain as chain_scenes
 
 __all__ = ["SCENARIOS", "ChainError", "RunOutcome", "ChainSummary", "scenario", "parse_seeds",
@@ -201,16 +202,23 @@ def run_outcome(sc: Scenario | str, seed: int, lists: str = "ideal") -> RunOutco
                       ev.false_tracks, n_lists)
 
 
-def variant(sc: Scenario | str, *, dp: dict | None = None,
-            association: dict | None = None) -> Scenario:
-    """Scenario ``sc`` with ``[dp]`` (DPConfig fields, e.g. ``segment_frames``) and
-    ``[association]`` (AssociationConfig fields) overridden, checked
+def variant(sc: Scenario | str, *, dp: dict | None = None, association: dict | None = None,
+            false_alarm_rate: float | None = None) -> Scenario:
+    """Scenario ``sc`` with ``[dp]`` (DPConfig fields, e.g. ``segment_frames``),
+    ``[association]`` (AssociationConfig fields) and ``[segmentation] false_alarm_rate`` (the
+    fraction of pixels per list: n, the list length) overridden, checked
     (:class:`~dptbd.evaluation.run.scenario.ScenarioError` names a bad key or value): another
     chain on the same scenes."""
     sc = scenario(sc) if isinstance(sc, str) else sc
     sc = sc.replace(dp={**sc.dp, **(dp or {})},
                     association={**sc.association, **(association or {})})
+    if false_alarm_rate is not None:
+        sc = sc.replace(false_alarm_rate=false_alarm_rate)
     sc.check()
+    pixels = sc.height * sc.width
+    if sc.simulated and count_for_rate(sc.false_alarm_rate, pixels) < 1:
+        raise ChainError(f"false_alarm_rate {sc.false_alarm_rate:g} keeps no candidate point "
+                         f"of {pixels} pixels; allowed: at least {0.5 / pixels:g} (n = 1)")
     return sc
 
 

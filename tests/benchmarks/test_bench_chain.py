@@ -28,6 +28,12 @@ def _bench():
     (["--dp", "segment_frames=["], "--dp takes KEY=VALUE with a TOML value, got 'segment_frames=['"),
     (["--dp", "segment_frames=0"],
      "scenario 'paper001-experiment-2': segment_frames must be an integer in [1, 65535], got 0"),
+    (["--false-alarm-rate", "0"],
+     "[segmentation] false_alarm_rate must be in (0, 1], got 0.0"),
+    (["--false-alarm-rate", "1e-5"],
+     "false_alarm_rate 1e-05 keeps no candidate point of 16384 pixels; allowed: at least "
+     "3.05176e-05 (n = 1)"),
+    (["--false-alarm-rate", "x"], "argument --false-alarm-rate: invalid float value: 'x'"),
 ])
 def test_refusals_are_usage_errors(args, message, capsys, monkeypatch):
     bench = _bench()
@@ -55,5 +61,14 @@ def test_a_variant_prints_its_chain(capsys):
     bench.main(["--scenario", "crossing", "--seeds", "0", "--dp", "segment_frames=8",
                 "--set", "confirm_hits=3"])
     lines = capsys.readouterr().out.splitlines()
-    assert lines[0] == "chain: [dp] {'segment_frames': 8}, [association] {'confirm_hits': 3}"
+    assert lines[0] == ("chain: [dp] {'segment_frames': 8}, [association] {'confirm_hits': 3}, "
+                        "false_alarm_rate 0.002")
+    assert lines[1] == "scenario crossing, seeds 0-0, ideal lists"
+
+
+def test_another_false_alarm_rate_is_another_list_length(capsys):
+    bench = _bench()
+    bench.main(["--scenario", "crossing", "--seeds", "0", "--false-alarm-rate", "0.004"])
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == "chain: [dp] {'segment_frames': 6}, [association] {}, false_alarm_rate 0.004"
     assert lines[1] == "scenario crossing, seeds 0-0, ideal lists"

@@ -47,6 +47,15 @@ def test_a_variant_is_another_chain_on_the_same_scenes():
     assert summary.runs == (e2e.RunOutcome(0, (24, None), 0, 4), e2e.RunOutcome(1, (24, 24), 1, 4))
 
 
+def test_a_variant_with_another_false_alarm_rate_has_other_list_lengths():
+    # 48 x 48 pixels: 0.005 keeps n = 12 candidates per list, 0.002 n = 5: fewer confirmations
+    sc = e2e.variant(_tiny(), false_alarm_rate=0.002)
+    assert sc == _tiny().replace(false_alarm_rate=0.002)
+    assert e2e.run_chain(sc, "0-1").runs == (e2e.RunOutcome(0, (None, None), 0, 6),
+                                             e2e.RunOutcome(1, (30, None), 0, 6))
+    assert e2e.variant(_tiny()).false_alarm_rate == 0.005
+
+
 @pytest.mark.parametrize("kwargs, message", [
     ({"dp": {"segment_frames": 0}},
      "scenario 'tiny': segment_frames must be an integer in [1, 65535], got 0"),
@@ -57,10 +66,23 @@ def test_a_variant_is_another_chain_on_the_same_scenes():
      "'gate_miss', 'gate_max', 'manoeuvre', 'link_gate', 'heading_weight', 'reject_reversed', "
      "'heading_min', 'confirm_hits', 'confirm_ratio', 'predict_hits', 'predict_ratio', "
      "'delete_ratio', 'max_misses']"),
+    ({"false_alarm_rate": 0.0},
+     "[segmentation] false_alarm_rate must be in (0, 1], got 0.0"),
+    ({"false_alarm_rate": 1.5},
+     "[segmentation] false_alarm_rate must be in (0, 1], got 1.5"),
 ])
 def test_a_bad_variant_is_refused_naming_the_key(kwargs, message):
     with pytest.raises(ScenarioError, match=whole(message)):
         e2e.variant(_tiny(), **kwargs)
+
+
+def test_a_false_alarm_rate_that_keeps_no_candidate_is_refused():
+    # 48 x 48 = 2304 pixels: round(rate x 2304) >= 1 needs rate >= 0.5 / 2304
+    msg = ("false_alarm_rate 0.0002 keeps no candidate point of 2304 pixels; allowed: at least "
+           "0.000217014 (n = 1)")
+    with pytest.raises(e2e.ChainError, match=whole(msg)):
+        e2e.variant(_tiny(), false_alarm_rate=0.0002)
+    assert e2e.variant(_tiny(), false_alarm_rate=0.5 / 2304).false_alarm_rate == 0.5 / 2304
 
 
 def test_a_false_track_makes_a_run_unclean():
