@@ -128,6 +128,21 @@ def check_frame_ranges(ranges) -> tuple[tuple[int, int], ...]:
     return tuple(out)
 
 
+def variant_scene_maps(variant: Variant, snr: float, velocity: tuple[float, float], *,
+                       trials: int, seed: int, chunk: int = 5, size: int = 128):
+    """``(ends, images, truth)`` of ``variant`` on ``trials`` Table 1 scenes of the setting
+    ``(snr, velocity)`` from ``seed``, ``chunk`` scenes at a time: the scored maps' last
+    frames, the maps (scene, map, row, column) and the target's truth (the same scenes for
+    every variant: paired)."""
+    cfg = variant_config(variant, size)
+    for first in range(0, trials, chunk):
+        scene = scenes.table1_scenario(snr, velocity, size=size, seed=seed,
+                                       trials=min(chunk, trials - first), first_trial=first,
+                                       dtype=np.float32)
+        ends, images = variant_maps(variant, scene.quantised(INPUT_BITS, gain=ADC_GAIN), cfg)
+        yield ends, images, scene.truth[0]
+
+
 def variant_range_counts(variant: Variant, snr: float, velocity: tuple[float, float], *,
                          ranges, trials: int, seed: int, chunk: int = 5, size: int = 128
                          ) -> list[list[DetectionCounts]]:
@@ -137,15 +152,10 @@ def variant_range_counts(variant: Variant, snr: float, velocity: tuple[float, fl
     same scenes for every variant: paired). A range holding no scored map of the variant
     counts nothing (``DetectionCounts(0, 0, 0, 0)``)."""
     ranges = check_frame_ranges(ranges)
-    cfg = variant_config(variant, size)
     count = count_for_rate(FALSE_ALARM_RATE, size * size)
     out = []
-    for first in range(0, trials, chunk):
-        scene = scenes.table1_scenario(snr, velocity, size=size, seed=seed,
-                                       trials=min(chunk, trials - first), first_trial=first,
-                                       dtype=np.float32)
-        ends, images = variant_maps(variant, scene.quantised(INPUT_BITS, gain=ADC_GAIN), cfg)
-        truth = scene.truth[0]
+    for ends, images, truth in variant_scene_maps(variant, snr, velocity, trials=trials,
+                                                  seed=seed, chunk=chunk, size=size):
         pix, vis = truth.pixel[ends][:, None], truth.visible[ends][:, None]
         for trial_image in candidate_mask(images, count):
             per = []

@@ -34,7 +34,7 @@ import numpy as np
 
 from dptbd.errors import check_int
 from dptbd.evaluation.execution import Execution, map_tasks
-from dptbd.evaluation.family.detection import Variant, variant_config, variant_maps
+from dptbd.evaluation.family.detection import Variant, variant_config, variant_maps, variant_scene_maps
 from dptbd.evaluation.metrics import DetectionCounts, first_level_counts
 from dptbd.evaluation.pfa import (Calibration, PfaError, allowed_false_alarms, calibrate_pixel_threshold,
                                   check_noise_seeds, check_pfa)
@@ -66,15 +66,10 @@ def threshold_counts(variant: Variant, snr: float, velocity: tuple[float, float]
     setting ``(snr, velocity)``: ``out[scene][level]``, ``trials`` scenes from ``seed`` (the
     scenes of :func:`~dptbd.evaluation.family.detection.variant_trial_counts`).
     ``thresholds[level]`` is a number or one threshold per scored map."""
-    cfg = variant_config(variant, size)
     thresholds = [np.asarray(t, dtype=np.float64).reshape(-1, 1, 1) for t in thresholds]
     out = []
-    for first in range(0, trials, chunk):
-        scene = scenes.table1_scenario(snr, velocity, size=size, seed=seed,
-                                       trials=min(chunk, trials - first), first_trial=first,
-                                       dtype=np.float32)
-        ends, images = variant_maps(variant, scene.quantised(INPUT_BITS, gain=ADC_GAIN), cfg)
-        truth = scene.truth[0]
+    for ends, images, truth in variant_scene_maps(variant, snr, velocity, trials=trials,
+                                                  seed=seed, chunk=chunk, size=size):
         pix, vis = truth.pixel[ends][:, None], truth.visible[ends][:, None]
         for trial_images in images:
             out.append([first_level_counts(trial_images > thr, pix, vis) for thr in thresholds])

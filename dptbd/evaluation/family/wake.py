@@ -23,12 +23,10 @@ import dataclasses
 import numpy as np
 
 from dptbd.errors import DptbdError, check_int
-from dptbd.evaluation.family.detection import FRAMES, Variant, variant_config, variant_maps
+from dptbd.evaluation.family.detection import FRAMES, Variant, variant_scene_maps
 from dptbd.evaluation.metrics import near_mask
 from dptbd.evaluation.table1.experiment import FALSE_ALARM_RATE
 from dptbd.model.segmentation import candidate_mask, count_for_rate
-from dptbd.scenes import synthetic as scenes
-from dptbd.scenes.synthetic import ADC_GAIN, INPUT_BITS
 
 __all__ = ["WakeCounts", "check_lags", "parse_lags", "wake_counts"]
 
@@ -105,15 +103,10 @@ def wake_counts(variant: Variant, snr: float, velocity: tuple[float, float], *, 
     near = check_int("near", near, 0, 10)
     history = check_int("history", history, 1, FRAMES - 1)
     trials = check_int("trials", trials, 1)
-    cfg = variant_config(variant, size)
     count = count_for_rate(FALSE_ALARM_RATE, size * size)
     out = []
-    for first in range(0, trials, chunk):
-        scene = scenes.table1_scenario(snr, velocity, size=size, seed=seed,
-                                       trials=min(chunk, trials - first), first_trial=first,
-                                       dtype=np.float32)
-        ends, images = variant_maps(variant, scene.quantised(INPUT_BITS, gain=ADC_GAIN), cfg)
-        truth = scene.truth[0]
+    for ends, images, truth in variant_scene_maps(variant, snr, velocity, trials=trials,
+                                                  seed=seed, chunk=chunk, size=size):
         for mask in candidate_mask(images, count):
             out.append(_scene_counts(mask, ends, truth.pixel, truth.visible, lags, near, history))
     return out
