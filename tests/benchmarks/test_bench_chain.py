@@ -3,19 +3,14 @@
 from __future__ import annotations
 
 import csv
-import importlib.util
-import pathlib
 
 import pytest
 
-BENCH = pathlib.Path(__file__).resolve().parents[2] / "benchmarks" / "bench_chain.py"
+from helpers.benches import load_bench
 
 
 def _bench():
-    spec = importlib.util.spec_from_file_location("bench_chain", BENCH)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_bench("bench_chain")
 
 
 @pytest.mark.parametrize("args, message", [
