@@ -45,8 +45,10 @@ def test_comparison_on_a_dask_cluster_is_the_same():
     spec = SceneSpec(kind="rd", frames=10, crop=(120, 160, 32, 48))
     kw = dict(snrs_db=[10.0, 20.0], spec=spec, trials=3, noise_trials=20, false_alarm_rate=0.05)
     here = run_comparison(["ca-cfar", "info"], jobs=1, **kw)
+    # the scheduler's HTTP server on an ephemeral port, as local_cluster's: 8787 may be taken
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
-                                  dashboard_address=None) as cluster:
+                                  dashboard_address=None,
+                                  scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster:
         there = run_comparison(["ca-cfar", "info"], jobs=1, scheduler=cluster.scheduler_address, **kw)
     assert (here.thresholds, here.false_alarms, here.detections) == (
         there.thresholds, there.false_alarms, there.detections)
