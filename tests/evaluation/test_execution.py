@@ -140,8 +140,10 @@ def test_an_unreachable_scheduler_fails_within_seconds():
 def threaded_cluster():
     """One in-process worker (threads): enough to test the checks, fast to start."""
     distributed = pytest.importorskip("distributed")
+    # the scheduler's HTTP server on an ephemeral port, as local_cluster's: 8787 may be taken
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
-                                  dashboard_address=None) as cluster:
+                                  dashboard_address=None,
+                                  scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster:
         yield cluster
 
 
