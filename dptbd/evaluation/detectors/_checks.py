@@ -46,3 +46,15 @@ def check_frames(frames: Any, name: str = "frames", *, min_ndim: int = 3,
     if nonnegative and arr.min() < 0:
         raise DetectorError(f"{name} must be magnitudes >= 0, found {arr.min():g}")
     return arr
+
+
+def check_sequence(frames: Any, shape: tuple[int, int], likelihood: str) -> np.ndarray:
+    """One sequence ``(T, H, W)`` of a filter on the grid ``shape`` (:func:`check_frames`),
+    magnitudes >= 0 for the Rician ``likelihood``."""
+    arr = check_frames(frames, min_ndim=3)
+    if arr.ndim != 3 or arr.shape[1:] != shape:
+        raise DetectorError(f"frames must be one sequence (T, {shape[0]}, {shape[1]}), "
+                            f"got shape {arr.shape}")
+    if likelihood == "rician" and arr.min() < 0:
+        raise DetectorError("frames must be magnitudes >= 0 for the Rician likelihood")
+    return arr

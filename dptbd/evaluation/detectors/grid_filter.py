@@ -30,7 +30,7 @@ import numba
 import numpy as np
 
 from dptbd.evaluation.detectors._checks import (
-    DetectorError, check_frames, check_int, check_real, check_shape)
+    DetectorError, check_int, check_real, check_sequence, check_shape)
 
 __all__ = [
     "log_i0",
@@ -298,13 +298,7 @@ class _GridFilter:
         return gaussian_log_likelihood(z, amp, scale)
 
     def _frames(self, frames: Any) -> np.ndarray:
-        arr = check_frames(frames, min_ndim=3)
-        if arr.ndim != 3 or arr.shape[1:] != self.shape:
-            raise DetectorError(f"frames must be one sequence (T, {self.shape[0]}, {self.shape[1]}), "
-                                f"got shape {arr.shape}")
-        if self.likelihood == "rician" and arr.min() < 0:
-            raise DetectorError("frames must be magnitudes >= 0 for the Rician likelihood")
-        return arr
+        return check_sequence(frames, self.shape, self.likelihood)
 
 
 @numba.njit(cache=True)

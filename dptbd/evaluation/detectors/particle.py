@@ -47,7 +47,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from dptbd.evaluation.detectors._checks import DetectorError, check_frames, check_int, check_prob, check_real
+from dptbd.evaluation.detectors._checks import DetectorError, check_int, check_prob, check_real, check_sequence
 from dptbd.evaluation.detectors.grid_filter import (LIKELIHOODS, estimate_alpha, gaussian_log_likelihood,
                                                     rician_log_likelihood)
 
@@ -190,12 +190,7 @@ class ParticleTBD:
         return np.random.default_rng(np.random.SeedSequence([self.seed, zlib.crc32(data.tobytes())]))
 
     def run(self, frames: Any) -> ParticleRun:
-        z = check_frames(frames, min_ndim=3)
-        if z.ndim != 3 or z.shape[1:] != self.shape:
-            raise DetectorError(f"frames must be one sequence (T, {self.shape[0]}, {self.shape[1]}), "
-                                f"got shape {z.shape}")
-        if self.likelihood == "rician" and z.min() < 0:
-            raise DetectorError("frames must be magnitudes >= 0 for the Rician likelihood")
+        z = check_sequence(frames, self.shape, self.likelihood)
         rng = self.rng(z)
         h, w = self.shape
         n, nb = self.particles, self.birth_particles
