@@ -10,7 +10,7 @@ allowed range, meaning) and the weight LUT's register window. What reads it:
 - :func:`register_constants` / :func:`constants_namespace`: the numbers the testbenches and
   the manifest use;
 - the C header, HTML, Markdown (``docs/registers.md``) and IP-XACT are PeakRDL's renderings
-  of the compiled ``.rdl`` (:mod:`dptbd.hw.flow.register_docs`).
+  of the compiled ``.rdl`` (:mod:`dptbd.hw.flow.register_outputs`).
 
 The control port is AXI4-Lite with 32-bit data and byte addresses (``docs/integration.md``
 says why). Every register is one aligned 32-bit word (the ``addrmap``'s description says what
@@ -182,7 +182,7 @@ class RegisterMap:
         return [(r, f) for r in self.registers for f in r.fields if f.kind == kind]
 
 
-def register_map(cfg: DPConfig, store=None) -> RegisterMap:
+def register_map(cfg: DPConfig, store=None, *, source=None) -> RegisterMap:
     """The register map of ``dptbd_axi`` built for ``cfg``, read from ``hw/registers.rdl``
     compiled for it (:func:`dptbd.hw.registers.compile_map`); with ``store`` (an
     :class:`~dptbd.config.AxiStoreConfig` of ``cfg``) the map of the build with the state
@@ -190,10 +190,10 @@ def register_map(cfg: DPConfig, store=None) -> RegisterMap:
     after each group's own and the bits ``state_read`` / ``state_write`` to ``ERROR``.
 
     Identification registers from 0x000, control from 0x040, status from 0x080 (the
-    ``regfile`` of each group), the weight LUT window from 0x400 (entry
+    ``addrmap`` of each group), the weight LUT window from 0x400 (a ``mem``; entry
     ``cfg.lut_address(p, m)`` at ``0x400 + 4 * address``). Each field's kind is read from
     its SystemRDL properties (:func:`field_kind`); ``events`` are the counters' events in
-    address order.
+    address order. ``source``: another ``.rdl`` than ``hw/registers.rdl`` (tests).
 
     Raises
     ------
@@ -208,24 +208,24 @@ def register_map(cfg: DPConfig, store=None) -> RegisterMap:
 
     if store is not None:
         _check_store(cfg, store)
-    return _read_map(compile_map(cfg, store))
+    return _read_map(compile_map(cfg, store, source=source))
 
 
 def _read_map(top) -> RegisterMap:
-    """The :class:`RegisterMap` of a compiled ``addrmap``: its ``regfile`` children are the
-    groups of registers, its register arrays the windows."""
-    from systemrdl.node import RegfileNode, RegNode
+    """The :class:`RegisterMap` of a compiled ``addrmap``: its ``addrmap`` children are the
+    groups of registers, its ``mem`` children the windows."""
+    from systemrdl.node import AddrmapNode, MemNode
 
     registers, windows = [], []
     for child in top.children(unroll=False):
-        if isinstance(child, RegfileNode):
+        if isinstance(child, AddrmapNode):
             for reg in child.children(unroll=False):
                 registers.append(_register(reg, child.inst_name))
-        elif isinstance(child, RegNode) and child.is_array:
+        elif isinstance(child, MemNode):
             windows.append(_window(child))
         else:
-            raise _refused(child.inst_name, "the map holds register groups (regfile) and "
-                                            "windows (register arrays) only")
+            raise _refused(child.inst_name, "the map holds register groups (addrmap) and "
+                                            "windows (mem) only")
     assert all(w.end <= 1 << ADDRESS_BITS for w in windows)
     events = tuple(f.event for r in registers for f in r.fields if f.kind == "counter")
     return RegisterMap(tuple(registers), tuple(windows), events=events)
@@ -317,11 +317,12 @@ def _register(reg, group: str) -> Register:
                     tuple(_field(f, k, doc) for f, k in zip(fields, kinds)))
 
 
-def _window(reg) -> Window:
-    """The :class:`Window` of a compiled register array: one write-only field from bit 0 with
-    a range (``sw = w; hw = r;``, ``range_max``), every write checked."""
+def _window(mem) -> Window:
+    """The :class:`Window` of a compiled ``mem``: an array of registers of one write-only
+    field from bit 0 with a range (``sw = w; hw = r;``, ``range_max``), every write checked."""
     from systemrdl.rdltypes import AccessType
 
+    (reg,) = mem.children(unroll=False)
     fields = list(reg.fields())
     node = fields[0]
     plain = not any(node.get_property(name) for name in (
@@ -329,12 +330,11 @@ def _window(reg) -> Window:
     if (len(fields) > 1 or node.lsb != 0 or not plain or node.get_property("range_max") is None
             or (node.get_property("sw"), node.get_property("hw")) != (AccessType.w,
                                                                        AccessType.r)):
-        raise _refused(reg.inst_name, "a window (register array) has one write-only field "
+        raise _refused(mem.inst_name, "a window (mem) holds registers of one write-only field "
                                       "from bit 0 with a range (sw = w; hw = r; range_max)")
-    doc = reg.get_property("desc") or ""
-    (entries,) = reg.array_dimensions
-    return Window(reg.inst_name, reg.raw_absolute_address, entries,
-                  _field(node, "setting", doc), doc)
+    doc = mem.get_property("desc") or ""
+    return Window(mem.inst_name, mem.absolute_address, mem.get_property("mementries"),
+                  _field(node, "setting", reg.get_property("desc") or doc), doc)
 
 
 def register_constants(regmap: RegisterMap) -> dict[str, int]:

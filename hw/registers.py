@@ -8,7 +8,7 @@ node; everything else is read from that node:
 
 - :func:`dptbd.hw.register_map.register_map` (the :class:`~dptbd.hw.register_map.RegisterMap`
   the Amaranth register file decodes, and the testbenches' constants),
-- the PeakRDL outputs ``dptbd verilog --top axi`` writes (:mod:`dptbd.hw.flow.register_docs`):
+- the PeakRDL outputs ``dptbd verilog --top axi`` writes (:mod:`dptbd.hw.flow.register_outputs`):
   C header, HTML, Markdown and IP-XACT.
 
 How the one ``.rdl`` elaborates to each build's map:
@@ -101,11 +101,14 @@ def _compile(cfg, store, path):
     errors = []
 
     class Collect(MessagePrinter):
-        """Keeps the compiler's errors as ``file:line:column: error: text``; drops warnings
-        and the closing "aborted due to previous errors"."""
+        """Keeps the compiler's errors as ``file:line:column: error: text`` (drops the
+        closing "aborted due to previous errors"); warnings go to standard error as usual."""
 
         def print_message(self, severity, text, src_ref):
-            if severity < Severity.ERROR or (severity == Severity.FATAL and errors):
+            if severity < Severity.ERROR:
+                super().print_message(severity, text, src_ref)
+                return
+            if severity == Severity.FATAL and errors:
                 return
             if isinstance(src_ref, DetailedFileSourceRef):
                 where = f"{src_ref.path}:{src_ref.line}:{src_ref.line_selection[0] + 1}: "
