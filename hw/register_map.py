@@ -228,6 +228,12 @@ def _read_map(top) -> RegisterMap:
                                             "windows (mem) only")
     assert all(w.end <= 1 << ADDRESS_BITS for w in windows)
     events = tuple(f.event for r in registers for f in r.fields if f.kind == "counter")
+    known = (*events, "write_refused", "fault")
+    for reg in registers:
+        for field in reg.fields:
+            if field.kind in ("sticky", "interrupt") and field.event not in known:
+                raise _refused(reg.name, f"field {field.name} is set by event "
+                                         f"{field.event!r}, which is none of {known}")
     return RegisterMap(tuple(registers), tuple(windows), events=events)
 
 
@@ -243,13 +249,12 @@ def field_kind(field) -> str | None:
     properties (``hw/registers.rdl`` lists them), or ``None`` if none."""
     from systemrdl.rdltypes import AccessType, OnWriteType
 
-    sw, hw = field.get_property("sw"), field.get_property("hw")
-    onwrite, prop = field.get_property("onwrite"), field.get_property
-    if (field.get_property("onread") is not None or prop("swmod") or prop("swacc")
-            or prop("hwclr") or prop("we") or prop("wel")):
+    prop = field.get_property
+    sw, hw, onwrite = prop("sw"), prop("hw"), prop("onwrite")
+    if (prop("onread") is not None or prop("swmod") or prop("swacc") or prop("hwclr")
+            or prop("we") or prop("wel")):
         return None
-    counting = prop("counter")
-    if counting:
+    if prop("counter"):
         return "counter" if (sw, hw, onwrite) == (AccessType.r, AccessType.r, None) else None
     if prop("singlepulse"):
         return "pulse" if (sw, hw, onwrite) == (AccessType.w, AccessType.r, None) else None
@@ -312,6 +317,10 @@ def _register(reg, group: str) -> Register:
                              "written word is checked against its range)")
     if kinds[0] == "counter" and (len(fields) > 1 or fields[0].width != COUNTER_BITS):
         raise _refused(name, f"a counter register has one field of {COUNTER_BITS} bits")
+    for node, kind in zip(fields, kinds):
+        if kind in ("counter", "sticky", "interrupt") and node.get_property("event") is None:
+            raise _refused(name, f"field {node.inst_name} is a {kind} without the event "
+                                 f"that counts or sets it (property event)")
     doc = reg.get_property("desc") or ""
     return Register(name, reg.absolute_address, group, doc,
                     tuple(_field(f, k, doc) for f, k in zip(fields, kinds)))

@@ -207,3 +207,23 @@ def test_a_field_added_to_the_rdl_appears_in_the_map_the_constants_and_the_regis
     simulate(dut, bench)
     assert got[0][0] >> 24 == 0xA5
     assert got[0][0] == regmap["BUILD_LUT"].reset
+
+
+def test_a_counter_without_its_event_is_refused(tmp_path):
+    path = _edited(tmp_path, '        LISTS.count->event = "list_done";\n', "")
+    with pytest.raises(RegisterMapError, match=whole(
+            f"register LISTS: field count is a counter without the event that counts or sets "
+            f"it (property event); the register file implements {KINDS}")):
+        register_map(make_config(), source=path)
+
+
+def test_a_sticky_bit_set_by_an_unknown_event_is_refused(tmp_path):
+    path = _edited(tmp_path, 'frame_long->event = "frame_long";',
+                   'frame_long->event = "frame_lost";')
+    events = ("frame_done", "segment_done", "list_done", "saturated", "sof_unexpected",
+              "frame_short", "frame_long", "line_length", "input_stall", "output_stall",
+              "write_refused", "fault")
+    with pytest.raises(RegisterMapError, match=whole(
+            f"register ERROR: field frame_long is set by event 'frame_lost', which is none of "
+            f"{events}; the register file implements {KINDS}")):
+        register_map(make_config(), source=path)

@@ -80,3 +80,16 @@ def test_a_reset_value_wider_than_its_field_is_refused_with_file_and_line(tmp_pa
             f"{where}: error: The reset value (2) of field 'fault' cannot fit within its "
             f"width (1)")):
         compile_map(DPConfig(), source=path)
+
+
+def test_the_rdl_is_package_data():
+    """An installed ``dptbd`` carries the ``.rdl`` (pyproject's package data of
+    ``dptbd.hw``, whose folder is ``hw/``)."""
+    import fnmatch
+    import tomllib
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    tool = tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]
+    assert tool["package-dir"]["dptbd.hw"] == "hw" and RDL_PATH.parent == root / "hw"
+    assert any(fnmatch.fnmatch(RDL_PATH.name, pattern)
+               for pattern in tool["package-data"]["dptbd.hw"])

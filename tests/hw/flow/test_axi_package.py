@@ -62,7 +62,10 @@ def test_package_carries_the_register_references(package, tmp_path):
         "markdown": "top_regs.md", "ipxact": "top_regs.xml", "html": "top_regs_html/index.html"}
     write_html_reference(tmp_path, cfg, "top")
     assert html_folder_name("top") == "top_regs_html"
-    assert "SEGMENT_FRAMES" in (tmp_path / "top_regs_html" / "data" / "ral-data-0.json").read_text()
+    html = tmp_path / "top_regs_html"
+    assert (html / "index.html").is_file()
+    assert "SEGMENT_FRAMES" in (html / "data" / "ral-data-0.json").read_text()
+    assert any("range_max" in page.read_text() for page in (html / "content").glob("*.html"))
 
 
 def test_fusesoc_parses_the_core(package):
