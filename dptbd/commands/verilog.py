@@ -6,8 +6,9 @@ pipeline with the segmenter (``dptbd_seg``: pixels in, candidate lists out,
 the AXI top level ``dptbd_axi`` (AXI4-Stream video in, candidate lists out, AXI4-Lite
 registers; ``docs/integration.md``) and writes, beside ``FILE.v`` and ``FILE.json``, the
 register header ``dptbd_regs.h``, the ``aclk`` constraints ``FILE.sdc`` / ``FILE.xdc`` at
-``--clock-mhz`` (default 100) and the FuseSoC core ``FILE.core``
-(:func:`dptbd.hw.flow.axi_package.axi_package`).
+``--clock-mhz`` (default 100), the FuseSoC core ``FILE.core``
+(:func:`dptbd.hw.flow.axi_package.axi_package`) and the register map's PeakRDL references:
+Markdown ``FILE_regs.md``, IP-XACT ``FILE_regs.xml`` and HTML ``FILE_regs_html/``.
 
 Parameters come from options named after the :class:`~dptbd.config.DPConfig` fields, from a
 TOML file of those fields (``--config``; unknown keys are refused), or both (options win).
@@ -77,7 +78,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--top", choices=TOPS, default="dp",
                         help="dp: the DP pipeline dptbd_dp (default); seg: the pipeline and "
                              "the segmenter, dptbd_seg; axi: the AXI top level dptbd_axi with "
-                             "its register header and FuseSoC core")
+                             "its register header and references (Markdown, IP-XACT, HTML) "
+                             "and FuseSoC core")
     parser.add_argument("--external-state-store", action="store_true",
                         help="convert DPCore: the W*H-word state store outside the module")
     parser.add_argument("--lut-style", choices=("auto", "bram", "logic"), default="auto",
@@ -197,20 +199,24 @@ def _print_core_options(args: argparse.Namespace, info: dict) -> None:
 def _write_axi(args: argparse.Namespace, cfg, core_options: dict | None,
                state_store=None) -> int:
     from dptbd.hw.flow.axi_package import (DEFAULT_CLOCK_MHZ, axi_package, check_clock_mhz,
-                                           package_file_names)
+                                           html_folder_name, package_file_names,
+                                           write_html_reference)
 
     clock_mhz = check_clock_mhz(DEFAULT_CLOCK_MHZ if args.clock_mhz is None else args.clock_mhz,
                                 "--clock-mhz")
     out = args.output
-    check_new_files([out.parent / name for name in package_file_names(out.stem)], args.force)
+    check_new_files([out.parent / name for name in
+                     (*package_file_names(out.stem), html_folder_name(out.stem))], args.force)
     files = axi_package(cfg, out.stem, clock_mhz, state_output=args.state_output,
                         allow_saturation=args.allow_saturation, core_options=core_options,
                         state_store=state_store)
     out.parent.mkdir(parents=True, exist_ok=True)
     for name, text in files.items():
         (out.parent / name).write_text(text)
+    write_html_reference(out.parent, cfg, out.stem, state_store)
     info = json.loads(files[f"{out.stem}.json"])
-    print(f"wrote {', '.join(str(out.parent / n) for n in files)} (module {info['module']}, "
+    names = [*files, f"{html_folder_name(out.stem)}/"]
+    print(f"wrote {', '.join(str(out.parent / n) for n in names)} (module {info['module']}, "
           f"{cfg.width}x{cfg.height}, latency {info['latency']} cycles, aclk "
           f"{clock_mhz:g} MHz)")
     _print_core_options(args, info)

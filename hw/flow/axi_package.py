@@ -8,7 +8,11 @@ core description, as texts (the library job behind ``dptbd verilog --top axi``).
   adds ``DPTBD_PIXELS_PER_CLOCK`` and whose core description names P);
 - ``<stem>.json``: its manifest: parameters, derived widths, every port, the stream
   conventions, the register constants;
-- ``dptbd_regs.h``: the C register header (:func:`~dptbd.hw.flow.register_export.c_header`);
+- the register map's PeakRDL renderings (:mod:`dptbd.hw.flow.register_outputs`, from
+  ``hw/registers.rdl`` compiled for the build): ``dptbd_regs.h``, the C register header
+  (with the candidate word's layout); ``<stem>_regs.md``, the Markdown reference;
+  ``<stem>_regs.xml``, the IP-XACT register description; the HTML reference
+  ``<stem>_regs_html/`` is a folder, written by :func:`write_html_reference`;
 - ``<stem>.sdc`` / ``<stem>.xdc``: timing constraints of the only clock ``aclk``
   (``create_clock``; SDC for Quartus, nextpnr and other SDC readers, XDC for Vivado) at
   ``clock_mhz`` (:func:`clock_constraints`);
@@ -40,20 +44,17 @@ from dptbd.config import DPConfig
 from dptbd.errors import ConfigError, check_real
 from dptbd.hw.axi_top import AXI_MODULE_NAME, AXITop
 from dptbd.hw.candidate_layout import candidate_field_offsets, candidate_layout
-from dptbd.hw.flow.register_export import c_header, register_constants
+from dptbd.hw.flow.register_outputs import HEADER_NAME, c_header, ipxact, markdown, write_html
 from dptbd.hw.flow.to_verilog import to_verilog
 from dptbd.hw.flow.verilog import VERILATOR_LINT_FLAGS, manifest_header, manifest_state_store
 from dptbd.hw.axis_video import STATE_TUSER, video_tdata_layout
 from dptbd.hw.layouts import field_offsets, state_word_layout
-from dptbd.hw.register_map import register_map
+from dptbd.hw.register_map import register_constants
 
 __all__ = ["HEADER_NAME", "DEFAULT_CLOCK_MHZ", "CLOCK_MHZ_RANGE", "package_file_names",
            "check_clock_mhz", "clock_constraints", "axi_ports", "axi_manifest", "fusesoc_core",
            "generate_axi_verilog", "generate_axi_state_verilog", "check_no_saturation",
-           "axi_package"]
-
-#: File name of the register header (what firmware includes).
-HEADER_NAME = "dptbd_regs.h"
+           "axi_package", "html_folder_name", "write_html_reference"]
 
 #: Default ``aclk`` frequency of the shipped constraints: the synthesis flow's target
 #: (``hw/flow/synth.py``, ``target_mhz=100``), which the DP core meets on the iCE40 HX8K
@@ -66,9 +67,23 @@ CLOCK_MHZ_RANGE = (1.0, 1000.0)
 
 
 def package_file_names(stem: str) -> list[str]:
-    """The names of the files :func:`axi_package` writes, in order."""
+    """The names of the files :func:`axi_package` returns, in order."""
     return [f"{stem}.v", f"{stem}.json", HEADER_NAME, f"{stem}.sdc", f"{stem}.xdc",
-            f"{stem}.core"]
+            f"{stem}.core", f"{stem}_regs.md", f"{stem}_regs.xml"]
+
+
+def html_folder_name(stem: str) -> str:
+    """The folder :func:`write_html_reference` writes the HTML register reference into."""
+    return f"{stem}_regs_html"
+
+
+def write_html_reference(parent, cfg: DPConfig, stem: str = AXI_MODULE_NAME,
+                         state_store=None) -> None:
+    """PeakRDL-html's register reference of the build (:func:`axi_package`'s arguments)
+    into ``parent / html_folder_name(stem)`` (``index.html`` and its assets)."""
+    import pathlib
+
+    write_html(pathlib.Path(parent) / html_folder_name(stem), cfg, state_store)
 
 
 def check_clock_mhz(value, name: str = "clock_mhz") -> float:
@@ -284,20 +299,11 @@ def axi_package(cfg: DPConfig, stem: str = AXI_MODULE_NAME,
     info["clock"]["frequency_mhz"] = clock_mhz
     info["constraints"] = {"sdc": f"{stem}.sdc", "xdc": f"{stem}.xdc",
                            "period_ns": round(1000.0 / clock_mhz, 3)}
+    info["register_references"] = {"markdown": f"{stem}_regs.md", "ipxact": f"{stem}_regs.xml",
+                                   "html": f"{html_folder_name(stem)}/index.html"}
     names = package_file_names(stem)
-    texts = [text, json.dumps(info, indent=2) + "\n",
-             _pixels_per_clock_line(c_header(register_map(cfg, state_store), cfg), cfg),
+    texts = [text, json.dumps(info, indent=2) + "\n", c_header(cfg, state_store),
              clock_constraints(clock_mhz, "sdc"), clock_constraints(clock_mhz, "xdc"),
-             fusesoc_core(cfg, stem, version("dptbd"), state_store)]
+             fusesoc_core(cfg, stem, version("dptbd"), state_store),
+             markdown(cfg, state_store), ipxact(cfg, state_store)]
     return dict(zip(names, texts))
-
-
-def _pixels_per_clock_line(header: str, cfg: DPConfig) -> str:
-    """``dptbd_regs.h`` with, at P > 1, ``DPTBD_PIXELS_PER_CLOCK`` (pixels per
-    ``s_axis_video`` beat) after the register constants' guard."""
-    if cfg.pixels_per_clock == 1:
-        return header
-    guard = "#define DPTBD_REGS_H\n"
-    line = (f"/* s_axis_video carries {cfg.pixels_per_clock} pixels per beat, pixel 0 in the "
-            f"low bits */\n#define DPTBD_PIXELS_PER_CLOCK {cfg.pixels_per_clock}u\n")
-    return header.replace(guard, guard + line, 1)

@@ -45,7 +45,7 @@ from cocotbext.axi import (AxiLiteBus, AxiLiteMaster, AxiStreamBus, AxiStreamFra
                            AxiStreamSink, AxiStreamSource)
 
 from dptbd.hw.candidate_layout import unpack_candidate
-from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.hw.register_map import constants_namespace
 from dptbd.sim.axi.stimulus import Beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from dptbd.hw.layouts import pack_states

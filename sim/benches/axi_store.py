@@ -26,7 +26,7 @@ import cocotb
 from cocotb.triggers import RisingEdge, with_timeout
 from cocotbext.axi import AxiBus, AxiRam, AxiStreamFrame
 
-from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.hw.register_map import constants_namespace
 from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
 from dptbd.sim.benches.axi import AxiBench, line_frames
 from dptbd.sim.benches.dp import load_job

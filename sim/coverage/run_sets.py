@@ -106,8 +106,7 @@ def counter_scene(cfg, seed: int, events: int = COUNTER_EVENTS):
 def _axi_scene(cfg, seed: int, bright: bool = False):
     import numpy as np
 
-    from dptbd.hw.flow.register_export import constants_namespace
-    from dptbd.hw.register_map import FAULTS
+    from dptbd.hw.register_map import FAULTS, constants_namespace
     from dptbd.sim.axi.stimulus import fault_stretches
     from dptbd.sim.scenarios import make_frames
 

@@ -33,8 +33,7 @@ import tempfile
 
 import numpy as np
 
-from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.hw.register_map import FAULTS, register_map
+from dptbd.hw.register_map import FAULTS, constants_namespace, register_map
 from dptbd.sim.axi.stimulus import Beats, expected_outputs, fault_pulses, stream_pieces
 from dptbd.sim.axi.scoring import (delivered_lists, flag_problems, score_exact,
                                    score_in_parts, undrained_cuts)

@@ -13,7 +13,7 @@ from dptbd.hw.axi_top import AXITop
 from dptbd.hw.axis_video import STATE_TUSER
 from dptbd.hw.layouts import pack_states
 from dptbd.sim.stream_model import expected_stream
-from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.hw.register_map import constants_namespace
 from helpers.axil_harness import axil_read, axil_write, flat_axil, simulate_top
 from helpers.seg_harness import make_config
 

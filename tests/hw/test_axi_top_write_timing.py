@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from dptbd.hw.axi_top import AXITop
-from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.hw.register_map import constants_namespace
 from dptbd.hw.layouts import pack_states
 from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import list_words

@@ -9,9 +9,8 @@ it on the gateware and reads back.
 import pytest
 
 from dptbd.hw.axi_lite import RESP_OKAY, RESP_SLVERR
-from dptbd.hw.flow.register_export import constants_namespace
 from dptbd.hw.register_file import RegisterFile, event_port_layout
-from dptbd.hw.register_map import EVENTS, register_map
+from dptbd.hw.register_map import EVENTS, constants_namespace, register_map
 from helpers.axil_harness import axil_read, axil_write
 from helpers.hw_harness import simulate
 from helpers.seg_harness import make_config

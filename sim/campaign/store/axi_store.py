@@ -187,7 +187,7 @@ def error_margin(store, latency: int) -> int:
 def _check_error_run(case, seed: int, root):
     """An ``"axi_store"`` error run (see the module doc): (passed, report, words, cycles,
     sim seconds, errors flagged ((code, direction), …), memory counters, notes)."""
-    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.hw.register_map import constants_namespace
     from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
     from dptbd.sim.campaign.draw import hostile_frames
     from dptbd.sim.candidate_scoreboard import list_words

@@ -12,10 +12,11 @@ from fusesoc.capi2.core import CoreInterface
 from fusesoc.capi2.coreparser import Core2Parser
 
 from dptbd.errors import DptbdError
-from dptbd.hw.flow import register_export
-from dptbd.hw.flow.axi_package import axi_package, clock_constraints
+from dptbd.hw.flow import register_outputs
+from dptbd.hw.flow.axi_package import (axi_package, clock_constraints, html_folder_name,
+                                       package_file_names, write_html_reference)
 from dptbd.hw.flow.verilog import VERILATOR_LINT_FLAGS
-from dptbd.hw.register_map import register_map
+from dptbd.hw.register_map import register_constants, register_map
 from helpers.seg_harness import make_config
 from helpers.refusals import whole
 
@@ -46,6 +47,25 @@ def test_manifest_lists_axi_ports_and_registers(package):
     # start of frame is tuser[0]: the video tdata carries the pixel only
     assert manifest["streams"]["s_axis_video"]["layout"] == {
         "pixel": {"offset": 0, "width": cfg.input_bits}}
+
+
+def test_package_carries_the_register_references(package, tmp_path):
+    """Beside the Verilog: PeakRDL's Markdown and IP-XACT of the build's map (the same texts
+    :mod:`dptbd.hw.flow.register_outputs` renders), named in the manifest; the HTML
+    reference is a folder written beside them."""
+    cfg, _folder, files = package
+    assert list(files) == package_file_names("top")
+    assert files["top_regs.md"] == register_outputs.markdown(cfg)
+    assert files["top_regs.xml"] == register_outputs.ipxact(cfg)
+    assert files["dptbd_regs.h"] == register_outputs.c_header(cfg)
+    assert json.loads(files["top.json"])["register_references"] == {
+        "markdown": "top_regs.md", "ipxact": "top_regs.xml", "html": "top_regs_html/index.html"}
+    write_html_reference(tmp_path, cfg, "top")
+    assert html_folder_name("top") == "top_regs_html"
+    html = tmp_path / "top_regs_html"
+    assert (html / "index.html").is_file()
+    assert "SEGMENT_FRAMES" in (html / "data" / "ral-data-0.json").read_text()
+    assert any("range_max" in page.read_text() for page in (html / "content").glob("*.html"))
 
 
 def test_fusesoc_parses_the_core(package):
@@ -176,11 +196,12 @@ def test_state_store_package_lints_clean_and_names_the_port(tmp_path, data_bits,
     assert manifest["state_store"]["data_bits"] == data_bits
     ports = {p["name"]: p["width"] for p in manifest["ports"]}
     assert ports["m_axi_state_rdata"] == data_bits and ports["m_axi_state_bid"] == 2
-    assert manifest["registers"] == register_export.register_constants(
-        register_map(cfg, store))
+    assert manifest["registers"] == register_constants(register_map(cfg, store))
     core = CoreInterface(Core2Parser(), tmp_path / "top.core")
     assert core.get_toplevel({"target": "lint"}) == "dptbd_axi"
     assert "m_axi_state_*" in (tmp_path / "top.core").read_text().splitlines()[2]
-    assert "#define DPTBD_REG_STATE_BASE 0x00000058u" in files["dptbd_regs.h"]
+    assert "#define DPTBD_AXI__CONTROL__STATE_BASE__STATE_BASE_bm 0xffffffff" in \
+        files["dptbd_regs.h"]
+    assert "uint32_t STATE_BASE;" in files["dptbd_regs.h"]
     assert manifest["top"] == "AXITopStore" and ports["s_axis_video_tdata"] == 8 * p
     assert ("#define DPTBD_PIXELS_PER_CLOCK" in files["dptbd_regs.h"]) == (p > 1)

@@ -10,8 +10,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.hw.register_map import FAULTS, register_map
+from dptbd.hw.register_map import FAULTS, constants_namespace, register_map
 from dptbd.sim.axi import runs as axi_runs, stimulus as axi_stimulus
 from dptbd.sim.axi.runs import (ACTIONS, AXI_FAULTS, NOW_SWEEP, REFUSALS, check_run,
                                 draw_run)

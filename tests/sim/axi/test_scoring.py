@@ -10,7 +10,7 @@ import dataclasses
 import numpy as np
 
 from dptbd.hw.candidate_layout import pack_cut_trailer, unpack_candidate
-from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.hw.register_map import constants_namespace
 from dptbd.sim.verilator import axi as verilator_axi
 from dptbd.sim.axi.stimulus import Beats, CutList, clean_beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import list_words

@@ -15,8 +15,7 @@ import shutil
 import numpy as np
 import pytest
 
-from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.hw.register_map import FAULTS
+from dptbd.hw.register_map import FAULTS, constants_namespace
 from dptbd.sim.axi.stimulus import clean_beats, expected_outputs, fault_counts, with_fault
 from dptbd.sim.candidate_scoreboard import list_words
 from dptbd.sim.icarus import simulate

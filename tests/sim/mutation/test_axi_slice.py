@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import pytest
 
-from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.hw.register_map import constants_namespace
 from dptbd.sim import verilator as V
 from dptbd.sim.mutation.netlist import parse_mutations
 from dptbd.sim.mutation.run import config, mutant_design, run_slice

@@ -93,7 +93,7 @@ def test_add_presets_refuses_a_missing_module_or_counter():
 def test_a_preset_counter_reads_back_and_counts_on_in_a_mutant_build():
     import numpy as np
 
-    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.hw.register_map import constants_namespace
     from dptbd.sim import verilator as V
     from dptbd.sim.axi.stimulus import clean_beats
     from dptbd.sim.verilator.axi import run_axi

@@ -12,8 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dptbd.hw.flow.register_export import constants_namespace
-from dptbd.hw.register_map import FAULTS
+from dptbd.hw.register_map import FAULTS, constants_namespace
 from dptbd.sim import verilator as V
 from dptbd.sim.axi.stimulus import clean_beats, with_fault
 from dptbd.sim.scenarios import make_frames

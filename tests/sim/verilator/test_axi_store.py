@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dptbd.hw.flow.register_export import constants_namespace
+from dptbd.hw.register_map import constants_namespace
 from dptbd.sim import verilator as V
 from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
 from dptbd.sim.candidate_scoreboard import list_words

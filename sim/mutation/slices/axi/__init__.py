@@ -195,7 +195,7 @@ def counter_plan(cfg: DPConfig) -> tuple:
     if repr(cfg) not in _COUNTER_PLANS:
         import numpy as np
 
-        from dptbd.hw.flow.register_export import constants_namespace
+        from dptbd.hw.register_map import constants_namespace
         from dptbd.hw.segmenter import scan_cycles
         from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
         from dptbd.sim.candidate_scoreboard import list_words
@@ -258,8 +258,7 @@ def axi_scenario(cfg: DPConfig, seed: int) -> tuple:
     seed."""
     import numpy as np
 
-    from dptbd.hw.flow.register_export import constants_namespace
-    from dptbd.hw.register_map import FAULTS, register_map
+    from dptbd.hw.register_map import FAULTS, constants_namespace, register_map
     from dptbd.sim.axi.stimulus import fault_stretches
     from dptbd.sim.scenarios import make_frames
 

@@ -28,7 +28,7 @@ def irq_plan(cfg: DPConfig) -> tuple:
     operations and, per w/r operation, the response expected."""
     import numpy as np
 
-    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.hw.register_map import constants_namespace
     from dptbd.sim.axi.stimulus import clean_beats
     from dptbd.sim.verilator.axi import OKAY, SLVERR
 
@@ -91,7 +91,7 @@ def restart_plan(cfg: DPConfig) -> tuple:
     among the w/r operations."""
     import numpy as np
 
-    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.hw.register_map import constants_namespace
     from dptbd.sim.axi.stimulus import clean_beats
 
     regs = constants_namespace(cfg)
@@ -163,7 +163,7 @@ def stall_plan(cfg: DPConfig) -> tuple:
     The beats and the operations."""
     import numpy as np
 
-    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.hw.register_map import constants_namespace
     from dptbd.sim.axi.stimulus import clean_beats
 
     regs = constants_namespace(cfg)
@@ -213,7 +213,7 @@ def lists_plan(cfg: DPConfig) -> tuple:
     (from the third on, every list is the same: the same frame, primed)."""
     import numpy as np
 
-    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.hw.register_map import constants_namespace
     from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
     from dptbd.sim.candidate_scoreboard import list_words
 
@@ -284,7 +284,7 @@ def presets_plan(cfg: DPConfig) -> tuple:
     ``scan_cycles`` each, as in the ``counters`` run; no OUTPUT_STALLS)."""
     import numpy as np
 
-    from dptbd.hw.flow.register_export import constants_namespace
+    from dptbd.hw.register_map import constants_namespace
     from dptbd.hw.segmenter import scan_cycles
     from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
     from dptbd.sim.mutation.presets import preset_counters
