@@ -1,16 +1,21 @@
-"""The register map of the AXI top level (``dptbd_axi``), as data: the one source.
+"""The register map of the AXI top level (``dptbd_axi``), as data, read from its one source
+``hw/registers.rdl`` (SystemRDL, compiled per build by :func:`dptbd.hw.registers.compile_map`).
 
 :func:`register_map` returns, for a :class:`~dptbd.config.DPConfig`, every register of the
 AXI4-Lite control port: its byte address, its fields (bit position, width, kind, reset value,
-allowed range, meaning) and the weight LUT's register window. Everything else reads it:
+allowed range, meaning) and the weight LUT's register window. What reads it:
 
-- the Amaranth register block (:mod:`dptbd.hw.register_file`) decodes it,
-- ``docs/registers.md``, the C header ``dptbd_regs.h`` and the Python constants the
-  testbenches use are rendered from it (:mod:`dptbd.hw.flow.register_export`).
+- the Amaranth register block (:mod:`dptbd.hw.register_file`) decodes it (its run-time range
+  checks are the fields' ``limits``);
+- :func:`register_constants` / :func:`constants_namespace`: the numbers the testbenches and
+  the manifest use;
+- the C header, HTML, Markdown (``docs/registers.md``) and IP-XACT are PeakRDL's renderings
+  of the compiled ``.rdl`` (:mod:`dptbd.hw.flow.register_docs`).
 
 The control port is AXI4-Lite with 32-bit data and byte addresses (``docs/integration.md``
-says why). Every register is one aligned 32-bit word (:data:`BUS_RULES`: what the port
-answers to unaligned, unmapped and window accesses). A field's *kind* says who writes it:
+says why). Every register is one aligned 32-bit word (the ``addrmap``'s description says what
+the port answers to unaligned, unmapped and window accesses). A field's *kind* says who writes
+it; it is read from the field's SystemRDL properties (:func:`field_kind`):
 
 =========== ======= ==================================================================
 kind        access  behaviour
@@ -31,13 +36,11 @@ status      ro      the core's state now (a level, not latched); writes are refu
 from __future__ import annotations
 
 import dataclasses
+import types
 
 from dptbd.config import DPConfig
 
 __all__ = [
-    "MAGIC",
-    "MAP_VERSION",
-    "BUS_RULES",
     "ADDRESS_BITS",
     "DATA_BITS",
     "COUNTER_BITS",
@@ -51,26 +54,17 @@ __all__ = [
     "Window",
     "RegisterMap",
     "register_map",
+    "field_kind",
+    "register_constants",
+    "constants_namespace",
 ]
 
-#: ``ID`` register: ASCII "DPTB".
-MAGIC = 0x44505442
-#: (major, minor) of this map; major changes when an existing register moves or changes.
-MAP_VERSION = (1, 1)
 #: Byte-address bits of the control port: a 4 KiB window.
 ADDRESS_BITS = 12
 #: AXI4-Lite data width.
 DATA_BITS = 32
 #: Width of every counter.
 COUNTER_BITS = 32
-#: What the control port answers besides the field kinds (``docs/registers.md`` prints it).
-BUS_RULES = (
-    "An address that is not a multiple of 4 is unaligned: a read returns 0 with SLVERR, a "
-    "write is refused (nothing changes, ERROR.write_refused set, SLVERR). Reading an "
-    "unmapped address returns 0 with SLVERR; writing one is ignored with SLVERR. The LUT "
-    "window is write-only: a read returns 0 with SLVERR; a write must strobe all four "
-    "bytes (wstrb = 1111) and hold a code in range, else it is refused (entry unchanged, "
-    "ERROR.write_refused set, SLVERR).")
 #: Byte address of the weight LUT window's entry 0.
 LUT_WINDOW_BASE = 0x400
 
@@ -149,7 +143,7 @@ class Register:
 @dataclasses.dataclass(frozen=True)
 class Window:
     """A write-only array of registers: entry i at ``base + 4 * i`` (reads answer SLVERR,
-    a write must strobe every byte: :data:`BUS_RULES`)."""
+    a write must strobe every byte)."""
 
     name: str
     base: int
@@ -188,170 +182,201 @@ class RegisterMap:
         return [(r, f) for r in self.registers for f in r.fields if f.kind == kind]
 
 
-def _bits(hi: int) -> int:
-    return max(1, int(hi).bit_length())
-
-
-def _one(name, kind, reset, doc, *, width=32, limits=None, event=None, field=None):
-    return (Field(field or name.lower(), 0, width, kind, reset, doc, limits, event),)
-
-
-def _identification(cfg: DPConfig, k_max: int) -> list[tuple]:
-    return [
-        ("ID", "identification", "magic number, ASCII \"DPTB\"",
-         _one("id", "constant", MAGIC, "0x44505442", field="magic")),
-        ("VERSION", "identification", "register-map version",
-         (Field("minor", 0, 16, "constant", MAP_VERSION[1], "minor version"),
-          Field("major", 16, 16, "constant", MAP_VERSION[0], "major version"))),
-        ("BUILD_FRAME", "identification", "frame size",
-         (Field("width", 0, 16, "constant", cfg.width, "W, pixels per line"),
-          Field("height", 16, 16, "constant", cfg.height, "H, lines per frame"))),
-        ("BUILD_BITS", "identification", "arithmetic widths",
-         (Field("input_bits", 0, 8, "constant", cfg.input_bits, "B_in"),
-          Field("energy_bits", 8, 8, "constant", cfg.energy_bits, "B_E"),
-          Field("weight_frac_bits", 16, 8, "constant", cfg.weight_frac_bits, "F"),
-          Field("radius", 24, 8, "constant", cfg.radius, "r, search radius"))),
-        ("BUILD_SEGMENT", "identification", "segment length",
-         (Field("k_max", 0, 16, "constant", k_max, "K_max, largest run-time K"),
-          Field("segment_frames", 16, 16, "constant", cfg.segment_frames,
-                "K at reset"))),
-        ("BUILD_CANDIDATES", "identification", "segmenter capacity",
-         (Field("record_capacity", 0, 24, "constant", cfg.record_capacity,
-                "C, largest run-time n, records per list"),
-          Field("histogram_bits", 24, 8, "constant", cfg.histogram_bits,
-                "b, 2**b histogram bins"))),
-        ("BUILD_DEFAULTS", "identification", "segmenter settings at reset",
-         (Field("candidate_count", 0, 24, "constant", cfg.n_candidates, "n at reset"),
-          Field("histogram_shift", 24, 8, "constant", cfg.bin_shift, "s at reset"))),
-        ("BUILD_LUT", "identification", "weight LUT window",
-         (Field("lut_entries", 0, 16, "constant", cfg.lut_entries, "entries, (M+1)*M"),
-          Field("weight_bits", 16, 8, "constant", cfg.weight_bits, "bits per code, F+1"))),
-    ]
-
-
-def _control(cfg: DPConfig, k_max: int) -> list[tuple]:
-    return [
-        ("CONTROL", "control", "write 1 to a bit for a one-cycle pulse; reads 0",
-         (Field("soft_reset", 0, 1, "pulse", 0,
-                "close the list being sent (a cut trailer) and, with m_axis_state, the line "
-                "being sent (filler words), then reset the core and the frame monitor "
-                "(resync); registers are kept"),
-          Field("clear_counters", 1, 1, "pulse", 0, "set every counter to 0"))),
-        ("SEGMENT_FRAMES", "control", "run-time K",
-         _one("segment_frames", "setting", cfg.segment_frames, "K, frames per segment",
-              width=16, limits=(1, k_max))),
-        ("CANDIDATE_COUNT", "control", "run-time n",
-         _one("candidate_count", "setting", cfg.n_candidates,
-              "n, candidate points per list", width=_bits(cfg.record_capacity),
-              limits=(0, cfg.record_capacity))),
-        ("HISTOGRAM_SHIFT", "control", "run-time s",
-         _one("histogram_shift", "setting", cfg.bin_shift, "s, E >> s is the histogram bin",
-              width=_bits(cfg.energy_bits - 1), limits=(0, cfg.energy_bits - 1))),
-        ("IRQ_ENABLE", "control", "interrupt mask: 1 lets the pending bit raise irq",
-         (Field("segment_done", 0, 1, "enable", 0, "end of segment"),
-          Field("fault", 1, 1, "enable", 0, "any ERROR bit set"))),
-        ("VIDEO_INPUT", "control", "video source",
-         _one("no_sof", "setting", 0,
-              "1: the source sends no start-of-frame markers (tuser[0] held 0), so a "
-              "missing start of frame is no fault (ERROR.frame_long never set); 0: every "
-              "frame must start with tuser[0]", width=1, limits=(0, 1))),
-    ]
-
-
-def _status(cfg: DPConfig, store=None) -> list[tuple]:
-    sticky = tuple(Field(name, i, 1, "sticky", 0, doc, event=name) for i, (name, doc) in
-                   enumerate([*zip(FAULTS, ("start of frame in the middle of a line",
-                                            "start of frame at the first column of lines "
-                                            "1 ... H-1 (H-1 included): frame of fewer than "
-                                            "H lines",
-                                            "no start of frame where a frame should start: "
-                                            "frame longer than W*H",
-                                            "a line (the beats up to tlast) whose length "
-                                            "is not W: one event per such line")),
-                              ("write_refused", "a register write was refused")]))
-    if store is not None:
-        sticky += _store_sticky(len(sticky))
-    counters = [("FRAMES", "frame_done", "frames output by the DP pipeline"),
-                ("SEGMENTS", "segment_done", "segments output by the DP pipeline"),
-                ("LISTS", "list_done", "candidate lists (trailers) sent"),
-                ("SATURATED", "saturated", "state words whose E saturated at e_max"),
-                *[(f"FAULT_{name.upper()}", name, f"ERROR.{name} events") for name in FAULTS],
-                ("INPUT_STALLS", "input_stall",
-                 "cycles with s_axis_video_tvalid high and tready low"),
-                ("OUTPUT_STALLS", "output_stall",
-                 "cycles with an output stalled (back-pressure): m_axis_cand, or "
-                 "m_axis_state with --state-output, tvalid high and tready low")]
-    return [
-        ("ERROR", "status", "sticky error bits, write 1 to clear", sticky),
-        ("IRQ_STATUS", "status", "pending interrupts, write 1 to clear",
-         (Field("segment_done", 0, 1, "interrupt", 0, "a segment ended", event="segment_done"),
-          Field("fault", 1, 1, "interrupt", 0, "an ERROR bit was set", event="fault"))),
-        *[(name, "status", doc, _one(name, "counter", 0, doc, event=event, field="count"))
-          for name, event, doc in counters],
-        ("STATUS", "status", "the core's state now",
-         (Field("soft_reset_busy", 0, 1, "status", 0,
-                "a CONTROL.soft_reset is in progress: the list (with m_axis_state also the "
-                "line) being sent is being closed (waiting for m_axis_cand_tready, "
-                "m_axis_state_tready) and the input is held"),)),
-    ]
-
-
 def register_map(cfg: DPConfig, store=None) -> RegisterMap:
-    """The register map of ``dptbd_axi`` built for ``cfg``; with ``store`` (an
+    """The register map of ``dptbd_axi`` built for ``cfg``, read from ``hw/registers.rdl``
+    compiled for it (:func:`dptbd.hw.registers.compile_map`); with ``store`` (an
     :class:`~dptbd.config.AxiStoreConfig` of ``cfg``) the map of the build with the state
-    store in external memory (``--state-store axi``), which adds the registers of
-    :func:`_store_registers` after each group's own and the bits ``state_read`` /
-    ``state_write`` to ``ERROR``.
+    store in external memory (``--state-store axi``), which adds the registers of that build
+    after each group's own and the bits ``state_read`` / ``state_write`` to ``ERROR``.
 
-    Identification registers from 0x000, control from 0x040, status from 0x080, the weight
-    LUT window from 0x400 (entry ``cfg.lut_address(p, m)`` at ``0x400 + 4 * address``).
+    Identification registers from 0x000, control from 0x040, status from 0x080 (the
+    ``regfile`` of each group), the weight LUT window from 0x400 (entry
+    ``cfg.lut_address(p, m)`` at ``0x400 + 4 * address``). Each field's kind is read from
+    its SystemRDL properties (:func:`field_kind`); ``events`` are the counters' events in
+    address order.
 
     Raises
     ------
     dptbd.errors.ConfigError
         ``store`` with more than 32 address bits (``STATE_BASE`` is one 32-bit register) or
         made for another configuration.
+    dptbd.hw.registers.RegisterMapError
+        The ``.rdl`` does not compile (the compiler's errors, with file and line), or a
+        register has an access the register file cannot implement (naming the register).
     """
-    k_max = cfg.k_max
-    registers = []
-    groups = [_identification(cfg, k_max), _control(cfg, k_max), _status(cfg, store)]
+    from dptbd.hw.registers import compile_map
+
     if store is not None:
-        for group, extra in zip(groups, _store_registers(cfg, store)):
-            group.extend(extra)
-    for base, group in zip((0x000, 0x040, 0x080), groups):
-        for i, (name, _group, doc, fields) in enumerate(group):
-            registers.append(Register(name, base + 4 * i, _group, doc, fields))
-    unity = 1 << cfg.weight_frac_bits
-    lut = Window("LUT", LUT_WINDOW_BASE, cfg.lut_entries,
-                 Field("code", 0, cfg.weight_bits, "setting", 0,
-                       f"weight code c in [0, 2**F = {unity}], weight c / 2**F",
-                       limits=(0, unity)),
-                 "weight LUT entry [p, m] at LUT + 4 * (p * M + m) (DPConfig.lut_address); "
-                 "write-only (reads SLVERR), whole-word writes (wstrb = 1111)")
-    assert lut.end <= 1 << ADDRESS_BITS
-    assert all(r.address < 0x040 for r in registers if r.group == "identification")
-    assert all(r.address < 0x080 for r in registers if r.group == "control")
-    events = EVENTS if store is None else (*EVENTS, *STORE_EVENTS)
-    return RegisterMap(tuple(registers), (lut,), events=events)
+        _check_store(cfg, store)
+    return _read_map(compile_map(cfg, store))
+
+
+def _read_map(top) -> RegisterMap:
+    """The :class:`RegisterMap` of a compiled ``addrmap``: its ``regfile`` children are the
+    groups of registers, its register arrays the windows."""
+    from systemrdl.node import RegfileNode, RegNode
+
+    registers, windows = [], []
+    for child in top.children(unroll=False):
+        if isinstance(child, RegfileNode):
+            for reg in child.children(unroll=False):
+                registers.append(_register(reg, child.inst_name))
+        elif isinstance(child, RegNode) and child.is_array:
+            windows.append(_window(child))
+        else:
+            raise _refused(child.inst_name, "the map holds register groups (regfile) and "
+                                            "windows (register arrays) only")
+    assert all(w.end <= 1 << ADDRESS_BITS for w in windows)
+    events = tuple(f.event for r in registers for f in r.fields if f.kind == "counter")
+    return RegisterMap(tuple(registers), tuple(windows), events=events)
+
+
+def _refused(name: str, why: str):
+    from dptbd.hw.registers import RegisterMapError
+
+    return RegisterMapError(f"register {name}: {why}; the register file implements "
+                            f"{', '.join(FIELD_KINDS)} (docs/integration.md)")
+
+
+def field_kind(field) -> str | None:
+    """The kind (:data:`FIELD_KINDS`) a compiled SystemRDL field implements, from its
+    properties (``hw/registers.rdl`` lists them), or ``None`` if none."""
+    from systemrdl.rdltypes import AccessType, OnWriteType
+
+    sw, hw = field.get_property("sw"), field.get_property("hw")
+    onwrite, prop = field.get_property("onwrite"), field.get_property
+    if (field.get_property("onread") is not None or prop("swmod") or prop("swacc")
+            or prop("hwclr") or prop("we") or prop("wel")):
+        return None
+    counting = prop("counter")
+    if counting:
+        return "counter" if (sw, hw, onwrite) == (AccessType.r, AccessType.r, None) else None
+    if prop("singlepulse"):
+        return "pulse" if (sw, hw, onwrite) == (AccessType.w, AccessType.r, None) else None
+    if onwrite == OnWriteType.woclr:
+        if (sw, hw) == (AccessType.rw, AccessType.r) and prop("hwset"):
+            return "interrupt" if prop("intr") else "sticky"
+        return None
+    if onwrite is not None or prop("hwset") or prop("intr"):
+        return None
+    if (sw, hw) == (AccessType.r, AccessType.na):
+        return "constant"
+    if (sw, hw) == (AccessType.r, AccessType.w):
+        return "status"
+    if (sw, hw) == (AccessType.rw, AccessType.r):
+        return "setting" if prop("range_max") is not None else "enable"
+    return None
+
+
+def _access(field) -> str:
+    """A field's SystemRDL access, as a refusal names it."""
+    text = f"sw={field.get_property('sw').name}, hw={field.get_property('hw').name}"
+    for name in ("onwrite", "onread"):
+        value = field.get_property(name)
+        if value is not None:
+            text += f", {name}={value.name}"
+    return text + "".join(f", {name}" for name in ("singlepulse", "counter", "hwset", "hwclr",
+                                                    "intr", "swmod", "swacc")
+                          if field.get_property(name))
+
+
+def _field(node, kind: str, reg_doc: str) -> Field:
+    lo, hi = node.get_property("range_min"), node.get_property("range_max")
+    limits = None if hi is None else (0 if lo is None else lo, hi)
+    return Field(node.inst_name, node.lsb, node.width, kind, node.get_property("reset") or 0,
+                 node.get_property("desc") or reg_doc, limits, node.get_property("event"),
+                 node.get_property("range_align"))
+
+
+def _register(reg, group: str) -> Register:
+    """The :class:`Register` of a compiled ``reg``, refused if the register file cannot
+    implement it."""
+    name = reg.inst_name
+    if reg.is_array:
+        raise _refused(name, "a register array is a window, at the top of the map")
+    if reg.get_property("regwidth") != DATA_BITS:
+        raise _refused(name, f"{reg.get_property('regwidth')} bits wide; every register is "
+                             f"one {DATA_BITS}-bit word")
+    fields = list(reg.fields())
+    kinds = [field_kind(f) for f in fields]
+    for node, kind in zip(fields, kinds):
+        if kind is None:
+            raise _refused(name, f"field {node.inst_name} has an access the register file "
+                                 f"cannot implement ({_access(node)})")
+    if len(set(kinds)) > 1:
+        raise _refused(name, "fields of different kinds (" + ", ".join(
+            f"{f.inst_name}: {k}" for f, k in zip(fields, kinds)) + "); a register's fields "
+            "share one kind")
+    if kinds[0] == "setting" and (len(fields) > 1 or fields[0].lsb != 0):
+        raise _refused(name, "a setting register has one field, from bit 0 (the whole "
+                             "written word is checked against its range)")
+    if kinds[0] == "counter" and (len(fields) > 1 or fields[0].width != COUNTER_BITS):
+        raise _refused(name, f"a counter register has one field of {COUNTER_BITS} bits")
+    doc = reg.get_property("desc") or ""
+    return Register(name, reg.absolute_address, group, doc,
+                    tuple(_field(f, k, doc) for f, k in zip(fields, kinds)))
+
+
+def _window(reg) -> Window:
+    """The :class:`Window` of a compiled register array: one write-only field from bit 0 with
+    a range (``sw = w; hw = r;``, ``range_max``), every write checked."""
+    from systemrdl.rdltypes import AccessType
+
+    fields = list(reg.fields())
+    node = fields[0]
+    plain = not any(node.get_property(name) for name in (
+        "onwrite", "onread", "singlepulse", "counter", "hwset", "hwclr", "intr", "swmod"))
+    if (len(fields) > 1 or node.lsb != 0 or not plain or node.get_property("range_max") is None
+            or (node.get_property("sw"), node.get_property("hw")) != (AccessType.w,
+                                                                       AccessType.r)):
+        raise _refused(reg.inst_name, "a window (register array) has one write-only field "
+                                      "from bit 0 with a range (sw = w; hw = r; range_max)")
+    doc = reg.get_property("desc") or ""
+    (entries,) = reg.array_dimensions
+    return Window(reg.inst_name, reg.raw_absolute_address, entries,
+                  _field(node, "setting", doc), doc)
+
+
+def register_constants(regmap: RegisterMap) -> dict[str, int]:
+    """Every number a driver needs, by name (no prefix): ``MAGIC`` (the ``ID`` register's
+    value), ``MAP_VERSION_MAJOR`` / ``_MINOR``, ``ADDRESS_BITS``, ``REG_<REGISTER>`` (byte
+    address), ``<REGISTER>_RESET``, per field ``<REGISTER>_<FIELD>_SHIFT`` / ``_MASK`` /
+    ``_RESET`` (and ``_MIN`` / ``_MAX`` for a setting), per window ``<WINDOW>_BASE`` /
+    ``_ENTRIES`` / ``_MIN`` / ``_MAX``: what the manifest records and the testbenches use."""
+    version = {f.name: f.reset for f in regmap["VERSION"].fields}
+    out = {"MAGIC": regmap["ID"].reset, "MAP_VERSION_MAJOR": version["major"],
+           "MAP_VERSION_MINOR": version["minor"], "ADDRESS_BITS": regmap.address_bits}
+    for reg in regmap.registers:
+        out[f"REG_{reg.name}"] = reg.address
+        out[f"{reg.name}_RESET"] = reg.reset
+        for field in reg.fields:
+            stem = f"{reg.name}_{field.name.upper()}"
+            out[f"{stem}_SHIFT"] = field.lsb
+            out[f"{stem}_MASK"] = field.mask
+            out[f"{stem}_RESET"] = field.reset
+            if field.limits is not None:
+                out[f"{stem}_MIN"], out[f"{stem}_MAX"] = field.limits
+    for win in regmap.windows:
+        out[f"{win.name}_BASE"] = win.base
+        out[f"{win.name}_ENTRIES"] = win.entries
+        out[f"{win.name}_MIN"], out[f"{win.name}_MAX"] = win.field.limits
+    return out
+
+
+def constants_namespace(cfg: DPConfig, store=None) -> types.SimpleNamespace:
+    """:func:`register_constants` of ``cfg``'s map (with the state store ``store``, an
+    :class:`~dptbd.config.AxiStoreConfig`, if given) as attributes (``regs.REG_ERROR``):
+    what the testbenches read every offset and field through."""
+    return types.SimpleNamespace(**register_constants(register_map(cfg, store)))
 
 
 #: Most address bits of the state store of ``dptbd_axi`` (``STATE_BASE`` is one register).
 STORE_ADDRESS_BITS = 32
 
 
-def _store_sticky(first_bit: int) -> tuple[Field, ...]:
-    """The ``ERROR`` bits of the build with the state store in external memory."""
-    return (Field("state_read", first_bit, 1, "sticky", 0,
-                  "a state read burst was answered with SLVERR or DECERR (on any beat)",
-                  event="state_read_error"),
-            Field("state_write", first_bit + 1, 1, "sticky", 0,
-                  "a state write burst was answered with SLVERR or DECERR",
-                  event="state_write_error"))
-
-
-def _store_registers(cfg: DPConfig, store) -> tuple[list, list, list]:
-    """The registers the state store in external memory adds, per group (identification,
-    control, status); see ``docs/integration.md``, "State store in external memory"."""
+def _check_store(cfg: DPConfig, store) -> None:
+    """Refuse a state store the map cannot describe (see ``docs/integration.md``, "State
+    store in external memory")."""
     from dptbd.errors import ConfigError
 
     if store.frame != cfg:
@@ -361,41 +386,3 @@ def _store_registers(cfg: DPConfig, store) -> tuple[list, list, list]:
         raise ConfigError(
             f"address_bits={store.address_bits}: dptbd_axi's STATE_BASE register holds "
             f"{STORE_ADDRESS_BITS} bits; use address_bits <= {STORE_ADDRESS_BITS}")
-    top = (1 << store.address_bits) - store.frame_bytes
-    highest = top - top % store.burst_bytes
-    identification = [
-        ("BUILD_STATE_STORE", "identification", "the state store's AXI4 manager port",
-         (Field("data_bits", 0, 8, "constant", store.data_bits, "data width"),
-          Field("address_bits", 8, 8, "constant", store.address_bits, "address width"),
-          Field("id_bits", 16, 8, "constant", store.id_bits, "ID width (ID 0 is used)"),
-          Field("outstanding", 24, 8, "constant", store.outstanding,
-                "most bursts in flight per direction"))),
-        ("BUILD_STATE_LAYOUT", "identification", "the state's layout in memory",
-         (Field("burst_beats", 0, 16, "constant", store.burst_beats, "beats of a full burst"),
-          Field("slot_bits", 16, 8, "constant", store.slot_bits, "bits per state slot"))),
-        ("BUILD_STATE_BYTES", "identification", "bytes of one frame's state",
-         _one("frame_bytes", "constant", store.frame_bytes,
-              "W * H * slot_bits / 8, from STATE_BASE")),
-    ]
-    control = [
-        ("STATE_BASE", "control", "state store base address",
-         (Field("state_base", 0, store.address_bits, "setting", store.base_address,
-                f"byte address of pixel 0's state slot, a multiple of the burst size "
-                f"({store.burst_bytes} bytes) with the frame's {store.frame_bytes} bytes "
-                f"below 2**{store.address_bits}, else refused; taken by the store at the "
-                f"next CONTROL.soft_reset (STATE_BASE_ACTIVE)",
-                limits=(0, highest), align=store.burst_bytes),)),
-    ]
-    status = [
-        *[(name, "status", doc, _one(name, "counter", 0, doc, event=event, field="count"))
-          for name, event, doc in (
-              ("STATE_READ_ERRORS", "state_read_error",
-               "state read beats answered with SLVERR or DECERR"),
-              ("STATE_WRITE_ERRORS", "state_write_error",
-               "state write bursts answered with SLVERR or DECERR"))],
-        ("STATE_BASE_ACTIVE", "status", "the state base address in use",
-         (Field("state_base_active", 0, store.address_bits, "status", store.base_address,
-                "the STATE_BASE the store uses: taken at aresetn and at every "
-                "CONTROL.soft_reset"),)),
-    ]
-    return identification, control, status

@@ -25,8 +25,8 @@ from amaranth.lib import data
 from dptbd.config import ROUNDING_MODES, DPConfig
 from dptbd.hw.axis_video import byte_padded
 from dptbd.hw.candidate_layout import candidate_layout
-from dptbd.hw.register_map import (ADDRESS_BITS, BUS_RULES, FIELD_ACCESS, FIELD_KINDS, MAGIC, MAP_VERSION, RegisterMap,
-                                   register_map)
+from dptbd.hw.register_map import (ADDRESS_BITS, FIELD_ACCESS, FIELD_KINDS, RegisterMap,
+                                   constants_namespace, register_constants, register_map)
 
 __all__ = ["ROUNDING_MEANINGS", "register_constants", "candidate_constants",
            "constants_namespace", "markdown", "c_header", "python_module", "main"]
@@ -54,30 +54,6 @@ _KIND_TEXT = {
     "interrupt": "pending; write 1 to clear; irq = any pending AND enabled",
     "status": "the core's state now (not latched); writes refused (SLVERR)",
 }
-
-
-def register_constants(regmap: RegisterMap) -> dict[str, int]:
-    """Every number a driver needs, by name (no prefix): ``MAGIC``, ``MAP_VERSION_*``,
-    ``REG_<REGISTER>`` (byte address), ``<REGISTER>_RESET``, per field
-    ``<REGISTER>_<FIELD>_SHIFT`` / ``_MASK`` / ``_RESET`` (and ``_MIN`` / ``_MAX`` for a
-    setting), per window ``<WINDOW>_BASE`` / ``_ENTRIES`` / ``_MIN`` / ``_MAX``."""
-    out = {"MAGIC": MAGIC, "MAP_VERSION_MAJOR": MAP_VERSION[0],
-           "MAP_VERSION_MINOR": MAP_VERSION[1], "ADDRESS_BITS": ADDRESS_BITS}
-    for reg in regmap.registers:
-        out[f"REG_{reg.name}"] = reg.address
-        out[f"{reg.name}_RESET"] = reg.reset
-        for field in reg.fields:
-            stem = f"{reg.name}_{field.name.upper()}"
-            out[f"{stem}_SHIFT"] = field.lsb
-            out[f"{stem}_MASK"] = field.mask
-            out[f"{stem}_RESET"] = field.reset
-            if field.limits is not None:
-                out[f"{stem}_MIN"], out[f"{stem}_MAX"] = field.limits
-    for win in regmap.windows:
-        out[f"{win.name}_BASE"] = win.base
-        out[f"{win.name}_ENTRIES"] = win.entries
-        out[f"{win.name}_MIN"], out[f"{win.name}_MAX"] = win.field.limits
-    return out
 
 
 def candidate_constants(cfg: DPConfig) -> dict[str, int]:
@@ -123,13 +99,6 @@ def candidate_constants(cfg: DPConfig) -> dict[str, int]:
     return out
 
 
-def constants_namespace(cfg: DPConfig, store=None) -> types.SimpleNamespace:
-    """:func:`register_constants` of ``cfg``'s map (with the state store ``store``, an
-    :class:`~dptbd.config.AxiStoreConfig`, if given) as attributes (``regs.REG_ERROR``):
-    what the testbenches read every offset and field through."""
-    return types.SimpleNamespace(**register_constants(register_map(cfg, store)))
-
-
 def _bits(field) -> str:
     hi = field.lsb + field.width - 1
     return f"{hi}:{field.lsb}" if field.width > 1 else str(field.lsb)
@@ -159,7 +128,7 @@ def markdown(regmap: RegisterMap, cfg: DPConfig, store_map: RegisterMap | None =
         "`tests/hw/flow/test_register_export.py` checks this file against the generator.",
         "",
         f"AXI4-Lite, 32-bit data, {ADDRESS_BITS}-bit byte addresses, every register one "
-        f"aligned word. {BUS_RULES} See `docs/integration.md` for the ports and the protocol.",
+        f"aligned word. {_bus_rules()} See `docs/integration.md` for the ports and the protocol.",
         "",
         "| kind | access | behaviour |",
         "|---|---|---|",
@@ -269,6 +238,11 @@ def python_module(regmap: RegisterMap, cfg: DPConfig) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _bus_rules() -> str:
+    from dptbd.hw.registers import compile_map
+    return compile_map(DPConfig()).get_property("desc")
+
+
 def main(argv=None) -> int:
     """Write ``docs/registers.md`` (``--markdown``) for the default configuration."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -282,3 +256,4 @@ def main(argv=None) -> int:
 
 if __name__ == "__main__":
     raise SystemExit(main())
+

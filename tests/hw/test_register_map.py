@@ -5,7 +5,7 @@ import pytest
 
 from dptbd.config import DPConfig
 from dptbd.errors import ConfigError
-from dptbd.hw.register_map import (ADDRESS_BITS, EVENTS, FIELD_KINDS, MAGIC, register_map)
+from dptbd.hw.register_map import ADDRESS_BITS, EVENTS, FIELD_KINDS, register_map
 from helpers.refusals import whole
 from helpers.seg_harness import make_config
 
@@ -44,7 +44,7 @@ def test_ranges_follow_the_configuration():
     cfg = make_config(width=16, height=16, energy_bits=12, candidate_count=4,
                       candidate_capacity=9, weight_frac_bits=5)
     regmap = register_map(cfg)
-    assert regmap["ID"].reset == MAGIC
+    assert regmap["ID"].reset == 0x44505442          # ASCII "DPTB"
     assert regmap["SEGMENT_FRAMES"].fields[0].limits == (1, cfg.segment_frames)
     assert regmap["CANDIDATE_COUNT"].fields[0].limits == (0, 9)
     assert regmap["CANDIDATE_COUNT"].reset == 4
