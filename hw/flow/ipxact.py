@@ -18,24 +18,27 @@ component").
   ``ASSOCIATED_RESET`` names ``aresetn``. :func:`bus_interfaces` sorts the ports by name
   (:data:`INTERFACES`) and refuses a port no interface takes, a signal the bus definition
   does not have, or a direction the interface mode contradicts;
-- the memory map of ``s_axil``: every register and field of
-  :func:`~dptbd.hw.register_map.register_map` (:func:`memory_map`);
+- the memory map of ``s_axil``: the register map's one source, ``hw/registers.rdl``,
+  compiled for the build and exported by peakrdl-ipxact (:func:`memory_map`);
 - its file sets (the Verilog for Vivado's synthesis and simulation views, the C register
   header apart) and its parameters (the build's :class:`~dptbd.config.DPConfig` fields,
   fixed: the Verilog has no parameters).
 
-AMBA bus definitions of ARM (``amba.com``) are the vendor-neutral alternative; Vivado maps
-them to its own only through its IP packager, so this file names Vivado's.
+ARM's AMBA bus definitions (vendor ``amba.com``) are the vendor-neutral alternative; the
+block designs this file is for connect interfaces of Vivado's own definitions, so it names
+those (``docs/integration.md`` says what other tools need).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import pathlib
+import tempfile
 import xml.etree.ElementTree as ET
 from typing import Mapping, Sequence
 
 from dptbd.config import DPConfig
-from dptbd.hw.register_map import DATA_BITS, RegisterMap
+from dptbd.hw.register_map import ADDRESS_BITS
 
 __all__ = ["COMPONENT_FILE", "SPIRIT_NS", "XILINX_NS", "VENDOR", "LIBRARY",
            "BusDefinition", "BUS_DEFINITIONS", "INTERFACES", "BusInterface",
@@ -215,88 +218,27 @@ def _value(value) -> str:
 
 
 # -- the memory map --------------------------------------------------------------------------
-# Adapter from hw/register_map.py: replaced by peakrdl-ipxact's exporter once the register
-# map is described in SystemRDL.
 
-#: IEEE 1685-2009 ``access`` and ``modifiedWriteValue`` of each field kind
-#: (:data:`~dptbd.hw.register_map.FIELD_KINDS`), and whether it is volatile (the core
-#: changes it).
-_FIELD_ACCESS = {
-    "constant": ("read-only", None, False),
-    "setting": ("read-write", None, False),
-    "enable": ("read-write", None, False),
-    "pulse": ("write-only", None, False),
-    "counter": ("read-only", None, True),
-    "sticky": ("read-write", "oneToClear", True),
-    "interrupt": ("read-write", "oneToClear", True),
-    "status": ("read-only", None, True),
-}
+def memory_map(cfg: DPConfig, state_store=None) -> ET.Element:
+    """The ``spirit:memoryMap`` of the build's register map: ``hw/registers.rdl`` compiled
+    for ``cfg`` (and ``state_store``) by :func:`~dptbd.hw.registers.compile_map`, exported
+    by peakrdl-ipxact as IEEE 1685-2009 (one address block, a register file per group, the
+    LUT window a register array). The address block's range is widened to the port's whole
+    window (``2**ADDRESS_BITS`` bytes, every address of which answers, unmapped ones with
+    SLVERR) from the exporter's span of the registers."""
+    from peakrdl_ipxact import IPXACTExporter, Standard
 
+    from dptbd.hw.registers import compile_map
 
-def _field(parent: ET.Element, field, write_only: bool = False) -> None:
-    access, modified, volatile = _FIELD_ACCESS[field.kind]
-    access = "write-only" if write_only else access
-    element = _el(parent, "field")
-    _el(element, "name", field.name)
-    doc = field.doc + ("" if field.align is None else
-                       f" (a multiple of {field.align}, else refused)")
-    _el(element, "description", f"{field.kind}: {doc}")
-    _el(element, "bitOffset", field.lsb)
-    _el(element, "bitWidth", field.width)
-    _el(element, "volatile", str(volatile).lower())
-    _el(element, "access", access)
-    if modified is not None:
-        _el(element, "modifiedWriteValue", modified)
-    if field.limits is not None:
-        constraint = _el(element, "writeValueConstraint")
-        _el(constraint, "minimum", field.limits[0])
-        _el(constraint, "maximum", field.limits[1])
-
-
-def _register(block: ET.Element, name: str, doc: str, offset: int, fields, *,
-              dim: int | None = None, reset: int | None = None) -> None:
-    """A register; with ``dim`` an array of write-only registers (a window: reads SLVERR)."""
-    element = _el(block, "register")
-    _el(element, "name", name)
-    _el(element, "description", doc)
-    if dim is not None:
-        _el(element, "dim", dim)
-    _el(element, "addressOffset", f"0x{offset:03X}")
-    _el(element, "size", DATA_BITS)
-    kinds = {f.kind for f in fields}
-    _el(element, "volatile", str(any(_FIELD_ACCESS[k][2] for k in kinds)).lower())
-    access = {_FIELD_ACCESS[k][0] for k in kinds} if dim is None else {"write-only"}
-    _el(element, "access", access.pop() if len(access) == 1 else "read-write")
-    if reset is not None:
-        mask = sum(f.mask for f in fields if f.kind != "pulse")
-        value = _el(element, "reset")
-        _el(value, "value", f"0x{reset:08X}")
-        _el(value, "mask", f"0x{mask:08X}")
-    for field in fields:
-        _field(element, field, write_only=dim is not None)
-
-
-def memory_map(regs: RegisterMap, name: str = "s_axil") -> ET.Element:
-    """The ``spirit:memoryMap`` of ``regs``: one address block ``registers`` of
-    ``2**address_bits`` bytes from 0, every register with its fields, the LUT window as a
-    register array (``dim``)."""
-    mmap = ET.Element(_tag("memoryMap"))
-    _el(mmap, "name", name)
-    block = _el(mmap, "addressBlock")
-    _el(block, "name", "registers")
-    _el(block, "baseAddress", "0x0")
-    _el(block, "range", 1 << regs.address_bits)
-    _el(block, "width", DATA_BITS)
-    _el(block, "usage", "register")
-    items = sorted([(r.address, r) for r in regs.registers]
-                   + [(w.base, w) for w in regs.windows], key=lambda item: item[0])
-    for _address, item in items:
-        if hasattr(item, "fields"):
-            _register(block, item.name, f"{item.group}: {item.doc}", item.address,
-                      item.fields, reset=item.reset)
-        else:
-            _register(block, item.name, item.doc, item.base, (item.field,),
-                      dim=item.entries)
+    exporter = IPXACTExporter(standard=Standard.IEEE_1685_2009, vendor=VENDOR,
+                              library=LIBRARY, version="0")
+    with tempfile.TemporaryDirectory() as folder:
+        path = pathlib.Path(folder) / "map.xml"
+        exporter.export(compile_map(cfg, state_store), str(path))
+        exported = ET.parse(path).getroot()
+    (mmap,) = exported.iterfind(f"{_tag('memoryMaps')}/{_tag('memoryMap')}")
+    (block,) = mmap.iterfind(_tag("addressBlock"))
+    block.find(_tag("range")).text = f"0x{1 << ADDRESS_BITS:X}"
     return mmap
 
 
@@ -308,7 +250,7 @@ _VIEWS = (("xilinx_anylanguagesynthesis", ":vivado.xilinx.com:synthesis"),
 
 
 def _bus_interface(parent: ET.Element, bus: BusInterface, names: Sequence[str],
-                   reset: str | None) -> None:
+                   reset: str | None, memory_map_name: str) -> None:
     element = _el(parent, "busInterface")
     _el(element, "name", bus.name)
     definition = bus.definition
@@ -316,7 +258,7 @@ def _bus_interface(parent: ET.Element, bus: BusInterface, names: Sequence[str],
     _el(element, "abstractionType", **definition.vlnv(abstraction=True))
     mode = _el(element, bus.mode)
     if bus.kind == "aximm" and bus.mode == "slave":
-        _el(mode, "memoryMapRef", memoryMapRef=bus.name)
+        _el(mode, "memoryMapRef", memoryMapRef=memory_map_name)
     elif bus.kind == "aximm":
         _el(mode, "addressSpaceRef", addressSpaceRef=bus.name)
     maps = _el(element, "portMaps")
@@ -348,16 +290,13 @@ def _wire_port(parent: ET.Element, port: Mapping) -> None:
         _el(vector, "right", 0, format="long")
 
 
-def component_xml(cfg: DPConfig, ports: Sequence[Mapping], regs: RegisterMap, *,
-                  verilog: str, header: str, version: str, description: str,
-                  module: str = "dptbd_axi", state_store=None,
-                  memory_map_element: ET.Element | None = None) -> str:
-    """The text of ``component.xml`` for the build of ``cfg`` with ``ports`` (the manifest's)
-    and register map ``regs``; ``verilog`` and ``header`` are the file names of the Verilog and
-    the C header beside it, ``version`` the package's (the VLNV takes its major.minor),
-    ``state_store`` the :class:`~dptbd.config.AxiStoreConfig` of ``--state-store axi``.
-    ``memory_map_element``: the ``s_axil`` memory map (default :func:`memory_map` of
-    ``regs``).
+def component_xml(cfg: DPConfig, ports: Sequence[Mapping], *, verilog: str, header: str,
+                  version: str, description: str, module: str = "dptbd_axi",
+                  state_store=None) -> str:
+    """The text of ``component.xml`` for the build of ``cfg`` with ``ports`` (the manifest's);
+    ``verilog`` and ``header`` are the file names of the Verilog and the C header beside it,
+    ``version`` the package's (the VLNV takes its major.minor), ``state_store`` the
+    :class:`~dptbd.config.AxiStoreConfig` of ``--state-store axi``.
 
     Raises
     ------
@@ -365,6 +304,7 @@ def component_xml(cfg: DPConfig, ports: Sequence[Mapping], regs: RegisterMap, *,
         From :func:`bus_interfaces`.
     """
     interfaces = bus_interfaces(ports, module)
+    mmap = memory_map(cfg, state_store)
     for prefix in ("xilinx", "spirit", "xsi"):
         ET.register_namespace(prefix, {"xilinx": XILINX_NS, "spirit": SPIRIT_NS,
                                        "xsi": _XSI_NS}[prefix])
@@ -379,7 +319,7 @@ def component_xml(cfg: DPConfig, ports: Sequence[Mapping], regs: RegisterMap, *,
     streams = [b.name for b in interfaces if b.kind in ("axis", "aximm")]
     reset = next((b.name for b in interfaces if b.kind == "reset"), None)
     for bus in interfaces:
-        _bus_interface(buses, bus, streams, reset)
+        _bus_interface(buses, bus, streams, reset, mmap.find(_tag("name")).text)
 
     masters = [b for b in interfaces if b.kind == "aximm" and b.mode == "master"]
     if masters:
@@ -391,7 +331,7 @@ def component_xml(cfg: DPConfig, ports: Sequence[Mapping], regs: RegisterMap, *,
             _el(space, "width", state_store.data_bits)
     if any(b.kind == "aximm" and b.mode == "slave" for b in interfaces):
         maps = _el(root, "memoryMaps")
-        maps.append(memory_map(regs) if memory_map_element is None else memory_map_element)
+        maps.append(mmap)
 
     model = _el(root, "model")
     views = _el(model, "views")

@@ -166,8 +166,28 @@ def test_clock_associates_every_bus_and_the_reset(builds, build):
         "SENSITIVITY": ("LEVEL_HIGH", "BUSIFPARAM_VALUE.IRQ.SENSITIVITY")}
 
 
+def _registers(block):
+    """``{name: (byte address, element)}`` of the registers of an address block, those in
+    register files at the file's offset plus their own."""
+    out = {}
+    for parent, base in [(block, 0), *[(f, int(_text(f, "spirit:addressOffset"), 16))
+                                       for f in block.iterfind("spirit:registerFile", NS)]]:
+        for register in parent.iterfind("spirit:register", NS):
+            out[_text(register, "spirit:name")] = (
+                base + int(_text(register, "spirit:addressOffset"), 16), register)
+    return out
+
+
+#: IEEE 1685-2009 access and modifiedWriteValue of each access of the register map.
+ACCESS = {"ro": ("read-only", None), "rw": ("read-write", None), "wo": ("write-only", None),
+          "w1c": ("read-write", "oneToClear")}
+
+
 @pytest.mark.parametrize("build", ["chip", "store"])
 def test_memory_map_is_the_register_map(builds, build):
+    """The memory map (hw/registers.rdl through peakrdl-ipxact) has the registers the
+    register file decodes (register_map), at their addresses, with their reset values and
+    fields."""
     cfg, store, _files, root = builds[build]
     regs = register_map(cfg, store)
     ref = _interfaces(root)["s_axil"].find("spirit:slave/spirit:memoryMapRef", NS)
@@ -175,29 +195,24 @@ def test_memory_map_is_the_register_map(builds, build):
     (mmap,) = [m for m in root.iterfind("spirit:memoryMaps/spirit:memoryMap", NS)
                if _text(m, "spirit:name") == name]
     (block,) = mmap.iterfind("spirit:addressBlock", NS)
-    assert (int(_text(block, "spirit:range")), _text(block, "spirit:width"),
-            _text(block, "spirit:usage")) == (4096, "32", "register")
-    registers = {_text(r, "spirit:name"): r for r in block.iterfind("spirit:register", NS)}
-    assert list(registers) == sorted([r.name for r in regs.registers] + ["LUT"],
-                                     key=lambda n: regs[n].address if n != "LUT" else 0x400)
+    assert (int(_text(block, "spirit:baseAddress"), 16), int(_text(block, "spirit:range"), 16),
+            _text(block, "spirit:width")) == (0, 4096, "32")
+    registers = _registers(block)
+    assert sorted(registers) == sorted([r.name for r in regs.registers] + ["LUT"])
     for reg in regs.registers:
-        element = registers[reg.name]
-        assert int(_text(element, "spirit:addressOffset"), 16) == reg.address
+        address, element = registers[reg.name]
+        assert address == reg.address
         assert int(_text(element, "spirit:reset/spirit:value"), 16) == reg.reset
         fields = [(_text(f, "spirit:name"), int(_text(f, "spirit:bitOffset")),
                    int(_text(f, "spirit:bitWidth")), _text(f, "spirit:access"),
                    f.findtext("spirit:modifiedWriteValue", None, NS))
                   for f in element.iterfind("spirit:field", NS)]
-        access = {"ro": "read-only", "rw": "read-write", "wo": "write-only",
-                  "w1c": "read-write"}
-        assert fields == [(f.name, f.lsb, f.width, access[f.access],
-                           "oneToClear" if f.access == "w1c" else None) for f in reg.fields]
-    setting = registers["SEGMENT_FRAMES"].find("spirit:field/spirit:writeValueConstraint", NS)
-    assert (_text(setting, "spirit:minimum"), _text(setting, "spirit:maximum")) == (
-        "1", str(cfg.k_max))
-    lut = registers["LUT"]
-    assert (_text(lut, "spirit:dim"), _text(lut, "spirit:addressOffset"),
-            _text(lut, "spirit:access")) == (str(cfg.lut_entries), "0x400", "write-only")
+        assert fields == [(f.name, f.lsb, f.width, *ACCESS[f.access]) for f in reg.fields]
+    address, lut = registers["LUT"]
+    assert (address, int(_text(lut, "spirit:dim"))) == (0x400, cfg.lut_entries)
+    assert [(_text(f, "spirit:name"), int(_text(f, "spirit:bitWidth")), _text(f, "spirit:access"))
+            for f in lut.iterfind("spirit:field", NS)] == [("code", cfg.weight_bits,
+                                                           "write-only")]
     assert ("STATE_BASE" in registers) == (store is not None)
 
 
