@@ -6,7 +6,8 @@ pipeline with the segmenter (``dptbd_seg``: pixels in, candidate lists out,
 the AXI top level ``dptbd_axi`` (AXI4-Stream video in, candidate lists out, AXI4-Lite
 registers; ``docs/integration.md``) and writes, beside ``FILE.v`` and ``FILE.json``, the
 register header ``dptbd_regs.h``, the ``aclk`` constraints ``FILE.sdc`` / ``FILE.xdc`` at
-``--clock-mhz`` (default 100), the FuseSoC core ``FILE.core``
+``--clock-mhz`` (default 100), the IP-XACT component ``component.xml`` (Vivado's block
+designs; :mod:`dptbd.hw.flow.ipxact`), the FuseSoC core ``FILE.core``
 (:func:`dptbd.hw.flow.axi_package.axi_package`) and the register map's PeakRDL references:
 Markdown ``FILE_regs.md``, IP-XACT ``FILE_regs.xml`` and HTML ``FILE_regs_html/``.
 
@@ -78,8 +79,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--top", choices=TOPS, default="dp",
                         help="dp: the DP pipeline dptbd_dp (default); seg: the pipeline and "
                              "the segmenter, dptbd_seg; axi: the AXI top level dptbd_axi with "
-                             "its register header and references (Markdown, IP-XACT, HTML) "
-                             "and FuseSoC core")
+                             "its register header and references (Markdown, IP-XACT, HTML), "
+                             "IP-XACT component.xml and FuseSoC core")
     parser.add_argument("--external-state-store", action="store_true",
                         help="convert DPCore: the W*H-word state store outside the module")
     parser.add_argument("--lut-style", choices=("auto", "bram", "logic"), default="auto",

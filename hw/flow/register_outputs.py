@@ -219,16 +219,18 @@ def markdown(cfg: DPConfig, store=None) -> str:
     return _export(lambda path: _markdown_exporter().export(top, path), "regs.md")
 
 
-def ipxact(cfg: DPConfig, store=None) -> str:
-    """The map for ``cfg`` (and ``store``) as an IP-XACT (IEEE 1685-2014) component, VLNV
-    ``dptbd:dptbd:dptbd_axi:<version of dptbd>``."""
+def ipxact(cfg: DPConfig, store=None, *, standard: int = 2014) -> str:
+    """The map for ``cfg`` (and ``store``) as an IP-XACT component, VLNV
+    ``dptbd:dptbd:dptbd_axi:<version of dptbd>``: IEEE 1685-2014 (``<stem>_regs.xml``), or
+    1685-2009 (``standard=2009``, the memory map of ``component.xml``)."""
     from importlib.metadata import version
 
-    from peakrdl_ipxact import IPXACTExporter
+    from peakrdl_ipxact import IPXACTExporter, Standard
 
+    standards = {2014: Standard.IEEE_1685_2014, 2009: Standard.IEEE_1685_2009}
     top = compile_map(cfg, store)
-    exporter = IPXACTExporter(vendor=IPXACT_VENDOR, library=IPXACT_LIBRARY,
-                              version=version("dptbd"))
+    exporter = IPXACTExporter(standard=standards[standard], vendor=IPXACT_VENDOR,
+                              library=IPXACT_LIBRARY, version=version("dptbd"))
     return _export(lambda path: exporter.export(top, path), "regs.xml")
 
 

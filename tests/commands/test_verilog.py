@@ -192,10 +192,11 @@ def test_verilog_top_axi_writes_module_header_manifest_and_core(tmp_path, capsys
     out = tmp_path / "rtl" / "mine.v"
     assert verilog_command.main(parse(["-o", out, "--config", toml, "--top", "axi"])) == 0
     names = sorted(p.name for p in out.parent.iterdir())
-    assert names == ["dptbd_regs.h", "mine.core", "mine.json", "mine.sdc", "mine.v", "mine.xdc",
-                     "mine_regs.md", "mine_regs.xml", "mine_regs_html"]
+    assert names == ["component.xml", "dptbd_regs.h", "mine.core", "mine.json", "mine.sdc",
+                     "mine.v", "mine.xdc", "mine_regs.md", "mine_regs.xml", "mine_regs_html"]
     assert (out.parent / "mine_regs_html" / "index.html").is_file()
     assert "module dptbd_axi(" in out.read_text()
+    assert "<spirit:name>mine.v</spirit:name>" in (out.parent / "component.xml").read_text()
     manifest = json.loads((out.parent / "mine.json").read_text())
     assert manifest["module"] == "dptbd_axi" and manifest["parameters"]["width"] == 16
     assert manifest["reset"] == {"name": "aresetn", "polarity": "active_low",
@@ -326,8 +327,8 @@ def test_verilog_top_axi_state_store_axi_writes_the_package_with_the_port(tmp_pa
                   "--state-base", "0x1000"])
     assert verilog_command.main(args) == 0
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
-        ["core.v", "core.json", "dptbd_regs.h", "core.sdc", "core.xdc", "core.core",
-         "core_regs.md", "core_regs.xml", "core_regs_html"])
+        ["core.v", "core.json", "dptbd_regs.h", "core.sdc", "core.xdc", "component.xml",
+         "core.core", "core_regs.md", "core_regs.xml", "core_regs_html"])
     assert "module dptbd_axi(" in out.read_text()
     manifest = json.loads((tmp_path / "core.json").read_text())
     assert manifest["top"] == "AXITopStore"

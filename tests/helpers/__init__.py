@@ -17,4 +17,5 @@ Modules:
 - ``verilator_harness``: configurations and builds of the compiled-simulation tests.
 - ``compare_spec``: a small ``dptbd compare`` specification for the RTL-in-the-loop tests.
 - ``dask_processes``: Dask clusters of separate processes for the execution-layer tests.
+- ``verilog_ports``: the ports a generated Verilog module declares, read from its text.
 """
