@@ -37,7 +37,6 @@ from typing import Mapping, Sequence
 
 from dptbd.config import DPConfig
 from dptbd.hw.flow.register_outputs import IPXACT_LIBRARY, IPXACT_VENDOR, ipxact
-from dptbd.hw.register_map import ADDRESS_BITS
 
 __all__ = ["COMPONENT_FILE", "SPIRIT_NS", "XILINX_NS", "VENDOR", "LIBRARY",
            "BusDefinition", "BUS_DEFINITIONS", "INTERFACES", "BusInterface",
