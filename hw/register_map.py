@@ -300,7 +300,7 @@ def register_map(cfg: DPConfig, store=None) -> RegisterMap:
     """The register map of ``dptbd_axi`` built for ``cfg``; with ``store`` (an
     :class:`~dptbd.config.AxiStoreConfig` of ``cfg``) the map of the build with the state
     store in external memory (``--state-store axi``), which adds the registers of
-    :func:`_store_registers` after each group's own and the bits ``state_read`` /
+    :func:`!_store_registers` after each group's own and the bits ``state_read`` /
     ``state_write`` to ``ERROR``.
 
     Identification registers from 0x000, control from 0x040, status from 0x080, the weight
