@@ -21,6 +21,7 @@ import re
 import shutil
 import types
 
+import numpydoc.numpydoc
 from docutils import nodes
 
 project = "dptbd"
@@ -77,7 +78,11 @@ autoclass_content = "class"
 # without a docstring has a generated one (see _autodoc_signature below).
 autodoc_docstring_signature = False
 
-# numpydoc: the class pages list their members through autodoc, not numpydoc's tables.
+# numpydoc: the class pages list their members through autodoc, not numpydoc's tables. The
+# gateware's components document their ports in a "Members" section (Amaranth's name for a
+# signature's members), which numpydoc does not know and would drop with only a Python
+# warning: _members_in / _members_out below hand it to numpydoc as "Attributes" and title the
+# result "Members" again.
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 
@@ -168,15 +173,6 @@ def _clear_generated(app):
     shutil.rmtree(pathlib.Path(app.srcdir) / "api" / "generated", ignore_errors=True)
 
 
-def _autodoc_signature(app, what, name, obj, options, signature, return_annotation):
-    """Keep autodoc's signature (no annotations: ``autodoc_typehints = "none"``). numpydoc
-    (priority 500) would replace it with a signature read from the docstring's first line,
-    and a dataclass without a docstring has a generated one, ``RunOutcome(case: 'str', …,
-    notes: 'tuple[str, ...]')``, which Sphinx splits at the comma inside the quotes into a
-    broken reference."""
-    return None if signature is None else (signature, return_annotation)
-
-
 # --- ``docs/NAME.md`` as a link -----------------------------------------------------------
 # The documents, the README and the docstrings name a document as code, ``docs/gateware.md``
 # (what reads right on GitHub and in a terminal); in the site each such name links to its page.
@@ -196,10 +192,55 @@ def _link_document_names(app, doctree, docname):
         reference.append(literal)
 
 
+# --- The components' "Members" sections -------------------------------------------------------
+
+_MEMBERS_AS_ATTRIBUTES: set[str] = set()
+
+
+def _members_in(app, what, name, obj, options, lines):
+    """Before numpydoc (priority 500): a "Members" section becomes "Attributes"."""
+    for i in range(len(lines) - 1):
+        if lines[i].strip() == "Members" and set(lines[i + 1].strip()) == {"-"}:
+            indent = lines[i][:len(lines[i]) - len(lines[i].lstrip())]
+            lines[i], lines[i + 1] = indent + "Attributes", indent + "----------"
+            _MEMBERS_AS_ATTRIBUTES.add(name)
+
+
+def _members_out(app, what, name, obj, options, lines):
+    """After numpydoc: the section it rendered is titled "Members" again."""
+    if name in _MEMBERS_AS_ATTRIBUTES:
+        lines[:] = [":Members:" + line[len(":Attributes:"):] if line.startswith(":Attributes:")
+                    else line for line in lines]
+
+
+def _numpydoc_for_dptbd(app, what, name, obj, options, lines):
+    module = getattr(obj, "__module__", None)
+    if isinstance(module, str) and not module.startswith("dptbd"):
+        return
+    numpydoc.numpydoc.mangle_docstrings(app, what, name, obj, options, lines)
+
+
 def setup(app):
+    app.connect("autodoc-process-docstring", _members_in, priority=400)
+    app.connect("autodoc-process-docstring", _members_out, priority=600)
     app.connect("doctree-resolved", _link_document_names)
     app.connect("builder-inited", _clear_generated, priority=400)  # before autosummary (500)
-    app.connect("autodoc-process-signature", _autodoc_signature, priority=400)
+    # numpydoc's signature handler replaces autodoc's signature (no annotations:
+    # autodoc_typehints = "none") with one it reads from the raw docstring: with the annotations
+    # of a dataclass's generated docstring (``notes: 'tuple[str, ...]'``, which Sphinx splits
+    # at the comma into a broken reference), and a warning on stderr for each section it does
+    # not know (the components' "Members", Amaranth's "Platform Overrides"). The docstrings
+    # carry no signatures of their own, so autodoc's stands.
+    for listener in list(app.events.listeners.get("autodoc-process-signature", [])):
+        if listener.handler is numpydoc.numpydoc.mangle_signature:
+            app.disconnect(listener.id)
+    # numpydoc's docstring handler only for dptbd's own objects: autodoc also hands it the
+    # docstrings of imported names while it decides to leave them out (Amaranth's Memory, whose
+    # "Platform Overrides" section numpydoc warns about on stderr); they are not rendered.
+    for listener in list(app.events.listeners.get("autodoc-process-docstring", [])):
+        if listener.handler is numpydoc.numpydoc.mangle_docstrings:
+            app.disconnect(listener.id)
+            app.connect("autodoc-process-docstring", _numpydoc_for_dptbd, priority=listener.priority)
     app.connect("missing-reference", _resolve_as_python)
 
 
