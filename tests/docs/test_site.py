@@ -10,8 +10,6 @@ import re
 import subprocess
 import sys
 
-import pytest
-
 from dptbd.cli import COMMANDS
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -42,68 +40,58 @@ def test_conf_fails_on_every_unresolved_dptbd_reference():
     assert "sphinx.ext.intersphinx" not in conf["extensions"]
 
 
-@pytest.fixture(scope="module")
-def site(tmp_path_factory) -> pathlib.Path:
-    out = tmp_path_factory.mktemp("site")
-    html = out / "html"
+def _text(page: pathlib.Path) -> str:
+    return re.sub(r"<[^>]+>", "", page.read_text())
+
+
+def test_the_site_builds_with_warnings_as_errors_and_holds_what_the_readme_promises(tmp_path):
+    # One test, one build: the build writes its API stub pages into docs/api/generated, so two
+    # xdist workers must not each build it (a module fixture would be built once per worker).
+    html = tmp_path / "html"
     # a fresh doctree cache: every page read, so every warning reported
     cmd = [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html",
-           "-d", str(out / "doctrees"), str(DOCS), str(html)]
+           "-d", str(tmp_path / "doctrees"), str(DOCS), str(html)]
     # stderr must be empty: a Python warning (an extension dropping a section) fails too
     proc = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     assert proc.returncode == 0 and proc.stderr == "", proc.stderr[-20000:]
-    return html
 
-
-def test_every_document_is_a_page(site):
+    # every document is a page
     for md in sorted(DOCS.glob("*.md")):
-        assert (site / md.with_suffix(".html").name).is_file(), md.name
+        assert (html / md.with_suffix(".html").name).is_file(), md.name
+    assert "Registers of" in _text(html / "registers.html")
 
-
-def test_figures_of_the_readme_and_the_documents_are_in_the_site(site):
-    images = {p.name for p in (site / "_images").iterdir()}
-    assert '<img alt="Pd vs SNR' in (site / "readme.html").read_text()   # the README's figure
-    assert 'src="_images/compare_pd.png"' in (site / "readme.html").read_text()
+    # the README's figure and every figure of the documents
+    images = {p.name for p in (html / "_images").iterdir()}
+    readme = (html / "readme.html").read_text()
+    assert '<img alt="Pd vs SNR' in readme and 'src="_images/compare_pd.png"' in readme
     for md in sorted(DOCS.glob("*.md")):
         for line in md.read_text().splitlines():
             if "](figures/" in line:
                 name = line.split("](figures/", 1)[1].split(")", 1)[0]
                 assert name in images, (md.name, name)
 
-
-@pytest.mark.parametrize("package", ["dptbd.model", "dptbd.hw", "dptbd.sim", "dptbd.dsp"])
-def test_api_reference_of_each_package(site, package):
-    page = site / "api" / "generated" / f"{package}.html"
-    assert page.is_file()
-
-
-def test_api_reference_documents_the_golden_model_entry_point(site):
-    page = (site / "api" / "generated" / "dptbd.model.fixed.html").read_text()
-    assert 'id="dptbd.model.fixed.run_fixed"' in page
-
-
-def _text(page: pathlib.Path) -> str:
-    return re.sub(r"<[^>]+>", "", page.read_text())
-
-
-def test_cli_reference_has_every_sub_command(site):
-    text = _text(site / "cli.html")
-    for name in COMMANDS:
-        assert f"dptbd {name} [-h]" in text, name   # the sub-command's usage line
-    # options keep their two hyphens (no typographic dashes)
-    assert "--rtl-frames" in text and "\u2013rtl-frames" not in text
-
-
-def test_document_names_link_to_their_pages(site):
-    # README: "(`docs/table1.md`)"; docs/gateware.md names docs/arithmetic.md the same way
+    # document names link to their pages: the README's "(`docs/table1.md`)", and
+    # docs/gateware.md names docs/arithmetic.md the same way
     assert re.search(r'<a class="reference internal" href="table1.html"><code[^>]*>'
-                     r'<span class="pre">docs/table1.md</span>', (site / "readme.html").read_text())
+                     r'<span class="pre">docs/table1.md</span>', readme)
     assert re.search(r'href="arithmetic.html"><code[^>]*><span class="pre">docs/arithmetic.md',
-                     (site / "gateware.html").read_text())
+                     (html / "gateware.html").read_text())
 
+    # the API reference of the four sub-packages, from the docstrings
+    api = html / "api" / "generated"
+    for package in ("dptbd.model", "dptbd.hw", "dptbd.sim", "dptbd.dsp"):
+        assert (api / f"{package}.html").is_file(), package
+    assert 'id="dptbd.model.fixed.run_fixed"' in (api / "dptbd.model.fixed.html").read_text()
+    # numpydoc does not know "Members" (Amaranth's name for a signature's members);
+    # docs/conf.py hands it over as Attributes and titles it Members again
+    fifo = _text(api / "dptbd.hw.thermometer_fifo.html")
+    assert "Members:" in fifo and "Writes; w.ready is a register" in fifo
 
-def test_register_reference_is_a_page(site):
-    assert "Registers of" in _text(site / "registers.html")
+    # the CLI reference: every sub-command's usage line; options keep their two hyphens
+    cli = _text(html / "cli.html")
+    for name in COMMANDS:
+        assert f"dptbd {name} [-h]" in cli, name
+    assert "--rtl-frames" in cli and "\u2013rtl-frames" not in cli
 
 
 def _mini_site(tmp_path: pathlib.Path, body: str) -> subprocess.CompletedProcess:
@@ -134,11 +122,3 @@ def test_a_reference_through_a_re_export_links_to_the_defining_module(tmp_path):
     assert proc.returncode == 0, proc.stderr
     page = (tmp_path / "html" / "index.html").read_text()
     assert 'href="#dptbd.config.axi_store.AxiStoreConfig"' in page
-
-
-def test_the_components_members_sections_are_rendered(site):
-    # numpydoc does not know "Members" (Amaranth's name for a signature's members); docs/conf.py
-    # hands it over as Attributes and titles it Members again
-    text = _text(site / "api" / "generated" / "dptbd.hw.thermometer_fifo.html")
-    assert "Members:" in text
-    assert "Writes; w.ready is a register" in text
