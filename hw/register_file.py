@@ -2,7 +2,7 @@
 
 :class:`RegisterFile` answers the register bus of the
 :class:`~dptbd.hw.axi_lite.AXILiteSubordinate` it contains. Every register, field and reset value comes from the map; this file only implements the
-field kinds (:data:`~dptbd.hw.register_map.FIELD_KINDS`):
+field kinds (:data:`!dptbd.hw.register_map.FIELD_KINDS`):
 
 - an address that is not a multiple of 4 is **unaligned**: a read returns 0 with SLVERR; a
   write is refused (nothing changes, ``ERROR.write_refused`` set, SLVERR);

@@ -100,6 +100,7 @@ def candidates(energy: np.ndarray, direction: np.ndarray, count: int) -> np.ndar
 # ---------------------------------------------------------------------------------------
 
 #: Fields of a list's trailer word, in layout order (``dptbd.hw.candidate_layout``).
+#: The trailer word's fields, in order.
 TRAILER_FIELDS = ("count", "threshold", "overflow", "primed", "aligned", "missed")
 
 
@@ -141,7 +142,7 @@ class CandidateList:
 
     @property
     def trailer(self) -> dict[str, int]:
-        """The trailer word's fields (:data:`TRAILER_FIELDS`) as integers."""
+        """The trailer word's fields (:data:`~.segmentation.TRAILER_FIELDS`) as integers."""
         return {name: int(getattr(self, name)) for name in TRAILER_FIELDS}
 
 

@@ -2,12 +2,13 @@
 # Set up dptbd on a fresh Debian machine, then run one job.
 #   bash scripts/setup.sh run    # the main job on the built-in scenario
 #   bash scripts/setup.sh test   # the default test suite (what .ci/run calls)
+#   bash scripts/setup.sh docs   # the documentation site, offline, into build/site
 # Installs the Debian packages that are missing (as root, or through sudo) and a
 # virtualenv .venv with dptbd and its pinned dependencies. Idempotent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 job=${1:-}
-case "$job" in run|test|setup) ;; *) echo "usage: bash scripts/setup.sh {run|test|setup} [args…]" >&2; exit 2;; esac
+case "$job" in run|test|docs|setup) ;; *) echo "usage: bash scripts/setup.sh {run|test|docs|setup} [args…]" >&2; exit 2;; esac
 shift || true
 
 # Debian packages: Icarus (cocotb simulator, 4-state checks), Verilator + g++ + make (the
@@ -32,7 +33,7 @@ if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
   echo "setup: creating .venv with dptbd and its dependencies"
   [ -x .venv/bin/python ] || python3 -m venv .venv
   .venv/bin/python -m pip install -q --upgrade pip
-  .venv/bin/python -m pip install -q -e ".[test,synth,formal]"
+  .venv/bin/python -m pip install -q -e ".[test,synth,formal,docs]"
   touch "$stamp"
 fi
 
@@ -50,6 +51,10 @@ case "$job" in
       set -- --out dptbd-run --force "$@"
     fi
     exec .venv/bin/dptbd run "$@" ;;
+  docs)
+    # The site as the test suite builds it (tests/docs/test_site.py): every warning an error,
+    # offline (no intersphinx). The HTML lands in build/site (open build/site/index.html).
+    exec .venv/bin/python -m sphinx -W --keep-going -b html docs build/site "$@" ;;
   test)
     set +e
     .venv/bin/python -m pytest -n 2 "$@"

@@ -5,18 +5,18 @@ Each scenario returns ``(T, H, W)`` ``uint16`` frames that satisfy ``docs/arithm
 The ADC gain scales paper 001's noise (mean 30, variance 3) with B_in: ``16 * 2**(B_in - 12)``,
 paper 001's 12-bit gain of 16 (:data:`dptbd.scenes.synthetic.ADC_GAIN`) at B_in = 12.
 
-========== ===========================================================================
-name       scene
-========== ===========================================================================
-table1     001 Table 1: one target, SNR 2.3, velocity (1, 1), centred trajectory
+=========== ===========================================================================
+name        scene
+=========== ===========================================================================
+table1      001 Table 1: one target, SNR 2.3, velocity (1, 1), centred trajectory
 two-targets 001's second experiment: two targets, SNR 2.0 (starts scaled to W x H)
-noise      001's noise only
-mixed      noise + a diagonal target + targets along all four edges + full-scale pixels
-saturating bright noise near full scale and a full-scale target: pixels clip at 2**B_in-1
-ties       pixels 0 and 1 only: many equal candidates, argmax tie-breaking
-edges      bright targets moving along the four image edges and through the corners
-random     uniform pixels over the whole range
-========== ===========================================================================
+noise       001's noise only
+mixed       noise + a diagonal target + targets along all four edges + full-scale pixels
+saturating  bright noise near full scale and a full-scale target: pixels clip at 2**B_in-1
+ties        pixels 0 and 1 only: many equal candidates, argmax tie-breaking
+edges       bright targets moving along the four image edges and through the corners
+random      uniform pixels over the whole range
+=========== ===========================================================================
 """
 
 from __future__ import annotations

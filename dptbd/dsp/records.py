@@ -41,6 +41,7 @@ __all__ = [
 
 #: Fractional bits of positions and velocities: 1/16 pixel.
 Q_BITS = 4
+#: 1.0 in the records' fixed point (1/16 pixel).
 ONE = 1 << Q_BITS
 #: Fractional bits of ratios: 1/256.
 RATIO_BITS = 8

@@ -14,8 +14,8 @@ track columns: "结果输出所用帧数" (frames until the result is output) an
   track passed the output threshold. **Frames until output**: input frames from the
   target's first visible frame to the last frame of that segment, inclusive.
 * **Track length**: frames in which some track of the target has a position (backtracked
-  in detected segments, interpolated across missed ones; :func:`dptbd.dsp.backtrack.
-  track_positions`), whole and after the output frame. 001's rows satisfy "frames until
+  in detected segments, interpolated across missed ones;
+  :func:`dptbd.dsp.backtrack.track_positions`), whole and after the output frame. 001's rows satisfy "frames until
   output + length" ≈ 100 (e.g. 45 + 52, 49 + 48), which suggests its length counts the
   frames after output; both are reported.
 * **Position error**: Euclidean distance between a track's backtracked (measured) pixel

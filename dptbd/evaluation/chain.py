@@ -86,6 +86,7 @@ def _accumulate(frames: np.ndarray, cfg: DPConfig) -> SegmentOutput:
     return run(frames, cfg)
 
 
+#: The candidate lists the DSP can receive.
 LISTS = ("gateware", "ideal")
 
 

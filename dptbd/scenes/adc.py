@@ -20,6 +20,7 @@ __all__ = ["quantise", "INPUT_BITS", "ADC_GAIN"]
 #: level (sigma < 2 LSB) makes so many pixels tie at the threshold that the
 #: constant-count rule (docs/arithmetic.md §6) keeps far fewer than 0.2 %.
 INPUT_BITS = 12
+#: Paper 001's 12-bit ADC gain: LSB per grey level.
 ADC_GAIN = 16.0
 
 _QUANTISE_CHUNK = 1 << 22  # elements per chunk: bounds the float temporaries of quantise

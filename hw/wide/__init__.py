@@ -17,7 +17,7 @@ P > 1.
 
 Modules: :mod:`.layouts` (the beats), :mod:`.state_store`, :mod:`.window`, :mod:`.core`
 (``DPCoreWide``, ``check_wide``), :mod:`.pipeline` (``DPPipelineWide``, ``dp_pipeline``),
-:mod:`.segmenter` (``SegmenterWide``, ``segmenter``);
+:mod:`!segmenter` (``SegmenterWide``, ``segmenter``);
 their names are re-exported here.
 """
 

@@ -56,6 +56,7 @@ FALLBACK = ("proc; flatten; opt -full; opt_dff; opt -full; opt_dff; opt_clean")
 #: CPU seconds :func:`build_constant_bits` gives :data:`SCRIPT` before :data:`FALLBACK`.
 TIME_LIMIT = 300.0
 
+#: The reason recorded with every constant bit's exclusion.
 REASON = ("constant by construction (proven by Yosys: the script below, run on the coverage "
           "build's Verilog, leaves a constant in place of the flip-flop)")
 

@@ -20,7 +20,7 @@ __all__ = ["AxiCase", "COUNTER_EVENTS", "COUNTER_CONFIG", "extra_cases", "axi_ca
 @dataclasses.dataclass(frozen=True)
 class AxiCase:
     """An AXI run of the coverage campaign: a configuration, seeds and the scene
-    (``"faults"``: :func:`_axi_scene`; ``"bright"``: the same with a full-scale line in every
+    (``"faults"``: :func:`!_axi_scene`; ``"bright"``: the same with a full-scale line in every
     frame; ``"counters"``: :func:`counter_scene`)."""
 
     name: str

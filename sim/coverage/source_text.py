@@ -12,7 +12,7 @@ So the coverage build converts as :func:`amaranth.back.verilog.convert` does (Yo
 ``casez`` statements, one per ``m.If``/``m.Elif``/``m.Else`` chain, ``m.Switch`` and
 ``m.FSM`` state, and Verilator puts a line point on each of their branches. Amaranth's own
 RTLIL writer puts a ``src`` attribute on the process only (the signal's declaration);
-:class:`_SourceEmitter` also gives every ``switch`` the ``src`` of its first ``m.If`` /
+:class:`!_SourceEmitter` also gives every ``switch`` the ``src`` of its first ``m.If`` /
 ``m.Case`` and every ``case`` the ``src`` of its ``m.If`` / ``m.Elif`` / ``m.Case``
 (an ``m.Else`` or default case: the first statement inside it), which Yosys writes as
 ``(* src = "file.py:line" *)`` before the ``if`` / ``casez`` (and the case items) —

@@ -63,7 +63,7 @@ class Harness(Elaboratable):
 
 class Elaborated:
     """A component elaborated once, so that a harness can reach its inner signals: add
-    :attr:`fragment` as the submodule (not the component, which would be elaborated anew)
+    ``fragment`` as the submodule (not the component, which would be elaborated anew)
     and read :meth:`signal` / :meth:`sub` for invariants that k-induction needs."""
 
     def __init__(self, component):

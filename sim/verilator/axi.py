@@ -232,10 +232,10 @@ def run_axi(sim: VerilatorBuild, beats: Beats, ops: list[tuple], *, valid_gap: f
     (``(beat index, "w" | "r" | "i" | "m" | "b", address or idle cycles, data)``, performed
     in order before that beat is offered; ``"m"`` is a write with ``wstrb`` = data >> 32,
     ``"b"`` reads the address until its bit 0 is 0, ``"a"`` holds ``aresetn`` low for the
-    given cycles, ``"p"`` loads counter ``address`` (:func:`~dptbd.sim.mutation.presets.
-    preset_counters`' index) with ``data`` in one cycle, in mutant builds only; see the
-    harness's header); ``coverage``: write the run's coverage data to
-    that file (a build with ``coverage=True``); ``repeat``: offer ``beats`` that many times
+    given cycles, ``"p"`` loads counter ``address``
+    (:func:`~dptbd.sim.mutation.presets.preset_counters`' index) with ``data`` in one cycle,
+    in mutant builds only; see the harness's header); ``coverage``: write the run's coverage
+    data to that file (a build with ``coverage=True``); ``repeat``: offer ``beats`` that many times
     over (``len(beats) * repeat`` beats; operation indices count them all; long runs:
     ``accept_cycles`` is then empty); ``memory``: the AXI4 memory model's settings
     (:data:`MEMORY_KEYS`; a build with ``state_store`` only, whose base address the model

@@ -33,10 +33,12 @@ __all__ = ["FIRMWARE_DIR", "SOURCES", "HEADERS", "WARNING_FLAGS", "OPT_FLAGS",
 
 #: The firmware's sources.
 FIRMWARE_DIR = Path(__file__).resolve().parent
+#: The firmware's C files.
 SOURCES = ("dptbd_track.c", "dptbd_backtrack.c", "dptbd_trim.c")
 HEADERS = ("dptbd_track.h", "dptbd_candidate_record.h")
 #: Every build: C99, every warning an error.
 WARNING_FLAGS = ("-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic")
+#: Optimisation, every build.
 OPT_FLAGS = ("-O2",)
 
 

@@ -24,6 +24,7 @@ from dptbd.figures import DPI, new_figure, save_figure
 
 __all__ = ["FIGURES", "draw_figures", "draw_pd_figure", "draw_pfa_figure", "draw_loss_figure"]
 
+#: The figures of a run, by file name.
 FIGURES = ("compare_pd.png", "compare_pfa.png", "compare_loss.png")
 
 #: The dpi the figures are laid out at (matplotlib's default, as when they were drawn through

@@ -185,7 +185,7 @@ def measure_frames(plan: Plan, frames_by_snr: Sequence[np.ndarray], noise_only: 
 
 @dataclasses.dataclass
 class CompareResult:
-    """Per-trial counts of every detector (see :func:`_empty_out` for the arrays).
+    """Per-trial counts of every detector (see :func:`!_empty_out` for the arrays).
 
     ``counts[name]`` has the trial axis first, trials in index order. ``rtl``: with
     ``run_compare(..., rtl=True)``, what went through the gateware and was checked

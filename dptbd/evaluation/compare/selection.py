@@ -4,12 +4,12 @@ pixels of an accumulated image are its candidates, n = the run's candidate count
 ``random`` (the default)
     Exactly n candidates: every pixel with E above the image's n-th largest value, and of
     the pixels AT that value the ones with the smallest pseudo-random priority per (seed,
-    trial, segment, pixel) (:func:`_select`, written plainly in :func:`candidate_indices`).
+    trial, segment, pixel) (:func:`!_select`, written plainly in :func:`candidate_indices`).
 ``gateware``
     The gateware segmenter's selection (``docs/arithmetic.md`` §6) with the image's own
     histogram and one bin per E value (s = 0): the pixels with E strictly above the image's
     (n+1)-th largest value, a tie at the boundary dropped whole, so at most n
-    (:func:`_select_above`; the model's rule is
+    (:func:`!_select_above`; the model's rule is
     :func:`dptbd.model.segmentation.candidate_mask`).
 ``gateware-bins``
     The same on the histogram bins ``min(E >> s, 2**b - 1)`` of the configuration the
@@ -19,7 +19,7 @@ pixels of an accumulated image are its candidates, n = the run's candidate count
 
 Neither gateware rule models the segmenter's stale threshold (the previous segment's
 histogram) or the empty first list after reset. One function per rule (:data:`RULES`),
-called through :func:`_candidates`.
+called through :func:`!_candidates`.
 """
 
 from __future__ import annotations
@@ -154,7 +154,7 @@ def candidate_indices(image: np.ndarray, count: int, key: int) -> np.ndarray:
     ``min(count, H*W)`` candidates of ONE image — the first ``count`` pixels sorted by
     descending E, then ascending tie-break priority ``_mix(key ^ (p * golden))``, then
     index. ``key``: the image's entry of :func:`image_keys`. The reference of the numba
-    kernel :func:`_select` (``docs/compare.md``)."""
+    kernel :func:`!_select` (``docs/compare.md``)."""
     flat = np.asarray(image).reshape(-1)
     pix = np.arange(flat.size, dtype=np.uint64)
     with np.errstate(over="ignore"):
@@ -207,7 +207,7 @@ def _empty_lists(images: int, count: int) -> tuple:
 def random_rule(flat: np.ndarray, plan: "Plan", keys: np.ndarray,
                 cfg: DPConfig | None) -> tuple:
     """``random``: exactly n per image, ties at the n-th largest E broken by the
-    priorities of ``keys`` (:func:`image_keys`; :func:`_select`)."""
+    priorities of ``keys`` (:func:`image_keys`; :func:`!_select`)."""
     count = plan.spec.candidate_count
     out = _empty_lists(flat.shape[0], count)
     _select(flat, nth_largest(flat, count), keys, plan.near_flat, len(plan.ends), count, *out)

@@ -266,6 +266,7 @@ class ParticleDetector(Detector):
         return Decisions(np.stack([r.statistic for r in runs]), np.stack([r.estimate for r in runs]))
 
 
+#: Every detector by name.
 DETECTORS = {cls.name: cls for cls in (DirectionWeightedDP, AmplitudeDP, PenaltyDP, LikelihoodDP,
                                        InfoDetector, GridBayesDetector, CACFARDetector,
                                        ParticleDetector)}

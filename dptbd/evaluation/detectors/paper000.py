@@ -78,6 +78,7 @@ class Case:
         return transitions.no_penalty(radius)
 
 
+#: Paper 000's cases (§5.1, §5.2).
 CASES = (
     Case("5.1 eq (15)", "§5.1", 4.08, "amplitude", False, (30.0, 32.0),
          paper="V_T = 30: several false tracks and the target track (Fig. 2a); "

@@ -1,4 +1,4 @@
-"""The tables, files and figure of ``dptbd detectors``: a :func:`.compare.run_comparison`
+"""The tables, files and figure of ``dptbd detectors``: a :func:`.pd_vs_snr.run_comparison`
 result as a Markdown table, CSV records, ``result.json`` and the Pd-vs-SNR figure.
 """
 

@@ -46,6 +46,7 @@ __all__ = ["ADC_BITS", "ADC_GAIN", "ADC_OFFSET", "LIKELIHOOD_SCALE", "ENERGY_BIT
 ADC_BITS = 8
 #: ADC codes per noise sigma, and the code of z = 0 (the window is [-8, 8) sigma).
 ADC_GAIN = 16.0
+#: The code of z = 0 (see :data:`ADC_GAIN`).
 ADC_OFFSET = 128.0
 #: Codes per unit of h of the likelihood-difference DP (S(z) <= 1: merits 0 … 256).
 LIKELIHOOD_SCALE = 256.0

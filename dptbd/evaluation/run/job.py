@@ -121,7 +121,7 @@ class RunResult:
     segmentation_bits : dict or None
         Bits per segment handed to the DSP (:func:`.report.segmentation_bits`).
     rtl : dict or None
-        The RTL check's record (:func:`.run_rtl.check_rtl`), None without one.
+        The RTL check's record (:func:`.run.rtl.check_rtl`), None without one.
     table_text : str
         The tables as printed and written to ``table.md``.
     started : float

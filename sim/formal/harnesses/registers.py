@@ -14,12 +14,12 @@ __all__ = ["RegistersHarness"]
 
 
 class RegistersHarness(Harness):
-    """The AXI4-Lite port and the register block (:class:`~dptbd.hw.register_file.
-    RegisterFile`, its :class:`~dptbd.hw.axi_lite.AXILiteSubordinate` inside), any event
+    """The AXI4-Lite port and the register block
+    (:class:`~dptbd.hw.register_file.RegisterFile`, its :class:`~dptbd.hw.axi_lite.AXILiteSubordinate` inside), any event
     pulses, any manager that keeps the AXI4-Lite rules.
 
-    Asserted: the AXI4-Lite subordinate rules (:func:`~dptbd.sim.formal.properties.
-    axil_subordinate`: B and R held until taken and stable, no response without its request,
+    Asserted: the AXI4-Lite subordinate rules
+    (:func:`~dptbd.sim.formal.properties.axil_subordinate`: B and R held until taken and stable, no response without its request,
     a write response only after both AW and W, one transaction at a time); a refused write
     (SLVERR on a register that stores: a setting out of its limits, an unaligned address, a
     LUT word out of range or not fully strobed) changes no setting, no enable bit, clears no

@@ -1,7 +1,8 @@
 """The verification slice of each design's mutants: the configuration, the runs
 (``(kind, seed)``, in order) and the runner ``run(sim, kind, seed) -> (verdict, report)``
-of ``segmenter`` (:mod:`.segmenter`, ``dptbd_seg``), ``axi`` (:mod:`.axi`,
-``dptbd_axi``) and ``dp`` (:mod:`.dp`, ``dptbd_dp``)."""
+of ``segmenter`` (:mod:`~dptbd.sim.mutation.slices.segmenter`, ``dptbd_seg``), ``axi``
+(:mod:`~dptbd.sim.mutation.slices.axi`, ``dptbd_axi``) and ``dp``
+(:mod:`~dptbd.sim.mutation.slices.dp`, ``dptbd_dp``)."""
 
 from __future__ import annotations
 

@@ -210,7 +210,7 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
     return ("survived" if result.passed else "killed"), result.report
 
 
-#: Frames of the runs on noise scenes (:func:`_noise_run`).
+#: Frames of the runs on noise scenes (:func:`!_noise_run`).
 NOISE_FRAMES = {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12}
 
 

@@ -68,6 +68,7 @@ RUNS = tuple([("faults", s) for s in range(16)]
 #: other even bit set: an increment then carries the counter's other bits along) and the
 #: output back-pressure, by seed.
 REFERENCE_PRESET = 0x5555_5555
+#: The reference run's pause probabilities (see :data:`REFERENCE_PRESET`).
 REFERENCE_PAUSE = (0.9, 0.8)
 
 #: The original design's ``reference`` runs, per build and seed (one per process).

@@ -1,0 +1,5 @@
+"""The cocotb benches that :func:`dptbd.sim.icarus.simulate` runs on Icarus (4-state), one
+module per design (:mod:`.benches.dp`, :mod:`.benches.segmenter`, :mod:`.benches.axi`,
+:mod:`.benches.dp_axi`, :mod:`.benches.axi_store`), with their shared drivers
+(:mod:`.benches.drivers`) and the soft-reset checks (:mod:`.benches.soft_reset_check`).
+"""
