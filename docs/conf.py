@@ -86,11 +86,13 @@ autodoc_docstring_signature = False
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 
-# References into the standard library and Amaranth: no intersphinx (the build is offline and
-# no inventory is vendored), so they cannot resolve; they render as code, unlinked. Only these
-# two namespaces are exempt: a reference into dptbd that does not resolve fails the build.
+# References into the standard library, numpy, Amaranth and systemrdl-compiler: no
+# intersphinx (the build is offline and no inventory is vendored), so they cannot resolve;
+# they render as code, unlinked. Only these namespaces are exempt: a reference into dptbd
+# that does not resolve fails the build.
 nitpick_ignore_regex = [
-    (r"py:.*", r"(os|math|ctypes|pkgutil|importlib|json|pathlib|argparse|numpy|amaranth)(\..*)?"),
+    (r"py:.*", r"(os|math|ctypes|pkgutil|importlib|json|pathlib|argparse|numpy|amaranth|"
+               r"systemrdl)(\..*)?"),
 ]
 
 

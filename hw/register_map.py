@@ -68,6 +68,7 @@ COUNTER_BITS = 32
 #: Byte address of the weight LUT window's entry 0.
 LUT_WINDOW_BASE = 0x400
 
+#: The kinds of field the register file implements (``docs/integration.md``, "Registers").
 FIELD_KINDS = ("constant", "setting", "enable", "pulse", "counter", "sticky", "interrupt",
                "status")
 #: Bus access of each field kind.
