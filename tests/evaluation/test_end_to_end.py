@@ -67,6 +67,8 @@ def test_the_recursive_dp_runs_the_family_pipeline():
     assert run.frames_until_output != e2e.run_outcome(_tiny(), 1).frames_until_output or \
         run.false_tracks != e2e.run_outcome(_tiny(), 1).false_tracks
     assert e2e.run_chain(sc, "1-1").runs == (run,)
+    # a list every 4 frames over paths of 6: ends 5, 9, ..., 33 of 36 frames
+    assert e2e.run_chain(sc, "1-1", every=4).runs[0].lists == 8
 
 
 def test_the_recursive_dp_has_ideal_lists_only():
@@ -79,6 +81,22 @@ def test_the_recursive_dp_has_ideal_lists_only():
         with pytest.raises(e2e.ChainError, match=whole(msg)):
             call()
     assert e2e.check_lists("gateware", _tiny()) == "gateware"
+
+
+@pytest.mark.parametrize("dp, every, message", [
+    ({}, 3, "every (frames between lists) is for the recursive DP only; segments end every "
+            "segment_stride frames; got every=3"),
+    (e2e.recursive_dp(0.8), 7, "every must be an integer in [1, segment_frames=6], got 7"),
+    (e2e.recursive_dp(0.8), 0, "every must be an integer in [1, segment_frames=6], got 0"),
+    (e2e.recursive_dp(0.8), 2.0, "every must be an integer in [1, segment_frames=6], got 2.0"),
+])
+def test_every_is_for_the_recursive_dp_within_its_paths(dp, every, message):
+    sc = e2e.variant(_tiny(), dp=dp)
+    for call in (lambda: e2e.run_chain(sc, "0-1", every=every),
+                 lambda: e2e.run_outcome(sc, 0, every=every)):
+        with pytest.raises(e2e.ChainError, match=whole(message)):
+            call()
+    assert e2e.check_every(None, sc) is None
 
 
 def test_a_variant_with_another_false_alarm_rate_has_other_list_lengths():
