@@ -5,6 +5,8 @@
     python benchmarks/bench_chain.py --scenario crossing --seeds 0-39 --runs runs.csv
     python benchmarks/bench_chain.py --seeds 100-199 --dp segment_frames=8 --set link_gate=2
     python benchmarks/bench_chain.py --seeds 100-199 --false-alarm-rate 0.003
+    python benchmarks/bench_chain.py --seeds 100-199 --recursive 0.8 --set wake_radius=2
+    python benchmarks/bench_chain.py --seeds 100-199 --recursive 0.9 --dp segment_frames=8 --every 4
 
 Today's default chain (K = 6 segments, ``--lists`` ideal or gateware, the DSP association
 with its default settings) on ``--scenario`` (``paper001-experiment-2``, ``manoeuvring``,
@@ -14,7 +16,10 @@ confirmed, false tracks, median frames until output with its 95 % interval) and,
 layer. Another chain on the same scenes: ``--dp segment_frames=8`` (``[dp]`` fields),
 ``--set KEY=VALUE`` (``[association]`` fields), as in a scenario file;
 ``--false-alarm-rate R`` (``[segmentation]``: n = R x pixels candidates per list, default
-0.002: n = 33). Definitions:
+0.002: n = 33); ``--recursive ALPHA``: the recursive DP with forgetting factor ALPHA
+instead of segments (ideal lists; paths over ``segment_frames``, ``--dp
+segment_frames=6``, a list every ``--every E`` frames, default ``segment_frames``).
+Definitions:
 ``docs/association.md`` §8, "The chain end to end".
 
 Library: ``dptbd.evaluation.end_to_end``. This script reports; it asserts nothing.
@@ -74,22 +79,30 @@ def main(argv=None) -> None:
     ap.add_argument("--false-alarm-rate", type=float, default=None, metavar="R",
                     help="[segmentation] false_alarm_rate: n = R x pixels candidates per list "
                          "(default 0.002)")
+    ap.add_argument("--recursive", type=float, default=None, metavar="ALPHA",
+                    help="the recursive DP with forgetting factor ALPHA instead of segments "
+                         "(ideal lists)")
+    ap.add_argument("--every", type=int, default=None, metavar="E",
+                    help="with --recursive: frames between lists (default segment_frames)")
     args = ap.parse_args(argv)
+    changed = args.dp or args.set or args.false_alarm_rate is not None or args.recursive is not None
     try:
         sc = e2e.scenario(args.scenario)
-        if args.dp or args.set or args.false_alarm_rate is not None:
-            sc = e2e.variant(sc, dp=_pairs("--dp", args.dp), association=_pairs("--set", args.set),
+        if changed:
+            dp = {**(e2e.recursive_dp(args.recursive) if args.recursive is not None else {}),
+                  **_pairs("--dp", args.dp)}
+            sc = e2e.variant(sc, dp=dp, association=_pairs("--set", args.set),
                              false_alarm_rate=args.false_alarm_rate)
         seeds = e2e.parse_seeds(args.seeds)
-        if args.lists not in LISTS:
-            raise e2e.ChainError(f"lists must be one of {', '.join(map(repr, LISTS))}, "
-                                 f"got {args.lists!r}")
+        e2e.check_lists(args.lists, sc)
+        e2e.check_every(args.every, sc)
     except DptbdError as exc:
         ap.error(str(exc))
-    if args.dp or args.set or args.false_alarm_rate is not None:
+    if changed:
         print(f"chain: [dp] {dict(sc.dp)}, [association] {dict(sc.association)}, "
-              f"false_alarm_rate {sc.false_alarm_rate:g}")
-    report(e2e.run_chain(sc, seeds, lists=args.lists, workers=args.workers,
+              f"false_alarm_rate {sc.false_alarm_rate:g}"
+              + ("" if args.every is None else f", a list every {args.every} frames"))
+    report(e2e.run_chain(sc, seeds, lists=args.lists, every=args.every, workers=args.workers,
                          scheduler=args.scheduler), args.runs)
 
 

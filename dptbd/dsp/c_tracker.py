@@ -38,14 +38,15 @@ STATUS = {0: "DPTBD_OK", 1: "DPTBD_W_CLIPPED", 2: "DPTBD_W_REJECTED",
 
 _STATS = ("segments", "candidates", "suppressed", "matched", "started", "confirmed", "deleted",
           "left_image", "dropped_candidates", "dropped_outputs", "history_wrapped", "duplicates",
-          "peak_active")
+          "peak_active", "wake_suppressed")
 _INPUT_COUNTERS = ("clipped_candidates", "rejected_candidates")
 #: Fields of ``dptbd_params``, in the struct's order.
 PARAM_NAMES = ("segment_frames", "segment_stride", "height", "width", "radius", "merge_radius",
                "duplicate_radius", "seed_gate", "gate_base", "gate_growth", "gate_miss",
                "gate_max", "gate_growth_segments", "manoeuvre", "link_gate", "heading_min",
                "heading_weight", "reject_reversed", "confirm_ratio", "predict_ratio",
-               "delete_ratio", "confirm_hits", "predict_hits", "max_misses")
+               "delete_ratio", "confirm_hits", "predict_hits", "max_misses", "confirm_gap",
+               "wake_radius", "wake_points")
 
 
 class FirmwareError(RuntimeError):
@@ -74,8 +75,10 @@ class _Track(ctypes.Structure):
                 ("p_row", ctypes.c_int32 * 2), ("p_col", ctypes.c_int32 * 2),
                 ("v_row", ctypes.c_int32), ("v_col", ctypes.c_int32),
                 ("pred_row", ctypes.c_int32), ("pred_col", ctypes.c_int32),
+                ("count_seg", ctypes.c_int32),
                 ("n_points", ctypes.c_uint32), ("length", ctypes.c_uint16),
-                ("hits", ctypes.c_uint16), ("gate", ctypes.c_uint16), ("state", ctypes.c_uint8),
+                ("hits", ctypes.c_uint16), ("gate", ctypes.c_uint16),
+                ("counted", ctypes.c_uint16), ("state", ctypes.c_uint8),
                 ("misses", ctypes.c_uint8)]
 
 
@@ -96,7 +99,7 @@ class _Stats(ctypes.Structure):
 class _Work(ctypes.Structure):
     _fields_ = [(name, ctypes.c_uint32) for name in
                 ("suppression_tests", "sort_compares", "cost_evaluations", "duplicate_tests",
-                 "free_probes")]
+                 "wake_tests", "free_probes")]
 
 
 @functools.lru_cache(maxsize=None)
@@ -242,7 +245,9 @@ def params_codes(tracker: Tracker, radius: int) -> dict[str, int]:
             "reject_reversed": int(cfg.reject_reversed),
             "confirm_ratio": tracker.confirm_ratio, "predict_ratio": tracker.predict_ratio,
             "delete_ratio": tracker.delete_ratio, "confirm_hits": cfg.confirm_hits,
-            "predict_hits": cfg.predict_hits, "max_misses": cfg.max_misses}
+            "predict_hits": cfg.predict_hits, "max_misses": cfg.max_misses,
+            "confirm_gap": tracker.confirm_gap, "wake_radius": cfg.wake_radius,
+            "wake_points": cfg.wake_points}
 
 
 #: Limits of the firmware beyond AssociationConfig's (``dptbd_params`` in dptbd_track.h).

@@ -69,9 +69,11 @@ TRACK_DTYPE = np.dtype([
     ("v_col", np.int32),
     ("pred_row", np.int32),          # 预测点 for the next segment (Q4)
     ("pred_col", np.int32),
+    ("count_seg", np.int32),         # segment of the newest hit counted toward confirmation
     ("length", np.uint16),           # 轨迹总长度: segments since the first point, inclusive
     ("hits", np.uint16),             # 总匹配点数
     ("gate", np.uint16),             # 匹配允许偏差距离 (Q4 pixels, Euclidean radius)
+    ("counted", np.uint16),          # hits counted toward confirmation (confirm_disjoint)
     ("misses", np.uint8),            # 连续丢失目标点数
     ("n_points", np.uint32),         # points ever written to the history (ring)
 ])

@@ -18,6 +18,14 @@ workers) and summarises them (:class:`ChainSummary`). The metrics are defined in
   target) pair, with its distribution-free 95 % interval
   (:func:`dptbd.evaluation.stats.median_interval`).
 
+**The recursive DP** (``docs/arithmetic.md`` §8.6) instead of K-frame segments: a scenario
+whose ``[dp]`` has ``recursive = true`` (:func:`recursive_dp`: alpha, its 8-bit code and
+the E width of the DP family study) runs
+:func:`dptbd.evaluation.family.recursive_pipeline.run_recursive_pipeline` — a list every
+``every`` frames (default ``segment_frames``), each candidate's path backtracked over
+``segment_frames`` frames — with ideal lists only (the segmenter is calibrated for
+K-frame sums).
+
 Scenarios (:data:`SCENARIOS`): ``paper001-experiment-2`` (``dptbd run``'s built-in scenario),
 ``manoeuvring`` and ``crossing`` (:mod:`dptbd.scenes.chain`), each with the built-in
 scenario's DP, ADC, false-alarm rate and association; ``lists`` is ``"ideal"`` (each
@@ -42,7 +50,7 @@ from dptbd.model.segmentation import count_for_rate
 from dptbd.scenes import chain as chain_scenes
 
 __all__ = ["SCENARIOS", "ChainError", "RunOutcome", "ChainSummary", "scenario", "parse_seeds",
-           "variant", "run_outcome", "run_chain"]
+           "variant", "check_lists", "check_every", "recursive_dp", "run_outcome", "run_chain"]
 
 #: The named scenarios, the built-in one first.
 SCENARIOS = ("paper001-experiment-2", "manoeuvring", "crossing")
@@ -181,21 +189,64 @@ class ChainSummary:
                  if r.frames_until_output[j] is not None] for j in range(n)]
 
 
-def _check_lists(lists: Any) -> str:
+def check_lists(lists: Any, sc: Scenario | None = None) -> str:
+    """``lists`` if it is one of :data:`~dptbd.evaluation.chain.LISTS` and, for a recursive
+    scenario ``sc``, ``"ideal"``; else :class:`ChainError`."""
+    recursive = sc is not None and bool(sc.dp.get("recursive"))
     if lists not in LISTS:
         raise ChainError(f"lists must be one of {', '.join(map(repr, LISTS))}, got {lists!r}")
+    if recursive and lists != "ideal":
+        raise ChainError(f"the recursive DP's lists are the ideal rule only (the segmenter is "
+                         f"calibrated for K-frame sums); got lists {lists!r}")
     return lists
 
 
-def run_outcome(sc: Scenario | str, seed: int, lists: str = "ideal") -> RunOutcome:
-    """One seed of scenario ``sc`` (a name of :data:`SCENARIOS` or a :class:`Scenario`)."""
+def recursive_dp(alpha: float) -> dict:
+    """The ``[dp]`` fields of the recursive DP with forgetting factor ``alpha`` in (0, 1]:
+    alpha's code of 8 bits and E of
+    :data:`~dptbd.evaluation.family.detection.RECURSIVE_ENERGY_BITS` bits, as in the DP
+    family study (``docs/detection_results.md`` §6). ``segment_frames`` (the path's frames)
+    is set apart, the frames between lists by ``every`` (:func:`run_chain`)."""
+    from dptbd.evaluation.family.detection import RECURSIVE_ENERGY_BITS
+
+    return {"recursive": True, "forgetting": alpha, "forgetting_bits": 8,
+            "energy_bits": RECURSIVE_ENERGY_BITS}
+
+
+def check_every(every: Any, sc: Scenario) -> int | None:
+    """``every`` (frames between the recursive DP's lists, in [1, segment_frames]; None: one
+    list every ``segment_frames``) for a recursive scenario ``sc``; else :class:`ChainError`."""
+    if every is None:
+        return None
+    if not sc.dp.get("recursive"):
+        raise ChainError(f"every (frames between lists) is for the recursive DP only; "
+                         f"segments end every segment_stride frames; got every={every!r}")
+    k = sc.dp.get("segment_frames", 6)
+    if isinstance(every, bool) or not isinstance(every, int) or not 1 <= every <= k:
+        raise ChainError(f"every must be an integer in [1, segment_frames={k}], got {every!r}")
+    return every
+
+
+def run_outcome(sc: Scenario | str, seed: int, lists: str = "ideal",
+                every: int | None = None) -> RunOutcome:
+    """One seed of scenario ``sc`` (a name of :data:`SCENARIOS` or a :class:`Scenario`);
+    ``every``: frames between the recursive DP's lists (:func:`check_every`)."""
     from dptbd.evaluation.run.job import prepare
 
     sc = scenario(sc) if isinstance(sc, str) else sc
-    sc = sc.replace(seed=int(seed), lists=_check_lists(lists))
+    sc = sc.replace(seed=int(seed), lists=check_lists(lists, sc))
     sc.check()
+    every = check_every(every, sc)
     inp = prepare(sc)
-    result = run_pipeline(inp.frames, inp.cfg, inp.count, inp.assoc, lists=sc.lists)
+    if inp.cfg.recursive:
+        from dptbd.evaluation.family.recursive_pipeline import run_recursive_pipeline
+
+        result = run_recursive_pipeline(
+            inp.frames, inp.cfg.replace(histogram_shift=None), inp.count, inp.assoc,
+            path_frames=inp.cfg.segment_frames,
+            every=inp.cfg.segment_frames if every is None else every)
+    else:
+        result = run_pipeline(inp.frames, inp.cfg, inp.count, inp.assoc, lists=sc.lists)
     n_lists = len(result.segments.end_frames)
     ev = evaluate_tracks(result.tracks, result.positions, inp.truth, result.cfg, n_lists)
     return RunOutcome(int(seed), tuple(t.frames_until_output for t in ev.targets),
@@ -223,12 +274,15 @@ def variant(sc: Scenario | str, *, dp: dict | None = None, association: dict | N
 
 
 def run_chain(sc: Scenario | str, seeds: range | str, *, lists: str = "ideal",
-              workers: int | None = 1, scheduler: str | None = None) -> ChainSummary:
+              every: int | None = None, workers: int | None = 1,
+              scheduler: str | None = None) -> ChainSummary:
     """Every seed of ``seeds`` (a range or ``"A-B"``) of scenario ``sc`` through the chain.
 
     ``sc``: a name of :data:`SCENARIOS` (today's default chain) or a :class:`Scenario`
-    (e.g. :func:`variant`: another K or association on the same scenes). Refused before any
-    run: an unknown scenario name, a bad seed range, a bad ``lists``, a bad worker count.
+    (e.g. :func:`variant`: another K or association on the same scenes); ``every``: frames
+    between the recursive DP's lists (:func:`check_every`). Refused before any run: an
+    unknown scenario name, a bad seed range, a bad ``lists`` or ``every``, a bad worker
+    count.
     The result does not depend on ``workers``.
     """
     sc = scenario(sc) if isinstance(sc, str) else sc
@@ -236,8 +290,9 @@ def run_chain(sc: Scenario | str, seeds: range | str, *, lists: str = "ideal",
     if not isinstance(seeds, range) or len(seeds) == 0 or seeds.start < 0 or seeds.step != 1:
         raise ChainError(f"seeds must be a non-empty range of integers >= 0 in steps of 1, "
                          f"got {seeds!r}")
-    _check_lists(lists)
+    check_lists(lists, sc)
+    check_every(every, sc)
     sc.replace(seed=seeds.start, lists=lists).check()
     execution = job_execution(workers, scheduler=scheduler, tasks=len(seeds))
-    runs, _ = run_tasks(run_outcome, [(sc, s, lists) for s in seeds], execution)
+    runs, _ = run_tasks(run_outcome, [(sc, s, lists, every) for s in seeds], execution)
     return ChainSummary(sc.name, lists, seeds, tuple(runs))

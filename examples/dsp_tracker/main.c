@@ -7,10 +7,10 @@
  *
  * The file (little-endian, written by write_candidates.py):
  *   "DPTBDCL1"                       magic, 8 bytes
- *   u32 version (1)
+ *   u32 version (2; version 1 had 24 parameters)
  *   u32 layout[9]                    payload width; offset, width of row, col, energy, direction
  *   u32 capacities[4]                capacity, max_candidates, max_points, output_capacity
- *   i32 params[24]                   dptbd_params, in the struct's field order
+ *   i32 params[27]                   dptbd_params, in the struct's field order
  *   u32 n_segments
  *   per segment: u32 n, then n x { u64 payload (record, gateware layout); u16 row0; u16 col0; u8 path }
  *
@@ -26,8 +26,9 @@
 
 #include "dptbd_track.h"
 
-/* the file's 24 parameters are copied straight into dptbd_params */
-typedef char params_are_24_int32[sizeof(dptbd_params) == 24 * sizeof(int32_t) ? 1 : -1];
+/* the file's 27 parameters are copied straight into dptbd_params */
+#define N_PARAMS 27
+typedef char params_are_27_int32[sizeof(dptbd_params) == N_PARAMS * sizeof(int32_t) ? 1 : -1];
 
 static dptbd_tracker tracker;                 /* the firmware's whole state */
 static dptbd_candidate list[DPTBD_MAX_CANDIDATES];
@@ -107,7 +108,7 @@ int main(int argc, char **argv)
         DPTBD_RECORD_ENERGY_WIDTH, DPTBD_RECORD_DIRECTION_OFFSET, DPTBD_RECORD_DIRECTION_WIDTH};
     static const uint32_t caps[4] = {DPTBD_CAPACITY, DPTBD_MAX_CANDIDATES, DPTBD_MAX_POINTS,
                                      DPTBD_OUTPUT_CAPACITY};
-    int32_t params[24];
+    int32_t params[N_PARAMS];
     dptbd_params p;
     char magic[8];
     uint64_t v, n_seg, s, n, j;
@@ -129,8 +130,8 @@ int main(int argc, char **argv)
         rc = corrupt(path, "not a candidate file (magic DPTBDCL1 missing)", 0);
         goto done;
     }
-    if (!read_le(f, 4, &v) || v != 1) {
-        rc = corrupt(path, "version is not 1", ftell(f));
+    if (!read_le(f, 4, &v) || v != 2) {
+        rc = corrupt(path, "version is not 2", ftell(f));
         goto done;
     }
     for (i = 0; i < 9; ++i) {
@@ -145,14 +146,14 @@ int main(int argc, char **argv)
             goto done;
         }
     }
-    for (i = 0; i < 24; ++i) {
+    for (i = 0; i < N_PARAMS; ++i) {
         if (!read_le(f, 4, &v)) {
             rc = corrupt(path, "truncated in the parameters", ftell(f));
             goto done;
         }
         params[i] = (int32_t)(uint32_t)v;
     }
-    memcpy(&p, params, sizeof p);    /* dptbd_params is 24 int32_t, in file order */
+    memcpy(&p, params, sizeof p);    /* dptbd_params is N_PARAMS int32_t, in file order */
     if (dptbd_track_init(&tracker, &p) != DPTBD_OK) {
         fprintf(stderr, "dsp_tracker: %s: the firmware refuses the parameters\n", path);
         rc = 3;

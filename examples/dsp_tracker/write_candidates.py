@@ -24,7 +24,7 @@ from dptbd.dsp.record_header import record_layout_signature
 from dptbd.hw.candidate_layout import pack_record
 
 MAGIC = b"DPTBDCL1"
-VERSION = 1
+VERSION = 2
 
 
 def scene_pipeline(seed: int = 0, association: dict | None = None):
@@ -66,7 +66,7 @@ def candidate_file_bytes(cfg: DPConfig, assoc: AssociationConfig, tracker_kwargs
            struct.pack("<9I", *record_layout_signature(cfg)),
            struct.pack("<4I", assoc.capacity, assoc.max_candidates, assoc.max_points,
                        assoc.output_capacity),
-           struct.pack("<24i", *(codes[name] for name in PARAM_NAMES)), struct.pack("<I", len(lists))]
+           struct.pack(f"<{len(PARAM_NAMES)}i", *(codes[name] for name in PARAM_NAMES)), struct.pack("<I", len(lists))]
     for cands in lists:
         out.append(struct.pack("<I", len(cands)))
         for c in cands:

@@ -29,6 +29,17 @@ def _bench():
      "false_alarm_rate 1e-05 keeps no candidate point of 16384 pixels; allowed: at least "
      "3.05176e-05 (n = 1)"),
     (["--false-alarm-rate", "x"], "argument --false-alarm-rate: invalid float value: 'x'"),
+    (["--recursive", "0.8", "--lists", "gateware"],
+     "the recursive DP's lists are the ideal rule only (the segmenter is calibrated for "
+     "K-frame sums); got lists 'gateware'"),
+    (["--every", "3"],
+     "every (frames between lists) is for the recursive DP only; segments end every "
+     "segment_stride frames; got every=3"),
+    (["--recursive", "0.9", "--every", "9"],
+     "every must be an integer in [1, segment_frames=6], got 9"),
+    (["--recursive", "1.5"],
+     "scenario 'paper001-experiment-2': forgetting must be a finite real number in (0, 1], "
+     "got 1.5"),
 ])
 def test_refusals_are_usage_errors(args, message, capsys, monkeypatch):
     bench = _bench()
@@ -66,4 +77,15 @@ def test_another_false_alarm_rate_is_another_list_length(capsys):
     bench.main(["--scenario", "crossing", "--seeds", "0", "--false-alarm-rate", "0.004"])
     lines = capsys.readouterr().out.splitlines()
     assert lines[0] == "chain: [dp] {'segment_frames': 6}, [association] {}, false_alarm_rate 0.004"
+    assert lines[1] == "scenario crossing, seeds 0-0, ideal lists"
+
+
+def test_the_recursive_dp_prints_its_chain(capsys):
+    bench = _bench()
+    bench.main(["--scenario", "crossing", "--seeds", "0", "--recursive", "0.8",
+                "--set", "wake_radius=2", "--every", "3"])
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == ("chain: [dp] {'segment_frames': 6, 'recursive': True, 'forgetting': 0.8, "
+                        "'forgetting_bits': 8, 'energy_bits': 20}, [association] "
+                        "{'wake_radius': 2}, false_alarm_rate 0.002, a list every 3 frames")
     assert lines[1] == "scenario crossing, seeds 0-0, ideal lists"

@@ -122,10 +122,25 @@ def test_bit_exact_on_main_job_scenes_slow(first):
     {"confirm_hits": 1, "predict_hits": 1, "merge_radius": 0, "duplicate_radius": 0},
     {"max_points": 3, "output_capacity": 1, "capacity": 16, "heading_weight": 3.5,
      "gate_max": 12.0, "max_misses": 0},
+    {"wake_radius": 2, "wake_points": 2},
+    {"wake_radius": 3, "wake_points": 70, "max_points": 3},
 ])
 def test_bit_exact_with_other_settings(changes):
     for seed, assoc, kwargs, lists in _scenes(range(3)):
         run_both(assoc.replace(**changes), kwargs, lists, f"seed {seed} {changes}")
+
+
+@pytest.mark.parametrize("stride, confirm_hits", [(3, 3), (2, 2), (4, 4)])
+def test_bit_exact_with_disjoint_confirmation(stride, confirm_hits):
+    """confirm_disjoint with overlapping segments (the scenes' K = 6 lists read as ending
+    every ``stride`` frames: a hit counts only every ceil(6 / stride) segments)."""
+    counted = 0
+    for seed, assoc, kwargs, lists in _scenes(range(3)):
+        py, c = run_both(assoc.replace(confirm_disjoint=True, confirm_hits=confirm_hits),
+                         {**kwargs, "segment_stride": stride}, lists, f"seed {seed} S {stride}")
+        assert py.confirm_gap == -(-6 // stride) > 1
+        counted += int(np.count_nonzero(py.tracks["counted"] < py.tracks["hits"]))
+    assert counted > 0          # some live track had hits that did not count
 
 
 # ---- adversarial lists -----------------------------------------------------------------
@@ -242,6 +257,10 @@ def random_run(seed):
             items.append((r, col, int(rng.integers(0, 512)), int(rng.integers(0, 256)),
                           int(rng.integers(0, h)), int(rng.integers(0, w)), int(rng.integers(0, 3))))
         lists.append(recs(items[:caps[1]]))
+    # drawn last: the streams as before these settings
+    assoc = assoc.replace(confirm_disjoint=bool(rng.random() < 0.5),
+                          wake_radius=int(rng.choice([0, 0, 1, 2, 16])),
+                          wake_points=int(rng.integers(1, 5)))
     return assoc, kwargs, lists
 
 
@@ -311,6 +330,9 @@ def test_null_and_uninitialised_contexts_are_refused():
     assert lib.dptbd_track_step(ctypes.byref(blank), one, 1, None) == -3
     bad = _Params(**{**params_codes(c, 1), "confirm_hits": 1, "predict_hits": 2})
     assert lib.dptbd_track_init(ctypes.byref(blank), ctypes.byref(bad)) == -2
+    for wrong in ({"confirm_gap": 0}, {"wake_radius": 17}, {"wake_points": 0}):
+        bad = _Params(**{**params_codes(c, 1), **wrong})
+        assert lib.dptbd_track_init(ctypes.byref(blank), ctypes.byref(bad)) == -2, wrong
     c._ctx.segment = 2 ** 31 - 1
     with pytest.raises(FirmwareError, match=r"^dptbd_track_step returned DPTBD_E_SEGMENTS$"):
         c.step(recs([]))
@@ -318,9 +340,9 @@ def test_null_and_uninitialised_contexts_are_refused():
 
 def test_context_memory_of_the_default_capacities():
     lib = load_firmware()
-    # records 64 x 64 B, histories 64 x 64 x 20 B, the same for the archive, input buffer
+    # records 64 x 72 B, histories 64 x 64 x 20 B, the same for the archive, input buffer
     # and scratch: docs/dsp_firmware.md quotes this figure
-    assert lib.dptbd_track_context_bytes() == 176304
+    assert lib.dptbd_track_context_bytes() == 177344
 
 
 def test_extreme_headings_use_the_128_bit_paths():

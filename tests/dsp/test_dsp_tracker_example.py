@@ -87,21 +87,21 @@ def test_candidates_outside_the_frame_are_rejected(ex, program, tmp_path):
 
 def _corrupt(ex):
     good = ex.candidate_file_bytes(DPConfig(), AssociationConfig(), KW, _lists())
-    head = 8 + 4 + 36 + 16 + 96             # magic, version, layout, capacities, parameters
+    head = 8 + 4 + 36 + 16 + 108            # magic, version, layout, capacities, parameters
     first = head + 4 + 4                     # the first record's payload word
     trailer = struct.pack("<Q", 1 << 34)
     return {
         "not a candidate file (magic DPTBDCL1 missing) (at byte 0)": b"DPTBDXX1" + good[8:],
-        "version is not 1 (at byte 12)": good[:8] + struct.pack("<I", 2) + good[12:],
+        "version is not 2 (at byte 12)": good[:8] + struct.pack("<I", 1) + good[12:],
         "record layout differs from dptbd_candidate_record.h (at byte 20)":
             good[:16] + struct.pack("<I", 8) + good[20:],
         "capacities differ from this build's DPTBD_* constants (at byte 52)":
             good[:48] + struct.pack("<I", 65) + good[52:],
         "truncated in the parameters (at byte 100)": good[:100],
-        "truncated before the segment count (at byte 160)": good[:head],
-        "truncated at a list length (at byte 166)": good[:head + 6],
-        "truncated inside a list (at byte 180)": good[:head + 20],
-        "a word that is not a candidate record (at byte 168)": good[:first] + trailer + good[first + 8:],
+        "truncated before the segment count (at byte 172)": good[:head],
+        "truncated at a list length (at byte 178)": good[:head + 6],
+        "truncated inside a list (at byte 192)": good[:head + 20],
+        "a word that is not a candidate record (at byte 180)": good[:first] + trailer + good[first + 8:],
         "bytes after the last segment (at byte %d)" % (len(good) + 1): good + b"\0",
     }
 

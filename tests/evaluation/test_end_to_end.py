@@ -47,6 +47,58 @@ def test_a_variant_is_another_chain_on_the_same_scenes():
     assert summary.runs == (e2e.RunOutcome(0, (24, None), 0, 4), e2e.RunOutcome(1, (24, 24), 1, 4))
 
 
+def test_the_recursive_dp_runs_the_family_pipeline():
+    """``recursive_dp(alpha)`` with a list every 6 frames over paths of 6: the DP family
+    study's recursive pipeline (the same outcome as its job on this scene)."""
+    from dptbd.evaluation.family.recursive_pipeline import run_recursive_pipeline
+    from dptbd.dsp.track_metrics import evaluate_tracks
+    from dptbd.evaluation.run.job import prepare
+
+    dp = e2e.recursive_dp(0.8)
+    assert dp == {"recursive": True, "forgetting": 0.8, "forgetting_bits": 8, "energy_bits": 20}
+    sc = e2e.variant(_tiny(), dp=dp)
+    run = e2e.run_outcome(sc, 1)
+    inp = prepare(sc.replace(seed=1))
+    res = run_recursive_pipeline(inp.frames, inp.cfg.replace(histogram_shift=None), inp.count,
+                                 inp.assoc, path_frames=6, every=6)
+    ev = evaluate_tracks(res.tracks, res.positions, inp.truth, res.cfg, 6)
+    assert run == e2e.RunOutcome(1, tuple(t.frames_until_output for t in ev.targets),
+                                 ev.false_tracks, 6)
+    assert run.frames_until_output != e2e.run_outcome(_tiny(), 1).frames_until_output or \
+        run.false_tracks != e2e.run_outcome(_tiny(), 1).false_tracks
+    assert e2e.run_chain(sc, "1-1").runs == (run,)
+    # a list every 4 frames over paths of 6: ends 5, 9, ..., 33 of 36 frames
+    assert e2e.run_chain(sc, "1-1", every=4).runs[0].lists == 8
+
+
+def test_the_recursive_dp_has_ideal_lists_only():
+    sc = e2e.variant(_tiny(), dp=e2e.recursive_dp(0.8))
+    msg = ("the recursive DP's lists are the ideal rule only (the segmenter is calibrated for "
+           "K-frame sums); got lists 'gateware'")
+    for call in (lambda: e2e.run_chain(sc, "0-1", lists="gateware"),
+                 lambda: e2e.run_outcome(sc, 0, lists="gateware"),
+                 lambda: e2e.check_lists("gateware", sc)):
+        with pytest.raises(e2e.ChainError, match=whole(msg)):
+            call()
+    assert e2e.check_lists("gateware", _tiny()) == "gateware"
+
+
+@pytest.mark.parametrize("dp, every, message", [
+    ({}, 3, "every (frames between lists) is for the recursive DP only; segments end every "
+            "segment_stride frames; got every=3"),
+    (e2e.recursive_dp(0.8), 7, "every must be an integer in [1, segment_frames=6], got 7"),
+    (e2e.recursive_dp(0.8), 0, "every must be an integer in [1, segment_frames=6], got 0"),
+    (e2e.recursive_dp(0.8), 2.0, "every must be an integer in [1, segment_frames=6], got 2.0"),
+])
+def test_every_is_for_the_recursive_dp_within_its_paths(dp, every, message):
+    sc = e2e.variant(_tiny(), dp=dp)
+    for call in (lambda: e2e.run_chain(sc, "0-1", every=every),
+                 lambda: e2e.run_outcome(sc, 0, every=every)):
+        with pytest.raises(e2e.ChainError, match=whole(message)):
+            call()
+    assert e2e.check_every(None, sc) is None
+
+
 def test_a_variant_with_another_false_alarm_rate_has_other_list_lengths():
     # 48 x 48 pixels: 0.005 keeps n = 12 candidates per list, 0.002 n = 5: fewer confirmations
     sc = e2e.variant(_tiny(), false_alarm_rate=0.002)
@@ -62,10 +114,11 @@ def test_a_variant_with_another_false_alarm_rate_has_other_list_lengths():
     ({"association": {"nokey": 1}},
      "scenario 'tiny': unknown association parameter(s) ['nokey']; allowed: ['capacity', "
      "'max_candidates', 'max_points', 'output_capacity', 'max_speed', 'merge_radius', "
-     "'duplicate_radius', 'seed_gate', 'gate_base', 'gate_growth', 'gate_growth_segments', "
-     "'gate_miss', 'gate_max', 'manoeuvre', 'link_gate', 'heading_weight', 'reject_reversed', "
-     "'heading_min', 'confirm_hits', 'confirm_ratio', 'predict_hits', 'predict_ratio', "
-     "'delete_ratio', 'max_misses']"),
+     "'duplicate_radius', 'wake_radius', 'wake_points', 'seed_gate', 'gate_base', "
+     "'gate_growth', 'gate_growth_segments', 'gate_miss', 'gate_max', 'manoeuvre', "
+     "'link_gate', 'heading_weight', 'reject_reversed', "
+     "'heading_min', 'confirm_hits', 'confirm_ratio', 'confirm_disjoint', 'predict_hits', "
+     "'predict_ratio', 'delete_ratio', 'max_misses']"),
     ({"false_alarm_rate": 0.0},
      "[segmentation] false_alarm_rate must be in (0, 1], got 0.0"),
     ({"false_alarm_rate": 1.5},

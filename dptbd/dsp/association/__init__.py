@@ -69,6 +69,15 @@ them. In short:
   two points uses ``v1``; a new track uses its candidate's heading scaled to a segment.
   The predicted point is ``p_k + v * (segments since p_k)``, so a coasting track keeps
   moving.
+* **Overlapping segments** (``segment_stride < segment_frames``): with
+  ``confirm_disjoint`` a hit counts toward ``confirm_hits`` only when its list shares no
+  frame with the list of the previous counted hit (``counted``, ``count_seg``: every
+  ``ceil(K / S_t)`` segments at most), so one noise peak in two consecutive lists counts
+  once; off by default (every hit counts, ``counted == hits``).
+* **Wake** (``wake_radius``, off by default): after matching, a candidate left over within
+  ``wake_radius`` of a live track's recent path (its newest ``wake_points`` history points
+  and their path starts) starts no track — the recursive DP's energy stays on the pixels a
+  target has just left.
 * **Capacity overflow.** When every record is in use, candidates left over are *not*
   given a track: they are dropped and counted (``stats["dropped_candidates"]``);
   existing tracks are never evicted (they carry more evidence than one point). New tracks
@@ -79,7 +88,8 @@ Worst-case work per segment, with C = ``capacity`` records and n <= ``max_candid
 candidates: cluster suppression n(n-1) distance tests; matching 3 class scans of C
 records, each sorting its tracks by evidence (at most C(C-1)/2 compares over the three
 classes) and at most C x n cost evaluations in all (a track is in one class; each a few
-multiplies and one integer square root); updates C; duplicate test m(m-1)/2 pairs of the m <= min(C, n) extended tracks; new
+multiplies and one integer square root); updates C; duplicate test m(m-1)/2 pairs of the m <= min(C, n) extended tracks; wake
+suppression (when on) at most n x C x min(wake_points, max_points) point tests; new
 tracks n(n-1)/2 insertion-sort compares and at most n + C free-slot probes. For C = 64,
 n = 33: about 1 100 + 2 000 + 2 100 + 64 + 2 000 + 530 + 100 operations, independent
 of the data (``tests/dsp/association/test_init.py::test_work_per_segment_is_bounded``). Nothing is
@@ -176,6 +186,9 @@ class Tracker:
         self.confirm_ratio = _q(cfg.confirm_ratio, RATIO_BITS)
         self.predict_ratio = _q(cfg.predict_ratio, RATIO_BITS)
         self.delete_ratio = _q(cfg.delete_ratio, RATIO_BITS)
+        # segments from one counted hit to the next: lists s and s' share no frame when
+        # (s - s') * S_t >= K
+        self.confirm_gap = -(-self.k // self.stride) if cfg.confirm_disjoint else 1
         # ---- fixed-capacity state, allocated once ----
         self.tracks = np.zeros(cfg.capacity, dtype=TRACK_DTYPE)
         self.history = np.zeros((cfg.capacity, cfg.max_points), dtype=POINT_DTYPE)
@@ -198,7 +211,7 @@ class Tracker:
         self.stats = {"segments": 0, "candidates": 0, "suppressed": 0, "matched": 0,
                       "started": 0, "confirmed": 0, "deleted": 0, "left_image": 0,
                       "dropped_candidates": 0, "dropped_outputs": 0, "history_wrapped": 0,
-                      "duplicates": 0, "peak_active": 0}
+                      "duplicates": 0, "peak_active": 0, "wake_suppressed": 0}
 
     # ---- the per-segment association ------------------------------------------------
     def step(self, candidates: np.ndarray) -> None:
@@ -226,6 +239,7 @@ class Tracker:
                 self.tracks["misses"][i] = min(int(self.tracks["misses"][i]) + 1, 255)
             self._update(i, s)
         self._remove_duplicates()
+        self._suppress_wake(n)
         self._start_tracks(n, s)
         self.stats["peak_active"] = max(self.stats["peak_active"], self.active())
 
@@ -382,6 +396,9 @@ class Tracker:
         t["p_seg"][i][1], t["p_row"][i][1], t["p_col"][i][1] = s, row, col
         t["v_row"][i], t["v_col"][i] = vr, vc
         t["hits"][i] = min(hits + 1, 65535)
+        if s - int(t["count_seg"][i]) >= self.confirm_gap:
+            t["counted"][i] = min(int(t["counted"][i]) + 1, 65535)
+            t["count_seg"][i] = s
         t["misses"][i] = 0
         self._record_point(i, j, s)
 
@@ -406,7 +423,7 @@ class Tracker:
         if (not self._ratio_at_least(hits, length, self.delete_ratio)) or misses > cfg.max_misses:
             self._delete(i)
             return
-        if (int(t["state"][i]) == TENTATIVE and hits >= cfg.confirm_hits
+        if (int(t["state"][i]) == TENTATIVE and int(t["counted"][i]) >= cfg.confirm_hits
                 and self._ratio_at_least(hits, length, self.confirm_ratio)):
             t["state"][i] = CONFIRMED
             t["confirm_seg"][i] = s
@@ -467,6 +484,35 @@ class Tracker:
                     if weaker == a:
                         break
 
+    def _suppress_wake(self, n: int) -> None:
+        """Drop each candidate left over within ``wake_radius`` (Chebyshev) of a live track's
+        recent path: its newest ``wake_points`` history points and their path starts."""
+        rad = self.cfg.wake_radius
+        if rad <= 0:
+            return
+        t, mp = self.tracks, self.cfg.max_points
+        for j in range(n):
+            if not self._keep[j] or self._claimed[j]:
+                continue
+            rj, cj = int(self.inbuf["row"][j]), int(self.inbuf["col"][j])
+            near = False
+            for i in range(self.cfg.capacity):
+                if int(t["state"][i]) == FREE:
+                    continue
+                n_pts = int(t["n_points"][i])
+                for q in range(min(self.cfg.wake_points, n_pts, mp)):
+                    h = self.history[i, (n_pts - 1 - q) % mp]
+                    if ((abs(int(h["row"]) - rj) <= rad and abs(int(h["col"]) - cj) <= rad)
+                            or (h["path"] and abs(int(h["row0"]) - rj) <= rad
+                                and abs(int(h["col0"]) - cj) <= rad)):
+                        near = True
+                        break
+                if near:
+                    break
+            if near:
+                self._keep[j] = False
+                self.stats["wake_suppressed"] += 1
+
     def _delete(self, i: int) -> None:
         """Free record i; a confirmed track goes to the output archive first."""
         t = self.tracks
@@ -512,7 +558,8 @@ class Tracker:
             t["p_seg"][i][1], t["p_row"][i][1], t["p_col"][i][1] = s, row, col
             t["p_seg"][i][0], t["p_row"][i][0], t["p_col"][i][0] = s, row, col
             t["v_row"][i], t["v_col"][i] = self._head_row[j], self._head_col[j]
-            t["length"][i] = t["hits"][i] = 1
+            t["length"][i] = t["hits"][i] = t["counted"][i] = 1
+            t["count_seg"][i] = s
             self._record_point(i, j, s)
             self.stats["started"] += 1
             if self.cfg.confirm_hits <= 1:          # a one-point output threshold

@@ -50,7 +50,11 @@ class AssociationConfig:
         backwards (001 §2: "目标的运动是不后退的"); ``heading_min``: headings and velocities
         shorter than this (pixels per segment) have no direction and cost nothing.
     Thresholds (001 §3 (3): output > predict > delete)
-        Output (confirm): ``hits >= confirm_hits`` and ``ratio >= confirm_ratio``.
+        Output (confirm): ``counted >= confirm_hits`` and ``ratio >= confirm_ratio``.
+        ``confirm_disjoint``: count toward ``confirm_hits`` only a hit whose list shares no
+        frame with the list of the previous counted hit (overlapping segments,
+        ``segment_stride < segment_frames``: one noise peak lies in consecutive lists and
+        would count twice); false: every hit counts (``counted == hits``).
         Predict (prediction space): ``hits >= predict_hits`` and ``ratio >= predict_ratio``.
         Delete: ``ratio < delete_ratio`` or ``misses > max_misses``.
         ``ratio = hits / length``.
@@ -59,6 +63,12 @@ class AssociationConfig:
         ``duplicate_radius``: two tracks that both matched in a segment, with newest
         points within this Chebyshev distance and velocities within ``manoeuvre`` of each
         other, follow the same object: the weaker one is deleted (0: off).
+    Wake
+        ``wake_radius``: a candidate left over after matching within this Chebyshev
+        distance (pixels) of a live track's recent path — the newest ``wake_points`` points
+        of its history and, where backtracked, their paths' starts — starts no track (0:
+        off). The recursive DP's energy stays on the pixels a target has just left
+        (``docs/detection_results.md`` §6.2); K-frame segments hardly need it.
     """
 
     capacity: int = 64
@@ -68,6 +78,8 @@ class AssociationConfig:
     max_speed: float = 1.0
     merge_radius: int = 1
     duplicate_radius: int = 2
+    wake_radius: int = 0
+    wake_points: int = 2
     seed_gate: float = 3.0
     gate_base: float = 2.5
     gate_growth: float = 0.25
@@ -81,6 +93,7 @@ class AssociationConfig:
     heading_min: float = 1.0
     confirm_hits: int = 4
     confirm_ratio: float = 0.6
+    confirm_disjoint: bool = False
     predict_hits: int = 2
     predict_ratio: float = 0.5
     delete_ratio: float = 0.4
@@ -89,7 +102,8 @@ class AssociationConfig:
     def __post_init__(self) -> None:
         ints = {"capacity": (1, 65535), "max_candidates": (1, 65535), "max_points": (1, 65535),
                 "output_capacity": (0, 65535), "merge_radius": (0, 16),
-                "duplicate_radius": (0, 1000),
+                "duplicate_radius": (0, 1000), "wake_radius": (0, 16),
+                "wake_points": (1, 65535),
                 "gate_growth_segments": (0, 1000), "confirm_hits": (1, 65535),
                 "predict_hits": (1, 65535), "max_misses": (0, 255)}
         for name, (lo, hi) in ints.items():
@@ -107,8 +121,9 @@ class AssociationConfig:
                 continue
             object.__setattr__(self, name, check_real(f"association {name}", v, lo, hi,
                                                       error=AssociationError))
-        object.__setattr__(self, "reject_reversed", check_bool(
-            "association reject_reversed", self.reject_reversed, error=AssociationError))
+        for name in ("reject_reversed", "confirm_disjoint"):
+            object.__setattr__(self, name, check_bool(f"association {name}", getattr(self, name),
+                                                      error=AssociationError))
         if not self.confirm_ratio >= self.predict_ratio >= self.delete_ratio:
             raise AssociationError(
                 "association thresholds must be ordered as 001 §3 says (output > predict > "

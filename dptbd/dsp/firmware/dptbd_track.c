@@ -156,7 +156,9 @@ static int params_valid(const dptbd_params *p)
         && p->confirm_ratio >= p->predict_ratio && p->predict_ratio >= p->delete_ratio
         && in_range(p->confirm_hits, 1, 65535) && in_range(p->predict_hits, 1, 65535)
         && p->confirm_hits >= p->predict_hits
-        && in_range(p->max_misses, 0, 255);
+        && in_range(p->max_misses, 0, 255)
+        && p->confirm_gap >= 1
+        && in_range(p->wake_radius, 0, 16) && in_range(p->wake_points, 1, 65535);
 }
 
 dptbd_status dptbd_track_init(dptbd_tracker *t, const dptbd_params *p)
@@ -434,6 +436,10 @@ static void extend(dptbd_tracker *t, int i, uint32_t j, int32_t s)
     r->v_row = (int32_t)vr;
     r->v_col = (int32_t)vc;
     r->hits = (uint16_t)min64((int64_t)r->hits + 1, 65535);
+    if ((int64_t)s - r->count_seg >= t->p.confirm_gap) {
+        r->counted = (uint16_t)min64((int64_t)r->counted + 1, 65535);
+        r->count_seg = s;
+    }
     r->misses = 0;
     record_point(t, i, j, s);
 }
@@ -471,7 +477,7 @@ static void update(dptbd_tracker *t, int i, int32_t s)
         delete_track(t, i);
         return;
     }
-    if (r->state == DPTBD_TENTATIVE && hits >= p->confirm_hits
+    if (r->state == DPTBD_TENTATIVE && r->counted >= p->confirm_hits
             && ratio_at_least(hits, length, p->confirm_ratio)) {
         r->state = DPTBD_CONFIRMED;
         r->confirm_seg = s;
@@ -538,6 +544,59 @@ static void remove_duplicates(dptbd_tracker *t, dptbd_work *w)
     }
 }
 
+static int within(int64_t r, int64_t c, int64_t rj, int64_t cj, int64_t rad)
+{
+    return abs64(r - rj) <= rad && abs64(c - cj) <= rad;
+}
+
+/* Tracker._suppress_wake: a leftover candidate within wake_radius (Chebyshev) of a live
+ * track's newest wake_points history points or their path starts starts no track. */
+static void suppress_wake(dptbd_tracker *t, uint32_t n, dptbd_work *w)
+{
+    const int64_t rad = t->p.wake_radius;
+    uint32_t j;
+    if (rad <= 0) {
+        return;
+    }
+    for (j = 0; j < n; ++j) {
+        int64_t rj, cj;
+        int i, near = 0;
+        if (!t->keep[j] || t->claimed[j]) {
+            continue;
+        }
+        rj = t->inbuf[j].row;
+        cj = t->inbuf[j].col;
+        for (i = 0; i < DPTBD_CAPACITY && !near; ++i) {
+            const dptbd_track *r = &t->tracks[i];
+            uint32_t q, points;
+            if (r->state == DPTBD_FREE) {
+                continue;
+            }
+            points = r->n_points;
+            if (points > (uint32_t)t->p.wake_points) {
+                points = (uint32_t)t->p.wake_points;
+            }
+            if (points > (uint32_t)DPTBD_MAX_POINTS) {
+                points = (uint32_t)DPTBD_MAX_POINTS;
+            }
+            for (q = 0; q < points; ++q) {
+                const dptbd_point *h =
+                    &t->history[i][(r->n_points - 1u - q) % (uint32_t)DPTBD_MAX_POINTS];
+                w->wake_tests++;
+                if (within(h->row, h->col, rj, cj, rad)
+                        || (h->path && within(h->row0, h->col0, rj, cj, rad))) {
+                    near = 1;
+                    break;
+                }
+            }
+        }
+        if (near) {
+            t->keep[j] = 0;
+            t->stats.wake_suppressed++;
+        }
+    }
+}
+
 /* Tracker._start_tracks: new tentative tracks from the leftovers, strongest first. */
 static void start_tracks(dptbd_tracker *t, uint32_t n, int32_t s, dptbd_work *w)
 {
@@ -592,6 +651,8 @@ static void start_tracks(dptbd_tracker *t, uint32_t n, int32_t s, dptbd_work *w)
         r->v_col = t->head_col[j];
         r->length = 1;
         r->hits = 1;
+        r->counted = 1;
+        r->count_seg = s;
         record_point(t, free_slot, j, s);
         t->stats.started++;
         if (p->confirm_hits <= 1) {                 /* a one-point output threshold */
@@ -679,6 +740,7 @@ dptbd_status dptbd_track_step(dptbd_tracker *t, const dptbd_candidate *list, uin
         update(t, i, s);
     }
     remove_duplicates(t, work);
+    suppress_wake(t, n, work);
     start_tracks(t, n, s, work);
     {
         uint32_t active = dptbd_track_active(t);

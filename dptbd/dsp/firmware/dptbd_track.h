@@ -86,7 +86,7 @@ typedef struct {
     uint8_t path;
 } dptbd_candidate;
 
-/* One track record, 001 section 3's record structure (Python: TRACK_DTYPE, 64 bytes). */
+/* One track record, 001 section 3's record structure (Python: TRACK_DTYPE, 72 bytes). */
 typedef struct {
     uint32_t id;             /* unique track number, from 1 */
     int32_t first_seg;       /* segment of the first point */
@@ -96,10 +96,12 @@ typedef struct {
     int32_t p_col[2];        /*   cols, Q4 */
     int32_t v_row, v_col;    /* velocity, Q4 pixels per segment */
     int32_t pred_row, pred_col; /* predicted point for the next segment, Q4 */
+    int32_t count_seg;       /* segment of the newest hit counted toward confirmation */
     uint32_t n_points;       /* points ever written to the history ring */
     uint16_t length;         /* segments since the first point, inclusive (saturates) */
     uint16_t hits;           /* matched points (saturates) */
     uint16_t gate;           /* allowed deviation, Q4 pixels (Euclidean radius) */
+    uint16_t counted;        /* hits counted toward confirmation (saturates) */
     uint8_t state;           /* DPTBD_FREE, DPTBD_TENTATIVE, DPTBD_CONFIRMED */
     uint8_t misses;          /* consecutive misses (saturates at 255) */
 } dptbd_track;
@@ -129,6 +131,11 @@ typedef struct {
     int32_t confirm_ratio, predict_ratio, delete_ratio; /* Q8, 0 .. 256 */
     int32_t confirm_hits, predict_hits; /* 1 .. 65535 */
     int32_t max_misses;           /* 0 .. 255 */
+    int32_t confirm_gap;          /* >= 1: a hit counts toward confirm_hits only if it is at
+                                     least this many segments after the previous counted
+                                     one (1: every hit; confirm_disjoint: ceil(K / S_t)) */
+    int32_t wake_radius;          /* pixels, 0 .. 16 (0: off) */
+    int32_t wake_points;          /* 1 .. 65535 newest history points of a track's wake */
 } dptbd_params;
 
 /* Counters: the Python Tracker's stats, plus the two bad-input counters. */
@@ -136,6 +143,7 @@ typedef struct {
     uint64_t segments, candidates, suppressed, matched, started, confirmed, deleted;
     uint64_t left_image, dropped_candidates, dropped_outputs, history_wrapped, duplicates;
     uint64_t peak_active;
+    uint64_t wake_suppressed;     /* leftover candidates on a track's recent path */
     uint64_t clipped_candidates;  /* beyond DPTBD_MAX_CANDIDATES in one list (not processed) */
     uint64_t rejected_candidates; /* row/col (or row0/col0 with path) outside the frame */
 } dptbd_stats;
@@ -171,6 +179,7 @@ typedef struct {
     uint32_t sort_compares;       /* insertion-sort compares (tracks and new tracks) */
     uint32_t cost_evaluations;    /* match cost evaluations */
     uint32_t duplicate_tests;     /* track pairs compared for duplicates */
+    uint32_t wake_tests;          /* history points compared in wake suppression */
     uint32_t free_probes;         /* record slots probed for new tracks */
 } dptbd_work;
 

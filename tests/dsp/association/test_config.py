@@ -39,6 +39,9 @@ def test_thresholds_output_above_predict_above_delete():
     (dict(confirm_ratio="0.6"),
      "association confirm_ratio must be a finite real number in [0, 1], got '0.6'"),
     (dict(reject_reversed=1), "association reject_reversed must be true or false, got 1"),
+    (dict(confirm_disjoint="yes"), "association confirm_disjoint must be true or false, got 'yes'"),
+    (dict(wake_radius=17), "association wake_radius must be an integer in [0, 16], got 17"),
+    (dict(wake_points=0), "association wake_points must be an integer in [1, 65535], got 0"),
 ])
 def test_parameters_outside_their_domain_are_refused(overrides, message):
     with pytest.raises(AssociationError, match=whole(message)):

@@ -201,6 +201,106 @@ def test_a_lower_output_threshold_confirms_sooner():
     assert confirm_segment(confirm_hits=3) < confirm_segment(confirm_hits=5)
 
 
+def _overlapping_run(detected, **kw):
+    """K = 8 frames every 4 (each frame in two consecutive lists): a target at 0.5 px/frame
+    detected in the segments ``detected`` of 0 .. 9; the tracker and its track's
+    ``counted`` after every segment."""
+    tr = Tracker(AssociationConfig(**kw), segment_frames=8, segment_stride=4, height=128,
+                 width=128)
+    counted = []
+    for s in range(10):
+        end = 4 * s + 7
+        r, c = 20 + end // 2, 30 + end // 2
+        tr.step(records([cand(r, c, 2000, r - 3, c - 3)] if s in detected else []))
+        counted.append(int(tr.tracks["counted"][0]))
+    return tr, counted
+
+
+def test_disjoint_confirmation_counts_only_hits_from_lists_that_share_no_frame():
+    """confirm_disjoint: lists s and s' share no frame when (s - s') * S_t >= K, here every
+    second segment: hits 0, 2, 4, 6 count and the fourth counted hit confirms (segment 6,
+    not 3); a miss shifts the count (hits 0, 1, 3, 4, ...: 0, 3, 5, 7 count)."""
+    off, counted_off = _overlapping_run(range(10))
+    on, counted_on = _overlapping_run(range(10), confirm_disjoint=True)
+    assert (off.confirm_gap, on.confirm_gap) == (1, 2)
+    assert counted_off == [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]
+    assert counted_on == [1, 1, 2, 2, 3, 3, 4, 4, 5, 5]
+    assert [t.confirm_segment for t in off.confirmed_tracks()] == [3]
+    assert [t.confirm_segment for t in on.confirmed_tracks()] == [6]
+    assert on.tracks["hits"][0] == off.tracks["hits"][0] == 10
+    assert on.tracks["count_seg"][0] == 8 and off.tracks["count_seg"][0] == 9
+    missed, counted = _overlapping_run([0, 1, 3, 4, 5, 6, 7, 8, 9], confirm_disjoint=True)
+    assert counted == [1, 1, 1, 2, 2, 3, 3, 4, 4, 5]
+    assert [t.confirm_segment for t in missed.confirmed_tracks()] == [7]
+
+
+def test_disjoint_confirmation_changes_nothing_for_back_to_back_segments():
+    """S_t = K: consecutive lists never share a frame, so every hit counts (gap 1) and the
+    records are bit for bit those without the setting."""
+    runs = []
+    for disjoint in (False, True):
+        rng = np.random.default_rng(3)
+        tr = tracker(confirm_disjoint=disjoint)
+        for s in range(12):
+            t = target_cand((20.0, 30.0), (0.8, 0.4), s)
+            tr.step(records([t] + clutter(rng, 30, avoid=t[:2])))
+        runs.append(tr)
+    assert runs[1].confirm_gap == 1
+    assert runs[0].tracks.tobytes() == runs[1].tracks.tobytes()
+    assert np.array_equal(runs[0].tracks["counted"], runs[0].tracks["hits"])
+    assert len(runs[1].confirmed_tracks()) >= 1
+
+
+def _wake_run(wake=None, **kw):
+    """A target at 1 px/frame along a row (6 px a segment, its path starting 5 px back) and
+    from segment 4 on ``wake(s)``: weaker candidates behind it; the tracker after 12
+    segments."""
+    tr = tracker(**kw)
+    for s in range(12):
+        col = 10 + 6 * s
+        items = [cand(40, col, 3000, 40, col - 5)]
+        if s >= 4 and wake is not None:
+            items += wake(s, col)
+        tr.step(records(items))
+    return tr
+
+
+def test_wake_suppression_keeps_the_recent_path_of_a_track_from_starting_tracks():
+    """A candidate 4 px behind the target every segment (2 px ahead of the track's previous
+    point, 1 px from its newest point's path start): without wake suppression it starts a
+    track that follows the target and is confirmed (a false track); with ``wake_radius =
+    2`` it starts none. A candidate far from every track still starts one."""
+    def behind(s, col):
+        return [cand(40, col - 4, 1500, 40, col - 9)]
+
+    off = _wake_run(behind)
+    assert len(off.confirmed_tracks()) == 2 and off.stats["wake_suppressed"] == 0
+    on = _wake_run(behind, wake_radius=2)
+    assert [t.first_segment for t in on.confirmed_tracks()] == [0]
+    assert on.stats["wake_suppressed"] == 8
+    far = _wake_run(lambda s, col: [cand(90, col, 1500, 90, col - 5)], wake_radius=2)
+    assert far.stats["wake_suppressed"] == 0
+    assert [t.first_segment for t in far.confirmed_tracks()] == [0, 4]
+
+
+@pytest.mark.parametrize("points, path, suppressed", [(1, 1, 8), (1, 0, 0), (2, 0, 8)])
+def test_wake_suppression_reaches_the_newest_points_and_their_path_starts(points, path,
+                                                                           suppressed):
+    """A candidate 7 px behind the target (the track's newest point, extended in this
+    segment): 2 px from that point's path start (5 px back), 1 px from the point before
+    (6 px back). It is on the recent path with ``wake_points = 2``, or with 1 when the
+    path is known."""
+    def behind(s, col):
+        return [cand(40, col - 7, 1500, 40, col - 12)]
+
+    tr = tracker(wake_radius=2, wake_points=points)
+    for s in range(12):                  # d = 5: the move (0, +1), the heading without a path
+        col = 10 + 6 * s
+        tr.step(records([(40, col, 3000, 5, 40, col - 5, path)]
+                        + (behind(s, col) if s >= 4 else [])))
+    assert tr.stats["wake_suppressed"] == suppressed
+
+
 def test_capacity_overflow_drops_the_weakest_new_candidates_and_never_evicts():
     """All records in use: candidates left over start no track (counted), existing tracks stay."""
     tr = tracker(capacity=4)

@@ -23,7 +23,8 @@ static dptbd_params defaults(void)
     p.gate_growth = 4; p.gate_miss = 16; p.gate_max = 112; p.gate_growth_segments = 8;
     p.manoeuvre = 48; p.link_gate = 0; p.heading_min = 16; p.heading_weight = 256;
     p.reject_reversed = 0; p.confirm_ratio = 154; p.predict_ratio = 128; p.delete_ratio = 102;
-    p.confirm_hits = 4; p.predict_hits = 2; p.max_misses = 3;
+    p.confirm_hits = 4; p.predict_hits = 2; p.max_misses = 3; p.confirm_gap = 1;
+    p.wake_radius = 0; p.wake_points = 2;
     return p;
 }
 
@@ -47,6 +48,12 @@ int main(void)
     bad = p; bad.confirm_ratio = 100;          /* below predict_ratio: thresholds unordered */
     CHECK(dptbd_track_init(&t, &bad) == DPTBD_E_PARAMS);
     bad = p; bad.height = 65537;
+    CHECK(dptbd_track_init(&t, &bad) == DPTBD_E_PARAMS);
+    bad = p; bad.confirm_gap = 0;              /* a hit counts at least a segment later */
+    CHECK(dptbd_track_init(&t, &bad) == DPTBD_E_PARAMS);
+    bad = p; bad.wake_radius = 17;
+    CHECK(dptbd_track_init(&t, &bad) == DPTBD_E_PARAMS);
+    bad = p; bad.wake_points = 0;
     CHECK(dptbd_track_init(&t, &bad) == DPTBD_E_PARAMS);
 
     CHECK(dptbd_track_init(&t, &p) == DPTBD_OK);
@@ -80,7 +87,8 @@ int main(void)
     p.gate_growth = 1600; p.gate_miss = 16000; p.gate_growth_segments = 1000;
     p.heading_weight = 25600; p.link_gate = 16000; p.max_misses = 255; p.delete_ratio = 0;
     p.predict_ratio = 0; p.confirm_ratio = 0; p.confirm_hits = 1; p.predict_hits = 1;
-    p.manoeuvre = 16000; p.heading_min = 0; p.reject_reversed = 1;
+    p.manoeuvre = 16000; p.heading_min = 0; p.reject_reversed = 1; p.confirm_gap = 2147483647;
+    p.wake_radius = 16; p.wake_points = 65535;
     CHECK(dptbd_track_init(&t, &p) == DPTBD_OK);
     for (seg = 0; seg < 40; ++seg) {
         for (i = 0; i < DPTBD_MAX_CANDIDATES; ++i) {
