@@ -130,6 +130,7 @@ def false_track_report(alpha: float, seeds: range, seg_counts: list[int], rec_co
     rows = [(f"segments K=6", fd.segments(6), "recursion", n) for n in seg_counts]
     rows += [(f"recursive alpha={alpha:g}", rec, "recursion", n) for n in rec_counts]
     rows += [(f"recursive alpha={alpha:g}, independent lists", rec, "independent", 33)]
+    totals = []
     for name, v, lists, n in rows:
         runs = [job_run(v, s, noise_only=True, lists=lists, count=n) for s in seeds]
         st = [r.result.stats for r in runs]
@@ -137,9 +138,16 @@ def false_track_report(alpha: float, seeds: range, seg_counts: list[int], rec_co
         distinct = sum(x["candidates"] - x["suppressed"] for x in st) / lists_
         started = sum(x["started"] for x in st) / lists_
         false = [r.evaluation.false_tracks for r in runs]
+        totals.append((f"{name}, n = {n} ({distinct:.1f} distinct)", sum(false)))
         print(f"| {name} | {n} | {distinct:.1f} | {started:.1f} | {sum(false)} "
               f"({np.mean(false):.2f}) | {_wilson(sum(f > 0 for f in false), len(runs))} |",
               flush=True)
+    print("\nRatios of false tracks (95 % interval: the split of their sum, Wilson):\n")
+    for i, (a_name, a) in enumerate(totals):
+        for b_name, b in totals[:i]:
+            if a + b:
+                r, lo, hi = ft.rate_ratio(a, b)
+                print(f"* {a_name} / {b_name}: {r:.2f} [{lo:.2f}, {hi:.2f}]")
     if not descent_seeds:
         return
     print(f"\nDescent on noise only (seeds {seeds.start}-{seeds.start + descent_seeds - 1}; a "

@@ -36,12 +36,13 @@ from dptbd.evaluation.chain import PipelineResult
 from dptbd.evaluation.family.association import JobRun
 from dptbd.evaluation.family.detection import Variant
 from dptbd.evaluation.metrics import near_mask
+from dptbd.evaluation.stats import wilson_interval
 from dptbd.model.family.fast import fast_family_start, fast_family_step
 from dptbd.model.fast import run_fixed_fast
 from dptbd.model.segmentation import candidates as map_candidates
 
 __all__ = ["KINDS", "FalseTrack", "Descent", "classify_points", "false_tracks", "descent_counts",
-           "check_descent_lags", "noise_scene", "recursive_config"]
+           "check_descent_lags", "noise_scene", "recursive_config", "rate_ratio"]
 
 #: Kinds of false track, nearest the target first.
 KINDS = ("on target", "wake", "elsewhere")
@@ -236,3 +237,16 @@ def recursive_config(variant: Variant, cfg: DPConfig) -> DPConfig:
     if variant.forgetting is None:
         raise DptbdError(f"recursive_config needs a recursive variant, got {variant.label!r}")
     return cfg.replace(histogram_shift=None, **variant.family_fields(cfg.radius))
+
+
+def rate_ratio(a: int, b: int) -> tuple[float, float, float]:
+    """Ratio a / b of two event counts over equally many runs, with its 95 % interval:
+    given a + b events, a is binomial with p = r / (1 + r); the Wilson interval of p mapped
+    to r (an infinite upper end when b = 0)."""
+    a = check_int("a", a, 0)
+    b = check_int("b", b, 0)
+    if a + b == 0:
+        raise DptbdError("rate_ratio needs at least one event, got a = b = 0")
+    lo, hi = wilson_interval(a, a + b)
+    ratio = lambda p: p / (1.0 - p) if p < 1.0 else float("inf")  # noqa: E731
+    return (a / b if b else float("inf")), ratio(lo), ratio(hi)

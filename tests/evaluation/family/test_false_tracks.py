@@ -120,3 +120,15 @@ def test_descent_between_segments(start, descended):
 def test_refusals(call, message):
     with pytest.raises(DptbdError, match=whole(message)):
         call()
+
+
+def test_rate_ratio():
+    from dptbd.evaluation.stats import wilson_interval
+    r, lo, hi = ft.rate_ratio(29, 16)
+    p_lo, p_hi = wilson_interval(29, 45)
+    assert r == 29 / 16
+    assert (lo, hi) == pytest.approx((p_lo / (1 - p_lo), p_hi / (1 - p_hi)))
+    assert lo < r < hi
+    assert ft.rate_ratio(3, 0)[0] == float("inf") and ft.rate_ratio(0, 3)[:2] == (0.0, 0.0)
+    with pytest.raises(DptbdError, match=whole("rate_ratio needs at least one event, got a = b = 0")):
+        ft.rate_ratio(0, 0)
