@@ -3,6 +3,7 @@
     python benchmarks/bench_family_association.py --alpha 0.97 --seeds 40
     python benchmarks/bench_family_association.py --sweep --seeds 40   # alpha from seeds 100-119
     python benchmarks/bench_family_association.py --alpha 0.97 --penalty-sweep 0 16 32 64 128
+    python benchmarks/bench_family_association.py --alpha 0.7 --false-tracks
 
 ``dptbd run``'s built-in scenario (two targets, SNR 2.0) on seeds ``--first-seed`` …
 ``--first-seed + --seeds - 1``, ideal lists (n = 33 per map), the scenario's association.
@@ -17,6 +18,17 @@ recursive scoring every 6 frames. ``--zero-move-penalty Q`` subtracts the penalt
 (95 % Wilson interval), frames until output (mean and median over the confirmed runs),
 first-level Pd pooled over the lists; per run: false tracks (mean, runs with at least one).
 
+``--false-tracks`` (``dptbd.evaluation.family.false_tracks``) asks what makes the false
+tracks, recursive scoring every 6 frames: (1) on the reported seeds, every false track of
+segments K = 6, of the recursion, and of the recursion with *independent* lists (list s
+from a recursion over its own noise: the lists' correlation removed) classified as on
+target, wake or elsewhere, with its hits in consecutive lists chained by one DP path; (2)
+on the same seeds without the targets (every confirmed track false), false tracks per run
+against the distinct candidates per list (those left by the association's cluster
+suppression) at the list lengths ``--seg-counts`` and ``--rec-counts``; (3) on the first
+``--descent-seeds`` of them, how often a list's candidate descends (its DP path, one move
+after the earlier list) from a candidate ``--descent-lags`` frames earlier.
+
 Library: ``dptbd.evaluation.family.association``. This script reports; it asserts nothing.
 """
 
@@ -26,8 +38,11 @@ import argparse
 
 import numpy as np
 
+from dptbd.errors import DptbdError, check_int
 from dptbd.evaluation.family import detection as fd
-from dptbd.evaluation.family.association import job_outcome
+from dptbd.evaluation.family import false_tracks as ft
+from dptbd.evaluation.family.association import job_outcome, job_run
+from dptbd.evaluation.family.wake import parse_lags
 from dptbd.evaluation.stats import wilson_interval
 
 
@@ -76,6 +91,88 @@ def penalty_sweep(alpha: float, penalties: list[int], seeds: range) -> None:
     print()
 
 
+def _counts(name: str, text: str) -> list[int]:
+    """``"33,43"`` -> list lengths, each an integer in [1, 128] (the DSP's input buffer)."""
+    try:
+        out = [int(v) for v in text.split(",")]
+    except ValueError:
+        raise DptbdError(f"{name} must be comma-separated integers in [1, 128], got {text!r}") from None
+    return [check_int(f"{name}[{i}]", n, 1, 128) for i, n in enumerate(out)]
+
+
+def false_track_report(alpha: float, seeds: range, seg_counts: list[int], rec_counts: list[int],
+                       descent_seeds: int, lags: tuple[int, ...]) -> None:
+    rec = fd.recursive(alpha, segment_frames=6)
+    variants = [("segments K=6", fd.segments(6), "recursion"),
+                (f"recursive alpha={alpha:g}, lists every 6", rec, "recursion"),
+                (f"recursive alpha={alpha:g}, independent lists", rec, "independent")]
+    print(f"False tracks by kind (built-in scenario, seeds {seeds.start}-{seeds.stop - 1}, ideal "
+          "lists of n = 33):\n")
+    print("| variant | false tracks (per run) | runs with one [95 %] | on target | wake | elsewhere "
+          "| chained pairs / pairs | one DP path (every pair chained) / tracks with a pair | "
+          "median step (px per list) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, v, lists in variants:
+        per_run = [ft.false_tracks(job_run(v, s, lists=lists)) for s in seeds]
+        tracks = [t for r in per_run for t in r]
+        kinds = [sum(t.kind == k for t in tracks) for k in ft.KINDS]
+        paired = [t for t in tracks if t.pairs]
+        one_path = sum(t.chained == t.pairs for t in paired)
+        step = np.median([t.step for t in tracks]) if tracks else float("nan")
+        print(f"| {name} | {len(tracks)} ({len(tracks) / len(per_run):.2f}) | "
+              f"{_wilson(sum(bool(r) for r in per_run), len(per_run))} | {kinds[0]} | {kinds[1]} | "
+              f"{kinds[2]} | {sum(t.chained for t in tracks)}/{sum(t.pairs for t in tracks)} | "
+              f"{one_path}/{len(paired)} | {step:g} |", flush=True)
+    print(f"\nNoise only (the same seeds without the targets: every confirmed track is false):\n")
+    print("| variant | list length n | distinct candidates per list | tracks started per list | "
+          "false tracks (per run) | runs with one [95 %] |")
+    print("|---|---|---|---|---|---|")
+    rows = [(f"segments K=6", fd.segments(6), "recursion", n) for n in seg_counts]
+    rows += [(f"recursive alpha={alpha:g}", rec, "recursion", n) for n in rec_counts]
+    rows += [(f"recursive alpha={alpha:g}, independent lists", rec, "independent", 33)]
+    totals = []
+    for name, v, lists, n in rows:
+        runs = [job_run(v, s, noise_only=True, lists=lists, count=n) for s in seeds]
+        st = [r.result.stats for r in runs]
+        lists_ = sum(x["segments"] for x in st)
+        distinct = sum(x["candidates"] - x["suppressed"] for x in st) / lists_
+        started = sum(x["started"] for x in st) / lists_
+        false = [r.evaluation.false_tracks for r in runs]
+        totals.append((f"{name}, n = {n} ({distinct:.1f} distinct)", sum(false)))
+        print(f"| {name} | {n} | {distinct:.1f} | {started:.1f} | {sum(false)} "
+              f"({np.mean(false):.2f}) | {_wilson(sum(f > 0 for f in false), len(runs))} |",
+              flush=True)
+    print("\nRatios of false tracks (95 % interval: the split of their sum, Wilson):\n")
+    for i, (a_name, a) in enumerate(totals):
+        for b_name, b in totals[:i]:
+            if a + b:
+                r, lo, hi = ft.rate_ratio(a, b)
+                print(f"* {a_name} / {b_name}: {r:.2f} [{lo:.2f}, {hi:.2f}]")
+    if not descent_seeds:
+        return
+    print(f"\nDescent on noise only (seeds {seeds.start}-{seeds.start + descent_seeds - 1}; a "
+          "candidate descends when its DP path, one frame after the earlier map, lies within one "
+          "move of one of the earlier map's n = 33 candidates; 95 % Wilson over candidates, "
+          "optimistic: candidates of one scene are correlated):\n")
+    print("| variant | lag (frames) | candidates descended [95 %] | chance: image within one move "
+          "| all pixels' paths descended |")
+    print("|---|---|---|---|---|")
+    total = {}
+    for s in seeds[:descent_seeds]:
+        sc_run = ft.noise_scene(s)
+        for key, cfg, lg in (("rec", ft.recursive_config(rec, sc_run.cfg), lags),
+                             ("seg", sc_run.cfg, (6,))):
+            d = ft.descent_counts(sc_run.frames, cfg, sc_run.count, lags=lg)
+            total[key] = d if key not in total else total[key] + d
+    for key, name in (("seg", "segments K=6"), ("rec", f"recursive alpha={alpha:g}")):
+        d = total[key]
+        for i, lag in enumerate(d.lags):
+            lo, hi = wilson_interval(d.descended[i], d.candidates[i])
+            print(f"| {name} | {lag} | {d.descended[i] / d.candidates[i]:.4f} [{lo:.4f}, {hi:.4f}] "
+                  f"({d.candidates[i]}) | {d.coverage[i] / d.pairs[i]:.4f} | "
+                  f"{d.background[i] / d.pairs[i]:.4f} |", flush=True)
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--alpha", type=float, default=None)
@@ -88,7 +185,31 @@ def main(argv=None) -> None:
                     help="penalty code on the zero move of the recursive variants")
     ap.add_argument("--penalty-sweep", type=int, nargs="+", default=None,
                     help="only sweep these zero-move penalties at --alpha on the tuning seeds")
+    ap.add_argument("--false-tracks", action="store_true",
+                    help="only classify the false tracks at --alpha (and the noise-only controls)")
+    ap.add_argument("--seg-counts", default="33,43",
+                    help="list lengths of segments K=6 on noise only (--false-tracks)")
+    ap.add_argument("--rec-counts", default="33,26",
+                    help="list lengths of the recursion on noise only (--false-tracks)")
+    ap.add_argument("--descent-seeds", type=int, default=5,
+                    help="noise-only seeds of the descent measurement (--false-tracks; 0: none)")
+    ap.add_argument("--descent-lags", default="1-6,12,18",
+                    help="lags (frames) of the recursion's descent (--false-tracks)")
     args = ap.parse_args(argv)
+    if args.false_tracks:
+        if args.alpha is None:
+            ap.error("--false-tracks needs --alpha")
+        try:
+            fd.recursive(args.alpha)
+            check_int("seeds", args.seeds, 1)
+            check_int("descent_seeds", args.descent_seeds, 0, args.seeds, hi_name="seeds=")
+            parsed = (_counts("seg_counts", args.seg_counts), _counts("rec_counts", args.rec_counts),
+                      parse_lags(args.descent_lags))
+        except DptbdError as exc:
+            ap.error(str(exc))
+        false_track_report(args.alpha, range(args.first_seed, args.first_seed + args.seeds),
+                           parsed[0], parsed[1], args.descent_seeds, parsed[2])
+        return
     if args.sweep == (args.alpha is not None):
         ap.error("give exactly one of --alpha and --sweep")
     tune = range(args.tune_first_seed, args.tune_first_seed + args.tune_seeds)
