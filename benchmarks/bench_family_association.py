@@ -123,11 +123,11 @@ def false_track_report(alpha: float, seeds: range, seg_counts: list[int], rec_co
               f"{_wilson(sum(bool(r) for r in per_run), len(per_run))} | {kinds[0]} | {kinds[1]} | "
               f"{kinds[2]} | {sum(t.chained for t in tracks)}/{sum(t.pairs for t in tracks)} | "
               f"{one_path}/{len(paired)} | {step:g} |", flush=True)
-    print(f"\nNoise only (the same seeds without the targets: every confirmed track is false):\n")
+    print("\nNoise only (the same seeds without the targets: every confirmed track is false):\n")
     print("| variant | list length n | distinct candidates per list | tracks started per list | "
           "false tracks (per run) | runs with one [95 %] |")
     print("|---|---|---|---|---|---|")
-    rows = [(f"segments K=6", fd.segments(6), "recursion", n) for n in seg_counts]
+    rows = [("segments K=6", fd.segments(6), "recursion", n) for n in seg_counts]
     rows += [(f"recursive alpha={alpha:g}", rec, "recursion", n) for n in rec_counts]
     rows += [(f"recursive alpha={alpha:g}, independent lists", rec, "independent", 33)]
     totals = []
