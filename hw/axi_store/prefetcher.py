@@ -155,31 +155,38 @@ class AxiReadPrefetcher(wiring.Component):
         # ---- issue side: next beat, its burst's length, the write count it needs -----------
         # ``need``: the written count the burst at ``next_beat`` waits for (the word taking its
         # last word, index i, needs the writes of words up to i + D - W*H/P answered). It and
-        # ``length`` are registers, brought up to date in the cycle after an issue (ARVALID is
-        # high then, so no burst issues on stale values) and set outright by a restart; the
-        # issue decision is one subtraction and one comparison away from registers.
+        # ``length`` are registers, brought up to date in the cycle after an issue and set
+        # outright by a restart. The two tests on them are registers too, of the cycle before:
+        # ``ordered`` (``written`` only grows, so an old one errs on the safe side) and
+        # ``fits`` (``reserved`` grows only by an issue). So after an issue in cycle t, ARVALID
+        # blocks t + 1, ``settling`` blocks t + 2 (the tests of t + 1 saw the old ``need`` /
+        # ``length``), and after a restart ``settling`` blocks the next cycle: a burst issues
+        # every third cycle at most, and every issue test is a register.
         def burst_length(beat: int) -> int:
             return min(store.burst_beats - beat % store.burst_beats, beats - beat)
 
         modulus = 1 << count_bits
         first_beat, first_skip = first_word // per_beat, first_word % per_beat
         restart_beat, restart_skip = restart_word // per_beat, restart_word % per_beat
+        first_need = (burst_length(first_beat) * per_beat - first_skip + ahead - pixels) % modulus
         next_beat = Signal(range(beats), init=first_beat)
         length = Signal(range(store.burst_beats + 1), init=burst_length(first_beat))
-        need = Signal(count_bits, init=(burst_length(first_beat) * per_beat - first_skip
-                                        + ahead - pixels) % modulus)
+        need = Signal(count_bits, init=first_need)
         issued = Signal()                            # a burst issued in the previous cycle
+        settling = Signal()                          # the tests below are of stale values
         reserved = Signal(range(depth + 1))          # beats requested and not popped
         in_flight = Signal(range(store.outstanding + 1))
-        ordered = Signal()
-        m.d.comb += ordered.eq((self.written - need)[:count_bits].as_signed() >= 0)
+        # reset values: the tests on the reset values (written = 0, nothing reserved)
+        ordered = Signal(init=(-first_need) % modulus < modulus // 2)
+        fits = Signal(init=burst_length(first_beat) <= depth)
+        m.d.sync += [ordered.eq((self.written - need)[:count_bits].as_signed() >= 0),
+                     fits.eq(reserved + length <= depth)]
 
         rlast_seen = self.r.rvalid & self.r.rready & self.r.rlast
         issue = Signal()
         # not gated by ``restart`` (that comes from the pipeline's input handshake): a burst
         # issued in a restart's cycle belongs to the old sequence and is dropped as stale
-        m.d.comb += issue.eq(~self.ar.arvalid & ordered
-                             & (reserved + length <= depth)
+        m.d.comb += issue.eq(~self.ar.arvalid & ~settling & ordered & fits
                              & (in_flight < store.outstanding))
         m.d.comb += [
             self.ar.arid.eq(0),
@@ -189,7 +196,8 @@ class AxiReadPrefetcher(wiring.Component):
         ]
         with m.If(self.ar.arvalid & self.ar.arready):
             m.d.sync += self.ar.arvalid.eq(0)
-        m.d.sync += issued.eq(issue & ~(self.take & self.restart))   # a restart sets both
+        m.d.sync += [issued.eq(issue & ~(self.take & self.restart)),   # a restart sets both
+                     settling.eq(issued | (self.take & self.restart))]
         with m.If(issue):
             m.d.sync += [
                 self.ar.arvalid.eq(1),
@@ -206,17 +214,25 @@ class AxiReadPrefetcher(wiring.Component):
                          need.eq(need + following * per_beat)]
         m.d.sync += in_flight.eq(in_flight + (self.ar.arvalid & self.ar.arready) - rlast_seen)
 
+        # ---- the head beat: a register after the FIFO's block RAM (whose read is slow to
+        # come out), refilled in the cycle it is popped ------------------------------------
+        head = Signal(store.data_bits)
+        head_valid = Signal()
+        pop = Signal()                               # the head beat leaves
+        refill = ~head_valid | pop
+        m.d.comb += fifo.r_en.eq(refill)
+        with m.If(refill):
+            m.d.sync += [head.eq(fifo.r_data), head_valid.eq(fifo.r_rdy)]
+
         # ---- take side: unpack the head beat, drop stale beats --------------------------
         # one word per beat: offset stays 0 (one bit, not a zero-width vector)
         offset = Signal(range(max(per_beat, 2)), init=first_skip)
         stale = Signal(range(depth + 1))             # beats to drop after a restart
         taken = Signal(count_bits)                   # words taken since reset
-        pop = Signal()
         m.d.comb += [
-            self.available.eq(fifo.r_rdy & (stale == 0)),
+            self.available.eq(head_valid & (stale == 0)),
             self.word.as_value().eq(
-                from_slots(store, fifo.r_data.word_select(offset, store.word_bits))),
-            fifo.r_en.eq(pop),
+                from_slots(store, head.word_select(offset, store.word_bits))),
         ]
         with m.If(self.take):
             m.d.sync += taken.eq(taken + 1)
@@ -231,7 +247,7 @@ class AxiReadPrefetcher(wiring.Component):
                                  + ahead - pixels) % modulus),
             ]
         with m.Elif(stale != 0):
-            m.d.comb += pop.eq(fifo.r_rdy)
+            m.d.comb += pop.eq(head_valid)
             with m.If(pop):
                 m.d.sync += stale.eq(stale - 1)
         with m.Elif(self.take):

@@ -121,7 +121,10 @@ class AxiWriteBehind(wiring.Component):
         # or a jump (resynchronisation) -----------------------------------------------------
         m.submodules.w_fifo = w_fifo = SyncFIFOBuffered(width=store.data_bits, depth=depth)
         descriptor = data.StructLayout({"beat": range(beats), "len": 8, "upto": count_bits})
-        m.submodules.bursts = bursts = SyncFIFO(width=descriptor.size, depth=depth)
+        # the descriptors in block RAM (a registered read, one cycle more from a closed burst
+        # to its AW; the W FIFO's margin does not depend on it): a queue read without a clock
+        # edge is flip-flops and a read multiplexer on the iCE40
+        m.submodules.bursts = bursts = SyncFIFOBuffered(width=descriptor.size, depth=depth)
         m.d.comb += [w_fifo.w_data.eq(packing), w_fifo.w_en.eq(beat_valid)]
         run_open = Signal()
         run_start = Signal(range(beats))
