@@ -99,6 +99,11 @@ class Controller(wiring.Component):
     read_addr : Out(range(W*H))
         Cycle 0, combinational: the state-store address to read for the accepted pixel,
         ``(p + r*(W+1)) mod (W*H)`` for its raster position p.
+    next_read_addr : Out(range(W*H))
+        Cycle 0, combinational: the address the next pixel will read if it continues the
+        raster (``read_addr + 1`` mod W*H, from the registers and ``resync`` alone, no adder
+        after ``resync``); what the on-chip store reads ahead
+        (:class:`~dptbd.hw.read_ahead_store.ReadAheadStore`).
     resync : Out(1)
         Cycle 0, combinational: the accepted pixel restarts the counters.
     valid : Out(1)
@@ -119,6 +124,7 @@ class Controller(wiring.Component):
             "segment_frames": In(range(1, cfg.k_max + 1), init=cfg.segment_frames),
             "segment_begin": Out(1),
             "read_addr": Out(range(cfg.width * cfg.height)),
+            "next_read_addr": Out(range(cfg.width * cfg.height)),
             "resync": Out(1),
             "valid": Out(1),
             "position": Out(position_layout(cfg)),
@@ -168,7 +174,8 @@ class Controller(wiring.Component):
         # ---- end of recursive mode ---------------------------------------------------
         last_col = ~self.resync & col_last
         end_of_frame = last_col & row_last
-        m.d.comb += self.read_addr.eq(eff_ahead)
+        next_ahead = Mux(self.resync, (ahead_start + 1) % pixels, increment_mod(ahead, pixels))
+        m.d.comb += [self.read_addr.eq(eff_ahead), self.next_read_addr.eq(next_ahead)]
 
         with m.If(self.accept):
             # Next values from the registers alone, `resync` (from the input `first`)
@@ -176,8 +183,7 @@ class Controller(wiring.Component):
             m.d.sync += [
                 col.eq(Mux(self.resync, 1, increment_mod(col, width))),
                 col_last.eq(~self.resync & (col == width - 2)),
-                ahead.eq(Mux(self.resync, (ahead_start + 1) % pixels,
-                             increment_mod(ahead, pixels))),
+                ahead.eq(next_ahead),
                 at_start.eq(end_of_frame),
             ]
             with m.If(self.resync):
