@@ -47,8 +47,9 @@ class Histogram(wiring.Component):
       ``scan_valid`` two cycles after its read, i.e. in cycles c+2 … c+2**b+1 (``scan_bin``
       says which, ``scan_last`` marks bin 0), and that bin's new count 0 is formed in the
       same cycle. After the scan every counter is 0 (the last clearing reaches the memory a
-      cycle after ``scanning`` falls; a read before that takes it from the forwarding). An increment issued in c-1, whose read the scan's
-      first read displaces, is held and added to its bin's count as the scan passes it.
+      cycle after ``scanning`` falls; a read before that takes it from the forwarding). An
+      increment issued in c-1, whose read the scan's first read displaces, is held and added
+      to its bin's count as the scan passes it.
 
     The memory's power-up contents are 0; after a reset they are whatever they were, so the
     segmenter runs one scan after every reset to clear them.

@@ -20,8 +20,9 @@ from helpers.refusals import whole
 def run_reads(dut, cfg, addresses, seed):
     """Read ``addresses`` in order (``next_read_addr`` = address + 1 mod W*H, as the
     controller gives it), ``read_en`` 70 % of the cycles, random writes among those
-    addresses that never touch the word read ahead and not yet delivered (the pipeline writes a word long before it is read
-    ahead, ``check_read_ahead_store``). Returns (got, model word at the read's cycle)."""
+    addresses that never touch the word read ahead and not yet delivered (the pipeline
+    writes a word long before it is read ahead, ``check_read_ahead_store``). Returns
+    (got, model word at the read's cycle) per read."""
     rng = random.Random(seed)
     words = cfg.width * cfg.height
     model = [0] * words
