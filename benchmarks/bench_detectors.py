@@ -7,7 +7,8 @@
 Parts (each also on its own): ``--paper000`` (§5.1/§5.2 cases), ``--gain`` (Pd vs SNR of
 000's DPs against single-frame detection), ``--scenario1`` (004 Pfa vs entropy
 threshold), ``--scenario2`` (004 Pd vs SNR at equal Pfa on the 200 x 500 grid),
-``--timing`` (one frame on 200 x 500 against 004's Table 2). Figures go to
+``--timing`` (one frame on 200 x 500 against 004's Table 2). Scenario 2 runs 004's methods
+and its particle-filter TBD (``--s2-detectors``), and with ``--s2-roc-pfa`` their ROC. Figures go to
 ``docs/figures/`` (``--figures``), Markdown tables to stdout.
 """
 
@@ -25,7 +26,7 @@ import numpy as np
 
 from dptbd.evaluation.detectors import paper000, paper004, unified
 from dptbd.evaluation.detectors.pd_vs_snr import SceneSpec, run_comparison
-from dptbd.evaluation.detectors.report import figure_pd_vs_snr, format_table
+from dptbd.evaluation.detectors.report import figure_pd_vs_snr, figure_roc, format_table, roc_rows
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -176,19 +177,26 @@ def bench_scenario1(runs: int, frames: int, presets: list[float], figures: pathl
                 seconds=time.perf_counter() - t0)
 
 
+#: Scenario 2's detectors: 004's Fig. 4 methods (001's DP for "the DP") and its particle filter
+SCENARIO2_DETECTORS = "dw-dp,info,grid-bayes,ca-cfar,pf-tbd"
+
+
 def bench_scenario2(trials: int, noise_trials: int, pfa: float, jobs: int, matched: bool,
-                    figures: pathlib.Path | None) -> dict:
+                    figures: pathlib.Path | None, detectors: str = SCENARIO2_DETECTORS,
+                    roc_pfas: tuple = ()) -> dict:
     spec = SceneSpec(kind="rd", frames=50, crop=(0, 0, 200, 500))
-    dets = ["dw-dp", "info", "grid-bayes", "ca-cfar"]
+    dets = [d for d in detectors.split(",") if d]
     t0 = time.perf_counter()
     res = run_comparison(dets, snrs_db=[0.0, 3.0, 6.0, 9.0, 12.0, 15.0], spec=spec, trials=trials,
                          noise_trials=noise_trials, false_alarm_rate=pfa, matched=matched, jobs=jobs,
-                         progress=True)
+                         progress=True, roc_pfas=roc_pfas)
     print(format_table(res))
     if figures is not None:
         figure_pd_vs_snr(res, figures / ("p004_scenario2_matched.png" if matched else "p004_scenario2.png"))
+        if roc_pfas:
+            figure_roc(res, figures / ("p004_scenario2_matched_roc.png" if matched else "p004_scenario2_roc.png"))
     return dict(table=format_table(res), params={k: str(v) for k, v in res.params.items()},
-                seconds=time.perf_counter() - t0)
+                roc=roc_rows(res) if roc_pfas else None, seconds=time.perf_counter() - t0)
 
 
 def bench_timing() -> dict:
@@ -219,12 +227,17 @@ def main(argv=None) -> int:
     ap.add_argument("--s2-trials", type=int, default=40)
     ap.add_argument("--s2-noise-trials", type=int, default=200)
     ap.add_argument("--s2-pfa", type=float, default=1e-3)
+    ap.add_argument("--s2-detectors", default=SCENARIO2_DETECTORS,
+                    help=f"scenario 2's detectors (default {SCENARIO2_DETECTORS})")
+    ap.add_argument("--s2-roc-pfa", default="",
+                    help="further false-alarm rates per decision of scenario 2's ROC, e.g. 0.003,0.01,0.03")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--figures", type=pathlib.Path, default=ROOT / "docs" / "figures")
     ap.add_argument("--no-figures", action="store_true")
     ap.add_argument("--json", type=pathlib.Path)
     args = ap.parse_args(argv)
     figures = None if args.no_figures else args.figures
+    roc = tuple(float(v) for v in args.s2_roc_pfa.split(",") if v.strip())
     if figures is not None:
         figures.mkdir(parents=True, exist_ok=True)
     result = dict(machine=dict(cpu=platform.processor() or platform.machine(), cores=os.cpu_count(),
@@ -235,9 +248,9 @@ def main(argv=None) -> int:
              ("scenario1", lambda: bench_scenario1(args.s1_runs, args.s1_frames,
                                                   [float(v) for v in args.s1_presets.split(",")], figures)),
              ("scenario2", lambda: bench_scenario2(args.s2_trials, args.s2_noise_trials, args.s2_pfa,
-                                                   args.jobs, False, figures)),
+                                                   args.jobs, False, figures, args.s2_detectors, roc)),
              ("scenario2_matched", lambda: bench_scenario2(args.s2_trials, args.s2_noise_trials, args.s2_pfa,
-                                                           args.jobs, True, figures)),
+                                                           args.jobs, True, figures, args.s2_detectors, roc)),
              ("timing", bench_timing)]
     for name, fn in parts:
         if getattr(args, name) or (args.all and name != "scenario2_matched"):

@@ -22,7 +22,11 @@ from dptbd.evaluation.detectors._checks import DetectorError
 from dptbd.evaluation.detectors.adapters import (DETECTORS, DEFAULT_DETECTORS, detector_parameters,
                                                  parse_detectors)
 from dptbd.evaluation.detectors.report import (DEFAULT_SNRS_DB, OUT_FILES, TOOL, describe_run,
-                                               figure_pd_vs_snr, format_table, write_folder)
+                                               figure_pd_vs_snr, figure_roc, format_table,
+                                               write_folder)
+
+#: The ROC's further false-alarm rates per decision with ``--roc`` and no ``--roc-pfa``
+DEFAULT_ROC_PFAS = (0.001, 0.003, 0.03, 0.1)
 from dptbd.output_folder import (check_output_file, check_output_folder, check_still_new,
                                   write_new_text)
 
@@ -63,6 +67,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="also write the table to this Markdown file")
     parser.add_argument("--figure", type=pathlib.Path, metavar="FILE.png",
                         help="write the Pd-vs-SNR figure (PNG) here")
+    parser.add_argument("--roc", type=pathlib.Path, metavar="FILE.png",
+                        help="write the ROC (Pd against Pfa per decision, one panel per SNR) here; "
+                             "its levels are --pfa and --roc-pfa")
+    parser.add_argument("--roc-pfa", type=_floats, default=None, metavar="P,P,...",
+                        help="further false-alarm rates per decision of the ROC, each calibrated on "
+                             "the same noise-only scenes (default with --roc: 0.001,0.003,0.03,0.1)")
     parser.add_argument("--force", action="store_true",
                         help="overwrite --markdown/--figure files, and replace an --out folder written "
                              "by an earlier dptbd detectors run")
@@ -94,11 +104,12 @@ def parse_settings(items: list[str]) -> dict:
 
 def check_outputs(args: argparse.Namespace) -> None:
     """Refuse, before any work, every output that would overwrite something silently."""
-    for path in (args.markdown, args.figure):
+    for path in (args.markdown, args.figure, args.roc):
         if args.out is not None and path is not None and args.out.resolve() in path.resolve().parents:
             raise ValueError(f"{path} is inside --out {args.out}, which is written as a whole")
     check_output_file(args.markdown, "--markdown", args.force, ".md")
     check_output_file(args.figure, "--figure", args.force, ".png")
+    check_output_file(args.roc, "--roc", args.force, ".png")
     if args.out is not None:
         check_output_folder(args.out, args.force, marker="result.json", tool=TOOL)
 
@@ -112,11 +123,14 @@ def main(args: argparse.Namespace) -> int:
             raise DetectorError(f"--set names detector {name!r}, which is not in --detectors")
     snrs = args.snr if args.snr is not None else list(DEFAULT_SNRS_DB[args.scene])
     spec = SceneSpec(kind=args.scene, frames=args.frames, preset_snr_db=args.preset_snr_db)
+    roc = args.roc_pfa if args.roc_pfa is not None else (list(DEFAULT_ROC_PFAS) if args.roc else [])
+    roc = [p for p in roc if p != args.pfa]
     start = time.perf_counter()
     res = run_comparison(names, snrs_db=snrs, spec=spec, trials=args.trials,
                          noise_trials=args.noise_trials, false_alarm_rate=args.pfa,
                          matched=args.matched, seed=args.seed, jobs=args.jobs, params=params,
-                         progress=True, scheduler=args.scheduler, dashboard=args.dashboard)
+                         progress=True, scheduler=args.scheduler, dashboard=args.dashboard,
+                         roc_pfas=roc)
     table = format_table(res)
     note = describe_run(res, time.perf_counter() - start, args.set)
     print(table)
@@ -132,4 +146,7 @@ def main(args: argparse.Namespace) -> int:
     if args.figure is not None:
         check_still_new(args.figure, "--figure", args.force)
         figure_pd_vs_snr(res, args.figure)
+    if args.roc is not None:
+        check_still_new(args.roc, "--roc", args.force)
+        figure_roc(res, args.roc)
     return 0

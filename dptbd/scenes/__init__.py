@@ -4,6 +4,9 @@
   targets, the papers' scenarios) with their ground truth;
 * :mod:`dptbd.scenes.targets` — point targets: the papers' motion conventions, manoeuvres
   (:class:`~dptbd.scenes.targets.Turn`) and per-frame ground truth;
+* :mod:`dptbd.scenes.chain` — the scenes of the end-to-end chain comparison next to 001's
+  two straight targets: a manoeuvring target and two crossing targets;
+* :mod:`dptbd.scenes.reach` — the refusal of targets that leave the DP's move set's reach;
 * :mod:`dptbd.scenes.snr` — target amplitude from the papers' SNR definitions (001: linear,
   000: dB);
 * :mod:`dptbd.scenes.adc` — the sensor: ADC quantisation of float frames to integer codes,

@@ -73,10 +73,10 @@ def check_run(case: Case, seed: int, root: str | None = None,
         from dptbd.sim.axi import runs as axi_runs
         return axi_runs.check_run(case, seed, root, coverage)
     if case.design == "dp_axi":
-        from dptbd.sim.campaign.store import check_store_run
+        from dptbd.sim.campaign.store.dp_axi import check_store_run
         return check_store_run(case, seed, root)
     if case.design == "axi_store":
-        from dptbd.sim.campaign.store import check_axi_store_run
+        from dptbd.sim.campaign.store.axi_store import check_axi_store_run
         return check_axi_store_run(case, seed, root)
 
     start = time.perf_counter()
@@ -161,7 +161,8 @@ def run_campaign(cases: Sequence[Case] | None = None, *, runs_scale: float = 1.0
                               tasks=len(tasks))
 
     def build_all() -> None:                  # once, up front (then cached)
-        from dptbd.sim.campaign.store import build_axi_store, build_store
+        from dptbd.sim.campaign.store.axi_store import build_axi_store
+        from dptbd.sim.campaign.store.dp_axi import build_store
         for case in cases:
             if case.design == "dp_axi":
                 build_store(case, root=root)

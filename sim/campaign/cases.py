@@ -29,7 +29,7 @@ class Case:
         an ``"axi"`` case draws its runs with :mod:`dptbd.sim.axi.runs`, its own faults), or
         ``"dp_axi"`` (``dptbd_dp --state-store axi``, runs of :mod:`dptbd.sim.campaign.store`)
         or ``"axi_store"`` (``dptbd_axi --state-store axi``: an ``"axi"`` case's runs with
-        resets on the store build, :func:`dptbd.sim.campaign.store.check_axi_store_run`).
+        resets on the store build, :func:`dptbd.sim.campaign.store.axi_store.check_axi_store_run`).
     frames : int
         Frames per run (before faults cut or lengthen them).
     runs : int
@@ -130,9 +130,9 @@ def wide_cases(faults: tuple[str, ...]) -> list[Case]:
 
 
 def store_cases() -> list[Case]:
-    """The ``"dp_axi"`` cases (:func:`dptbd.sim.campaign.store.store_cases`) and the
-    ``"axi_store"`` ones (:func:`dptbd.sim.campaign.store.axi_store_cases`)."""
-    from dptbd.sim.campaign.store import axi_store_cases, store_cases as cases
+    """The ``"dp_axi"`` cases (:func:`dptbd.sim.campaign.store.cases.store_cases`) and the
+    ``"axi_store"`` ones (:func:`dptbd.sim.campaign.store.cases.axi_store_cases`)."""
+    from dptbd.sim.campaign.store.cases import axi_store_cases, store_cases as cases
     return cases() + axi_store_cases()
 
 

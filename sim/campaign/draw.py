@@ -135,14 +135,14 @@ def make_run(case: Case, seed: int, latency: int | None = None):
     """The input words and :class:`~dptbd.sim.rtl.check.Stimulus` of run ``seed`` of ``case``,
     and a description of its faults; for ``design="axi"`` the
     :class:`~dptbd.sim.axi.runs.AxiPlan` (:func:`dptbd.sim.axi.runs.draw_run`), for
-    ``"dp_axi"`` the :class:`~dptbd.sim.campaign.store.StorePlan`. ``latency``:
+    ``"dp_axi"`` the :class:`~dptbd.sim.campaign.store.dp_axi.StorePlan`. ``latency``:
     the build's DP pipeline L (then about half the runs with resets get one more early on,
     soon after the first word, when the pipeline holds 0 … L words)."""
     if case.design == "axi":
         from dptbd.sim.axi.runs import draw_run
         return draw_run(case, seed)
     if case.design == "dp_axi":
-        from dptbd.sim.campaign.store import draw_store_run
+        from dptbd.sim.campaign.store.dp_axi import draw_store_run
         return draw_store_run(case, seed)
     return make_stream_run(case, seed, latency)[:3]
 

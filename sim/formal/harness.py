@@ -44,15 +44,12 @@ class Harness(Elaboratable):
                 width = len(Value.cast(value))
                 m.d.comb += value.eq(self.free(width, f"{prefix}__{name}"))
 
-    #: False for a design that defines its own ``sync`` domain (``dptbd_axi`` from its
-    #: ``aclk`` / ``aresetn``): the harness drives those from ``clk`` / ``rst`` instead.
-    defines_sync = True
-
     def elaborate(self, platform):
         m = Module()
-        if self.defines_sync:
-            m.domains.sync = sync = ClockDomain("sync")
-            m.d.comb += [sync.clk.eq(self.clk), sync.rst.eq(self.rst)]
+        # the harness's own registers are in this domain; a design that defines a sync
+        # domain of its own (dptbd_axi, from aclk / aresetn) is added renamed (harnesses/top.py)
+        m.domains.sync = sync = ClockDomain("sync")
+        m.d.comb += [sync.clk.eq(self.clk), sync.rst.eq(self.rst)]
         started = Signal(reset_less=True)
         m.d.sync += started.eq(1)
         with m.If(~started):

@@ -20,7 +20,6 @@ import subprocess
 import sys
 import tempfile
 import time
-import warnings
 
 from amaranth.back import rtlil
 from amaranth.hdl import Fragment
@@ -164,14 +163,8 @@ def run_task(task, *, out: pathlib.Path | None = None, tools: dict | None = None
     and removed (the trace is then not kept)."""
     tools = tools or find_tools()
     harness = task.build()
-    with warnings.catch_warnings():
-        if not harness.defines_sync:
-            # the harness's own registers use the design's sync domain (dptbd_axi defines
-            # it from aclk / aresetn); Amaranth 0.5 allows that, 0.6 will not
-            warnings.filterwarnings("ignore", category=DeprecationWarning,
-                                    message=r"Domain 'sync' is used in 'top', but defined in")
-        fragment = Fragment.get(harness, None)  # elaborated first: it declares its free inputs
-        il = rtlil.convert(fragment, name="top", ports=harness.ports())
+    fragment = Fragment.get(harness, None)      # elaborated first: it declares its free inputs
+    il = rtlil.convert(fragment, name="top", ports=harness.ports())
     with tempfile.TemporaryDirectory(prefix=f"dptbd-formal-{task.name}-") as tmp:
         base = pathlib.Path(out) / task.name if out is not None else pathlib.Path(tmp)
         results = []

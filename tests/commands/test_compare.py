@@ -132,6 +132,7 @@ def test_cli_runs_the_job_and_prints_what_it_wrote(tmp_path, capsys):
     assert re.search(r"^1 trials x 1 segments x 2 SNRs \(\+ noise only\), 1 configurations "
                      r"\(1 distinct\), seed 2024: ", printed, re.M)
     assert printed.endswith(f"wrote {out / 'compare_pd.csv'}, {out / 'compare_pfa.csv'}, "
+                            f"{out / 'compare_equal_pfa.csv'}, "
                             f"{out / 'compare_configs.csv'}, {out / 'compare_summary.json'}, "
                             f"{out / 'compare_pd.png'}, {out / 'compare_pfa.png'}, "
                             f"{out / 'compare_loss.png'}\n")

@@ -186,8 +186,45 @@ def test_command_writes_table_and_figure(tmp_path, capsys):
         run_cli(["--markdown", str(md)])
     with pytest.raises(DetectorError, match=(r"^unknown detector 'foo'; known: dw-dp, "
                                              r"dp-amplitude, dp-penalty, dp-likelihood, info, "
-                                             r"grid-bayes, ca-cfar$")):
+                                             r"grid-bayes, ca-cfar, pf-tbd$")):
         run_cli(["--detectors", "info,foo"])
     with pytest.raises(DetectorError, match=(r"^false_alarm_rate must be a finite real number "
                                              r"in \(0, 1\), got 2\.0$")):
         run_cli(["--detectors", "ca-cfar", "--pfa", "2", "--jobs", "1"])
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--roc-pfa", "0.1,1.5"], "roc false_alarm_rate must be a finite real number in (0, 1), got 1.5"),
+    (["--roc-pfa", "0.05"], "false_alarm_rate=0.05 needs at least 20 noise-only decisions, 5 noise "
+                            "trials give 10; raise noise_trials"),
+    (["--detectors", "pf-tbd", "--set", "pf-tbd.particles=0"],
+     "particles must be an integer in [1, 10000000], got 0"),
+    (["--detectors", "pf-tbd", "--set", "pf-tbd.birth=1"], "birth must be a finite real number in (0, 1), got 1"),
+])
+def test_roc_and_particle_filter_refusals_are_whole(extra, message, capsys, tmp_path):
+    roc = tmp_path / "roc.png"
+    assert dptbd(TINY + extra + ["--roc", str(roc)]) == 2
+    assert capsys.readouterr().err == f"dptbd detectors: error: {message}\n"
+    assert not roc.exists()
+
+
+def test_roc_records_and_figure_at_every_level(tmp_path):
+    out, roc = tmp_path / "run", tmp_path / "roc.png"
+    assert dptbd(TINY + ["--detectors", "ca-cfar,pf-tbd", "--set", "pf-tbd.particles=200",
+                         "--set", "pf-tbd.birth_particles=200", "--roc-pfa", "0.2,0.5",
+                         "--out", str(out), "--roc", str(roc)]) == 0
+    assert roc.read_bytes()[:4] == b"\x89PNG"
+    result = json.loads((out / "result.json").read_text())
+    records = result["roc"]
+    assert [(r["detector"], r["false_alarm_rate"]) for r in records] == [
+        ("ca-cfar", 0.1), ("ca-cfar", 0.2), ("ca-cfar", 0.5),
+        ("pf-tbd", 0.1), ("pf-tbd", 0.2), ("pf-tbd", 0.5)]
+    for r in records:  # 5 noise-only scenes x 2 scored frames: at most floor(rate * 10) above
+        assert r["noise_decisions"] == 10 and r["noise_false_alarms"] <= int(r["false_alarm_rate"] * 10)
+        assert r["opportunities"] == 4
+    for name in ("ca-cfar", "pf-tbd"):
+        mine = [r for r in records if r["detector"] == name]
+        assert [r["threshold"] for r in mine] == sorted((r["threshold"] for r in mine), reverse=True)
+        assert [r["detections"] for r in mine] == sorted(r["detections"] for r in mine)
+        row = next(r for r in result["rows"] if r["detector"] == name)
+        assert (mine[0]["threshold"], mine[0]["detections"]) == (row["threshold"], row["detections"])

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from dptbd.evaluation.stats import wilson_interval
+from dptbd.evaluation.stats import median_interval, wilson_interval
 
 
 def test_wilson_interval_known_values():
@@ -25,3 +25,27 @@ def test_wilson_interval_holds_its_estimate_exactly_at_the_ends(z):
             lo, hi = wilson_interval(k, n, z)
             assert 0.0 <= lo <= k / n <= hi <= 1.0
     assert all(math.isnan(b) for b in wilson_interval(0, 0))  # no trials: no interval
+
+
+@pytest.mark.parametrize("n, ranks", [(40, (14, 27)), (100, (40, 61)), (6, (1, 6)), (5, (1, 5)),
+                                      (1, (1, 1))])
+def test_median_interval_order_statistics(n, ranks):
+    """Ranks of the 95 % interval: the standard table (n = 40: 14th and 27th values)."""
+    values = [10.0 * i for i in range(n, 0, -1)]          # any order
+    assert median_interval(values) == (10.0 * ranks[0], 10.0 * ranks[1])
+
+
+def test_median_interval_coverage_is_at_least_its_confidence():
+    for n in range(6, 200):
+        lo, hi = (int(v) for v in median_interval(range(1, n + 1)))
+        below = sum(math.comb(n, i) for i in range(lo)) / 2 ** n
+        assert 1 - 2 * below >= 0.95
+        # one rank further in would fall short
+        if lo + 1 <= n - lo:
+            assert 1 - 2 * (below + math.comb(n, lo) / 2 ** n) < 0.95
+
+
+def test_median_interval_of_nothing_and_refusal():
+    assert all(math.isnan(b) for b in median_interval([]))
+    with pytest.raises(ValueError, match=r"^confidence must be in \(0, 1\), got 1\.0$"):
+        median_interval([1.0], confidence=1.0)

@@ -42,6 +42,9 @@ class Plan:
     levels: np.ndarray                # (D, n_thr) thresholds in each detector's E units
     rtl: tuple = ()                   # RTL in the loop: dptbd.sim.rtl.trials.RTLBuilds per
     #                                   fixed behaviour (empty: the golden model)
+    noise_keep: int = 0               # noise-only E values each chunk keeps per detector for
+    #                                   the equal-Pfa thresholds: floor(max pfa * all noise
+    #                                   pixels) + 1, enough for an exact merge
 
     @property
     def n_detectors(self) -> int:
@@ -126,4 +129,5 @@ def make_plan(spec: CompareSpec) -> Plan:
                 amplitudes=tuple(scenes.amplitude_from_snr(s, spec.sigma) for s in spec.snr),
                 target_t=target_t, target_px=target_px, ends=ends, near=near,
                 near_flat=near.reshape(len(ends), -1).copy(), visible=visible,
-                levels=np.array(levels))
+                levels=np.array(levels),
+                noise_keep=int(max(spec.pfa) * spec.trials * len(ends) * spec.size ** 2) + 1)

@@ -31,7 +31,8 @@ TOOL = "dptbd compare"
 #: The file of an output folder that carries :data:`TOOL`.
 MARKER = "compare_summary.json"
 
-DATA_FILES = ("compare_pd.csv", "compare_pfa.csv", "compare_configs.csv", "compare_summary.json")
+DATA_FILES = ("compare_pd.csv", "compare_pfa.csv", "compare_equal_pfa.csv", "compare_configs.csv",
+              "compare_summary.json")
 
 
 def _num(x):
@@ -96,6 +97,63 @@ def identical_curves(result, names: list[str]) -> dict[str, str | None]:
     return out
 
 
+def equal_pfa(result) -> list[dict]:
+    """The second operating point: every detector at each false-alarm probability per pixel
+    of ``spec.pfa``, one row per (detector, Pfa, SNR).
+
+    The threshold is the detector's own: of the N = trials x segments x size**2 noise-only
+    E, with n = floor(pfa N), the (n+1)-th largest (:func:`dptbd.evaluation.pfa.pixel_threshold`'s
+    rule, from the run's merged largest values, ``result.noise_top``); ``threshold_z`` is it in
+    the float model's noise units of a K-frame path, ``(E_float - K mu) / (sqrt(K) sigma)``,
+    a fixed configuration's E mapped back through its ADC. A segment detects the target
+    when an E within the detection gate is strictly above the threshold; Pd with its
+    interval clustered by trial, and the paired difference from the float model with the
+    same LUT *at its own threshold*. False alarms per map: noise-only pixels above the
+    threshold per accumulated image (at most n / (trials x segments)).
+    """
+    plan = result.plan
+    spec = plan.spec
+    c = result.counts
+    names = plan.detector_names()
+    n_seg = result.segments
+    maps = spec.trials * n_seg
+    pixels = maps * spec.size * spec.size
+    opp = result.opportunities
+    k = spec.segment_frames
+    n_float = len(plan.floats)
+    thresholds = {}
+    for d in range(len(names)):
+        v = result.noise_top[d]
+        for p in spec.pfa:
+            n = int(math.floor(p * pixels))
+            thr = float(v[v.size - n - 1])
+            thresholds[(d, p)] = (thr, int(v.size - np.searchsorted(v, thr, side="right")))
+    detected = {key: (c["near_max"][:, key[0]] > thr).sum(axis=2)  # (trials, SNRs)
+                for key, (thr, _) in thresholds.items()}
+    rows = []
+    for d, name in enumerate(names):
+        ref = d if d < n_float else plan.fixed_float[d - n_float]
+        if d < n_float:
+            gain, offset = 1.0, 0.0
+        else:
+            _, gain, offset = plan.adcs[plan.fixed_adc[d - n_float]]
+        for p in spec.pfa:
+            thr, above = thresholds[(d, p)]
+            z = ((thr - k * offset) / gain - k * spec.mu) / (math.sqrt(k) * spec.sigma)
+            for j, snr in enumerate(spec.snr):
+                det = detected[(d, p)][:, j]
+                pd, lo, hi, deff = clustered_wilson(det, opp[j])
+                delta, dlo, dhi = paired_difference(det, detected[(ref, p)][:, j], opp[j])
+                rows.append({"detector": name, "pfa": p, "snr": snr, "snr_db": float(spec.snr_db[j]),
+                             "threshold": thr, "threshold_z": z, "noise_false_alarms": above,
+                             "noise_pixels": pixels, "measured_pfa": above / pixels,
+                             "false_alarms_per_map": above / maps,
+                             "detections": int(det.sum()), "opportunities": int(opp[j].sum()),
+                             "pd": pd, "pd_lo": lo, "pd_hi": hi, "design_effect": deff,
+                             "delta_pd": delta, "delta_pd_lo": dlo, "delta_pd_hi": dhi})
+    return rows
+
+
 def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
     """Statistics of a :class:`~dptbd.evaluation.compare.CompareResult` as plain data.
 
@@ -136,6 +194,8 @@ def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
             pfa_rows.append({"detector": name, "threshold_z": z, "level": float(plan.levels[d, k]),
                              "exceedances": int(exc.sum()), "pixels": pixels * n_trials,
                              "pfa": p, "pfa_lo": lo, "pfa_hi": hi, "design_effect": deff})
+
+    equal_pfa_rows = equal_pfa(result)
 
     losses = sweep.config_losses(result)
     verdicts = {f.name: sweep.verdict(losses[f.name], spec.tolerance_db) for f in spec.configs}
@@ -189,6 +249,7 @@ def summarise(result, hardware: Mapping[str, Any] | None = None) -> dict:
                 "rtl": getattr(result, "rtl", None)})
     return {"tool": TOOL, "run": run, "detectors": names,
             "curves": identical_curves(result, names), "pd": pd_rows, "pfa": pfa_rows,
+            "equal_pfa": equal_pfa_rows,
             "configs": config_rows, "choice": choice, "resolution": widths,
             "hardware": hardware}
 
@@ -223,6 +284,7 @@ def write_outputs(summary: dict, out_dir: pathlib.Path, *, figures: bool = True)
     out_dir = pathlib.Path(out_dir)
     _write_csv(out_dir / "compare_pd.csv", summary["pd"])
     _write_csv(out_dir / "compare_pfa.csv", summary["pfa"])
+    _write_csv(out_dir / "compare_equal_pfa.csv", summary["equal_pfa"])
     cfg_rows = [{k: v for k, v in r.items()} for r in summary["configs"]]
     _write_csv(out_dir / "compare_configs.csv", cfg_rows)
     (out_dir / "compare_summary.json").write_text(json_text(_jsonable(summary), indent=1))
@@ -282,6 +344,19 @@ def markdown_tables(summary: dict) -> str:
         pts = [r for r in summary["pd"] if r["detector"] == name]
         pd_lines.append(f"| {name} | " + " | ".join(f"{p['pd']:.3f} [{p['pd_lo']:.3f}, {p['pd_hi']:.3f}]"
                                                    for p in pts) + " |")
+    shown = floats + [r["detector"] for r in rows if r["explicit"]]
+    eq_lines = []
+    for p in run["pfa"]:
+        eq_lines += [f"\nPd at equal Pfa {p:g} per pixel (thresholds calibrated on the noise-only "
+                     f"scenes) [95 % CI]:\n",
+                     "| detector | threshold (z) | false alarms per map | "
+                     + " | ".join(f"{s:g}" for s in run["snr"]) + " |",
+                     "|" + "---|" * (3 + len(run["snr"]))]
+        for name in dict.fromkeys(shown):
+            pts = [r for r in summary["equal_pfa"] if r["detector"] == name and r["pfa"] == p]
+            eq_lines.append(f"| {name} | {pts[0]['threshold_z']:.2f} | {pts[0]['false_alarms_per_map']:.2f} | "
+                            + " | ".join(f"{q['pd']:.3f} [{q['pd_lo']:.3f}, {q['pd_hi']:.3f}]" for q in pts)
+                            + " |")
     choice = summary["choice"]
     res = summary["resolution"]
     notes = [f"Smallest sweep configuration shown within {run['tolerance_db']:g} dB of float: "
@@ -290,4 +365,5 @@ def markdown_tables(summary: dict) -> str:
              "Loss resolution of this run (median half-width of the 95 % intervals): " + ", ".join(
                  f"Pd {tag[2:]}%: {v['median_half_width_db']:.3f} dB" for tag, v in res.items()
                  if v["median_half_width_db"] is not None) + "."]
-    return "\n".join(lines) + "\n\nFloat model Pd [95 % CI]:\n\n" + "\n".join(pd_lines) + "\n\n" + "\n".join(notes)
+    return ("\n".join(lines) + "\n\nFloat model Pd [95 % CI]:\n\n" + "\n".join(pd_lines) + "\n"
+            + "\n".join(eq_lines) + "\n\n" + "\n".join(notes))

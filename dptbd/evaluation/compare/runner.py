@@ -20,7 +20,8 @@ from dptbd.evaluation.compare.spec import CompareSpec
 from dptbd.evaluation.execution import (cluster_workers, default_workers, job_execution,
                                         map_tasks, warmed)
 
-__all__ = ["measure_frames", "CompareResult", "run_compare", "default_workers", "check_rtl"]
+__all__ = ["measure_frames", "CompareResult", "run_compare", "default_workers", "check_rtl",
+           "merge_noise_top"]
 
 
 def _exceedances(energy: np.ndarray, levels: np.ndarray) -> np.ndarray:
@@ -46,6 +47,7 @@ def _evaluate(plan: Plan, float_frames: np.ndarray, codes: Sequence[np.ndarray],
         cand = _candidates(res.energy, res.direction, plan, keys)
         refs.append(cand)
         _store(out, kind, i, cand, None, with_target, n_trials, n_seg)
+        _store_equal_pfa(out, plan, kind, i, res.energy, with_target)
         if not with_target:
             out["exceed"][:, i] = _exceedances(res.energy, plan.levels[i])
     for b, cfg in enumerate(plan.fixed):
@@ -63,8 +65,34 @@ def _evaluate(plan: Plan, float_frames: np.ndarray, codes: Sequence[np.ndarray],
                 res = run_fixed_fast(codes[plan.fixed_adc[b]], cfg, threads=1)
         cand = _candidates(res.energy, res.direction, plan, keys, cfg)
         _store(out, kind, d, cand, refs[plan.fixed_float[b]], with_target, n_trials, n_seg)
+        _store_equal_pfa(out, plan, kind, d, res.energy, with_target)
         if not with_target:
             out["exceed"][:, d] = _exceedances(res.energy, plan.levels[d])
+
+
+def _store_equal_pfa(out, plan: Plan, kind: int, d: int, energy: np.ndarray, with_target: bool) -> None:
+    """The equal-Pfa operating point's raw material (``docs/compare.md``): with a target, the
+    largest E within the detection gate of every segment (``-inf`` where the target is not
+    visible); on noise only, the chunk's :attr:`Plan.noise_keep` largest E (all of them when
+    fewer), from which :func:`merge_noise_top` and the report set the thresholds exactly."""
+    e = np.asarray(energy)
+    if with_target:
+        gated = np.where(plan.near[None], e.astype(np.float64), -np.inf)
+        out["near_max"][:, d, kind] = gated.max(axis=(2, 3))
+    else:
+        flat = e.reshape(-1)
+        keep = min(plan.noise_keep, flat.size)
+        out["noise_top"][d] = np.sort(np.partition(flat, flat.size - keep)[flat.size - keep:])
+
+
+def merge_noise_top(parts: Sequence[list], keep: int) -> list[np.ndarray]:
+    """Per detector, the ``keep`` largest noise-only E of all chunks, ascending: each chunk
+    kept its own ``keep`` largest, so these are exactly the largest of the whole run."""
+    out = []
+    for d in range(len(parts[0])):
+        v = np.sort(np.concatenate([p[d] for p in parts]))
+        out.append(v[max(0, v.size - keep):])
+    return out
 
 
 def _store(out, kind, d, cand: _Candidates, ref: _Candidates | None, with_target, n_trials, n_seg):
@@ -98,6 +126,8 @@ def _empty_out(plan: Plan, n: int) -> dict:
         "agree_frac": np.zeros((n, d, s + 1), np.float64),
         "agree_same": np.zeros((n, d, s + 1), np.int64),
         "exceed": np.zeros((n, d, len(plan.spec.thresholds)), np.int64),
+        "near_max": np.full((n, d, s, len(plan.ends)), -np.inf),
+        "noise_top": [np.zeros(0)] * d,  # not per trial: merged over chunks by run_compare
     }
     if plan.rtl:  # not per trial: summed over chunks by run_compare, not concatenated
         from dptbd.sim.rtl.trials import RTLTally
@@ -159,7 +189,9 @@ class CompareResult:
 
     ``counts[name]`` has the trial axis first, trials in index order. ``rtl``: with
     ``run_compare(..., rtl=True)``, what went through the gateware and was checked
-    (:func:`dptbd.sim.rtl.trials.summary`), else None.
+    (:func:`dptbd.sim.rtl.trials.summary`), else None. ``noise_top``: per detector, the
+    :attr:`Plan.noise_keep` largest noise-only E of the whole run, ascending (the equal-Pfa
+    thresholds).
     """
 
     plan: Plan
@@ -167,6 +199,7 @@ class CompareResult:
     seconds: float
     workers: int
     rtl: dict | None = None
+    noise_top: list | None = None
 
     @property
     def spec(self) -> CompareSpec:
@@ -245,7 +278,9 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
     finally:
         if bar is not None:
             bar.close()
-    counts = {k: np.concatenate([p[k] for p in parts], axis=0) for k in parts[0] if k != "rtl"}
+    counts = {k: np.concatenate([p[k] for p in parts], axis=0) for k in parts[0]
+              if k not in ("rtl", "noise_top")}
+    noise_top = merge_noise_top([p["noise_top"] for p in parts], plan.noise_keep)
     rtl_info = None
     if plan.rtl:
         from dptbd.sim.rtl.trials import summary
@@ -255,4 +290,4 @@ def run_compare(spec: CompareSpec, *, workers: int | None = None, progress: bool
         names = plan.detector_names()[len(plan.floats):]
         rtl_info = summary(tally, [(n, b.segmenter_missing) for n, b in zip(names, plan.rtl)])
     return CompareResult(plan=plan, counts=counts, seconds=seconds, workers=used,
-                         rtl=rtl_info)
+                         rtl=rtl_info, noise_top=noise_top)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import math
 import warnings
 from typing import Any, Mapping
 
@@ -57,6 +58,9 @@ DEFAULT_RUN: dict[str, Any] = {
     "adc_low_sigma": 6.0,
     "adc_span_sigma": 16.0,
     "tie_rule": "random",
+    # the second operating point: false-alarm probabilities per pixel, each a threshold
+    # calibrated on the noise-only scenes; None: false_alarm_rate's (the list's own rate)
+    "pfa": None,
 }
 
 #: The configurations compared by default besides the sweep: the gateware's defaults, and
@@ -158,6 +162,7 @@ class CompareSpec:
     adc_span_sigma: float
     tie_rule: str
     configs: tuple[FixedSpec, ...]
+    pfa: tuple[float, ...] = (0.002,)
 
     @property
     def base_cfg(self) -> DPConfig:
@@ -389,6 +394,17 @@ def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> Co
     run["chunk"] = _checked_int("chunk", run["chunk"], 1)
     run["adc_low_sigma"] = _real("adc_low_sigma", run["adc_low_sigma"])
     run["adc_span_sigma"] = _real("adc_span_sigma", run["adc_span_sigma"], positive=True)
+    pfas = [run["false_alarm_rate"]] if run["pfa"] is None else _as_list("pfa", run["pfa"])
+    if not pfas:
+        raise ConfigError("pfa must hold at least one false-alarm probability per pixel in (0, 1)")
+    run["pfa"] = tuple(check_prob(f"pfa[{i}] (false-alarm probability per pixel)", v, error=ConfigError)
+                       for i, v in enumerate(pfas))
+    noise_pixels = (run["trials"] * run["size"] ** 2
+                    * ((run["frames"] - run["segment_frames"]) // run["segment_stride"] + 1))
+    for i, v in enumerate(run["pfa"]):
+        if int(v * noise_pixels) < 1:
+            raise ConfigError(f"pfa[{i}]={v:g} needs at least {math.ceil(1 / v - 1e-9)} noise-only "
+                              f"pixels, {run['trials']} trials give {noise_pixels}; raise trials or pfa")
     if not isinstance(run["tie_rule"], str) or run["tie_rule"] not in TIE_RULES:
         raise ConfigError(f"tie_rule must be one of {TIE_RULES}, got {run['tie_rule']!r}")
     try:

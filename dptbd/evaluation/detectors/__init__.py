@@ -9,9 +9,11 @@
   the grid Bayes filter with an existence state, on the shared machinery of
   :mod:`~dptbd.evaluation.detectors.grid_filter` (transition, likelihood, entropy);
 * :mod:`~dptbd.evaluation.detectors.cfar` — CA-CFAR;
+* :mod:`~dptbd.evaluation.detectors.particle` — the particle-filter TBD with an existence
+  variable (Salmond-Birch / Rutten);
 * :mod:`~dptbd.scenes.range_doppler` — range-Doppler scenes (Swerling I, Rayleigh noise);
 * :mod:`~dptbd.evaluation.detectors.interface` — one interface for all detectors;
-  :mod:`~dptbd.evaluation.detectors.adapters` — the seven detectors behind it, by name;
+  :mod:`~dptbd.evaluation.detectors.adapters` — the eight detectors behind it, by name;
   :mod:`~dptbd.evaluation.detectors.scoring` — thresholds at equal Pfa and the counts;
   :mod:`~dptbd.evaluation.detectors.pd_vs_snr` — the Pd-vs-SNR comparison behind
   ``dptbd detectors``;

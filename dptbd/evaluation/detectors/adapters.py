@@ -1,4 +1,4 @@
-"""The seven detectors behind :mod:`~dptbd.evaluation.detectors.interface`'s protocol, and
+"""The eight detectors behind :mod:`~dptbd.evaluation.detectors.interface`'s protocol, and
 the registry that builds them by name.
 
 ==================  =========================================================  ==========
@@ -12,6 +12,7 @@ name                detector                                                   s
 ``info``            paper 004 Table 1: information accumulation                -H_k
 ``grid-bayes``      paper 004's grid Bayes filter with existence state         log-odds
 ``ca-cfar``         CA-CFAR, 16 reference + 2 guard cells, single frame        max ratio
+``pf-tbd``          particle-filter TBD with existence (Salmond-Birch/Rutten)  log-odds
 ==================  =========================================================  ==========
 
 The DPs of 000 run in the datapath form (:mod:`dptbd.evaluation.detectors.unified`) over
@@ -26,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from dptbd.config import DPConfig, non_saturating_energy_bits
-from dptbd.evaluation.detectors import cfar, grid, merits, transitions, unified
+from dptbd.evaluation.detectors import cfar, grid, merits, particle, transitions, unified
 from dptbd.evaluation.detectors._checks import DetectorError, check_bool, check_int, check_real
 from dptbd.evaluation.detectors.interface import Decisions, Detector, SceneModel
 
@@ -38,6 +39,7 @@ __all__ = [
     "InfoDetector",
     "GridBayesDetector",
     "CACFARDetector",
+    "ParticleDetector",
     "DETECTORS",
     "DEFAULT_DETECTORS",
     "make_detector",
@@ -237,8 +239,36 @@ class CACFARDetector(Detector):
         return Decisions(stat, est)
 
 
+class ParticleDetector(Detector):
+    """The particle-filter TBD (:mod:`~dptbd.evaluation.detectors.particle`) on each sequence;
+    birth velocities bounded by the scene's ``max_speed``, the preset SNR channel as the grid
+    filters'."""
+
+    name = "pf-tbd"
+    summary = "particle-filter TBD with existence (Salmond-Birch / Rutten), seeded"
+    uses_channel = True
+
+    def __init__(self, model: SceneModel, *, particles: int = 3000, birth_particles: int = 3000,
+                 birth: float = 0.05, death: float = 0.05, process_noise: float = 0.1,
+                 seed: int = 0, known_noise: bool = False) -> None:
+        super().__init__(model)
+        known_noise = check_bool("known_noise", known_noise)
+        self.filter = particle.ParticleTBD(
+            tuple(model.shape), snr_db=model.snr_db,
+            likelihood="rician" if model.noise == "rayleigh" else "gaussian",
+            alpha=model.scale if known_noise else None, max_speed=float(model.max_speed),
+            particles=particles, birth_particles=birth_particles, birth=birth, death=death,
+            process_noise=process_noise, seed=seed)
+
+    def decide(self, frames: np.ndarray) -> Decisions:
+        arr = self._check(frames)
+        runs = [self.filter.run(seq) for seq in arr]
+        return Decisions(np.stack([r.statistic for r in runs]), np.stack([r.estimate for r in runs]))
+
+
 DETECTORS = {cls.name: cls for cls in (DirectionWeightedDP, AmplitudeDP, PenaltyDP, LikelihoodDP,
-                                       InfoDetector, GridBayesDetector, CACFARDetector)}
+                                       InfoDetector, GridBayesDetector, CACFARDetector,
+                                       ParticleDetector)}
 DEFAULT_DETECTORS = tuple(DETECTORS)
 
 

@@ -10,7 +10,7 @@ that all of them are compared at the same false-alarm rate. A declaration counts
 detection when the estimate is within ``gate`` cells (Chebyshev) of the target's true cell
 in that frame.
 
-The seven detectors behind this interface, by name, are
+The eight detectors behind this interface, by name, are
 :mod:`dptbd.evaluation.detectors.adapters`; thresholds and counts are
 :mod:`dptbd.evaluation.detectors.scoring`.
 """

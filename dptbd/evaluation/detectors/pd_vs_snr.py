@@ -104,6 +104,13 @@ class CompareResult:
     false_alarms: dict  # name -> Counts (on the calibration scenes)
     detections: dict  # (name, snr) -> Counts
     params: dict
+    #: further false-alarm rates per decision (ROC), each calibrated on the same noise-only
+    #: scenes: ``roc_thresholds[name][i]`` (or ``{snr: ...}`` when matched),
+    #: ``roc_false_alarms[name][i]`` and ``roc_detections[(name, snr)][i]`` at ``roc_pfas[i]``
+    roc_pfas: tuple = ()
+    roc_thresholds: dict = dataclasses.field(default_factory=dict)
+    roc_false_alarms: dict = dataclasses.field(default_factory=dict)
+    roc_detections: dict = dataclasses.field(default_factory=dict)
 
 
 _CHUNK = 10
@@ -117,16 +124,18 @@ def _noise_task(args: tuple) -> tuple:
 
 
 def _pd_task(args: tuple) -> tuple:
-    """Detections of one detector on the target scenes of one SNR."""
-    name, spec, snr, channel, thr, trials, seed, first_frame, gate, params = args
+    """Detections of one detector on the target scenes of one SNR, at each of its thresholds
+    (the operating point first, then the ROC levels)."""
+    name, spec, snr, channel, thrs, trials, seed, first_frame, gate, params = args
     det = adapters.make_detector(name, spec.model(channel), **params.get(name, {}))
     pixel, visible = spec.truth()
-    hits = scoring.Counts(0, 0)
+    hits = [scoring.Counts(0, 0) for _ in thrs]
     for lo in range(0, trials, _CHUNK):
         frames = spec.frames_for(snr, min(_CHUNK, trials - lo), seed, lo)
-        c = scoring.count_detections(det.decide(frames), thr, pixel, visible,
-                                       first_frame=first_frame, gate=gate)
-        hits = scoring.Counts(hits.hits + c.hits, hits.total + c.total)
+        dec = det.decide(frames)
+        for i, thr in enumerate(thrs):
+            c = scoring.count_detections(dec, thr, pixel, visible, first_frame=first_frame, gate=gate)
+            hits[i] = scoring.Counts(hits[i].hits + c.hits, hits[i].total + c.total)
     return name, snr, hits
 
 
@@ -149,7 +158,8 @@ def run_comparison(detectors: Iterable[str] = adapters.DEFAULT_DETECTORS, *,
                    false_alarm_rate: float = 0.01, matched: bool = False, seed: int = 6,
                    first_frame: int | None = None, gate: int = 1, jobs: int = 2,
                    params: dict | None = None, progress: bool = False,
-                   scheduler: str | None = None, dashboard: bool = False) -> CompareResult:
+                   scheduler: str | None = None, dashboard: bool = False,
+                   roc_pfas: Iterable[float] = ()) -> CompareResult:
     """Pd vs SNR of every detector at the same false-alarm rate per decision.
 
     Parameters
@@ -182,6 +192,9 @@ def run_comparison(detectors: Iterable[str] = adapters.DEFAULT_DETECTORS, *,
         Print the dask dashboard's address.
     params : dict
         ``{detector name: {parameter: value}}`` passed to the detector constructors.
+    roc_pfas : iterable of float
+        Further false-alarm rates per decision, each in (0, 1), calibrated on the same
+        noise-only decisions: the points of the ROC (Pd against Pfa), on the same scenes.
     """
     names = adapters.parse_detectors(list(detectors))
     spec = SceneSpec() if spec is None else spec
@@ -206,10 +219,12 @@ def run_comparison(detectors: Iterable[str] = adapters.DEFAULT_DETECTORS, *,
         det = adapters.make_detector(n, spec.model(), **params.get(n, {}))
         if getattr(det, "k", 0) > spec.frames:
             raise DetectorError(f"{n}: segment_frames={det.k} is longer than the scenes' frames={spec.frames}")
+    roc = tuple(check_prob("roc false_alarm_rate", p) for p in roc_pfas)
     decisions = (spec.frames - first) * noise_trials
-    if math.floor(pfa * decisions) < 1:
-        raise DetectorError(f"false_alarm_rate={pfa:g} needs at least {math.ceil(1 / pfa)} noise-only "
-                            f"decisions, {noise_trials} noise trials give {decisions}; raise noise_trials")
+    for p in (pfa,) + roc:
+        if math.floor(p * decisions) < 1:
+            raise DetectorError(f"false_alarm_rate={p:g} needs at least {math.ceil(1 / p)} noise-only "
+                                f"decisions, {noise_trials} noise trials give {decisions}; raise noise_trials")
     def channels(name: str) -> tuple:
         matched_here = matched and adapters.DETECTORS[name].uses_channel
         return snrs if matched_here else (spec.preset_snr_db,)
@@ -219,11 +234,11 @@ def run_comparison(detectors: Iterable[str] = adapters.DEFAULT_DETECTORS, *,
         execution = dataclasses.replace(execution, workers=min(jobs, os.cpu_count() or 1))
     with execution.client() as client:
         return _run(names, snrs, spec, trials, noise_trials, pfa, matched, seed, first, gate,
-                    params, channels, client, progress)
+                    params, channels, client, progress, roc)
 
 
 def _run(names, snrs, spec, trials, noise_trials, pfa, matched, seed, first, gate, params,
-         channels, client, progress) -> CompareResult:
+         channels, client, progress, roc=()) -> CompareResult:
     def channel(name: str, snr: float) -> float:
         return snr if matched and adapters.DETECTORS[name].uses_channel else spec.preset_snr_db
 
@@ -235,27 +250,38 @@ def _run(names, snrs, spec, trials, noise_trials, pfa, matched, seed, first, gat
         for c in channels(n):
             parts = sorted((lo, st) for nn, cc, lo, st in noise if (nn, cc) == (n, c))
             stat = np.concatenate([st for _, st in parts])
-            t = scoring.calibrate(stat[:, first:], pfa)
-            fa = scoring.count_false_alarms(
-                interface.Decisions(stat, np.zeros(stat.shape + (2,))), t, first_frame=first)
-            cal.append((n, c, t, fa))
-    thr = {(n, c): t for n, c, t, _ in cal}
-    thresholds: dict = {}
-    false_alarms: dict = {}
-    for n, c, t, fa in cal:
-        if len(channels(n)) > 1:
-            thresholds.setdefault(n, {})[c] = t
-        else:
-            thresholds[n] = t
-        prev = false_alarms.get(n, scoring.Counts(0, 0))
-        false_alarms[n] = scoring.Counts(prev.hits + fa.hits, prev.total + fa.total)
+            dec = interface.Decisions(stat, np.zeros(stat.shape + (2,)))
+            ts = [scoring.calibrate(stat[:, first:], p) for p in (pfa,) + roc]
+            fas = [scoring.count_false_alarms(dec, t, first_frame=first) for t in ts]
+            cal.append((n, c, ts, fas))
+    thr = {(n, c): ts for n, c, ts, _ in cal}
+    levels = 1 + len(roc)
+    thresholds: dict = {n: [None] * levels for n in names}
+    false_alarms: dict = {n: [scoring.Counts(0, 0)] * levels for n in names}
+    for n, c, ts, fas in cal:
+        for i in range(levels):
+            if len(channels(n)) > 1:
+                if thresholds[n][i] is None:
+                    thresholds[n][i] = {}
+                thresholds[n][i][c] = ts[i]
+            else:
+                thresholds[n][i] = ts[i]
+            prev = false_alarms[n][i]
+            false_alarms[n][i] = scoring.Counts(prev.hits + fas[i].hits, prev.total + fas[i].total)
     tasks = []
     for n in names:
         for s in snrs:
             c = channel(n, s)
             tasks.append((n, spec, s, c, thr[(n, c)], trials, seed, first, gate, params))
-    detections = {(n, s): h for n, s, h in _map(_pd_task, tasks, client, progress, "Pd")}
+    found = {(n, s): h for n, s, h in _map(_pd_task, tasks, client, progress, "Pd")}
     info = dict(scene=spec.kind, frames=spec.frames, preset_snr_db=spec.preset_snr_db, crop=spec.crop,
                 trials=trials, noise_trials=noise_trials, false_alarm_rate=pfa, matched=matched,
                 seed=seed, first_frame=first, gate=gate, params=params)
-    return CompareResult(names, snrs, thresholds, false_alarms, detections, info)
+    if roc:
+        info["roc_false_alarm_rates"] = list(roc)
+    return CompareResult(names, snrs, {n: t[0] for n, t in thresholds.items()},
+                         {n: f[0] for n, f in false_alarms.items()},
+                         {k: h[0] for k, h in found.items()}, info, roc,
+                         {n: t[1:] for n, t in thresholds.items()},
+                         {n: f[1:] for n, f in false_alarms.items()},
+                         {k: h[1:] for k, h in found.items()})

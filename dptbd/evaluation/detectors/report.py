@@ -8,13 +8,15 @@ import csv
 import math
 import pathlib
 
+import numpy as np
+
 from dptbd.evaluation.detectors.pd_vs_snr import CompareResult
 from dptbd.evaluation.stats import wilson_interval
 from dptbd.figures import new_figure, save_figure
 from dptbd.output_folder import json_text, staged_folder
 
 __all__ = ["DEFAULT_SNRS_DB", "TOOL", "OUT_FILES", "pd_interval", "format_table", "error_bars",
-           "figure_pd_vs_snr", "describe_run", "rows", "write_folder"]
+           "figure_pd_vs_snr", "describe_run", "rows", "roc_rows", "figure_roc", "write_folder"]
 
 #: SNRs (dB) of each scene kind when none are given
 DEFAULT_SNRS_DB = {"rd": (0.0, 3.0, 6.0, 9.0, 12.0, 15.0), "image": (4.0, 6.0, 8.0, 10.0, 12.0, 14.0)}
@@ -114,6 +116,61 @@ def rows(res: CompareResult) -> list[dict]:
     return out
 
 
+def roc_rows(res: CompareResult) -> list[dict]:
+    """One record per (detector, SNR, false-alarm rate per decision): the operating point
+    and every ROC level (:func:`.pd_vs_snr.run_comparison`'s ``roc_pfas``), in rate order;
+    Pd with its 95 % Wilson interval (NaN without a scored frame)."""
+    out = []
+    for name in res.detectors:
+        for s in res.snrs_db:
+            levels = [(res.params["false_alarm_rate"], res.thresholds[name], res.false_alarms[name],
+                       res.detections[(name, s)])]
+            levels += list(zip(res.roc_pfas, res.roc_thresholds.get(name, ()),
+                               res.roc_false_alarms.get(name, ()), res.roc_detections.get((name, s), ())))
+            for pfa, thr, fa, c in sorted(levels, key=lambda x: x[0]):
+                lo, hi = wilson_interval(c.hits, c.total)
+                out.append(dict(detector=name, snr_db=s, false_alarm_rate=pfa,
+                                threshold=thr[s] if isinstance(thr, dict) else thr,
+                                noise_false_alarms=fa.hits, noise_decisions=fa.total,
+                                detections=c.hits, opportunities=c.total, pd=c.rate, pd_lo=lo,
+                                pd_hi=hi))
+    return out
+
+
+def figure_roc(res: CompareResult, path: pathlib.Path) -> None:
+    """ROC as PNG: Pd (95 % Wilson bars) against the false-alarm rate per decision (log
+    axis), one panel per SNR, one line per detector (:func:`roc_rows`)."""
+    records = roc_rows(res)
+    n = len(res.snrs_db)
+    cols = min(n, 3)
+    rows = -(-n // cols)
+    fig, axes = new_figure(3.2 * cols, 3.0 * rows + 0.4, nrows=rows, ncols=cols, dpi=100)
+    axes = list(np.ravel(axes))
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    for ax, s in zip(axes, res.snrs_db):
+        for name in res.detectors:
+            mine = [r for r in records if r["detector"] == name and r["snr_db"] == s]
+            pd = [r["pd"] for r in mine]
+            below = [0.0 if math.isnan(r["pd"]) else r["pd"] - r["pd_lo"] for r in mine]
+            above = [0.0 if math.isnan(r["pd"]) else r["pd_hi"] - r["pd"] for r in mine]
+            ax.errorbar([r["false_alarm_rate"] for r in mine], pd, yerr=[below, above], marker="o",
+                        ms=3, capsize=2, label=name)
+        ax.set_xscale("log")
+        ax.set_ylim(-0.02, 1.02)
+        ax.grid(alpha=0.3, which="both")
+        ax.set_title(f"{s:g} dB", fontsize=10)
+        ax.set_xlabel("Pfa per decision")
+    for ax in axes[::cols]:
+        ax.set_ylabel("Pd (per scored frame)")
+    axes[n - 1].legend(fontsize=7, loc="best")
+    p = res.params
+    fig.suptitle(f"ROC, {p['scene']} scenes, {p['frames']} frames, {p['noise_trials']} noise-only "
+                 f"scenes", fontsize=10)
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
 def write_folder(res: CompareResult, out: pathlib.Path, table: str, note: str, arguments: dict,
                  force: bool = False) -> pathlib.Path:
     """``table.md``, ``table.csv``, ``result.json``, ``pd_vs_snr.png`` into ``out``, all or
@@ -127,8 +184,9 @@ def write_folder(res: CompareResult, out: pathlib.Path, table: str, note: str, a
             writer.writeheader()
             writer.writerows(records)
         params = {k: (list(v) if isinstance(v, tuple) else v) for k, v in res.params.items()}
-        (tmp / "result.json").write_text(json_text(
-            dict(tool=TOOL, arguments=arguments, note=note, params=params, rows=records), indent=1,
-            default=str) + "\n")
+        result = dict(tool=TOOL, arguments=arguments, note=note, params=params, rows=records)
+        if res.roc_pfas:
+            result["roc"] = roc_rows(res)
+        (tmp / "result.json").write_text(json_text(result, indent=1, default=str) + "\n")
         figure_pd_vs_snr(res, tmp / "pd_vs_snr.png")
     return out

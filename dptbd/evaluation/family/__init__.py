@@ -2,7 +2,11 @@
 (``docs/detectors.md`` §6).
 
 * :mod:`~dptbd.evaluation.family.detection` — first level: detection maps on Table 1's
-  setting, counted as Table 1 counts;
+  setting, counted as Table 1 counts (each map's n = 33 largest pixels);
+* :mod:`~dptbd.evaluation.family.equal_pfa` — the same maps at equal false-alarm rate per
+  pixel (thresholds calibrated on noise-only scenes, ``docs/detectors.md`` §7);
+* :mod:`~dptbd.evaluation.family.wake` — the past positions a map keeps among its n
+  largest (the recursion's wake), and its false points near the past track;
 * :mod:`~dptbd.evaluation.family.recursive_pipeline` — the recursive DP's maps through the
   DSP association;
 * :mod:`~dptbd.evaluation.family.association` — both through the DSP association on

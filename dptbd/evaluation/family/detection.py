@@ -21,7 +21,7 @@ import dataclasses
 import numpy as np
 
 from dptbd.config import DPConfig
-from dptbd.errors import check_int, check_real
+from dptbd.errors import DptbdError, check_int
 from dptbd.evaluation.metrics import DetectionCounts, first_level_counts
 from dptbd.evaluation.table1.experiment import FALSE_ALARM_RATE, SETTINGS, table1_config
 from dptbd.model.fast import run_fixed_fast
@@ -30,8 +30,12 @@ from dptbd.model.segmentation import candidate_mask, count_for_rate
 from dptbd.scenes import synthetic as scenes
 from dptbd.scenes.synthetic import ADC_GAIN, INPUT_BITS
 
-__all__ = ["Variant", "segments", "recursive", "variant_config", "variant_trial_counts",
-           "variant_counts", "compare", "paired_pd_difference"]
+__all__ = ["Variant", "segments", "recursive", "variant_config", "variant_maps", "variant_trial_counts",
+           "variant_range_counts", "check_frame_ranges", "variant_counts", "compare",
+           "paired_pd_difference", "parse_segment_lengths", "parse_frame_ranges", "FRAMES"]
+
+#: Frames of a Table 1 scene.
+FRAMES = 100
 
 #: E width of the recursive variants: 12-bit pixels / (1 - alpha) stays below 2**20 for
 #: alpha <= 0.99 (§8.6), so nothing saturates.
@@ -72,7 +76,9 @@ def segments(k: int) -> Variant:
 
 def recursive(alpha: float, warmup: int = 7, segment_frames: int = 6,
               zero_move_penalty: int = 0) -> Variant:
-    """The recursive DP with forgetting factor ``alpha`` in (0, 1).
+    """The recursive DP with forgetting factor ``alpha`` in (0, 1] (1: no forgetting, a sum
+    that never resets; the E of :data:`RECURSIVE_ENERGY_BITS` holds 256 frames of 12-bit
+    pixels).
 
     ``warmup``: the first scored map (first level, :func:`variant_counts`);
     ``segment_frames``: the frames a candidate's path is backtracked over and the cadence
@@ -80,7 +86,8 @@ def recursive(alpha: float, warmup: int = 7, segment_frames: int = 6,
     ``zero_move_penalty``: a penalty code (``docs/arithmetic.md`` §8.2) on the zero move
     after any predecessor but ``START``, against the recursion's wake.
     """
-    alpha = check_real("forgetting", alpha, 0.0, 1.0, lo_open=True, hi_open=True)
+    # DPConfig is alpha's home: (0, 1], and a code of forgetting_bits = 8 that is not 0
+    alpha = DPConfig(forgetting=alpha, forgetting_bits=8).forgetting
     pen = check_int("zero_move_penalty", zero_move_penalty, 0, 65535)
     label = f"recursive alpha={alpha:g}" + (f" zero-move penalty {pen}" if pen else "")
     return Variant(label, forgetting=alpha,
@@ -99,25 +106,78 @@ def variant_trial_counts(variant: Variant, snr: float, velocity: tuple[float, fl
                          ) -> list[DetectionCounts]:
     """First-level counts of one variant on one Table 1 setting, one per scene (trial):
     ``trials`` scenes from ``seed``, the same scenes for every variant (paired)."""
-    cfg = variant_config(variant, size)
-    count = count_for_rate(FALSE_ALARM_RATE, size * size)
+    return [scene[0] for scene in variant_range_counts(variant, snr, velocity,
+                                                       ranges=((0, FRAMES - 1),), trials=trials,
+                                                       seed=seed, chunk=chunk, size=size)]
+
+
+def check_frame_ranges(ranges) -> tuple[tuple[int, int], ...]:
+    """``ranges`` as a tuple of ``(first, last)`` frames, each ``0 <= first <= last <= 99``
+    (a Table 1 scene's frames); refused otherwise."""
     out = []
+    for i, rng in enumerate(ranges):
+        try:
+            first, last = rng
+        except (TypeError, ValueError):
+            raise DptbdError(f"frame range {i} must be a pair (first, last) of frames, got {rng!r}") from None
+        first = check_int(f"frame range {i} first", first, 0, FRAMES - 1)
+        last = check_int(f"frame range {i} last", last, first, FRAMES - 1)
+        out.append((first, last))
+    if not out:
+        raise DptbdError("ranges must hold at least one (first, last) frame range")
+    return tuple(out)
+
+
+def variant_scene_maps(variant: Variant, snr: float, velocity: tuple[float, float], *,
+                       trials: int, seed: int, chunk: int = 5, size: int = 128):
+    """``(ends, images, truth)`` of ``variant`` on ``trials`` Table 1 scenes of the setting
+    ``(snr, velocity)`` from ``seed``, ``chunk`` scenes at a time: the scored maps' last
+    frames, the maps (scene, map, row, column) and the target's truth (the same scenes for
+    every variant: paired)."""
+    cfg = variant_config(variant, size)
     for first in range(0, trials, chunk):
         scene = scenes.table1_scenario(snr, velocity, size=size, seed=seed,
                                        trials=min(chunk, trials - first), first_trial=first,
                                        dtype=np.float32)
-        frames = scene.quantised(INPUT_BITS, gain=ADC_GAIN)
-        if cfg.recursive:
-            ends = np.arange(variant.warmup, scene.n_frames)
-            images = run_family_fast(frames, cfg).energy[:, ends]
-        else:
-            res = run_fixed_fast(frames, cfg)
-            ends, images = res.end_frames, res.energy
-        truth = scene.truth[0]
+        ends, images = variant_maps(variant, scene.quantised(INPUT_BITS, gain=ADC_GAIN), cfg)
+        yield ends, images, scene.truth[0]
+
+
+def variant_range_counts(variant: Variant, snr: float, velocity: tuple[float, float], *,
+                         ranges, trials: int, seed: int, chunk: int = 5, size: int = 128
+                         ) -> list[list[DetectionCounts]]:
+    """First-level counts of one variant on one Table 1 setting by frame range:
+    ``out[scene][i]`` counts the scored maps whose last frame lies in ``ranges[i] = (first,
+    last)`` (inclusive; :func:`check_frame_ranges`), ``trials`` scenes from ``seed`` (the
+    same scenes for every variant: paired). A range holding no scored map of the variant
+    counts nothing (``DetectionCounts(0, 0, 0, 0)``)."""
+    ranges = check_frame_ranges(ranges)
+    count = count_for_rate(FALSE_ALARM_RATE, size * size)
+    out = []
+    for ends, images, truth in variant_scene_maps(variant, snr, velocity, trials=trials,
+                                                  seed=seed, chunk=chunk, size=size):
+        pix, vis = truth.pixel[ends][:, None], truth.visible[ends][:, None]
         for trial_image in candidate_mask(images, count):
-            out.append(first_level_counts(trial_image, truth.pixel[ends][:, None],
-                                          truth.visible[ends][:, None]))
+            per = []
+            for lo, hi in ranges:
+                sel = (ends >= lo) & (ends <= hi)
+                per.append(first_level_counts(trial_image[sel], pix[sel], vis[sel]) if sel.any()
+                           else DetectionCounts(0, 0, 0, 0))
+            out.append(per)
     return out
+
+
+def variant_maps(variant: Variant, frames: np.ndarray, cfg: DPConfig
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """``(ends, maps)``: the scored maps of ``variant`` on ADC codes ``frames (N, T, H, W)``
+    (``cfg`` = :func:`variant_config`): a segment variant's maps of every segment, a
+    recursive variant's maps of the frames ``warmup .. T - 1``; ``maps`` is ``(N, S, H, W)``
+    and ``ends`` the last frame of each."""
+    if cfg.recursive:
+        ends = np.arange(variant.warmup, frames.shape[-3])
+        return ends, run_family_fast(frames, cfg).energy[:, ends]
+    res = run_fixed_fast(frames, cfg)
+    return res.end_frames, res.energy
 
 
 def variant_counts(variant: Variant, snr: float, velocity: tuple[float, float], *, trials: int,
@@ -151,3 +211,32 @@ def paired_pd_difference(a: list[DetectionCounts], b: list[DetectionCounts]
     diff = np.array([y.pd - x.pd for x, y in zip(a, b)])
     half = 1.959963984540054 * diff.std(ddof=1) / np.sqrt(len(diff))
     return float(diff.mean()), float(diff.mean() - half), float(diff.mean() + half)
+
+
+def parse_segment_lengths(text: str) -> tuple[int, ...]:
+    """``"6,8,12"`` -> the segment lengths K, each an integer in [1, 100], distinct, in the
+    given order; refused otherwise."""
+    parts = [p.strip() for p in str(text).split(",")]
+    try:
+        ks = [int(p) for p in parts]
+    except ValueError:
+        raise DptbdError(f"k must be comma-separated integers in [1, 100], got {text!r}") from None
+    ks = tuple(segments(k).segment_frames for k in ks)
+    if len(set(ks)) != len(ks):
+        raise DptbdError(f"k must hold distinct segment lengths, got {text!r}")
+    return ks
+
+
+def parse_frame_ranges(text: str) -> tuple[tuple[int, int], ...]:
+    """``"7-15,64-99"`` -> ``((7, 15), (64, 99))`` (:func:`check_frame_ranges`); refused
+    otherwise."""
+    out = []
+    for part in str(text).split(","):
+        bounds = part.strip().split("-")
+        try:
+            first, last = (int(b) for b in bounds)
+        except ValueError:
+            raise DptbdError(f"frame ranges must be comma-separated FIRST-LAST pairs of frames, "
+                             f"got {text!r}") from None
+        out.append((first, last))
+    return check_frame_ranges(out)

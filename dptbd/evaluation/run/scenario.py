@@ -63,6 +63,7 @@ from dptbd.errors import ConfigError, DptbdError, check_int, check_real
 from dptbd.toml_writer import dump_toml
 from dptbd.evaluation.chain import LISTS
 from dptbd.scenes import synthetic as scenes
+from dptbd.scenes.reach import check_reach
 from dptbd.dsp.association import AssociationConfig, AssociationError
 
 __all__ = ["ScenarioError", "TargetSpec", "Scenario", "default_scenario", "load_scenario",
@@ -171,13 +172,13 @@ class Scenario:
         """Build every object once so that a bad value is refused before any work."""
         try:
             if self.simulated:
-                self.dp_config(height=self.height, width=self.width, input_bits=self.adc_bits)
+                cfg = self.dp_config(height=self.height, width=self.width, input_bits=self.adc_bits)
                 for where, snr in [("[scene] snr", self.snr)] + [
                         (f"target {i + 1} snr", t.snr) for i, t in enumerate(self.targets)
                         if t.snr is not None]:
                     check_snr(where, snr)
-                for t in self.targets:
-                    t.target(self.snr, self.sigma)
+                check_reach([t.target(self.snr, self.sigma) for t in self.targets],
+                            (self.height, self.width), self.frames, cfg.radius)
                 scenes.quantise([0.0], self.adc_bits, gain=self.adc_gain, offset=self.adc_offset)
                 if self.report_frame is not None and not 0 <= self.report_frame < self.frames:
                     raise ScenarioError(f"[report] frame must be in [0, {self.frames - 1}], "

@@ -4,8 +4,10 @@ resets, misaligned / short / long frames, LUT and settings rewrites) checked by
 :func:`dptbd.sim.rtl.check.check_stream` against the golden model; settings ports driven out
 of range (``settings-range``); noise scenes at K = K_max and n = C under tables of corner
 codes (``lut-corners``) and of codes above 2^F (``lut-wide``), where every LUT entry's bits
-reach a listed weighted sum; and clean runs under back-pressure whose every input and output
-cycle must be the original design's (``cycles``)."""
+reach a listed weighted sum; lists of every length from C - 20 to C records
+(``list-lengths``); and clean runs under back-pressure whose every input and output cycle
+must be the original design's (``cycles``). The runs without resets check the counts of the
+``events`` pulses too."""
 
 from __future__ import annotations
 
@@ -27,7 +29,8 @@ RUNS = tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in r
              + [("backpressure", s) for s in range(4)]
              + [("settings-range", s) for s in range(4)]
              + [("lut-corners", s) for s in range(10)] + [("lut-wide", s) for s in range(4)]
-             + [("settings-resync", s) for s in range(6)] + [("cycles", s) for s in range(4)])
+             + [("settings-resync", s) for s in range(6)]
+             + [("list-lengths", s) for s in range(2)] + [("cycles", s) for s in range(4)])
 
 _EVERY = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
 
@@ -95,8 +98,10 @@ def _raw_run(sim, words, stim, changes=(), luts=None) -> tuple[str, str]:
     """A run without resets whose settings ports carry ``changes`` (``(word index, (K, n, s)
     driven, SegmentSettings in force)``) and whose LUT port writes ``luts`` (``(word index,
     codes)``, codes up to the port's maximum; default the stimulus' tables), checked word for
-    word against the golden model with the values in force (codes clamped to 2^F)."""
-    from dptbd.sim.rtl.check import _checker, expected_stream, lut_writes, split_words
+    word against the golden model with the values in force (codes clamped to 2^F), and the
+    counts of the ``events`` pulses (frames, segments, lists, saturations) the model's."""
+    from dptbd.sim.rtl.check import (_checker, _event_report, expected_stream, lut_writes,
+                                     split_words)
     from dptbd.sim.verilator import run as run_words
 
     cfg = sim.cfg
@@ -117,6 +122,9 @@ def _raw_run(sim, words, stim, changes=(), luts=None) -> tuple[str, str]:
                           f"{board.report()}")
     if raw.status != "done":
         return "timeout", f"cycle budget ({raw.cycles} cycles) ran out: {board.report()}"
+    events = _event_report(sim.output, exp, board, raw, cfg)
+    if events:
+        return "killed", f"{board.report()}; {events}"
     return "survived", board.report()
 
 
@@ -136,14 +144,52 @@ def _all_listed(cfg: DPConfig) -> tuple:
     return ((0, (entry.segment_frames, entry.candidate_count, entry.histogram_shift), entry),)
 
 
+#: The lists of the ``list-lengths`` runs hold C - k records for each of these k (one frame
+#: each, shuffled), then C.
+LIST_SHORTFALLS = range(1, 21)
+
+
+def list_lengths(cfg: DPConfig, seed: int) -> tuple[np.ndarray, tuple]:
+    """The ``list-lengths`` run of ``seed``: ``(words, settings changes)``. K = 1 and n = C - 1
+    from word 0; frame 0 has C - 1 bright pixels, then one frame for each length m = C - k,
+    k in :data:`LIST_SHORTFALLS` (shuffled), then one of C: m bright pixels (at least 2^s,
+    so in bin 1 or above; its last pixel among them), the others 0. K = 1 makes E the pixel; each frame's
+    histogram has at most C - 1 pixels in bins 1 and up and at least one in bin 0, so the next
+    list's T is 1 and every list from the second on holds exactly its frame's bright pixels:
+    every list length from C - 20 to C, each ending with a selected pixel (a compare of the
+    emitter's count with a constant near C is seen; the noise runs list only C). The
+    configuration's C is W * H."""
+    from dptbd.model.settings import SegmentSettings
+    from dptbd.sim.stimulus import pixel_words
+
+    rng = np.random.default_rng([seed, 0x115])
+    size = cfg.width * cfg.height
+    capacity = cfg.record_capacity
+    lengths = [capacity - k for k in LIST_SHORTFALLS]
+    rng.shuffle(lengths)
+    frames = np.zeros((len(lengths) + 2, size), dtype=np.uint16)
+    for f, m in enumerate([capacity - 1, *lengths, capacity]):
+        bright = np.zeros(size, dtype=bool)
+        bright[size - 1] = True
+        bright[rng.choice(size - 1, m - 1, replace=False)] = True
+        frames[f] = np.where(bright, rng.integers(1 << cfg.bin_shift, cfg.pixel_max + 1,
+                                                  size=size), 0)
+    entry = SegmentSettings(1, capacity - 1, cfg.bin_shift)
+    changes = ((0, (1, capacity - 1, cfg.bin_shift), entry),)
+    return pixel_words(cfg, frames.reshape(-1, cfg.height, cfg.width)), changes
+
+
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
     from dptbd.sim.campaign import Case, make_run
-    from dptbd.sim.rtl.check import check_stream
+    from dptbd.sim.rtl.check import Stimulus, check_stream
 
     if kind in NOISE_FRAMES:
         return _noise_run(sim, kind, seed)
     if kind == "cycles":
         return _cycles_run(sim, seed)
+    if kind == "list-lengths":
+        words, changes = list_lengths(sim.cfg, seed)
+        return _raw_run(sim, words, Stimulus(seed=seed), changes)
     frames = {"clean": 12, "random-lut": 16, "faults": 24, "settings-edge": 16,
               "backpressure": 8, "settings-range": 16}[kind]
     case = Case(f"mutant-{kind}", CONFIGS["segmenter"], "segmenter", frames, 1,

@@ -29,7 +29,7 @@ def no_work(monkeypatch):
 
 @pytest.mark.parametrize("text, kw, message", [
     ("frobnicate = 1\n", {}, "unknown parameter(s) ['frobnicate']; allowed: ['adc_low_sigma', "
-     "'adc_span_sigma', 'bootstrap', 'chunk', 'false_alarm_rate', 'frames', 'mu', 'pd_levels', "
+     "'adc_span_sigma', 'bootstrap', 'chunk', 'false_alarm_rate', 'frames', 'mu', 'pd_levels', 'pfa', "
      "'radius', 'seed', 'segment_frames', 'segment_stride', 'sigma', 'size', 'snr', "
      "'thresholds', 'tie_rule', 'tolerance_db', 'trials', 'velocity', 'config', 'sweep']"),
     ("[[config]]\ninput_bits = 17\n", {}, "config[0]: input_bits must be an integer in [1, 16], got 17"),

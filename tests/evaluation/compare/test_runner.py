@@ -182,3 +182,38 @@ def test_gateware_bins_runs_each_histogram_with_its_own_shift(small_compare):
             assert np.array_equal(both.counts[key][:, d], alone.counts[key][:, 1]), key
     # s = 3 (bins 8 values wide) ties more, so it keeps fewer candidates than s = 0
     assert both.counts["candidates"][:, 2].sum() < both.counts["candidates"][:, 1].sum()
+
+
+def test_equal_pfa_thresholds_are_the_noise_quantile_and_free_of_the_chunking(small_compare):
+    from dptbd.evaluation.pfa import pixel_threshold
+
+    spec = build_spec(dict(small_compare, pfa=[0.01, 0.002]))
+    result = run_compare(spec, workers=1)
+    rows = summarise(result)["equal_pfa"]
+    names = result.plan.detector_names()
+    assert [(r["detector"], r["pfa"], r["snr"]) for r in rows] == [
+        (n, p, s) for n in names for p in (0.01, 0.002) for s in spec.snr]
+    # the float detector (index 0), independently: every noise-only E of the run
+    noise = scenes.make_noise((spec.size, spec.size), spec.frames, mu=spec.mu, sigma=spec.sigma,
+                              seed=spec.seed, trials=spec.trials, dtype=np.float32)
+    cfg = result.plan.floats[0]
+    e_noise = run_float(noise, cfg).energy
+    plan = result.plan
+    for p in (0.01, 0.002):
+        thr = pixel_threshold(e_noise, p)
+        mine = [r for r in rows if r["detector"] == names[0] and r["pfa"] == p]
+        above = int((e_noise > thr).sum())
+        assert above <= int(p * e_noise.size)
+        assert all(r["threshold"] == thr and r["noise_false_alarms"] == above
+                   and r["noise_pixels"] == e_noise.size
+                   and r["false_alarms_per_map"] == above / (spec.trials * len(plan.ends)) for r in mine)
+        for r, snr in zip(mine, spec.snr):
+            frames = scenes.table1_scenario(snr, spec.velocity, frames=spec.frames, size=spec.size,
+                                            seed=spec.seed, trials=spec.trials,
+                                            dtype=np.float32).frames
+            e = run_float(frames, cfg).energy
+            hits = int(np.sum(np.any((e > thr) & plan.near[None], axis=(2, 3))))
+            assert (r["detections"], r["opportunities"]) == (hits, spec.trials * int(plan.visible.sum()))
+    chunked = summarise(run_compare(build_spec(dict(small_compare, pfa=[0.01, 0.002], chunk=5)),
+                                    workers=1))["equal_pfa"]
+    assert json.dumps(chunked) == json.dumps(rows)

@@ -40,7 +40,7 @@ def test_the_toml_examples_in_docs_compare_md_are_valid():
 
 
 _RUN_KEYS = ("['adc_low_sigma', 'adc_span_sigma', 'bootstrap', 'chunk', 'false_alarm_rate', "
-             "'frames', 'mu', 'pd_levels', 'radius', 'seed', 'segment_frames', 'segment_stride', "
+             "'frames', 'mu', 'pd_levels', 'pfa', 'radius', 'seed', 'segment_frames', 'segment_stride', "
              "'sigma', 'size', 'snr', 'thresholds', 'tie_rule', 'tolerance_db', 'trials', 'velocity', "
              "'config', 'sweep']")
 _LUTS = "('paper', 'plain', 'cosine')"
@@ -74,6 +74,11 @@ _LUTS = "('paper', 'plain', 'cosine')"
     ({"thresholds": [3.0, 3.0]},
      "thresholds must be strictly increasing, but thresholds[1] = 3 <= thresholds[0] = 3"),
     ({"pd_levels": []}, "pd_levels must not be empty"),
+    ({"pfa": []}, "pfa must hold at least one false-alarm probability per pixel in (0, 1)"),
+    ({"pfa": 0.01}, "pfa must be a list, got 0.01"),
+    ({"pfa": [0.01, 1.0]}, "pfa[1] (false-alarm probability per pixel) must be a finite real number in (0, 1), got 1.0"),
+    ({"pfa": [1e-9]}, "pfa[0]=1e-09 needs at least 1000000000 noise-only pixels, 240 trials give 7864320; "
+                      "raise trials or pfa"),
     ({"pd_levels": [1.0]}, "pd_levels[0] must be a finite real number in (0, 1), got 1.0"),
     ({"tolerance_db": -0.1}, "tolerance_db must be a finite real number in [0, inf), got -0.1"),
     ({"bootstrap": -1}, "bootstrap must be an integer in [0, 1000000], got -1"),

@@ -1,4 +1,4 @@
-"""The seven detectors by name: the registry's refusals, each detector on a small scene, the
+"""The eight detectors by name: the registry's refusals, each detector on a small scene, the
 dw-dp adapter against the golden model, the detectors' parameters and their refusals."""
 
 from __future__ import annotations
@@ -19,11 +19,11 @@ def test_parse_detectors():
     assert parse_detectors("info, ca-cfar,info") == ("info", "ca-cfar")
     with pytest.raises(DetectorError, match=(r"^unknown detector 'mht'; known: dw-dp, "
                                              r"dp-amplitude, dp-penalty, dp-likelihood, info, "
-                                             r"grid-bayes, ca-cfar$")):
+                                             r"grid-bayes, ca-cfar, pf-tbd$")):
         parse_detectors("info,mht")
     with pytest.raises(DetectorError, match=(r"^detectors must name at least one of dw-dp, "
                                              r"dp-amplitude, dp-penalty, dp-likelihood, info, "
-                                             r"grid-bayes, ca-cfar$")):
+                                             r"grid-bayes, ca-cfar, pf-tbd$")):
         parse_detectors("")
 
 
@@ -72,7 +72,7 @@ def test_dw_dp_adapter_is_the_golden_model():
     (lambda m: make_detector("ca-cfar", m, n_ref=64),
      "the CFAR axis has 20 cells; n_ref=64 reference and n_guard=2 guard cells need at least 67"),
     (lambda m: make_detector("nope", m),
-     "unknown detector 'nope'; known: dw-dp, dp-amplitude, dp-penalty, dp-likelihood, info, grid-bayes, ca-cfar"),
+     "unknown detector 'nope'; known: dw-dp, dp-amplitude, dp-penalty, dp-likelihood, info, grid-bayes, ca-cfar, pf-tbd"),
     (lambda m: make_detector("info", m, entropy=1.0),
      "detector 'info' has no parameter 'entropy'; it has: kernel, sigma_kernel, known_noise"),
     (lambda m: make_detector("dp-amplitude", m, alpha=1.5),

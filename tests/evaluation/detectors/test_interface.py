@@ -1,5 +1,5 @@
 """The common detector interface (:mod:`dptbd.evaluation.detectors.interface`): the scene
-model, its refusals, the base class's checks (the seven detectors behind it:
+model, its refusals, the base class's checks (the eight detectors behind it:
 test_adapters.py; the scoring: test_scoring.py)."""
 
 from __future__ import annotations

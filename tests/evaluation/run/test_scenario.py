@@ -57,3 +57,27 @@ def test_check_snr(snr, shown):
     with pytest.raises(ScenarioError, match=whole(message)):
         check_snr("--snr", snr)
     assert check_snr("--snr", 2) == 2.0 and type(check_snr("--snr", 2)) is float
+
+
+@pytest.mark.parametrize("data, message", [
+    (target(velocity=[1.5, 0.0]),
+     # row 1 -> 2.5 -> 4: rounded 1, 2, 4
+     "scenario 'paper001-experiment-2': target 1 moves (2, 0) pixels from frame 1 to frame 2, beyond "
+     "the move set's reach: its row and column steps must be integers in [-1, 1] (radius=1)"),
+    (target(turns=[{"frame": 5, "velocity": [0.0, -3.0]}]),  # column 4.5 -> 1.5: pixels 4 -> 2
+     "scenario 'paper001-experiment-2': target 1 moves (0, -2) pixels from frame 5 to frame 6, beyond "
+     "the move set's reach: its row and column steps must be integers in [-1, 1] (radius=1)"),
+    ({**target(velocity=[0.0, 3.0]), "dp": {"radius": 2}},
+     "scenario 'paper001-experiment-2': target 1 moves (0, 3) pixels from frame 0 to frame 1, beyond "
+     "the move set's reach: its row and column steps must be integers in [-2, 2] (radius=2)"),
+])
+def test_targets_beyond_the_move_sets_reach_are_refused(data, message):
+    with pytest.raises(ScenarioError, match=whole(message)):
+        parse_scenario(data)  # checks the scenario
+
+
+def test_targets_within_reach_pass():
+    parse_scenario(target(velocity=[1.0, -1.0])).check()
+    parse_scenario({**target(velocity=[0.0, 2.0]), "dp": {"radius": 2}}).check()
+    # leaving the image is not a move: 3 pixels a frame from outside is never visible twice
+    parse_scenario(target(start=[-50.0, 1.0], velocity=[0.0, 0.0])).check()

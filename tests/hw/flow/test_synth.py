@@ -114,7 +114,9 @@ TINY = DPConfig(width=8, height=6, segment_frames=2, input_bits=2, energy_bits=4
 
 @needs_yosys
 @pytest.mark.parametrize("family, lc_bel, lc_available", [
-    ("ice40", "ICESTORM_LC", 7680), ("ecp5", "TRELLIS_COMB", 24288)])
+    ("ice40", "ICESTORM_LC", 7680),
+    # ECP5's Yosys flow in the default suite: test_family_core_options_move_storage
+    pytest.param("ecp5", "TRELLIS_COMB", 24288, marks=pytest.mark.slow)])
 def test_real_synthesis_of_a_tiny_pipeline(tmp_path, family, lc_bel, lc_available):
     """Yosys (flat and hierarchical) and one nextpnr run per family, ~15 s each."""
     with warnings.catch_warnings():

@@ -2,7 +2,8 @@
 per-pixel (E, d) word and every candidate word scored in order against the golden model,
 with cocotbext-axi ``AxiStreamSink`` pause generators on both outputs (the broadcast inside
 the core: back-pressure on either stalls the DP pipeline), run-time settings and a LUT
-rewrite between segments, faults and a soft reset behind ``-m slow``.
+rewrite between segments, a soft reset at three cycles of a list; faults and the soft reset in
+every cycle of a list behind ``-m slow``.
 
 Builds go to ``build/sim/<config>-axi-state/`` (cached).
 """
@@ -83,17 +84,9 @@ SWEEP_CFG = dict(width=12, height=10, segment_frames=1, candidate_count=4, candi
                  histogram_bits=5, histogram_shift=1)
 
 
-def test_soft_reset_in_every_cycle_of_a_line_and_a_list():
-    """CONTROL.soft_reset landing in every cycle of a list being sent while state lines are
-    (``tb_axi.soft_reset_sweep`` on the ``--state-output`` build, independent random tready
-    on both outputs): a calibration run gives the cycles of the second list (first word
-    offered to trailer taken), the sweep issues the write from 4 cycles before it to its
-    trailer, one iteration per cycle. Every cycle keeps AXI4-Stream on both outputs; every
-    state packet is a line of W words ending with tlast, the model's words in order but for
-    the fillers (tuser[3] only, tdata 0) completing a line the soft reset cut; every list is
-    whole, a prefix closed by the cut trailer, or absent; the last iteration is bit-exact on
-    both. A line cut after each possible number of words, a list cut after each possible
-    number of records, and both in one soft reset, all occur."""
+def _calibrated_sweep():
+    """SWEEP_CFG's build, scene and options, with the calibration run's cycles of the second
+    list: (first word offered, trailer taken)."""
     cfg = make_config(**SWEEP_CFG)
     frames = make_frames("two-targets", cfg, 3, seed=1)
     beats = clean_beats(frames)
@@ -110,6 +103,22 @@ def test_soft_reset_in_every_cycle_of_a_line_and_a_list():
     ends = [i for i, (_n, ready, last) in enumerate(timeline) if ready and last]
     assert len(ends) == 3
     first_offer, trailer_taken = timeline[ends[0] + 1][0], timeline[ends[1]][0]
+    return cfg, frames, sim, options, first_offer, trailer_taken
+
+
+@pytest.mark.slow
+def test_soft_reset_in_every_cycle_of_a_line_and_a_list():
+    """CONTROL.soft_reset landing in every cycle of a list being sent while state lines are
+    (``tb_axi.soft_reset_sweep`` on the ``--state-output`` build, independent random tready
+    on both outputs): a calibration run gives the cycles of the second list (first word
+    offered to trailer taken), the sweep issues the write from 4 cycles before it to its
+    trailer, one iteration per cycle. Every cycle keeps AXI4-Stream on both outputs; every
+    state packet is a line of W words ending with tlast, the model's words in order but for
+    the fillers (tuser[3] only, tdata 0) completing a line the soft reset cut; every list is
+    whole, a prefix closed by the cut trailer, or absent; the last iteration is bit-exact on
+    both. A line cut after each possible number of words, a list cut after each possible
+    number of records, and both in one soft reset, all occur."""
+    cfg, frames, sim, options, first_offer, trailer_taken = _calibrated_sweep()
     issue = list(range(first_offer - 4, trailer_taken + 1))
     result = simulate(sim, frames, run_name="axi-state-sweep", issue=issue, **options)
     assert_passed(result)
@@ -119,3 +128,20 @@ def test_soft_reset_in_every_cycle_of_a_line_and_a_list():
     assert {"dropped", *[f"cut {k}" for k in range(1, 5)]} <= set(outcomes[:-1])
     assert {"whole", *[f"fill {k}" for k in range(1, cfg.width)]} <= set(lines[:-1])
     assert any(o.startswith("cut") and s.startswith("fill") for o, s in zip(outcomes, lines))
+
+
+def test_soft_reset_before_inside_and_at_the_end_of_a_list():
+    """The sweep above (``-m slow``) at three of its cycles: 4 cycles before the second list's
+    first word is offered, midway, and the cycle its trailer is taken; the same checks on
+    every iteration (AXI4-Stream on both outputs, lines of W words ending with tlast, lists
+    whole, a prefix closed by the cut trailer, or absent), the last bit-exact on both."""
+    cfg, frames, sim, options, first_offer, trailer_taken = _calibrated_sweep()
+    issue = [first_offer - 4, (first_offer + trailer_taken) // 2, trailer_taken]
+    result = simulate(sim, frames, run_name="axi-state-sweep-three", issue=issue, **options)
+    assert_passed(result)
+    outcomes, lines = result.summary["outcomes"], result.summary["state_outcomes"]
+    assert (first_offer, trailer_taken) == (293, 475)
+    # before the list: dropped; inside: cut after 2 records while a line is cut after 4 words
+    # (filled); at the trailer: dropped; then the bit-exact iteration
+    assert outcomes == ["dropped", "cut 2", "dropped", "whole"]
+    assert lines == ["fill 4", "fill 4", "fill 11", "whole"]

@@ -150,7 +150,7 @@ def test_the_memory_model_observes_stalls_and_4_kb_boundaries():
 
 @needs_verilator
 def test_a_boundary_count_other_than_the_layout_fails_the_run(monkeypatch):
-    from dptbd.sim.campaign import store as store_module
+    from dptbd.sim.campaign.store import dp_axi as store_module
 
     monkeypatch.setattr(store_module, "boundary_bursts", lambda store, base, frames: 99)
     case = _short(store_cases()[0], 2)
@@ -273,7 +273,7 @@ def test_an_error_run_compares_the_lists_clear_of_the_window(monkeypatch):
     """With no margin around the window every list is compared: in seed 1 (DECERR on
     writes) list 3 is one the failed writes changed, and the run fails. (Most windows change
     no list: three candidates of 384 pixels rarely move; seeds 0 … 11 change one.)"""
-    from dptbd.sim.campaign import store as store_module
+    from dptbd.sim.campaign.store import axi_store as store_module
 
     case = axi_store_cases()[1]
     assert campaign.check_run(case, 1).passed

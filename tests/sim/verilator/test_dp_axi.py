@@ -60,10 +60,15 @@ def test_a_128_bit_port():
 # ---- P = 2 and 4 pixels per clock: store words of P states over the same port ----------
 @pytest.fixture(scope="module", params=[2, 4])
 def wide(request):
-    """P = 2 / 4 at 16 x 12, 64-bit, bursts of 4, 16 in flight."""
+    """P = 2 / 4 at 16 x 12, bursts of 4, 16 in flight. P = 2: the build's 14-bit states
+    (31-bit output beats) on a 64-bit port; P = 4: 20-bit states, so 83-bit output beats (two
+    uint64 words each in the harness's files) and 32-bit slots on a 128-bit port."""
     p = request.param
-    cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=p).build_config()
-    return V.build(cfg.axi_store(data_bits=64, burst_beats=4, outstanding=16))
+    if p == 2:
+        cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=2).build_config()
+        return V.build(cfg.axi_store(data_bits=64, burst_beats=4, outstanding=16))
+    cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=4)
+    return V.build(cfg.axi_store(data_bits=128, burst_beats=4, outstanding=16))
 
 
 @needs_verilator
@@ -74,6 +79,8 @@ def test_p_pixels_at_zero_latency_take_one_beat_per_cycle(wide):
     p = wide.store.frame.pixels_per_clock
     assert run.cycles_per_pixel == 1 / p                     # one beat of P pixels per cycle
     assert len(run.accept_cycles) == FRAMES.size // p
+    widths = {port["name"]: port["width"] for port in wide.manifest["ports"]}
+    assert widths["states__payload"] == {2: 2 * 14 + 3, 4: 4 * 20 + 3}[p]
 
 
 @needs_verilator
@@ -91,9 +98,12 @@ def test_p_pixels_random_latency_and_stalls_change_no_bit(wide, kw):
 
 
 @needs_verilator
+@pytest.mark.slow
 def test_p4_beats_wider_than_64_bits():
     """P = 4 with 20-bit states: 83-bit output beats (two uint64 words each in the
-    harness's files), 32-bit slots, two 128-bit beats per burst."""
+    harness's files), 32-bit slots, two 128-bit beats per burst: a build of its own, so
+    ``-m slow`` (the default suite's P = 4 build, ``wide``, has the same beats and slots with
+    bursts of four beats, 16 in flight)."""
     cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=4)
     sim = V.build(cfg.axi_store(data_bits=128, burst_beats=2, outstanding=4))
     widths = {port["name"]: port["width"] for port in sim.manifest["ports"]}

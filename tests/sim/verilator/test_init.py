@@ -45,8 +45,9 @@ def fake_build(tmp_path, cfg=BASE, design="dp", waves=False) -> V.VerilatorBuild
 
 # ---- exact cycle counts ----------------------------------------------------------------
 
+# radius 2 at K = 2: the dp build is test_check.py's "dp-r2" (one build for both)
 @pytest.mark.parametrize("design", ["dp", "core"])
-@pytest.mark.parametrize("kw,n_frames", [({}, 7), ({"width": 13, "height": 7, "radius": 2}, 5),
+@pytest.mark.parametrize("kw,n_frames", [({}, 7), ({"radius": 2, "segment_frames": 2}, 5),
                                          ({"weight_frac_bits": 0}, 4)])
 def test_exact_cycles_dp_and_core(design, kw, n_frames):
     """valid and ready held high: one pixel per clock, the first result exactly L cycles

@@ -68,12 +68,14 @@ def test_exact_cycles_and_bits(kw, words, design):
 
 @pytest.mark.parametrize("kw", [NARROW, WIDE], ids=["p2", "p4-wide"])
 def test_gaps_back_pressure_and_lut_writes(kw):
-    cfg = make_config(weight_frac_bits=5, **kw)
+    """The core build of the test above (one build for both): random valid gaps and ready
+    back-pressure, the whole LUT rewritten in beat 5 of frame 1 with random codes."""
+    cfg = make_config(**kw)
     sim = built(cfg, "core")
     p = cfg.pixels_per_clock
     rng = np.random.default_rng(p)
     old = cfg.weight_codes.astype(np.int64)
-    new = rng.integers(0, 33, size=old.shape)
+    new = rng.integers(0, (1 << cfg.weight_frac_bits) + 1, size=old.shape)
     switch = cfg.width * cfg.height + 5 * p                   # beat 5 of frame 1
     frames = random_frames(cfg, 5, seed=p)
     writes = [(switch // p, a, d) for a, d in lut_writes_for(cfg, old, new)]

@@ -12,7 +12,8 @@ back-pressure (:func:`stall_plan`); ``noise`` runs under the build's LUT
 (:func:`resync_steps`); the LUT written from its last entry to its first
 (:func:`lut_scenario`, ``lut-reverse``); 8 292 one-frame lists read at both clock
 parities (:func:`lists_plan`); every counter preset, read and counted on to a wrap
-(:func:`presets_plan`). The runs of exact cycles and counters are in
+(:func:`presets_plan`); and runs compared cycle for cycle with the original design's
+(:func:`reference_run`). The runs of exact cycles and counters are in
 :mod:`~dptbd.sim.mutation.slices.axi.timing`, those driving the register block in
 :mod:`~dptbd.sim.mutation.slices.axi.registers`; their names are re-exported here."""
 
@@ -33,7 +34,8 @@ __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
            "COUNTER_READS", "IRQ_WRITES", "RESTART_DELAY", "RUNS", "axi_scenario",
            "lut_scenario", "counter_plan", "irq_plan", "restart_plan", "N_VALUES",
            "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "noise_steps", "resync_steps",
-           "LIST_COUNT", "lists_plan", "PRESETS", "PRESET_FRAMES", "presets_plan", "run"]
+           "LIST_COUNT", "lists_plan", "PRESETS", "PRESET_FRAMES", "presets_plan",
+           "REFERENCE_PRESET", "REFERENCE_PAUSE", "reference_plan", "reference_run", "run"]
 
 #: Random AXI runs of the ``axi`` slice (:func:`dptbd.sim.axi.runs.draw_run` on the slice's
 #: configuration, :data:`RANDOM_AXI_FRAMES` frames each): every refused access class,
@@ -59,7 +61,97 @@ RUNS = tuple([("faults", s) for s in range(16)]
              + [("counters", 0), ("presets", 0), ("irq", 0), ("restart", 0), ("decode", 0),
                 ("n-values", 0), ("noise", 0), ("noise", 1),
                 *(("resync", s) for s in range(6)),
-                ("lut-reverse", 0), ("lut-reverse", 1), ("stalls", 0), ("lists", 0)])
+                ("lut-reverse", 0), ("lut-reverse", 1), ("reference", 0), ("reference", 1),
+                ("stalls", 0), ("lists", 0)])
+
+#: The ``reference`` runs (:func:`reference_run`): every counter's preset (bit 14 and every
+#: other even bit set: an increment then carries the counter's other bits along) and the
+#: output back-pressure, by seed.
+REFERENCE_PRESET = 0x5555_5555
+REFERENCE_PAUSE = (0.9, 0.8)
+
+#: The original design's ``reference`` runs, per build and seed (one per process).
+_ORIGINAL_RUNS: dict = {}
+
+
+def reference_plan(sim, seed: int) -> tuple:
+    """The beats and operations of ``reference`` run ``seed``: every counter preset to
+    :data:`REFERENCE_PRESET` at the first beat, then (even seeds) :func:`axi_scenario`'s
+    steps of that seed (every frame-sync fault class, K / n / s writes, the LUT, W1C) with
+    its soft reset issued at once (``"now"``), or (odd seeds) 4 frames of noise at K = 1,
+    n = C with a soft reset issued at once in the middle of frame 1, whose list (every
+    pixel) is then streaming under the back-pressure of :data:`REFERENCE_PAUSE`: the cut
+    meets a word offered and not taken; and every counter read at the end."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import clean_beats
+    from dptbd.sim.mutation.presets import preset_counters
+    from dptbd.sim.verilator.axi import settle_cycles, step_operations
+
+    cfg = sim.cfg
+    if seed % 2 == 0:
+        beats, steps, _gap, _pause = axi_scenario(cfg, seed)
+        steps = [dict(step, soft_reset="now") if step.get("soft_reset") else step
+                 for step in steps]
+    else:
+        rng = np.random.default_rng([seed, 0xA7E])
+        beats = clean_beats(rng.integers(0, 1 << cfg.input_bits,
+                                         size=(4, cfg.height, cfg.width)))
+        frame = cfg.width * cfg.height
+        steps = [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", cfg.record_capacity]],
+                  "stop": frame + frame // 2},
+                 {"soft_reset": "now", "stop": len(beats)}]
+    counters = preset_counters(cfg)
+    ops, _ = step_operations(cfg, steps, settle_cycles(sim, REFERENCE_PAUSE[seed % 2]),
+                             [name.upper() for name in counters])
+    return beats, [(0, "p", i, REFERENCE_PRESET) for i in range(len(counters))] + ops
+
+
+def reference_run(sim, seed: int) -> tuple[str, str]:
+    """Run ``seed`` of :func:`reference_plan` compared with the original design's run of it
+    (``mutsel = 0`` on the same build, MCY's reference; the harness's back-pressure is a
+    seeded function of the cycle): every output word, its flags and cycle, every beat's
+    acceptance cycle, every register operation's data and response and every change of
+    ``irq`` must be the original's. It sees what the model-based checks accept either way:
+    a soft reset's cut that takes another prefix of the list (a held word dropped), a
+    counter's increment from a value with high bits set."""
+    import os
+
+    import numpy as np
+
+    from dptbd.sim.verilator.axi import run_axi
+
+    beats, ops = reference_plan(sim, seed)
+    pause = REFERENCE_PAUSE[seed % 2]
+    key = (str(sim.executable), seed)
+    if key not in _ORIGINAL_RUNS:
+        mutant = os.environ.get("DPTBD_MUTANT")
+        os.environ["DPTBD_MUTANT"] = "0"
+        try:
+            original = run_axi(sim, beats, ops, ready_pause=pause, seed=seed)
+        finally:
+            if mutant is None:
+                os.environ.pop("DPTBD_MUTANT", None)
+            else:
+                os.environ["DPTBD_MUTANT"] = mutant
+        if original.status != "done":
+            raise RuntimeError(f"the original's reference run of seed {seed}: "
+                               f"{original.status} after {original.cycles} cycles")
+        _ORIGINAL_RUNS[key] = original
+    original = _ORIGINAL_RUNS[key]
+    run = run_axi(sim, beats, ops, ready_pause=pause, seed=seed)
+    for what in ("out_words", "out_flags", "out_cycles", "accept_cycles", "op_data",
+                 "op_resp", "irq_cycles"):
+        got, want = getattr(run, what), getattr(original, what)
+        if len(got) != len(want) or (got != want).any():
+            i = int(np.argmax(got != want)) if len(got) == len(want) else min(len(got),
+                                                                               len(want))
+            show = [int(v[i]) if i < len(v) else "-" for v in (got, want)]
+            return "killed", (f"{what}[{i}] = {show[0]}, the original's {show[1]} "
+                              f"({len(got)} and {len(want)} entries)")
+    if run.status != "done":
+        return "timeout", f"cycle budget ({run.cycles} cycles) ran out, as the original's"
+    return "survived", f"as the original: {len(run.out_words)} words, {len(run.op_data)} operations"
 
 
 def lut_scenario(cfg: DPConfig, seed: int, reverse: bool = False) -> tuple:
@@ -227,6 +319,8 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
 
     if kind == "lists":
         return lists_run(sim)
+    if kind == "reference":
+        return reference_run(sim, seed)
     if kind == "stalls":
         return stalls_run(sim)
     if kind == "noise":

@@ -19,8 +19,11 @@ def decode_steps(cfg: DPConfig) -> tuple:
     counter and status registers: SLVERR, nothing changes, no ERROR bit) and the read sweep
     again; then, for every setting register and every bit above its upper limit, a write of
     its reset value with that bit set (refused, SLVERR: every bit of the written word is
-    compared), each register read back unchanged and ERROR.write_refused set; then two
-    frames (one segment of K = 2) checked against the model."""
+    compared), each register read back unchanged and ERROR.write_refused set; a LUT write
+    with each byte strobe clear in turn (refused, SLVERR); ERROR cleared with all ones (W1C):
+    IRQ_STATUS keeps its pending fault (a write decoded at both registers clears it) and
+    ERROR reads 0; a refused write sets them again; then two frames (one segment of K = 2)
+    checked against the model."""
     import numpy as np
 
     from dptbd.hw.register_map import register_map
@@ -47,9 +50,16 @@ def decode_steps(cfg: DPConfig) -> tuple:
         bits += [["w", reg.address, reset[reg.address] | 1 << b, 0xF, SLVERR]
                  for b in range(32) if 1 << b > field.limits[1]]
         back.append(["r", reg.address, OKAY, reset[reg.address]])
+    bits += [["w", lut.base, 0, 0xF & ~(1 << k), SLVERR] for k in range(4)]
     refused = sum(f.reset << f.lsb for f in regmap["ERROR"].fields) | next(
         1 << f.lsb for f in regmap["ERROR"].fields if f.name == "write_refused")
-    back.append(["r", regmap["ERROR"].address, OKAY, refused])
+    error, status = regmap["ERROR"].address, regmap["IRQ_STATUS"].address
+    fault = next(1 << f.lsb for f in regmap["IRQ_STATUS"].fields if f.name == "fault")
+    k = regmap["SEGMENT_FRAMES"]
+    back += [["r", error, OKAY, refused], ["r", status, OKAY, fault],
+             ["w", error, 2**32 - 1, 0xF, OKAY], ["r", status, OKAY, fault],
+             ["r", error, OKAY, 0],
+             ["w", k.address, k.reset | 1 << 31, 0xF, SLVERR], ["r", error, OKAY, refused]]
     rng = np.random.default_rng([0, 0xA78])
     beats = clean_beats(rng.integers(0, 1 << cfg.input_bits, size=(2, cfg.height, cfg.width)))
     return beats, [{"bus": reads + writes + reads + bits + back, "stop": 0},

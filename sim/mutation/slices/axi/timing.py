@@ -275,8 +275,11 @@ def presets_plan(cfg: DPConfig) -> tuple:
     each of :data:`PRESETS` loaded into every counter and every counter read, twice, one
     idle cycle apart (a mutant counter bit that toggles every cycle is read at both clock
     parities, as in the ``lists`` run); then :data:`PRESET_FRAMES` frames of noise at full
-    speed, the settle and every counter read again, twice. The beats, the operations and the value each read must give: the preset, and at
-    the end the last preset plus the model's count modulo 2**32 (FRAMES, SEGMENTS, LISTS,
+    speed, the settle and every counter read again, twice. After each preset's reads, every
+    counter's three unaligned addresses are read: 0 with SLVERR, whatever bits the counter
+    holds (a read select that ignores an address bit shows them). The beats, the operations
+    and the value each read must give (``None``: 0 with SLVERR): the preset, and at the end
+    the last preset plus the model's count modulo 2**32 (FRAMES, SEGMENTS, LISTS,
     SATURATED; no fault; INPUT_STALLS the histogram scans of all lists but the last,
     ``scan_cycles`` each, as in the ``counters`` run; no OUTPUT_STALLS)."""
     import numpy as np
@@ -296,11 +299,14 @@ def presets_plan(cfg: DPConfig) -> tuple:
     counts["INPUT_STALLS"] = (counts["LISTS"] - 1) * scan_cycles(cfg)
     ops = [(0, "w", regs.REG_SEGMENT_FRAMES, 1), (0, "w", regs.REG_CANDIDATE_COUNT, 0)]
     reads = [("r", getattr(regs, f"REG_{name.upper()}"), 0) for name in counters]
+    unaligned = [("r", getattr(regs, f"REG_{name.upper()}") + k, 0) for name in counters
+                 for k in (1, 2, 3)]
     want = []
     for value in PRESETS:
         ops += [(0, "p", i, value) for i in range(len(counters))]
         ops += [(0, *r) for r in reads] + [(0, "i", 1, 0)] + [(0, *r) for r in reads]
-        want += [value] * (2 * len(counters))
+        ops += [(0, *r) for r in unaligned]
+        want += [value] * (2 * len(counters)) + [None] * len(unaligned)
     end = len(beats)
     ops += [(end, "i", 64, 0)] + [(end, *r) for r in reads] + [(end, "i", 1, 0)]
     ops += [(end, *r) for r in reads]
@@ -309,23 +315,35 @@ def presets_plan(cfg: DPConfig) -> tuple:
 
 
 def presets_run(sim) -> tuple[str, str]:
-    """The ``presets`` run: every beat taken, every response OKAY, every read the value of
+    """The ``presets`` run: every beat taken, every read the value and response of
     :func:`presets_plan` (the first difference reported)."""
     from dptbd.sim.mutation.presets import preset_counters
-    from dptbd.sim.verilator.axi import run_axi
+    from dptbd.sim.verilator.axi import OKAY, SLVERR, run_axi
 
     beats, ops, want = presets_plan(sim.cfg)
     run = run_axi(sim, beats, ops)
     problems = []
-    reads = [int(v) for v in run.op_data[2:]]
+    counters = preset_counters(sim.cfg)
+    got = list(zip((int(r) for r in run.op_resp[2:]), (int(v) for v in run.op_data[2:])))
     if run.status != "done" or int(run.counters.get("accepted", -1)) != len(beats):
         problems.append(f"{run.status}: {run.counters.get('accepted')} of {len(beats)} "
                         "beats accepted")
-    elif any(int(r) for r in run.op_resp):
+    elif len(got) != len(want) or any(int(r) for r in run.op_resp[:2]):
         problems.append(f"responses {list(map(int, run.op_resp))}")
-    elif reads != want:
-        counters = preset_counters(sim.cfg)
-        bad = next(i for i, (a, b) in enumerate(zip(reads, want)) if a != b)
-        problems.append(f"read {bad} ({counters[bad % len(counters)].upper()}) gave "
-                        f"{reads[bad]:#010x}, expected {want[bad]:#010x}")
+    else:
+        addresses = [op[2] for op in ops if op[1] == "r"]
+        aligned = 0                          # the index among the reads of a counter itself
+        for (resp, data), value, address in zip(got, want, addresses):
+            if value is None and (resp, data) != (SLVERR, 0):
+                problems.append(f"read {address:#05x} (unaligned) gave {data:#010x} with "
+                                f"response {resp}, expected 0 with SLVERR")
+                break
+            if value is not None:
+                if (resp, data) != (OKAY, value):
+                    name = counters[aligned % len(counters)].upper()
+                    problems.append(f"read {aligned} ({name}) gave {data:#010x}"
+                                    + (f" with response {resp}" if resp != OKAY else "")
+                                    + f", expected {value:#010x}")
+                    break
+                aligned += 1
     return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
