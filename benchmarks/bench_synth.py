@@ -230,6 +230,14 @@ def main(argv=None) -> int:
     parser.add_argument("--max-tree", choices=CORE_OPTIONS["max_tree"],
                         help="DPCore max tree, one or two stages per level (default: the "
                              "family's, compact on iCE40, split on ECP5)")
+    parser.add_argument("--state-store-style", choices=CORE_OPTIONS["state_store_style"],
+                        help="the on-chip state store's block RAM (default: the family's, "
+                             "an Amaranth memory on iCE40, DP16KDs with their output "
+                             "register on ECP5)")
+    parser.add_argument("--histogram-style", choices=CORE_OPTIONS["histogram_style"],
+                        help="the segmenter histogram's memory (default: the family's, "
+                             "an Amaranth memory on iCE40, DP16KDs with their output "
+                             "register on ECP5)")
     parser.add_argument("--no-breakdown", action="store_true",
                         help="skip the hierarchical synthesis (per-block table)")
     parser.add_argument("--workdir", type=pathlib.Path, default=pathlib.Path("build/synth"))

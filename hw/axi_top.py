@@ -19,9 +19,9 @@ registers and counters, without breaking AXI4-Stream: from the request on the in
 delivered, a list left open is closed by a cut trailer with ``tlast``
 (:class:`~dptbd.hw.axis_video.CandidatesToAxis`), a line of ``m_axis_state`` left open is
 completed to W words by filler words, the last with ``tlast``
-(:class:`~dptbd.hw.axis_video.StatesToAxis`), and only then, in the cycle the last of these
-is taken on the later of the two outputs (the request's own cycle if nothing is in flight),
-is the core reset.
+(:class:`~dptbd.hw.axis_video.StatesToAxis`), and only then, in the cycle after the one
+the last of these is taken in on the later of the two outputs (after the request's own
+cycle if nothing is in flight; the restart is registered), is the core reset.
 """
 
 from __future__ import annotations
@@ -155,8 +155,8 @@ class AXITop(wiring.Component):
 
         m.submodules.regs = regs = RegisterFile(cfg, self._register_map)
         # a soft reset: the output adapters close the list and the state line being sent,
-        # then restart pulses, which resets the core, the frame monitor and m_axis_state's
-        # adapter
+        # then restart pulses (registered, a cycle later), which resets the core, the frame
+        # monitor and m_axis_state's adapter
         m.submodules.cand_out = cand_out = CandidatesToAxis(cfg)
         restart = {"sync": cand_out.restart}
         m.submodules.video_in = video_in = AxisToPixels(cfg)

@@ -122,12 +122,13 @@ class CandidatesToAxis(wiring.Component):
     2. if a list is then open (words of it were sent, not its trailer), the *cut trailer*
        (:func:`~dptbd.hw.candidate_layout.pack_cut_trailer`: ``cut`` = 1, ``count`` = the
        records sent, every other field 0, ``tlast``) is offered until it is taken;
-    3. ``restart`` pulses: the caller resets the core (and everything after it) in that
-       cycle. It comes in the request's own cycle when no word is offered and no list is
-       open, in the cycle the cut trailer is taken, or in the cycle after the word of 1.
-       is taken if that word was a trailer; never while ``hold`` is high (another output
-       is not closed yet: ``m_axis_state``'s :class:`StatesToAxis`), so it comes with the
-       later of the two.
+    3. ``restart`` pulses, registered: the caller resets the core (and everything after
+       it) in that cycle. It comes in the cycle after the one the list is closed in: the
+       request's own cycle when no word is offered and no list is open, the cycle the cut
+       trailer is taken, or the cycle after the word of 1. is taken if that word was a
+       trailer; never after a cycle with ``hold`` high (another output is not closed yet:
+       ``m_axis_state``'s :class:`StatesToAxis`), so it comes after the later of the two.
+       In the ``restart`` cycle no word is offered and none is taken from ``candidates``.
 
     ``busy`` is high from the request to ``restart`` included: the caller holds the input.
 
@@ -164,6 +165,12 @@ class CandidatesToAxis(wiring.Component):
         request = self.soft_reset | closing
         passing = ~request | held              # the core's word may be offered
         cut = request & ~held & ~list_start    # offer the cut trailer
+        # the list is closed: restart in the next cycle (registered, its reset fans out to
+        # the core); in that cycle nothing is offered or taken
+        close = Signal()
+        m.d.comb += close.eq(request & ~held & ~self.hold & (list_start | (cut & out.tready)))
+        m.d.sync += self.restart.eq(close)
+        offering = ~self.restart
         cut_word = Signal(candidate_layout(cfg))
         m.d.comb += [
             cut_word.body.trailer.count.eq(records),
@@ -176,15 +183,14 @@ class CandidatesToAxis(wiring.Component):
         m.d.comb += [
             out.tdata.eq(Mux(cut, cut_word.as_value(), payload)),
             out.tlast.eq(cut | (src.valid & src.payload.end_of_list)),
-            out.tvalid.eq(cut | (src.valid & passing)),
+            out.tvalid.eq(offering & (cut | (src.valid & passing))),
             out.tuser[0].eq(list_start),
-            src.ready.eq(out.tready & passing),
+            src.ready.eq(offering & out.tready & passing),
             self.stalled.eq(out.tvalid & ~out.tready),
-            self.busy.eq(request),
-            self.restart.eq(request & ~held & ~self.hold & (list_start | (cut & out.tready))),
+            self.busy.eq(request | self.restart),
         ]
-        m.d.sync += held.eq(src.valid & passing & ~out.tready)
-        with m.If(self.restart):
+        m.d.sync += held.eq(offering & src.valid & passing & ~out.tready)
+        with m.If(close):
             m.d.sync += [closing.eq(0), list_start.eq(1), records.eq(0)]
         with m.Else():
             m.d.sync += closing.eq(request)

@@ -99,6 +99,11 @@ class Controller(wiring.Component):
     read_addr : Out(range(W*H))
         Cycle 0, combinational: the state-store address to read for the accepted pixel,
         ``(p + r*(W+1)) mod (W*H)`` for its raster position p.
+    next_read_addr : Out(range(W*H))
+        Cycle 0, combinational: the address the next pixel will read if it continues the
+        raster (``read_addr + 1`` mod W*H: a register holding it, or a constant on
+        ``resync``; no adder); what the on-chip store reads ahead
+        (:class:`~dptbd.hw.read_ahead_store.ReadAheadStore`).
     resync : Out(1)
         Cycle 0, combinational: the accepted pixel restarts the counters.
     valid : Out(1)
@@ -119,6 +124,7 @@ class Controller(wiring.Component):
             "segment_frames": In(range(1, cfg.k_max + 1), init=cfg.segment_frames),
             "segment_begin": Out(1),
             "read_addr": Out(range(cfg.width * cfg.height)),
+            "next_read_addr": Out(range(cfg.width * cfg.height)),
             "resync": Out(1),
             "valid": Out(1),
             "position": Out(position_layout(cfg)),
@@ -146,6 +152,9 @@ class Controller(wiring.Component):
         frames_left = Signal(range(cfg.k_max))      # frames of the segment after this one
         frame_last = Signal()                       # frames_left == 0
         ahead = Signal(range(pixels), init=ahead_start)
+        # ahead + 1 mod W*H, kept in a register so that no carry chain drives the store's
+        # read-ahead address (ECP5 timing, docs/synthesis.md)
+        ahead_next = Signal(range(pixels), init=(ahead_start + 1) % pixels)
         at_start = Signal(init=1)                   # the next pixel is expected at (0, 0)
 
         # Effective position of the pixel accepted now: the counters, or (0, 0) of a new
@@ -168,7 +177,8 @@ class Controller(wiring.Component):
         # ---- end of recursive mode ---------------------------------------------------
         last_col = ~self.resync & col_last
         end_of_frame = last_col & row_last
-        m.d.comb += self.read_addr.eq(eff_ahead)
+        next_ahead = Mux(self.resync, (ahead_start + 1) % pixels, ahead_next)
+        m.d.comb += [self.read_addr.eq(eff_ahead), self.next_read_addr.eq(next_ahead)]
 
         with m.If(self.accept):
             # Next values from the registers alone, `resync` (from the input `first`)
@@ -176,8 +186,9 @@ class Controller(wiring.Component):
             m.d.sync += [
                 col.eq(Mux(self.resync, 1, increment_mod(col, width))),
                 col_last.eq(~self.resync & (col == width - 2)),
-                ahead.eq(Mux(self.resync, (ahead_start + 1) % pixels,
-                             increment_mod(ahead, pixels))),
+                ahead.eq(next_ahead),
+                ahead_next.eq(Mux(self.resync, (ahead_start + 2) % pixels,
+                                  increment_mod(ahead_next, pixels))),
                 at_start.eq(end_of_frame),
             ]
             with m.If(self.resync):

@@ -19,6 +19,7 @@ from dptbd.hw.controller import Controller
 from dptbd.hw.delay import delayed, delayed_in_memory
 from dptbd.hw.family_blocks import FamilyBlocks
 from dptbd.hw.forgetting_multiplier import ForgettingMultiplier
+from dptbd.hw.histogram import HISTOGRAM_STYLES
 from dptbd.hw.input_credit import InputCredit
 from dptbd.hw.layouts import event_layout, pixel_layout, state_layout, state_word_layout
 from dptbd.hw.line_buffer import LineBuffer
@@ -27,6 +28,7 @@ from dptbd.hw.merit_lut import MeritLUT
 from dptbd.hw.penalised_candidate import PenalisedCandidate
 from dptbd.hw.penalty_lut import PenaltyLUT
 from dptbd.hw.pipelined_max import SplitMaxTree
+from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
 from dptbd.hw.schedule import MAX_TREE_STAGES, PipelineSchedule, check_supported
 from dptbd.hw.state_store import StateStoreSignature
 from dptbd.hw.thermometer_fifo import ThermometerFIFO
@@ -43,11 +45,15 @@ LINE_BUFFER_RAM_STYLE = {"bram": None, "lutram": "distributed"}
 LINE_BUFFER_STYLES = tuple(LINE_BUFFER_RAM_STYLE)
 #: ``DPCore(sideband_delay=…)``.
 SIDEBAND_DELAYS = ("registers", "memory")
+
 #: DPCore's implementation options (keyword arguments) with their allowed values; none
 #: changes behaviour (``max_tree`` changes the latency), the synthesis flow picks them per
-#: FPGA family.
+#: FPGA family. ``state_store_style`` is the on-chip store's (DPPipeline's) and
+#: ``histogram_style`` the segmenter's histogram's, carried here so that one set of options
+#: reaches every top.
 CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS,
-                "max_tree": tuple(MAX_TREE_STAGES)}
+                "max_tree": tuple(MAX_TREE_STAGES), "state_store_style": STATE_STORE_STYLES,
+                "histogram_style": HISTOGRAM_STYLES}
 
 
 def lut_write_members(cfg: DPConfig) -> dict:
@@ -147,6 +153,16 @@ class DPCore(wiring.Component):
         select in two stages per level: ``ceil(log2(M))`` cycles more latency, counted by
         :class:`~dptbd.hw.schedule.PipelineSchedule`; what the flow builds for ECP5).
         Behaviour is the same. Anything else raises ``ValueError``.
+    state_store_style : {"memory", "dp16kd"}
+        The block RAM of the on-chip store that ``DPPipeline`` attaches
+        (:class:`~dptbd.hw.read_ahead_store.ReadAheadStore`): an Amaranth memory (default)
+        or ECP5 DP16KDs with their output register (what the flow builds for ECP5). DPCore
+        itself does not use it (its store is outside). Anything else raises ``ValueError``.
+    histogram_style : {"memory", "dp16kd"}
+        The memory of the histogram of the segmenter that ``DPSegmenter`` attaches
+        (:class:`~dptbd.hw.histogram.Histogram`'s ``style``): an Amaranth memory (default)
+        or ECP5 DP16KDs reading through their output register. DPCore itself does not use
+        it. Anything else raises ``ValueError``.
 
     Members
     -------
@@ -179,7 +195,8 @@ class DPCore(wiring.Component):
 
     def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
                  lut_style: str = "auto", line_buffer_style: str = "bram",
-                 sideband_delay: str = "registers", max_tree: str = "compact"):
+                 sideband_delay: str = "registers", max_tree: str = "compact",
+                 state_store_style: str = "memory", histogram_style: str = "memory"):
         # -- line buffer and side-band storage (per-family implementation options) --
         if line_buffer_style not in LINE_BUFFER_STYLES:
             raise ValueError(f"line_buffer_style must be one of {LINE_BUFFER_STYLES}, "
@@ -187,9 +204,17 @@ class DPCore(wiring.Component):
         if sideband_delay not in SIDEBAND_DELAYS:
             raise ValueError(f"sideband_delay must be one of {SIDEBAND_DELAYS}, "
                              f"got {sideband_delay!r}")
+        if state_store_style not in STATE_STORE_STYLES:
+            raise ValueError(f"state_store_style must be one of {STATE_STORE_STYLES}, "
+                             f"got {state_store_style!r}")
         self._line_buffer_style = line_buffer_style
         self._sideband_delay = sideband_delay
         self._max_tree = max_tree
+        if histogram_style not in HISTOGRAM_STYLES:
+            raise ValueError(f"histogram_style must be one of {HISTOGRAM_STYLES}, "
+                             f"got {histogram_style!r}")
+        self._state_store_style = state_store_style
+        self._histogram_style = histogram_style
         self._schedule = check_supported(cfg, max_tree=max_tree)   # refuses a bad max_tree
         # -- end --
         self._cfg = cfg
@@ -208,6 +233,7 @@ class DPCore(wiring.Component):
             "state_store": Out(StateStoreSignature(cfg)),
         })
         self._resync = Signal(name="resync")
+        self._next_read_addr = Signal(range(cfg.width * cfg.height), name="next_read_addr")
 
     @property
     def config(self) -> DPConfig:
@@ -221,6 +247,13 @@ class DPCore(wiring.Component):
         for ``DPSegmenter``, which passes only the settings of other segment starts to its
         segmenter."""
         return self._resync
+
+    @property
+    def next_read_addr(self) -> Signal:
+        """Not a port: the controller's ``next_read_addr`` (the read address of the next
+        pixel if it continues the raster), for the on-chip store that reads ahead
+        (:class:`~dptbd.hw.read_ahead_store.ReadAheadStore`)."""
+        return self._next_read_addr
 
     @property
     def schedule(self) -> PipelineSchedule:
@@ -256,7 +289,9 @@ class DPCore(wiring.Component):
     def core_options(self) -> dict:
         """The storage options (:data:`CORE_OPTIONS`) this core was built with."""
         return {"line_buffer_style": self._line_buffer_style,
-                "sideband_delay": self._sideband_delay, "max_tree": self._max_tree}
+                "sideband_delay": self._sideband_delay, "max_tree": self._max_tree,
+                "state_store_style": self._state_store_style,
+                "histogram_style": self._histogram_style}
 
     def elaborate(self, platform):
         m = Module()
@@ -277,6 +312,7 @@ class DPCore(wiring.Component):
             controller.segment_frames.eq(self.segment_frames),
             self.segment_begin.eq(controller.segment_begin),
             self._resync.eq(accept & controller.resync),
+            self._next_read_addr.eq(controller.next_read_addr),
             self.state_store.read_addr.eq(controller.read_addr),
             self.state_store.read_en.eq(accept),
         ]

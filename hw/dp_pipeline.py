@@ -15,7 +15,7 @@ from dptbd.hw.dp_core import (DPCore, family_write_members, family_write_ports,
                                lut_write_members, run_time_k_members)
 from dptbd.hw.layouts import pixel_layout, state_layout
 from dptbd.hw.schedule import PipelineSchedule
-from dptbd.hw.state_store import StateStore
+from dptbd.hw.read_ahead_store import ReadAheadStore, check_read_ahead_store
 
 __all__ = ["DPPipeline"]
 
@@ -27,7 +27,9 @@ class DPPipeline(wiring.Component):
     ----------
     cfg : DPConfig
         The configuration (refused with :class:`~dptbd.errors.ConfigError` if the gateware
-        does not implement it, see :func:`~dptbd.hw.schedule.check_supported`).
+        does not implement it, see :func:`~dptbd.hw.schedule.check_supported`, or if the
+        frame is too small for the on-chip store's read-ahead,
+        :func:`~dptbd.hw.read_ahead_store.check_read_ahead_store`).
     output_fifo_depth : int or None
         See :class:`~dptbd.hw.dp_core.DPCore`.
     lut_style : {"auto", "bram", "logic"}
@@ -35,8 +37,9 @@ class DPPipeline(wiring.Component):
         ``"auto"`` puts the r = 1 table in logic, which is what lets the 64 x 64 top level
         fit the iCE40-HX8K's 32 block RAMs (``docs/gateware.md``, "Weight LUT storage").
     **core_options
-        ``line_buffer_style``, ``sideband_delay``: storage options of
-        :class:`~dptbd.hw.dp_core.DPCore`, passed on.
+        ``line_buffer_style``, ``sideband_delay``, ``max_tree``: options of
+        :class:`~dptbd.hw.dp_core.DPCore`, passed on; ``state_store_style``: the on-chip
+        store's block RAM (:class:`~dptbd.hw.read_ahead_store.ReadAheadStore`).
 
     Members
     -------
@@ -71,6 +74,7 @@ class DPPipeline(wiring.Component):
                  lut_style: str = "auto", **core_options):
         self._core = DPCore(cfg, output_fifo_depth=output_fifo_depth, lut_style=lut_style,
                             **core_options)
+        check_read_ahead_store(cfg, self._core.schedule.write_latency)
         self._cfg = cfg
         super().__init__({
             "pixels": In(stream.Signature(pixel_layout(cfg))),
@@ -123,8 +127,10 @@ class DPPipeline(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         m.submodules.core = core = self._core
-        m.submodules.state_store = store = StateStore(self._cfg)
+        m.submodules.state_store = store = ReadAheadStore(
+            self._cfg, style=self._core.core_options["state_store_style"])
         wiring.connect(m, core.state_store, store.bus)
+        m.d.comb += store.next_read_addr.eq(core.next_read_addr)
         wiring.connect(m, wiring.flipped(self.pixels), core.pixels)
         wiring.connect(m, core.states, wiring.flipped(self.states))
         m.d.comb += [

@@ -89,7 +89,8 @@ class DPSegmenter(wiring.Component):
         # is exact while fewer words than a frame are in flight between the two (two such
         # segment starts are a whole segment apart), which the DP's credit count guarantees.
         assert self._dp.output_fifo_depth < cfg.width * cfg.height
-        self._segmenter = Segmenter(cfg, fifo_depth=fifo_depth)
+        self._segmenter = Segmenter(cfg, fifo_depth=fifo_depth,
+                                    histogram_style=self._dp.core_options["histogram_style"])
         super().__init__({
             "pixels": In(stream.Signature(pixel_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),

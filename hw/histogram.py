@@ -15,36 +15,59 @@ from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
+from dptbd.hw.dp16kd import DP16KD_MAX_DEPTH, dp16kd_memory
 
-__all__ = ["Histogram"]
+__all__ = ["HISTOGRAM_STYLES", "Histogram"]
+
+#: ``Histogram(style=…)`` (and ``DPCore(histogram_style=…)``).
+HISTOGRAM_STYLES = ("memory", "dp16kd")
 
 
 class Histogram(wiring.Component):
-    """Histogram memory with a four-stage increment pipeline and a read-and-clear scan.
+    """Histogram memory with a five-stage increment pipeline and a read-and-clear scan.
 
     One memory of ``2**b`` words of ``bin_count_bits``, one synchronous, non-transparent
     read port and one write port. An increment request is registered first, so the read
     address comes from registers. Every read, an increment's or the scan's, is issued in a
-    cycle r, its word registered in r+1 and used in r+2, where a bin written in r or r+1 (by
-    an earlier increment or the scan's clearing) is taken from the two registers that hold
-    the last two writes instead (forwarding, decided in r+1 from the registered address):
-    no path runs from the memory's output into logic, and the write data come from
-    registers through one multiplexer and the increment.
+    cycle r, its word registered in r+1 and used in r+2, where its new count is formed and
+    registered; the memory is written from those registers in r+3. A bin whose new count
+    was formed in r-1, r or r+1 (by an earlier increment or the scan's clearing) and not yet
+    written when r read it is taken from the registers that hold the last three counts
+    instead (forwarding, decided in r+1 from the registered addresses): no path runs from
+    the memory's output into logic, and the memory's write port is driven by registers.
 
     * **Increment.** ``add_en`` high in cycle c registers bin ``add_bin``, read in c+1; in
-      cycle c+3 the count plus one, saturated at ``2**bin_count_bits - 1``, is written back.
+      cycle c+3 the count plus one, saturated at ``2**bin_count_bits - 1``, is formed (and
+      written to the memory in c+4).
       One per cycle, any sequence of bins (back-to-back increments of one bin see each other
       through the forwarding).
     * **Scan.** ``scan_start`` high in cycle c (with no increment issued from c until
       ``scanning`` falls; one issued in c-1 or earlier is counted) reads bins ``2**b - 1``
       down to 0 in cycles c … c+2**b-1; each count appears on ``scan_count`` with
       ``scan_valid`` two cycles after its read, i.e. in cycles c+2 … c+2**b+1 (``scan_bin``
-      says which, ``scan_last`` marks bin 0), and that bin is written to 0 in the same cycle.
-      After the scan every counter is 0. An increment issued in c-1, whose read the scan's
-      first read displaces, is held and added to its bin's count as the scan passes it.
+      says which, ``scan_last`` marks bin 0), and that bin's new count 0 is formed in the
+      same cycle. After the scan every counter is 0 (the last clearing reaches the memory a
+      cycle after ``scanning`` falls; a read before that takes it from the forwarding). An
+      increment issued in c-1, whose read the scan's first read displaces, is held and added
+      to its bin's count as the scan passes it.
 
     The memory's power-up contents are 0; after a reset they are whatever they were, so the
     segmenter runs one scan after every reset to clear them.
+
+    Parameters
+    ----------
+    cfg : DPConfig
+        Bins and count width.
+    style : {"memory", "dp16kd"}
+        ``"memory"`` (default): an :class:`~amaranth.lib.memory.Memory` (block RAM) and a
+        register after its read port. ``"dp16kd"``: ECP5 DP16KDs
+        (:func:`~dptbd.hw.dp16kd.dp16kd_memory`) whose output register is that register,
+        so the read's word leaves a register instead of the array's 5.8 ns clock-to-out;
+        at most 16384 bins. Same cycles; for ECP5 synthesis only (no simulation model).
+        Anything else raises ``ValueError``.
+    dp16kd : callable or None
+        For ``"dp16kd"``: the DP16KD builder (``cell`` of
+        :func:`~dptbd.hw.dp16kd.dp16kd_memory`; tests pass a behavioural model).
 
     Members
     -------
@@ -58,8 +81,15 @@ class Histogram(wiring.Component):
         A scan is under way (cycles c+1 … c+2**b+1: reads issued or counts still to come out).
     """
 
-    def __init__(self, cfg: DPConfig):
+    def __init__(self, cfg: DPConfig, *, style: str = "memory", dp16kd=None):
+        if style not in HISTOGRAM_STYLES:
+            raise ValueError(f"style must be one of {HISTOGRAM_STYLES}, got {style!r}")
+        if style == "dp16kd" and cfg.n_bins > DP16KD_MAX_DEPTH:
+            raise ValueError(f"style 'dp16kd' holds at most {DP16KD_MAX_DEPTH} bins, got "
+                             f"{cfg.n_bins} (histogram_bits={cfg.histogram_bits}); use 'memory'")
         self._cfg = cfg
+        self._style = style
+        self._dp16kd = dp16kd
         super().__init__({
             "add_bin": In(range(cfg.n_bins)),
             "add_en": In(1),
@@ -77,10 +107,10 @@ class Histogram(wiring.Component):
         top = cfg.n_bins - 1
         full = (1 << cfg.bin_count_bits) - 1
 
-        m.submodules.memory = memory = Memory(
-            shape=cfg.bin_count_bits, depth=cfg.n_bins, init=[])
-        write = memory.write_port(domain="sync")
-        read = memory.read_port(domain="sync")
+        # The memory's ports as signals; the word read in r is `word_2` in r+2 (below).
+        read = _Port(addr=Signal(range(cfg.n_bins)), en=Signal())
+        write = _Port(addr=Signal(range(cfg.n_bins)), en=Signal(),
+                      data=Signal(cfg.bin_count_bits))
 
         # ---- cycle r-1: the increment request, registered --------------------------------
         add_en = Signal()
@@ -115,31 +145,47 @@ class Histogram(wiring.Component):
         bin_1 = Signal(range(cfg.n_bins))
         m.d.sync += [scan_1.eq(scan_read), add_1.eq(add_en & ~scan_read),
                      bin_1.eq(read.addr)]
-        # the last two writes: the one of this cycle is `last` from the next cycle on
+        # The results (counts to write) of the last three cycles: `result` is computed in
+        # this cycle and written from the `write` registers in the next, then held in
+        # `last` and `prev` while the reads that missed them are under way.
+        result = _Port(addr=Signal(range(cfg.n_bins)), en=Signal(),
+                       data=Signal(cfg.bin_count_bits))
         last_en = Signal()
         last_bin = Signal(range(cfg.n_bins))
         last_data = Signal(cfg.bin_count_bits)
         prev_en = Signal()
         prev_bin = Signal(range(cfg.n_bins))
         prev_data = Signal(cfg.bin_count_bits)
-        m.d.sync += [last_en.eq(write.en), last_bin.eq(write.addr), last_data.eq(write.data),
+        m.d.sync += [write.en.eq(result.en), write.addr.eq(result.addr),
+                     write.data.eq(result.data),
+                     last_en.eq(write.en), last_bin.eq(write.addr), last_data.eq(write.data),
                      prev_en.eq(last_en), prev_bin.eq(last_bin), prev_data.eq(last_data)]
-        # which write the read of r missed (r's own or r+1's), for use in r+2
-        take_last = Signal()                          # the write of cycle r+1
-        take_prev = Signal()                          # the write of cycle r
-        m.d.sync += [take_last.eq(write.en & (write.addr == bin_1)),
-                     take_prev.eq(last_en & (last_bin == bin_1))]
-        word_2 = Signal(cfg.bin_count_bits)
+        # which result the read of r missed (those computed in r-1, r, r+1, written in r,
+        # r+1, r+2), for use in r+2, newest first
+        take_write = Signal()                         # computed in r+1
+        take_last = Signal()                          # computed in r
+        take_prev = Signal()                          # computed in r-1
+        forward = Signal()                            # any of the three
+        hit_write = result.en & (result.addr == bin_1)
+        hit_last = write.en & (write.addr == bin_1)
+        hit_prev = last_en & (last_bin == bin_1)
+        m.d.sync += [take_write.eq(hit_write), take_last.eq(hit_last), take_prev.eq(hit_prev),
+                     forward.eq(hit_write | hit_last | hit_prev)]
+        word_2 = self._memory(m, read, write)
         scan_2 = Signal()
         add_2 = Signal()
         bin_2 = Signal(range(cfg.n_bins))
         held_2 = Signal()                             # the scan's count gets the held one
-        m.d.sync += [word_2.eq(read.data), scan_2.eq(scan_1), add_2.eq(add_1),
+        m.d.sync += [scan_2.eq(scan_1), add_2.eq(add_1),
                      bin_2.eq(bin_1), held_2.eq(scan_1 & held_en & (bin_1 == held_bin))]
 
         # ---- cycle r+2: the count (forwarded), its scan output or its increment ----------
+        # the forwarded count is chosen among registers beside the memory's read, so the
+        # memory's word meets one multiplexer
+        forwarded = Signal(cfg.bin_count_bits)
+        m.d.comb += forwarded.eq(Mux(take_write, write.data, Mux(take_last, last_data, prev_data)))
         count = Signal(cfg.bin_count_bits)
-        m.d.comb += count.eq(Mux(take_last, last_data, Mux(take_prev, prev_data, word_2)))
+        m.d.comb += count.eq(Mux(forward, forwarded, word_2))
         incremented = Mux(count == full, full, count + 1)
         m.d.comb += [
             self.scan_valid.eq(scan_2),
@@ -147,8 +193,37 @@ class Histogram(wiring.Component):
             self.scan_count.eq(Mux(held_2, incremented, count)),
             self.scan_last.eq(scan_2 & (bin_2 == 0)),
             self.scanning.eq(scan_active | scan_1 | scan_2),
-            write.addr.eq(bin_2),
-            write.data.eq(Mux(scan_2, 0, incremented)),
-            write.en.eq(scan_2 | add_2),
+            result.addr.eq(bin_2),
+            result.data.eq(Mux(scan_2, 0, incremented)),
+            result.en.eq(scan_2 | add_2),
         ]
         return m
+
+    def _memory(self, m, read, write):
+        """The counters' memory on the ``read`` / ``write`` port signals; returns the word
+        read in cycle r as a register in r+2."""
+        cfg = self._cfg
+        if self._style == "dp16kd":
+            return dp16kd_memory(
+                m, "memory", width=cfg.bin_count_bits, depth=cfg.n_bins, read_addr=read.addr,
+                read_en=read.en, out_en=1, write_addr=write.addr, write_data=write.data,
+                write_en=write.en, cell=self._dp16kd)
+        m.submodules.memory = memory = Memory(
+            shape=cfg.bin_count_bits, depth=cfg.n_bins, init=[])
+        write_port = memory.write_port(domain="sync")
+        read_port = memory.read_port(domain="sync")
+        word_2 = Signal(cfg.bin_count_bits)
+        m.d.comb += [
+            read_port.addr.eq(read.addr), read_port.en.eq(read.en),
+            write_port.addr.eq(write.addr), write_port.data.eq(write.data),
+            write_port.en.eq(write.en),
+        ]
+        m.d.sync += word_2.eq(read_port.data)
+        return word_2
+
+
+class _Port:
+    """A memory port's signals (``addr``, ``en``, ``data``)."""
+
+    def __init__(self, **signals):
+        self.__dict__.update(signals)

@@ -68,6 +68,9 @@ class Segmenter(wiring.Component):
         Frame size, K, widths and the segmentation parameters (n, C, b, s).
     fifo_depth : int
         Entries of the output FIFO (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter`).
+    histogram_style : {"memory", "dp16kd"}
+        The histogram's memory (:class:`~dptbd.hw.histogram.Histogram`'s ``style``); same
+        cycles.
 
     Members
     -------
@@ -89,8 +92,9 @@ class Segmenter(wiring.Component):
     #: (no back-pressure): stage B writes the FIFO, which takes 2 cycles to its output.
     RECORD_LATENCY = 3
 
-    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8):
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, histogram_style: str = "memory"):
         self._cfg = cfg
+        self._histogram_style = histogram_style
         self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth)
         super().__init__({
             "states": In(stream.Signature(state_layout(cfg))),
@@ -112,7 +116,7 @@ class Segmenter(wiring.Component):
         cfg = self._cfg
         width, height = cfg.width, cfg.height
 
-        m.submodules.histogram = hist = Histogram(cfg)
+        m.submodules.histogram = hist = Histogram(cfg, style=self._histogram_style)
         m.submodules.threshold = search = ThresholdSearch(cfg)
         m.submodules.emitter = emitter = self._emitter
         wiring.connect(m, emitter.candidates, wiring.flipped(self.candidates))
@@ -219,20 +223,22 @@ class Segmenter(wiring.Component):
             m.d.sync += missed.eq(1)
 
         # bin >= T without the bin on the path: for T <= 2**b - 1, min(E >> s, 2**b - 1) >= T
-        # is floor(E / 2**s) >= T, i.e. E >= T << s, and T = 2**b (bit b) selects nothing.
-        # T << s is formed from registers (T, s), so the word's E, which may come straight
-        # out of the DP output FIFO's block RAM, meets it in one comparison.
+        # is floor(E / 2**s) >= T, i.e. E[s:] >= T, and T = 2**b (bit b) selects nothing.
+        # One comparison per shift s, each of the word's E (which may come straight out of
+        # the DP output FIFO's RAM) with the register T, ANDed with s's one-hot bit (from
+        # registers and the settings port, beside the comparisons) and registered; cycle B
+        # ORs the bits. No shifter and no multiplexer lie on the word's path.
         e_bits = cfg.energy_bits
-        shifted_threshold = search.threshold[:b] << eff_shift      # full width: any s
-        t_energy = Signal(len(shifted_threshold))
-        m.d.comb += t_energy.eq(shifted_threshold)
-        selected = Signal()
-        m.d.comb += selected.eq(~search.threshold[b] & ~t_energy[e_bits:].any()
-                                & (word.energy >= t_energy[:e_bits]))
+        shift_hot = Signal(e_bits)                # bit s: eff_shift == s, and T < 2**b
+        m.d.comb += shift_hot.eq(Cat(*[(eff_shift == s) & ~search.threshold[b]
+                                       for s in range(e_bits)]))
+        selected = Signal(e_bits)                 # bit s: E[s:] >= T at shift s
+        m.d.comb += selected.eq(Cat(*[(word.energy[s:] >= search.threshold[:b]) & shift_hot[s]
+                                      for s in range(e_bits)]))
 
         # ---- cycle B: emit ----------------------------------------------------------------
         valid_b = Signal()
-        selected_b = Signal()
+        selected_b = Signal(e_bits)
         ends_b = Signal()
         aligned_b = Signal()
         missed_b = Signal()
@@ -250,7 +256,7 @@ class Segmenter(wiring.Component):
             ]
         m.d.comb += [
             emitter.valid.eq(valid_b),
-            emitter.selected.eq(selected_b),
+            emitter.selected.eq(selected_b.any()),
             emitter.end_of_list.eq(ends_b),
             emitter.aligned.eq(aligned_b),
             emitter.missed.eq(missed_b),

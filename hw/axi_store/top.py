@@ -37,7 +37,7 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.config import AxiStoreConfig
 from dptbd.hw.axi_store.quiet import QUIET_INPUTS, AxiQuiet
-from dptbd.hw.axi_store.bus import axi_port_members, connect_axi_ports
+from dptbd.hw.axi_store.bus import axi_port_members
 from dptbd.hw.axi_store.segmenter import DPSegmenterAxi
 from dptbd.hw.axi_top import AXITop, _bundle_signatures, _flat
 from dptbd.hw.register_map import register_map
@@ -104,7 +104,15 @@ class AXITopStore(AXITop):
         store = self._store
         core, regs = m.submodules["core"], m.submodules["regs"]
         cand_out = m.submodules["cand_out"]
-        m.d.comb += connect_axi_ports(store, self, core)
+        # the restart is registered: the port was quiet in the cycle before it; in its own
+        # cycle (the core still runs) no new valid is offered and no handshake is seen
+        restart = cand_out.restart
+        for name, member in axi_port_members(store).items():
+            outer, inner = getattr(self, name), getattr(core, name)
+            if member.flow == Out:
+                m.d.comb += outer.eq(inner & ~restart if name.endswith("valid") else inner)
+            else:
+                m.d.comb += inner.eq(outer & ~restart if name.endswith("ready") else outer)
         m.submodules.state_quiet = quiet = AxiQuiet(store.outstanding)
         for name in QUIET_INPUTS:
             m.d.comb += getattr(quiet, name).eq(getattr(self, f"m_axi_state_{name}"))

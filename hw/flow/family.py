@@ -61,8 +61,10 @@ class Family:
         storage options"). iCE40: line buffer in block RAM (no LUT RAM; its block RAM read
         is fast) and the side band in a block RAM ring buffer (a chained flip-flop costs a
         whole logic cell). ECP5: line buffer in LUT RAM (the DP16KD read without an output
-        register is the critical path otherwise, ``docs/synthesis.md``) and the side band in registers (an ECP5 slice
-        has its flip-flops beside its LUTs).
+        register is the critical path otherwise, ``docs/synthesis.md``), the side band in
+        registers (an ECP5 slice has its flip-flops beside its LUTs), the on-chip state
+        store and the segmenter's histogram in DP16KDs reading through their output
+        register (``state_store_style`` and ``histogram_style`` ``"dp16kd"``).
     """
 
     name: str
@@ -145,7 +147,8 @@ ICE40 = Family(
                 "hx8k": (32, 4096), "up3k": (20, 4096), "up5k": (30, 4096)},
     max_radius=1,
     core_options={"line_buffer_style": "bram", "sideband_delay": "memory",
-                  "max_tree": "compact"})
+                  "max_tree": "compact", "state_store_style": "memory",
+                  "histogram_style": "memory"})
 
 #: ECP5 (nextpnr-ecp5): LFE5U-25F in the CABGA256 package (197 I/O), speed grade 6
 #: (nextpnr's default, the slowest), by default; ``"45k"`` is the LFE5U-45F.
@@ -158,7 +161,8 @@ ECP5 = Family(
     block_rams={"12k": (32, 18432), "25k": (56, 18432), "45k": (108, 18432),
                 "85k": (208, 18432)},
     core_options={"line_buffer_style": "lutram", "sideband_delay": "registers",
-                  "max_tree": "split"})
+                  "max_tree": "split", "state_store_style": "dp16kd",
+                  "histogram_style": "dp16kd"})
 
 #: name -> :class:`Family`.
 FAMILIES = {f.name: f for f in (ICE40, ECP5)}

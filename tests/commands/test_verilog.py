@@ -270,12 +270,12 @@ def test_verilog_top_axi_refuses_existing_files_and_dp_only_options(tmp_path):
 
 
 @pytest.mark.parametrize("family, options, latency", [
-    (None, {"line_buffer_style": "bram", "sideband_delay": "registers", "max_tree": "compact"},
-     14),
-    ("ice40", {"line_buffer_style": "bram", "sideband_delay": "memory", "max_tree": "compact"},
-     14),
-    ("ecp5", {"line_buffer_style": "lutram", "sideband_delay": "registers", "max_tree": "split"},
-     18),
+    (None, {"line_buffer_style": "bram", "sideband_delay": "registers", "max_tree": "compact",
+            "state_store_style": "memory", "histogram_style": "memory"}, 14),
+    ("ice40", {"line_buffer_style": "bram", "sideband_delay": "memory", "max_tree": "compact",
+               "state_store_style": "memory", "histogram_style": "memory"}, 14),
+    ("ecp5", {"line_buffer_style": "lutram", "sideband_delay": "registers", "max_tree": "split",
+              "state_store_style": "dp16kd", "histogram_style": "dp16kd"}, 18),
 ])
 def test_verilog_family_builds_the_familys_core_options(tmp_path, capsys, family, options,
                                                          latency):
@@ -405,10 +405,13 @@ def test_verilog_state_store_refusals(tmp_path, argv, error, message):
     assert not (tmp_path / "dp.v").exists()
 
 
-ECP5_OPTIONS = {"line_buffer_style": "lutram", "sideband_delay": "registers", "max_tree": "split"}
-ICE40_OPTIONS = {"line_buffer_style": "bram", "sideband_delay": "memory", "max_tree": "compact"}
+ECP5_OPTIONS = {"line_buffer_style": "lutram", "sideband_delay": "registers", "max_tree": "split",
+                "state_store_style": "dp16kd", "histogram_style": "dp16kd"}
+ICE40_OPTIONS = {"line_buffer_style": "bram", "sideband_delay": "memory", "max_tree": "compact",
+                 "state_store_style": "memory", "histogram_style": "memory"}
 DEFAULT_OPTIONS = {"line_buffer_style": "bram", "sideband_delay": "registers",
-                   "max_tree": "compact"}
+                   "max_tree": "compact", "state_store_style": "memory",
+                   "histogram_style": "memory"}
 
 
 @pytest.mark.parametrize("top, module", [("seg", "dptbd_seg"), ("axi", "dptbd_axi")])

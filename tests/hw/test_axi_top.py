@@ -34,8 +34,9 @@ def test_ports_carry_axi_names():
 
 def test_identification_stalls_and_soft_reset():
     """After ``aresetn`` the core takes no pixel for one cycle; a soft reset adds its own
-    pulse cycle before that one: with ``tvalid`` held high across it, two stall cycles are
-    counted, and the start-of-frame beat is then taken without a fault."""
+    pulse cycle and its (registered) restart cycle before that one: with ``tvalid`` held
+    high across it, three stall cycles are counted, and the start-of-frame beat is then
+    taken without a fault."""
     cfg = config()
     regs = constants_namespace(cfg)
     top = AXITop(cfg)
@@ -65,12 +66,14 @@ def test_identification_stalls_and_soft_reset():
         assert error == 0
 
     simulate_top(top, bench)
-    assert len(low) == 1         # the core's post-reset cycle; the pulse ended in axil_write
+    # the restart cycle and the core's post-reset cycle; the pulse ended in axil_write
+    assert len(low) == 2
 
 
 def test_soft_reset_pulse_holds_tready_low():
     """The cycle of the soft-reset pulse itself has tready low (tvalid offered throughout
-    the write: the pulse cycle and the core's post-reset cycle are both stalls)."""
+    the write: the pulse cycle, the restart cycle and the core's post-reset cycle are all
+    stalls)."""
     cfg = config()
     regs = constants_namespace(cfg)
     top = AXITop(cfg)
@@ -96,7 +99,7 @@ def test_soft_reset_pulse_holds_tready_low():
         await ctx.tick("sync")
         ctx.set(top.s_axis_video_tvalid, 0)
         stalls, _ = await axil_read(ctx, axil, regs.REG_INPUT_STALLS)
-        assert stalls == 2
+        assert stalls == 3
         error, _ = await axil_read(ctx, axil, regs.REG_ERROR)
         assert error == regs.ERROR_SOF_UNEXPECTED_MASK     # before the reset: mid-frame
 
@@ -182,7 +185,7 @@ def test_soft_reset_waits_for_the_word_offered_and_shows_busy():
         await ctx.tick("sync")                               # the word is taken
         ctx.set(top.m_axis_cand_tready, 0)
         idle = []
-        for _ in range(3):
+        for _ in range(4):
             idle.append((ctx.get(top.m_axis_cand_tvalid), ctx.get(top.s_axis_video_tready)))
             await ctx.tick("sync")
         seen["after"] = idle
@@ -191,9 +194,9 @@ def test_soft_reset_waits_for_the_word_offered_and_shows_busy():
     simulate_top(top, bench)
     assert seen["busy"] == (regs.STATUS_SOFT_RESET_BUSY_MASK, RESP_OKAY)
     assert seen["write"] == RESP_SLVERR
-    # the reset in the cycle after the (list-ending) word was taken; the core's
-    # post-reset cycle; then input again
-    assert seen["after"] == [(0, 0), (0, 0), (0, 1)]
+    # the list closed in the cycle after the (list-ending) word was taken; the restart
+    # (the reset) in the next; the core's post-reset cycle; then input again
+    assert seen["after"] == [(0, 0), (0, 0), (0, 0), (0, 1)]
     assert seen["idle"] == (0, RESP_OKAY)
 
 
@@ -202,8 +205,8 @@ def test_soft_reset_completes_the_open_state_line_and_waits_for_it():
     then m_axis_state_tready is held low and a soft reset issued: no list is open, so only
     m_axis_state is closed: its line is completed by W - 3 = 5 fillers (tdata 0, tuser =
     cut only, tlast on the last), offered unchanged while tready is low, the input held and
-    STATUS.soft_reset_busy 1; the core is reset in the cycle the last filler is taken (the
-    input is taken again two cycles later); the next frame's states are the model's from
+    STATUS.soft_reset_busy 1; the core is reset in the cycle after the last filler is taken
+    (the input is taken again three cycles later); the next frame's states are the model's from
     reset, pixel (0, 0) with tuser[0], lines of W words."""
     cfg = make_config(width=8, height=6, segment_frames=1, candidate_count=2)
     regs = constants_namespace(cfg)
@@ -261,7 +264,7 @@ def test_soft_reset_completes_the_open_state_line_and_waits_for_it():
             seen["fillers"].append((ctx.get(top.m_axis_state_tdata),
                                     ctx.get(top.m_axis_state_tuser), last))
             await ctx.tick("sync")
-        for _ in range(2):
+        for _ in range(3):
             seen["after"].append((ctx.get(top.m_axis_state_tvalid),
                                   ctx.get(top.s_axis_video_tready)))
             await ctx.tick("sync")
@@ -272,8 +275,9 @@ def test_soft_reset_completes_the_open_state_line_and_waits_for_it():
     simulate_top(top, bench)
     assert seen["busy"] == (regs.STATUS_SOFT_RESET_BUSY_MASK, RESP_OKAY)
     assert seen["fillers"] == [(0, cut_user, 0)] * 4 + [(0, cut_user, 1)]
-    # the reset in the cycle the last filler was taken; the core's post-reset cycle; input
-    assert seen["after"] == [(0, 0), (0, 1)]
+    # the restart (the reset) in the cycle after the last filler was taken; the core's
+    # post-reset cycle; input
+    assert seen["after"] == [(0, 0), (0, 0), (0, 1)]
     assert seen["idle"] == (0, RESP_OKAY)
     want = expected_stream(cfg, np.array(pixels), np.array([f for _p, f, _l in frame]))
     got = [int(pack_states(cfg, energy=d & ((1 << cfg.energy_bits) - 1),
@@ -291,7 +295,8 @@ def test_external_state_store_ports_and_core_options():
     ``state_store_*`` (flows as the core sees them), between the AXI bundles and ``irq``;
     ``core_options`` reach the DP core. Off by default."""
     cfg = config()
-    options = {"line_buffer_style": "lutram", "sideband_delay": "memory", "max_tree": "split"}
+    options = {"line_buffer_style": "lutram", "sideband_delay": "memory", "max_tree": "split",
+               "state_store_style": "dp16kd", "histogram_style": "dp16kd"}
     top = AXITop(cfg, external_state_store=True, core_options=options)
     ports = {path[0]: member.flow for path, member, _v in top.signature.flatten(top)}
     store = [n for n in ports if n.startswith("state_store_")]

@@ -177,7 +177,7 @@ def rtl_soft_reset(cfg, lists, at, seed):
 
     async def bench(ctx):
         index, offering, cycle = 0, False, 0
-        while index < len(flat) or (at is not None and cycle <= at + 2):
+        while index < len(flat) or (at is not None and cycle <= at + 3):
             if not offering and index < len(flat) and rng.random() < 0.6:
                 offering = True
             ctx.set(dut.candidates.valid, offering)
@@ -236,9 +236,10 @@ def test_soft_reset_closes_the_list_in_every_cycle(seed):
     the same up to the request):
     the AXI4-Stream rules hold in every cycle; a word offered before the request is still
     delivered; a list left open is closed by the cut trailer (cut = 1, count = records
-    sent, tlast); restart pulses once — in the request's cycle when nothing is in flight,
-    else in the cycle the list is closed; busy from the request to restart; every list is
-    delivered whole or cut (a prefix and its cut trailer), in order, and no list is lost."""
+    sent, tlast); restart pulses once, registered — in the cycle after the request's when
+    nothing is in flight, else in the cycle after the one the list is closed in, offering
+    and taking nothing; busy from the request to restart; every list is delivered whole or
+    cut (a prefix and its cut trailer), in order, and no list is lost."""
     cfg = config()
     lists = soft_reset_lists(cfg)
     words = [[w for w, _ in lst] for lst in lists]
@@ -261,7 +262,8 @@ def test_soft_reset_closes_the_list_in_every_cycle(seed):
         assert cuts <= 1
         # when the request found a list open (or a record waiting), it was cut; the restart
         restarts = [c for c, row in enumerate(trace) if row["restart"]]
-        assert len(restarts) == 1 and restarts[0] >= at
+        assert len(restarts) == 1 and restarts[0] > at
+        assert not trace[restarts[0]]["tvalid"] and not trace[restarts[0]]["taken"]
         busy = [c for c, row in enumerate(trace) if row["busy"]]
         assert busy == list(range(at, restarts[0] + 1))
         taken = [c for c, row in enumerate(trace) if row["tvalid"] and row["tready"]]
@@ -278,14 +280,15 @@ def test_soft_reset_closes_the_list_in_every_cycle(seed):
             closes = open_list
         assert cuts == int(closes)
         if closes:
-            assert trace[restarts[0]]["tvalid"] and trace[restarts[0]]["tready"]
-            assert unpack_candidate(cfg, trace[restarts[0]]["tdata"])[1]["cut"] == 1
+            closed = restarts[0] - 1
+            assert trace[closed]["tvalid"] and trace[closed]["tready"]
+            assert unpack_candidate(cfg, trace[closed]["tdata"])[1]["cut"] == 1
             seen["cut"] += 1
         elif not held:
-            assert restarts[0] == at and during == []
+            assert restarts[0] == at + 1 and during == []
             seen["whole"] += 1
         else:
-            assert restarts[0] == during[0] + 1 and len(during) == 1
+            assert restarts[0] == during[0] + 2 and len(during) == 1
     assert min(seen.values()) > 0, seen
 
 

@@ -9,7 +9,7 @@ from helpers.hw_harness import simulate
 
 
 def reference_positions(cfg, firsts, ks=None):
-    """Expected (read_addr, resync, segment_begin, row, col, flags…) for each accepted pixel;
+    """Expected (read_addr, next_read_addr, resync, segment_begin, row, col, flags…) for each accepted pixel;
     ``ks[i]`` is the run-time K on the port when pixel i is accepted (sampled at a segment's
     first pixel, clamped to [1, K_max]). Recursive mode (§8.6): one-frame output segments,
     ``segment_start`` only until the first frame after reset or a resync has ended."""
@@ -32,7 +32,8 @@ def reference_positions(cfg, firsts, ks=None):
         eol = col == width - 1
         eof = eol and row == height - 1
         out.append({
-            "read_addr": (position + ahead) % pixels, "resync": int(resync),
+            "read_addr": (position + ahead) % pixels,
+            "next_read_addr": (position + ahead + 1) % pixels, "resync": int(resync),
             "segment_begin": int(begins),
             "row": row, "col": col, "start_of_frame": int(position == 0),
             "segment_start": int(start), "end_of_line": int(eol),
@@ -77,7 +78,9 @@ def run_controller(cfg, firsts, seed=0, ks=None):
             else:
                 assert ctx.get(dut.valid) == 0
             if accept:
-                pending = {"read_addr": ctx.get(dut.read_addr), "resync": ctx.get(dut.resync),
+                pending = {"read_addr": ctx.get(dut.read_addr),
+                           "next_read_addr": ctx.get(dut.next_read_addr),
+                           "resync": ctx.get(dut.resync),
                            "segment_begin": ctx.get(dut.segment_begin)}
                 index += 1
             else:

@@ -153,7 +153,9 @@ class _WithStore(Elaboratable):
 
 @pytest.mark.parametrize("core_options", [None, {"line_buffer_style": "lutram",
                                                  "sideband_delay": "memory",
-                                                 "max_tree": "split"}])
+                                                 "max_tree": "split",
+                                                 "state_store_style": "memory",
+                                                 "histogram_style": "memory"}])
 def test_external_state_store_and_core_options_keep_the_bits(core_options):
     """The store outside (the ``state_store`` member, here a StateStore on it) and DPCore's
     implementation options build the same lists; ``split`` adds its cycles to the latency."""
@@ -168,7 +170,9 @@ def test_external_state_store_and_core_options_keep_the_bits(core_options):
     assert dut.latency == plain.latency + (4 if core_options else 0)
     assert dut.core_options == (core_options or {"line_buffer_style": "bram",
                                                  "sideband_delay": "registers",
-                                                 "max_tree": "compact"})
+                                                 "max_tree": "compact",
+                                                 "state_store_style": "memory",
+                                                 "histogram_style": "memory"})
     run_lists(cfg, _WithStore(dut), dut.pixels, dut.candidates, pack_frames(cfg, frames),
               lists, valid_probability=valid, ready_probability=ready, seed=n_frames)
     assert sum(lst.count for lst in lists) >= 7

@@ -6,11 +6,14 @@ import numpy as np
 import pytest
 
 from dptbd.hw.histogram import Histogram
+from helpers.dp16kd_model import DP16KDModel
 from helpers.hw_harness import simulate
+from helpers.refusals import whole
 from helpers.seg_harness import make_config, scan_histogram
 
 
-def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2, settle=1):
+def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2, settle=1,
+                       **options):
     """Increment ``bins`` (back to back unless gaps), then, ``settle`` cycles after the last
     increment (1: the first cycle after it, as the segmenter does), scan ``scans`` times.
 
@@ -74,3 +77,36 @@ def test_back_to_back_increments_of_near_bins_and_an_early_scan(settle):
         assert want[top] > 20 and want[top - 1] > 20
         assert all(c == 0 for _, c in scans[1])
         assert spans == [cfg.n_bins + 1] * 2
+
+
+
+@pytest.mark.parametrize("histogram_bits", [4, 11])
+def test_dp16kd_style_with_a_model_of_the_block_ram_counts_the_same(histogram_bits):
+    """``style="dp16kd"`` (ECP5: the word read in r is the DP16KD's output register in
+    r+2) with a behavioural DP16KD: the same scans as the memory style, with the
+    read-modify-write hazards of back-to-back increments (18 x 1024 and 9 x 2048)."""
+    cfg = make_config(width=16, height=16, histogram_bits=histogram_bits, candidate_count=5,
+                      candidate_capacity=5)
+    top = cfg.n_bins - 1
+    rng = np.random.default_rng(histogram_bits)
+    bins = np.concatenate([np.full(9, top), rng.choice([top, top - 1, 3, 0], 80),
+                           rng.integers(0, cfg.n_bins, 40)])
+    memory = simulate_histogram(cfg, bins, gap_probability=0.3, seed=6)
+    block_ram = simulate_histogram(cfg, bins, gap_probability=0.3, seed=6, style="dp16kd",
+                                   dp16kd=DP16KDModel)
+    assert block_ram == memory
+    scans, spans = block_ram
+    want = np.minimum(np.bincount(bins, minlength=cfg.n_bins), (1 << cfg.bin_count_bits) - 1)
+    assert [c for _, c in scans[0]][::-1] == want.tolist()
+    assert all(c == 0 for _, c in scans[1]) and spans == [cfg.n_bins + 1] * 2
+
+
+def test_refuses_an_unknown_style_and_too_many_bins_for_a_dp16kd():
+    with pytest.raises(ValueError, match=whole(
+            "style must be one of ('memory', 'dp16kd'), got 'bram'")):
+        Histogram(make_config(width=16, height=16), style="bram")
+    cfg = make_config(width=128, height=128, energy_bits=16, histogram_bits=15)
+    with pytest.raises(ValueError, match=whole(
+            "style 'dp16kd' holds at most 16384 bins, got 32768 (histogram_bits=15); "
+            "use 'memory'")):
+        Histogram(cfg, style="dp16kd")

@@ -23,7 +23,8 @@ __all__ = ["RUNS", "FRAMES", "run"]
 
 #: Frames of each kind's runs (before the faults cut or lengthen them).
 FRAMES = {"clean": 12, "timing": 16, "k-edge": 16, "k-clamp": 16, "lut-corners": 12,
-          "lut-clamp": 12, "random-lut": 12, "faults": 24, "backpressure": 8}
+          "lut-clamp": 12, "random-lut": 12, "faults": 24, "backpressure": 8, "k-begin": 8,
+          "lut-reverse": 12}
 
 _EVERY = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
 
@@ -68,7 +69,12 @@ RUNS = tuple([("clean", s) for s in range(4)] + [("timing", s) for s in range(2)
              + [("lut-clamp", s) for s in range(4)]
              + [("random-lut", s) for s in range(8)]
              + [("faults", s) for s in range(24)]
-             + [("backpressure", s) for s in range(4)])
+             + [("backpressure", s) for s in range(4)]
+             + [("k-begin", s) for s in range(2)] + [("lut-reverse", s) for s in range(2)])
+
+#: The K port's raw value of each ``k-begin`` run, held from word 0 (K_BEGIN[seed]): every
+#: segment's first pixel samples it, so the clamp's every copy is read with it.
+K_BEGIN = (0, 7)
 
 
 def _edge_k(cfg: DPConfig, n_words: int, seed: int) -> tuple:
@@ -120,11 +126,24 @@ def _wide_luts(cfg: DPConfig, n_words: int, seed: int) -> tuple:
                  for at in (0, (n_words // size // 2) * size))
 
 
-def _check_raw(sim, words, stim, k_changes=(), luts=()) -> tuple[str, str]:
+def _random_luts(cfg: DPConfig, n_words: int, seed: int) -> tuple:
+    """Two random tables of codes 0 … 2^F: from word 0 and from the middle frame."""
+    import numpy as np
+
+    rng = np.random.default_rng([seed, 0x2EF])
+    shape = (cfg.n_moves + 1, cfg.n_moves)
+    size = cfg.width * cfg.height
+    return tuple((at, rng.integers(0, (1 << cfg.weight_frac_bits) + 1, size=shape))
+                 for at in (0, (n_words // size // 2) * size))
+
+
+def _check_raw(sim, words, stim, k_changes=(), luts=(), reverse=False) -> tuple[str, str]:
     """``words`` with the K port driven to raw values (``k_changes``: (word index, K)) and
-    raw tables written through the LUT port (``luts``: (word index, codes)); the model runs
-    them as the design must take them: K clamped to [1, K_max], codes to [0, 2^F]. No
-    resets or other settings changes."""
+    raw tables written through the LUT port (``luts``: (word index, codes); ``reverse``:
+    each table's entries from the last address to the first, so that a write that also
+    reaches a later entry is not undone by that entry's own write); the model runs them as
+    the design must take them: K clamped to [1, K_max], codes to [0, 2^F]. No resets or
+    other settings changes."""
     import numpy as np
 
     from dptbd.model.settings import SegmentSettings
@@ -137,7 +156,9 @@ def _check_raw(sim, words, stim, k_changes=(), luts=()) -> tuple[str, str]:
     raw = run_words(sim, words, valid_gap=stim.valid_gap, ready_pause=stim.ready_pause,
                     seed=stim.seed,
                     settings=[(i, k, cfg.n_candidates, cfg.bin_shift) for i, k in k_changes],
-                    lut_writes=[(i, a, c) for i, codes in luts for a, c in lut_writes(cfg, codes)])
+                    lut_writes=[(i, a, c) for i, codes in luts
+                                for a, c in (lut_writes(cfg, codes)[::-1] if reverse
+                                             else lut_writes(cfg, codes))])
     pixels, first = split_words(cfg, words)
     clamped = {i: SegmentSettings(min(max(k, 1), cfg.k_max), cfg.n_candidates, cfg.bin_shift)
                for i, k in k_changes}
@@ -195,6 +216,12 @@ def _run(sim, kind: str, seed: int) -> tuple[str, str]:
     if kind == "lut-clamp":
         words = _noise_words(sim.cfg, FRAMES[kind], seed)
         return _check_raw(sim, words, stim, luts=_wide_luts(sim.cfg, len(words), seed))
+    if kind == "k-begin":                       # K = 0 or 7 at every segment's first pixel
+        return _check_raw(sim, words, stim, k_changes=((0, K_BEGIN[seed]),))
+    if kind == "lut-reverse":                   # random tables, written backwards, on noise
+        words = _noise_words(sim.cfg, FRAMES[kind], seed + 8)
+        return _check_raw(sim, words, stim, luts=_random_luts(sim.cfg, len(words), seed),
+                          reverse=True)
     if kind == "lut-corners":                   # noise scenes: every LUT entry is read
         words = _noise_words(sim.cfg, FRAMES[kind], seed)
         stim = dataclasses.replace(stim, lut_changes=_corner_luts(sim.cfg, len(words), seed))

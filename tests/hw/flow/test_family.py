@@ -15,9 +15,11 @@ def test_families():
     assert (ICE40.default_target_mhz, ECP5.default_target_mhz) == (100.0, 200.0)
     assert (ICE40.logic_cell_bel, ECP5.logic_cell_bel) == ("ICESTORM_LC", "TRELLIS_COMB")
     assert ICE40.core_options == {"line_buffer_style": "bram", "sideband_delay": "memory",
-                                  "max_tree": "compact"}
+                                  "max_tree": "compact", "state_store_style": "memory",
+                                  "histogram_style": "memory"}
     assert ECP5.core_options == {"line_buffer_style": "lutram", "sideband_delay": "registers",
-                                 "max_tree": "split"}
+                                 "max_tree": "split", "state_store_style": "dp16kd",
+                                 "histogram_style": "dp16kd"}
 
 
 def test_refusals():

