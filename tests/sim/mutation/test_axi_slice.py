@@ -11,7 +11,8 @@ XORed with its bit 16 and FRAMES' bit 19 with its bit 25; the checks added for t
 register block (decoded at the handshakes) kill a LUT write taken without byte strobe 1, a
 write to ERROR decoded at IRQ_STATUS too, counter bits read at unaligned addresses, a
 counter's increment from a preset with bit 14 set and a soft reset's cut that drops a word
-offered and not taken."""
+offered and not taken; the ``shifts`` and ``line-ends`` runs kill the selection at shift 6
+compared with 4 and the frame monitor's line count that ignores a start of frame."""
 
 from __future__ import annotations
 
@@ -336,3 +337,53 @@ def test_the_checks_of_the_register_block_and_the_reference_kill_their_mutants()
     # the model-checked runs of the same stimulus pass the last two
     assert run_slice(sim, 5, (("faults", 0), ("presets", 0))).verdict == "survived"
     assert run_slice(sim, 6, (("restart", 0), ("backpressure", 1))).verdict == "survived"
+
+
+#: Mutants 86 and 201 of ``--seed 1`` (300 mutants, today's netlist), survivors of the slice
+#: before the ``shifts`` and ``line-ends`` runs: the selection's ``eff_shift == 6`` compared
+#: with 4 (at s = 4 its term is implied by the right one; at s = 6 nothing is selected),
+#: and the frame monitor's line index without its start-of-frame branch in the copy that
+#: compares it with W (a W-beat line without ``tlast`` that the next start of frame ends
+#: counts a ``line_length`` fault).
+SHIFT_6_AS_4 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\segmenter.$133 "
+                "-port B -portbit 1 -src hw/segmenter.py:233")
+LINE_INDEX_WITHOUT_SOF = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\monitor.$88 "
+                          "-port S -portbit 0 -src hw/frame_monitor.py:91")
+
+
+def test_shifts_and_line_ends_runs():
+    cfg = config("axi")
+    frame = cfg.width * cfg.height
+    beats, steps = S.shift_steps(cfg)
+    assert len(beats) == 2 * cfg.energy_bits * frame
+    assert [dict(step["writes"])["HISTOGRAM_SHIFT"] for step in steps] == [
+        s for s in range(cfg.energy_bits) for _ in (0, 1)]
+    assert [dict(step["writes"])["CANDIDATE_COUNT"] for step in steps[:2]] == [
+        cfg.record_capacity, cfg.record_capacity // 4]
+    assert [step["stop"] for step in steps] == [(j + 1) * frame for j in range(len(steps))]
+    beats, steps = S.line_end_steps(cfg)
+    assert len(beats) == 8 * frame and steps[0]["stop"] == len(beats)
+    ends = [j for j in range(len(beats)) if (j + 1) % cfg.width == 0 and not beats.last[j]]
+    assert ends == [(f + 1) * frame - 1 for f in (0, 2, 3, 6)]
+    assert int(beats.last.sum()) == 8 * cfg.height - 4
+    assert [j for j in range(len(beats)) if beats.first[j]] == [f * frame for f in range(8)]
+
+
+@tools
+def test_the_shifts_and_line_ends_runs_kill_their_mutants():
+    cfg = config("axi")
+    mutations = parse_mutations("\n".join([SHIFT_6_AS_4, LINE_INDEX_WITHOUT_SOF]))
+    commands, refused = mutant_design(cfg, "axi", mutations)
+    assert refused == []
+    sim = V.build(cfg, "axi", mutations=commands)
+    runs = (("shifts", 0), ("line-ends", 0))
+    assert run_slice(sim, 0, runs).verdict == "survived"
+    shift = run_slice(sim, 1, runs)
+    assert (shift.verdict, shift.run) == ("killed", "shifts seed 0")
+    assert "segment 13, record 0: expected a record" in shift.report
+    line = run_slice(sim, 2, runs)
+    assert (line.verdict, line.run) == ("killed", "line-ends seed 0")
+    assert "at the end: FAULT_LINE_LENGTH = 4, the model gives 0" in line.report
+    # the fault runs see neither
+    assert run_slice(sim, 1, (("faults", 0),)).verdict == "survived"
+    assert run_slice(sim, 2, (("faults", 0), ("resync", 0))).verdict == "survived"

@@ -1,14 +1,17 @@
 """Runs of the ``axi`` slice that drive the register block
 (:mod:`dptbd.sim.mutation.slices.axi`): a sweep of the whole register address space
 (:func:`decode_steps`), a run through many values of n (:func:`n_steps`), ``noise`` runs
-under the build's LUT (:func:`noise_steps`) and settings written inside a segment that a
-resync then ends (:func:`resync_steps`)."""
+under the build's LUT (:func:`noise_steps`), settings written inside a segment that a
+resync then ends (:func:`resync_steps`), a run through every histogram shift
+(:func:`shift_steps`) and frames whose last line ends at the next start of frame
+(:func:`line_end_steps`)."""
 
 from __future__ import annotations
 
 from dptbd.config import DPConfig
 
-__all__ = ["N_VALUES", "decode_steps", "n_steps", "noise_steps", "resync_steps"]
+__all__ = ["N_VALUES", "decode_steps", "n_steps", "noise_steps", "resync_steps", "shift_steps",
+           "line_end_steps"]
 
 def decode_steps(cfg: DPConfig) -> tuple:
     """The beats and steps of the ``decode`` run: right after reset, a read of every word
@@ -133,3 +136,45 @@ def resync_steps(cfg: DPConfig, seed: int) -> tuple:
     steps = [{"writes": [["CANDIDATE_COUNT", cfg.record_capacity]], "stop": write_at},
              {"writes": [[name, value]], "stop": len(beats)}]
     return beats, steps
+
+
+def shift_steps(cfg: DPConfig) -> tuple:
+    """The beats and steps of the ``shifts`` run: for every histogram shift s = 0 … B_E − 1,
+    in that order, two segments of K = 1 (one frame of uniform noise each), n = C and
+    n = C / 4 written with s before them (taken at the segment's first pixel): one list of
+    each pair holds every pixel (T = 0), each selected by the comparison at shift s (the
+    other runs need not draw every s); every list against the model."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    rng = np.random.default_rng([0, 0xA7C])
+    frames = rng.integers(0, 1 << cfg.input_bits,
+                          size=(2 * cfg.energy_bits, cfg.height, cfg.width))
+    beats = clean_beats(frames)
+    frame = cfg.width * cfg.height
+    steps = [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", n],
+                         ["HISTOGRAM_SHIFT", s]], "stop": (2 * s + j + 1) * frame}
+             for s in range(cfg.energy_bits)
+             for j, n in enumerate((cfg.record_capacity, cfg.record_capacity // 4))]
+    return beats, steps
+
+
+def line_end_steps(cfg: DPConfig) -> tuple:
+    """The beats and steps of the ``line-ends`` run: 8 frames of two targets (K = 2, n = C)
+    whose last line in frames 0, 2, 3 and 6 comes without ``tlast``: W beats, then the next
+    frame's start of frame, which begins a new line (no ``line_length`` fault; the fault
+    runs drop ``tlast`` only on a frame's first line, whose next beat is the line after
+    it); the lists and the fault counters against the model."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import Beats, clean_beats
+    from dptbd.sim.scenarios import make_frames
+
+    beats = clean_beats(make_frames("two-targets", cfg, 8, seed=0))
+    frame = cfg.width * cfg.height
+    last = np.asarray(beats.last).copy()
+    for j in (0, 2, 3, 6):
+        last[(j + 1) * frame - 1] = False
+    return Beats(beats.pixel, beats.first, last), [
+        {"writes": [["CANDIDATE_COUNT", cfg.record_capacity]], "stop": len(beats)}]
