@@ -60,9 +60,12 @@ class CandidatesHarness(Harness):
         self.invariants(m, dut, opened)
         take = out.tvalid & out.tready
         busy_held = past(out.tvalid & ~out.tready & adapter.soft_reset, "soft_reset_on_held")
+        # a trailer other than the core's word (the cut trailer) taken, the cycle before a
+        # restart (registered: nothing is offered in its own cycle)
+        cut_taken = past(take & out.tlast & (out.tdata != src.payload.as_value()), "cut_taken")
         m.d.comb += [
             Cover(take & out.tlast & ~out.tuser[0]),                # a list of 2+ words
-            Cover(adapter.restart & take & out.tlast & (out.tdata != src.payload.as_value())),
+            Cover(adapter.restart & cut_taken & ~past.rst),
             Cover(busy_held & take & ~past.rst),    # a held word delivered after the request
             Cover(adapter.restart & ~take & ~opened),                  # restart, nothing open
         ]
