@@ -303,11 +303,12 @@ def test_rtl_with_the_axi_state_store(tmp_path, small, capsys):
     below, ``-m slow``)."""
     out = tmp_path / "r"
     args = _axi_store_args(tmp_path, small)
-    # ideal lists: dptbd_dp, every (E, d) word; the cycles simulated (64 of drain included)
+    # ideal lists: dptbd_dp, every (E, d) word; the cycles simulated (64 of drain included;
+    # the store's first pixel enters in cycle 5, docs/gateware.md)
     assert main(args + ["--lists", "ideal", "--rtl-frames", "12"]) == 0
     text = capsys.readouterr().out
     line = ("RTL (dptbd_dp --state-store axi on Verilator) checked frames 0-11 of 24: "
-            "bit-exact, 12288 (E, d) words compared, 12372 cycles; frames 12-23 come from the "
+            "bit-exact, 12288 (E, d) words compared, 12373 cycles; frames 12-23 come from the "
             "golden model only (--rtl-frames 0 checks all)")
     assert f"\n{line}\n" in text
     rtl = json.loads((out / "summary.json").read_text())["rtl"]
