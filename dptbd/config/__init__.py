@@ -2,6 +2,13 @@
 
 Every width and parameter of the direction-weighted DP of paper 001 (eqs (8)-(11))
 lives here. ``docs/arithmetic.md`` defines what each one means bit for bit.
+
+The fields are all in :class:`DPConfig`; what is validated and derived from a group of them
+lives beside it in a base class of its own: the weight LUT (:mod:`dptbd.config.lut`), the
+segmentation (:mod:`dptbd.config.segmentation`), P pixels per clock
+(:mod:`dptbd.config.beats`), paper 000's DP family (:mod:`dptbd.config.family`); the energy
+width's warning in :mod:`dptbd.config.energy`, the state store in external memory in
+:mod:`dptbd.config.axi_store`.
 """
 
 from __future__ import annotations
@@ -11,11 +18,12 @@ import json
 import warnings
 from typing import Any, Mapping
 
-import numpy as np
-
+from dptbd.config.beats import PIXELS_PER_CLOCK, BeatFields
+from dptbd.config.energy import EnergyWidthWarning, non_saturating_energy_bits
 from dptbd.config.family import FamilyFields
+from dptbd.config.lut import LutFields
+from dptbd.config.segmentation import DEFAULT_FALSE_ALARM_RATE, SegmentationFields
 from dptbd.errors import ConfigError, check_int
-from dptbd.weights import check_move_table, move_offsets, paper_weights
 
 __all__ = [
     "DPConfig",
@@ -28,15 +36,8 @@ __all__ = [
     "non_saturating_energy_bits",
 ]
 
-#: ``DPConfig.pixels_per_clock``: the gateware's pixels per clock (and per input beat).
-PIXELS_PER_CLOCK = (1, 2, 4)
-
 #: Rounding modes of the weight multiplier (``docs/arithmetic.md`` §4).
 ROUNDING_MODES = ("truncate", "half_up")
-
-#: Paper 001's constant false-alarm rate, 0.2 %: the default candidate count per segment is
-#: this fraction of W*H, rounded half up (``docs/arithmetic.md`` §6).
-DEFAULT_FALSE_ALARM_RATE = 0.002
 
 _RANGES = {
     "width": (3, 4096),
@@ -48,10 +49,6 @@ _RANGES = {
 }
 
 
-class EnergyWidthWarning(UserWarning):
-    """``energy_bits`` is too narrow to accumulate K full-scale frames without saturating."""
-
-
 def _check_int(name: str, value: Any, bounds: tuple[int, int] | None = None,
                lo_name: str = "", hi_name: str = "") -> int:
     lo, hi = _RANGES[name] if bounds is None else bounds
@@ -59,7 +56,7 @@ def _check_int(name: str, value: Any, bounds: tuple[int, int] | None = None,
 
 
 @dataclasses.dataclass(frozen=True)
-class DPConfig(FamilyFields):
+class DPConfig(LutFields, SegmentationFields, BeatFields, FamilyFields):
     """Parameters of the direction-weighted DP, shared by the golden model and the gateware.
 
     Parameters
@@ -91,7 +88,7 @@ class DPConfig(FamilyFields):
     weights : tuple of tuple of float or None
         The weight LUT, shape ``(M + 1, M)`` with ``M = (2r + 1)**2``, indexed
         ``[predecessor direction, move]``, each in [0, 1]; ``None`` means paper 001
-        eq (11) (:func:`paper_weights`).
+        eq (11) (:func:`~dptbd.weights.paper_weights`).
     candidate_count : int or None
         n, the candidate points wanted per segment (segmentation, ``docs/arithmetic.md``
         §6), in [0, W*H]; ``None`` means 0.2 % of W*H rounded half up (33 for 128 x 128),
@@ -170,8 +167,7 @@ class DPConfig(FamilyFields):
                 "segment_frames="))
         if self.rounding not in ROUNDING_MODES:
             raise ConfigError(f"rounding must be one of {ROUNDING_MODES}, got {self.rounding!r}")
-        lut = paper_weights(self.radius) if self.weights is None else self.weights
-        object.__setattr__(self, "weights", _validate_weights(lut, self.radius))
+        self._validate_lut()
         self._validate_segmentation()
         self._validate_family()
         self._validate_pixels_per_clock()
@@ -241,11 +237,6 @@ class DPConfig(FamilyFields):
         return self.energy_bits + self.direction_bits
 
     @property
-    def lut_entries(self) -> int:
-        """Entries of the weight LUT, ``(M + 1) * M``."""
-        return (self.n_moves + 1) * self.n_moves
-
-    @property
     def state_slot_bits(self) -> int:
         """Bits one state (E, d) occupies in external memory: the smallest power of two
         >= :attr:`state_bits` and >= 8 (a byte-addressable slot; ``docs/integration.md``,
@@ -257,141 +248,6 @@ class DPConfig(FamilyFields):
         AXI4 manager port (:class:`AxiStoreConfig`; ``fields`` are its parameters)."""
         return AxiStoreConfig(frame=self, **fields)
 
-    def lut_address(self, predecessor: int, move: int) -> int:
-        """Address of the weight LUT entry ``[predecessor direction p, move m]``: ``p * M + m``.
-
-        The one definition of the LUT's address map (``docs/arithmetic.md`` §4), used by the
-        gateware's write port, the testbenches and the register map.
-        """
-        if not 0 <= predecessor <= self.n_moves or not 0 <= move < self.n_moves:
-            raise ConfigError(
-                f"LUT entry must have predecessor in [0, {self.n_moves}] and move in "
-                f"[0, {self.n_moves - 1}], got ({predecessor}, {move})")
-        return predecessor * self.n_moves + move
-
-    @property
-    def moves(self) -> np.ndarray:
-        """``(M, 2)`` array of ``(dy, dx)`` per move index (:func:`move_offsets`)."""
-        return move_offsets(self.radius)
-
-    @property
-    def weight_array(self) -> np.ndarray:
-        """The weight LUT as a ``float64`` array of shape ``(M + 1, M)``."""
-        return np.array(self.weights, dtype=np.float64)
-
-    @property
-    def weight_codes(self) -> np.ndarray:
-        """The LUT quantised to F fractional bits, round half up: ``uint32`` codes in [0, 2**F].
-
-        ``floor(w * 2**F + 1/2)`` evaluated exactly: scaling by a power of two and taking
-        the fraction are exact in float64, adding 0.5 is not.
-        """
-        scaled = self.weight_array * (1 << self.weight_frac_bits)
-        whole = np.floor(scaled)
-        return (whole + (scaled - whole >= 0.5)).astype(np.uint32)
-
-    @property
-    def weights_exact(self) -> bool:
-        """True when every weight is exactly representable with F fractional bits."""
-        codes = self.weight_codes.astype(np.float64) / (1 << self.weight_frac_bits)
-        return bool(np.array_equal(codes, self.weight_array))
-
-    # ---- P pixels per clock (docs/gateware.md, "P pixels per clock") ----------------
-    def _validate_pixels_per_clock(self) -> None:
-        p = self.pixels_per_clock
-        if isinstance(p, bool) or not isinstance(p, (int, np.integer)) or p not in PIXELS_PER_CLOCK:
-            raise ConfigError(f"pixels_per_clock must be one of {PIXELS_PER_CLOCK}, got {p!r}")
-        object.__setattr__(self, "pixels_per_clock", int(p))
-        if self.width % p:
-            raise ConfigError(f"width={self.width} is not a multiple of pixels_per_clock={p}: "
-                              f"a beat of P pixels never straddles two rows")
-        if self.width < 3 * p:
-            raise ConfigError(f"width={self.width} is less than 3 * pixels_per_clock = {3 * p}: "
-                              f"a row needs at least 3 beats of P pixels")
-
-    @property
-    def row_beats(self) -> int:
-        """Beats (groups of P pixels, one per clock at full rate) per row: ``W / P``."""
-        return self.width // self.pixels_per_clock
-
-    @property
-    def frame_beats(self) -> int:
-        """Beats per frame, ``W * H / P``: the cycles of a frame at full rate."""
-        return self.row_beats * self.height
-
-    def beat_config(self) -> "DPConfig":
-        """The configuration in units of beats: W / P columns of one "pixel" each, every
-        other parameter the same (its default candidate count and capacity, which only the
-        segmenter uses). The gateware's frame controller and read-ahead count beats with
-        it; ``self`` at P = 1."""
-        if self.pixels_per_clock == 1:
-            return self
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", EnergyWidthWarning)
-            return self.replace(width=self.row_beats, pixels_per_clock=1,
-                                candidate_count=None, candidate_capacity=None)
-
-    # ---- segmentation (docs/arithmetic.md §6) --------------------------------------
-    def _validate_segmentation(self) -> None:
-        pixels = self.width * self.height
-        if self.candidate_count is not None:
-            object.__setattr__(self, "candidate_count", _check_int(
-                "candidate_count", self.candidate_count, (0, pixels), ""))
-        n = self.n_candidates
-        if self.candidate_capacity is not None:
-            object.__setattr__(self, "candidate_capacity", _check_int(
-                "candidate_capacity", self.candidate_capacity, (n, pixels), "candidate_count="))
-        object.__setattr__(self, "histogram_bits", _check_int(
-            "histogram_bits", self.histogram_bits, (1, 16)))
-        if self.histogram_shift is not None:
-            object.__setattr__(self, "histogram_shift", _check_int(
-                "histogram_shift", self.histogram_shift, (0, self.energy_bits - 1)))
-
-    @property
-    def n_candidates(self) -> int:
-        """n, candidate points per segment: ``candidate_count``, or by default 0.2 % of
-        W*H rounded half up, ``(W*H + 250) // 500`` exactly (33 for 128 x 128)."""
-        if self.candidate_count is not None:
-            return self.candidate_count
-        return (self.width * self.height + 250) // 500
-
-    @property
-    def record_capacity(self) -> int:
-        """C, the most records emitted per segment: ``candidate_capacity`` or ``min(2n, W*H)``."""
-        if self.candidate_capacity is not None:
-            return self.candidate_capacity
-        return min(2 * self.n_candidates, self.width * self.height)
-
-    @property
-    def n_bins(self) -> int:
-        """Bins of the segmentation histogram, ``2**histogram_bits``."""
-        return 1 << self.histogram_bits
-
-    @property
-    def bin_shift(self) -> int:
-        """s, the right shift from E to its histogram bin.
-
-        ``histogram_shift``, or by default ``max(0, B_reach - b)`` with
-        ``B_reach = min(B_E, energy_bits_needed)`` the width of the largest reachable E (at
-        K_max), so
-        that only E_max-adjacent values could share the clamped top bin.
-        """
-        if self.histogram_shift is not None:
-            return self.histogram_shift
-        reach = min(self.energy_bits, self.energy_bits_needed)
-        return max(0, reach - self.histogram_bits)
-
-    @property
-    def bin_count_bits(self) -> int:
-        """Width of a histogram counter, ``bitlen(C + 1)``; counters saturate at
-        ``2**bits - 1 >= C + 1 >= n + 1`` for every run-time n in [0, C], which never changes
-        the threshold (§6)."""
-        return (self.record_capacity + 1).bit_length()
-
-    @property
-    def threshold_bits(self) -> int:
-        """Width of the threshold bin T in 0 … 2**b (2**b: no candidates): b + 1."""
-        return self.histogram_bits + 1
 
     def n_segments(self, n_frames: int) -> int:
         """Number of whole segments in a sequence of ``n_frames`` frames."""
@@ -418,31 +274,8 @@ class DPConfig(FamilyFields):
             changes["segment_stride"] = None
         return dataclasses.replace(self, **changes)
 
-    def with_weight_codes(self, codes: Any) -> "DPConfig":
-        """A copy whose quantised LUT (:attr:`weight_codes`) is ``codes``.
-
-        Models a LUT written at run time: each code ``c`` in [0, 2**F] becomes the weight
-        ``c / 2**F``, which quantises back to exactly ``c``.
-        """
-        arr = np.asarray(codes, dtype=np.int64)
-        unity = 1 << self.weight_frac_bits
-        shape = (self.n_moves + 1, self.n_moves)
-        if arr.shape != shape:
-            raise ConfigError(f"LUT codes must have shape {shape} for radius={self.radius}, "
-                              f"got {arr.shape}")
-        if arr.min() < 0 or arr.max() > unity:
-            raise ConfigError(f"LUT codes must be in [0, 2**F = {unity}], found "
-                              f"{arr[(arr < 0) | (arr > unity)][:3].tolist()}")
-        out = self.replace(weights=arr.astype(np.float64) / unity)
-        assert np.array_equal(out.weight_codes, arr)
-        return out
 
     # ---- gateware build defaults (docs/synthesis.md, "Build defaults") -----------------
-    @property
-    def weights_binary(self) -> bool:
-        """True when every weight is 0 or 1 (the paper's LUT): exact at any F, even F = 0."""
-        return bool(np.isin(self.weight_array, (0.0, 1.0)).all())
-
     def build_config(self, *, fractional_lut: bool = False) -> "DPConfig":
         """The configuration the gateware is built with by default; it computes the same bits.
 
@@ -491,21 +324,10 @@ class DPConfig(FamilyFields):
         return cls(**dict(values))
 
 
-def non_saturating_energy_bits(input_bits: int, segment_frames: int) -> int:
-    """The smallest B_E that accumulates K full-scale B_in-bit pixels without saturating:
-    ``max(B_in, bitlen(K * (2**B_in - 1)))``."""
-    return max(input_bits, (segment_frames * ((1 << input_bits) - 1)).bit_length())
-
-
 #: §8 fields and their defaults; :meth:`DPConfig.to_mapping` leaves out a field at its
 #: default so that a paper-001 configuration maps (and hashes) exactly as one without the §8 fields.
 _FAMILY_DEFAULTS = dict(merit_codes=None, merit_bits=None, penalty_codes=None,
                         penalty_bits=None, forgetting=1.0, forgetting_bits=8, recursive=False)
-
-
-def _validate_weights(lut: Any, radius: int) -> tuple:
-    arr = check_move_table("weights", lut, radius, 0.0, 1.0)
-    return tuple(tuple(float(v) for v in row) for row in arr)  # hashable and immutable
 
 
 # the AXI4 state store's parameters use DPConfig (hence imported after it)

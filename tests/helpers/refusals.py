@@ -11,3 +11,8 @@ def whole(message: str, then: str = "") -> str:
     """A regex matching exactly ``message`` (followed by the regex ``then``, for a tail
     that varies), the whole refusal."""
     return "^" + re.escape(message) + then + "$"
+
+
+def not_integer(name, span, value):
+    """The refusal of an integer parameter outside its domain (``dptbd.errors.check_int``)."""
+    return f"{name} must be an integer in {span}, got {value!r}"
