@@ -7,6 +7,7 @@ Modules:
 - ``refusals``: :func:`~helpers.refusals.whole`, the regex of a whole refusal message, and
   :func:`~helpers.refusals.not_integer`, the refusal of an integer parameter out of range.
 - ``luts``: weight LUTs for the configuration's tests.
+- ``candidate_lists``: synthetic candidate lists and a tracker for the association tests.
 - ``hw_harness``: the Amaranth-simulator harness of the gateware tests (streams, golden-model
   states, bit-exact comparison, Verilator lint, Icarus run of generated Verilog).
 - ``seg_harness``: the Amaranth-simulator harness of the segmentation gateware.

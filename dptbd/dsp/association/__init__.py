@@ -97,7 +97,13 @@ allocated per segment: every array, and the blank record written over freed reco
 created in ``__init__`` (``test_no_allocation_per_segment_and_input_capacity``).
 
 The records and their fixed-point layout are in :mod:`dptbd.dsp.records`, the parameters
-in :mod:`dptbd.dsp.association.config`; their names are importable from here too.
+in :mod:`dptbd.dsp.association.config`; their names are importable from here too. This
+module holds :class:`Tracker`: its integer codes, its state allocated once, the order of the
+steps of one segment and the read-out; the steps themselves are in its base classes, one
+module each: the candidates (:mod:`~dptbd.dsp.association.candidates`: headings, cluster and
+wake suppression), the matching (:mod:`~dptbd.dsp.association.matching`: classes, gates and
+costs) and the track records (:mod:`~dptbd.dsp.association.tracks`: extension, prediction,
+thresholds, duplicates, deletion, new tracks).
 """
 
 from __future__ import annotations
@@ -106,39 +112,27 @@ import math
 
 import numpy as np
 
+from dptbd.dsp.association.candidates import CandidateSteps, check_candidate_list
 from dptbd.dsp.association.config import AssociationConfig, AssociationError
-from dptbd.dsp import records
+from dptbd.dsp.association.matching import (CLASS_CONFIRMED, CLASS_PREDICTED, CLASS_TENTATIVE,
+                                            Matching)
+from dptbd.dsp.association.tracks import TrackUpdates
 from dptbd.dsp.records import (CANDIDATE_DTYPE, CONFIRMED, FREE, ONE, POINT_DTYPE, Q_BITS,
                                RATIO_BITS, RATIO_ONE, TENTATIVE, TRACK_DTYPE, ConfirmedTrack,
                                div_round, make_candidates, trim_to_count)
 
 # the records stay importable from here (they lived in this module before the split)
-__all__ = [*records.__all__, "AssociationConfig", "AssociationError", "Tracker",
-           "check_candidate_list"]
-
-#: Matching classes (priority order).
-_CLASS_CONFIRMED, _CLASS_PREDICTED, _CLASS_TENTATIVE, _CLASS_NONE = 0, 1, 2, 3
+__all__ = ["Q_BITS", "ONE", "RATIO_BITS", "RATIO_ONE", "FREE", "TENTATIVE", "CONFIRMED",
+           "CANDIDATE_DTYPE", "TRACK_DTYPE", "POINT_DTYPE", "ConfirmedTrack", "div_round",
+           "make_candidates", "trim_to_count",
+           "AssociationConfig", "AssociationError", "Tracker", "check_candidate_list"]
 
 
 def _q(x: float, bits: int) -> int:
     return int(math.floor(x * (1 << bits) + 0.5))
 
 
-def check_candidate_list(candidates: np.ndarray, cfg: AssociationConfig) -> int:
-    """The length of one segment's candidate list, refused (:class:`AssociationError`) when
-    it is longer than the input buffer or not :data:`CANDIDATE_DTYPE` records; every
-    implementation of the tracker (this model, the C firmware's binding) checks with it."""
-    n = len(candidates)
-    if n > cfg.max_candidates:
-        raise AssociationError(f"{n} candidates in one segment but the input buffer holds "
-                               f"max_candidates={cfg.max_candidates}")
-    if n and np.asarray(candidates).dtype != CANDIDATE_DTYPE:
-        raise AssociationError(f"candidates must be CANDIDATE_DTYPE records "
-                               f"(make_candidates), got dtype {np.asarray(candidates).dtype}")
-    return n
-
-
-class Tracker:
+class Tracker(CandidateSteps, Matching, TrackUpdates):
     """The DSP's track table and its per-segment association (001 §3).
 
     Parameters
@@ -227,7 +221,7 @@ class Tracker:
         self._headings(n)
         self._suppress_clusters(n)
         self._classify()
-        for cls in (_CLASS_CONFIRMED, _CLASS_PREDICTED, _CLASS_TENTATIVE):
+        for cls in (CLASS_CONFIRMED, CLASS_PREDICTED, CLASS_TENTATIVE):
             self._match_class(cls, n)
         for i in range(cfg.capacity):
             if self.tracks["state"][i] == FREE:
@@ -242,333 +236,6 @@ class Tracker:
         self._suppress_wake(n)
         self._start_tracks(n, s)
         self.stats["peak_active"] = max(self.stats["peak_active"], self.active())
-
-    def _headings(self, n: int) -> None:
-        """Heading of each candidate, Q4 pixels per segment (S_t frames)."""
-        for j in range(n):
-            c = self.inbuf[j]
-            if c["path"] and self.k > 1:
-                hr = div_round((int(c["row"]) - int(c["row0"])) * ONE * self.stride, self.k - 1)
-                hc = div_round((int(c["col"]) - int(c["col0"])) * ONE * self.stride, self.k - 1)
-            elif int(c["direction"]) < len(self._moves):
-                dy, dx = self._moves[int(c["direction"])]
-                hr, hc = dy * ONE * self.stride, dx * ONE * self.stride
-            else:
-                hr = hc = 0
-            self._head_row[j], self._head_col[j] = hr, hc
-
-    def _suppress_clusters(self, n: int) -> None:
-        """Keep a candidate unless a stronger one (ties: earlier) is within ``merge_radius``."""
-        rad = self.cfg.merge_radius
-        rows, cols, energy = self.inbuf["row"], self.inbuf["col"], self.inbuf["energy"]
-        for j in range(n):
-            keep = True
-            if rad > 0:
-                rj, cj, ej = int(rows[j]), int(cols[j]), int(energy[j])
-                for i in range(n):
-                    if i == j:
-                        continue
-                    if abs(int(rows[i]) - rj) <= rad and abs(int(cols[i]) - cj) <= rad:
-                        ei = int(energy[i])
-                        if ei > ej or (ei == ej and i < j):
-                            keep = False
-                            break
-            self._keep[j] = keep
-            self._claimed[j] = False
-            if not keep:
-                self.stats["suppressed"] += 1
-
-    def _ratio_at_least(self, hits: int, length: int, ratio_q8: int) -> bool:
-        return hits * RATIO_ONE >= ratio_q8 * length
-
-    def _classify(self) -> None:
-        t = self.tracks
-        for i in range(self.cfg.capacity):
-            self._match[i] = -1
-            state = int(t["state"][i])
-            if state == FREE:
-                self._class[i] = _CLASS_NONE
-            elif state == CONFIRMED:
-                self._class[i] = _CLASS_CONFIRMED
-            elif self._in_prediction_space(i):
-                self._class[i] = _CLASS_PREDICTED
-            else:
-                self._class[i] = _CLASS_TENTATIVE
-
-    def _in_prediction_space(self, i: int) -> bool:
-        t = self.tracks
-        hits, length = int(t["hits"][i]), int(t["length"][i])
-        return (int(t["state"][i]) == CONFIRMED
-                or (hits >= self.cfg.predict_hits
-                    and self._ratio_at_least(hits, length, self.predict_ratio)))
-
-    def _cost(self, i: int, j: int) -> int:
-        """Match cost of candidate j for track i (Q8), or -1 outside the gate / reversed."""
-        t = self.tracks
-        dr = int(self.inbuf["row"][j]) * ONE - int(t["pred_row"][i])
-        dc = int(self.inbuf["col"][j]) * ONE - int(t["pred_col"][i])
-        gate = int(t["gate"][i])
-        d2 = dr * dr + dc * dc
-        if d2 > gate * gate:
-            return self._link_cost(i, j)
-        cost = (d2 * RATIO_ONE) // max(gate * gate, 1)
-        vr, vc = int(t["v_row"][i]), int(t["v_col"][i])
-        hr, hc = int(self._head_row[j]), int(self._head_col[j])
-        v2, h2 = vr * vr + vc * vc, hr * hr + hc * hc
-        hmin2 = self.heading_min * self.heading_min
-        if v2 >= hmin2 and h2 >= hmin2 and v2 > 0 and h2 > 0:
-            dot = vr * hr + vc * hc
-            if self.cfg.reject_reversed and dot < 0:
-                return -1
-            norm = math.isqrt(v2 * h2)          # |v||h|, integer square root
-            if norm > 0:
-                # (1 - cos theta) / 2 in [0, 1], scaled by the heading weight (Q8)
-                cost += (self.heading_weight * max(norm - dot, 0)) // (2 * norm)
-        return cost
-
-    def _link_cost(self, i: int, j: int) -> int:
-        """Cost of a candidate outside the prediction gate whose DP path starts where track i
-        ended (a manoeuvre), or -1.
-
-        Only for tracks in the prediction space detected in the previous segment, with
-        back-to-back segments (S_t = K: the path's first frame follows the track's newest
-        point by one frame) and a backtracked path. Ranked after every candidate inside the
-        prediction gate: ``RATIO_ONE * (1 + heading_weight) + link distance cost``.
-        """
-        t = self.tracks
-        if (self.link_gate <= 0 or self.stride != self.k or not self.inbuf["path"][j]
-                or self._class[i] > _CLASS_PREDICTED or int(t["p_seg"][i][1]) != self.segment - 1):
-            return -1
-        lr = int(self.inbuf["row0"][j]) * ONE - int(t["p_row"][i][1])
-        lc = int(self.inbuf["col0"][j]) * ONE - int(t["p_col"][i][1])
-        l2 = lr * lr + lc * lc
-        if l2 > self.link_gate * self.link_gate:
-            return -1
-        return RATIO_ONE + self.heading_weight + (l2 * RATIO_ONE) // (self.link_gate * self.link_gate)
-
-    def _match_class(self, cls: int, n: int) -> None:
-        """Each track of class ``cls``, the best-supported first (more hits, then the older id),
-        takes its lowest-cost unclaimed candidate."""
-        m = 0
-        for i in range(self.cfg.capacity):            # insertion sort by evidence
-            if self._class[i] != cls:
-                continue
-            k = m
-            while k > 0 and self._stronger(i, int(self._order_tracks[k - 1])):
-                self._order_tracks[k] = self._order_tracks[k - 1]
-                k -= 1
-            self._order_tracks[k] = i
-            m += 1
-        for x in range(m):
-            i = int(self._order_tracks[x])
-            best, best_cost = -1, -1
-            for j in range(n):
-                if not self._keep[j] or self._claimed[j]:
-                    continue
-                cost = self._cost(i, j)
-                if cost >= 0 and (best < 0 or cost < best_cost):
-                    best, best_cost = j, cost
-            if best >= 0:
-                self._claimed[best] = True
-                self._match[i] = best
-                self.stats["matched"] += 1
-
-    def _extend(self, i: int, j: int, s: int) -> None:
-        """Extend track i to candidate j of segment s; new velocity (prediction step (2))."""
-        t = self.tracks
-        c = self.inbuf[j]
-        row, col = int(c["row"]) * ONE, int(c["col"]) * ONE
-        hits = int(t["hits"][i])
-        seg1, row1, col1 = int(t["p_seg"][i][1]), int(t["p_row"][i][1]), int(t["p_col"][i][1])
-        gap1 = s - seg1
-        v1r, v1c = div_round(row - row1, gap1), div_round(col - col1, gap1)
-        if hits >= 2:
-            seg0, row0, col0 = int(t["p_seg"][i][0]), int(t["p_row"][i][0]), int(t["p_col"][i][0])
-            gap2 = seg1 - seg0
-            v2r, v2c = div_round(row1 - row0, gap2), div_round(col1 - col0, gap2)
-            if max(abs(v1r - v2r), abs(v1c - v2c)) > self.manoeuvre:
-                vr, vc = v1r, v1c                      # manoeuvre: follow the newest step
-            else:
-                vr, vc = div_round(v1r + v2r, 2), div_round(v1c + v2c, 2)
-        else:
-            vr, vc = v1r, v1c
-        t["p_seg"][i][0], t["p_row"][i][0], t["p_col"][i][0] = seg1, row1, col1
-        t["p_seg"][i][1], t["p_row"][i][1], t["p_col"][i][1] = s, row, col
-        t["v_row"][i], t["v_col"][i] = vr, vc
-        t["hits"][i] = min(hits + 1, 65535)
-        if s - int(t["count_seg"][i]) >= self.confirm_gap:
-            t["counted"][i] = min(int(t["counted"][i]) + 1, 65535)
-            t["count_seg"][i] = s
-        t["misses"][i] = 0
-        self._record_point(i, j, s)
-
-    def _record_point(self, i: int, j: int, s: int) -> None:
-        t = self.tracks
-        n_pts = int(t["n_points"][i])
-        slot = n_pts % self.cfg.max_points
-        if n_pts >= self.cfg.max_points:
-            self.stats["history_wrapped"] += 1
-        c = self.inbuf[j]
-        h = self.history[i, slot]
-        h["seg"], h["row"], h["col"], h["energy"] = s, c["row"], c["col"], c["energy"]
-        h["row0"], h["col0"], h["path"] = c["row0"], c["col0"], c["path"]
-        t["n_points"][i] = n_pts + 1
-
-    def _update(self, i: int, s: int) -> None:
-        """Thresholds (step (3)), then the predicted point and gate for segment s + 1."""
-        cfg, t = self.cfg, self.tracks
-        length = s - int(t["first_seg"][i]) + 1
-        t["length"][i] = min(length, 65535)
-        hits, misses = int(t["hits"][i]), int(t["misses"][i])
-        if (not self._ratio_at_least(hits, length, self.delete_ratio)) or misses > cfg.max_misses:
-            self._delete(i)
-            return
-        if (int(t["state"][i]) == TENTATIVE and int(t["counted"][i]) >= cfg.confirm_hits
-                and self._ratio_at_least(hits, length, self.confirm_ratio)):
-            t["state"][i] = CONFIRMED
-            t["confirm_seg"][i] = s
-            self.stats["confirmed"] += 1
-        ahead = s + 1 - int(t["p_seg"][i][1])
-        pr = int(t["p_row"][i][1]) + int(t["v_row"][i]) * ahead
-        pc = int(t["p_col"][i][1]) + int(t["v_col"][i]) * ahead
-        if self._in_prediction_space(i):
-            grow = div_round(self.gate_growth * min(length, cfg.gate_growth_segments) * hits, length)
-            gate = self.gate_base + grow + self.gate_miss * misses
-        else:
-            gate = self.seed_gate + self.gate_miss * misses
-        gate = min(gate, self.gate_max)
-        if (pr < -gate or pc < -gate or pr > (self.height - 1) * ONE + gate
-                or pc > (self.width - 1) * ONE + gate):
-            self.stats["left_image"] += 1
-            self._delete(i)
-            return
-        t["pred_row"][i], t["pred_col"][i], t["gate"][i] = pr, pc, gate
-
-    def _stronger(self, a: int, b: int) -> bool:
-        """Track a outranks track b: class priority, then more hits, then the older id."""
-        t = self.tracks
-        ca, cb = int(self._class[a]), int(self._class[b])
-        if ca != cb:
-            return ca < cb
-        ha, hb = int(t["hits"][a]), int(t["hits"][b])
-        if ha != hb:
-            return ha > hb
-        return int(t["id"][a]) < int(t["id"][b])
-
-    def _remove_duplicates(self) -> None:
-        """Delete the weaker of two tracks that matched close points with close velocities."""
-        rad = self.cfg.duplicate_radius * ONE
-        if rad <= 0:
-            return
-        t = self.tracks
-        m = 0
-        for i in range(self.cfg.capacity):        # the tracks extended in this segment
-            if self._match[i] >= 0 and int(t["state"][i]) != FREE:
-                self._order_tracks[m] = i
-                m += 1
-        for x in range(m):
-            a = int(self._order_tracks[x])
-            if int(t["state"][a]) == FREE:
-                continue
-            for y in range(x + 1, m):
-                b = int(self._order_tracks[y])
-                if int(t["state"][b]) == FREE:
-                    continue
-                if (abs(int(t["p_row"][a][1]) - int(t["p_row"][b][1])) <= rad
-                        and abs(int(t["p_col"][a][1]) - int(t["p_col"][b][1])) <= rad
-                        and abs(int(t["v_row"][a]) - int(t["v_row"][b])) <= self.manoeuvre
-                        and abs(int(t["v_col"][a]) - int(t["v_col"][b])) <= self.manoeuvre):
-                    weaker = b if self._stronger(a, b) else a
-                    self.stats["duplicates"] += 1
-                    self._delete(weaker)
-                    if weaker == a:
-                        break
-
-    def _suppress_wake(self, n: int) -> None:
-        """Drop each candidate left over within ``wake_radius`` (Chebyshev) of a live track's
-        recent path: its newest ``wake_points`` history points and their path starts."""
-        rad = self.cfg.wake_radius
-        if rad <= 0:
-            return
-        t, mp = self.tracks, self.cfg.max_points
-        for j in range(n):
-            if not self._keep[j] or self._claimed[j]:
-                continue
-            rj, cj = int(self.inbuf["row"][j]), int(self.inbuf["col"][j])
-            near = False
-            for i in range(self.cfg.capacity):
-                if int(t["state"][i]) == FREE:
-                    continue
-                n_pts = int(t["n_points"][i])
-                for q in range(min(self.cfg.wake_points, n_pts, mp)):
-                    h = self.history[i, (n_pts - 1 - q) % mp]
-                    if ((abs(int(h["row"]) - rj) <= rad and abs(int(h["col"]) - cj) <= rad)
-                            or (h["path"] and abs(int(h["row0"]) - rj) <= rad
-                                and abs(int(h["col0"]) - cj) <= rad)):
-                        near = True
-                        break
-                if near:
-                    break
-            if near:
-                self._keep[j] = False
-                self.stats["wake_suppressed"] += 1
-
-    def _delete(self, i: int) -> None:
-        """Free record i; a confirmed track goes to the output archive first."""
-        t = self.tracks
-        if int(t["state"][i]) == CONFIRMED:
-            if self.n_archived < self.cfg.output_capacity:
-                self.archive[self.n_archived] = t[i]
-                self.archive_history[self.n_archived] = self.history[i]
-                self.n_archived += 1
-            else:
-                self.stats["dropped_outputs"] += 1
-        t[i] = self._blank
-        self.stats["deleted"] += 1
-
-    def _start_tracks(self, n: int, s: int) -> None:
-        """New tentative tracks from the candidates left over, strongest first."""
-        m = 0
-        for j in range(n):                         # insertion sort by decreasing E
-            if not self._keep[j] or self._claimed[j]:
-                continue
-            e = int(self.inbuf["energy"][j])
-            k = m
-            while k > 0 and int(self.inbuf["energy"][self._order[k - 1]]) < e:
-                self._order[k] = self._order[k - 1]
-                k -= 1
-            self._order[k] = j
-            m += 1
-        free = 0
-        t = self.tracks
-        for k in range(m):
-            j = int(self._order[k])
-            while free < self.cfg.capacity and int(t["state"][free]) != FREE:
-                free += 1
-            if free == self.cfg.capacity:
-                self.stats["dropped_candidates"] += m - k
-                return
-            i = free
-            row, col = int(self.inbuf["row"][j]) * ONE, int(self.inbuf["col"][j]) * ONE
-            t[i] = self._blank
-            t["state"][i] = TENTATIVE
-            t["id"][i] = self.next_id
-            self.next_id += 1
-            t["first_seg"][i], t["confirm_seg"][i] = s, -1
-            t["p_seg"][i][1], t["p_row"][i][1], t["p_col"][i][1] = s, row, col
-            t["p_seg"][i][0], t["p_row"][i][0], t["p_col"][i][0] = s, row, col
-            t["v_row"][i], t["v_col"][i] = self._head_row[j], self._head_col[j]
-            t["length"][i] = t["hits"][i] = t["counted"][i] = 1
-            t["count_seg"][i] = s
-            self._record_point(i, j, s)
-            self.stats["started"] += 1
-            if self.cfg.confirm_hits <= 1:          # a one-point output threshold
-                t["state"][i] = CONFIRMED
-                t["confirm_seg"][i] = s
-                self.stats["confirmed"] += 1
-            t["pred_row"][i] = row + int(self._head_row[j])
-            t["pred_col"][i] = col + int(self._head_col[j])
-            t["gate"][i] = min(self.seed_gate, self.gate_max)
 
     # ---- host-side read-out -----------------------------------------------------------
     def _readout(self, rec: np.ndarray, hist: np.ndarray, alive: bool) -> ConfirmedTrack:
