@@ -57,8 +57,11 @@ The package, one concept per module:
 
 * :mod:`~dptbd.evaluation.compare.luts` — the weight LUTs (:data:`LUTS`) and the default
   ADC mapping (:func:`adc_mapping`);
-* :mod:`~dptbd.evaluation.compare.spec` — one fixed configuration (:class:`FixedSpec`) and a
-  whole run (:class:`CompareSpec`), built and validated from a TOML file by :func:`build_spec`;
+* :mod:`~dptbd.evaluation.compare.spec` — a whole run (:class:`CompareSpec`), built and
+  validated from a TOML file by :func:`build_spec`;
+* :mod:`~dptbd.evaluation.compare.configs` — one fixed configuration (:class:`FixedSpec`),
+  the default configurations and sweep, and their validation;
+* :mod:`~dptbd.evaluation.compare.checks` — the checks of the TOML values;
 * :mod:`~dptbd.evaluation.compare.plan` — what a worker runs (:class:`Plan`, :func:`make_plan`);
 * :mod:`~dptbd.evaluation.compare.selection` — the candidate rules (:data:`TIE_RULES`):
   exactly n with its tie-break priorities, and the gateware segmenter's;

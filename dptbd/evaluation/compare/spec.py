@@ -1,6 +1,10 @@
-"""The specification of a comparison: the fixed configurations and the run, validated from a
-TOML file (:func:`build_spec`) before any work. The weight LUTs and the default ADC mapping
-it uses are in :mod:`dptbd.evaluation.compare.luts` (re-exported here).
+"""The specification of a comparison: the run and the fixed configurations it compares,
+validated from a TOML file (:func:`build_spec`) before any work. This module holds the
+run-level parameters (:data:`DEFAULT_RUN`, :class:`CompareSpec`); the configurations
+(:class:`FixedSpec`, the defaults, the ``[[config]]`` and ``[sweep]`` tables) are in
+:mod:`dptbd.evaluation.compare.configs`, the checks of the TOML values in
+:mod:`dptbd.evaluation.compare.checks`, the weight LUTs and the default ADC mapping in
+:mod:`dptbd.evaluation.compare.luts` (the names of both re-exported here).
 
 The package docstring (:mod:`dptbd.evaluation.compare`) describes the scene and what is
 measured; ``docs/compare.md`` the TOML file.
@@ -9,15 +13,16 @@ measured; ``docs/compare.md`` the TOML file.
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import math
-import warnings
 from typing import Any, Mapping
 
 import numpy as np
 
-from dptbd.config import DPConfig, EnergyWidthWarning, non_saturating_energy_bits
-from dptbd.errors import ConfigError, check_int, check_prob, check_real, shown
+from dptbd.config import DPConfig
+from dptbd.errors import ConfigError, check_prob, check_real
+from dptbd.evaluation.compare.checks import as_list, checked_int, checked_real, increasing_reals
+from dptbd.evaluation.compare.configs import (DEFAULT_CONFIGS, DEFAULT_SWEEP, FixedSpec,
+                                              make_fixed, sweep_entries)
 from dptbd.evaluation.compare.luts import LUTS, adc_mapping, cosine_weights, lut_weights
 from dptbd.scenes import synthetic as scenes
 from dptbd.model.segmentation import count_for_rate
@@ -63,79 +68,8 @@ DEFAULT_RUN: dict[str, Any] = {
     "pfa": None,
 }
 
-#: The configurations compared by default besides the sweep: the gateware's defaults, and
-#: B_E two bits below the worst case (where the default ADC's noise floor saturates it).
-DEFAULT_CONFIGS: tuple[dict, ...] = (
-    {"name": "gateware default 8/16/8", "input_bits": 8, "energy_bits": 16, "weight_frac_bits": 8,
-     "rounding": "truncate", "lut": "paper"},
-    {"name": "saturating 8/9/8", "input_bits": 8, "energy_bits": 9, "weight_frac_bits": 8,
-     "rounding": "truncate", "lut": "paper"},
-)
-
-#: The default bit-width sweep: every combination of these axes (``docs/compare.md``).
-DEFAULT_SWEEP: dict[str, Any] = {
-    "input_bits": [3, 4, 5, 6, 7, 8, 10, 12],
-    "energy_headroom": [0, -1],
-    "weight_frac_bits": [0],
-    "rounding": ["truncate"],
-    "lut": ["paper"],
-}
-
-_CONFIG_KEYS = ("name", "lut", "adc_gain", "adc_offset", "input_bits", "energy_bits",
-                "weight_frac_bits", "rounding", "weights", "histogram_bits", "histogram_shift")
-_RUN_LEVEL_DP_KEYS = ("width", "height", "segment_frames", "segment_stride", "radius")
-_SWEEP_KEYS = ("input_bits", "energy_bits", "energy_headroom", "weight_frac_bits", "rounding", "lut")
-
 
 # ==== the specification of a run ========================================================
-
-@dataclasses.dataclass(frozen=True)
-class FixedSpec:
-    """One fixed-point configuration: the DP parameters, its LUT's name and its ADC."""
-
-    name: str
-    cfg: DPConfig
-    lut: str
-    adc_gain: float
-    adc_offset: float
-    in_sweep: bool = False
-    explicit: bool = True
-    saturates: bool = False  # B_E below the worst-case width (EnergyWidthWarning)
-
-    @property
-    def widths(self) -> str:
-        """``"B_in/B_E/F"``."""
-        c = self.cfg
-        return f"{c.input_bits}/{c.energy_bits}/{c.weight_frac_bits}"
-
-    def behaviour_key(self) -> tuple:
-        """Two configurations with the same key produce the same bits on every scene.
-
-        The ADC; the LUT's codes, and F and the rounding unless every code is 0 or 2**F
-        (then a weighted candidate is exactly E or 0 in either mode, ``dptbd.model.fast``);
-        B_E, or "no saturation" when K full-scale pixels fit (E then never reaches E_max).
-        """
-        c = self.cfg
-        codes = c.weight_codes
-        binary = bool(np.all((codes == 0) | (codes == 1 << c.weight_frac_bits)))
-        weights = (("binary", (codes != 0).tobytes()) if binary
-                   else ("codes", codes.tobytes(), c.weight_frac_bits, c.rounding))
-        energy = "no-saturation" if c.energy_bits >= c.energy_bits_needed else c.energy_bits
-        return (c.input_bits, self.adc_gain, self.adc_offset, energy, weights)
-
-    def float_key(self) -> tuple:
-        """The float model this configuration is compared with: same real-valued LUT."""
-        return tuple(self.cfg.weights)
-
-    def to_dict(self) -> dict:
-        c = self.cfg
-        return {"name": self.name, "input_bits": c.input_bits, "energy_bits": c.energy_bits,
-                "weight_frac_bits": c.weight_frac_bits, "rounding": c.rounding, "lut": self.lut,
-                "adc_gain": self.adc_gain, "adc_offset": self.adc_offset,
-                "energy_bits_needed": c.energy_bits_needed, "saturates": self.saturates,
-                "weights_exact": c.weights_exact, "in_sweep": self.in_sweep,
-                "explicit": self.explicit}
-
 
 @dataclasses.dataclass(frozen=True)
 class CompareSpec:
@@ -193,136 +127,6 @@ class CompareSpec:
         return out
 
 
-# ---- checks of the TOML values: ranges by the one family of :mod:`dptbd.errors` (raising
-# ConfigError, "NAME must be an integer in [lo, hi], got VALUE"); lists checked here.
-
-def _checked_int(name: str, v: Any, lo: int, hi: int | None = None) -> int:
-    """``v`` as an int in ``[lo, hi]``: :func:`dptbd.errors.check_int` raising
-    :class:`~dptbd.errors.ConfigError` (:mod:`~dptbd.evaluation.compare.runner` uses it too)."""
-    return check_int(name, v, lo, hi, error=ConfigError)
-
-
-def _real(name: str, v: Any, *, positive: bool = False) -> float:
-    """``v`` as a finite float (``> 0`` if ``positive``): :func:`dptbd.errors.check_real`."""
-    if positive:
-        return check_real(name, v, 0.0, lo_open=True, error=ConfigError)
-    return check_real(name, v, error=ConfigError)
-
-
-def _as_list(name: str, v: Any) -> list:
-    """``v`` as a list (any iterable but a string)."""
-    if isinstance(v, (str, bytes)) or not hasattr(v, "__iter__"):
-        raise ConfigError(f"{name} must be a list, got {shown(v)}")
-    return list(v)
-
-
-def _increasing_reals(name: str, v: Any, *, min_len: int = 1, positive: bool = False) -> tuple:
-    """``v`` as a strictly increasing tuple of at least ``min_len`` finite floats."""
-    vals = _as_list(name, v)
-    if len(vals) < min_len:
-        raise ConfigError(f"{name} must hold at least {min_len} value(s), got {vals!r}"
-                          + (" (an empty list)" if not vals else ""))
-    out = tuple(_real(f"{name}[{i}]", x, positive=positive) for i, x in enumerate(vals))
-    bad = [i for i in range(1, len(out)) if out[i] <= out[i - 1]]
-    if bad:
-        i = bad[0]
-        raise ConfigError(f"{name} must be strictly increasing, but {name}[{i}] = {out[i]:g} <= "
-                          f"{name}[{i - 1}] = {out[i - 1]:g}")
-    return out
-
-
-def _make_fixed(entry: Mapping[str, Any], run: dict, where: str, *, in_sweep: bool,
-                explicit: bool) -> FixedSpec:
-    """A :class:`FixedSpec` from a ``[[config]]`` table (or a sweep point)."""
-    if not isinstance(entry, Mapping):
-        raise ConfigError(f"{where} must be a table of parameters, got {entry!r}")
-    entry = dict(entry)
-    misplaced = sorted(set(entry) & set(_RUN_LEVEL_DP_KEYS))
-    if misplaced:
-        raise ConfigError(f"{where}: {misplaced} are run-level parameters (every configuration "
-                          f"runs on the same scenes); set them at the top level of the file")
-    unknown = sorted(set(entry) - set(_CONFIG_KEYS))
-    if unknown:
-        raise ConfigError(f"{where}: unknown configuration key(s) {unknown}; "
-                          f"allowed: {sorted(_CONFIG_KEYS)}")
-    radius = run["radius"]
-    if "weights" in entry and "lut" in entry:
-        raise ConfigError(f"{where}: give either 'lut' (one of {LUTS}) or 'weights' (a table), "
-                          f"not both")
-    lut = entry.pop("lut", "paper")
-    if "weights" in entry:
-        lut = "custom"
-    else:
-        if not isinstance(lut, str):
-            raise ConfigError(f"{where}: lut must be one of {LUTS}, got {lut!r}")
-        entry["weights"] = lut_weights(lut, radius)
-    name = entry.pop("name", None)
-    gain = entry.pop("adc_gain", None)
-    offset = entry.pop("adc_offset", None)
-    bits = entry.get("input_bits", 8)
-    energy = entry.pop("energy_bits", "needed")
-    params = dict(entry, width=run["size"], height=run["size"], segment_frames=run["segment_frames"],
-                  segment_stride=run["segment_stride"], radius=radius)
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", EnergyWidthWarning)
-            probe = DPConfig.from_mapping(params)  # validates input_bits etc.
-            if energy == "needed":
-                energy = probe.energy_bits_needed
-            elif isinstance(energy, str):
-                raise ConfigError(f"energy_bits must be an integer or \"needed\", got {energy!r}")
-            cfg = DPConfig.from_mapping(dict(params, energy_bits=energy))
-    except ConfigError as exc:
-        raise ConfigError(f"{where}: {exc}") from None
-    bits = cfg.input_bits
-    d_gain, d_offset = adc_mapping(bits, run["mu"], run["sigma"], low_sigma=run["adc_low_sigma"],
-                                   span_sigma=run["adc_span_sigma"])
-    gain = d_gain if gain is None else _real(f"{where}: adc_gain", gain, positive=True)
-    offset = d_offset if offset is None else _real(f"{where}: adc_offset", offset)
-    if name is None:
-        name = f"{bits}/{cfg.energy_bits}/{cfg.weight_frac_bits} {cfg.rounding} {lut}"
-    elif not isinstance(name, str) or not name.strip():
-        raise ConfigError(f"{where}: name must be a non-empty string, got {name!r}")
-    return FixedSpec(name=name, cfg=cfg, lut=lut, adc_gain=gain, adc_offset=offset,
-                     in_sweep=in_sweep, explicit=explicit,
-                     saturates=cfg.energy_bits < cfg.energy_bits_needed)
-
-
-def _sweep_entries(sweep: Mapping[str, Any], run: dict) -> list[dict]:
-    """The grid of a ``[sweep]`` table as ``[[config]]``-like entries."""
-    if not isinstance(sweep, Mapping):
-        raise ConfigError(f"sweep must be a table (or a list of tables), got {sweep!r}")
-    if not sweep:
-        return []
-    unknown = sorted(set(sweep) - set(_SWEEP_KEYS))
-    if unknown:
-        raise ConfigError(f"sweep: unknown key(s) {unknown}; allowed: {sorted(_SWEEP_KEYS)}")
-    if "energy_bits" in sweep and "energy_headroom" in sweep:
-        raise ConfigError("sweep: give either energy_bits (absolute widths) or energy_headroom "
-                          "(B_E minus the worst-case width), not both")
-    axes = {}
-    for key in _SWEEP_KEYS:
-        if key in sweep:
-            vals = _as_list(f"sweep.{key}", sweep[key])
-            if not vals:
-                raise ConfigError(f"sweep.{key} must not be empty")
-            axes[key] = vals
-    axes.setdefault("input_bits", [8])
-    if "energy_bits" not in axes:
-        axes.setdefault("energy_headroom", [0])
-    entries = []
-    names = list(axes)
-    for combo in itertools.product(*(axes[k] for k in names)):
-        point = dict(zip(names, combo))
-        head = point.pop("energy_headroom", None)
-        if head is not None:
-            head = _checked_int("sweep.energy_headroom", head, -32, 32)
-            bits = _checked_int("sweep.input_bits", point["input_bits"], 1, 16)
-            point["energy_bits"] = non_saturating_energy_bits(bits, run["segment_frames"]) + head
-        entries.append(point)
-    return entries
-
-
 def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> CompareSpec:
     """Validate a comparison's parameters; every error is raised here, before any work.
 
@@ -357,24 +161,24 @@ def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> Co
     run.update(mapping)
     run.update({k: v for k, v in overrides.items() if v is not None})
 
-    run["trials"] = _checked_int("trials", run["trials"], 1)
-    run["seed"] = _checked_int("seed", run["seed"], 0)
-    run["snr"] = _increasing_reals("snr", run["snr"], min_len=2, positive=True)
-    run["size"] = _checked_int("size", run["size"], 3, 4096)
-    run["frames"] = _checked_int("frames", run["frames"], 1, 100000)
-    vel = _as_list("velocity", run["velocity"])
+    run["trials"] = checked_int("trials", run["trials"], 1)
+    run["seed"] = checked_int("seed", run["seed"], 0)
+    run["snr"] = increasing_reals("snr", run["snr"], min_len=2, positive=True)
+    run["size"] = checked_int("size", run["size"], 3, 4096)
+    run["frames"] = checked_int("frames", run["frames"], 1, 100000)
+    vel = as_list("velocity", run["velocity"])
     if len(vel) != 2:
         raise ConfigError(f"velocity must be a (row, col) pair, got {run['velocity']!r}")
-    run["velocity"] = tuple(_real(f"velocity[{i}]", v) for i, v in enumerate(vel))
-    run["mu"] = _real("mu", run["mu"])
-    run["sigma"] = _real("sigma", run["sigma"], positive=True)
-    run["segment_frames"] = _checked_int("segment_frames", run["segment_frames"], 1, 65535)
+    run["velocity"] = tuple(checked_real(f"velocity[{i}]", v) for i, v in enumerate(vel))
+    run["mu"] = checked_real("mu", run["mu"])
+    run["sigma"] = checked_real("sigma", run["sigma"], positive=True)
+    run["segment_frames"] = checked_int("segment_frames", run["segment_frames"], 1, 65535)
     if run["segment_stride"] is not None:
-        run["segment_stride"] = _checked_int("segment_stride", run["segment_stride"], 1,
+        run["segment_stride"] = checked_int("segment_stride", run["segment_stride"], 1,
                                         run["segment_frames"])
     else:
         run["segment_stride"] = run["segment_frames"]
-    run["radius"] = _checked_int("radius", run["radius"], 1, 2)
+    run["radius"] = checked_int("radius", run["radius"], 1, 2)
     if run["frames"] < run["segment_frames"]:
         raise ConfigError(f"frames={run['frames']} is shorter than one segment "
                           f"(segment_frames={run['segment_frames']})")
@@ -383,18 +187,18 @@ def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> Co
     if count_for_rate(run["false_alarm_rate"], run["size"] ** 2) < 1:
         raise ConfigError(f"false_alarm_rate={run['false_alarm_rate']} keeps no candidate in a "
                           f"{run['size']}x{run['size']} image")
-    run["thresholds"] = _increasing_reals("thresholds", run["thresholds"])
-    levels = _as_list("pd_levels", run["pd_levels"])
+    run["thresholds"] = increasing_reals("thresholds", run["thresholds"])
+    levels = as_list("pd_levels", run["pd_levels"])
     if not levels:
         raise ConfigError("pd_levels must not be empty")
     run["pd_levels"] = tuple(check_prob(f"pd_levels[{i}]", v, error=ConfigError)
                              for i, v in enumerate(levels))
     run["tolerance_db"] = check_real("tolerance_db", run["tolerance_db"], 0.0, error=ConfigError)
-    run["bootstrap"] = _checked_int("bootstrap", run["bootstrap"], 0, 10**6)
-    run["chunk"] = _checked_int("chunk", run["chunk"], 1)
-    run["adc_low_sigma"] = _real("adc_low_sigma", run["adc_low_sigma"])
-    run["adc_span_sigma"] = _real("adc_span_sigma", run["adc_span_sigma"], positive=True)
-    pfas = [run["false_alarm_rate"]] if run["pfa"] is None else _as_list("pfa", run["pfa"])
+    run["bootstrap"] = checked_int("bootstrap", run["bootstrap"], 0, 10**6)
+    run["chunk"] = checked_int("chunk", run["chunk"], 1)
+    run["adc_low_sigma"] = checked_real("adc_low_sigma", run["adc_low_sigma"])
+    run["adc_span_sigma"] = checked_real("adc_span_sigma", run["adc_span_sigma"], positive=True)
+    pfas = [run["false_alarm_rate"]] if run["pfa"] is None else as_list("pfa", run["pfa"])
     if not pfas:
         raise ConfigError("pfa must hold at least one false-alarm probability per pixel in (0, 1)")
     run["pfa"] = tuple(check_prob(f"pfa[{i}] (false-alarm probability per pixel)", v, error=ConfigError)
@@ -414,12 +218,12 @@ def build_spec(mapping: Mapping[str, Any] | None = None, **overrides: Any) -> Co
         raise ConfigError(f"run parameters: {exc}") from None
 
     fixed: list[FixedSpec] = []
-    for i, entry in enumerate(_as_list("config", configs)):
-        fixed.append(_make_fixed(entry, run, f"config[{i}]", in_sweep=False, explicit=True))
+    for i, entry in enumerate(as_list("config", configs)):
+        fixed.append(make_fixed(entry, run, f"config[{i}]", in_sweep=False, explicit=True))
     sweeps = sweep if isinstance(sweep, (list, tuple)) else [sweep]
-    for entry in (e for sw in sweeps for e in _sweep_entries(sw, run)):
+    for entry in (e for sw in sweeps for e in sweep_entries(sw, run)):
         where = "sweep point " + ", ".join(f"{k}={v}" for k, v in entry.items())
-        spec = _make_fixed(entry, run, where, in_sweep=True, explicit=False)
+        spec = make_fixed(entry, run, where, in_sweep=True, explicit=False)
         same = [j for j, f in enumerate(fixed) if f.cfg == spec.cfg and f.adc_gain == spec.adc_gain
                 and f.adc_offset == spec.adc_offset]
         if same:
