@@ -27,7 +27,8 @@ with the scoreboards; ``rtl.trials``, Monte Carlo trials on the compiled RTL for
 ``benches.dp``, ``benches.dp_axi`` (``dptbd_dp`` built with ``--state-store axi``, its state in
 cocotbext-axi's ``AxiRam``), ``benches.segmenter`` and ``benches.axi`` with cocotbext-axi,
 ``benches.axi_store`` (``dptbd_axi`` built with ``--state-store axi`` on ``AxiRam``), their stream
-drivers, sinks and monitors ``benches.drivers``, and what the soft-reset sweep of
+drivers, sinks and monitors ``benches.drivers`` (the cocotbext-axi ones of ``benches.axi`` and
+``benches.axi_store``: ``benches.bus_drivers``), and what the soft-reset sweep of
 ``benches.axi`` checks, ``benches.soft_reset_check``), ``axi`` (the AXI top level ``dptbd_axi``'s runs: the video beats with
 frame-sync faults and the frame monitor's fault rule, the campaign's random runs drawn from a
 seed, their register traffic, and the scoring of a run's candidate words against the model's

@@ -28,7 +28,7 @@ from cocotbext.axi import AxiBus, AxiRam, AxiStreamFrame
 
 from dptbd.hw.register_map import constants_namespace
 from dptbd.sim.axi.stimulus import clean_beats, expected_outputs
-from dptbd.sim.benches.axi import AxiBench, line_frames
+from dptbd.sim.benches.bus_drivers import AxiBench, line_frames
 from dptbd.sim.benches.dp import load_job
 from dptbd.sim.benches.drivers import pause_generator
 from dptbd.sim.candidate_scoreboard import list_words
@@ -46,7 +46,7 @@ PAYLOADS = (("m_axis_cand_tvalid", ("m_axis_cand_tdata", "m_axis_cand_tlast")),
 
 def video_frames(cfg, beats) -> list[AxiStreamFrame]:
     """The input as AXI-Stream frames of one line each: one pixel per element at P = 1
-    (:func:`~dptbd.sim.benches.axi.line_frames`), one beat of P pixels at P = 2 or 4."""
+    (:func:`~dptbd.sim.benches.bus_drivers.line_frames`), one beat of P pixels at P = 2 or 4."""
     if cfg.pixels_per_clock == 1:
         return line_frames(beats, 0, len(beats))
     from dptbd.sim.verilator.axi import wide_beat_words
