@@ -1,6 +1,7 @@
-"""How coverage points add up (:func:`summarise`), each point of a build located in the
-Amaranth source (:class:`Entry`, :func:`entries`), and the toggle figure over the builds of
-reachable width only (:func:`reachable_toggle`).
+"""How coverage points add up (:func:`~dptbd.sim.coverage.summary.summarise`), each point of a
+build located in the Amaranth source (:class:`~dptbd.sim.coverage.summary.Entry`,
+:func:`~dptbd.sim.coverage.summary.entries`), and the toggle figure over the builds of
+reachable width only (:func:`~dptbd.sim.coverage.summary.reachable_toggle`).
 
 A **line** or **branch** point is named by its design, Verilog module (the Amaranth hierarchy),
 kind, Amaranth ``file:line`` and what (``if``, ``else``, ``case``, …); a **toggle** point, a

@@ -1,6 +1,6 @@
 """The coverage report's text (:class:`~dptbd.sim.coverage.summary.Summary` written out): the
-terminal table against the goals (:func:`format_table`, :data:`GOALS`), ``report.md`` and
-``coverage.json``.
+terminal table against the goals (:func:`~dptbd.sim.coverage.tables.format_table`,
+:data:`~dptbd.sim.coverage.tables.GOALS`), ``report.md`` and ``coverage.json``.
 """
 
 from __future__ import annotations
