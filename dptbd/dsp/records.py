@@ -20,7 +20,7 @@ import dataclasses
 
 import numpy as np
 
-from dptbd.dsp.association.config import AssociationError
+from dptbd.dsp.errors import AssociationError
 
 __all__ = [
     "Q_BITS",

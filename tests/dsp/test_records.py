@@ -35,3 +35,12 @@ def test_trim_to_count_is_the_section_6_rule_on_the_list():
         assert len(trim_to_count(ideal, n)) == len(ideal)         # short lists pass through
     with pytest.raises(AssociationError, match=r"^count must be an integer in \[0, inf\), got -1$"):
         trim_to_count(ideal, -1)
+
+
+def test_records_import_first_in_a_fresh_interpreter():
+    # the record formats and the association raise the same error; either may be imported first
+    import subprocess
+    import sys
+    code = ("import dptbd.dsp.records as r, dptbd.dsp.association as a; "
+            "assert r.AssociationError is a.AssociationError")
+    subprocess.run([sys.executable, "-c", code], check=True)

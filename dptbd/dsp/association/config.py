@@ -11,13 +11,10 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, Mapping
 
-from dptbd.errors import DptbdError, check_bool, check_int, check_real
+from dptbd.dsp.errors import AssociationError
+from dptbd.errors import check_bool, check_int, check_real
 
 __all__ = ["AssociationConfig", "AssociationError"]
-
-
-class AssociationError(DptbdError):
-    """An association parameter or input is invalid; the message names it."""
 
 
 @dataclasses.dataclass(frozen=True)
