@@ -34,7 +34,7 @@ after the earlier list) from a candidate ``--descent-lags`` frames earlier.
 makes the false tracks at equal distinct-candidate density: on the same seeds without the
 targets, segments K = 6 at ``--seg-counts`` and the recursion at ``--rec-counts`` (the
 lengths that cross their distinct candidates), each replayed through the association with
-one property replaced (the lists' positions made uniform, headings zeroed, random or taken
+one property replaced (the lists' positions made uniform or translated, headings zeroed, random or taken
 from the other variant, energies replaced by ranks): false tracks, how far the tracks got
 (hits reached), and the lists' geometry (pairs of distinct candidates by Chebyshev distance,
 the image within the seed gate of one); seeds on Dask (``--workers``, ``--scheduler``).
@@ -185,7 +185,7 @@ def false_track_report(alpha: float, seeds: range, seg_counts: list[int], rec_co
                   f"{d.background[i] / d.pairs[i]:.4f} |", flush=True)
 
 
-SWAP_ROWS = ("none", "uniform", "zero-headings", "random-headings", "headings-of", "energy-ranks")
+SWAP_ROWS = ("none", "uniform", "translated", "zero-headings", "random-headings", "headings-of", "energy-ranks")
 PAIR_TOP = 8
 
 

@@ -88,8 +88,8 @@ def test_list_swap_report_sums_seeds_and_pairs_by_density(monkeypatch, capsys):
     bench.list_swap_report(0.7, range(0, 2), [33, 43], [33, 26], 1, None)
     out = capsys.readouterr().out
     # seg 33: 1 + 2 = 3 false tracks over seeds 0 and 1; uniform twice that
-    assert "| segments K=6 | 33 | 25.0 | 3 | 6 | 3 | 3 | 3 | 3 |" in out
-    assert "| recursive alpha=0.7 | 33 | 25.0 | 40 | 80 | 40 | 40 | 40 | 40 |" in out
+    assert "| segments K=6 | 33 | 25.0 | 3 | 6 | 3 | 3 | 3 | 3 | 3 |" in out
+    assert "| recursive alpha=0.7 | 33 | 25.0 | 40 | 80 | 40 | 40 | 40 | 40 | 40 |" in out
     # rec 26 pairs with seg 33, rec 33 with seg 43; pooled (4 + 40) / (3 + 20)
     assert "* none: rec n=26 / seg n=33 4/3 = 1.33" in out
     assert "rec n=33 / seg n=43 40/20 = 2.00" in out and "pooled 44/23 = 1.91" in out

@@ -11,6 +11,10 @@ candidates is replaced (:data:`SWAPS`, :func:`swap`), the rest kept:
   ``merge_radius + 1`` apart (Chebyshev; none is suppressed), each keeping its energy and
   heading offset (``row - row0``, ``col - col0``; the path start clipped to the image) —
   the spatial distribution beyond one pixel removed, the distinct count kept;
+* ``"translated"``: each list's distinct candidates shifted together by one uniformly drawn
+  offset, wrapped around the image (each keeping its energy and heading offset) — where the
+  list lies and how near the border randomised, the distances between its candidates kept
+  (up to the wrap);
 * ``"zero-headings"``: every path start at its candidate (no heading);
 * ``"random-headings"``: heading offsets drawn uniformly in [-(K - 1), K - 1]² (path start
   clipped to the image);
@@ -42,7 +46,7 @@ __all__ = ["SWAPS", "NoiseLists", "Seeding", "noise_lists", "distinct", "pair_co
            "coverage", "uniform_positions", "swap", "associate"]
 
 #: The replaced properties (module docstring).
-SWAPS = ("none", "uniform", "zero-headings", "random-headings", "headings-of", "energy-ranks")
+SWAPS = ("none", "uniform", "translated", "zero-headings", "random-headings", "headings-of", "energy-ranks")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -151,11 +155,11 @@ def _offsets(cands: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def swap(lists: NoiseLists, how: str, rng: np.random.Generator | None = None,
          source: NoiseLists | None = None) -> NoiseLists:
     """``lists`` with one property replaced (``how`` in :data:`SWAPS`, module docstring);
-    ``rng`` for ``"uniform"`` and ``"random-headings"``, ``source`` (as many lists) for
+    ``rng`` for ``"uniform"``, ``"translated"`` and ``"random-headings"``, ``source`` (as many lists) for
     ``"headings-of"``."""
     if how not in SWAPS:
         raise DptbdError(f"swap must be one of {', '.join(map(repr, SWAPS))}, got {how!r}")
-    if how in ("uniform", "random-headings") and rng is None:
+    if how in ("uniform", "translated", "random-headings") and rng is None:
         raise DptbdError(f"swap {how!r} needs a random generator (rng)")
     if how == "headings-of" and (source is None or len(source.candidates) != len(lists.candidates)):
         have = "none" if source is None else f"{len(source.candidates)} lists"
@@ -172,6 +176,12 @@ def swap(lists: NoiseLists, how: str, rng: np.random.Generator | None = None,
             c = distinct(c, lists.assoc.merge_radius)
             pos = uniform_positions(len(c), shape, rng, apart=lists.assoc.merge_radius + 1)
             out.append(_with_offsets(c, pos[:, 0], pos[:, 1], *_offsets(c), shape))
+        elif how == "translated":
+            c = distinct(c, lists.assoc.merge_radius)
+            dy, dx = rng.integers(0, shape)
+            out.append(_with_offsets(c, (c["row"].astype(np.int64) + dy) % shape[0],
+                                     (c["col"].astype(np.int64) + dx) % shape[1], *_offsets(c),
+                                     shape))
         elif how == "zero-headings":
             out.append(_with_offsets(c, c["row"], c["col"], 0, 0, shape))
         elif how == "random-headings":

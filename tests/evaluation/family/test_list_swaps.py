@@ -96,6 +96,20 @@ def test_uniform_keeps_the_distinct_candidates_energies_and_headings():
         assert not np.array_equal(after["row"], kept["row"])
 
 
+def test_translated_keeps_the_distances_and_moves_the_list():
+    lists = _random_lists(4)
+    out = lsw.swap(lists, "translated", np.random.default_rng(1))
+    moved = 0
+    for before, after in zip(lists.candidates, out.candidates):
+        kept = lsw.distinct(before, 1)
+        np.testing.assert_array_equal(after["energy"], kept["energy"])
+        shift = ((after["row"].astype(int) - kept["row"]) % SIZE,
+                 (after["col"].astype(int) - kept["col"]) % SIZE)
+        assert len(set(shift[0])) == 1 and len(set(shift[1])) == 1    # one offset per list
+        moved += bool(shift[0][0] or shift[1][0])
+    assert moved >= len(lists.candidates) - 1
+
+
 def test_heading_swaps():
     lists = _random_lists(2)
     zero = lsw.swap(lists, "zero-headings")
@@ -153,9 +167,10 @@ def test_noise_lists_replay_as_the_job_runs_them():
 
 @pytest.mark.parametrize("call, message", [
     (lambda l: lsw.swap(l, "shuffle"),
-     "swap must be one of 'none', 'uniform', 'zero-headings', 'random-headings', 'headings-of', "
+     "swap must be one of 'none', 'uniform', 'translated', 'zero-headings', 'random-headings', 'headings-of', "
      "'energy-ranks', got 'shuffle'"),
     (lambda l: lsw.swap(l, "uniform"), "swap 'uniform' needs a random generator (rng)"),
+    (lambda l: lsw.swap(l, "translated"), "swap 'translated' needs a random generator (rng)"),
     (lambda l: lsw.swap(l, "random-headings"),
      "swap 'random-headings' needs a random generator (rng)"),
     (lambda l: lsw.swap(l, "headings-of"), "swap 'headings-of' needs a source of 12 lists, got none"),
