@@ -34,8 +34,9 @@ after the earlier list) from a candidate ``--descent-lags`` frames earlier.
 makes the false tracks at equal distinct-candidate density: on the same seeds without the
 targets, segments K = 6 at ``--seg-counts`` and the recursion at ``--rec-counts`` (the
 lengths that cross their distinct candidates), each replayed through the association with
-one property replaced (the lists' positions made uniform or translated, headings zeroed, random or taken
-from the other variant, energies replaced by ranks): false tracks, how far the tracks got
+one property replaced (the lists' positions made uniform or translated, headings zeroed,
+random or taken from the other variant, energies replaced by ranks, every other recursive
+list from another seed): false tracks, how far the tracks got
 (hits reached), and the lists' geometry (pairs of distinct candidates by Chebyshev distance,
 the image within the seed gate of one); seeds on Dask (``--workers``, ``--scheduler``).
 
@@ -185,8 +186,12 @@ def false_track_report(alpha: float, seeds: range, seg_counts: list[int], rec_co
                   f"{d.background[i] / d.pairs[i]:.4f} |", flush=True)
 
 
-SWAP_ROWS = ("none", "uniform", "translated", "zero-headings", "random-headings", "headings-of", "energy-ranks")
+SWAP_ROWS = ("none", "uniform", "translated", "zero-headings", "random-headings", "headings-of",
+             "energy-ranks", "alternate-seed")
 PAIR_TOP = 8
+#: ``"alternate-seed"`` takes every other list of the recursion from the seed this far on
+#: (segments' consecutive lists share no noise by construction: disjoint frames).
+OTHER_SEED = 1_000_000
 
 
 def _swap_task(alpha: float, seed: int, seg_counts: tuple, rec_counts: tuple) -> dict:
@@ -200,6 +205,11 @@ def _swap_task(alpha: float, seed: int, seg_counts: tuple, rec_counts: tuple) ->
     for key, lst in lists.items():
         row = {}
         for how in SWAP_ROWS:
+            if how == "alternate-seed":
+                if key[0] == "rec":
+                    row[how] = lsw.associate(lsw.swap(lst, how, source=lsw.noise_lists(
+                        rec, seed + OTHER_SEED, key[1])))
+                continue
             rng = np.random.default_rng([seed, key[1], SWAP_ROWS.index(how)])
             row[how] = lsw.associate(lsw.swap(lst, how, rng, source=sources[key[0]]))
         gate = lst.assoc.seed_gate
@@ -224,7 +234,7 @@ def list_swap_report(alpha: float, seeds: range, seg_counts: list[int], rec_coun
     keys = list(per_seed[0])
     name = {"seg": "segments K=6", "rec": f"recursive alpha={alpha:g}"}
     tot = {k: {how: sum((r[k][0][how] for r in per_seed[1:]), per_seed[0][k][0][how])
-               for how in SWAP_ROWS} for k in keys}
+               for how in SWAP_ROWS if how in per_seed[0][k][0]} for k in keys}
     print(f"List swaps on noise only (built-in scenario without targets, seeds {seeds.start}-"
           f"{seeds.stop - 1}, lists every 6 frames; every confirmed track is false):\n")
     print("| variant | n | distinct per list | " + " | ".join(SWAP_ROWS) + " |")
@@ -232,12 +242,15 @@ def list_swap_report(alpha: float, seeds: range, seg_counts: list[int], rec_coun
     for k in keys:
         d = sum(r[k][1][0][0] for r in per_seed) / sum(r[k][1][0][1] for r in per_seed)
         print(f"| {name[k[0]]} | {k[1]} | {d:.1f} | "
-              + " | ".join(str(tot[k][how].false_tracks) for how in SWAP_ROWS) + " |")
+              + " | ".join(str(tot[k][how].false_tracks) if how in tot[k] else "-"
+                           for how in SWAP_ROWS) + " |")
     print("\nRatios recursion / segments at about equal distinct density (pooled over the "
           "crossed pairs: the shortest recursive lists against the shortest segment lists, and so "
           "on), 95 % interval of the split (Wilson):\n")
     pairs = list(zip(sorted(k for k in keys if k[0] == "rec"), sorted(k for k in keys if k[0] == "seg")))
     for how in SWAP_ROWS:
+        if any(how not in tot[k] for k in keys):
+            continue
         parts = []
         for rk, sk in pairs + [(None, None)]:
             if rk is None:
@@ -251,12 +264,16 @@ def list_swap_report(alpha: float, seeds: range, seg_counts: list[int], rec_coun
                 r, lo, hi = ft.rate_ratio(a, b)
                 parts.append(f"{label} {a}/{b} = {r:.2f} [{lo:.2f}, {hi:.2f}]")
         print(f"* {how}: " + "; ".join(parts))
-    print("\nSegments / themselves with uniform positions, recursion likewise:\n")
+    print("\nEach variant against its own lists as made:\n")
     for k in keys:
-        a, b = tot[k]["uniform"].false_tracks, tot[k]["none"].false_tracks
-        if a + b:
-            r, lo, hi = ft.rate_ratio(a, b)
-            print(f"* {name[k[0]]}, n = {k[1]}: uniform / lists {a}/{b} = {r:.2f} [{lo:.2f}, {hi:.2f}]")
+        for how in SWAP_ROWS[1:]:
+            if how not in tot[k] or how == "energy-ranks":
+                continue
+            a, b = tot[k][how].false_tracks, tot[k]["none"].false_tracks
+            if a + b:
+                r, lo, hi = ft.rate_ratio(a, b)
+                print(f"* {name[k[0]]}, n = {k[1]}: {how} / lists {a}/{b} = {r:.2f} "
+                      f"[{lo:.2f}, {hi:.2f}]")
     print("\nHow far the tracks got (the lists as made; 'uniform' in parentheses): tracks "
           "reaching h hits, and the fraction of those with h - 1 that got the h-th:\n")
     levels = len(tot[keys[0]]["none"].reached)

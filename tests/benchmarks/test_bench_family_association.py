@@ -79,7 +79,7 @@ def test_list_swap_report_sums_seeds_and_pairs_by_density(monkeypatch, capsys):
         out = {}
         for key in [("seg", n) for n in seg_counts] + [("rec", n) for n in rec_counts]:
             row = {how: Seeding(false[key] * (2 if how == "uniform" else 1), (100, 10, 3, 1, 0))
-                   for how in bench.SWAP_ROWS}
+                   for how in bench.SWAP_ROWS if how != "alternate-seed" or key[0] == "rec"}
             geo = [(25 * 4, 4, pairs, 0.04 * 4), (25 * 4, 4, pairs, 0.05 * 4)]
             out[key] = (row, geo)
         return out
@@ -88,12 +88,14 @@ def test_list_swap_report_sums_seeds_and_pairs_by_density(monkeypatch, capsys):
     bench.list_swap_report(0.7, range(0, 2), [33, 43], [33, 26], 1, None)
     out = capsys.readouterr().out
     # seg 33: 1 + 2 = 3 false tracks over seeds 0 and 1; uniform twice that
-    assert "| segments K=6 | 33 | 25.0 | 3 | 6 | 3 | 3 | 3 | 3 | 3 |" in out
-    assert "| recursive alpha=0.7 | 33 | 25.0 | 40 | 80 | 40 | 40 | 40 | 40 | 40 |" in out
+    assert "| segments K=6 | 33 | 25.0 | 3 | 6 | 3 | 3 | 3 | 3 | 3 | - |" in out
+    assert "| recursive alpha=0.7 | 33 | 25.0 | 40 | 80 | 40 | 40 | 40 | 40 | 40 | 40 |" in out
+    assert "* alternate-seed:" not in out      # segments have no such row
     # rec 26 pairs with seg 33, rec 33 with seg 43; pooled (4 + 40) / (3 + 20)
     assert "* none: rec n=26 / seg n=33 4/3 = 1.33" in out
     assert "rec n=33 / seg n=43 40/20 = 2.00" in out and "pooled 44/23 = 1.91" in out
     assert "* segments K=6, n = 43: uniform / lists 40/20 = 2.00" in out
+    assert "* recursive alpha=0.7, n = 26: alternate-seed / lists 4/4 = 1.00" in out
     assert "| segments K=6 | 33 | 200 (200) | 20 (20) (0.100; 0.100) |" in out
     # per list: 2 seeds x 2 pairs at distance 2 over 8 lists = 0.5
     assert "| segments K=6 | 33 | 0.50 / 0.50 | 0.75 / 0.75 |" in out

@@ -21,7 +21,10 @@ candidates is replaced (:data:`SWAPS`, :func:`swap`), the rest kept:
 * ``"headings-of"``: candidate j of list s takes the heading offset of candidate
   ``j mod m`` of list s of another variant's lists (``source``, m candidates) — positions
   of one variant, headings of the other;
-* ``"energy-ranks"``: energies replaced by their ranks (order kept).
+* ``"energy-ranks"``: energies replaced by their ranks (order kept);
+* ``"alternate-seed"``: every odd-numbered list taken from ``source`` (the same variant's
+  lists on another seed): consecutive lists share no noise, each list keeps its own
+  statistics and its place in the sequence.
 
 :func:`associate` replays lists through :class:`~dptbd.dsp.association.Tracker` and counts,
 beside the confirmed tracks, how far every track got (:class:`Seeding`: tracks reaching
@@ -46,7 +49,8 @@ __all__ = ["SWAPS", "NoiseLists", "Seeding", "noise_lists", "distinct", "pair_co
            "coverage", "uniform_positions", "swap", "associate"]
 
 #: The replaced properties (module docstring).
-SWAPS = ("none", "uniform", "translated", "zero-headings", "random-headings", "headings-of", "energy-ranks")
+SWAPS = ("none", "uniform", "translated", "zero-headings", "random-headings", "headings-of",
+         "energy-ranks", "alternate-seed")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -155,20 +159,24 @@ def _offsets(cands: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def swap(lists: NoiseLists, how: str, rng: np.random.Generator | None = None,
          source: NoiseLists | None = None) -> NoiseLists:
     """``lists`` with one property replaced (``how`` in :data:`SWAPS`, module docstring);
-    ``rng`` for ``"uniform"``, ``"translated"`` and ``"random-headings"``, ``source`` (as many lists) for
-    ``"headings-of"``."""
+    ``rng`` for ``"uniform"``, ``"translated"`` and ``"random-headings"``, ``source`` (as
+    many lists) for ``"headings-of"`` and ``"alternate-seed"``."""
     if how not in SWAPS:
         raise DptbdError(f"swap must be one of {', '.join(map(repr, SWAPS))}, got {how!r}")
     if how in ("uniform", "translated", "random-headings") and rng is None:
         raise DptbdError(f"swap {how!r} needs a random generator (rng)")
-    if how == "headings-of" and (source is None or len(source.candidates) != len(lists.candidates)):
+    if how in ("headings-of", "alternate-seed") and (
+            source is None or len(source.candidates) != len(lists.candidates)):
         have = "none" if source is None else f"{len(source.candidates)} lists"
-        raise DptbdError(f"swap 'headings-of' needs a source of {len(lists.candidates)} lists, "
+        raise DptbdError(f"swap {how!r} needs a source of {len(lists.candidates)} lists, "
                          f"got {have}")
     shape = (lists.view.height, lists.view.width)
     span = lists.view.segment_frames - 1
     out = []
     for s, c in enumerate(lists.candidates):
+        if how == "alternate-seed":
+            out.append((source.candidates[s] if s % 2 else c).copy())
+            continue
         if how == "none" or len(c) == 0:
             out.append(c.copy())
             continue

@@ -129,6 +129,13 @@ def test_heading_swaps():
     assert offs.min() >= -5 and offs.max() <= 5 and len(np.unique(offs)) == 11
 
 
+def test_alternate_seed_takes_every_other_list():
+    lists, other = _random_lists(0), _random_lists(9)
+    got = lsw.swap(lists, "alternate-seed", source=other)
+    for s, c in enumerate(got.candidates):
+        np.testing.assert_array_equal(c, (other if s % 2 else lists).candidates[s])
+
+
 def test_energy_ranks_change_nothing_the_association_does():
     for seed in range(3):
         lists = _random_lists(seed)
@@ -168,7 +175,9 @@ def test_noise_lists_replay_as_the_job_runs_them():
 @pytest.mark.parametrize("call, message", [
     (lambda l: lsw.swap(l, "shuffle"),
      "swap must be one of 'none', 'uniform', 'translated', 'zero-headings', 'random-headings', 'headings-of', "
-     "'energy-ranks', got 'shuffle'"),
+     "'energy-ranks', 'alternate-seed', got 'shuffle'"),
+    (lambda l: lsw.swap(l, "alternate-seed"),
+     "swap 'alternate-seed' needs a source of 12 lists, got none"),
     (lambda l: lsw.swap(l, "uniform"), "swap 'uniform' needs a random generator (rng)"),
     (lambda l: lsw.swap(l, "translated"), "swap 'translated' needs a random generator (rng)"),
     (lambda l: lsw.swap(l, "random-headings"),
