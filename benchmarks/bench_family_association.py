@@ -274,6 +274,17 @@ def list_swap_report(alpha: float, seeds: range, seg_counts: list[int], rec_coun
                 r, lo, hi = ft.rate_ratio(a, b)
                 print(f"* {name[k[0]]}, n = {k[1]}: {how} / lists {a}/{b} = {r:.2f} "
                       f"[{lo:.2f}, {hi:.2f}]")
+    for kind in ("seg", "rec"):
+        mine = [k for k in keys if k[0] == kind]
+        for how in SWAP_ROWS[1:]:
+            if how == "energy-ranks" or any(how not in tot[k] for k in mine):
+                continue
+            a = sum(tot[k][how].false_tracks for k in mine)
+            b = sum(tot[k]["none"].false_tracks for k in mine)
+            if a + b:
+                r, lo, hi = ft.rate_ratio(a, b)
+                print(f"* {name[kind]}, pooled over n: {how} / lists {a}/{b} = {r:.2f} "
+                      f"[{lo:.2f}, {hi:.2f}]")
     print("\nHow far the tracks got (the lists as made; 'uniform' in parentheses): tracks "
           "reaching h hits, and the fraction of those with h - 1 that got the h-th:\n")
     levels = len(tot[keys[0]]["none"].reached)

@@ -96,6 +96,8 @@ def test_list_swap_report_sums_seeds_and_pairs_by_density(monkeypatch, capsys):
     assert "rec n=33 / seg n=43 40/20 = 2.00" in out and "pooled 44/23 = 1.91" in out
     assert "* segments K=6, n = 43: uniform / lists 40/20 = 2.00" in out
     assert "* recursive alpha=0.7, n = 26: alternate-seed / lists 4/4 = 1.00" in out
+    assert "* segments K=6, pooled over n: uniform / lists 46/23 = 2.00" in out
+    assert "* recursive alpha=0.7, pooled over n: alternate-seed / lists 44/44 = 1.00" in out
     assert "| segments K=6 | 33 | 200 (200) | 20 (20) (0.100; 0.100) |" in out
     # per list: 2 seeds x 2 pairs at distance 2 over 8 lists = 0.5
     assert "| segments K=6 | 33 | 0.50 / 0.50 | 0.75 / 0.75 |" in out
