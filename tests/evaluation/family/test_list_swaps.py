@@ -185,6 +185,9 @@ def test_noise_lists_replay_as_the_job_runs_them():
     (lambda l: lsw.swap(l, "headings-of"), "swap 'headings-of' needs a source of 12 lists, got none"),
     (lambda l: lsw.swap(l, "headings-of", source=_random_lists(0, n_lists=3)),
      "swap 'headings-of' needs a source of 12 lists, got 3 lists"),
+    (lambda l: lsw.swap(l, "headings-of", source=lsw.NoiseLists(
+        l.view, l.assoc, (l.candidates[0][:0],) + l.candidates[1:])),
+     "swap 'headings-of': source list 0 is empty"),
     (lambda l: lsw.pair_counts(l.candidates[0], 0), "top must be an integer in [1, inf), got 0"),
     (lambda l: lsw.associate(l, levels=0), "levels must be an integer in [1, inf), got 0"),
 ])
