@@ -4,6 +4,7 @@
     python benchmarks/bench_family_association.py --sweep --seeds 40   # alpha from seeds 100-119
     python benchmarks/bench_family_association.py --alpha 0.97 --penalty-sweep 0 16 32 64 128
     python benchmarks/bench_family_association.py --alpha 0.7 --false-tracks
+    python benchmarks/bench_family_association.py --alpha 0.7 --list-swaps --workers 2
 
 ``dptbd run``'s built-in scenario (two targets, SNR 2.0) on seeds ``--first-seed`` …
 ``--first-seed + --seeds - 1``, ideal lists (n = 33 per map), the scenario's association.
@@ -29,6 +30,16 @@ suppression) at the list lengths ``--seg-counts`` and ``--rec-counts``; (3) on t
 ``--descent-seeds`` of them, how often a list's candidate descends (its DP path, one move
 after the earlier list) from a candidate ``--descent-lags`` frames earlier.
 
+``--list-swaps`` (``dptbd.evaluation.family.list_swaps``) asks which property of a list
+makes the false tracks at equal distinct-candidate density: on the same seeds without the
+targets, segments K = 6 at ``--seg-counts`` and the recursion at ``--rec-counts`` (the
+lengths that cross their distinct candidates), each replayed through the association with
+one property replaced (the lists' positions made uniform or translated, headings zeroed,
+random or taken from the other variant, energies replaced by ranks, every other recursive
+list from another seed): false tracks, how far the tracks got
+(hits reached), and the lists' geometry (pairs of distinct candidates by Chebyshev distance,
+the image within the seed gate of one); seeds on Dask (``--workers``, ``--scheduler``).
+
 Library: ``dptbd.evaluation.family.association``. This script reports; it asserts nothing.
 """
 
@@ -41,8 +52,10 @@ import numpy as np
 from dptbd.errors import DptbdError, check_int
 from dptbd.evaluation.family import detection as fd
 from dptbd.evaluation.family import false_tracks as ft
+from dptbd.evaluation.family import list_swaps as lsw
 from dptbd.evaluation.family.association import job_outcome, job_run
 from dptbd.evaluation.family.wake import parse_lags
+from dptbd.evaluation.execution import Execution, map_tasks
 from dptbd.evaluation.stats import wilson_interval
 
 
@@ -173,6 +186,135 @@ def false_track_report(alpha: float, seeds: range, seg_counts: list[int], rec_co
                   f"{d.background[i] / d.pairs[i]:.4f} |", flush=True)
 
 
+SWAP_ROWS = ("none", "uniform", "translated", "zero-headings", "random-headings", "headings-of",
+             "energy-ranks", "alternate-seed")
+PAIR_TOP = 8
+#: ``"alternate-seed"`` takes every other list of the recursion from the seed this far on
+#: (segments' consecutive lists share no noise by construction: disjoint frames).
+OTHER_SEED = 1_000_000
+
+
+def _swap_task(alpha: float, seed: int, seg_counts: tuple, rec_counts: tuple) -> dict:
+    """One noise-only seed: every (variant, n) with every swap, and the lists' geometry."""
+    rec = fd.recursive(alpha, segment_frames=6)
+    keys = [("seg", n) for n in seg_counts] + [("rec", n) for n in rec_counts]
+    lists = {key: lsw.noise_lists(fd.segments(6) if key[0] == "seg" else rec, seed, key[1])
+             for key in keys}
+    sources = {"seg": lists[("rec", max(rec_counts))], "rec": lists[("seg", min(seg_counts))]}
+    out = {}
+    for key, lst in lists.items():
+        row = {}
+        for how in SWAP_ROWS:
+            if how == "alternate-seed":
+                if key[0] == "rec":
+                    row[how] = lsw.associate(lsw.swap(lst, how, source=lsw.noise_lists(
+                        rec, seed + OTHER_SEED, key[1])))
+                continue
+            rng = np.random.default_rng([seed, key[1], SWAP_ROWS.index(how)])
+            row[how] = lsw.associate(lsw.swap(lst, how, rng, source=sources[key[0]]))
+        gate = lst.assoc.seed_gate
+        shape = (lst.view.height, lst.view.width)
+        geo = []
+        uniform = lsw.swap(lst, "uniform", np.random.default_rng(
+            [seed, key[1], SWAP_ROWS.index("uniform")]))        # the lists replayed above
+        for ls_ in (lst, uniform):
+            ds = [lsw.distinct(c, lst.assoc.merge_radius) for c in ls_.candidates]
+            geo.append((sum(len(d) for d in ds), len(ds),
+                        sum(lsw.pair_counts(d, PAIR_TOP) for d in ds),
+                        sum(lsw.coverage(d, shape, gate) for d in ds)))
+        out[key] = (row, geo)
+    return out
+
+
+def list_swap_report(alpha: float, seeds: range, seg_counts: list[int], rec_counts: list[int],
+                     workers: int, scheduler: str | None) -> None:
+    tasks = [(alpha, s, tuple(seg_counts), tuple(rec_counts)) for s in seeds]
+    with Execution(workers=workers, scheduler=scheduler).client() as client:
+        per_seed = map_tasks(_swap_task, tasks, client)
+    keys = list(per_seed[0])
+    name = {"seg": "segments K=6", "rec": f"recursive alpha={alpha:g}"}
+    tot = {k: {how: sum((r[k][0][how] for r in per_seed[1:]), per_seed[0][k][0][how])
+               for how in SWAP_ROWS if how in per_seed[0][k][0]} for k in keys}
+    print(f"List swaps on noise only (built-in scenario without targets, seeds {seeds.start}-"
+          f"{seeds.stop - 1}, lists every 6 frames; every confirmed track is false):\n")
+    print("| variant | n | distinct per list | " + " | ".join(SWAP_ROWS) + " |")
+    print("|---|---|---|" + "---|" * len(SWAP_ROWS))
+    for k in keys:
+        d = sum(r[k][1][0][0] for r in per_seed) / sum(r[k][1][0][1] for r in per_seed)
+        print(f"| {name[k[0]]} | {k[1]} | {d:.1f} | "
+              + " | ".join(str(tot[k][how].false_tracks) if how in tot[k] else "-"
+                           for how in SWAP_ROWS) + " |")
+    print("\nRatios recursion / segments at about equal distinct density (pooled over the "
+          "crossed pairs: the shortest recursive lists against the shortest segment lists, and so "
+          "on), 95 % interval of the split (Wilson):\n")
+    pairs = list(zip(sorted(k for k in keys if k[0] == "rec"), sorted(k for k in keys if k[0] == "seg")))
+    for how in SWAP_ROWS:
+        if any(how not in tot[k] for k in keys):
+            continue
+        parts = []
+        for rk, sk in pairs + [(None, None)]:
+            if rk is None:
+                a = sum(tot[r][how].false_tracks for r, _ in pairs)
+                b = sum(tot[s][how].false_tracks for _, s in pairs)
+                label = "pooled"
+            else:
+                a, b = tot[rk][how].false_tracks, tot[sk][how].false_tracks
+                label = f"rec n={rk[1]} / seg n={sk[1]}"
+            if a + b:
+                r, lo, hi = ft.rate_ratio(a, b)
+                parts.append(f"{label} {a}/{b} = {r:.2f} [{lo:.2f}, {hi:.2f}]")
+        print(f"* {how}: " + "; ".join(parts))
+    print("\nEach variant against its own lists as made:\n")
+    for k in keys:
+        for how in SWAP_ROWS[1:]:
+            if how not in tot[k] or how == "energy-ranks":
+                continue
+            a, b = tot[k][how].false_tracks, tot[k]["none"].false_tracks
+            if a + b:
+                r, lo, hi = ft.rate_ratio(a, b)
+                print(f"* {name[k[0]]}, n = {k[1]}: {how} / lists {a}/{b} = {r:.2f} "
+                      f"[{lo:.2f}, {hi:.2f}]")
+    for kind in ("seg", "rec"):
+        mine = [k for k in keys if k[0] == kind]
+        for how in SWAP_ROWS[1:]:
+            if how == "energy-ranks" or any(how not in tot[k] for k in mine):
+                continue
+            a = sum(tot[k][how].false_tracks for k in mine)
+            b = sum(tot[k]["none"].false_tracks for k in mine)
+            if a + b:
+                r, lo, hi = ft.rate_ratio(a, b)
+                print(f"* {name[kind]}, pooled over n: {how} / lists {a}/{b} = {r:.2f} "
+                      f"[{lo:.2f}, {hi:.2f}]")
+    print("\nHow far the tracks got (the lists as made; 'uniform' in parentheses): tracks "
+          "reaching h hits, and the fraction of those with h - 1 that got the h-th:\n")
+    levels = len(tot[keys[0]]["none"].reached)
+    print("| variant | n | " + " | ".join(f"{h} hits" for h in range(1, levels + 1)) + " |")
+    print("|---|---|" + "---|" * levels)
+    for k in keys:
+        cells = []
+        for h in range(levels):
+            a, u = tot[k]["none"].reached, tot[k]["uniform"].reached
+            frac = (f" ({a[h] / a[h - 1]:.3f}; {u[h] / u[h - 1]:.3f})" if h and a[h - 1] and u[h - 1]
+                    else "")
+            cells.append(f"{a[h]} ({u[h]}){frac}")
+        print(f"| {name[k[0]]} | {k[1]} | " + " | ".join(cells) + " |")
+    print(f"\nGeometry of the distinct candidates (per list): pairs at Chebyshev distance 2 .. "
+          f"{PAIR_TOP - 1}, {PAIR_TOP}+; fraction of the image within the seed gate of one "
+          "(lists / uniform positions):\n")
+    print("| variant | n | " + " | ".join(f"d = {d}" for d in range(2, PAIR_TOP)) +
+          f" | d >= {PAIR_TOP} | seed-gate coverage |")
+    print("|---|---|" + "---|" * (PAIR_TOP - 1) + "---|")
+    for k in keys:
+        cells = []
+        geo = [[r[k][1][i] for r in per_seed] for i in (0, 1)]
+        n_lists = sum(g[1] for g in geo[0])
+        pc = [sum(g[2] for g in geo[i]) / n_lists for i in (0, 1)]
+        cov = [sum(g[3] for g in geo[i]) / n_lists for i in (0, 1)]
+        cells = [f"{pc[0][d]:.2f} / {pc[1][d]:.2f}" for d in range(2, PAIR_TOP + 1)]
+        print(f"| {name[k[0]]} | {k[1]} | " + " | ".join(cells) +
+              f" | {cov[0]:.4f} / {cov[1]:.4f} |", flush=True)
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--alpha", type=float, default=None)
@@ -195,7 +337,27 @@ def main(argv=None) -> None:
                     help="noise-only seeds of the descent measurement (--false-tracks; 0: none)")
     ap.add_argument("--descent-lags", default="1-6,12,18",
                     help="lags (frames) of the recursion's descent (--false-tracks)")
+    ap.add_argument("--list-swaps", action="store_true",
+                    help="only replay the noise-only lists at --alpha with one property swapped")
+    ap.add_argument("--workers", type=int, default=1, help="dask workers (--list-swaps)")
+    ap.add_argument("--scheduler", default=None, help="dask scheduler address (--list-swaps)")
     args = ap.parse_args(argv)
+    if args.list_swaps:
+        if args.alpha is None:
+            ap.error("--list-swaps needs --alpha")
+        try:
+            fd.recursive(args.alpha)
+            check_int("seeds", args.seeds, 1)
+            seg_counts = _counts("seg_counts", args.seg_counts)
+            rec_counts = _counts("rec_counts", args.rec_counts)
+        except DptbdError as exc:
+            ap.error(str(exc))
+        if len(seg_counts) != len(rec_counts):
+            ap.error(f"--list-swaps crosses --seg-counts with --rec-counts: give as many of each, "
+                     f"got {len(seg_counts)} and {len(rec_counts)}")
+        list_swap_report(args.alpha, range(args.first_seed, args.first_seed + args.seeds),
+                         seg_counts, rec_counts, args.workers, args.scheduler)
+        return
     if args.false_tracks:
         if args.alpha is None:
             ap.error("--false-tracks needs --alpha")

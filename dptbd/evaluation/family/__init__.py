@@ -10,5 +10,9 @@
 * :mod:`~dptbd.evaluation.family.recursive_pipeline` — the recursive DP's maps through the
   DSP association;
 * :mod:`~dptbd.evaluation.family.association` — both through the DSP association on
-  ``dptbd run``'s scenario, against ground truth.
+  ``dptbd run``'s scenario, against ground truth;
+* :mod:`~dptbd.evaluation.family.false_tracks` — what the false tracks are (wake, noise),
+  and whether a noise peak persists from list to list;
+* :mod:`~dptbd.evaluation.family.list_swaps` — noise-only lists replayed through the
+  association with one property swapped (positions, headings, energies).
 """
