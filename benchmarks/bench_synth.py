@@ -221,6 +221,8 @@ def main(argv=None) -> int:
     parser.add_argument("--package", help="nextpnr package (default: the family's)")
     parser.add_argument("--speed", type=int, choices=(6, 7, 8),
                         help="ECP5 speed grade (nextpnr --speed; default nextpnr's, 6)")
+    parser.add_argument("--router", choices=("router1", "router2"),
+                        help="nextpnr router (nextpnr --router; default nextpnr's, router1)")
     parser.add_argument("--line-buffer-style", choices=CORE_OPTIONS["line_buffer_style"],
                         help="DPCore line buffer storage (default: the family's, block RAM "
                              "on iCE40, LUT RAM on ECP5)")
@@ -274,8 +276,10 @@ def main(argv=None) -> int:
                                  yosys_timeout=args.timeout, nextpnr_timeout=args.timeout,
                                  lut_style=lut_style, breakdown=not args.no_breakdown,
                                  core_options=core_options,
-                                 nextpnr_args=(("--speed", str(args.speed))
-                                               if args.speed and family == "ecp5" else ()))
+                                 nextpnr_args=((("--speed", str(args.speed))
+                                                if args.speed and family == "ecp5" else ())
+                                               + (("--router", args.router)
+                                                  if args.router else ())))
             wall = time.monotonic() - start
             print(f"[{family} {name}] done in {wall:.0f} s (yosys {res.yosys_seconds:.0f} s, "
                   f"nextpnr {', '.join(f'{r.seconds:.0f}' for r in res.runs) or '—'} s); "
