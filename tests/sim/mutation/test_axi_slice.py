@@ -137,16 +137,31 @@ def test_decode_sweep_reads_every_address_and_refuses_every_bit_above_a_limit():
     lut = regmap.window("LUT")
     writes = [b for b in bus if b[0] == "w"]
     error, status = regmap["ERROR"].address, regmap["IRQ_STATUS"].address
-    assert [b for b in writes if b[4] != 2] == [["w", error, 2**32 - 1, 0xF, 0]]  # the W1C
+    accepted = [b for b in writes if b[4] != 2]
+    assert accepted[0] == ["w", error, 2**32 - 1, 0xF, 0]                     # the W1C
+    assert [b[1] for b in accepted[1:]] == [r.address for r in regmap.registers
+                                            if r.kind == "setting"]      # written back
     assert [b[3] for b in writes if lut.base <= b[1] < lut.end] == [0xE, 0xD, 0xB, 0x7]
     k = regmap["SEGMENT_FRAMES"]
     assert [b[2] for b in writes if b[1] == k.address] == [
-        k.reset | 1 << b for b in [*range(3, 32), 31]]       # K_max = 4 < 8
+        k.reset | 1 << b for b in [*range(3, 32), 31]] + [k.reset]   # K_max = 4 < 8
     # ERROR cleared with all ones leaves IRQ_STATUS.fault pending; a refused write sets
     # ERROR.write_refused again
-    assert bus[-6:] == [["r", status, 0, 2], ["w", error, 2**32 - 1, 0xF, 0],
-                        ["r", status, 0, 2], ["r", error, 0, 0],
-                        ["w", k.address, k.reset | 1 << 31, 0xF, 2], ["r", error, 0, 16]]
+    settings = [r for r in regmap.registers if r.kind == "setting"]
+    tail = len(settings) * 2 + mapped                   # the handshake accesses
+    assert bus[-6 - tail:-tail] == [
+        ["r", status, 0, 2], ["w", error, 2**32 - 1, 0xF, 0], ["r", status, 0, 2],
+        ["r", error, 0, 0], ["w", k.address, k.reset | 1 << 31, 0xF, 2], ["r", error, 0, 16]]
+    # then every setting written its upper limit with W late and awaddr changed after AW,
+    # every register read while probed, the settings written back
+    late, probes, back = (bus[-tail:][:len(settings)],
+                          bus[-tail:][len(settings):len(settings) + mapped],
+                          bus[-len(settings):])
+    assert late == [["w-late", r.address, r.fields[0].limits[1], 0xF, 0] for r in settings]
+    assert [b[:3] for b in probes] == [["r-probe", r.address, 0] for r in regmap.registers]
+    assert dict((b[1], b[3]) for b in probes)[k.address] == k.fields[0].limits[1]
+    assert dict((b[1], b[3]) for b in probes)[status] == 2
+    assert back == [["w", r.address, r.reset, 0xF, 0] for r in settings]
     assert steps[1]["stop"] == len(beats) == 2 * cfg.width * cfg.height
 
 
@@ -387,3 +402,37 @@ def test_the_shifts_and_line_ends_runs_kill_their_mutants():
     # the fault runs see neither
     assert run_slice(sim, 1, (("faults", 0),)).verdict == "survived"
     assert run_slice(sim, 2, (("faults", 0), ("resync", 0))).verdict == "survived"
+
+
+def test_lut_entry_run_shows_the_entry_code_bit_0():
+    """The ``lut-entry`` run's lists change when the code of :data:`LUT_ENTRY` has its bit 0
+    changed (what a mutant of that LUT bit does), and when any other entry's does not."""
+    from dptbd.sim.axi.stimulus import expected_outputs
+    from dptbd.sim.candidate_scoreboard import list_words
+
+    cfg = config("axi")
+    beats, steps = S.lut_entry_steps(cfg)
+    p, m = S.LUT_ENTRY
+    codes = steps[0]["lut_codes"]
+    assert codes[p][m] == (1 << cfg.weight_frac_bits) - 1 and codes[p][m] & 1
+
+    def words(lut):
+        return list_words(cfg, expected_outputs(cfg, beats, [dict(steps[0], lut_codes=lut)]
+                                                ).lists)
+
+    flipped = [row[:] for row in codes]
+    flipped[p][m] ^= 1
+    assert words(flipped) != words(codes)
+    assert len(beats) == 8 * cfg.width * cfg.height
+
+
+def test_low_shift_run_cuts_its_lists_at_every_threshold():
+    from dptbd.sim.axi.stimulus import expected_outputs
+
+    cfg = config("axi")
+    beats, steps = S.low_shift_steps(cfg)
+    assert {dict(step["writes"])["HISTOGRAM_SHIFT"] for step in steps} == {1}
+    lists = expected_outputs(cfg, beats, steps).lists
+    assert [lst.threshold for lst in lists] == list(S.LOW_SHIFT_THRESHOLDS)
+    assert S.LOW_SHIFT_THRESHOLDS == tuple(range(1 << cfg.histogram_bits, -1, -1))
+    assert int(beats.pixel.max()) < 1 << (cfg.histogram_bits + 1)      # low energies
