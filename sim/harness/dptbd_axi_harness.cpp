@@ -19,8 +19,8 @@
 //                                            beat), in file order: KIND w = write D to byte
 //                                            address A (AW and W together, all strobes),
 //                                            r = read address A (D bit 0: probing, once
-//                                            AR is taken araddr is A ^ 4, AW, W and AR
-//                                            are offered and rready is low for
+//                                            AR is taken araddr is A ^ 4, AR is offered
+//                                            (D bit 1: AW and W too) and rready is low for
 //                                            PROBE_HOLD cycles of rvalid; a ready seen
 //                                            meanwhile counts in axil_violations),
 //                                            i = stay idle A cycles,
@@ -202,15 +202,16 @@ int main(int argc, char** argv) {
         // an 'm' write with data bit 36: W offered from the cycle after the AW handshake,
         // awaddr changed (bit 2 flipped) once AW is taken
         const bool late = busy == 'm' && ((op->data >> 36) & 1);
-        // an 'r' read with data bit 0: once AR is taken, araddr changed, AW, W and AR
-        // offered (none may be taken: one transaction at a time) and rready held low for
-        // PROBE_HOLD cycles of rvalid
+        // an 'r' read with data bit 0: once AR is taken, araddr changed, AR offered (with
+        // data bit 1 AW and W too; none may be taken: one transaction at a time) and rready
+        // held low for PROBE_HOLD cycles of rvalid
         const bool probe = busy == 'r' && (op->data & 1);
         const bool probing = probe && ar_done;
-        dut->s_axil_awvalid = (writing && !aw_done) || probing;
+        const bool probing_all = probing && (op->data & 2);
+        dut->s_axil_awvalid = (writing && !aw_done) || probing_all;
         dut->s_axil_awaddr = writing ? ((late && aw_done) ? op->addr ^ 4 : op->addr)
                                      : (probing ? op->addr ^ 4 : 0);
-        dut->s_axil_wvalid = (writing && !w_done && (!late || aw_done)) || probing;
+        dut->s_axil_wvalid = (writing && !w_done && (!late || aw_done)) || probing_all;
         dut->s_axil_wdata = writing ? static_cast<uint32_t>(op->data) : 0;
         dut->s_axil_wstrb = busy == 'm' ? (op->data >> 32) & 0xF : 0xF;
         dut->s_axil_bready = 1;

@@ -161,9 +161,9 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str],
     ``["w", address, data, wstrb, response]`` or ``["r", address, response, value or
     None]``; what is to be checked is given; ``"w-late"`` offers W only from the cycle
     after the AW handshake and changes ``awaddr`` then, ``"r-probe"`` changes ``araddr``
-    after the AR handshake, offers AW, W and AR while the read is pending (none may be
-    taken: the harness counts ``axil_violations``) and holds ``rready`` low for 3 cycles
-    of ``rvalid``). ``store``: the build's state store, whose
+    after the AR handshake, offers AR while the read is pending (``"r-probe-all"`` AW and
+    W too; none may be taken: the harness counts ``axil_violations``) and holds ``rready``
+    low for 3 cycles of ``rvalid``). ``store``: the build's state store, whose
     registers a ``check`` may then read."""
     regs, regmap = constants_namespace(cfg, store), register_map(cfg, store)
     ops, checks, start = [], [], 0
@@ -223,7 +223,8 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str],
                 ops.append((start, "m", int(address), int(data) | int(strobe) << 32 | late))
                 checks.append(("write", f"{int(address):#05x}", want))
             else:
-                ops.append((start, "r", int(address), int(kind == "r-probe")))
+                probe = {"r-probe": 1, "r-probe-all": 3}.get(kind, 0)
+                ops.append((start, "r", int(address), probe))
                 checks.append(("bus-read", f"{int(address):#05x}", tuple(rest)))
         start = step["stop"]
     ops.append((start, "i", settle, 0))

@@ -78,9 +78,9 @@ def _handshake_accesses(regmap, now: dict) -> list:
     """Bus accesses of the ``decode`` run that take addresses at their handshakes only:
     every setting written its upper limit with W offered after the AW handshake and
     ``awaddr`` changed then (``"w-late"``: the write goes to the first address), every
-    mapped register read with ``araddr`` changed after the AR handshake while AW, W and AR
-    are offered and ``rready`` is held low (``"r-probe"``: its own value, nothing taken
-    meanwhile), the settings written back to ``now`` (the values before)."""
+    mapped register read with ``araddr`` changed after the AR handshake while AR (every
+    other register: AR, AW and W) is offered and ``rready`` is held low (``"r-probe"``,
+    ``"r-probe-all"``: its own value, nothing taken meanwhile), the settings written back to ``now`` (the values before)."""
     from dptbd.sim.verilator.axi import OKAY
 
     settings = [reg for reg in regmap.registers if reg.kind == "setting"]
@@ -90,8 +90,8 @@ def _handshake_accesses(regmap, now: dict) -> list:
         (field,) = reg.fields
         values[reg.address] = field.limits[1]
         late.append(["w-late", reg.address, field.limits[1], 0xF, OKAY])
-    probes = [["r-probe", reg.address, OKAY, values[reg.address]]
-              for reg in regmap.registers]
+    probes = [["r-probe-all" if i % 2 else "r-probe", reg.address, OKAY, values[reg.address]]
+              for i, reg in enumerate(regmap.registers)]
     restore = [["w", reg.address, now[reg.address], 0xF, OKAY] for reg in settings]
     return late + probes + restore
 
