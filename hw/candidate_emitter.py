@@ -82,11 +82,8 @@ class CandidateEmitter(wiring.Component):
 
         emitted = Signal(range(capacity + 1))
         overflow = Signal()
-        # `emitted < C` kept in a register of its own, updated with `emitted`: the cap is no
-        # comparison on the way from `selected` to the FIFO's write enable
-        room = Signal(init=capacity > 0)
-        push = self.valid & self.selected & room
-        dropped = self.valid & self.selected & ~room
+        push = self.valid & self.selected & (emitted < capacity)
+        dropped = self.valid & self.selected & (emitted == capacity)
 
         trailer = Signal(trailer_layout(cfg))
         trailer_pending = Signal()
@@ -100,12 +97,11 @@ class CandidateEmitter(wiring.Component):
                 trailer.aligned.eq(self.aligned),
                 trailer.missed.eq(self.missed),
                 emitted.eq(0),
-                room.eq(capacity > 0),
                 overflow.eq(0),
             ]
         with m.Else():
             with m.If(push):
-                m.d.sync += [emitted.eq(emitted + 1), room.eq(emitted != capacity - 1)]
+                m.d.sync += emitted.eq(emitted + 1)
             with m.If(dropped):
                 m.d.sync += overflow.eq(1)
 
