@@ -77,10 +77,6 @@ class Histogram(wiring.Component):
         Start a scan (ignored while one is under way).
     scan_valid, scan_last : Out(1); scan_bin : Out(range(2**b)); scan_count : Out(bin_count_bits)
         The scanned counts, top bin first.
-    scan_base : Out(bin_count_bits); scan_held : Out(1)
-        ``scan_count`` in two parts: the count read and whether the held increment is to
-        be added to it (``scan_count`` is ``scan_base + scan_held``, saturating), so that a
-        consumer can add it after a register of its own.
     scanning : Out(1)
         A scan is under way (cycles c+1 … c+2**b+1: reads issued or counts still to come out).
     """
@@ -101,8 +97,6 @@ class Histogram(wiring.Component):
             "scan_valid": Out(1),
             "scan_bin": Out(range(cfg.n_bins)),
             "scan_count": Out(cfg.bin_count_bits),
-            "scan_base": Out(cfg.bin_count_bits),
-            "scan_held": Out(1),
             "scan_last": Out(1),
             "scanning": Out(1),
         })
@@ -197,8 +191,6 @@ class Histogram(wiring.Component):
             self.scan_valid.eq(scan_2),
             self.scan_bin.eq(bin_2),
             self.scan_count.eq(Mux(held_2, incremented, count)),
-            self.scan_base.eq(count),
-            self.scan_held.eq(held_2),
             self.scan_last.eq(scan_2 & (bin_2 == 0)),
             self.scanning.eq(scan_active | scan_1 | scan_2),
             result.addr.eq(bin_2),

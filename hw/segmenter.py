@@ -129,8 +129,7 @@ class Segmenter(wiring.Component):
         m.d.comb += [
             search.scan_valid.eq(hist.scan_valid),
             search.scan_bin.eq(hist.scan_bin),
-            search.scan_count.eq(hist.scan_base),          # the held increment added
-            search.scan_held.eq(hist.scan_held),           # after the search's register
+            search.scan_count.eq(hist.scan_count),
             search.scan_last.eq(hist.scan_last),
         ]
 

@@ -37,10 +37,6 @@ class ThresholdSearch(wiring.Component):
     -------
     scan_valid, scan_last : In(1); scan_bin : In(range(2**b)); scan_count : In(bin_count_bits)
         From :class:`~dptbd.hw.histogram.Histogram`.
-    scan_held : In(1)
-        The scanned bin's count is ``scan_count + 1`` (saturating): the segmenter passes
-        the histogram's ``scan_base`` and ``scan_held``, so the held increment is added
-        after this block's input register, not behind the histogram's read. 0 by default.
     count : In(range(C + 1), init=n)
         Run-time n, sampled with the scan's top bin.
     load : In(1)
@@ -61,7 +57,6 @@ class ThresholdSearch(wiring.Component):
             "scan_valid": In(1),
             "scan_bin": In(range(cfg.n_bins)),
             "scan_count": In(cfg.bin_count_bits),
-            "scan_held": In(1),
             "scan_last": In(1),
             "count": In(range(cfg.record_capacity + 1), init=cfg.n_candidates),
             "load": In(1),
@@ -78,13 +73,9 @@ class ThresholdSearch(wiring.Component):
         valid = Signal()
         last = Signal()
         bin_ = Signal(range(cfg.n_bins))
-        base = Signal(cfg.bin_count_bits)
-        held = Signal()
+        count = Signal(cfg.bin_count_bits)
         m.d.sync += [valid.eq(self.scan_valid), last.eq(self.scan_valid & self.scan_last),
-                     bin_.eq(self.scan_bin), base.eq(self.scan_count),
-                     held.eq(self.scan_held)]
-        count = Signal(cfg.bin_count_bits)         # the count, its held increment added
-        m.d.comb += count.eq(Mux(held & ~base.all(), base + 1, base))
+                     bin_.eq(self.scan_bin), count.eq(self.scan_count)]
 
         remaining = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)  # n - cum
         stopped = Signal()                            # cum has exceeded n
