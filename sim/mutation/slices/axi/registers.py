@@ -29,7 +29,7 @@ def decode_steps(cfg: DPConfig) -> tuple:
     with each byte strobe clear in turn (refused, SLVERR); ERROR cleared with all ones (W1C):
     IRQ_STATUS keeps its pending fault (a write decoded at both registers clears it) and
     ERROR reads 0; a refused write sets them again; the handshake accesses of
-    :func:`_handshake_accesses` (late W with ``awaddr`` changed, reads probed while
+    ``_handshake_accesses`` (late W with ``awaddr`` changed, reads probed while
     pending); then two frames (one segment of K = 2) checked against the model."""
     import numpy as np
 
