@@ -8,12 +8,16 @@ flattens them with a prefix gets ``s_axil_awaddr`` and so on. 32-bit data, byte 
 :class:`AXILiteSubordinate` takes one transaction at a time: while a response is pending
 it accepts nothing new; a write (AW and W, in either order or together) wins over a read
 arriving in the same cycle. A write reaches the register bus one cycle after its last
-handshake and its response (``bvalid``) follows in the next cycle; a read's address goes to
-the bus in its handshake cycle and ``rvalid`` follows in the next cycle. The register bus
-answers with ``r_err`` / ``w_err``, turned into ``SLVERR``; otherwise ``OKAY``. The bus also
-shows each AW and W handshake as it happens (``aw_in_*``, ``w_in_*``), so that a register
-block can decode the address and check the data in those cycles and answer the write from
-registers.
+handshake and its response (``bvalid``) follows in the next cycle; a read reaches the bus
+(``r_stb``) one cycle after its AR handshake and ``rvalid`` follows in the next cycle: two
+cycles after the handshake. The register bus answers with ``r_err`` / ``w_err``, turned
+into ``SLVERR``; otherwise ``OKAY``. The bus also shows each AR, AW and W handshake as it
+happens (``ar_in_*``, ``aw_in_*``, ``w_in_*``), so that a register block can decode the
+addresses and check the data in those cycles and answer from registers.
+
+Whether a response is pending or being prepared (``bvalid``, ``rvalid`` or a read between
+its handshake and ``r_stb``) is a register of its own, ``busy``, computed a cycle ahead: it
+holds off every ready.
 """
 
 from __future__ import annotations
@@ -49,8 +53,10 @@ def axi_lite_signature(address_bits: int, data_bits: int = 32) -> wiring.Signatu
 def register_bus_signature(address_bits: int, data_bits: int = 32) -> wiring.Signature:
     """The adapter's side of a register block, as the adapter sees it.
 
-    A read: ``r_addr`` with ``r_stb`` (one cycle); ``r_data`` and ``r_err`` are the register
-    block's combinational answers in that cycle. A write: ``w_addr``, ``w_data``, ``w_strb``
+    A read: ``r_addr`` with ``r_stb`` (one cycle, the cycle after the AR handshake, which is
+    ``ar_in_stb`` with its address ``ar_in_addr``); ``r_data`` and ``r_err`` are the register
+    block's answers in the ``r_stb`` cycle (from its decode of ``ar_in_addr``, registered at
+    the handshake). A write: ``w_addr``, ``w_data``, ``w_strb``
     with ``w_stb`` (one cycle, after both handshakes); ``w_err`` is the answer in that cycle.
     They hold from the handshakes until the write: the AW handshake is ``aw_in_stb`` with its
     address ``aw_in_addr`` (``w_addr`` from the next cycle on), the W handshake ``w_in_stb``
@@ -59,6 +65,8 @@ def register_bus_signature(address_bits: int, data_bits: int = 32) -> wiring.Sig
     return wiring.Signature({
         "r_addr": Out(address_bits),
         "r_stb": Out(1),
+        "ar_in_stb": Out(1),
+        "ar_in_addr": Out(address_bits),
         "w_addr": Out(address_bits),
         "w_stb": Out(1),
         "w_data": Out(data_bits),
@@ -96,21 +104,25 @@ class AXILiteSubordinate(wiring.Component):
         have_aw = Signal()
         have_w = Signal()
         aw_addr = Signal.like(aw.awaddr)
+        ar_addr = Signal.like(ar.araddr)
         w_data = Signal.like(w.wdata)
         w_strb = Signal.like(w.wstrb)
-        busy = b.bvalid | r.rvalid
+        reading = Signal()                 # the cycle after the AR handshake: r_stb
+        busy = Signal()                    # bvalid | rvalid | reading, a register
         writing = have_aw & have_w
 
         m.d.comb += [
             aw.awready.eq(~have_aw & ~busy),
             w.wready.eq(~have_w & ~busy),
             ar.arready.eq(~busy & ~have_aw & ~have_w & ~aw.awvalid & ~w.wvalid),
-            bus.r_addr.eq(ar.araddr),
+            bus.r_addr.eq(ar_addr),
             bus.w_addr.eq(aw_addr),
             bus.w_stb.eq(writing),
             bus.w_data.eq(w_data),
             bus.w_strb.eq(w_strb),
-            bus.r_stb.eq(ar.arvalid & ar.arready),
+            bus.r_stb.eq(reading),
+            bus.ar_in_stb.eq(ar.arvalid & ar.arready),
+            bus.ar_in_addr.eq(ar.araddr),
             bus.aw_in_stb.eq(aw.awvalid & aw.awready),
             bus.aw_in_addr.eq(aw.awaddr),
             bus.w_in_stb.eq(w.wvalid & w.wready),
@@ -126,10 +138,17 @@ class AXILiteSubordinate(wiring.Component):
                          b.bresp.eq(Mux(bus.w_err, RESP_SLVERR, RESP_OKAY))]
         with m.Elif(b.bvalid & b.bready):
             m.d.sync += b.bvalid.eq(0)
-        with m.If(bus.r_stb):
+        m.d.sync += reading.eq(bus.ar_in_stb)
+        with m.If(bus.ar_in_stb):
+            m.d.sync += ar_addr.eq(ar.araddr)
+        with m.If(reading):
             m.d.sync += [r.rvalid.eq(1), r.rdata.eq(bus.r_data),
                          r.rresp.eq(Mux(bus.r_err, RESP_SLVERR, RESP_OKAY))]
         with m.Elif(r.rvalid & r.rready):
             m.d.sync += r.rvalid.eq(0)
+        # busy of the next cycle: a response offered then (held, or raised now) or a read
+        # being answered then
+        m.d.sync += busy.eq(writing | reading | bus.ar_in_stb
+                            | (b.bvalid & ~b.bready) | (r.rvalid & ~r.rready))
         return m
 

@@ -488,17 +488,34 @@ class DPCore(wiring.Component):
         # thermometer counters (hw/thermometer_fifo.py, hw/input_credit.py): the cycles
         # of SyncFIFOBuffered and of a binary credit counter, without their adders and
         # comparators on the way to `states.valid`'s successor and to `pixels.ready`.
+        # The word's flags (line, frame, segment ends, saturated) go through a twin FIFO in
+        # flip-flops, in lockstep with the memory FIFO of (E, d): the segmenter's control,
+        # which reads them with the word, does not wait on a block-RAM read.
+        flag_layout = data.StructLayout({"end_of_line": 1, "end_of_frame": 1,
+                                         "end_of_segment": 1, "saturated": 1})
         m.submodules.output_fifo = output_fifo = ThermometerFIFO(
-            data.StructLayout({"state": state_layout(cfg), "saturated": 1}), self._fifo_depth)
+            state_word_layout(cfg), self._fifo_depth)
+        m.submodules.output_flags = output_flags = ThermometerFIFO(
+            flag_layout, self._fifo_depth, storage="registers")
         m.d.comb += [
-            output_fifo.w.payload.state.eq(result),
-            output_fifo.w.payload.saturated.eq(accumulator.saturated),
+            output_fifo.w.payload.energy.eq(result.energy),
+            output_fifo.w.payload.direction.eq(result.direction),
+            output_flags.w.payload.end_of_line.eq(result.end_of_line),
+            output_flags.w.payload.end_of_frame.eq(result.end_of_frame),
+            output_flags.w.payload.end_of_segment.eq(result.end_of_segment),
+            output_flags.w.payload.saturated.eq(accumulator.saturated),
             output_fifo.w.valid.eq(at_state.valid),
-            self.states.payload.eq(output_fifo.r.payload.state),
+            output_flags.w.valid.eq(at_state.valid),
+            self.states.payload.energy.eq(output_fifo.r.payload.energy),
+            self.states.payload.direction.eq(output_fifo.r.payload.direction),
+            self.states.payload.end_of_line.eq(output_flags.r.payload.end_of_line),
+            self.states.payload.end_of_frame.eq(output_flags.r.payload.end_of_frame),
+            self.states.payload.end_of_segment.eq(output_flags.r.payload.end_of_segment),
             self.states.valid.eq(output_fifo.r.valid),
             output_fifo.r.ready.eq(self.states.ready),
+            output_flags.r.ready.eq(self.states.ready),
         ]
-        state_events(m, self.events, self.states, output_fifo.r.payload.saturated)
+        state_events(m, self.events, self.states, output_flags.r.payload.saturated)
 
         # ---- credits: accept only what the FIFO is sure to have room for -------------
         m.submodules.input_credit = credit = InputCredit(self._fifo_depth)

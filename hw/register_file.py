@@ -14,7 +14,9 @@ field kinds (:data:`!dptbd.hw.register_map.FIELD_KINDS`):
   SLVERR); ``enable``: taken; ``sticky`` / ``interrupt``: bits written 1 clear; ``pulse``:
   bits written 1 pulse for one cycle (the cycle after the write); ``constant`` / ``counter``
   / ``status`` and unmapped addresses: refused with SLVERR only;
-- a ``status`` field reads its input port (of the same name) in the read's cycle;
+- a read's address is decoded at its AR handshake and the register read in the next cycle
+  (``rvalid`` rises the cycle after that, two cycles after the handshake); a ``status``
+  field reads its input port (of the same name) in that cycle, the one after the handshake;
 - a LUT window write is taken if all four bytes are strobed (``wstrb`` = 1111) and the word
   lies in the code's ``limits``; otherwise refused (entry unchanged,
   ``ERROR.write_refused`` set, SLVERR);
@@ -134,16 +136,26 @@ class RegisterFile(wiring.Component):
         m.d.sync += self.lut_we.eq(0)
         values = {reg.name: value(reg) for reg in regmap.registers}
 
-        # A read is decoded from its address in its handshake cycle, one select per register
-        # and an AND-OR of the selected word (the registers' addresses are distinct):
-        # unaligned, unmapped and LUT addresses select none, read 0 and answer an error.
-        ra = bus.r_addr
-        r_sel = [~ra[:2].any() & (ra[2:] == reg.address >> 2) for reg in regmap.registers]
+        # A read is decoded from its address at its AR handshake into registers, one select
+        # per register, and answered in the next cycle (r_stb) by an AND-OR of the selected
+        # word (the registers' addresses are distinct): unaligned, unmapped and LUT
+        # addresses select none, read 0 and answer an error.
+        ra = bus.ar_in_addr
+        r_sel = []
+        for reg in regmap.registers:
+            sel = Signal(name=f"read_at_{reg.name.lower()}")
+            with m.If(bus.ar_in_stb):
+                m.d.sync += sel.eq(~ra[:2].any() & (ra[2:] == reg.address >> 2))
+            r_sel.append(sel)
+        read_none = Signal(name="read_unmapped")
+        with m.If(bus.ar_in_stb):
+            m.d.sync += read_none.eq(~Cat(*[~ra[:2].any() & (ra[2:] == reg.address >> 2)
+                                            for reg in regmap.registers]).any())
         m.d.comb += [
             bus.r_data.eq(functools.reduce(operator.or_, [
                 values[reg.name] & sel.replicate(32)
                 for reg, sel in zip(regmap.registers, r_sel)])),
-            bus.r_err.eq(~Cat(*r_sel).any()),
+            bus.r_err.eq(read_none),
         ]
 
         # A write is decoded at its AW handshake and its data checked at its W handshake,

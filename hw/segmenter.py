@@ -76,7 +76,7 @@ class Segmenter(wiring.Component):
     -------
     states : In(stream.Signature(state_layout(cfg)))
         The DP pipeline's output. ``states.ready`` depends on registers and, at a segment's
-        first word, on ``segment_frames``.
+        first word, on ``segment_frames_one``.
     segment_frames : In(range(1, K_max + 1), init=K)
     candidate_count : In(range(C + 1), init=n)
     histogram_shift : In(range(B_E), init=s)
@@ -84,6 +84,11 @@ class Segmenter(wiring.Component):
         ``end_of_segment``) is accepted. Taken as they are: a value outside its range
         (K = 0, K > K_max, n > C) is the driver's to clamp, as
         :class:`~dptbd.hw.dp_segmenter_top.DPSegmenter`'s settings registers do.
+    segment_frames_one : In(1, init=(K == 1))
+        ``segment_frames == 1``, given by the driver with ``segment_frames`` (a register in
+        :class:`~dptbd.hw.dp_segmenter_top.DPSegmenter`, computed when the setting is
+        latched): it decides whether a segment's first word is scored, so the comparison
+        stays off the path to ``states.ready``.
     candidates : Out(stream.Signature(candidate_layout(cfg)))
         Records (raster order) and one trailer per list.
     """
@@ -100,6 +105,7 @@ class Segmenter(wiring.Component):
             "states": In(stream.Signature(state_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),
             **segmenter_setting_members(cfg),
+            "segment_frames_one": In(1, init=cfg.segment_frames == 1),
         })
 
     @property
@@ -154,7 +160,7 @@ class Segmenter(wiring.Component):
         m.d.comb += [eff_frames.eq(Mux(taking, self.segment_frames, k_frames)),
                      eff_count.eq(Mux(taking, self.candidate_count, count)),
                      eff_shift.eq(Mux(taking, self.histogram_shift, shift)),
-                     scored.eq(Mux(taking, self.segment_frames == 1, in_scored))]
+                     scored.eq(Mux(taking, self.segment_frames_one, in_scored))]
         frame_end = Signal()                     # the next word is a frame's last pixel
         last = Signal()
         m.d.comb += last.eq(scored & frame_end)

@@ -11,20 +11,29 @@ registers; ``w.ready`` is low only when the D - 1 memory words are all in use), 
 memory's level in a :class:`~dptbd.hw.thermometer_counter.ThermometerCounter`: "not empty"
 and "full" are registers, so the read enable is one LUT of two registers and ``r.ready``.
 The price is D - 1 level registers instead of bitlen(D - 1).
+
+``storage="registers"`` keeps the D - 1 words in flip-flops instead of a memory (the output
+register loaded from a multiplexer of them): the same cycles, and on a device whose small
+memories are block RAM (iCE40) the word leaves a flip-flop instead of a block-RAM read. A
+pair of FIFOs driven by the same ``w.valid`` and ``r.ready`` moves in lockstep, so a payload
+can be split between a memory FIFO and a registers twin (``DPCore``'s flags).
 """
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Signal
+from amaranth.hdl import Array, Module, Signal
 from amaranth.lib import stream, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
-from dptbd.errors import check_int
+from dptbd.errors import DptbdError, check_int
 from dptbd.hw.modular import increment_mod
 from dptbd.hw.thermometer_counter import ThermometerCounter
 
-__all__ = ["ThermometerFIFO"]
+__all__ = ["STORAGES", "ThermometerFIFO"]
+
+#: Where :class:`ThermometerFIFO` keeps its words.
+STORAGES = ("memory", "registers")
 
 
 class ThermometerFIFO(wiring.Component):
@@ -36,6 +45,8 @@ class ThermometerFIFO(wiring.Component):
         The payload shape (a ``data.Layout`` or a width).
     depth : int
         Words held, in [2, inf): ``depth - 1`` in the memory and one in the output register.
+    storage : {"memory", "registers"}
+        Where the ``depth - 1`` words are kept: a memory (default) or flip-flops.
 
     Members
     -------
@@ -46,13 +57,17 @@ class ThermometerFIFO(wiring.Component):
         value before the first word.
     """
 
-    def __init__(self, shape, depth: int):
+    def __init__(self, shape, depth: int, *, storage: str = "memory"):
         try:
             self._depth = check_int("depth", depth, 2)
+            if storage not in STORAGES:
+                raise DptbdError(f"storage must be one of {', '.join(map(repr, STORAGES))}, "
+                                 f"got {storage!r}")
         except ValueError:
             self._MustUse__silence = True      # refused: never meant to be elaborated
             raise
         self._shape = shape
+        self._storage = storage
         super().__init__({"w": In(stream.Signature(shape)), "r": Out(stream.Signature(shape))})
 
     @property
@@ -64,10 +79,6 @@ class ThermometerFIFO(wiring.Component):
         m = Module()
         words = self._depth - 1
         m.submodules.level = level = ThermometerCounter(words)
-        m.submodules.storage = storage = Memory(shape=self._shape, depth=words, init=[])
-        write = storage.write_port()
-        read = storage.read_port(domain="sync")
-
         not_empty = level.at_least[0]
         full = level.at_least[words - 1]
         do_write = self.w.valid & ~full
@@ -82,15 +93,29 @@ class ThermometerFIFO(wiring.Component):
             m.d.sync += consume.eq(increment_mod(consume, words))
         m.d.comb += [
             self.w.ready.eq(~full),
-            write.addr.eq(produce),
-            write.data.eq(self.w.payload),
-            write.en.eq(do_write),
-            read.addr.eq(consume),
-            read.en.eq(do_read),
-            self.r.payload.eq(read.data),
             level.up.eq(do_write),
             level.down.eq(do_read),
         ]
+        if self._storage == "memory":
+            m.submodules.storage = storage = Memory(shape=self._shape, depth=words, init=[])
+            write = storage.write_port()
+            read = storage.read_port(domain="sync")
+            m.d.comb += [
+                write.addr.eq(produce),
+                write.data.eq(self.w.payload),
+                write.en.eq(do_write),
+                read.addr.eq(consume),
+                read.en.eq(do_read),
+                self.r.payload.eq(read.data),
+            ]
+        else:
+            cells = Array(Signal(self._shape, name=f"word_{i}") for i in range(words))
+            head = Signal(self._shape)
+            with m.If(do_write):
+                m.d.sync += cells[produce].eq(self.w.payload)
+            with m.If(do_read):
+                m.d.sync += head.eq(cells[consume])
+            m.d.comb += self.r.payload.eq(head)
         with m.If(do_read):
             m.d.sync += self.r.valid.eq(1)
         with m.Elif(self.r.ready):

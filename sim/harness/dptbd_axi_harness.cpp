@@ -18,9 +18,16 @@
 //                       op I KIND A D        before offering beat I (I = N: after the last
 //                                            beat), in file order: KIND w = write D to byte
 //                                            address A (AW and W together, all strobes),
-//                                            r = read address A, i = stay idle A cycles,
+//                                            r = read address A (D bit 0: probing, once
+//                                            AR is taken araddr is A ^ 4, AR is offered
+//                                            (D bit 1: AW and W too) and rready is low for
+//                                            PROBE_HOLD cycles of rvalid; a ready seen
+//                                            meanwhile counts in axil_violations),
+//                                            i = stay idle A cycles,
 //                                            m = write as w with the strobes D >> 32
-//                                            (wstrb, 4 bits) and the data D & 0xFFFFFFFF,
+//                                            (wstrb, 4 bits) and the data D & 0xFFFFFFFF
+//                                            (D bit 36: W offered only from the cycle
+//                                            after the AW handshake, awaddr A ^ 4 then),
 //                                            b = read address A again until bit 0 of the
 //                                            data is 0 (STATUS.soft_reset_busy: wait
 //                                            for a soft reset), reported as one read,
@@ -45,7 +52,8 @@
 //                     before the rising edge, aresetn high): its rises and falls in turn
 //   ops.bin           per w/r operation: uint64 data (reads) | resp << 32 | done cycle << 34
 //   result.txt        "key value" lines: status, cycles, accepted, outputs, seconds,
-//                     irq_rises, stalled_input_cycles, paused_output_cycles
+//                     irq_rises, stalled_input_cycles, paused_output_cycles,
+//                     axil_violations (readies seen while a probing read was pending)
 // Cycle 0 is the first simulated cycle; aresetn is low in cycles 0 and 1 and during the
 // cycles of an a operation.
 //
@@ -88,6 +96,9 @@ using dptbd_harness::threshold_of;
 using dptbd_harness::write_words;
 
 struct Op { uint64_t before_word; char kind; uint64_t addr, data; };
+
+// cycles of rvalid a probing read holds rready low
+constexpr uint64_t PROBE_HOLD = 3;
 
 struct Job : dptbd_harness::StreamJob {
     std::vector<Op> ops;
@@ -166,6 +177,7 @@ int main(int argc, char** argv) {
     // the operation in progress: kind 0 (none) or the op's kind
     char busy = 0;
     bool aw_done = false, w_done = false, ar_done = false;
+    uint64_t r_held = 0, axil_violations = 0;
     uint64_t idle_left = 0;
     std::string status = "timeout";
 
@@ -180,22 +192,33 @@ int main(int argc, char** argv) {
             const Op& op = job.ops[next_op];
             busy = op.kind;
             aw_done = w_done = ar_done = false;
+            r_held = 0;
             idle_left = op.addr;
         }
         const bool rst = cycle < 2 || busy == 'a';
         dut->aresetn = !rst;
         const Op* op = busy ? &job.ops[next_op] : nullptr;
         const bool writing = busy == 'w' || busy == 'm';
-        dut->s_axil_awvalid = writing && !aw_done;
-        dut->s_axil_awaddr = writing ? op->addr : 0;
-        dut->s_axil_wvalid = writing && !w_done;
+        // an 'm' write with data bit 36: W offered from the cycle after the AW handshake,
+        // awaddr changed (bit 2 flipped) once AW is taken
+        const bool late = busy == 'm' && ((op->data >> 36) & 1);
+        // an 'r' read with data bit 0: once AR is taken, araddr changed, AR offered (with
+        // data bit 1 AW and W too; none may be taken: one transaction at a time) and rready
+        // held low for PROBE_HOLD cycles of rvalid
+        const bool probe = busy == 'r' && (op->data & 1);
+        const bool probing = probe && ar_done;
+        const bool probing_all = probing && (op->data & 2);
+        dut->s_axil_awvalid = (writing && !aw_done) || probing_all;
+        dut->s_axil_awaddr = writing ? ((late && aw_done) ? op->addr ^ 4 : op->addr)
+                                     : (probing ? op->addr ^ 4 : 0);
+        dut->s_axil_wvalid = (writing && !w_done && (!late || aw_done)) || probing_all;
         dut->s_axil_wdata = writing ? static_cast<uint32_t>(op->data) : 0;
         dut->s_axil_wstrb = busy == 'm' ? (op->data >> 32) & 0xF : 0xF;
         dut->s_axil_bready = 1;
         const bool reading = busy == 'r' || busy == 'b';
-        dut->s_axil_arvalid = reading && !ar_done;
-        dut->s_axil_araddr = reading ? op->addr : 0;
-        dut->s_axil_rready = 1;
+        dut->s_axil_arvalid = (reading && !ar_done) || probing;
+        dut->s_axil_araddr = reading ? (probing ? op->addr ^ 4 : op->addr) : 0;
+        dut->s_axil_rready = !(probe && r_held < PROBE_HOLD);
 #ifdef DPTBD_MUTANT
         dut->preset_load = busy == 'p' ? 1u << op->addr : 0;
         dut->preset_value = busy == 'p' ? static_cast<uint32_t>(op->data) : 0;
@@ -235,8 +258,8 @@ int main(int argc, char** argv) {
                 ++paused_out;
             }
             if (writing) {
-                aw_done = aw_done || dut->s_axil_awready;
-                w_done = w_done || dut->s_axil_wready;
+                aw_done = aw_done || (dut->s_axil_awvalid && dut->s_axil_awready);
+                w_done = w_done || (dut->s_axil_wvalid && dut->s_axil_wready);
                 if (dut->s_axil_bvalid) {
                     ops_out.push_back((static_cast<uint64_t>(dut->s_axil_bresp) << 32)
                                       | (cycle << 34));
@@ -244,8 +267,14 @@ int main(int argc, char** argv) {
                     ++next_op;
                 }
             } else if (reading) {
+                if (probing && (dut->s_axil_awready || dut->s_axil_wready
+                                || dut->s_axil_arready)) {
+                    ++axil_violations;                      // taken during a read
+                }
                 ar_done = ar_done || dut->s_axil_arready;
-                if (dut->s_axil_rvalid && busy == 'b' && (dut->s_axil_rdata & 1)) {
+                if (dut->s_axil_rvalid && !dut->s_axil_rready) {
+                    ++r_held;
+                } else if (dut->s_axil_rvalid && busy == 'b' && (dut->s_axil_rdata & 1)) {
                     ar_done = false;                        // still busy: read again
                 } else if (dut->s_axil_rvalid) {
                     ops_out.push_back(static_cast<uint64_t>(dut->s_axil_rdata)
@@ -299,9 +328,9 @@ int main(int argc, char** argv) {
     if (!fh) fail("cannot write result.txt");
     std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"
                  "stalled_input_cycles %" PRIu64 "\npaused_output_cycles %" PRIu64 "\n"
-                 "irq_rises %" PRIu64 "\nseconds %.9f\n",
+                 "irq_rises %" PRIu64 "\naxil_violations %" PRIu64 "\nseconds %.9f\n",
                  status.c_str(), cycle, next_word, out.size(), stalled_in, paused_out,
-                 irq_rises, seconds);
+                 irq_rises, axil_violations, seconds);
 #ifdef DPTBD_AXI_STORE
     std::fprintf(fh, "read_bursts %" PRIu64 "\nwrite_bursts %" PRIu64 "\nviolations %" PRIu64
                  "\nread_error_beats %" PRIu64 "\nwrite_error_bursts %" PRIu64

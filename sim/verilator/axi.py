@@ -55,6 +55,9 @@ ERROR_RESPONSES = ("SLVERR", "DECERR")
 #: check at the end) and LISTS checked there against the lists delivered.
 CUT_COUNTERS = ("FRAMES", "SEGMENTS", "LISTS", "SATURATED")
 
+#: The bit of an ``m`` operation's data that makes the write's W late (``"w-late"``).
+BUS_LATE_BIT = 36
+
 #: The AXI4 memory model's settings (``sim/harness/axi4_memory.h``) ``run_axi`` takes in
 #: ``memory``: two-number ranges (latency, write_latency: cycles; error_cycles: [from, to)),
 #: probabilities (axi_ready, axi_valid, read_error, write_error), the base address, the span
@@ -156,7 +159,11 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str],
     (``[p, m, code, wstrb]``: single LUT entries, after ``lut_codes``; refused unless
     ``wstrb`` = 0xF and the code is in [0, 2**F]) and ``bus`` (raw accesses, last:
     ``["w", address, data, wstrb, response]`` or ``["r", address, response, value or
-    None]``; what is to be checked is given). ``store``: the build's state store, whose
+    None]``; what is to be checked is given; ``"w-late"`` offers W only from the cycle
+    after the AW handshake and changes ``awaddr`` then, ``"r-probe"`` changes ``araddr``
+    after the AR handshake, offers AR while the read is pending (``"r-probe-all"`` AW and
+    W too; none may be taken: the harness counts ``axil_violations``) and holds ``rready``
+    low for 3 cycles of ``rvalid``). ``store``: the build's state store, whose
     registers a ``check`` may then read."""
     regs, regmap = constants_namespace(cfg, store), register_map(cfg, store)
     ops, checks, start = [], [], 0
@@ -210,12 +217,14 @@ def step_operations(cfg, steps: list[dict], settle: int, final_reads: list[str],
                         int(code) | int(strobe) << 32))
             checks.append(("write", f"LUT[{p}, {m}]", OKAY if taken else SLVERR))
         for kind, address, *rest in step.get("bus", []):
-            if kind == "w":
+            if kind in ("w", "w-late"):
                 data, strobe, want = rest
-                ops.append((start, "m", int(address), int(data) | int(strobe) << 32))
+                late = (kind == "w-late") << BUS_LATE_BIT
+                ops.append((start, "m", int(address), int(data) | int(strobe) << 32 | late))
                 checks.append(("write", f"{int(address):#05x}", want))
             else:
-                ops.append((start, "r", int(address), 0))
+                probe = {"r-probe": 1, "r-probe-all": 3}.get(kind, 0)
+                ops.append((start, "r", int(address), probe))
                 checks.append(("bus-read", f"{int(address):#05x}", tuple(rest)))
         start = step["stop"]
     ops.append((start, "i", settle, 0))
@@ -412,6 +421,9 @@ def check_axi(sim: VerilatorBuild, beats: Beats, steps: list[dict], *,
     for name, want in final.items():
         if name in reads and want is not None and reads[name] != want:
             problems.append(f"at the end: {name} = {reads[name]}, the model gives {want}")
+    if run.counters.get("axil_violations"):
+        problems.append(f"s_axil: {run.counters['axil_violations']} cycles with a ready high "
+                        f"while a read was pending (one transaction at a time)")
     if run.counters.get("violations"):
         problems.append(f"{run.counters['violations']} AXI4 violations on m_axi_state, the "
                         f"first: {run.first_violation}")

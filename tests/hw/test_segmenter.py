@@ -222,6 +222,8 @@ def settings_driver(dut, settings, rng, states):
             else:
                 value = int(rng.integers(0, 1 << len(port)))
             ctx.set(port, value)
+            if port is dut.segment_frames:                  # the driver's K == 1 with K
+                ctx.set(dut.segment_frames_one, value == 1)
     return drive
 
 

@@ -12,7 +12,7 @@ from amaranth.hdl import Module
 from amaranth.lib import data, fifo
 
 from dptbd.errors import DptbdError
-from dptbd.hw.thermometer_fifo import ThermometerFIFO
+from dptbd.hw.thermometer_fifo import STORAGES, ThermometerFIFO
 from helpers.hw_harness import refused, simulate
 
 WIDTH = 8
@@ -78,26 +78,29 @@ def rtl_fifo(dut, stim):
     return trace
 
 
+@pytest.mark.parametrize("storage", STORAGES)
 @pytest.mark.parametrize("depth, gap, stall, seed", cases())
-def test_cycles_are_those_of_sync_fifo_buffered(depth, gap, stall, seed):
+def test_cycles_are_those_of_sync_fifo_buffered(depth, gap, stall, seed, storage):
     stim = stimulus(gap, stall, seed)
-    trace = rtl_fifo(ThermometerFIFO(WIDTH, depth), stim)
+    trace = rtl_fifo(ThermometerFIFO(WIDTH, depth, storage=storage), stim)
     assert trace == ref_fifo(depth, stim)
     assert trace == rtl_fifo(LibraryFIFO(depth), stim)          # the model is the library's
     if stall > gap:     # back-pressure wins: the FIFO fills up and refuses writes
         assert not all(w_ready for w_ready, _, _ in trace)
 
 
-def test_a_word_takes_two_cycles_and_then_one_per_cycle():
+@pytest.mark.parametrize("storage", STORAGES)
+def test_a_word_takes_two_cycles_and_then_one_per_cycle(storage):
     """Written in cycles 0, 1, 2 into an empty FIFO: on ``r`` from cycles 2, 3, 4."""
     stim = [(cycle < 3, True) for cycle in range(8)]
-    trace = rtl_fifo(ThermometerFIFO(WIDTH, 4), stim)
+    trace = rtl_fifo(ThermometerFIFO(WIDTH, 4, storage=storage), stim)
     assert [word for _, _, word in trace] == [None, None, 1, 2, 3, None, None, None]
 
 
-def test_carries_a_layout():
+@pytest.mark.parametrize("storage", STORAGES)
+def test_carries_a_layout(storage):
     layout = data.StructLayout({"a": 3, "b": 1})
-    dut = ThermometerFIFO(layout, 3)
+    dut = ThermometerFIFO(layout, 3, storage=storage)
     assert dut.r.payload.shape() == layout and dut.depth == 3
     seen = []
 
@@ -117,3 +120,8 @@ def test_carries_a_layout():
 def test_refuses_a_depth_below_two():
     with refused(DptbdError, r"^depth must be an integer in \[2, inf\), got 1$"):
         ThermometerFIFO(WIDTH, 1)
+
+
+def test_refuses_an_unknown_storage():
+    with refused(DptbdError, r"^storage must be one of 'memory', 'registers', got 'flops'$"):
+        ThermometerFIFO(WIDTH, 3, storage="flops")

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from amaranth.hdl import Assert, Cover
+from amaranth.hdl import Assert, Cat, Cover
 
 from dptbd.config import DPConfig
 from dptbd.hw.register_file import RegisterFile
@@ -26,7 +26,9 @@ class RegistersHarness(Harness):
     sticky / interrupt bit and writes no LUT entry; a sticky / interrupt bit (W1C) goes from
     1 to 0 only in the cycle after an accepted write of a 1 to it. Invariants (for the
     induction): while an AW is held, the register block's decode of it, registered at its
-    handshake, is its address's.
+    handshake, is its address's; an accepted AR is the read being answered (the cycle after
+    its handshake) or ``rvalid``, and the read's registered decode is its address's; the subordinate's registered ``busy`` is ``bvalid`` or
+    ``rvalid`` or a read being answered.
     """
 
     def __init__(self, cfg: DPConfig | None = None):
@@ -98,10 +100,24 @@ class RegistersHarness(Harness):
             m.d.comb += Assert(regs.signal("write_at_lut")
                                == (~w_addr[:2].any() & (w_addr >= lut.base) & (w_addr < lut.end)),
                                "write_at_lut != the held address's")
+        # ... and the read being answered, decoded at its AR handshake, is its address's
+        r_addr = bus.r_addr
+        with m.If(port.signal("reading")):
+            hits = []
+            for reg in regmap.registers:
+                hit = r_addr == reg.address
+                hits.append(hit)
+                m.d.comb += Assert(regs.signal(f"read_at_{reg.name.lower()}") == hit,
+                                   f"read_at_{reg.name.lower()} != the read address's")
+            m.d.comb += Assert(regs.signal("read_unmapped") == ~Cat(*hits).any(),
+                               "read_unmapped != the read address's")
         m.d.comb += [
             Assert(aw_out == port.signal("have_aw") + b.bvalid, "AW outstanding != held"),
             Assert(w_out == port.signal("have_w") + b.bvalid, "W outstanding != held"),
-            Assert(ar_out == r.rvalid, "AR outstanding != rvalid"),
+            Assert(ar_out == port.signal("reading") + r.rvalid,
+                   "AR outstanding != the read being answered + rvalid"),
+            Assert(port.signal("busy") == (b.bvalid | r.rvalid | port.signal("reading")),
+                   "busy != bvalid | rvalid | the read being answered"),
         ]
         irq_status = next(reg for reg in regmap.registers if reg.name == "IRQ_STATUS")
         field = irq_status.fields[0]

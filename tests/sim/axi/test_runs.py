@@ -160,7 +160,7 @@ def test_a_few_runs_are_bit_exact():
 
 SLICE_BINS = {
     **{bins.soft_reset_bin(k): hits for k, hits in enumerate(
-        [16, 4, 2, 3, 3, 3, 3, 3, 4, 3, 2, 3, 4, 3, 4, 3, 2, 1])},
+        [16, 4, 2, 3, 3, 3, 3, 4, 3, 3, 2, 3, 4, 3, 4, 3, 2, 1])},
     "aresetn: 0 words in flight": 3, "fault: sof_unexpected recovered": 32,
     "fault: frame_short recovered": 5, "fault: frame_long recovered": 28,
     "fault: line_length recovered": 47, "LUT: written between frames": 4,

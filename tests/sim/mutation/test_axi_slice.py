@@ -32,8 +32,8 @@ tools = pytest.mark.skipif(not have_mutation_tools(), reason="needs Verilator, g
 #: The mutations, as ``mutate -list`` prints them on today's netlist (cell names are the
 #: netlist's: they change with ``hw/register_file.py``, ``hw/axi_lite.py`` and
 #: ``hw/axis_video.py``).
-IRQ_ENABLE_ON_FALLING_EDGE = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$8093 "
-                              "-port CLK -portbit 0 -src hw/register_file.py:118")
+IRQ_ENABLE_ON_FALLING_EDGE = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$1482 "
+                              "-port CLK -portbit 0 -src hw/register_file.py:120")
 RESTART_AFTER_THE_CUT_TRAILER = ("mutate -mode inv -module dptbd_axi -cell "
                                  "$flatten\\cand_out.$70 -port Y -portbit 0 "
                                  "-src hw/axis_video.py:167")
@@ -43,18 +43,18 @@ RESTART_AFTER_THE_CUT_TRAILER = ("mutate -mode inv -module dptbd_axi -cell "
 #: (Bit 11 of the write data, which the earlier netlist's limit check read, is read by
 #: nothing today: the limit checks take the W handshake's data, and no writable field has
 #: bit 11; bit 4 is ERROR.write_refused's W1C bit.)
-WRITE_DATA_BIT_4 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$65 "
+WRITE_DATA_BIT_4 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$80 "
                     "-port Q -portbit 4 -wire regs.axil.w_data -wirebit 4 "
-                    "-src hw/axi_lite.py:99")
-LUT_WE_INVERTED = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$procmux$1274 "
+                    "-src hw/axi_lite.py:108")
+LUT_WE_INVERTED = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$procmux$1562 "
                    "-port Y -portbit 0")
 LUT_COLUMN_8_WITH_4 = ("mutate -mode cnot1 -module dptbd_axi -cell "
                        "$flatten\\core.\\dp.\\core.\\weight_lut.$406 -port Q -portbit 8 "
                        "-ctrlbit 4 -wire core.dp.core.weight_lut.write__en$225 -wirebit 0 "
                        "-src amaranth/lib/memory.py:400 -src hw/weight_lut.py:230")
-LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$8121 "
+LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1510 "
                         "-port Q -portbit 22 -ctrlbit 13 -wire regs.lists -wirebit 22 "
-                        "-src hw/register_file.py:114")
+                        "-src hw/register_file.py:116")
 #: DPCore's resync stuck at 0 (mutant 77 of ``--seed 1`` on the earlier netlist):
 #: DPSegmenter latches the settings at a resync too, which the ``resync`` runs of seeds 3-5
 #: see.
@@ -64,14 +64,14 @@ RESYNC_STUCK_AT_0 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core
 #: Mutants 100 and 151 of ``--seed 1`` on the earlier netlist: a counter's high bit XORed
 #: with a bit it reaches only after 2**16 lists or 2**25 frames; the ``presets`` run loads
 #: both.
-LISTS_BIT_29_WITH_16 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$8121 "
+LISTS_BIT_29_WITH_16 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1510 "
                         "-port Q -portbit 29 -ctrlbit 16 -wire regs.lists -wirebit 29 "
-                        "-src hw/register_file.py:114")
-FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$8117 "
+                        "-src hw/register_file.py:116")
+FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1506 "
                          "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames -wirebit 19 "
-                         "-src hw/register_file.py:114")
-READ_DATA_BIT_21 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$75 "
-                    "-port D -portbit 21 -src hw/axi_lite.py:44")
+                         "-src hw/register_file.py:116")
+READ_DATA_BIT_21 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$94 "
+                    "-port D -portbit 21 -src hw/axi_lite.py:48")
 
 
 def test_irq_plan_sets_both_pending_bits_and_toggles_irq():
@@ -137,16 +137,32 @@ def test_decode_sweep_reads_every_address_and_refuses_every_bit_above_a_limit():
     lut = regmap.window("LUT")
     writes = [b for b in bus if b[0] == "w"]
     error, status = regmap["ERROR"].address, regmap["IRQ_STATUS"].address
-    assert [b for b in writes if b[4] != 2] == [["w", error, 2**32 - 1, 0xF, 0]]  # the W1C
+    accepted = [b for b in writes if b[4] != 2]
+    assert accepted[0] == ["w", error, 2**32 - 1, 0xF, 0]                     # the W1C
+    assert [b[1] for b in accepted[1:]] == [r.address for r in regmap.registers
+                                            if r.kind == "setting"]      # written back
     assert [b[3] for b in writes if lut.base <= b[1] < lut.end] == [0xE, 0xD, 0xB, 0x7]
     k = regmap["SEGMENT_FRAMES"]
     assert [b[2] for b in writes if b[1] == k.address] == [
-        k.reset | 1 << b for b in [*range(3, 32), 31]]       # K_max = 4 < 8
+        k.reset | 1 << b for b in [*range(3, 32), 31]] + [k.reset]   # K_max = 4 < 8
     # ERROR cleared with all ones leaves IRQ_STATUS.fault pending; a refused write sets
     # ERROR.write_refused again
-    assert bus[-6:] == [["r", status, 0, 2], ["w", error, 2**32 - 1, 0xF, 0],
-                        ["r", status, 0, 2], ["r", error, 0, 0],
-                        ["w", k.address, k.reset | 1 << 31, 0xF, 2], ["r", error, 0, 16]]
+    settings = [r for r in regmap.registers if r.kind == "setting"]
+    tail = len(settings) * 2 + mapped                   # the handshake accesses
+    assert bus[-6 - tail:-tail] == [
+        ["r", status, 0, 2], ["w", error, 2**32 - 1, 0xF, 0], ["r", status, 0, 2],
+        ["r", error, 0, 0], ["w", k.address, k.reset | 1 << 31, 0xF, 2], ["r", error, 0, 16]]
+    # then every setting written its upper limit with W late and awaddr changed after AW,
+    # every register read while probed, the settings written back
+    late, probes, back = (bus[-tail:][:len(settings)],
+                          bus[-tail:][len(settings):len(settings) + mapped],
+                          bus[-len(settings):])
+    assert late == [["w-late", r.address, r.fields[0].limits[1], 0xF, 0] for r in settings]
+    assert [b[:3] for b in probes] == [["r-probe-all" if i % 2 else "r-probe", r.address, 0]
+                                       for i, r in enumerate(regmap.registers)]
+    assert dict((b[1], b[3]) for b in probes)[k.address] == k.fields[0].limits[1]
+    assert dict((b[1], b[3]) for b in probes)[status] == 2
+    assert back == [["w", r.address, r.reset, 0xF, 0] for r in settings]
     assert steps[1]["stop"] == len(beats) == 2 * cfg.width * cfg.height
 
 
@@ -250,8 +266,8 @@ def test_the_presets_run_kills_counter_bits_no_count_reaches():
     sim = V.build(cfg, "axi", mutations=commands)
     counting = (("counters", 0), ("lists", 0))
     assert run_slice(sim, 0, (("presets", 0), *counting)).verdict == "survived"
-    for index, report in ((1, "read 32 (LISTS) gave 0x75555555, expected 0x55555555"),
-                          (2, "read 10 (FRAMES) gave 0xaaa2aaaa, expected 0xaaaaaaaa")):
+    for index, report in ((1, "read 22 (LISTS) gave 0x75555555, expected 0x55555555"),
+                          (2, "read 0 (FRAMES) gave 0xaaa2aaaa, expected 0xaaaaaaaa")):
         assert run_slice(sim, index, counting).verdict == "survived"
         outcome = run_slice(sim, index, (("presets", 0),))
         assert (outcome.verdict, outcome.run, outcome.report) == \
@@ -262,23 +278,24 @@ def test_the_presets_run_kills_counter_bits_no_count_reaches():
 #: survivors of the slice before these checks: the LUT write's strobe check with strobe 1
 #: forced (a write without it taken), IRQ_STATUS' write decode with address bit 2 forced
 #: (a write to ERROR clears IRQ_STATUS too), a read select's unaligned term with address
-#: bit 1 forced 0 (INPUT_STALLS bit 8 read at +2, +3) or forced true (LISTS bit 26 read at
-#: +1 … +3), FAULT_FRAME_SHORT's + 1 with bit 28 XORed with bit 14, and `passing`'s copy
+#: bit 1 forced 0 (INPUT_STALLS read at +2, +3) or forced true (LISTS read at +1 … +3;
+#: named after the bits the per-bit selects of the earlier netlist leaked, today's
+#: registered selects leak the whole word), FAULT_FRAME_SHORT's + 1 with bit 28 XORed with bit 14, and `passing`'s copy
 #: that loads `held` without its ~request term (`held` is never set: a word offered and
 #: not taken when a soft reset comes is replaced by the cut trailer). Named on today's
 #: netlist (the soft reset's restart registered) where ``hw/axis_video.py`` changed.
-LUT_STROBE_1_FORCED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$7928 "
-                       "-port A -portbit 1 -src hw/register_file.py:181")
-ERROR_WRITE_AT_IRQ_STATUS = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$7739 "
-                             "-port A -portbit 0 -src hw/register_file.py:161")
+LUT_STROBE_1_FORCED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1261 "
+                       "-port A -portbit 1 -src hw/register_file.py:193")
+ERROR_WRITE_AT_IRQ_STATUS = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1072 "
+                             "-port A -portbit 0 -src hw/register_file.py:173")
 INPUT_STALLS_BIT_8_UNALIGNED = ("mutate -mode const0 -module dptbd_axi -cell "
-                                "$flatten\\regs.$7178 -port A -portbit 1 "
-                                "-src hw/register_file.py:141")
-LISTS_BIT_26_UNALIGNED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$6471 "
-                          "-port Y -portbit 0 -src hw/register_file.py:141")
+                                "$flatten\\regs.$885 -port A -portbit 1 "
+                                "-src hw/register_file.py:148")
+LISTS_BIT_26_UNALIGNED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$862 "
+                          "-port Y -portbit 0 -src hw/register_file.py:148")
 FAULT_FRAME_SHORT_PLUS_1_BIT_28 = ("mutate -mode cnot1 -module dptbd_axi -cell "
-                                   "$flatten\\regs.$7990 -port Y -portbit 28 -ctrlbit 14 "
-                                   "-src hw/register_file.py:215")
+                                   "$flatten\\regs.$1323 -port Y -portbit 28 -ctrlbit 14 "
+                                   "-src hw/register_file.py:227")
 HELD_WITHOUT_REQUEST = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\cand_out.$113 "
                         "-port Y -portbit 0 -src hw/axis_video.py:166")
 
@@ -325,9 +342,9 @@ def test_the_checks_of_the_register_block_and_the_reference_kill_their_mutants()
     for index, run, report in (
             (1, "decode seed 0", "write 0x400: response 0, expected 2"),
             (2, "decode seed 0", "read 0x084 = 0, response 0, expected 2 with response 0"),
-            (3, "presets seed 0", "read 0x0aa (unaligned) gave 0x00000100 with response 2, "
+            (3, "presets seed 0", "read 0x0aa (unaligned) gave 0xaaaaaaaa with response 2, "
                                   "expected 0 with SLVERR"),
-            (4, "presets seed 0", "read 0x091 (unaligned) gave 0x04000000 with response 2, "
+            (4, "presets seed 0", "read 0x091 (unaligned) gave 0xaaaaaaaa with response 2, "
                                   "expected 0 with SLVERR"),
             (5, "reference seed 0", "op_data["),
             (6, "reference seed 1", "out_words[")):
@@ -345,8 +362,8 @@ def test_the_checks_of_the_register_block_and_the_reference_kill_their_mutants()
 #: and the frame monitor's line index without its start-of-frame branch in the copy that
 #: compares it with W (a W-beat line without ``tlast`` that the next start of frame ends
 #: counts a ``line_length`` fault).
-SHIFT_6_AS_4 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\segmenter.$133 "
-                "-port B -portbit 1 -src hw/segmenter.py:233")
+SHIFT_6_AS_4 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\segmenter.$131 "
+                "-port B -portbit 1 -src hw/segmenter.py:239")
 LINE_INDEX_WITHOUT_SOF = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\monitor.$88 "
                           "-port S -portbit 0 -src hw/frame_monitor.py:91")
 
@@ -387,3 +404,71 @@ def test_the_shifts_and_line_ends_runs_kill_their_mutants():
     # the fault runs see neither
     assert run_slice(sim, 1, (("faults", 0),)).verdict == "survived"
     assert run_slice(sim, 2, (("faults", 0), ("resync", 0))).verdict == "survived"
+
+
+def test_lut_entry_run_shows_the_entry_code_bit_0():
+    """The ``lut-entry`` run's lists change when the code of :data:`LUT_ENTRY` has its bit 0
+    changed (what a mutant of that LUT bit does), and when any other entry's does not."""
+    from dptbd.sim.axi.stimulus import expected_outputs
+    from dptbd.sim.candidate_scoreboard import list_words
+
+    cfg = config("axi")
+    beats, steps = S.lut_entry_steps(cfg)
+    p, m = S.LUT_ENTRY
+    codes = steps[0]["lut_codes"]
+    assert codes[p][m] == (1 << cfg.weight_frac_bits) - 1 and codes[p][m] & 1
+
+    def words(lut):
+        return list_words(cfg, expected_outputs(cfg, beats, [dict(steps[0], lut_codes=lut)]
+                                                ).lists)
+
+    flipped = [row[:] for row in codes]
+    flipped[p][m] ^= 1
+    assert words(flipped) != words(codes)
+    assert len(beats) == 8 * cfg.width * cfg.height
+
+
+def test_low_shift_run_cuts_its_lists_at_every_threshold():
+    from dptbd.sim.axi.stimulus import expected_outputs
+
+    cfg = config("axi")
+    beats, steps = S.low_shift_steps(cfg)
+    assert {dict(step["writes"])["HISTOGRAM_SHIFT"] for step in steps} == {1}
+    lists = expected_outputs(cfg, beats, steps).lists
+    assert [lst.threshold for lst in lists] == list(S.LOW_SHIFT_THRESHOLDS)
+    assert S.LOW_SHIFT_THRESHOLDS == tuple(range(1 << cfg.histogram_bits, -1, -1))
+    assert int(beats.pixel.max()) < 1 << (cfg.histogram_bits + 1)      # low energies
+
+
+#: The behaviours the ``decode`` run's handshake accesses check, as mutants of today's
+#: netlist: the write decode of CANDIDATE_COUNT loaded in every cycle instead of at the AW
+#: handshake, ``arready`` without its ``~busy`` term (high while a read is answered), the
+#: registered ``busy`` without its held ``rvalid`` term, and the read select of VERSION
+#: with address bit 2 forced 1 (a read of ID answers ID | VERSION).
+WRITE_DECODE_EVERY_CYCLE = ("mutate -mode const1 -module dptbd_axi -cell "
+                            "$flatten\\regs.$procmux$1400 -port S -portbit 0")
+ARREADY_WITHOUT_BUSY = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.\\axil.$46 "
+                        "-port Y -portbit 0 -src hw/axi_lite.py:117")
+BUSY_WITHOUT_RVALID = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$71 "
+                       "-port Y -portbit 0 -src hw/axi_lite.py:152")
+READ_SELECT_ADDRESS_BIT = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$795 "
+                           "-port A -portbit 0 -src hw/register_file.py:148")
+
+
+@tools
+def test_the_handshake_accesses_kill_their_mutants():
+    cfg = config("axi")
+    mutations = parse_mutations("\n".join([WRITE_DECODE_EVERY_CYCLE, ARREADY_WITHOUT_BUSY,
+                                           BUSY_WITHOUT_RVALID, READ_SELECT_ADDRESS_BIT]))
+    commands, refused = mutant_design(cfg, "axi", mutations)
+    assert refused == []
+    sim = V.build(cfg, "axi", mutations=commands)
+    runs = (("decode", 0),)
+    assert run_slice(sim, 0, runs).verdict == "survived"
+    for index, report in ((1, "write 0x"),
+                          (2, "s_axil: "),
+                          (3, "s_axil: "),
+                          (4, "read 0x")):
+        outcome = run_slice(sim, index, runs)
+        assert (outcome.verdict, outcome.run) == ("killed", "decode seed 0"), (index, outcome)
+        assert report in outcome.report, (index, outcome.report)

@@ -11,7 +11,9 @@ back-pressure (:func:`stall_plan`); ``noise`` runs under the build's LUT
 (:func:`noise_steps`); settings written inside a segment that a resync then ends
 (:func:`resync_steps`); the LUT written from its last entry to its first
 (:func:`lut_scenario`, ``lut-reverse``); every histogram shift (:func:`shift_steps`);
-frames whose last line ends at the next start of frame (:func:`line_end_steps`); 8 292
+frames whose last line ends at the next start of frame (:func:`line_end_steps`); a LUT
+under which entry :data:`LUT_ENTRY`'s code bit 0 shows (:func:`lut_entry_steps`); low
+energies at shift 1 through every threshold (:func:`low_shift_steps`); 8 292
 one-frame lists read at both clock parities (:func:`lists_plan`); every counter preset, read and counted on to a wrap
 (:func:`presets_plan`); and runs compared cycle for cycle with the original design's
 (:func:`reference_run`). The runs of exact cycles and counters are in
@@ -22,9 +24,11 @@ from __future__ import annotations
 
 from dptbd.config import DPConfig
 from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS
-from dptbd.sim.mutation.slices.axi.registers import (N_VALUES, decode_steps, n_steps,
-                                                     noise_steps, resync_steps, shift_steps,
-                                                     line_end_steps)
+from dptbd.sim.mutation.slices.axi.registers import (LOW_SHIFT_THRESHOLDS, LUT_ENTRY, N_VALUES,
+                                                     decode_steps, line_end_steps,
+                                                     low_shift_steps, lut_entry_codes,
+                                                     lut_entry_steps, n_steps, noise_steps,
+                                                     resync_steps, shift_steps)
 from dptbd.sim.mutation.slices.axi.timing import (IRQ_WRITES, LIST_COUNT, PRESET_FRAMES,
                                                   PRESETS, RESTART_DELAY, STALL_CYCLES, irq_plan,
                                                   irq_run, lists_plan, lists_run,
@@ -36,7 +40,8 @@ __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
            "COUNTER_READS", "IRQ_WRITES", "RESTART_DELAY", "RUNS", "axi_scenario",
            "lut_scenario", "counter_plan", "irq_plan", "restart_plan", "N_VALUES",
            "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "noise_steps", "resync_steps",
-           "shift_steps", "line_end_steps",
+           "shift_steps", "line_end_steps", "LUT_ENTRY", "lut_entry_codes", "lut_entry_steps",
+           "LOW_SHIFT_THRESHOLDS", "low_shift_steps",
            "LIST_COUNT", "lists_plan", "PRESETS", "PRESET_FRAMES", "presets_plan",
            "REFERENCE_PRESET", "REFERENCE_PAUSE", "reference_plan", "reference_run", "run"]
 
@@ -65,6 +70,7 @@ RUNS = tuple([("faults", s) for s in range(16)]
                 ("n-values", 0), ("noise", 0), ("noise", 1),
                 *(("resync", s) for s in range(6)),
                 ("lut-reverse", 0), ("lut-reverse", 1), ("shifts", 0), ("line-ends", 0),
+                ("lut-entry", 0), ("low-shift", 0),
                 ("reference", 0), ("reference", 1), ("stalls", 0), ("lists", 0)])
 
 #: The ``reference`` runs (:func:`reference_run`): every counter's preset (bit 14 and every
@@ -338,6 +344,10 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
         return _checked(check_axi(sim, *n_steps(sim.cfg)))
     if kind == "line-ends":
         return _checked(check_axi(sim, *line_end_steps(sim.cfg)))
+    if kind == "lut-entry":
+        return _checked(check_axi(sim, *lut_entry_steps(sim.cfg)))
+    if kind == "low-shift":
+        return _checked(check_axi(sim, *low_shift_steps(sim.cfg)))
     if kind == "shifts":
         return _checked(check_axi(sim, *shift_steps(sim.cfg)))
     if kind == "irq":

@@ -3,15 +3,18 @@
 (:func:`decode_steps`), a run through many values of n (:func:`n_steps`), ``noise`` runs
 under the build's LUT (:func:`noise_steps`), settings written inside a segment that a
 resync then ends (:func:`resync_steps`), a run through every histogram shift
-(:func:`shift_steps`) and frames whose last line ends at the next start of frame
-(:func:`line_end_steps`)."""
+(:func:`shift_steps`), frames whose last line ends at the next start of frame
+(:func:`line_end_steps`), a LUT under which one entry's code bit 0 shows
+(:func:`lut_entry_steps`) and low energies thresholded at shift 1 through every threshold
+(:func:`low_shift_steps`)."""
 
 from __future__ import annotations
 
 from dptbd.config import DPConfig
 
-__all__ = ["N_VALUES", "decode_steps", "n_steps", "noise_steps", "resync_steps", "shift_steps",
-           "line_end_steps"]
+__all__ = ["N_VALUES", "LUT_ENTRY", "LOW_SHIFT_THRESHOLDS", "decode_steps", "n_steps",
+           "noise_steps", "resync_steps", "shift_steps", "line_end_steps", "lut_entry_codes",
+           "lut_entry_steps", "low_shift_steps"]
 
 def decode_steps(cfg: DPConfig) -> tuple:
     """The beats and steps of the ``decode`` run: right after reset, a read of every word
@@ -25,8 +28,9 @@ def decode_steps(cfg: DPConfig) -> tuple:
     compared), each register read back unchanged and ERROR.write_refused set; a LUT write
     with each byte strobe clear in turn (refused, SLVERR); ERROR cleared with all ones (W1C):
     IRQ_STATUS keeps its pending fault (a write decoded at both registers clears it) and
-    ERROR reads 0; a refused write sets them again; then two frames (one segment of K = 2)
-    checked against the model."""
+    ERROR reads 0; a refused write sets them again; the handshake accesses of
+    ``_handshake_accesses`` (late W with ``awaddr`` changed, reads probed while
+    pending); then two frames (one segment of K = 2) checked against the model."""
     import numpy as np
 
     from dptbd.hw.register_map import register_map
@@ -65,8 +69,31 @@ def decode_steps(cfg: DPConfig) -> tuple:
              ["w", k.address, k.reset | 1 << 31, 0xF, SLVERR], ["r", error, OKAY, refused]]
     rng = np.random.default_rng([0, 0xA78])
     beats = clean_beats(rng.integers(0, 1 << cfg.input_bits, size=(2, cfg.height, cfg.width)))
-    return beats, [{"bus": reads + writes + reads + bits + back, "stop": 0},
+    return beats, [{"bus": reads + writes + reads + bits + back + _handshake_accesses(
+                        regmap, {**reset, error: refused, status: fault}), "stop": 0},
                    {"stop": len(beats)}]
+
+
+def _handshake_accesses(regmap, now: dict) -> list:
+    """Bus accesses of the ``decode`` run that take addresses at their handshakes only:
+    every setting written its upper limit with W offered after the AW handshake and
+    ``awaddr`` changed then (``"w-late"``: the write goes to the first address), every
+    mapped register read with ``araddr`` changed after the AR handshake while AR (every
+    other register: AR, AW and W) is offered and ``rready`` is held low (``"r-probe"``,
+    ``"r-probe-all"``: its own value, nothing taken meanwhile), the settings written back to ``now`` (the values before)."""
+    from dptbd.sim.verilator.axi import OKAY
+
+    settings = [reg for reg in regmap.registers if reg.kind == "setting"]
+    values = dict(now)
+    late = []
+    for reg in settings:
+        (field,) = reg.fields
+        values[reg.address] = field.limits[1]
+        late.append(["w-late", reg.address, field.limits[1], 0xF, OKAY])
+    probes = [["r-probe-all" if i % 2 else "r-probe", reg.address, OKAY, values[reg.address]]
+              for i, reg in enumerate(regmap.registers)]
+    restore = [["w", reg.address, now[reg.address], 0xF, OKAY] for reg in settings]
+    return late + probes + restore
 
 
 #: The values of n of the ``n-values`` run, one segment (K = 1) each: every bit of n set
@@ -178,3 +205,67 @@ def line_end_steps(cfg: DPConfig) -> tuple:
         last[(j + 1) * frame - 1] = False
     return Beats(beats.pixel, beats.first, last), [
         {"writes": [["CANDIDATE_COUNT", cfg.record_capacity]], "stop": len(beats)}]
+
+
+#: The weight LUT entry (p, m) of the ``lut-entry`` run.
+LUT_ENTRY = (3, 8)
+
+
+def lut_entry_codes(cfg: DPConfig, entry: tuple[int, int] = LUT_ENTRY) -> list[list[int]]:
+    """The LUT of the ``lut-entry`` run: column p (move p) at 2**F in every row, so that
+    most pixels take direction p; entry (p, m) at 2**F - 1 (odd: its bit 0 counts), every
+    other code 1. From a predecessor of direction p, move m is then the runner-up of move
+    p and wins wherever its neighbour is the larger."""
+    p, m = entry
+    unity = 1 << cfg.weight_frac_bits
+    codes = [[1] * cfg.n_moves for _ in range(cfg.n_moves + 1)]
+    for row in codes:
+        row[p] = unity
+    codes[p][m] = unity - 1
+    return codes
+
+
+def lut_entry_steps(cfg: DPConfig) -> tuple:
+    """The beats and steps of the ``lut-entry`` run: :func:`lut_entry_codes` written from
+    the first beat, 8 frames of uniform noise, K = K_max, n = C (every pixel's E and
+    direction in the lists): a code of :data:`LUT_ENTRY` with bit 0 changed changes the
+    lists (``tests/sim/mutation/test_axi_slice.py`` shows it on the model)."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    rng = np.random.default_rng([0, 0xA7D])
+    beats = clean_beats(rng.integers(0, 1 << cfg.input_bits, size=(8, cfg.height, cfg.width)))
+    return beats, [{"writes": [["SEGMENT_FRAMES", cfg.k_max],
+                               ["CANDIDATE_COUNT", cfg.record_capacity]],
+                    "lut_codes": lut_entry_codes(cfg), "stop": len(beats)}]
+
+
+#: The thresholds the ``low-shift`` run's lists are cut at, in order (list 0 is empty: the
+#: first list after reset).
+LOW_SHIFT_THRESHOLDS = tuple(range(16, -1, -1))
+
+
+def low_shift_steps(cfg: DPConfig) -> tuple:
+    """The beats and steps of the ``low-shift`` run: s = 1, K = 1, one frame of uniform
+    noise below 2**(b + 1) per list (every E in a bin of its own at s = 1, none clamped),
+    each frame's n the count of its pixels in the bins at or above the next list's
+    threshold, so that the lists are cut at :data:`LOW_SHIFT_THRESHOLDS` (2**b, then
+    every bin from the top down to 0): the selection ``E[1:] >= T`` of low energies at
+    every T, every list against the model."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    rng = np.random.default_rng([0, 0xA7E])
+    top = 1 << (cfg.histogram_bits + 1)
+    assert top <= 1 << cfg.input_bits
+    frames = rng.integers(0, top, size=(len(LOW_SHIFT_THRESHOLDS), cfg.height, cfg.width))
+    beats = clean_beats(frames)
+    frame = cfg.width * cfg.height
+    counts = [int(((f >> 1) >= t).sum()) for f, t in zip(frames, LOW_SHIFT_THRESHOLDS[1:])]
+    counts.append(cfg.record_capacity)
+    steps = [{"writes": [["SEGMENT_FRAMES", 1], ["HISTOGRAM_SHIFT", 1],
+                         ["CANDIDATE_COUNT", min(n, cfg.record_capacity)]],
+              "stop": (j + 1) * frame} for j, n in enumerate(counts)]
+    return beats, steps

@@ -1,7 +1,7 @@
 """The register block's harness (:mod:`dptbd.sim.formal.harnesses.registers`) converts and
 asserts, for every storing field, that a refused write leaves it and that W1C bits clear only
-on a written 1, and, as induction invariants, that a held AW's registered decode is its
-address's; its proof runs in ``tests/sim/formal/test_runner.py``."""
+on a written 1, and, as induction invariants, that a held AW's and the read being answered's
+registered decodes are their addresses' and that ``busy`` is what it mirrors; its proof runs in ``tests/sim/formal/test_runner.py``."""
 
 from dptbd.hw.register_map import register_map
 from dptbd.sim.formal.harnesses.registers import RegistersHarness
@@ -11,10 +11,14 @@ from dptbd.sim.formal.harnesses.tiny import tiny_config
 def test_the_registers_harness_asserts_every_storing_field(messages):
     got = messages(RegistersHarness())
     expected = {"LUT: written by a refused write", "AW outstanding != held",
-                "W outstanding != held", "AR outstanding != rvalid",
+                "W outstanding != held",
+                "AR outstanding != the read being answered + rvalid",
+                "busy != bvalid | rvalid | the read being answered",
+                "read_unmapped != the read address's",
                 "write_unaligned != the held address's", "write_at_lut != the held address's"}
     for reg in register_map(tiny_config()).registers:
         expected.add(f"write_at_{reg.name.lower()} != the held address's")
+        expected.add(f"read_at_{reg.name.lower()} != the read address's")
         for field in reg.fields:
             what = f"{reg.name}.{field.name}"
             if field.kind == "setting" or field.kind == "enable":
