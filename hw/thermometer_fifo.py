@@ -21,7 +21,7 @@ can be split between a memory FIFO and a registers twin (``DPCore``'s flags).
 
 from __future__ import annotations
 
-from amaranth.hdl import Array, Module, Signal
+from amaranth.hdl import Module, Signal
 from amaranth.lib import stream, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -109,12 +109,15 @@ class ThermometerFIFO(wiring.Component):
                 self.r.payload.eq(read.data),
             ]
         else:
-            cells = Array(Signal(self._shape, name=f"word_{i}") for i in range(words))
+            # one comparison per word, not an Array: a depth - 1 that is not a power of two
+            # would leave a case statement incompletely covered (Verilator's CASEINCOMPLETE)
             head = Signal(self._shape)
-            with m.If(do_write):
-                m.d.sync += cells[produce].eq(self.w.payload)
-            with m.If(do_read):
-                m.d.sync += head.eq(cells[consume])
+            for i in range(words):
+                cell = Signal(self._shape, name=f"word_{i}")
+                with m.If(do_write & (produce == i)):
+                    m.d.sync += cell.eq(self.w.payload)
+                with m.If(do_read & (consume == i)):
+                    m.d.sync += head.eq(cell)
             m.d.comb += self.r.payload.eq(head)
         with m.If(do_read):
             m.d.sync += self.r.valid.eq(1)
