@@ -20,10 +20,14 @@ HEAVY_FIRST = (
     "tests/hw/flow/test_verilog.py",
     "tests/hw/flow/test_synth.py",
     "tests/commands/test_sim.py",
+    "tests/sim/campaign/test_store.py",
+    "tests/sim/mutation/test_axi_slice.py",
+    "tests/sim/benches/test_dp.py",
+    "tests/sim/coverage/test_real_run.py",
     "tests/sim/benches/test_axi.py",
+    "tests/sim/campaign/test_campaign.py",
     "tests/hw/axi_store/test_top.py",
     "tests/sim/benches/test_axi_store.py",
-    "tests/sim/benches/test_dp.py",
 )
 
 
