@@ -44,7 +44,7 @@ def test_bits_equal_the_golden_model_at_zero_latency(kw, store_fields):
 
 @pytest.mark.parametrize("latency, ready, valid, seed", [
     ((0, 40), 0.6, 0.5, 1),
-    ((0, 600), 0.8, 0.7, 2),
+    pytest.param((0, 600), 0.8, 0.7, 2, marks=pytest.mark.slow),     # the longer run
 ])
 def test_memory_latency_and_stalls_change_no_bit(latency, ready, valid, seed):
     cfg = DPConfig(width=16, height=12, segment_frames=2)
@@ -216,8 +216,8 @@ def test_p_pixels_per_clock_keep_one_beat_per_cycle_at_zero_latency(p, store_fie
     assert memory.stats["write_beats"] >= 3 * cfg.axi_store(**store_fields).frame_beats
 
 
-@pytest.mark.parametrize("p, latency, seed", [(2, (0, 300), 1), (4, (0, 500), 2),
-                                              (4, (100, 200), 3)])
+@pytest.mark.parametrize("p, latency, seed", [
+    (2, (0, 300), 1), pytest.param(4, (0, 500), 2, marks=pytest.mark.slow), (4, (100, 200), 3)])
 def test_p_pixels_latency_and_stalls_change_no_bit(p, latency, seed):
     cfg = DPConfig(width=16, height=12, segment_frames=2, pixels_per_clock=p).build_config()
     frames = np.random.default_rng(seed).integers(0, 256, size=(4, cfg.height, cfg.width))

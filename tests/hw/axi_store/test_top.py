@@ -63,7 +63,7 @@ def test_a_store_the_register_map_cannot_hold_is_refused_without_a_warning():
         gc.collect()                    # an UnusedElaboratable warning would be an error here
 
 
-@pytest.mark.parametrize("p", [2, 4])
+@pytest.mark.parametrize("p", [2, pytest.param(4, marks=pytest.mark.slow)])
 def test_at_p_above_1_the_ports_are_the_wide_tops_plus_the_manager_port(p):
     cfg = make_config(width=16, height=12, segment_frames=2, candidate_count=4,
                       pixels_per_clock=p)

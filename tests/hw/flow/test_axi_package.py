@@ -109,8 +109,10 @@ def _fusesoc() -> str | None:
 
 @pytest.mark.skipif(shutil.which("verilator") is None or _fusesoc() is None,
                     reason="needs Verilator and FuseSoC")
-@pytest.mark.parametrize("radius, fractional_lut", [(1, False), (1, True), (2, False),
-                                                    (2, True)])
+# the default suite lints the two corners (radius 1 binary LUT, radius 2 fractional LUT)
+@pytest.mark.parametrize("radius, fractional_lut", [
+    (1, False), pytest.param(1, True, marks=pytest.mark.slow),
+    pytest.param(2, False, marks=pytest.mark.slow), (2, True)])
 def test_fusesoc_lint_target_passes_with_no_warning(tmp_path, radius, fractional_lut):
     """``fusesoc --cores-root DIR run --target lint`` on the core as ``dptbd verilog --top
     axi [--radius 2] [--fractional-lut]`` writes it (``build_config``: the binary LUT builds
@@ -178,7 +180,10 @@ def test_state_output_adds_m_axis_state_to_ports_and_manifest():
 
 
 @pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
-@pytest.mark.parametrize("data_bits, p", [(32, 1), (128, 1), (128, 2), (128, 4)])
+# the default suite: the narrowest bus at P = 1 and the widest at P = 4
+@pytest.mark.parametrize("data_bits, p", [
+    (32, 1), pytest.param(128, 1, marks=pytest.mark.slow),
+    pytest.param(128, 2, marks=pytest.mark.slow), (128, 4)])
 def test_state_store_package_lints_clean_and_names_the_port(tmp_path, data_bits, p):
     """``--state-store axi`` (at P = 1, 2 and 4 pixels per clock): the Verilog (with
     ``m_axi_state_*``) under the same lint, the core file parsed by FuseSoC, the manifest's
