@@ -109,15 +109,22 @@ class ThermometerFIFO(wiring.Component):
                 self.r.payload.eq(read.data),
             ]
         else:
-            # one comparison per word, not an Array: a depth - 1 that is not a power of two
-            # would leave a case statement incompletely covered (Verilator's CASEINCOMPLETE)
+            # a write enable per word and the read a switch whose last word is its default:
+            # with an Array, a depth - 1 that is not a power of two leaves case statements
+            # incompletely covered (Verilator's CASEINCOMPLETE); a chain of ifs would make
+            # the read a priority chain
             head = Signal(self._shape)
-            for i in range(words):
-                cell = Signal(self._shape, name=f"word_{i}")
+            cells = [Signal(self._shape, name=f"word_{i}") for i in range(words)]
+            for i, cell in enumerate(cells):
                 with m.If(do_write & (produce == i)):
                     m.d.sync += cell.eq(self.w.payload)
-                with m.If(do_read & (consume == i)):
-                    m.d.sync += head.eq(cell)
+            with m.If(do_read):
+                with m.Switch(consume):
+                    for i, cell in enumerate(cells[:-1]):
+                        with m.Case(i):
+                            m.d.sync += head.eq(cell)
+                    with m.Default():
+                        m.d.sync += head.eq(cells[-1])
             m.d.comb += self.r.payload.eq(head)
         with m.If(do_read):
             m.d.sync += self.r.valid.eq(1)
