@@ -128,17 +128,22 @@ def test_the_original_passes_a_run_of_every_kind_and_two_mutants_are_killed():
 
 
 #: The mutants of ``dptbd_dp`` (seed 3, 30) that survive the slice today: index -> Amaranth
-#: source line. Low bits of weighted sums that never reach the result (4, 28), bit 0 of K
-#: forced 1 in the clamp's K > K_max (only K = 4 then compares otherwise, and is clamped to
-#: 4, which it is) and candidate 8's valid forced 1 at the tree's second level (outside the
-#: image it weighs exactly 0, and the centre move, index 4, always inside, is never below
-#: it). prove_equivalent proves 4, 16 and 28; 18 needs that invariant, which induction does
-#: not see ("not proven").
+#: source line. A bit XORed with a constant 0 or set to its constant value (8: bit 8 of
+#: (E << 2) & code[2] XORed with its bit 0; 13: bit 0 of (E << 1) & code[1] stuck at 0;
+#: 16: bit 2 of the resync constant 3 stuck at 0; 20: a first-level max-tree node's valid
+#: XORed with its index bit 3, 0 for candidates 0 and 1), pixel bit 0 of the side band
+#: inverted at its 7th delay register while valid is 0 (10: an invalid slot's pixel is
+#: neither stored nor output) and position.end_of_frame's reset multiplexer never
+#: selected (19: the reset value is read only with the side band's valid, which the same
+#: reset clears). prove_equivalent proves 8, 13, 16 and 20; 10 and 19 need those
+#: invariants, which induction does not see ("not proven").
 SURVIVORS = {
-    4: "hw/adder_tree.py:22",
-    16: "hw/controller.py:43",
-    18: "hw/max_tree.py:118",
-    28: "hw/adder_tree.py:22",
+    8: "hw/adder_tree.py:21",
+    10: "hw/delay.py:47",
+    13: "hw/weighted_candidate.py:78",
+    16: "hw/controller.py:220",
+    19: "?",
+    20: "hw/max_tree.py:125",
 }
 
 
