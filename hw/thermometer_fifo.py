@@ -21,7 +21,7 @@ can be split between a memory FIFO and a registers twin (``DPCore``'s flags).
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Signal
+from amaranth.hdl import Module, Mux, Signal, Value
 from amaranth.lib import stream, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -109,22 +109,19 @@ class ThermometerFIFO(wiring.Component):
                 self.r.payload.eq(read.data),
             ]
         else:
-            # a write enable per word and the read a switch whose last word is its default:
-            # with an Array, a depth - 1 that is not a power of two leaves case statements
-            # incompletely covered (Verilator's CASEINCOMPLETE); a chain of ifs would make
-            # the read a priority chain
+            # a write enable per word, and the read an AND-OR of the words, one select per
+            # word (consume == i): an Array or a Switch would become case statements
+            # Verilator's lint reports (incompletely covered, or a $pmux's overlapping casez)
             head = Signal(self._shape)
             cells = [Signal(self._shape, name=f"word_{i}") for i in range(words)]
             for i, cell in enumerate(cells):
                 with m.If(do_write & (produce == i)):
                     m.d.sync += cell.eq(self.w.payload)
+            selected = 0
+            for i, cell in enumerate(cells):
+                selected = selected | Mux(consume == i, Value.cast(cell), 0)
             with m.If(do_read):
-                with m.Switch(consume):
-                    for i, cell in enumerate(cells[:-1]):
-                        with m.Case(i):
-                            m.d.sync += head.eq(cell)
-                    with m.Default():
-                        m.d.sync += head.eq(cells[-1])
+                m.d.sync += head.eq(selected)
             m.d.comb += self.r.payload.eq(head)
         with m.If(do_read):
             m.d.sync += self.r.valid.eq(1)
