@@ -46,7 +46,7 @@ RESTART_AFTER_THE_CUT_TRAILER = ("mutate -mode inv -module dptbd_axi -cell "
 WRITE_DATA_BIT_4 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$80 "
                     "-port Q -portbit 4 -wire regs.axil.w_data -wirebit 4 "
                     "-src hw/axi_lite.py:108")
-LUT_WE_INVERTED = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$procmux$1534 "
+LUT_WE_INVERTED = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$procmux$1519 "
                    "-port Y -portbit 0")
 LUT_COLUMN_8_WITH_4 = ("mutate -mode cnot1 -module dptbd_axi -cell "
                        "$flatten\\core.\\dp.\\core.\\weight_lut.$406 -port Q -portbit 8 "
@@ -446,7 +446,7 @@ def test_low_shift_run_cuts_its_lists_at_every_threshold():
 #: registered ``busy`` without its held ``rvalid`` term, and the read select of VERSION
 #: with address bit 2 forced 1 (a read of ID answers ID | VERSION).
 WRITE_DECODE_EVERY_CYCLE = ("mutate -mode const1 -module dptbd_axi -cell "
-                            "$flatten\\regs.$procmux$1372 -port S -portbit 0")
+                            "$flatten\\regs.$procmux$1357 -port S -portbit 0")
 ARREADY_WITHOUT_BUSY = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.\\axil.$46 "
                         "-port Y -portbit 0 -src hw/axi_lite.py:117")
 BUSY_WITHOUT_RVALID = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$71 "
