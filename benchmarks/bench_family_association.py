@@ -211,12 +211,13 @@ def _swap_task(alpha: float, seed: int, seg_counts: tuple, rec_counts: tuple) ->
                         rec, seed + OTHER_SEED, key[1])))
                 continue
             rng = np.random.default_rng([seed, key[1], SWAP_ROWS.index(how)])
-            row[how] = lsw.associate(lsw.swap(lst, how, rng, source=sources[key[0]]))
+            swapped = lsw.swap(lst, how, rng, source=sources[key[0]])
+            if how == "uniform":
+                uniform = swapped                   # its geometry is measured below
+            row[how] = lsw.associate(swapped)
         gate = lst.assoc.seed_gate
         shape = (lst.view.height, lst.view.width)
         geo = []
-        uniform = lsw.swap(lst, "uniform", np.random.default_rng(
-            [seed, key[1], SWAP_ROWS.index("uniform")]))        # the lists replayed above
         for ls_ in (lst, uniform):
             ds = [lsw.distinct(c, lst.assoc.merge_radius) for c in ls_.candidates]
             geo.append((sum(len(d) for d in ds), len(ds),
