@@ -54,6 +54,7 @@ from dptbd.evaluation.family import detection as fd
 from dptbd.evaluation.family import false_tracks as ft
 from dptbd.evaluation.family import list_swaps as lsw
 from dptbd.evaluation.family.association import job_outcome, job_run
+from dptbd.evaluation.family.list_swaps import PAIR_TOP, SWAPS
 from dptbd.evaluation.family.wake import parse_lags
 from dptbd.evaluation.execution import Execution, map_tasks
 from dptbd.evaluation.stats import wilson_interval
@@ -186,70 +187,29 @@ def false_track_report(alpha: float, seeds: range, seg_counts: list[int], rec_co
                   f"{d.background[i] / d.pairs[i]:.4f} |", flush=True)
 
 
-SWAP_ROWS = ("none", "uniform", "translated", "zero-headings", "random-headings", "headings-of",
-             "energy-ranks", "alternate-seed")
-PAIR_TOP = 8
-#: ``"alternate-seed"`` takes every other list of the recursion from the seed this far on
-#: (segments' consecutive lists share no noise by construction: disjoint frames).
-OTHER_SEED = 1_000_000
-
-
-def _swap_task(alpha: float, seed: int, seg_counts: tuple, rec_counts: tuple) -> dict:
-    """One noise-only seed: every (variant, n) with every swap, and the lists' geometry."""
-    rec = fd.recursive(alpha, segment_frames=6)
-    keys = [("seg", n) for n in seg_counts] + [("rec", n) for n in rec_counts]
-    lists = {key: lsw.noise_lists(fd.segments(6) if key[0] == "seg" else rec, seed, key[1])
-             for key in keys}
-    sources = {"seg": lists[("rec", max(rec_counts))], "rec": lists[("seg", min(seg_counts))]}
-    out = {}
-    for key, lst in lists.items():
-        row = {}
-        for how in SWAP_ROWS:
-            if how == "alternate-seed":
-                if key[0] == "rec":
-                    row[how] = lsw.associate(lsw.swap(lst, how, source=lsw.noise_lists(
-                        rec, seed + OTHER_SEED, key[1])))
-                continue
-            rng = np.random.default_rng([seed, key[1], SWAP_ROWS.index(how)])
-            swapped = lsw.swap(lst, how, rng, source=sources[key[0]])
-            if how == "uniform":
-                uniform = swapped                   # its geometry is measured below
-            row[how] = lsw.associate(swapped)
-        gate = lst.assoc.seed_gate
-        shape = (lst.view.height, lst.view.width)
-        geo = []
-        for ls_ in (lst, uniform):
-            ds = [lsw.distinct(c, lst.assoc.merge_radius) for c in ls_.candidates]
-            geo.append((sum(len(d) for d in ds), len(ds),
-                        sum(lsw.pair_counts(d, PAIR_TOP) for d in ds),
-                        sum(lsw.coverage(d, shape, gate) for d in ds)))
-        out[key] = (row, geo)
-    return out
-
-
 def list_swap_report(alpha: float, seeds: range, seg_counts: list[int], rec_counts: list[int],
                      workers: int, scheduler: str | None) -> None:
     tasks = [(alpha, s, tuple(seg_counts), tuple(rec_counts)) for s in seeds]
     with Execution(workers=workers, scheduler=scheduler).client() as client:
-        per_seed = map_tasks(_swap_task, tasks, client)
+        per_seed = map_tasks(lsw.seed_swaps, tasks, client)
     keys = list(per_seed[0])
     name = {"seg": "segments K=6", "rec": f"recursive alpha={alpha:g}"}
     tot = {k: {how: sum((r[k][0][how] for r in per_seed[1:]), per_seed[0][k][0][how])
-               for how in SWAP_ROWS if how in per_seed[0][k][0]} for k in keys}
+               for how in SWAPS if how in per_seed[0][k][0]} for k in keys}
     print(f"List swaps on noise only (built-in scenario without targets, seeds {seeds.start}-"
           f"{seeds.stop - 1}, lists every 6 frames; every confirmed track is false):\n")
-    print("| variant | n | distinct per list | " + " | ".join(SWAP_ROWS) + " |")
-    print("|---|---|---|" + "---|" * len(SWAP_ROWS))
+    print("| variant | n | distinct per list | " + " | ".join(SWAPS) + " |")
+    print("|---|---|---|" + "---|" * len(SWAPS))
     for k in keys:
         d = sum(r[k][1][0][0] for r in per_seed) / sum(r[k][1][0][1] for r in per_seed)
         print(f"| {name[k[0]]} | {k[1]} | {d:.1f} | "
               + " | ".join(str(tot[k][how].false_tracks) if how in tot[k] else "-"
-                           for how in SWAP_ROWS) + " |")
+                           for how in SWAPS) + " |")
     print("\nRatios recursion / segments at about equal distinct density (pooled over the "
           "crossed pairs: the shortest recursive lists against the shortest segment lists, and so "
           "on), 95 % interval of the split (Wilson):\n")
     pairs = list(zip(sorted(k for k in keys if k[0] == "rec"), sorted(k for k in keys if k[0] == "seg")))
-    for how in SWAP_ROWS:
+    for how in SWAPS:
         if any(how not in tot[k] for k in keys):
             continue
         parts = []
@@ -267,7 +227,7 @@ def list_swap_report(alpha: float, seeds: range, seg_counts: list[int], rec_coun
         print(f"* {how}: " + "; ".join(parts))
     print("\nEach variant against its own lists as made:\n")
     for k in keys:
-        for how in SWAP_ROWS[1:]:
+        for how in SWAPS[1:]:
             if how not in tot[k] or how == "energy-ranks":
                 continue
             a, b = tot[k][how].false_tracks, tot[k]["none"].false_tracks
@@ -277,7 +237,7 @@ def list_swap_report(alpha: float, seeds: range, seg_counts: list[int], rec_coun
                       f"[{lo:.2f}, {hi:.2f}]")
     for kind in ("seg", "rec"):
         mine = [k for k in keys if k[0] == kind]
-        for how in SWAP_ROWS[1:]:
+        for how in SWAPS[1:]:
             if how == "energy-ranks" or any(how not in tot[k] for k in mine):
                 continue
             a = sum(tot[k][how].false_tracks for k in mine)

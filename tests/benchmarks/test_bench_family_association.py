@@ -68,23 +68,23 @@ def test_list_swap_arguments_reach_the_report(monkeypatch):
 
 
 def test_list_swap_report_sums_seeds_and_pairs_by_density(monkeypatch, capsys):
-    from dptbd.evaluation.family.list_swaps import Seeding
+    from dptbd.evaluation.family import list_swaps as lsw
 
     bench = _bench()
-    pairs = np.arange(bench.PAIR_TOP + 1)       # 0, 1, 2, ... pairs at distance 0, 1, 2, ...
+    pairs = np.arange(lsw.PAIR_TOP + 1)         # 0, 1, 2, ... pairs at distance 0, 1, 2, ...
 
     def task(alpha, seed, seg_counts, rec_counts):
         # false tracks: seg 33 -> 1 + seed, seg 43 -> 10, rec 26 -> 2, rec 33 -> 20 (per seed)
         false = {("seg", 33): 1 + seed, ("seg", 43): 10, ("rec", 26): 2, ("rec", 33): 20}
         out = {}
         for key in [("seg", n) for n in seg_counts] + [("rec", n) for n in rec_counts]:
-            row = {how: Seeding(false[key] * (2 if how == "uniform" else 1), (100, 10, 3, 1, 0))
-                   for how in bench.SWAP_ROWS if how != "alternate-seed" or key[0] == "rec"}
+            row = {how: lsw.Seeding(false[key] * (2 if how == "uniform" else 1), (100, 10, 3, 1, 0))
+                   for how in lsw.SWAPS if how != "alternate-seed" or key[0] == "rec"}
             geo = [(25 * 4, 4, pairs, 0.04 * 4), (25 * 4, 4, pairs, 0.05 * 4)]
             out[key] = (row, geo)
         return out
 
-    monkeypatch.setattr(bench, "_swap_task", task)
+    monkeypatch.setattr(lsw, "seed_swaps", task)
     bench.list_swap_report(0.7, range(0, 2), [33, 43], [33, 26], 1, None)
     out = capsys.readouterr().out
     # seg 33: 1 + 2 = 3 false tracks over seeds 0 and 1; uniform twice that

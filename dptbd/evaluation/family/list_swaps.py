@@ -30,7 +30,9 @@ candidates is replaced (:data:`SWAPS`, :func:`swap`), the rest kept:
 beside the confirmed tracks, how far every track got (:class:`Seeding`: tracks reaching
 1, 2, 3, … hits). :func:`pair_counts` and :func:`coverage` describe a list's geometry: the
 Chebyshev distances between its distinct candidates, and the fraction of the image a
-new track's seed gate around one of them covers.
+new track's seed gate around one of them covers. :func:`seed_swaps` is one seed's share of
+``benchmarks/bench_family_association.py --list-swaps``: every variant and list length with
+every swap, and the lists' geometry.
 """
 
 from __future__ import annotations
@@ -43,10 +45,12 @@ from dptbd.config import DPConfig
 from dptbd.dsp.association import FREE, AssociationConfig, Tracker
 from dptbd.errors import DptbdError, check_int
 from dptbd.evaluation.family.association import job_run
+from dptbd.evaluation.family import detection as fd
 from dptbd.evaluation.family.detection import Variant
 
 __all__ = ["SWAPS", "NoiseLists", "Seeding", "noise_lists", "distinct", "pair_counts",
-           "coverage", "uniform_positions", "swap", "associate"]
+           "coverage", "uniform_positions", "swap", "associate", "PAIR_TOP", "OTHER_SEED",
+           "seed_swaps"]
 
 #: The replaced properties (module docstring).
 SWAPS = ("none", "uniform", "translated", "zero-headings", "random-headings", "headings-of",
@@ -241,3 +245,54 @@ def associate(lists: NoiseLists, *, levels: int = 5) -> Seeding:
                     dtype=np.int64)
     reached = tuple(int(np.count_nonzero(hits >= h)) for h in range(1, levels + 1))
     return Seeding(len(tr.confirmed_tracks()), reached)
+
+
+#: :func:`seed_swaps` counts pairs of distinct candidates at Chebyshev distance 0 … this
+#: (the last: this or more).
+PAIR_TOP = 8
+#: ``"alternate-seed"`` takes every other list of the recursion from the seed this far on
+#: (segments' consecutive lists share no noise by construction: disjoint frames).
+OTHER_SEED = 1_000_000
+
+
+def seed_swaps(alpha: float, seed: int, seg_counts: tuple, rec_counts: tuple) -> dict:
+    """One noise-only ``seed``: segments K = 6 at each of ``seg_counts`` and the recursion
+    (``alpha``, lists every 6 frames) at each of ``rec_counts`` (list lengths), each with
+    every swap of :data:`SWAPS`, and the lists' geometry.
+
+    Returns ``{(kind, n): (row, geometry)}``, ``kind`` ``"seg"`` or ``"rec"``: ``row`` maps
+    each swap to its :class:`Seeding` (``"alternate-seed"`` for the recursion only; the
+    segments take their ``"headings-of"`` from the recursion's longest lists, the recursion
+    from the segments' shortest); ``geometry`` is, for the lists as made and for their
+    ``"uniform"`` swap, (distinct candidates, lists, :func:`pair_counts` summed over the
+    lists with top :data:`PAIR_TOP`, :func:`coverage` of the seed gate summed over them).
+    """
+    rec = fd.recursive(alpha, segment_frames=6)
+    keys = [("seg", n) for n in seg_counts] + [("rec", n) for n in rec_counts]
+    lists = {key: noise_lists(fd.segments(6) if key[0] == "seg" else rec, seed, key[1])
+             for key in keys}
+    sources = {"seg": lists[("rec", max(rec_counts))], "rec": lists[("seg", min(seg_counts))]}
+    out = {}
+    for key, lst in lists.items():
+        row = {}
+        for how in SWAPS:
+            if how == "alternate-seed":
+                if key[0] == "rec":
+                    row[how] = associate(swap(lst, how, source=noise_lists(
+                        rec, seed + OTHER_SEED, key[1])))
+                continue
+            rng = np.random.default_rng([seed, key[1], SWAPS.index(how)])
+            swapped = swap(lst, how, rng, source=sources[key[0]])
+            if how == "uniform":
+                uniform = swapped                   # its geometry is measured below
+            row[how] = associate(swapped)
+        gate = lst.assoc.seed_gate
+        shape = (lst.view.height, lst.view.width)
+        geo = []
+        for ls_ in (lst, uniform):
+            ds = [distinct(c, lst.assoc.merge_radius) for c in ls_.candidates]
+            geo.append((sum(len(d) for d in ds), len(ds),
+                        sum(pair_counts(d, PAIR_TOP) for d in ds),
+                        sum(coverage(d, shape, gate) for d in ds)))
+        out[key] = (row, geo)
+    return out

@@ -172,6 +172,23 @@ def test_noise_lists_replay_as_the_job_runs_them():
     assert lsw.associate(lsw.swap(lists, "none")) == got
 
 
+def test_seed_swaps_replays_every_swap_and_measures_the_geometry():
+    out = lsw.seed_swaps(0.7, 0, (33,), (26,))
+    assert list(out) == [("seg", 33), ("rec", 26)]
+    (seg_row, seg_geo), (rec_row, rec_geo) = out.values()
+    assert tuple(rec_row) == lsw.SWAPS and tuple(seg_row) == lsw.SWAPS[:-1]
+    lists = lsw.noise_lists(fd.segments(6), 0, 33)
+    assert seg_row["none"] == lsw.associate(lists)
+    assert seg_row["energy-ranks"] == seg_row["none"]
+    ds = [lsw.distinct(c, lists.assoc.merge_radius) for c in lists.candidates]
+    made, uniform = seg_geo
+    assert made[:2] == (sum(len(d) for d in ds), len(ds)) == uniform[:2]
+    np.testing.assert_array_equal(made[2], sum(lsw.pair_counts(d, lsw.PAIR_TOP) for d in ds))
+    assert made[3] == sum(lsw.coverage(d, (lists.view.height, lists.view.width),
+                                       lists.assoc.seed_gate) for d in ds)
+    assert len(rec_geo) == 2
+
+
 @pytest.mark.parametrize("call, message", [
     (lambda l: lsw.swap(l, "shuffle"),
      "swap must be one of 'none', 'uniform', 'translated', 'zero-headings', 'random-headings', 'headings-of', "
