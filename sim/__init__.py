@@ -19,6 +19,8 @@ Modules (one line each)
 Sub-packages: ``verilator`` (:func:`~dptbd.sim.verilator.run` streams an input sequence
 through a Verilator build: stalls, resets, LUT writes; ``verilator.cache`` verilates one top
 level with the C++ harness ``sim/harness/`` into a cached executable, the build cache;
+``verilator.toolchain``, the tools, flags and harness sources of a build and Verilator's
+runtime library kept beside the builds;
 ``verilator.axi``, long runs of the AXI top level ``dptbd_axi`` scored against the golden
 model; ``verilator.dp_axi``, ``dptbd_dp`` built with ``--state-store axi``, its state in the
 harness's C++ AXI4 memory model: random latency, every AXI4 rule checked), ``rtl`` (RTL in the loop: ``rtl.check``, one compiled run checked against the model

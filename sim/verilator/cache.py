@@ -17,27 +17,36 @@ decision marked with its Amaranth source line), a key and a directory of its own
 given a ``coverage`` file writes its ``VerilatedCov`` data there. The plain build's key,
 text and flags do not change with it.
 
-Running a build is :mod:`dptbd.sim.verilator` (which re-exports this module's public names).
+The tools, flags and harness sources, and Verilator's runtime library kept beside the builds:
+:mod:`dptbd.sim.verilator.toolchain` (its public names importable from here too). Running a
+build is :mod:`dptbd.sim.verilator` (which re-exports this module's public names).
 Use Debian's ``verilator`` (5.006; ``scripts/setup.sh`` installs it).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import functools
 import hashlib
 import json
 import os
 import pathlib
 import shutil
-import subprocess
 import tempfile
 import time
 from typing import Sequence
 
-
 from dptbd.config import DPConfig
 from dptbd.sim.build_dirs import CompiledDesign, config_name, locked
+from dptbd.sim.verilator import toolchain
+from dptbd.sim.verilator.toolchain import (
+    COVERAGE_FLAGS,
+    CXX_FLAGS,
+    HARNESS,
+    HARNESSES,
+    VERILATOR_FLAGS,
+    ToolMissingError,
+    check_tools,
+)
 
 __all__ = [
     "DESIGNS",
@@ -64,30 +73,8 @@ DESIGNS = {
     "axi": ("dptbd_axi", "DPTBD_DESIGN_AXI", "m_axis_cand"),     # hw/axi_top.py
 }
 
-#: Verilator flags. ``-O3 --x-assign fast --x-initial fast --noassert`` measured fastest
-#: here; ``--threads`` is far slower on this design and is not used. ``-Wno-WIDTH``: Yosys'
-#: ``write_verilog`` relies on implicit extension (``hw/flow/verilog.py``, lint waivers).
-VERILATOR_FLAGS = ("--cc", "--exe", "-O3", "--x-assign", "fast", "--x-initial", "fast",
-                   "--noassert", "-Wno-fatal", "-Wno-WIDTH", "--prefix", "Vdut")
-#: C++ optimisation of the harness, the verilated model (``OPT_FAST``) and Verilator's runtime
-#: library (``OPT_GLOBAL``; compiled once per toolchain, below): -O3 rather than
-#: Verilator's default -Os, for simulation speed.
-CXX_FLAGS = ("-O3",)
-#: Verilator flags of the coverage build (added to :data:`VERILATOR_FLAGS`): a point per
-#: branch of every ``if`` / ``case`` (line) and per bit of every signal (toggle).
-COVERAGE_FLAGS = ("--coverage-line", "--coverage-toggle")
-
-HARNESS = pathlib.Path(__file__).resolve().parents[1] / "harness" / "dptbd_harness.cpp"
-#: Designs with a harness of their own (flat AXI ports, register operations):
-#: ``dptbd.sim.verilator.axi`` runs it.
-HARNESSES = {"axi": HARNESS.with_name("dptbd_axi_harness.cpp")}
-
 EXECUTABLE = "dptbd_sim"
 STAMP = "build.json"
-
-
-class ToolMissingError(RuntimeError):
-    """Verilator or a C++ compiler is not installed."""
 
 
 def default_build_root() -> pathlib.Path:
@@ -97,35 +84,6 @@ def default_build_root() -> pathlib.Path:
         return pathlib.Path(os.environ["DPTBD_BUILD_DIR"]) / "verilator"
     base = os.environ.get("XDG_CACHE_HOME") or str(pathlib.Path.home() / ".cache")
     return pathlib.Path(base) / "dptbd" / "verilator"
-
-
-def _first_line(cmd: Sequence[str]) -> str:
-    out = subprocess.run(cmd, capture_output=True, text=True, check=False)
-    return (out.stdout or out.stderr).strip().splitlines()[0] if (out.stdout or out.stderr) \
-        else ""
-
-
-@functools.lru_cache(maxsize=None)
-def check_tools() -> dict[str, str]:
-    """``{"verilator": version line, "c++": version line}``; raises :class:`ToolMissingError`
-    naming what is missing and the Icarus fallback."""
-    missing = []
-    verilator = shutil.which("verilator")
-    if verilator is None:
-        missing.append("verilator (Debian package 'verilator')")
-    cxx = shutil.which(os.environ.get("CXX", "g++")) or shutil.which("c++")
-    if cxx is None:
-        missing.append("a C++ compiler (Debian package 'g++')")
-    make = shutil.which("make")
-    if make is None:
-        missing.append("make (Debian package 'make')")
-    if missing:
-        raise ToolMissingError(
-            "compiled RTL simulation needs " + " and ".join(missing) + "; install it "
-            "(bash scripts/setup.sh setup) or use the Icarus simulator instead "
-            "(dptbd sim --simulator icarus)")
-    return {"verilator": _first_line([verilator, "--version"]),
-            "c++": _first_line([cxx, "--version"])}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -154,24 +112,9 @@ class VerilatorBuild(CompiledDesign):
         return DESIGNS[self.design][2]
 
 
-def _harness_sources(design: str) -> list[pathlib.Path]:
-    """The harness source of ``design``, the header every harness shares and, for ``axi``,
-    the AXI4 memory model it includes with the state store in external memory."""
-    source = HARNESSES.get(design, HARNESS)
-    return [source, source.with_name("harness_io.h"),
-            *([source.with_name("axi4_memory.h")] if design == "axi" else [])]
-
-
 def _store_fields(store) -> dict:
     """The parameters of an :class:`~dptbd.config.AxiStoreConfig` but its frame."""
     return {f.name: getattr(store, f.name) for f in dataclasses.fields(store) if f.name != "frame"}
-
-
-def _store_defines(store) -> list[str]:
-    """The harness defines of a build with the state in external memory (``axi4_memory.h``)."""
-    return ["-DDPTBD_AXI_STORE", f"-DDPTBD_AXI_DATA_BITS={store.data_bits}",
-            f"-DDPTBD_AXI_OUTSTANDING={store.outstanding}",
-            f"-DDPTBD_FRAME_BYTES={store.frame_bytes}ULL"]
 
 
 def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
@@ -190,7 +133,7 @@ def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
         "config": cfg.to_mapping(), "design": design, "lut_style": lut_style,
         "waves": waves, "gateware": gateware_hash(),
         "harness": hashlib.sha256(b"".join(
-            path.read_bytes() for path in _harness_sources(design))).hexdigest(),
+            path.read_bytes() for path in toolchain.harness_sources(design))).hexdigest(),
         "verilator_flags": VERILATOR_FLAGS, "cxx_flags": CXX_FLAGS, "tools": check_tools(),
     }, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()
@@ -329,7 +272,7 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
         verilog.write_text(text)
         (tmp / f"{toplevel}.json").write_text(json.dumps(manifest, indent=2) + "\n")
         defines = [f"-D{define}"] + (["-DDPTBD_MUTANT"] if mutations else []) \
-            + ([] if store is None else _store_defines(store))
+            + ([] if store is None else toolchain.store_defines(store))
         if design == "core":
             store_bits = cfg.state_bits * cfg.pixels_per_clock     # a beat's P states
             defines += [f"-DDPTBD_STORE_WORDS={cfg.frame_beats}ULL",
@@ -344,12 +287,12 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
                verilog.name, str(HARNESSES.get(design, HARNESS))]
         make = ["make", "-C", "obj", "-f", "Vdut.mk", f"-j{min(2, os.cpu_count() or 1)}",
                 f"OPT_FAST={' '.join(CXX_FLAGS)}", f"OPT_GLOBAL={' '.join(CXX_FLAGS)}"]
-        _step(cmd, tmp, verbose, f"verilator ({toplevel}, {design})")
-        runtime = _runtime_dir(directory.parent, tools, waves, coverage)
-        reused = _restore_runtime(runtime, tmp / "obj")
-        _step(make, tmp, verbose, f"C++ build ({toplevel}, {design})")
+        toolchain.step(cmd, tmp, verbose, f"verilator ({toplevel}, {design})")
+        runtime = toolchain.runtime_dir(directory.parent, tools, waves, coverage)
+        reused = toolchain.restore_runtime(runtime, tmp / "obj")
+        toolchain.step(make, tmp, verbose, f"C++ build ({toplevel}, {design})")
         if not reused:
-            _save_runtime(runtime, tmp / "obj")
+            toolchain.save_runtime(runtime, tmp / "obj")
         shutil.move(str(tmp / "obj" / EXECUTABLE), str(tmp / EXECUTABLE))
         shutil.rmtree(tmp / "obj")
         stamp = {"key": key, "executable_sha256": _sha256(tmp / EXECUTABLE),
@@ -363,44 +306,3 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return manifest
-
-
-def _step(cmd: list[str], cwd: pathlib.Path, verbose: bool, what: str) -> None:
-    out = subprocess.run(cmd, cwd=cwd, capture_output=not verbose, text=True, check=False)
-    if out.returncode != 0:
-        log = ((out.stdout or "") + (out.stderr or ""))[-4000:]
-        raise RuntimeError(f"{what} failed (exit {out.returncode}):\n{log}")
-
-
-# Verilator's runtime library (verilated.o, …) is the same for every design: compiled by
-# the first build of a toolchain, kept beside the builds and copied into later ones (it
-# is most of a build's compile time).
-def _runtime_dir(root: pathlib.Path, tools: dict, waves: bool, coverage: bool = False
-                 ) -> pathlib.Path:
-    extra = {"coverage": COVERAGE_FLAGS} if coverage else {}    # VM_COVERAGE: other objects
-    key = hashlib.sha256(json.dumps({**extra, "tools": tools, "waves": waves,
-                                     "flags": VERILATOR_FLAGS, "cxx": CXX_FLAGS},
-                                    sort_keys=True).encode())
-    return root / f"runtime-{key.hexdigest()[:12]}"
-
-
-def _restore_runtime(runtime: pathlib.Path, obj: pathlib.Path) -> bool:
-    objects = sorted(runtime.glob("verilated*.o")) if (runtime / "complete").exists() else []
-    for path in objects:
-        target = obj / path.name
-        shutil.copyfile(path, target)          # a fresh mtime: newer than its source
-    return bool(objects)
-
-
-def _save_runtime(runtime: pathlib.Path, obj: pathlib.Path) -> None:
-    objects = sorted(obj.glob("verilated*.o"))
-    if not objects or (runtime / "complete").exists():
-        return
-    tmp = pathlib.Path(tempfile.mkdtemp(prefix=runtime.name + ".", dir=runtime.parent))
-    for path in objects:
-        shutil.copyfile(path, tmp / path.name)
-    (tmp / "complete").write_text("\n".join(p.name for p in objects) + "\n")
-    try:
-        os.replace(tmp, runtime)
-    except OSError:                            # another build saved it first
-        shutil.rmtree(tmp, ignore_errors=True)

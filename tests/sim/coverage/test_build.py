@@ -15,6 +15,7 @@ from helpers.verilator_harness import HAVE_VERILATOR
 from dptbd.config import DPConfig
 from dptbd.sim import verilator as V
 from dptbd.sim.verilator import cache as B
+from dptbd.sim.verilator import toolchain as T
 
 CFG = DPConfig(width=8, height=6, segment_frames=2, candidate_count=2, histogram_bits=4)
 
@@ -31,14 +32,14 @@ def test_the_coverage_key_differs_and_the_plain_key_is_unchanged():
         "config": CFG.to_mapping(), "design": "segmenter", "lut_style": "auto",
         "waves": False, "gateware": gateware_hash(),
         "harness": hashlib.sha256(b"".join(
-            p.read_bytes() for p in B._harness_sources("segmenter"))).hexdigest(),
+            p.read_bytes() for p in T.harness_sources("segmenter"))).hexdigest(),
         "verilator_flags": B.VERILATOR_FLAGS, "cxx_flags": B.CXX_FLAGS,
         "tools": B.check_tools()}, sort_keys=True)
     assert plain == hashlib.sha256(blob.encode()).hexdigest()
     assert not set(B.COVERAGE_FLAGS) & set(B.VERILATOR_FLAGS)
     tools = B.check_tools()
-    assert B._runtime_dir(B.default_build_root(), tools, False, True) != \
-        B._runtime_dir(B.default_build_root(), tools, False)
+    assert T.runtime_dir(B.default_build_root(), tools, False, True) != \
+        T.runtime_dir(B.default_build_root(), tools, False)
 
 
 def test_the_plain_text_has_no_processes_and_the_coverage_text_has_them():

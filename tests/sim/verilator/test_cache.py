@@ -1,5 +1,6 @@
 """The Verilator build cache (:mod:`dptbd.sim.verilator.cache`): reuse, stale stamps,
-interrupted builds, the build root, and every bad input refused before anything is built.
+interrupted builds, the build root, and every bad design refused before anything is built
+(missing tools: ``test_toolchain.py``).
 
 Builds are cached under ``~/.cache/dptbd/verilator``; the cache tests use a fresh root in
 ``tmp_path`` seeded with the Verilator runtime library of the default root when it has one.
@@ -14,12 +15,12 @@ import shutil
 import pytest
 
 from dptbd.sim.verilator import cache as V
+from dptbd.sim.verilator import toolchain as T
 from dptbd.sim.rtl.check import check_frames
 from dptbd.sim.icarus import config_name
 from dptbd.sim.scenarios import make_frames
 
 from helpers.verilator_harness import SEG, make_config  # noqa: E402
-from helpers.refusals import whole
 
 pytestmark = pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
 
@@ -29,7 +30,7 @@ def fresh_root(path: pathlib.Path) -> pathlib.Path:
     """An empty build root with the default root's runtime library (compiling it costs
     most of a first build); without one the first build compiles it."""
     path.mkdir(parents=True, exist_ok=True)
-    src = V._runtime_dir(V.default_build_root(), V.check_tools(), False)
+    src = T.runtime_dir(V.default_build_root(), T.check_tools(), False)
     if (src / "complete").exists():
         shutil.copytree(src, path / src.name)
     return path
@@ -62,7 +63,7 @@ def cache(pristine, tmp_path):
 def no_compiling(monkeypatch):
     def refuse(*a, **k):
         raise AssertionError("compiled although the cache should have been used")
-    monkeypatch.setattr(V, "_step", refuse)
+    monkeypatch.setattr(T, "step", refuse)
     monkeypatch.setattr(V, "_generate", refuse)
 
 
@@ -180,20 +181,20 @@ def test_a_damaged_build_is_rebuilt_never_reused(cache, damage):
 @pytest.mark.parametrize("exc", [RuntimeError("make failed (exit 2)"), KeyboardInterrupt()])
 def test_an_interrupted_build_leaves_nothing_behind(tmp_path, monkeypatch, exc):
     root = fresh_root(tmp_path / "builds")
-    real_step = V._step
+    real_step = T.step
 
     def step(cmd, cwd, verbose, what):
         if cmd[0] == "make":
             raise exc
         return real_step(cmd, cwd, verbose, what)
 
-    monkeypatch.setattr(V, "_step", step)
+    monkeypatch.setattr(T, "step", step)
     with pytest.raises(type(exc)):
         V.build(CACHE_CFG, "dp", root=root)
     assert [p.name for p in root.iterdir() if p.name.startswith(config_name(CACHE_CFG))] == []
     if isinstance(exc, KeyboardInterrupt):
         return          # the build after an interruption: the same for either (a compile)
-    monkeypatch.setattr(V, "_step", real_step)
+    monkeypatch.setattr(T, "step", real_step)
     sim = V.build(CACHE_CFG, "dp", root=root)
     assert not sim.cached
     assert_works(sim)
@@ -207,7 +208,7 @@ def test_an_interrupted_rebuild_never_leaves_a_reusable_stale_build(cache, monke
     def step(cmd, cwd, verbose, what):
         raise RuntimeError("verilator failed (exit 1)")
 
-    monkeypatch.setattr(V, "_step", step)
+    monkeypatch.setattr(T, "step", step)
     with pytest.raises(RuntimeError, match=r"^verilator failed \(exit 1\)$"):
         V.build(CACHE_CFG, "dp", root=root)
     assert [p.name for p in root.iterdir() if p.name.startswith(directory.name + ".")] == []
@@ -231,40 +232,3 @@ def test_build_refuses_an_unknown_design(tmp_path, design):
                                          rf"got {repr(design)}$"):
         V.build(BASE, design, root=tmp_path / "builds")
     assert not (tmp_path / "builds").exists()
-
-
-@pytest.fixture
-def clear_tools():
-    V.check_tools.cache_clear()
-    yield
-    V.check_tools.cache_clear()
-
-
-INSTALL = ("; install it (bash scripts/setup.sh setup) or use the Icarus simulator instead "
-           "(dptbd sim --simulator icarus)")
-
-
-@pytest.mark.parametrize("missing,named", [
-    ({"verilator"}, "verilator (Debian package 'verilator')"),
-    ({"make"}, "make (Debian package 'make')"),
-    ({"g++", "c++"}, "a C++ compiler (Debian package 'g++')"),
-    ({"verilator", "g++", "c++", "make"}, "verilator (Debian package 'verilator') and a C++ "
-     "compiler (Debian package 'g++') and make (Debian package 'make')"),
-])
-def test_missing_tools_are_named(tmp_path, monkeypatch, clear_tools, missing, named):
-    real = shutil.which
-    monkeypatch.delenv("CXX", raising=False)
-    monkeypatch.setattr(shutil, "which", lambda name, *a, **k: None if name in missing
-                        else real(name, *a, **k))
-    message = whole("compiled RTL simulation needs " + named + INSTALL)
-    with pytest.raises(V.ToolMissingError, match=message):
-        V.check_tools()
-    with pytest.raises(V.ToolMissingError, match=message):
-        V.build(BASE, "dp", root=tmp_path / "builds")
-    assert not (tmp_path / "builds").exists()
-
-
-def test_check_tools_names_the_versions():
-    tools = V.check_tools()
-    assert set(tools) == {"verilator", "c++"}
-    assert tools["verilator"].startswith("Verilator ")

@@ -1,0 +1,141 @@
+"""The Verilator toolchain: the tools a build needs, its flags, the harness sources, a
+compile step, and Verilator's runtime library kept beside the builds.
+
+:func:`check_tools` finds Verilator, a C++ compiler and make (:class:`ToolMissingError`
+names what is missing); their version lines go into every build key
+(:mod:`dptbd.sim.verilator.cache`). :func:`runtime_dir`, :func:`restore_runtime` and
+:func:`save_runtime` keep Verilator's runtime library (``verilated*.o``): the same for every
+design, compiled by the first build of a toolchain and copied into later ones (it is most
+of a build's compile time).
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import tempfile
+from typing import Sequence
+
+__all__ = [
+    "VERILATOR_FLAGS",
+    "CXX_FLAGS",
+    "COVERAGE_FLAGS",
+    "HARNESS",
+    "HARNESSES",
+    "ToolMissingError",
+    "check_tools",
+    "harness_sources",
+    "store_defines",
+    "step",
+    "runtime_dir",
+    "restore_runtime",
+    "save_runtime",
+]
+
+#: Verilator flags. ``-O3 --x-assign fast --x-initial fast --noassert`` measured fastest
+#: here; ``--threads`` is far slower on this design and is not used. ``-Wno-WIDTH``: Yosys'
+#: ``write_verilog`` relies on implicit extension (``hw/flow/verilog.py``, lint waivers).
+VERILATOR_FLAGS = ("--cc", "--exe", "-O3", "--x-assign", "fast", "--x-initial", "fast",
+                   "--noassert", "-Wno-fatal", "-Wno-WIDTH", "--prefix", "Vdut")
+#: C++ optimisation of the harness, the verilated model (``OPT_FAST``) and Verilator's runtime
+#: library (``OPT_GLOBAL``; compiled once per toolchain, below): -O3 rather than
+#: Verilator's default -Os, for simulation speed.
+CXX_FLAGS = ("-O3",)
+#: Verilator flags of the coverage build (added to :data:`VERILATOR_FLAGS`): a point per
+#: branch of every ``if`` / ``case`` (line) and per bit of every signal (toggle).
+COVERAGE_FLAGS = ("--coverage-line", "--coverage-toggle")
+
+HARNESS = pathlib.Path(__file__).resolve().parents[1] / "harness" / "dptbd_harness.cpp"
+#: Designs with a harness of their own (flat AXI ports, register operations):
+#: ``dptbd.sim.verilator.axi`` runs it.
+HARNESSES = {"axi": HARNESS.with_name("dptbd_axi_harness.cpp")}
+
+class ToolMissingError(RuntimeError):
+    """Verilator or a C++ compiler is not installed."""
+
+
+def _first_line(cmd: Sequence[str]) -> str:
+    out = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    return (out.stdout or out.stderr).strip().splitlines()[0] if (out.stdout or out.stderr) \
+        else ""
+
+
+@functools.lru_cache(maxsize=None)
+def check_tools() -> dict[str, str]:
+    """``{"verilator": version line, "c++": version line}``; raises :class:`ToolMissingError`
+    naming what is missing and the Icarus fallback."""
+    missing = []
+    verilator = shutil.which("verilator")
+    if verilator is None:
+        missing.append("verilator (Debian package 'verilator')")
+    cxx = shutil.which(os.environ.get("CXX", "g++")) or shutil.which("c++")
+    if cxx is None:
+        missing.append("a C++ compiler (Debian package 'g++')")
+    make = shutil.which("make")
+    if make is None:
+        missing.append("make (Debian package 'make')")
+    if missing:
+        raise ToolMissingError(
+            "compiled RTL simulation needs " + " and ".join(missing) + "; install it "
+            "(bash scripts/setup.sh setup) or use the Icarus simulator instead "
+            "(dptbd sim --simulator icarus)")
+    return {"verilator": _first_line([verilator, "--version"]),
+            "c++": _first_line([cxx, "--version"])}
+
+
+def harness_sources(design: str) -> list[pathlib.Path]:
+    """The harness source of ``design``, the header every harness shares and, for ``axi``,
+    the AXI4 memory model it includes with the state store in external memory."""
+    source = HARNESSES.get(design, HARNESS)
+    return [source, source.with_name("harness_io.h"),
+            *([source.with_name("axi4_memory.h")] if design == "axi" else [])]
+
+
+def store_defines(store) -> list[str]:
+    """The harness defines of a build with the state in external memory (``axi4_memory.h``)."""
+    return ["-DDPTBD_AXI_STORE", f"-DDPTBD_AXI_DATA_BITS={store.data_bits}",
+            f"-DDPTBD_AXI_OUTSTANDING={store.outstanding}",
+            f"-DDPTBD_FRAME_BYTES={store.frame_bytes}ULL"]
+
+
+def step(cmd: list[str], cwd: pathlib.Path, verbose: bool, what: str) -> None:
+    out = subprocess.run(cmd, cwd=cwd, capture_output=not verbose, text=True, check=False)
+    if out.returncode != 0:
+        log = ((out.stdout or "") + (out.stderr or ""))[-4000:]
+        raise RuntimeError(f"{what} failed (exit {out.returncode}):\n{log}")
+
+
+def runtime_dir(root: pathlib.Path, tools: dict, waves: bool, coverage: bool = False
+                 ) -> pathlib.Path:
+    extra = {"coverage": COVERAGE_FLAGS} if coverage else {}    # VM_COVERAGE: other objects
+    key = hashlib.sha256(json.dumps({**extra, "tools": tools, "waves": waves,
+                                     "flags": VERILATOR_FLAGS, "cxx": CXX_FLAGS},
+                                    sort_keys=True).encode())
+    return root / f"runtime-{key.hexdigest()[:12]}"
+
+
+def restore_runtime(runtime: pathlib.Path, obj: pathlib.Path) -> bool:
+    objects = sorted(runtime.glob("verilated*.o")) if (runtime / "complete").exists() else []
+    for path in objects:
+        target = obj / path.name
+        shutil.copyfile(path, target)          # a fresh mtime: newer than its source
+    return bool(objects)
+
+
+def save_runtime(runtime: pathlib.Path, obj: pathlib.Path) -> None:
+    objects = sorted(obj.glob("verilated*.o"))
+    if not objects or (runtime / "complete").exists():
+        return
+    tmp = pathlib.Path(tempfile.mkdtemp(prefix=runtime.name + ".", dir=runtime.parent))
+    for path in objects:
+        shutil.copyfile(path, tmp / path.name)
+    (tmp / "complete").write_text("\n".join(p.name for p in objects) + "\n")
+    try:
+        os.replace(tmp, runtime)
+    except OSError:                            # another build saved it first
+        shutil.rmtree(tmp, ignore_errors=True)
