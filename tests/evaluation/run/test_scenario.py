@@ -81,3 +81,10 @@ def test_targets_within_reach_pass():
     parse_scenario({**target(velocity=[0.0, 2.0]), "dp": {"radius": 2}}).check()
     # leaving the image is not a move: 3 pixels a frame from outside is never visible twice
     parse_scenario(target(start=[-50.0, 1.0], velocity=[0.0, 0.0])).check()
+
+
+def test_scenario_file_with_recorded_data_is_named_after_it(tmp_path):
+    sc = parse_scenario({"input": {"path": "clip.npz"}}, tmp_path)
+    assert sc.name == "clip.npz" and sc.input_path == tmp_path / "clip.npz"
+    sc = parse_scenario({"name": "mine", "input": {"path": "clip.npz"}}, tmp_path)
+    assert sc.name == "mine"
