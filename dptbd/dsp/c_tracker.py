@@ -7,7 +7,7 @@ codes and the host-side read-out — :meth:`~dptbd.dsp.association.Tracker.confi
 associated by ``dptbd_track_step`` in C. After every step the whole C context (records,
 histories, archive, input buffer, scratch, counters) is copied into the same numpy arrays
 the Python model keeps, so the two can be compared field by field
-(``tests/dsp/test_c_tracker.py``) and ``dptbd.evaluation.chain`` can use either:
+(``tests/dsp/c_tracker/``) and ``dptbd.evaluation.chain`` can use either:
 :func:`tracker_class` (``"python"`` or ``"c"``).
 
 The library is built on first use with the capacities of the :class:`AssociationConfig`
