@@ -9,6 +9,8 @@ import pytest
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.sim import verilator as V
+from dptbd.sim.scenarios import make_frames
+from dptbd.sim.stimulus import pixel_words
 
 _BUILDS: dict = {}
 
@@ -55,3 +57,13 @@ def built(cfg: DPConfig, design: str = "dp") -> V.VerilatorBuild:
     if (cfg, design) not in _BUILDS:
         _BUILDS[cfg, design] = V.build(cfg, design)
     return _BUILDS[cfg, design]
+
+
+def scene_words(cfg: DPConfig, n_frames: int = 9, seed: int = 1):
+    """The input words of ``n_frames`` frames of the two-targets scene of ``seed``."""
+    return pixel_words(cfg, make_frames("two-targets", cfg, n_frames, seed=seed))
+
+
+def assert_passed(result) -> None:
+    """A check's result passed; its report otherwise."""
+    assert result.passed, result.report
