@@ -90,6 +90,12 @@ class DPSegmenterWide(wiring.Component):
             with m.If(dp.segment_begin & ~dp.resync):
                 m.d.sync += latched.eq(clamped(port, lo, hi))
             m.d.comb += getattr(seg, name).eq(latched)
+            if name == "segment_frames":
+                # K == 1 latched with K: the segmenter's scored / ready does not compare
+                one = Signal(init=cfg.segment_frames == 1, name="input_segment_frames_one")
+                with m.If(dp.segment_begin & ~dp.resync):
+                    m.d.sync += one.eq(clamped(port, lo, hi) == 1)
+                m.d.comb += seg.segment_frames_one.eq(one)
         trailer_out = (self.candidates.valid & self.candidates.ready
                        & self.candidates.payload.end_of_list)
         m.d.comb += [

@@ -54,7 +54,10 @@ class SegmenterWide(wiring.Component):
       beat, as at P = 1 (beats of other frames pass meanwhile).
 
     Members as :class:`Segmenter`'s, ``states`` with the beats' layout
-    (:func:`~dptbd.hw.wide.layouts.wide_state_layout`, state 0 in the low bits).
+    (:func:`~dptbd.hw.wide.layouts.wide_state_layout`, state 0 in the low bits); as there,
+    ``segment_frames_one`` (``segment_frames == 1``, a register of the driver latched with
+    K) decides whether a segment's first beat is scored, so no comparison lies on the path
+    to ``states.ready``.
     """
 
     #: Cycles from a lane's hand-out (for the first record of a beat: the beat's
@@ -74,6 +77,7 @@ class SegmenterWide(wiring.Component):
             "states": In(stream.Signature(wide_state_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),
             **segmenter_setting_members(cfg),
+            "segment_frames_one": In(1, init=cfg.segment_frames == 1),
         })
 
     @property
@@ -120,7 +124,7 @@ class SegmenterWide(wiring.Component):
         m.d.comb += [eff_frames.eq(Mux(taking, self.segment_frames, k_frames)),
                      eff_count.eq(Mux(taking, self.candidate_count, count)),
                      eff_shift.eq(Mux(taking, self.histogram_shift, shift)),
-                     scored.eq(Mux(taking, self.segment_frames == 1, in_scored))]
+                     scored.eq(Mux(taking, self.segment_frames_one, in_scored))]
         frame_end = Signal()                 # the next beat is a frame's last
         last = Signal()
         m.d.comb += last.eq(scored & frame_end)

@@ -6,6 +6,7 @@ import json
 import re
 import shutil
 
+import numpy as np
 import pytest
 
 from dptbd.cli import main
@@ -157,6 +158,43 @@ def test_rtl_at_640x512_takes_the_axi_state_store(tmp_path, capsys):
     rtl = json.loads((out / "summary.json").read_text())["rtl"]
     assert (rtl["state_store"], rtl["cycles_per_pixel"], rtl["words_in"]) == (
         "axi", 1.0, 12 * 640 * 512)
+
+
+RANGE_DOPPLER = """\
+[input]
+path = "rd4096x256.npy"
+[segmentation]
+false_alarm_rate = 0.00005
+"""
+
+
+@pytest.mark.slow
+@VERILATOR
+def test_rtl_at_4096x256_range_doppler_takes_the_axi_state_store(tmp_path, capsys):
+    """A 4096 x 256 range-Doppler map as recorded data (12 frames, 8-bit: K = 6, B_E = 16;
+    21 Mbit of state): --rtl runs dptbd_axi --state-store axi (about 4 minutes on a loaded
+    2-core machine, the build included)."""
+    from dptbd.scenes.adc import quantise
+    from dptbd.scenes.range_doppler import rd_scene, straight_track
+
+    # benchmarks/bench_axi_store.py's range-Doppler scene: a Swerling 1 target at 10 dB
+    rd = rd_scene((4096, 256), 12, straight_track((4096 / 3, 128.0), (2.0, 0.5), 12),
+                  snr_db=10.0, seed=1)
+    frames = quantise(np.swapaxes(rd.frames, 1, 2), 8, gain=16.0)
+    np.save(tmp_path / "rd4096x256.npy", frames.astype(np.uint8))
+    scenario = tmp_path / "rd.toml"
+    scenario.write_text(RANGE_DOPPLER)
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(scenario), "--rtl",
+                 "--rtl-build-dir", str(tmp_path / "build"), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    # 12 frames of 1 048 576 pixels at one per clock, + latency 17 + 1
+    line = ("RTL (dptbd_axi --state-store axi on Verilator) checked frames 0-11 of 12: "
+            "bit-exact, 95 candidate-list words compared, 12582930 cycles")
+    assert f"\n{line}\n" in text
+    rtl = json.loads((out / "summary.json").read_text())["rtl"]
+    assert (rtl["state_store"], rtl["cycles_per_pixel"], rtl["words_in"]) == (
+        "axi", 1.0, 12 * 4096 * 256)
 
 
 @pytest.mark.skipif(shutil.which("iverilog") is None, reason="Icarus Verilog not installed")

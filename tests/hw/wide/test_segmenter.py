@@ -164,6 +164,8 @@ def settings_driver(cfg, states, settings, seed):
                 else:
                     value = int(rng.integers(0, 1 << len(port)))
                 ctx.set(port, value)
+                if port is dut.segment_frames:              # the driver's K == 1 with K
+                    ctx.set(dut.segment_frames_one, value == 1)
         return drive
     return make
 
@@ -180,6 +182,26 @@ def test_run_time_settings_per_segment(lanes):
                      on_cycle=settings_driver(cfg, states, settings, lanes))
     assert len(lists) == len(schedule)
     assert len({lst.threshold for lst in lists}) >= 3
+
+
+@pytest.mark.parametrize("k, one", [(1, 0), (2, 1)])
+def test_first_beat_scored_by_segment_frames_one(k, one):
+    """Whether a segment's first beat is scored is ``segment_frames_one``, not a comparison
+    of ``segment_frames``: after reset the scan clears the histogram (busy), and the first
+    beat waits for it only if ``segment_frames_one`` says it is scored."""
+    cfg = make_config(width=12, height=4, segment_frames=2, max_segment_frames=3,
+                      histogram_bits=4, pixels_per_clock=2)
+    dut = SegmenterWide(cfg)
+    readies = []
+
+    async def bench(ctx):
+        ctx.set(dut.segment_frames, k)
+        ctx.set(dut.segment_frames_one, one)
+        ctx.set(dut.states.valid, 1)
+        readies.append(ctx.get(dut.states.ready))
+
+    simulate(dut, bench)
+    assert readies == [not one]
 
 
 def test_settings_kept_at_a_misaligned_segment_start():
