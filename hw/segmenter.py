@@ -70,7 +70,11 @@ class Segmenter(wiring.Component):
         Entries of the output FIFO (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter`).
     histogram_style : {"memory", "dp16kd"}
         The histogram's memory (:class:`~dptbd.hw.histogram.Histogram`'s ``style``); same
-        cycles.
+        cycles. ``"dp16kd"`` (ECP5) also passes the histogram's held increment to the
+        threshold search apart from its count (both blocks' ``held_apart``).
+    dp16kd : callable or None
+        For ``"dp16kd"``: the DP16KD builder (:class:`~dptbd.hw.histogram.Histogram`'s
+        ``dp16kd``; tests pass a behavioural model).
 
     Members
     -------
@@ -97,9 +101,11 @@ class Segmenter(wiring.Component):
     #: (no back-pressure): stage B writes the FIFO, which takes 2 cycles to its output.
     RECORD_LATENCY = 3
 
-    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, histogram_style: str = "memory"):
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, histogram_style: str = "memory",
+                 dp16kd=None):
         self._cfg = cfg
         self._histogram_style = histogram_style
+        self._dp16kd = dp16kd
         self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth)
         super().__init__({
             "states": In(stream.Signature(state_layout(cfg))),
@@ -122,8 +128,10 @@ class Segmenter(wiring.Component):
         cfg = self._cfg
         width, height = cfg.width, cfg.height
 
-        m.submodules.histogram = hist = Histogram(cfg, style=self._histogram_style)
-        m.submodules.threshold = search = ThresholdSearch(cfg)
+        held_apart = self._histogram_style == "dp16kd"
+        m.submodules.histogram = hist = Histogram(cfg, style=self._histogram_style,
+                                                  dp16kd=self._dp16kd, held_apart=held_apart)
+        m.submodules.threshold = search = ThresholdSearch(cfg, held_apart=held_apart)
         m.submodules.emitter = emitter = self._emitter
         wiring.connect(m, emitter.candidates, wiring.flipped(self.candidates))
         m.d.comb += [
@@ -132,6 +140,8 @@ class Segmenter(wiring.Component):
             search.scan_count.eq(hist.scan_count),
             search.scan_last.eq(hist.scan_last),
         ]
+        if held_apart:
+            m.d.comb += search.scan_held.eq(hist.scan_held)
 
         # ---- position of the next word ---------------------------------------------------
         col = Signal(range(width))

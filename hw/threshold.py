@@ -33,12 +33,25 @@ class ThresholdSearch(wiring.Component):
     (``scan_valid`` with ``scan_bin = 2**b - 1``) arrives at the inputs, and holds for that
     scan.
 
+    Parameters
+    ----------
+    cfg : DPConfig
+        Bins, n, C.
+    held_apart : bool
+        ``True`` (the ECP5 build, :class:`~dptbd.hw.histogram.Histogram` ``held_apart``):
+        the member ``scan_held`` adds one to ``scan_count`` (the histogram's held
+        increment), as the borrow-in of the one subtraction ``remaining - count - held``
+        whose sign is the fit; the loop stays one carry chain deep. ``False`` (default):
+        no ``scan_held``.
+
     Members
     -------
     scan_valid, scan_last : In(1); scan_bin : In(range(2**b)); scan_count : In(bin_count_bits)
         From :class:`~dptbd.hw.histogram.Histogram`.
     count : In(range(C + 1), init=n)
         Run-time n, sampled with the scan's top bin.
+    scan_held : In(1)
+        With ``held_apart``: ``scan_count`` plus one.
     load : In(1)
         Sampled in the ``done`` cycle: 1 loads the result into ``threshold`` and sets
         ``primed``; 0 discards it (the clearing scan after reset).
@@ -51,8 +64,9 @@ class ThresholdSearch(wiring.Component):
         ``scan_last`` input.
     """
 
-    def __init__(self, cfg: DPConfig):
+    def __init__(self, cfg: DPConfig, *, held_apart: bool = False):
         self._cfg = cfg
+        self._held_apart = held_apart
         super().__init__({
             "scan_valid": In(1),
             "scan_bin": In(range(cfg.n_bins)),
@@ -63,6 +77,7 @@ class ThresholdSearch(wiring.Component):
             "threshold": Out(cfg.threshold_bits, init=cfg.n_bins),
             "primed": Out(1),
             "done": Out(1),
+            **({"scan_held": In(1)} if held_apart else {}),
         })
 
     def elaborate(self, platform):
@@ -80,7 +95,19 @@ class ThresholdSearch(wiring.Component):
         remaining = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)  # n - cum
         stopped = Signal()                            # cum has exceeded n
         best = Signal(cfg.threshold_bits, init=cfg.n_bins)
-        fits = (count <= remaining) & ~stopped
+        if self._held_apart:
+            held = Signal()
+            m.d.sync += held.eq(self.scan_held)
+            # remaining - count - held in one subtraction: its sign bit is ~(count + held
+            # <= remaining); remaining < 2**(w-1) and count + held <= 2**(w-1)
+            width = max(len(remaining), len(count)) + 1
+            difference = Signal(width)
+            m.d.comb += difference.eq(remaining - count - held)
+            fits = ~difference[-1] & ~stopped
+            left = difference[:len(remaining)]
+        else:
+            fits = (count <= remaining) & ~stopped
+            left = remaining - count
         best_next = Mux(fits, bin_, best)
         m.d.comb += self.done.eq(valid & last)
         with m.If(valid):
@@ -89,7 +116,7 @@ class ThresholdSearch(wiring.Component):
                 with m.If(self.load):
                     m.d.sync += [self.threshold.eq(best_next), self.primed.eq(1)]
             with m.Elif(fits):
-                m.d.sync += [remaining.eq(remaining - count), best.eq(bin_)]
+                m.d.sync += [remaining.eq(left), best.eq(bin_)]
             with m.Else():
                 m.d.sync += stopped.eq(1)
         with m.If(self.scan_valid & (self.scan_bin == cfg.n_bins - 1)):   # a scan begins
