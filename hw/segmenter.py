@@ -70,8 +70,10 @@ class Segmenter(wiring.Component):
         Entries of the output FIFO (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter`).
     histogram_style : {"memory", "dp16kd"}
         The histogram's memory (:class:`~dptbd.hw.histogram.Histogram`'s ``style``); same
-        cycles. ``"dp16kd"`` (ECP5) also passes the histogram's held increment to the
-        threshold search apart from its count (both blocks' ``held_apart``).
+        cycles. ``"dp16kd"`` (ECP5) also selects the segmenter's ECP5 structure around it:
+        the histogram's held increment passed to the threshold search apart from its count
+        (both blocks' ``held_apart``) and the emitter's cap a register
+        (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter` ``registered_cap``).
     dp16kd : callable or None
         For ``"dp16kd"``: the DP16KD builder (:class:`~dptbd.hw.histogram.Histogram`'s
         ``dp16kd``; tests pass a behavioural model).
@@ -106,7 +108,8 @@ class Segmenter(wiring.Component):
         self._cfg = cfg
         self._histogram_style = histogram_style
         self._dp16kd = dp16kd
-        self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth)
+        self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth,
+                                         registered_cap=histogram_style == "dp16kd")
         super().__init__({
             "states": In(stream.Signature(state_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),
