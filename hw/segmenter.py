@@ -231,14 +231,28 @@ class Segmenter(wiring.Component):
                 m.d.sync += [col.eq(col + 1),
                              frame_end.eq((col == width - 2) & (row == height - 1))]
 
-        m.d.sync += scan_request.eq(accept & ends)
-        with m.If(accept & ends):
+        if held_apart:
+            # the ECP5 build: the list's end and the missed end as flat products of
+            # registers (ready is emitter.space & ~busy for a scored word, emitter.space for
+            # another), not behind the shared `accept`
+            list_end = Signal()
+            missed_end = Signal()
+            m.d.comb += [
+                list_end.eq(self.states.valid & emitter.space & ~busy & scored
+                            & (frame_end | eos)),
+                missed_end.eq(self.states.valid & emitter.space & ~scored & eos),
+            ]
+        else:
+            list_end = accept & ends
+            missed_end = accept & ~scored & eos
+        m.d.sync += scan_request.eq(list_end)
+        with m.If(list_end):
             m.d.sync += busy.eq(1)
         with m.Elif(search.done):                            # T is loaded at this edge
             m.d.sync += [busy.eq(0), clearing.eq(0)]
-        with m.If(accept & ends):
+        with m.If(list_end):
             m.d.sync += missed.eq(0)
-        with m.Elif(accept & ~scored & eos):
+        with m.Elif(missed_end):
             m.d.sync += missed.eq(1)
 
         # bin >= T without the bin on the path: for T <= 2**b - 1, min(E >> s, 2**b - 1) >= T
