@@ -72,8 +72,10 @@ class Segmenter(wiring.Component):
         The histogram's memory (:class:`~dptbd.hw.histogram.Histogram`'s ``style``); same
         cycles. ``"dp16kd"`` (ECP5) also selects the segmenter's ECP5 structure around it:
         the histogram's held increment passed to the threshold search apart from its count
-        (both blocks' ``held_apart``) and the emitter's cap a register
-        (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter` ``registered_cap``).
+        (both blocks' ``held_apart``), the emitter's cap a register
+        (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter` ``registered_cap``), and
+        the list's end and missed end that set ``busy`` and ``missed`` as flat products of
+        registers instead of terms of the shared ``accept``.
     dp16kd : callable or None
         For ``"dp16kd"``: the DP16KD builder (:class:`~dptbd.hw.histogram.Histogram`'s
         ``dp16kd``; tests pass a behavioural model).
@@ -131,10 +133,10 @@ class Segmenter(wiring.Component):
         cfg = self._cfg
         width, height = cfg.width, cfg.height
 
-        held_apart = self._histogram_style == "dp16kd"
+        ecp5 = self._histogram_style == "dp16kd"       # the ECP5 structure (docstring)
         m.submodules.histogram = hist = Histogram(cfg, style=self._histogram_style,
-                                                  dp16kd=self._dp16kd, held_apart=held_apart)
-        m.submodules.threshold = search = ThresholdSearch(cfg, held_apart=held_apart)
+                                                  dp16kd=self._dp16kd, held_apart=ecp5)
+        m.submodules.threshold = search = ThresholdSearch(cfg, held_apart=ecp5)
         m.submodules.emitter = emitter = self._emitter
         wiring.connect(m, emitter.candidates, wiring.flipped(self.candidates))
         m.d.comb += [
@@ -143,7 +145,7 @@ class Segmenter(wiring.Component):
             search.scan_count.eq(hist.scan_count),
             search.scan_last.eq(hist.scan_last),
         ]
-        if held_apart:
+        if ecp5:
             m.d.comb += search.scan_held.eq(hist.scan_held)
 
         # ---- position of the next word ---------------------------------------------------
@@ -231,7 +233,7 @@ class Segmenter(wiring.Component):
                 m.d.sync += [col.eq(col + 1),
                              frame_end.eq((col == width - 2) & (row == height - 1))]
 
-        if held_apart:
+        if ecp5:
             # the ECP5 build: the list's end and the missed end as flat products of
             # registers (ready is emitter.space & ~busy for a scored word, emitter.space for
             # another), not behind the shared `accept`
