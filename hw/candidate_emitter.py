@@ -36,6 +36,10 @@ class CandidateEmitter(wiring.Component):
         Widths, C (``record_capacity``).
     fifo_depth : int
         Entries of the output FIFO (``SyncFIFOBuffered``), at least 6.
+    registered_cap : bool
+        ``True`` (the ECP5 build): "fewer than C emitted" is a register updated with the
+        count, so no comparison lies between the count and the FIFO's write; ``False``
+        (default): the comparison. Same words, same cycles.
 
     Members
     -------
@@ -52,11 +56,12 @@ class CandidateEmitter(wiring.Component):
         may be accepted towards this stage only while ``space`` is high.
     """
 
-    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8):
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, registered_cap: bool = False):
         if fifo_depth < 6:
             raise ValueError(f"fifo_depth must be an integer in [6, inf), got {fifo_depth}")
         self._cfg = cfg
         self._depth = fifo_depth
+        self._registered_cap = registered_cap
         super().__init__({
             "valid": In(1),
             "selected": In(1),
@@ -82,8 +87,17 @@ class CandidateEmitter(wiring.Component):
 
         emitted = Signal(range(capacity + 1))
         overflow = Signal()
-        push = self.valid & self.selected & (emitted < capacity)
-        dropped = self.valid & self.selected & (emitted == capacity)
+        if self._registered_cap:
+            below = Signal(init=capacity > 0)          # emitted < C
+            push = self.valid & self.selected & below
+            dropped = self.valid & self.selected & ~below
+            with m.If(self.valid & self.end_of_list):
+                m.d.sync += below.eq(capacity > 0)
+            with m.Elif(push):
+                m.d.sync += below.eq(emitted != capacity - 1)
+        else:
+            push = self.valid & self.selected & (emitted < capacity)
+            dropped = self.valid & self.selected & (emitted == capacity)
 
         trailer = Signal(trailer_layout(cfg))
         trailer_pending = Signal()

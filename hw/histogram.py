@@ -68,6 +68,14 @@ class Histogram(wiring.Component):
     dp16kd : callable or None
         For ``"dp16kd"``: the DP16KD builder (``cell`` of
         :func:`~dptbd.hw.dp16kd.dp16kd_memory`; tests pass a behavioural model).
+    held_apart : bool
+        ``False`` (default): the held increment is in ``scan_count`` (+1, saturated).
+        ``True`` (the ECP5 build, with ``"dp16kd"``): ``scan_count`` is the count without
+        it and ``scan_held`` says that the consumer adds one
+        (:class:`~dptbd.hw.threshold.ThresholdSearch` ``held_apart``), so no carry chain
+        lies between the memory's word and the scan's output. ``scan_count + scan_held`` may
+        then be ``2**bin_count_bits`` (unsaturated), which the threshold search cannot tell
+        from the saturated count: both exceed every n.
 
     Members
     -------
@@ -77,11 +85,14 @@ class Histogram(wiring.Component):
         Start a scan (ignored while one is under way).
     scan_valid, scan_last : Out(1); scan_bin : Out(range(2**b)); scan_count : Out(bin_count_bits)
         The scanned counts, top bin first.
+    scan_held : Out(1)
+        With ``held_apart``: the held increment belongs to this count (add one).
     scanning : Out(1)
         A scan is under way (cycles c+1 … c+2**b+1: reads issued or counts still to come out).
     """
 
-    def __init__(self, cfg: DPConfig, *, style: str = "memory", dp16kd=None):
+    def __init__(self, cfg: DPConfig, *, style: str = "memory", dp16kd=None,
+                 held_apart: bool = False):
         if style not in HISTOGRAM_STYLES:
             raise ValueError(f"style must be one of {HISTOGRAM_STYLES}, got {style!r}")
         if style == "dp16kd" and cfg.n_bins > DP16KD_MAX_DEPTH:
@@ -90,6 +101,7 @@ class Histogram(wiring.Component):
         self._cfg = cfg
         self._style = style
         self._dp16kd = dp16kd
+        self._held_apart = held_apart
         super().__init__({
             "add_bin": In(range(cfg.n_bins)),
             "add_en": In(1),
@@ -99,6 +111,7 @@ class Histogram(wiring.Component):
             "scan_count": Out(cfg.bin_count_bits),
             "scan_last": Out(1),
             "scanning": Out(1),
+            **({"scan_held": Out(1)} if held_apart else {}),
         })
 
     def elaborate(self, platform):
@@ -186,17 +199,26 @@ class Histogram(wiring.Component):
         m.d.comb += forwarded.eq(Mux(take_write, write.data, Mux(take_last, last_data, prev_data)))
         count = Signal(cfg.bin_count_bits)
         m.d.comb += count.eq(Mux(forward, forwarded, word_2))
-        incremented = Mux(count == full, full, count + 1)
+        if self._style == "dp16kd":
+            # the memory's word and the forwarded count each incremented on its own carry
+            # chain, chosen after: the word meets the chain first, not the forwarding's
+            # multiplexer (the carry out is the saturation)
+            incremented = Mux(forward, _saturating_increment(m, forwarded, "forwarded"),
+                              _saturating_increment(m, word_2, "word"))
+        else:
+            incremented = Mux(count == full, full, count + 1)
         m.d.comb += [
             self.scan_valid.eq(scan_2),
             self.scan_bin.eq(bin_2),
-            self.scan_count.eq(Mux(held_2, incremented, count)),
+            self.scan_count.eq(count if self._held_apart else Mux(held_2, incremented, count)),
             self.scan_last.eq(scan_2 & (bin_2 == 0)),
             self.scanning.eq(scan_active | scan_1 | scan_2),
             result.addr.eq(bin_2),
             result.data.eq(Mux(scan_2, 0, incremented)),
             result.en.eq(scan_2 | add_2),
         ]
+        if self._held_apart:
+            m.d.comb += self.scan_held.eq(held_2)
         return m
 
     def _memory(self, m, read, write):
@@ -220,6 +242,15 @@ class Histogram(wiring.Component):
         ]
         m.d.sync += word_2.eq(read_port.data)
         return word_2
+
+
+def _saturating_increment(m, value, name):
+    """``value + 1``, all ones where ``value`` is all ones: the carry out of the adder ORed
+    into every bit."""
+    width = len(value)
+    total = Signal(width + 1, name=f"{name}_plus_one")
+    m.d.comb += total.eq(value + 1)
+    return total[:width] | total[width].replicate(width)
 
 
 class _Port:

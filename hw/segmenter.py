@@ -70,7 +70,15 @@ class Segmenter(wiring.Component):
         Entries of the output FIFO (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter`).
     histogram_style : {"memory", "dp16kd"}
         The histogram's memory (:class:`~dptbd.hw.histogram.Histogram`'s ``style``); same
-        cycles.
+        cycles. ``"dp16kd"`` (ECP5) also selects the segmenter's ECP5 structure around it:
+        the histogram's held increment passed to the threshold search apart from its count
+        (both blocks' ``held_apart``), the emitter's cap a register
+        (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter` ``registered_cap``), and
+        the list's end and missed end that set ``busy`` and ``missed`` as flat products of
+        registers instead of terms of the shared ``accept``.
+    dp16kd : callable or None
+        For ``"dp16kd"``: the DP16KD builder (:class:`~dptbd.hw.histogram.Histogram`'s
+        ``dp16kd``; tests pass a behavioural model).
 
     Members
     -------
@@ -97,10 +105,13 @@ class Segmenter(wiring.Component):
     #: (no back-pressure): stage B writes the FIFO, which takes 2 cycles to its output.
     RECORD_LATENCY = 3
 
-    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, histogram_style: str = "memory"):
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, histogram_style: str = "memory",
+                 dp16kd=None):
         self._cfg = cfg
         self._histogram_style = histogram_style
-        self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth)
+        self._dp16kd = dp16kd
+        self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth,
+                                         registered_cap=histogram_style == "dp16kd")
         super().__init__({
             "states": In(stream.Signature(state_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),
@@ -122,8 +133,10 @@ class Segmenter(wiring.Component):
         cfg = self._cfg
         width, height = cfg.width, cfg.height
 
-        m.submodules.histogram = hist = Histogram(cfg, style=self._histogram_style)
-        m.submodules.threshold = search = ThresholdSearch(cfg)
+        ecp5 = self._histogram_style == "dp16kd"       # the ECP5 structure (docstring)
+        m.submodules.histogram = hist = Histogram(cfg, style=self._histogram_style,
+                                                  dp16kd=self._dp16kd, held_apart=ecp5)
+        m.submodules.threshold = search = ThresholdSearch(cfg, held_apart=ecp5)
         m.submodules.emitter = emitter = self._emitter
         wiring.connect(m, emitter.candidates, wiring.flipped(self.candidates))
         m.d.comb += [
@@ -132,6 +145,8 @@ class Segmenter(wiring.Component):
             search.scan_count.eq(hist.scan_count),
             search.scan_last.eq(hist.scan_last),
         ]
+        if ecp5:
+            m.d.comb += search.scan_held.eq(hist.scan_held)
 
         # ---- position of the next word ---------------------------------------------------
         col = Signal(range(width))
@@ -218,14 +233,28 @@ class Segmenter(wiring.Component):
                 m.d.sync += [col.eq(col + 1),
                              frame_end.eq((col == width - 2) & (row == height - 1))]
 
-        m.d.sync += scan_request.eq(accept & ends)
-        with m.If(accept & ends):
+        if ecp5:
+            # the ECP5 build: the list's end and the missed end as flat products of
+            # registers (ready is emitter.space & ~busy for a scored word, emitter.space for
+            # another), not behind the shared `accept`
+            list_end = Signal()
+            missed_end = Signal()
+            m.d.comb += [
+                list_end.eq(self.states.valid & emitter.space & ~busy & scored
+                            & (frame_end | eos)),
+                missed_end.eq(self.states.valid & emitter.space & ~scored & eos),
+            ]
+        else:
+            list_end = accept & ends
+            missed_end = accept & ~scored & eos
+        m.d.sync += scan_request.eq(list_end)
+        with m.If(list_end):
             m.d.sync += busy.eq(1)
         with m.Elif(search.done):                            # T is loaded at this edge
             m.d.sync += [busy.eq(0), clearing.eq(0)]
-        with m.If(accept & ends):
+        with m.If(list_end):
             m.d.sync += missed.eq(0)
-        with m.Elif(accept & ~scored & eos):
+        with m.Elif(missed_end):
             m.d.sync += missed.eq(1)
 
         # bin >= T without the bin on the path: for T <= 2**b - 1, min(E >> s, 2**b - 1) >= T

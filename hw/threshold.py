@@ -33,12 +33,27 @@ class ThresholdSearch(wiring.Component):
     (``scan_valid`` with ``scan_bin = 2**b - 1``) arrives at the inputs, and holds for that
     scan.
 
+    Parameters
+    ----------
+    cfg : DPConfig
+        Bins, n, C.
+    held_apart : bool
+        ``True`` (the ECP5 build, :class:`~dptbd.hw.histogram.Histogram` ``held_apart``):
+        the member ``scan_held`` adds one to ``scan_count`` (the histogram's held
+        increment), as the carry in of the one addition ``remaining + ~count + ~held``
+        (= ``remaining - count - held``) whose sign is the fit; ``remaining`` is kept in
+        two's complement and set to -1 by the first count that does not fit, so no
+        ``stopped`` flag enters the loop (one carry chain and one OR). ``False``
+        (default): no ``scan_held``.
+
     Members
     -------
     scan_valid, scan_last : In(1); scan_bin : In(range(2**b)); scan_count : In(bin_count_bits)
         From :class:`~dptbd.hw.histogram.Histogram`.
     count : In(range(C + 1), init=n)
         Run-time n, sampled with the scan's top bin.
+    scan_held : In(1)
+        With ``held_apart``: ``scan_count`` plus one.
     load : In(1)
         Sampled in the ``done`` cycle: 1 loads the result into ``threshold`` and sets
         ``primed``; 0 discards it (the clearing scan after reset).
@@ -51,8 +66,9 @@ class ThresholdSearch(wiring.Component):
         ``scan_last`` input.
     """
 
-    def __init__(self, cfg: DPConfig):
+    def __init__(self, cfg: DPConfig, *, held_apart: bool = False):
         self._cfg = cfg
+        self._held_apart = held_apart
         super().__init__({
             "scan_valid": In(1),
             "scan_bin": In(range(cfg.n_bins)),
@@ -63,6 +79,7 @@ class ThresholdSearch(wiring.Component):
             "threshold": Out(cfg.threshold_bits, init=cfg.n_bins),
             "primed": Out(1),
             "done": Out(1),
+            **({"scan_held": In(1)} if held_apart else {}),
         })
 
     def elaborate(self, platform):
@@ -77,6 +94,9 @@ class ThresholdSearch(wiring.Component):
         m.d.sync += [valid.eq(self.scan_valid), last.eq(self.scan_valid & self.scan_last),
                      bin_.eq(self.scan_bin), count.eq(self.scan_count)]
 
+        if self._held_apart:
+            self._search_held_apart(m, n, valid, last, bin_, count)
+            return m
         remaining = Signal(range(cfg.record_capacity + 1), init=cfg.n_candidates)  # n - cum
         stopped = Signal()                            # cum has exceeded n
         best = Signal(cfg.threshold_bits, init=cfg.n_bins)
@@ -95,3 +115,35 @@ class ThresholdSearch(wiring.Component):
         with m.If(self.scan_valid & (self.scan_bin == cfg.n_bins - 1)):   # a scan begins
             m.d.sync += [remaining.eq(n), stopped.eq(0), best.eq(cfg.n_bins)]
         return m
+
+    def _search_held_apart(self, m, n, valid, last, bin_, count):
+        """The search with ``scan_held`` (``held_apart``): ``remaining`` is a two's-complement
+        register, -1 once a count did not fit (no ``stopped`` flag on the loop); each cycle
+        ``remaining + ~count + ~held`` (= remaining - count - held, ``held`` the carry in)
+        is loaded, or -1 where it is negative, and its sign bit is the fit."""
+        cfg = self._cfg
+        held = Signal()
+        m.d.sync += held.eq(self.scan_held)
+        # n <= C < 2**(width - 2) and count + held <= 2**bin_count_bits <= 2**(width - 2):
+        # remaining - count - held lies in (-2**(width - 1), 2**(width - 1))
+        width = max(cfg.record_capacity.bit_length(), cfg.bin_count_bits) + 2
+        remaining = Signal(width, init=cfg.n_candidates)           # n - cum, or -1: stopped
+        count_wide = Signal(width)
+        difference = Signal(width)
+        m.d.comb += [count_wide.eq(count),
+                     difference.eq(remaining + ~count_wide + ~held)]
+        fits = ~difference[-1]
+        best = Signal(cfg.threshold_bits, init=cfg.n_bins)
+        best_next = Mux(fits, bin_, best)
+        m.d.comb += self.done.eq(valid & last)
+        with m.If(valid):
+            with m.If(last):
+                m.d.sync += [remaining.eq(n), best.eq(cfg.n_bins)]
+                with m.If(self.load):
+                    m.d.sync += [self.threshold.eq(best_next), self.primed.eq(1)]
+            with m.Else():
+                m.d.sync += remaining.eq(difference | difference[-1].replicate(width))
+                with m.If(fits):
+                    m.d.sync += best.eq(bin_)
+        with m.If(self.scan_valid & (self.scan_bin == cfg.n_bins - 1)):   # a scan begins
+            m.d.sync += [remaining.eq(n), best.eq(cfg.n_bins)]

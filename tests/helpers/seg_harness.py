@@ -107,7 +107,8 @@ def run_lists(cfg: DPConfig, dut, source, sink, words: list[int], lists, **kw) -
 
 async def scan_histogram(ctx, dut, scans: int) -> tuple[list, list]:
     """Scan a ``Histogram`` / ``BankedHistogram`` ``scans`` times from idle: the scans'
-    (bin, count) lists in output order and the cycles from each scan_start to its last
+    (bin, count) lists in output order (with ``held_apart``, count + ``scan_held``) and
+    the cycles from each scan_start to its last
     count; ``scanning`` is asserted throughout each scan and low after it."""
     out_scans, spans = [], []
     for _ in range(scans):
@@ -118,7 +119,9 @@ async def scan_histogram(ctx, dut, scans: int) -> tuple[list, list]:
         while True:
             assert ctx.get(dut.scanning)
             if ctx.get(dut.scan_valid):
-                got.append((ctx.get(dut.scan_bin), ctx.get(dut.scan_count)))
+                # Histogram(held_apart=True): the held increment apart, added here
+                held = ctx.get(dut.scan_held) if "scan_held" in dut.signature.members else 0
+                got.append((ctx.get(dut.scan_bin), ctx.get(dut.scan_count) + held))
                 if ctx.get(dut.scan_last):
                     break
             await ctx.tick()

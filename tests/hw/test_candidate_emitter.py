@@ -10,10 +10,10 @@ from helpers.hw_harness import refused, simulate
 from helpers.seg_harness import make_config
 
 
-def emit(cfg, pixels, *, ready_probability=1.0, seed=0):
+def emit(cfg, pixels, *, ready_probability=1.0, seed=0, **options):
     """``pixels``: (selected, end_of_list, row, col, energy) per scored pixel; a pixel is
     presented only while ``space`` is high, with an idle cycle after each list end."""
-    dut = CandidateEmitter(cfg)
+    dut = CandidateEmitter(cfg, **options)
     rng = random.Random(seed)
     out = []
 
@@ -64,8 +64,9 @@ def reference(cfg, pixels):
     return words
 
 
+@pytest.mark.parametrize("registered_cap", [False, True])
 @pytest.mark.parametrize("ready", [1.0, 0.3])
-def test_cap_overflow_and_trailer(ready):
+def test_cap_overflow_and_trailer(ready, registered_cap):
     cfg = make_config(width=8, height=8, candidate_count=3, candidate_capacity=4,
                       histogram_bits=4)
     rng = random.Random(7)
@@ -74,17 +75,18 @@ def test_cap_overflow_and_trailer(ready):
         for i in range(length):
             pixels.append((rng.random() < p, i == length - 1, i // 8, i % 8, rng.randrange(256)))
     want = reference(cfg, pixels)
-    got = emit(cfg, pixels, ready_probability=ready, seed=3)
+    got = emit(cfg, pixels, ready_probability=ready, seed=3, registered_cap=registered_cap)
     assert got == want
     # the lists exercised: an overflowing one (12 selected > C = 4), an empty one,
     # a list whose last pixel is a record
     assert pixels[-1][0] and pixels[-1][1]
 
 
-def test_zero_capacity_only_trailers():
+@pytest.mark.parametrize("registered_cap", [False, True])
+def test_zero_capacity_only_trailers(registered_cap):
     cfg = make_config(width=8, height=8, candidate_count=0, candidate_capacity=0)
     pixels = [(True, i == 5, 0, i, 9) for i in range(6)]
-    got = emit(cfg, pixels)
+    got = emit(cfg, pixels, registered_cap=registered_cap)
     assert got == [pack_trailer(cfg, count=0, threshold=5, overflow=1, primed=1, aligned=1,
                                 missed=0, cut=0)]
 

@@ -19,7 +19,7 @@ def simulate_histogram(cfg, bins, *, gap_probability=0.0, seed=0, scans=2, settl
 
     Returns the list of scans, each a list of (bin, count) in output order, and the cycles
     from each scan_start to its last count."""
-    dut = Histogram(cfg)
+    dut = Histogram(cfg, **options)
     rng = random.Random(seed)
     result = []
 
@@ -99,6 +99,26 @@ def test_dp16kd_style_with_a_model_of_the_block_ram_counts_the_same(histogram_bi
     want = np.minimum(np.bincount(bins, minlength=cfg.n_bins), (1 << cfg.bin_count_bits) - 1)
     assert [c for _, c in scans[0]][::-1] == want.tolist()
     assert all(c == 0 for _, c in scans[1]) and spans == [cfg.n_bins + 1] * 2
+
+
+@pytest.mark.parametrize("style", ["memory", "dp16kd"])
+def test_held_apart_gives_the_held_increment_beside_the_count(style):
+    """``held_apart=True`` (the ECP5 build): the increment the scan's first read displaces
+    comes out as ``scan_held`` beside its bin's count, not added to it; count + held is the
+    memory style's count, unsaturated when the count is already full."""
+    cfg = make_config(width=16, height=16, histogram_bits=4, candidate_count=5,
+                      candidate_capacity=5)
+    top, full = cfg.n_bins - 1, (1 << cfg.bin_count_bits) - 1
+    rng = np.random.default_rng(3)
+    for last, held in ((top, 3), (top - 1, full)):      # the held one's bin: 3, or full, before
+        bins = np.concatenate([rng.choice([0, 5, 9], 40), np.full(held, last), [last]])
+        plain = simulate_histogram(cfg, bins)
+        apart = simulate_histogram(cfg, bins, held_apart=True, style=style,
+                                   dp16kd=DP16KDModel if style == "dp16kd" else None)
+        counts = dict(apart[0][0])
+        assert counts[last] == held + 1 and apart[0][1] == plain[0][1]    # held: +1 outside
+        assert [(b, min(c, full)) for b, c in apart[0][0]] == plain[0][0]
+        assert apart[1] == plain[1] == [cfg.n_bins + 1] * 2
 
 
 def test_refuses_an_unknown_style_and_too_many_bins_for_a_dp16kd():

@@ -9,6 +9,7 @@ from amaranth.hdl import ResetInserter, Signal
 
 from dptbd.hw.segmenter import Segmenter, scan_cycles
 from dptbd.model.segmentation import segment_stream, threshold_bin
+from helpers.dp16kd_model import DP16KDModel
 from helpers.hw_harness import simulate
 from helpers.seg_harness import make_config, pack_state_rows, run_lists, score
 
@@ -31,9 +32,9 @@ def synthetic_states(cfg, n_frames, rng, *, low=0, high=None, first_k=0, low_fra
     return out.reshape(-1, 5)
 
 
-def check(cfg, states, *, valid=0.7, ready=0.5, seed=0):
+def check(cfg, states, *, valid=0.7, ready=0.5, seed=0, **options):
     lists = segment_stream(states, cfg)
-    dut = Segmenter(cfg)
+    dut = Segmenter(cfg, **options)
     result = run_lists(cfg, dut, dut.states, dut.candidates, pack_state_rows(cfg, states), lists,
                        valid_probability=valid, ready_probability=ready, seed=seed)
     return lists, result
@@ -58,14 +59,20 @@ CASES = {
 }
 
 
+#: the ECP5 build's histogram (DP16KDs, here a behavioural model, and the held increment
+#: added in the threshold search), besides the default
+STYLES = {"memory": {}, "dp16kd": {"histogram_style": "dp16kd", "dp16kd": DP16KDModel}}
+
+
+@pytest.mark.parametrize("style", list(STYLES))
 @pytest.mark.parametrize("name", list(CASES))
-def test_random_streams_match_model(name):
+def test_random_streams_match_model(name, style):
     kw, n_frames, (low, high, *bottom) = CASES[name]
     cfg = make_config(**kw)
     rng = np.random.default_rng(len(name))
     states = synthetic_states(cfg, n_frames, rng, low=low, high=high,
                               low_fraction=bottom[0] if bottom else 0.0)
-    lists, _ = check(cfg, states, seed=len(name))
+    lists, _ = check(cfg, states, seed=len(name), **STYLES[style])
     assert len(lists) == n_frames // cfg.segment_frames
     assert not lists[0].primed and lists[0].count == 0 and lists[0].threshold == cfg.n_bins
     assert all(lst.primed and lst.aligned and not lst.missed for lst in lists[1:])

@@ -26,25 +26,32 @@ def ref_threshold(cfg, histogram, count=None) -> int:
     return threshold_bin(histogram, cfg, count)
 
 
-def rtl_threshold(cfg, histograms, load, counts=None) -> list[tuple[int, int]]:
+def rtl_threshold(cfg, histograms, load, counts=None, held=None) -> list[tuple[int, int]]:
     """Scan each histogram from the top bin down (``load[i]``: keep the result; ``counts[i]``:
     the run-time n, on the port with the top bin only, random values with the others);
-    (T, primed) after each scan. Before the first: T = 2**b, unprimed."""
-    dut = ThresholdSearch(cfg)
+    (T, primed) after each scan. Before the first: T = 2**b, unprimed. ``held`` (with
+    ``held_apart``): per histogram the bins whose count is given as count - 1 on
+    ``scan_count`` and 1 on ``scan_held``."""
+    apart_ports = held is not None
+    dut = ThresholdSearch(cfg, held_apart=apart_ports)
     got = []
     rng = np.random.default_rng(8)
     counts = [cfg.n_candidates] * len(histograms) if counts is None else counts
 
+    held = [()] * len(histograms) if held is None else held
+
     async def bench(ctx):
         assert ctx.get(dut.threshold) == cfg.n_bins and not ctx.get(dut.primed)
-        for hist, keep, n in zip(histograms, load, counts):
+        for hist, keep, n, apart in zip(histograms, load, counts, held):
             ctx.set(dut.load, keep)
             for a in range(cfg.n_bins - 1, -1, -1):
                 ctx.set(dut.count, n if a == cfg.n_bins - 1 else
                         int(rng.integers(0, 1 << len(dut.count))))
                 ctx.set(dut.scan_valid, 1)
                 ctx.set(dut.scan_bin, a)
-                ctx.set(dut.scan_count, int(hist[a]))
+                ctx.set(dut.scan_count, int(hist[a]) - (a in apart))
+                if apart_ports:
+                    ctx.set(dut.scan_held, a in apart)
                 ctx.set(dut.scan_last, a == 0)
                 await ctx.tick()
             ctx.set(dut.scan_valid, 0)
@@ -83,4 +90,32 @@ def test_run_time_n_is_sampled_with_the_top_bin():
     want = [ref_threshold(cfg, h, min(n, 12)) for h, n in zip(histograms, counts)]
     assert len(set(want)) >= 5
     assert rtl_threshold(cfg, histograms, [True] * len(histograms), counts) == \
+        [(t, 1) for t in want]
+
+
+def test_held_apart_adds_the_held_increment_in_the_search():
+    """``held_apart=True`` (the ECP5 build): a bin's count arrives as count - 1 plus
+    ``scan_held``; the same thresholds, also where count + held is 2**bits (a full count
+    and the held one: the histogram does not saturate it) and where the held one decides
+    (n exactly reached with it, exceeded by it)."""
+    cfg = make_config(width=16, height=16, histogram_bits=5, candidate_count=7)
+    full, top = (1 << cfg.bin_count_bits) - 1, cfg.n_bins - 1
+    rng = np.random.default_rng(9)
+    histograms, held = [], []
+    for h in cases(cfg):
+        histograms.append(h)
+        held.append(tuple(int(a) for a in np.flatnonzero(h) if rng.random() < 0.5))
+    one = np.zeros(cfg.n_bins, int)
+    one[top - 2] = full                                 # the search stops there at the latest
+    for counts, apart in (((7, 0), (top,)), ((8, 0), (top,)), ((6, 1), (top - 1,)),
+                          ((6, 2), (top - 1,)), ((full + 1, 0), (top,))):
+        h = one.copy()
+        h[top], h[top - 1] = counts
+        histograms.append(h)
+        held.append(apart)
+    model = [np.minimum(h, full) for h in histograms]
+    want = [ref_threshold(cfg, h) for h in model]
+    assert want[-5:] == [top - 1, cfg.n_bins, top - 1, top, cfg.n_bins]
+    assert sum(len(a) for a in held) > 20
+    assert rtl_threshold(cfg, histograms, [True] * len(histograms), held=held) == \
         [(t, 1) for t in want]
