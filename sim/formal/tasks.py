@@ -14,12 +14,13 @@ from typing import Callable
 
 from dptbd.config import DPConfig
 from dptbd.sim.formal.harness import Harness
-from dptbd.sim.formal.harnesses.axi_store import AxiStoreHarness, WriteBehindHarness
+from dptbd.sim.formal.harnesses.axi_store import AxiStoreHarness
 from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
 from dptbd.sim.formal.harnesses.known_bad import DroppingCandidatesHarness, EagerAXILiteHarness
 from dptbd.sim.formal.harnesses.registers import RegistersHarness
 from dptbd.sim.formal.harnesses.streams import CandidatesHarness, StatesHarness
 from dptbd.sim.formal.harnesses.top import AXITopHarness
+from dptbd.sim.formal.harnesses.write_behind import WriteBehindHarness
 
 __all__ = ["FormalTask", "TASKS", "task"]
 
@@ -61,7 +62,7 @@ TASKS = (
     FormalTask("m_axi_state_short", "the same, 6 cycles after reset (the default suite's)",
                AxiStoreHarness, "bmc", 6, 0),
     FormalTask("axi_write_behind", "AxiWriteBehind of that build alone: AW, W, B",
-               WriteBehindHarness, "bmc", 12, 14, fast=False),
+               WriteBehindHarness, "prove", 4, 14),
     # the same proofs on the default build (128 x 128, C = 66): k-induction does not depend
     # on the counters' widths; the covers (lines of 128 words) run on the small build above
     FormalTask("m_axis_cand_128", "m_axis_cand on the default 128x128 build",

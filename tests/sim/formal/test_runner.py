@@ -116,3 +116,51 @@ def test_an_sby_error_reports_the_tail_of_its_output(tmp_path):
     tools = {name: str(fake) for name in runner.TOOLS}
     proof, = run_task(task("known_bad_m_axis_cand"), out=tmp_path / "out", tools=tools)
     assert (proof.verdict, proof.failed, proof.trace) == ("ERROR", ("one", "sby: boom"), None)
+
+
+#: What the write-behind's proof reports without each invariant (the induction step's first
+#: failing assertion: file and message): every one is needed.
+WITHOUT = {
+    "fifos": ("write_behind.py", "bursts head crosses its burst"),
+    "in_flight": ("axi_store.py", "AW: more than 2 writes in flight"),
+    "lengths": ("write_behind.py", "lengths row != the held AWLEN"),
+    "lengths_rows": ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
+    "sent": ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
+    "complete": ("axi_store.py", "AW: more than 2 writes in flight"),
+    "descriptors": ("axi_store.py", "AW: AWLEN above burst_beats - 1"),
+    "run": ("write_behind.py", "bursts row 0 crosses its burst"),
+    "idle": ("write_behind.py", "AW or W valid before any write"),
+}
+
+
+def fails_without(invariant, tmp_path):
+    import dataclasses
+
+    from dptbd.sim.formal.harnesses.write_behind import WriteBehindHarness
+
+    t = dataclasses.replace(task("axi_write_behind"), cover_depth=0,
+                            build=lambda: WriteBehindHarness(drop=(invariant,)))
+    proof, = run_task(t, out=tmp_path)
+    # the base case holds (the invariants are not needed to reach depth 4 from reset), the
+    # induction step fails: SBY's verdict is UNKNOWN, with the induction's counterexample
+    assert (proof.verdict, proof.depth) == ("UNKNOWN", t.depth)
+    where, message = proof.failed[0].split(": ", 1)
+    assert (where.split(":")[0].rsplit("/", 1)[1], message) == WITHOUT[invariant]
+
+
+def test_the_write_behind_proof_fails_without_its_in_flight_invariant(tmp_path):
+    """The induction step the earlier bounded proof could not close (its count of writes in
+    flight free) fails as before when the invariant tying it to the design is dropped."""
+    fails_without("in_flight", tmp_path)
+
+
+@pytest.mark.formal
+@pytest.mark.parametrize("invariant", sorted(set(WITHOUT) - {"in_flight"}))
+def test_the_write_behind_proof_needs_every_invariant(invariant, tmp_path):
+    fails_without(invariant, tmp_path)
+
+
+def test_every_write_behind_invariant_but_uptos_is_named_here():
+    from dptbd.sim.formal.harnesses.write_behind import INVARIANTS
+
+    assert sorted(WITHOUT) == sorted(set(INVARIANTS) - {"uptos"})

@@ -27,17 +27,3 @@ def test_the_harness_asserts_the_manager_rules_of_the_axi4_port(messages):
         "a valid in the first cycle after reset",
         "AW, W or states valid before any pixel was accepted",
         "states: more words out than pixels accepted"}
-
-
-def test_the_write_behind_harness_asserts_the_write_channels(messages):
-    from dptbd.sim.formal.harnesses.axi_store import WriteBehindHarness
-
-    channels = ("AW", "W", "B")                   # B's rules are assumed of the subordinate
-    assert messages(WriteBehindHarness()) == {
-        f"{ch}: {rule}" for ch in channels
-        for rule in ("tvalid dropped before the handshake", "payload changed while held")} | {
-        "AW: burst crosses a 4 KB boundary", "AW: AWLEN above burst_beats - 1",
-        "AW: not an INCR burst of full beats", "AW: address not aligned to the beat",
-        "W: strobe not all ones", "W: a beat of a burst whose AW was not offered",
-        "W: WLAST not on beat AWLEN + 1", "AW: more than 2 writes in flight", "B: BREADY low",
-        "a valid in the first cycle after reset", "AW or W valid before any write"}
