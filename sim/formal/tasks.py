@@ -16,6 +16,7 @@ from dptbd.config import DPConfig
 from dptbd.sim.formal.harness import Harness
 from dptbd.sim.formal.harnesses.axi_store import AxiStoreHarness
 from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
+from dptbd.sim.formal.harnesses.prefetcher import PrefetcherHarness
 from dptbd.sim.formal.harnesses.known_bad import DroppingCandidatesHarness, EagerAXILiteHarness
 from dptbd.sim.formal.harnesses.registers import RegistersHarness
 from dptbd.sim.formal.harnesses.streams import CandidatesHarness, StatesHarness
@@ -63,6 +64,8 @@ TASKS = (
                AxiStoreHarness, "bmc", 6, 0),
     FormalTask("axi_write_behind", "AxiWriteBehind of that build alone: AW, W, B",
                WriteBehindHarness, "prove", 4, 14),
+    FormalTask("axi_prefetcher", "AxiReadPrefetcher of that build alone: AR, R",
+               PrefetcherHarness, "prove", 4, 16),
     # the same proofs on the default build (128 x 128, C = 66): k-induction does not depend
     # on the counters' widths; the covers (lines of 128 words) run on the small build above
     FormalTask("m_axis_cand_128", "m_axis_cand on the default 128x128 build",

@@ -15,7 +15,8 @@ from dptbd.sim.formal.harness import Harness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import axis_manager, axis_subordinate
 
-__all__ = ["tiny_store", "write_rules", "WriteCounts", "AxiStoreHarness"]
+__all__ = ["tiny_store", "read_rules", "ReadCounts", "write_rules", "WriteCounts",
+           "AxiStoreHarness"]
 
 
 def tiny_store(cfg: DPConfig | None = None) -> AxiStoreConfig:
@@ -79,6 +80,40 @@ def _address_rules(m, past, store: AxiStoreConfig, ch, prefix: str) -> None:
             Assert(s("addr")[:(store.beat_bytes - 1).bit_length()] == 0,
                    f"{name}: address not aligned to the beat"),
         ]
+
+
+@dataclasses.dataclass(frozen=True)
+class ReadCounts:
+    """The read channels' shadow state in :func:`read_rules`: ``reads`` bursts whose AR
+    was accepted and whose ``RLAST`` was not (their ``ARLEN`` in ``read_lens``, head first),
+    ``r_beat`` beats of the head burst received."""
+
+    reads: Signal
+    read_lens: list
+    r_beat: Signal
+
+
+def read_rules(m, past, store: AxiStoreConfig, ar, r) -> ReadCounts:
+    """The read channels: the AR rules (:func:`_address_rules`), at most ``outstanding``
+    reads in flight; assumed of the subordinate: R held with a stable payload, a beat only
+    for an accepted AR burst, ``RLAST`` on exactly its last beat, ID 0."""
+    _address_rules(m, past, store, ar, "ar")
+    axis_subordinate(m, past, tvalid=r.rvalid, tready=r.rready,
+                     payload=[r.rdata, r.rresp, r.rlast, r.rid], name="R")
+    m.d.comb += Assume(r.rid == 0)
+    ar_hs = ar.arvalid & ar.arready
+    r_hs = r.rvalid & r.rready
+    # the accepted bursts' lengths, RLAST assumed on the last beat
+    r_last = r_hs & r.rlast
+    reads, read_lens = _queue(m, "reads", store.outstanding + 1, 8, ar_hs, ar.arlen, r_last)
+    r_beat = Signal(8)
+    with m.If(r_hs):
+        m.d.sync += r_beat.eq(Mux(r.rlast, 0, r_beat + 1))
+    with m.If(r.rvalid):
+        m.d.comb += [Assume(reads != 0), Assume(r.rlast == (r_beat == read_lens[0]))]
+    m.d.comb += Assert(reads <= store.outstanding,
+                       f"AR: more than {store.outstanding} reads in flight")
+    return ReadCounts(reads, read_lens, r_beat)
 
 
 def write_rules(m, past, store: AxiStoreConfig, aw, w, b):
@@ -174,30 +209,12 @@ class AxiStoreHarness(Harness):
                          payload=[src.payload.as_value()], name="pixels")
         axis_manager(m, past, tvalid=out.valid, tready=out.ready,
                      payload=[out.payload.as_value()], name="states")
-        # ---- the manager's rules on AR, AW, W -------------------------------------------
-        _address_rules(m, past, store, dut.channel("ar"), "ar")
-        # ---- the subordinate's rules on R, B (assumed) -------------------------------------
-        axis_subordinate(m, past, tvalid=p("rvalid"), tready=p("rready"),
-                         payload=[p("rdata"), p("rresp"), p("rlast"), p("rid")], name="R")
-        m.d.comb += Assume(p("rid") == 0)
-
+        # ---- the read channels: AR asserted, R assumed ------------------------------------
+        reads = read_rules(m, past, store, dut.channel("ar"), dut.channel("r")).reads
         ar_hs = p("arvalid") & p("arready")
         aw_hs = p("awvalid") & p("awready")
         w_hs = p("wvalid") & p("wready")
-        r_hs = p("rvalid") & p("rready")
-        depth = store.outstanding + 1
         page = 4096
-        # ---- reads: the accepted bursts' lengths, RLAST assumed on the last beat ----------
-        r_last = r_hs & p("rlast")
-        reads, read_lens = _queue(m, "reads", depth, 8, ar_hs, p("arlen"), r_last)
-        read_len = read_lens[0]
-        r_beat = Signal(8)
-        with m.If(r_hs):
-            m.d.sync += r_beat.eq(Mux(p("rlast"), 0, r_beat + 1))
-        with m.If(p("rvalid")):
-            m.d.comb += [Assume(reads != 0), Assume(p("rlast") == (r_beat == read_len))]
-        m.d.comb += Assert(reads <= store.outstanding,
-                           f"AR: more than {store.outstanding} reads in flight")
 
         # ---- writes (also the write-behind's harness) --------------------------------------
         counts = write_rules(m, past, store, dut.channel("aw"), dut.channel("w"),

@@ -118,49 +118,59 @@ def test_an_sby_error_reports_the_tail_of_its_output(tmp_path):
     assert (proof.verdict, proof.failed, proof.trace) == ("ERROR", ("one", "sby: boom"), None)
 
 
-#: What the write-behind's proof reports without each invariant (the induction step's first
-#: failing assertion: file and message): every one is needed.
+#: What the store's proofs report without each invariant (the induction step's first failing
+#: assertion: file and message): every one is needed.
 WITHOUT = {
-    "fifos": ("write_behind.py", "bursts head crosses its burst"),
-    "in_flight": ("axi_store.py", "AW: more than 2 writes in flight"),
-    "lengths": ("write_behind.py", "lengths row != the held AWLEN"),
-    "lengths_rows": ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
-    "sent": ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
-    "complete": ("axi_store.py", "AW: more than 2 writes in flight"),
-    "descriptors": ("axi_store.py", "AW: AWLEN above burst_beats - 1"),
-    "run": ("write_behind.py", "bursts row 0 crosses its burst"),
-    "idle": ("write_behind.py", "AW or W valid before any write"),
+    ("axi_write_behind", "fifos"): ("write_behind.py", "bursts head crosses its burst"),
+    ("axi_write_behind", "in_flight"): ("axi_store.py", "AW: more than 2 writes in flight"),
+    ("axi_write_behind", "lengths"): ("write_behind.py", "lengths row != the held AWLEN"),
+    ("axi_write_behind", "lengths_rows"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
+    ("axi_write_behind", "sent"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
+    ("axi_write_behind", "complete"): ("axi_store.py", "AW: more than 2 writes in flight"),
+    ("axi_write_behind", "descriptors"): ("axi_store.py", "AW: AWLEN above burst_beats - 1"),
+    ("axi_write_behind", "run"): ("write_behind.py", "bursts row 0 crosses its burst"),
+    ("axi_write_behind", "idle"): ("write_behind.py", "AW or W valid before any write"),
+    ("axi_prefetcher", "in_flight"): ("axi_store.py", "AR: more than 2 reads in flight"),
+    ("axi_prefetcher", "reserved"): ("prefetcher.py", "R: a requested beat not taken at once"),
+    ("axi_prefetcher", "next_burst"): ("axi_store.py", "AR: burst crosses a 4 KB boundary"),
+    ("axi_prefetcher", "shadow"): ("prefetcher.py", "R: a requested beat not taken at once"),
 }
 
 
-def fails_without(invariant, tmp_path):
+def fails_without(name, invariant, tmp_path):
     import dataclasses
 
+    from dptbd.sim.formal.harnesses.prefetcher import PrefetcherHarness
     from dptbd.sim.formal.harnesses.write_behind import WriteBehindHarness
 
-    t = dataclasses.replace(task("axi_write_behind"), cover_depth=0,
-                            build=lambda: WriteBehindHarness(drop=(invariant,)))
+    harness = {"axi_write_behind": WriteBehindHarness, "axi_prefetcher": PrefetcherHarness}[name]
+    t = dataclasses.replace(task(name), cover_depth=0,
+                            build=lambda: harness(drop=(invariant,)))
     proof, = run_task(t, out=tmp_path)
     # the base case holds (the invariants are not needed to reach depth 4 from reset), the
     # induction step fails: SBY's verdict is UNKNOWN, with the induction's counterexample
     assert (proof.verdict, proof.depth) == ("UNKNOWN", t.depth)
     where, message = proof.failed[0].split(": ", 1)
-    assert (where.split(":")[0].rsplit("/", 1)[1], message) == WITHOUT[invariant]
+    assert (where.split(":")[0].rsplit("/", 1)[1], message) == WITHOUT[name, invariant]
 
 
 def test_the_write_behind_proof_fails_without_its_in_flight_invariant(tmp_path):
     """The induction step the earlier bounded proof could not close (its count of writes in
     flight free) fails as before when the invariant tying it to the design is dropped."""
-    fails_without("in_flight", tmp_path)
+    fails_without("axi_write_behind", "in_flight", tmp_path)
 
 
 @pytest.mark.formal
-@pytest.mark.parametrize("invariant", sorted(set(WITHOUT) - {"in_flight"}))
-def test_the_write_behind_proof_needs_every_invariant(invariant, tmp_path):
-    fails_without(invariant, tmp_path)
+@pytest.mark.parametrize("name, invariant",
+                         sorted(set(WITHOUT) - {("axi_write_behind", "in_flight")}))
+def test_the_store_proofs_need_every_invariant(name, invariant, tmp_path):
+    fails_without(name, invariant, tmp_path)
 
 
-def test_every_write_behind_invariant_but_uptos_is_named_here():
+def test_every_needed_invariant_is_named_here():
+    from dptbd.sim.formal.harnesses.prefetcher import PREFETCHER_INVARIANTS
     from dptbd.sim.formal.harnesses.write_behind import INVARIANTS
 
-    assert sorted(WITHOUT) == sorted(set(INVARIANTS) - {"uptos"})
+    assert sorted(WITHOUT) == sorted(
+        [("axi_write_behind", i) for i in INVARIANTS if i != "uptos"]
+        + [("axi_prefetcher", i) for i in PREFETCHER_INVARIANTS])
