@@ -11,12 +11,19 @@ from amaranth.hdl import Assert, Assume, Cover, Mux, Signal
 from dptbd.config import AxiStoreConfig, DPConfig
 from dptbd.hw.axi_store.bus import BURST_INCR, size_code
 from dptbd.hw.axi_store.pipeline import DPPipelineAxi
-from dptbd.sim.formal.harness import Harness
+from dptbd.sim.formal.harness import Elaborated, Harness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import axis_manager, axis_subordinate
 
-__all__ = ["tiny_store", "read_rules", "ReadCounts", "write_rules", "WriteCounts",
+__all__ = ["STORE_INVARIANTS", "tiny_store", "read_rules", "ReadCounts", "write_rules", "WriteCounts",
            "AxiStoreHarness"]
+
+
+#: The invariant groups of :class:`AxiStoreHarness` (``drop``), each needed by its proof:
+#: the DP core's flow control (:func:`~dptbd.sim.formal.harnesses.flow.dp_core_invariants`),
+#: the prefetcher's (:func:`~dptbd.sim.formal.harnesses.prefetcher.prefetcher_invariants`),
+#: the write-behind's (:func:`~dptbd.sim.formal.harnesses.write_behind.write_behind_invariants`).
+STORE_INVARIANTS = ("core", "reader", "writer")
 
 
 def tiny_store(cfg: DPConfig | None = None) -> AxiStoreConfig:
@@ -192,13 +199,20 @@ class AxiStoreHarness(Harness):
     stream's rules, never more words out than pixels accepted.
     """
 
-    def __init__(self, store: AxiStoreConfig | None = None):
+    def __init__(self, store: AxiStoreConfig | None = None, drop: tuple = ()):
         super().__init__()
         self.store = store or tiny_store()
+        unknown = sorted(set(drop) - set(STORE_INVARIANTS))
+        if unknown:
+            raise ValueError(f"unknown invariant group(s) {', '.join(unknown)}; the groups "
+                             f"are {', '.join(STORE_INVARIANTS)}")
+        self.drop = tuple(drop)
 
     def check(self, m, past):
         store = self.store
-        m.submodules.dut = dut = DPPipelineAxi(store)
+        top = Elaborated(DPPipelineAxi(store))
+        m.submodules.dut = top.fragment
+        dut = top.component
         self.free_inputs(m, dut, "dut", skip=("lut_addr", "lut_data", "lut_we"))
 
         def p(name):
@@ -210,7 +224,8 @@ class AxiStoreHarness(Harness):
         axis_manager(m, past, tvalid=out.valid, tready=out.ready,
                      payload=[out.payload.as_value()], name="states")
         # ---- the read channels: AR asserted, R assumed ------------------------------------
-        reads = read_rules(m, past, store, dut.channel("ar"), dut.channel("r")).reads
+        read_counts = read_rules(m, past, store, dut.channel("ar"), dut.channel("r"))
+        reads = read_counts.reads
         ar_hs = p("arvalid") & p("arready")
         aw_hs = p("awvalid") & p("awready")
         w_hs = p("wvalid") & p("wready")
@@ -239,6 +254,8 @@ class AxiStoreHarness(Harness):
         m.d.sync += in_flight.eq(in_flight + accepted - taken)
         m.d.comb += Assert(in_flight >= 0, "states: more words out than pixels accepted")
 
+        self._invariants(m, past, top, read_counts, counts, in_flight, started)
+
         # ---- covers: every property reached --------------------------------------------
         end = lambda ch: p(f"{ch}addr")[:12] + (p(f"{ch}len") + 1) * store.beat_bytes  # noqa: E731
         m.d.comb += [
@@ -254,3 +271,23 @@ class AxiStoreHarness(Harness):
             Cover(dut.write_error),
             Cover(taken & (in_flight == 1)),
         ]
+
+    def _invariants(self, m, past, top, read_counts, write_counts, in_flight, started):
+        from dptbd.sim.formal.harnesses.flow import dp_core_invariants
+        from dptbd.sim.formal.harnesses.prefetcher import prefetcher_invariants
+        from dptbd.sim.formal.harnesses.write_behind import write_behind_invariants
+
+        store = top.sub("state_store")
+        reader, writer = store.sub("reader"), store.sub("writer")
+        wrote = Signal()                                    # a state write since the reset
+        with m.If(writer.component.write_en):
+            m.d.sync += wrote.eq(1)
+        if "core" not in self.drop:
+            dp_core_invariants(m, past, top.sub("core"), in_flight, started)
+            with m.If(~started):
+                m.d.comb += Assert(~wrote, "a state written before the first pixel")
+        if "reader" not in self.drop:
+            prefetcher_invariants(m, self.store, reader, reader.component.ar, read_counts)
+        if "writer" not in self.drop:
+            write_behind_invariants(m, self.store, writer, writer.component.aw, write_counts,
+                                    wrote)
