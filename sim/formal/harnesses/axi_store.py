@@ -101,7 +101,7 @@ class ReadCounts:
 
 
 def read_rules(m, past, store: AxiStoreConfig, ar, r) -> ReadCounts:
-    """The read channels: the AR rules (:func:`_address_rules`), at most ``outstanding``
+    """The read channels: the AR rules (``_address_rules``), at most ``outstanding``
     reads in flight; assumed of the subordinate: R held with a stable payload, a beat only
     for an accepted AR burst, ``RLAST`` on exactly its last beat, ID 0."""
     _address_rules(m, past, store, ar, "ar")
@@ -124,7 +124,7 @@ def read_rules(m, past, store: AxiStoreConfig, ar, r) -> ReadCounts:
 
 
 def write_rules(m, past, store: AxiStoreConfig, aw, w, b):
-    """The write channels: the AW rules (:func:`_address_rules`), W held with stable data,
+    """The write channels: the AW rules (``_address_rules``), W held with stable data,
     strobe and last, full strobes, every W beat of a burst whose AW was offered, ``WLAST``
     on beat ``AWLEN`` + 1, ``BREADY`` high, at most ``outstanding`` writes in flight;
     assumed of the subordinate: B held with a stable payload, only for a burst whose AW and
