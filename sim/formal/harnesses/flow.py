@@ -166,12 +166,19 @@ def dp_core_invariants(m, past, core: Elaborated, in_flight, started) -> None:
     output FIFO's words are ``in_flight``; both output FIFOs (the state words', the flags')
     hold as many words; their levels and the credit are thermometer codes; the credit's
     ``ready`` is its room of the cycle before; nothing is in flight before the first pixel."""
-    depth = core.component._fifo_depth
+    depth = core.component.output_fifo_depth
     chain = [core.sub("controller").signal("valid")]
+    # the side-band's registers (bit 0: valid), or its valid bit's alone when the rest of
+    # the side-band is delayed in memory (DPCore's sideband_delay="memory")
+    try:
+        core.signal("sideband_valid_d1")
+        base = "sideband_valid"
+    except KeyError:
+        base = "sideband"
     stage = 1
     while True:
         try:
-            chain.append(core.signal(f"sideband_d{stage}")[0])
+            chain.append(core.signal(f"{base}_d{stage}")[0])
         except KeyError:
             break
         stage += 1
