@@ -59,7 +59,7 @@ TASKS = (
                "AXI4-Lite", AXITopHarness, "bmc", 18, 18, fast=False),
     FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "
                "the AXI4 manager port (dptbd_dp --state-store axi)", AxiStoreHarness,
-               "prove", 4, 28, fast=False),
+               "prove", 4, 32, fast=False),
     FormalTask("m_axi_state_short", "the same proof without its cover run (the default "
                "suite's)", AxiStoreHarness, "prove", 4, 0),
     FormalTask("axi_write_behind", "AxiWriteBehind of that build alone: AW, W, B",
