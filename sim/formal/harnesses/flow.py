@@ -15,7 +15,7 @@ from dptbd.sim.formal.harness import Elaborated, Harness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import axis_manager, axis_subordinate
 
-__all__ = ["CreditFifoHarness", "PipelineHarness"]
+__all__ = ["CreditFifoHarness", "PipelineHarness", "pipeline_valid_bits", "dp_core_invariants"]
 
 
 def _count(flags):
@@ -157,19 +157,13 @@ class PipelineHarness(Harness):
                      Cover(in_flight == dut.output_fifo_depth)]
 
 
-def dp_core_invariants(m, past, core: Elaborated, in_flight, started) -> None:
-    """Assert what :class:`~dptbd.hw.dp_core.DPCore`'s flow control holds (``core``,
-    elaborated), in terms of the harness's pixels accepted − words taken (``in_flight``) and
-    "a pixel accepted since the reset" (``started``), as :class:`CreditFifoHarness` proves
-    them on the output path alone: the input credit counts ``in_flight``; the valid bits of
-    the pipeline (the controller's, the side-band's registers, the state stage's) plus the
-    output FIFO's words are ``in_flight``; both output FIFOs (the state words', the flags')
-    hold as many words; their levels and the credit are thermometer codes; the credit's
-    ``ready`` is its room of the cycle before; nothing is in flight before the first pixel."""
-    depth = core.component.output_fifo_depth
+def pipeline_valid_bits(core: Elaborated) -> list:
+    """The valid bits of a pixel on its way through :class:`~dptbd.hw.dp_core.DPCore`
+    (``core``, elaborated), from the controller's (the cycle after its acceptance) through
+    the side-band's registers (bit 0 of each, or the valid bit's own registers when the rest
+    of the side-band is delayed in memory: ``sideband_delay="memory"``) to the state stage's,
+    whose word enters the output FIFO."""
     chain = [core.sub("controller").signal("valid")]
-    # the side-band's registers (bit 0: valid), or its valid bit's alone when the rest of
-    # the side-band is delayed in memory (DPCore's sideband_delay="memory")
     try:
         core.signal("sideband_valid_d1")
         base = "sideband_valid"
@@ -183,6 +177,20 @@ def dp_core_invariants(m, past, core: Elaborated, in_flight, started) -> None:
             break
         stage += 1
     chain.append(core.signal("sideband_state_d1")[0])
+    return chain
+
+
+def dp_core_invariants(m, past, core: Elaborated, in_flight, started) -> None:
+    """Assert what :class:`~dptbd.hw.dp_core.DPCore`'s flow control holds (``core``,
+    elaborated), in terms of the harness's pixels accepted − words taken (``in_flight``) and
+    "a pixel accepted since the reset" (``started``), as :class:`CreditFifoHarness` proves
+    them on the output path alone: the input credit counts ``in_flight``; the valid bits of
+    the pipeline (the controller's, the side-band's registers, the state stage's) plus the
+    output FIFO's words are ``in_flight``; both output FIFOs (the state words', the flags')
+    hold as many words; their levels and the credit are thermometer codes; the credit's
+    ``ready`` is its room of the cycle before; nothing is in flight before the first pixel."""
+    depth = core.component.output_fifo_depth
+    chain = pipeline_valid_bits(core)
     committed = core.sub("input_credit").sub("committed").component.at_least
     fifo, flags = core.sub("output_fifo"), core.sub("output_flags")
     level = fifo.sub("level").component.at_least
