@@ -4,7 +4,8 @@ reset, free inputs, and the first cycle a reset.
 
 from __future__ import annotations
 
-from amaranth.hdl import Assume, ClockDomain, Elaboratable, Fragment, Module, Signal, Value
+from amaranth.hdl import (Assume, ClockDomain, Const, Elaboratable, Fragment, MemoryInstance,
+                          Module, Shape, Signal, Value)
 from amaranth.lib import wiring
 
 from dptbd.sim.formal.properties import Past
@@ -78,6 +79,24 @@ class Elaborated:
                 view.component, view.fragment = fragment.origins[0], fragment
                 return view
         raise KeyError(f"{type(self.component).__name__} has no submodule {name!r}")
+
+    def rows(self, name: str) -> list[Signal]:
+        """Every row of the memory ``name`` (a :class:`~amaranth.lib.memory.Memory` among
+        this component's submodules, such as a FIFO's ``storage``), each read by an
+        asynchronous port added to it for the proof: what a FIFO holds is state that
+        k-induction must be told about. Call it once per memory."""
+        memory = self.sub(name)
+        if not isinstance(memory.fragment, MemoryInstance):
+            raise KeyError(f"{type(self.component).__name__}'s submodule {name!r} is not a "
+                           f"memory")
+        depth, width = memory.component.depth, Shape.cast(memory.component.shape).width
+        rows = []
+        for index in range(depth):
+            row = Signal(width, name=f"{name}_row{index}")
+            memory.fragment.read_port(domain="comb", addr=Const(index, (depth - 1).bit_length()),
+                                      data=row, en=Const(1), transparent_for=())
+            rows.append(row)
+        return rows
 
     def signal(self, name: str) -> Signal:
         """The signal ``name`` that this component's own statements drive."""

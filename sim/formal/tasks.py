@@ -14,12 +14,14 @@ from typing import Callable
 
 from dptbd.config import DPConfig
 from dptbd.sim.formal.harness import Harness
-from dptbd.sim.formal.harnesses.axi_store import AxiStoreHarness, WriteBehindHarness
+from dptbd.sim.formal.harnesses.axi_store import AxiStoreHarness
 from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
+from dptbd.sim.formal.harnesses.prefetcher import PrefetcherHarness
 from dptbd.sim.formal.harnesses.known_bad import DroppingCandidatesHarness, EagerAXILiteHarness
 from dptbd.sim.formal.harnesses.registers import RegistersHarness
 from dptbd.sim.formal.harnesses.streams import CandidatesHarness, StatesHarness
 from dptbd.sim.formal.harnesses.top import AXITopHarness
+from dptbd.sim.formal.harnesses.write_behind import WriteBehindHarness
 
 __all__ = ["FormalTask", "TASKS", "task"]
 
@@ -57,11 +59,13 @@ TASKS = (
                "AXI4-Lite", AXITopHarness, "bmc", 18, 18, fast=False),
     FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "
                "the AXI4 manager port (dptbd_dp --state-store axi)", AxiStoreHarness,
-               "bmc", 15, 28, fast=False),
-    FormalTask("m_axi_state_short", "the same, 6 cycles after reset (the default suite's)",
-               AxiStoreHarness, "bmc", 6, 0),
+               "prove", 4, 32, fast=False),
+    FormalTask("m_axi_state_short", "the same proof without its cover run (the default "
+               "suite's)", AxiStoreHarness, "prove", 4, 0),
     FormalTask("axi_write_behind", "AxiWriteBehind of that build alone: AW, W, B",
-               WriteBehindHarness, "bmc", 12, 14, fast=False),
+               WriteBehindHarness, "prove", 4, 14),
+    FormalTask("axi_prefetcher", "AxiReadPrefetcher of that build alone: AR, R",
+               PrefetcherHarness, "prove", 4, 16),
     # the same proofs on the default build (128 x 128, C = 66): k-induction does not depend
     # on the counters' widths; the covers (lines of 128 words) run on the small build above
     FormalTask("m_axis_cand_128", "m_axis_cand on the default 128x128 build",

@@ -4,16 +4,26 @@ small build, any subordinate that keeps the AXI4 rules, any pixel stream and con
 
 from __future__ import annotations
 
+import dataclasses
+
 from amaranth.hdl import Assert, Assume, Cover, Mux, Signal
 
 from dptbd.config import AxiStoreConfig, DPConfig
 from dptbd.hw.axi_store.bus import BURST_INCR, size_code
 from dptbd.hw.axi_store.pipeline import DPPipelineAxi
-from dptbd.sim.formal.harness import Harness
+from dptbd.sim.formal.harness import Elaborated, Harness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import axis_manager, axis_subordinate
 
-__all__ = ["tiny_store", "AxiStoreHarness", "WriteBehindHarness"]
+__all__ = ["STORE_INVARIANTS", "tiny_store", "read_rules", "ReadCounts", "write_rules", "WriteCounts",
+           "AxiStoreHarness"]
+
+
+#: The invariant groups of :class:`AxiStoreHarness` (``drop``), each needed by its proof:
+#: the DP core's flow control (:func:`~dptbd.sim.formal.harnesses.flow.dp_core_invariants`),
+#: the prefetcher's (:func:`~dptbd.sim.formal.harnesses.prefetcher.prefetcher_invariants`),
+#: the write-behind's (:func:`~dptbd.sim.formal.harnesses.write_behind.write_behind_invariants`).
+STORE_INVARIANTS = ("core", "reader", "writer")
 
 
 def tiny_store(cfg: DPConfig | None = None) -> AxiStoreConfig:
@@ -24,9 +34,26 @@ def tiny_store(cfg: DPConfig | None = None) -> AxiStoreConfig:
     return cfg.axi_store(data_bits=32, burst_beats=2, address_bits=13, outstanding=2)
 
 
+@dataclasses.dataclass(frozen=True)
+class WriteCounts:
+    """The write channels' shadow state in :func:`write_rules`: ``aw_open`` bursts whose
+    AW was accepted and whose W is not done (their ``AWLEN`` in ``open_lens``, head
+    first), ``early`` W bursts done before their AW handshake, ``w_beat`` beats of the W
+    burst under way, ``complete`` bursts with AW and last W accepted and no B yet,
+    ``writes`` AW accepted and no B yet."""
+
+    aw_open: Signal
+    open_lens: list
+    early: Signal
+    w_beat: Signal
+    complete: Signal
+    writes: Signal
+
+
 def _queue(m, name: str, depth: int, width: int, push, value, pop):
-    """A shadow FIFO of the harness: (count, head); ``pop`` takes the head, ``push`` puts
-    ``value`` behind the rest (both in one cycle allowed); reset with the design."""
+    """A shadow FIFO of the harness: (count, entries, head first); ``pop`` takes the head,
+    ``push`` puts ``value`` behind the rest (both in one cycle allowed); reset with the
+    design."""
     entries = [Signal(width, name=f"{name}_q{i}") for i in range(depth)]
     count = Signal(range(depth + 2), name=f"{name}_count")
     slot = Signal(range(depth + 2), name=f"{name}_slot")
@@ -35,7 +62,7 @@ def _queue(m, name: str, depth: int, width: int, push, value, pop):
         shifted = Mux(pop, entries[i + 1] if i + 1 < depth else 0, entry)
         m.d.sync += entry.eq(Mux(push & (slot == i), value, shifted))
     m.d.sync += count.eq(count + push - pop)
-    return count, entries[0]
+    return count, entries
 
 
 def _address_rules(m, past, store: AxiStoreConfig, ch, prefix: str) -> None:
@@ -62,13 +89,47 @@ def _address_rules(m, past, store: AxiStoreConfig, ch, prefix: str) -> None:
         ]
 
 
-def _write_rules(m, past, store: AxiStoreConfig, aw, w, b):
-    """The write channels: the AW rules (:func:`_address_rules`), W held with stable data,
+@dataclasses.dataclass(frozen=True)
+class ReadCounts:
+    """The read channels' shadow state in :func:`read_rules`: ``reads`` bursts whose AR
+    was accepted and whose ``RLAST`` was not (their ``ARLEN`` in ``read_lens``, head first),
+    ``r_beat`` beats of the head burst received."""
+
+    reads: Signal
+    read_lens: list
+    r_beat: Signal
+
+
+def read_rules(m, past, store: AxiStoreConfig, ar, r) -> ReadCounts:
+    """The read channels: the AR rules (``_address_rules``), at most ``outstanding``
+    reads in flight; assumed of the subordinate: R held with a stable payload, a beat only
+    for an accepted AR burst, ``RLAST`` on exactly its last beat, ID 0."""
+    _address_rules(m, past, store, ar, "ar")
+    axis_subordinate(m, past, tvalid=r.rvalid, tready=r.rready,
+                     payload=[r.rdata, r.rresp, r.rlast, r.rid], name="R")
+    m.d.comb += Assume(r.rid == 0)
+    ar_hs = ar.arvalid & ar.arready
+    r_hs = r.rvalid & r.rready
+    # the accepted bursts' lengths, RLAST assumed on the last beat
+    r_last = r_hs & r.rlast
+    reads, read_lens = _queue(m, "reads", store.outstanding + 1, 8, ar_hs, ar.arlen, r_last)
+    r_beat = Signal(8)
+    with m.If(r_hs):
+        m.d.sync += r_beat.eq(Mux(r.rlast, 0, r_beat + 1))
+    with m.If(r.rvalid):
+        m.d.comb += [Assume(reads != 0), Assume(r.rlast == (r_beat == read_lens[0]))]
+    m.d.comb += Assert(reads <= store.outstanding,
+                       f"AR: more than {store.outstanding} reads in flight")
+    return ReadCounts(reads, read_lens, r_beat)
+
+
+def write_rules(m, past, store: AxiStoreConfig, aw, w, b):
+    """The write channels: the AW rules (``_address_rules``), W held with stable data,
     strobe and last, full strobes, every W beat of a burst whose AW was offered, ``WLAST``
     on beat ``AWLEN`` + 1, ``BREADY`` high, at most ``outstanding`` writes in flight;
     assumed of the subordinate: B held with a stable payload, only for a burst whose AW and
-    last W beat were accepted, ID 0. Returns (AW accepted without their W done, writes in
-    flight, W bursts done before their AW) for cover statements."""
+    last W beat were accepted, ID 0. Returns the harness's shadow counts
+    (:class:`WriteCounts`) for cover statements and induction invariants."""
     _address_rules(m, past, store, aw, "aw")
     axis_manager(m, past, tvalid=w.wvalid, tready=w.wready,
                  payload=[w.wdata, w.wstrb, w.wlast], name="W")
@@ -85,7 +146,8 @@ def _write_rules(m, past, store: AxiStoreConfig, aw, w, b):
     # ---- writes: AW accepted without their W, W bursts done before their AW -----------
     w_last = w_hs & w.wlast
     pushed, popped = Signal(), Signal()
-    aw_open, open_len = _queue(m, "aw_open", depth, 8, pushed, aw.awlen, popped)
+    aw_open, open_lens = _queue(m, "aw_open", depth, 8, pushed, aw.awlen, popped)
+    open_len = open_lens[0]
     early = Signal(range(4))                  # W bursts done, their AW not accepted yet
     pending_done = w_last & (aw_open == 0)    # the offered AW's burst done by W first
     m.d.comb += [pushed.eq(aw_hs & (early == 0) & ~pending_done),
@@ -110,7 +172,7 @@ def _write_rules(m, past, store: AxiStoreConfig, aw, w, b):
     m.d.sync += writes.eq(writes + aw_hs - b_hs)
     m.d.comb += Assert(writes <= store.outstanding,
                        f"AW: more than {store.outstanding} writes in flight")
-    return aw_open, writes, early
+    return WriteCounts(aw_open, open_lens, early, w_beat, complete, writes)
 
 
 
@@ -137,13 +199,20 @@ class AxiStoreHarness(Harness):
     stream's rules, never more words out than pixels accepted.
     """
 
-    def __init__(self, store: AxiStoreConfig | None = None):
+    def __init__(self, store: AxiStoreConfig | None = None, drop: tuple = ()):
         super().__init__()
         self.store = store or tiny_store()
+        unknown = sorted(set(drop) - set(STORE_INVARIANTS))
+        if unknown:
+            raise ValueError(f"unknown invariant group(s) {', '.join(unknown)}; the groups "
+                             f"are {', '.join(STORE_INVARIANTS)}")
+        self.drop = tuple(drop)
 
     def check(self, m, past):
         store = self.store
-        m.submodules.dut = dut = DPPipelineAxi(store)
+        top = Elaborated(DPPipelineAxi(store))
+        m.submodules.dut = top.fragment
+        dut = top.component
         self.free_inputs(m, dut, "dut", skip=("lut_addr", "lut_data", "lut_we"))
 
         def p(name):
@@ -154,33 +223,18 @@ class AxiStoreHarness(Harness):
                          payload=[src.payload.as_value()], name="pixels")
         axis_manager(m, past, tvalid=out.valid, tready=out.ready,
                      payload=[out.payload.as_value()], name="states")
-        # ---- the manager's rules on AR, AW, W -------------------------------------------
-        _address_rules(m, past, store, dut.channel("ar"), "ar")
-        # ---- the subordinate's rules on R, B (assumed) -------------------------------------
-        axis_subordinate(m, past, tvalid=p("rvalid"), tready=p("rready"),
-                         payload=[p("rdata"), p("rresp"), p("rlast"), p("rid")], name="R")
-        m.d.comb += Assume(p("rid") == 0)
-
+        # ---- the read channels: AR asserted, R assumed ------------------------------------
+        read_counts = read_rules(m, past, store, dut.channel("ar"), dut.channel("r"))
+        reads = read_counts.reads
         ar_hs = p("arvalid") & p("arready")
         aw_hs = p("awvalid") & p("awready")
         w_hs = p("wvalid") & p("wready")
-        r_hs = p("rvalid") & p("rready")
-        depth = store.outstanding + 1
         page = 4096
-        # ---- reads: the accepted bursts' lengths, RLAST assumed on the last beat ----------
-        r_last = r_hs & p("rlast")
-        reads, read_len = _queue(m, "reads", depth, 8, ar_hs, p("arlen"), r_last)
-        r_beat = Signal(8)
-        with m.If(r_hs):
-            m.d.sync += r_beat.eq(Mux(p("rlast"), 0, r_beat + 1))
-        with m.If(p("rvalid")):
-            m.d.comb += [Assume(reads != 0), Assume(p("rlast") == (r_beat == read_len))]
-        m.d.comb += Assert(reads <= store.outstanding,
-                           f"AR: more than {store.outstanding} reads in flight")
 
         # ---- writes (also the write-behind's harness) --------------------------------------
-        aw_open, writes, _ = _write_rules(m, past, store, dut.channel("aw"), dut.channel("w"),
-                                          dut.channel("b"))
+        counts = write_rules(m, past, store, dut.channel("aw"), dut.channel("w"),
+                              dut.channel("b"))
+        aw_open, writes = counts.aw_open, counts.writes
 
         # ---- ready, reset, work -------------------------------------------------------------
         with m.If(p("rvalid")):
@@ -200,6 +254,8 @@ class AxiStoreHarness(Harness):
         m.d.sync += in_flight.eq(in_flight + accepted - taken)
         m.d.comb += Assert(in_flight >= 0, "states: more words out than pixels accepted")
 
+        self._invariants(m, past, top, read_counts, counts, in_flight, started)
+
         # ---- covers: every property reached --------------------------------------------
         end = lambda ch: p(f"{ch}addr")[:12] + (p(f"{ch}len") + 1) * store.beat_bytes  # noqa: E731
         m.d.comb += [
@@ -216,66 +272,22 @@ class AxiStoreHarness(Harness):
             Cover(taken & (in_flight == 1)),
         ]
 
+    def _invariants(self, m, past, top, read_counts, write_counts, in_flight, started):
+        from dptbd.sim.formal.harnesses.flow import dp_core_invariants
+        from dptbd.sim.formal.harnesses.prefetcher import prefetcher_invariants
+        from dptbd.sim.formal.harnesses.write_behind import write_behind_invariants
 
-class WriteBehindHarness(Harness):
-    """:class:`~dptbd.hw.axi_store.write_behind.AxiWriteBehind` of :func:`tiny_store` alone
-    (``in_flight`` as in :class:`DPPipelineAxi` of that build), so that the bound reaches
-    many bursts: the pipeline's writes in raster order (the next address, or 0 after a
-    resynchronisation), each only while ``room`` is high (a subset of the pipeline's
-    behaviour, which may still write ``in_flight`` states after ``room`` fell), state words
-    of one free bit (bit 0; the rest 0: no handshake depends on the data), any ``base``
-    aligned to the burst size; the subordinate as in
-    :class:`AxiStoreHarness` (B only for a burst whose AW and last W beat were accepted,
-    held until taken, any ``BRESP``).
-
-    Asserted: the AW and W rules of :class:`AxiStoreHarness` (held valid, stable payload,
-    INCR of full beats, aligned, no 4 KB crossing, ``AWLEN`` < ``burst_beats``, W never
-    ahead of its AW, ``WLAST`` on beat ``AWLEN`` + 1, full strobes), ``BREADY`` high, at
-    most ``outstanding`` writes in flight, no valid in the first cycle after reset or before
-    the first write.
-    """
-
-    def __init__(self, store: AxiStoreConfig | None = None):
-        super().__init__()
-        self.store = store or tiny_store()
-
-    def check(self, m, past):
-        from dptbd.hw.axi_store.write_behind import AxiWriteBehind
-        from dptbd.hw.schedule import check_supported
-
-        store = self.store
-        in_flight = check_supported(store.frame).write_latency + 1
-        m.submodules.dut = dut = AxiWriteBehind(store, in_flight=in_flight)
-        self.free_inputs(m, dut, "dut")
-        aw, w, b = dut.aw, dut.w, dut.b
-        pixels = store.frame.width * store.frame.height
-        next_addr = Signal(range(pixels))
-        with m.If(dut.write_en):
-            m.d.sync += next_addr.eq(Mux(dut.write_addr == pixels - 1, 0, dut.write_addr + 1))
-        with m.If(dut.write_en):
-            m.d.comb += [Assume(dut.room),
-                         Assume((dut.write_addr == next_addr) | (dut.write_addr == 0))]
-        m.d.comb += [Assume(dut.base[:(store.burst_bytes - 1).bit_length()] == 0),
-                     # one data bit free: the W data's stability is still checked, and the
-                     # solver need not carry whole words through the FIFO
-                     Assume(dut.write_data.as_value()[1:] == 0)]
-        chans = _write_rules(m, past, store, aw, w, b)
-        started = Signal()
-        with m.If(dut.write_en):
-            m.d.sync += started.eq(1)
-        with m.If(past.rst):
-            m.d.comb += Assert(~aw.awvalid & ~w.wvalid, "a valid in the first cycle after reset")
-        with m.If(~started):
-            m.d.comb += Assert(~aw.awvalid & ~w.wvalid, "AW or W valid before any write")
-        aw_open, writes, early = chans
-        page = 4096
-        end = aw.awaddr[:12] + (aw.awlen + 1) * store.beat_bytes
-        m.d.comb += [
-            Cover(aw.awvalid & aw.awready & (aw.awlen == store.burst_beats - 1) & (end == page)),
-            Cover(aw.awvalid & ~aw.awready & (aw_open != 0)),
-            Cover(w.wvalid & w.wready & w.wlast & (aw_open == 0)),
-            Cover(writes == store.outstanding),
-            Cover(dut.error),
-            Cover(dut.write_en & (dut.write_addr == 0) & (next_addr != 0) & started),
-            Cover(aw.awvalid & aw.awready & (aw.awlen == 0)),        # a burst cut short
-        ]
+        store = top.sub("state_store")
+        reader, writer = store.sub("reader"), store.sub("writer")
+        wrote = Signal()                                    # a state write since the reset
+        with m.If(writer.component.write_en):
+            m.d.sync += wrote.eq(1)
+        if "core" not in self.drop:
+            dp_core_invariants(m, past, top.sub("core"), in_flight, started)
+            with m.If(~started):
+                m.d.comb += Assert(~wrote, "a state written before the first pixel")
+        if "reader" not in self.drop:
+            prefetcher_invariants(m, self.store, reader, reader.component.ar, read_counts)
+        if "writer" not in self.drop:
+            write_behind_invariants(m, self.store, writer, writer.component.aw, write_counts,
+                                    wrote)

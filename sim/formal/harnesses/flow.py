@@ -15,7 +15,7 @@ from dptbd.sim.formal.harness import Elaborated, Harness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import axis_manager, axis_subordinate
 
-__all__ = ["CreditFifoHarness", "PipelineHarness"]
+__all__ = ["CreditFifoHarness", "PipelineHarness", "pipeline_valid_bits", "dp_core_invariants"]
 
 
 def _count(flags):
@@ -155,3 +155,60 @@ class PipelineHarness(Harness):
             m.d.comb += Assert(in_flight > 0, "states: a word without an accepted pixel")
         m.d.comb += [Cover(taken & (in_flight == 1) & started),
                      Cover(in_flight == dut.output_fifo_depth)]
+
+
+def pipeline_valid_bits(core: Elaborated) -> list:
+    """The valid bits of a pixel on its way through :class:`~dptbd.hw.dp_core.DPCore`
+    (``core``, elaborated), from the controller's (the cycle after its acceptance) through
+    the side-band's registers (bit 0 of each, or the valid bit's own registers when the rest
+    of the side-band is delayed in memory: ``sideband_delay="memory"``) to the state stage's,
+    whose word enters the output FIFO."""
+    chain = [core.sub("controller").signal("valid")]
+    try:
+        core.signal("sideband_valid_d1")
+        base = "sideband_valid"
+    except KeyError:
+        base = "sideband"
+    stage = 1
+    while True:
+        try:
+            chain.append(core.signal(f"{base}_d{stage}")[0])
+        except KeyError:
+            break
+        stage += 1
+    chain.append(core.signal("sideband_state_d1")[0])
+    return chain
+
+
+def dp_core_invariants(m, past, core: Elaborated, in_flight, started) -> None:
+    """Assert what :class:`~dptbd.hw.dp_core.DPCore`'s flow control holds (``core``,
+    elaborated), in terms of the harness's pixels accepted − words taken (``in_flight``) and
+    "a pixel accepted since the reset" (``started``), as :class:`CreditFifoHarness` proves
+    them on the output path alone: the input credit counts ``in_flight``; the valid bits of
+    the pipeline (the controller's, the side-band's registers, the state stage's) plus the
+    output FIFO's words are ``in_flight``; both output FIFOs (the state words', the flags')
+    hold as many words; their levels and the credit are thermometer codes; the credit's
+    ``ready`` is its room of the cycle before; nothing is in flight before the first pixel."""
+    depth = core.component.output_fifo_depth
+    chain = pipeline_valid_bits(core)
+    committed = core.sub("input_credit").sub("committed").component.at_least
+    fifo, flags = core.sub("output_fifo"), core.sub("output_flags")
+    level = fifo.sub("level").component.at_least
+    flag_level = flags.sub("level").component.at_least
+    _thermometer(m, committed, "InputCredit")
+    _thermometer(m, level, "output FIFO level")
+    _thermometer(m, flag_level, "output flags level")
+    stored = _count(level) + fifo.component.r.valid
+    m.d.comb += [
+        Assert(_count(committed) == in_flight, "credit count != pixels in flight"),
+        Assert(_count(chain) + stored == in_flight,
+               "valid bits in the pipeline + words in the FIFO != pixels in flight"),
+        Assert((_count(flag_level) == _count(level))
+               & (flags.component.r.valid == fifo.component.r.valid),
+               "the flags FIFO out of step with the state words'"),
+        Assert(core.component.pixels.ready == (past(_count(committed) < depth - 1, "past_room")
+                                               & ~past.rst),
+               "credit ready != room a cycle earlier"),
+    ]
+    with m.If(~started):
+        m.d.comb += Assert(in_flight == 0, "pixels in flight before the first was accepted")

@@ -116,3 +116,70 @@ def test_an_sby_error_reports_the_tail_of_its_output(tmp_path):
     tools = {name: str(fake) for name in runner.TOOLS}
     proof, = run_task(task("known_bad_m_axis_cand"), out=tmp_path / "out", tools=tools)
     assert (proof.verdict, proof.failed, proof.trace) == ("ERROR", ("one", "sby: boom"), None)
+
+
+#: What the store's proofs report without each invariant (the induction step's first failing
+#: assertion: file and message): every one is needed (``m_axi_state_short``: the proof of
+#: ``m_axi_state`` without its cover run, each group of invariants dropped).
+WITHOUT = {
+    ("axi_write_behind", "fifos"): ("write_behind.py", "bursts head crosses its burst"),
+    ("axi_write_behind", "in_flight"): ("axi_store.py", "AW: more than 2 writes in flight"),
+    ("axi_write_behind", "lengths"): ("write_behind.py", "lengths row != the held AWLEN"),
+    ("axi_write_behind", "lengths_rows"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
+    ("axi_write_behind", "sent"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
+    ("axi_write_behind", "complete"): ("axi_store.py", "AW: more than 2 writes in flight"),
+    ("axi_write_behind", "descriptors"): ("axi_store.py", "AW: AWLEN above burst_beats - 1"),
+    ("axi_write_behind", "run"): ("write_behind.py", "bursts row 0 crosses its burst"),
+    ("axi_write_behind", "idle"): ("write_behind.py", "AW or W valid before any write"),
+    ("axi_prefetcher", "in_flight"): ("axi_store.py", "AR: more than 2 reads in flight"),
+    ("axi_prefetcher", "reserved"): ("prefetcher.py", "R: a requested beat not taken at once"),
+    ("axi_prefetcher", "next_burst"): ("axi_store.py", "AR: burst crosses a 4 KB boundary"),
+    ("axi_prefetcher", "shadow"): ("prefetcher.py", "R: a requested beat not taken at once"),
+    ("m_axi_state_short", "core"): ("axi_store.py",
+                                    "states: more words out than pixels accepted"),
+    ("m_axi_state_short", "reader"): ("axi_store.py", "R: a requested beat not taken at once"),
+    ("m_axi_state_short", "writer"): ("axi_store.py", "AW: burst crosses a 4 KB boundary"),
+}
+
+
+def fails_without(name, invariant, tmp_path):
+    import dataclasses
+
+    from dptbd.sim.formal.harnesses.axi_store import AxiStoreHarness
+    from dptbd.sim.formal.harnesses.prefetcher import PrefetcherHarness
+    from dptbd.sim.formal.harnesses.write_behind import WriteBehindHarness
+
+    harness = {"axi_write_behind": WriteBehindHarness, "axi_prefetcher": PrefetcherHarness,
+               "m_axi_state_short": AxiStoreHarness}[name]
+    t = dataclasses.replace(task(name), cover_depth=0,
+                            build=lambda: harness(drop=(invariant,)))
+    proof, = run_task(t, out=tmp_path)
+    # the base case holds (the invariants are not needed to reach depth 4 from reset), the
+    # induction step fails: SBY's verdict is UNKNOWN, with the induction's counterexample
+    assert (proof.verdict, proof.depth) == ("UNKNOWN", t.depth)
+    where, message = proof.failed[0].split(": ", 1)
+    assert (where.split(":")[0].rsplit("/", 1)[1], message) == WITHOUT[name, invariant]
+
+
+def test_the_write_behind_proof_fails_without_its_in_flight_invariant(tmp_path):
+    """The induction step the earlier bounded proof could not close (its count of writes in
+    flight free) fails as before when the invariant tying it to the design is dropped."""
+    fails_without("axi_write_behind", "in_flight", tmp_path)
+
+
+@pytest.mark.formal
+@pytest.mark.parametrize("name, invariant",
+                         sorted(set(WITHOUT) - {("axi_write_behind", "in_flight")}))
+def test_the_store_proofs_need_every_invariant(name, invariant, tmp_path):
+    fails_without(name, invariant, tmp_path)
+
+
+def test_every_needed_invariant_is_named_here():
+    from dptbd.sim.formal.harnesses.axi_store import STORE_INVARIANTS
+    from dptbd.sim.formal.harnesses.prefetcher import PREFETCHER_INVARIANTS
+    from dptbd.sim.formal.harnesses.write_behind import INVARIANTS
+
+    assert sorted(WITHOUT) == sorted(
+        [("axi_write_behind", i) for i in INVARIANTS if i != "uptos"]
+        + [("axi_prefetcher", i) for i in PREFETCHER_INVARIANTS]
+        + [("m_axi_state_short", i) for i in STORE_INVARIANTS])

@@ -1,7 +1,10 @@
 """The flow-control harnesses (:mod:`dptbd.sim.formal.harnesses.flow`) convert and assert what
 they promise; their proofs run in ``tests/sim/formal/test_runner.py``."""
 
+import pytest
+
 from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
+from dptbd.sim.formal.harnesses.tiny import tiny_config
 
 CREDIT_FIFO = {
     "FIFO overflow: a word left the pipeline without room",
@@ -28,3 +31,19 @@ def test_the_pipeline_harness_asserts_pixels_in_against_words_out(messages):
         "states: more pixels in flight than the output FIFO holds",
         "states: a word before any pixel was accepted",
         "states: a word without an accepted pixel"}
+
+
+@pytest.mark.parametrize("sideband_delay", ["registers", "memory"])
+def test_the_pipeline_valid_bits_are_one_a_cycle_from_acceptance_to_the_fifo(sideband_delay):
+    from dptbd.hw.dp_core import DPCore
+    from dptbd.hw.schedule import check_supported
+    from dptbd.sim.formal.harness import Elaborated
+    from dptbd.sim.formal.harnesses.flow import pipeline_valid_bits
+
+    cfg = tiny_config(energy_bits=10)
+    core = Elaborated(DPCore(cfg, sideband_delay=sideband_delay))
+    bits = pipeline_valid_bits(core)
+    # the write to the store and the FIFO comes write_latency cycles after the acceptance,
+    # one valid register per cycle
+    assert len(bits) == check_supported(cfg).write_latency
+    assert all(len(b) == 1 for b in bits)
