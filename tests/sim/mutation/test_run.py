@@ -75,6 +75,7 @@ def test_slice_runs_scaled():
                                          ("noise", 0), ("resync", 0), ("lut-reverse", 0),
                                          ("shifts", 0), ("line-ends", 0),
                                          ("lut-entry", 0), ("low-shift", 0),
+                                         ("list-lengths", 0), ("full-fifo", 0),
                                          ("reference", 0), ("stalls", 0), ("lists", 0))
     assert len(R.slice_runs("segmenter")) == len(R.SLICE_RUNS["segmenter"])
 

@@ -13,7 +13,9 @@ back-pressure (:func:`stall_plan`); ``noise`` runs under the build's LUT
 (:func:`lut_scenario`, ``lut-reverse``); every histogram shift (:func:`shift_steps`);
 frames whose last line ends at the next start of frame (:func:`line_end_steps`); a LUT
 under which entry :data:`LUT_ENTRY`'s code bit 0 shows (:func:`lut_entry_steps`); low
-energies at shift 1 through every threshold (:func:`low_shift_steps`); 8 292
+energies at shift 1 through every threshold (:func:`low_shift_steps`); lists of every
+length, each ending with a selected pixel (:func:`list_length_steps`); noise under output
+back-pressure that keeps the DP output FIFO full (:func:`full_fifo_steps`); 8 292
 one-frame lists read at both clock parities (:func:`lists_plan`); every counter preset, read and counted on to a wrap
 (:func:`presets_plan`); and runs compared cycle for cycle with the original design's
 (:func:`reference_run`). The runs of exact cycles and counters are in
@@ -24,11 +26,13 @@ from __future__ import annotations
 
 from dptbd.config import DPConfig
 from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS
-from dptbd.sim.mutation.slices.axi.registers import (LOW_SHIFT_THRESHOLDS, LUT_ENTRY, N_VALUES,
-                                                     decode_steps, line_end_steps,
-                                                     low_shift_steps, lut_entry_codes,
-                                                     lut_entry_steps, n_steps, noise_steps,
-                                                     resync_steps, shift_steps)
+from dptbd.sim.mutation.slices.axi.registers import (FULL_FIFO_PAUSE, LOW_SHIFT_THRESHOLDS,
+                                                     LUT_ENTRY, N_VALUES, decode_steps,
+                                                     full_fifo_steps, line_end_steps,
+                                                     list_length_steps, low_shift_steps,
+                                                     lut_entry_codes, lut_entry_steps,
+                                                     n_steps, noise_steps, resync_steps,
+                                                     shift_steps)
 from dptbd.sim.mutation.slices.axi.timing import (IRQ_WRITES, LIST_COUNT, PRESET_FRAMES,
                                                   PRESETS, RESTART_DELAY, STALL_CYCLES, irq_plan,
                                                   irq_run, lists_plan, lists_run,
@@ -41,7 +45,8 @@ __all__ = ["RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "LUT_RUNS", "COUNTER_FRAMES",
            "lut_scenario", "counter_plan", "irq_plan", "restart_plan", "N_VALUES",
            "decode_steps", "n_steps", "STALL_CYCLES", "stall_plan", "noise_steps", "resync_steps",
            "shift_steps", "line_end_steps", "LUT_ENTRY", "lut_entry_codes", "lut_entry_steps",
-           "LOW_SHIFT_THRESHOLDS", "low_shift_steps",
+           "LOW_SHIFT_THRESHOLDS", "low_shift_steps", "list_length_steps", "FULL_FIFO_PAUSE",
+           "full_fifo_steps",
            "LIST_COUNT", "lists_plan", "PRESETS", "PRESET_FRAMES", "presets_plan",
            "REFERENCE_PRESET", "REFERENCE_PAUSE", "reference_plan", "reference_run", "run"]
 
@@ -70,7 +75,7 @@ RUNS = tuple([("faults", s) for s in range(16)]
                 ("n-values", 0), ("noise", 0), ("noise", 1),
                 *(("resync", s) for s in range(6)),
                 ("lut-reverse", 0), ("lut-reverse", 1), ("shifts", 0), ("line-ends", 0),
-                ("lut-entry", 0), ("low-shift", 0),
+                ("lut-entry", 0), ("low-shift", 0), ("list-lengths", 0), ("full-fifo", 0),
                 ("reference", 0), ("reference", 1), ("stalls", 0), ("lists", 0)])
 
 #: The ``reference`` runs (:func:`reference_run`): every counter's preset (bit 14 and every
@@ -348,6 +353,10 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
         return _checked(check_axi(sim, *lut_entry_steps(sim.cfg)))
     if kind == "low-shift":
         return _checked(check_axi(sim, *low_shift_steps(sim.cfg)))
+    if kind == "list-lengths":
+        return _checked(check_axi(sim, *list_length_steps(sim.cfg)))
+    if kind == "full-fifo":
+        return _checked(check_axi(sim, *full_fifo_steps(sim.cfg), ready_pause=FULL_FIFO_PAUSE))
     if kind == "shifts":
         return _checked(check_axi(sim, *shift_steps(sim.cfg)))
     if kind == "irq":

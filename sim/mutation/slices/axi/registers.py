@@ -5,8 +5,10 @@ under the build's LUT (:func:`noise_steps`), settings written inside a segment t
 resync then ends (:func:`resync_steps`), a run through every histogram shift
 (:func:`shift_steps`), frames whose last line ends at the next start of frame
 (:func:`line_end_steps`), a LUT under which one entry's code bit 0 shows
-(:func:`lut_entry_steps`) and low energies thresholded at shift 1 through every threshold
-(:func:`low_shift_steps`)."""
+(:func:`lut_entry_steps`), low energies thresholded at shift 1 through every threshold
+(:func:`low_shift_steps`), lists of every length ending with a selected pixel
+(:func:`list_length_steps`) and noise under output back-pressure that keeps the DP output
+FIFO full (:func:`full_fifo_steps`)."""
 
 from __future__ import annotations
 
@@ -14,7 +16,8 @@ from dptbd.config import DPConfig
 
 __all__ = ["N_VALUES", "LUT_ENTRY", "LOW_SHIFT_THRESHOLDS", "decode_steps", "n_steps",
            "noise_steps", "resync_steps", "shift_steps", "line_end_steps", "lut_entry_codes",
-           "lut_entry_steps", "low_shift_steps"]
+           "lut_entry_steps", "low_shift_steps", "list_length_steps", "FULL_FIFO_PAUSE",
+           "full_fifo_steps"]
 
 def decode_steps(cfg: DPConfig) -> tuple:
     """The beats and steps of the ``decode`` run: right after reset, a read of every word
@@ -26,7 +29,8 @@ def decode_steps(cfg: DPConfig) -> tuple:
     again; then, for every setting register and every bit above its upper limit, a write of
     its reset value with that bit set (refused, SLVERR: every bit of the written word is
     compared), each register read back unchanged and ERROR.write_refused set; a LUT write
-    with each byte strobe clear in turn (refused, SLVERR); ERROR cleared with all ones (W1C):
+    with each byte strobe clear in turn and one of a code in range with every strobe at each
+    unaligned address of the window's first word (refused, SLVERR); ERROR cleared with all ones (W1C):
     IRQ_STATUS keeps its pending fault (a write decoded at both registers clears it) and
     ERROR reads 0; a refused write sets them again; the handshake accesses of
     ``_handshake_accesses`` (late W with ``awaddr`` changed, reads probed while
@@ -58,6 +62,7 @@ def decode_steps(cfg: DPConfig) -> tuple:
                  for b in range(32) if 1 << b > field.limits[1]]
         back.append(["r", reg.address, OKAY, reset[reg.address]])
     bits += [["w", lut.base, 0, 0xF & ~(1 << k), SLVERR] for k in range(4)]
+    bits += [["w", lut.base + k, 0, 0xF, SLVERR] for k in (1, 2, 3)]
     refused = sum(f.reset << f.lsb for f in regmap["ERROR"].fields) | next(
         1 << f.lsb for f in regmap["ERROR"].fields if f.name == "write_refused")
     error, status = regmap["ERROR"].address, regmap["IRQ_STATUS"].address
@@ -269,3 +274,54 @@ def low_shift_steps(cfg: DPConfig) -> tuple:
                          ["CANDIDATE_COUNT", min(n, cfg.record_capacity)]],
               "stop": (j + 1) * frame} for j, n in enumerate(counts)]
     return beats, steps
+
+
+def list_length_steps(cfg: DPConfig) -> tuple:
+    """The beats and steps of the ``list-lengths`` run: K = 1 and n = C - 1 from the first
+    beat; frame 0 has C - 1 bright pixels, then one frame for each m = 1 ... C - 1 in a
+    seeded order, then one of m = C: m bright pixels (at least 2**s: bin 1 and up; the
+    frame's last pixel among them), the others 0. Each frame before the last has at most
+    C - 1 pixels in bins 1 and up and one at least in bin 0, so the next list's T is 1 and
+    it holds exactly its frame's bright pixels: every list length, each ending with a
+    selected pixel (a compare of the emitter's count with a constant is seen at every
+    count), every list against the model."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    rng = np.random.default_rng([0, 0xA7F])
+    size, capacity = cfg.width * cfg.height, cfg.record_capacity
+    assert capacity <= size
+    lengths = list(range(1, capacity))
+    rng.shuffle(lengths)
+    frames = np.zeros((len(lengths) + 2, size), dtype=np.int64)
+    for f, m in enumerate([capacity - 1, *lengths, capacity]):
+        bright = np.zeros(size, dtype=bool)
+        bright[size - 1] = True
+        bright[rng.choice(size - 1, m - 1, replace=False)] = True
+        frames[f] = np.where(bright, rng.integers(1 << cfg.bin_shift, cfg.pixel_max + 1,
+                                                  size=size), 0)
+    beats = clean_beats(frames.reshape(-1, cfg.height, cfg.width))
+    return beats, [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", capacity - 1]],
+                    "stop": len(beats)}]
+
+
+#: Output back-pressure of the ``full-fifo`` run (:func:`full_fifo_steps`).
+FULL_FIFO_PAUSE = 0.97
+
+
+def full_fifo_steps(cfg: DPConfig) -> tuple:
+    """The beats and steps of the ``full-fifo`` run, under output back-pressure
+    :data:`FULL_FIFO_PAUSE`: 24 frames of uniform noise at K = 1 and n = C, every pixel a
+    record: the emitter is full, the segmenter takes a state only as the output drains, so
+    the DP output FIFO stays full and its credits stall the input before nearly every pixel,
+    a frame's last one among them (the flags of a word waiting in the FIFO are read long
+    after they were written), every list against the model."""
+    import numpy as np
+
+    from dptbd.sim.axi.stimulus import clean_beats
+
+    rng = np.random.default_rng([0, 0xA80])
+    beats = clean_beats(rng.integers(0, 1 << cfg.input_bits, size=(24, cfg.height, cfg.width)))
+    return beats, [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", cfg.record_capacity]],
+                    "stop": len(beats)}]
