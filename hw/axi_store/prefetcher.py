@@ -98,8 +98,9 @@ class AxiReadPrefetcher(wiring.Component):
         The beat FIFO: ``"memory"`` (default) a ``SyncFIFOBuffered`` whose block RAM read is
         registered into the head beat; ``"dp16kd"`` (ECP5) a ring buffer in DP16KDs
         (:func:`~dptbd.hw.dp16kd.dp16kd_memory`) whose output register is the head beat,
-        the array read a stage before it: no block-RAM clock-to-out before a register, a
-        beat one cycle later from the R channel to the head. Same words in the same order.
+        the array read a stage before it: no block-RAM clock-to-out before a register.
+        Same words in the same order, same cycles (the first pixel enters in cycle 5 of a
+        zero-latency memory either way).
         Anything else raises ``ValueError``.
     dp16kd : callable or None
         With ``style="dp16kd"``: builds one DP16KD (``cell`` of
