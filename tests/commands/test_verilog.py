@@ -290,6 +290,7 @@ def test_verilog_family_builds_the_familys_core_options(tmp_path, capsys, family
 
 
 def test_verilog_family_ecp5_builds_the_line_buffer_in_dp16kds_at_640_wide(tmp_path, capsys):
+    """At 640 wide the ECP5 build has its line buffer and its prefetch FIFO in DP16KDs."""
     out = tmp_path / "dp.v"
     argv = ["-o", out, "--width", 640, "--height", 512, "--state-store", "axi", "--family",
             "ecp5"]
@@ -297,7 +298,8 @@ def test_verilog_family_ecp5_builds_the_line_buffer_in_dp16kds_at_640_wide(tmp_p
     options = {"line_buffer_style": "dp16kd", "sideband_delay": "registers",
                "max_tree": "split", "state_store_style": "dp16kd", "histogram_style": "dp16kd"}
     assert json.loads((tmp_path / "dp.json").read_text())["core_options"] == options
-    assert out.read_text().count("DP16KD #(") == 2          # 640 x 28 bits: two 18 x 1024
+    # the line buffer, 640 x 28 bits: two 18 x 1024; the prefetch FIFO, 64 x 64 bits: four
+    assert out.read_text().count("DP16KD #(") == 2 + 4
     assert ("  core options: " + ", ".join(f"{k}={v}" for k, v in options.items())
             + " (the ecp5 build)") in capsys.readouterr().out.splitlines()
 
