@@ -257,17 +257,22 @@ class AxiReadPrefetcher(wiring.Component):
         # one word per beat: offset stays 0 (one bit, not a zero-width vector)
         offset = Signal(range(max(per_beat, 2)), init=first_skip)
         stale = Signal(range(depth + 1))             # beats to drop after a restart
+        # stale == 0, a register kept with it: the gate's `available` (and through it the
+        # pipeline's input handshake) follows no comparison
+        fresh = Signal(init=1)
         taken = Signal(count_bits)                   # words taken since reset
         m.d.comb += [
-            self.available.eq(head_valid & (stale == 0)),
+            self.available.eq(head_valid & fresh),
             self.word.as_value().eq(
                 from_slots(store, head.word_select(offset, store.word_bits))),
         ]
         with m.If(self.take):
             m.d.sync += taken.eq(taken + 1)
         with m.If(self.take & self.restart):
+            dropped = reserved + Mux(issue, length, 0)      # a burst issued now is stale
             m.d.sync += [
-                stale.eq(reserved + Mux(issue, length, 0)),   # a burst issued now is stale
+                stale.eq(dropped),
+                fresh.eq(dropped == 0),
                 offset.eq(restart_skip),
                 next_beat.eq(restart_beat),
                 length.eq(burst_length(restart_beat)),
@@ -275,10 +280,10 @@ class AxiReadPrefetcher(wiring.Component):
                 need.eq(taken + (1 + burst_length(restart_beat) * per_beat - restart_skip
                                  + ahead - pixels) % modulus),
             ]
-        with m.Elif(stale != 0):
+        with m.Elif(~fresh):
             m.d.comb += pop.eq(head_valid)
             with m.If(pop):
-                m.d.sync += stale.eq(stale - 1)
+                m.d.sync += [stale.eq(stale - 1), fresh.eq(stale == 1)]
         with m.Elif(self.take):
             last = offset == per_beat - 1
             m.d.comb += pop.eq(last)
