@@ -115,7 +115,7 @@ def synth(cfg: DPConfig, store, family: str) -> None:
     from dptbd.hw.flow.synth import synthesize
     from dptbd.hw.flow.to_verilog import to_verilog
 
-    options = dict(get_family(family).core_options)
+    options = get_family(family).options_for(cfg)
     text = to_verilog(FoldedPorts(AXITopStore(store, core_options=options)), "dptbd_dp")
     # the axi-store variant's flow, its text this core's (the store's options as asked)
     res = synthesize(cfg, variant="axi-store", family=family, seeds=(1,),

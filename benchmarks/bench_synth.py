@@ -35,8 +35,8 @@ need and F = 0 for the binary LUT; see ``docs/synthesis.md``):
   default build (8/10/0), weight LUT in block RAM (``lut_style="auto"`` at r = 2).
 
 ``DPCore``'s storage options (in every case, the segmenter and AXI tops included) are the
-family's (``Family.core_options``: iCE40 line buffer and side band in block RAM; ECP5 line
-buffer in LUT RAM, side band in registers) unless ``--line-buffer-style`` /
+family's (``Family.options_for(cfg)``: iCE40 line buffer and side band in block RAM; ECP5 line
+buffer in LUT RAM, in DP16KDs from 512 pixels wide, side band in registers) unless ``--line-buffer-style`` /
 ``--sideband-delay`` / ``--max-tree`` say otherwise (ECP5 also splits each max-tree level
 over two stages).
 * ``core128-regio`` — ``core128`` behind a register on every port
@@ -225,7 +225,8 @@ def main(argv=None) -> int:
                         help="nextpnr router (nextpnr --router; default nextpnr's, router1)")
     parser.add_argument("--line-buffer-style", choices=CORE_OPTIONS["line_buffer_style"],
                         help="DPCore line buffer storage (default: the family's, block RAM "
-                             "on iCE40, LUT RAM on ECP5)")
+                             "on iCE40, LUT RAM on ECP5, DP16KDs on ECP5 from 512 pixels "
+                             "wide)")
     parser.add_argument("--sideband-delay", choices=CORE_OPTIONS["sideband_delay"],
                         help="DPCore side-band delay (default: the family's, memory on "
                              "iCE40, registers on ECP5)")

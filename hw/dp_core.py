@@ -41,7 +41,7 @@ __all__ = ["DPCore", "LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS",
            "run_time_k_members", "state_events"]
 
 #: ``DPCore(line_buffer_style=…)`` and the line buffer memory's ``ram_style`` for each.
-LINE_BUFFER_RAM_STYLE = {"bram": None, "lutram": "distributed"}
+LINE_BUFFER_RAM_STYLE = {"bram": None, "lutram": "distributed", "dp16kd": "dp16kd"}
 LINE_BUFFER_STYLES = tuple(LINE_BUFFER_RAM_STYLE)
 #: ``DPCore(sideband_delay=…)``.
 SIDEBAND_DELAYS = ("registers", "memory")
@@ -54,6 +54,15 @@ SIDEBAND_DELAYS = ("registers", "memory")
 CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS,
                 "max_tree": tuple(MAX_TREE_STAGES), "state_store_style": STATE_STORE_STYLES,
                 "histogram_style": HISTOGRAM_STYLES}
+
+
+def core_line_buffer(shape, depth: int, taps: int, style: str) -> LineBuffer:
+    """The line buffer of ``line_buffer_style`` ``style`` (DPCore's and DPCoreWide's):
+    ``"lutram"`` read interleaved when ``depth`` is even and >= 4, ``"dp16kd"`` the ECP5
+    DP16KDs read through their output register (``depth`` >= 3: a row has at least 3
+    pixels, a beat row at least 3 beats)."""
+    return LineBuffer(shape, depth=depth, taps=taps, ram_style=LINE_BUFFER_RAM_STYLE[style],
+                      interleaved_read=style == "lutram" and depth % 2 == 0 and depth >= 4)
 
 
 def lut_write_members(cfg: DPConfig) -> dict:
@@ -131,12 +140,15 @@ class DPCore(wiring.Component):
         logic (flip-flops and multiplexers, no block RAM), or ``"auto"`` (default: logic for
         r = 1, block RAM for r = 2). A synthesis choice only: behaviour and latency are the
         same. Anything else raises ``ValueError``.
-    line_buffer_style : {"bram", "lutram"}
+    line_buffer_style : {"bram", "lutram", "dp16kd"}
         Storage of the line buffer (:class:`~dptbd.hw.line_buffer.LineBuffer`): block RAM
         (default) or LUT RAM (``"lutram"``: ``ram_style = "distributed"``, for ECP5, where
         the block RAM's read is the critical path; on iCE40, which has no LUT RAM, it would
         be built from logic; for an even width read interleaved, ``LineBuffer(
-        interleaved_read=True)``). A synthesis choice only: behaviour and latency are the same.
+        interleaved_read=True)``), or ECP5 DP16KDs read a cycle ahead through their output
+        register (``"dp16kd"``, ``LineBuffer(ram_style="dp16kd")``, ECP5 only; what the
+        ECP5 flow builds from 256 pixels wide, :mod:`dptbd.hw.flow.family`). A synthesis
+        choice only: behaviour and latency are the same.
         The synthesis flow picks it per family (:mod:`dptbd.hw.flow.family`). Anything else
         raises ``ValueError``.
     sideband_delay : {"registers", "memory"}
@@ -316,10 +328,8 @@ class DPCore(wiring.Component):
             self.state_store.read_addr.eq(controller.read_addr),
             self.state_store.read_en.eq(accept),
         ]
-        m.submodules.line_buffer = line_buffer = LineBuffer(
-            state_word_layout(cfg), depth=cfg.width, taps=2 * cfg.radius,
-            ram_style=LINE_BUFFER_RAM_STYLE[self._line_buffer_style],
-            interleaved_read=self._line_buffer_style == "lutram" and cfg.width % 2 == 0)
+        m.submodules.line_buffer = line_buffer = core_line_buffer(
+            state_word_layout(cfg), cfg.width, 2 * cfg.radius, self._line_buffer_style)
         m.d.comb += line_buffer.advance.eq(accept)
 
         # ---- cycle 1 (fetch): new window column --------------------------------------

@@ -36,6 +36,17 @@ P's high bits), its pair terms kept (``keep``) so that Yosys maps two LUT levels
 a chain of three. Same taps, same cycles, no write delay; costs one register per bank and
 memory bit (224 for the 128 x 28-bit line buffer of the default build). It takes the line
 buffer out of the ECP5 critical paths (``docs/synthesis.md``, "The line buffer's read").
+
+With ``ram_style="dp16kd"`` (ECP5 only; ``depth`` >= 3) the memory is ECP5 ``DP16KD`` block
+RAMs read through their output register (``REGMODE_B = "OUTREG"``,
+:func:`~dptbd.hw.dp16kd.dp16kd_memory`), so the taps come from a register inside the block
+RAM (~1 ns clock-to-out) and the read address from a register: the read is issued a cycle
+ahead, on ``advance``, at ``ahead`` = P + 1 (mod depth), a register kept beside the pointer,
+which is where the pointer will be after the advance. The array's read register thus holds
+the word at P(t) in every cycle t (read on the advance that moved the pointer there, and held,
+its enable low, through stalls), and the output register, enabled every cycle, shows it in
+cycle t+1. Same taps, same cycles as the synchronous read port; the word at P + 1 was last
+written at the latest in the cycle before the read when ``depth`` >= 3.
 """
 
 from __future__ import annotations
@@ -45,6 +56,7 @@ from amaranth.lib import wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
+from dptbd.hw.dp16kd import dp16kd_memory
 from dptbd.hw.modular import increment_mod
 
 __all__ = ["LUT_RAM_BANK_DEPTH", "RAM_STYLES", "LineBuffer"]
@@ -52,8 +64,9 @@ __all__ = ["LUT_RAM_BANK_DEPTH", "RAM_STYLES", "LineBuffer"]
 #: Words per LUT-RAM bank of ``ram_style="distributed"`` (an ECP5 ``TRELLIS_DPR16X4``).
 LUT_RAM_BANK_DEPTH = 16
 
-#: ``LineBuffer(ram_style=…)``: inferred (block RAM) or LUT RAM.
-RAM_STYLES = (None, "distributed")
+#: ``LineBuffer(ram_style=…)``: inferred (block RAM), LUT RAM, or ECP5 DP16KDs read through
+#: their output register.
+RAM_STYLES = (None, "distributed", "dp16kd")
 
 
 class LineBuffer(wiring.Component):
@@ -71,11 +84,13 @@ class LineBuffer(wiring.Component):
         Number of delay lines (2r), >= 1.
     registered_read : bool
         Register the memory's read data (module docstring); needs ``depth`` >= 3.
-    ram_style : {None, "distributed"}
+    ram_style : {None, "distributed", "dp16kd"}
         Synthesis attribute of the memory: ``None`` (default) leaves it to RAM inference
         (a block RAM), ``"distributed"`` asks Yosys for LUT RAM (ECP5 ``TRELLIS_DPR16X4``,
         no block RAM clock-to-out on the read path; ``docs/synthesis.md``, "Block RAM
-        reads"). Behaviour and timing are the same either way.
+        reads"), ``"dp16kd"`` builds ECP5 DP16KDs read a cycle ahead through their output
+        register (module docstring; needs ``depth`` >= 3, no other read option). Behaviour
+        and timing are the same either way.
     banked_read : bool
         LUT RAM in registered banks (module docstring); needs ``ram_style="distributed"``,
         no ``registered_read`` and ``depth`` >= 3.
@@ -83,6 +98,10 @@ class LineBuffer(wiring.Component):
         LUT RAM read ahead in interleaved halves into bank registers (module docstring);
         needs ``ram_style="distributed"``, an even ``depth`` >= 4 and neither
         ``registered_read`` nor ``banked_read``.
+    dp16kd : callable or None
+        With ``ram_style="dp16kd"``: ``dp16kd(**ports)`` builds one DP16KD (``cell`` of
+        :func:`~dptbd.hw.dp16kd.dp16kd_memory`; ``None``: the ``Instance``). Tests pass a
+        behavioural model.
 
     Members
     -------
@@ -103,7 +122,10 @@ class LineBuffer(wiring.Component):
 
     def __init__(self, shape, depth: int, taps: int, *, registered_read: bool = False,
                  ram_style: str | None = None, banked_read: bool = False,
-                 interleaved_read: bool = False):
+                 interleaved_read: bool = False, dp16kd=None):
+        if ram_style == "dp16kd" and registered_read:
+            raise ValueError("ram_style='dp16kd' reads through the block RAM's output "
+                             "register: no registered_read")
         if banked_read and (ram_style != "distributed" or registered_read):
             raise ValueError("banked_read needs ram_style='distributed' and no registered_read")
         if ram_style not in RAM_STYLES:
@@ -115,7 +137,7 @@ class LineBuffer(wiring.Component):
             if depth < 4 or depth % 2:
                 raise ValueError(f"depth must be an even integer in [4, inf) with "
                                  f"interleaved_read, got {depth}")
-        low = 3 if registered_read or banked_read else 2
+        low = 3 if registered_read or banked_read or ram_style == "dp16kd" else 2
         if depth < low:
             raise ValueError(f"depth must be an integer in [{low}, inf), got {depth}")
         if taps < 1:
@@ -127,6 +149,7 @@ class LineBuffer(wiring.Component):
         self._ram_style = ram_style
         self._banked_read = bool(banked_read)
         self._interleaved_read = bool(interleaved_read)
+        self._dp16kd = dp16kd
         super().__init__({
             "advance": In(1),
             "data_in": In(shape),
@@ -146,6 +169,8 @@ class LineBuffer(wiring.Component):
             return self._elaborate_banked(m, entry_bits, n_taps)
         if self._interleaved_read:
             return self._elaborate_interleaved(m, entry_bits * n_taps)
+        if self._ram_style == "dp16kd":
+            return self._elaborate_dp16kd(m, entry_bits, n_taps)
         m.submodules.memory = memory = Memory(
             shape=unsigned(entry_bits * n_taps), depth=self._depth, init=[],
             attrs=None if self._ram_style is None else {"ram_style": self._ram_style})
@@ -191,6 +216,24 @@ class LineBuffer(wiring.Component):
             write_pending.eq(self.advance),
         ]
         return pointer, pointer_next, write_pointer, write_pending
+
+    def _elaborate_dp16kd(self, m, entry_bits, n_taps):
+        pointer, _, write_pointer, write_pending = self._pointers(m)
+        # `ahead` = (P + 1) mod depth, stepped with the pointer: the address the array reads
+        # on an advance, from a register (no logic between it and the block RAMs' pins).
+        ahead = Signal(range(self._depth), init=1)
+        with m.If(self.advance):
+            m.d.sync += ahead.eq(increment_mod(ahead, self._depth))
+        word_bits = entry_bits * n_taps
+        shifted = Signal(word_bits)
+        words = dp16kd_memory(
+            m, "bank", width=word_bits, depth=self._depth, read_addr=ahead,
+            read_en=self.advance, out_en=1, write_addr=write_pointer, write_data=shifted,
+            write_en=write_pending, cell=self._dp16kd)
+        for k in range(n_taps):
+            m.d.comb += self.taps[k].eq(words[k * entry_bits:(k + 1) * entry_bits])
+        m.d.comb += shifted.eq(Cat(self.data_in, *[self.taps[k] for k in range(n_taps - 1)]))
+        return m
 
     def _elaborate_banked(self, m, entry_bits, n_taps):
         # LUT RAM in banks of LUT_RAM_BANK_DEPTH words, each read asynchronously at the

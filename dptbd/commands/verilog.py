@@ -172,7 +172,7 @@ def _core_options(args: argparse.Namespace, cfg) -> dict | None:
     from dptbd.hw.flow.family import get_family
     family = get_family(args.family)
     family.check_radius(cfg)
-    return dict(family.core_options)
+    return family.options_for(cfg)
 
 
 def _write_seg(args: argparse.Namespace, cfg, core_options: dict | None) -> int:

@@ -47,6 +47,10 @@ class AxiStateStore(wiring.Component):
     write_latency : int
         Cycles from a pixel's acceptance to its state write
         (:attr:`~dptbd.hw.schedule.PipelineSchedule.write_latency`).
+    style : {"memory", "dp16kd"}
+        The prefetcher's beat FIFO (:class:`~dptbd.hw.axi_store.prefetcher.AxiReadPrefetcher`'s
+        ``style``): an Amaranth FIFO (default) or ECP5 DP16KDs read through their output
+        register. ``dp16kd``: its ``dp16kd`` (tests pass a behavioural model).
 
     Members
     -------
@@ -69,9 +73,10 @@ class AxiStateStore(wiring.Component):
         Pulses: a read beat / a write response came back with ``SLVERR`` or ``DECERR``.
     """
 
-    def __init__(self, store: AxiStoreConfig, *, write_latency: int):
+    def __init__(self, store: AxiStoreConfig, *, write_latency: int, style: str = "memory",
+                 dp16kd=None):
         self._store = store
-        self._reader = AxiReadPrefetcher(store)
+        self._reader = AxiReadPrefetcher(store, style=style, dp16kd=dp16kd)
         self._writer = AxiWriteBehind(store, in_flight=write_latency + 1)
         super().__init__({
             "bus": In(store_signature(store)),

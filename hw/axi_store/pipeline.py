@@ -46,7 +46,10 @@ class DPPipelineAxi(DPPipeline):
     store : AxiStoreConfig
         The configuration (``store.frame``) and its memory layout.
     lut_style, output_fifo_depth, **core_options
-        As for :class:`~dptbd.hw.dp_pipeline.DPPipeline`.
+        As for :class:`~dptbd.hw.dp_pipeline.DPPipeline`; ``state_store_style`` is the
+        prefetcher's beat FIFO's here (:class:`~dptbd.hw.axi_store.AxiStateStore`'s
+        ``style``: ``"dp16kd"``, the ECP5 family's, reads it through the DP16KDs' output
+        register).
 
     Members
     -------
@@ -69,7 +72,9 @@ class DPPipelineAxi(DPPipeline):
         cfg = store.frame
         self._core, pixels, states = _core_and_layouts(
             store, output_fifo_depth=output_fifo_depth, lut_style=lut_style, **core_options)
-        self._store_block = AxiStateStore(store, write_latency=self._core.schedule.write_latency)
+        self._store_block = AxiStateStore(
+            store, write_latency=self._core.schedule.write_latency,
+            style=self._core.core_options["state_store_style"])
         self._cfg = cfg
         self._store = store
         wiring.Component.__init__(self, {

@@ -37,11 +37,17 @@ from amaranth.lib.fifo import SyncFIFOBuffered
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import AxiStoreConfig, DPConfig
+from dptbd.hw.dp16kd import dp16kd_memory
 from dptbd.hw.axi_store.bus import BURST_INCR, CACHE_MODIFIABLE, address_channel, axi4_signature, size_code
 from dptbd.hw.layouts import state_word_layout
 from dptbd.hw.schedule import read_ahead_distance
 
-__all__ = ["pixel_count_bits", "store_word_layout", "to_slots", "AxiReadPrefetcher"]
+__all__ = ["PREFETCH_FIFO_STYLES", "pixel_count_bits", "store_word_layout", "to_slots",
+           "AxiReadPrefetcher"]
+
+#: ``AxiReadPrefetcher(style=…)``: the beat FIFO as an Amaranth FIFO, or ECP5 DP16KDs read
+#: through their output register.
+PREFETCH_FIFO_STYLES = ("memory", "dp16kd")
 
 
 def store_word_layout(store: AxiStoreConfig):
@@ -88,6 +94,18 @@ class AxiReadPrefetcher(wiring.Component):
     ----------
     store : AxiStoreConfig
         Frame, packing, burst length and outstanding limit.
+    style : {"memory", "dp16kd"}
+        The beat FIFO: ``"memory"`` (default) a ``SyncFIFOBuffered`` whose block RAM read is
+        registered into the head beat; ``"dp16kd"`` (ECP5) a ring buffer in DP16KDs
+        (:func:`~dptbd.hw.dp16kd.dp16kd_memory`) whose output register is the head beat,
+        the array read a stage before it: no block-RAM clock-to-out before a register.
+        Same words in the same order, same cycles (the first pixel enters in cycle 5 of a
+        zero-latency memory either way).
+        Anything else raises ``ValueError``.
+    dp16kd : callable or None
+        With ``style="dp16kd"``: builds one DP16KD (``cell`` of
+        :func:`~dptbd.hw.dp16kd.dp16kd_memory`; ``None``: the ``Instance``). Tests pass a
+        behavioural model.
 
     Members
     -------
@@ -111,8 +129,12 @@ class AxiReadPrefetcher(wiring.Component):
         Pulse: a read beat came back with ``SLVERR`` or ``DECERR``.
     """
 
-    def __init__(self, store: AxiStoreConfig):
+    def __init__(self, store: AxiStoreConfig, *, style: str = "memory", dp16kd=None):
+        if style not in PREFETCH_FIFO_STYLES:
+            raise ValueError(f"style must be one of {PREFETCH_FIFO_STYLES}, got {style!r}")
         self._store = store
+        self._style = style
+        self._dp16kd = dp16kd
         axi = axi4_signature(store)
         super().__init__({
             "ar": Out(address_channel("ar", store.address_bits, store.id_bits)),
@@ -144,13 +166,16 @@ class AxiReadPrefetcher(wiring.Component):
         count_bits = pixel_count_bits(store)
         depth = self.fifo_depth
 
-        m.submodules.fifo = fifo = SyncFIFOBuffered(width=store.data_bits, depth=depth)
-        m.d.comb += [
-            fifo.w_data.eq(self.r.rdata),
-            fifo.w_en.eq(self.r.rvalid),
-            self.r.rready.eq(fifo.w_rdy),
-            self.error.eq(self.r.rvalid & self.r.rready & self.r.rresp[1]),
-        ]
+        if self._style == "memory":
+            m.submodules.fifo = fifo = SyncFIFOBuffered(width=store.data_bits, depth=depth)
+            m.d.comb += [
+                fifo.w_data.eq(self.r.rdata),
+                fifo.w_en.eq(self.r.rvalid),
+                self.r.rready.eq(fifo.w_rdy),
+                self.error.eq(self.r.rvalid & self.r.rready & self.r.rresp[1]),
+            ]
+        else:
+            m.d.comb += self.error.eq(self.r.rvalid & self.r.rready & self.r.rresp[1])
 
         # ---- issue side: next beat, its burst's length, the write count it needs -----------
         # ``need``: the written count the burst at ``next_beat`` waits for (the word taking its
@@ -214,31 +239,40 @@ class AxiReadPrefetcher(wiring.Component):
                          need.eq(need + following * per_beat)]
         m.d.sync += in_flight.eq(in_flight + (self.ar.arvalid & self.ar.arready) - rlast_seen)
 
-        # ---- the head beat: a register after the FIFO's block RAM (whose read is slow to
-        # come out), refilled in the cycle it is popped ------------------------------------
-        head = Signal(store.data_bits)
-        head_valid = Signal()
-        pop = Signal()                               # the head beat leaves
-        refill = ~head_valid | pop
-        m.d.comb += fifo.r_en.eq(refill)
-        with m.If(refill):
-            m.d.sync += [head.eq(fifo.r_data), head_valid.eq(fifo.r_rdy)]
+        if self._style == "memory":
+            # ---- the head beat: a register after the FIFO's block RAM (whose read is slow
+            # to come out), refilled in the cycle it is popped -------------------------------
+            head = Signal(store.data_bits)
+            head_valid = Signal()
+            pop = Signal()                           # the head beat leaves
+            refill = ~head_valid | pop
+            m.d.comb += fifo.r_en.eq(refill)
+            with m.If(refill):
+                m.d.sync += [head.eq(fifo.r_data), head_valid.eq(fifo.r_rdy)]
+        else:
+            pop = Signal()                           # the head beat leaves
+            head, head_valid = self._fifo_dp16kd(m, pop)
 
         # ---- take side: unpack the head beat, drop stale beats --------------------------
         # one word per beat: offset stays 0 (one bit, not a zero-width vector)
         offset = Signal(range(max(per_beat, 2)), init=first_skip)
         stale = Signal(range(depth + 1))             # beats to drop after a restart
+        # stale == 0, a register kept with it: the gate's `available` (and through it the
+        # pipeline's input handshake) follows no comparison
+        fresh = Signal(init=1)
         taken = Signal(count_bits)                   # words taken since reset
         m.d.comb += [
-            self.available.eq(head_valid & (stale == 0)),
+            self.available.eq(head_valid & fresh),
             self.word.as_value().eq(
                 from_slots(store, head.word_select(offset, store.word_bits))),
         ]
         with m.If(self.take):
             m.d.sync += taken.eq(taken + 1)
         with m.If(self.take & self.restart):
+            dropped = reserved + Mux(issue, length, 0)      # a burst issued now is stale
             m.d.sync += [
-                stale.eq(reserved + Mux(issue, length, 0)),   # a burst issued now is stale
+                stale.eq(dropped),
+                fresh.eq(dropped == 0),
                 offset.eq(restart_skip),
                 next_beat.eq(restart_beat),
                 length.eq(burst_length(restart_beat)),
@@ -246,13 +280,45 @@ class AxiReadPrefetcher(wiring.Component):
                 need.eq(taken + (1 + burst_length(restart_beat) * per_beat - restart_skip
                                  + ahead - pixels) % modulus),
             ]
-        with m.Elif(stale != 0):
+        with m.Elif(~fresh):
             m.d.comb += pop.eq(head_valid)
             with m.If(pop):
-                m.d.sync += stale.eq(stale - 1)
+                m.d.sync += [stale.eq(stale - 1), fresh.eq(stale == 1)]
         with m.Elif(self.take):
             last = offset == per_beat - 1
             m.d.comb += pop.eq(last)
             m.d.sync += offset.eq(Mux(last, 0, offset + 1))
         m.d.sync += reserved.eq(reserved + Mux(issue, length, 0) - pop)
         return m
+
+    def _fifo_dp16kd(self, m, pop):
+        # ---- ECP5: a ring buffer in DP16KDs, two read stages: the array's read register
+        # (``ahead``, loaded with the beat at ``read_ptr``) and the output register (the
+        # head beat), each moving on when the stage after it is free or leaving --------------
+        store = self._store
+        depth = self.fifo_depth
+        write_ptr = Signal(range(depth))
+        read_ptr = Signal(range(depth))
+        stored = Signal(range(depth + 1))           # beats written and not yet read ahead
+        ahead_valid = Signal()
+        head_valid = Signal()
+        advance = ahead_valid & (~head_valid | pop)     # the output register loads
+        fetch = (stored != 0) & (~ahead_valid | advance)   # the array reads read_ptr
+        write = self.r.rvalid & self.r.rready
+        m.d.comb += self.r.rready.eq(stored != depth)
+
+        def step(ptr):
+            return Mux(ptr == depth - 1, 0, ptr + 1)
+
+        with m.If(write):
+            m.d.sync += write_ptr.eq(step(write_ptr))
+        with m.If(fetch):
+            m.d.sync += read_ptr.eq(step(read_ptr))
+        m.d.sync += [stored.eq(stored + write - fetch),
+                     ahead_valid.eq(fetch | (ahead_valid & ~advance)),
+                     head_valid.eq(advance | (head_valid & ~pop))]
+        head = dp16kd_memory(m, "fifo", width=store.data_bits, depth=depth,
+                             read_addr=read_ptr, read_en=fetch, out_en=advance,
+                             write_addr=write_ptr, write_data=self.r.rdata, write_en=write,
+                             cell=self._dp16kd)
+        return head, head_valid

@@ -113,9 +113,23 @@ class AxiWriteBehind(wiring.Component):
                 count.eq(count + 1)]
         full = self.write_en & (slot == per_beat - 1) if slot_select else self.write_en
         m.d.sync += beat_valid.eq(full)
+        # The burst flags of the beat, computed as it enters the beat stage (a cycle ahead of
+        # the descriptor write that uses them): whether it ends a burst block or the frame,
+        # whether it follows the run (is the beat `expect` will hold when it is processed),
+        # and the beat after it.
+        new_index = self.write_addr >> slot_select
+        expect = Signal(range(beats))                # the beat that continues the run
+        beat_next = Signal(range(beats))
+        beat_block_end = Signal()
+        beat_follows = Signal()
         with m.If(full):
-            m.d.sync += [beat_index.eq(self.write_addr >> slot_select),
-                         beat_upto.eq(count + 1)]
+            m.d.sync += [beat_index.eq(new_index),
+                         beat_upto.eq(count + 1),
+                         beat_next.eq(Mux(new_index == beats - 1, 0, new_index + 1)),
+                         beat_block_end.eq(
+                             ((new_index & (store.burst_beats - 1)) == store.burst_beats - 1)
+                             | (new_index == beats - 1)),
+                         beat_follows.eq(new_index == Mux(beat_valid, beat_next, expect))]
 
         # ---- bursts: runs of consecutive beats, closed at a boundary, the frame's end,
         # or a jump (resynchronisation) -----------------------------------------------------
@@ -130,13 +144,11 @@ class AxiWriteBehind(wiring.Component):
         run_start = Signal(range(beats))
         run_len = Signal(8)                          # beats - 1
         run_upto = Signal(count_bits)
-        expect = Signal(range(beats))
         closing = data.View(descriptor, bursts.w_data)
-        block_end = ((beat_index & (store.burst_beats - 1)) == store.burst_beats - 1) | (
-            beat_index == beats - 1)
+        block_end = beat_block_end
         with m.If(beat_valid):
-            m.d.sync += expect.eq(Mux(beat_index == beats - 1, 0, beat_index + 1))
-            jump = run_open & (beat_index != expect)
+            m.d.sync += expect.eq(beat_next)
+            jump = run_open & ~beat_follows
             starts = ~run_open | jump
             start = Mux(starts, beat_index, run_start)
             length = Mux(starts, 0, run_len + 1)

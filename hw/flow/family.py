@@ -65,6 +65,13 @@ class Family:
         registers (an ECP5 slice has its flip-flops beside its LUTs), the on-chip state
         store and the segmenter's histogram in DP16KDs reading through their output
         register (``state_store_style`` and ``histogram_style`` ``"dp16kd"``).
+        :meth:`options_for` gives a configuration's.
+    dp16kd_line_buffer_from : int or None
+        The frame width from which the family builds the line buffer in DP16KDs read through
+        their output register (``line_buffer_style="dp16kd"``) instead of
+        ``core_options``'s (``None``: never). ECP5: 512; at 640 and 1280 wide a LUT-RAM line
+        buffer spreads across the chip and its routing limits Fmax, at 128 it is the
+        faster one (``docs/synthesis.md``, "The line buffer in DP16KDs at 640 wide").
     """
 
     name: str
@@ -82,6 +89,17 @@ class Family:
     block_rams: Mapping[str, tuple[int, int]] = dataclasses.field(default_factory=dict)
     max_radius: int = 2
     core_options: Mapping[str, str] = dataclasses.field(default_factory=dict)
+    dp16kd_line_buffer_from: int | None = None
+
+    def options_for(self, cfg: DPConfig) -> dict:
+        """The :data:`~dptbd.hw.dp_core.CORE_OPTIONS` the flow builds ``cfg``'s core with:
+        :attr:`core_options`, the line buffer in DP16KDs from
+        :attr:`dp16kd_line_buffer_from` pixels wide."""
+        options = dict(self.core_options)
+        if (self.dp16kd_line_buffer_from is not None
+                and cfg.width >= self.dp16kd_line_buffer_from):
+            options["line_buffer_style"] = "dp16kd"
+        return options
 
     def check_on_chip_store(self, cfg: DPConfig, device: str) -> None:
         """Refuse a W x H state store that cannot fit ``device``'s block RAM.
@@ -162,7 +180,8 @@ ECP5 = Family(
                 "85k": (208, 18432)},
     core_options={"line_buffer_style": "lutram", "sideband_delay": "registers",
                   "max_tree": "split", "state_store_style": "dp16kd",
-                  "histogram_style": "dp16kd"})
+                  "histogram_style": "dp16kd"},
+    dp16kd_line_buffer_from=512)
 
 #: name -> :class:`Family`.
 FAMILIES = {f.name: f for f in (ICE40, ECP5)}

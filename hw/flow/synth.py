@@ -242,8 +242,9 @@ def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: Ma
                                   external_state_store=external), MODULE_NAME)
 
 
-def _core_options(fam: Family, core_options: Mapping | None) -> dict:
-    """The DPCore storage options of a run: the family's, overridden by ``core_options``."""
+def _core_options(fam: Family, cfg: DPConfig, core_options: Mapping | None) -> dict:
+    """The DPCore storage options of a run: the family's for ``cfg``
+    (:meth:`~dptbd.hw.flow.family.Family.options_for`), overridden by ``core_options``."""
     from dptbd.hw.dp_core import CORE_OPTIONS
     given = dict(core_options or {})
     for key, value in given.items():
@@ -252,7 +253,7 @@ def _core_options(fam: Family, core_options: Mapping | None) -> dict:
         if value not in CORE_OPTIONS[key]:
             raise ValueError(f"core_options[{key!r}] must be one of {CORE_OPTIONS[key]}, "
                              f"got {value!r}")
-    return {**fam.core_options, **given}
+    return {**fam.options_for(cfg), **given}
 
 
 def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
@@ -312,9 +313,9 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     core_options : Mapping[str, str], optional
         ``DPCore``'s storage options (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`) for every
         variant (the DPCore inside the segmenter and AXI tops too), over the family's
-        (:attr:`~dptbd.hw.flow.family.Family.core_options`: iCE40 line buffer in block RAM
-        and side band in a block RAM; ECP5 line buffer in LUT RAM and side band in
-        registers). Recorded in ``SynthResult.params["core_options"]``. ``ValueError`` for
+        (:meth:`~dptbd.hw.flow.family.Family.options_for`: iCE40 line buffer in block RAM
+        and side band in a block RAM; ECP5 line buffer in LUT RAM, in DP16KDs from 512
+        pixels wide, and side band in registers). Recorded in ``SynthResult.params["core_options"]``. ``ValueError`` for
         an unknown option or value.
     breakdown : bool
         Also synthesise without flattening and record each block's cells
@@ -345,7 +346,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     if variant in SEGMENTER_TOPS and lut_style != "auto":
         raise ValueError(f"lut_style must be 'auto' for variant {variant!r}, got {lut_style!r}")
     fam = get_family(family)
-    options = _core_options(fam, core_options)
+    options = _core_options(fam, cfg, core_options)
     device = fam.default_device if device is None else device
     package = fam.default_package if package is None else package
     target_mhz = fam.default_target_mhz if target_mhz is None else float(target_mhz)

@@ -12,11 +12,10 @@ from dptbd.errors import ConfigError
 from dptbd.hw.accumulator import Accumulator
 from dptbd.hw.controller import Controller
 from dptbd.hw.delay import delayed, delayed_in_memory
-from dptbd.hw.dp_core import (LINE_BUFFER_RAM_STYLE, LINE_BUFFER_STYLES, SIDEBAND_DELAYS,
+from dptbd.hw.dp_core import (LINE_BUFFER_STYLES, SIDEBAND_DELAYS, core_line_buffer,
                               lut_write_members, run_time_k_members, state_events)
 from dptbd.hw.histogram import HISTOGRAM_STYLES
 from dptbd.hw.input_credit import InputCredit
-from dptbd.hw.line_buffer import LineBuffer
 from dptbd.hw.max_tree import MaxTree
 from dptbd.hw.pipelined_max import SplitMaxTree
 from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
@@ -163,13 +162,9 @@ class DPCoreWide(wiring.Component):
             self.state_store.read_addr.eq(controller.read_addr),
             self.state_store.read_en.eq(accept),
         ]
-        m.submodules.line_buffer = line_buffer = LineBuffer(
-            beat_word_layout(cfg), depth=cfg.row_beats, taps=2 * r,
-            ram_style=LINE_BUFFER_RAM_STYLE[self._line_buffer_style],
-            # DPCore's read structure in LUT RAM: no address fan-out nor multiplexer between
-            # the memory and a register (docs/synthesis.md, "The line buffer's read")
-            interleaved_read=(self._line_buffer_style == "lutram" and cfg.row_beats % 2 == 0
-                              and cfg.row_beats >= 4))
+        # DPCore's line buffer of each style, a beat (P words) per entry
+        m.submodules.line_buffer = line_buffer = core_line_buffer(
+            beat_word_layout(cfg), cfg.row_beats, 2 * r, self._line_buffer_style)
         m.d.comb += line_buffer.advance.eq(accept)
 
         # ---- cycle 1 (fetch): new beat column ----------------------------------------

@@ -41,3 +41,15 @@ class DP16KDModel(Elaboratable):
         with m.If(p["i_OCEB"]):
             m.d.sync += out.eq(read.data)
         return m
+
+
+def model_dp16kd_cells(monkeypatch):
+    """Build every ``Instance("DP16KD", …)`` of :mod:`dptbd.hw.dp16kd` as a
+    :class:`DP16KDModel` (for whole cores whose DP16KD styles take no cell argument)."""
+    import dptbd.hw.dp16kd as dp16kd
+
+    def instance(kind, **ports):
+        assert kind == "DP16KD"
+        return DP16KDModel(**ports)
+
+    monkeypatch.setattr(dp16kd, "Instance", instance)

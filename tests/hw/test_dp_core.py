@@ -9,15 +9,16 @@ import pytest
 from dptbd.config import DPConfig
 from dptbd.hw.dp_core import CORE_OPTIONS, DPCore
 from dptbd.hw.dp_pipeline import DPPipeline
+from helpers.dp16kd_model import model_dp16kd_cells
 from helpers.hw_harness import (assert_states_equal, frames_to_stream, reference_states, refused,
                         run_stream)
 from helpers.refusals import whole
 
 #: Every combination of DPCore's implementation options (the iCE40 and ECP5 flows' among
 #: them).
-# The on-chip store's DP16KD build has no simulation model (tests/hw/test_read_ahead_store.py
-# checks its wiring with one) and the histogram is not in these blocks (the segmenter's
-# tests); every other option is simulated.
+# The on-chip store's DP16KD build is checked in tests/hw/test_read_ahead_store.py and the
+# histogram is not in these blocks (the segmenter's tests); every other option is simulated,
+# the DP16KD line buffer's block RAMs by a behavioural DP16KD.
 SIMULATED = {**CORE_OPTIONS, "state_store_style": ("memory",), "histogram_style": ("memory",)}
 OPTION_SETS = [dict(zip(SIMULATED, values)) for values in itertools.product(*SIMULATED.values())]
 
@@ -65,8 +66,9 @@ def test_external_store_matches_golden_model(style):
     (dict(width=6, height=5, segment_frames=3), 5),
     (dict(width=7, height=6, segment_frames=2, radius=2, rounding="half_up"), 3),
 ])
-def test_storage_options_are_bit_exact(options, kw, n_frames):
+def test_storage_options_are_bit_exact(monkeypatch, options, kw, n_frames):
     """Every storage option computes the golden model's bits with random gaps and stalls."""
+    model_dp16kd_cells(monkeypatch)
     cfg = DPConfig(**kw)
     dut = DPCore(cfg, **options)
     assert dut.core_options == options
@@ -79,9 +81,10 @@ def test_storage_options_are_bit_exact(options, kw, n_frames):
 
 
 @pytest.mark.parametrize("options", OPTION_SETS, ids=lambda o: "-".join(o.values()))
-def test_storage_options_keep_the_cycle_count(options):
+def test_storage_options_keep_the_cycle_count(monkeypatch, options):
     """Valid and ready always high: no bubble; latency 14, or 14 + 4 with the split max
-    tree (two stages for each of the ceil(log2 9) = 4 levels)."""
+    tree (two stages for each of the ceil(log2 9) = 4 levels), whatever the line buffer."""
+    model_dp16kd_cells(monkeypatch)
     cfg = DPConfig(width=6, height=5, segment_frames=3)
     dut = DPPipeline(cfg, **options)
     latency = {"compact": 14, "split": 18}[options["max_tree"]]
@@ -96,7 +99,7 @@ def test_storage_options_keep_the_cycle_count(options):
 
 
 @pytest.mark.parametrize("option, bad, allowed", [
-    ("line_buffer_style", "distributed", "('bram', 'lutram')"),
+    ("line_buffer_style", "distributed", "('bram', 'lutram', 'dp16kd')"),
     ("sideband_delay", "bram", "('registers', 'memory')"),
     ("max_tree", "fast", "('compact', 'split')"),
     ("state_store_style", "lutram", "('memory', 'dp16kd')"),

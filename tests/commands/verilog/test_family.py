@@ -35,6 +35,21 @@ def test_verilog_family_builds_the_familys_core_options(tmp_path, capsys, family
             + ("" if family is None else f" (the {family} build)")) in said.splitlines()
 
 
+def test_verilog_family_ecp5_builds_the_line_buffer_in_dp16kds_at_640_wide(tmp_path, capsys):
+    """At 640 wide the ECP5 build has its line buffer and its prefetch FIFO in DP16KDs."""
+    out = tmp_path / "dp.v"
+    argv = ["-o", out, "--width", 640, "--height", 512, "--state-store", "axi", "--family",
+            "ecp5"]
+    assert verilog_command.main(parse(argv)) == 0
+    options = {"line_buffer_style": "dp16kd", "sideband_delay": "registers",
+               "max_tree": "split", "state_store_style": "dp16kd", "histogram_style": "dp16kd"}
+    assert json.loads((tmp_path / "dp.json").read_text())["core_options"] == options
+    # the line buffer, 640 x 28 bits: two 18 x 1024; the prefetch FIFO, 64 x 64 bits: four
+    assert out.read_text().count("DP16KD #(") == 2 + 4
+    assert ("  core options: " + ", ".join(f"{k}={v}" for k, v in options.items())
+            + " (the ecp5 build)") in capsys.readouterr().out.splitlines()
+
+
 def test_verilog_family_refuses_a_radius_it_cannot_build(tmp_path):
     out = tmp_path / "dp.v"
     with pytest.raises(ConfigError, match=r"^radius=2 is beyond the ice40 family's resources: "

@@ -16,19 +16,21 @@ from dptbd.hw.axi_store import AxiStateStore
 from dptbd.hw.axi_store.bus import RESP_DECERR, RESP_SLVERR
 from dptbd.hw.schedule import read_ahead_distance
 from dptbd.sim.axi4_memory import Axi4Memory
+from helpers.dp16kd_model import DP16KDModel
 from helpers.hw_harness import simulate
 
 LATENCY = 14
 
 
 def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offer=1.0,
-              resync_at=(), errors=None, base=None, write_latency=None):
+              resync_at=(), errors=None, base=None, write_latency=None, style="memory"):
     """Drive ``pixels`` accepted pixels through an AxiStateStore; returns (mismatches,
     checked reads, cycles, memory, error pulses)."""
     cfg = store.frame
     words = cfg.width * cfg.height
     ahead = read_ahead_distance(cfg)
-    dut = AxiStateStore(store, write_latency=LATENCY)
+    dut = AxiStateStore(store, write_latency=LATENCY, style=style,
+                        dp16kd=DP16KDModel if style == "dp16kd" else None)
     memory = Axi4Memory(dut.axi, store, seed=seed, latency=latency, ready=ready, valid=valid,
                         errors=errors or {}, write_latency=write_latency)
     rng = random.Random(seed)
@@ -87,11 +89,13 @@ def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offe
     return out, memory
 
 
+@pytest.mark.parametrize("style", ["memory", "dp16kd"])
 @pytest.mark.parametrize("data_bits, burst_beats", [(32, 2), (64, 4), (128, 2)])
-def test_reads_equal_a_one_cycle_sram_at_zero_latency(data_bits, burst_beats):
+def test_reads_equal_a_one_cycle_sram_at_zero_latency(data_bits, burst_beats, style):
+    """Either prefetch FIFO (an Amaranth FIFO, ECP5 DP16KDs modelled)."""
     store = DPConfig(width=16, height=12).axi_store(data_bits=data_bits,
                                                     burst_beats=burst_beats)
-    out, memory = run_store(store, pixels=4 * 192 + 37, seed=data_bits)
+    out, memory = run_store(store, pixels=4 * 192 + 37, seed=data_bits, style=style)
     assert out["mismatches"] == []
     assert out["checked"] == 4 * 192 + 37 - (192 - 17)   # all but the first frame's own
     # the prefetch ran ahead of the last pixel, by at most its FIFO
@@ -106,11 +110,12 @@ def test_reads_equal_a_one_cycle_sram_at_zero_latency(data_bits, burst_beats):
     ((0, 600), 0.7, 0.6, 1.0, 2),
     ((100, 100), 1.0, 1.0, 0.8, 3),
 ])
-def test_random_latency_and_stalls_change_no_read(latency, ready, valid, offer, seed):
+@pytest.mark.parametrize("style", ["memory", "dp16kd"])
+def test_random_latency_and_stalls_change_no_read(latency, ready, valid, offer, seed, style):
     store = DPConfig(width=16, height=12).axi_store(data_bits=64, burst_beats=4,
                                                     outstanding=2)
     out, _ = run_store(store, pixels=3 * 192 + 5, seed=seed, latency=latency, ready=ready,
-                       valid=valid, offer=offer)
+                       valid=valid, offer=offer, style=style)
     assert out["mismatches"] == []
     assert out["checked"] == 3 * 192 + 5 - (192 - 17)
 
@@ -127,10 +132,11 @@ def test_a_read_waits_for_the_response_of_the_write_it_depends_on():
     assert out["cycles"] > 4 * 192 + 150          # the reads did wait
 
 
-def test_resynchronisations_restart_the_prefetch():
+@pytest.mark.parametrize("style", ["memory", "dp16kd"])
+def test_resynchronisations_restart_the_prefetch(style):
     store = DPConfig(width=16, height=12).axi_store(data_bits=64, burst_beats=4)
     out, _ = run_store(store, pixels=5 * 192, seed=7, latency=(0, 50), ready=0.8,
-                       resync_at={100, 101, 103, 300, 301 + 192, 700})
+                       resync_at={100, 101, 103, 300, 301 + 192, 700}, style=style)
     assert out["mismatches"] == []
     # checked: positions 175 … 191 of each start frame (17 x 4), then every pixel up to
     # the next resynchronisation (5 + 1 + 15 + 68)

@@ -8,6 +8,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.axi_store.bus import RESP_SLVERR
 from dptbd.hw.axi_store.pipeline import DPPipelineAxi
 from dptbd.sim.axi4_memory import Axi4Memory
+from helpers.dp16kd_model import model_dp16kd_cells
 from helpers.hw_harness import (assert_states_equal, assert_verilator_lints_clean,
                                 frames_to_stream, reference_states, run_stream)
 from helpers.verilator_harness import needs_verilator
@@ -15,9 +16,9 @@ from helpers.verilator_harness import needs_verilator
 
 def run_axi(cfg, frames, *, store_fields=(), latency=(0, 0), ready=1.0, valid=1.0,
             valid_probability=1.0, ready_probability=1.0, seed=0, stream=None,
-            write_latency=None):
+            write_latency=None, **core_options):
     store = cfg.axi_store(**dict(store_fields))
-    dut = DPPipelineAxi(store)
+    dut = DPPipelineAxi(store, **core_options)
     memory = Axi4Memory(dut, store, seed=seed, latency=latency, ready=ready, valid=valid,
                         write_latency=write_latency)
     stream = frames_to_stream(frames) if stream is None else stream
@@ -76,6 +77,26 @@ def test_a_zero_latency_memory_keeps_one_pixel_per_cycle():
     frames = np.random.default_rng(3).integers(0, 256, size=(4, cfg.height, cfg.width))
     run, _ = run_axi(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4))
     assert run.accept_cycles == list(range(5, 5 + 4 * 192))
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+
+
+def test_the_prefetch_fifo_in_dp16kds_keeps_the_bits_and_the_cycles(monkeypatch):
+    """``state_store_style="dp16kd"`` (the ECP5 family's) builds the prefetcher's beat FIFO
+    in DP16KDs (modelled): the first pixel enters in cycle 5 as with the Amaranth FIFO
+    (the array's read register and the output register in place of the FIFO's read
+    register and the head beat), then one every cycle; under latency and stalls the golden
+    model's bits."""
+    model_dp16kd_cells(monkeypatch)
+    cfg = DPConfig(width=16, height=12, segment_frames=3)
+    frames = np.random.default_rng(3).integers(0, 256, size=(4, cfg.height, cfg.width))
+    run, _ = run_axi(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4),
+                     state_store_style="dp16kd")
+    assert run.accept_cycles == list(range(5, 5 + 4 * 192))
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+    run, _ = run_axi(cfg, frames, store_fields=dict(data_bits=32, burst_beats=2,
+                                                    outstanding=3),
+                     latency=(0, 40), ready=0.6, valid=0.7, valid_probability=0.8,
+                     ready_probability=0.8, seed=6, state_store_style="dp16kd")
     assert_states_equal(run.outputs, reference_states(cfg, frames))
 
 
@@ -179,10 +200,11 @@ def test_a_transient_memory_error_is_flagged_and_the_next_segment_is_right_again
 
 # ---- P = 2 and 4 pixels per clock (DPCoreWide inside, store words of P states) -----------
 def run_axi_beats(cfg, frames, *, store_fields=(), latency=(0, 0), ready=1.0, valid=1.0,
-                  valid_probability=1.0, ready_probability=1.0, seed=0, beats=None):
+                  valid_probability=1.0, ready_probability=1.0, seed=0, beats=None,
+                  **core_options):
     from helpers.wide_harness import frames_to_beats, run_beats
     store = cfg.axi_store(**dict(store_fields))
-    dut = DPPipelineAxi(store)
+    dut = DPPipelineAxi(store, **core_options)
     memory = Axi4Memory(dut, store, seed=seed, latency=latency, ready=ready, valid=valid)
     beats = frames_to_beats(cfg, frames) if beats is None else beats
     run = run_beats(dut, cfg, beats, valid_probability=valid_probability,
@@ -214,6 +236,18 @@ def test_p_pixels_per_clock_keep_one_beat_per_cycle_at_zero_latency(p, store_fie
     assert_states_equal(run.outputs, reference_states(cfg, frames))
     # the state did go through memory (the last frame's bursts may still be on their way)
     assert memory.stats["write_beats"] >= 3 * cfg.axi_store(**store_fields).frame_beats
+
+
+def test_p_pixels_with_the_prefetch_fifo_in_dp16kds_keep_the_cycles(monkeypatch):
+    """P = 4 with the beat FIFO in (modelled) DP16KDs: the first beat in cycle 5, one beat
+    every cycle, the golden model's bits."""
+    model_dp16kd_cells(monkeypatch)
+    cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=4).build_config()
+    frames = np.random.default_rng(4).integers(0, 256, size=(4, cfg.height, cfg.width))
+    run, _ = run_axi_beats(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4),
+                           state_store_style="dp16kd")
+    assert run.accept_cycles == list(range(5, 5 + 4 * cfg.frame_beats))
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
 
 
 @pytest.mark.parametrize("p, latency, seed", [

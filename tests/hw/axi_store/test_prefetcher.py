@@ -7,7 +7,8 @@ from dptbd.config import DPConfig
 from dptbd.hw.axi_store.prefetcher import AxiReadPrefetcher
 from dptbd.hw.schedule import read_ahead_distance
 from dptbd.sim.axi4_memory import Axi4Memory, OneSided
-from helpers.hw_harness import simulate
+from helpers.dp16kd_model import DP16KDModel
+from helpers.hw_harness import refused, simulate
 
 
 def ref_bursts(store, written):
@@ -31,10 +32,13 @@ def ref_bursts(store, written):
         beat, skip = (beat + length) % store.frame_beats, 0
 
 
-def run_prefetch(store, *, written, takes=None, seed=0, latency=(0, 0), cycles=400):
+def run_prefetch(store, *, written, takes=None, seed=0, latency=(0, 0), cycles=400,
+                 style="memory"):
     """Hold ``written``; in the cycles listed in ``takes`` (cycle -> restart flag) take a
-    word if one is available; return the memory and the words taken."""
-    dut = AxiReadPrefetcher(store)
+    word if one is available; return the memory and the words taken. ``style="dp16kd"``:
+    the beat FIFO in (behavioural) DP16KDs."""
+    dut = AxiReadPrefetcher(store, style=style,
+                            dp16kd=DP16KDModel if style == "dp16kd" else None)
     top = OneSided(dut, store)
     memory = Axi4Memory(top.axi, store, seed=seed, latency=latency)
     taken = []
@@ -70,31 +74,35 @@ def memory_word(memory, store, addr):
     (dict(data_bits=64, burst_beats=2, outstanding=3, p=4), 40),
     (dict(data_bits=64, burst_beats=4, outstanding=16, p=4), 0),
 ])
-def test_bursts_follow_the_issue_rule(fields, written):
+@pytest.mark.parametrize("style", ["memory", "dp16kd"])
+def test_bursts_follow_the_issue_rule(fields, written, style):
     fields = dict(fields)
     p = fields.pop("p", 1)
     cfg = DPConfig(width=16, height=12, pixels_per_clock=p)
     store = (cfg.build_config() if p > 1 else cfg).axi_store(**fields)   # 16-bit slots at P > 1
-    memory, _ = run_prefetch(store, written=written)
+    memory, _ = run_prefetch(store, written=written, style=style)
     assert memory.bursts == ref_bursts(store, written)
     assert memory.bursts                                   # it did prefetch
 
 
-def test_words_come_out_in_read_ahead_order_and_restart_at_d_plus_one():
+@pytest.mark.parametrize("style", ["memory", "dp16kd"])
+def test_words_come_out_in_read_ahead_order_and_restart_at_d_plus_one(style):
     """Take 30 words (addresses 17 …), restart on the 31st, then take 10 more: the
-    restart's own word is the 31st of the old sequence; the next ones are 18, 19, …"""
+    restart's own word is the 31st of the old sequence; the next ones are 18, 19, …; with
+    the beat FIFO in either style."""
     store = DPConfig(width=16, height=12).axi_store(data_bits=64, burst_beats=4)
     takes = {c: False for c in range(20, 50)}
     takes[50] = True
     takes.update({c: False for c in range(51, 200)})
-    memory, taken = run_prefetch(store, written=300, takes=takes, latency=(0, 9))
+    memory, taken = run_prefetch(store, written=300, takes=takes, latency=(0, 9), style=style)
     words = [memory_word(memory, store, a) for a in range(192)]
     assert taken[:31] == words[17:48]
     assert taken[31:41] == words[18:28]
 
 
+@pytest.mark.parametrize("style", ["memory", "dp16kd"])
 @pytest.mark.parametrize("p", [2, 4])
-def test_a_word_of_p_states_is_p_consecutive_slots(p):
+def test_a_word_of_p_states_is_p_consecutive_slots(p, style):
     """At P pixels per clock a word is the P states of slots ``P*a`` … ``P*a + P - 1`` (the
     P = 1 byte layout), state 0 in the low bits; the restart rule counts words."""
     cfg = DPConfig(width=16, height=12, pixels_per_clock=p).build_config()   # 16-bit slots
@@ -103,7 +111,7 @@ def test_a_word_of_p_states_is_p_consecutive_slots(p):
     takes = {c: False for c in range(20, 40)}
     takes[40] = True
     takes.update({c: False for c in range(41, 120)})
-    memory, taken = run_prefetch(store, written=300, takes=takes, latency=(0, 5))
+    memory, taken = run_prefetch(store, written=300, takes=takes, latency=(0, 5), style=style)
     bits = cfg.state_bits
     words = [sum(memory_word(memory, store, a * p + k) << (k * bits) for k in range(p))
              for a in range(store.frame_words)]
@@ -114,3 +122,8 @@ def test_a_word_of_p_states_is_p_consecutive_slots(p):
     assert 10 <= cut <= 21 and len(taken) > cut + 40       # it wrapped past the frame's end
     assert taken == ([words[(ahead + i) % n] for i in range(cut)]
                      + [words[(ahead + 1 + i) % n] for i in range(len(taken) - cut)])
+
+
+def test_refuses_an_unknown_fifo_style():
+    with refused(ValueError, match=r"^style must be one of \('memory', 'dp16kd'\), got 'bram'$"):
+        AxiReadPrefetcher(DPConfig(width=16, height=12).axi_store(), style="bram")

@@ -22,6 +22,17 @@ def test_families():
                                  "histogram_style": "dp16kd"}
 
 
+def test_ecp5_builds_the_line_buffer_in_dp16kds_from_512_wide():
+    """The options for a configuration: ECP5's line buffer in DP16KDs from 512 pixels wide,
+    at P = 1 and P = 4 alike; iCE40's always its block RAM."""
+    for width, p, style in ((128, 1, "lutram"), (508, 4, "lutram"), (512, 1, "dp16kd"),
+                            (640, 4, "dp16kd"), (1280, 1, "dp16kd")):
+        cfg = DPConfig(width=width, height=64, pixels_per_clock=p)
+        assert ECP5.options_for(cfg) == {**ECP5.core_options, "line_buffer_style": style}
+        assert ICE40.options_for(cfg) == ICE40.core_options
+    assert ECP5.dp16kd_line_buffer_from == 512 and ICE40.dp16kd_line_buffer_from is None
+
+
 def test_refusals():
     with pytest.raises(ValueError, match=r"^family must be one of \('ice40', 'ecp5'\), "
                                          r"got 'xc7'$"):

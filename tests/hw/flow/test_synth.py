@@ -178,7 +178,7 @@ def test_family_core_options_move_storage(tmp_path, family):
                              core_options={"line_buffer_style": "bram",
                                            "sideband_delay": "registers"})
         chosen = synthesize(cfg, family=family, seeds=(), workdir=tmp_path / "family")
-    assert chosen.params["core_options"] == dict(get_family(family).core_options)
+    assert chosen.params["core_options"] == get_family(family).options_for(cfg)
     manifest = json.loads((tmp_path / "family" / "dptbd_dp.json").read_text())
     assert manifest["core_options"] == chosen.params["core_options"]
     if family == "ice40":

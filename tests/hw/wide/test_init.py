@@ -20,6 +20,7 @@ from dptbd.hw.wide import (DPCoreWide, DPPipelineWide, check_wide, dp_pipeline,
                               lane_column, pack_beat, unpack_beat_states, wide_pixel_layout,
                               wide_state_layout)
 from dptbd.hw.layouts import pack
+from helpers.dp16kd_model import model_dp16kd_cells
 from helpers.hw_harness import (assert_states_equal, event_counter, lut_writes_for,
                                 reference_states, refused)
 from helpers.refusals import whole
@@ -85,7 +86,8 @@ def test_exact_cycle_count(p, radius, style):
 @pytest.mark.parametrize("options", [dict(zip(CORE_OPTIONS, values))
                                      for values in itertools.product(*CORE_OPTIONS.values())],
                          ids=lambda o: "-".join(o.values()))
-def test_core_options_change_nothing(options):
+def test_core_options_change_nothing(monkeypatch, options):
+    model_dp16kd_cells(monkeypatch)          # the DP16KD line buffer's block RAMs, modelled
     cfg = make_config(width=8, height=6, segment_frames=3, pixels_per_clock=2)
     dut = DPPipelineWide(cfg, **options)
     assert dut.core_options == options
@@ -95,23 +97,27 @@ def test_core_options_change_nothing(options):
     assert_states_equal(run.outputs, reference_states(cfg, frames))
 
 
-@pytest.mark.parametrize("width, interleaved", [(16, True), (12, False), (24, False)],
-                         ids=["4-beats", "3-beats", "6-beats-bram"])
-def test_lutram_line_buffer_reads_interleaved_on_an_even_row(monkeypatch, width, interleaved):
+@pytest.mark.parametrize("width, style, chosen", [
+    (16, "lutram", ("distributed", True)), (12, "lutram", ("distributed", False)),
+    (24, "bram", (None, False)), (12, "dp16kd", ("dp16kd", False))],
+    ids=["4-beats", "3-beats", "6-beats-bram", "3-beats-dp16kd"])
+def test_line_buffer_of_each_style(monkeypatch, width, style, chosen):
     """At P = 4 the LUT-RAM line buffer reads interleaved (as DPCore's) when a row has an
-    even number of beats >= 4; bit for bit either way."""
-    import dptbd.hw.wide.core as core
+    even number of beats >= 4; the DP16KD one at 3 beats (the fewest a row has); bit for bit
+    either way."""
+    import dptbd.hw.dp_core as dp_core
 
+    model_dp16kd_cells(monkeypatch)
     made = []
-    real = core.LineBuffer
-    monkeypatch.setattr(core, "LineBuffer", lambda *a, **k: made.append(k) or real(*a, **k))
+    real = dp_core.LineBuffer
+    monkeypatch.setattr(dp_core, "LineBuffer",
+                        lambda *a, **k: made.append(k) or real(*a, **k))
     cfg = make_config(width=width, height=6, segment_frames=3, pixels_per_clock=4)
-    style = "bram" if width == 24 else "lutram"
     dut = DPPipelineWide(cfg, line_buffer_style=style)
     frames = random_frames(cfg, 4, seed=width)
     run = run_beats(dut, cfg, frames_to_beats(cfg, frames), valid_probability=0.8,
                     ready_probability=0.7, seed=3)
-    assert [k["interleaved_read"] for k in made] == [interleaved]
+    assert [(k["ram_style"], k["interleaved_read"]) for k in made] == [chosen]
     assert_states_equal(run.outputs, reference_states(cfg, frames))
 
 
@@ -279,7 +285,7 @@ def test_refuses_frames_too_small_for_the_read_ahead_in_beats():
 
 @pytest.mark.parametrize("option, value, message", [
     ("line_buffer_style", "ultra",
-     "line_buffer_style must be one of ('bram', 'lutram'), got 'ultra'"),
+     "line_buffer_style must be one of ('bram', 'lutram', 'dp16kd'), got 'ultra'"),
     ("sideband_delay", "fifo", "sideband_delay must be one of ('registers', 'memory'), got 'fifo'"),
     ("state_store_style", "bram",
      "state_store_style must be one of ('memory', 'dp16kd'), got 'bram'"),
