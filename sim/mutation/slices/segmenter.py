@@ -5,7 +5,8 @@ resets, misaligned / short / long frames, LUT and settings rewrites) checked by
 of range (``settings-range``); noise scenes at K = K_max and n = C under tables of corner
 codes (``lut-corners``) and of codes above 2^F (``lut-wide``), where every LUT entry's bits
 reach a listed weighted sum; lists of every length from C - 20 to C records
-(``list-lengths``); and clean runs under back-pressure whose every input and output cycle
+(``list-lengths``, K = 1 and 2); full-scale frames under tables that make one move the winner
+(``full-scale``); and clean runs under back-pressure whose every input and output cycle
 must be the original design's (``cycles``). The runs without resets check the counts of the
 ``events`` pulses too."""
 
@@ -30,7 +31,8 @@ RUNS = tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in r
              + [("settings-range", s) for s in range(4)]
              + [("lut-corners", s) for s in range(10)] + [("lut-wide", s) for s in range(4)]
              + [("settings-resync", s) for s in range(6)]
-             + [("list-lengths", s) for s in range(2)] + [("cycles", s) for s in range(4)])
+             + [("list-lengths", s) for s in range(4)] + [("full-scale", s) for s in range(9)]
+             + [("cycles", s) for s in range(4)])
 
 _EVERY = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
 
@@ -150,7 +152,9 @@ LIST_SHORTFALLS = range(1, 21)
 
 
 def list_lengths(cfg: DPConfig, seed: int) -> tuple[np.ndarray, tuple]:
-    """The ``list-lengths`` run of ``seed``: ``(words, settings changes)``. K = 1 and n = C - 1
+    """The ``list-lengths`` run of ``seed``: ``(words, settings changes)``. K = 1 (seeds 0, 1)
+    or K = 2 (seeds 2, 3: each bright frame after a frame of zeros, so the n a list is cut
+    at is the one the segmenter held through the segment's unscored frame) and n = C - 1
     from word 0; frame 0 has C - 1 bright pixels, then one frame for each length m = C - k,
     k in :data:`LIST_SHORTFALLS` (shuffled), then one of C: m bright pixels (at least 2^s,
     so in bin 1 or above; its last pixel among them), the others 0. K = 1 makes E the pixel; each frame's
@@ -174,9 +178,40 @@ def list_lengths(cfg: DPConfig, seed: int) -> tuple[np.ndarray, tuple]:
         bright[rng.choice(size - 1, m - 1, replace=False)] = True
         frames[f] = np.where(bright, rng.integers(1 << cfg.bin_shift, cfg.pixel_max + 1,
                                                   size=size), 0)
-    entry = SegmentSettings(1, capacity - 1, cfg.bin_shift)
-    changes = ((0, (1, capacity - 1, cfg.bin_shift), entry),)
+    k = 1 if seed % 4 < 2 else 2
+    if k == 2:                                   # a frame of zeros before each: E = pixel
+        frames = np.stack([np.zeros_like(frames), frames], axis=1).reshape(-1, size)
+    entry = SegmentSettings(k, capacity - 1, cfg.bin_shift)
+    changes = ((0, (k, capacity - 1, cfg.bin_shift), entry),)
     return pixel_words(cfg, frames.reshape(-1, cfg.height, cfg.width)), changes
+
+
+def full_scale_lut(cfg: DPConfig, move: int) -> np.ndarray:
+    """The table of the ``full-scale`` run of ``move``: every row's code 2^F - 1 for ``move``
+    and 2^F - 2 for the others, so that ``move`` wins wherever its predecessor is inside."""
+    top = (1 << cfg.weight_frac_bits) - 1
+    codes = np.full((cfg.n_moves + 1, cfg.n_moves), top - 1)
+    codes[:, move] = top
+    return codes
+
+
+#: Frames of the ``full-scale`` runs: three segments of K_max (the first list is empty).
+FULL_SCALE_FRAMES = 3 * CONFIGS["segmenter"]["max_segment_frames"]
+
+
+def _full_scale_run(sim, seed: int) -> tuple[str, str]:
+    """Every pixel of every frame at full scale, K = K_max and n = C (every pixel listed),
+    under :func:`full_scale_lut` of move ``seed``: E reaches its largest values without
+    saturating (B_in = 6, F = 4: 63, 122, 177, 228 < 2^8), so every bit of the weighted
+    sums' partial sums is set somewhere, and the move of the run is the one whose weighted
+    sum is E, so a weighted sum made smaller (or larger) by a mutation changes E."""
+    from dptbd.sim.rtl.check import Stimulus
+    from dptbd.sim.stimulus import pixel_words
+
+    cfg = sim.cfg
+    frames = np.full((FULL_SCALE_FRAMES, cfg.height, cfg.width), cfg.pixel_max, dtype=np.uint16)
+    luts = ((0, full_scale_lut(cfg, seed % cfg.n_moves)),)
+    return _raw_run(sim, pixel_words(cfg, frames), Stimulus(seed=seed), _all_listed(cfg), luts)
 
 
 def run(sim, kind: str, seed: int) -> tuple[str, str]:
@@ -187,6 +222,8 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
         return _noise_run(sim, kind, seed)
     if kind == "cycles":
         return _cycles_run(sim, seed)
+    if kind == "full-scale":
+        return _full_scale_run(sim, seed)
     if kind == "list-lengths":
         words, changes = list_lengths(sim.cfg, seed)
         return _raw_run(sim, words, Stimulus(seed=seed), changes)

