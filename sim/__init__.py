@@ -22,7 +22,8 @@ level with the C++ harness ``sim/harness/`` into a cached executable, the build 
 ``verilator.toolchain``, the tools, flags and harness sources of a build and Verilator's
 runtime library kept beside the builds;
 ``verilator.axi``, long runs of the AXI top level ``dptbd_axi`` scored against the golden
-model; ``verilator.dp_axi``, ``dptbd_dp`` built with ``--state-store axi``, its state in the
+model (``verilator.axi.harness``, one run of its harness; ``verilator.axi.steps``, the bench's
+steps as harness operations and the fault pulses they imply); ``verilator.dp_axi``, ``dptbd_dp`` built with ``--state-store axi``, its state in the
 harness's C++ AXI4 memory model: random latency, every AXI4 rule checked), ``rtl`` (RTL in the loop: ``rtl.check``, one compiled run checked against the model
 with the scoreboards; ``rtl.trials``, Monte Carlo trials on the compiled RTL for ``compare
 --rtl`` and ``table1 --rtl``), ``benches`` (the cocotb 2.x test modules run on Icarus:
