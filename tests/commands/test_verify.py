@@ -168,7 +168,7 @@ def test_verify_mutants_refusals(capsys):
     assert exc.value.code == 2
     assert capsys.readouterr().err.splitlines()[-1] == (
         "dptbd verify: error: argument --design: invalid choice: 'core' (choose from 'seg', "
-        "'axi', 'dp')")
+        "'axi', 'dp', 'dp2')")
 
 
 def test_verify_mutants_without_yosys(capsys, monkeypatch):

@@ -101,7 +101,7 @@ def test_load_registry_absent_file_is_empty_and_unknown_design_refused(tmp_path)
     (tmp_path / "dp.toml").write_text(GOOD)
     assert list(E.load_registry("dp", tmp_path)) == [MUT.replace("/work/other/", "")]
     with pytest.raises(ValueError, match=whole("design must be one of segmenter, axi, dp, "
-                                               "got 'core'")):
+                                               "dp2, got 'core'")):
         E.load_registry("core")
 
 
