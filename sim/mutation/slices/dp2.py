@@ -5,7 +5,9 @@ pixels, with every check of it: every state bit-exact against the golden model
 (:func:`dptbd.sim.rtl.check.check_stream`, per pixel), the ``events`` counts and the
 ``segment_begin`` pulses in runs without resets, K and LUT codes out of range, corner-code
 LUTs on noise, and at full speed one beat a cycle, each beat's states exactly L cycles after
-its acceptance.
+its acceptance. One kind of its own, ``drain``: at full speed with pauses long enough
+for the pipeline to empty, each beat accepted in the cycle after the one before it and the
+pause, its states exactly L cycles later (the input credit's count back at 0 and up again).
 
 The harness's input words are beats here: a K, LUT or settings change before pixel i of
 the ``dp`` slice's stimulus goes before beat i // P (the changes of these runs fall on frame
@@ -26,9 +28,45 @@ from dptbd.sim.mutation.verdict import hang_verdict, stream_hang
 
 __all__ = ["RUNS", "FRAMES", "run"]
 
-#: The ``dp`` slice's runs and frames, unchanged.
-RUNS = one.RUNS
-FRAMES = one.FRAMES
+#: The ``dp`` slice's runs and frames, then the ``drain`` runs.
+RUNS = one.RUNS + tuple(("drain", s) for s in range(2))
+FRAMES = {**one.FRAMES, "drain": 8}
+
+#: Frames before which a ``drain`` run pauses its input (LUT writes beyond the table).
+DRAIN_FRAMES = (1, 3, 5, 7)
+
+
+def _drain_writes(cfg, latency: int, seed: int) -> tuple:
+    """The ``drain`` run's pauses: before the first beat of each frame of
+    :data:`DRAIN_FRAMES`, L + 2 + k writes beyond the table (which the design ignores), k
+    = 0 … 3 in turn from ``seed``: at full speed the pipeline drains, then stays empty for
+    2 + k cycles (both parities of an idle count, before the input restarts at full speed)."""
+    beats = cfg.frame_beats
+    address = cfg.lut_entries                   # the first beyond the table
+    return tuple((f * beats, address, 0) for j, f in enumerate(DRAIN_FRAMES)
+                 for _ in range(latency + 2 + (j + seed) % 4))
+
+
+def _drain_report(raw, latency: int, writes) -> str:
+    """``""`` if, at full speed, each beat was accepted in the cycle after the one before
+    it and the LUT writes between them (``writes``: (beat index, …)), and its states came
+    out exactly ``latency`` cycles after its acceptance; else the first beat that was not."""
+    import numpy as np
+
+    accepted = raw.accept_cycles.astype(np.int64)
+    between = np.bincount([int(i) for i, *_ in writes], minlength=len(accepted))
+    wrong = np.flatnonzero(np.diff(accepted) != 1 + between[1:len(accepted)])
+    if len(wrong):
+        i = int(wrong[0]) + 1
+        return (f"drain: beat {i} accepted at cycle {accepted[i]}, beat {i - 1} at "
+                f"{accepted[i - 1]} with {between[i]} LUT writes between (full speed)")
+    late = np.flatnonzero(raw.out_cycles.astype(np.int64) - accepted != latency)
+    if len(late):
+        i = int(late[0])
+        return (f"drain: beat {i} out at cycle {raw.out_cycles[i]}, accepted at "
+                f"{accepted[i]}: latency {int(raw.out_cycles[i]) - int(accepted[i])}, "
+                f"L = {latency}")
+    return ""
 
 
 def _beats(changes, p: int) -> tuple:
@@ -108,8 +146,11 @@ def _run(sim, kind: str, seed: int) -> tuple[str, str]:
     if kind in ("k-edge", "timing"):
         stim = dataclasses.replace(stim, settings_changes=_beats(
             one._edge_k(cfg, pixels, seed), p))
-    if kind == "timing":                        # full speed: no gap, no pause
+    if kind in ("timing", "drain"):             # full speed: no gap, no pause
         stim = dataclasses.replace(stim, valid_gap=0.0, ready_pause=0.0)
+    if kind == "drain":                         # paused until the pipeline is empty
+        stim = dataclasses.replace(stim, stray_lut_writes=_drain_writes(
+            cfg, int(sim.latency), seed))
     if kind == "k-clamp":
         return _check_raw(sim, words, stim,
                           k_changes=_beats(one._edge_raw_k(cfg, pixels, seed), p))
@@ -132,6 +173,10 @@ def _run(sim, kind: str, seed: int) -> tuple[str, str]:
         return hung
     if result.passed and kind == "timing":      # beats: one a cycle, each L after
         late = one._timing_report(result.raw, int(sim.latency))
+        if late:
+            return "killed", late
+    if result.passed and kind == "drain":
+        late = _drain_report(result.raw, int(sim.latency), stim.stray_lut_writes)
         if late:
             return "killed", late
     if result.passed and not stim.resets:
