@@ -1,9 +1,9 @@
 """The ``dp2`` slice (``dptbd_dp`` at P = 2 pixels per clock): the ``dp`` slice's stimulus
 moved to beats, its ``drain`` runs and their timing check, and mutants of ``dptbd_dp`` at
 P = 2 through it: the original passes a run of every kind; a mutant of lane 1's LUT read,
-one of the ``segment_begin`` port and one of the input credit's count (which only the
-``drain`` runs see) are killed; a small seed-3 draw leaves only survivors the registry
-lists."""
+one of the ``segment_begin`` port, one of the input credit's count (which only the
+``drain`` runs see) and one that hangs are killed; a small seed-3 draw leaves only
+survivors the registry lists."""
 
 from __future__ import annotations
 
@@ -82,8 +82,8 @@ def test_drain_report():
 
 
 @tools
-def test_the_original_passes_a_run_of_every_kind_and_three_mutants_are_killed():
-    """One mutant build of three mutations of ``--seed 1`` (mutants 1, 229 and 166): bit 1
+def test_the_original_passes_a_run_of_every_kind_and_four_mutants_are_killed():
+    """One mutant build of four mutations of ``--seed 1`` (mutants 1, 229, 166 and 130): bit 1
     of lane 1's LUT read at column 1 stuck at 1, the ``segment_begin`` port stuck at 1 (which
     only the harness's count of its pulses sees), and the input credit's flag "count >= 2"
     read as 1 while the count is 0 (the counter's next value takes it: a beat accepted after
@@ -91,17 +91,21 @@ def test_the_original_passes_a_run_of_every_kind_and_three_mutants_are_killed():
     at full speed the input stalls a cycle; the words are right). The original passes one
     run of each kind; the LUT mutant falls to the corner-code runs, the port mutant to the
     first run, the credit mutant to the first ``drain`` run and to no other kind but
-    ``timing``."""
+    ``timing``. The fourth, the input credit's ``accept`` stuck at 1 (every cycle counts a
+    beat: the credit runs out and the input stops), hangs in the first run and is killed
+    there, the model fed every offered word (counted in pixels)."""
     cfg = config("dp2")
     sample = netlist.mutation_list(cfg, "dp2", 300, 1)
-    lut, begin, credit = sample[0], sample[228], sample[165]
+    lut, begin, credit, stuck = sample[0], sample[228], sample[165], sample[129]
     assert (lut.source, lut.mode, lut.cell, lut.portbit) == \
         ("hw/weight_lut.py:240", "const1", "core.weight_lut_1.column_1", 41)
     assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core.py:101", "const1",
                                                       "segment_begin")
     assert (credit.source, credit.mode, credit.wire, credit.wirebit, credit.ctrlbit) == \
         ("hw/thermometer_counter.py:50", "cnot0", "core.input_credit.at_least", 1, 0)
-    commands, refused = mutant_design(cfg, "dp2", [lut, begin, credit])
+    assert (stuck.source, stuck.mode, stuck.wire) == ("hw/input_credit.py:57", "const1",
+                                                      "core.input_credit.accept")
+    commands, refused = mutant_design(cfg, "dp2", [lut, begin, credit, stuck])
     assert refused == []
     sim = V.build(cfg, "dp", mutations=commands)
     runs = slice_runs("dp2", 0.01)
@@ -119,6 +123,10 @@ def test_the_original_passes_a_run_of_every_kind_and_three_mutants_are_killed():
     outcome = run_slice(sim, 3, (("drain", 0),))
     assert (outcome.verdict, outcome.run) == ("killed", "drain seed 0")
     assert outcome.report.startswith("drain: beat ")
+    outcome = run_slice(sim, 4, S.RUNS)
+    assert (outcome.verdict, outcome.run) == ("killed", "clean seed 0")
+    assert outcome.report.startswith("hang: ") and " of 1440 offered words taken in " in \
+        outcome.report
 
 
 SEED, COUNT = 3, 10
