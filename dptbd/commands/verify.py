@@ -339,6 +339,7 @@ def format_mutation_result(result, proofs: dict | None = None,
     timeouts, crashes and no-builds: index, Amaranth source line, mutation."""
     from dptbd.sim.mutation.equivalents import load_registry
     from dptbd.sim.mutation.netlist import DESIGN_TOPS
+    from dptbd.sim.mutation.run import config
 
     proofs = proofs or {}
     registry = load_registry(result.design) if registry is None else registry
@@ -347,7 +348,9 @@ def format_mutation_result(result, proofs: dict | None = None,
     proven = [i for i, how in shown.items() if how != "argued"]
     here = [i for i, how in shown.items() if how == "proven in this run"]
     survivors = result.of("survived")
-    lines = [f"{DESIGN_TOPS[result.design]}: score (MCY's: killed / (total - shown "
+    p = config(result.design).pixels_per_clock
+    top = DESIGN_TOPS[result.design] + (f" at {p} pixels per clock" if p > 1 else "")
+    lines = [f"{top}: score (MCY's: killed / (total - shown "
              f"equivalent)) {result.killed} / {left} = {100 * result.score(shown):.1f} %; "
              f"killed / total {result.killed} / {result.total} = "
              f"{100 * result.killed_fraction:.1f} %",
