@@ -1,7 +1,8 @@
-"""The mutation score of ``dptbd_seg`` and ``dptbd_axi`` (and ``dptbd_dp``), measured: N
-mutants of each top (Yosys ``mutate``, :mod:`dptbd.sim.mutation`) through the verification
-slice, then every survivor the equivalence registry (:mod:`dptbd.sim.mutation.equivalents`)
-does not list tried for formal equivalence (Yosys ``equiv_*``).
+"""The mutation score of ``dptbd_seg`` and ``dptbd_axi`` (and ``dptbd_dp``, at P = 1 and 2
+pixels per clock), measured: N mutants of each top (Yosys ``mutate``,
+:mod:`dptbd.sim.mutation`) through the verification slice, then every survivor the
+equivalence registry (:mod:`dptbd.sim.mutation.equivalents`) does not list tried for formal
+equivalence (Yosys ``equiv_*``).
 
 Reported per design (:func:`dptbd.commands.verify.format_mutation_result`): the score, MCY's:
 killed / (total − shown equivalent), and killed / total next to it; survivors proven
@@ -12,6 +13,7 @@ mutant (the slice) and per proof. ``--json`` keeps every mutant's outcome.
     python benchmarks/bench_mutation.py                        # 300 mutants each, seed 1
     python benchmarks/bench_mutation.py --mutants 100 --designs segmenter --workers 2
     python benchmarks/bench_mutation.py --designs dp           # dptbd_dp (not by default)
+    python benchmarks/bench_mutation.py --designs dp2          # dptbd_dp at P = 2 (neither)
     python benchmarks/bench_mutation.py --no-prove --json mutation.json
     python benchmarks/bench_mutation.py --rescore mutation.json   # today's registry, no runs
 """
@@ -27,7 +29,7 @@ import time
 from dptbd.commands.verify import format_mutation_result
 from dptbd.sim.mutation.equivalence import prove_equivalent
 from dptbd.sim.mutation.equivalents import load_registry
-from dptbd.sim.mutation.netlist import parse_mutations
+from dptbd.sim.mutation.netlist import DESIGN_TOPS, parse_mutations
 from dptbd.sim.mutation.run import MutantOutcome, MutationResult, config, run_mutants
 
 
@@ -36,7 +38,9 @@ def main() -> None:
     parser.add_argument("--mutants", type=int, default=300)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--designs", nargs="+", default=["segmenter", "axi"],
-                        choices=["segmenter", "axi", "dp"])
+                        choices=list(DESIGN_TOPS),
+                        help="segmenter (dptbd_seg), axi (dptbd_axi), dp (dptbd_dp), dp2 "
+                             "(dptbd_dp at 2 pixels per clock); default segmenter axi")
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--no-prove", action="store_true", help="skip the equivalence proofs")
     parser.add_argument("--json", type=pathlib.Path, default=None)

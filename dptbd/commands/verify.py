@@ -17,7 +17,8 @@ assertion and the counterexample trace kept under ``--out``); exit 1 unless ever
 the expected one.
 
 ``--mutants N`` runs the mutation score instead (:mod:`dptbd.sim.mutation`): N mutants of
-``--design`` (``seg``: ``dptbd_seg``, ``axi``: ``dptbd_axi``, ``dp``: ``dptbd_dp``) sampled
+``--design`` (``seg``: ``dptbd_seg``, ``axi``: ``dptbd_axi``, ``dp``: ``dptbd_dp``, ``dp2``:
+``dptbd_dp`` at 2 pixels per clock) sampled
 with ``--seed``, each through the verification slice; prints the score, MCY's: killed /
 (total − shown equivalent), with killed / total next to it, and every mutant not killed
 with its Amaranth source line and mutation: the survivors proven equivalent, argued
@@ -72,9 +73,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     mutation.add_argument("--mutants", type=int, default=None, metavar="N",
                           help="run N mutants of --design through the verification slice "
                                "instead of the campaign (Yosys mutate, seed --seed)")
-    mutation.add_argument("--design", choices=("seg", "axi", "dp"), default="seg",
+    mutation.add_argument("--design", choices=("seg", "axi", "dp", "dp2"), default="seg",
                           help="the top level of --mutants: seg (dptbd_seg, default), axi "
-                               "(dptbd_axi) or dp (dptbd_dp)")
+                               "(dptbd_axi), dp (dptbd_dp) or dp2 (dptbd_dp at 2 pixels "
+                               "per clock)")
     mutation.add_argument("--prove", action="store_true",
                           help="try to prove every survivor the equivalence registry does "
                                "not list equivalent to the original (Yosys equiv_*, "
@@ -293,7 +295,7 @@ def mutants_main(args: argparse.Namespace) -> int:
         check_worker_count(args.workers)
     check_output_file(args.json, "--json", args.force, ".json")
     require_yosys()
-    design = {"seg": "segmenter", "axi": "axi", "dp": "dp"}[args.design]
+    design = {"seg": "segmenter", "axi": "axi", "dp": "dp", "dp2": "dp2"}[args.design]
     bar = tqdm(total=args.mutants, unit="mutant", desc=f"dptbd verify --mutants ({args.design})")
     result = run_mutants(design, args.mutants, args.seed, workers=args.workers,
                          scheduler=args.scheduler, bar=bar)
@@ -337,6 +339,7 @@ def format_mutation_result(result, proofs: dict | None = None,
     timeouts, crashes and no-builds: index, Amaranth source line, mutation."""
     from dptbd.sim.mutation.equivalents import load_registry
     from dptbd.sim.mutation.netlist import DESIGN_TOPS
+    from dptbd.sim.mutation.run import config
 
     proofs = proofs or {}
     registry = load_registry(result.design) if registry is None else registry
@@ -345,7 +348,9 @@ def format_mutation_result(result, proofs: dict | None = None,
     proven = [i for i, how in shown.items() if how != "argued"]
     here = [i for i, how in shown.items() if how == "proven in this run"]
     survivors = result.of("survived")
-    lines = [f"{DESIGN_TOPS[result.design]}: score (MCY's: killed / (total - shown "
+    p = config(result.design).pixels_per_clock
+    top = DESIGN_TOPS[result.design] + (f" at {p} pixels per clock" if p > 1 else "")
+    lines = [f"{top}: score (MCY's: killed / (total - shown "
              f"equivalent)) {result.killed} / {left} = {100 * result.score(shown):.1f} %; "
              f"killed / total {result.killed} / {result.total} = "
              f"{100 * result.killed_fraction:.1f} %",

@@ -27,14 +27,21 @@ import tempfile
 from dptbd.config import DPConfig
 from dptbd.errors import DptbdError
 
-__all__ = ["DESIGN_TOPS", "PREPARE", "MUTSEL_WIDTH", "YOSYS", "YosysMissingError", "Mutation",
+__all__ = ["DESIGN_TOPS", "BUILD_DESIGNS", "PREPARE", "MUTSEL_WIDTH", "YOSYS", "YosysMissingError", "Mutation",
            "parse_mutations", "source_line", "require_yosys", "top_rtlil", "mutation_list",
            "mutant_verilog", "run_yosys"]
 
-#: Designs with mutants: design name (:data:`dptbd.sim.verilator.cache.DESIGNS`) -> module.
-#: ``dp`` is ``DPPipeline`` (``core``, ``DPCore`` without the state store, has no mutants of its
-#: own: every cell of it is one of ``dp``'s, ``docs/gateware.md`` "Mutation testing").
-DESIGN_TOPS = {"segmenter": "dptbd_seg", "axi": "dptbd_axi", "dp": "dptbd_dp"}
+#: Designs with mutants: design name -> module. ``dp`` is ``DPPipeline`` (``core``,
+#: ``DPCore`` without the state store, has no mutants of its own: every cell of it is one of
+#: ``dp``'s, ``docs/gateware.md`` "Mutation testing"); ``dp2`` is ``dptbd_dp`` at P = 2 pixels
+#: per clock (``DPPipelineWide``: ``DPCoreWide`` and its on-chip store).
+DESIGN_TOPS = {"segmenter": "dptbd_seg", "axi": "dptbd_axi", "dp": "dptbd_dp",
+               "dp2": "dptbd_dp"}
+
+#: The Verilator build (:data:`dptbd.sim.verilator.cache.DESIGNS`) of each design with
+#: mutants; the configuration (:data:`dptbd.sim.mutation.slices.CONFIGS`) tells ``dp`` and
+#: ``dp2`` apart.
+BUILD_DESIGNS = {"segmenter": "segmenter", "axi": "axi", "dp": "dp", "dp2": "dp"}
 
 #: Yosys commands after ``read_rtlil``: the cells ``mutate`` samples from (MCY runs
 #: ``prep``; these are the passes :mod:`dptbd.hw.flow.to_verilog` runs, flattened, so a
@@ -187,16 +194,17 @@ def top_rtlil(cfg: DPConfig, design: str) -> tuple[str, dict]:
     (the one the top's Verilog generator writes)."""
     from amaranth.back import rtlil
 
-    if design == "segmenter":
+    kind = BUILD_DESIGNS.get(design)
+    if kind == "segmenter":
         from dptbd.hw.dp_segmenter_top import DPSegmenter
         from dptbd.hw.flow.segmenter_verilog import segmenter_manifest
         top = DPSegmenter(cfg)
         manifest = segmenter_manifest(cfg, top)
-    elif design == "dp":
+    elif kind == "dp":                  # dptbd_dp at cfg.pixels_per_clock
         from dptbd.hw.flow.verilog import build_top, manifest as dp_manifest
         top = build_top(cfg)
         manifest = dp_manifest(cfg, top)
-    elif design == "axi":
+    elif kind == "axi":
         from dptbd.hw.axi_top import AXITop
         from dptbd.hw.flow.axi_package import axi_manifest
         top = AXITop(cfg)

@@ -4,7 +4,9 @@ verdict per mutant, and the mutation score.
 The slices (:mod:`dptbd.sim.mutation.slices`: ``segmenter``, ``dptbd_seg``: seeded runs of
 the campaign checked by :func:`dptbd.sim.rtl.check.check_stream`; ``axi``, ``dptbd_axi``:
 seeded runs of :func:`dptbd.sim.verilator.axi.check_axi` and random AXI runs of the
-campaign) are the checks the default suite runs, on small frames and narrow widths (every
+campaign; ``dp``, ``dptbd_dp``, and ``dp2``, ``dptbd_dp`` at P = 2 pixels per clock: seeded
+runs of the campaign and K and LUT stimulus of their own, checked by ``check_stream``) are
+the checks the default suite runs, on small frames and narrow widths (every
 bit of the datapath is reached).
 
 A mutant's verdict (:class:`MutantOutcome`) is the first of its runs that is not passed:
@@ -46,14 +48,16 @@ from typing import Callable, Mapping, Sequence
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.sim.mutation.equivalents import Equivalent, load_registry, mutation_key
-from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, mutation_list, run_yosys
+from dptbd.sim.mutation.netlist import (BUILD_DESIGNS, DESIGN_TOPS, Mutation, mutation_list,
+                                        run_yosys)
 from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS, RUNNERS, SLICE_RUNS
 from dptbd.sim.mutation.slices.axi import RANDOM_AXI_FRAMES, RANDOM_AXI_RUNS, axi_scenario
 from dptbd.sim.mutation.verdict import VERDICTS, MutantOutcome, hang_verdict
 
 __all__ = ["CONFIGS", "RANDOM_AXI_RUNS", "RANDOM_AXI_FRAMES", "SLICE_RUNS", "BACKPRESSURE",
            "WALL_SECONDS", "VERDICTS", "MutantOutcome",
-           "MutationResult", "Equivalent", "load_registry", "mutation_key", "config", "slice_runs", "run_slice", "mutant_task",
+           "MutationResult", "Equivalent", "load_registry", "mutation_key", "config", "slice_runs",
+           "slice_design", "run_slice", "mutant_task",
            "mutant_design", "run_mutants", "axi_scenario", "hang_verdict"]
 
 #: Wall-clock seconds one run of a mutant may take (the harness exits with status 124).
@@ -79,6 +83,25 @@ def slice_runs(design: str, scale: float = 1.0) -> tuple[tuple[str, int], ...]:
     return tuple(out)
 
 
+def slice_design(sim) -> str:
+    """The design with mutants (:data:`CONFIGS`) of the build ``sim``: the one whose
+    Verilator design (:data:`~dptbd.sim.mutation.netlist.BUILD_DESIGNS`) and pixels per
+    clock are ``sim``'s (``dp`` at P = 1, ``dp2`` at P = 2).
+
+    Raises
+    ------
+    ValueError
+        No design with mutants is built so."""
+    p = sim.cfg.pixels_per_clock
+    for design, build in BUILD_DESIGNS.items():
+        if build == sim.design and CONFIGS[design].get("pixels_per_clock", 1) == p:
+            return design
+    raise ValueError(f"no design with mutants is a build of {sim.design!r} at "
+                     f"pixels_per_clock={p}; they are "
+                     + ", ".join(f"{d} ({b}, P = {CONFIGS[d].get('pixels_per_clock', 1)})"
+                                 for d, b in BUILD_DESIGNS.items()))
+
+
 @contextlib.contextmanager
 def _selected(index: int, wall_seconds: int):
     """``DPTBD_MUTANT`` / ``DPTBD_MUTANT_SECONDS`` for the harness (a worker runs one task
@@ -101,8 +124,9 @@ def run_slice(sim, index: int, runs: Sequence[tuple[str, int]], *,
               runner: Callable | None = None) -> MutantOutcome:
     """Mutant ``index`` of the mutant build ``sim`` through ``runs``, stopping at the first
     run that is not passed (see the module doc for the verdicts). ``runner(sim, kind,
-    seed) -> (verdict, report)`` replaces the design's runner (tests)."""
-    runner = runner or RUNNERS[sim.design]
+    seed) -> (verdict, report)`` replaces the design's runner (tests; the default: the
+    runner of :func:`slice_design`)."""
+    runner = runner or RUNNERS[slice_design(sim)]
     start = time.perf_counter()
     with _selected(index, wall_seconds):
         for kind, seed in runs:
@@ -127,7 +151,7 @@ def mutant_task(design: str, commands: tuple[str, ...], index: int,
     """One task of :func:`run_mutants` (picklable arguments; the build is cached on disk)."""
     from dptbd.sim.verilator.cache import build
 
-    sim = build(config(design), design, root=root, mutations=commands)
+    sim = build(config(design), BUILD_DESIGNS[design], root=root, mutations=commands)
     return run_slice(sim, index, runs, wall_seconds=wall_seconds)
 
 
@@ -255,7 +279,7 @@ def run_mutants(design: str, count: int, seed: int = 1, *, workers: int | None =
     mutations = tuple(mutation_list(cfg, design, count, seed) if mutations is None
                       else mutations)
     commands, refused = mutant_design(cfg, design, mutations)
-    sim = build(cfg, design, root=root, mutations=commands)
+    sim = build(cfg, BUILD_DESIGNS[design], root=root, mutations=commands)
     runs = slice_runs(design, scale)
     original = run_slice(sim, 0, runs, wall_seconds=wall_seconds)
     if original.verdict != "survived":

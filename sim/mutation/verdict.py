@@ -47,21 +47,28 @@ def hang_verdict(status: str, report: str) -> str | None:
 def _missing_of_offered(sim, words, stim, result) -> str:
     """For a run without resets whose cycle budget ran out with offered words not taken:
     the golden model fed every offered word against what the design delivered; the report
-    of the missing (or wrong) words, or ``""`` if every word the model gives came out."""
-    from dptbd.sim.rtl.check import _checker, expected_stream, split_words
+    of the missing (or wrong) words, or ``""`` if every word the model gives came out. At
+    P > 1 pixels per clock ``words`` are beats, and words here count pixels and states."""
+    from dptbd.sim.rtl.check import _checker, beat_state_words, expected_stream, split_beats, \
+        split_words
 
     if stim.resets or result.raw.status == "done":
         return ""
-    pixels, first = split_words(sim.cfg, np.asarray(words))
+    p = sim.cfg.pixels_per_clock
+    pixels, first = (split_words(sim.cfg, np.asarray(words)) if p == 1
+                     else split_beats(sim.cfg, np.asarray(words)))
     exp = expected_stream(sim.cfg, pixels, first,
-                          {int(i): codes for i, codes in stim.lut_changes},
-                          {int(i): entry for i, entry in stim.settings_changes})
+                          {int(i) * p: codes for i, codes in stim.lut_changes},
+                          {int(i) * p: entry for i, entry in stim.settings_changes})
     board = _checker(sim.cfg, sim.output, exp, cut_by_reset=False)
-    board.receive_array(result.raw.out_words)
+    out = result.raw.out_words
+    board.receive_array(out if p == 1 or sim.output != "states"
+                        else beat_state_words(sim.cfg, out))
     if board.done:
         return ""
-    return (f"hang: {result.words_in} of {len(words)} offered words taken in {result.raw.cycles} "
-            f"cycles; against the model of every offered word: {board.report()}")
+    return (f"hang: {result.words_in} of {len(pixels)} offered words taken in "
+            f"{result.raw.cycles} cycles; against the model of every offered word: "
+            f"{board.report()}")
 
 
 def stream_hang(sim, words, stim, result) -> tuple[str, str] | None:

@@ -208,7 +208,7 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
         Yosys ``mutate`` commands (:mod:`dptbd.sim.mutation.netlist`): the build carries
         mutation ``i`` behind ``mutsel == i`` and its harness selects one from the
         environment (``DPTBD_MUTANT``; 0 or unset: the original). Designs ``segmenter``,
-        ``axi`` and ``dp`` only.
+        ``axi`` and ``dp`` only; at ``pixels_per_clock`` > 1, ``dp`` only.
     state_store : AxiStoreConfig, optional
         Design ``axi`` only: ``dptbd_axi --state-store axi`` of ``state_store`` (made for
         ``cfg``), its port served by the harness's AXI4 memory model (``axi4_memory.h``).
@@ -226,8 +226,9 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
             raise ValueError(f"design 'axi' at pixels_per_clock={cfg.pixels_per_clock}: "
                              f"s_axis_video_tdata of {bits} bits; the AXI harness drives at "
                              f"most 32")
-    if cfg.pixels_per_clock > 1 and mutations:
-        raise ValueError("mutant builds are of the default designs, at pixels_per_clock=1")
+    if cfg.pixels_per_clock > 1 and mutations and design != "dp":
+        raise ValueError(f"a mutant build at pixels_per_clock={cfg.pixels_per_clock} is of "
+                         f"design 'dp' (dptbd_dp) only, got {design!r}")
     if cfg.pixels_per_clock > 1:
         from dptbd.hw.wide import check_wide
         check_wide(cfg)

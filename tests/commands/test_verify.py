@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 import socket
@@ -168,7 +169,7 @@ def test_verify_mutants_refusals(capsys):
     assert exc.value.code == 2
     assert capsys.readouterr().err.splitlines()[-1] == (
         "dptbd verify: error: argument --design: invalid choice: 'core' (choose from 'seg', "
-        "'axi', 'dp')")
+        "'axi', 'dp', 'dp2')")
 
 
 def test_verify_mutants_without_yosys(capsys, monkeypatch):
@@ -207,6 +208,10 @@ def test_format_mutation_result():
         "  #2    ?  const0 $c2.A[2] [proven in this run, not in the registry]",
         "timeout (1):",
         "  #3    ?  const1 $c3.B[1] (clean seed 1: cycle budget ran out)"]
+    wide = dataclasses.replace(result, design="dp2")          # dptbd_dp at P = 2
+    assert format_mutation_result(wide, {}, {}).splitlines()[0] == (
+        "dptbd_dp at 2 pixels per clock: score (MCY's: killed / (total - shown equivalent)) "
+        "1 / 3 = 33.3 %; killed / total 1 / 3 = 33.3 %")
 
 
 def test_verify_mutants_exit_and_prove_follow_the_registry(capsys, monkeypatch, tmp_path):

@@ -1,8 +1,9 @@
 """The verification slice of each design's mutants: the configuration, the runs
 (``(kind, seed)``, in order) and the runner ``run(sim, kind, seed) -> (verdict, report)``
 of ``segmenter`` (:mod:`~dptbd.sim.mutation.slices.segmenter`, ``dptbd_seg``), ``axi``
-(:mod:`~dptbd.sim.mutation.slices.axi`, ``dptbd_axi``) and ``dp``
-(:mod:`~dptbd.sim.mutation.slices.dp`, ``dptbd_dp``)."""
+(:mod:`~dptbd.sim.mutation.slices.axi`, ``dptbd_axi``), ``dp``
+(:mod:`~dptbd.sim.mutation.slices.dp`, ``dptbd_dp``) and ``dp2``
+(:mod:`~dptbd.sim.mutation.slices.dp2`, ``dptbd_dp`` at P = 2 pixels per clock)."""
 
 from __future__ import annotations
 
@@ -22,6 +23,9 @@ CONFIGS = {
     # at K >= 3 (every bit of E and the clamp are reached); run-time K up to 4
     "dp": dict(width=12, height=10, segment_frames=3, max_segment_frames=4, input_bits=6,
                energy_bits=7, weight_frac_bits=4),
+    # dp2: dp's at P = 2 pixels per clock (dptbd_dp of DPCoreWide, 6 beats a line)
+    "dp2": dict(width=12, height=10, segment_frames=3, max_segment_frames=4, input_bits=6,
+                energy_bits=7, weight_frac_bits=4, pixels_per_clock=2),
 }
 
 #: Output back-pressure densities of the ``backpressure`` runs (seed % 4): the lists
@@ -29,14 +33,15 @@ CONFIGS = {
 BACKPRESSURE = (0.9, 0.95, 0.97, 0.99)
 
 # the designs' modules use the constants above
-from dptbd.sim.mutation.slices import axi, dp, segmenter  # noqa: E402
+from dptbd.sim.mutation.slices import axi, dp, dp2, segmenter  # noqa: E402
 
 #: Runs of each design's slice: ``(kind, seed)``, run in this order.
 SLICE_RUNS = {
     "segmenter": segmenter.RUNS,
     "axi": axi.RUNS,
     "dp": dp.RUNS,
+    "dp2": dp2.RUNS,
 }
 
 #: Each design's runner.
-RUNNERS = {"segmenter": segmenter.run, "axi": axi.run, "dp": dp.run}
+RUNNERS = {"segmenter": segmenter.run, "axi": axi.run, "dp": dp.run, "dp2": dp2.run}

@@ -12,7 +12,7 @@ import pytest
 from helpers.refusals import whole
 
 from dptbd.sim.mutation import equivalents as E
-from dptbd.sim.mutation.netlist import parse_mutations
+from dptbd.sim.mutation.netlist import DESIGN_TOPS, parse_mutations
 from dptbd.sim.mutation.run import MutantOutcome, MutationResult
 
 from helpers.verilator_harness import have_mutation_tools
@@ -42,7 +42,7 @@ def test_the_checked_in_files_parse_with_every_field(design):
         assert key == entry.mutation == E.mutation_key(entry.mutation)
         assert entry.shown in E.SHOWN and entry.why and entry.source
         assert f"-src {entry.source}" in entry.mutation or entry.source == "?"
-        assert f"-module {'dptbd_' + {'segmenter': 'seg'}.get(design, design)} " in key
+        assert f"-module {DESIGN_TOPS[design]} " in key
 
 
 def test_parse_reads_an_entry_with_its_mutation_made_portable():
@@ -101,7 +101,7 @@ def test_load_registry_absent_file_is_empty_and_unknown_design_refused(tmp_path)
     (tmp_path / "dp.toml").write_text(GOOD)
     assert list(E.load_registry("dp", tmp_path)) == [MUT.replace("/work/other/", "")]
     with pytest.raises(ValueError, match=whole("design must be one of segmenter, axi, dp, "
-                                               "got 'core'")):
+                                               "dp2, got 'core'")):
         E.load_registry("core")
 
 

@@ -10,6 +10,8 @@ import pytest
 from dptbd.sim.mutation import run as R
 from dptbd.sim.mutation.netlist import Mutation
 
+from helpers.refusals import whole
+
 
 def fake(results: dict):
     """A runner answering ``results[(kind, seed)]`` (default survived), recording calls and
@@ -113,3 +115,19 @@ def test_the_axi_slice_lut_runs_are_their_seed_at_k_max():
     assert step["stop"] == len(beats) == 16 * cfg.width * cfg.height
     assert [r for r in RUNS if r[0] == "lut"] == [("lut", s) for s in range(LUT_RUNS)]
     assert RUNS[-2:] == (("stalls", 0), ("lists", 0))  # the long runs last: few reach them
+
+
+def test_the_slice_of_a_build_is_its_design_and_pixels_per_clock():
+    """``dp`` and ``dp2`` are both Verilator builds of ``dp``: the build's P tells them apart
+    (each runs its own slice); a build no design with mutants is refused by name."""
+    def build(design, cfg):
+        return types.SimpleNamespace(design=design, cfg=cfg)
+
+    assert R.slice_design(build("dp", R.config("dp"))) == "dp"
+    assert R.slice_design(build("dp", R.config("dp2"))) == "dp2"
+    assert R.slice_design(build("segmenter", R.config("segmenter"))) == "segmenter"
+    assert R.RUNNERS["dp2"] is not R.RUNNERS["dp"]
+    with pytest.raises(ValueError, match=whole(
+            "no design with mutants is a build of 'core' at pixels_per_clock=1; they are "
+            "segmenter (segmenter, P = 1), axi (axi, P = 1), dp (dp, P = 1), dp2 (dp, P = 2)")):
+        R.slice_design(build("core", R.config("dp")))

@@ -232,3 +232,12 @@ def test_build_refuses_an_unknown_design(tmp_path, design):
                                          rf"got {repr(design)}$"):
         V.build(BASE, design, root=tmp_path / "builds")
     assert not (tmp_path / "builds").exists()
+
+
+def test_a_mutant_build_at_p_above_1_is_of_design_dp_only(tmp_path):
+    with pytest.raises(ValueError, match=whole(
+            "a mutant build at pixels_per_clock=2 is of design 'dp' (dptbd_dp) only, got "
+            "'segmenter'")):
+        V.build(make_config(**SEG, pixels_per_clock=2), "segmenter", root=tmp_path / "b",
+                mutations=("mutate -mode inv -cell $c -port Y -portbit 0",))
+    assert not (tmp_path / "b").exists()
