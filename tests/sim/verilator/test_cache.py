@@ -21,6 +21,7 @@ from dptbd.sim.icarus import config_name
 from dptbd.sim.scenarios import make_frames
 
 from helpers.verilator_harness import SEG, make_config  # noqa: E402
+from helpers.refusals import whole  # noqa: E402
 
 pytestmark = pytest.mark.skipif(shutil.which("verilator") is None, reason="needs Verilator")
 
