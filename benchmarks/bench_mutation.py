@@ -66,12 +66,12 @@ def main() -> None:
             execution = job_execution(args.workers, tasks=len(survivors))
             tasks = [(config(design), design, mutation) for _, mutation in survivors]
 
-            def report(i, proof):
+            def said(i, proof):
                 print(f"  proof #{survivors[i][0].index}: {proof.verdict} "
                       f"({proof.seconds:.0f} s) {proof.detail}", flush=True)
 
             with execution.client() as client:
-                done = map_tasks(prove_equivalent, tasks, client, on_result=report)
+                done = map_tasks(prove_equivalent, tasks, client, on_result=said)
             proofs = {outcome.index: proof for (outcome, _), proof in zip(survivors, done)}
         prove_seconds = time.perf_counter() - start
         print(format_mutation_result(result, proofs, registry))
