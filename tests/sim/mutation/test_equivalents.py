@@ -7,6 +7,7 @@ equivalent (MCY's: killed / (total − shown equivalent)). The slow test proves 
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import pytest
 from helpers.refusals import whole
@@ -39,7 +40,8 @@ def entry_text(**fields) -> str:
 def test_the_checked_in_files_parse_with_every_field(design):
     registry = E.load_registry(design)
     for key, entry in registry.items():
-        assert key == entry.mutation == E.mutation_key(entry.mutation)
+        assert key == E.mutation_key(entry.mutation)
+        assert entry.mutation == E.portable_command(entry.mutation)
         assert entry.shown in E.SHOWN and entry.why and entry.source
         assert f"-src {entry.source}" in entry.mutation or entry.source == "?"
         assert f"-module {DESIGN_TOPS[design]} " in key
@@ -51,7 +53,7 @@ def test_parse_reads_an_entry_with_its_mutation_made_portable():
                                  "hw/segmenter.py:12", "bit 0 of a register nothing reads")
 
 
-@pytest.mark.parametrize("command, key", [
+@pytest.mark.parametrize("command, portable", [
     ("mutate -mode inv -cell $1 -src /a/b/hw/delay.py:47",
      "mutate -mode inv -cell $1 -src hw/delay.py:47"),
     ("mutate -mode inv -cell $1 -src /a/hw-x/dptbd/hw/flow/x.py:3 -src "
@@ -59,18 +61,39 @@ def test_parse_reads_an_entry_with_its_mutation_made_portable():
      "mutate -mode inv -cell $1 -src hw/flow/x.py:3 -src amaranth/lib/memory.py:241"),
     ("mutate -mode inv -cell $1 -src hw/delay.py:47",
      "mutate -mode inv -cell $1 -src hw/delay.py:47"),
+    ("mutate -mode inv -cell $1 -src hw/delay.py:47.5-49.12",
+     "mutate -mode inv -cell $1 -src hw/delay.py:47.5-49.12"),
     ("mutate -mode inv -cell $1", "mutate -mode inv -cell $1"),
 ])
-def test_mutation_key_drops_the_checkout(command, key):
-    assert E.mutation_key(command) == key
+def test_portable_command_drops_the_checkout_and_the_key_the_lines(command, portable):
+    assert E.portable_command(command) == portable
+    assert E.mutation_key(command) == re.sub(r"(-src \S+?):[0-9.-]+(?= |$)", r"\1", portable)
 
 
-def test_mutation_key_of_this_checkout_is_the_source_line():
+def test_mutation_key_of_this_checkout_is_the_source_file():
     from dptbd.sim.mutation.netlist import _REPO
 
     (m,) = parse_mutations(f"mutate -mode inv -cell $1 -port Y -portbit 0 "
                            f"-src {_REPO}/hw/delay.py:47")
-    assert E.mutation_key(m.command) == f"mutate -mode inv -cell $1 -port Y -portbit 0 -src {m.source}"
+    assert m.source == "hw/delay.py:47"
+    assert E.portable_command(m.command) == ("mutate -mode inv -cell $1 -port Y -portbit 0 "
+                                             "-src hw/delay.py:47")
+    assert E.mutation_key(m.command) == ("mutate -mode inv -cell $1 -port Y -portbit 0 "
+                                         "-src hw/delay.py")
+
+
+def test_mutation_key_matches_moved_lines_not_another_cell():
+    moved = MUT.replace("segmenter.py:12", "segmenter.py:21")
+    assert E.mutation_key(moved) == E.mutation_key(MUT)
+    assert E.mutation_key(MUT.replace("$1", "$2")) != E.mutation_key(MUT)
+    assert E.mutation_key(MUT.replace("-portbit 0", "-portbit 1")) != E.mutation_key(MUT)
+    assert E.mutation_key(MUT.replace("segmenter.py", "delay.py")) != E.mutation_key(MUT)
+
+
+def test_an_entry_matches_a_survivor_whose_lines_moved():
+    (entry,) = E.parse_registry(GOOD)
+    result = result_of(["survived"], [MUT.replace("segmenter.py:12", "segmenter.py:40")])
+    assert result.shown_equivalent({E.mutation_key(entry.mutation): entry}) == {1: "argued"}
 
 
 @pytest.mark.parametrize("text, message", [
@@ -99,7 +122,8 @@ def test_parse_refuses(text, message):
 def test_load_registry_absent_file_is_empty_and_unknown_design_refused(tmp_path):
     assert E.load_registry("axi", tmp_path) == {}
     (tmp_path / "dp.toml").write_text(GOOD)
-    assert list(E.load_registry("dp", tmp_path)) == [MUT.replace("/work/other/", "")]
+    assert list(E.load_registry("dp", tmp_path)) == [
+        MUT.replace("/work/other/", "").removesuffix(":12")]
     with pytest.raises(ValueError, match=whole("design must be one of segmenter, axi, dp, "
                                                "dp2, got 'core'")):
         E.load_registry("core")
