@@ -92,10 +92,12 @@ def test_the_lut_runs_list_every_pixel_at_k_max_and_the_cycles_runs_come_last():
 
     cfg = config("segmenter")
     assert _all_listed(cfg) == ((0, (4, 120, 4), SegmentSettings(4, 120, 4)),)
-    assert NOISE_FRAMES == {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12}
-    assert RUNS[-37:] == (*[("lut-corners", s) for s in range(10)],
+    assert NOISE_FRAMES == {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12,
+                            "resync-last": 12}
+    assert RUNS[-40:] == (*[("lut-corners", s) for s in range(10)],
                           *[("lut-wide", s) for s in range(4)],
                           *[("settings-resync", s) for s in range(6)],
+                          *[("resync-last", s) for s in range(3)],
                           *[("list-lengths", s) for s in range(4)],
                           *[("full-scale", s) for s in range(9)],
                           *[("cycles", s) for s in range(4)])
