@@ -14,10 +14,13 @@ each::
 
 ``mutation`` is the ``mutate`` line Yosys printed (:attr:`Mutation.command
 <dptbd.sim.mutation.netlist.Mutation>`) with its ``-src`` paths made independent of the
-checkout (:func:`mutation_key`: ``hw/segmenter.py:123``, ``amaranth/lib/memory.py:241``);
-an entry written with the absolute paths of another checkout is read the same way. A run's
-survivors are matched by that string, so a netlist change, which renames cells, makes an
-entry stop matching: it is never counted. ``shown = "proven"`` means
+checkout (:func:`portable_command`: ``hw/segmenter.py:123``,
+``amaranth/lib/memory.py:241``); an entry written with the absolute paths of another
+checkout is read the same way. A run's survivors are matched by :func:`mutation_key`, that
+string without the ``-src`` line numbers (the cell, port, bit and wire names identify a
+mutation of a netlist): an edit that moves source lines but leaves the netlist unchanged
+keeps every entry matching, while a netlist change, which renames cells, makes an entry
+stop matching: it is never counted. ``shown = "proven"`` means
 :func:`~dptbd.sim.mutation.equivalence.prove_equivalent` proves it (a slow test runs every
 one); ``"argued"`` is a written argument that no output can differ for any legal input
 sequence. A file that is absent is an empty registry.
@@ -30,8 +33,8 @@ import pathlib
 import re
 import tomllib
 
-__all__ = ["SHOWN", "FILES", "KEYS", "Equivalent", "mutation_key", "parse_registry",
-           "load_registry", "entry_toml"]
+__all__ = ["SHOWN", "FILES", "KEYS", "Equivalent", "portable_command", "mutation_key",
+           "parse_registry", "load_registry", "entry_toml"]
 
 #: The ways a mutant is shown equivalent.
 SHOWN = ("proven", "argued")
@@ -50,11 +53,13 @@ _REPO = _HERE.parents[2]
 #: last of them.
 _TOP_FOLDER = re.compile(r"^.*/(?=(?:hw|sim|model|dptbd)/[^/]*)")
 _SRC = re.compile(r"(?<=-src )(\S+)")
+#: A ``-src`` location's line part: ``:12`` or ``:12.5-14.9``.
+_LINE = re.compile(r":[0-9]+(?:\.[0-9]+)?(?:-[0-9]+(?:\.[0-9]+)?)?$")
 
 
 @dataclasses.dataclass(frozen=True)
 class Equivalent:
-    """One entry: the mutation (its :func:`mutation_key`), ``proven`` or ``argued``, the
+    """One entry: the mutation (its :func:`portable_command`), ``proven`` or ``argued``, the
     Amaranth source line and why no output can differ."""
 
     mutation: str
@@ -81,10 +86,17 @@ def _portable(path: str) -> str:
     return f"{file}{sep}{line}" if sep else file
 
 
-def mutation_key(command: str) -> str:
+def portable_command(command: str) -> str:
     """``command`` (a ``mutate`` line) with every ``-src`` path made independent of the
-    checkout: the string the registry matches."""
+    checkout: the string an entry stores."""
     return _SRC.sub(lambda m: _portable(m.group(1)), command.strip())
+
+
+def mutation_key(command: str) -> str:
+    """:func:`portable_command` of ``command`` without the ``-src`` line numbers (the file
+    kept): the string the registry matches, the same after an edit that moves source lines
+    but leaves the netlist unchanged."""
+    return _SRC.sub(lambda m: _LINE.sub("", _portable(m.group(1))), command.strip())
 
 
 def parse_registry(text: str, name: str = "registry") -> tuple[Equivalent, ...]:
@@ -129,7 +141,7 @@ def parse_registry(text: str, name: str = "registry") -> tuple[Equivalent, ...]:
             raise ValueError(f"{where}: the mutation of mutant {seen[key]} again; each "
                              f"mutation is listed once")
         seen[key] = i
-        out.append(Equivalent(key, item["shown"], item["source"].strip(),
+        out.append(Equivalent(portable_command(item["mutation"]), item["shown"], item["source"].strip(),
                               " ".join(item["why"].split())))
     return tuple(out)
 
@@ -143,7 +155,7 @@ def load_registry(design: str, folder: str | pathlib.Path | None = None
     path = pathlib.Path(folder or _HERE) / FILES[design]
     if not path.is_file():
         return {}
-    return {e.mutation: e for e in parse_registry(path.read_text(), path.name)}
+    return {mutation_key(e.mutation): e for e in parse_registry(path.read_text(), path.name)}
 
 
 def entry_toml(entry: Equivalent) -> str:

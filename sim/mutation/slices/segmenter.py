@@ -31,6 +31,7 @@ RUNS = tuple([("clean", s) for s in range(4)] + [("settings-edge", s) for s in r
              + [("settings-range", s) for s in range(4)]
              + [("lut-corners", s) for s in range(10)] + [("lut-wide", s) for s in range(4)]
              + [("settings-resync", s) for s in range(6)]
+             + [("resync-last", s) for s in range(3)]
              + [("list-lengths", s) for s in range(4)] + [("full-scale", s) for s in range(9)]
              + [("cycles", s) for s in range(4)])
 
@@ -248,7 +249,7 @@ def run(sim, kind: str, seed: int) -> tuple[str, str]:
 
 
 #: Frames of the runs on noise scenes (:func:`!_noise_run`).
-NOISE_FRAMES = {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12}
+NOISE_FRAMES = {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12, "resync-last": 12}
 
 
 def resync_settings(cfg: DPConfig, seed: int) -> tuple[int, tuple, int]:
@@ -277,10 +278,13 @@ def _noise_run(sim, kind: str, seed: int) -> tuple[str, str]:
     * ``lut-wide``: random tables over the whole ``lut_data`` port, about half of the codes
       above 2^F (stored as 2^F), n = C;
     * ``settings-resync``: new settings one word into a segment and a resync a few words
-      later (:func:`resync_settings`).
+      later (:func:`resync_settings`);
+    * ``resync-last``: K = 1, n = C, and a ``first`` on a frame's last pixel (frame 1, 2
+      or 3): the pixel the controller takes as the segment's last is a new segment's first,
+      so a segment end that ignores the resync shows.
 
-    K = K_max (:func:`_all_listed`); the first table from word 0, the second from the third
-    segment on."""
+    K = K_max (:func:`_all_listed`; ``resync-last``: K = 1); the first table from word 0,
+    the second from the third segment on."""
     from dptbd.sim.mutation.slices.dp import _corners, _noise_words, _wide_luts
     from dptbd.sim.rtl.check import Stimulus
 
@@ -296,6 +300,16 @@ def _noise_run(sim, kind: str, seed: int) -> tuple[str, str]:
         words = words.copy()
         words[resync] |= first                     # the first word's only bit: `first`
         return _raw_run(sim, words, stim, ((at, settings, SegmentSettings(*settings)),))
+    if kind == "resync-last":
+        from dptbd.model.settings import SegmentSettings
+        from dptbd.sim.stimulus import pixel_words
+
+        first = pixel_words(cfg, np.zeros((1, cfg.height, cfg.width), dtype=np.uint16))[0]
+        words = words.copy()
+        words[(1 + seed % 3) * cfg.width * cfg.height - 1] |= first
+        one = SegmentSettings(1, cfg.record_capacity, cfg.bin_shift)
+        return _raw_run(sim, words, stim,
+                        ((0, (1, one.candidate_count, one.histogram_shift), one),))
     # two tables: from word 0 (the first list, after reset, is empty: T selects nothing) and
     # from the third segment's first word on, each in force for at least one whole segment
     second = 2 * cfg.k_max * cfg.width * cfg.height

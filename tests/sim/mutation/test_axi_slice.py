@@ -59,8 +59,8 @@ LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\re
 #: DPSegmenter latches the settings at a resync too, which the ``resync`` runs of seeds 3-5
 #: see.
 RESYNC_STUCK_AT_0 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\dp.\\core.$25 "
-                     "-port Y -portbit 0 -wire core.resync -wirebit 0 -src hw/dp_core.py:235 "
-                     "-src hw/dp_core.py:314")
+                     "-port Y -portbit 0 -wire core.resync -wirebit 0 -src hw/dp_core.py:247 "
+                     "-src hw/dp_core.py:326")
 #: Mutants 100 and 151 of ``--seed 1`` on the earlier netlist: a counter's high bit XORed
 #: with a bit it reaches only after 2**16 lists or 2**25 frames; the ``presets`` run loads
 #: both.
@@ -364,7 +364,7 @@ def test_the_checks_of_the_register_block_and_the_reference_kill_their_mutants()
 #: compares it with W (a W-beat line without ``tlast`` that the next start of frame ends
 #: counts a ``line_length`` fault).
 SHIFT_6_AS_4 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\segmenter.$131 "
-                "-port B -portbit 1 -src hw/segmenter.py:239")
+                "-port B -portbit 1 -src hw/segmenter.py:268")
 LINE_INDEX_WITHOUT_SOF = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\monitor.$88 "
                           "-port S -portbit 0 -src hw/frame_monitor.py:91")
 
@@ -510,7 +510,7 @@ LUT_DECODE_UNALIGNED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\r
                         "-port A -portbit 0 -src hw/register_file.py:178")
 DROPPED_AT_88 = ("mutate -mode const1 -module dptbd_axi -cell "
                  "$flatten\\core.\\segmenter.\\emitter.$34 -port A -portbit 5 "
-                 "-src hw/candidate_emitter.py:86")
+                 "-src hw/candidate_emitter.py:100")
 FLAGS_WORD_8_EVERY_CYCLE = ("mutate -mode const1 -module dptbd_axi -cell "
                             "$flatten\\core.\\dp.\\core.\\output_flags.$183 -port Y "
                             "-portbit 0 -src hw/thermometer_fifo.py:118")

