@@ -152,6 +152,21 @@ def _all_listed(cfg: DPConfig) -> tuple:
 LIST_SHORTFALLS = range(1, 21)
 
 
+def list_length_frames(cfg: DPConfig, lengths, rng) -> np.ndarray:
+    """Frames (flat, one per row) of m bright pixels each for m = C - 1, ``lengths`` in
+    order, then C: the bright pixels at least 2^s (bin 1 and up), the frame's last pixel
+    among them, the others 0 (the ``list-lengths`` runs of this slice and of ``axi``'s)."""
+    size, capacity = cfg.width * cfg.height, cfg.record_capacity
+    frames = np.zeros((len(lengths) + 2, size), dtype=np.uint16)
+    for f, m in enumerate([capacity - 1, *lengths, capacity]):
+        bright = np.zeros(size, dtype=bool)
+        bright[size - 1] = True
+        bright[rng.choice(size - 1, m - 1, replace=False)] = True
+        frames[f] = np.where(bright, rng.integers(1 << cfg.bin_shift, cfg.pixel_max + 1,
+                                                  size=size), 0)
+    return frames
+
+
 def list_lengths(cfg: DPConfig, seed: int) -> tuple[np.ndarray, tuple]:
     """The ``list-lengths`` run of ``seed``: ``(words, settings changes)``. K = 1 (seeds 0, 1)
     or K = 2 (seeds 2, 3: each bright frame after a frame of zeros, so the n a list is cut
@@ -172,13 +187,7 @@ def list_lengths(cfg: DPConfig, seed: int) -> tuple[np.ndarray, tuple]:
     capacity = cfg.record_capacity
     lengths = [capacity - k for k in LIST_SHORTFALLS]
     rng.shuffle(lengths)
-    frames = np.zeros((len(lengths) + 2, size), dtype=np.uint16)
-    for f, m in enumerate([capacity - 1, *lengths, capacity]):
-        bright = np.zeros(size, dtype=bool)
-        bright[size - 1] = True
-        bright[rng.choice(size - 1, m - 1, replace=False)] = True
-        frames[f] = np.where(bright, rng.integers(1 << cfg.bin_shift, cfg.pixel_max + 1,
-                                                  size=size), 0)
+    frames = list_length_frames(cfg, lengths, rng)
     k = 1 if seed % 4 < 2 else 2
     if k == 2:                                   # a frame of zeros before each: E = pixel
         frames = np.stack([np.zeros_like(frames), frames], axis=1).reshape(-1, size)

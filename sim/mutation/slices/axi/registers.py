@@ -289,18 +289,14 @@ def list_length_steps(cfg: DPConfig) -> tuple:
 
     from dptbd.sim.axi.stimulus import clean_beats
 
+    from dptbd.sim.mutation.slices.segmenter import list_length_frames
+
     rng = np.random.default_rng([0, 0xA7F])
     size, capacity = cfg.width * cfg.height, cfg.record_capacity
     assert capacity <= size
     lengths = list(range(1, capacity))
     rng.shuffle(lengths)
-    frames = np.zeros((len(lengths) + 2, size), dtype=np.int64)
-    for f, m in enumerate([capacity - 1, *lengths, capacity]):
-        bright = np.zeros(size, dtype=bool)
-        bright[size - 1] = True
-        bright[rng.choice(size - 1, m - 1, replace=False)] = True
-        frames[f] = np.where(bright, rng.integers(1 << cfg.bin_shift, cfg.pixel_max + 1,
-                                                  size=size), 0)
+    frames = list_length_frames(cfg, lengths, rng).astype(np.int64)
     beats = clean_beats(frames.reshape(-1, cfg.height, cfg.width))
     return beats, [{"writes": [["SEGMENT_FRAMES", 1], ["CANDIDATE_COUNT", capacity - 1]],
                     "stop": len(beats)}]
