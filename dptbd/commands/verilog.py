@@ -19,7 +19,7 @@ latency and the payload bit fields (:func:`dptbd.hw.flow.verilog.manifest`). ``-
 chooses the weight LUT's storage (``auto``, the default: logic for r = 1, block RAM for
 r = 2; ``bram``; ``logic``), a synthesis choice that does not change behaviour.
 ``--family ice40|ecp5`` builds the DPCore of every top with the implementation options the
-synthesis flow uses for that family (:attr:`~dptbd.hw.flow.family.Family.core_options`, the
+synthesis flow uses for that family and size (:meth:`~dptbd.hw.flow.family.Family.options_for`, the
 ones measured in ``docs/synthesis.md``; every manifest records them under ``core_options``)
 and refuses a radius the family cannot build (:meth:`~dptbd.hw.flow.family.Family.check_radius`).
 Without ``--family`` every top is built with DPCore's defaults.

@@ -296,7 +296,7 @@ def axi_package(cfg: DPConfig, stem: str = AXI_MODULE_NAME,
     """``{file name: text}`` of the package (see the module doc), constraints at
     ``clock_mhz`` (in :data:`CLOCK_MHZ_RANGE`), ``m_axis_state`` if ``state_output``, the DP
     core built with ``core_options`` (``None``: DPCore's defaults; ``dptbd verilog --family``
-    passes the family's :attr:`~dptbd.hw.flow.family.Family.core_options`), the state in
+    passes the family's :meth:`~dptbd.hw.flow.family.Family.options_for`), the state in
     external memory as ``state_store`` says (``None``: on chip).
 
     A configuration whose E can saturate is refused (:func:`check_no_saturation`) unless

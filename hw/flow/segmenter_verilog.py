@@ -72,7 +72,7 @@ def generate_segmenter_verilog(cfg: DPConfig, *, core_options: Mapping[str, str]
     (:class:`~dptbd.hw.wide.dp_segmenter.DPSegmenterWide` at ``pixels_per_clock`` 2 or 4).
 
     ``core_options``: the DP core's implementation options (``None``: DPCore's defaults;
-    :attr:`~dptbd.hw.flow.family.Family.core_options` for a family's build), recorded in the
+    :meth:`~dptbd.hw.flow.family.Family.options_for` for a family's build), recorded in the
     manifest under ``core_options``.
 
     Returns

@@ -139,23 +139,28 @@ false_alarm_rate = 0.0002
 """
 
 
+def run_rtl_scenario(tmp_path, capsys, scenario_text):
+    """``dptbd run --rtl`` on ``scenario_text`` (written beside its data in ``tmp_path``):
+    what it printed and its summary's ``rtl`` section."""
+    scenario = tmp_path / "scenario.toml"
+    scenario.write_text(scenario_text)
+    out = tmp_path / "r"
+    assert main(["run", "--no-progress", "--scenario", str(scenario), "--rtl",
+                 "--rtl-build-dir", str(tmp_path / "build"), "--out", str(out)]) == 0
+    return capsys.readouterr().out, json.loads((out / "summary.json").read_text())["rtl"]
+
+
 @pytest.mark.slow
 @VERILATOR
 def test_rtl_at_640x512_takes_the_axi_state_store(tmp_path, capsys):
     """A 640 x 512 scenario (12 frames: two segments of K = 6): its 6.5 Mbit of state
     exceed the largest device's block RAM, so --rtl runs dptbd_axi --state-store axi (about
     3 minutes on a loaded 2-core machine, the build included)."""
-    scenario = tmp_path / "sensor.toml"
-    scenario.write_text(SENSOR)
-    out = tmp_path / "r"
-    assert main(["run", "--no-progress", "--scenario", str(scenario), "--rtl",
-                 "--rtl-build-dir", str(tmp_path / "build"), "--out", str(out)]) == 0
-    text = capsys.readouterr().out
+    text, rtl = run_rtl_scenario(tmp_path, capsys, SENSOR)
     # 12 frames of 327 680 pixels at one per clock, + latency 17 + 1
     line = ("RTL (dptbd_axi --state-store axi on Verilator) checked frames 0-11 of 12: "
             "bit-exact, 130 candidate-list words compared, 3932178 cycles")
     assert f"\n{line}\n" in text
-    rtl = json.loads((out / "summary.json").read_text())["rtl"]
     assert (rtl["state_store"], rtl["cycles_per_pixel"], rtl["words_in"]) == (
         "axi", 1.0, 12 * 640 * 512)
 
@@ -182,17 +187,11 @@ def test_rtl_at_4096x256_range_doppler_takes_the_axi_state_store(tmp_path, capsy
                   snr_db=10.0, seed=1)
     frames = quantise(np.swapaxes(rd.frames, 1, 2), 8, gain=16.0)
     np.save(tmp_path / "rd4096x256.npy", frames.astype(np.uint8))
-    scenario = tmp_path / "rd.toml"
-    scenario.write_text(RANGE_DOPPLER)
-    out = tmp_path / "r"
-    assert main(["run", "--no-progress", "--scenario", str(scenario), "--rtl",
-                 "--rtl-build-dir", str(tmp_path / "build"), "--out", str(out)]) == 0
-    text = capsys.readouterr().out
+    text, rtl = run_rtl_scenario(tmp_path, capsys, RANGE_DOPPLER)
     # 12 frames of 1 048 576 pixels at one per clock, + latency 17 + 1
     line = ("RTL (dptbd_axi --state-store axi on Verilator) checked frames 0-11 of 12: "
             "bit-exact, 95 candidate-list words compared, 12582930 cycles")
     assert f"\n{line}\n" in text
-    rtl = json.loads((out / "summary.json").read_text())["rtl"]
     assert (rtl["state_store"], rtl["cycles_per_pixel"], rtl["words_in"]) == (
         "axi", 1.0, 12 * 4096 * 256)
 
