@@ -17,7 +17,7 @@ import pathlib
 import re
 from importlib import resources
 
-__all__ = ["CELL_MODELS", "model_path", "model_sources"]
+__all__ = ["CELL_MODELS", "model_path", "model_sources", "cell_instances"]
 
 #: Cell (Verilog module) name -> its model's file name in this package.
 CELL_MODELS = {"DP16KD": "dp16kd.v"}
@@ -33,5 +33,18 @@ def model_path(cell: str) -> pathlib.Path:
 def model_sources(verilog: str) -> list[pathlib.Path]:
     """The model files of the cells that ``verilog`` (a generated text) instantiates: a cell
     named at the start of a line, before its parameters or its instance name."""
-    return [model_path(cell) for cell in CELL_MODELS
-            if re.search(rf"^\s*{cell}\s*(#|\\?[A-Za-z_])", verilog, flags=re.M)]
+    return [model_path(cell) for cell in CELL_MODELS if cell_instances(verilog, cell)]
+
+
+def cell_instances(verilog: str, cell: str) -> dict[str, int]:
+    """How many ``cell`` instances each module of ``verilog`` (a generated text) holds,
+    by module name (modules without one left out)."""
+    counts: dict[str, int] = {}
+    module = None
+    for line in verilog.splitlines():
+        found = re.match(r"\s*module\s+([^\s(]+)", line)
+        if found:
+            module = found.group(1).lstrip("\\")
+        elif re.match(rf"\s*{cell}\s*(#|\\?[A-Za-z_])", line):
+            counts[module] = counts.get(module, 0) + 1
+    return counts

@@ -37,7 +37,7 @@ import pathlib
 import re
 import subprocess
 import tempfile
-from typing import NamedTuple, Sequence
+from typing import Mapping, NamedTuple, Sequence
 
 import numpy as np
 
@@ -45,6 +45,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.candidate_layout import unpack_candidate
 from dptbd.hw.layouts import pack_pixel, unpack_state
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard, expected_lists, list_words
+from dptbd.sim.cell_models import model_sources
 from dptbd.sim.scoreboard import expected_words
 
 __all__ = ["TOPS", "ResetXCheck", "top_verilog", "testbench_verilog", "run_reset_x_check"]
@@ -76,17 +77,18 @@ class ResetXCheck(NamedTuple):
     """Output words received after the reset."""
 
 
-def top_verilog(cfg: DPConfig, top: str) -> tuple[str, dict]:
-    """The Verilog text and manifest of top level ``top`` (a key of :data:`TOPS`)."""
+def top_verilog(cfg: DPConfig, top: str, core_options=None) -> tuple[str, dict]:
+    """The Verilog text and manifest of top level ``top`` (a key of :data:`TOPS`), its DP
+    core built with ``core_options`` (``None``: DPCore's defaults)."""
     if top == "dp":
         from dptbd.hw.flow.verilog import generate_verilog
-        return generate_verilog(cfg)
+        return generate_verilog(cfg, core_options=core_options)
     if top == "seg":
         from dptbd.hw.flow.segmenter_verilog import generate_segmenter_verilog
-        return generate_segmenter_verilog(cfg)
+        return generate_segmenter_verilog(cfg, core_options=core_options)
     if top == "axi":
         from dptbd.hw.flow.axi_package import generate_axi_verilog
-        return generate_axi_verilog(cfg)
+        return generate_axi_verilog(cfg, core_options=core_options)
     raise ValueError(f"top must be one of {tuple(TOPS)}, got {top!r}")
 
 
@@ -214,6 +216,7 @@ endmodule
 
 def run_reset_x_check(cfg: DPConfig, frames, *, top: str,
                       resets: Sequence[tuple[int, int]] = ((0, 4),), seed: int = 1,
+                      core_options: Mapping[str, str] | None = None,
                       directory: str | pathlib.Path | None = None) -> list[ResetXCheck]:
     """Simulate top level ``top`` around a reset in Icarus and score it (module doc), once
     per ``(reset_at, reset_cycles)`` of ``resets``.
@@ -229,6 +232,12 @@ def run_reset_x_check(cfg: DPConfig, frames, *, top: str,
     resets : sequence of (int, int)
         First reset cycle (>= 0; 0 is a reset from power-up) and number of reset cycles
         (>= 1) of each run.
+    core_options : Mapping[str, str], optional
+        The DP core's implementation options (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`;
+        ``None``: DPCore's defaults), e.g. a family's
+        (:meth:`~dptbd.hw.flow.family.Family.options_for`). A build that instantiates vendor
+        cells (ECP5 ``DP16KD``) is simulated with their 4-state models
+        (:func:`dptbd.sim.cell_models.model_sources`: X until written or loaded).
     directory : path-like, optional
         Where to keep the Verilog, the bench and the words; a temporary directory by default.
 
@@ -256,14 +265,14 @@ def run_reset_x_check(cfg: DPConfig, frames, *, top: str,
     frames = np.asarray(frames)
     if directory is None:
         with tempfile.TemporaryDirectory(prefix="dptbd-reset-x-") as tmp:
-            return _run(cfg, frames, top, resets, pathlib.Path(tmp))
+            return _run(cfg, frames, top, resets, core_options, pathlib.Path(tmp))
     directory = pathlib.Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
-    return _run(cfg, frames, top, resets, directory)
+    return _run(cfg, frames, top, resets, core_options, directory)
 
 
-def _run(cfg, frames, top, resets, directory: pathlib.Path) -> list[ResetXCheck]:
-    text, info = top_verilog(cfg, top)
+def _run(cfg, frames, top, resets, core_options, directory: pathlib.Path) -> list[ResetXCheck]:
+    text, info = top_verilog(cfg, top, core_options)
     design = directory / f"{TOPS[top]['module']}.v"
     design.write_text(text)
     pixel_file = directory / "pixels.hex"
@@ -292,7 +301,8 @@ def _run(cfg, frames, top, resets, directory: pathlib.Path) -> list[ResetXCheck]
             tb.write_text(testbench_verilog(cfg, top, info, pixels=len(stream),
                                             power_up=reset_at == 0, pixel_file=pixel_file))
             compiled = subprocess.run(["iverilog", "-g2012", "-s", _TB_MODULE, "-o", str(vvp),
-                                       str(tb), str(design)], capture_output=True, text=True)
+                                       str(tb), str(design), *map(str, model_sources(text))],
+                                      capture_output=True, text=True)
             if compiled.returncode != 0:
                 raise RuntimeError(f"iverilog failed:\n{compiled.stderr}")
         out_file = directory / f"words_{reset_at}_{reset_cycles}.txt"

@@ -42,19 +42,22 @@ def run_store_bench(tmp_path, cfg: DPConfig, frames, store_fields: dict, *, veri
     """Build ``verilog`` (the top ``module`` with the AXI4 state store ``store_fields``) on
     Icarus with cocotb's runner and run the cocotb module ``bench`` on ``frames`` with
     cocotbext-axi's ``AxiRam``: whether every cocotb test passed, the bench's summary and the
-    log's tail."""
+    log's tail. Vendor cells in ``verilog`` (an ECP5 build's ``DP16KD``) are compiled with
+    their 4-state models (:func:`dptbd.sim.cell_models.model_sources`)."""
     import json
     import xml.etree.ElementTree as ET
 
     import numpy as np
     from cocotb_tools.runner import get_runner
 
+    from dptbd.sim.cell_models import model_sources
     from dptbd.sim.icarus import TIMESCALE
 
     source = tmp_path / f"{module}.v"
     source.write_text(verilog)
     runner = get_runner("icarus")
-    runner.build(sources=[source], hdl_toplevel=module, build_dir=tmp_path, timescale=TIMESCALE)
+    runner.build(sources=[source, *model_sources(verilog)], hdl_toplevel=module,
+                 build_dir=tmp_path, timescale=TIMESCALE)
     np.save(tmp_path / "scene.npy", frames)
     job = {"config": cfg.to_mapping(), "store": store_fields, "pause": pause, "seed": seed,
            "summary": str(tmp_path / "summary.json")}

@@ -21,7 +21,7 @@ from amaranth.sim import Simulator
 
 from dptbd.hw.dp16kd import dp16kd_config, dp16kd_memory
 from dptbd.hw.flow.to_verilog import to_verilog
-from dptbd.sim.cell_models import CELL_MODELS, model_path, model_sources
+from dptbd.sim.cell_models import CELL_MODELS, cell_instances, model_path, model_sources
 from helpers.dp16kd_model import DP16KDModel
 from helpers.refusals import whole
 
@@ -258,5 +258,8 @@ def test_the_models_are_found_for_the_cells_a_text_instantiates():
         [model_path("DP16KD")]
     assert model_sources("  DP16KD bank_0 (") == [model_path("DP16KD")]
     assert model_sources("// no DP16KD here\n  wire DP16KD_x;") == []
+    text = ("module \\top.a (clk);\n  DP16KD #(\n  ) x (\n  DP16KD y (\nendmodule\n"
+            "module b (clk);\n  wire DP16KD_x;\nendmodule\nmodule c(clk);\n  DP16KD z (\n")
+    assert cell_instances(text, "DP16KD") == {"top.a": 2, "c": 1}
     with pytest.raises(ValueError, match=whole("cell must be one of ('DP16KD',), got 'EHXPLLL'")):
         model_path("EHXPLLL")

@@ -1,7 +1,9 @@
 """4-state (Icarus) runs of ``dptbd_dp`` at P = 2 and 4 pixels per clock around reset
 (:mod:`dptbd.sim.reset_x`): a beat offered in every cycle, in reset and in the first cycle
 after it; ``ready`` 0 during reset and in that cycle, no X on any output, no deadlock,
-every state after the reset bit-exact (the P = 1 runs are ``test_reset_x.py``)."""
+every state after the reset bit-exact (the P = 1 runs are ``test_reset_x.py``); the ECP5
+builds with the line buffer in DP16KDs (what the P > 1 cores build in them) on the 4-state
+DP16KD model."""
 
 from __future__ import annotations
 
@@ -10,7 +12,9 @@ import shutil
 import pytest
 
 from dptbd.config import DPConfig
-from dptbd.sim.reset_x import run_reset_x_check
+from dptbd.hw.flow.family import ECP5
+from dptbd.sim.cell_models import cell_instances
+from dptbd.sim.reset_x import TOPS, run_reset_x_check
 
 pytestmark = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus Verilog")
 
@@ -40,3 +44,28 @@ def test_a_wrong_state_is_reported():
     assert len(problems) == 1 and problems[0].startswith("beat 0: got [")
     short = reset_x._compare(cfg, frames, "dp", words[:-1], [])
     assert short[0] == f"{2 * cfg.frame_beats - 1} states beats, the model gives 72"
+
+
+@pytest.mark.parametrize("top, p, cells", [
+    ("dp", 2, {"dptbd_dp.core.line_buffer": 3}),
+    ("axi", 2, {"dptbd_axi.core.dp.core.line_buffer": 3}),
+    ("dp", 4, {"dptbd_dp.core.line_buffer": 6}),
+])
+def test_the_ecp5_builds_with_the_line_buffer_in_dp16kds(tmp_path, top, p, cells):
+    """``Family.options_for`` with ``line_buffer_style="dp16kd"`` (the family's choice from
+    512 wide) at P = 2 and 4: X-free, ``ready`` low where promised, every word exact."""
+    cfg = DPConfig(width=8 * p, height=9, segment_frames=2, candidate_count=4,
+                   pixels_per_clock=p).build_config()
+    options = {**ECP5.options_for(cfg), "line_buffer_style": "dp16kd"}
+    resets = [(0, 4), (1, 1), (5, 2)]
+    results = run_reset_x_check(cfg, 4, top=top, resets=resets, seed=p, core_options=options,
+                                directory=tmp_path)
+    assert [r.ok for r in results] == [True] * len(resets), \
+        "\n".join(r.report for r in results)
+    text = (tmp_path / f"{TOPS[top]['module']}.v").read_text()
+    assert cell_instances(text, "DP16KD") == cells
+    words = {r.words for r in results}
+    if top == "dp":
+        assert words == {4 * cfg.frame_beats}                      # beats after the reset
+    else:
+        assert len(words) == 1 and words.pop() > 2                 # lists with records
