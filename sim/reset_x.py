@@ -28,7 +28,11 @@ Verilog testbench (:func:`testbench_verilog`) and runs it with ``iverilog -g2012
   the trailers); every frame must be taken and every word out before the run ends
   (a deadlock is a timeout).
 
-``tests/sim/test_reset_x.py`` runs it for the three top levels.
+``core_options`` builds the DP core with implementation options, e.g. the ECP5 family's
+(:meth:`~dptbd.hw.flow.family.Family.options_for`), whose ``DP16KD`` block RAMs are
+compiled with the 4-state model of :mod:`dptbd.sim.cell_models` (every word X until written,
+every output register X until loaded). ``tests/sim/test_reset_x.py`` runs it for the three
+top levels and the ECP5 builds, ``tests/sim/test_reset_x_wide.py`` at P = 2 and 4.
 """
 
 from __future__ import annotations
