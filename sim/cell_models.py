@@ -5,8 +5,9 @@ The ECP5 builds (:meth:`dptbd.hw.flow.family.Family.options_for`) instantiate La
 ``DP16KD`` block RAMs (:mod:`dptbd.hw.dp16kd`), which the Yosys ECP5 cell library has as a
 blackbox only. ``dp16kd.v`` beside this module models the subset :mod:`dptbd.hw.dp16kd` uses
 and refuses every other parameter value; it is strict about X: every array word is X until
-written and every output latch and register X until first loaded (its header comment: the
-semantics, the Lattice document they follow, the subset). :func:`model_sources` gives the
+written, every output latch and register X until first loaded, a read of the word written
+at the same edge X (its header comment: the semantics, the Lattice document they follow,
+the subset). :func:`model_sources` gives the
 models a generated Verilog text needs; :mod:`dptbd.sim.reset_x` and the cocotb store benches
 add them to the ``iverilog`` sources.
 """

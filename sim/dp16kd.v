@@ -28,8 +28,10 @@
 // registers, so on the chip these read 0; a design that must not depend on that value sees
 // X here when it reads a word it has not written or an output register before its first
 // load. An X or Z on an enable, a select or an address makes the affected word (the whole
-// array for a write address) X. A write on port A and a read on port B of the same word at
-// the same edge read the word before the write.
+// array for a write address) X. CLKA and CLKB must be one clock (hw/dp16kd.py connects both
+// to the domain's; otherwise a $fatal at a CLKB edge). A read on port B of the word that
+// port A writes at the same edge reads X: the strict choice (the behavioural DP16KD reads
+// the word before the write), so a design that passes never depends on that collision.
 `timescale 1ns/1ps
 module DP16KD (
   input DIA17, DIA16, DIA15, DIA14, DIA13, DIA12, DIA11, DIA10, DIA9, DIA8, DIA7, DIA6, DIA5, DIA4, DIA3, DIA2, DIA1, DIA0,
@@ -205,14 +207,18 @@ module DP16KD (
 
   // Port B: CEB loads latch_b with the addressed word, OCEB loads out_b with latch_b (its
   // value before this edge), both at the same edge.
+  wire writing_a = CEA === 1'b1 && sel_a === 1'b1 && WEA !== 1'b0;
+  wire collision = writing_a && (word_a === word_b || ^word_a === 1'bx);
   always @(posedge CLKB) begin
+    if (CLKA !== CLKB)
+      $fatal(1, "DP16KD %m: CLKA and CLKB must be one clock, CLKA = %b at a CLKB edge", CLKA);
     if (CEB === 1'b1 && sel_b === 1'b1 && WEB !== 1'b0)
       $fatal(1, "DP16KD %m: port B writes are not modelled (WEB = %b with CEB = 1)", WEB);
     if (RSTB !== 1'b0) begin
       latch_b <= RSTB === 1'b1 ? {W{1'b0}} : {W{1'bx}};
       out_b <= RSTB === 1'b1 ? {W{1'b0}} : {W{1'bx}};
     end else begin
-      if (CEB === 1'b1 && sel_b === 1'b1) latch_b <= mem[word_b];
+      if (CEB === 1'b1 && sel_b === 1'b1) latch_b <= collision ? {W{1'bx}} : mem[word_b];
       else if (!(CEB === 1'b0 || sel_b === 1'b0)) latch_b <= {W{1'bx}};
       if (OCEB === 1'b1) out_b <= latch_b;
       else if (OCEB !== 1'b0) out_b <= {W{1'bx}};

@@ -52,13 +52,17 @@ class Ram(wiring.Component):
 
 def stimulus(width: int, depth: int, cycles: int, seed: int) -> list[dict]:
     """Random cycles over eight addresses at each end of the memory (words written, read
-    back, overwritten, read in the cycle they are written; the last four never written)."""
+    back, overwritten, read at the edge they are written; the last four never written)."""
     rng = np.random.default_rng(seed)
     addresses = [*range(8), *range(depth - 8, depth)]
-    return [{"write_en": int(rng.random() < 0.4), "write_addr": int(rng.choice(addresses[:-4])),
-             "write_data": int(rng.integers(0, 1 << width)),
-             "read_en": int(rng.random() < 0.7), "read_addr": int(rng.choice(addresses)),
-             "out_en": int(rng.random() < 0.7)} for _ in range(cycles)]
+    cycles = [{"write_en": int(rng.random() < 0.4), "write_addr": int(rng.choice(addresses[:-4])),
+               "write_data": int(rng.integers(0, 1 << width)),
+               "read_en": int(rng.random() < 0.7), "read_addr": int(rng.choice(addresses)),
+               "out_en": int(rng.random() < 0.7)} for _ in range(cycles)]
+    for cycle in cycles:                 # one read in ten of the word written at its edge
+        if rng.random() < 0.1:
+            cycle["read_addr"] = cycle["write_addr"]
+    return cycles
 
 
 def amaranth_words(width: int, depth: int, cycles: list[dict]) -> list[int]:
@@ -129,10 +133,12 @@ def run_icarus(tmp_path, sources) -> subprocess.CompletedProcess:
 def written_outputs(cycles: list[dict]) -> list[bool]:
     """After each cycle's edge: whether the output register holds a word written before it
     was read (the array's read is registered by ``read_en``, loaded by ``out_en``, both at
-    the same edge; a read at the edge of a write to its word reads the word before)."""
+    the same edge; a read at the edge of a write to its word is X in the Verilog model, the
+    word before in the behavioural one)."""
     written, latch, out, known = set(), False, False, []
     for c in cycles:
-        latch, out = (c["read_addr"] in written if c["read_en"] else latch,
+        collision = c["write_en"] and c["write_addr"] == c["read_addr"]
+        latch, out = (c["read_addr"] in written and not collision if c["read_en"] else latch,
                       latch if c["out_en"] else out)
         if c["write_en"]:
             written.add(c["write_addr"])
@@ -145,7 +151,8 @@ def written_outputs(cycles: list[dict]) -> list[bool]:
 def test_the_verilog_model_reads_what_the_behavioural_one_reads(tmp_path, width, depth):
     """At every data width (and 14 bits of one x18 cell, 23 bits over two): 400 random
     cycles; the words agree wherever the output register holds a written word; everywhere
-    else (before the first load, an unwritten word) every bit is X."""
+    else (before the first load, an unwritten word, a word read as it was written) every
+    bit is X."""
     cycles = stimulus(width, depth, 400, seed=width)
     want = amaranth_words(width, depth, cycles)
     got = icarus_words(tmp_path, width, depth, cycles)
@@ -155,6 +162,8 @@ def test_the_verilog_model_reads_what_the_behavioural_one_reads(tmp_path, width,
     for index, (bits, value, valid) in enumerate(zip(got, want, known)):
         assert bits == (f"{value:0{width}b}" if valid else "x" * width), (index, bits, value)
     assert 150 < sum(known) < len(cycles) - 50              # both kinds, many of each
+    assert sum(c["read_en"] and c["write_en"] and c["read_addr"] == c["write_addr"]
+               for c in cycles) > 10                        # collisions among them
     assert dp16kd_config(depth)[0] == min(width, 18) or width in (14, 23)
 
 
@@ -249,6 +258,18 @@ def test_a_write_on_port_b_is_refused(tmp_path):
     assert result.returncode != 0 and len(fatal) == 1
     assert re.match(whole("DP16KD tb.u: port B writes are not modelled (WEB = 1 with CEB = 1)"),
                     fatal[0].split(": ", 2)[2]), result.stdout
+
+
+def test_two_clocks_are_refused(tmp_path):
+    """CLKA and CLKB must be one clock (a collision is the same edge's)."""
+    bench = instance(18, {}, connections="  wire clk2 = ~clk;\n"
+                     + read_after("")).replace(".CLKB(clk)", ".CLKB(clk2)")
+    (tmp_path / "tb.v").write_text(bench)
+    result = run_icarus(tmp_path, ["tb.v"])
+    fatal = [line for line in result.stdout.splitlines() if line.startswith("FATAL")]
+    assert result.returncode != 0 and len(fatal) == 1
+    assert re.match(whole("DP16KD tb.u: CLKA and CLKB must be one clock, CLKA = 0 at a CLKB "
+                          "edge"), fatal[0].split(": ", 2)[2]), result.stdout
 
 
 def test_the_models_are_found_for_the_cells_a_text_instantiates():
