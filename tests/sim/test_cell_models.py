@@ -175,8 +175,10 @@ def instance(width: int, parameters: dict, *, byte_enables: str = "2'b11",
     params = ", ".join(f".{k}({v})" for k, v in values.items())
     lsb = {18: 4, 9: 3, 4: 2, 2: 1, 1: 0}[width]
     pins = [f".DIA{k}(di[{k}])" for k in range(18)]
-    pins += [f".ADA{k}({f'be[{k}]' if width == 18 and k < 2 else 0 if k < lsb else f'wa[{k - lsb}]'})"
-             for k in range(14)]
+    def write_pin(k):                    # x18: ADA[1:0] the byte enables
+        return f"be[{k}]" if width == 18 and k < 2 else 0 if k < lsb else f"wa[{k - lsb}]"
+
+    pins += [f".ADA{k}({write_pin(k)})" for k in range(14)]
     pins += [f".ADB{k}({0 if k < lsb else f'ra[{k - lsb}]'})" for k in range(14)]
     pins += [f".DOB{k}(dob[{k}])" for k in range(18)]
     pins += [".CEA(1'b1)", ".OCEA(1'b1)", ".CLKA(clk)", ".WEA(we)", ".RSTA(1'b0)",
