@@ -24,10 +24,10 @@
 //
 // 4-state, strict: every array word is X until written (or given by an INITVAL_nn; an
 // INITVAL_nn not given leaves its 16 words X), and the output latches and registers are X
-// until first loaded (no GSR). The ECP5 bitstream zeroes the block RAM and GSR clears the
-// registers, so on the chip these read 0; a design that must not depend on that value sees
-// X here when it reads a word it has not written or an output register before its first
-// load. An X or Z on an enable, a select or an address makes the affected word (the whole
+// until first loaded (GSR "DISABLED"). On the chip the array starts as the bitstream loads
+// it (zeros when not initialised) and the registers at their configuration value; a design
+// that must not depend on those values sees X here when it reads a word it has not written
+// or an output register before its first load. An X or Z on an enable, a select or an address makes the affected word (the whole
 // array for a write address) X. CLKA and CLKB must be one clock (hw/dp16kd.py connects both
 // to the domain's; otherwise a $fatal at a CLKB edge). A read on port B of the word that
 // port A writes at the same edge reads X: the strict choice (the behavioural DP16KD reads
