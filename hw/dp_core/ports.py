@@ -16,7 +16,8 @@ __all__ = ["lut_write_members", "family_write_members", "family_write_ports",
 
 
 def lut_write_members(cfg: DPConfig) -> dict:
-    """The LUT write port members shared by :class:`~dptbd.hw.dp_core.core.DPCore` and ``DPPipeline``."""
+    """The LUT write port members shared by :class:`~dptbd.hw.dp_core.core.DPCore` and
+    ``DPPipeline``."""
     return {
         "lut_addr": In(range(cfg.lut_entries)),
         "lut_data": In(cfg.weight_bits),
@@ -26,9 +27,10 @@ def lut_write_members(cfg: DPConfig) -> dict:
 
 # ---- paper 000's family (docs/arithmetic.md §8) ------------------------------------------
 def family_write_members(cfg: DPConfig) -> dict:
-    """The merit and penalty LUT write ports, shared by :class:`~dptbd.hw.dp_core.core.DPCore` and ``DPPipeline``:
-    each exists only when its LUT is built (:class:`~dptbd.hw.family_blocks.FamilyBlocks`),
-    so a paper-001 configuration has none."""
+    """The merit and penalty LUT write ports, shared by
+    :class:`~dptbd.hw.dp_core.core.DPCore` and ``DPPipeline``: each exists only when its LUT
+    is built (:class:`~dptbd.hw.family_blocks.FamilyBlocks`), so a paper-001 configuration
+    has none."""
     blocks = FamilyBlocks.from_config(cfg)
     members = {}
     if blocks.merit_lut:
@@ -53,8 +55,9 @@ def family_write_ports(cfg: DPConfig) -> tuple[str, ...]:
 
 
 def run_time_k_members(cfg: DPConfig) -> dict:
-    """The run-time K port and the DP's event outputs, shared by :class:`~dptbd.hw.dp_core.core.DPCore` and
-    ``DPPipeline`` (``docs/gateware.md``, "Run-time settings" and "Events")."""
+    """The run-time K port and the DP's event outputs, shared by
+    :class:`~dptbd.hw.dp_core.core.DPCore` and ``DPPipeline`` (``docs/gateware.md``,
+    "Run-time settings" and "Events")."""
     return {
         "segment_frames": In(range(1, cfg.k_max + 1), init=cfg.segment_frames),
         "segment_begin": Out(1),

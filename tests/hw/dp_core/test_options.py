@@ -25,7 +25,7 @@ def test_core_options_are_what_dpcore_takes_and_reports():
     ("lutram", 4, ("distributed", True)), ("lutram", 6, ("distributed", True)),
     ("lutram", 7, ("distributed", False)), ("lutram", 2, ("distributed", False)),
     ("dp16kd", 8, ("dp16kd", False)),
-])
+], ids=lambda v: v if isinstance(v, (str, int)) else "-".join(map(str, v)))
 def test_line_buffer_of_each_style(monkeypatch, style, depth, chosen):
     """LUT RAM reads interleaved at an even depth >= 4 only; the other styles never do."""
     made = []
