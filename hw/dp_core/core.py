@@ -1,9 +1,5 @@
-"""DPCore: the DP pipeline without its state store, one pixel per clock.
-
-Streams in, streams out, a state-store port (:class:`~dptbd.hw.state_store.StateStoreSignature`);
-its stages are built here, its output queue by
-:func:`~dptbd.hw.dp_core.output_queue.queue_output`.
-"""
+"""DPCore, the DP pipeline without its state store: its stages; its output queue is
+:func:`~dptbd.hw.dp_core.output_queue.queue_output`'s."""
 
 from __future__ import annotations
 
