@@ -26,6 +26,7 @@ any other tool failure raise :class:`SynthToolError` (or a subclass) with the lo
 
 The steps live beside this module: :mod:`~dptbd.hw.flow.family` (what differs between
 iCE40 and ECP5), :mod:`~dptbd.hw.flow.tools` (running the tools and their errors),
+:mod:`~dptbd.hw.flow.variants` (the design each variant builds),
 :mod:`~dptbd.hw.flow.yosys` (synthesis, cell counts, the per-block breakdown) and
 :mod:`~dptbd.hw.flow.nextpnr` (place and route); their public names are re-exported here.
 
@@ -56,6 +57,7 @@ from dptbd.hw.flow.tools import (
     PYPI_PACKAGES, SynthToolError, ToolNotFoundError, ToolTimeoutError, require_tool,
     tool_version,
 )
+from dptbd.hw.flow.variants import ON_CHIP_STORE, SEGMENTER_TOPS, VARIANTS, variant_verilog
 from dptbd.hw.flow.yosys import (
     NETLIST_NAME, CellCounts, block_breakdown, parse_yosys_stat_json, parse_yosys_stat_text,
     run_yosys,
@@ -70,33 +72,6 @@ __all__ = [
     "parse_nextpnr_report", "pick_clock", "require_tool", "tool_version",
     "run_yosys", "run_nextpnr", "synthesize",
 ]
-
-#: ``"core"``: DPCore, state store outside (port ``state_store__*``); ``"top"``: DPPipeline
-#: (on-chip store); ``"segmenter"``: DPSegmenter (DPPipeline and Segmenter);
-#: ``"core-regio"``: DPCore behind a register on every port
-#: (:class:`~dptbd.hw.flow.registered_ports.RegisteredPorts`: its Fmax without the pins'
-#: pull on the core's registers; its cells include the port registers);
-#: ``"segmenter-ext"``: DPSegmenter with the state store outside (``state_store__*``);
-#: ``"axi"``: the AXI top level (:class:`~dptbd.hw.axi_top.AXITop`, on-chip store);
-#: ``"axi-ext"``: AXITop with the state store outside, its ports folded onto two pins
-#: (:class:`~dptbd.hw.flow.registered_ports.FoldedPorts`: 221 ports do not fit the HX8K's
-#: 206 I/O; its cells include about one flip-flop per port bit).
-#: ``"core-folded"``: ``"core"``'s module with its ports folded onto two pins the same way
-#: (DPCoreWide's state-store ports at 4 pixels per clock exceed the ECP5 CABGA256's I/O).
-#: ``"dp-axi"``: ``dptbd_dp --state-store axi`` (the DP core with its state in external
-#: memory behind the AXI4 port, ``cfg.axi_store()``'s defaults: 64-bit, bursts of 16, 4
-#: outstanding), its ports folded onto two pins the same way; ``"axi-store"``: ``dptbd_axi
-#: --state-store axi`` (:class:`~dptbd.hw.axi_store.top.AXITopStore`, the same store), its
-#: ports folded.
-VARIANTS = ("core", "top", "segmenter", "core-regio", "segmenter-ext", "axi",
-            "axi-ext", "core-folded", "dp-axi", "axi-store")
-
-#: The variants with the W*H-word state store on chip (checked against the device's block
-#: RAM before any tool runs).
-ON_CHIP_STORE = ("top", "segmenter", "axi")
-
-#: The variants of a segmenter top (DPSegmenter, AXITop): the weight LUT's style is automatic.
-SEGMENTER_TOPS = ("segmenter", "segmenter-ext", "axi", "axi-ext", "axi-store")
 
 VERILOG_NAME = "dptbd_dp.v"
 
@@ -199,47 +174,6 @@ class SynthResult:
 
 def _config_params(cfg: DPConfig) -> dict:
     return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg) if f.name != "weights"}
-
-
-def _write_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: Mapping,
-                   work: pathlib.Path) -> str:
-    """The Verilog text of module ``dptbd_dp`` for ``variant`` (its manifest beside it for
-    ``core`` / ``top``)."""
-    from dptbd.hw.flow.verilog import MODULE_NAME, build_top, generate_verilog  # on demand
-    if variant in ("core-regio", "core-folded"):
-        from dptbd.hw.flow.registered_ports import FoldedPorts, RegisteredPorts
-        from dptbd.hw.flow.to_verilog import to_verilog
-        core = build_top(cfg, external_state_store=True, lut_style=lut_style,
-                         core_options=core_options)
-        wrap = RegisteredPorts if variant == "core-regio" else FoldedPorts
-        return to_verilog(wrap(core), MODULE_NAME)
-    if variant == "dp-axi":
-        from dptbd.hw.flow.registered_ports import FoldedPorts
-        from dptbd.hw.flow.to_verilog import to_verilog
-        top = build_top(cfg, lut_style=lut_style, core_options=core_options,
-                        state_store=cfg.axi_store())
-        return to_verilog(FoldedPorts(top), MODULE_NAME)
-    if variant == "axi-store":
-        from dptbd.hw.axi_store.top import AXITopStore
-        from dptbd.hw.flow.registered_ports import FoldedPorts
-        from dptbd.hw.flow.to_verilog import to_verilog
-        top = AXITopStore(cfg.axi_store(), core_options=core_options)
-        return to_verilog(FoldedPorts(top), MODULE_NAME)
-    if variant in ("core", "top"):
-        text, _ = generate_verilog(cfg, external_state_store=(variant == "core"),
-                                   lut_style=lut_style, core_options=core_options,
-                                   manifest_path=work / "dptbd_dp.json")
-        return text
-    from dptbd.hw.flow.to_verilog import to_verilog
-    external = variant.endswith("-ext")
-    if variant.startswith("axi"):
-        from dptbd.hw.axi_top import AXITop
-        from dptbd.hw.flow.registered_ports import FoldedPorts
-        top = AXITop(cfg, core_options=core_options, external_state_store=external)
-        return to_verilog(FoldedPorts(top) if external else top, MODULE_NAME)
-    from dptbd.hw.dp_segmenter_top import DPSegmenter
-    return to_verilog(DPSegmenter(cfg, core_options=core_options,
-                                  external_state_store=external), MODULE_NAME)
 
 
 def _core_options(fam: Family, cfg: DPConfig, core_options: Mapping | None) -> dict:
@@ -374,7 +308,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     try:
         from dptbd.hw.flow.verilog import MODULE_NAME
         start = time.monotonic()
-        text = _write_verilog(cfg, variant, lut_style, options, work)
+        text = variant_verilog(cfg, variant, lut_style, options, work)
         if verilog_filter is not None:
             text = verilog_filter(text)
         verilog_path = work / VERILOG_NAME

@@ -22,7 +22,7 @@ import pytest
 from amaranth.hdl import Module
 
 from dptbd.config import DPConfig
-from dptbd.hw import dp_core
+from dptbd.hw.dp_core import core as dp_core
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.sim.x_store import run_x_store_check
 

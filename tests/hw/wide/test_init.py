@@ -105,12 +105,12 @@ def test_line_buffer_of_each_style(monkeypatch, width, style, chosen):
     """At P = 4 the LUT-RAM line buffer reads interleaved (as DPCore's) when a row has an
     even number of beats >= 4; the DP16KD one at 3 beats (the fewest a row has); bit for bit
     either way."""
-    import dptbd.hw.dp_core as dp_core
+    import dptbd.hw.dp_core.options as options
 
     model_dp16kd_cells(monkeypatch)
     made = []
-    real = dp_core.LineBuffer
-    monkeypatch.setattr(dp_core, "LineBuffer",
+    real = options.LineBuffer
+    monkeypatch.setattr(options, "LineBuffer",
                         lambda *a, **k: made.append(k) or real(*a, **k))
     cfg = make_config(width=width, height=6, segment_frames=3, pixels_per_clock=4)
     dut = DPPipelineWide(cfg, line_buffer_style=style)

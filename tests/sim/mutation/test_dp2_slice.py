@@ -99,7 +99,7 @@ def test_the_original_passes_a_run_of_every_kind_and_four_mutants_are_killed():
     lut, begin, credit, stuck = sample[0], sample[228], sample[165], sample[129]
     assert (lut.source, lut.mode, lut.cell, lut.portbit) == \
         ("hw/weight_lut.py:240", "const1", "core.weight_lut_1.column_1", 41)
-    assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core.py:110", "const1",
+    assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core/ports.py:63", "const1",
                                                       "segment_begin")
     assert (credit.source, credit.mode, credit.wire, credit.wirebit, credit.ctrlbit) == \
         ("hw/thermometer_counter.py:50", "cnot0", "core.input_credit.at_least", 1, 0)

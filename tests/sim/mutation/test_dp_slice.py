@@ -110,7 +110,7 @@ def test_the_original_passes_a_run_of_every_kind_and_two_mutants_are_killed():
     lut, begin = sample[214], sample[71]
     assert (lut.source, lut.mode, lut.cell, lut.portbit, lut.wirebit) == \
         ("hw/weight_lut.py:240", "const0", "core.weight_lut.column_0", 48, 3)
-    assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core.py:110", "const0",
+    assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core/ports.py:63", "const0",
                                                       "segment_begin")
     commands, refused = mutant_design(cfg, "dp", [lut, begin])
     assert refused == []

@@ -48,7 +48,7 @@ end
 
 #: FRAMES' bit 19 XORed with its bit 25 at its register's output (mutant 151 of ``--seed 1``
 #: on the netlist before the register block was decoded at the handshakes, named anew on
-#: today's), killed by the ``presets`` run (tests/sim/mutation/test_axi_slice.py).
+#: today's), killed by the ``presets`` run (tests/sim/mutation/slices/axi/test_timing.py).
 FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1506 "
                          "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames -wirebit 19 "
                          "-src hw/register_file.py:116")

@@ -234,7 +234,7 @@ def lut_entry_steps(cfg: DPConfig) -> tuple:
     """The beats and steps of the ``lut-entry`` run: :func:`lut_entry_codes` written from
     the first beat, 8 frames of uniform noise, K = K_max, n = C (every pixel's E and
     direction in the lists): a code of :data:`LUT_ENTRY` with bit 0 changed changes the
-    lists (``tests/sim/mutation/test_axi_slice.py`` shows it on the model)."""
+    lists (``tests/sim/mutation/slices/axi/test_registers.py`` shows it on the model)."""
     import numpy as np
 
     from dptbd.sim.axi.stimulus import clean_beats

@@ -1,11 +1,5 @@
-"""The DP pipeline without its state store: streams in, streams out, a state-store port.
-
-Use :class:`~dptbd.hw.dp_pipeline.DPPipeline` for the complete design with on-chip state
-memory; use :class:`DPCore` directly when the W*H-word state store lives elsewhere (an
-external SRAM, a larger block RAM), attached to the ``state_store`` port
-(:class:`~dptbd.hw.state_store.StateStoreSignature`). ``docs/gateware.md`` describes the
-pipeline stage by stage; :class:`~dptbd.hw.schedule.PipelineSchedule` gives its timing.
-"""
+"""DPCore, the DP pipeline without its state store: its stages; its output queue is
+:func:`~dptbd.hw.dp_core.output_queue.queue_output`'s."""
 
 from __future__ import annotations
 
@@ -17,110 +11,26 @@ from dptbd.config import DPConfig
 from dptbd.hw.accumulator import Accumulator, ClampedAccumulator
 from dptbd.hw.controller import Controller
 from dptbd.hw.delay import delayed, delayed_in_memory
+from dptbd.hw.dp_core.options import LINE_BUFFER_STYLES, SIDEBAND_DELAYS, core_line_buffer
+from dptbd.hw.dp_core.output_queue import queue_output
+from dptbd.hw.dp_core.ports import family_write_members, lut_write_members, run_time_k_members
 from dptbd.hw.family_blocks import FamilyBlocks
 from dptbd.hw.forgetting_multiplier import ForgettingMultiplier
 from dptbd.hw.histogram import HISTOGRAM_STYLES
-from dptbd.hw.input_credit import InputCredit
-from dptbd.hw.layouts import event_layout, pixel_layout, state_layout, state_word_layout
-from dptbd.hw.line_buffer import LineBuffer
+from dptbd.hw.layouts import pixel_layout, state_layout, state_word_layout
 from dptbd.hw.max_tree import MaxTree
 from dptbd.hw.merit_lut import MeritLUT
 from dptbd.hw.penalised_candidate import PenalisedCandidate
 from dptbd.hw.penalty_lut import PenaltyLUT
 from dptbd.hw.pipelined_max import SplitMaxTree
 from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
-from dptbd.hw.schedule import MAX_TREE_STAGES, PipelineSchedule, check_supported
+from dptbd.hw.schedule import PipelineSchedule, check_supported
 from dptbd.hw.state_store import StateStoreSignature
-from dptbd.hw.thermometer_fifo import ThermometerFIFO
 from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.hw.window import Window
 
-__all__ = ["DPCore", "LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS",
-           "lut_write_members", "family_write_members", "family_write_ports",
-           "run_time_k_members", "state_events"]
-
-#: ``DPCore(line_buffer_style=…)`` and the line buffer memory's ``ram_style`` for each.
-LINE_BUFFER_RAM_STYLE = {"bram": None, "lutram": "distributed", "dp16kd": "dp16kd"}
-LINE_BUFFER_STYLES = tuple(LINE_BUFFER_RAM_STYLE)
-#: ``DPCore(sideband_delay=…)``.
-SIDEBAND_DELAYS = ("registers", "memory")
-
-#: DPCore's implementation options (keyword arguments) with their allowed values; none
-#: changes behaviour (``max_tree`` changes the latency), the synthesis flow picks them per
-#: FPGA family. ``state_store_style`` is the on-chip store's (DPPipeline's) and
-#: ``histogram_style`` the segmenter's histogram's, carried here so that one set of options
-#: reaches every top.
-CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS,
-                "max_tree": tuple(MAX_TREE_STAGES), "state_store_style": STATE_STORE_STYLES,
-                "histogram_style": HISTOGRAM_STYLES}
-
-
-def core_line_buffer(shape, depth: int, taps: int, style: str) -> LineBuffer:
-    """The line buffer of ``line_buffer_style`` ``style`` (DPCore's and DPCoreWide's):
-    ``"lutram"`` read interleaved when ``depth`` is even and >= 4, ``"dp16kd"`` the ECP5
-    DP16KDs read through their output register (``depth`` >= 3: a row has at least 3
-    pixels, a beat row at least 3 beats)."""
-    return LineBuffer(shape, depth=depth, taps=taps, ram_style=LINE_BUFFER_RAM_STYLE[style],
-                      interleaved_read=style == "lutram" and depth % 2 == 0 and depth >= 4)
-
-
-def lut_write_members(cfg: DPConfig) -> dict:
-    """The LUT write port members shared by :class:`DPCore` and ``DPPipeline``."""
-    return {
-        "lut_addr": In(range(cfg.lut_entries)),
-        "lut_data": In(cfg.weight_bits),
-        "lut_we": In(1),
-    }
-
-
-# ---- paper 000's family (docs/arithmetic.md §8) ------------------------------------------
-def family_write_members(cfg: DPConfig) -> dict:
-    """The merit and penalty LUT write ports, shared by :class:`DPCore` and ``DPPipeline``:
-    each exists only when its LUT is built (:class:`~dptbd.hw.family_blocks.FamilyBlocks`),
-    so a paper-001 configuration has none."""
-    blocks = FamilyBlocks.from_config(cfg)
-    members = {}
-    if blocks.merit_lut:
-        members.update({
-            "merit_addr": In(cfg.input_bits),
-            "merit_data": In(signed(cfg.merit_width)),
-            "merit_we": In(1),
-        })
-    if blocks.penalty_lut:
-        members.update({
-            "penalty_addr": In(range(cfg.lut_entries)),
-            "penalty_data": In(cfg.penalty_width),
-            "penalty_we": In(1),
-        })
-    return members
-
-
-def family_write_ports(cfg: DPConfig) -> tuple[str, ...]:
-    """Names of the members :func:`family_write_members` adds for ``cfg``."""
-    return tuple(family_write_members(cfg))
-# ---- end of paper 000's family -----------------------------------------------------------
-
-
-def run_time_k_members(cfg: DPConfig) -> dict:
-    """The run-time K port and the DP's event outputs, shared by :class:`DPCore` and
-    ``DPPipeline`` (``docs/gateware.md``, "Run-time settings" and "Events")."""
-    return {
-        "segment_frames": In(range(1, cfg.k_max + 1), init=cfg.segment_frames),
-        "segment_begin": Out(1),
-        "events": Out(event_layout(cfg)),
-    }
-
-
-def state_events(m: Module, events, states, saturated) -> None:
-    """Drive ``events`` from a ``states`` stream: ``frame_done``, ``segment_done`` and
-    ``saturated`` (the word's ``saturated`` flag) pulse with the word's handshake."""
-    transfer = states.valid & states.ready
-    m.d.comb += [
-        events.frame_done.eq(transfer & states.payload.end_of_frame),
-        events.segment_done.eq(transfer & states.payload.end_of_segment),
-        events.saturated.eq(transfer & saturated),
-    ]
+__all__ = ["DPCore"]
 
 
 class DPCore(wiring.Component):
@@ -485,53 +395,6 @@ class DPCore(wiring.Component):
             self.state_store.write_data.direction.eq(accumulator.direction),
             self.state_store.write_en.eq(at_state.valid),
         ]
-        result = Signal(state_layout(cfg))
-        m.d.comb += [
-            result.energy.eq(accumulator.energy),
-            result.direction.eq(accumulator.direction),
-            result.end_of_line.eq(at_state.end_of_line),
-            result.end_of_frame.eq(at_state.end_of_frame),
-            result.end_of_segment.eq(at_state.end_of_segment),
-        ]
-        # The FIFO also carries the accumulator's saturated flag, for the `saturated` event.
-        # Its flags and the input credit are registers of
-        # thermometer counters (hw/thermometer_fifo.py, hw/input_credit.py): the cycles
-        # of SyncFIFOBuffered and of a binary credit counter, without their adders and
-        # comparators on the way to `states.valid`'s successor and to `pixels.ready`.
-        # The word's flags (line, frame, segment ends, saturated) go through a twin FIFO in
-        # flip-flops, in lockstep with the memory FIFO of (E, d): the segmenter's control,
-        # which reads them with the word, does not wait on a block-RAM read.
-        flag_layout = data.StructLayout({"end_of_line": 1, "end_of_frame": 1,
-                                         "end_of_segment": 1, "saturated": 1})
-        m.submodules.output_fifo = output_fifo = ThermometerFIFO(
-            state_word_layout(cfg), self._fifo_depth)
-        m.submodules.output_flags = output_flags = ThermometerFIFO(
-            flag_layout, self._fifo_depth, storage="registers")
-        m.d.comb += [
-            output_fifo.w.payload.energy.eq(result.energy),
-            output_fifo.w.payload.direction.eq(result.direction),
-            output_flags.w.payload.end_of_line.eq(result.end_of_line),
-            output_flags.w.payload.end_of_frame.eq(result.end_of_frame),
-            output_flags.w.payload.end_of_segment.eq(result.end_of_segment),
-            output_flags.w.payload.saturated.eq(accumulator.saturated),
-            output_fifo.w.valid.eq(at_state.valid),
-            output_flags.w.valid.eq(at_state.valid),
-            self.states.payload.energy.eq(output_fifo.r.payload.energy),
-            self.states.payload.direction.eq(output_fifo.r.payload.direction),
-            self.states.payload.end_of_line.eq(output_flags.r.payload.end_of_line),
-            self.states.payload.end_of_frame.eq(output_flags.r.payload.end_of_frame),
-            self.states.payload.end_of_segment.eq(output_flags.r.payload.end_of_segment),
-            self.states.valid.eq(output_fifo.r.valid),
-            output_fifo.r.ready.eq(self.states.ready),
-            output_flags.r.ready.eq(self.states.ready),
-        ]
-        state_events(m, self.events, self.states, output_flags.r.payload.saturated)
-
-        # ---- credits: accept only what the FIFO is sure to have room for -------------
-        m.submodules.input_credit = credit = InputCredit(self._fifo_depth)
-        m.d.comb += [
-            credit.accept.eq(accept),
-            credit.handed_out.eq(self.states.valid & self.states.ready),
-            input_ready.eq(credit.ready),
-        ]
+        queue_output(m, cfg, self._fifo_depth, accumulator, at_state, self.states,
+                     self.events, accept, input_ready)
         return m

@@ -1,24 +1,16 @@
-"""The ``axi`` slice (``dptbd_axi``): its runs of exact cycles, the register-space sweep,
-the runs of n, noise, resyncs, backward LUT writes and output back-pressure. The original
-passes each; mutants no earlier run of the slice kills fall to them: the
-IRQ_ENABLE.segment_done flop clocked on the falling edge (``irq`` one cycle early after an
-IRQ_ENABLE write), the copy of ``cut`` in ``close`` inverted (the soft reset's registered
-restart one cycle late after the cut trailer), ERROR.write_refused's bit of the AXI4-Lite write data stuck
-at 0 (an all-ones W1C leaves it set), ``lut_we``
-inverted, a LUT column's write enable XORed with another's, bit 21 of the read data stuck
-at 0, LISTS' bit 22 XORed with its bit 13; and, with the counters preset, LISTS' bit 29
-XORed with its bit 16 and FRAMES' bit 19 with its bit 25; the checks added for today's
-register block (decoded at the handshakes) kill a LUT write taken without byte strobe 1, a
-write to ERROR decoded at IRQ_STATUS too, counter bits read at unaligned addresses, a
-counter's increment from a preset with bit 14 set and a soft reset's cut that drops a word
-offered and not taken; the ``shifts`` and ``line-ends`` runs kill the selection at shift 6
+"""The ``axi`` slice (``dptbd_axi``): the runs that drive the register block
+(:mod:`dptbd.sim.mutation.slices.axi.registers`): the register-space sweep, the runs of n,
+noise, resyncs, backward LUT writes and output back-pressure. The original passes each;
+mutants no earlier run of the slice kills fall to them: ERROR.write_refused's bit of the
+AXI4-Lite write data stuck at 0 (an all-ones W1C leaves it set), ``lut_we`` inverted, a LUT
+column's write enable XORed with another's, bit 21 of the read data stuck at 0, LISTS' bit
+22 XORed with its bit 13; the ``shifts`` and ``line-ends`` runs kill the selection at shift 6
 compared with 4 and the frame monitor's line count that ignores a start of frame."""
 
 from __future__ import annotations
 
 import pytest
 
-from dptbd.hw.register_map import constants_namespace
 from dptbd.sim import verilator as V
 from dptbd.sim.mutation.netlist import parse_mutations
 from dptbd.sim.mutation.run import config, mutant_design, run_slice
@@ -32,11 +24,6 @@ tools = pytest.mark.skipif(not have_mutation_tools(), reason="needs Verilator, g
 #: The mutations, as ``mutate -list`` prints them on today's netlist (cell names are the
 #: netlist's: they change with ``hw/register_file.py``, ``hw/axi_lite.py`` and
 #: ``hw/axis_video.py``).
-IRQ_ENABLE_ON_FALLING_EDGE = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$1482 "
-                              "-port CLK -portbit 0 -src hw/register_file.py:120")
-RESTART_AFTER_THE_CUT_TRAILER = ("mutate -mode inv -module dptbd_axi -cell "
-                                 "$flatten\\cand_out.$70 -port Y -portbit 0 "
-                                 "-src hw/axis_video.py:167")
 #: The five the ``decode``, ``noise``, ``lut-reverse``, ``stalls`` and ``lists`` runs kill
 #: (mutants 97, 65, 114, 41 and 177 of ``--seed 1`` on the netlist before the register
 #: block was decoded at the handshakes, named anew on today's).
@@ -61,63 +48,8 @@ LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\re
 RESYNC_STUCK_AT_0 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\dp.\\core.$25 "
                      "-port Y -portbit 0 -wire core.resync -wirebit 0 -src hw/dp_core.py:247 "
                      "-src hw/dp_core.py:326")
-#: Mutants 100 and 151 of ``--seed 1`` on the earlier netlist: a counter's high bit XORed
-#: with a bit it reaches only after 2**16 lists or 2**25 frames; the ``presets`` run loads
-#: both.
-LISTS_BIT_29_WITH_16 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1510 "
-                        "-port Q -portbit 29 -ctrlbit 16 -wire regs.lists -wirebit 29 "
-                        "-src hw/register_file.py:116")
-FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1506 "
-                         "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames -wirebit 19 "
-                         "-src hw/register_file.py:116")
 READ_DATA_BIT_21 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$94 "
                     "-port D -portbit 21 -src hw/axi_lite.py:48")
-
-
-def test_irq_plan_sets_both_pending_bits_and_toggles_irq():
-    cfg = config("axi")
-    regs = constants_namespace(cfg)
-    beats, ops, responses = S.irq_plan(cfg)
-    assert len(beats) == 2 * cfg.width * cfg.height
-    assert ops[0] == (0, "w", regs.REG_SEGMENT_FRAMES, 0)          # refused: fault pending
-    assert [op[1] for op in ops].count("i") == 1
-    assert len(responses) == len(ops) - 1 and responses[0] == 2
-    # irq rises three times and falls three times, with both enable bits and both W1C bits
-    levels = [after for _, _, after in S.IRQ_WRITES]
-    assert sum(b > a for a, b in zip([0, *levels], levels)) == 3
-    assert sum(b < a for a, b in zip([0, *levels], levels)) == 3
-
-
-def test_restart_plan_soft_resets_inside_a_list_and_after_the_settle():
-    cfg = config("axi")
-    regs = constants_namespace(cfg)
-    beats, ops, (cut_at, idle_at), (first, second) = S.restart_plan(cfg)
-    writes = [op for op in ops if op[1] in "wr"]
-    assert writes[first] == (cut_at, "w", regs.REG_CONTROL, regs.CONTROL_SOFT_RESET_MASK)
-    assert writes[second] == (idle_at, "w", regs.REG_CONTROL, regs.CONTROL_SOFT_RESET_MASK)
-    assert writes[1] == (0, "w", regs.REG_CANDIDATE_COUNT, cfg.record_capacity)
-    assert 2 * cfg.width * cfg.height < cut_at < idle_at < len(beats)
-
-
-@tools
-def test_the_runs_of_exact_cycles_kill_irq_early_and_restart_late():
-    cfg = config("axi")
-    mutations = parse_mutations("\n".join([IRQ_ENABLE_ON_FALLING_EDGE,
-                                           RESTART_AFTER_THE_CUT_TRAILER]))
-    commands, refused = mutant_design(cfg, "axi", mutations)
-    assert refused == []
-    sim = V.build(cfg, "axi", mutations=commands)
-    runs = (("irq", 0), ("restart", 0))
-    assert run_slice(sim, 0, runs).verdict == "survived"
-    irq = run_slice(sim, 1, runs)
-    assert (irq.verdict, irq.run) == ("killed", "irq seed 0")
-    assert irq.report.startswith("irq changed in cycles ")
-    late = run_slice(sim, 2, runs)
-    assert (late.verdict, late.run) == ("killed", "restart seed 0")
-    assert late.report.startswith("after the cut trailer (cycle ")
-    # the other runs of exact cycles and counts do not see either (the runs count irq rises)
-    assert run_slice(sim, 1, (("counters", 0),)).verdict == "survived"
-    assert run_slice(sim, 2, (("faults", 0),)).verdict == "survived"
 
 
 def test_decode_sweep_reads_every_address_and_refuses_every_bit_above_a_limit():
@@ -218,143 +150,6 @@ def test_the_new_runs_kill_what_no_earlier_run_kills():
         outcome = run_slice(sim, index, new)
         assert (outcome.verdict, outcome.run) == ("killed", run), (index, outcome)
         assert report in outcome.report
-
-
-def test_lists_plan_reads_the_counters_at_both_parities():
-    cfg = config("axi")
-    regs = constants_namespace(cfg)
-    beats, ops, words = S.lists_plan(cfg)
-    assert len(beats) == cfg.width * cfg.height and S.LIST_COUNT >> 13 == 1
-    end = len(beats) * S.LIST_COUNT
-    reads = [op for op in ops if op[1] == "r"]
-    assert reads == 3 * [(end, "r", regs.REG_FRAMES, 0), (end, "r", regs.REG_SEGMENTS, 0),
-                         (end, "r", regs.REG_LISTS, 0)]
-    assert [op[2] for op in ops if op[1] == "i"] == [400, 1, 2]
-    assert len(words) == 3 and words[1] == words[2]      # one word a list, primed from 2
-
-
-def test_presets_plan_sets_every_counter_bit_both_ways_then_wraps():
-    from dptbd.sim.mutation.presets import preset_counters
-
-    cfg = config("axi")
-    regs = constants_namespace(cfg)
-    counters = preset_counters(cfg)
-    beats, ops, want = S.presets_plan(cfg)
-    assert S.PRESETS[0] | S.PRESETS[1] == 0xFFFF_FFFF and S.PRESETS[0] & S.PRESETS[1] == 0
-    assert len(beats) == S.PRESET_FRAMES * cfg.width * cfg.height
-    presets = [op for op in ops if op[1] == "p"]
-    assert presets == [(0, "p", i, v) for v in S.PRESETS for i in range(len(counters))]
-    reads = [op for op in ops if op[1] == "r"]
-    assert len(reads) == len(want) == (2 * len(counters) * (len(S.PRESETS) + 1)
-                                       + 3 * len(counters) * len(S.PRESETS))
-    assert want[:2 * len(counters)] == [S.PRESETS[0]] * 2 * len(counters)
-    unaligned = [(r[2], w) for r, w in zip(reads, want) if r[2] % 4]
-    assert len(unaligned) == 3 * len(counters) * len(S.PRESETS)
-    assert all(w is None for _, w in unaligned)          # 0 with SLVERR
-    assert {a & ~3 for a, _ in unaligned} == {getattr(regs, f"REG_{c.upper()}")
-                                              for c in counters}
-    end = dict(zip(counters, want[-len(counters):]))
-    assert end["frames"] == end["segments"] == end["lists"] == 3          # 2**32 - 3 + 6
-    assert end["output_stalls"] == end["fault_frame_long"] == 0xFFFF_FFFD
-
-
-@tools
-def test_the_presets_run_kills_counter_bits_no_count_reaches():
-    cfg = config("axi")
-    mutations = parse_mutations("\n".join([LISTS_BIT_29_WITH_16, FRAMES_BIT_19_WITH_25]))
-    commands, refused = mutant_design(cfg, "axi", mutations)
-    assert refused == []
-    sim = V.build(cfg, "axi", mutations=commands)
-    counting = (("counters", 0), ("lists", 0))
-    assert run_slice(sim, 0, (("presets", 0), *counting)).verdict == "survived"
-    for index, report in ((1, "read 22 (LISTS) gave 0x75555555, expected 0x55555555"),
-                          (2, "read 0 (FRAMES) gave 0xaaa2aaaa, expected 0xaaaaaaaa")):
-        assert run_slice(sim, index, counting).verdict == "survived"
-        outcome = run_slice(sim, index, (("presets", 0),))
-        assert (outcome.verdict, outcome.run, outcome.report) == \
-            ("killed", "presets seed 0", report)
-
-
-#: Mutants 11, 51, 113, 130, 16 and 199 of ``--seed 1`` (300 mutants, today's netlist),
-#: survivors of the slice before these checks: the LUT write's strobe check with strobe 1
-#: forced (a write without it taken), IRQ_STATUS' write decode with address bit 2 forced
-#: (a write to ERROR clears IRQ_STATUS too), a read select's unaligned term with address
-#: bit 1 forced 0 (INPUT_STALLS read at +2, +3) or forced true (LISTS read at +1 … +3;
-#: named after the bits the per-bit selects of the earlier netlist leaked, today's
-#: registered selects leak the whole word), FAULT_FRAME_SHORT's + 1 with bit 28 XORed with bit 14, and `passing`'s copy
-#: that loads `held` without its ~request term (`held` is never set: a word offered and
-#: not taken when a soft reset comes is replaced by the cut trailer). Named on today's
-#: netlist (the soft reset's restart registered) where ``hw/axis_video.py`` changed.
-LUT_STROBE_1_FORCED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1261 "
-                       "-port A -portbit 1 -src hw/register_file.py:193")
-ERROR_WRITE_AT_IRQ_STATUS = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1072 "
-                             "-port A -portbit 0 -src hw/register_file.py:173")
-INPUT_STALLS_BIT_8_UNALIGNED = ("mutate -mode const0 -module dptbd_axi -cell "
-                                "$flatten\\regs.$885 -port A -portbit 1 "
-                                "-src hw/register_file.py:148")
-LISTS_BIT_26_UNALIGNED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$862 "
-                          "-port Y -portbit 0 -src hw/register_file.py:148")
-FAULT_FRAME_SHORT_PLUS_1_BIT_28 = ("mutate -mode cnot1 -module dptbd_axi -cell "
-                                   "$flatten\\regs.$1323 -port Y -portbit 28 -ctrlbit 14 "
-                                   "-src hw/register_file.py:227")
-HELD_WITHOUT_REQUEST = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\cand_out.$113 "
-                        "-port Y -portbit 0 -src hw/axis_video.py:166")
-
-
-def test_reference_plan_presets_then_cuts_a_list_under_back_pressure():
-    from dptbd.sim.mutation.presets import preset_counters
-
-    cfg = config("axi")
-    regs = constants_namespace(cfg)
-
-    class Build:                                   # what reference_plan reads of a build
-        latency, manifest = 40, {"scan_cycles": 20}
-
-    Build.cfg = cfg
-    counters = preset_counters(cfg)
-    assert S.RUNS[-4:-2] == (("reference", 0), ("reference", 1))     # the long runs last
-    for seed in (0, 1):
-        beats, ops = S.reference_plan(Build, seed)
-        assert ops[:len(counters)] == [(0, "p", i, S.REFERENCE_PRESET)
-                                       for i in range(len(counters))]
-        assert (S.REFERENCE_PRESET >> 14) & 1 == 1
-        soft = [op for op in ops if op[1] == "w" and op[2] == regs.REG_CONTROL]
-        assert len(soft) == 1 and soft[0][1:] == ("w", regs.REG_CONTROL,
-                                                 regs.CONTROL_SOFT_RESET_MASK)
-        assert ops[-len(counters):] == [(len(beats), "r", getattr(regs, f"REG_{c.upper()}"), 0)
-                                        for c in counters]
-    frame = cfg.width * cfg.height
-    beats, ops = S.reference_plan(Build, 1)
-    assert len(beats) == 4 * frame and soft[0][0] == frame + frame // 2   # inside list 1
-    assert S.REFERENCE_PAUSE[1] >= 0.8
-
-
-@tools
-def test_the_checks_of_the_register_block_and_the_reference_kill_their_mutants():
-    cfg = config("axi")
-    mutations = parse_mutations("\n".join([
-        LUT_STROBE_1_FORCED, ERROR_WRITE_AT_IRQ_STATUS, INPUT_STALLS_BIT_8_UNALIGNED,
-        LISTS_BIT_26_UNALIGNED, FAULT_FRAME_SHORT_PLUS_1_BIT_28, HELD_WITHOUT_REQUEST]))
-    commands, refused = mutant_design(cfg, "axi", mutations)
-    assert refused == []
-    sim = V.build(cfg, "axi", mutations=commands)
-    runs = (("decode", 0), ("presets", 0), ("reference", 0), ("reference", 1))
-    assert run_slice(sim, 0, runs).verdict == "survived"
-    for index, run, report in (
-            (1, "decode seed 0", "write 0x400: response 0, expected 2"),
-            (2, "decode seed 0", "read 0x084 = 0, response 0, expected 2 with response 0"),
-            (3, "presets seed 0", "read 0x0aa (unaligned) gave 0xaaaaaaaa with response 2, "
-                                  "expected 0 with SLVERR"),
-            (4, "presets seed 0", "read 0x091 (unaligned) gave 0xaaaaaaaa with response 2, "
-                                  "expected 0 with SLVERR"),
-            (5, "reference seed 0", "op_data["),
-            (6, "reference seed 1", "out_words[")):
-        outcome = run_slice(sim, index, runs)
-        assert (outcome.verdict, outcome.run) == ("killed", run), (index, outcome)
-        assert report in outcome.report, (index, outcome.report)
-    # the model-checked runs of the same stimulus pass the last two
-    assert run_slice(sim, 5, (("faults", 0), ("presets", 0))).verdict == "survived"
-    assert run_slice(sim, 6, (("restart", 0), ("backpressure", 1))).verdict == "survived"
 
 
 #: Mutants 86 and 201 of ``--seed 1`` (300 mutants, today's netlist), survivors of the slice

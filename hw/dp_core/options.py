@@ -1,0 +1,35 @@
+"""DPCore's implementation options: the allowed values of each, and the line buffer each
+``line_buffer_style`` builds (:class:`~dptbd.hw.dp_core.core.DPCore`, ``DPCoreWide``)."""
+
+from __future__ import annotations
+
+from dptbd.hw.histogram import HISTOGRAM_STYLES
+from dptbd.hw.line_buffer import LineBuffer
+from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
+from dptbd.hw.schedule import MAX_TREE_STAGES
+
+__all__ = ["LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS", "core_line_buffer"]
+
+#: ``DPCore(line_buffer_style=…)`` and the line buffer memory's ``ram_style`` for each.
+LINE_BUFFER_RAM_STYLE = {"bram": None, "lutram": "distributed", "dp16kd": "dp16kd"}
+LINE_BUFFER_STYLES = tuple(LINE_BUFFER_RAM_STYLE)
+#: ``DPCore(sideband_delay=…)``.
+SIDEBAND_DELAYS = ("registers", "memory")
+
+#: DPCore's implementation options (keyword arguments) with their allowed values; none
+#: changes behaviour (``max_tree`` changes the latency), the synthesis flow picks them per
+#: FPGA family. ``state_store_style`` is the on-chip store's (DPPipeline's) and
+#: ``histogram_style`` the segmenter's histogram's, carried here so that one set of options
+#: reaches every top.
+CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS,
+                "max_tree": tuple(MAX_TREE_STAGES), "state_store_style": STATE_STORE_STYLES,
+                "histogram_style": HISTOGRAM_STYLES}
+
+
+def core_line_buffer(shape, depth: int, taps: int, style: str) -> LineBuffer:
+    """The line buffer of ``line_buffer_style`` ``style`` (DPCore's and DPCoreWide's):
+    ``"lutram"`` read interleaved when ``depth`` is even and >= 4, ``"dp16kd"`` the ECP5
+    DP16KDs read through their output register (``depth`` >= 3: a row has at least 3
+    pixels, a beat row at least 3 beats)."""
+    return LineBuffer(shape, depth=depth, taps=taps, ram_style=LINE_BUFFER_RAM_STYLE[style],
+                      interleaved_read=style == "lutram" and depth % 2 == 0 and depth >= 4)
