@@ -5,7 +5,7 @@ pixels in against words out)."""
 
 from __future__ import annotations
 
-from amaranth.hdl import Assert, Cover, Signal
+from amaranth.hdl import Array, Assert, Cover, Mux, Signal
 
 from dptbd.config import DPConfig
 from dptbd.hw.dp_pipeline import DPPipeline
@@ -15,7 +15,13 @@ from dptbd.sim.formal.harness import Elaborated, Harness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import axis_manager, axis_subordinate
 
-__all__ = ["CreditFifoHarness", "PipelineHarness", "pipeline_valid_bits", "dp_core_invariants"]
+__all__ = ["CreditFifoHarness", "ORDER_INVARIANTS", "PipelineHarness", "pipeline_valid_bits",
+           "dp_core_invariants"]
+
+#: The invariants of :class:`CreditFifoHarness`'s order proof, each a switch (``drop``) and
+#: each needed: without any one its induction step fails
+#: (``tests/sim/formal/test_runner.py``).
+ORDER_INVARIANTS = ("sequence", "pointers", "rows")
 
 
 def _count(flags):
@@ -43,14 +49,22 @@ class CreditFifoHarness(Harness):
     Asserted: a word leaving the pipeline always finds room (no overflow); the FIFO never
     offers a word it does not hold (no underflow); words accepted − words handed out ==
     words in flight <= depth; after a reset nothing is offered before a word is accepted;
-    with ``order``: words come out in order (their sequence numbers, bounded proof).
+    with ``order``: words come out in order (their sequence numbers), with the invariants
+    that make it k-inductive (:meth:`order_invariants`) less those named in ``drop``
+    (:data:`ORDER_INVARIANTS`; for the test that each is needed).
     """
 
-    def __init__(self, latency: int = 2, depth: int | None = None, order: bool = False):
+    def __init__(self, latency: int = 2, depth: int | None = None, order: bool = False,
+                 drop: tuple = ()):
         super().__init__()
         self.latency = latency
         self.depth = depth if depth is not None else latency + 2
         self.order = order
+        unknown = sorted(set(drop) - set(ORDER_INVARIANTS))
+        if unknown:
+            raise ValueError(f"unknown order invariant(s) {', '.join(unknown)}; the "
+                             f"invariants are {', '.join(ORDER_INVARIANTS)}")
+        self.drop = tuple(drop)
 
     def check(self, m, past):
         seq_bits = 4
@@ -97,6 +111,7 @@ class CreditFifoHarness(Harness):
         if self.order:
             with m.If(f.r.valid):
                 m.d.comb += Assert(f.r.payload == seq_out, "FIFO output out of order")
+            self.order_invariants(m, fifo, seq_in, seq_out, in_flight)
         # invariants of the thermometer counters (what k-induction needs)
         committed = credit.sub("committed").component.at_least
         level = fifo.sub("level").component.at_least
@@ -113,6 +128,39 @@ class CreditFifoHarness(Harness):
             Cover(hand_out & (seq_out == 3)),
             Cover(valid & ~c.ready & started),
         ]
+
+    def order_invariants(self, m, fifo: Elaborated, seq_in, seq_out, in_flight) -> None:
+        """Assert where each word in flight is in the sequence, less the groups in ``drop``
+        (the pipeline's stages need none: a word in them at the start of an induction of
+        length 4 has left them, in order, by its last step):
+
+        - ``sequence``: the next number in − the next number out = words in flight;
+        - ``pointers``: the FIFO's pointers are within its memory, the write pointer = the
+          read pointer + the memory's level (modulo its words);
+        - ``rows``: the memory's i-th word from the read pointer, i < its level, holds the
+          next number out + ``r.valid`` + i.
+        """
+        bits = len(seq_in)
+        f = fifo.component
+        words = self.depth - 1
+        level = _count(fifo.sub("level").component.at_least)
+        produce, consume = fifo.signal("produce"), fifo.signal("consume")
+        asserts = []
+        if "sequence" not in self.drop:
+            asserts.append(Assert((seq_in - seq_out)[:bits] == in_flight,
+                                  "sequence numbers in - out != words in flight"))
+        if "pointers" not in self.drop:
+            wrapped = Mux(consume + level >= words, consume + level - words, consume + level)
+            asserts.append(Assert((produce < words) & (consume < words) & (produce == wrapped),
+                                  "FIFO pointers outside its memory or != read + level"))
+        if "rows" not in self.drop:
+            rows = fifo.rows("storage")
+            for i in range(words):
+                at = Mux(consume + i >= words, consume + i - words, consume + i)
+                with m.If(i < level):
+                    m.d.comb += Assert(Array(rows)[at] == (seq_out + f.r.valid + i)[:bits],
+                                       f"FIFO word {i} from the read pointer out of sequence")
+        m.d.comb += asserts
 
 
 class PipelineHarness(Harness):

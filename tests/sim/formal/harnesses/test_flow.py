@@ -3,7 +3,9 @@ they promise; their proofs run in ``tests/sim/formal/test_runner.py``."""
 
 import pytest
 
-from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
+from helpers.refusals import whole
+
+from dptbd.sim.formal.harnesses.flow import ORDER_INVARIANTS, CreditFifoHarness, PipelineHarness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 
 CREDIT_FIFO = {
@@ -16,11 +18,27 @@ CREDIT_FIFO = {
     "credit ready != room a cycle earlier"}
 
 
+ORDER = {"FIFO output out of order", "sequence numbers in - out != words in flight",
+         "FIFO pointers outside its memory or != read + level",
+         "FIFO word 0 from the read pointer out of sequence",
+         "FIFO word 1 from the read pointer out of sequence",
+         "FIFO word 2 from the read pointer out of sequence"}
+
+
 def test_the_credit_fifo_harness_asserts_conservation_and_with_order_the_order(messages):
     harness = CreditFifoHarness()
     assert (harness.latency, harness.depth) == (2, 4)
     assert messages(harness) == CREDIT_FIFO
-    assert messages(CreditFifoHarness(order=True)) == CREDIT_FIFO | {"FIFO output out of order"}
+    assert messages(CreditFifoHarness(order=True)) == CREDIT_FIFO | ORDER
+    assert messages(CreditFifoHarness(order=True, drop=ORDER_INVARIANTS)) == (
+        CREDIT_FIFO | {"FIFO output out of order"})
+
+
+def test_an_unknown_order_invariant_is_refused():
+    message = (f"unknown order invariant(s) nope, zz; the invariants are "
+               f"{', '.join(ORDER_INVARIANTS)}")
+    with pytest.raises(ValueError, match=whole(message)):
+        CreditFifoHarness(order=True, drop=("zz", "nope"))
 
 
 def test_the_pipeline_harness_asserts_pixels_in_against_words_out(messages):
