@@ -54,7 +54,9 @@ TASKS = (
     FormalTask("s_axil_registers", "AXI4-Lite subordinate, refused writes, W1C bits",
                RegistersHarness, "prove", 4, 12),
     FormalTask("dp_pipeline", "DPPipeline 5x4: states stream, pixels in - words out",
-               PipelineHarness, "bmc", 20, 20, fast=False),
+               PipelineHarness, "prove", 4, 20, fast=False),
+    FormalTask("dp_pipeline_short", "the same proof without its cover run (the default "
+               "suite's)", PipelineHarness, "prove", 4, 0),
     FormalTask("dptbd_axi", "dptbd_axi 5x4 with m_axis_state: every port, soft reset over "
                "AXI4-Lite", AXITopHarness, "bmc", 18, 18, fast=False),
     FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "

@@ -144,6 +144,12 @@ WITHOUT = {
     ("credit_fifo_order", "pointers"): ("flow.py",
                                         "FIFO word 0 from the read pointer out of sequence"),
     ("credit_fifo_order", "rows"): ("flow.py", "FIFO output out of order"),
+    ("dp_pipeline_short", "credit"): ("flow.py", "credit ready != room a cycle earlier"),
+    ("dp_pipeline_short", "pipeline"): ("flow.py", "states: a word without an accepted pixel"),
+    ("dp_pipeline_short", "fifos"): ("flow.py", "the flags FIFO out of step with the state "
+                                                "words'"),
+    ("dp_pipeline_short", "flags"): ("properties.py", "states: payload changed while held"),
+    ("dp_pipeline_short", "idle"): ("flow.py", "states: a word before any pixel was accepted"),
 }
 
 #: The needed invariants whose failing proofs are cheap (about a second each): in the
@@ -155,12 +161,12 @@ def fails_without(name, invariant, tmp_path, also=()):
     import dataclasses
 
     from dptbd.sim.formal.harnesses.axi_store import AxiStoreHarness
-    from dptbd.sim.formal.harnesses.flow import CreditFifoHarness
+    from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
     from dptbd.sim.formal.harnesses.prefetcher import PrefetcherHarness
     from dptbd.sim.formal.harnesses.write_behind import WriteBehindHarness
 
     harness = {"axi_write_behind": WriteBehindHarness, "axi_prefetcher": PrefetcherHarness,
-               "m_axi_state_short": AxiStoreHarness,
+               "m_axi_state_short": AxiStoreHarness, "dp_pipeline_short": PipelineHarness,
                "credit_fifo_order": lambda drop: CreditFifoHarness(order=True, drop=drop)}[name]
     t = dataclasses.replace(task(name), cover_depth=0,
                             build=lambda: harness(drop=(invariant, *also)))
@@ -194,7 +200,7 @@ def test_the_proofs_need_every_invariant(name, invariant, tmp_path):
 
 def test_every_needed_invariant_is_named_here():
     from dptbd.sim.formal.harnesses.axi_store import STORE_INVARIANTS
-    from dptbd.sim.formal.harnesses.flow import ORDER_INVARIANTS
+    from dptbd.sim.formal.harnesses.flow import ORDER_INVARIANTS, PIPELINE_INVARIANTS
     from dptbd.sim.formal.harnesses.prefetcher import PREFETCHER_INVARIANTS
     from dptbd.sim.formal.harnesses.write_behind import INVARIANTS
 
@@ -202,4 +208,5 @@ def test_every_needed_invariant_is_named_here():
         [("axi_write_behind", i) for i in INVARIANTS if i != "uptos"]
         + [("axi_prefetcher", i) for i in PREFETCHER_INVARIANTS]
         + [("m_axi_state_short", i) for i in STORE_INVARIANTS]
-        + [("credit_fifo_order", i) for i in ORDER_INVARIANTS])
+        + [("credit_fifo_order", i) for i in ORDER_INVARIANTS]
+        + [("dp_pipeline_short", i) for i in PIPELINE_INVARIANTS])
