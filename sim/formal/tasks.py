@@ -58,7 +58,9 @@ TASKS = (
     FormalTask("dp_pipeline_short", "the same proof without its cover run (the default "
                "suite's)", PipelineHarness, "prove", 4, 0),
     FormalTask("dptbd_axi", "dptbd_axi 5x4 with m_axis_state: every port, soft reset over "
-               "AXI4-Lite", AXITopHarness, "bmc", 18, 18, fast=False),
+               "AXI4-Lite", AXITopHarness, "prove", 4, 18, fast=False),
+    FormalTask("dptbd_axi_short", "the same proof without its cover run (the default "
+               "suite's)", AXITopHarness, "prove", 4, 0),
     FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "
                "the AXI4 manager port (dptbd_dp --state-store axi)", AxiStoreHarness,
                "prove", 4, 32, fast=False),

@@ -243,7 +243,8 @@ def pipeline_valid_bits(core: Elaborated) -> list:
     return chain
 
 
-def dp_core_invariants(m, past, core: Elaborated, in_flight, started, drop: tuple = ()) -> None:
+def dp_core_invariants(m, past, core: Elaborated, in_flight, started, drop: tuple = (),
+                       was_reset=None) -> None:
     """Assert what :class:`~dptbd.hw.dp_core.DPCore`'s flow control holds (``core``,
     elaborated), in terms of the harness's pixels accepted − words taken (``in_flight``) and
     "a pixel accepted since the reset" (``started``), as :class:`CreditFifoHarness` proves
@@ -259,8 +260,10 @@ def dp_core_invariants(m, past, core: Elaborated, in_flight, started, drop: tupl
     - ``idle``: nothing is in flight before the first pixel.
 
     Always asserted, though no induction here needs it: the credit's ``ready`` is its room
-    of the cycle before."""
+    of the cycle before, unless that cycle reset the core (``was_reset``: by default the
+    harness's reset, ``past.rst``)."""
     depth = core.component.output_fifo_depth
+    was_reset = past.rst if was_reset is None else was_reset
     chain = pipeline_valid_bits(core)
     committed = core.sub("input_credit").sub("committed").component.at_least
     fifo, flags = core.sub("output_fifo"), core.sub("output_flags")
@@ -271,7 +274,7 @@ def dp_core_invariants(m, past, core: Elaborated, in_flight, started, drop: tupl
         _thermometer(m, committed, "InputCredit")
         m.d.comb += Assert(_count(committed) == in_flight, "credit count != pixels in flight")
     m.d.comb += Assert(core.component.pixels.ready == (past(_count(committed) < depth - 1,
-                                                            "past_room") & ~past.rst),
+                                                            "past_room") & ~was_reset),
                        "credit ready != room a cycle earlier")
     if "pipeline" not in drop:
         m.d.comb += Assert(_count(chain) + stored == in_flight,
