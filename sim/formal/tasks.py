@@ -50,13 +50,17 @@ TASKS = (
     FormalTask("credit_fifo", "InputCredit + pipeline + ThermometerFIFO: conservation, no "
                "overflow or underflow", CreditFifoHarness, "prove", 4, 12),
     FormalTask("credit_fifo_order", "the same: words leave in order",
-               lambda: CreditFifoHarness(order=True), "bmc", 16, 0, fast=False),
+               lambda: CreditFifoHarness(order=True), "prove", 4, 0),
     FormalTask("s_axil_registers", "AXI4-Lite subordinate, refused writes, W1C bits",
                RegistersHarness, "prove", 4, 12),
     FormalTask("dp_pipeline", "DPPipeline 5x4: states stream, pixels in - words out",
-               PipelineHarness, "bmc", 20, 20, fast=False),
+               PipelineHarness, "prove", 4, 20, fast=False),
+    FormalTask("dp_pipeline_short", "the same proof without its cover run (the default "
+               "suite's)", PipelineHarness, "prove", 4, 0),
     FormalTask("dptbd_axi", "dptbd_axi 5x4 with m_axis_state: every port, soft reset over "
-               "AXI4-Lite", AXITopHarness, "bmc", 18, 18, fast=False),
+               "AXI4-Lite", AXITopHarness, "prove", 4, 18, fast=False),
+    FormalTask("dptbd_axi_short", "the same proof without its cover run (the default "
+               "suite's)", AXITopHarness, "prove", 4, 0),
     FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "
                "the AXI4 manager port (dptbd_dp --state-store axi)", AxiStoreHarness,
                "prove", 4, 32, fast=False),

@@ -5,7 +5,7 @@ pixels in against words out)."""
 
 from __future__ import annotations
 
-from amaranth.hdl import Assert, Cover, Signal
+from amaranth.hdl import Array, Assert, Cover, Mux, Signal
 
 from dptbd.config import DPConfig
 from dptbd.hw.dp_pipeline import DPPipeline
@@ -15,7 +15,17 @@ from dptbd.sim.formal.harness import Elaborated, Harness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import axis_manager, axis_subordinate
 
-__all__ = ["CreditFifoHarness", "PipelineHarness", "pipeline_valid_bits", "dp_core_invariants"]
+__all__ = ["CreditFifoHarness", "ORDER_INVARIANTS", "PipelineHarness", "PIPELINE_INVARIANTS",
+           "pipeline_valid_bits", "dp_core_invariants"]
+
+#: The invariants of :class:`CreditFifoHarness`'s order proof, each a switch (``drop``) and
+#: each needed: without any one its induction step fails
+#: (``tests/sim/formal/test_runner.py``).
+ORDER_INVARIANTS = ("sequence", "pointers", "rows")
+
+#: The invariant groups of the DP core's flow control (:func:`dp_core_invariants`), each a
+#: switch of :class:`PipelineHarness` (``drop``) and each needed by its proof.
+PIPELINE_INVARIANTS = ("credit", "pipeline", "fifos", "flags", "idle")
 
 
 def _count(flags):
@@ -43,14 +53,22 @@ class CreditFifoHarness(Harness):
     Asserted: a word leaving the pipeline always finds room (no overflow); the FIFO never
     offers a word it does not hold (no underflow); words accepted − words handed out ==
     words in flight <= depth; after a reset nothing is offered before a word is accepted;
-    with ``order``: words come out in order (their sequence numbers, bounded proof).
+    with ``order``: words come out in order (their sequence numbers), with the invariants
+    that make it k-inductive (:meth:`order_invariants`) less those named in ``drop``
+    (:data:`ORDER_INVARIANTS`; for the test that each is needed).
     """
 
-    def __init__(self, latency: int = 2, depth: int | None = None, order: bool = False):
+    def __init__(self, latency: int = 2, depth: int | None = None, order: bool = False,
+                 drop: tuple = ()):
         super().__init__()
         self.latency = latency
         self.depth = depth if depth is not None else latency + 2
         self.order = order
+        unknown = sorted(set(drop) - set(ORDER_INVARIANTS))
+        if unknown:
+            raise ValueError(f"unknown order invariant(s) {', '.join(unknown)}; the "
+                             f"invariants are {', '.join(ORDER_INVARIANTS)}")
+        self.drop = tuple(drop)
 
     def check(self, m, past):
         seq_bits = 4
@@ -97,6 +115,7 @@ class CreditFifoHarness(Harness):
         if self.order:
             with m.If(f.r.valid):
                 m.d.comb += Assert(f.r.payload == seq_out, "FIFO output out of order")
+            self.order_invariants(m, fifo, seq_in, seq_out, in_flight)
         # invariants of the thermometer counters (what k-induction needs)
         committed = credit.sub("committed").component.at_least
         level = fifo.sub("level").component.at_least
@@ -114,6 +133,39 @@ class CreditFifoHarness(Harness):
             Cover(valid & ~c.ready & started),
         ]
 
+    def order_invariants(self, m, fifo: Elaborated, seq_in, seq_out, in_flight) -> None:
+        """Assert where each word in flight is in the sequence, less the groups in ``drop``
+        (the pipeline's stages need none: a word in them at the start of an induction of
+        length 4 has left them, in order, by its last step):
+
+        - ``sequence``: the next number in − the next number out = words in flight;
+        - ``pointers``: the FIFO's pointers are within its memory, the write pointer = the
+          read pointer + the memory's level (modulo its words);
+        - ``rows``: the memory's i-th word from the read pointer, i < its level, holds the
+          next number out + ``r.valid`` + i.
+        """
+        bits = len(seq_in)
+        f = fifo.component
+        words = self.depth - 1
+        level = _count(fifo.sub("level").component.at_least)
+        produce, consume = fifo.signal("produce"), fifo.signal("consume")
+        asserts = []
+        if "sequence" not in self.drop:
+            asserts.append(Assert((seq_in - seq_out)[:bits] == in_flight,
+                                  "sequence numbers in - out != words in flight"))
+        if "pointers" not in self.drop:
+            wrapped = Mux(consume + level >= words, consume + level - words, consume + level)
+            asserts.append(Assert((produce < words) & (consume < words) & (produce == wrapped),
+                                  "FIFO pointers outside its memory or != read + level"))
+        if "rows" not in self.drop:
+            rows = fifo.rows("storage")
+            for i in range(words):
+                at = Mux(consume + i >= words, consume + i - words, consume + i)
+                with m.If(i < level):
+                    m.d.comb += Assert(Array(rows)[at] == (seq_out + f.r.valid + i)[:bits],
+                                       f"FIFO word {i} from the read pointer out of sequence")
+        m.d.comb += asserts
+
 
 class PipelineHarness(Harness):
     """:class:`~dptbd.hw.dp_pipeline.DPPipeline` on the tiny build: any pixel stream (the
@@ -122,15 +174,25 @@ class PipelineHarness(Harness):
 
     Asserted: the ``states`` stream keeps the stream rules; never more state words out than
     pixels accepted; pixels accepted − state words out <= the output FIFO's depth (the
-    credit); nothing offered after a reset before a pixel is accepted.
+    credit); nothing offered after a reset before a pixel is accepted; and the invariants
+    of the DP core's flow control (:func:`dp_core_invariants`) that make it k-inductive,
+    less those named in ``drop`` (:data:`PIPELINE_INVARIANTS`; for the test that each is
+    needed).
     """
 
-    def __init__(self, cfg: DPConfig | None = None):
+    def __init__(self, cfg: DPConfig | None = None, drop: tuple = ()):
         super().__init__()
         self.cfg = cfg or tiny_config()
+        unknown = sorted(set(drop) - set(PIPELINE_INVARIANTS))
+        if unknown:
+            raise ValueError(f"unknown pipeline invariant(s) {', '.join(unknown)}; the "
+                             f"invariants are {', '.join(PIPELINE_INVARIANTS)}")
+        self.drop = tuple(drop)
 
     def check(self, m, past):
-        m.submodules.dut = dut = DPPipeline(self.cfg)
+        top = Elaborated(DPPipeline(self.cfg))
+        m.submodules.dut = top.fragment
+        dut = top.component
         self.free_inputs(m, dut, "dut", skip=("lut_addr", "lut_data", "lut_we"))
         src, out = dut.pixels, dut.states
         axis_subordinate(m, past, tvalid=src.valid, tready=src.ready,
@@ -153,6 +215,7 @@ class PipelineHarness(Harness):
             m.d.comb += Assert(~out.valid, "states: a word before any pixel was accepted")
         with m.If(taken):
             m.d.comb += Assert(in_flight > 0, "states: a word without an accepted pixel")
+        dp_core_invariants(m, past, top.sub("core"), in_flight, started, drop=self.drop)
         m.d.comb += [Cover(taken & (in_flight == 1) & started),
                      Cover(in_flight == dut.output_fifo_depth)]
 
@@ -180,35 +243,49 @@ def pipeline_valid_bits(core: Elaborated) -> list:
     return chain
 
 
-def dp_core_invariants(m, past, core: Elaborated, in_flight, started) -> None:
+def dp_core_invariants(m, past, core: Elaborated, in_flight, started, drop: tuple = (),
+                       was_reset=None) -> None:
     """Assert what :class:`~dptbd.hw.dp_core.DPCore`'s flow control holds (``core``,
     elaborated), in terms of the harness's pixels accepted − words taken (``in_flight``) and
     "a pixel accepted since the reset" (``started``), as :class:`CreditFifoHarness` proves
-    them on the output path alone: the input credit counts ``in_flight``; the valid bits of
-    the pipeline (the controller's, the side-band's registers, the state stage's) plus the
-    output FIFO's words are ``in_flight``; both output FIFOs (the state words', the flags')
-    hold as many words; their levels and the credit are thermometer codes; the credit's
-    ``ready`` is its room of the cycle before; nothing is in flight before the first pixel."""
+    them on the output path alone, less the groups named in ``drop``
+    (:data:`PIPELINE_INVARIANTS`):
+
+    - ``credit``: the input credit counts ``in_flight`` and is a thermometer code;
+    - ``pipeline``: the valid bits of the pipeline (the controller's, the side-band's
+      registers, the state stage's) plus the output FIFO's words are ``in_flight``;
+    - ``fifos``: the output FIFO's level is a thermometer code;
+    - ``flags``: the flags' FIFO holds as many words as the state words' (its level a
+      thermometer code, its ``r.valid`` the same);
+    - ``idle``: nothing is in flight before the first pixel.
+
+    Always asserted, though no induction here needs it: the credit's ``ready`` is its room
+    of the cycle before, unless that cycle reset the core (``was_reset``: by default the
+    harness's reset, ``past.rst``)."""
     depth = core.component.output_fifo_depth
+    was_reset = past.rst if was_reset is None else was_reset
     chain = pipeline_valid_bits(core)
     committed = core.sub("input_credit").sub("committed").component.at_least
     fifo, flags = core.sub("output_fifo"), core.sub("output_flags")
     level = fifo.sub("level").component.at_least
     flag_level = flags.sub("level").component.at_least
-    _thermometer(m, committed, "InputCredit")
-    _thermometer(m, level, "output FIFO level")
-    _thermometer(m, flag_level, "output flags level")
     stored = _count(level) + fifo.component.r.valid
-    m.d.comb += [
-        Assert(_count(committed) == in_flight, "credit count != pixels in flight"),
-        Assert(_count(chain) + stored == in_flight,
-               "valid bits in the pipeline + words in the FIFO != pixels in flight"),
-        Assert((_count(flag_level) == _count(level))
-               & (flags.component.r.valid == fifo.component.r.valid),
-               "the flags FIFO out of step with the state words'"),
-        Assert(core.component.pixels.ready == (past(_count(committed) < depth - 1, "past_room")
-                                               & ~past.rst),
-               "credit ready != room a cycle earlier"),
-    ]
-    with m.If(~started):
-        m.d.comb += Assert(in_flight == 0, "pixels in flight before the first was accepted")
+    if "credit" not in drop:
+        _thermometer(m, committed, "InputCredit")
+        m.d.comb += Assert(_count(committed) == in_flight, "credit count != pixels in flight")
+    m.d.comb += Assert(core.component.pixels.ready == (past(_count(committed) < depth - 1,
+                                                            "past_room") & ~was_reset),
+                       "credit ready != room a cycle earlier")
+    if "pipeline" not in drop:
+        m.d.comb += Assert(_count(chain) + stored == in_flight,
+                           "valid bits in the pipeline + words in the FIFO != pixels in flight")
+    if "fifos" not in drop:
+        _thermometer(m, level, "output FIFO level")
+    if "flags" not in drop:
+        _thermometer(m, flag_level, "output flags level")
+        m.d.comb += Assert((_count(flag_level) == _count(level))
+                           & (flags.component.r.valid == fifo.component.r.valid),
+                           "the flags FIFO out of step with the state words'")
+    if "idle" not in drop:
+        with m.If(~started):
+            m.d.comb += Assert(in_flight == 0, "pixels in flight before the first was accepted")

@@ -10,7 +10,7 @@ from dptbd.sim.formal.harness import Elaborated, Harness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import axil_subordinate
 
-__all__ = ["RegistersHarness"]
+__all__ = ["RegistersHarness", "register_invariants"]
 
 
 class RegistersHarness(Harness):
@@ -85,41 +85,51 @@ class RegistersHarness(Harness):
             if reg.kind == "setting":
                 m.d.comb += Cover(past_write & ~refused & (past_addr == reg.address))
                 break
-        port = regs.sub("axil")
-        # invariants for the induction: a held AW's registered decode is its address's
-        w_addr = bus.w_addr
-        with m.If(port.signal("have_aw")):
-            m.d.comb += Assert(regs.signal("write_unaligned") == w_addr[:2].any(),
-                               "write_unaligned != the held address's")
-            for reg in regmap.registers:
-                m.d.comb += Assert(
-                    regs.signal(f"write_at_{reg.name.lower()}")
-                    == (w_addr == reg.address), f"write_at_{reg.name.lower()} != the held "
-                                                f"address's")
-            lut = regmap.window("LUT")
-            m.d.comb += Assert(regs.signal("write_at_lut")
-                               == (~w_addr[:2].any() & (w_addr >= lut.base) & (w_addr < lut.end)),
-                               "write_at_lut != the held address's")
-        # ... and the read being answered, decoded at its AR handshake, is its address's
-        r_addr = bus.r_addr
-        with m.If(port.signal("reading")):
-            hits = []
-            for reg in regmap.registers:
-                hit = r_addr == reg.address
-                hits.append(hit)
-                m.d.comb += Assert(regs.signal(f"read_at_{reg.name.lower()}") == hit,
-                                   f"read_at_{reg.name.lower()} != the read address's")
-            m.d.comb += Assert(regs.signal("read_unmapped") == ~Cat(*hits).any(),
-                               "read_unmapped != the read address's")
-        m.d.comb += [
-            Assert(aw_out == port.signal("have_aw") + b.bvalid, "AW outstanding != held"),
-            Assert(w_out == port.signal("have_w") + b.bvalid, "W outstanding != held"),
-            Assert(ar_out == port.signal("reading") + r.rvalid,
-                   "AR outstanding != the read being answered + rvalid"),
-            Assert(port.signal("busy") == (b.bvalid | r.rvalid | port.signal("reading")),
-                   "busy != bvalid | rvalid | the read being answered"),
-        ]
+        register_invariants(m, regs, aw_out, w_out, ar_out)
         irq_status = next(reg for reg in regmap.registers if reg.name == "IRQ_STATUS")
         field = irq_status.fields[0]
         bit = regs.signal(f"irq_status_{field.name}")
         m.d.comb += Cover(past(bit, "past_irq_bit") & ~bit & ~past.rst)      # a W1C clear
+
+
+def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:
+    """Assert what the register block's decode and its AXI4-Lite port's state mean
+    (``regs``: a :class:`~dptbd.hw.register_file.RegisterFile`, elaborated), in terms of
+    the outstanding counters of :func:`~dptbd.sim.formal.properties.axil_subordinate`: the
+    invariants of :class:`RegistersHarness`'s induction."""
+    rf, port = regs.component, regs.sub("axil")
+    bus, regmap = port.component.bus, rf.register_map
+    b, r = rf.axil.b, rf.axil.r
+    # invariants for the induction: a held AW's registered decode is its address's
+    w_addr = bus.w_addr
+    with m.If(port.signal("have_aw")):
+        m.d.comb += Assert(regs.signal("write_unaligned") == w_addr[:2].any(),
+                           "write_unaligned != the held address's")
+        for reg in regmap.registers:
+            m.d.comb += Assert(
+                regs.signal(f"write_at_{reg.name.lower()}")
+                == (w_addr == reg.address), f"write_at_{reg.name.lower()} != the held "
+                                            f"address's")
+        lut = regmap.window("LUT")
+        m.d.comb += Assert(regs.signal("write_at_lut")
+                           == (~w_addr[:2].any() & (w_addr >= lut.base) & (w_addr < lut.end)),
+                           "write_at_lut != the held address's")
+    # ... and the read being answered, decoded at its AR handshake, is its address's
+    r_addr = bus.r_addr
+    with m.If(port.signal("reading")):
+        hits = []
+        for reg in regmap.registers:
+            hit = r_addr == reg.address
+            hits.append(hit)
+            m.d.comb += Assert(regs.signal(f"read_at_{reg.name.lower()}") == hit,
+                               f"read_at_{reg.name.lower()} != the read address's")
+        m.d.comb += Assert(regs.signal("read_unmapped") == ~Cat(*hits).any(),
+                           "read_unmapped != the read address's")
+    m.d.comb += [
+        Assert(aw_out == port.signal("have_aw") + b.bvalid, "AW outstanding != held"),
+        Assert(w_out == port.signal("have_w") + b.bvalid, "W outstanding != held"),
+        Assert(ar_out == port.signal("reading") + r.rvalid,
+               "AR outstanding != the read being answered + rvalid"),
+        Assert(port.signal("busy") == (b.bvalid | r.rvalid | port.signal("reading")),
+               "busy != bvalid | rvalid | the read being answered"),
+    ]

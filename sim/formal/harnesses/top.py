@@ -12,7 +12,11 @@ from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import (axil_subordinate, axis_manager, axis_subordinate,
                                          packet_open)
 
-__all__ = ["AXITopHarness"]
+__all__ = ["AXITopHarness", "TOP_INVARIANTS", "top_invariants"]
+
+#: The invariant groups of :class:`AXITopHarness` (``drop``, :func:`top_invariants`), each
+#: needed by its induction (``tests/sim/formal/test_runner.py``).
+TOP_INVARIANTS = ("registers", "lists", "lines", "idle", "closed", "pending", "core")
 
 
 class AXITopHarness(Harness):
@@ -25,12 +29,18 @@ class AXITopHarness(Harness):
     first word; the core is reset (soft reset) only with no list and no line open; the
     AXI4-Lite subordinate rules; no output word after ``aresetn`` before a pixel is
     accepted; never more state words (fillers aside) than pixels accepted since the last
-    reset.
+    reset; and the invariants of :func:`top_invariants` that make all of it k-inductive,
+    less those named in ``drop`` (:data:`TOP_INVARIANTS`; for the test that each is needed).
     """
 
-    def __init__(self, cfg: DPConfig | None = None):
+    def __init__(self, cfg: DPConfig | None = None, drop: tuple = ()):
         super().__init__()
         self.cfg = cfg or tiny_config()
+        unknown = sorted(set(drop) - set(TOP_INVARIANTS))
+        if unknown:
+            raise ValueError(f"unknown dptbd_axi invariant group(s) {', '.join(unknown)}; the "
+                             f"groups are {', '.join(TOP_INVARIANTS)}")
+        self.drop = tuple(drop)
 
     def check(self, m, past):
         top = Elaborated(AXITop(self.cfg, state_output=True))
@@ -63,7 +73,7 @@ class AXITopHarness(Harness):
         with m.If(t.m_axis_cand_tvalid):
             m.d.comb += Assert(t.m_axis_cand_tuser[0] == ~opens[0],
                                "m_axis_cand: tuser[0] not on exactly a list's first word")
-        axil_subordinate(m, past, _AxilView(t))
+        aw_out, w_out, ar_out = axil_subordinate(m, past, _AxilView(t))
         accepted = t.s_axis_video_tvalid & t.s_axis_video_tready
         started = Signal()
         with m.If(accepted):
@@ -79,7 +89,9 @@ class AXITopHarness(Harness):
             m.d.sync += pending.eq(pending + accepted - state_word)
         with m.If(state_word):
             m.d.comb += Assert(pending != 0, "m_axis_state: a word without an accepted pixel")
-        # reachable within the bounded depth (a list needs two frames: the adapters' own
+        top_invariants(m, past, top, opens, started, pending, aw_out, w_out, ar_out,
+                       self.drop)
+        # reachable within the cover depth (a list needs two frames: the adapters' own
         # harnesses cover lists and lines)
         m.d.comb += [
             Cover(restart & started),                        # a soft reset after a pixel
@@ -104,3 +116,71 @@ class _AxilView:
             for name in names:
                 setattr(view, name, getattr(top, f"s_axil_{name}"))
             setattr(self, channel, view)
+
+
+def top_invariants(m, past, top: Elaborated, opens, started, pending, aw_out, w_out, ar_out,
+                   drop: tuple = ()) -> None:
+    """Assert what ``dptbd_axi``'s state means (``top``, elaborated), in terms of the
+    harness's shadow state (``opens``: a list / a line open on ``m_axis_cand`` /
+    ``m_axis_state``; ``started``: a pixel accepted since ``aresetn``; ``pending``: pixels
+    accepted − state words since a reset; the AXI4-Lite outstanding counters), less the
+    groups named in ``drop`` (:data:`TOP_INVARIANTS`):
+
+    - ``registers``: the register block's
+      (:func:`~dptbd.sim.formal.harnesses.registers.register_invariants`);
+    - ``lists``, ``lines``: the output adapters' open list / line is the harness's;
+    - ``idle``: before the first pixel no word is past the DP pipeline (the broadcast to
+      the segmenter and to ``m_axis_state`` holds none, the segmenter emits none, its
+      emitter's FIFO is empty);
+    - ``closed``: before the first pixel no list or line is open, no state word held;
+    - ``pending``: ``pending`` = the DP pipeline's words in flight + the word the
+      broadcast holds for ``m_axis_state``;
+    - ``core``: the DP core's flow control
+      (:func:`~dptbd.sim.formal.harnesses.flow.dp_core_invariants`, its ``ready`` low after a
+      soft reset too), in terms of its own pixels accepted − words out since a reset.
+    """
+    from dptbd.sim.formal.harnesses.flow import dp_core_invariants
+    from dptbd.sim.formal.harnesses.registers import register_invariants
+
+    restart = top.sub("cand_out").component.restart
+    core = top.sub("core")
+    dp = core.sub("dp")
+    accepted = dp.component.pixels.valid & dp.component.pixels.ready
+    taken = dp.component.states.valid & dp.component.states.ready
+    fork = core.sub("state_broadcast").signal("pending")
+    in_flight = Signal(range(-4, 64), name="dp_in_flight")
+    with m.If(restart):
+        m.d.sync += in_flight.eq(0)
+    with m.Else():
+        m.d.sync += in_flight.eq(in_flight + accepted - taken)
+    if "registers" not in drop:
+        register_invariants(m, top.sub("regs"), aw_out, w_out, ar_out)
+    if "lists" not in drop:
+        m.d.comb += Assert(top.sub("cand_out").signal("list_start") == ~opens[0],
+                           "CandidatesToAxis: list_start disagrees with the open list")
+    if "lines" not in drop:
+        m.d.comb += Assert(top.sub("state_out").signal("line_open") == opens[1],
+                           "StatesToAxis: line_open disagrees with the open line")
+    if "idle" not in drop:
+        segmenter = core.sub("segmenter")
+        emitter = segmenter.sub("emitter")
+        with m.If(~started):
+            m.d.comb += [
+                Assert((fork == 0) & ~segmenter.signal("valid_b")
+                       & ~emitter.signal("trailer_pending")
+                       & (emitter.sub("fifo").component.level == 0),
+                       "a word past the DP pipeline before the first pixel"),
+            ]
+    if "closed" not in drop:
+        with m.If(~started):
+            m.d.comb += [
+                Assert(~opens[0] & ~opens[1] & ~top.sub("state_out").signal("held"),
+                       "an output packet open before the first pixel"),
+            ]
+    if "pending" not in drop:
+        m.d.comb += Assert(pending == in_flight + fork[1],
+                           "pixels accepted - state words != DP words in flight + the one held")
+    if "core" not in drop:
+        m.d.comb += Assert(in_flight >= 0, "DP: more words out than pixels accepted")
+        dp_core_invariants(m, past, dp.sub("core"), in_flight, started,
+                           was_reset=past.rst | past(restart, "past_restart"))

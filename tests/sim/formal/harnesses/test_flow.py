@@ -3,7 +3,10 @@ they promise; their proofs run in ``tests/sim/formal/test_runner.py``."""
 
 import pytest
 
-from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
+from helpers.refusals import whole
+
+from dptbd.sim.formal.harnesses.flow import (ORDER_INVARIANTS, PIPELINE_INVARIANTS,
+                                             CreditFifoHarness, PipelineHarness)
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 
 CREDIT_FIFO = {
@@ -16,21 +19,53 @@ CREDIT_FIFO = {
     "credit ready != room a cycle earlier"}
 
 
+ORDER = {"FIFO output out of order", "sequence numbers in - out != words in flight",
+         "FIFO pointers outside its memory or != read + level",
+         "FIFO word 0 from the read pointer out of sequence",
+         "FIFO word 1 from the read pointer out of sequence",
+         "FIFO word 2 from the read pointer out of sequence"}
+
+
 def test_the_credit_fifo_harness_asserts_conservation_and_with_order_the_order(messages):
     harness = CreditFifoHarness()
     assert (harness.latency, harness.depth) == (2, 4)
     assert messages(harness) == CREDIT_FIFO
-    assert messages(CreditFifoHarness(order=True)) == CREDIT_FIFO | {"FIFO output out of order"}
+    assert messages(CreditFifoHarness(order=True)) == CREDIT_FIFO | ORDER
+    assert messages(CreditFifoHarness(order=True, drop=ORDER_INVARIANTS)) == (
+        CREDIT_FIFO | {"FIFO output out of order"})
 
 
-def test_the_pipeline_harness_asserts_pixels_in_against_words_out(messages):
-    assert messages(PipelineHarness()) == {
-        "pixels: tvalid dropped before the handshake", "pixels: payload changed while held",
-        "states: tvalid dropped before the handshake", "states: payload changed while held",
-        "states: more words out than pixels accepted",
-        "states: more pixels in flight than the output FIFO holds",
-        "states: a word before any pixel was accepted",
-        "states: a word without an accepted pixel"}
+def test_an_unknown_order_invariant_is_refused():
+    message = (f"unknown order invariant(s) nope, zz; the invariants are "
+               f"{', '.join(ORDER_INVARIANTS)}")
+    with pytest.raises(ValueError, match=whole(message)):
+        CreditFifoHarness(order=True, drop=("zz", "nope"))
+
+
+PIPELINE = {
+    "pixels: tvalid dropped before the handshake", "pixels: payload changed while held",
+    "states: tvalid dropped before the handshake", "states: payload changed while held",
+    "states: more words out than pixels accepted",
+    "states: more pixels in flight than the output FIFO holds",
+    "states: a word before any pixel was accepted", "states: a word without an accepted pixel",
+    "credit ready != room a cycle earlier"}
+
+
+def test_the_pipeline_harness_asserts_pixels_in_against_words_out_and_the_invariants(messages):
+    assert messages(PipelineHarness(drop=PIPELINE_INVARIANTS)) == PIPELINE
+    assert messages(PipelineHarness()) == PIPELINE | {
+        "InputCredit: not a thermometer code", "credit count != pixels in flight",
+        "valid bits in the pipeline + words in the FIFO != pixels in flight",
+        "output FIFO level: not a thermometer code", "output flags level: not a thermometer code",
+        "the flags FIFO out of step with the state words'",
+        "pixels in flight before the first was accepted"}
+
+
+def test_an_unknown_pipeline_invariant_is_refused():
+    message = (f"unknown pipeline invariant(s) zz; the invariants are "
+               f"{', '.join(PIPELINE_INVARIANTS)}")
+    with pytest.raises(ValueError, match=whole(message)):
+        PipelineHarness(drop=("zz",))
 
 
 @pytest.mark.parametrize("sideband_delay", ["registers", "memory"])
