@@ -10,9 +10,7 @@ import dataclasses
 import inspect
 import json
 import shutil
-import types
 
-import numpy as np
 import pytest
 
 from dptbd.config import DPConfig

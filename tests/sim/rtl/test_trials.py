@@ -8,7 +8,6 @@ first run compiles a few small executables (~7 s each), later runs take seconds.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import json
 import re

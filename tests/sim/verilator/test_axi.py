@@ -129,7 +129,6 @@ def test_long_run_128x128_hundred_frames():
     """001's frame size, 100 frames: K changed between segments (4, 2, 5), n and s changed,
     every fault class injected twice, the LUT rewritten once; gaps and back-pressure."""
     cfg = make_config(width=128, height=128, segment_frames=4, max_segment_frames=8)
-    regs = constants_namespace(cfg)
     frames = make_frames("two-targets", cfg, 100, seed=12)
     frame = cfg.width * cfg.height
     beats = clean_beats(frames[:52])
