@@ -30,13 +30,14 @@ from dptbd.hw.penalty_lut import PenaltyLUT
 from dptbd.hw.pipelined_max import SplitMaxTree
 from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
 from dptbd.hw.schedule import MAX_TREE_STAGES, PipelineSchedule, check_supported
+from dptbd.hw.segmenter import CONTROL_STYLES
 from dptbd.hw.state_store import StateStoreSignature
 from dptbd.hw.thermometer_fifo import ThermometerFIFO
 from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.hw.window import Window
 
-__all__ = ["DPCore", "LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS",
+__all__ = ["DPCore", "LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CONTROL_STYLES", "CORE_OPTIONS",
            "lut_write_members", "family_write_members", "family_write_ports",
            "run_time_k_members", "state_events"]
 
@@ -49,11 +50,12 @@ SIDEBAND_DELAYS = ("registers", "memory")
 #: DPCore's implementation options (keyword arguments) with their allowed values; none
 #: changes behaviour (``max_tree`` changes the latency), the synthesis flow picks them per
 #: FPGA family. ``state_store_style`` is the on-chip store's (DPPipeline's) and
-#: ``histogram_style`` the segmenter's histogram's, carried here so that one set of options
-#: reaches every top.
+#: ``histogram_style`` the segmenter's histogram's, ``control_style`` the control logic of the
+#: segmenter and of the AXI top's input, carried here so that one set of options reaches
+#: every top.
 CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS,
                 "max_tree": tuple(MAX_TREE_STAGES), "state_store_style": STATE_STORE_STYLES,
-                "histogram_style": HISTOGRAM_STYLES}
+                "histogram_style": HISTOGRAM_STYLES, "control_style": CONTROL_STYLES}
 
 
 def core_line_buffer(shape, depth: int, taps: int, style: str) -> LineBuffer:
@@ -175,6 +177,13 @@ class DPCore(wiring.Component):
         (:class:`~dptbd.hw.histogram.Histogram`'s ``style``): an Amaranth memory (default)
         or ECP5 DP16KDs reading through their output register. DPCore itself does not use
         it. Anything else raises ``ValueError``.
+    control_style : {"generic", "registered"}
+        The control logic of the segmenter that ``DPSegmenter`` attaches and of the AXI
+        top's input (``dptbd_axi``): ``"generic"`` (default) or ``"registered"`` (what the
+        flow builds for ECP5: flags and enables from registers of their own, computed a
+        cycle ahead; same bits, same cycles; ``docs/gateware.md``, "Implementation options
+        per FPGA family"). DPCore itself does not use it. Anything else raises
+        ``ValueError``.
 
     Members
     -------
@@ -208,7 +217,8 @@ class DPCore(wiring.Component):
     def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
                  lut_style: str = "auto", line_buffer_style: str = "bram",
                  sideband_delay: str = "registers", max_tree: str = "compact",
-                 state_store_style: str = "memory", histogram_style: str = "memory"):
+                 state_store_style: str = "memory", histogram_style: str = "memory",
+                 control_style: str = "generic"):
         # -- line buffer and side-band storage (per-family implementation options) --
         if line_buffer_style not in LINE_BUFFER_STYLES:
             raise ValueError(f"line_buffer_style must be one of {LINE_BUFFER_STYLES}, "
@@ -225,8 +235,12 @@ class DPCore(wiring.Component):
         if histogram_style not in HISTOGRAM_STYLES:
             raise ValueError(f"histogram_style must be one of {HISTOGRAM_STYLES}, "
                              f"got {histogram_style!r}")
+        if control_style not in CONTROL_STYLES:
+            raise ValueError(f"control_style must be one of {CONTROL_STYLES}, "
+                             f"got {control_style!r}")
         self._state_store_style = state_store_style
         self._histogram_style = histogram_style
+        self._control_style = control_style
         self._schedule = check_supported(cfg, max_tree=max_tree)   # refuses a bad max_tree
         # -- end --
         self._cfg = cfg
@@ -303,7 +317,8 @@ class DPCore(wiring.Component):
         return {"line_buffer_style": self._line_buffer_style,
                 "sideband_delay": self._sideband_delay, "max_tree": self._max_tree,
                 "state_store_style": self._state_store_style,
-                "histogram_style": self._histogram_style}
+                "histogram_style": self._histogram_style,
+                "control_style": self._control_style}
 
     def elaborate(self, platform):
         m = Module()

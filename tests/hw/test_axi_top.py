@@ -296,7 +296,8 @@ def test_external_state_store_ports_and_core_options():
     ``core_options`` reach the DP core. Off by default."""
     cfg = config()
     options = {"line_buffer_style": "lutram", "sideband_delay": "memory", "max_tree": "split",
-               "state_store_style": "dp16kd", "histogram_style": "dp16kd"}
+               "state_store_style": "dp16kd", "histogram_style": "dp16kd",
+               "control_style": "registered"}
     top = AXITop(cfg, external_state_store=True, core_options=options)
     ports = {path[0]: member.flow for path, member, _v in top.signature.flatten(top)}
     store = [n for n in ports if n.startswith("state_store_")]
