@@ -57,6 +57,10 @@ TASKS = (
                PipelineHarness, "bmc", 20, 20, fast=False),
     FormalTask("dptbd_axi", "dptbd_axi 5x4 with m_axis_state: every port, soft reset over "
                "AXI4-Lite", AXITopHarness, "bmc", 18, 18, fast=False),
+    FormalTask("dptbd_axi_registered", "the same with control_style='registered' (the ECP5 "
+               "build's input and segmenter control)",
+               lambda: AXITopHarness(core_options={"control_style": "registered"}), "bmc", 18,
+               0, fast=False),
     FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "
                "the AXI4 manager port (dptbd_dp --state-store axi)", AxiStoreHarness,
                "prove", 4, 32, fast=False),

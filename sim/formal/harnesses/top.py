@@ -25,15 +25,17 @@ class AXITopHarness(Harness):
     first word; the core is reset (soft reset) only with no list and no line open; the
     AXI4-Lite subordinate rules; no output word after ``aresetn`` before a pixel is
     accepted; never more state words (fillers aside) than pixels accepted since the last
-    reset.
+    reset. ``core_options`` as :class:`~dptbd.hw.axi_top.AXITop`'s (e.g. the ECP5 build's
+    ``control_style="registered"``).
     """
 
-    def __init__(self, cfg: DPConfig | None = None):
+    def __init__(self, cfg: DPConfig | None = None, core_options=None):
         super().__init__()
         self.cfg = cfg or tiny_config()
+        self.core_options = core_options
 
     def check(self, m, past):
-        top = Elaborated(AXITop(self.cfg, state_output=True))
+        top = Elaborated(AXITop(self.cfg, state_output=True, core_options=self.core_options))
         # dptbd_axi defines its own sync domain from aclk / aresetn (driven from clk / rst
         # below): renamed, so that the harness's registers use the harness's own sync domain
         m.submodules.dut = DomainRenamer({"sync": "dut"})(top.fragment)
