@@ -248,18 +248,12 @@ class Segmenter(wiring.Component):
             # the ECP5 build: the list's end and the missed end as flat products of
             # registers (ready is emitter.space & ~busy for a scored word, emitter.space for
             # another), not behind the shared `accept`
-            # the terms of this block's registers formed apart (kept), so that the word's
-            # end_of_segment, which comes from the DP output FIFO's flags across the chip,
-            # meets one LUT before the flip-flops
             list_end = Signal()
             missed_end = Signal()
-            may_end = Signal(attrs={"keep": 1})      # a scored word would be taken
-            may_miss = Signal(attrs={"keep": 1})     # an unscored word would be taken
             m.d.comb += [
-                may_end.eq(self.states.valid & emitter.space & ~busy & scored),
-                may_miss.eq(self.states.valid & emitter.space & ~scored),
-                list_end.eq(may_end & (frame_end | eos)),
-                missed_end.eq(may_miss & eos),
+                list_end.eq(self.states.valid & emitter.space & ~busy & scored
+                            & (frame_end | eos)),
+                missed_end.eq(self.states.valid & emitter.space & ~scored & eos),
             ]
         else:
             list_end = accept & ends
