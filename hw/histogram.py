@@ -213,24 +213,11 @@ class Histogram(wiring.Component):
             m.d.sync += [last_plus_one.eq(write_plus_one),
                          older_plus_one.eq(Mux(hit_last, write_plus_one, last_plus_one)),
                          take_older.eq(hit_last | hit_prev)]
-            word_plus_one = _saturating_increment(m, word_2, "word")
             incremented = Mux(take_write, write_plus_one,
-                              Mux(take_older, older_plus_one, word_plus_one))
-            # the count to write as an AND-OR of one-hot selects decided a cycle ahead (the
-            # scan's 0 among them), the forwarded terms ORed apart (kept): the word's
-            # increment meets one LUT before the write-data register
-            sel_write, sel_older, sel_word = Signal(), Signal(), Signal()
-            m.d.sync += [sel_write.eq(~scan_1 & hit_write),
-                         sel_older.eq(~scan_1 & ~hit_write & (hit_last | hit_prev)),
-                         sel_word.eq(~scan_1 & ~(hit_write | hit_last | hit_prev))]
-            forwarded_terms = Signal(cfg.bin_count_bits, attrs={"keep": 1})
-            m.d.comb += forwarded_terms.eq(
-                (write_plus_one & sel_write.replicate(cfg.bin_count_bits))
-                | (older_plus_one & sel_older.replicate(cfg.bin_count_bits)))
-            written = (word_plus_one & sel_word.replicate(cfg.bin_count_bits)) | forwarded_terms
+                              Mux(take_older, older_plus_one,
+                                  _saturating_increment(m, word_2, "word")))
         else:
             incremented = Mux(count == full, full, count + 1)
-            written = Mux(scan_2, 0, incremented)
         m.d.comb += [
             self.scan_valid.eq(scan_2),
             self.scan_bin.eq(bin_2),
@@ -238,7 +225,7 @@ class Histogram(wiring.Component):
             self.scan_last.eq(scan_2 & (bin_2 == 0)),
             self.scanning.eq(scan_active | scan_1 | scan_2),
             result.addr.eq(bin_2),
-            result.data.eq(written),
+            result.data.eq(Mux(scan_2, 0, incremented)),
             result.en.eq(scan_2 | add_2),
         ]
         if self._held_apart:
