@@ -200,22 +200,11 @@ class Histogram(wiring.Component):
         count = Signal(cfg.bin_count_bits)
         m.d.comb += count.eq(Mux(forward, forwarded, word_2))
         if self._style == "dp16kd":
-            # the memory's word and the forwarded counts each incremented on its own carry
+            # the memory's word and the forwarded count each incremented on its own carry
             # chain, chosen after: the word meets the chain first, not the forwarding's
-            # multiplexer (the carry out is the saturation). The last write's count is
-            # incremented from its register (the loop of two increments of one bin in a
-            # row: a carry chain and the choice); the older two's increments are chosen a
-            # cycle ahead into a register (`older_plus_one`).
-            write_plus_one = _saturating_increment(m, write.data, "write")
-            last_plus_one = Signal(cfg.bin_count_bits)       # write_plus_one a cycle ago
-            older_plus_one = Signal(cfg.bin_count_bits)      # last's or prev's, plus one
-            take_older = Signal()                            # take_last | take_prev
-            m.d.sync += [last_plus_one.eq(write_plus_one),
-                         older_plus_one.eq(Mux(hit_last, write_plus_one, last_plus_one)),
-                         take_older.eq(hit_last | hit_prev)]
-            incremented = Mux(take_write, write_plus_one,
-                              Mux(take_older, older_plus_one,
-                                  _saturating_increment(m, word_2, "word")))
+            # multiplexer (the carry out is the saturation)
+            incremented = Mux(forward, _saturating_increment(m, forwarded, "forwarded"),
+                              _saturating_increment(m, word_2, "word"))
         else:
             incremented = Mux(count == full, full, count + 1)
         m.d.comb += [
