@@ -37,7 +37,7 @@ from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
 from dptbd.hw.window import Window
 
-__all__ = ["DPCore", "LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CONTROL_STYLES", "CORE_OPTIONS",
+__all__ = ["DPCore", "LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS",
            "lut_write_members", "family_write_members", "family_write_ports",
            "run_time_k_members", "state_events"]
 

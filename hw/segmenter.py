@@ -77,7 +77,7 @@ class Segmenter(wiring.Component):
         The histogram's memory (:class:`~dptbd.hw.histogram.Histogram`'s ``style``); same
         cycles.
     control_style : {"generic", "registered"}
-        The segmenter's control logic (:data:`~dptbd.hw.dp_core.CONTROL_STYLES`), same words,
+        The segmenter's control logic (:data:`CONTROL_STYLES`), same words,
         same cycles. ``"registered"`` (ECP5): the histogram's held increment passed to the
         threshold search apart from its count (both blocks' ``held_apart``), the emitter's
         cap a register (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter`

@@ -12,15 +12,15 @@ from dptbd.errors import ConfigError
 from dptbd.hw.accumulator import Accumulator
 from dptbd.hw.controller import Controller
 from dptbd.hw.delay import delayed, delayed_in_memory
-from dptbd.hw.dp_core import (CONTROL_STYLES, LINE_BUFFER_STYLES, SIDEBAND_DELAYS,
-                              core_line_buffer, lut_write_members, run_time_k_members,
-                              state_events)
+from dptbd.hw.dp_core import (LINE_BUFFER_STYLES, SIDEBAND_DELAYS, core_line_buffer,
+                              lut_write_members, run_time_k_members, state_events)
 from dptbd.hw.histogram import HISTOGRAM_STYLES
 from dptbd.hw.input_credit import InputCredit
 from dptbd.hw.max_tree import MaxTree
 from dptbd.hw.pipelined_max import SplitMaxTree
 from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
 from dptbd.hw.schedule import PipelineSchedule, check_supported, read_ahead_distance
+from dptbd.hw.segmenter import CONTROL_STYLES
 from dptbd.hw.thermometer_fifo import ThermometerFIFO
 from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
 from dptbd.hw.weighted_candidate import WeightedCandidate
