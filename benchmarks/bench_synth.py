@@ -241,6 +241,9 @@ def main(argv=None) -> int:
                         help="the segmenter histogram's memory (default: the family's, "
                              "an Amaranth memory on iCE40, DP16KDs with their output "
                              "register on ECP5)")
+    parser.add_argument("--control-style", choices=CORE_OPTIONS["control_style"],
+                        help="the segmenter's and the AXI top's control logic (default: the "
+                             "family's, generic on iCE40, registered on ECP5)")
     parser.add_argument("--no-breakdown", action="store_true",
                         help="skip the hierarchical synthesis (per-block table)")
     parser.add_argument("--workdir", type=pathlib.Path, default=pathlib.Path("build/synth"))

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
-from amaranth.hdl import ClockDomain, Module, ResetInserter
+from amaranth.hdl import ClockDomain, Module, ResetInserter, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -153,16 +153,28 @@ class AXITop(wiring.Component):
         m.domains.sync = sync = ClockDomain("sync")
         m.d.comb += [sync.clk.eq(self.aclk), sync.rst.eq(~self.aresetn)]
 
-        m.submodules.regs = regs = RegisterFile(cfg, self._register_map)
+        registered = self._core.core_options.get("control_style") == "registered"
+        m.submodules.regs = regs = RegisterFile(cfg, self._register_map,
+                                                pulses_ahead=registered)
         # a soft reset: the output adapters close the list and the state line being sent,
         # then restart pulses (registered, a cycle later), which resets the core, the frame
         # monitor and m_axis_state's adapter
-        m.submodules.cand_out = cand_out = CandidatesToAxis(cfg)
+        m.submodules.cand_out = cand_out = CandidatesToAxis(cfg, busy_ahead=registered)
         restart = {"sync": cand_out.restart}
         m.submodules.video_in = video_in = AxisToPixels(cfg)
         m.submodules.monitor = monitor = ResetInserter(restart)(FrameMonitor(cfg))
         m.submodules.core = core = ResetInserter(restart)(self._core)
-        busy = cand_out.busy
+        busy = busy_port = cand_out.busy
+        if registered:
+            # control_style="registered": the input is held from two registers of its own,
+            # each cand_out.busy (computed a cycle ahead): one for s_axis_video_tready (the
+            # port's pin pulls it), one, stored inverted so that synthesis keeps it apart,
+            # for the core's accept
+            busy_port = Signal(name="input_busy_port")
+            open_core = Signal(init=1, name="input_open_core")
+            m.d.comb += cand_out.soft_reset_ahead.eq(regs.soft_reset_ahead)
+            m.d.sync += [busy_port.eq(cand_out.busy_next), open_core.eq(~cand_out.busy_next)]
+            busy = ~open_core
 
         self._connect_flat(m, "s_axil", regs.axil)
         self._connect_flat(m, "s_axis_video", video_in.video)
@@ -173,7 +185,7 @@ class AXITop(wiring.Component):
         m.d.comb += [
             core.pixels.payload.eq(video_in.pixels.payload),
             core.pixels.valid.eq(video_in.pixels.valid & ~busy),
-            video_in.pixels.ready.eq(core.pixels.ready & ~busy),
+            video_in.pixels.ready.eq(core.pixels.ready & ~busy_port),
             monitor.accept.eq(video_in.accepted),
             monitor.first.eq(self.s_axis_video_tuser[0]),
             monitor.last.eq(self.s_axis_video_tlast),

@@ -140,10 +140,18 @@ class CandidatesToAxis(wiring.Component):
     busy, restart : Out(1)
     stalled : Out(1)
         ``tvalid`` high and ``tready`` low in this cycle (back-pressure).
+    soft_reset_ahead : In(1)
+        Only with ``busy_ahead=True``: ``soft_reset`` of the next cycle (the register
+        block's ``soft_reset_ahead``).
+    busy_next : Out(1)
+        Only with ``busy_ahead=True``: ``busy`` of the next cycle (``soft_reset_ahead`` or
+        a request now: the request is then still waiting or restarts), so that the caller
+        can hold the input from registers of its own.
     """
 
-    def __init__(self, cfg: DPConfig):
+    def __init__(self, cfg: DPConfig, *, busy_ahead: bool = False):
         self._cfg = cfg
+        self._ahead = bool(busy_ahead)
         super().__init__({
             "candidates": In(stream.Signature(candidate_layout(cfg))),
             "cand": Out(candidate_out_signature(cfg)),
@@ -152,6 +160,7 @@ class CandidatesToAxis(wiring.Component):
             "busy": Out(1),
             "restart": Out(1),
             "stalled": Out(1),
+            **({"soft_reset_ahead": In(1), "busy_next": Out(1)} if self._ahead else {}),
         })
 
     def elaborate(self, platform):
@@ -189,6 +198,10 @@ class CandidatesToAxis(wiring.Component):
             self.stalled.eq(out.tvalid & ~out.tready),
             self.busy.eq(request | self.restart),
         ]
+        if self._ahead:
+            # closing' | restart' = request: a request not closed now waits, one closed
+            # now restarts
+            m.d.comb += self.busy_next.eq(self.soft_reset_ahead | request)
         m.d.sync += held.eq(offering & src.valid & passing & ~out.tready)
         with m.If(close):
             m.d.sync += [closing.eq(0), list_start.eq(1), records.eq(0)]

@@ -89,8 +89,10 @@ class DPSegmenter(wiring.Component):
         # is exact while fewer words than a frame are in flight between the two (two such
         # segment starts are a whole segment apart), which the DP's credit count guarantees.
         assert self._dp.output_fifo_depth < cfg.width * cfg.height
+        options = self._dp.core_options
         self._segmenter = Segmenter(cfg, fifo_depth=fifo_depth,
-                                    histogram_style=self._dp.core_options["histogram_style"])
+                                    histogram_style=options["histogram_style"],
+                                    control_style=options["control_style"])
         super().__init__({
             "pixels": In(stream.Signature(pixel_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),

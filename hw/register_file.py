@@ -60,7 +60,10 @@ class RegisterFile(wiring.Component):
     segment_frames, candidate_count, histogram_shift : Out
         The run-time settings (one per ``setting`` field), reset to the build values.
     soft_reset, clear_counters : Out(1)
-        One-cycle pulses (one per ``pulse`` field).
+        One-cycle pulses (one per ``pulse`` field), registers.
+    soft_reset_ahead, clear_counters_ahead : Out(1)
+        Only with ``pulses_ahead=True``: each pulse of the next cycle (combinational, from
+        the write's registers), for a register of the caller's own that must rise with it.
     soft_reset_busy : In(1)
         What the ``status`` field of that name reads.
     lut_addr, lut_data, lut_we : Out
@@ -68,9 +71,11 @@ class RegisterFile(wiring.Component):
     irq : Out(1)
     """
 
-    def __init__(self, cfg: DPConfig, regmap=None):   # regmap: register_map(cfg) if None
+    def __init__(self, cfg: DPConfig, regmap=None, *, pulses_ahead: bool = False):
+        # regmap: register_map(cfg) if None
         self._cfg = cfg
         self._map = register_map(cfg) if regmap is None else regmap
+        self._ahead = bool(pulses_ahead)
         members = {
             "axil": In(axi_lite_signature(ADDRESS_BITS)),
             "events": In(event_port_layout(self._map.events)),
@@ -79,6 +84,8 @@ class RegisterFile(wiring.Component):
             members[field.name] = Out(range(field.limits[1] + 1), init=field.reset)
         for _reg, field in self._map.fields("pulse"):
             members[field.name] = Out(1)
+            if self._ahead:
+                members[f"{field.name}_ahead"] = Out(1)
         for _reg, field in self._map.fields("status"):
             members[field.name] = In(field.width)
         members.update({"lut_addr": Out(range(cfg.lut_entries)),
@@ -252,6 +259,9 @@ class RegisterFile(wiring.Component):
                     m.d.sync += storage[reg.name, field.name].eq(0)
             elif kind == "pulse":
                 m.d.sync += getattr(self, field.name).eq(written_ones[part].any())
+                if self._ahead:
+                    m.d.comb += getattr(self, f"{field.name}_ahead").eq(
+                        written_ones[part].any())
 
 
 def _align(ok, merged, field):

@@ -22,7 +22,12 @@ from dptbd.hw.histogram import Histogram
 from dptbd.hw.layouts import state_layout
 from dptbd.hw.threshold import ThresholdSearch
 
-__all__ = ["Segmenter", "scan_cycles", "segmenter_setting_members"]
+__all__ = ["CONTROL_STYLES", "Segmenter", "scan_cycles", "segmenter_setting_members"]
+
+#: ``Segmenter(control_style=…)`` (and ``DPCore(control_style=…)``, which carries it to every
+#: top): the control logic, ``"registered"`` the ECP5 build's (flags and enables from
+#: registers of their own; same words, same cycles).
+CONTROL_STYLES = ("generic", "registered")
 
 
 def segmenter_setting_members(cfg: DPConfig) -> dict:
@@ -70,12 +75,14 @@ class Segmenter(wiring.Component):
         Entries of the output FIFO (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter`).
     histogram_style : {"memory", "dp16kd"}
         The histogram's memory (:class:`~dptbd.hw.histogram.Histogram`'s ``style``); same
-        cycles. ``"dp16kd"`` (ECP5) also selects the segmenter's ECP5 structure around it:
-        the histogram's held increment passed to the threshold search apart from its count
-        (both blocks' ``held_apart``), the emitter's cap a register
-        (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter` ``registered_cap``), and
-        the list's end and missed end that set ``busy`` and ``missed`` as flat products of
-        registers instead of terms of the shared ``accept``.
+        cycles.
+    control_style : {"generic", "registered"}
+        The segmenter's control logic (:data:`CONTROL_STYLES`), same words,
+        same cycles. ``"registered"`` (ECP5): the histogram's held increment passed to the
+        threshold search apart from its count (both blocks' ``held_apart``), the emitter's
+        cap a register (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter`
+        ``registered_cap``), and the list's end and missed end that set ``busy`` and
+        ``missed`` as flat products of registers instead of terms of the shared ``accept``.
     dp16kd : callable or None
         For ``"dp16kd"``: the DP16KD builder (:class:`~dptbd.hw.histogram.Histogram`'s
         ``dp16kd``; tests pass a behavioural model).
@@ -106,12 +113,16 @@ class Segmenter(wiring.Component):
     RECORD_LATENCY = 3
 
     def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, histogram_style: str = "memory",
-                 dp16kd=None):
+                 control_style: str = "generic", dp16kd=None):
+        if control_style not in CONTROL_STYLES:
+            raise ValueError(f"control_style must be one of {CONTROL_STYLES}, "
+                             f"got {control_style!r}")
         self._cfg = cfg
         self._histogram_style = histogram_style
+        self._registered = control_style == "registered"
         self._dp16kd = dp16kd
         self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth,
-                                         registered_cap=histogram_style == "dp16kd")
+                                         registered_cap=self._registered)
         super().__init__({
             "states": In(stream.Signature(state_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),
@@ -133,7 +144,7 @@ class Segmenter(wiring.Component):
         cfg = self._cfg
         width, height = cfg.width, cfg.height
 
-        ecp5 = self._histogram_style == "dp16kd"       # the ECP5 structure (docstring)
+        ecp5 = self._registered                        # the ECP5 structure (docstring)
         m.submodules.histogram = hist = Histogram(cfg, style=self._histogram_style,
                                                   dp16kd=self._dp16kd, held_apart=ecp5)
         m.submodules.threshold = search = ThresholdSearch(cfg, held_apart=ecp5)

@@ -97,7 +97,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "best for this FPGA family (ice40: line buffer in block RAM, side "
                              "band in a block RAM, compact max tree; ecp5: line buffer in LUT "
                              "RAM, side band in registers, max tree split over two stages per "
-                             "level, +4 cycles) and refuse what it cannot build (a radius above "
+                             "level, +4 cycles, block RAMs through their output register, the "
+                             "segmenter's and dptbd_axi's control from registers of its own) "
+                             "and refuse what it cannot build (a radius above "
                              "1 on ice40); default: DPCore's defaults (block RAM, registers, "
                              "compact)")
     parser.add_argument("--clock-mhz", type=float, default=None, metavar="MHZ",

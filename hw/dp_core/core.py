@@ -11,19 +11,17 @@ from dptbd.config import DPConfig
 from dptbd.hw.accumulator import Accumulator, ClampedAccumulator
 from dptbd.hw.controller import Controller
 from dptbd.hw.delay import delayed, delayed_in_memory
-from dptbd.hw.dp_core.options import LINE_BUFFER_STYLES, SIDEBAND_DELAYS, core_line_buffer
+from dptbd.hw.dp_core.options import check_core_options, core_line_buffer
 from dptbd.hw.dp_core.output_queue import queue_output
 from dptbd.hw.dp_core.ports import family_write_members, lut_write_members, run_time_k_members
 from dptbd.hw.family_blocks import FamilyBlocks
 from dptbd.hw.forgetting_multiplier import ForgettingMultiplier
-from dptbd.hw.histogram import HISTOGRAM_STYLES
 from dptbd.hw.layouts import pixel_layout, state_layout, state_word_layout
 from dptbd.hw.max_tree import MaxTree
 from dptbd.hw.merit_lut import MeritLUT
 from dptbd.hw.penalised_candidate import PenalisedCandidate
 from dptbd.hw.penalty_lut import PenaltyLUT
 from dptbd.hw.pipelined_max import SplitMaxTree
-from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
 from dptbd.hw.schedule import PipelineSchedule, check_supported
 from dptbd.hw.state_store import StateStoreSignature
 from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
@@ -85,6 +83,13 @@ class DPCore(wiring.Component):
         (:class:`~dptbd.hw.histogram.Histogram`'s ``style``): an Amaranth memory (default)
         or ECP5 DP16KDs reading through their output register. DPCore itself does not use
         it. Anything else raises ``ValueError``.
+    control_style : {"generic", "registered"}
+        The control logic of the segmenter that ``DPSegmenter`` attaches and of the AXI
+        top's input (``dptbd_axi``): ``"generic"`` (default) or ``"registered"`` (what the
+        flow builds for ECP5: flags and enables from registers of their own, computed a
+        cycle ahead; same bits, same cycles; ``docs/gateware.md``, "Implementation options
+        per FPGA family"). DPCore itself does not use it. Anything else raises
+        ``ValueError``.
 
     Members
     -------
@@ -118,25 +123,18 @@ class DPCore(wiring.Component):
     def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
                  lut_style: str = "auto", line_buffer_style: str = "bram",
                  sideband_delay: str = "registers", max_tree: str = "compact",
-                 state_store_style: str = "memory", histogram_style: str = "memory"):
+                 state_store_style: str = "memory", histogram_style: str = "memory",
+                 control_style: str = "generic"):
         # -- line buffer and side-band storage (per-family implementation options) --
-        if line_buffer_style not in LINE_BUFFER_STYLES:
-            raise ValueError(f"line_buffer_style must be one of {LINE_BUFFER_STYLES}, "
-                             f"got {line_buffer_style!r}")
-        if sideband_delay not in SIDEBAND_DELAYS:
-            raise ValueError(f"sideband_delay must be one of {SIDEBAND_DELAYS}, "
-                             f"got {sideband_delay!r}")
-        if state_store_style not in STATE_STORE_STYLES:
-            raise ValueError(f"state_store_style must be one of {STATE_STORE_STYLES}, "
-                             f"got {state_store_style!r}")
+        check_core_options(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
+                           state_store_style=state_store_style,
+                           histogram_style=histogram_style, control_style=control_style)
         self._line_buffer_style = line_buffer_style
         self._sideband_delay = sideband_delay
         self._max_tree = max_tree
-        if histogram_style not in HISTOGRAM_STYLES:
-            raise ValueError(f"histogram_style must be one of {HISTOGRAM_STYLES}, "
-                             f"got {histogram_style!r}")
         self._state_store_style = state_store_style
         self._histogram_style = histogram_style
+        self._control_style = control_style
         self._schedule = check_supported(cfg, max_tree=max_tree)   # refuses a bad max_tree
         # -- end --
         self._cfg = cfg
@@ -213,7 +211,8 @@ class DPCore(wiring.Component):
         return {"line_buffer_style": self._line_buffer_style,
                 "sideband_delay": self._sideband_delay, "max_tree": self._max_tree,
                 "state_store_style": self._state_store_style,
-                "histogram_style": self._histogram_style}
+                "histogram_style": self._histogram_style,
+                "control_style": self._control_style}
 
     def elaborate(self, platform):
         m = Module()

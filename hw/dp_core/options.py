@@ -7,8 +7,10 @@ from dptbd.hw.histogram import HISTOGRAM_STYLES
 from dptbd.hw.line_buffer import LineBuffer
 from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
 from dptbd.hw.schedule import MAX_TREE_STAGES
+from dptbd.hw.segmenter import CONTROL_STYLES
 
-__all__ = ["LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS", "core_line_buffer"]
+__all__ = ["LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS", "check_core_options",
+           "core_line_buffer"]
 
 #: ``DPCore(line_buffer_style=…)`` and the line buffer memory's ``ram_style`` for each.
 LINE_BUFFER_RAM_STYLE = {"bram": None, "lutram": "distributed", "dp16kd": "dp16kd"}
@@ -19,11 +21,22 @@ SIDEBAND_DELAYS = ("registers", "memory")
 #: DPCore's implementation options (keyword arguments) with their allowed values; none
 #: changes behaviour (``max_tree`` changes the latency), the synthesis flow picks them per
 #: FPGA family. ``state_store_style`` is the on-chip store's (DPPipeline's) and
-#: ``histogram_style`` the segmenter's histogram's, carried here so that one set of options
-#: reaches every top.
+#: ``histogram_style`` the segmenter's histogram's, ``control_style`` the control logic of the
+#: segmenter and of the AXI top's input, carried here so that one set of options reaches
+#: every top.
 CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS,
                 "max_tree": tuple(MAX_TREE_STAGES), "state_store_style": STATE_STORE_STYLES,
-                "histogram_style": HISTOGRAM_STYLES}
+                "histogram_style": HISTOGRAM_STYLES, "control_style": CONTROL_STYLES}
+
+
+def check_core_options(**options: str) -> None:
+    """Refuse an option of :data:`CORE_OPTIONS` whose value is not one it allows
+    (``max_tree`` aside: the schedule refuses it, naming the supported builds):
+    ``ValueError`` naming the option, the allowed values and the value given."""
+    for name, value in options.items():
+        allowed = CORE_OPTIONS[name]
+        if name != "max_tree" and value not in allowed:
+            raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
 
 
 def core_line_buffer(shape, depth: int, taps: int, style: str) -> LineBuffer:

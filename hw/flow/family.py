@@ -64,7 +64,9 @@ class Family:
         register is the critical path otherwise, ``docs/synthesis.md``), the side band in
         registers (an ECP5 slice has its flip-flops beside its LUTs), the on-chip state
         store and the segmenter's histogram in DP16KDs reading through their output
-        register (``state_store_style`` and ``histogram_style`` ``"dp16kd"``).
+        register (``state_store_style`` and ``histogram_style`` ``"dp16kd"``), the control
+        logic of the segmenter and of the AXI top's input from registers of their own
+        (``control_style="registered"``).
         :meth:`options_for` gives a configuration's.
     dp16kd_line_buffer_from : int or None
         The frame width from which the family builds the line buffer in DP16KDs read through
@@ -166,7 +168,7 @@ ICE40 = Family(
     max_radius=1,
     core_options={"line_buffer_style": "bram", "sideband_delay": "memory",
                   "max_tree": "compact", "state_store_style": "memory",
-                  "histogram_style": "memory"})
+                  "histogram_style": "memory", "control_style": "generic"})
 
 #: ECP5 (nextpnr-ecp5): LFE5U-25F in the CABGA256 package (197 I/O), speed grade 6
 #: (nextpnr's default, the slowest), by default; ``"45k"`` is the LFE5U-45F.
@@ -180,7 +182,7 @@ ECP5 = Family(
                 "85k": (208, 18432)},
     core_options={"line_buffer_style": "lutram", "sideband_delay": "registers",
                   "max_tree": "split", "state_store_style": "dp16kd",
-                  "histogram_style": "dp16kd"},
+                  "histogram_style": "dp16kd", "control_style": "registered"},
     dp16kd_line_buffer_from=512)
 
 #: name -> :class:`Family`.

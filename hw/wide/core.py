@@ -12,13 +12,11 @@ from dptbd.errors import ConfigError
 from dptbd.hw.accumulator import Accumulator
 from dptbd.hw.controller import Controller
 from dptbd.hw.delay import delayed, delayed_in_memory
-from dptbd.hw.dp_core import (LINE_BUFFER_STYLES, SIDEBAND_DELAYS, core_line_buffer,
-                              lut_write_members, run_time_k_members, state_events)
-from dptbd.hw.histogram import HISTOGRAM_STYLES
+from dptbd.hw.dp_core import (check_core_options, core_line_buffer, lut_write_members,
+                              run_time_k_members, state_events)
 from dptbd.hw.input_credit import InputCredit
 from dptbd.hw.max_tree import MaxTree
 from dptbd.hw.pipelined_max import SplitMaxTree
-from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
 from dptbd.hw.schedule import PipelineSchedule, check_supported, read_ahead_distance
 from dptbd.hw.thermometer_fifo import ThermometerFIFO
 from dptbd.hw.weight_lut import WeightLUT, resolve_lut_style
@@ -66,11 +64,12 @@ class DPCoreWide(wiring.Component):
     """Streaming direction-weighted DP, P = 2 or 4 pixels per clock, external state store.
 
     Parameters and properties as :class:`~dptbd.hw.dp_core.DPCore` (same options, same
-    schedule and latency, counted in beats; ``state_store_style`` and ``histogram_style``
-    are accepted and not used: the wide store is
+    schedule and latency, counted in beats; ``state_store_style``, ``histogram_style`` and
+    ``control_style`` are accepted and not used: the wide store is
     :class:`~dptbd.hw.wide.state_store.WideStateStore`, the wide histogram
-    :class:`~dptbd.hw.banked_histogram.BankedHistogram` in Amaranth memories); refused with
-    :class:`~dptbd.errors.ConfigError` as :func:`check_wide` says.
+    :class:`~dptbd.hw.banked_histogram.BankedHistogram` in Amaranth memories, the control
+    logic the generic one); refused with :class:`~dptbd.errors.ConfigError` as
+    :func:`check_wide` says.
 
     Members
     -------
@@ -87,21 +86,14 @@ class DPCoreWide(wiring.Component):
     def __init__(self, cfg: DPConfig, *, output_fifo_depth: int | None = None,
                  lut_style: str = "auto", line_buffer_style: str = "bram",
                  sideband_delay: str = "registers", max_tree: str = "compact",
-                 state_store_style: str = "memory", histogram_style: str = "memory"):
-        if line_buffer_style not in LINE_BUFFER_STYLES:
-            raise ValueError(f"line_buffer_style must be one of {LINE_BUFFER_STYLES}, "
-                             f"got {line_buffer_style!r}")
-        if sideband_delay not in SIDEBAND_DELAYS:
-            raise ValueError(f"sideband_delay must be one of {SIDEBAND_DELAYS}, "
-                             f"got {sideband_delay!r}")
-        if state_store_style not in STATE_STORE_STYLES:
-            raise ValueError(f"state_store_style must be one of {STATE_STORE_STYLES}, "
-                             f"got {state_store_style!r}")
-        if histogram_style not in HISTOGRAM_STYLES:
-            raise ValueError(f"histogram_style must be one of {HISTOGRAM_STYLES}, "
-                             f"got {histogram_style!r}")
+                 state_store_style: str = "memory", histogram_style: str = "memory",
+                 control_style: str = "generic"):
+        check_core_options(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
+                           state_store_style=state_store_style,
+                           histogram_style=histogram_style, control_style=control_style)
         self._state_store_style = state_store_style
         self._histogram_style = histogram_style
+        self._control_style = control_style
         self._schedule = check_wide(cfg, max_tree=max_tree)
         self._line_buffer_style = line_buffer_style
         self._sideband_delay = sideband_delay
@@ -137,7 +129,8 @@ class DPCoreWide(wiring.Component):
         return {"line_buffer_style": self._line_buffer_style,
                 "sideband_delay": self._sideband_delay, "max_tree": self._max_tree,
                 "state_store_style": self._state_store_style,
-                "histogram_style": self._histogram_style}
+                "histogram_style": self._histogram_style,
+                "control_style": self._control_style}
 
     def elaborate(self, platform):
         m = Module()

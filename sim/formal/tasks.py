@@ -61,6 +61,10 @@ TASKS = (
                "AXI4-Lite", AXITopHarness, "prove", 4, 18, fast=False),
     FormalTask("dptbd_axi_short", "the same proof without its cover run (the default "
                "suite's)", AXITopHarness, "prove", 4, 0),
+    FormalTask("dptbd_axi_registered", "the same with control_style='registered' (the ECP5 "
+               "build's input and segmenter control)",
+               lambda: AXITopHarness(core_options={"control_style": "registered"}), "prove", 4,
+               0),
     FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "
                "the AXI4 manager port (dptbd_dp --state-store axi)", AxiStoreHarness,
                "prove", 4, 32, fast=False),

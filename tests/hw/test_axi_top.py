@@ -296,7 +296,8 @@ def test_external_state_store_ports_and_core_options():
     ``core_options`` reach the DP core. Off by default."""
     cfg = config()
     options = {"line_buffer_style": "lutram", "sideband_delay": "memory", "max_tree": "split",
-               "state_store_style": "dp16kd", "histogram_style": "dp16kd"}
+               "state_store_style": "dp16kd", "histogram_style": "dp16kd",
+               "control_style": "registered"}
     top = AXITop(cfg, external_state_store=True, core_options=options)
     ports = {path[0]: member.flow for path, member, _v in top.signature.flatten(top)}
     store = [n for n in ports if n.startswith("state_store_")]
@@ -311,3 +312,76 @@ def test_external_state_store_ports_and_core_options():
     assert not plain.core.external_state_store
     assert not [p for p, _m, _v in plain.signature.flatten(plain) if p[0].startswith("state")]
     Fragment.get(top, None)
+
+
+def lockstep_trace(top, cfg, seed, cycles, replay=None):
+    """Every input and output port of ``top`` in every cycle: a random stimulus (pixels in
+    frames of W*H taken beats, a stray start of frame now and then, soft resets and other
+    writes to CONTROL, reads, back-pressure, ``aresetn`` now and then), or ``replay``, the
+    inputs of an earlier trace (the same stimulus on another build)."""
+    regs = constants_namespace(cfg)
+    rng = np.random.default_rng(seed)
+    pixels = cfg.width * cfg.height
+    inputs = [p[0] for p, m, _v in top.signature.flatten(top) if m.flow == In and p[0] != "aclk"]
+    outputs = [p[0] for p, m, _v in top.signature.flatten(top) if m.flow == Out]
+    trace = []
+
+    async def bench(ctx):
+        taken = 0
+        for cycle in range(cycles):
+            if replay is not None:
+                draw = replay[cycle][0]
+            else:
+                draw = {
+                    "aresetn": int(cycle > 0 and rng.random() > 0.002),
+                    "s_axis_video_tdata": int(rng.integers(256)),
+                    "s_axis_video_tuser": int(taken % pixels == 0 or rng.random() < 0.002),
+                    "s_axis_video_tlast": int(taken % cfg.width == cfg.width - 1),
+                    "s_axis_video_tvalid": int(rng.random() < 0.9),
+                    "m_axis_cand_tready": int(rng.random() < 0.7),
+                    "m_axis_state_tready": int(rng.random() < 0.9),
+                    "s_axil_awaddr": regs.REG_CONTROL,
+                    "s_axil_awvalid": int(rng.random() < 0.02),
+                    "s_axil_wvalid": int(rng.random() < 0.02),
+                    # soft_reset (bit 0) in one write of twenty, clear_counters (bit 1)
+                    "s_axil_wdata": int(rng.random() < 0.05) | 2 * int(rng.random() < 0.5),
+                    "s_axil_wstrb": 0xF,
+                    "s_axil_bready": int(rng.random() < 0.5),
+                    "s_axil_araddr": int(rng.choice([regs.REG_STATUS, regs.REG_INPUT_STALLS])),
+                    "s_axil_arvalid": int(rng.random() < 0.05),
+                    "s_axil_rready": int(rng.random() < 0.5),
+                }
+            for name in inputs:
+                ctx.set(getattr(top, name), draw.get(name, 0))
+            out = {name: ctx.get(getattr(top, name)) for name in outputs}
+            trace.append((draw, out))
+            taken += draw["s_axis_video_tvalid"] & out["s_axis_video_tready"]
+            await ctx.tick("sync")
+
+    simulate_top(top, bench)
+    return trace
+
+
+def test_registered_control_is_the_generic_top_cycle_for_cycle():
+    """``control_style="registered"`` (the ECP5 build: the input held from registers of its
+    own computed a cycle ahead, the segmenter's registered control) gives every output port
+    the generic build's value in every cycle, under soft resets, other writes, reads,
+    back-pressure and ``aresetn``, with the state output."""
+    # 16 bins: a short histogram scan, so that many lists are sent
+    cfg = make_config(width=8, height=6, segment_frames=2, candidate_count=3, histogram_bits=4,
+                      histogram_shift=2)
+    generic = lockstep_trace(AXITop(cfg, state_output=True), cfg, 5, 10000)
+    registered = lockstep_trace(
+        AXITop(cfg, state_output=True, core_options={"control_style": "registered"}),
+        cfg, 5, 10000, replay=generic)
+    assert [out for _d, out in registered] == [out for _d, out in generic]
+
+    def count(condition):
+        return sum(bool(condition(d, o)) for d, o in generic)
+    # not vacuous: pixels taken, lists and states sent, soft resets served
+    assert count(lambda d, o: d["s_axis_video_tvalid"] & o["s_axis_video_tready"]) > 4000
+    assert count(lambda d, o: o["m_axis_cand_tvalid"] & d["m_axis_cand_tready"]
+                 & o["m_axis_cand_tlast"]) > 40
+    assert count(lambda d, o: o["m_axis_state_tvalid"] & d["m_axis_state_tready"]) > 4000
+    assert count(lambda d, o: d["s_axil_wvalid"] & o["s_axil_wready"]
+                 & d["s_axil_wdata"] & 1) > 5

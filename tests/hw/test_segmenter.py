@@ -10,7 +10,8 @@ from amaranth.hdl import ResetInserter, Signal
 from dptbd.hw.segmenter import Segmenter, scan_cycles
 from dptbd.model.segmentation import segment_stream, threshold_bin
 from helpers.dp16kd_model import DP16KDModel
-from helpers.hw_harness import simulate
+from helpers.hw_harness import refused, simulate
+from helpers.refusals import whole
 from helpers.seg_harness import make_config, pack_state_rows, run_lists, score
 
 
@@ -59,9 +60,19 @@ CASES = {
 }
 
 
-#: the ECP5 build's histogram (DP16KDs, here a behavioural model, and the held increment
-#: added in the threshold search), besides the default
-STYLES = {"memory": {}, "dp16kd": {"histogram_style": "dp16kd", "dp16kd": DP16KDModel}}
+#: the ECP5 build's histogram (DP16KDs, here a behavioural model) and control (the held
+#: increment added in the threshold search, the registered cap and list ends), and the
+#: registered control alone, besides the default
+STYLES = {"memory": {},
+          "dp16kd": {"histogram_style": "dp16kd", "control_style": "registered",
+                     "dp16kd": DP16KDModel},
+          "registered": {"control_style": "registered"}}
+
+
+def test_refuses_an_unknown_control_style():
+    with refused(ValueError, whole("control_style must be one of ('generic', 'registered'), "
+                                   "got 'fast'")):
+        Segmenter(make_config(width=4, height=3), control_style="fast")
 
 
 @pytest.mark.parametrize("style", list(STYLES))

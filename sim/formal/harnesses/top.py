@@ -31,11 +31,14 @@ class AXITopHarness(Harness):
     accepted; never more state words (fillers aside) than pixels accepted since the last
     reset; and the invariants of :func:`top_invariants` that make all of it k-inductive,
     less those named in ``drop`` (:data:`TOP_INVARIANTS`; for the test that each is needed).
+    ``core_options`` as :class:`~dptbd.hw.axi_top.AXITop`'s (e.g. the ECP5 build's
+    ``control_style="registered"``).
     """
 
-    def __init__(self, cfg: DPConfig | None = None, drop: tuple = ()):
+    def __init__(self, cfg: DPConfig | None = None, drop: tuple = (), core_options=None):
         super().__init__()
         self.cfg = cfg or tiny_config()
+        self.core_options = core_options
         unknown = sorted(set(drop) - set(TOP_INVARIANTS))
         if unknown:
             raise ValueError(f"unknown dptbd_axi invariant group(s) {', '.join(unknown)}; the "
@@ -43,7 +46,7 @@ class AXITopHarness(Harness):
         self.drop = tuple(drop)
 
     def check(self, m, past):
-        top = Elaborated(AXITop(self.cfg, state_output=True))
+        top = Elaborated(AXITop(self.cfg, state_output=True, core_options=self.core_options))
         # dptbd_axi defines its own sync domain from aclk / aresetn (driven from clk / rst
         # below): renamed, so that the harness's registers use the harness's own sync domain
         m.submodules.dut = DomainRenamer({"sync": "dut"})(top.fragment)

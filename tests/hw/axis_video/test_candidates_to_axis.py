@@ -156,3 +156,31 @@ def test_soft_reset_closes_the_list_in_every_cycle(seed):
         else:
             assert restarts[0] == during[0] + 2 and len(during) == 1
     assert min(seen.values()) > 0, seen
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_busy_next_is_the_next_cycles_busy(seed):
+    """``CandidatesToAxis(busy_ahead=True)``: ``busy_next`` is ``busy`` of the next cycle,
+    given ``soft_reset_ahead`` (the next cycle's ``soft_reset``), under soft resets at any
+    time (during a list, a held word, a close, back to back), ``hold`` and back-pressure."""
+    cfg = config()
+    dut = CandidatesToAxis(cfg, busy_ahead=True)
+    rng = random.Random(seed)
+    cycles = 600
+    soft = [int(rng.random() < 0.04) for _ in range(cycles + 1)]
+    trace = []
+
+    async def bench(ctx):
+        for cycle in range(cycles):
+            ctx.set(dut.candidates.valid, rng.random() < 0.6)
+            ctx.set(dut.candidates.payload.end_of_list, rng.random() < 0.3)
+            ctx.set(dut.cand.tready, rng.random() < 0.5)
+            ctx.set(dut.hold, rng.random() < 0.3)
+            ctx.set(dut.soft_reset, soft[cycle])
+            ctx.set(dut.soft_reset_ahead, soft[cycle + 1])
+            trace.append((ctx.get(dut.busy), ctx.get(dut.busy_next), ctx.get(dut.restart)))
+            await ctx.tick()
+
+    simulate(dut, bench)
+    assert [n for _b, n, _r in trace[:-1]] == [b for b, _n, _r in trace[1:]]
+    assert sum(r for _b, _n, r in trace) > 10 and sum(soft) > 10

@@ -17,9 +17,11 @@ from helpers.refusals import whole
 #: Every combination of DPCore's implementation options (the iCE40 and ECP5 flows' among
 #: them).
 # The on-chip store's DP16KD build is checked in tests/hw/test_read_ahead_store.py and the
-# histogram is not in these blocks (the segmenter's tests); every other option is simulated,
+# histogram and the control style are not in these blocks (the segmenter's and the AXI top's
+# tests); every other option is simulated,
 # the DP16KD line buffer's block RAMs by a behavioural DP16KD.
-SIMULATED = {**CORE_OPTIONS, "state_store_style": ("memory",), "histogram_style": ("memory",)}
+SIMULATED = {**CORE_OPTIONS, "state_store_style": ("memory",), "histogram_style": ("memory",),
+             "control_style": ("generic",)}
 OPTION_SETS = [dict(zip(SIMULATED, values)) for values in itertools.product(*SIMULATED.values())]
 
 
@@ -104,6 +106,7 @@ def test_storage_options_keep_the_cycle_count(monkeypatch, options):
     ("max_tree", "fast", "('compact', 'split')"),
     ("state_store_style", "lutram", "('memory', 'dp16kd')"),
     ("histogram_style", "distributed", "('memory', 'dp16kd')"),
+    ("control_style", "fast", "('generic', 'registered')"),
 ])
 def test_refuses_an_unknown_storage_option(option, bad, allowed):
     with refused(ValueError, whole(f"{option} must be one of {allowed}, got '{bad}'")):

@@ -1,9 +1,11 @@
 """DPCore's implementation options: the allowed values and the line buffer of each style."""
 
+import re
+
 import pytest
 
 from dptbd.config import DPConfig
-from dptbd.hw.dp_core import core_line_buffer
+from dptbd.hw.dp_core import CORE_OPTIONS, check_core_options, core_line_buffer
 from dptbd.hw.dp_core import options
 from dptbd.hw.dp_core.core import DPCore
 from dptbd.hw.layouts import state_word_layout
@@ -34,3 +36,20 @@ def test_line_buffer_of_each_style(monkeypatch, style, depth, chosen):
     cfg = DPConfig(width=6, height=5)
     core_line_buffer(state_word_layout(cfg), depth, 2, style)
     assert [(k["ram_style"], k["interleaved_read"]) for k in made] == [chosen]
+
+
+def test_check_core_options_passes_every_allowed_value():
+    for name, allowed in CORE_OPTIONS.items():
+        for value in allowed:
+            check_core_options(**{name: value})
+
+
+@pytest.mark.parametrize("name", sorted(set(CORE_OPTIONS) - {"max_tree"}))
+def test_check_core_options_refuses_a_value_not_allowed(name):
+    allowed = re.escape(repr(CORE_OPTIONS[name]))
+    with pytest.raises(ValueError, match=rf"^{name} must be one of {allowed}, got 'nope'$"):
+        check_core_options(**{name: "nope"})
+
+
+def test_check_core_options_leaves_max_tree_to_the_schedule():
+    check_core_options(max_tree="nope")      # refused by check_supported, naming the builds

@@ -2,6 +2,7 @@
 accesses refused, a LUT write only with every byte strobed, LUT window reads answered SLVERR."""
 
 import pytest
+from amaranth.hdl import Fragment
 
 from dptbd.hw.axi_lite import RESP_OKAY, RESP_SLVERR
 from dptbd.hw.register_file import RegisterFile
@@ -113,3 +114,34 @@ def test_lut_window_reads_answer_slverr(cfg):
 
     simulate(dut, bench)
     assert got == [(0, RESP_SLVERR), (0, RESP_SLVERR), 0]
+
+
+def test_pulses_ahead_are_the_next_cycles_pulses(cfg):
+    """``pulses_ahead=True``: ``soft_reset_ahead`` and ``clear_counters_ahead`` are high in
+    exactly the cycles before ``soft_reset`` and ``clear_counters`` (writes to CONTROL with
+    either bit, both, none, a partial strobe, and writes elsewhere)."""
+    regs = constants_namespace(cfg)
+    dut = RegisterFile(cfg, pulses_ahead=True)
+    plain = RegisterFile(cfg)
+    assert "soft_reset_ahead" not in dict(plain.signature.members)
+    Fragment.get(plain, None)
+
+    async def bench(ctx):
+        for data, strb in ((1, 0xF), (2, 0xF), (3, 0xF), (0, 0xF), (1, 0xE), (3, 0x1)):
+            for order in ("together", "aw_first", "w_first"):
+                await axil_write(ctx, dut.axil, regs.REG_CONTROL, data, strb, order=order)
+        await axil_write(ctx, dut.axil, regs.REG_CANDIDATE_COUNT, 1)
+
+    trace = []
+
+    async def watch(ctx):
+        async for _clk, _rst, *values in ctx.tick().sample(
+                dut.soft_reset_ahead, dut.clear_counters_ahead, dut.soft_reset,
+                dut.clear_counters):
+            trace.append(values)
+
+    simulate(dut, bench, background=[watch])
+    ahead = [(s, c) for s, c, _p, _q in trace]
+    pulses = [(p, q) for _s, _c, p, q in trace]
+    assert ahead[:-1] == pulses[1:]
+    assert sum(s for s, _c in ahead) == 9 and sum(c for _s, c in ahead) == 9
