@@ -100,7 +100,7 @@ class AxiReadPrefetcher(wiring.Component):
         (:func:`~dptbd.hw.dp16kd.dp16kd_memory`) whose output register is the head beat,
         the array read a stage before it: no block-RAM clock-to-out before a register.
         Same words in the same order, same cycles (the first pixel enters in cycle 5 of a
-        zero-latency memory either way).
+        zero-latency memory either way). ``"dp16kd"`` adds the member ``available_next``.
         Anything else raises ``ValueError``.
     dp16kd : callable or None
         With ``style="dp16kd"``: builds one DP16KD (``cell`` of
@@ -127,6 +127,9 @@ class AxiReadPrefetcher(wiring.Component):
         With ``take``: the pixel taking the word resynchronised (see the module doc).
     error : Out(1)
         Pulse: a read beat came back with ``SLVERR`` or ``DECERR``.
+    available_next : Out(1)
+        With ``style="dp16kd"``: the value ``available`` takes at the next clock edge, for
+        a gate that registers it (:class:`~dptbd.hw.axi_store.AxiStateStore`).
     """
 
     def __init__(self, store: AxiStoreConfig, *, style: str = "memory", dp16kd=None):
@@ -136,7 +139,9 @@ class AxiReadPrefetcher(wiring.Component):
         self._style = style
         self._dp16kd = dp16kd
         axi = axi4_signature(store)
+        extra = {"available_next": Out(1)} if style == "dp16kd" else {}
         super().__init__({
+            **extra,
             "ar": Out(address_channel("ar", store.address_bits, store.id_bits)),
             "r": Out(axi.members["r"].signature),
             "base": In(store.address_bits, init=store.base_address),
@@ -251,7 +256,7 @@ class AxiReadPrefetcher(wiring.Component):
                 m.d.sync += [head.eq(fifo.r_data), head_valid.eq(fifo.r_rdy)]
         else:
             pop = Signal()                           # the head beat leaves
-            head, head_valid = self._fifo_dp16kd(m, pop)
+            head, head_valid, head_valid_next = self._fifo_dp16kd(m, pop)
 
         # ---- take side: unpack the head beat, drop stale beats --------------------------
         # one word per beat: offset stays 0 (one bit, not a zero-width vector)
@@ -289,6 +294,12 @@ class AxiReadPrefetcher(wiring.Component):
             m.d.comb += pop.eq(last)
             m.d.sync += offset.eq(Mux(last, 0, offset + 1))
         m.d.sync += reserved.eq(reserved + Mux(issue, length, 0) - pop)
+        if self._style == "dp16kd":
+            # `available`'s next value, for the gate's `ready` register (the same updates of
+            # `head_valid` and `fresh` as above)
+            fresh_next = Mux(self.take & self.restart, dropped == 0,
+                             Mux(~fresh & pop, stale == 1, fresh))
+            m.d.comb += self.available_next.eq(head_valid_next & fresh_next)
         return m
 
     def _fifo_dp16kd(self, m, pop):
@@ -314,11 +325,13 @@ class AxiReadPrefetcher(wiring.Component):
             m.d.sync += write_ptr.eq(step(write_ptr))
         with m.If(fetch):
             m.d.sync += read_ptr.eq(step(read_ptr))
+        head_valid_next = Signal()
+        m.d.comb += head_valid_next.eq(advance | (head_valid & ~pop))
         m.d.sync += [stored.eq(stored + write - fetch),
                      ahead_valid.eq(fetch | (ahead_valid & ~advance)),
-                     head_valid.eq(advance | (head_valid & ~pop))]
+                     head_valid.eq(head_valid_next)]
         head = dp16kd_memory(m, "fifo", width=store.data_bits, depth=depth,
                              read_addr=read_ptr, read_en=fetch, out_en=advance,
                              write_addr=write_ptr, write_data=self.r.rdata, write_en=write,
                              cell=self._dp16kd)
-        return head, head_valid
+        return head, head_valid, head_valid_next

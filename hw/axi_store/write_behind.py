@@ -42,6 +42,13 @@ class AxiWriteBehind(wiring.Component):
     in_flight : int
         The most writes that may still arrive after ``room`` was last high (the pipeline's
         write latency + 1).
+    staged : bool
+        ``False`` (default): a closed burst's descriptor is written into the descriptor
+        FIFO in the cycle its last beat is processed. ``True`` (the ECP5 build's,
+        :class:`~dptbd.hw.axi_store.AxiStateStore` ``style="dp16kd"``): a cycle later, from
+        registers (the FIFO's LUT-RAM write enable and data follow no logic), so each AW
+        goes out one cycle later; the W FIFO, its margin and ``room`` are the same. Adds
+        the member ``room_next``.
 
     Members
     -------
@@ -58,12 +65,17 @@ class AxiWriteBehind(wiring.Component):
         Pixels whose writes have their B response (modular count since reset).
     error : Out(1)
         Pulse: a write response was ``SLVERR`` or ``DECERR``.
+    room_next : Out(1)
+        With ``staged``: the value ``room`` takes at the next clock edge (its register's
+        input), for a gate that registers ``room`` with other flags.
     """
 
-    def __init__(self, store: AxiStoreConfig, *, in_flight: int):
+    def __init__(self, store: AxiStoreConfig, *, in_flight: int, staged: bool = False):
         self._store = store
         self._in_flight = in_flight
+        self._staged = staged
         axi = axi4_signature(store)
+        extra = {"room_next": Out(1)} if staged else {}
         super().__init__({
             "aw": Out(address_channel("aw", store.address_bits, store.id_bits)),
             "w": Out(axi.members["w"].signature),
@@ -75,6 +87,7 @@ class AxiWriteBehind(wiring.Component):
             "room": Out(1),
             "written": Out(pixel_count_bits(store)),
             "error": Out(1),
+            **extra,
         })
 
     @property
@@ -144,7 +157,12 @@ class AxiWriteBehind(wiring.Component):
         run_start = Signal(range(beats))
         run_len = Signal(8)                          # beats - 1
         run_upto = Signal(count_bits)
-        closing = data.View(descriptor, bursts.w_data)
+        # staged: the descriptor and its write enable a cycle later, from registers
+        closing_en = Signal() if self._staged else bursts.w_en
+        closing_data = Signal(descriptor.size) if self._staged else bursts.w_data
+        if self._staged:
+            m.d.sync += [bursts.w_en.eq(closing_en), bursts.w_data.eq(closing_data)]
+        closing = data.View(descriptor, closing_data)
         block_end = beat_block_end
         with m.If(beat_valid):
             m.d.sync += expect.eq(beat_next)
@@ -154,16 +172,18 @@ class AxiWriteBehind(wiring.Component):
             length = Mux(starts, 0, run_len + 1)
             with m.If(jump):                         # never also a block end: beat 0
                 m.d.comb += [closing.beat.eq(run_start), closing.len.eq(run_len),
-                             closing.upto.eq(run_upto), bursts.w_en.eq(1)]
+                             closing.upto.eq(run_upto), closing_en.eq(1)]
             with m.Elif(block_end):
                 m.d.comb += [closing.beat.eq(start), closing.len.eq(length),
-                             closing.upto.eq(beat_upto), bursts.w_en.eq(1)]
+                             closing.upto.eq(beat_upto), closing_en.eq(1)]
             m.d.sync += [run_open.eq(~block_end), run_start.eq(start), run_len.eq(length),
                          run_upto.eq(beat_upto)]
         # registered: the level rises by at most one beat a cycle, which the margin counts
         room = Signal(init=1)
         m.d.sync += room.eq(w_fifo.level <= depth - self.margin)
         m.d.comb += self.room.eq(room)
+        if self._staged:
+            m.d.comb += self.room_next.eq(w_fifo.level <= depth - self.margin)
 
         # ---- AW: one burst at a time from the descriptor FIFO ---------------------------
         head = data.View(descriptor, bursts.r_data)
