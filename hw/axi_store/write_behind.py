@@ -47,8 +47,9 @@ class AxiWriteBehind(wiring.Component):
         FIFO in the cycle its last beat is processed. ``True`` (the ECP5 build's,
         :class:`~dptbd.hw.axi_store.AxiStateStore` ``style="dp16kd"``): a cycle later, from
         registers (the FIFO's LUT-RAM write enable and data follow no logic), so each AW
-        goes out one cycle later, and the W FIFO holds one beat more, so ``room`` falls in
-        the same cycles. Adds the member ``room_next``.
+        goes out one cycle later; the W FIFO and its margin are the same, so with bursts
+        of 16 beats ``room`` falls in the same cycles, with very short ones (2 beats) it
+        may fall earlier. Adds the member ``room_next``.
 
     Members
     -------
@@ -100,9 +101,8 @@ class AxiWriteBehind(wiring.Component):
 
     @property
     def fifo_depth(self) -> int:
-        """Beats of the W FIFO: two full bursts plus :attr:`margin`, plus one with
-        ``staged`` (the beat that arrives in the cycle an AW waits for its descriptor)."""
-        return 2 * self._store.burst_beats + self.margin + int(self._staged)
+        """Beats of the W FIFO: two full bursts plus :attr:`margin`."""
+        return 2 * self._store.burst_beats + self.margin
 
     def elaborate(self, platform):
         m = Module()

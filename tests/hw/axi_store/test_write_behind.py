@@ -78,7 +78,8 @@ def test_a_frame_is_written_in_aligned_bursts_and_slots(data_bits, burst_beats, 
     assert memory.bursts == expected
     assert [stored(memory, store, a) for a in range(192)] == data
     assert trace["written"][-1] == 192                 # every pixel's write answered
-    assert all(trace["room"])
+    # staged, the AWs of 2-beat bursts a cycle later: the W FIFO of the same depth fills
+    assert all(trace["room"]) != (staged and burst_beats == 2)
 
 
 @pytest.mark.parametrize("staged", [False, True])
