@@ -48,6 +48,9 @@ __all__ = ["PREFETCH_FIFO_STYLES", "pixel_count_bits", "store_word_layout", "to_
 #: ``AxiReadPrefetcher(style=…)``: the beat FIFO as an Amaranth FIFO, or ECP5 DP16KDs read
 #: through their output register.
 PREFETCH_FIFO_STYLES = ("memory", "dp16kd")
+#: Flip-flop beats between the DP16KDs and the head beat with ``style="dp16kd"`` (a power
+#: of two: the queue's pointers wrap by themselves).
+SKID_BEATS = 4
 
 
 def store_word_layout(store: AxiStoreConfig):
@@ -129,7 +132,8 @@ class AxiReadPrefetcher(wiring.Component):
         Pulse: a read beat came back with ``SLVERR`` or ``DECERR``.
     available_next : Out(1)
         With ``style="dp16kd"``: the value ``available`` takes at the next clock edge, for
-        a gate that registers it (:class:`~dptbd.hw.axi_store.AxiStateStore`).
+        a gate that registers it (:class:`~dptbd.hw.axi_store.AxiStateStore`), except after
+        a restart (``take`` with ``restart``), where it is low.
     """
 
     def __init__(self, store: AxiStoreConfig, *, style: str = "memory", dp16kd=None):
@@ -295,26 +299,30 @@ class AxiReadPrefetcher(wiring.Component):
             m.d.sync += offset.eq(Mux(last, 0, offset + 1))
         m.d.sync += reserved.eq(reserved + Mux(issue, length, 0) - pop)
         if self._style == "dp16kd":
-            # `available`'s next value, for the gate's `ready` register (the same updates of
-            # `head_valid` and `fresh` as above)
-            fresh_next = Mux(self.take & self.restart, dropped == 0,
-                             Mux(~fresh & pop, stale == 1, fresh))
+            # `available`'s next value for the gate's `ready` register (the updates of
+            # `head_valid` and `fresh` above), low after a restart: `fresh`'s value there
+            # (`dropped == 0`) follows the issue test
+            fresh_next = ~(self.take & self.restart) & (fresh | (head_valid & (stale == 1)))
             m.d.comb += self.available_next.eq(head_valid_next & fresh_next)
         return m
 
     def _fifo_dp16kd(self, m, pop):
-        # ---- ECP5: a ring buffer in DP16KDs, two read stages: the array's read register
-        # (``ahead``, loaded with the beat at ``read_ptr``) and the output register (the
-        # head beat), each moving on when the stage after it is free or leaving --------------
+        # ---- ECP5: a ring buffer in DP16KDs read at its own pace into a queue of
+        # SKID_BEATS flip-flop beats, whose head is the head beat. The array reads when a
+        # queue beat is free (``credit``: free queue beats less those on their way through
+        # the array's read register and the output register, which always loads): the
+        # block RAMs' enables follow registers, never ``take``. A beat popped in cycle t
+        # frees a credit in t + 1 and is replaced in t + 4, so four queue beats keep one
+        # beat a cycle; the first beat reaches the head a cycle later than without it. ----
         store = self._store
         depth = self.fifo_depth
         write_ptr = Signal(range(depth))
         read_ptr = Signal(range(depth))
         stored = Signal(range(depth + 1))           # beats written and not yet read ahead
-        ahead_valid = Signal()
-        head_valid = Signal()
-        advance = ahead_valid & (~head_valid | pop)     # the output register loads
-        fetch = (stored != 0) & (~ahead_valid | advance)   # the array reads read_ptr
+        credit = Signal(range(SKID_BEATS + 1), init=SKID_BEATS)
+        ahead_valid = Signal()                      # the array's read register holds a beat
+        out_valid = Signal()                        # the output register holds a beat
+        fetch = (stored != 0) & (credit != 0)       # the array reads read_ptr
         write = self.r.rvalid & self.r.rready
         m.d.comb += self.r.rready.eq(stored != depth)
 
@@ -325,13 +333,32 @@ class AxiReadPrefetcher(wiring.Component):
             m.d.sync += write_ptr.eq(step(write_ptr))
         with m.If(fetch):
             m.d.sync += read_ptr.eq(step(read_ptr))
-        head_valid_next = Signal()
-        m.d.comb += head_valid_next.eq(advance | (head_valid & ~pop))
         m.d.sync += [stored.eq(stored + write - fetch),
-                     ahead_valid.eq(fetch | (ahead_valid & ~advance)),
-                     head_valid.eq(head_valid_next)]
-        head = dp16kd_memory(m, "fifo", width=store.data_bits, depth=depth,
-                             read_addr=read_ptr, read_en=fetch, out_en=advance,
-                             write_addr=write_ptr, write_data=self.r.rdata, write_en=write,
-                             cell=self._dp16kd)
+                     ahead_valid.eq(fetch), out_valid.eq(ahead_valid),
+                     credit.eq(credit - fetch + pop)]
+        out = dp16kd_memory(m, "fifo", width=store.data_bits, depth=depth,
+                            read_addr=read_ptr, read_en=fetch, out_en=1,
+                            write_addr=write_ptr, write_data=self.r.rdata, write_en=write,
+                            cell=self._dp16kd)
+        # the queue: a write enable per beat, the head an AND-OR of the beats
+        beats = [Signal(store.data_bits, name=f"skid_{i}") for i in range(SKID_BEATS)]
+        produce = Signal(range(SKID_BEATS))
+        consume = Signal(range(SKID_BEATS))
+        level = Signal(range(SKID_BEATS + 1))
+        with m.If(out_valid):
+            m.d.sync += produce.eq(produce + 1)
+        for i, beat in enumerate(beats):
+            with m.If(out_valid & (produce == i)):
+                m.d.sync += beat.eq(out)
+        with m.If(pop):
+            m.d.sync += consume.eq(consume + 1)
+        level_next = Signal(range(SKID_BEATS + 1))
+        head_valid = Signal()
+        head_valid_next = Signal()
+        m.d.comb += [level_next.eq(level + out_valid - pop),
+                     head_valid_next.eq(level_next != 0)]
+        m.d.sync += [level.eq(level_next), head_valid.eq(head_valid_next)]
+        head = 0
+        for i, beat in enumerate(beats):
+            head = head | Mux(consume == i, beat, 0)
         return head, head_valid, head_valid_next
