@@ -48,8 +48,9 @@ class AxiWriteBehind(wiring.Component):
         :class:`~dptbd.hw.axi_store.AxiStateStore` ``style="dp16kd"``): a cycle later, from
         registers (the FIFO's LUT-RAM write enable and data follow no logic), so each AW
         goes out one cycle later; the W FIFO and its margin are the same, so with bursts
-        of 16 beats ``room`` falls in the same cycles, with very short ones (2 beats) it
-        may fall earlier. Adds the member ``room_next``.
+        of 4 beats or more ``room`` falls as without (tested), with bursts of 2 it may
+        fall earlier (the pipeline's AR side is slower there). Adds the member
+        ``room_next``.
 
     Members
     -------
