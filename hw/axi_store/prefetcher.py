@@ -100,10 +100,12 @@ class AxiReadPrefetcher(wiring.Component):
     style : {"memory", "dp16kd"}
         The beat FIFO: ``"memory"`` (default) a ``SyncFIFOBuffered`` whose block RAM read is
         registered into the head beat; ``"dp16kd"`` (ECP5) a ring buffer in DP16KDs
-        (:func:`~dptbd.hw.dp16kd.dp16kd_memory`) whose output register is the head beat,
-        the array read a stage before it: no block-RAM clock-to-out before a register.
-        Same words in the same order, same cycles (the first pixel enters in cycle 5 of a
-        zero-latency memory either way). ``"dp16kd"`` adds the member ``available_next``.
+        (:func:`~dptbd.hw.dp16kd.dp16kd_memory`) read through their output register at
+        their own pace into :data:`SKID_BEATS` flip-flop beats, whose head is the head
+        beat: no block-RAM clock-to-out before a register, and the DP16KDs' enables follow
+        registers, not ``take``. Same words in the same order; the first word is available
+        a cycle later (the first pixel of a zero-latency memory enters in cycle 6 instead
+        of 5), then one per cycle. ``"dp16kd"`` adds the member ``available_next``.
         Anything else raises ``ValueError``.
     dp16kd : callable or None
         With ``style="dp16kd"``: builds one DP16KD (``cell`` of
