@@ -60,9 +60,7 @@ class AxiWriteBehind(wiring.Component):
         registers (the FIFO's LUT-RAM write enable and data follow no logic), so each AW
         goes out one cycle later; the W FIFO and the descriptor FIFO are
         :class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO` (the same cycles, "not empty"
-        and "full" registers), the W FIFO's level counted beside it; the burst lengths
-        that time WLAST are one too (read from its output register: a burst's first W
-        beat a cycle later after its AW); the W FIFO's depth and margin
+        and "full" registers), the W FIFO's level counted beside it; its depth and margin
         are the same, so with bursts
         of 4 beats or more ``room`` falls as without (tested), with bursts of 2 it may
         fall earlier (the pipeline's AR side is slower there). Adds the member
@@ -216,10 +214,7 @@ class AxiWriteBehind(wiring.Component):
 
         # ---- AW: one burst at a time from the descriptor FIFO ---------------------------
         head = data.View(descriptor, bursts.r_data)
-        if self._staged:      # WLAST from the lengths' output register, a cycle later
-            lengths = _BufferedPorts(m, "lengths", ThermometerFIFO(8, max(2, store.outstanding)))
-        else:
-            m.submodules.lengths = lengths = SyncFIFO(width=8, depth=store.outstanding)
+        m.submodules.lengths = lengths = SyncFIFO(width=8, depth=store.outstanding)
         m.submodules.uptos = uptos = SyncFIFO(width=count_bits, depth=store.outstanding)
         in_flight = Signal(range(store.outstanding + 1))
         issue = Signal()
