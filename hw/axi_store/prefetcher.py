@@ -42,8 +42,8 @@ from dptbd.hw.axi_store.bus import BURST_INCR, CACHE_MODIFIABLE, address_channel
 from dptbd.hw.layouts import state_word_layout
 from dptbd.hw.schedule import read_ahead_distance
 
-__all__ = ["PREFETCH_FIFO_STYLES", "pixel_count_bits", "store_word_layout", "to_slots",
-           "AxiReadPrefetcher"]
+__all__ = ["PREFETCH_FIFO_STYLES", "SKID_BEATS", "pixel_count_bits", "store_word_layout",
+           "to_slots", "AxiReadPrefetcher"]
 
 #: ``AxiReadPrefetcher(style=…)``: the beat FIFO as an Amaranth FIFO, or ECP5 DP16KDs read
 #: through their output register.
