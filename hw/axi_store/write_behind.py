@@ -61,10 +61,9 @@ class AxiWriteBehind(wiring.Component):
         goes out one cycle later; the W FIFO and the descriptor FIFO are
         :class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO` (the same cycles, "not empty"
         and "full" registers), the W FIFO's level counted beside it; its depth and margin
-        are the same, so with bursts
-        of 4 beats or more ``room`` falls as without (tested), with bursts of 2 it may
-        fall earlier (the pipeline's AR side is slower there). Adds the member
-        ``room_next``.
+        are the same, so with bursts of 4 beats or more ``room`` falls as without
+        (tested), with bursts of 2 it may fall earlier (the pipeline's AR side is slower
+        there). Adds the member ``room_next``.
 
     Members
     -------
