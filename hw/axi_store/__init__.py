@@ -51,6 +51,12 @@ class AxiStateStore(wiring.Component):
         The prefetcher's beat FIFO (:class:`~dptbd.hw.axi_store.prefetcher.AxiReadPrefetcher`'s
         ``style``): an Amaranth FIFO (default) or ECP5 DP16KDs read through their output
         register. ``dp16kd``: its ``dp16kd`` (tests pass a behavioural model).
+        ``"dp16kd"`` (the ECP5 build's) also makes ``ready`` one register (the prefetcher's
+        ``available`` and the write-behind's ``room`` a cycle ahead: the same values but
+        in the cycle after a restart, where it is low) and writes the write-behind's burst
+        descriptors from registers
+        (:class:`~dptbd.hw.axi_store.write_behind.AxiWriteBehind` ``staged``: each AW a
+        cycle later).
 
     Members
     -------
@@ -77,7 +83,9 @@ class AxiStateStore(wiring.Component):
                  dp16kd=None):
         self._store = store
         self._reader = AxiReadPrefetcher(store, style=style, dp16kd=dp16kd)
-        self._writer = AxiWriteBehind(store, in_flight=write_latency + 1)
+        self._style = style
+        self._writer = AxiWriteBehind(store, in_flight=write_latency + 1,
+                                      staged=style == "dp16kd")
         super().__init__({
             "bus": In(store_signature(store)),
             "axi": Out(axi4_signature(store)),
@@ -117,8 +125,14 @@ class AxiStateStore(wiring.Component):
             writer.write_en.eq(self.bus.write_en),
             writer.write_addr.eq(self.bus.write_addr),
             writer.write_data.eq(self.bus.write_data),
-            self.ready.eq(reader.available & writer.room),
             self.read_error.eq(reader.error),
             self.write_error.eq(writer.error),
         ]
+        if self._style == "dp16kd":
+            # a register: the pipeline's input handshake follows no logic of the store's
+            ready = Signal()
+            m.d.sync += ready.eq(reader.available_next & writer.room_next)
+            m.d.comb += self.ready.eq(ready)
+        else:
+            m.d.comb += self.ready.eq(reader.available & writer.room)
         return m

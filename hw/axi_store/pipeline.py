@@ -49,7 +49,7 @@ class DPPipelineAxi(DPPipeline):
         As for :class:`~dptbd.hw.dp_pipeline.DPPipeline`; ``state_store_style`` is the
         prefetcher's beat FIFO's here (:class:`~dptbd.hw.axi_store.AxiStateStore`'s
         ``style``: ``"dp16kd"``, the ECP5 family's, reads it through the DP16KDs' output
-        register).
+        register into flip-flops, registers the gate and stages the write descriptors).
 
     Members
     -------

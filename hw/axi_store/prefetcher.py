@@ -42,12 +42,15 @@ from dptbd.hw.axi_store.bus import BURST_INCR, CACHE_MODIFIABLE, address_channel
 from dptbd.hw.layouts import state_word_layout
 from dptbd.hw.schedule import read_ahead_distance
 
-__all__ = ["PREFETCH_FIFO_STYLES", "pixel_count_bits", "store_word_layout", "to_slots",
-           "AxiReadPrefetcher"]
+__all__ = ["PREFETCH_FIFO_STYLES", "SKID_BEATS", "pixel_count_bits", "store_word_layout",
+           "to_slots", "AxiReadPrefetcher"]
 
 #: ``AxiReadPrefetcher(style=…)``: the beat FIFO as an Amaranth FIFO, or ECP5 DP16KDs read
 #: through their output register.
 PREFETCH_FIFO_STYLES = ("memory", "dp16kd")
+#: Flip-flop beats between the DP16KDs and the head beat with ``style="dp16kd"`` (a power
+#: of two: the queue's pointers wrap by themselves).
+SKID_BEATS = 4
 
 
 def store_word_layout(store: AxiStoreConfig):
@@ -97,10 +100,12 @@ class AxiReadPrefetcher(wiring.Component):
     style : {"memory", "dp16kd"}
         The beat FIFO: ``"memory"`` (default) a ``SyncFIFOBuffered`` whose block RAM read is
         registered into the head beat; ``"dp16kd"`` (ECP5) a ring buffer in DP16KDs
-        (:func:`~dptbd.hw.dp16kd.dp16kd_memory`) whose output register is the head beat,
-        the array read a stage before it: no block-RAM clock-to-out before a register.
-        Same words in the same order, same cycles (the first pixel enters in cycle 5 of a
-        zero-latency memory either way).
+        (:func:`~dptbd.hw.dp16kd.dp16kd_memory`) read through their output register at
+        their own pace into :data:`SKID_BEATS` flip-flop beats, whose head is the head
+        beat: no block-RAM clock-to-out before a register, and the DP16KDs' enables follow
+        registers, not ``take``. Same words in the same order; the first word is available
+        a cycle later (the first pixel of a zero-latency memory enters in cycle 6 instead
+        of 5), then one per cycle. ``"dp16kd"`` adds the member ``available_next``.
         Anything else raises ``ValueError``.
     dp16kd : callable or None
         With ``style="dp16kd"``: builds one DP16KD (``cell`` of
@@ -127,6 +132,10 @@ class AxiReadPrefetcher(wiring.Component):
         With ``take``: the pixel taking the word resynchronised (see the module doc).
     error : Out(1)
         Pulse: a read beat came back with ``SLVERR`` or ``DECERR``.
+    available_next : Out(1)
+        With ``style="dp16kd"``: the value ``available`` takes at the next clock edge, for
+        a gate that registers it (:class:`~dptbd.hw.axi_store.AxiStateStore`), except after
+        a restart (``take`` with ``restart``), where it is low.
     """
 
     def __init__(self, store: AxiStoreConfig, *, style: str = "memory", dp16kd=None):
@@ -136,7 +145,9 @@ class AxiReadPrefetcher(wiring.Component):
         self._style = style
         self._dp16kd = dp16kd
         axi = axi4_signature(store)
+        extra = {"available_next": Out(1)} if style == "dp16kd" else {}
         super().__init__({
+            **extra,
             "ar": Out(address_channel("ar", store.address_bits, store.id_bits)),
             "r": Out(axi.members["r"].signature),
             "base": In(store.address_bits, init=store.base_address),
@@ -251,7 +262,7 @@ class AxiReadPrefetcher(wiring.Component):
                 m.d.sync += [head.eq(fifo.r_data), head_valid.eq(fifo.r_rdy)]
         else:
             pop = Signal()                           # the head beat leaves
-            head, head_valid = self._fifo_dp16kd(m, pop)
+            head, head_valid, head_valid_next = self._fifo_dp16kd(m, pop)
 
         # ---- take side: unpack the head beat, drop stale beats --------------------------
         # one word per beat: offset stays 0 (one bit, not a zero-width vector)
@@ -289,21 +300,31 @@ class AxiReadPrefetcher(wiring.Component):
             m.d.comb += pop.eq(last)
             m.d.sync += offset.eq(Mux(last, 0, offset + 1))
         m.d.sync += reserved.eq(reserved + Mux(issue, length, 0) - pop)
+        if self._style == "dp16kd":
+            # `available`'s next value for the gate's `ready` register (the updates of
+            # `head_valid` and `fresh` above), low after a restart: `fresh`'s value there
+            # (`dropped == 0`) follows the issue test
+            fresh_next = ~(self.take & self.restart) & (fresh | (head_valid & (stale == 1)))
+            m.d.comb += self.available_next.eq(head_valid_next & fresh_next)
         return m
 
     def _fifo_dp16kd(self, m, pop):
-        # ---- ECP5: a ring buffer in DP16KDs, two read stages: the array's read register
-        # (``ahead``, loaded with the beat at ``read_ptr``) and the output register (the
-        # head beat), each moving on when the stage after it is free or leaving --------------
+        # ---- ECP5: a ring buffer in DP16KDs read at its own pace into a queue of
+        # SKID_BEATS flip-flop beats, whose head is the head beat. The array reads when a
+        # queue beat is free (``credit``: free queue beats less those on their way through
+        # the array's read register and the output register, which always loads): the
+        # block RAMs' enables follow registers, never ``take``. A beat popped in cycle t
+        # frees a credit in t + 1 and is replaced in t + 4, so four queue beats keep one
+        # beat a cycle; the first beat reaches the head a cycle later than without it. ----
         store = self._store
         depth = self.fifo_depth
         write_ptr = Signal(range(depth))
         read_ptr = Signal(range(depth))
         stored = Signal(range(depth + 1))           # beats written and not yet read ahead
-        ahead_valid = Signal()
-        head_valid = Signal()
-        advance = ahead_valid & (~head_valid | pop)     # the output register loads
-        fetch = (stored != 0) & (~ahead_valid | advance)   # the array reads read_ptr
+        credit = Signal(range(SKID_BEATS + 1), init=SKID_BEATS)
+        ahead_valid = Signal()                      # the array's read register holds a beat
+        out_valid = Signal()                        # the output register holds a beat
+        fetch = (stored != 0) & (credit != 0)       # the array reads read_ptr
         write = self.r.rvalid & self.r.rready
         m.d.comb += self.r.rready.eq(stored != depth)
 
@@ -315,10 +336,31 @@ class AxiReadPrefetcher(wiring.Component):
         with m.If(fetch):
             m.d.sync += read_ptr.eq(step(read_ptr))
         m.d.sync += [stored.eq(stored + write - fetch),
-                     ahead_valid.eq(fetch | (ahead_valid & ~advance)),
-                     head_valid.eq(advance | (head_valid & ~pop))]
-        head = dp16kd_memory(m, "fifo", width=store.data_bits, depth=depth,
-                             read_addr=read_ptr, read_en=fetch, out_en=advance,
-                             write_addr=write_ptr, write_data=self.r.rdata, write_en=write,
-                             cell=self._dp16kd)
-        return head, head_valid
+                     ahead_valid.eq(fetch), out_valid.eq(ahead_valid),
+                     credit.eq(credit - fetch + pop)]
+        out = dp16kd_memory(m, "fifo", width=store.data_bits, depth=depth,
+                            read_addr=read_ptr, read_en=fetch, out_en=1,
+                            write_addr=write_ptr, write_data=self.r.rdata, write_en=write,
+                            cell=self._dp16kd)
+        # the queue: a write enable per beat, the head an AND-OR of the beats
+        beats = [Signal(store.data_bits, name=f"skid_{i}") for i in range(SKID_BEATS)]
+        produce = Signal(range(SKID_BEATS))
+        consume = Signal(range(SKID_BEATS))
+        level = Signal(range(SKID_BEATS + 1))
+        with m.If(out_valid):
+            m.d.sync += produce.eq(produce + 1)
+        for i, beat in enumerate(beats):
+            with m.If(out_valid & (produce == i)):
+                m.d.sync += beat.eq(out)
+        with m.If(pop):
+            m.d.sync += consume.eq(consume + 1)
+        level_next = Signal(range(SKID_BEATS + 1))
+        head_valid = Signal()
+        head_valid_next = Signal()
+        m.d.comb += [level_next.eq(level + out_valid - pop),
+                     head_valid_next.eq(level_next != 0)]
+        m.d.sync += [level.eq(level_next), head_valid.eq(head_valid_next)]
+        head = 0
+        for i, beat in enumerate(beats):
+            head = head | Mux(consume == i, beat, 0)
+        return head, head_valid, head_valid_next

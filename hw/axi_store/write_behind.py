@@ -28,8 +28,19 @@ from amaranth.lib.wiring import In, Out
 from dptbd.config import AxiStoreConfig
 from dptbd.hw.axi_store.bus import BURST_INCR, CACHE_MODIFIABLE, address_channel, axi4_signature, size_code
 from dptbd.hw.axi_store.prefetcher import pixel_count_bits, store_word_layout, to_slots
+from dptbd.hw.thermometer_fifo import ThermometerFIFO
 
 __all__ = ["AxiWriteBehind"]
+
+
+class _BufferedPorts:
+    """A :class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO` (added to ``m`` as ``name``)
+    under ``SyncFIFOBuffered``'s port names, whose cycles it has."""
+
+    def __init__(self, m: Module, name: str, fifo: ThermometerFIFO):
+        m.submodules[name] = fifo
+        self.w_data, self.w_en, self.w_rdy = fifo.w.payload, fifo.w.valid, fifo.w.ready
+        self.r_data, self.r_rdy, self.r_en = fifo.r.payload, fifo.r.valid, fifo.r.ready
 
 
 class AxiWriteBehind(wiring.Component):
@@ -42,6 +53,17 @@ class AxiWriteBehind(wiring.Component):
     in_flight : int
         The most writes that may still arrive after ``room`` was last high (the pipeline's
         write latency + 1).
+    staged : bool
+        ``False`` (default): a closed burst's descriptor is written into the descriptor
+        FIFO in the cycle its last beat is processed. ``True`` (the ECP5 build's,
+        :class:`~dptbd.hw.axi_store.AxiStateStore` ``style="dp16kd"``): a cycle later, from
+        registers (the FIFO's LUT-RAM write enable and data follow no logic), so each AW
+        goes out one cycle later; the W FIFO and the descriptor FIFO are
+        :class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO` (the same cycles, "not empty"
+        and "full" registers), the W FIFO's level counted beside it; its depth and margin
+        are the same, so with bursts of 4 beats or more ``room`` falls as without
+        (tested), with bursts of 2 it may fall earlier (the pipeline's AR side is slower
+        there). Adds the member ``room_next``.
 
     Members
     -------
@@ -58,12 +80,17 @@ class AxiWriteBehind(wiring.Component):
         Pixels whose writes have their B response (modular count since reset).
     error : Out(1)
         Pulse: a write response was ``SLVERR`` or ``DECERR``.
+    room_next : Out(1)
+        With ``staged``: the value ``room`` takes at the next clock edge (its register's
+        input), for a gate that registers ``room`` with other flags.
     """
 
-    def __init__(self, store: AxiStoreConfig, *, in_flight: int):
+    def __init__(self, store: AxiStoreConfig, *, in_flight: int, staged: bool = False):
         self._store = store
         self._in_flight = in_flight
+        self._staged = staged
         axi = axi4_signature(store)
+        extra = {"room_next": Out(1)} if staged else {}
         super().__init__({
             "aw": Out(address_channel("aw", store.address_bits, store.id_bits)),
             "w": Out(axi.members["w"].signature),
@@ -75,6 +102,7 @@ class AxiWriteBehind(wiring.Component):
             "room": Out(1),
             "written": Out(pixel_count_bits(store)),
             "error": Out(1),
+            **extra,
         })
 
     @property
@@ -133,18 +161,28 @@ class AxiWriteBehind(wiring.Component):
 
         # ---- bursts: runs of consecutive beats, closed at a boundary, the frame's end,
         # or a jump (resynchronisation) -----------------------------------------------------
-        m.submodules.w_fifo = w_fifo = SyncFIFOBuffered(width=store.data_bits, depth=depth)
         descriptor = data.StructLayout({"beat": range(beats), "len": 8, "upto": count_bits})
         # the descriptors in block RAM (a registered read, one cycle more from a closed burst
         # to its AW; the W FIFO's margin does not depend on it): a queue read without a clock
         # edge is flip-flops and a read multiplexer on the iCE40
-        m.submodules.bursts = bursts = SyncFIFOBuffered(width=descriptor.size, depth=depth)
+        if self._staged:
+            # the same FIFOs' cycles with their "not empty" and "full" registers
+            w_fifo = _BufferedPorts(m, "w_fifo", ThermometerFIFO(store.data_bits, depth))
+            bursts = _BufferedPorts(m, "bursts", ThermometerFIFO(descriptor.size, depth))
+        else:
+            m.submodules.w_fifo = w_fifo = SyncFIFOBuffered(width=store.data_bits, depth=depth)
+            m.submodules.bursts = bursts = SyncFIFOBuffered(width=descriptor.size, depth=depth)
         m.d.comb += [w_fifo.w_data.eq(packing), w_fifo.w_en.eq(beat_valid)]
         run_open = Signal()
         run_start = Signal(range(beats))
         run_len = Signal(8)                          # beats - 1
         run_upto = Signal(count_bits)
-        closing = data.View(descriptor, bursts.w_data)
+        # staged: the descriptor and its write enable a cycle later, from registers
+        closing_en = Signal() if self._staged else bursts.w_en
+        closing_data = Signal(descriptor.size) if self._staged else bursts.w_data
+        if self._staged:
+            m.d.sync += [bursts.w_en.eq(closing_en), bursts.w_data.eq(closing_data)]
+        closing = data.View(descriptor, closing_data)
         block_end = beat_block_end
         with m.If(beat_valid):
             m.d.sync += expect.eq(beat_next)
@@ -154,15 +192,23 @@ class AxiWriteBehind(wiring.Component):
             length = Mux(starts, 0, run_len + 1)
             with m.If(jump):                         # never also a block end: beat 0
                 m.d.comb += [closing.beat.eq(run_start), closing.len.eq(run_len),
-                             closing.upto.eq(run_upto), bursts.w_en.eq(1)]
+                             closing.upto.eq(run_upto), closing_en.eq(1)]
             with m.Elif(block_end):
                 m.d.comb += [closing.beat.eq(start), closing.len.eq(length),
-                             closing.upto.eq(beat_upto), bursts.w_en.eq(1)]
+                             closing.upto.eq(beat_upto), closing_en.eq(1)]
             m.d.sync += [run_open.eq(~block_end), run_start.eq(start), run_len.eq(length),
                          run_upto.eq(beat_upto)]
         # registered: the level rises by at most one beat a cycle, which the margin counts
         room = Signal(init=1)
-        m.d.sync += room.eq(w_fifo.level <= depth - self.margin)
+        if self._staged:
+            # the W FIFO's level, counted here (SyncFIFOBuffered's `level`)
+            level = Signal(range(depth + 1))
+            m.d.sync += level.eq(level + (w_fifo.w_en & w_fifo.w_rdy)
+                                 - (w_fifo.r_en & w_fifo.r_rdy))
+            m.d.comb += self.room_next.eq(level <= depth - self.margin)
+        else:
+            level = w_fifo.level
+        m.d.sync += room.eq(level <= depth - self.margin)
         m.d.comb += self.room.eq(room)
 
         # ---- AW: one burst at a time from the descriptor FIFO ---------------------------

@@ -34,7 +34,11 @@ def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offe
     memory = Axi4Memory(dut.axi, store, seed=seed, latency=latency, ready=ready, valid=valid,
                         errors=errors or {}, write_latency=write_latency)
     rng = random.Random(seed)
-    out = {"mismatches": [], "checked": 0, "cycles": 0, "errors": [0, 0]}
+    # `ready` against the prefetcher's `available` and the write-behind's `room` (with
+    # style "dp16kd" a register of the two a cycle ahead, low after a restart): "unsafe"
+    # cycles it is high without them, "held" cycles it is low with them, "restarts"
+    out = {"mismatches": [], "checked": 0, "cycles": 0, "errors": [0, 0], "unsafe": 0,
+           "held": 0, "restarts": 0}
     width = len(dut.bus.read_data.as_value())
 
     async def bench(ctx):
@@ -49,6 +53,9 @@ def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offe
                 raise AssertionError(f"hang: {accepted}/{pixels} accepted after {cycle} cycles")
             offering = accepted < pixels and rng.random() < offer
             take = offering and ctx.get(dut.ready)
+            gate = ctx.get(dut._reader.available) & ctx.get(dut._writer.room)
+            out["unsafe"] += ctx.get(dut.ready) & ~gate & 1
+            out["held"] += gate & ~ctx.get(dut.ready) & 1
             restart = take and accepted in resync_at and position != 0
             if restart:                       # a start frame: its reads are unused
                 position, unchecked_until = 0, words - ahead   # until they wrap
@@ -56,6 +63,7 @@ def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offe
                 unchecked_until = 0
             ctx.set(dut.bus.read_en, take)
             ctx.set(dut.restart, restart)
+            out["restarts"] += restart
             if take:
                 addr = (position + ahead) % words
                 ctx.set(dut.bus.read_addr, addr)
@@ -118,6 +126,7 @@ def test_random_latency_and_stalls_change_no_read(latency, ready, valid, offer, 
                        valid=valid, offer=offer, style=style)
     assert out["mismatches"] == []
     assert out["checked"] == 3 * 192 + 5 - (192 - 17)
+    assert (out["unsafe"], out["held"]) == (0, 0)
 
 
 def test_a_read_waits_for_the_response_of_the_write_it_depends_on():
@@ -138,6 +147,10 @@ def test_resynchronisations_restart_the_prefetch(style):
     out, _ = run_store(store, pixels=5 * 192, seed=7, latency=(0, 50), ready=0.8,
                        resync_at={100, 101, 103, 300, 301 + 192, 700}, style=style)
     assert out["mismatches"] == []
+    # with the ready register at most the cycle after each restart held back (when it
+    # drops no beat: not here)
+    assert out["unsafe"] == 0 and out["restarts"] == 6
+    assert out["held"] <= (0 if style == "memory" else 6)
     # checked: positions 175 … 191 of each start frame (17 x 4), then every pixel up to
     # the next resynchronisation (5 + 1 + 15 + 68)
     assert out["checked"] == 17 * 4 + 5 + 1 + 15 + 68

@@ -82,16 +82,16 @@ def test_a_zero_latency_memory_keeps_one_pixel_per_cycle():
 
 def test_the_prefetch_fifo_in_dp16kds_keeps_the_bits_and_the_cycles(monkeypatch):
     """``state_store_style="dp16kd"`` (the ECP5 family's) builds the prefetcher's beat FIFO
-    in DP16KDs (modelled): the first pixel enters in cycle 5 as with the Amaranth FIFO
-    (the array's read register and the output register in place of the FIFO's read
-    register and the head beat), then one every cycle; under latency and stalls the golden
-    model's bits."""
+    in DP16KDs (modelled): the first pixel enters in cycle 6, a cycle after the Amaranth
+    FIFO's (the array's read register, the output register and the flip-flop queue in
+    place of the FIFO's read register and the head beat), then one every cycle; under
+    latency and stalls the golden model's bits."""
     model_dp16kd_cells(monkeypatch)
     cfg = DPConfig(width=16, height=12, segment_frames=3)
     frames = np.random.default_rng(3).integers(0, 256, size=(4, cfg.height, cfg.width))
     run, _ = run_axi(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4),
                      state_store_style="dp16kd")
-    assert run.accept_cycles == list(range(5, 5 + 4 * 192))
+    assert run.accept_cycles == list(range(6, 6 + 4 * 192))
     assert_states_equal(run.outputs, reference_states(cfg, frames))
     run, _ = run_axi(cfg, frames, store_fields=dict(data_bits=32, burst_beats=2,
                                                     outstanding=3),
@@ -239,14 +239,14 @@ def test_p_pixels_per_clock_keep_one_beat_per_cycle_at_zero_latency(p, store_fie
 
 
 def test_p_pixels_with_the_prefetch_fifo_in_dp16kds_keep_the_cycles(monkeypatch):
-    """P = 4 with the beat FIFO in (modelled) DP16KDs: the first beat in cycle 5, one beat
-    every cycle, the golden model's bits."""
+    """P = 4 with the beat FIFO in (modelled) DP16KDs: the first beat in cycle 6 (a cycle
+    after the Amaranth FIFO's), one beat every cycle, the golden model's bits."""
     model_dp16kd_cells(monkeypatch)
     cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=4).build_config()
     frames = np.random.default_rng(4).integers(0, 256, size=(4, cfg.height, cfg.width))
     run, _ = run_axi_beats(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4),
                            state_store_style="dp16kd")
-    assert run.accept_cycles == list(range(5, 5 + 4 * cfg.frame_beats))
+    assert run.accept_cycles == list(range(6, 6 + 4 * cfg.frame_beats))
     assert_states_equal(run.outputs, reference_states(cfg, frames))
 
 
@@ -284,3 +284,24 @@ def test_p_pixels_unexpected_first_resynchronises():
     assert len(run.outputs) == len(expected)
     for n, (got, want) in enumerate(zip(run.outputs, expected)):
         assert [got[f] for f in FIELDS] == want.tolist(), f"output {n}"
+
+
+@pytest.mark.parametrize("p", [1, 2, 4])
+def test_the_ecp5_build_keeps_the_bits_and_the_cycles(monkeypatch, p):
+    """Every ECP5 option (``Family.options_for``: the store's ``ready`` a register, its
+    burst descriptors staged, the prefetch FIFO and the DP16KD styles modelled) at P = 1, 2
+    and 4: at zero latency the first beat enters in cycle 6 (a cycle after the generic
+    build's), then one every cycle; under latency and stalls the golden model's bits."""
+    from dptbd.hw.flow.family import ECP5
+    model_dp16kd_cells(monkeypatch)
+    cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=p).build_config()
+    frames = np.random.default_rng(20 + p).integers(0, 256, size=(4, cfg.height, cfg.width))
+    options = ECP5.options_for(cfg)
+    run_ = run_axi if p == 1 else run_axi_beats
+    run, _ = run_(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4), **options)
+    assert run.accept_cycles == list(range(6, 6 + 4 * cfg.frame_beats))
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
+    run, _ = run_(cfg, frames, store_fields=dict(data_bits=64, burst_beats=2, outstanding=3),
+                  latency=(0, 60), ready=0.6, valid=0.7, valid_probability=0.8,
+                  ready_probability=0.8, seed=p, **options)
+    assert_states_equal(run.outputs, reference_states(cfg, frames))
