@@ -91,6 +91,11 @@ class DPPipelineAxi(DPPipeline):
         """The external memory layout."""
         return self._store
 
+    @property
+    def core_options(self) -> dict:
+        """The core's implementation options (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`)."""
+        return self._core.core_options
+
     def channel(self, name: str):
         """The signals of AXI4 channel ``name`` (``"ar"``, ``"r"``, ``"aw"``, ``"w"``,
         ``"b"``) as attributes named as in the AXI specification (``.araddr``)."""

@@ -55,7 +55,11 @@ class DPSegmenterAxi(DPSegmenter):
         self._external = False
         self._dp = DPPipelineAxi(store, **dict(core_options or {}))
         assert self._dp.output_fifo_depth < cfg.frame_beats     # as DPSegmenter's
-        self._segmenter = (SegmenterWide if wide else Segmenter)(cfg, fifo_depth=fifo_depth)
+        options = self._dp.core_options        # the histogram's and control's (P = 1)
+        self._segmenter = (SegmenterWide(cfg, fifo_depth=fifo_depth) if wide else
+                           Segmenter(cfg, fifo_depth=fifo_depth,
+                                     histogram_style=options["histogram_style"],
+                                     control_style=options["control_style"]))
         wiring.Component.__init__(self, {
             "pixels": In(stream.Signature((wide_pixel_layout if wide else pixel_layout)(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),

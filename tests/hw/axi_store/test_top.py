@@ -5,6 +5,7 @@ construction. Its behaviour is run on Verilator
 (``tests/sim/verilator/test_axi_store.py``)."""
 
 import gc
+import re
 import warnings
 
 import pytest
@@ -14,6 +15,7 @@ from amaranth.lib.wiring import In, Out
 from dptbd.errors import ConfigError
 from dptbd.hw.axi_store.top import AXITopStore
 from dptbd.hw.axi_top import AXITop
+from dptbd.hw.flow.family import ECP5
 from dptbd.hw.flow.to_verilog import to_verilog
 from dptbd.hw.register_map import register_map
 from dptbd.hw.wide.axi_top import AXITopWide
@@ -97,3 +99,21 @@ def test_state_output_at_p_above_1_is_refused_without_a_warning():
                 "m_axis_state")):
             AXITopStore(cfg.axi_store(data_bits=128), state_output=True)
         gc.collect()
+
+
+@pytest.mark.parametrize("p, histogram_cells", [(1, 1), (2, 0)])
+def test_the_family_options_reach_the_segmenter(p, histogram_cells):
+    """With the state in external memory, the ECP5 family's options reach the segmenter as
+    they do on chip: at P = 1 its histogram is a DP16KD (beside the prefetcher's four) and
+    its control the registered one; the P > 1 segmenter ignores both (its banked histogram
+    is in Amaranth memories). The generic build has no DP16KD."""
+    cfg = make_config(width=12, height=10, segment_frames=2, candidate_count=4,
+                      pixels_per_clock=p)
+    store = cfg.axi_store(data_bits=64, burst_beats=2)
+    cells = {}
+    for family, options in (("generic", {}), ("ecp5", ECP5.options_for(cfg))):
+        text = to_verilog(AXITopStore(store, core_options=options), "dptbd_axi")
+        cells[family] = re.findall(r"DP16KD #\(.*?\) (\S+) \(", text, re.S)
+    assert cells["generic"] == []
+    assert len(cells["ecp5"]) == 4 + histogram_cells
+    assert cells["ecp5"].count("memory_0") == histogram_cells    # the histogram's
