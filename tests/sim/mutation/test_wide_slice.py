@@ -1,9 +1,9 @@
-"""The ``dp2`` slice (``dptbd_dp`` at P = 2 pixels per clock): the ``dp`` slice's stimulus
-moved to beats, its ``drain`` runs and their timing check, and mutants of ``dptbd_dp`` at
-P = 2 through it: the original passes a run of every kind; a mutant of lane 1's LUT read,
-one of the ``segment_begin`` port, one of the input credit's count (which only the
-``drain`` runs see) and one that hangs are killed; a small seed-3 draw leaves only
-survivors the registry lists."""
+"""The slice of ``dp2`` and ``dp4`` (``dptbd_dp`` at P = 2 and 4 pixels per clock): the
+``dp`` slice's stimulus moved to beats of P pixels, its ``drain`` runs and their timing
+check, and mutants of ``dptbd_dp`` at P = 2 through it: the original passes a run of every
+kind; a mutant of lane 1's LUT read, one of the ``segment_begin`` port, one of the input
+credit's count (which only the ``drain`` runs see) and one that hangs are killed; a small
+seed-3 draw leaves only survivors the registry lists. The same at P = 4 (``dp4``)."""
 
 from __future__ import annotations
 
@@ -15,7 +15,8 @@ from dptbd.sim.mutation import netlist
 from dptbd.sim.mutation.equivalents import load_registry, mutation_key
 from dptbd.sim.mutation.run import config, mutant_design, run_mutants, run_slice, slice_runs
 from dptbd.sim.mutation.slices import dp as one
-from dptbd.sim.mutation.slices import dp2 as S
+from dptbd.sim.mutation.slices import CONFIGS
+from dptbd.sim.mutation.slices import wide as S
 from dptbd.sim.stream_model import FrameRun, StreamExpectation
 from dptbd.sim.verilator import RawRun
 
@@ -35,9 +36,22 @@ def test_the_config_is_dps_at_two_pixels_per_clock_and_the_runs_dps_then_drain()
     assert list(dict.fromkeys(k for k, _ in S.RUNS)) == list(S.FRAMES)
 
 
+def test_dp4_is_dps_at_four_pixels_per_clock_on_the_same_runs():
+    """Three beats a line (a first, an inner and a last beat), ten lines; the runs, frames
+    and stimulus those of ``dp2`` (each design's runs drawn on its own configuration)."""
+    cfg = config("dp4")
+    assert cfg.to_mapping() == {**config("dp").to_mapping(), "pixels_per_clock": 4}
+    assert cfg.width // 4 == 3 and cfg.frame_beats == 30
+    assert S.DESIGNS == {2: "dp2", 4: "dp4"}
+    assert CONFIGS["dp2"] == {**CONFIGS["dp"], "pixels_per_clock": 2}
+    assert CONFIGS["dp4"] == {**CONFIGS["dp"], "pixels_per_clock": 4}
+
+
 def test_a_change_before_a_pixel_goes_before_its_beat():
     assert S._beats(((0, "a"), (5, "b"), (120, "c", 7)), 2) == ((0, "a"), (2, "b"),
                                                                 (60, "c", 7))
+    assert S._beats(((0, "a"), (3, "b"), (4, "c"), (117, "d"), (120, "e", 7)), 4) == (
+        (0, "a"), (0, "b"), (1, "c"), (29, "d"), (30, "e", 7))
 
 
 def test_segment_begin_is_counted_in_beats():
@@ -54,8 +68,9 @@ def test_segment_begin_is_counted_in_beats():
         "[0, 120, 125] (sum 248)")
 
 
-def test_drain_pauses_empty_the_pipeline_with_both_parities_left():
-    cfg = config("dp2")
+@pytest.mark.parametrize("design", ["dp2", "dp4"])
+def test_drain_pauses_empty_the_pipeline_with_both_parities_left(design):
+    cfg = config(design)
     for seed in range(2):
         writes = S._drain_writes(cfg, 13, seed)
         per_beat = {}
