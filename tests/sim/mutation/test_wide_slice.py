@@ -144,21 +144,58 @@ def test_the_original_passes_a_run_of_every_kind_and_four_mutants_are_killed():
         outcome.report
 
 
+@tools
+def test_at_four_pixels_per_clock_the_original_passes_and_three_mutants_are_killed():
+    """One mutant build of three mutations of ``--seed 1`` at P = 4 (mutants 1, 217 and
+    196): bit 1 of lane 3's LUT read stuck at 1, the window's ``last_beat`` flag inverted
+    (lane 3's right neighbour taken as inside at a row's last beat and as outside
+    elsewhere) and the ``segment_begin`` port inverted (which only the harness's count of
+    its pulses sees). The original passes one run of each kind; the LUT mutant falls to
+    the corner-code runs, the other two to the first run."""
+    cfg = config("dp4")
+    sample = netlist.mutation_list(cfg, "dp4", 300, 1)
+    lut, edge, begin = sample[0], sample[216], sample[195]
+    assert (lut.source, lut.mode, lut.cell, lut.portbit) == \
+        ("hw/weight_lut.py:97", "const1", "$flatten\\core.\\weight_lut_3.$194", 1)
+    assert (edge.source, edge.mode, edge.wire) == ("hw/wide/window.py:55", "inv",
+                                                   "core.last_beat")
+    assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core.py:110", "inv",
+                                                      "segment_begin")
+    commands, refused = mutant_design(cfg, "dp4", [lut, edge, begin])
+    assert refused == []
+    sim = V.build(cfg, "dp", mutations=commands)
+    runs = slice_runs("dp4", 0.01)
+    assert [k for k, _ in runs] == list(S.FRAMES)
+    assert run_slice(sim, 0, runs).verdict == "survived"
+    corners = tuple(r for r in S.RUNS if r[0] == "lut-corners")
+    outcome = run_slice(sim, 1, corners)
+    assert (outcome.verdict, outcome.run) == ("killed", "lut-corners seed 0")
+    assert outcome.report.startswith("first mismatch at output ")
+    outcome = run_slice(sim, 2, S.RUNS)
+    assert (outcome.verdict, outcome.run) == ("killed", "clean seed 0")
+    assert outcome.report.startswith("first mismatch at output ")
+    outcome = run_slice(sim, 3, S.RUNS)
+    assert (outcome.verdict, outcome.run) == ("killed", "clean seed 0")
+    assert outcome.report.startswith("segment_begin: ")
+
+
 SEED, COUNT = 3, 10
 
-#: The mutants of ``dptbd_dp`` at P = 2 (seed 3, 10) that survive the slice today: index ->
-#: Amaranth source line; every one is in the registry (``sim/mutation/equivalents/dp2.toml``:
-#: 7, bit 0 of the leaf (E << 3) & code[3]'s energy operand {E, 3'b000} stuck at 0, a
-#: constant 0 already).
-SURVIVORS = {7: "hw/weighted_candidate.py:78"}
+#: The mutants of ``dptbd_dp`` at P = 2 and 4 (seed 3, 10) that survive the slice today:
+#: index -> Amaranth source line; every one is in the design's registry
+#: (``sim/mutation/equivalents/``): dp2's 7, bit 0 of the leaf (E << 3) & code[3]'s energy
+#: operand {E, 3'b000} stuck at 0, a constant 0 already; dp4's 8, bit 1 of lane 3, move 0's
+#: sum_l1_2 = (E << 4) & code[4] stuck at 0, a 0 already.
+SURVIVORS = {"dp2": {7: "hw/weighted_candidate.py:78"}, "dp4": {8: "hw/adder_tree.py:22"}}
 
 
 @tools
-def test_dp2_slice_kills_all_but_the_registered_survivors():
-    result = run_mutants("dp2", COUNT, SEED, workers=1)
+@pytest.mark.parametrize("design", ["dp2", "dp4"])
+def test_the_slice_kills_all_but_the_registered_survivors(design):
+    result = run_mutants(design, COUNT, SEED, workers=1)
     assert result.original.verdict == "survived"
     not_killed = {o.index: (m.source, o.verdict) for o, m in
                   zip(result.outcomes, result.mutations) if o.verdict != "killed"}
-    assert not_killed == {i: (source, "survived") for i, source in SURVIVORS.items()}
-    registry = load_registry("dp2")
+    assert not_killed == {i: (source, "survived") for i, source in SURVIVORS[design].items()}
+    registry = load_registry(design)
     assert all(mutation_key(m.command) in registry for o, m in result.of("survived"))
