@@ -28,7 +28,8 @@ from dptbd.sim.mutation.verdict import hang_verdict, stream_hang
 
 __all__ = ["DESIGNS", "RUNS", "FRAMES", "run"]
 
-#: The design with mutants of each P (its configuration: :data:`CONFIGS`).
+#: The design with mutants of each P (its configuration:
+#: :data:`~dptbd.sim.mutation.slices.CONFIGS`).
 DESIGNS = {2: "dp2", 4: "dp4"}
 
 #: The ``dp`` slice's runs and frames, then the ``drain`` runs.

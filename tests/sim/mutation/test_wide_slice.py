@@ -96,6 +96,31 @@ def test_drain_report():
         "drain: beat 3 out at cycle 24, accepted at 10: latency 14, L = 13")
 
 
+def mutant_build(design: str, mutations):
+    """The Verilator build of ``design`` with ``mutations`` (Yosys applies every one); its
+    original passes one run of each kind of the slice."""
+    cfg = config(design)
+    commands, refused = mutant_design(cfg, design, mutations)
+    assert refused == []
+    sim = V.build(cfg, "dp", mutations=commands)
+    runs = slice_runs(design, 0.01)
+    assert [k for k, _ in runs] == list(S.FRAMES)
+    assert run_slice(sim, 0, runs).verdict == "survived"
+    return sim
+
+
+def killed(sim, index: int, runs, run: str, report: str) -> str:
+    """Mutant ``index`` of ``sim`` is killed first by ``run`` of ``runs``, its report
+    beginning with ``report``; the report."""
+    outcome = run_slice(sim, index, runs)
+    assert (outcome.verdict, outcome.run) == ("killed", run)
+    assert outcome.report.startswith(report)
+    return outcome.report
+
+
+CORNERS = tuple(r for r in S.RUNS if r[0] == "lut-corners")
+
+
 @tools
 def test_the_original_passes_a_run_of_every_kind_and_four_mutants_are_killed():
     """One mutant build of four mutations of ``--seed 1`` (mutants 1, 229, 166 and 130): bit 1
@@ -120,28 +145,14 @@ def test_the_original_passes_a_run_of_every_kind_and_four_mutants_are_killed():
         ("hw/thermometer_counter.py:50", "cnot0", "core.input_credit.at_least", 1, 0)
     assert (stuck.source, stuck.mode, stuck.wire) == ("hw/input_credit.py:57", "const1",
                                                       "core.input_credit.accept")
-    commands, refused = mutant_design(cfg, "dp2", [lut, begin, credit, stuck])
-    assert refused == []
-    sim = V.build(cfg, "dp", mutations=commands)
-    runs = slice_runs("dp2", 0.01)
-    assert [k for k, _ in runs] == list(S.FRAMES)
-    assert run_slice(sim, 0, runs).verdict == "survived"
-    corners = tuple(r for r in S.RUNS if r[0] == "lut-corners")
-    outcome = run_slice(sim, 1, corners)
-    assert (outcome.verdict, outcome.run) == ("killed", "lut-corners seed 0")
-    assert outcome.report.startswith("first mismatch at output ")
-    outcome = run_slice(sim, 2, S.RUNS)
-    assert (outcome.verdict, outcome.run) == ("killed", "clean seed 0")
-    assert outcome.report.startswith("segment_begin: ")
+    sim = mutant_build("dp2", [lut, begin, credit, stuck])
+    killed(sim, 1, CORNERS, "lut-corners seed 0", "first mismatch at output ")
+    killed(sim, 2, S.RUNS, "clean seed 0", "segment_begin: ")
     others = tuple(r for r in S.RUNS if r[0] not in ("drain", "timing"))[::4]
     assert run_slice(sim, 3, others).verdict == "survived"
-    outcome = run_slice(sim, 3, (("drain", 0),))
-    assert (outcome.verdict, outcome.run) == ("killed", "drain seed 0")
-    assert outcome.report.startswith("drain: beat ")
-    outcome = run_slice(sim, 4, S.RUNS)
-    assert (outcome.verdict, outcome.run) == ("killed", "clean seed 0")
-    assert outcome.report.startswith("hang: ") and " of 1440 offered words taken in " in \
-        outcome.report
+    killed(sim, 3, (("drain", 0),), "drain seed 0", "drain: beat ")
+    assert " of 1440 offered words taken in " in killed(sim, 4, S.RUNS, "clean seed 0",
+                                                       "hang: ")
 
 
 @tools
@@ -161,22 +172,10 @@ def test_at_four_pixels_per_clock_the_original_passes_and_three_mutants_are_kill
                                                    "core.last_beat")
     assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core.py:110", "inv",
                                                       "segment_begin")
-    commands, refused = mutant_design(cfg, "dp4", [lut, edge, begin])
-    assert refused == []
-    sim = V.build(cfg, "dp", mutations=commands)
-    runs = slice_runs("dp4", 0.01)
-    assert [k for k, _ in runs] == list(S.FRAMES)
-    assert run_slice(sim, 0, runs).verdict == "survived"
-    corners = tuple(r for r in S.RUNS if r[0] == "lut-corners")
-    outcome = run_slice(sim, 1, corners)
-    assert (outcome.verdict, outcome.run) == ("killed", "lut-corners seed 0")
-    assert outcome.report.startswith("first mismatch at output ")
-    outcome = run_slice(sim, 2, S.RUNS)
-    assert (outcome.verdict, outcome.run) == ("killed", "clean seed 0")
-    assert outcome.report.startswith("first mismatch at output ")
-    outcome = run_slice(sim, 3, S.RUNS)
-    assert (outcome.verdict, outcome.run) == ("killed", "clean seed 0")
-    assert outcome.report.startswith("segment_begin: ")
+    sim = mutant_build("dp4", [lut, edge, begin])
+    killed(sim, 1, CORNERS, "lut-corners seed 0", "first mismatch at output ")
+    killed(sim, 2, S.RUNS, "clean seed 0", "first mismatch at output ")
+    killed(sim, 3, S.RUNS, "clean seed 0", "segment_begin: ")
 
 
 SEED, COUNT = 3, 10
