@@ -1,5 +1,5 @@
-"""The mutation score of ``dptbd_seg`` and ``dptbd_axi`` (and ``dptbd_dp``, at P = 1 and 2
-pixels per clock), measured: N mutants of each top (Yosys ``mutate``,
+"""The mutation score of ``dptbd_seg`` and ``dptbd_axi`` (and ``dptbd_dp``, at P = 1, 2 and
+4 pixels per clock), measured: N mutants of each top (Yosys ``mutate``,
 :mod:`dptbd.sim.mutation`) through the verification slice, then every survivor the
 equivalence registry (:mod:`dptbd.sim.mutation.equivalents`) does not list tried for formal
 equivalence (Yosys ``equiv_*``).
@@ -14,6 +14,7 @@ mutant (the slice) and per proof. ``--json`` keeps every mutant's outcome.
     python benchmarks/bench_mutation.py --mutants 100 --designs segmenter --workers 2
     python benchmarks/bench_mutation.py --designs dp           # dptbd_dp (not by default)
     python benchmarks/bench_mutation.py --designs dp2          # dptbd_dp at P = 2 (neither)
+    python benchmarks/bench_mutation.py --designs dp4          # dptbd_dp at P = 4 (neither)
     python benchmarks/bench_mutation.py --no-prove --json mutation.json
     python benchmarks/bench_mutation.py --rescore mutation.json   # today's registry, no runs
 """
@@ -40,7 +41,8 @@ def main() -> None:
     parser.add_argument("--designs", nargs="+", default=["segmenter", "axi"],
                         choices=list(DESIGN_TOPS),
                         help="segmenter (dptbd_seg), axi (dptbd_axi), dp (dptbd_dp), dp2 "
-                             "(dptbd_dp at 2 pixels per clock); default segmenter axi")
+                             "and dp4 (dptbd_dp at 2 and 4 pixels per clock); default "
+                             "segmenter axi")
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--no-prove", action="store_true", help="skip the equivalence proofs")
     parser.add_argument("--json", type=pathlib.Path, default=None)

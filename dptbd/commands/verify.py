@@ -17,8 +17,8 @@ assertion and the counterexample trace kept under ``--out``); exit 1 unless ever
 the expected one.
 
 ``--mutants N`` runs the mutation score instead (:mod:`dptbd.sim.mutation`): N mutants of
-``--design`` (``seg``: ``dptbd_seg``, ``axi``: ``dptbd_axi``, ``dp``: ``dptbd_dp``, ``dp2``:
-``dptbd_dp`` at 2 pixels per clock) sampled
+``--design`` (``seg``: ``dptbd_seg``, ``axi``: ``dptbd_axi``, ``dp``: ``dptbd_dp``, ``dp2`` /
+``dp4``: ``dptbd_dp`` at 2 / 4 pixels per clock) sampled
 with ``--seed``, each through the verification slice; prints the score, MCY's: killed /
 (total − shown equivalent), with killed / total next to it, and every mutant not killed
 with its Amaranth source line and mutation: the survivors proven equivalent, argued
@@ -73,10 +73,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     mutation.add_argument("--mutants", type=int, default=None, metavar="N",
                           help="run N mutants of --design through the verification slice "
                                "instead of the campaign (Yosys mutate, seed --seed)")
-    mutation.add_argument("--design", choices=("seg", "axi", "dp", "dp2"), default="seg",
+    mutation.add_argument("--design", choices=("seg", "axi", "dp", "dp2", "dp4"), default="seg",
                           help="the top level of --mutants: seg (dptbd_seg, default), axi "
-                               "(dptbd_axi), dp (dptbd_dp) or dp2 (dptbd_dp at 2 pixels "
-                               "per clock)")
+                               "(dptbd_axi), dp (dptbd_dp), dp2 or dp4 (dptbd_dp at 2 or 4 "
+                               "pixels per clock)")
     mutation.add_argument("--prove", action="store_true",
                           help="try to prove every survivor the equivalence registry does "
                                "not list equivalent to the original (Yosys equiv_*, "
@@ -295,7 +295,7 @@ def mutants_main(args: argparse.Namespace) -> int:
         check_worker_count(args.workers)
     check_output_file(args.json, "--json", args.force, ".json")
     require_yosys()
-    design = {"seg": "segmenter", "axi": "axi", "dp": "dp", "dp2": "dp2"}[args.design]
+    design = {"seg": "segmenter", "axi": "axi", "dp": "dp", "dp2": "dp2", "dp4": "dp4"}[args.design]
     bar = tqdm(total=args.mutants, unit="mutant", desc=f"dptbd verify --mutants ({args.design})")
     result = run_mutants(design, args.mutants, args.seed, workers=args.workers,
                          scheduler=args.scheduler, bar=bar)

@@ -33,15 +33,15 @@ __all__ = ["DESIGN_TOPS", "BUILD_DESIGNS", "PREPARE", "MUTSEL_WIDTH", "YOSYS", "
 
 #: Designs with mutants: design name -> module. ``dp`` is ``DPPipeline`` (``core``,
 #: ``DPCore`` without the state store, has no mutants of its own: every cell of it is one of
-#: ``dp``'s, ``docs/gateware.md`` "Mutation testing"); ``dp2`` is ``dptbd_dp`` at P = 2 pixels
-#: per clock (``DPPipelineWide``: ``DPCoreWide`` and its on-chip store).
+#: ``dp``'s, ``docs/gateware.md`` "Mutation testing"); ``dp2`` and ``dp4`` are ``dptbd_dp`` at
+#: P = 2 and 4 pixels per clock (``DPPipelineWide``: ``DPCoreWide`` and its on-chip store).
 DESIGN_TOPS = {"segmenter": "dptbd_seg", "axi": "dptbd_axi", "dp": "dptbd_dp",
-               "dp2": "dptbd_dp"}
+               "dp2": "dptbd_dp", "dp4": "dptbd_dp"}
 
 #: The Verilator build (:data:`dptbd.sim.verilator.cache.DESIGNS`) of each design with
-#: mutants; the configuration (:data:`dptbd.sim.mutation.slices.CONFIGS`) tells ``dp`` and
-#: ``dp2`` apart.
-BUILD_DESIGNS = {"segmenter": "segmenter", "axi": "axi", "dp": "dp", "dp2": "dp"}
+#: mutants; the configuration (:data:`dptbd.sim.mutation.slices.CONFIGS`) tells ``dp``,
+#: ``dp2`` and ``dp4`` apart.
+BUILD_DESIGNS = {"segmenter": "segmenter", "axi": "axi", "dp": "dp", "dp2": "dp", "dp4": "dp"}
 
 #: Yosys commands after ``read_rtlil``: the cells ``mutate`` samples from (MCY runs
 #: ``prep``; these are the passes :mod:`dptbd.hw.flow.to_verilog` runs, flattened, so a

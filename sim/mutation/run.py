@@ -4,10 +4,10 @@ verdict per mutant, and the mutation score.
 The slices (:mod:`dptbd.sim.mutation.slices`: ``segmenter``, ``dptbd_seg``: seeded runs of
 the campaign checked by :func:`dptbd.sim.rtl.check.check_stream`; ``axi``, ``dptbd_axi``:
 seeded runs of :func:`dptbd.sim.verilator.axi.check_axi` and random AXI runs of the
-campaign; ``dp``, ``dptbd_dp``, and ``dp2``, ``dptbd_dp`` at P = 2 pixels per clock: seeded
-runs of the campaign and K and LUT stimulus of their own, checked by ``check_stream``) are
-the checks the default suite runs, on small frames and narrow widths (every
-bit of the datapath is reached).
+campaign; ``dp``, ``dptbd_dp``, and ``dp2`` / ``dp4``, ``dptbd_dp`` at P = 2 / 4 pixels per
+clock: seeded runs of the campaign and K and LUT stimulus of their own, checked by
+``check_stream``) are the checks the default suite runs, on small frames and narrow widths
+(every bit of the datapath is reached).
 
 A mutant's verdict (:class:`MutantOutcome`) is the first of its runs that is not passed:
 
@@ -86,7 +86,7 @@ def slice_runs(design: str, scale: float = 1.0) -> tuple[tuple[str, int], ...]:
 def slice_design(sim) -> str:
     """The design with mutants (:data:`CONFIGS`) of the build ``sim``: the one whose
     Verilator design (:data:`~dptbd.sim.mutation.netlist.BUILD_DESIGNS`) and pixels per
-    clock are ``sim``'s (``dp`` at P = 1, ``dp2`` at P = 2).
+    clock are ``sim``'s (``dp`` at P = 1, ``dp2`` at P = 2, ``dp4`` at P = 4).
 
     Raises
     ------

@@ -169,7 +169,7 @@ def test_verify_mutants_refusals(capsys):
     assert exc.value.code == 2
     assert capsys.readouterr().err.splitlines()[-1] == (
         "dptbd verify: error: argument --design: invalid choice: 'core' (choose from 'seg', "
-        "'axi', 'dp', 'dp2')")
+        "'axi', 'dp', 'dp2', 'dp4')")
 
 
 def test_verify_mutants_without_yosys(capsys, monkeypatch):
@@ -211,6 +211,10 @@ def test_format_mutation_result():
     wide = dataclasses.replace(result, design="dp2")          # dptbd_dp at P = 2
     assert format_mutation_result(wide, {}, {}).splitlines()[0] == (
         "dptbd_dp at 2 pixels per clock: score (MCY's: killed / (total - shown equivalent)) "
+        "1 / 3 = 33.3 %; killed / total 1 / 3 = 33.3 %")
+    p4 = dataclasses.replace(result, design="dp4")            # dptbd_dp at P = 4
+    assert format_mutation_result(p4, {}, {}).splitlines()[0] == (
+        "dptbd_dp at 4 pixels per clock: score (MCY's: killed / (total - shown equivalent)) "
         "1 / 3 = 33.3 %; killed / total 1 / 3 = 33.3 %")
 
 

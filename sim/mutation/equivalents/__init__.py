@@ -2,8 +2,8 @@
 
 MCY's score leaves out the mutants that cannot change an output: killed / (total − shown
 equivalent). A mutant is *shown equivalent* when it is in its design's file here
-(``segmenter.toml``, ``axi.toml``, ``dp.toml``, ``dp2.toml``), one ``[[mutant]]`` table
-each::
+(``segmenter.toml``, ``axi.toml``, ``dp.toml``, ``dp2.toml``, ``dp4.toml``), one
+``[[mutant]]`` table each::
 
     [[mutant]]
     mutation = "mutate -mode inv -module dptbd_seg -cell ... -src hw/segmenter.py:123"
@@ -41,7 +41,7 @@ SHOWN = ("proven", "argued")
 
 #: Each design's file (:data:`dptbd.sim.mutation.netlist.DESIGN_TOPS`).
 FILES = {"segmenter": "segmenter.toml", "axi": "axi.toml", "dp": "dp.toml",
-         "dp2": "dp2.toml"}
+         "dp2": "dp2.toml", "dp4": "dp4.toml"}
 
 #: The keys of a ``[[mutant]]`` table, every one required.
 KEYS = ("mutation", "shown", "source", "why")

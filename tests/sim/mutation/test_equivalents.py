@@ -125,7 +125,7 @@ def test_load_registry_absent_file_is_empty_and_unknown_design_refused(tmp_path)
     assert list(E.load_registry("dp", tmp_path)) == [
         MUT.replace("/work/other/", "").removesuffix(":12")]
     with pytest.raises(ValueError, match=whole("design must be one of segmenter, axi, dp, "
-                                               "dp2, got 'core'")):
+                                               "dp2, dp4, got 'core'")):
         E.load_registry("core")
 
 

@@ -84,7 +84,7 @@ def test_yosys_missing(monkeypatch):
             "(pip install 'dptbd[synth]')")):
         netlist.run_yosys("help")
     with pytest.raises(ValueError, match=whole(
-            "design must be one of segmenter, axi, dp, dp2, got 'core'")):
+            "design must be one of segmenter, axi, dp, dp2, dp4, got 'core'")):
         netlist.top_rtlil(None, "core")
 
 

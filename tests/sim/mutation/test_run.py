@@ -118,16 +118,20 @@ def test_the_axi_slice_lut_runs_are_their_seed_at_k_max():
 
 
 def test_the_slice_of_a_build_is_its_design_and_pixels_per_clock():
-    """``dp`` and ``dp2`` are both Verilator builds of ``dp``: the build's P tells them apart
-    (each runs its own slice); a build no design with mutants is refused by name."""
+    """``dp``, ``dp2`` and ``dp4`` are all Verilator builds of ``dp``: the build's P tells them
+    apart (``dp`` runs its slice, ``dp2`` and ``dp4`` the wide one, parametrised by P); a build
+    no design with mutants is refused by name."""
     def build(design, cfg):
         return types.SimpleNamespace(design=design, cfg=cfg)
 
     assert R.slice_design(build("dp", R.config("dp"))) == "dp"
     assert R.slice_design(build("dp", R.config("dp2"))) == "dp2"
+    assert R.slice_design(build("dp", R.config("dp4"))) == "dp4"
     assert R.slice_design(build("segmenter", R.config("segmenter"))) == "segmenter"
     assert R.RUNNERS["dp2"] is not R.RUNNERS["dp"]
+    assert R.RUNNERS["dp4"] is R.RUNNERS["dp2"]         # one slice, parametrised by P
     with pytest.raises(ValueError, match=whole(
             "no design with mutants is a build of 'core' at pixels_per_clock=1; they are "
-            "segmenter (segmenter, P = 1), axi (axi, P = 1), dp (dp, P = 1), dp2 (dp, P = 2)")):
+            "segmenter (segmenter, P = 1), axi (axi, P = 1), dp (dp, P = 1), dp2 (dp, P = 2), "
+            "dp4 (dp, P = 4)")):
         R.slice_design(build("core", R.config("dp")))

@@ -46,8 +46,8 @@ LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\re
 #: DPSegmenter latches the settings at a resync too, which the ``resync`` runs of seeds 3-5
 #: see.
 RESYNC_STUCK_AT_0 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\dp.\\core.$25 "
-                     "-port Y -portbit 0 -wire core.resync -wirebit 0 -src hw/dp_core.py:247 "
-                     "-src hw/dp_core.py:326")
+                     "-port Y -portbit 0 -wire core.resync -wirebit 0 -src hw/dp_core/core.py:155 "
+                     "-src hw/dp_core/core.py:235")
 READ_DATA_BIT_21 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$94 "
                     "-port D -portbit 21 -src hw/axi_lite.py:48")
 

@@ -1,5 +1,5 @@
-"""The ``dp2`` slice (``dptbd_dp`` at P = 2 pixels per clock, :class:`DPPipelineWide
-<dptbd.hw.wide.pipeline.DPPipelineWide>`): the ``dp`` slice's runs
+"""The slice of ``dp2`` and ``dp4`` (``dptbd_dp`` at P = 2 and 4 pixels per clock,
+:class:`DPPipelineWide <dptbd.hw.wide.pipeline.DPPipelineWide>`): the ``dp`` slice's runs
 (:mod:`~dptbd.sim.mutation.slices.dp`, the same kinds, seeds and frames) on beats of P
 pixels, with every check of it: every state bit-exact against the golden model
 (:func:`dptbd.sim.rtl.check.check_stream`, per pixel), the ``events`` counts and the
@@ -26,7 +26,11 @@ from dptbd.sim.mutation.slices import BACKPRESSURE, CONFIGS
 from dptbd.sim.mutation.slices import dp as one
 from dptbd.sim.mutation.verdict import hang_verdict, stream_hang
 
-__all__ = ["RUNS", "FRAMES", "run"]
+__all__ = ["DESIGNS", "RUNS", "FRAMES", "run"]
+
+#: The design with mutants of each P (its configuration:
+#: :data:`~dptbd.sim.mutation.slices.CONFIGS`).
+DESIGNS = {2: "dp2", 4: "dp4"}
 
 #: The ``dp`` slice's runs and frames, then the ``drain`` runs.
 RUNS = one.RUNS + tuple(("drain", s) for s in range(2))
@@ -137,7 +141,7 @@ def _run(sim, kind: str, seed: int) -> tuple[str, str]:
 
     cfg = sim.cfg
     p = cfg.pixels_per_clock
-    case = Case(f"mutant-{kind}", CONFIGS["dp2"], "dp", FRAMES[kind], 1,
+    case = Case(f"mutant-{kind}", CONFIGS[DESIGNS[p]], "dp", FRAMES[kind], 1,
                 one._EVERY if kind == "faults" else (), kind == "random-lut")
     words, stim, _, _ = make_stream_run(case, seed, int(sim.latency))
     pixels = len(words) * p
