@@ -185,11 +185,12 @@ SEED, COUNT = 3, 10
 #: (``sim/mutation/equivalents/``): dp2's 7, bit 0 of the leaf (E << 3) & code[3]'s energy
 #: operand {E, 3'b000} stuck at 0, a constant 0 already; dp4's 8, bit 1 of lane 3, move 0's
 #: sum_l1_2 = (E << 4) & code[4] stuck at 0, a 0 already.
+#: (dp4's draw runs with ``-m slow``; its named mutants keep P = 4 in the default suite.)
 SURVIVORS = {"dp2": {7: "hw/weighted_candidate.py:78"}, "dp4": {8: "hw/adder_tree.py:22"}}
 
 
 @tools
-@pytest.mark.parametrize("design", ["dp2", "dp4"])
+@pytest.mark.parametrize("design", ["dp2", pytest.param("dp4", marks=pytest.mark.slow)])
 def test_the_slice_kills_all_but_the_registered_survivors(design):
     result = run_mutants(design, COUNT, SEED, workers=1)
     assert result.original.verdict == "survived"
