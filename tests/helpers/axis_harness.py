@@ -1,6 +1,6 @@
 """What the AXI4-Stream video adapters' tests share (``tests/hw/axis_video/``): the small
-configuration, a run of an adapter with random gaps and back-pressure, and the AXI4-Stream
-rules and packets of a per-cycle trace."""
+configuration, a run of an adapter with random gaps and back-pressure, a soft reset's
+per-cycle trace, and the AXI4-Stream rules and packets of a per-cycle trace."""
 
 import random
 
@@ -65,3 +65,44 @@ def packets(trace):
                 current = []
     assert current == []                                    # every packet ends with tlast
     return out
+
+
+def soft_reset_trace(dut, inp, out, flat, at, seed, *, offer, tail):
+    """Run ``dut`` (``soft_reset`` in, ``restart`` / ``busy`` / ``stalled`` out) with a
+    source on stream ``inp`` that behaves like the core's (a word offered stays offered until
+    taken, offered in a cycle with probability ``offer``; on ``restart`` the offered word is
+    gone and the rest of its group is dropped: the next word that starts one follows) and a
+    random ``tready`` on AXI4-Stream port ``out``; ``flat`` is ``(payload, starts a group)``
+    per word, ``soft_reset`` in cycle ``at`` (never if None), the run ``tail`` cycles past it
+    at least. Returns the per-cycle trace of ``out`` and ``restart`` / ``busy`` / ``stalled``
+    / ``taken`` (the source's word taken)."""
+    rng = random.Random(seed)
+    trace = []
+
+    async def bench(ctx):
+        index, offering, cycle = 0, False, 0
+        while index < len(flat) or (at is not None and cycle <= at + tail):
+            if not offering and index < len(flat) and rng.random() < offer:
+                offering = True
+            ctx.set(inp.valid, offering)
+            if index < len(flat):
+                ctx.set(inp.payload.as_value(), flat[index][0])
+            ctx.set(dut.soft_reset, cycle == at)
+            ctx.set(out.tready, rng.random() < 0.5)
+            row = {name: ctx.get(getattr(out, name)) for name in
+                   ("tvalid", "tready", "tdata", "tuser", "tlast")}
+            row.update(restart=ctx.get(dut.restart), busy=ctx.get(dut.busy),
+                       stalled=ctx.get(dut.stalled), taken=offering and ctx.get(inp.ready))
+            trace.append(row)
+            if row["taken"]:
+                index, offering = index + 1, False
+            if row["restart"]:
+                offering = False
+                while index < len(flat) and not flat[index][1]:
+                    index += 1                               # the core drops the group's rest
+            await ctx.tick()
+            cycle += 1
+            assert cycle < 2000
+
+    simulate(dut, bench)
+    return trace

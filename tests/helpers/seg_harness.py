@@ -12,10 +12,12 @@ import random
 import warnings
 
 import numpy as np
+from amaranth.hdl import ResetInserter, Signal
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw import layouts
 from dptbd.hw.layouts import pack_pixel
+from dptbd.model.segmentation import segment_stream
 from dptbd.sim.candidate_scoreboard import CandidateScoreboard
 from helpers.hw_harness import simulate, stream_cycle
 
@@ -103,6 +105,162 @@ def run_lists(cfg: DPConfig, dut, source, sink, words: list[int], lists, **kw) -
     score(cfg, lists, result.outputs)
     return result
 
+
+
+# ---- the segmenters' tests (tests/hw/test_segmenter.py, tests/hw/wide/test_segmenter.py) --
+
+#: The segmenters' random-stream cases: name: (config, frames, (E range, fraction at the
+#: bottom)) (P = 1; the wide tests take them at W = 12).
+SEGMENTER_CASES = {
+    "k3-n4-narrow-E": (dict(width=8, height=6, segment_frames=3, candidate_count=4,
+                            histogram_bits=4, histogram_shift=0), 24, (0, 15, 0.5)),
+    "k2-n6-cap6-shift2": (dict(width=7, height=5, segment_frames=2, candidate_count=6,
+                               candidate_capacity=6, histogram_bits=5, histogram_shift=2),
+                          10, (0, 140)),
+    "k1-n3-ties": (dict(width=6, height=4, segment_frames=1, candidate_count=3,
+                        histogram_bits=3, histogram_shift=0), 6, (0, 4)),
+    "k4-n0": (dict(width=5, height=4, segment_frames=4, candidate_count=0, histogram_bits=3),
+              8, (0, 255)),
+    "k2-e12-clamped-top-bin": (dict(width=8, height=4, segment_frames=2, input_bits=8,
+                                    energy_bits=12, candidate_count=5, histogram_bits=4,
+                                    histogram_shift=3), 10, (100, 4095)),
+    "k2-all-pixels": (dict(width=4, height=4, segment_frames=2, candidate_count=16,
+                           histogram_bits=3), 6, (0, 255)),
+}
+
+
+def synthetic_states(cfg: DPConfig, n_frames: int, rng, *, low=0, high=None, first_k=0,
+                     low_fraction=0.0, segment_frames=None) -> np.ndarray:
+    """``(T*H*W, 5)`` state words (E, d, eol, eof, eos) with random E in [low, high] (a
+    ``low_fraction`` of them exactly ``low``) and d in [0, M], flags as the DP pipeline sets
+    them for segments of ``segment_frames`` (default K) frames, the first frame being frame
+    ``first_k`` of its segment."""
+    high = cfg.e_max if high is None else high
+    k = segment_frames or cfg.segment_frames
+    h, w = cfg.height, cfg.width
+    out = np.zeros((n_frames, h, w, 5), dtype=np.int64)
+    out[..., 0] = rng.integers(low, high + 1, size=(n_frames, h, w))
+    out[..., 0][rng.random((n_frames, h, w)) < low_fraction] = low
+    out[..., 1] = rng.integers(0, cfg.n_moves + 1, size=(n_frames, h, w))
+    out[:, :, -1, 2] = 1
+    out[:, -1, -1, 3] = 1
+    for t in range(n_frames):
+        out[t, -1, -1, 4] = int((t + first_k) % k == k - 1)
+    return out.reshape(-1, 5)
+
+
+def truncated_stream(cfg: DPConfig, rng, pre_frames: int, keep: int, post_frames: int,
+                     **kw) -> np.ndarray:
+    """What the DP pipeline outputs around a resynchronisation: ``pre_frames`` whole frames,
+    the first ``keep`` words of the next without end_of_frame/end_of_segment, then
+    ``post_frames`` frames of a new segment (``kw``: :func:`synthetic_states`')."""
+    frame = cfg.width * cfg.height
+    a = synthetic_states(cfg, pre_frames + 1, rng, **kw)
+    cut = a[pre_frames * frame:][:keep].copy()
+    cut[:, 3:] = 0
+    b = synthetic_states(cfg, post_frames, rng, **kw)
+    return np.concatenate([a[: pre_frames * frame], cut, b])
+
+
+def scheduled_states(cfg: DPConfig, schedule, rng, **kw) -> tuple[np.ndarray, np.ndarray]:
+    """State words of consecutive segments of the schedule's K (one segment per
+    :class:`~dptbd.model.settings.SegmentSettings`), and per word the (K, n, s) of its
+    segment."""
+    parts, settings = [], []
+    for entry in schedule:
+        k = entry.segment_frames
+        part = synthetic_states(cfg, k, rng, segment_frames=k, **kw)
+        parts.append(part)
+        settings.append(np.tile([k, entry.candidate_count, entry.histogram_shift],
+                                (len(part), 1)))
+    return np.concatenate(parts), np.concatenate(settings)
+
+
+def misaligned_settings_stream(cfg: DPConfig, keep: int) -> tuple[np.ndarray, np.ndarray]:
+    """(states, settings per word) of a misaligned segment start (docs/arithmetic.md §6.5a):
+    a frame of K = 1 (n = 4, s = 4), the next cut after ``keep`` words, then a resync's three
+    segments of K = 3 (n = 1, s = 2)."""
+    from dptbd.model.settings import SegmentSettings as S
+    frame = cfg.width * cfg.height
+    rng = np.random.default_rng(21)
+    before, _ = scheduled_states(cfg, [S(1, 4, 4), S(1, 4, 4)], rng, high=255)
+    after, _ = scheduled_states(cfg, [S(3, 1, 2)] * 3, rng, high=255)
+    cut = before[frame:frame + keep].copy()
+    cut[:, 3:] = 0
+    states = np.concatenate([before[:frame], cut, after])
+    settings = np.array([[1, 4, 4]] * (frame + keep) + [[3, 1, 2]] * len(after))
+    return states, settings
+
+
+def settings_driver(cfg: DPConfig, states, settings, seed: int):
+    """``make(dut)``: the ``on_cycle`` of :func:`run` that drives a segmenter's settings
+    ports with the offered beat's segment's values at a segment's first beat (the first and
+    each after an end_of_segment; a beat: P words, its last word's) and with random (also
+    out-of-range) values elsewhere: only those beats' values may matter."""
+    p = cfg.pixels_per_clock
+    rng = np.random.default_rng(seed)
+    beat_settings = settings[p - 1::p]
+    first = np.ones(len(beat_settings), dtype=bool)
+    first[1:] = states[p - 1::p][:-1, 4] == 1
+
+    def make(dut):
+        def drive(ctx, index):
+            for column, port in enumerate((dut.segment_frames, dut.candidate_count,
+                                           dut.histogram_shift)):
+                if index < len(beat_settings) and first[index]:
+                    value = int(beat_settings[index, column])
+                else:
+                    value = int(rng.integers(0, 1 << len(port)))
+                ctx.set(port, value)
+                if port is dut.segment_frames:              # the driver's K == 1 with K
+                    ctx.set(dut.segment_frames_one, value == 1)
+        return drive
+    return make
+
+
+def check_reset_in_a_scored_frame(cfg: DPConfig, dut, pack, keep: int) -> None:
+    """``rst`` in the middle of a scored frame: ``keep`` words of three frames of states
+    (``pack(cfg, states)``: the segmenter's input words), the reset, six frames; afterwards
+    the first list is unprimed again and every output word is the model's of the six frames
+    (:func:`score`)."""
+    rng = np.random.default_rng(5)
+    before = pack(cfg, synthetic_states(cfg, 3, rng, high=255))[:keep]
+    after_states = synthetic_states(cfg, 6, rng, high=255)
+    lists = segment_stream(after_states, cfg)
+    score(cfg, lists, outputs_after_reset(dut, before, pack(cfg, after_states)))
+    assert not lists[0].primed and lists[1].primed
+
+
+def outputs_after_reset(dut, before: list[int], after: list[int]) -> list[int]:
+    """Offer the words ``before`` (valid always, ready always), pulse ``rst`` for a cycle
+    after the last is taken, offer ``after``: the candidate words out after the reset (until
+    60 idle cycles after the last word is taken)."""
+    rst = Signal()
+    top = ResetInserter({"sync": rst})(dut)
+    outputs = []
+
+    async def bench(ctx):
+        ctx.set(dut.candidates.ready, 1)
+        for phase, words in (("before", before), ("after", after)):
+            sent = idle = 0
+            while sent < len(words) or (phase == "after" and idle < 60):
+                ctx.set(dut.states.valid, sent < len(words))
+                if sent < len(words):
+                    ctx.set(dut.states.payload.as_value(), words[sent])
+                took = sent < len(words) and ctx.get(dut.states.ready)
+                if ctx.get(dut.candidates.valid) and phase == "after":
+                    outputs.append(ctx.get(dut.candidates.payload.as_value()))
+                await ctx.tick()
+                sent += took
+                idle = idle + 1 if sent == len(words) else 0
+            if phase == "before":
+                ctx.set(dut.states.valid, 0)
+                ctx.set(rst, 1)
+                await ctx.tick()
+                ctx.set(rst, 0)
+
+    simulate(top, bench)
+    return outputs
 
 
 async def scan_histogram(ctx, dut, scans: int) -> tuple[list, list]:

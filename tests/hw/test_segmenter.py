@@ -5,32 +5,16 @@ and the timing (no stall for K >= 2, the scan stall for K = 1)."""
 
 import numpy as np
 import pytest
-from amaranth.hdl import ResetInserter, Signal
 
 from dptbd.hw.segmenter import Segmenter, scan_cycles
 from dptbd.model.segmentation import segment_stream, threshold_bin
 from helpers.dp16kd_model import DP16KDModel
-from helpers.hw_harness import refused, simulate
+from helpers.hw_harness import refused
 from helpers.refusals import whole
-from helpers.seg_harness import make_config, pack_state_rows, run_lists, score
-
-
-def synthetic_states(cfg, n_frames, rng, *, low=0, high=None, first_k=0, low_fraction=0.0):
-    """``(T*H*W, 5)`` state words with random E in [low, high] (a ``low_fraction`` of them
-    exactly ``low``) and d in [0, M], flags as the DP pipeline sets them (the first frame is
-    frame ``first_k`` of its segment)."""
-    high = cfg.e_max if high is None else high
-    k = cfg.segment_frames
-    h, w = cfg.height, cfg.width
-    out = np.zeros((n_frames, h, w, 5), dtype=np.int64)
-    out[..., 0] = rng.integers(low, high + 1, size=(n_frames, h, w))
-    out[..., 0][rng.random((n_frames, h, w)) < low_fraction] = low
-    out[..., 1] = rng.integers(0, cfg.n_moves + 1, size=(n_frames, h, w))
-    out[:, :, -1, 2] = 1
-    out[:, -1, -1, 3] = 1
-    for t in range(n_frames):
-        out[t, -1, -1, 4] = int((t + first_k) % k == k - 1)
-    return out.reshape(-1, 5)
+from helpers.seg_harness import (SEGMENTER_CASES, check_reset_in_a_scored_frame, make_config,
+                                 misaligned_settings_stream, pack_state_rows, run_lists,
+                                 scheduled_states, settings_driver, synthetic_states,
+                                 truncated_stream)
 
 
 def check(cfg, states, *, valid=0.7, ready=0.5, seed=0, **options):
@@ -39,25 +23,6 @@ def check(cfg, states, *, valid=0.7, ready=0.5, seed=0, **options):
     result = run_lists(cfg, dut, dut.states, dut.candidates, pack_state_rows(cfg, states), lists,
                        valid_probability=valid, ready_probability=ready, seed=seed)
     return lists, result
-
-
-CASES = {
-    # name: (config, frames, (E range, fraction at the bottom))
-    "k3-n4-narrow-E": (dict(width=8, height=6, segment_frames=3, candidate_count=4,
-                            histogram_bits=4, histogram_shift=0), 24, (0, 15, 0.5)),
-    "k2-n6-cap6-shift2": (dict(width=7, height=5, segment_frames=2, candidate_count=6,
-                               candidate_capacity=6, histogram_bits=5, histogram_shift=2),
-                          10, (0, 140)),
-    "k1-n3-ties": (dict(width=6, height=4, segment_frames=1, candidate_count=3,
-                        histogram_bits=3, histogram_shift=0), 6, (0, 4)),
-    "k4-n0": (dict(width=5, height=4, segment_frames=4, candidate_count=0, histogram_bits=3),
-              8, (0, 255)),
-    "k2-e12-clamped-top-bin": (dict(width=8, height=4, segment_frames=2, input_bits=8,
-                                    energy_bits=12, candidate_count=5, histogram_bits=4,
-                                    histogram_shift=3), 10, (100, 4095)),
-    "k2-all-pixels": (dict(width=4, height=4, segment_frames=2, candidate_count=16,
-                           histogram_bits=3), 6, (0, 255)),
-}
 
 
 #: the ECP5 build's histogram (DP16KDs, here a behavioural model) and control (the held
@@ -76,9 +41,9 @@ def test_refuses_an_unknown_control_style():
 
 
 @pytest.mark.parametrize("style", list(STYLES))
-@pytest.mark.parametrize("name", list(CASES))
+@pytest.mark.parametrize("name", list(SEGMENTER_CASES))
 def test_random_streams_match_model(name, style):
-    kw, n_frames, (low, high, *bottom) = CASES[name]
+    kw, n_frames, (low, high, *bottom) = SEGMENTER_CASES[name]
     cfg = make_config(**kw)
     rng = np.random.default_rng(len(name))
     states = synthetic_states(cfg, n_frames, rng, low=low, high=high,
@@ -106,17 +71,6 @@ def test_heavy_back_pressure():
     states = synthetic_states(cfg, 8, np.random.default_rng(9), high=255)
     lists, result = check(cfg, states, valid=0.9, ready=0.08, seed=4)
     assert sum(lst.count for lst in lists) > 20
-
-
-def truncated_stream(cfg, rng, pre_frames, keep, post_frames, **kw):
-    """What the DP pipeline outputs around a resynchronisation: ``pre_frames`` whole frames,
-    the first ``keep`` words of the next without end_of_frame/end_of_segment, then
-    ``post_frames`` frames of a new segment."""
-    a = synthetic_states(cfg, pre_frames + 1, rng, **kw)
-    cut = a[pre_frames * cfg.width * cfg.height:][:keep].copy()
-    cut[:, 3:] = 0
-    b = synthetic_states(cfg, post_frames, rng, **kw)
-    return np.concatenate([a[: pre_frames * cfg.width * cfg.height], cut, b])
 
 
 def test_resynchronised_streams_match_model():
@@ -174,76 +128,10 @@ def test_reset_in_a_scored_frame_clears_the_histogram():
     everything matches the model of the stream sent after the reset."""
     cfg = make_config(width=6, height=4, segment_frames=2, candidate_count=4,
                       histogram_bits=4, histogram_shift=4)
-    rng = np.random.default_rng(5)
-    before = pack_state_rows(cfg, synthetic_states(cfg, 3, rng, high=255))[: 24 + 17]
-    after_states = synthetic_states(cfg, 6, rng, high=255)
-    after = pack_state_rows(cfg, after_states)
-    lists = segment_stream(after_states, cfg)
-    rst = Signal()
-    dut = Segmenter(cfg)
-    top = ResetInserter({"sync": rst})(dut)
-    outputs = []
-
-    async def bench(ctx):
-        ctx.set(dut.candidates.ready, 1)
-        for phase, words in (("before", before), ("after", after)):
-            sent = 0
-            idle = 0
-            while sent < len(words) or (phase == "after" and idle < 60):
-                ctx.set(dut.states.valid, sent < len(words))
-                if sent < len(words):
-                    ctx.set(dut.states.payload.as_value(), words[sent])
-                took = sent < len(words) and ctx.get(dut.states.ready)
-                if ctx.get(dut.candidates.valid) and phase == "after":
-                    outputs.append(ctx.get(dut.candidates.payload.as_value()))
-                await ctx.tick()
-                sent += took
-                idle = idle + 1 if sent == len(words) else 0
-            if phase == "before":
-                ctx.set(dut.states.valid, 0)
-                ctx.set(rst, 1)
-                await ctx.tick()
-                ctx.set(rst, 0)
-
-    simulate(top, bench)
-    score(cfg, lists, outputs)
-    assert not lists[0].primed and lists[1].primed
+    check_reset_in_a_scored_frame(cfg, Segmenter(cfg), pack_state_rows, 24 + 17)
 
 
 # ---- run-time settings (docs/gateware.md, "Run-time settings") ---------------------------
-
-def scheduled_states(cfg, schedule, rng, **kw):
-    """State words of consecutive segments of the schedule's K, and per word the (K, n, s)
-    of its segment."""
-    parts, settings = [], []
-    for entry in schedule:
-        k = entry.segment_frames
-        part = synthetic_states(cfg.replace(segment_frames=k), k, rng, **kw)
-        parts.append(part)
-        settings.append(np.tile([k, entry.candidate_count, entry.histogram_shift],
-                                (len(part), 1)))
-    return np.concatenate(parts), np.concatenate(settings)
-
-
-def settings_driver(dut, settings, rng, states):
-    """Drive the settings ports with the offered word's segment's values at a segment's
-    first word (the first word and each word after an end_of_segment) and with random (also
-    out-of-range) values elsewhere: only those words' values may matter."""
-    first = np.ones(len(settings), dtype=bool)
-    first[1:] = states[:-1, 4] == 1
-
-    def drive(ctx, index):
-        ports = (dut.segment_frames, dut.candidate_count, dut.histogram_shift)
-        for column, port in enumerate(ports):
-            if index < len(settings) and first[index]:
-                value = int(settings[index, column])
-            else:
-                value = int(rng.integers(0, 1 << len(port)))
-            ctx.set(port, value)
-            if port is dut.segment_frames:                  # the driver's K == 1 with K
-                ctx.set(dut.segment_frames_one, value == 1)
-    return drive
-
 
 def ref_segmenter_lists(cfg, states, settings):
     return segment_stream(states, cfg, settings)
@@ -253,8 +141,7 @@ def rtl_segmenter_lists(cfg, states, settings, lists, seed):
     dut = Segmenter(cfg)
     return run_lists(cfg, dut, dut.states, dut.candidates, pack_state_rows(cfg, states), lists,
                      valid_probability=0.8, ready_probability=0.6, seed=seed,
-                     on_cycle=settings_driver(dut, settings, np.random.default_rng(seed),
-                                              states))
+                     on_cycle=settings_driver(cfg, states, settings, seed)(dut))
 
 
 def settings_cases():
@@ -288,14 +175,7 @@ def test_settings_kept_at_a_misaligned_segment_start():
     resync segment's end_of_segment takes K = 3: one list per 24 words up to it."""
     cfg = make_config(width=6, height=4, segment_frames=1, max_segment_frames=3,
                       candidate_count=4, histogram_bits=4, histogram_shift=4)
-    from dptbd.model.settings import SegmentSettings as S
-    rng = np.random.default_rng(21)
-    before, _ = scheduled_states(cfg, [S(1, 4, 4), S(1, 4, 4)], rng, high=255)
-    after, _ = scheduled_states(cfg, [S(3, 1, 2)] * 3, rng, high=255)
-    cut = before[24:34].copy()
-    cut[:, 3:] = 0
-    states = np.concatenate([before[:24], cut, after])
-    settings = np.array([[1, 4, 4]] * 34 + [[3, 1, 2]] * len(after))
+    states, settings = misaligned_settings_stream(cfg, 10)
     lists = ref_segmenter_lists(cfg, states, settings)
     assert [(lst.aligned, lst.missed) for lst in lists] == (
         [(True, False)] + [(False, False)] * 4 + [(True, False)] * 2)

@@ -12,7 +12,8 @@ import pytest
 from dptbd.hw.axis_video import CandidatesToAxis
 from dptbd.hw.candidate_layout import (pack_cut_trailer, pack_record, pack_trailer,
                                        unpack_candidate)
-from helpers.axis_harness import check_axis_rules, config, packets, rtl_adapter_beats
+from helpers.axis_harness import (check_axis_rules, config, packets, rtl_adapter_beats,
+                                  soft_reset_trace)
 from helpers.hw_harness import simulate
 
 
@@ -60,40 +61,10 @@ def rtl_soft_reset(cfg, lists, at, seed):
     """Run ``CandidatesToAxis`` with a source that behaves like the core's FIFO (a word
     offered stays offered until taken; on ``restart`` it is reset: an offered word is gone
     and a list it was in the middle of is dropped) and random ``tready``; ``soft_reset`` in
-    cycle ``at`` (never if None). Returns the per-cycle trace of the port and ``restart`` / ``busy``."""
+    cycle ``at`` (never if None): :func:`helpers.axis_harness.soft_reset_trace`."""
     dut = CandidatesToAxis(cfg)
-    flat = [(w, t, i == 0) for lst in lists for i, (w, t) in enumerate(lst)]
-    rng = random.Random(seed)
-    trace = []
-
-    async def bench(ctx):
-        index, offering, cycle = 0, False, 0
-        while index < len(flat) or (at is not None and cycle <= at + 3):
-            if not offering and index < len(flat) and rng.random() < 0.6:
-                offering = True
-            ctx.set(dut.candidates.valid, offering)
-            if index < len(flat):
-                ctx.set(dut.candidates.payload.as_value(), flat[index][0])
-            ctx.set(dut.soft_reset, cycle == at)
-            ctx.set(dut.cand.tready, rng.random() < 0.5)
-            row = {name: ctx.get(getattr(dut.cand, name)) for name in
-                   ("tvalid", "tready", "tdata", "tuser", "tlast")}
-            row.update(restart=ctx.get(dut.restart), busy=ctx.get(dut.busy),
-                       stalled=ctx.get(dut.stalled), taken=offering and
-                       ctx.get(dut.candidates.ready))
-            trace.append(row)
-            if row["taken"]:
-                index, offering = index + 1, False
-            if row["restart"]:
-                offering = False
-                while index < len(flat) and not flat[index][2]:
-                    index += 1                               # the core drops the list's rest
-            await ctx.tick()
-            cycle += 1
-            assert cycle < 2000
-
-    simulate(dut, bench)
-    return trace
+    flat = [(w, i == 0) for lst in lists for i, (w, _t) in enumerate(lst)]
+    return soft_reset_trace(dut, dut.candidates, dut.cand, flat, at, seed, offer=0.6, tail=3)
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])

@@ -5,8 +5,6 @@ open line.
 adapter with random ``tvalid`` gaps and ``tready`` back-pressure.
 """
 
-import random
-
 import pytest
 
 from amaranth.hdl import Module, ResetInserter, Signal
@@ -15,8 +13,8 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.hw.axis_video import STATE_TUSER, StatesToAxis, state_out_signature
 from dptbd.hw.layouts import pack_state_word, pack_states, state_layout
-from helpers.axis_harness import check_axis_rules, config, packets, rtl_adapter_beats
-from helpers.hw_harness import simulate
+from helpers.axis_harness import (check_axis_rules, config, packets, rtl_adapter_beats,
+                                  soft_reset_trace)
 
 
 def state_cases(cfg):
@@ -101,41 +99,12 @@ def rtl_state_soft_reset(cfg, frames, at, seed):
     """Run :class:`StateCloser` with a source that behaves like the core's broadcast (a word
     offered stays offered until taken; on ``restart`` the offered word and the rest of its
     frame are dropped, the next frame follows) and random ``tready``; ``soft_reset`` in cycle
-    ``at`` (never if None). Returns the per-cycle trace of the port and ``restart`` / ``busy``."""
+    ``at`` (never if None): :func:`helpers.axis_harness.soft_reset_trace`."""
     dut = StateCloser(cfg)
     flat = [(int(pack_states(cfg, **w)), i == 0) for words in frames
             for i, w in enumerate(words)]
-    rng = random.Random(seed)
-    trace = []
-
-    async def bench(ctx):
-        index, offering, cycle = 0, False, 0
-        while index < len(flat) or (at is not None and cycle <= at + 2 * cfg.width + 4):
-            if not offering and index < len(flat) and rng.random() < 0.7:
-                offering = True
-            ctx.set(dut.states.valid, offering)
-            if index < len(flat):
-                ctx.set(dut.states.payload.as_value(), flat[index][0])
-            ctx.set(dut.soft_reset, cycle == at)
-            ctx.set(dut.state.tready, rng.random() < 0.5)
-            row = {name: ctx.get(getattr(dut.state, name)) for name in
-                   ("tvalid", "tready", "tdata", "tuser", "tlast")}
-            row.update(restart=ctx.get(dut.restart), busy=ctx.get(dut.busy),
-                       stalled=ctx.get(dut.stalled),
-                       taken=offering and ctx.get(dut.states.ready))
-            trace.append(row)
-            if row["taken"]:
-                index, offering = index + 1, False
-            if row["restart"]:
-                offering = False
-                while index < len(flat) and not flat[index][1]:
-                    index += 1                               # the core drops the frame's rest
-            await ctx.tick()
-            cycle += 1
-            assert cycle < 2000
-
-    simulate(dut, bench)
-    return trace
+    return soft_reset_trace(dut, dut.states, dut.state, flat, at, seed, offer=0.7,
+                            tail=2 * cfg.width + 4)
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])

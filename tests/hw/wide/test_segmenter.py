@@ -5,7 +5,6 @@ resynchronised streams, run-time settings per segment, reset; and its exact timi
 
 import numpy as np
 import pytest
-from amaranth.hdl import ResetInserter, Signal
 
 from dptbd.hw.segmenter import Segmenter, scan_cycles
 from dptbd.hw.wide.layouts import wide_state_layout
@@ -15,25 +14,10 @@ from dptbd.model.segmentation import segment_stream
 from dptbd.model.settings import SegmentSettings as S
 from helpers.hw_harness import refused, simulate
 from helpers.refusals import whole
-from helpers.seg_harness import make_config, pack_state_rows, run_lists, score
-
-
-def synthetic_states(cfg, n_frames, rng, *, low=0, high=None, first_k=0, low_fraction=0.0,
-                     segment_frames=None):
-    """``(T*H*W, 5)`` state words (E, d, eol, eof, eos), random E in [low, high] (a
-    ``low_fraction`` exactly ``low``), flags as the DP pipeline sets them."""
-    high = cfg.e_max if high is None else high
-    k = segment_frames or cfg.segment_frames
-    h, w = cfg.height, cfg.width
-    out = np.zeros((n_frames, h, w, 5), dtype=np.int64)
-    out[..., 0] = rng.integers(low, high + 1, size=(n_frames, h, w))
-    out[..., 0][rng.random((n_frames, h, w)) < low_fraction] = low
-    out[..., 1] = rng.integers(0, cfg.n_moves + 1, size=(n_frames, h, w))
-    out[:, :, -1, 2] = 1
-    out[:, -1, -1, 3] = 1
-    for t in range(n_frames):
-        out[t, -1, -1, 4] = int((t + first_k) % k == k - 1)
-    return out.reshape(-1, 5)
+from helpers.seg_harness import (SEGMENTER_CASES, check_reset_in_a_scored_frame, make_config,
+                                 misaligned_settings_stream, pack_state_rows, run_lists,
+                                 scheduled_states, settings_driver, synthetic_states,
+                                 truncated_stream)
 
 
 def pack_state_beats(cfg, states) -> list[int]:
@@ -64,29 +48,25 @@ def check(cfg, states, *, valid=0.7, ready=0.5, seed=0, settings=None, on_cycle=
     return lists, result
 
 
-CASES = {
-    # name: (config, frames, (E range, fraction at the bottom))
-    "k3-n4-narrow-E": (dict(width=12, height=6, segment_frames=3, candidate_count=4,
-                            histogram_bits=4, histogram_shift=0), 12, (0, 15, 0.5)),
-    "k2-n6-cap6-shift2": (dict(width=12, height=5, segment_frames=2, candidate_count=6,
-                               candidate_capacity=6, histogram_bits=5, histogram_shift=2),
-                          8, (0, 140)),
-    "k1-n3-ties": (dict(width=12, height=4, segment_frames=1, candidate_count=3,
-                        histogram_bits=3, histogram_shift=0), 5, (0, 4)),
-    "k4-n0": (dict(width=12, height=4, segment_frames=4, candidate_count=0, histogram_bits=3),
-              8, (0, 255)),
-    "k2-e12-clamped-top-bin": (dict(width=12, height=4, segment_frames=2, input_bits=8,
-                                    energy_bits=12, candidate_count=5, histogram_bits=4,
-                                    histogram_shift=3), 8, (100, 4095)),
-    "k2-all-pixels": (dict(width=12, height=4, segment_frames=2, candidate_count=48,
-                           histogram_bits=3), 6, (0, 255)),
-}
+#: The P = 1 cases (``SEGMENTER_CASES``) at W = 12, lines of whole beats at P = 2 and 4
+#: ("k2-all-pixels": C = W x H), with these frame counts
+FRAMES = {"k3-n4-narrow-E": 12, "k2-n6-cap6-shift2": 8, "k1-n3-ties": 5, "k4-n0": 8,
+          "k2-e12-clamped-top-bin": 8, "k2-all-pixels": 6}
+
+
+def wide_case(name):
+    """(config, frames, E range) of case ``name`` for the wide segmenter."""
+    kw, _frames, energies = SEGMENTER_CASES[name]
+    kw = dict(kw, width=12)
+    if name == "k2-all-pixels":
+        kw["candidate_count"] = kw["width"] * kw["height"]
+    return kw, FRAMES[name], energies
 
 
 @pytest.mark.parametrize("lanes", [2, 4])
-@pytest.mark.parametrize("name", list(CASES))
+@pytest.mark.parametrize("name", list(FRAMES))
 def test_random_streams_match_model(name, lanes):
-    kw, n_frames, (low, high, *bottom) = CASES[name]
+    kw, n_frames, (low, high, *bottom) = wide_case(name)
     cfg = make_config(**kw, pixels_per_clock=lanes)
     rng = np.random.default_rng(len(name) + lanes)
     states = synthetic_states(cfg, n_frames, rng, low=low, high=high,
@@ -108,18 +88,6 @@ def test_heavy_back_pressure():
     assert sum(lst.count for lst in lists) > 40
 
 
-def truncated_stream(cfg, rng, pre_frames, keep, post_frames, **kw):
-    """A resynchronisation as the wide DP pipeline outputs it: ``pre_frames`` whole frames,
-    the first ``keep`` beats of the next without end_of_frame/end_of_segment, then
-    ``post_frames`` frames of a new segment."""
-    frame = cfg.width * cfg.height
-    a = synthetic_states(cfg, pre_frames + 1, rng, **kw)
-    cut = a[pre_frames * frame:][:keep * cfg.pixels_per_clock].copy()
-    cut[:, 3:] = 0
-    b = synthetic_states(cfg, post_frames, rng, **kw)
-    return np.concatenate([a[: pre_frames * frame], cut, b])
-
-
 @pytest.mark.parametrize("lanes", [2, 4])
 def test_resynchronised_streams_match_model(lanes):
     cfg = make_config(width=12, height=4, segment_frames=3, candidate_count=3,
@@ -127,48 +95,13 @@ def test_resynchronised_streams_match_model(lanes):
     rng = np.random.default_rng(12 + lanes)
     flags = set()
     for pre, keep in [(1, 3), (2, 7), (4, 5), (3, 1), (5, 6)]:
-        states = truncated_stream(cfg, rng, pre, keep, 9, high=255)
+        states = truncated_stream(cfg, rng, pre, keep * lanes, 9, high=255)
         lists, _ = check(cfg, states, valid=0.8, ready=0.6, seed=pre)
         flags |= {(lst.aligned, lst.missed) for lst in lists}
     assert {(False, False), (True, True), (True, False)} <= flags
 
 
 # ---- run-time settings (docs/gateware.md, "Run-time settings") ---------------------------
-
-def scheduled_states(cfg, schedule, rng, **kw):
-    parts, settings = [], []
-    for entry in schedule:
-        k = entry.segment_frames
-        part = synthetic_states(cfg, k, rng, segment_frames=k, **kw)
-        parts.append(part)
-        settings.append(np.tile([k, entry.candidate_count, entry.histogram_shift],
-                                (len(part), 1)))
-    return np.concatenate(parts), np.concatenate(settings)
-
-
-def settings_driver(cfg, states, settings, seed):
-    """Drive the settings ports with the offered beat's segment's values at a segment's
-    first beat and random (also out-of-range) values elsewhere."""
-    p = cfg.pixels_per_clock
-    rng = np.random.default_rng(seed)
-    beat_settings = settings[p - 1::p]
-    first = np.ones(len(beat_settings), dtype=bool)
-    first[1:] = states[p - 1::p][:-1, 4] == 1
-
-    def make(dut):
-        def drive(ctx, index):
-            for column, port in enumerate((dut.segment_frames, dut.candidate_count,
-                                           dut.histogram_shift)):
-                if index < len(beat_settings) and first[index]:
-                    value = int(beat_settings[index, column])
-                else:
-                    value = int(rng.integers(0, 1 << len(port)))
-                ctx.set(port, value)
-                if port is dut.segment_frames:              # the driver's K == 1 with K
-                    ctx.set(dut.segment_frames_one, value == 1)
-        return drive
-    return make
-
 
 @pytest.mark.parametrize("lanes", [2, 4])
 def test_run_time_settings_per_segment(lanes):
@@ -211,13 +144,7 @@ def test_settings_kept_at_a_misaligned_segment_start():
     cfg = make_config(width=12, height=4, segment_frames=1, max_segment_frames=3,
                       candidate_count=4, histogram_bits=4, histogram_shift=4,
                       pixels_per_clock=2)
-    rng = np.random.default_rng(21)
-    before, _ = scheduled_states(cfg, [S(1, 4, 4), S(1, 4, 4)], rng, high=255)
-    after, _ = scheduled_states(cfg, [S(3, 1, 2)] * 3, rng, high=255)
-    cut = before[48:60].copy()
-    cut[:, 3:] = 0
-    states = np.concatenate([before[:48], cut, after])
-    settings = np.array([[1, 4, 4]] * 60 + [[3, 1, 2]] * len(after))
+    states, settings = misaligned_settings_stream(cfg, 12)
     lists, _ = check(cfg, states, valid=0.8, ready=0.6, seed=21, settings=settings,
                      on_cycle=settings_driver(cfg, states, settings, 21))
     assert [(lst.aligned, lst.missed) for lst in lists][:2] == [(True, False), (False, False)]
@@ -227,39 +154,7 @@ def test_settings_kept_at_a_misaligned_segment_start():
 def test_reset_in_a_scored_frame_clears_the_histogram():
     cfg = make_config(width=12, height=4, segment_frames=2, candidate_count=4,
                       histogram_bits=4, histogram_shift=4, pixels_per_clock=4)
-    rng = np.random.default_rng(5)
-    before = pack_state_beats(cfg, synthetic_states(cfg, 3, rng, high=255))[: 12 + 5]
-    after_states = synthetic_states(cfg, 6, rng, high=255)
-    after = pack_state_beats(cfg, after_states)
-    lists = segment_stream(after_states, cfg)
-    rst = Signal()
-    dut = SegmenterWide(cfg)
-    top = ResetInserter({"sync": rst})(dut)
-    outputs = []
-
-    async def bench(ctx):
-        ctx.set(dut.candidates.ready, 1)
-        for phase, words in (("before", before), ("after", after)):
-            sent = idle = 0
-            while sent < len(words) or (phase == "after" and idle < 60):
-                ctx.set(dut.states.valid, sent < len(words))
-                if sent < len(words):
-                    ctx.set(dut.states.payload.as_value(), words[sent])
-                took = sent < len(words) and ctx.get(dut.states.ready)
-                if ctx.get(dut.candidates.valid) and phase == "after":
-                    outputs.append(ctx.get(dut.candidates.payload.as_value()))
-                await ctx.tick()
-                sent += took
-                idle = idle + 1 if sent == len(words) else 0
-            if phase == "before":
-                ctx.set(dut.states.valid, 0)
-                ctx.set(rst, 1)
-                await ctx.tick()
-                ctx.set(rst, 0)
-
-    simulate(top, bench)
-    score(cfg, lists, outputs)
-    assert not lists[0].primed and lists[1].primed
+    check_reset_in_a_scored_frame(cfg, SegmenterWide(cfg), pack_state_beats, 12 + 5)
 
 
 # ---- timing (docs/gateware.md, "P pixels per clock") ---------------------------------------
@@ -353,7 +248,8 @@ def test_same_words_as_the_one_pixel_segmenter(lanes):
                       candidate_capacity=6, histogram_bits=4, histogram_shift=4,
                       pixels_per_clock=lanes)
     one = cfg.replace(pixels_per_clock=1)
-    states = truncated_stream(cfg, np.random.default_rng(30 + lanes), 3, 5, 8, high=255)
+    states = truncated_stream(cfg, np.random.default_rng(30 + lanes), 3, 5 * lanes, 8,
+                              high=255)
     lists = segment_stream(states, cfg)
     narrow = Segmenter(one)
     a = run_lists(one, narrow, narrow.states, narrow.candidates,
