@@ -82,17 +82,11 @@
 #include "axi4_memory.h"
 #endif
 #include "verilated.h"
-#if VM_COVERAGE
-#include "verilated_cov.h"
-#endif
 
 namespace {
 
-using dptbd_harness::Rng;
 using dptbd_harness::fail;
-using dptbd_harness::read_stream_key;
 using dptbd_harness::read_words;
-using dptbd_harness::threshold_of;
 using dptbd_harness::write_words;
 
 struct Op { uint64_t before_word; char kind; uint64_t addr, data; };
@@ -108,17 +102,14 @@ struct Job : dptbd_harness::StreamJob {
 #endif
 };
 
-Job read_job(const std::string& path) {
-    Job job;
-    FILE* fh = std::fopen(path.c_str(), "r");
-    if (!fh) fail("cannot open " + path);
-    char key[64], rest[4096];
-    while (std::fscanf(fh, "%63s", key) == 1) {
-        if (!std::fgets(rest, sizeof rest, fh)) rest[0] = 0;
-        std::string k(key);
-        if (read_stream_key(k, rest, job)) continue;
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string dir = dptbd_harness::job_dir(argc, argv);
+    const Job job = dptbd_harness::read_job_file<Job>(dir + "/job.txt", [](
+            const std::string& k, const char* rest, Job& into) {
 #ifdef DPTBD_AXI_STORE
-        if (dptbd_harness::read_memory_key(k, rest, job.memory)) continue;
+        if (dptbd_harness::read_memory_key(k, rest, into.memory)) return true;
 #endif
         if (k == "op") {
             Op op{};
@@ -131,23 +122,14 @@ Job read_job(const std::string& path) {
 #ifndef DPTBD_MUTANT
             if (op.kind == 'p') fail("op p (a counter preset) needs a mutant build");
 #endif
-            job.ops.push_back(op);
-        } else if (k == "period") {
-            job.period = std::strtoull(rest, nullptr, 10);
-            if (job.period == 0) fail("period must be at least 1");
-        } else fail("unknown job key " + k);
-    }
-    std::fclose(fh);
-    if (job.max_cycles == 0) fail("max_cycles must be given");
-    return job;
-}
-
-}  // namespace
-
-int main(int argc, char** argv) {
-    if (argc != 2) fail("usage: dptbd_sim JOB_DIR");
-    const std::string dir = argv[1];
-    const Job job = read_job(dir + "/job.txt");
+            into.ops.push_back(op);
+            return true;
+        }
+        if (k != "period") return false;
+        into.period = std::strtoull(rest, nullptr, 10);
+        if (into.period == 0) fail("period must be at least 1");
+        return true;
+    });
     dptbd_harness::check_coverage_job(job);
     const uint64_t stored = job.period ? job.period : job.words;
     const std::vector<uint64_t> in = read_words(dir + "/in.bin", stored);
@@ -162,9 +144,7 @@ int main(int argc, char** argv) {
         job.memory, DPTBD_FRAME_BYTES, DPTBD_AXI_OUTSTANDING, job.seed);
 #endif
 
-    Rng valid_rng{job.seed * 2 + 1}, ready_rng{job.seed * 2 + 2};
-    const uint64_t gap_thr = threshold_of(job.valid_gap);
-    const uint64_t pause_thr = threshold_of(job.ready_pause);
+    dptbd_harness::Pauses pauses(job);
 
     std::vector<uint64_t> out, out_flags, out_cycles, ops_out, irq_cycles;
     std::vector<uint64_t> accept_cycles(job.period ? 0 : job.words, ~0ULL);
@@ -226,14 +206,14 @@ int main(int argc, char** argv) {
         // ---- input beat
         if (!busy && !offering && next_word < job.words
                 && !(next_op < job.ops.size() && job.ops[next_op].before_word <= next_word)) {
-            offering = !(gap_thr && valid_rng.next() < gap_thr);
+            offering = pauses.offer();
         }
         const uint64_t beat = offering ? in[job.period ? next_word % job.period : next_word] : 0;
         dut->s_axis_video_tvalid = offering;
         dut->s_axis_video_tdata = static_cast<uint32_t>(beat & 0xFFFFFFFFULL);
         dut->s_axis_video_tuser = (beat >> 32) & 1;
         dut->s_axis_video_tlast = (beat >> 33) & 1;
-        const bool ready = !(pause_thr && ready_rng.next() < pause_thr);
+        const bool ready = pauses.ready();
         dut->m_axis_cand_tready = ready;
 #ifdef DPTBD_AXI_STORE
         mem.drive(dut.get(), rst);
@@ -311,12 +291,8 @@ int main(int argc, char** argv) {
             break;
         }
     }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    dut->final();
-#if VM_COVERAGE
-    if (!job.coverage.empty()) context->coveragep()->write(job.coverage.c_str());
-#endif
+    const double seconds = dptbd_harness::seconds_since(t0);
+    dptbd_harness::finish(context.get(), dut.get(), job);
 
     write_words(dir + "/out.bin", out);
     write_words(dir + "/out_flags.bin", out_flags);
@@ -324,8 +300,7 @@ int main(int argc, char** argv) {
     write_words(dir + "/accept_cycles.bin", accept_cycles);
     write_words(dir + "/ops.bin", ops_out);
     write_words(dir + "/irq_cycles.bin", irq_cycles);
-    FILE* fh = std::fopen((dir + "/result.txt").c_str(), "w");
-    if (!fh) fail("cannot write result.txt");
+    FILE* fh = dptbd_harness::open_result(dir);
     std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"
                  "stalled_input_cycles %" PRIu64 "\npaused_output_cycles %" PRIu64 "\n"
                  "irq_rises %" PRIu64 "\naxil_violations %" PRIu64 "\nseconds %.9f\n",

@@ -38,11 +38,8 @@
 
 namespace {
 
-using dptbd_harness::Rng;
 using dptbd_harness::fail;
-using dptbd_harness::read_stream_key;
 using dptbd_harness::read_words;
-using dptbd_harness::threshold_of;
 using dptbd_harness::write_words;
 
 using Memory = dptbd_harness::Axi4Memory<Vdut, DPTBD_AXI_DATA_BITS>;
@@ -54,30 +51,17 @@ struct Job : dptbd_harness::StreamJob {
     uint64_t k = 1;
 };
 
-Job read_job(const std::string& path) {
-    Job job;
-    FILE* fh = std::fopen(path.c_str(), "r");
-    if (!fh) fail("cannot open " + path);
-    char key[64], rest[4096];
-    while (std::fscanf(fh, "%63s", key) == 1) {
-        if (!std::fgets(rest, sizeof rest, fh)) rest[0] = 0;
-        std::string k(key);
-        if (read_stream_key(k, rest, job)) continue;
-        if (dptbd_harness::read_memory_key(k, rest, job.memory)) continue;
-        if (k == "segment_frames") job.k = std::strtoull(rest, nullptr, 10);
-        else fail("unknown job key " + k);
-    }
-    std::fclose(fh);
-    if (job.max_cycles == 0) fail("max_cycles must be given");
-    return job;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 2) fail("usage: dptbd_sim JOB_DIR");
-    const std::string dir = argv[1];
-    const Job job = read_job(dir + "/job.txt");
+    const std::string dir = dptbd_harness::job_dir(argc, argv);
+    const Job job = dptbd_harness::read_job_file<Job>(dir + "/job.txt", [](
+            const std::string& k, const char* rest, Job& into) {
+        if (dptbd_harness::read_memory_key(k, rest, into.memory)) return true;
+        if (k != "segment_frames") return false;
+        into.k = std::strtoull(rest, nullptr, 10);
+        return true;
+    });
     auto context = std::make_unique<VerilatedContext>();
     auto dut = std::make_unique<Vdut>(context.get());
     using InPort = PortOf<decltype(PORT(pixels, payload))>;
@@ -87,9 +71,7 @@ int main(int argc, char** argv) {
     std::vector<uint64_t> out_payload(OutPort::words, 0);
 
     Memory mem(job.memory, DPTBD_FRAME_BYTES, DPTBD_AXI_OUTSTANDING, job.seed);
-    Rng valid_rng{job.seed * 2 + 1}, ready_rng{job.seed * 2 + 2};
-    const uint64_t gap_thr = threshold_of(job.valid_gap);
-    const uint64_t pause_thr = threshold_of(job.ready_pause);
+    dptbd_harness::Pauses pauses(job);
 
     std::vector<uint64_t> out, out_cycles, accept_cycles(job.words, ~0ULL);
     uint64_t read_errors = 0, write_errors = 0;
@@ -109,11 +91,11 @@ int main(int argc, char** argv) {
         dut->state_base = job.memory.base;
         dut->lut_we = 0;
         if (!offering && next_word < job.words)
-            offering = !(gap_thr && valid_rng.next() < gap_thr);
+            offering = pauses.offer();
         PORT(pixels, valid) = offering;
         InPort::set(PORT(pixels, payload),
                     offering ? &in[next_word * InPort::words] : no_input.data());
-        const bool ready = !(pause_thr && ready_rng.next() < pause_thr);
+        const bool ready = pauses.ready();
         PORT(states, ready) = ready;
         mem.drive(dut.get(), false);
         dut->clk = 0;
@@ -142,14 +124,12 @@ int main(int argc, char** argv) {
             break;
         }
     }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    dut->final();
+    const double seconds = dptbd_harness::seconds_since(t0);
+    dptbd_harness::finish(context.get(), dut.get(), job);
     write_words(dir + "/out.bin", out);
     write_words(dir + "/out_cycles.bin", out_cycles);
     write_words(dir + "/accept_cycles.bin", accept_cycles);
-    FILE* fh = std::fopen((dir + "/result.txt").c_str(), "w");
-    if (!fh) fail("cannot write result.txt");
+    FILE* fh = dptbd_harness::open_result(dir);
     std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"
                  "seconds %.9f\nread_bursts %" PRIu64 "\nwrite_bursts %" PRIu64 "\n"
                  "violations %" PRIu64 "\nread_errors %" PRIu64 "\nwrite_errors %" PRIu64 "\n"

@@ -57,9 +57,6 @@
 #include "Vdut.h"
 #include "harness_io.h"
 #include "verilated.h"
-#if VM_COVERAGE
-#include "verilated_cov.h"
-#endif
 #ifdef DPTBD_TRACE
 #include "verilated_fst_c.h"
 #endif
@@ -78,9 +75,7 @@ namespace {
 
 using dptbd_harness::Rng;
 using dptbd_harness::fail;
-using dptbd_harness::read_stream_key;
 using dptbd_harness::read_words;
-using dptbd_harness::threshold_of;
 using dptbd_harness::write_words;
 
 using dptbd_harness::PortOf;
@@ -96,53 +91,40 @@ struct Job : dptbd_harness::StreamJob {
     std::vector<Settings> settings;
 };
 
-Job read_job(const std::string& path) {
-    Job job;
-    FILE* fh = std::fopen(path.c_str(), "r");
-    if (!fh) fail("cannot open " + path);
-    char key[64], rest[4096];
-    while (std::fscanf(fh, "%63s", key) == 1) {
-        if (!std::fgets(rest, sizeof rest, fh)) rest[0] = 0;
-        std::string k(key);
-        if (read_stream_key(k, rest, job)) continue;
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string dir = dptbd_harness::job_dir(argc, argv);
+    const Job job = dptbd_harness::read_job_file<Job>(dir + "/job.txt", [](
+            const std::string& k, const char* rest, Job& into) {
         if (k == "store_init") {
             char v[64];
             if (std::sscanf(rest, "%63s", v) != 1) fail("store_init needs a value");
-            job.store_init = v;
+            into.store_init = v;
         } else if (k == "trace") {
             char v[4096];
             if (std::sscanf(rest, "%4095s", v) != 1) fail("trace needs a path");
-            job.trace = v;
+            into.trace = v;
         } else if (k == "reset") {
             Reset r{};
             if (std::sscanf(rest, "%" SCNu64 " %" SCNu64, &r.cycle, &r.hold) != 2)
                 fail("reset needs CYCLE HOLD");
-            job.resets.push_back(r);
+            into.resets.push_back(r);
         } else if (k == "lut") {
             LutWrite w{};
             if (std::sscanf(rest, "%" SCNu64 " %" SCNu64 " %" SCNu64, &w.before_word,
                             &w.addr, &w.data) != 3)
                 fail("lut needs WORD ADDR DATA");
-            job.luts.push_back(w);
+            into.luts.push_back(w);
         } else if (k == "settings") {
             Settings w{};
             if (std::sscanf(rest, "%" SCNu64 " %" SCNu64 " %" SCNu64 " %" SCNu64,
                             &w.before_word, &w.k, &w.n, &w.s) != 4)
                 fail("settings needs WORD K N S");
-            job.settings.push_back(w);
-        } else fail("unknown job key " + k);
-    }
-    std::fclose(fh);
-    if (job.max_cycles == 0) fail("max_cycles must be given");
-    return job;
-}
-
-}  // namespace
-
-int main(int argc, char** argv) {
-    if (argc != 2) fail("usage: dptbd_sim JOB_DIR");
-    const std::string dir = argv[1];
-    const Job job = read_job(dir + "/job.txt");
+            into.settings.push_back(w);
+        } else return false;
+        return true;
+    });
     dptbd_harness::check_coverage_job(job);
     auto context = std::make_unique<VerilatedContext>();
     auto dut = std::make_unique<Vdut>(context.get());
@@ -185,9 +167,7 @@ int main(int argc, char** argv) {
     uint64_t store_faults = 0;
 #endif
 
-    Rng valid_rng{job.seed * 2 + 1}, ready_rng{job.seed * 2 + 2};
-    const uint64_t gap_thr = threshold_of(job.valid_gap);
-    const uint64_t pause_thr = threshold_of(job.ready_pause);
+    dptbd_harness::Pauses pauses(job);
 
     std::vector<uint64_t> out, out_cycles, accept_cycles(job.words, ~0ULL);
     out.reserve(job.words + 1024);
@@ -238,12 +218,12 @@ int main(int argc, char** argv) {
                 ++lut_writes;
             }
         } else if (!offering && next_word < job.words) {
-            offering = !(gap_thr && valid_rng.next() < gap_thr);
+            offering = pauses.offer();
         }
         PORT(pixels, valid) = offering;
         InPort::set(PORT(pixels, payload),
                     offering ? &in[next_word * InPort::words] : no_input.data());
-        const bool ready = !(pause_thr && ready_rng.next() < pause_thr);
+        const bool ready = pauses.ready();
         OUT_PORT(ready) = ready;
 #ifdef DPTBD_DESIGN_CORE
         StorePort::set(PORT(state_store, read_data), read_data.data());
@@ -317,21 +297,16 @@ int main(int argc, char** argv) {
             break;
         }
     }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds = dptbd_harness::seconds_since(t0);
 #ifdef DPTBD_TRACE
     if (tfp) tfp->close();
 #endif
-    dut->final();
-#if VM_COVERAGE
-    if (!job.coverage.empty()) context->coveragep()->write(job.coverage.c_str());
-#endif
+    dptbd_harness::finish(context.get(), dut.get(), job);
 
     write_words(dir + "/out.bin", out);
     write_words(dir + "/out_cycles.bin", out_cycles);
     write_words(dir + "/accept_cycles.bin", accept_cycles);
-    FILE* fh = std::fopen((dir + "/result.txt").c_str(), "w");
-    if (!fh) fail("cannot write result.txt");
+    FILE* fh = dptbd_harness::open_result(dir);
     std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"
                  "lut_writes %" PRIu64 "\nstalled_input_cycles %" PRIu64 "\n"
                  "paused_output_cycles %" PRIu64 "\nseconds %.9f\n"

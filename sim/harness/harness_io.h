@@ -1,9 +1,11 @@
 // Helpers shared by dptbd's Verilator harnesses: the seeded pause generator, error exit,
-// the binary word files (little-endian uint64) and Port (a design port as uint64 words).
+// the binary word files (little-endian uint64), the job file's reading, the end of a run
+// and Port (a design port as uint64 words).
 // Header-only; included by dptbd_harness.cpp, dptbd_axi_harness.cpp and
 // dptbd_dp_axi_harness.cpp.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +14,9 @@
 #include <vector>
 
 #include "verilated.h"
+#if VM_COVERAGE
+#include "verilated_cov.h"
+#endif
 #ifdef DPTBD_MUTANT
 #include <csignal>
 #include <unistd.h>
@@ -91,6 +96,66 @@ inline void check_coverage_job(const StreamJob& job) {
 #else
     (void)job;
 #endif
+}
+
+// JOB_DIR, the one argument of every harness (refused otherwise).
+inline std::string job_dir(int argc, char** argv) {
+    if (argc != 2) fail("usage: dptbd_sim JOB_DIR");
+    return argv[1];
+}
+
+// The job file at ``path``: StreamJob's keys, then ``keys(k, rest, job)`` for the harness's
+// own (false: not one of them, refused); max_cycles must be given.
+template <class Job, class Keys>
+Job read_job_file(const std::string& path, Keys keys) {
+    Job job;
+    FILE* fh = std::fopen(path.c_str(), "r");
+    if (!fh) fail("cannot open " + path);
+    char key[64], rest[4096];
+    while (std::fscanf(fh, "%63s", key) == 1) {
+        if (!std::fgets(rest, sizeof rest, fh)) rest[0] = 0;
+        const std::string k(key);
+        if (!read_stream_key(k, rest, job) && !keys(k, rest, job)) fail("unknown job key " + k);
+    }
+    std::fclose(fh);
+    if (job.max_cycles == 0) fail("max_cycles must be given");
+    return job;
+}
+
+// The seeded pauses of a run: an idle input cycle with probability valid_gap, output
+// back-pressure with probability ready_pause, one generator each.
+struct Pauses {
+    Rng valid_rng, ready_rng;
+    uint64_t gap_thr, pause_thr;
+    explicit Pauses(const StreamJob& job)
+        : valid_rng{job.seed * 2 + 1}, ready_rng{job.seed * 2 + 2},
+          gap_thr(threshold_of(job.valid_gap)), pause_thr(threshold_of(job.ready_pause)) {}
+    bool offer() { return !(gap_thr && valid_rng.next() < gap_thr); }
+    bool ready() { return !(pause_thr && ready_rng.next() < pause_thr); }
+};
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The end of a run: the design's final(), then (a coverage build) the run's coverage points
+// to the job's coverage file.
+template <class Dut>
+void finish(VerilatedContext* context, Dut* dut, const StreamJob& job) {
+    dut->final();
+#if VM_COVERAGE
+    if (!job.coverage.empty()) context->coveragep()->write(job.coverage.c_str());
+#else
+    (void)context;
+    (void)job;
+#endif
+}
+
+// JOB_DIR/result.txt, open for writing (refused if it cannot be).
+inline FILE* open_result(const std::string& dir) {
+    FILE* fh = std::fopen((dir + "/result.txt").c_str(), "w");
+    if (!fh) fail("cannot write result.txt");
+    return fh;
 }
 
 #ifdef DPTBD_MUTANT
