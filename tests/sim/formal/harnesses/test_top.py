@@ -40,3 +40,40 @@ def test_an_unknown_invariant_group_is_refused():
                f"{', '.join(TOP_INVARIANTS)}")
     with pytest.raises(ValueError, match=whole(message)):
         AXITopHarness(drop=("nope",))
+
+
+@pytest.mark.parametrize("segment_frames, empty, record, trailer", [(2, 58, 78, 98),
+                                                                    (1, 38, 43, 64)])
+def test_a_whole_list_takes_two_segments(segment_frames, empty, record, trailer):
+    """Why the cover run reaches no whole candidate list on ``m_axis_cand``: on the harness's
+    5 x 4 build a run's first list is never primed (empty: a lone trailer), so the first
+    list with a record ends after the second segment. ``aresetn`` low in cycle 0, a pixel
+    offered in every cycle from 1 (1 at (0, 0) of each frame, else 0), both ``tready`` high: the
+    cycles of the first lists' beats, exact, at K = 2 and on a K = 1 build."""
+    from dptbd.hw.axi_top import AXITop
+    from dptbd.sim.formal.harnesses.tiny import tiny_config
+    from helpers.axil_harness import simulate_top
+
+    cfg = tiny_config(segment_frames=segment_frames)
+    top = AXITop(cfg, state_output=True)
+    beats = []
+
+    async def bench(ctx):
+        ctx.set(top.m_axis_cand_tready, 1)
+        ctx.set(top.m_axis_state_tready, 1)
+        pixel = 0
+        for cycle in range(trailer + 1):
+            ctx.set(top.aresetn, cycle >= 1)
+            first = pixel % (cfg.width * cfg.height) == 0
+            ctx.set(top.s_axis_video_tvalid, cycle >= 1)
+            ctx.set(top.s_axis_video_tdata, first)
+            ctx.set(top.s_axis_video_tuser, first)
+            ctx.set(top.s_axis_video_tlast, pixel % cfg.width == cfg.width - 1)
+            if ctx.get(top.m_axis_cand_tvalid):
+                beats.append((cycle, ctx.get(top.m_axis_cand_tuser),
+                              ctx.get(top.m_axis_cand_tlast)))
+            pixel += cycle >= 1 and ctx.get(top.s_axis_video_tready)
+            await ctx.tick("sync")
+
+    simulate_top(top, bench)
+    assert beats == [(empty, 1, 1), (record, 1, 0), (trailer, 0, 1)]
