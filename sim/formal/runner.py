@@ -80,11 +80,15 @@ def find_tools(lookup=None) -> dict[str, str]:
     return found
 
 
-def sby_text(mode: str, depth: int) -> str:
-    """The SBY file of one run on ``harness.il`` (top module ``top``)."""
+def sby_text(mode: str, depth: int, syn: bool = False) -> str:
+    """The SBY file of one run on ``harness.il`` (top module ``top``). ``syn``: on the
+    gate-level netlist (memories mapped to flip-flops, ``smtbmc --syn``: the solver sees
+    bits, not words), which reaches deep covers of a whole top the word-level problem does
+    not (``docs/gateware.md``, "Formal proofs")."""
+    engine, script = ("smtbmc --syn z3", "memory_map\n") if syn else ("smtbmc z3", "")
     return (f"[options]\nmode {mode}\ndepth {depth}\nmulticlock off\n\n"
-            f"[engines]\nsmtbmc z3\n\n"
-            f"[script]\nread_rtlil harness.il\nprep -top top\n\n"
+            f"[engines]\n{engine}\n\n"
+            f"[script]\nread_rtlil harness.il\nprep -top top\n{script}\n"
             f"[files]\nharness.il\n")
 
 
@@ -134,10 +138,10 @@ def parse_log(text: str, messages: dict | None = None) -> tuple[str, int, tuple,
 
 
 def _run(tools, workdir: pathlib.Path, name: str, il: str, mode: str, depth: int,
-         timeout: float | None) -> tuple[str, int, tuple, str | None, float]:
+         timeout: float | None, syn: bool = False) -> tuple[str, int, tuple, str | None, float]:
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "harness.il").write_text(il)
-    (workdir / f"{name}.sby").write_text(sby_text(mode, depth))
+    (workdir / f"{name}.sby").write_text(sby_text(mode, depth, syn))
     env = dict(os.environ)
     env["PATH"] = os.pathsep.join([str(pathlib.Path(tools["z3"]).parent), env.get("PATH", "")])
     start = time.monotonic()
@@ -168,12 +172,12 @@ def run_task(task, *, out: pathlib.Path | None = None, tools: dict | None = None
     with tempfile.TemporaryDirectory(prefix=f"dptbd-formal-{task.name}-") as tmp:
         base = pathlib.Path(out) / task.name if out is not None else pathlib.Path(tmp)
         results = []
-        runs = [("proof", task.mode, task.depth)]
+        runs = [("proof", task.mode, task.depth, False)]
         if task.cover_depth:
-            runs.append(("cover", "cover", task.cover_depth))
-        for kind, mode, depth in runs:
+            runs.append(("cover", "cover", task.cover_depth, task.cover_syn))
+        for kind, mode, depth, syn in runs:
             verdict, reached, failed, trace, seconds = _run(
-                tools, base, kind, il, mode, depth, timeout)
+                tools, base, kind, il, mode, depth, timeout, syn)
             if verdict == "PASS" and mode in ("prove", "bmc"):
                 reached = depth
             results.append(FormalResult(

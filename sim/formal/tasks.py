@@ -20,6 +20,7 @@ from dptbd.sim.formal.harnesses.prefetcher import PrefetcherHarness
 from dptbd.sim.formal.harnesses.known_bad import DroppingCandidatesHarness, EagerAXILiteHarness
 from dptbd.sim.formal.harnesses.registers import RegistersHarness
 from dptbd.sim.formal.harnesses.streams import CandidatesHarness, StatesHarness
+from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.harnesses.top import AXITopHarness
 from dptbd.sim.formal.harnesses.write_behind import WriteBehindHarness
 
@@ -30,7 +31,8 @@ __all__ = ["FormalTask", "TASKS", "task"]
 class FormalTask:
     """One proof: ``mode`` ``"prove"`` (k-induction of length ``depth``, which also checks
     the base case to that depth) or ``"bmc"`` (every state reachable in ``depth`` steps from
-    reset); ``cover_depth`` 0 runs no cover."""
+    reset); ``cover_depth`` 0 runs no cover; ``cover_syn`` runs the cover on the gate-level
+    netlist (:func:`~dptbd.sim.formal.runner.sby_text`)."""
 
     name: str
     description: str
@@ -40,6 +42,7 @@ class FormalTask:
     cover_depth: int
     fast: bool = True
     expect: str = "PASS"
+    cover_syn: bool = False
 
 
 TASKS = (
@@ -61,6 +64,10 @@ TASKS = (
                "AXI4-Lite", AXITopHarness, "prove", 4, 18, fast=False),
     FormalTask("dptbd_axi_short", "the same proof without its cover run (the default "
                "suite's)", AXITopHarness, "prove", 4, 0),
+    FormalTask("dptbd_axi_list", "dptbd_axi 5x4, K = 1, whole frames in: a whole candidate "
+               "list out of m_axis_cand", lambda: AXITopHarness(tiny_config(segment_frames=1),
+                                                                 list_cover=True),
+               "prove", 4, 68, fast=False, cover_syn=True),
     FormalTask("dptbd_axi_registered", "the same with control_style='registered' (the ECP5 "
                "build's input and segmenter control)",
                lambda: AXITopHarness(core_options={"control_style": "registered"}), "prove", 4,

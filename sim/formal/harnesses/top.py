@@ -3,7 +3,7 @@ protocol, the soft reset over AXI4-Lite, pixels in against state words out."""
 
 from __future__ import annotations
 
-from amaranth.hdl import Assert, Assume, Cover, DomainRenamer, Signal
+from amaranth.hdl import Assert, Assume, Cover, DomainRenamer, Mux, Signal
 
 from dptbd.config import DPConfig
 from dptbd.hw.axi_top import AXITop
@@ -32,13 +32,18 @@ class AXITopHarness(Harness):
     reset; and the invariants of :func:`top_invariants` that make all of it k-inductive,
     less those named in ``drop`` (:data:`TOP_INVARIANTS`; for the test that each is needed).
     ``core_options`` as :class:`~dptbd.hw.axi_top.AXITop`'s (e.g. the ECP5 build's
-    ``control_style="registered"``).
+    ``control_style="registered"``). ``list_cover``: instead of the three covers of the
+    default run, one of a whole candidate list with a record out of ``m_axis_cand``, in an
+    environment that streams whole frames (the assumptions of ``_list_cover``, added to the
+    proof's: a trace that reaches it is one of the proof's environment too).
     """
 
-    def __init__(self, cfg: DPConfig | None = None, drop: tuple = (), core_options=None):
+    def __init__(self, cfg: DPConfig | None = None, drop: tuple = (), core_options=None,
+                 list_cover: bool = False):
         super().__init__()
         self.cfg = cfg or tiny_config()
         self.core_options = core_options
+        self.list_cover = list_cover
         unknown = sorted(set(drop) - set(TOP_INVARIANTS))
         if unknown:
             raise ValueError(f"unknown dptbd_axi invariant group(s) {', '.join(unknown)}; the "
@@ -94,12 +99,39 @@ class AXITopHarness(Harness):
             m.d.comb += Assert(pending != 0, "m_axis_state: a word without an accepted pixel")
         top_invariants(m, past, top, opens, started, pending, aw_out, w_out, ar_out,
                        self.drop)
-        # reachable within the cover depth (a list needs two frames: the adapters' own
-        # harnesses cover lists and lines)
+        if self.list_cover:
+            self._list_cover(m, t, accepted)
+            return
+        # reachable within the cover depth (a whole list needs two segments: the
+        # dptbd_axi_list task's cover; the adapters' own harnesses cover lists and lines)
         m.d.comb += [
             Cover(restart & started),                        # a soft reset after a pixel
             Cover(t.s_axil_bvalid & t.s_axil_bready),        # a write response
             Cover(state_word),                               # a state word out
+        ]
+
+    def _list_cover(self, m, t, accepted):
+        """The environment of the whole-list cover: ``aresetn`` only in the first cycle, no
+        AXI4-Lite request, both ``tready`` high, a pixel offered in every cycle with
+        ``tuser`` on each frame's first and ``tlast`` on each line's last; covered: a whole
+        list with a record on ``m_axis_cand`` (``tlast`` not on its first word)."""
+        cfg = self.cfg
+        pixel = Signal(range(cfg.width * cfg.height))
+        column = Signal(range(cfg.width))
+        with m.If(accepted):
+            m.d.sync += [pixel.eq(Mux(pixel == cfg.width * cfg.height - 1, 0, pixel + 1)),
+                         column.eq(Mux(column == cfg.width - 1, 0, column + 1))]
+        first = Signal(init=1, reset_less=True)           # the first cycle (a reset)
+        m.d.sync += first.eq(0)
+        m.d.comb += [
+            Assume(first | ~self.rst),
+            Assume(~t.s_axil_awvalid & ~t.s_axil_wvalid & ~t.s_axil_arvalid),
+            Assume(t.m_axis_cand_tready & t.m_axis_state_tready),
+            Assume(t.s_axis_video_tvalid),
+            Assume(t.s_axis_video_tuser[0] == (pixel == 0)),
+            Assume(t.s_axis_video_tlast == (column == cfg.width - 1)),
+            Cover(t.m_axis_cand_tvalid & t.m_axis_cand_tready & t.m_axis_cand_tlast
+                  & ~t.m_axis_cand_tuser[0]),
         ]
 
 

@@ -28,6 +28,9 @@ def test_sby_text():
     assert sby_text("prove", 4) == (
         "[options]\nmode prove\ndepth 4\nmulticlock off\n\n[engines]\nsmtbmc z3\n\n"
         "[script]\nread_rtlil harness.il\nprep -top top\n\n[files]\nharness.il\n")
+    assert sby_text("cover", 70, syn=True) == (
+        "[options]\nmode cover\ndepth 70\nmulticlock off\n\n[engines]\nsmtbmc --syn z3\n\n"
+        "[script]\nread_rtlil harness.il\nprep -top top\nmemory_map\n\n[files]\nharness.il\n")
 
 
 def test_parse_log_prefers_the_base_case_and_names_the_message():

@@ -42,6 +42,26 @@ def test_an_unknown_invariant_group_is_refused():
         AXITopHarness(drop=("nope",))
 
 
+def test_the_list_cover_harness_has_the_one_cover_and_its_environment():
+    """``list_cover=True``: the three covers of the default run give way to the whole list's,
+    and six assumptions more (reset only first, no AXI4-Lite request, both ``tready``, a
+    pixel in every cycle, ``tuser`` and ``tlast`` at their places); the proof's assertions
+    stay. (Its cover run: the ``dptbd_axi_list`` task, ``pytest -m formal``.)"""
+    from amaranth.back import rtlil
+    from amaranth.hdl import Fragment
+
+    from dptbd.sim.formal.harnesses.tiny import tiny_config
+
+    def flavors(harness):
+        il = rtlil.convert(Fragment.get(harness, None), name="top", ports=harness.ports())
+        return {kind: il.count(f'FLAVOR "{kind}"') for kind in ("assert", "assume", "cover")}
+
+    plain = flavors(AXITopHarness(tiny_config(segment_frames=1)))
+    listed = flavors(AXITopHarness(tiny_config(segment_frames=1), list_cover=True))
+    assert plain["cover"] == 3 and listed["cover"] == 1
+    assert listed["assume"] == plain["assume"] + 6 and listed["assert"] == plain["assert"]
+
+
 @pytest.mark.parametrize("segment_frames, empty, record, trailer", [(2, 58, 78, 98),
                                                                     (1, 38, 43, 64)])
 def test_a_whole_list_takes_two_segments(segment_frames, empty, record, trailer):
