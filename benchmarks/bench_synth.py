@@ -42,7 +42,8 @@ over two stages).
 * ``core128-regio`` — ``core128`` behind a register on every port
   (:class:`~dptbd.hw.flow.registered_ports.RegisteredPorts`): the core's Fmax as inside a
   design, without the unconstrained pins pulling its port registers across the chip; its
-  cell counts include ~200 port registers.
+  cell counts include ~200 port registers. ``axi128-regio``: ``axi128`` the same way
+  (``aclk`` / ``aresetn`` as they are).
 * ``tiny`` — an 8 x 6 pipeline with 2-bit pixels (seconds; a smoke test of the flow).
 
 ::
@@ -110,6 +111,9 @@ CASES = {
                    DPConfig(width=128, height=128, radius=2).build_config(), "core", "auto"),
     "core128-regio": ("DPCore 128x128, default build, every port registered (Fmax only)",
                       _DEFAULT.build_config(), "core-regio", "auto"),
+    "axi128-regio": ("dptbd_axi (AXITop) 128x128, default build (on-chip store), every port "
+                     "but aclk / aresetn registered (Fmax only)",
+                     _DEFAULT.build_config(), "axi-regio", "auto"),
     "core640x512-p1": ("DPCore 640x512, 1 pixel per clock, default build (external store; "
                        "ports folded onto two pins, FoldedPorts)",
                        DPConfig(width=640, height=512).build_config(), "core-folded", "auto"),
