@@ -1,0 +1,249 @@
+"""The worst register-to-register paths of a routed design, from nextpnr's SDF.
+
+nextpnr's ``--report`` gives one critical path per clock. For the next ones, ``nextpnr
+--sdf FILE --write placed.json`` writes the routed delays (each cell's ``IOPATH`` and
+``SETUPHOLD``, each net arc's ``INTERCONNECT``) and the placement (each cell's
+``NEXTPNR_BEL``, ``X<x>/Y<y>/…``); :func:`worst_paths` finds, for every timing endpoint,
+its longest path (a longest-path pass over the delay graph, the worst of min:typ:max and
+of rise / fall), and returns the ``n`` worst endpoints with their start, logic and routing
+delay and the placement distance (tiles, ``|dx| + |dy|``) from start to end. It times one
+clock and no clock skew, so its delays are nextpnr's path delays without the clock's
+arrival difference (the critical path agrees with nextpnr's report to the picosecond or
+differs by that skew). ::
+
+    python -m dptbd.hw.flow.sdf_paths build/synth/ecp5/axi128/routed.sdf \\
+        build/synth/ecp5/axi128/placed.json -n 10
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import pathlib
+import re
+from typing import Iterator, Mapping, Sequence
+
+__all__ = ["TimedPath", "parse_sdf", "placement", "worst_paths", "main"]
+
+_TOKEN = re.compile(r'\(|\)|"(?:[^"\\]|\\.)*"|(?:[^\s()"\\]|\\.)+')
+
+
+def _tokens(text: str) -> Iterator[str]:
+    for m in _TOKEN.finditer(text):
+        yield m.group(0)
+
+
+def _tree(text: str) -> list:
+    """The SDF's s-expressions as nested lists of atoms (escapes kept)."""
+    stack: list[list] = [[]]
+    for tok in _tokens(text):
+        if tok == "(":
+            stack.append([])
+        elif tok == ")":
+            if len(stack) == 1:
+                raise ValueError("SDF: unbalanced ')'")
+            done = stack.pop()
+            stack[-1].append(done)
+        else:
+            stack[-1].append(tok)
+    if len(stack) != 1:
+        raise ValueError("SDF: unbalanced '('")
+    return stack[0]
+
+
+def _unescape(name: str) -> str:
+    return re.sub(r"\\(.)", r"\1", name)
+
+
+def _delay(values: Sequence) -> float:
+    """The worst of ``(min:typ:max)`` triples (rise, fall), in the SDF's unit."""
+    worst = 0.0
+    for v in values:
+        if isinstance(v, list) and v:
+            worst = max([worst] + [float(x) for x in v[0].split(":") if x])
+    return worst
+
+
+@dataclasses.dataclass
+class _Graph:
+    arcs: dict[str, list[tuple[str, float, str]]]   # node -> [(next node, delay, kind)]
+    launch: dict[str, float]                         # register output -> clock to out
+    setup: dict[str, float]                          # register input -> setup time
+
+
+def parse_sdf(text: str) -> _Graph:
+    """The delay graph of an SDF: nodes ``cell/port``; ``kind`` of an arc ``logic`` (a
+    cell's IOPATH) or ``routing`` (an INTERCONNECT)."""
+    root = _tree(text)
+    top = root[0] if root and isinstance(root[0], list) else root
+    divider = "."
+    scale = 1.0
+    graph = _Graph({}, {}, {})
+    for item in top:
+        if not isinstance(item, list) or not item:
+            continue
+        if item[0] == "DIVIDER" and len(item) > 1:
+            divider = item[1]
+        elif item[0] == "TIMESCALE":
+            unit = "".join(item[1:])
+            scale = {"1ps": 1e-3, "1ns": 1.0, "10ps": 1e-2, "100ps": 1e-1}.get(unit, 1.0)
+        elif item[0] == "CELL":
+            _cell(item, graph, divider, scale)
+    return graph
+
+
+def _cell(item: list, graph: _Graph, divider: str, scale: float) -> None:
+    inst = ""
+    for part in item[1:]:
+        if isinstance(part, list) and part and part[0] == "INSTANCE":
+            inst = _unescape(part[1]) if len(part) > 1 else ""
+    for part in item[1:]:
+        if not (isinstance(part, list) and part):
+            continue
+        if part[0] == "DELAY":
+            for block in part[1:]:
+                for entry in block[1:]:
+                    if not isinstance(entry, list) or not entry:
+                        continue
+                    if entry[0] == "IOPATH":
+                        src, dst = entry[1], entry[2]
+                        d = _delay(entry[3:]) * scale
+                        if isinstance(src, list):       # (posedge CLK) Q: clock to out
+                            node = f"{inst}/{dst}"
+                            graph.launch[node] = max(graph.launch.get(node, 0.0), d)
+                        else:
+                            graph.arcs.setdefault(f"{inst}/{src}", []).append(
+                                (f"{inst}/{dst}", d, "logic"))
+                    elif entry[0] == "INTERCONNECT":
+                        a, b = (_pin(x, divider) for x in entry[1:3])
+                        graph.arcs.setdefault(a, []).append(
+                            (b, _delay(entry[3:]) * scale, "routing"))
+        elif part[0] == "TIMINGCHECK":
+            for check in part[1:]:
+                if isinstance(check, list) and check and check[0] in ("SETUPHOLD", "SETUP"):
+                    port = check[1] if not isinstance(check[1], list) else check[1][-1]
+                    node = f"{inst}/{port}"
+                    graph.setup[node] = max(graph.setup.get(node, 0.0),
+                                            _delay(check[3:4]) * scale)
+
+
+def _pin(text: str, divider: str) -> str:
+    """``cell.port`` (the SDF's divider, the last unescaped one) as ``cell/port``."""
+    idx = max(i for i, c in enumerate(text)
+              if c == divider and (i == 0 or text[i - 1] != "\\"))
+    return f"{_unescape(text[:idx])}/{text[idx + 1:]}"
+
+
+def placement(netlist: Mapping) -> dict[str, tuple[int, int]]:
+    """Each placed cell's tile ``(x, y)`` from a ``nextpnr --write`` JSON's ``NEXTPNR_BEL``."""
+    tiles = {}
+    for module in netlist.get("modules", {}).values():
+        for name, cell in module.get("cells", {}).items():
+            bel = cell.get("attributes", {}).get("NEXTPNR_BEL", "")
+            m = re.match(r"X(\d+)/Y(\d+)/", bel)
+            if m:
+                tiles[name] = (int(m.group(1)), int(m.group(2)))
+    return tiles
+
+
+@dataclasses.dataclass(frozen=True)
+class TimedPath:
+    """The longest path into one endpoint: ``start`` / ``end`` cells, ``logic_ns`` (clock
+    to out, cells, setup), ``routing_ns``, ``cells`` on the way (start and end included),
+    ``distance`` (tiles from start to end, ``None`` without a placement)."""
+
+    start: str
+    end: str
+    logic_ns: float
+    routing_ns: float
+    cells: int
+    distance: int | None
+
+    @property
+    def total_ns(self) -> float:
+        return self.logic_ns + self.routing_ns
+
+
+def worst_paths(graph: _Graph, tiles: Mapping[str, tuple[int, int]] | None = None,
+                n: int = 10) -> list[TimedPath]:
+    """The ``n`` worst endpoints' longest paths, worst first (one path per endpoint)."""
+    # longest arrival from any launch, by a depth-first topological order
+    order: list[str] = []
+    seen: set[str] = set()
+    for root in graph.launch:
+        if root in seen:
+            continue
+        seen.add(root)
+        stack = [(root, iter(graph.arcs.get(root, ())))]
+        while stack:
+            node, it = stack[-1]
+            for nxt, _, _ in it:
+                if nxt not in seen and nxt not in graph.launch:
+                    seen.add(nxt)
+                    stack.append((nxt, iter(graph.arcs.get(nxt, ()))))
+                    break
+            else:
+                stack.pop()
+                order.append(node)
+    arrival: dict[str, tuple[float, float, float]] = {}   # node -> (total, logic, routing)
+    before: dict[str, str | None] = {}
+    for node in graph.launch:
+        arrival[node] = (graph.launch[node], graph.launch[node], 0.0)
+        before[node] = None
+    for node in reversed(order):
+        if node not in arrival:
+            continue
+        total, logic, routing = arrival[node]
+        for nxt, d, kind in graph.arcs.get(node, ()):
+            if nxt in graph.launch:
+                continue
+            cand = (total + d, logic + d * (kind == "logic"), routing + d * (kind == "routing"))
+            if nxt not in arrival or cand[0] > arrival[nxt][0]:
+                arrival[nxt] = cand
+                before[nxt] = node
+    ends = []
+    for node, setup in graph.setup.items():
+        if node in arrival:
+            total, logic, routing = arrival[node]
+            ends.append((total + setup, logic + setup, routing, node))
+    ends.sort(reverse=True)
+    out = []
+    for _, logic, routing, node in ends[:n]:
+        cells, walk = [], node
+        while walk is not None:
+            cell = walk.rsplit("/", 1)[0]
+            if not cells or cells[-1] != cell:
+                cells.append(cell)
+            walk = before[walk]
+        start, end = cells[-1], cells[0]
+        distance = None
+        if tiles and start in tiles and end in tiles:
+            (x0, y0), (x1, y1) = tiles[start], tiles[end]
+            distance = abs(x1 - x0) + abs(y1 - y0)
+        out.append(TimedPath(start=start, end=end, logic_ns=logic, routing_ns=routing,
+                             cells=len(cells), distance=distance))
+    return out
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("sdf", type=pathlib.Path, help="nextpnr --sdf output")
+    parser.add_argument("placed", type=pathlib.Path, nargs="?",
+                        help="nextpnr --write output (for the placement distance)")
+    parser.add_argument("-n", type=int, default=10, help="endpoints to list (default 10)")
+    args = parser.parse_args(argv)
+    graph = parse_sdf(args.sdf.read_text())
+    tiles = placement(json.loads(args.placed.read_text())) if args.placed else None
+    print("| # | start | end | total (ns) | logic (ns) | routing (ns) | cells | distance "
+          "(tiles) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for i, p in enumerate(worst_paths(graph, tiles, args.n), 1):
+        dist = "—" if p.distance is None else str(p.distance)
+        print(f"| {i} | `{p.start}` | `{p.end}` | {p.total_ns:.2f} | {p.logic_ns:.2f} | "
+              f"{p.routing_ns:.2f} | {p.cells} | {dist} |")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
