@@ -6,7 +6,8 @@ nextpnr's ``--report`` gives one critical path per clock. For the next ones, ``n
 ``NEXTPNR_BEL``, ``X<x>/Y<y>/…``); :func:`worst_paths` finds, for every timing endpoint,
 its longest path (a longest-path pass over the delay graph, the worst of min:typ:max and
 of rise / fall), and returns the ``n`` worst endpoints with their start, logic and routing
-delay and the placement distance (tiles, ``|dx| + |dy|``) from start to end. It times one
+delay, the placement distance (tiles, ``|dx| + |dy|``) from start to end and the span
+(the same summed from cell to cell along the path). It times one
 clock and no clock skew, so its delays are nextpnr's path delays without the clock's
 arrival difference (the critical path agrees with nextpnr's report to the picosecond or
 differs by that skew). ::
@@ -24,7 +25,7 @@ import pathlib
 import re
 from typing import Iterator, Mapping, Sequence
 
-__all__ = ["TimedPath", "parse_sdf", "placement", "worst_paths", "main"]
+__all__ = ["TimedPath", "parse_sdf", "placement", "signal", "worst_paths", "main"]
 
 _TOKEN = re.compile(r'\(|\)|"(?:[^"\\]|\\.)*"|(?:[^\s()"\\]|\\.)+')
 
@@ -93,11 +94,20 @@ def parse_sdf(text: str) -> _Graph:
     return graph
 
 
+def _port(term) -> str:
+    """``D`` or ``(posedge CLK)``'s ``CLK``."""
+    return term[-1] if isinstance(term, list) else term
+
+
 def _cell(item: list, graph: _Graph, divider: str, scale: float) -> None:
     inst = ""
+    clocks = set()      # the cell's clock inputs: an IOPATH from one is a clock to out
     for part in item[1:]:
         if isinstance(part, list) and part and part[0] == "INSTANCE":
             inst = _unescape(part[1]) if len(part) > 1 else ""
+        if isinstance(part, list) and part and part[0] == "TIMINGCHECK":
+            clocks.update(_port(check[2]) for check in part[1:]
+                          if isinstance(check, list) and len(check) > 2)
     for part in item[1:]:
         if not (isinstance(part, list) and part):
             continue
@@ -109,7 +119,8 @@ def _cell(item: list, graph: _Graph, divider: str, scale: float) -> None:
                     if entry[0] == "IOPATH":
                         src, dst = entry[1], entry[2]
                         d = _delay(entry[3:]) * scale
-                        if isinstance(src, list):       # (posedge CLK) Q: clock to out
+                        if isinstance(src, list) or src in clocks:     # clock to out
+                            dst = _port(dst)
                             node = f"{inst}/{dst}"
                             graph.launch[node] = max(graph.launch.get(node, 0.0), d)
                         else:
@@ -122,8 +133,7 @@ def _cell(item: list, graph: _Graph, divider: str, scale: float) -> None:
         elif part[0] == "TIMINGCHECK":
             for check in part[1:]:
                 if isinstance(check, list) and check and check[0] in ("SETUPHOLD", "SETUP"):
-                    port = check[1] if not isinstance(check[1], list) else check[1][-1]
-                    node = f"{inst}/{port}"
+                    node = f"{inst}/{_port(check[1])}"
                     graph.setup[node] = max(graph.setup.get(node, 0.0),
                                             _delay(check[3:4]) * scale)
 
@@ -151,7 +161,9 @@ def placement(netlist: Mapping) -> dict[str, tuple[int, int]]:
 class TimedPath:
     """The longest path into one endpoint: ``start`` / ``end`` cells, ``logic_ns`` (clock
     to out, cells, setup), ``routing_ns``, ``cells`` on the way (start and end included),
-    ``distance`` (tiles from start to end, ``None`` without a placement)."""
+    ``distance`` (tiles from start to end, ``None`` without a placement), ``span`` (tiles
+    from cell to cell along the path, ``None`` without a placement), ``bits``: the endpoints
+    of the same start and end signal (bits of one bus, the worst shown)."""
 
     start: str
     end: str
@@ -159,15 +171,23 @@ class TimedPath:
     routing_ns: float
     cells: int
     distance: int | None
+    span: int | None = None
+    bits: int = 1
 
     @property
     def total_ns(self) -> float:
         return self.logic_ns + self.routing_ns
 
 
+def signal(cell: str) -> str:
+    """A flip-flop's signal: its cell name without nextpnr-ecp5's ``_TRELLIS_FF_Q_<bit>``."""
+    return re.sub(r"_TRELLIS_FF_Q(_\d+)?$", "", cell)
+
+
 def worst_paths(graph: _Graph, tiles: Mapping[str, tuple[int, int]] | None = None,
                 n: int = 10) -> list[TimedPath]:
-    """The ``n`` worst endpoints' longest paths, worst first (one path per endpoint)."""
+    """The ``n`` worst endpoints' longest paths, worst first (one path per endpoint; the
+    endpoints of one bus from one start signal as one, :attr:`TimedPath.bits`)."""
     # longest arrival from any launch, by a depth-first topological order
     order: list[str] = []
     seen: set[str] = set()
@@ -208,22 +228,34 @@ def worst_paths(graph: _Graph, tiles: Mapping[str, tuple[int, int]] | None = Non
             total, logic, routing = arrival[node]
             ends.append((total + setup, logic + setup, routing, node))
     ends.sort(reverse=True)
-    out = []
-    for _, logic, routing, node in ends[:n]:
+    found: dict[tuple[str, str], TimedPath] = {}
+    for _, logic, routing, node in ends:
         cells, walk = [], node
         while walk is not None:
             cell = walk.rsplit("/", 1)[0]
             if not cells or cells[-1] != cell:
                 cells.append(cell)
             walk = before[walk]
-        start, end = cells[-1], cells[0]
-        distance = None
-        if tiles and start in tiles and end in tiles:
-            (x0, y0), (x1, y1) = tiles[start], tiles[end]
-            distance = abs(x1 - x0) + abs(y1 - y0)
-        out.append(TimedPath(start=start, end=end, logic_ns=logic, routing_ns=routing,
-                             cells=len(cells), distance=distance))
-    return out
+        cells.reverse()
+        key = (signal(cells[0]), signal(cells[-1]))
+        if key in found:
+            found[key] = dataclasses.replace(found[key], bits=found[key].bits + 1)
+            continue
+        if len(found) == n:
+            continue
+        distance = span = None
+        if tiles and all(c in tiles for c in cells):
+            def far(a, b):
+                return abs(tiles[a][0] - tiles[b][0]) + abs(tiles[a][1] - tiles[b][1])
+            distance = far(cells[0], cells[-1])
+            span = sum(far(a, b) for a, b in zip(cells, cells[1:]))
+        elif tiles and cells[0] in tiles and cells[-1] in tiles:
+            distance = (abs(tiles[cells[0]][0] - tiles[cells[-1]][0])
+                        + abs(tiles[cells[0]][1] - tiles[cells[-1]][1]))
+        found[key] = TimedPath(start=cells[0], end=cells[-1], logic_ns=logic,
+                               routing_ns=routing, cells=len(cells), distance=distance,
+                               span=span)
+    return list(found.values())
 
 
 def main(argv=None) -> int:
@@ -235,13 +267,14 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     graph = parse_sdf(args.sdf.read_text())
     tiles = placement(json.loads(args.placed.read_text())) if args.placed else None
-    print("| # | start | end | total (ns) | logic (ns) | routing (ns) | cells | distance "
-          "(tiles) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| # | start | end | bits | total (ns) | logic (ns) | routing (ns) | cells | "
+          "distance (tiles) | span (tiles) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for i, p in enumerate(worst_paths(graph, tiles, args.n), 1):
-        dist = "—" if p.distance is None else str(p.distance)
-        print(f"| {i} | `{p.start}` | `{p.end}` | {p.total_ns:.2f} | {p.logic_ns:.2f} | "
-              f"{p.routing_ns:.2f} | {p.cells} | {dist} |")
+        dist, span = ("—" if v is None else str(v) for v in (p.distance, p.span))
+        print(f"| {i} | `{signal(p.start)}` | `{signal(p.end)}` | {p.bits} | "
+              f"{p.total_ns:.2f} | {p.logic_ns:.2f} | {p.routing_ns:.2f} | {p.cells} | "
+              f"{dist} | {span} |")
     return 0
 
 
