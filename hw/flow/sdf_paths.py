@@ -163,7 +163,8 @@ class TimedPath:
     to out, cells, setup), ``routing_ns``, ``cells`` on the way (start and end included),
     ``distance`` (tiles from start to end, ``None`` without a placement), ``span`` (tiles
     from cell to cell along the path, ``None`` without a placement), ``bits``: the endpoints
-    of the same start and end signal (bits of one bus, the worst shown)."""
+    of the same start and end signal (bits of one bus, the worst shown); ``nets``: the
+    routed connections on the way (those of nonzero delay)."""
 
     start: str
     end: str
@@ -173,6 +174,7 @@ class TimedPath:
     distance: int | None
     span: int | None = None
     bits: int = 1
+    nets: int = 0
 
     @property
     def total_ns(self) -> float:
@@ -206,30 +208,33 @@ def worst_paths(graph: _Graph, tiles: Mapping[str, tuple[int, int]] | None = Non
             else:
                 stack.pop()
                 order.append(node)
-    arrival: dict[str, tuple[float, float, float]] = {}   # node -> (total, logic, routing)
+    # node -> (total, logic, routing, routed nets)
+    arrival: dict[str, tuple[float, float, float, int]] = {}
     before: dict[str, str | None] = {}
     for node in graph.launch:
-        arrival[node] = (graph.launch[node], graph.launch[node], 0.0)
+        arrival[node] = (graph.launch[node], graph.launch[node], 0.0, 0)
         before[node] = None
     for node in reversed(order):
         if node not in arrival:
             continue
-        total, logic, routing = arrival[node]
+        total, logic, routing, nets = arrival[node]
         for nxt, d, kind in graph.arcs.get(node, ()):
             if nxt in graph.launch:
                 continue
-            cand = (total + d, logic + d * (kind == "logic"), routing + d * (kind == "routing"))
+            wire = kind == "routing"
+            cand = (total + d, logic + d * (not wire), routing + d * wire,
+                    nets + (wire and d > 0))
             if nxt not in arrival or cand[0] > arrival[nxt][0]:
                 arrival[nxt] = cand
                 before[nxt] = node
     ends = []
     for node, setup in graph.setup.items():
         if node in arrival:
-            total, logic, routing = arrival[node]
-            ends.append((total + setup, logic + setup, routing, node))
+            total, logic, routing, nets = arrival[node]
+            ends.append((total + setup, logic + setup, routing, nets, node))
     ends.sort(reverse=True)
     found: dict[tuple[str, str], TimedPath] = {}
-    for _, logic, routing, node in ends:
+    for _, logic, routing, nets, node in ends:
         cells, walk = [], node
         while walk is not None:
             cell = walk.rsplit("/", 1)[0]
@@ -254,7 +259,7 @@ def worst_paths(graph: _Graph, tiles: Mapping[str, tuple[int, int]] | None = Non
                         + abs(tiles[cells[0]][1] - tiles[cells[-1]][1]))
         found[key] = TimedPath(start=cells[0], end=cells[-1], logic_ns=logic,
                                routing_ns=routing, cells=len(cells), distance=distance,
-                               span=span)
+                               span=span, nets=nets)
     return list(found.values())
 
 
@@ -267,13 +272,13 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     graph = parse_sdf(args.sdf.read_text())
     tiles = placement(json.loads(args.placed.read_text())) if args.placed else None
-    print("| # | start | end | bits | total (ns) | logic (ns) | routing (ns) | cells | "
+    print("| # | start | end | bits | total (ns) | logic (ns) | routing (ns) | nets | cells | "
           "distance (tiles) | span (tiles) |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for i, p in enumerate(worst_paths(graph, tiles, args.n), 1):
         dist, span = ("—" if v is None else str(v) for v in (p.distance, p.span))
         print(f"| {i} | `{signal(p.start)}` | `{signal(p.end)}` | {p.bits} | "
-              f"{p.total_ns:.2f} | {p.logic_ns:.2f} | {p.routing_ns:.2f} | {p.cells} | "
+              f"{p.total_ns:.2f} | {p.logic_ns:.2f} | {p.routing_ns:.2f} | {p.nets} | {p.cells} | "
               f"{dist} | {span} |")
     return 0
 

@@ -67,6 +67,7 @@ def test_worst_endpoints_first_with_logic_routing_and_distance():
     assert [round(p.routing_ns, 6) for p in paths] == [3.1, 1.9, 0.2]
     assert [round(p.total_ns, 6) for p in paths] == [4.4, 2.8, 0.7]
     assert [p.span for p in paths] == [None, None, 2]     # lut_a is not placed
+    assert [p.nets for p in paths] == [3, 2, 1]
     assert [p.end for p in worst_paths(parse_sdf(SDF), n=1)] == ["r3"]
     assert worst_paths(parse_sdf(SDF))[0].distance is None
 
@@ -91,5 +92,5 @@ def test_command_prints_the_table(tmp_path, capsys):
     (tmp_path / "p.json").write_text(json.dumps(PLACED))
     assert main([str(tmp_path / "r.sdf"), str(tmp_path / "p.json"), "-n", "1"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert lines[2] == "| 1 | `r1` | `r3` | 1 | 4.40 | 1.30 | 3.10 | 4 | 16 | — |"
+    assert lines[2] == "| 1 | `r1` | `r3` | 1 | 4.40 | 1.30 | 3.10 | 3 | 4 | 16 | — |"
     assert len(lines) == 3
