@@ -25,7 +25,7 @@ import pathlib
 import re
 from typing import Iterator, Mapping, Sequence
 
-__all__ = ["TimedPath", "parse_sdf", "placement", "signal", "worst_paths", "main"]
+__all__ = ["DelayGraph", "TimedPath", "parse_sdf", "placement", "signal", "worst_paths", "main"]
 
 _TOKEN = re.compile(r'\(|\)|"(?:[^"\\]|\\.)*"|(?:[^\s()"\\]|\\.)+')
 
@@ -67,20 +67,25 @@ def _delay(values: Sequence) -> float:
 
 
 @dataclasses.dataclass
-class _Graph:
-    arcs: dict[str, list[tuple[str, float, str]]]   # node -> [(next node, delay, kind)]
-    launch: dict[str, float]                         # register output -> clock to out
-    setup: dict[str, float]                          # register input -> setup time
+class DelayGraph:
+    """An SDF's delays in ns: ``arcs`` maps a node ``cell/port`` to its ``(next node, delay,
+    kind)``, kind ``"logic"`` (a cell's IOPATH) or ``"routing"`` (an INTERCONNECT);
+    ``launch`` a register output to its clock to out, ``setup`` a register input to its
+    setup time."""
+
+    arcs: dict[str, list[tuple[str, float, str]]]
+    launch: dict[str, float]
+    setup: dict[str, float]
 
 
-def parse_sdf(text: str) -> _Graph:
-    """The delay graph of an SDF: nodes ``cell/port``; ``kind`` of an arc ``logic`` (a
-    cell's IOPATH) or ``routing`` (an INTERCONNECT)."""
+def parse_sdf(text: str) -> DelayGraph:
+    """The :class:`DelayGraph` of an SDF's text (``ValueError`` if its parentheses do not
+    balance)."""
     root = _tree(text)
     top = root[0] if root and isinstance(root[0], list) else root
     divider = "."
     scale = 1.0
-    graph = _Graph({}, {}, {})
+    graph = DelayGraph({}, {}, {})
     for item in top:
         if not isinstance(item, list) or not item:
             continue
@@ -99,7 +104,7 @@ def _port(term) -> str:
     return term[-1] if isinstance(term, list) else term
 
 
-def _cell(item: list, graph: _Graph, divider: str, scale: float) -> None:
+def _cell(item: list, graph: DelayGraph, divider: str, scale: float) -> None:
     inst = ""
     clocks = set()      # the cell's clock inputs: an IOPATH from one is a clock to out
     for part in item[1:]:
@@ -186,10 +191,10 @@ def signal(cell: str) -> str:
     return re.sub(r"_TRELLIS_FF_Q(_\d+)?$", "", cell)
 
 
-def worst_paths(graph: _Graph, tiles: Mapping[str, tuple[int, int]] | None = None,
+def worst_paths(graph: DelayGraph, tiles: Mapping[str, tuple[int, int]] | None = None,
                 n: int = 10) -> list[TimedPath]:
     """The ``n`` worst endpoints' longest paths, worst first (one path per endpoint; the
-    endpoints of one bus from one start signal as one, :attr:`TimedPath.bits`)."""
+    endpoints of one bus from one start signal as one, ``TimedPath.bits``)."""
     # longest arrival from any launch, by a depth-first topological order
     order: list[str] = []
     seen: set[str] = set()
