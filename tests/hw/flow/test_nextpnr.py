@@ -249,3 +249,20 @@ def test_run_nextpnr_ecp5_arguments(tmp_path):
             r"^device must be one of \('12k', '25k', '45k', '85k'\) for family 'ecp5', "
             r"got 'hx8k'$")):
         run_nextpnr(netlist, seed=1, family=ECP5, device="hx8k", nextpnr=failing)
+
+
+@pytest.mark.skipif(shutil.which("sh") is None, reason="needs a POSIX shell")
+def test_run_nextpnr_extra_arguments_end_the_command_line(tmp_path):
+    """``extra_args`` (the bench's ``--speed`` / ``--router`` / ``--nextpnr-args``) reach
+    nextpnr's command line after the flow's own."""
+    netlist = tmp_path / "netlist.json"
+    netlist.write_text("{}")
+    failing = fake_nextpnr(tmp_path, "ERROR: bad json\n", 1)
+    command = (f"{failing} --25k --package CABGA256 --json netlist.json --freq 200 "
+               f"--lpf-allow-unconstrained --timing-allow-fail --seed 1 --report "
+               f"nextpnr-seed1.report.json -l nextpnr-seed1.log -q --router router2 "
+               f"--tmg-ripup --placer-heap-timingweight 30")
+    with pytest.raises(SynthToolError, match=rf"^nextpnr failed \(exit 1\): {re.escape(command)}\n"):
+        run_nextpnr(netlist, seed=1, family=ECP5, nextpnr=failing,
+                    extra_args=("--router", "router2", "--tmg-ripup",
+                                "--placer-heap-timingweight", "30"))

@@ -156,3 +156,41 @@ def test_folded_ports_of_a_sync_core_are_on_its_domain():
         y = chain
         chain = ((chain << 1) | bit) & 0x1F
     assert seen == expect and any(seen)
+
+
+def test_registered_ports_of_a_top_with_its_own_clock():
+    """``aclk`` / ``aresetn`` pass straight to the core; every other port takes a register
+    on ``aclk``, cleared while ``aresetn`` is low: ``y`` is ``Cat(a, b)`` three edges later
+    (input register, the core's, output register)."""
+    dut = RegisteredPorts(Toy())
+    assert dut.signature == Toy().signature
+    values = [int(v) for v in np.random.default_rng(3).integers(0, 32, 30)]
+    seen = []
+
+    async def clock(ctx):
+        while True:
+            ctx.set(dut.aclk, 0)
+            await ctx.delay(5e-9)
+            ctx.set(dut.aclk, 1)
+            await ctx.delay(5e-9)
+
+    async def bench(ctx):
+        for i, v in enumerate(values):
+            await ctx.delay(2e-9)           # away from the rising edges (at 5, 15, … ns)
+            ctx.set(dut.aresetn, int(i not in (10, 11)))
+            ctx.set(dut.a, v & 7)
+            ctx.set(dut.b, v >> 3)
+            seen.append(ctx.get(dut.y))
+            await ctx.delay(8e-9)
+
+    sim = Simulator(dut)
+    sim.add_testbench(clock, background=True)
+    sim.add_testbench(bench)
+    sim.run()
+    # three registers, each cleared by an edge with aresetn low (cycles 10 and 11)
+    regs = [0, 0, 0]
+    expect = []
+    for i, v in enumerate(values):
+        expect.append(regs[2])
+        regs = [0, 0, 0] if i in (10, 11) else [v, regs[0], regs[1]]
+    assert seen == expect and any(seen)

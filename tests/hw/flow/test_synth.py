@@ -74,8 +74,8 @@ def test_missing_nextpnr_is_reported_before_any_work(tmp_path):
 def test_bad_arguments():
     with pytest.raises(ValueError, match=(
             r"^variant must be one of \('core', 'top', 'segmenter', 'core-regio', "
-            r"'segmenter-ext', 'axi', 'axi-ext', 'core-folded', 'dp-axi', 'axi-store'\), got "
-            r"'board'$")):
+            r"'segmenter-ext', 'axi', 'axi-ext', 'core-folded', 'dp-axi', 'axi-store', "
+            r"'axi-regio'\), got 'board'$")):
         synthesize(DPConfig(), variant="board")
     with pytest.raises(ValueError, match=(
             r"^device must be one of \('lp384', 'lp1k', 'lp4k', 'lp8k', 'hx1k', 'hx4k', "

@@ -41,8 +41,9 @@ def test_every_variant_is_module_dptbd_dp_with_its_ports(verilog):
         assert external == (variant in ("core", "core-regio", "segmenter-ext")), variant
         # the manifest beside the Verilog for the two DP tops only
         assert manifests[variant] == (["dptbd_dp.json"] if variant in ("core", "top") else [])
-    assert ports(texts["core-regio"]) == ports(texts["core"])
-    assert texts["core-regio"] != texts["core"]
+    for wrapped, bare in (("core-regio", "core"), ("axi-regio", "axi")):
+        assert ports(texts[wrapped]) == ports(texts[bare])
+        assert texts[wrapped] != texts[bare]
 
 
 def test_segmenter_tops_are_the_variants_with_candidates_out(verilog):
