@@ -199,17 +199,18 @@ class Segmenter(wiring.Component):
         missed = Signal()               # an end_of_segment outside a scored frame
 
         word = self.states.payload
-        accept = Signal()
         if ecp5:
             # the ECP5 build: ready from registers computed a cycle ahead (below), two
             # copies: one drives states.ready (the DP output FIFO's read and its input
             # credit), the other, its registers stored inverted so that synthesis keeps
             # them apart, the segmenter's own accept
-            ready_port = self._ready_from_registers(m, "port", False)
+            m.d.comb += self.states.ready.eq(self._ready_from_registers(m, "port", False))
             ready = self._ready_from_registers(m, "own", True)
         else:
-            ready = ready_port = emitter.space & ~(busy & scored)
-        m.d.comb += self.states.ready.eq(ready_port)
+            ready = emitter.space & ~(busy & scored)
+            m.d.comb += self.states.ready.eq(ready)
+            ready = self.states.ready
+        accept = Signal()
         m.d.comb += accept.eq(self.states.valid & ready)
         eos = word.end_of_segment
         ends = Signal()
