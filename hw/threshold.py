@@ -4,7 +4,7 @@
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal
+from amaranth.hdl import C, Cat, Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -130,8 +130,10 @@ class ThresholdSearch(wiring.Component):
         remaining = Signal(width, init=cfg.n_candidates)           # n - cum, or -1: stopped
         count_wide = Signal(width)
         difference = Signal(width)
+        # ~held as the carry in of one carry chain: an extra low bit 1 + ~held carries it
+        # (no second adder, no logic between the count register and the chain)
         m.d.comb += [count_wide.eq(count),
-                     difference.eq(remaining + ~count_wide + ~held)]
+                     difference.eq((Cat(C(1, 1), remaining) + Cat(~held, ~count_wide))[1:])]
         fits = ~difference[-1]
         best = Signal(cfg.threshold_bits, init=cfg.n_bins)
         best_next = Mux(fits, bin_, best)
