@@ -158,7 +158,8 @@ class Segmenter(wiring.Component):
             search.scan_last.eq(hist.scan_last),
         ]
         if ecp5:
-            m.d.comb += search.scan_held.eq(hist.scan_held)
+            m.d.comb += [search.scan_held.eq(hist.scan_held),
+                         search.scan_first.eq(hist.scan_first)]
 
         # ---- position of the next word ---------------------------------------------------
         col = Signal(range(width))

@@ -54,6 +54,9 @@ class ThresholdSearch(wiring.Component):
         Run-time n, sampled with the scan's top bin.
     scan_held : In(1)
         With ``held_apart``: ``scan_count`` plus one.
+    scan_first : In(1)
+        With ``held_apart``: ``scan_valid`` and ``scan_bin`` the top bin (the histogram's
+        register, so no comparison of ``scan_bin`` starts the search).
     load : In(1)
         Sampled in the ``done`` cycle: 1 loads the result into ``threshold`` and sets
         ``primed``; 0 discards it (the clearing scan after reset).
@@ -79,7 +82,7 @@ class ThresholdSearch(wiring.Component):
             "threshold": Out(cfg.threshold_bits, init=cfg.n_bins),
             "primed": Out(1),
             "done": Out(1),
-            **({"scan_held": In(1)} if held_apart else {}),
+            **({"scan_held": In(1), "scan_first": In(1)} if held_apart else {}),
         })
 
     def elaborate(self, platform):
@@ -147,5 +150,5 @@ class ThresholdSearch(wiring.Component):
                 m.d.sync += remaining.eq(difference | difference[-1].replicate(width))
                 with m.If(fits):
                     m.d.sync += best.eq(bin_)
-        with m.If(self.scan_valid & (self.scan_bin == cfg.n_bins - 1)):   # a scan begins
+        with m.If(self.scan_first):                                        # a scan begins
             m.d.sync += [remaining.eq(n), best.eq(cfg.n_bins)]
