@@ -133,22 +133,27 @@ class ThresholdSearch(wiring.Component):
         remaining = Signal(width, init=cfg.n_candidates)           # n - cum, or -1: stopped
         count_wide = Signal(width)
         difference = Signal(width)
-        # ~held as the carry in of one carry chain: an extra low bit 1 + ~held carries it
-        # (no second adder, no logic between the count register and the chain)
+        # one subtraction, held its borrow in through an extra low bit 0 - held (no second
+        # adder; a subtraction, whose inversion of the count is the carry chain's own, so
+        # no logic between the count and held registers and the chain)
         m.d.comb += [count_wide.eq(count),
-                     difference.eq((Cat(C(1, 1), remaining) + Cat(~held, ~count_wide))[1:])]
+                     difference.eq((Cat(C(0, 1), remaining) - Cat(held, count_wide))[1:])]
         fits = ~difference[-1]
         best = Signal(cfg.threshold_bits, init=cfg.n_bins)
-        best_next = Mux(fits, bin_, best)
         m.d.comb += self.done.eq(valid & last)
         with m.If(valid):
             with m.If(last):
-                m.d.sync += [remaining.eq(n), best.eq(cfg.n_bins)]
+                m.d.sync += remaining.eq(n)
                 with m.If(self.load):
-                    m.d.sync += [self.threshold.eq(best_next), self.primed.eq(1)]
+                    # the last count is bin 0's: T is 0 if it fits, else the best so far
+                    m.d.sync += [self.threshold.eq(best & (~fits).replicate(len(best))),
+                                 self.primed.eq(1)]
             with m.Else():
                 m.d.sync += remaining.eq(difference | difference[-1].replicate(width))
-                with m.If(fits):
-                    m.d.sync += best.eq(bin_)
         with m.If(self.scan_first):                                        # a scan begins
-            m.d.sync += [remaining.eq(n), best.eq(cfg.n_bins)]
+            m.d.sync += remaining.eq(n)
+        # best on its own: reset by a scan's start and end, loaded with a fitting bin
+        with m.If(self.scan_first | (valid & last)):
+            m.d.sync += best.eq(cfg.n_bins)
+        with m.Elif(valid & fits):
+            m.d.sync += best.eq(bin_)
