@@ -40,11 +40,13 @@ class ThresholdSearch(wiring.Component):
     held_apart : bool
         ``True`` (the ECP5 build, :class:`~dptbd.hw.histogram.Histogram` ``held_apart``):
         the member ``scan_held`` adds one to ``scan_count`` (the histogram's held
-        increment), as the carry in of the one addition ``remaining + ~count + ~held``
-        (= ``remaining - count - held``) whose sign is the fit; ``remaining`` is kept in
+        increment), as the borrow in of the one subtraction ``remaining - count - held``
+        (an extra low bit ``0 - held``) whose sign is the fit; ``remaining`` is kept in
         two's complement and set to -1 by the first count that does not fit, so no
-        ``stopped`` flag enters the loop (one carry chain and one OR). ``False``
-        (default): no ``scan_held``.
+        ``stopped`` flag enters the loop (one carry chain and one OR); the scan's start is
+        the histogram's register ``scan_first``; the best bin is reset and loaded on its
+        own, and T at bin 0 is the best so far unless bin 0 fits. ``False`` (default): no
+        ``scan_held``, no ``scan_first``.
 
     Members
     -------
@@ -122,8 +124,8 @@ class ThresholdSearch(wiring.Component):
     def _search_held_apart(self, m, n, valid, last, bin_, count):
         """The search with ``scan_held`` (``held_apart``): ``remaining`` is a two's-complement
         register, -1 once a count did not fit (no ``stopped`` flag on the loop); each cycle
-        ``remaining + ~count + ~held`` (= remaining - count - held, ``held`` the carry in)
-        is loaded, or -1 where it is negative, and its sign bit is the fit."""
+        remaining - count - held (``held`` the borrow in) is loaded, or -1 where it is
+        negative, and its sign bit is the fit."""
         cfg = self._cfg
         held = Signal()
         m.d.sync += held.eq(self.scan_held)
