@@ -315,7 +315,12 @@ class Segmenter(wiring.Component):
 
         # ---- cycle B: emit ----------------------------------------------------------------
         valid_b = Signal()
-        selected_b = Signal(e_bits)
+        if ecp5:
+            # the ECP5 build: the bits ORed in pairs before the register (each pair one LUT
+            # of two comparisons and their shift bits, as one bit alone), so cycle B ORs
+            # half as many
+            selected = Cat(*[selected[s:s + 2].any() for s in range(0, e_bits, 2)])
+        selected_b = Signal(len(selected))
         ends_b = Signal()
         aligned_b = Signal()
         missed_b = Signal()
