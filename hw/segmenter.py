@@ -81,8 +81,10 @@ class Segmenter(wiring.Component):
         same cycles. ``"registered"`` (ECP5): the histogram's held increment passed to the
         threshold search apart from its count (both blocks' ``held_apart``), the emitter's
         cap a register (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter`
-        ``registered_cap``), and the list's end and missed end that set ``busy`` and
-        ``missed`` as flat products of registers instead of terms of the shared ``accept``.
+        ``registered_cap``), the list's end and missed end that set ``busy`` and
+        ``missed`` as flat products of registers instead of terms of the shared ``accept``,
+        ``states.ready`` from registers computed a cycle ahead (two copies: the port's and
+        the segmenter's own accept), and the selection bits ORed in pairs before cycle B.
     dp16kd : callable or None
         For ``"dp16kd"``: the DP16KD builder (:class:`~dptbd.hw.histogram.Histogram`'s
         ``dp16kd``; tests pass a behavioural model).
