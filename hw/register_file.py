@@ -199,8 +199,7 @@ class RegisterFile(wiring.Component):
         takes = {}                                   # register -> stores on a taken write
         for reg in regmap.registers:
             if reg.kind == "setting" and self._bounds:
-                ok[reg.name], takes[reg.name] = _bounds_check(
-                    m, reg, storage[reg.name, reg.fields[0].name], bus, registered)
+                ok[reg.name], takes[reg.name] = _bounds_check(reg, bus, registered)
             elif reg.kind == "setting":
                 (field,) = reg.fields
                 lo, hi = field.limits
@@ -280,16 +279,17 @@ class RegisterFile(wiring.Component):
                         written_ones[part].any())
 
 
-def _bounds_check(m, reg, setting, bus, registered):
+def _bounds_check(reg, bus, registered):
     """``bounds_registered``: the W beat's check of a write to the setting register
-    ``reg`` (its field's register ``setting``) by bytes, and the stores that keep the
-    current value's byte flags when the write is taken: (``ok`` registered at the W
-    handshake, the statements of a taken write).
+    ``reg`` by bytes, and the stores that keep the current value's byte flags when the
+    write is taken: (``ok`` registered at the W handshake, the statements of a taken
+    write).
 
     Byte j of the merged word is the written byte if strobed, else the setting's byte j
     (0 above the field). Per byte: ``lt`` / ``eq`` against the limit's byte (hi, and lo if
     not 0); the merged word is <= hi iff, from the top byte down, the first byte that is
-    not equal is below (or none is), and >= lo alike; with ``align``, the low bits 0."""
+    not equal is below (or none is), and >= lo alike; with ``align``, the low bits 0 (a
+    flag per byte they span)."""
     (field,) = reg.fields
     lo, hi = field.limits
     name = reg.name.lower()
@@ -319,14 +319,16 @@ def _bounds_check(m, reg, setting, bus, registered):
         checks.append(within)
     if field.align is not None and not lo:       # as the generic check: align with lo = 0
         assert field.align & (field.align - 1) == 0
-        low = field.align.bit_length() - 1
-        assert low <= 8
-        zero = Signal(init=reset % field.align == 0, name=f"{name}_aligned")
-        written_zero = ~bus.w_in_data[:low].any()
-        beat = registered(bus.w_in_stb, f"{name}_aligned_w",
-                          Mux(bus.w_in_strb[0], written_zero, zero))
-        stores.append(zero.eq(beat))
-        checks.append(Mux(bus.w_in_strb[0], written_zero, zero))
+        low = field.align.bit_length() - 1       # the low bits that must be 0, by bytes
+        for j in range((low + 7) // 8):
+            bits = slice(8 * j, min(8 * j + 8, low))
+            zero = Signal(init=(reset % field.align) >> (8 * j) & 0xFF == 0,
+                          name=f"{name}_aligned{j}")
+            written_zero = ~bus.w_in_data[bits].any()
+            merged_zero = Mux(bus.w_in_strb[j], written_zero, zero)
+            stores.append(zero.eq(registered(bus.w_in_stb, f"{name}_aligned{j}_w",
+                                             merged_zero)))
+            checks.append(merged_zero)
     ok = registered(bus.w_in_stb, f"write_ok_{name}", functools.reduce(operator.and_, checks))
     return ok, stores
 

@@ -56,12 +56,15 @@ def lockstep(cfg, regmap, seed, cycles, replay=None):
     return trace, [path for path, _v in outputs]
 
 
-@pytest.mark.parametrize("store", [False, True], ids=["plain", "state_store"])
+@pytest.mark.parametrize("store", [None, (4, 12), (64, 16)],
+                         ids=["plain", "state_store", "state_store_512"])
 def test_bounds_registered_answers_as_the_generic_check(store):
     """Two-byte settings (C = 600), K >= 1 (a lower limit), and with the state store in
-    external memory STATE_BASE (32 bits, a multiple of the burst): the same outputs."""
+    external memory STATE_BASE (32 bits, a multiple of the burst: 32 bytes, or 512, whose
+    low bits span two bytes): the same outputs."""
     cfg = make_config(width=32, height=32, candidate_count=300)
-    store_cfg = cfg.axi_store(data_bits=64, burst_beats=4, address_bits=12) if store else None
+    store_cfg = (None if store is None else
+                 cfg.axi_store(data_bits=64, burst_beats=store[0], address_bits=store[1]))
     regmap = register_map(cfg, store_cfg)
     generic, paths = lockstep(cfg, regmap, 3, 6000)
     registered, _ = lockstep(cfg, regmap, 3, 6000, replay=generic)
