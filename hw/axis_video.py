@@ -142,7 +142,9 @@ class CandidatesToAxis(wiring.Component):
         ``tvalid`` high and ``tready`` low in this cycle (back-pressure).
     soft_reset_ahead : In(1)
         Only with ``busy_ahead=True``: ``soft_reset`` of the next cycle (the register
-        block's ``soft_reset_ahead``).
+        block's ``soft_reset_ahead``); the request (``soft_reset``, or one waiting) is then
+        a register loaded from it, so ``soft_reset`` itself is not read (low in the cycle
+        after a reset, as the register block's).
     busy_next : Out(1)
         Only with ``busy_ahead=True``: ``busy`` of the next cycle (``soft_reset_ahead`` or
         a request now: the request is then still waiting or restarts), so that the caller
@@ -171,7 +173,12 @@ class CandidatesToAxis(wiring.Component):
         records = Signal(range(cfg.record_capacity + 1))     # records sent in the open list
         closing = Signal()                     # a soft reset waits for the list's close
         held = Signal()                        # a core word was offered, not taken, last cycle
-        request = self.soft_reset | closing
+        if self._ahead:
+            # soft_reset | closing from a register of its own, computed a cycle ahead
+            # (below): no logic between the register block's pulse and the close
+            request = Signal(name="request")
+        else:
+            request = self.soft_reset | closing
         passing = ~request | held              # the core's word may be offered
         cut = request & ~held & ~list_start    # offer the cut trailer
         # the list is closed: restart in the next cycle (registered, its reset fans out to
@@ -202,6 +209,7 @@ class CandidatesToAxis(wiring.Component):
             # closing' | restart' = request: a request not closed now waits, one closed
             # now restarts
             m.d.comb += self.busy_next.eq(self.soft_reset_ahead | request)
+            m.d.sync += request.eq(self.soft_reset_ahead | (request & ~close))
         m.d.sync += held.eq(offering & src.valid & passing & ~out.tready)
         with m.If(close):
             m.d.sync += [closing.eq(0), list_start.eq(1), records.eq(0)]

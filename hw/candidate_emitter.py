@@ -54,6 +54,9 @@ class CandidateEmitter(wiring.Component):
         it holds at most ``fifo_depth - 4`` now (one write per cycle): room for the words of
         the pixel in this stage (a record, then a trailer) and of one more pixel. A pixel
         may be accepted towards this stage only while ``space`` is high.
+    space_next : Out(1)
+        Only with ``registered_cap``: ``space`` of the next cycle (combinational), for a
+        register of the caller's own that must follow it.
     """
 
     def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, registered_cap: bool = False):
@@ -73,6 +76,7 @@ class CandidateEmitter(wiring.Component):
             "threshold": In(cfg.threshold_bits),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),
             "space": Out(1),
+            **({"space_next": Out(1)} if registered_cap else {}),
         })
 
     @property
@@ -134,5 +138,9 @@ class CandidateEmitter(wiring.Component):
             self.candidates.valid.eq(out.r_rdy),
             out.r_en.eq(self.candidates.ready),
         ]
-        m.d.sync += self.space.eq(out.level <= self._depth - 5)
+        if self._registered_cap:
+            m.d.comb += self.space_next.eq(out.level <= self._depth - 5)
+            m.d.sync += self.space.eq(self.space_next)
+        else:
+            m.d.sync += self.space.eq(out.level <= self._depth - 5)
         return m

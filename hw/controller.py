@@ -114,10 +114,16 @@ class Controller(wiring.Component):
         Cycle 1: :func:`inside_flags` of that pixel's row and column (bit i: row / column
         ``y + r - i`` / ``x + r - i`` is inside the image), for the window's edge flags,
         formed from the counters a cycle ahead so that no comparator follows ``position``.
+
+    With ``registered=True`` (the ECP5 build's, ``control_style="registered"``):
+    ``position.end_of_segment`` is a frame's end and the register "the segment's last
+    frame", without the case of a segment's first pixel (which never ends a frame: W*H > 1)
+    and so without the run-time K on its path. Same outputs, same cycles.
     """
 
-    def __init__(self, cfg: DPConfig):
+    def __init__(self, cfg: DPConfig, *, registered: bool = False):
         self._cfg = cfg
+        self._registered = bool(registered)
         super().__init__({
             "accept": In(1),
             "first": In(1),
@@ -216,7 +222,9 @@ class Controller(wiring.Component):
             self.position.segment_start.eq(start_frame),
             self.position.end_of_line.eq(last_col),
             self.position.end_of_frame.eq(end_of_frame),
-            self.position.end_of_segment.eq(end_of_frame & last_frame),
+            self.position.end_of_segment.eq(
+                end_of_frame & (frame_last if self._registered and not cfg.recursive
+                                 else last_frame)),
             self.row_inside.eq(Mux(self.resync, inside_flags(0, height, cfg.radius),
                                    _inside_flags_of(row, height, cfg.radius))),
             self.col_inside.eq(Mux(self.resync, inside_flags(0, width, cfg.radius),

@@ -87,6 +87,8 @@ class Histogram(wiring.Component):
         The scanned counts, top bin first.
     scan_held : Out(1)
         With ``held_apart``: the held increment belongs to this count (add one).
+    scan_first : Out(1)
+        With ``held_apart``: ``scan_valid`` and ``scan_bin`` the top bin (a register).
     scanning : Out(1)
         A scan is under way (cycles c+1 … c+2**b+1: reads issued or counts still to come out).
     """
@@ -111,7 +113,7 @@ class Histogram(wiring.Component):
             "scan_count": Out(cfg.bin_count_bits),
             "scan_last": Out(1),
             "scanning": Out(1),
-            **({"scan_held": Out(1)} if held_apart else {}),
+            **({"scan_held": Out(1), "scan_first": Out(1)} if held_apart else {}),
         })
 
     def elaborate(self, platform):
@@ -219,6 +221,8 @@ class Histogram(wiring.Component):
         ]
         if self._held_apart:
             m.d.comb += self.scan_held.eq(held_2)
+            # the scan's top bin out now: a register of its own, from the cycle before
+            m.d.sync += self.scan_first.eq(scan_1 & (bin_1 == top))
         return m
 
     def _memory(self, m, read, write):

@@ -30,7 +30,7 @@ from __future__ import annotations
 import functools
 import operator
 
-from amaranth.hdl import Cat, Module, Signal
+from amaranth.hdl import Cat, Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
@@ -69,13 +69,22 @@ class RegisterFile(wiring.Component):
     lut_addr, lut_data, lut_we : Out
         The weight LUT write port, one cycle after an accepted window write.
     irq : Out(1)
+
+    With ``bounds_registered=True`` (the ECP5 build's, ``control_style="registered"``) a
+    written setting is range-checked at its W handshake from byte-wise comparisons: each
+    written byte against the limits' byte (constants), each byte not written by flags of
+    the current value's byte kept in registers (set by the write that takes a value, from
+    the same comparisons), so that no comparison runs from a setting's register to the
+    write's decision. Same answers, same cycles.
     """
 
-    def __init__(self, cfg: DPConfig, regmap=None, *, pulses_ahead: bool = False):
+    def __init__(self, cfg: DPConfig, regmap=None, *, pulses_ahead: bool = False,
+                 bounds_registered: bool = False):
         # regmap: register_map(cfg) if None
         self._cfg = cfg
         self._map = register_map(cfg) if regmap is None else regmap
         self._ahead = bool(pulses_ahead)
+        self._bounds = bool(bounds_registered)
         members = {
             "axil": In(axi_lite_signature(ADDRESS_BITS)),
             "events": In(event_port_layout(self._map.events)),
@@ -187,8 +196,11 @@ class RegisterFile(wiring.Component):
         in_mask = Cat(bit.replicate(8) for bit in bus.w_in_strb)
         in_ones = bus.w_in_data & in_mask
         ok = {}
+        takes = {}                                   # register -> stores on a taken write
         for reg in regmap.registers:
-            if reg.kind == "setting":
+            if reg.kind == "setting" and self._bounds:
+                ok[reg.name], takes[reg.name] = _bounds_check(reg, bus, registered)
+            elif reg.kind == "setting":
                 (field,) = reg.fields
                 lo, hi = field.limits
                 merged_in = (values[reg.name] & ~in_mask) | in_ones
@@ -218,6 +230,9 @@ class RegisterFile(wiring.Component):
                 current = values[reg.name]
                 merged = (current & ~byte_mask) | written_ones
                 self._write(m, reg, storage, merged, written_ones, ok.get(reg.name))
+                if reg.name in takes:
+                    with m.If(ok[reg.name]):
+                        m.d.sync += takes[reg.name]
         with m.If(writing & at_lut & lut_ok):
             m.d.sync += [self.lut_addr.eq((bus.w_addr - lut.base)[2:]),
                          self.lut_data.eq(bus.w_data), self.lut_we.eq(1)]
@@ -262,6 +277,60 @@ class RegisterFile(wiring.Component):
                 if self._ahead:
                     m.d.comb += getattr(self, f"{field.name}_ahead").eq(
                         written_ones[part].any())
+
+
+def _bounds_check(reg, bus, registered):
+    """``bounds_registered``: the W beat's check of a write to the setting register
+    ``reg`` by bytes, and the stores that keep the current value's byte flags when the
+    write is taken: (``ok`` registered at the W handshake, the statements of a taken
+    write).
+
+    Byte j of the merged word is the written byte if strobed, else the setting's byte j
+    (0 above the field). Per byte: ``lt`` / ``eq`` against the limit's byte (hi, and lo if
+    not 0); the merged word is <= hi iff, from the top byte down, the first byte that is
+    not equal is below (or none is), and >= lo alike; with ``align``, the low bits 0 (a
+    flag per byte they span)."""
+    (field,) = reg.fields
+    lo, hi = field.limits
+    name = reg.name.lower()
+    reset = field.reset
+    bounds = [("hi", hi, operator.lt)] + ([("lo", lo, operator.gt)] if lo else [])
+    stores = []
+    checks = []
+    for tag, limit, beyond in bounds:
+        within = None                                # the bytes below j: merged within
+        for j in range(4):
+            byte = (limit >> (8 * j)) & 0xFF
+            written = bus.w_in_data[8 * j:8 * j + 8]
+            flags = {"in": beyond(written, byte), "eq": written == byte}
+            if 8 * j < field.width:                  # the current byte from registers
+                current = (reset >> (8 * j)) & 0xFF
+                for flag, want in (("in", beyond(current, byte)), ("eq", current == byte)):
+                    kept = Signal(init=bool(want), name=f"{name}_{tag}{j}_{flag}")
+                    beat = registered(bus.w_in_stb, f"{name}_{tag}{j}_{flag}_w",
+                                      Mux(bus.w_in_strb[j], flags[flag], kept))
+                    stores.append(kept.eq(beat))
+                    flags[flag] = Mux(bus.w_in_strb[j], flags[flag], kept)
+            else:                                    # 0 above the field
+                flags = {flag: Mux(bus.w_in_strb[j], flags[flag], want) for flag, want in
+                         (("in", beyond(0, byte)), ("eq", byte == 0))}
+            within = (flags["in"] | flags["eq"] if within is None
+                      else flags["in"] | (flags["eq"] & within))
+        checks.append(within)
+    if field.align is not None and not lo:       # as the generic check: align with lo = 0
+        assert field.align & (field.align - 1) == 0
+        low = field.align.bit_length() - 1       # the low bits that must be 0, by bytes
+        for j in range((low + 7) // 8):
+            bits = slice(8 * j, min(8 * j + 8, low))
+            zero = Signal(init=(reset % field.align) >> (8 * j) & 0xFF == 0,
+                          name=f"{name}_aligned{j}")
+            written_zero = ~bus.w_in_data[bits].any()
+            merged_zero = Mux(bus.w_in_strb[j], written_zero, zero)
+            stores.append(zero.eq(registered(bus.w_in_stb, f"{name}_aligned{j}_w",
+                                             merged_zero)))
+            checks.append(merged_zero)
+    ok = registered(bus.w_in_stb, f"write_ok_{name}", functools.reduce(operator.and_, checks))
+    return ok, stores
 
 
 def _align(ok, merged, field):

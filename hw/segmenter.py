@@ -81,8 +81,10 @@ class Segmenter(wiring.Component):
         same cycles. ``"registered"`` (ECP5): the histogram's held increment passed to the
         threshold search apart from its count (both blocks' ``held_apart``), the emitter's
         cap a register (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter`
-        ``registered_cap``), and the list's end and missed end that set ``busy`` and
-        ``missed`` as flat products of registers instead of terms of the shared ``accept``.
+        ``registered_cap``), the list's end and missed end that set ``busy`` and
+        ``missed`` as flat products of registers instead of terms of the shared ``accept``,
+        ``states.ready`` from registers computed a cycle ahead (two copies: the port's and
+        the segmenter's own accept), and the selection bits ORed in pairs before cycle B.
     dp16kd : callable or None
         For ``"dp16kd"``: the DP16KD builder (:class:`~dptbd.hw.histogram.Histogram`'s
         ``dp16kd``; tests pass a behavioural model).
@@ -145,6 +147,7 @@ class Segmenter(wiring.Component):
         width, height = cfg.width, cfg.height
 
         ecp5 = self._registered                        # the ECP5 structure (docstring)
+        self._ready_terms = []
         m.submodules.histogram = hist = Histogram(cfg, style=self._histogram_style,
                                                   dp16kd=self._dp16kd, held_apart=ecp5)
         m.submodules.threshold = search = ThresholdSearch(cfg, held_apart=ecp5)
@@ -157,7 +160,8 @@ class Segmenter(wiring.Component):
             search.scan_last.eq(hist.scan_last),
         ]
         if ecp5:
-            m.d.comb += search.scan_held.eq(hist.scan_held)
+            m.d.comb += [search.scan_held.eq(hist.scan_held),
+                         search.scan_first.eq(hist.scan_first)]
 
         # ---- position of the next word ---------------------------------------------------
         col = Signal(range(width))
@@ -198,10 +202,19 @@ class Segmenter(wiring.Component):
         missed = Signal()               # an end_of_segment outside a scored frame
 
         word = self.states.payload
-        ready = emitter.space & ~(busy & scored)
-        m.d.comb += self.states.ready.eq(ready)
+        if ecp5:
+            # the ECP5 build: ready from registers computed a cycle ahead (below), two
+            # copies: one drives states.ready (the DP output FIFO's read and its input
+            # credit), the other, its registers stored inverted so that synthesis keeps
+            # them apart, the segmenter's own accept
+            m.d.comb += self.states.ready.eq(self._ready_from_registers(m, "port", False))
+            ready = self._ready_from_registers(m, "own", True)
+        else:
+            ready = emitter.space & ~(busy & scored)
+            m.d.comb += self.states.ready.eq(ready)
+            ready = self.states.ready
         accept = Signal()
-        m.d.comb += accept.eq(self.states.valid & self.states.ready)
+        m.d.comb += accept.eq(self.states.valid & ready)
         eos = word.end_of_segment
         ends = Signal()
         m.d.comb += ends.eq(scored & (last | eos))
@@ -258,6 +271,26 @@ class Segmenter(wiring.Component):
         else:
             list_end = accept & ends
             missed_end = accept & ~scored & eos
+        if ecp5:
+            # the next cycle's terms of ready: space & ~busy, space & ~taking & ~in_scored,
+            # space & taking (ready = the first | the second | the third & ~one, one the
+            # settings port segment_frames_one, a register of the driver): the registers'
+            # updates above and below, as values
+            eos_or_last = Signal()
+            m.d.comb += eos_or_last.eq(eos | last)
+            busy_next, taking_next, in_scored_next = Signal(), Signal(), Signal()
+            m.d.comb += [
+                busy_next.eq(list_end | (busy & ~search.done)),
+                taking_next.eq(Mux(accept, eos, aligned_start)),
+                in_scored_next.eq(Mux(accept, Mux(eos_or_last, k_frames == 1,
+                                                  Mux(frame_end, frame + 2 == k_frames,
+                                                      scored)),
+                                      in_scored)),
+            ]
+            space_next = emitter.space_next
+            for terms in self._ready_terms:
+                terms(space_next & ~busy_next, space_next & ~taking_next & ~in_scored_next,
+                      space_next & taking_next)
         m.d.sync += scan_request.eq(list_end)
         with m.If(list_end):
             m.d.sync += busy.eq(1)
@@ -284,7 +317,12 @@ class Segmenter(wiring.Component):
 
         # ---- cycle B: emit ----------------------------------------------------------------
         valid_b = Signal()
-        selected_b = Signal(e_bits)
+        if ecp5:
+            # the ECP5 build: the bits ORed in pairs before the register (each pair one LUT
+            # of two comparisons and their shift bits, as one bit alone), so cycle B ORs
+            # half as many
+            selected = Cat(*[selected[s:s + 2].any() for s in range(0, e_bits, 2)])
+        selected_b = Signal(len(selected))
         ends_b = Signal()
         aligned_b = Signal()
         missed_b = Signal()
@@ -310,3 +348,18 @@ class Segmenter(wiring.Component):
             emitter.primed.eq(search.primed),
         ]
         return m
+
+    def _ready_from_registers(self, m, name, inverted):
+        """``states.ready`` (registered style) from three registers ``ready_{name}_*``
+        (stored inverted if ``inverted``), whose next values :meth:`elaborate` gives
+        through ``self._ready_terms``; reset: space low, so ready low."""
+        regs = [Signal(init=inverted, name=f"ready_{name}_{t}")
+                for t in ("open", "free", "taking")]
+        value = [~r if inverted else r for r in regs]
+
+        def terms(*nexts):
+            m.d.sync += [r.eq(~n if inverted else n) for r, n in zip(regs, nexts)]
+        self._ready_terms.append(terms)
+        ready = Signal(name=f"ready_{name}")
+        m.d.comb += ready.eq(value[0] | value[1] | (value[2] & ~self.segment_frames_one))
+        return ready

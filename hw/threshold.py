@@ -4,7 +4,7 @@
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal
+from amaranth.hdl import C, Cat, Module, Mux, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -40,11 +40,13 @@ class ThresholdSearch(wiring.Component):
     held_apart : bool
         ``True`` (the ECP5 build, :class:`~dptbd.hw.histogram.Histogram` ``held_apart``):
         the member ``scan_held`` adds one to ``scan_count`` (the histogram's held
-        increment), as the carry in of the one addition ``remaining + ~count + ~held``
-        (= ``remaining - count - held``) whose sign is the fit; ``remaining`` is kept in
+        increment), as the borrow in of the one subtraction ``remaining - count - held``
+        (an extra low bit ``0 - held``) whose sign is the fit; ``remaining`` is kept in
         two's complement and set to -1 by the first count that does not fit, so no
-        ``stopped`` flag enters the loop (one carry chain and one OR). ``False``
-        (default): no ``scan_held``.
+        ``stopped`` flag enters the loop (one carry chain and one OR); the scan's start is
+        the histogram's register ``scan_first``; the best bin is reset and loaded on its
+        own, and T at bin 0 is the best so far unless bin 0 fits. ``False`` (default): no
+        ``scan_held``, no ``scan_first``.
 
     Members
     -------
@@ -54,6 +56,9 @@ class ThresholdSearch(wiring.Component):
         Run-time n, sampled with the scan's top bin.
     scan_held : In(1)
         With ``held_apart``: ``scan_count`` plus one.
+    scan_first : In(1)
+        With ``held_apart``: ``scan_valid`` and ``scan_bin`` the top bin (the histogram's
+        register, so no comparison of ``scan_bin`` starts the search).
     load : In(1)
         Sampled in the ``done`` cycle: 1 loads the result into ``threshold`` and sets
         ``primed``; 0 discards it (the clearing scan after reset).
@@ -79,7 +84,7 @@ class ThresholdSearch(wiring.Component):
             "threshold": Out(cfg.threshold_bits, init=cfg.n_bins),
             "primed": Out(1),
             "done": Out(1),
-            **({"scan_held": In(1)} if held_apart else {}),
+            **({"scan_held": In(1), "scan_first": In(1)} if held_apart else {}),
         })
 
     def elaborate(self, platform):
@@ -119,8 +124,8 @@ class ThresholdSearch(wiring.Component):
     def _search_held_apart(self, m, n, valid, last, bin_, count):
         """The search with ``scan_held`` (``held_apart``): ``remaining`` is a two's-complement
         register, -1 once a count did not fit (no ``stopped`` flag on the loop); each cycle
-        ``remaining + ~count + ~held`` (= remaining - count - held, ``held`` the carry in)
-        is loaded, or -1 where it is negative, and its sign bit is the fit."""
+        remaining - count - held (``held`` the borrow in) is loaded, or -1 where it is
+        negative, and its sign bit is the fit."""
         cfg = self._cfg
         held = Signal()
         m.d.sync += held.eq(self.scan_held)
@@ -130,20 +135,27 @@ class ThresholdSearch(wiring.Component):
         remaining = Signal(width, init=cfg.n_candidates)           # n - cum, or -1: stopped
         count_wide = Signal(width)
         difference = Signal(width)
+        # one subtraction, held its borrow in through an extra low bit 0 - held (no second
+        # adder; a subtraction, whose inversion of the count is the carry chain's own, so
+        # no logic between the count and held registers and the chain)
         m.d.comb += [count_wide.eq(count),
-                     difference.eq(remaining + ~count_wide + ~held)]
+                     difference.eq((Cat(C(0, 1), remaining) - Cat(held, count_wide))[1:])]
         fits = ~difference[-1]
         best = Signal(cfg.threshold_bits, init=cfg.n_bins)
-        best_next = Mux(fits, bin_, best)
         m.d.comb += self.done.eq(valid & last)
         with m.If(valid):
             with m.If(last):
-                m.d.sync += [remaining.eq(n), best.eq(cfg.n_bins)]
+                m.d.sync += remaining.eq(n)
                 with m.If(self.load):
-                    m.d.sync += [self.threshold.eq(best_next), self.primed.eq(1)]
+                    # the last count is bin 0's: T is 0 if it fits, else the best so far
+                    m.d.sync += [self.threshold.eq(best & (~fits).replicate(len(best))),
+                                 self.primed.eq(1)]
             with m.Else():
                 m.d.sync += remaining.eq(difference | difference[-1].replicate(width))
-                with m.If(fits):
-                    m.d.sync += best.eq(bin_)
-        with m.If(self.scan_valid & (self.scan_bin == cfg.n_bins - 1)):   # a scan begins
-            m.d.sync += [remaining.eq(n), best.eq(cfg.n_bins)]
+        with m.If(self.scan_first):                                        # a scan begins
+            m.d.sync += remaining.eq(n)
+        # best on its own: reset by a scan's start and end, loaded with a fitting bin
+        with m.If(self.scan_first | (valid & last)):
+            m.d.sync += best.eq(cfg.n_bins)
+        with m.Elif(valid & fits):
+            m.d.sync += best.eq(bin_)

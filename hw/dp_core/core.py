@@ -226,7 +226,8 @@ class DPCore(wiring.Component):
         m.d.comb += self.pixels.ready.eq(input_ready)
         accept = self.pixels.valid & input_ready
 
-        m.submodules.controller = controller = Controller(cfg)
+        m.submodules.controller = controller = Controller(
+            cfg, registered=self._control_style == "registered")
         m.d.comb += [
             controller.accept.eq(accept),
             controller.first.eq(self.pixels.payload.first),

@@ -276,6 +276,10 @@ async def scan_histogram(ctx, dut, scans: int) -> tuple[list, list]:
         got, cycles = [], 1
         while True:
             assert ctx.get(dut.scanning)
+            if "scan_first" in dut.signature.members:          # Histogram(held_apart=True)
+                top = (1 << len(dut.scan_bin)) - 1
+                assert ctx.get(dut.scan_first) == (ctx.get(dut.scan_valid)
+                                                   and ctx.get(dut.scan_bin) == top)
             if ctx.get(dut.scan_valid):
                 # Histogram(held_apart=True): the held increment apart, added here
                 held = ctx.get(dut.scan_held) if "scan_held" in dut.signature.members else 0

@@ -52,6 +52,7 @@ def rtl_threshold(cfg, histograms, load, counts=None, held=None) -> list[tuple[i
                 ctx.set(dut.scan_count, int(hist[a]) - (a in apart))
                 if apart_ports:
                     ctx.set(dut.scan_held, a in apart)
+                    ctx.set(dut.scan_first, a == cfg.n_bins - 1)
                 ctx.set(dut.scan_last, a == 0)
                 await ctx.tick()
             ctx.set(dut.scan_valid, 0)

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from amaranth.hdl import Assert, Cat, Cover
+import operator
+
+from amaranth.hdl import Assert, Cat, Cover, Value
 
 from dptbd.config import DPConfig
 from dptbd.hw.register_file import RegisterFile
@@ -10,7 +12,7 @@ from dptbd.sim.formal.harness import Elaborated, Harness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
 from dptbd.sim.formal.properties import axil_subordinate
 
-__all__ = ["RegistersHarness", "register_invariants"]
+__all__ = ["RegistersHarness", "register_invariants", "setting_invariants"]
 
 
 class RegistersHarness(Harness):
@@ -24,19 +26,22 @@ class RegistersHarness(Harness):
     (SLVERR on a register that stores: a setting out of its limits, an unaligned address, a
     LUT word out of range or not fully strobed) changes no setting, no enable bit, clears no
     sticky / interrupt bit and writes no LUT entry; a sticky / interrupt bit (W1C) goes from
-    1 to 0 only in the cycle after an accepted write of a 1 to it. Invariants (for the
-    induction): while an AW is held, the register block's decode of it, registered at its
+    1 to 0 only in the cycle after an accepted write of a 1 to it; every setting lies in
+    its limits (:func:`setting_invariants`, which also holds the invariants of the range
+    check; ``bounds_registered`` as :class:`~dptbd.hw.register_file.RegisterFile`'s).
+    Invariants (for the induction): while an AW is held, the register block's decode of it, registered at its
     handshake, is its address's; an accepted AR is the read being answered (the cycle after
     its handshake) or ``rvalid``, and the read's registered decode is its address's; the subordinate's registered ``busy`` is ``bvalid`` or
     ``rvalid`` or a read being answered.
     """
 
-    def __init__(self, cfg: DPConfig | None = None):
+    def __init__(self, cfg: DPConfig | None = None, *, bounds_registered: bool = False):
         super().__init__()
         self.cfg = cfg or tiny_config()
+        self.bounds_registered = bounds_registered
 
     def check(self, m, past):
-        regs = Elaborated(RegisterFile(self.cfg))
+        regs = Elaborated(RegisterFile(self.cfg, bounds_registered=self.bounds_registered))
         m.submodules.regs = regs.fragment
         rf = regs.component
         self.free_inputs(m, rf, "regs")
@@ -86,10 +91,59 @@ class RegistersHarness(Harness):
                 m.d.comb += Cover(past_write & ~refused & (past_addr == reg.address))
                 break
         register_invariants(m, regs, aw_out, w_out, ar_out)
+        setting_invariants(m, regs, self.bounds_registered)
         irq_status = next(reg for reg in regmap.registers if reg.name == "IRQ_STATUS")
         field = irq_status.fields[0]
         bit = regs.signal(f"irq_status_{field.name}")
         m.d.comb += Cover(past(bit, "past_irq_bit") & ~bit & ~past.rst)      # a W1C clear
+
+
+def setting_invariants(m, regs: Elaborated, bounds_registered: bool) -> None:
+    """Assert that every setting lies in its limits (and is a multiple of its ``align``),
+    and, for the induction, that a held W beat's registered check is its merged word's;
+    with ``bounds_registered`` also that each byte flag kept for a setting is its current
+    byte's and each flag of a held W beat its merged byte's."""
+    rf, port = regs.component, regs.sub("axil")
+    bus = port.component.bus
+    have_w = port.signal("have_w")
+    mask = Cat(bit.replicate(8) for bit in bus.w_strb)
+    for reg in rf.register_map.registers:
+        if reg.kind != "setting":
+            continue
+        (field,) = reg.fields
+        lo, hi = field.limits
+        name = reg.name.lower()
+        value = getattr(rf, field.name)
+        merged = (value & ~mask) | (bus.w_data & mask)
+
+        def within(word):
+            ok = (word >= lo) & (word <= hi)
+            if field.align is not None and not lo:
+                ok &= word % field.align == 0
+            return ok
+        m.d.comb += Assert(within(value), f"{reg.name}.{field.name}: outside its limits")
+        with m.If(have_w):
+            m.d.comb += Assert(regs.signal(f"write_ok_{name}") == within(merged),
+                               f"write_ok_{name} != the held W beat's check")
+        if not bounds_registered:
+            continue
+        for tag, limit, beyond in [("hi", hi, operator.lt)] + ([("lo", lo, operator.gt)]
+                                                              if lo else []):
+            for j in range(4):
+                if 8 * j >= field.width:
+                    break
+                byte = (limit >> (8 * j)) & 0xFF
+                for flag, test in (("in", lambda b: beyond(b, byte)),
+                                   ("eq", lambda b: b == byte)):
+                    m.d.comb += Assert(
+                        regs.signal(f"{name}_{tag}{j}_{flag}")
+                        == test(Value.cast(value)[8 * j:8 * j + 8]),
+                        f"{name}_{tag}{j}_{flag} != the setting's byte's")
+                    with m.If(have_w):
+                        m.d.comb += Assert(
+                            regs.signal(f"{name}_{tag}{j}_{flag}_w")
+                            == test(merged[8 * j:8 * j + 8]),
+                            f"{name}_{tag}{j}_{flag}_w != the held W beat's byte's")
 
 
 def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:

@@ -23,6 +23,9 @@ def test_the_registers_harness_asserts_every_storing_field(messages):
             what = f"{reg.name}.{field.name}"
             if field.kind == "setting" or field.kind == "enable":
                 expected.add(f"{what}: changed by a refused write")
+            if field.kind == "setting":
+                expected.add(f"{what}: outside its limits")
+                expected.add(f"write_ok_{reg.name.lower()} != the held W beat's check")
             elif field.kind in ("sticky", "interrupt"):
                 expected.add(f"{what}: cleared by a refused write")
                 expected |= {f"{what}[{bit}]: cleared without a written 1 (W1C)"
@@ -30,3 +33,16 @@ def test_the_registers_harness_asserts_every_storing_field(messages):
     assert {m for m in got if not m.startswith("s_axil")} == expected
     assert "IRQ_STATUS.segment_done[0]: cleared without a written 1 (W1C)" in expected
     assert "s_axil: write response without both AW and W accepted" in got
+
+
+def test_the_bytes_harness_asserts_the_kept_flags(messages):
+    """``bounds_registered=True``: also each setting's kept byte flags and a held W beat's
+    flags, per limit byte of the field."""
+    got = messages(RegistersHarness(bounds_registered=True))
+    regmap = register_map(tiny_config())
+    k = next(reg for reg in regmap.registers if reg.name == "SEGMENT_FRAMES")
+    assert k.fields[0].limits[0] == 1                  # K has a lower limit: hi and lo flags
+    for tag in ("hi", "lo"):
+        for flag in ("in", "eq"):
+            assert f"segment_frames_{tag}0_{flag} != the setting's byte's" in got
+            assert f"segment_frames_{tag}0_{flag}_w != the held W beat's byte's" in got
