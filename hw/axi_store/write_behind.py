@@ -157,7 +157,12 @@ class AxiWriteBehind(wiring.Component):
                          beat_block_end.eq(
                              ((new_index & (store.burst_beats - 1)) == store.burst_beats - 1)
                              | (new_index == beats - 1)),
-                         beat_follows.eq(new_index == Mux(beat_valid, beat_next, expect))]
+                         beat_follows.eq(
+                             # staged: both comparisons, then the choice (one LUT after
+                             # beat_valid)
+                             Mux(beat_valid, new_index == beat_next, new_index == expect)
+                             if self._staged else
+                             new_index == Mux(beat_valid, beat_next, expect))]
 
         # ---- bursts: runs of consecutive beats, closed at a boundary, the frame's end,
         # or a jump (resynchronisation) -----------------------------------------------------
