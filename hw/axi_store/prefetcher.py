@@ -279,18 +279,11 @@ class AxiReadPrefetcher(wiring.Component):
         ]
         with m.If(self.take):
             m.d.sync += taken.eq(taken + 1)
-        if self._style == "dp16kd":
-            # `reserved == 0` a register beside it, so that `fresh` after a restart (nothing
-            # reserved, no burst issued now: `length` is never 0) follows no carry chain
-            none_reserved = Signal(init=1)
-            reserved_next = reserved + Mux(issue, length, 0) - pop
-            m.d.sync += none_reserved.eq(reserved_next == 0)
-            nothing_dropped = none_reserved & ~issue
         with m.If(self.take & self.restart):
             dropped = reserved + Mux(issue, length, 0)      # a burst issued now is stale
             m.d.sync += [
                 stale.eq(dropped),
-                fresh.eq(nothing_dropped if self._style == "dp16kd" else dropped == 0),
+                fresh.eq(dropped == 0),
                 offset.eq(restart_skip),
                 next_beat.eq(restart_beat),
                 length.eq(burst_length(restart_beat)),

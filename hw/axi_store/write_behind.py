@@ -20,7 +20,7 @@ their B response, in pixel order (a dropped word counts with the next burst), fo
 
 from __future__ import annotations
 
-from amaranth.hdl import Cat, Module, Mux, Signal
+from amaranth.hdl import Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.fifo import SyncFIFO, SyncFIFOBuffered
 from amaranth.lib.wiring import In, Out
@@ -157,12 +157,7 @@ class AxiWriteBehind(wiring.Component):
                          beat_block_end.eq(
                              ((new_index & (store.burst_beats - 1)) == store.burst_beats - 1)
                              | (new_index == beats - 1)),
-                         beat_follows.eq(
-                             # staged: both comparisons, then the choice (one LUT after
-                             # beat_valid)
-                             Mux(beat_valid, new_index == beat_next, new_index == expect)
-                             if self._staged else
-                             new_index == Mux(beat_valid, beat_next, expect))]
+                         beat_follows.eq(new_index == Mux(beat_valid, beat_next, expect))]
 
         # ---- bursts: runs of consecutive beats, closed at a boundary, the frame's end,
         # or a jump (resynchronisation) -----------------------------------------------------
@@ -218,16 +213,14 @@ class AxiWriteBehind(wiring.Component):
 
         # ---- AW: one burst at a time from the descriptor FIFO ---------------------------
         head = data.View(descriptor, bursts.r_data)
-        # staged: each length with its "a single beat" flag, for the burst register below
-        m.submodules.lengths = lengths = SyncFIFO(width=9 if self._staged else 8,
-                                                  depth=store.outstanding)
+        m.submodules.lengths = lengths = SyncFIFO(width=8, depth=store.outstanding)
         m.submodules.uptos = uptos = SyncFIFO(width=count_bits, depth=store.outstanding)
         in_flight = Signal(range(store.outstanding + 1))
         issue = Signal()
         m.d.comb += [
             issue.eq(bursts.r_rdy & ~self.aw.awvalid & (in_flight < store.outstanding)),
             bursts.r_en.eq(issue),
-            lengths.w_data.eq(Cat(head.len, head.len == 0) if self._staged else head.len),
+            lengths.w_data.eq(head.len), lengths.w_en.eq(issue),
             uptos.w_data.eq(head.upto), uptos.w_en.eq(issue),
             self.aw.awid.eq(0),
             self.aw.awsize.eq(size_code(store.beat_bytes)),
@@ -242,23 +235,17 @@ class AxiWriteBehind(wiring.Component):
                          self.aw.awlen.eq(head.len)]
 
         # ---- W: the beats of issued bursts, WLAST from their lengths ---------------------
+        sent = Signal(8)
         m.d.comb += [
             self.w.wdata.eq(w_fifo.r_data),
             self.w.wstrb.eq((1 << (store.data_bits // 8)) - 1),
+            self.w.wvalid.eq(w_fifo.r_rdy & lengths.r_rdy),
+            self.w.wlast.eq(sent == lengths.r_data),
             w_fifo.r_en.eq(self.w.wvalid & self.w.wready),
+            lengths.r_en.eq(self.w.wvalid & self.w.wready & self.w.wlast),
         ]
-        if self._staged:
-            self._burst_register(m, issue, head, lengths, w_fifo)
-        else:
-            sent = Signal(8)
-            m.d.comb += [
-                lengths.w_en.eq(issue),
-                self.w.wvalid.eq(w_fifo.r_rdy & lengths.r_rdy),
-                self.w.wlast.eq(sent == lengths.r_data),
-                lengths.r_en.eq(self.w.wvalid & self.w.wready & self.w.wlast),
-            ]
-            with m.If(self.w.wvalid & self.w.wready):
-                m.d.sync += sent.eq(Mux(self.w.wlast, 0, sent + 1))
+        with m.If(self.w.wvalid & self.w.wready):
+            m.d.sync += sent.eq(Mux(self.w.wlast, 0, sent + 1))
 
         # ---- B: count the answered pixels, flag errors ----------------------------------
         answered = self.b.bvalid & self.b.bready
@@ -271,30 +258,3 @@ class AxiWriteBehind(wiring.Component):
             m.d.sync += self.written.eq(uptos.r_data)
         m.d.sync += in_flight.eq(in_flight + issue - answered)
         return m
-
-    def _burst_register(self, m: Module, issue, head, lengths, w_fifo) -> None:
-        """``staged``: the W burst under way in registers (valid, beats left less one, WLAST),
-        loaded from the ``lengths`` FIFO's head, or from the issued descriptor ``head`` when
-        that FIFO is empty, in the cycle the register frees: WLAST and ``wvalid`` are
-        registers, and the same beats go out in the same cycles as from the FIFO's head."""
-        busy = Signal()                              # a burst's W is under way
-        left = Signal(8)                             # its beats after the current one
-        last = Signal()                              # the current beat is its last
-        sent = self.w.wvalid & self.w.wready
-        frees = ~busy | (sent & last)
-        from_fifo = frees & lengths.r_rdy
-        from_issue = frees & ~lengths.r_rdy & issue
-        m.d.comb += [
-            lengths.w_en.eq(issue & ~from_issue),
-            lengths.r_en.eq(from_fifo),
-            self.w.wvalid.eq(w_fifo.r_rdy & busy),
-            self.w.wlast.eq(last),
-        ]
-        with m.If(from_fifo):
-            m.d.sync += [busy.eq(1), left.eq(lengths.r_data[:8]), last.eq(lengths.r_data[8])]
-        with m.Elif(from_issue):
-            m.d.sync += [busy.eq(1), left.eq(head.len), last.eq(head.len == 0)]
-        with m.Elif(frees):
-            m.d.sync += busy.eq(0)
-        with m.Elif(sent):
-            m.d.sync += [left.eq(left - 1), last.eq(left == 1)]
