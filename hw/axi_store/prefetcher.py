@@ -342,11 +342,10 @@ class AxiReadPrefetcher(wiring.Component):
                             read_addr=read_ptr, read_en=fetch, out_en=1,
                             write_addr=write_ptr, write_data=self.r.rdata, write_en=write,
                             cell=self._dp16kd)
-        # the queue: a write enable per beat, the head an AND-OR of the beats, chosen by a
-        # one-hot read pointer (no decode between it and the word select)
+        # the queue: a write enable per beat, the head an AND-OR of the beats
         beats = [Signal(store.data_bits, name=f"skid_{i}") for i in range(SKID_BEATS)]
         produce = Signal(range(SKID_BEATS))
-        consume = Signal(SKID_BEATS, init=1)
+        consume = Signal(range(SKID_BEATS))
         level = Signal(range(SKID_BEATS + 1))
         with m.If(out_valid):
             m.d.sync += produce.eq(produce + 1)
@@ -354,7 +353,7 @@ class AxiReadPrefetcher(wiring.Component):
             with m.If(out_valid & (produce == i)):
                 m.d.sync += beat.eq(out)
         with m.If(pop):
-            m.d.sync += consume.eq(consume.rotate_left(1))
+            m.d.sync += consume.eq(consume + 1)
         level_next = Signal(range(SKID_BEATS + 1))
         head_valid = Signal()
         head_valid_next = Signal()
@@ -363,5 +362,5 @@ class AxiReadPrefetcher(wiring.Component):
         m.d.sync += [level.eq(level_next), head_valid.eq(head_valid_next)]
         head = 0
         for i, beat in enumerate(beats):
-            head = head | Mux(consume[i], beat, 0)
+            head = head | Mux(consume == i, beat, 0)
         return head, head_valid, head_valid_next
