@@ -91,11 +91,9 @@ class DPCore(wiring.Component):
         per FPGA family"). DPCore itself does not use it. Anything else raises
         ``ValueError``.
     output_queue_style : {"binary", "one_hot"}
-        The pointers of the output flags' FIFO in flip-flops
-        (:class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO` ``storage="registers"`` or
-        ``"one_hot"``): binary (default), or one-hot rings, so that the read is an AND-OR
-        of (pointer bit, word) pairs with no decode (what the flow builds for ECP5). Same
-        words, same cycles. Anything else raises ``ValueError``.
+        The output flags' FIFO's pointers (``ThermometerFIFO(storage="registers")`` or
+        ``"one_hot"``, what the flow builds for ECP5): same words, same cycles. Anything
+        else raises ``ValueError``.
 
     Members
     -------
