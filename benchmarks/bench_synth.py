@@ -290,6 +290,9 @@ def main(argv=None) -> int:
     parser.add_argument("--control-style", choices=CORE_OPTIONS["control_style"],
                         help="the segmenter's and the AXI top's control logic (default: the "
                              "family's, generic on iCE40, registered on ECP5)")
+    parser.add_argument("--output-queue-style", choices=CORE_OPTIONS["output_queue_style"],
+                        help="the pointers of the P = 1 core's output flags FIFO (default: "
+                             "the family's, binary on iCE40, one-hot on ECP5)")
     parser.add_argument("--no-breakdown", action="store_true",
                         help="skip the hierarchical synthesis (per-block table)")
     parser.add_argument("--workdir", type=pathlib.Path, default=pathlib.Path("build/synth"))

@@ -17,6 +17,10 @@ register loaded from a multiplexer of them): the same cycles, and on a device wh
 memories are block RAM (iCE40) the word leaves a flip-flop instead of a block-RAM read. A
 pair of FIFOs driven by the same ``w.valid`` and ``r.ready`` moves in lockstep, so a payload
 can be split between a memory FIFO and a registers twin (``DPCore``'s flags).
+``storage="one_hot"`` is ``"registers"`` with one-hot write and read pointers (rings of
+D - 1 flip-flops): each word's write enable and read select is one pointer bit, so the read
+is an AND-OR of (bit, word) pairs with no decode, and no pointer bit fans out to more than
+the word's width (the ECP5 build's flags twin, ``output_queue_style="one_hot"``).
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ from dptbd.hw.thermometer_counter import ThermometerCounter
 __all__ = ["STORAGES", "ThermometerFIFO"]
 
 #: Where :class:`ThermometerFIFO` keeps its words.
-STORAGES = ("memory", "registers")
+STORAGES = ("memory", "registers", "one_hot")
 
 
 class ThermometerFIFO(wiring.Component):
@@ -45,8 +49,9 @@ class ThermometerFIFO(wiring.Component):
         The payload shape (a ``data.Layout`` or a width).
     depth : int
         Words held, in [2, inf): ``depth - 1`` in the memory and one in the output register.
-    storage : {"memory", "registers"}
-        Where the ``depth - 1`` words are kept: a memory (default) or flip-flops.
+    storage : {"memory", "registers", "one_hot"}
+        Where the ``depth - 1`` words are kept: a memory (default) or flip-flops, addressed
+        by binary pointers (``"registers"``) or one-hot ones (``"one_hot"``).
 
     Members
     -------
@@ -85,12 +90,25 @@ class ThermometerFIFO(wiring.Component):
         # The memory's head moves into the output register when that is empty or being read.
         do_read = not_empty & (~self.r.valid | self.r.ready)
 
-        produce = Signal(range(words))
-        consume = Signal(range(words))
-        with m.If(do_write):
-            m.d.sync += produce.eq(increment_mod(produce, words))
-        with m.If(do_read):
-            m.d.sync += consume.eq(increment_mod(consume, words))
+        if self._storage == "one_hot":
+            # rings of one-hot pointers: word i is written when produce[i], read when consume[i]
+            produce = Signal(words, init=1)
+            consume = Signal(words, init=1)
+            with m.If(do_write):
+                m.d.sync += produce.eq(produce.rotate_left(1))
+            with m.If(do_read):
+                m.d.sync += consume.eq(consume.rotate_left(1))
+            writes = [produce[i] for i in range(words)]
+            reads = [consume[i] for i in range(words)]
+        else:
+            produce = Signal(range(words))
+            consume = Signal(range(words))
+            with m.If(do_write):
+                m.d.sync += produce.eq(increment_mod(produce, words))
+            with m.If(do_read):
+                m.d.sync += consume.eq(increment_mod(consume, words))
+            writes = [produce == i for i in range(words)]
+            reads = [consume == i for i in range(words)]
         m.d.comb += [
             self.w.ready.eq(~full),
             level.up.eq(do_write),
@@ -110,16 +128,23 @@ class ThermometerFIFO(wiring.Component):
             ]
         else:
             # a write enable per word, and the read an AND-OR of the words, one select per
-            # word (consume == i): an Array or a Switch would become case statements
+            # word: an Array or a Switch would become case statements
             # Verilator's lint reports (incompletely covered, or a $pmux's overlapping casez)
             head = Signal(self._shape)
             cells = [Signal(self._shape, name=f"word_{i}") for i in range(words)]
             for i, cell in enumerate(cells):
-                with m.If(do_write & (produce == i)):
+                with m.If(do_write & writes[i]):
                     m.d.sync += cell.eq(self.w.payload)
-            selected = 0
-            for i, cell in enumerate(cells):
-                selected = selected | Mux(consume == i, Value.cast(cell), 0)
+            terms = [Mux(reads[i], Value.cast(cell), 0) for i, cell in enumerate(cells)]
+            if self._storage == "one_hot":      # a balanced OR of the (bit, word) pairs
+                while len(terms) > 1:
+                    terms = [terms[j] | terms[j + 1] if j + 1 < len(terms) else terms[j]
+                             for j in range(0, len(terms), 2)]
+                selected = terms[0]
+            else:
+                selected = 0
+                for term in terms:
+                    selected = selected | term
             with m.If(do_read):
                 m.d.sync += head.eq(selected)
             m.d.comb += self.r.payload.eq(head)

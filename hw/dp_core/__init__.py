@@ -14,12 +14,13 @@ Modules: :mod:`.core` (``DPCore``), :mod:`.options` (its implementation options,
 from __future__ import annotations
 
 from dptbd.hw.dp_core.core import DPCore
-from dptbd.hw.dp_core.options import (CORE_OPTIONS, LINE_BUFFER_STYLES, SIDEBAND_DELAYS,
-                                      check_core_options, core_line_buffer)
+from dptbd.hw.dp_core.options import (CORE_OPTIONS, LINE_BUFFER_STYLES, OUTPUT_QUEUE_STYLES,
+                                      SIDEBAND_DELAYS, check_core_options, core_line_buffer)
 from dptbd.hw.dp_core.ports import (family_write_members, family_write_ports,
                                     lut_write_members, run_time_k_members, state_events)
 
-__all__ = ["DPCore", "LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS", "check_core_options",
+__all__ = ["DPCore", "LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "OUTPUT_QUEUE_STYLES",
+           "CORE_OPTIONS", "check_core_options",
            "core_line_buffer",
            "lut_write_members", "family_write_members", "family_write_ports",
            "run_time_k_members", "state_events"]

@@ -90,6 +90,10 @@ class DPCore(wiring.Component):
         cycle ahead; same bits, same cycles; ``docs/gateware.md``, "Implementation options
         per FPGA family"). DPCore itself does not use it. Anything else raises
         ``ValueError``.
+    output_queue_style : {"binary", "one_hot"}
+        The output flags' FIFO's pointers (``ThermometerFIFO(storage="registers")`` or
+        ``"one_hot"``, what the flow builds for ECP5): same words, same cycles. Anything
+        else raises ``ValueError``.
 
     Members
     -------
@@ -124,17 +128,19 @@ class DPCore(wiring.Component):
                  lut_style: str = "auto", line_buffer_style: str = "bram",
                  sideband_delay: str = "registers", max_tree: str = "compact",
                  state_store_style: str = "memory", histogram_style: str = "memory",
-                 control_style: str = "generic"):
+                 control_style: str = "generic", output_queue_style: str = "binary"):
         # -- line buffer and side-band storage (per-family implementation options) --
         check_core_options(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
                            state_store_style=state_store_style,
-                           histogram_style=histogram_style, control_style=control_style)
+                           histogram_style=histogram_style, control_style=control_style,
+                           output_queue_style=output_queue_style)
         self._line_buffer_style = line_buffer_style
         self._sideband_delay = sideband_delay
         self._max_tree = max_tree
         self._state_store_style = state_store_style
         self._histogram_style = histogram_style
         self._control_style = control_style
+        self._output_queue_style = output_queue_style
         self._schedule = check_supported(cfg, max_tree=max_tree)   # refuses a bad max_tree
         # -- end --
         self._cfg = cfg
@@ -212,7 +218,8 @@ class DPCore(wiring.Component):
                 "sideband_delay": self._sideband_delay, "max_tree": self._max_tree,
                 "state_store_style": self._state_store_style,
                 "histogram_style": self._histogram_style,
-                "control_style": self._control_style}
+                "control_style": self._control_style,
+                "output_queue_style": self._output_queue_style}
 
     def elaborate(self, platform):
         m = Module()
@@ -396,5 +403,5 @@ class DPCore(wiring.Component):
             self.state_store.write_en.eq(at_state.valid),
         ]
         queue_output(m, cfg, self._fifo_depth, accumulator, at_state, self.states,
-                     self.events, accept, input_ready)
+                     self.events, accept, input_ready, self._output_queue_style)
         return m

@@ -9,7 +9,7 @@ from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
 from dptbd.hw.schedule import MAX_TREE_STAGES
 from dptbd.hw.segmenter import CONTROL_STYLES
 
-__all__ = ["LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "CORE_OPTIONS", "check_core_options",
+__all__ = ["LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "OUTPUT_QUEUE_STYLES", "CORE_OPTIONS", "check_core_options",
            "core_line_buffer"]
 
 #: ``DPCore(line_buffer_style=…)`` and the line buffer memory's ``ram_style`` for each.
@@ -17,16 +17,22 @@ LINE_BUFFER_RAM_STYLE = {"bram": None, "lutram": "distributed", "dp16kd": "dp16k
 LINE_BUFFER_STYLES = tuple(LINE_BUFFER_RAM_STYLE)
 #: ``DPCore(sideband_delay=…)``.
 SIDEBAND_DELAYS = ("registers", "memory")
+#: ``DPCore(output_queue_style=…)``: the pointers of the output flags' FIFO in flip-flops
+#: (:class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO` ``storage="registers"`` or
+#: ``"one_hot"``).
+OUTPUT_QUEUE_STYLES = ("binary", "one_hot")
 
 #: DPCore's implementation options (keyword arguments) with their allowed values; none
 #: changes behaviour (``max_tree`` changes the latency), the synthesis flow picks them per
 #: FPGA family. ``state_store_style`` is the on-chip store's (DPPipeline's) and
 #: ``histogram_style`` the segmenter's histogram's, ``control_style`` the control logic of the
 #: segmenter and of the AXI top's input, carried here so that one set of options reaches
-#: every top.
+#: every top; ``output_queue_style`` the output flags' FIFO's (P = 1; the P > 1 cores have
+#: no flags twin).
 CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS,
                 "max_tree": tuple(MAX_TREE_STAGES), "state_store_style": STATE_STORE_STYLES,
-                "histogram_style": HISTOGRAM_STYLES, "control_style": CONTROL_STYLES}
+                "histogram_style": HISTOGRAM_STYLES, "control_style": CONTROL_STYLES,
+                "output_queue_style": OUTPUT_QUEUE_STYLES}
 
 
 def check_core_options(**options: str) -> None:

@@ -17,11 +17,12 @@ __all__ = ["queue_output"]
 
 
 def queue_output(m: Module, cfg: DPConfig, fifo_depth: int, accumulator, at_state, states,
-                 events, accept, input_ready) -> None:
+                 events, accept, input_ready, style: str = "binary") -> None:
     """Queue the ``accumulator``'s word with the side band ``at_state`` (its flags and valid
     bit at the state stage) for ``states``, drive ``events`` from it, and drive
     ``input_ready`` from a credit of ``fifo_depth`` words taken by ``accept``: a pixel is
-    accepted only when the FIFO is sure to have room for its word."""
+    accepted only when the FIFO is sure to have room for its word. ``style`` is the
+    flags FIFO's pointers (``output_queue_style``: ``"binary"`` or ``"one_hot"``)."""
     result = Signal(state_layout(cfg))
     m.d.comb += [
         result.energy.eq(accumulator.energy),
@@ -43,7 +44,7 @@ def queue_output(m: Module, cfg: DPConfig, fifo_depth: int, accumulator, at_stat
     m.submodules.output_fifo = output_fifo = ThermometerFIFO(
         state_word_layout(cfg), fifo_depth)
     m.submodules.output_flags = output_flags = ThermometerFIFO(
-        flag_layout, fifo_depth, storage="registers")
+        flag_layout, fifo_depth, storage="one_hot" if style == "one_hot" else "registers")
     m.d.comb += [
         output_fifo.w.payload.energy.eq(result.energy),
         output_fifo.w.payload.direction.eq(result.direction),

@@ -66,7 +66,8 @@ class Family:
         store and the segmenter's histogram in DP16KDs reading through their output
         register (``state_store_style`` and ``histogram_style`` ``"dp16kd"``), the control
         logic of the segmenter and of the AXI top's input from registers of their own
-        (``control_style="registered"``).
+        (``control_style="registered"``), the P = 1 core's output flags' FIFO with one-hot
+        pointers (``output_queue_style="one_hot"``).
         :meth:`options_for` gives a configuration's.
     dp16kd_line_buffer_from : int or None
         The frame width from which the family builds the line buffer in DP16KDs read through
@@ -168,7 +169,8 @@ ICE40 = Family(
     max_radius=1,
     core_options={"line_buffer_style": "bram", "sideband_delay": "memory",
                   "max_tree": "compact", "state_store_style": "memory",
-                  "histogram_style": "memory", "control_style": "generic"})
+                  "histogram_style": "memory", "control_style": "generic",
+                  "output_queue_style": "binary"})
 
 #: ECP5 (nextpnr-ecp5): LFE5U-25F in the CABGA256 package (197 I/O), speed grade 6
 #: (nextpnr's default, the slowest), by default; ``"45k"`` is the LFE5U-45F.
@@ -182,7 +184,8 @@ ECP5 = Family(
                 "85k": (208, 18432)},
     core_options={"line_buffer_style": "lutram", "sideband_delay": "registers",
                   "max_tree": "split", "state_store_style": "dp16kd",
-                  "histogram_style": "dp16kd", "control_style": "registered"},
+                  "histogram_style": "dp16kd", "control_style": "registered",
+                  "output_queue_style": "one_hot"},
     dp16kd_line_buffer_from=512)
 
 #: name -> :class:`Family`.

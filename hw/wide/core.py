@@ -64,11 +64,11 @@ class DPCoreWide(wiring.Component):
     """Streaming direction-weighted DP, P = 2 or 4 pixels per clock, external state store.
 
     Parameters and properties as :class:`~dptbd.hw.dp_core.DPCore` (same options, same
-    schedule and latency, counted in beats; ``state_store_style``, ``histogram_style`` and
-    ``control_style`` are accepted and not used: the wide store is
-    :class:`~dptbd.hw.wide.state_store.WideStateStore`, the wide histogram
+    schedule and latency, counted in beats; ``state_store_style``, ``histogram_style``,
+    ``control_style`` and ``output_queue_style`` are accepted and not used: the wide store
+    is :class:`~dptbd.hw.wide.state_store.WideStateStore`, the wide histogram
     :class:`~dptbd.hw.banked_histogram.BankedHistogram` in Amaranth memories, the control
-    logic the generic one); refused with :class:`~dptbd.errors.ConfigError` as
+    logic the generic one, the flags travel with the words in the one output FIFO); refused with :class:`~dptbd.errors.ConfigError` as
     :func:`check_wide` says.
 
     Members
@@ -87,13 +87,15 @@ class DPCoreWide(wiring.Component):
                  lut_style: str = "auto", line_buffer_style: str = "bram",
                  sideband_delay: str = "registers", max_tree: str = "compact",
                  state_store_style: str = "memory", histogram_style: str = "memory",
-                 control_style: str = "generic"):
+                 control_style: str = "generic", output_queue_style: str = "binary"):
         check_core_options(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
                            state_store_style=state_store_style,
-                           histogram_style=histogram_style, control_style=control_style)
+                           histogram_style=histogram_style, control_style=control_style,
+                           output_queue_style=output_queue_style)
         self._state_store_style = state_store_style
         self._histogram_style = histogram_style
         self._control_style = control_style
+        self._output_queue_style = output_queue_style
         self._schedule = check_wide(cfg, max_tree=max_tree)
         self._line_buffer_style = line_buffer_style
         self._sideband_delay = sideband_delay
@@ -130,7 +132,8 @@ class DPCoreWide(wiring.Component):
                 "sideband_delay": self._sideband_delay, "max_tree": self._max_tree,
                 "state_store_style": self._state_store_style,
                 "histogram_style": self._histogram_style,
-                "control_style": self._control_style}
+                "control_style": self._control_style,
+                "output_queue_style": self._output_queue_style}
 
     def elaborate(self, platform):
         m = Module()

@@ -156,7 +156,8 @@ class _WithStore(Elaboratable):
                                                  "max_tree": "split",
                                                  "state_store_style": "memory",
                                                  "histogram_style": "memory",
-                                                 "control_style": "registered"}])
+                                                 "control_style": "registered",
+                                                 "output_queue_style": "one_hot"}])
 def test_external_state_store_and_core_options_keep_the_bits(core_options):
     """The store outside (the ``state_store`` member, here a StateStore on it) and DPCore's
     implementation options build the same lists; ``split`` adds its cycles to the latency."""
@@ -174,7 +175,8 @@ def test_external_state_store_and_core_options_keep_the_bits(core_options):
                                                  "max_tree": "compact",
                                                  "state_store_style": "memory",
                                                  "histogram_style": "memory",
-                                                 "control_style": "generic"})
+                                                 "control_style": "generic",
+                                                 "output_queue_style": "binary"})
     run_lists(cfg, _WithStore(dut), dut.pixels, dut.candidates, pack_frames(cfg, frames),
               lists, valid_probability=valid, ready_probability=ready, seed=n_frames)
     assert sum(lst.count for lst in lists) >= 7

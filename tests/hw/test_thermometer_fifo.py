@@ -123,5 +123,5 @@ def test_refuses_a_depth_below_two():
 
 
 def test_refuses_an_unknown_storage():
-    with refused(DptbdError, r"^storage must be one of 'memory', 'registers', got 'flops'$"):
+    with refused(DptbdError, r"^storage must be one of 'memory', 'registers', 'one_hot', got 'flops'$"):
         ThermometerFIFO(WIDTH, 3, storage="flops")

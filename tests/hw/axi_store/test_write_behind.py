@@ -16,7 +16,8 @@ def run_writes(store, addresses, *, seed=0, latency=(0, 0), ready=1.0, valid=1.0
                base=None, tail=60, staged=False):
     """Write a random state to each address in turn, one per cycle while ``room`` allows,
     then idle ``tail`` cycles; return the memory, the data written and ``written`` /
-    ``room`` / error pulses per cycle, the cycles of AW handshakes (``aw``) and, with
+    ``room`` / error pulses per cycle, the cycles of AW and W handshakes (``aw``, ``w``:
+    (cycle, WLAST)) and, with
     ``staged``, ``room_next`` per cycle."""
     dut = AxiWriteBehind(store, in_flight=4, staged=staged)
     top = OneSided(dut, store)
@@ -25,7 +26,7 @@ def run_writes(store, addresses, *, seed=0, latency=(0, 0), ready=1.0, valid=1.0
     rng = random.Random(seed)
     width = len(dut.write_data.as_value())
     data = [rng.randrange(1 << width) for _ in addresses]
-    trace = {"written": [], "room": [], "room_next": [], "errors": 0, "aw": []}
+    trace = {"written": [], "room": [], "room_next": [], "errors": 0, "aw": [], "w": []}
 
     async def bench(ctx):
         # like the pipeline: a write is "accepted" only while room is high and arrives
@@ -47,6 +48,8 @@ def run_writes(store, addresses, *, seed=0, latency=(0, 0), ready=1.0, valid=1.0
             trace["errors"] += ctx.get(dut.error)
             if ctx.get(dut.aw.awvalid) and ctx.get(dut.aw.awready):
                 trace["aw"].append(step)
+            if ctx.get(dut.w.wvalid) and ctx.get(dut.w.wready):
+                trace["w"].append((step, ctx.get(dut.w.wlast)))
             if staged:
                 trace["room_next"].append(ctx.get(dut.room_next))
             await ctx.tick()
@@ -119,6 +122,7 @@ def test_staged_descriptors_send_each_aw_one_cycle_later():
     assert [stored(staged, store, a) for a in range(192)] == data[13:]
     assert len(plain_trace["aw"]) == 2 + 96 // 4
     assert staged_trace["aw"] == [cycle + 1 for cycle in plain_trace["aw"]]
+    assert staged_trace["w"] == [(cycle + 1, last) for cycle, last in plain_trace["w"]]
     assert staged_trace["room"] == plain_trace["room"]
 
 
