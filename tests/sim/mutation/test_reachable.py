@@ -65,3 +65,29 @@ def test_outputs_zero_only_for_constant_zero_outputs():
     with pytest.raises(ValueError, match=whole(
             "the BLIF network declares no outputs: '.model m\\n.inputs a\\n.end\\n'")):
         outputs_zero(".model m\n.inputs a\n.end\n")
+
+
+#: ``dptbd_dp``'s input ready register stuck at 0 (#182 of ``--seed 1``, killed): the
+#: input is refused from the first cycle after reset.
+READY_STUCK = ("mutate -mode const0 -module dptbd_dp -cell $flatten\\core.\\input_credit.$5 "
+               "-port Q -portbit 0 -wire pixels__ready -wirebit 0 -src hw/input_credit.py:57")
+#: The reset value (0) of the controller's valid register stuck at 0 (#2, equivalent).
+RESET_VALUE = ("mutate -mode const0 -module dptbd_dp -cell "
+               "$flatten\\core.\\controller.$procmux$242 -port B -portbit 0")
+
+
+@needs_yosys
+def test_a_mutant_refusing_input_has_a_counterexample():
+    """About 15 s under load."""
+    proof = prove_reachable(config("dp"), "dp", READY_STUCK, pdr_seconds=60)
+    assert (proof.verdict, proof.detail) == (
+        "not equivalent", "PDR: an output differs in cycle 1 after reset")
+
+
+@needs_yosys
+def test_a_constant_set_to_its_value_is_proven():
+    """About 17 s under load: signal correspondence merges the two copies."""
+    proof = prove_reachable(config("dp"), "dp", RESET_VALUE, pdr_seconds=60)
+    assert (proof.verdict, proof.detail) == (
+        "equivalent", "signal correspondence: no output differs in any state reachable "
+                      "from reset")
