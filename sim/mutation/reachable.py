@@ -141,4 +141,7 @@ def prove_reachable(cfg: DPConfig, design: str, mutation: Mutation | str, *,
         verdict, detail = pdr_verdict(out["status.txt"])
     except (RuntimeError, ValueError) as exc:
         return Equivalence("error", str(exc), time.perf_counter() - start)
+    if verdict == "not proven":
+        latches = len(re.findall(r"^\.latch ", out["reduced.blif"], flags=re.M))
+        detail += f" within {max(1, int(pdr_seconds))} s, {latches} flip-flops left"
     return Equivalence(verdict, detail, time.perf_counter() - start)
