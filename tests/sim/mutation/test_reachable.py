@@ -71,6 +71,10 @@ def test_outputs_zero_only_for_constant_zero_outputs():
 #: input is refused from the first cycle after reset.
 READY_STUCK = ("mutate -mode const0 -module dptbd_dp -cell $flatten\\core.\\input_credit.$5 "
                "-port Q -portbit 0 -wire pixels__ready -wirebit 0 -src hw/input_credit.py:57")
+#: Bit 2 of the reset value of the DP output flags FIFO's word_8 set to 1 (#52, equivalent:
+#: after a reset the FIFO is empty, and word_8 is read only after it has been written).
+FIFO_RESET = ("mutate -mode const1 -module dptbd_dp -cell "
+              "$flatten\\core.\\output_flags.$procmux$69 -port B -portbit 2")
 #: The reset value (0) of the controller's valid register stuck at 0 (#2, equivalent).
 RESET_VALUE = ("mutate -mode const0 -module dptbd_dp -cell "
                "$flatten\\core.\\controller.$procmux$242 -port B -portbit 0")
@@ -85,6 +89,16 @@ def test_a_mutant_refusing_input_has_a_counterexample():
 
 
 @needs_yosys
+def test_a_reset_value_never_read_is_proven():
+    """About 16 s under load: an invariant of the reachable states (the FIFO's order), which
+    induction from every paired state does not see; PDR finds it."""
+    proof = prove_reachable(config("dp"), "dp", FIFO_RESET, pdr_seconds=60)
+    assert (proof.verdict, proof.detail) == (
+        "equivalent", "PDR: no output differs in any state reachable from reset")
+
+
+@needs_yosys
+@pytest.mark.slow
 def test_a_constant_set_to_its_value_is_proven():
     """About 17 s under load: signal correspondence merges the two copies."""
     proof = prove_reachable(config("dp"), "dp", RESET_VALUE, pdr_seconds=60)
