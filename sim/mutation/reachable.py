@@ -56,8 +56,8 @@ def miter_script(rtlil: str, design: str, command: str) -> str:
         _prepared(rtlil, design), f"rename {top} gold", "design -stash gold",
         "design -copy-from gold -as gold gold", "design -copy-from gate -as gate gate",
         "memory_map", "opt_clean", "setundef -zero -init",
-        "miter -equiv -flatten -ignore_gold_x gold gate miter", "hierarchy -top miter",
-        "setundef -undriven -zero", "opt -fast", "techmap", "opt -fast", "dffunmap",
+        "miter -equiv -flatten gold gate miter", "hierarchy -top miter",
+        "setundef -undriven -zero", "opt -fast", "techmap", "setundef -zero", "opt -fast", "dffunmap",
         "abc -g AND", "opt_clean", "write_aiger -zinit -map miter.map miter.aig"])
 
 
