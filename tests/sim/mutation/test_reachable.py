@@ -80,7 +80,24 @@ RESET_VALUE = ("mutate -mode const0 -module dptbd_dp -cell "
                "$flatten\\core.\\controller.$procmux$242 -port B -portbit 0")
 
 
+#: ``dptbd_dp``'s output valid register inverted (#99 of ``--seed 1``, killed): valid
+#: from reset on, where the original's is 0 (a bit where the original is 0 differs: the
+#: miter compares it; with ``-ignore_gold_x`` it compared none such).
+VALID_INVERTED = ("mutate -mode inv -module dptbd_dp -cell $flatten\\core.\\output_fifo.$57 "
+                  "-port Q -portbit 0 -wire states__valid -wirebit 0 "
+                  "-src amaranth/lib/stream.py:49")
+
+
 @needs_yosys
+def test_an_output_set_where_the_original_clears_it_has_a_counterexample():
+    """About 18 s under load."""
+    proof = prove_reachable(config("dp"), "dp", VALID_INVERTED, pdr_seconds=60)
+    assert (proof.verdict, proof.detail) == (
+        "not equivalent", "PDR: an output differs in cycle 0 after reset")
+
+
+@needs_yosys
+@pytest.mark.slow
 def test_a_mutant_refusing_input_has_a_counterexample():
     """About 15 s under load."""
     proof = prove_reachable(config("dp"), "dp", READY_STUCK, pdr_seconds=60)
