@@ -27,8 +27,9 @@ returns to it), so the invariants hold and the prover finds them itself:
 An output constant 0 after ``&scorr`` or PDR's verdict decides: ``equivalent`` (no input
 sequence from reset makes an output differ), ``not equivalent`` (a counterexample: the
 cycle in which an output first differs), ``not proven`` (PDR's time limit ran out),
-``timeout`` (the whole job's did) or ``error``. Unlike :func:`~.equivalence.prove_equivalent`, an equivalent mutant here may
-differ in any internal signal: only the outputs are compared.
+``timeout`` (the whole job's did) or ``error``. Unlike
+:func:`~.equivalence.prove_equivalent`, an equivalent mutant here may differ in any
+internal signal: only the outputs are compared.
 """
 
 from __future__ import annotations
