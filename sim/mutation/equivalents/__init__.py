@@ -21,8 +21,9 @@ string without the ``-src`` line numbers (the cell, port, bit and wire names ide
 mutation of a netlist): an edit that moves source lines but leaves the netlist unchanged
 keeps every entry matching, while a netlist change, which renames cells, makes an entry
 stop matching: it is never counted. ``shown = "proven"`` means
-:func:`~dptbd.sim.mutation.equivalence.prove_equivalent` proves it (a slow test runs every
-one); ``"argued"`` is a written argument that no output can differ for any legal input
+:func:`~dptbd.sim.mutation.equivalence.prove_equivalent` proves it, or
+:func:`~dptbd.sim.mutation.reachable.prove_reachable` when its ``why`` names that method
+(a slow test runs every one); ``"argued"`` is a written argument that no output can differ for any legal input
 sequence. A file that is absent is an empty registry.
 """
 

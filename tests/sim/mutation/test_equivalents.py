@@ -192,13 +192,15 @@ PROVEN = [(design, entry) for design in sorted(E.FILES)
 @pytest.mark.parametrize("design, entry", PROVEN,
                          ids=[f"{d}:{e.source}:{i}" for i, (d, e) in enumerate(PROVEN)])
 def test_every_proven_entry_is_proven_again(design, entry):
-    """``prove_equivalent`` says ``equivalent`` for each ``proven`` entry on today's netlist
-    (minutes each)."""
+    """The method its ``why`` names (``prove_reachable``, else ``prove_equivalent``) says
+    ``equivalent`` for each ``proven`` entry on today's netlist (minutes each)."""
     from dptbd.sim.mutation.equivalence import prove_equivalent
+    from dptbd.sim.mutation.reachable import prove_reachable
     from dptbd.sim.mutation.run import config
 
     (mutation,) = parse_mutations(entry.mutation)
-    proof = prove_equivalent(config(design), design, mutation)
+    prove = prove_reachable if "prove_reachable" in entry.why else prove_equivalent
+    proof = prove(config(design), design, mutation)
     assert proof.verdict == "equivalent", proof.detail
 
 
