@@ -56,9 +56,8 @@ class DPCore(wiring.Component):
         interleaved_read=True)``), or ECP5 DP16KDs read a cycle ahead through their output
         register (``"dp16kd"``, ``LineBuffer(ram_style="dp16kd")``, ECP5 only; what the
         ECP5 flow builds from 256 pixels wide, :mod:`dptbd.hw.flow.family`). A synthesis
-        choice only: behaviour and latency are the same.
-        The synthesis flow picks it per family (:mod:`dptbd.hw.flow.family`). Anything else
-        raises ``ValueError``.
+        choice only: behaviour and latency are the same. Anything else raises
+        ``ValueError``.
     sideband_delay : {"registers", "memory"}
         How the pixel's side band (pixel value, position flags) is delayed from the fetch
         stage to the accumulator (``best - fetch`` cycles, 7 for the default build):
@@ -73,22 +72,14 @@ class DPCore(wiring.Component):
         select in two stages per level: ``ceil(log2(M))`` cycles more latency, counted by
         :class:`~dptbd.hw.schedule.PipelineSchedule`; what the flow builds for ECP5).
         Behaviour is the same. Anything else raises ``ValueError``.
-    state_store_style : {"memory", "dp16kd"}
-        The block RAM of the on-chip store that ``DPPipeline`` attaches
-        (:class:`~dptbd.hw.read_ahead_store.ReadAheadStore`): an Amaranth memory (default)
-        or ECP5 DP16KDs with their output register (what the flow builds for ECP5). DPCore
-        itself does not use it (its store is outside). Anything else raises ``ValueError``.
-    histogram_style : {"memory", "dp16kd"}
-        The memory of the histogram of the segmenter that ``DPSegmenter`` attaches
-        (:class:`~dptbd.hw.histogram.Histogram`'s ``style``): an Amaranth memory (default)
-        or ECP5 DP16KDs reading through their output register. DPCore itself does not use
-        it. Anything else raises ``ValueError``.
-    control_style : {"generic", "registered"}
-        The control logic of the segmenter that ``DPSegmenter`` attaches and of the AXI
-        top's input (``dptbd_axi``): ``"generic"`` (default) or ``"registered"`` (what the
-        flow builds for ECP5: flags and enables from registers of their own, computed a
-        cycle ahead; same bits, same cycles; ``docs/gateware.md``, "Implementation options
-        per FPGA family"). DPCore itself does not use it. Anything else raises
+    state_store_style, histogram_style, control_style : str
+        Options of the blocks attached around DPCore (``state_store_style``: the on-chip
+        store's block RAM, :class:`~dptbd.hw.read_ahead_store.ReadAheadStore`;
+        ``histogram_style``: the segmenter's histogram memory,
+        :class:`~dptbd.hw.histogram.Histogram`; ``control_style``: the segmenter's and the
+        AXI top's input control, ``"registered"`` flags and enables from registers of their
+        own, same bits, same cycles). DPCore checks and keeps them; ``docs/gateware.md``,
+        "Implementation options per FPGA family", has their values. Anything else raises
         ``ValueError``.
     output_queue_style : {"binary", "one_hot"}
         The output flags' FIFO's pointers (``ThermometerFIFO(storage="registers")`` or
