@@ -5,11 +5,12 @@ and the timing (no stall for K >= 2, the scan stall for K = 1)."""
 
 import numpy as np
 import pytest
+from amaranth.hdl import ResetInserter, Signal
 
 from dptbd.hw.segmenter import Segmenter, scan_cycles
 from dptbd.model.segmentation import segment_stream, threshold_bin
 from helpers.dp16kd_model import DP16KDModel
-from helpers.hw_harness import refused
+from helpers.hw_harness import refused, simulate
 from helpers.refusals import whole
 from helpers.seg_harness import (SEGMENTER_CASES, check_reset_in_a_scored_frame, make_config,
                                  misaligned_settings_stream, pack_state_rows, run_lists,
