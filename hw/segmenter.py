@@ -147,7 +147,6 @@ class Segmenter(wiring.Component):
         width, height = cfg.width, cfg.height
 
         ecp5 = self._registered                        # the ECP5 structure (docstring)
-        self._ready_terms = []
         m.submodules.histogram = hist = Histogram(cfg, style=self._histogram_style,
                                                   dp16kd=self._dp16kd, held_apart=ecp5)
         m.submodules.threshold = search = ThresholdSearch(cfg, held_apart=ecp5)
@@ -207,8 +206,9 @@ class Segmenter(wiring.Component):
             # copies: one drives states.ready (the DP output FIFO's read and its input
             # credit), the other, its registers stored inverted so that synthesis keeps
             # them apart, the segmenter's own accept
-            m.d.comb += self.states.ready.eq(self._ready_from_registers(m, "port", False))
-            ready = self._ready_from_registers(m, "own", True)
+            port_ready, load_port = self._ready_from_registers(m, "port", False)
+            ready, load_own = self._ready_from_registers(m, "own", True)
+            m.d.comb += self.states.ready.eq(port_ready)
         else:
             ready = emitter.space & ~(busy & scored)
             m.d.comb += self.states.ready.eq(ready)
@@ -288,9 +288,9 @@ class Segmenter(wiring.Component):
                                       in_scored)),
             ]
             space_next = emitter.space_next
-            for terms in self._ready_terms:
-                terms(space_next & ~busy_next, space_next & ~taking_next & ~in_scored_next,
-                      space_next & taking_next)
+            nexts = (space_next & ~busy_next, space_next & ~taking_next & ~in_scored_next,
+                     space_next & taking_next)
+            m.d.sync += load_port(nexts) + load_own(nexts)
         m.d.sync += scan_request.eq(list_end)
         with m.If(list_end):
             m.d.sync += busy.eq(1)
@@ -351,15 +351,11 @@ class Segmenter(wiring.Component):
 
     def _ready_from_registers(self, m, name, inverted):
         """``states.ready`` (registered style) from three registers ``ready_{name}_*``
-        (stored inverted if ``inverted``), whose next values :meth:`elaborate` gives
-        through ``self._ready_terms``; reset: space low, so ready low."""
+        (stored inverted if ``inverted``; reset: space low, so ready low), and a function
+        giving the statements that load them with their next values (:meth:`elaborate`)."""
         regs = [Signal(init=inverted, name=f"ready_{name}_{t}")
                 for t in ("open", "free", "taking")]
         value = [~r if inverted else r for r in regs]
-
-        def terms(*nexts):
-            m.d.sync += [r.eq(~n if inverted else n) for r, n in zip(regs, nexts)]
-        self._ready_terms.append(terms)
         ready = Signal(name=f"ready_{name}")
         m.d.comb += ready.eq(value[0] | value[1] | (value[2] & ~self.segment_frames_one))
-        return ready
+        return ready, lambda nexts: [r.eq(~n if inverted else n) for r, n in zip(regs, nexts)]

@@ -9,7 +9,8 @@ from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
 from dptbd.hw.schedule import MAX_TREE_STAGES
 from dptbd.hw.segmenter import CONTROL_STYLES
 
-__all__ = ["LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "OUTPUT_QUEUE_STYLES", "CORE_OPTIONS", "check_core_options",
+__all__ = ["LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "OUTPUT_QUEUE_STYLES", "CORE_OPTIONS",
+           "check_core_options",
            "core_line_buffer"]
 
 #: ``DPCore(line_buffer_style=…)`` and the line buffer memory's ``ram_style`` for each.

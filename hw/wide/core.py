@@ -68,8 +68,8 @@ class DPCoreWide(wiring.Component):
     ``control_style`` and ``output_queue_style`` are accepted and not used: the wide store
     is :class:`~dptbd.hw.wide.state_store.WideStateStore`, the wide histogram
     :class:`~dptbd.hw.banked_histogram.BankedHistogram` in Amaranth memories, the control
-    logic the generic one, the flags travel with the words in the one output FIFO); refused with :class:`~dptbd.errors.ConfigError` as
-    :func:`check_wide` says.
+    logic the generic one, the flags travel with the words in the one output FIFO);
+    refused with :class:`~dptbd.errors.ConfigError` as :func:`check_wide` says.
 
     Members
     -------
