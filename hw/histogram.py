@@ -15,7 +15,8 @@ from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
-from dptbd.hw.dp16kd import DP16KD_MAX_DEPTH, dp16kd_memory
+from dptbd.hw.dp16kd import DP16KD_MAX_DEPTH
+from dptbd.hw.staged_histogram import staged_histogram
 
 __all__ = ["HISTOGRAM_STYLES", "Histogram"]
 
@@ -62,7 +63,9 @@ class Histogram(wiring.Component):
         ``"memory"`` (default): an :class:`~amaranth.lib.memory.Memory` (block RAM) and a
         register after its read port. ``"dp16kd"``: ECP5 DP16KDs
         (:func:`~dptbd.hw.dp16kd.dp16kd_memory`) whose output register is that register,
-        so the read's word leaves a register instead of the array's 5.8 ns clock-to-out;
+        so the read's word leaves a register instead of the array's 5.8 ns clock-to-out,
+        and the pipeline of :func:`~dptbd.hw.staged_histogram.staged_histogram` (the word
+        registered again, increments of one bin in consecutive reads added as an amount);
         at most 16384 bins. Same cycles; for ECP5 synthesis only (no simulation model).
         Anything else raises ``ValueError``.
     dp16kd : callable or None
@@ -117,6 +120,8 @@ class Histogram(wiring.Component):
         })
 
     def elaborate(self, platform):
+        if self._style == "dp16kd":
+            return staged_histogram(self, self._cfg, self._dp16kd, self._held_apart)
         m = Module()
         cfg = self._cfg
         top = cfg.n_bins - 1
@@ -201,14 +206,7 @@ class Histogram(wiring.Component):
         m.d.comb += forwarded.eq(Mux(take_write, write.data, Mux(take_last, last_data, prev_data)))
         count = Signal(cfg.bin_count_bits)
         m.d.comb += count.eq(Mux(forward, forwarded, word_2))
-        if self._style == "dp16kd":
-            # the memory's word and the forwarded count each incremented on its own carry
-            # chain, chosen after: the word meets the chain first, not the forwarding's
-            # multiplexer (the carry out is the saturation)
-            incremented = Mux(forward, _saturating_increment(m, forwarded, "forwarded"),
-                              _saturating_increment(m, word_2, "word"))
-        else:
-            incremented = Mux(count == full, full, count + 1)
+        incremented = Mux(count == full, full, count + 1)
         m.d.comb += [
             self.scan_valid.eq(scan_2),
             self.scan_bin.eq(bin_2),
@@ -229,11 +227,6 @@ class Histogram(wiring.Component):
         """The counters' memory on the ``read`` / ``write`` port signals; returns the word
         read in cycle r as a register in r+2."""
         cfg = self._cfg
-        if self._style == "dp16kd":
-            return dp16kd_memory(
-                m, "memory", width=cfg.bin_count_bits, depth=cfg.n_bins, read_addr=read.addr,
-                read_en=read.en, out_en=1, write_addr=write.addr, write_data=write.data,
-                write_en=write.en, cell=self._dp16kd)
         m.submodules.memory = memory = Memory(
             shape=cfg.bin_count_bits, depth=cfg.n_bins, init=[])
         write_port = memory.write_port(domain="sync")
@@ -246,15 +239,6 @@ class Histogram(wiring.Component):
         ]
         m.d.sync += word_2.eq(read_port.data)
         return word_2
-
-
-def _saturating_increment(m, value, name):
-    """``value + 1``, all ones where ``value`` is all ones: the carry out of the adder ORed
-    into every bit."""
-    width = len(value)
-    total = Signal(width + 1, name=f"{name}_plus_one")
-    m.d.comb += total.eq(value + 1)
-    return total[:width] | total[width].replicate(width)
 
 
 class _Port:

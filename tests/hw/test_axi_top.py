@@ -5,6 +5,7 @@ close of an open list or state line.
 
 
 import numpy as np
+import pytest
 from amaranth.hdl import Fragment
 from amaranth.lib.wiring import In, Out
 
@@ -15,6 +16,7 @@ from dptbd.hw.layouts import pack_states
 from dptbd.sim.stream_model import expected_stream
 from dptbd.hw.register_map import constants_namespace
 from helpers.axil_harness import axil_read, axil_write, flat_axil, simulate_top
+from helpers.dp16kd_model import model_dp16kd_cells
 from helpers.seg_harness import make_config
 
 
@@ -362,17 +364,21 @@ def lockstep_trace(top, cfg, seed, cycles, replay=None):
     return trace
 
 
-def test_registered_control_is_the_generic_top_cycle_for_cycle():
+@pytest.mark.parametrize("histogram_style", ["memory", "dp16kd"])
+def test_registered_control_is_the_generic_top_cycle_for_cycle(histogram_style, monkeypatch):
     """``control_style="registered"`` (the ECP5 build: the input held from registers of its
-    own computed a cycle ahead, the segmenter's registered control) gives every output port
-    the generic build's value in every cycle, under soft resets, other writes, reads,
-    back-pressure and ``aresetn``, with the state output."""
+    own computed a cycle ahead, the segmenter's registered control), with either histogram
+    (``"dp16kd"`` on the behavioural DP16KD) gives every output port the generic build's
+    value in every cycle, under soft resets, other writes, reads, back-pressure and
+    ``aresetn``, with the state output."""
+    model_dp16kd_cells(monkeypatch)
     # 16 bins: a short histogram scan, so that many lists are sent
     cfg = make_config(width=8, height=6, segment_frames=2, candidate_count=3, histogram_bits=4,
                       histogram_shift=2)
     generic = lockstep_trace(AXITop(cfg, state_output=True), cfg, 5, 10000)
     registered = lockstep_trace(
-        AXITop(cfg, state_output=True, core_options={"control_style": "registered"}),
+        AXITop(cfg, state_output=True, core_options={"control_style": "registered",
+                                                     "histogram_style": histogram_style}),
         cfg, 5, 10000, replay=generic)
     assert [out for _d, out in registered] == [out for _d, out in generic]
 

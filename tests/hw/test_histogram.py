@@ -101,6 +101,67 @@ def test_dp16kd_style_with_a_model_of_the_block_ram_counts_the_same(histogram_bi
     assert all(c == 0 for _, c in scans[1]) and spans == [cfg.n_bins + 1] * 2
 
 
+def simulate_rounds(cfg, rounds, **options):
+    """Rounds of increments, each a list of (bin, idle cycles before it) and the idle
+    cycles between its last increment and its scan (0: the scan starts in the next cycle,
+    the segmenter's timing); the next round begins in the cycle after the scan's last
+    count. Returns each scan's (bin, count + held) list."""
+    dut = Histogram(cfg, **options)
+    result = []
+
+    async def bench(ctx):
+        for increments, settle in rounds:
+            for b, gap in increments:
+                ctx.set(dut.add_en, 0)
+                for _ in range(gap):
+                    await ctx.tick()
+                ctx.set(dut.add_bin, int(b))
+                ctx.set(dut.add_en, 1)
+                await ctx.tick()
+            ctx.set(dut.add_en, 0)
+            for _ in range(settle):
+                await ctx.tick()
+            scans, _ = await scan_histogram(ctx, dut, 1)
+            result.append(scans[0])
+
+    simulate(dut, bench)
+    return result
+
+
+@pytest.mark.parametrize("held_apart", [False, True])
+def test_dp16kd_style_increments_at_every_distance_and_around_scans(held_apart):
+    """``style="dp16kd"`` (the ECP5 pipeline: an increment of the bin read one cycle before
+    adds to that read's amount, the counts formed two to four reads before are forwarded)
+    against the reference counts: one bin again after 0-5 other bins back to back, runs,
+    random bins with gaps, saturation, the last two or three increments on the scan's
+    first bins with the scan in the next cycle, increments right after a scan, with and
+    without ``held_apart``."""
+    cfg = make_config(width=16, height=16, histogram_bits=3, candidate_count=20,
+                      candidate_capacity=40)
+    top, full = cfg.n_bins - 1, (1 << cfg.bin_count_bits) - 1
+    assert full == 63
+    rng = np.random.default_rng(7)
+    rounds = []
+    for k in range(15):
+        distances = [b for d in range(1, 7) for b in [top, *range(1, d), top]]
+        runs = np.repeat(rng.choice([top, 0, 5], 4), rng.integers(1, 9, 4)).tolist()
+        pattern = [(int(b), int(rng.choice([0, 0, 1, 2, 3]))) for b in
+                   rng.choice([top, top - 1, 0, 2], int(rng.integers(1, 30)))]
+        tail = [[top, top], [top - 1, top, top], [top, top - 1], [0, top], [top]][k % 5]
+        saturating = [2] * 70 if k == 4 else []
+        increments = ([(b, 0) for b in distances + runs + saturating] + pattern
+                      + [(b, 0) for b in tail])
+        rounds.append((increments, k % 3))
+    got = simulate_rounds(cfg, rounds, style="dp16kd", dp16kd=DP16KDModel,
+                          held_apart=held_apart)
+    want = simulate_rounds(cfg, rounds)
+    # held apart, count + held is unsaturated (full + 1) where the count is full
+    got = [[(b, min(c, full)) for b, c in scan] for scan in got]
+    counts = [np.bincount([b for b, _ in inc], minlength=cfg.n_bins) for inc, _ in rounds]
+    assert got == want == [[(b, min(c[b], full)) for b in range(top, -1, -1)] for c in counts]
+    assert sum(c.max() > full for c in counts) == 1
+
+
 @pytest.mark.parametrize("style", ["memory", "dp16kd"])
 def test_held_apart_gives_the_held_increment_beside_the_count(style):
     """``held_apart=True`` (the ECP5 build): the increment the scan's first read displaces
