@@ -79,12 +79,13 @@ class RegisterFile(wiring.Component):
     """
 
     def __init__(self, cfg: DPConfig, regmap=None, *, pulses_ahead: bool = False,
-                 bounds_registered: bool = False):
+                 bounds_registered: bool = False, refusal_registered: bool = False):
         # regmap: register_map(cfg) if None
         self._cfg = cfg
         self._map = register_map(cfg) if regmap is None else regmap
         self._ahead = bool(pulses_ahead)
         self._bounds = bool(bounds_registered)
+        self._refusal = bool(refusal_registered)
         members = {
             "axil": In(axi_lite_signature(ADDRESS_BITS)),
             "events": In(event_port_layout(self._map.events)),
@@ -223,8 +224,9 @@ class RegisterFile(wiring.Component):
             elif reg.kind == "setting":
                 refusals.append(at[reg.name] & ~ok[reg.name])
                 errors.append(at[reg.name] & ~ok[reg.name])
-        m.d.comb += [bus.w_err.eq(Cat(*errors).any()),
-                     refused.eq(writing & Cat(*refusals).any())]
+        m.d.comb += bus.w_err.eq(Cat(*errors).any())
+        domain = m.d.sync if self._refusal else m.d.comb
+        domain += refused.eq(writing & Cat(*refusals).any())
         for reg in regmap.registers:
             with m.If(writing & at[reg.name]):
                 current = values[reg.name]

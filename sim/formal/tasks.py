@@ -56,8 +56,8 @@ TASKS = (
                lambda: CreditFifoHarness(order=True), "prove", 4, 0),
     FormalTask("s_axil_registers", "AXI4-Lite subordinate, refused writes, W1C bits",
                RegistersHarness, "prove", 4, 12),
-    FormalTask("s_axil_registers_bytes", "the same with the range check by bytes (the ECP5 "
-               "build's, bounds_registered)",
+    FormalTask("s_axil_registers_bytes", "the same with the range check by bytes and the "
+               "refusal registered (the ECP5 build's, bounds_registered, refusal_registered)",
                lambda: RegistersHarness(bounds_registered=True), "prove", 4, 0),
     FormalTask("dp_pipeline", "DPPipeline 5x4: states stream, pixels in - words out",
                PipelineHarness, "prove", 4, 20, fast=False),

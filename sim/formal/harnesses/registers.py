@@ -28,7 +28,9 @@ class RegistersHarness(Harness):
     sticky / interrupt bit and writes no LUT entry; a sticky / interrupt bit (W1C) goes from
     1 to 0 only in the cycle after an accepted write of a 1 to it; every setting lies in
     its limits (:func:`setting_invariants`, which also holds the invariants of the range
-    check; ``bounds_registered`` as :class:`~dptbd.hw.register_file.RegisterFile`'s).
+    check; ``bounds_registered``: the ECP5 build's register block,
+    :class:`~dptbd.hw.register_file.RegisterFile`'s ``bounds_registered`` and
+    ``refusal_registered``).
     Invariants (for the induction): while an AW is held, the register block's decode of it, registered at its
     handshake, is its address's; an accepted AR is the read being answered (the cycle after
     its handshake) or ``rvalid``, and the read's registered decode is its address's; the subordinate's registered ``busy`` is ``bvalid`` or
@@ -41,7 +43,8 @@ class RegistersHarness(Harness):
         self.bounds_registered = bounds_registered
 
     def check(self, m, past):
-        regs = Elaborated(RegisterFile(self.cfg, bounds_registered=self.bounds_registered))
+        regs = Elaborated(RegisterFile(self.cfg, bounds_registered=self.bounds_registered,
+                                       refusal_registered=self.bounds_registered))
         m.submodules.regs = regs.fragment
         rf = regs.component
         self.free_inputs(m, rf, "regs")
