@@ -18,6 +18,12 @@ addresses and check the data in those cycles and answer from registers.
 Whether a response is pending or being prepared (``bvalid``, ``rvalid`` or a read between
 its handshake and ``r_stb``) is a register of its own, ``busy``, computed a cycle ahead: it
 holds off every ready.
+
+With ``late_read=True`` (the ECP5 build's register block, ``RegisterFile(read_registered=True)``)
+the read's answer (``r_data``, ``r_err``) is taken a cycle after ``r_stb`` (``reading_late``),
+so that the register block can register a first level of its read there: ``rvalid`` rises
+three cycles after the AR handshake; the block still reads its registers in the ``r_stb``
+cycle.
 """
 
 from __future__ import annotations
@@ -91,7 +97,8 @@ class AXILiteSubordinate(wiring.Component):
     bus : Out(register_bus_signature(address_bits))
     """
 
-    def __init__(self, address_bits: int, data_bits: int = 32):
+    def __init__(self, address_bits: int, data_bits: int = 32, *, late_read: bool = False):
+        self._late = bool(late_read)
         super().__init__({
             "axil": In(axi_lite_signature(address_bits, data_bits)),
             "bus": Out(register_bus_signature(address_bits, data_bits)),
@@ -141,14 +148,20 @@ class AXILiteSubordinate(wiring.Component):
         m.d.sync += reading.eq(bus.ar_in_stb)
         with m.If(bus.ar_in_stb):
             m.d.sync += ar_addr.eq(ar.araddr)
-        with m.If(reading):
+        answer = reading
+        if self._late:                     # the answer a cycle after r_stb
+            reading_late = Signal()
+            m.d.sync += reading_late.eq(reading)
+            answer = reading_late
+        with m.If(answer):
             m.d.sync += [r.rvalid.eq(1), r.rdata.eq(bus.r_data),
                          r.rresp.eq(Mux(bus.r_err, RESP_SLVERR, RESP_OKAY))]
         with m.Elif(r.rvalid & r.rready):
             m.d.sync += r.rvalid.eq(0)
         # busy of the next cycle: a response offered then (held, or raised now) or a read
         # being answered then
-        m.d.sync += busy.eq(writing | reading | bus.ar_in_stb
-                            | (b.bvalid & ~b.bready) | (r.rvalid & ~r.rready))
+        busy_next = (writing | reading | bus.ar_in_stb
+                     | (b.bvalid & ~b.bready) | (r.rvalid & ~r.rready))
+        m.d.sync += busy.eq(busy_next | reading_late if self._late else busy_next)
         return m
 

@@ -71,9 +71,11 @@ TASKS = (
                "list out of m_axis_cand", lambda: AXITopHarness(tiny_config(segment_frames=1),
                                                                  list_cover=True),
                "prove", 4, 68, fast=False, cover_syn=True),
-    FormalTask("dptbd_axi_registered", "the same with control_style='registered' (the ECP5 "
-               "build's input and segmenter control)",
-               lambda: AXITopHarness(core_options={"control_style": "registered"}), "prove", 4,
+    FormalTask("dptbd_axi_registered", "the same with control_style='registered' and "
+               "register_read='two_level' (the ECP5 build's input and segmenter control, its "
+               "register read)",
+               lambda: AXITopHarness(core_options={"control_style": "registered",
+                                                   "register_read": "two_level"}), "prove", 4,
                0),
     FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "
                "the AXI4 manager port (dptbd_dp --state-store axi)", AxiStoreHarness,

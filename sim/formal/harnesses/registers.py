@@ -173,7 +173,10 @@ def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:
                            "write_at_lut != the held address's")
     # ... and the read being answered, decoded at its AR handshake, is its address's
     r_addr = bus.r_addr
-    with m.If(port.signal("reading")):
+    late = rf.read_registered              # the answer a cycle after the read
+    answering = port.signal("reading") | (port.signal("reading_late") if late else 0)
+    in_flight = port.signal("reading") + (port.signal("reading_late") if late else 0)
+    with m.If(answering):
         hits = []
         for reg in regmap.registers:
             hit = r_addr == reg.address
@@ -185,8 +188,8 @@ def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:
     m.d.comb += [
         Assert(aw_out == port.signal("have_aw") + b.bvalid, "AW outstanding != held"),
         Assert(w_out == port.signal("have_w") + b.bvalid, "W outstanding != held"),
-        Assert(ar_out == port.signal("reading") + r.rvalid,
+        Assert(ar_out == in_flight + r.rvalid,
                "AR outstanding != the read being answered + rvalid"),
-        Assert(port.signal("busy") == (b.bvalid | r.rvalid | port.signal("reading")),
+        Assert(port.signal("busy") == (b.bvalid | r.rvalid | answering),
                "busy != bvalid | rvalid | the read being answered"),
     ]
