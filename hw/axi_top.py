@@ -158,6 +158,7 @@ class AXITop(wiring.Component):
                                                 pulses_ahead=registered,
                                                 bounds_registered=registered,
                                                 refusal_registered=registered,
+                                                handshake_apart=registered,
                                                 read_registered=self._core.core_options.get(
                                                     "register_read") == "two_level")
         # a soft reset: the output adapters close the list and the state line being sent,

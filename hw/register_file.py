@@ -80,11 +80,30 @@ class RegisterFile(wiring.Component):
     the current value's byte kept in registers (set by the write that takes a value, from
     the same comparisons), so that no comparison runs from a setting's register to the
     write's decision. Same answers, same cycles.
+
+    With ``refusal_registered=True`` (the ECP5 build's) a refused write sets
+    ``ERROR.write_refused`` and ``IRQ_STATUS.fault`` from a register, at the end of the
+    cycle after the write (visible two cycles after it, ``irq`` a cycle later than
+    without): the refusal's OR over the decoded address and the checks ends at that
+    register, not in the sticky bits' enables. No read can tell: the earliest read after
+    a write reads the registers three cycles after it (the response, then the AR
+    handshake).
+
+    With ``read_registered=True`` (the ECP5 build's, ``register_read="two_level"``) a
+    read's AND-OR is split in two: in the cycle after the AR handshake (as without) the
+    selected words of each group of four registers are ORed into a register, in the next
+    cycle the groups' registers are ORed into the read data: ``rvalid`` rises three
+    cycles after the AR handshake (two without), with the registers of the cycle after it
+    as without.
+
+    With ``handshake_apart=True`` (the ECP5 build's) the AXI4-Lite port's AW and W
+    handshakes come from a copy of its ``busy`` of their own
+    (:class:`~dptbd.hw.axi_lite.AXILiteSubordinate`), not from the ready pins' logic.
     """
 
     def __init__(self, cfg: DPConfig, regmap=None, *, pulses_ahead: bool = False,
                  bounds_registered: bool = False, refusal_registered: bool = False,
-                 read_registered: bool = False):
+                 read_registered: bool = False, handshake_apart: bool = False):
         # regmap: register_map(cfg) if None
         self._cfg = cfg
         self._map = register_map(cfg) if regmap is None else regmap
@@ -92,6 +111,7 @@ class RegisterFile(wiring.Component):
         self._bounds = bool(bounds_registered)
         self._refusal = bool(refusal_registered)
         self._read_registered = bool(read_registered)
+        self._apart = bool(handshake_apart)
         members = {
             "axil": In(axi_lite_signature(ADDRESS_BITS)),
             "events": In(event_port_layout(self._map.events)),
@@ -113,6 +133,11 @@ class RegisterFile(wiring.Component):
         return self._map
 
     @property
+    def handshake_apart(self) -> bool:
+        """The AW and W handshakes from a copy of the port's ``busy``."""
+        return self._apart
+
+    @property
     def read_registered(self) -> bool:
         """A read's first level registered (``rvalid`` three cycles after the AR handshake)."""
         return self._read_registered
@@ -120,7 +145,8 @@ class RegisterFile(wiring.Component):
     def elaborate(self, platform):
         m = Module()
         m.submodules.axil = port = AXILiteSubordinate(ADDRESS_BITS,
-                                                      late_read=self._read_registered)
+                                                      late_read=self._read_registered,
+                                                      handshake_apart=self._apart)
         wiring.connect(m, wiring.flipped(self.axil), port.axil)
         bus, regmap = port.bus, self._map
         byte_mask = Cat(bit.replicate(8) for bit in bus.w_strb)

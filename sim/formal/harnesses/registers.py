@@ -30,7 +30,7 @@ class RegistersHarness(Harness):
     its limits (:func:`setting_invariants`, which also holds the invariants of the range
     check; ``bounds_registered``: the ECP5 build's register block,
     :class:`~dptbd.hw.register_file.RegisterFile`'s ``bounds_registered`` and
-    ``refusal_registered``).
+    ``refusal_registered`` and ``handshake_apart``).
     Invariants (for the induction): while an AW is held, the register block's decode of it, registered at its
     handshake, is its address's; an accepted AR is the read being answered (the cycle after
     its handshake) or ``rvalid``, and the read's registered decode is its address's; the subordinate's registered ``busy`` is ``bvalid`` or
@@ -44,7 +44,8 @@ class RegistersHarness(Harness):
 
     def check(self, m, past):
         regs = Elaborated(RegisterFile(self.cfg, bounds_registered=self.bounds_registered,
-                                       refusal_registered=self.bounds_registered))
+                                       refusal_registered=self.bounds_registered,
+                                       handshake_apart=self.bounds_registered))
         m.submodules.regs = regs.fragment
         rf = regs.component
         self.free_inputs(m, rf, "regs")
@@ -193,3 +194,5 @@ def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:
         Assert(port.signal("busy") == (b.bvalid | r.rvalid | answering),
                "busy != bvalid | rvalid | the read being answered"),
     ]
+    if rf.handshake_apart:                 # the handshakes' copy of ~busy
+        m.d.comb += Assert(port.signal("idle") == ~port.signal("busy"), "idle != ~busy")

@@ -122,3 +122,16 @@ def test_a_refusal_sets_its_bits_a_cycle_later(bounds):
     # not vacuous: refused writes raised irq a cycle later
     assert sum(generic[c][1][bresp] == 2 for c in raised) > 50
     assert late > 10
+
+
+def test_handshake_apart_answers_as_the_generic_port():
+    """``handshake_apart=True`` (the ECP5 build's: the AW and W handshakes from a copy of
+    the port's ``busy``): every output the same in every cycle."""
+    cfg = make_config(width=32, height=32, candidate_count=300)
+    regmap = register_map(cfg)
+    generic, paths = lockstep(cfg, regmap, 7, 4000)
+    apart, _ = lockstep(cfg, regmap, 7, 4000, replay=generic, handshake_apart=True)
+    for cycle, ((_d, want), (_e, got)) in enumerate(zip(generic, apart)):
+        assert got == want, (cycle, [p for p, a, b in zip(paths, want, got) if a != b])
+    out = dict(zip(paths, zip(*[o for _d, o in generic])))
+    assert sum(out[("axil", "b", "bvalid")]) > 500 and sum(out[("axil", "r", "rvalid")]) > 500
