@@ -293,6 +293,9 @@ def main(argv=None) -> int:
     parser.add_argument("--output-queue-style", choices=CORE_OPTIONS["output_queue_style"],
                         help="the pointers of the P = 1 core's output flags FIFO (default: "
                              "the family's, binary on iCE40, one-hot on ECP5)")
+    parser.add_argument("--register-read", choices=CORE_OPTIONS["register_read"],
+                        help="the AXI top's register read (default: the family's, one level "
+                             "on iCE40, two with the first registered on ECP5)")
     parser.add_argument("--no-breakdown", action="store_true",
                         help="skip the hierarchical synthesis (per-block table)")
     parser.add_argument("--workdir", type=pathlib.Path, default=pathlib.Path("build/synth"))

@@ -18,6 +18,18 @@ addresses and check the data in those cycles and answer from registers.
 Whether a response is pending or being prepared (``bvalid``, ``rvalid`` or a read between
 its handshake and ``r_stb``) is a register of its own, ``busy``, computed a cycle ahead: it
 holds off every ready.
+
+With ``late_read=True`` (the ECP5 build's register block, ``RegisterFile(read_registered=True)``)
+the read's answer (``r_data``, ``r_err``) is taken a cycle after ``r_stb`` (``reading_late``),
+so that the register block can register a first level of its read there: ``rvalid`` rises
+three cycles after the AR handshake; the block still reads its registers in the ``r_stb``
+cycle.
+
+With ``handshake_apart=True`` (the ECP5 build's) the AW and W handshakes the block sees
+(``aw_in_stb``, ``w_in_stb``) are formed from a copy of ``not busy`` of their own (a
+register, so that synthesis keeps the two apart), not from the ``awready`` / ``wready``
+ports: the logic that drives those pins does not also drive the handshakes' enables.
+Same cycles.
 """
 
 from __future__ import annotations
@@ -91,7 +103,10 @@ class AXILiteSubordinate(wiring.Component):
     bus : Out(register_bus_signature(address_bits))
     """
 
-    def __init__(self, address_bits: int, data_bits: int = 32):
+    def __init__(self, address_bits: int, data_bits: int = 32, *, late_read: bool = False,
+                 handshake_apart: bool = False):
+        self._late = bool(late_read)
+        self._apart = bool(handshake_apart)
         super().__init__({
             "axil": In(axi_lite_signature(address_bits, data_bits)),
             "bus": Out(register_bus_signature(address_bits, data_bits)),
@@ -123,9 +138,7 @@ class AXILiteSubordinate(wiring.Component):
             bus.r_stb.eq(reading),
             bus.ar_in_stb.eq(ar.arvalid & ar.arready),
             bus.ar_in_addr.eq(ar.araddr),
-            bus.aw_in_stb.eq(aw.awvalid & aw.awready),
             bus.aw_in_addr.eq(aw.awaddr),
-            bus.w_in_stb.eq(w.wvalid & w.wready),
             bus.w_in_data.eq(w.wdata),
             bus.w_in_strb.eq(w.wstrb),
         ]
@@ -141,14 +154,30 @@ class AXILiteSubordinate(wiring.Component):
         m.d.sync += reading.eq(bus.ar_in_stb)
         with m.If(bus.ar_in_stb):
             m.d.sync += ar_addr.eq(ar.araddr)
-        with m.If(reading):
+        answer = reading
+        if self._late:                     # the answer a cycle after r_stb
+            reading_late = Signal()
+            m.d.sync += reading_late.eq(reading)
+            answer = reading_late
+        with m.If(answer):
             m.d.sync += [r.rvalid.eq(1), r.rdata.eq(bus.r_data),
                          r.rresp.eq(Mux(bus.r_err, RESP_SLVERR, RESP_OKAY))]
         with m.Elif(r.rvalid & r.rready):
             m.d.sync += r.rvalid.eq(0)
         # busy of the next cycle: a response offered then (held, or raised now) or a read
         # being answered then
-        m.d.sync += busy.eq(writing | reading | bus.ar_in_stb
-                            | (b.bvalid & ~b.bready) | (r.rvalid & ~r.rready))
+        busy_next = (writing | reading | bus.ar_in_stb
+                     | (b.bvalid & ~b.bready) | (r.rvalid & ~r.rready))
+        if self._late:
+            busy_next = busy_next | reading_late
+        m.d.sync += busy.eq(busy_next)
+        if self._apart:                    # ~busy, a copy for the handshakes
+            idle = Signal(init=1)
+            m.d.sync += idle.eq(~busy_next)
+            m.d.comb += [bus.aw_in_stb.eq(aw.awvalid & ~have_aw & idle),
+                         bus.w_in_stb.eq(w.wvalid & ~have_w & idle)]
+        else:
+            m.d.comb += [bus.aw_in_stb.eq(aw.awvalid & aw.awready),
+                         bus.w_in_stb.eq(w.wvalid & w.wready)]
         return m
 

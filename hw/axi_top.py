@@ -156,7 +156,11 @@ class AXITop(wiring.Component):
         registered = self._core.core_options.get("control_style") == "registered"
         m.submodules.regs = regs = RegisterFile(cfg, self._register_map,
                                                 pulses_ahead=registered,
-                                                bounds_registered=registered)
+                                                bounds_registered=registered,
+                                                refusal_registered=registered,
+                                                handshake_apart=registered,
+                                                read_registered=self._core.core_options.get(
+                                                    "register_read") == "two_level")
         # a soft reset: the output adapters close the list and the state line being sent,
         # then restart pulses (registered, a cycle later), which resets the core, the frame
         # monitor and m_axis_state's adapter

@@ -10,6 +10,7 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
 from dptbd.hw.candidate_layout import candidate_layout, record_layout, trailer_layout
+from dptbd.hw.thermometer_fifo import ThermometerFIFO
 
 __all__ = ["CandidateEmitter"]
 
@@ -40,6 +41,13 @@ class CandidateEmitter(wiring.Component):
         ``True`` (the ECP5 build): "fewer than C emitted" is a register updated with the
         count, so no comparison lies between the count and the FIFO's write; ``False``
         (default): the comparison. Same words, same cycles.
+    staged_fifo : bool or None
+        ``True``: the output FIFO is a :class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO`
+        whose write goes through a stage register (``staged=True``), with its level's
+        flags in registers, and a trailer's count is completed in the cycle it is written
+        (the record of the list's last pixel added there), so that the push ends at
+        registers: no adder, level counter or memory write enable after it. ``None``
+        (default): as ``registered_cap`` (the ECP5 build's). Same words, same cycles.
 
     Members
     -------
@@ -59,12 +67,14 @@ class CandidateEmitter(wiring.Component):
         register of the caller's own that must follow it.
     """
 
-    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, registered_cap: bool = False):
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, registered_cap: bool = False,
+                 staged_fifo: bool | None = None):
         if fifo_depth < 6:
             raise ValueError(f"fifo_depth must be an integer in [6, inf), got {fifo_depth}")
         self._cfg = cfg
         self._depth = fifo_depth
         self._registered_cap = registered_cap
+        self._staged = registered_cap if staged_fifo is None else bool(staged_fifo)
         super().__init__({
             "valid": In(1),
             "selected": In(1),
@@ -106,9 +116,13 @@ class CandidateEmitter(wiring.Component):
         trailer = Signal(trailer_layout(cfg))
         trailer_pending = Signal()
         m.d.sync += trailer_pending.eq(self.valid & self.end_of_list)
+        if self._staged:                             # the list's last pixel's record
+            last_pushed = Signal()
+            with m.If(self.valid & self.end_of_list):
+                m.d.sync += last_pushed.eq(push)
         with m.If(self.valid & self.end_of_list):
             m.d.sync += [
-                trailer.count.eq(emitted + push),
+                trailer.count.eq(emitted if self._staged else emitted + push),
                 trailer.threshold.eq(self.threshold),
                 trailer.overflow.eq(overflow | dropped),
                 trailer.primed.eq(self.primed),
@@ -126,8 +140,26 @@ class CandidateEmitter(wiring.Component):
         word = Signal(layout)
         with m.If(trailer_pending):
             m.d.comb += [word.body.trailer.eq(trailer), word.end_of_list.eq(1)]
+            if self._staged:
+                m.d.comb += word.body.trailer.count.eq(trailer.count + last_pushed)
         with m.Else():
             m.d.comb += word.body.record.eq(self.record)
+
+        if self._staged:
+            m.submodules.fifo = staged = ThermometerFIFO(layout, self._depth, staged=True,
+                                                         low_mark=self._depth - 5)
+            m.d.comb += [
+                staged.w.payload.eq(word),
+                staged.w.valid.eq(push | trailer_pending),
+                self.candidates.payload.eq(staged.r.payload),
+                self.candidates.valid.eq(staged.r.valid),
+                staged.r.ready.eq(self.candidates.ready),
+            ]
+            space_next = staged.low
+            if self._registered_cap:
+                m.d.comb += self.space_next.eq(space_next)
+            m.d.sync += self.space.eq(space_next)
+            return m
 
         m.submodules.fifo = out = fifo.SyncFIFOBuffered(
             width=data.Layout.cast(layout).size, depth=self._depth)

@@ -118,7 +118,10 @@ class Controller(wiring.Component):
     With ``registered=True`` (the ECP5 build's, ``control_style="registered"``):
     ``position.end_of_segment`` is a frame's end and the register "the segment's last
     frame", without the case of a segment's first pixel (which never ends a frame: W*H > 1)
-    and so without the run-time K on its path. Same outputs, same cycles.
+    and so without the run-time K on its path; ``next_read_addr``'s choice on ``resync``
+    from a copy of the "at (0, 0)" register of its own (stored inverted, so that synthesis
+    keeps the two apart), placed for the state store's block RAMs, which that address
+    drives. Same outputs, same cycles.
     """
 
     def __init__(self, cfg: DPConfig, *, registered: bool = False):
@@ -184,7 +187,16 @@ class Controller(wiring.Component):
         last_col = ~self.resync & col_last
         end_of_frame = last_col & row_last
         next_ahead = Mux(self.resync, (ahead_start + 1) % pixels, ahead_next)
-        m.d.comb += [self.read_addr.eq(eff_ahead), self.next_read_addr.eq(next_ahead)]
+        m.d.comb += self.read_addr.eq(eff_ahead)
+        if self._registered:
+            # ~at_start, a copy of its own for the store's read-ahead address
+            away = Signal(name="away_from_start")
+            with m.If(self.accept):
+                m.d.sync += away.eq(~end_of_frame)
+            m.d.comb += self.next_read_addr.eq(
+                Mux(self.first & away, (ahead_start + 1) % pixels, ahead_next))
+        else:
+            m.d.comb += self.next_read_addr.eq(next_ahead)
 
         with m.If(self.accept):
             # Next values from the registers alone, `resync` (from the input `first`)

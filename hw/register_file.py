@@ -15,7 +15,8 @@ field kinds (:data:`!dptbd.hw.register_map.FIELD_KINDS`):
   bits written 1 pulse for one cycle (the cycle after the write); ``constant`` / ``counter``
   / ``status`` and unmapped addresses: refused with SLVERR only;
 - a read's address is decoded at its AR handshake and the register read in the next cycle
-  (``rvalid`` rises the cycle after that, two cycles after the handshake); a ``status``
+  (``rvalid`` rises the cycle after that, two cycles after the handshake; three with
+  ``read_registered``); a ``status``
   field reads its input port (of the same name) in that cycle, the one after the handshake;
 - a LUT window write is taken if all four bytes are strobed (``wstrb`` = 1111) and the word
   lies in the code's ``limits``; otherwise refused (entry unchanged,
@@ -39,6 +40,9 @@ from dptbd.hw.axi_lite import AXILiteSubordinate, axi_lite_signature
 from dptbd.hw.register_map import ADDRESS_BITS, COUNTER_BITS, EVENTS, register_map
 
 __all__ = ["event_port_layout", "RegisterFile"]
+
+#: ``read_registered``: the registers ORed into each first-level register of a read.
+READ_GROUP = 4
 
 
 def event_port_layout(events=EVENTS) -> data.StructLayout:
@@ -76,15 +80,38 @@ class RegisterFile(wiring.Component):
     the current value's byte kept in registers (set by the write that takes a value, from
     the same comparisons), so that no comparison runs from a setting's register to the
     write's decision. Same answers, same cycles.
+
+    With ``refusal_registered=True`` (the ECP5 build's) a refused write sets
+    ``ERROR.write_refused`` and ``IRQ_STATUS.fault`` from a register, at the end of the
+    cycle after the write (visible two cycles after it, ``irq`` a cycle later than
+    without): the refusal's OR over the decoded address and the checks ends at that
+    register, not in the sticky bits' enables. No read can tell: the earliest read after
+    a write reads the registers three cycles after it (the response, then the AR
+    handshake).
+
+    With ``read_registered=True`` (the ECP5 build's, ``register_read="two_level"``) a
+    read's AND-OR is split in two: in the cycle after the AR handshake (as without) the
+    selected words of each group of four registers are ORed into a register, in the next
+    cycle the groups' registers are ORed into the read data: ``rvalid`` rises three
+    cycles after the AR handshake (two without), with the registers of the cycle after it
+    as without.
+
+    With ``handshake_apart=True`` (the ECP5 build's) the AXI4-Lite port's AW and W
+    handshakes come from a copy of its ``busy`` of their own
+    (:class:`~dptbd.hw.axi_lite.AXILiteSubordinate`), not from the ready pins' logic.
     """
 
     def __init__(self, cfg: DPConfig, regmap=None, *, pulses_ahead: bool = False,
-                 bounds_registered: bool = False):
+                 bounds_registered: bool = False, refusal_registered: bool = False,
+                 read_registered: bool = False, handshake_apart: bool = False):
         # regmap: register_map(cfg) if None
         self._cfg = cfg
         self._map = register_map(cfg) if regmap is None else regmap
         self._ahead = bool(pulses_ahead)
         self._bounds = bool(bounds_registered)
+        self._refusal = bool(refusal_registered)
+        self._read_registered = bool(read_registered)
+        self._apart = bool(handshake_apart)
         members = {
             "axil": In(axi_lite_signature(ADDRESS_BITS)),
             "events": In(event_port_layout(self._map.events)),
@@ -105,9 +132,21 @@ class RegisterFile(wiring.Component):
     def register_map(self):
         return self._map
 
+    @property
+    def handshake_apart(self) -> bool:
+        """The AW and W handshakes from a copy of the port's ``busy``."""
+        return self._apart
+
+    @property
+    def read_registered(self) -> bool:
+        """A read's first level registered (``rvalid`` three cycles after the AR handshake)."""
+        return self._read_registered
+
     def elaborate(self, platform):
         m = Module()
-        m.submodules.axil = port = AXILiteSubordinate(ADDRESS_BITS)
+        m.submodules.axil = port = AXILiteSubordinate(ADDRESS_BITS,
+                                                      late_read=self._read_registered,
+                                                      handshake_apart=self._apart)
         wiring.connect(m, wiring.flipped(self.axil), port.axil)
         bus, regmap = port.bus, self._map
         byte_mask = Cat(bit.replicate(8) for bit in bus.w_strb)
@@ -167,10 +206,17 @@ class RegisterFile(wiring.Component):
         with m.If(bus.ar_in_stb):
             m.d.sync += read_none.eq(~Cat(*[~ra[:2].any() & (ra[2:] == reg.address >> 2)
                                             for reg in regmap.registers]).any())
+        terms = [values[reg.name] & sel.replicate(32)
+                 for reg, sel in zip(regmap.registers, r_sel)]
+        if self._read_registered:       # groups of four registers ORed into a register
+            groups = []
+            for g in range(0, len(terms), READ_GROUP):
+                group = Signal(32, name=f"read_group_{g // READ_GROUP}")
+                m.d.sync += group.eq(functools.reduce(operator.or_, terms[g:g + READ_GROUP]))
+                groups.append(group)
+            terms = groups
         m.d.comb += [
-            bus.r_data.eq(functools.reduce(operator.or_, [
-                values[reg.name] & sel.replicate(32)
-                for reg, sel in zip(regmap.registers, r_sel)])),
+            bus.r_data.eq(functools.reduce(operator.or_, terms)),
             bus.r_err.eq(read_none),
         ]
 
@@ -223,8 +269,9 @@ class RegisterFile(wiring.Component):
             elif reg.kind == "setting":
                 refusals.append(at[reg.name] & ~ok[reg.name])
                 errors.append(at[reg.name] & ~ok[reg.name])
-        m.d.comb += [bus.w_err.eq(Cat(*errors).any()),
-                     refused.eq(writing & Cat(*refusals).any())]
+        m.d.comb += bus.w_err.eq(Cat(*errors).any())
+        domain = m.d.sync if self._refusal else m.d.comb
+        domain += refused.eq(writing & Cat(*refusals).any())
         for reg in regmap.registers:
             with m.If(writing & at[reg.name]):
                 current = values[reg.name]

@@ -21,11 +21,21 @@ can be split between a memory FIFO and a registers twin (``DPCore``'s flags).
 D - 1 flip-flops): each word's write enable and read select is one pointer bit, so the read
 is an AND-OR of (bit, word) pairs with no decode, and no pointer bit fans out to more than
 the word's width (the ECP5 build's flags twin, ``output_queue_style="one_hot"``).
+
+``staged=True`` registers the write first (``w.valid`` and ``w.payload`` into a stage
+register, as the memory's word of the next cycle): the same cycles at the ports, but
+the writer's logic ends at the stage register instead of running into the memory's write
+enable and the level. The staged word is written into the memory at the write pointer in
+the next cycle and, when the memory is empty and the output register free, moved into the
+output register in that same cycle (read beside the memory: the memory's read is
+asynchronous; with ``storage`` other than ``"memory"`` the words are in flip-flops behind
+binary pointers). ``low_mark=k`` adds ``low``: the level of ``SyncFIFOBuffered`` (words in
+the memory, the stage and the output register) is at most k, from registers.
 """
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal, Value
+from amaranth.hdl import Cat, Const, Module, Mux, Signal, Value
 from amaranth.lib import stream, wiring
 from amaranth.lib.memory import Memory
 from amaranth.lib.wiring import In, Out
@@ -62,7 +72,8 @@ class ThermometerFIFO(wiring.Component):
         value before the first word.
     """
 
-    def __init__(self, shape, depth: int, *, storage: str = "memory"):
+    def __init__(self, shape, depth: int, *, storage: str = "memory", staged: bool = False,
+                 low_mark: int | None = None):
         try:
             self._depth = check_int("depth", depth, 2)
             if storage not in STORAGES:
@@ -73,7 +84,10 @@ class ThermometerFIFO(wiring.Component):
             raise
         self._shape = shape
         self._storage = storage
-        super().__init__({"w": In(stream.Signature(shape)), "r": Out(stream.Signature(shape))})
+        self._staged = bool(staged)
+        self._low_mark = low_mark
+        super().__init__({"w": In(stream.Signature(shape)), "r": Out(stream.Signature(shape)),
+                          **({} if low_mark is None else {"low": Out(1)})})
 
     @property
     def depth(self) -> int:
@@ -81,6 +95,8 @@ class ThermometerFIFO(wiring.Component):
         return self._depth
 
     def elaborate(self, platform):
+        if self._staged:
+            return self._elaborate_staged()
         m = Module()
         words = self._depth - 1
         m.submodules.level = level = ThermometerCounter(words)
@@ -152,4 +168,76 @@ class ThermometerFIFO(wiring.Component):
             m.d.sync += self.r.valid.eq(1)
         with m.Elif(self.r.ready):
             m.d.sync += self.r.valid.eq(0)
+        if self._low_mark is not None:
+            m.d.comb += self.low.eq(_at_most(level.at_least, self._low_mark, [self.r.valid]))
         return m
+
+    def _elaborate_staged(self):
+        """``staged=True``: the write through a stage register (see the module doc)."""
+        m = Module()
+        words = self._depth - 1
+        m.submodules.level = level = ThermometerCounter(words)
+        staged = Signal()                            # a word in the stage: the memory's
+        staged_word = Signal(self._shape)
+        # room while the stage and the memory hold at most words - 1 (SyncFIFOBuffered's
+        # memory level below its depth)
+        full = level.at_least[words - 1] | (staged & (level.at_least[words - 2] if words > 1
+                                                      else 1))
+        m.d.comb += self.w.ready.eq(~full)
+        m.d.sync += [staged.eq(self.w.valid & ~full), staged_word.eq(self.w.payload)]
+        not_empty = level.at_least[0]
+        # the oldest word (the memory's head, else the staged word) moves into the output
+        # register when that is empty or being read; the staged word is always written
+        # into the memory, so a word moved from the stage passes through it at once
+        do_read = (not_empty | staged) & (~self.r.valid | self.r.ready)
+        produce = Signal(range(words))
+        consume = Signal(range(words))
+        with m.If(staged):
+            m.d.sync += produce.eq(increment_mod(produce, words))
+        with m.If(do_read):
+            m.d.sync += consume.eq(increment_mod(consume, words))
+        m.d.comb += [level.up.eq(staged), level.down.eq(do_read)]
+        head = Signal(self._shape)
+        if self._storage == "memory":
+            m.submodules.storage = storage = Memory(shape=self._shape, depth=words, init=[])
+            write = storage.write_port()
+            read = storage.read_port(domain="comb")
+            m.d.comb += [write.addr.eq(produce), write.data.eq(staged_word),
+                         write.en.eq(staged), read.addr.eq(consume)]
+            oldest = read.data
+        else:
+            cells = [Signal(self._shape, name=f"word_{i}") for i in range(words)]
+            for i, cell in enumerate(cells):
+                with m.If(staged & (produce == i)):
+                    m.d.sync += cell.eq(staged_word)
+            oldest = 0
+            for i, cell in enumerate(cells):
+                oldest = oldest | Mux(consume == i, Value.cast(cell), 0)
+        with m.If(do_read):
+            m.d.sync += head.eq(Mux(not_empty, oldest, staged_word))
+        m.d.comb += self.r.payload.eq(head)
+        with m.If(do_read):
+            m.d.sync += self.r.valid.eq(1)
+        with m.Elif(self.r.ready):
+            m.d.sync += self.r.valid.eq(0)
+        if self._low_mark is not None:
+            m.d.comb += self.low.eq(_at_most(level.at_least, self._low_mark,
+                                             [staged, self.r.valid]))
+        return m
+
+
+def _at_most(at_least, mark: int, extra) -> Value:
+    """A thermometer count (``at_least``) plus the one-bit ``extra`` counts is at most
+    ``mark``: for each number e of extra bits set, count <= mark - e."""
+    terms = []
+    n = len(extra)
+    for pattern in range(1 << n):
+        bits = [(pattern >> i) & 1 for i in range(n)]
+        e = sum(bits)
+        match = Cat(*[b if want else ~b for b, want in zip(extra, bits)]).all()
+        left = mark - e                              # count <= left
+        if left < 0:
+            continue
+        within = 1 if left >= len(at_least) else ~at_least[left]
+        terms.append(match & within)
+    return Cat(*terms).any() if terms else Const(0, 1)

@@ -85,6 +85,11 @@ class DPCore(wiring.Component):
         The output flags' FIFO's pointers (``ThermometerFIFO(storage="registers")`` or
         ``"one_hot"``, what the flow builds for ECP5): same words, same cycles. Anything
         else raises ``ValueError``.
+    register_read : {"one_level", "two_level"}
+        The AXI top's register read (:class:`~dptbd.hw.register_file.RegisterFile`
+        ``read_registered`` with ``"two_level"``, what the flow builds for ECP5: an
+        AXI4-Lite read answered a cycle later). DPCore checks and keeps it. Anything else
+        raises ``ValueError``.
 
     Members
     -------
@@ -119,12 +124,14 @@ class DPCore(wiring.Component):
                  lut_style: str = "auto", line_buffer_style: str = "bram",
                  sideband_delay: str = "registers", max_tree: str = "compact",
                  state_store_style: str = "memory", histogram_style: str = "memory",
-                 control_style: str = "generic", output_queue_style: str = "binary"):
+                 control_style: str = "generic", output_queue_style: str = "binary",
+                 register_read: str = "one_level"):
         # -- line buffer and side-band storage (per-family implementation options) --
         check_core_options(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
                            state_store_style=state_store_style,
                            histogram_style=histogram_style, control_style=control_style,
-                           output_queue_style=output_queue_style)
+                           output_queue_style=output_queue_style,
+                           register_read=register_read)
         self._line_buffer_style = line_buffer_style
         self._sideband_delay = sideband_delay
         self._max_tree = max_tree
@@ -132,6 +139,7 @@ class DPCore(wiring.Component):
         self._histogram_style = histogram_style
         self._control_style = control_style
         self._output_queue_style = output_queue_style
+        self._register_read = register_read
         self._schedule = check_supported(cfg, max_tree=max_tree)   # refuses a bad max_tree
         # -- end --
         self._cfg = cfg
@@ -210,7 +218,8 @@ class DPCore(wiring.Component):
                 "state_store_style": self._state_store_style,
                 "histogram_style": self._histogram_style,
                 "control_style": self._control_style,
-                "output_queue_style": self._output_queue_style}
+                "output_queue_style": self._output_queue_style,
+                "register_read": self._register_read}
 
     def elaborate(self, platform):
         m = Module()

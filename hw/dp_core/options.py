@@ -9,7 +9,8 @@ from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
 from dptbd.hw.schedule import MAX_TREE_STAGES
 from dptbd.hw.segmenter import CONTROL_STYLES
 
-__all__ = ["LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "OUTPUT_QUEUE_STYLES", "CORE_OPTIONS",
+__all__ = ["LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "OUTPUT_QUEUE_STYLES", "REGISTER_READS",
+           "CORE_OPTIONS",
            "check_core_options",
            "core_line_buffer"]
 
@@ -22,6 +23,10 @@ SIDEBAND_DELAYS = ("registers", "memory")
 #: (:class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO` ``storage="registers"`` or
 #: ``"one_hot"``).
 OUTPUT_QUEUE_STYLES = ("binary", "one_hot")
+#: ``DPCore(register_read=…)``: the AXI top's register read in one level, or its first
+#: level registered (:class:`~dptbd.hw.register_file.RegisterFile` ``read_registered``,
+#: ``rvalid`` a cycle later).
+REGISTER_READS = ("one_level", "two_level")
 
 #: DPCore's implementation options (keyword arguments) with their allowed values; none
 #: changes behaviour (``max_tree`` changes the latency), the synthesis flow picks them per
@@ -29,11 +34,12 @@ OUTPUT_QUEUE_STYLES = ("binary", "one_hot")
 #: ``histogram_style`` the segmenter's histogram's, ``control_style`` the control logic of the
 #: segmenter and of the AXI top's input, carried here so that one set of options reaches
 #: every top; ``output_queue_style`` the output flags' FIFO's (P = 1; the P > 1 cores have
-#: no flags twin).
+#: no flags twin); ``register_read`` the AXI top's register block's read.
 CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS,
                 "max_tree": tuple(MAX_TREE_STAGES), "state_store_style": STATE_STORE_STYLES,
                 "histogram_style": HISTOGRAM_STYLES, "control_style": CONTROL_STYLES,
-                "output_queue_style": OUTPUT_QUEUE_STYLES}
+                "output_queue_style": OUTPUT_QUEUE_STYLES,
+                "register_read": REGISTER_READS}
 
 
 def check_core_options(**options: str) -> None:

@@ -67,7 +67,8 @@ class Family:
         register (``state_store_style`` and ``histogram_style`` ``"dp16kd"``), the control
         logic of the segmenter and of the AXI top's input from registers of their own
         (``control_style="registered"``), the P = 1 core's output flags' FIFO with one-hot
-        pointers (``output_queue_style="one_hot"``).
+        pointers (``output_queue_style="one_hot"``), the AXI top's register read with its
+        first level registered (``register_read="two_level"``).
         :meth:`options_for` gives a configuration's.
     dp16kd_line_buffer_from : int or None
         The frame width from which the family builds the line buffer in DP16KDs read through
@@ -170,7 +171,8 @@ ICE40 = Family(
     core_options={"line_buffer_style": "bram", "sideband_delay": "memory",
                   "max_tree": "compact", "state_store_style": "memory",
                   "histogram_style": "memory", "control_style": "generic",
-                  "output_queue_style": "binary"})
+                  "output_queue_style": "binary",
+                  "register_read": "one_level"})
 
 #: ECP5 (nextpnr-ecp5): LFE5U-25F in the CABGA256 package (197 I/O), speed grade 6
 #: (nextpnr's default, the slowest), by default; ``"45k"`` is the LFE5U-45F.
@@ -185,7 +187,8 @@ ECP5 = Family(
     core_options={"line_buffer_style": "lutram", "sideband_delay": "registers",
                   "max_tree": "split", "state_store_style": "dp16kd",
                   "histogram_style": "dp16kd", "control_style": "registered",
-                  "output_queue_style": "one_hot"},
+                  "output_queue_style": "one_hot",
+                  "register_read": "two_level"},
     dp16kd_line_buffer_from=512)
 
 #: name -> :class:`Family`.

@@ -65,7 +65,8 @@ class DPCoreWide(wiring.Component):
 
     Parameters and properties as :class:`~dptbd.hw.dp_core.DPCore` (same options, same
     schedule and latency, counted in beats; ``state_store_style``, ``histogram_style``,
-    ``control_style`` and ``output_queue_style`` are accepted and not used: the wide store
+    ``control_style``, ``output_queue_style`` and ``register_read`` are accepted and not
+    used: the wide store
     is :class:`~dptbd.hw.wide.state_store.WideStateStore`, the wide histogram
     :class:`~dptbd.hw.banked_histogram.BankedHistogram` in Amaranth memories, the control
     logic the generic one, the flags travel with the words in the one output FIFO);
@@ -87,15 +88,18 @@ class DPCoreWide(wiring.Component):
                  lut_style: str = "auto", line_buffer_style: str = "bram",
                  sideband_delay: str = "registers", max_tree: str = "compact",
                  state_store_style: str = "memory", histogram_style: str = "memory",
-                 control_style: str = "generic", output_queue_style: str = "binary"):
+                 control_style: str = "generic", output_queue_style: str = "binary",
+                 register_read: str = "one_level"):
         check_core_options(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
                            state_store_style=state_store_style,
                            histogram_style=histogram_style, control_style=control_style,
-                           output_queue_style=output_queue_style)
+                           output_queue_style=output_queue_style,
+                           register_read=register_read)
         self._state_store_style = state_store_style
         self._histogram_style = histogram_style
         self._control_style = control_style
         self._output_queue_style = output_queue_style
+        self._register_read = register_read
         self._schedule = check_wide(cfg, max_tree=max_tree)
         self._line_buffer_style = line_buffer_style
         self._sideband_delay = sideband_delay
@@ -133,7 +137,8 @@ class DPCoreWide(wiring.Component):
                 "state_store_style": self._state_store_style,
                 "histogram_style": self._histogram_style,
                 "control_style": self._control_style,
-                "output_queue_style": self._output_queue_style}
+                "output_queue_style": self._output_queue_style,
+                "register_read": self._register_read}
 
     def elaborate(self, platform):
         m = Module()

@@ -56,8 +56,8 @@ TASKS = (
                lambda: CreditFifoHarness(order=True), "prove", 4, 0),
     FormalTask("s_axil_registers", "AXI4-Lite subordinate, refused writes, W1C bits",
                RegistersHarness, "prove", 4, 12),
-    FormalTask("s_axil_registers_bytes", "the same with the range check by bytes (the ECP5 "
-               "build's, bounds_registered)",
+    FormalTask("s_axil_registers_bytes", "the same with the range check by bytes and the "
+               "refusal registered (the ECP5 build's, bounds_registered, refusal_registered)",
                lambda: RegistersHarness(bounds_registered=True), "prove", 4, 0),
     FormalTask("dp_pipeline", "DPPipeline 5x4: states stream, pixels in - words out",
                PipelineHarness, "prove", 4, 20, fast=False),
@@ -71,9 +71,11 @@ TASKS = (
                "list out of m_axis_cand", lambda: AXITopHarness(tiny_config(segment_frames=1),
                                                                  list_cover=True),
                "prove", 4, 68, fast=False, cover_syn=True),
-    FormalTask("dptbd_axi_registered", "the same with control_style='registered' (the ECP5 "
-               "build's input and segmenter control)",
-               lambda: AXITopHarness(core_options={"control_style": "registered"}), "prove", 4,
+    FormalTask("dptbd_axi_registered", "the same with control_style='registered' and "
+               "register_read='two_level' (the ECP5 build's input and segmenter control, its "
+               "register read)",
+               lambda: AXITopHarness(core_options={"control_style": "registered",
+                                                   "register_read": "two_level"}), "prove", 4,
                0),
     FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "
                "the AXI4 manager port (dptbd_dp --state-store axi)", AxiStoreHarness,

@@ -299,7 +299,8 @@ def test_external_state_store_ports_and_core_options():
     cfg = config()
     options = {"line_buffer_style": "lutram", "sideband_delay": "memory", "max_tree": "split",
                "state_store_style": "dp16kd", "histogram_style": "dp16kd",
-               "control_style": "registered", "output_queue_style": "one_hot"}
+               "control_style": "registered", "output_queue_style": "one_hot",
+               "register_read": "two_level"}
     top = AXITop(cfg, external_state_store=True, core_options=options)
     ports = {path[0]: member.flow for path, member, _v in top.signature.flatten(top)}
     store = [n for n in ports if n.startswith("state_store_")]
@@ -316,11 +317,12 @@ def test_external_state_store_ports_and_core_options():
     Fragment.get(top, None)
 
 
-def lockstep_trace(top, cfg, seed, cycles, replay=None):
+def lockstep_trace(top, cfg, seed, cycles, replay=None, reads=True):
     """Every input and output port of ``top`` in every cycle: a random stimulus (pixels in
     frames of W*H taken beats, a stray start of frame now and then, soft resets and other
     writes to CONTROL, reads, back-pressure, ``aresetn`` now and then), or ``replay``, the
-    inputs of an earlier trace (the same stimulus on another build)."""
+    inputs of an earlier trace (the same stimulus on another build); no reads unless
+    ``reads``."""
     regs = constants_namespace(cfg)
     rng = np.random.default_rng(seed)
     pixels = cfg.width * cfg.height
@@ -350,7 +352,7 @@ def lockstep_trace(top, cfg, seed, cycles, replay=None):
                     "s_axil_wstrb": 0xF,
                     "s_axil_bready": int(rng.random() < 0.5),
                     "s_axil_araddr": int(rng.choice([regs.REG_STATUS, regs.REG_INPUT_STALLS])),
-                    "s_axil_arvalid": int(rng.random() < 0.05),
+                    "s_axil_arvalid": int(rng.random() < 0.05) * reads,
                     "s_axil_rready": int(rng.random() < 0.5),
                 }
             for name in inputs:
@@ -364,21 +366,26 @@ def lockstep_trace(top, cfg, seed, cycles, replay=None):
     return trace
 
 
-@pytest.mark.parametrize("histogram_style", ["memory", "dp16kd"])
-def test_registered_control_is_the_generic_top_cycle_for_cycle(histogram_style, monkeypatch):
+@pytest.mark.parametrize("options, reads", [
+    ({"control_style": "registered"}, True),
+    ({"control_style": "registered", "histogram_style": "dp16kd", "register_read": "two_level"},
+     False)],
+    ids=["registered", "ecp5"])
+def test_registered_control_is_the_generic_top_cycle_for_cycle(options, reads, monkeypatch):
     """``control_style="registered"`` (the ECP5 build: the input held from registers of its
-    own computed a cycle ahead, the segmenter's registered control), with either histogram
-    (``"dp16kd"`` on the behavioural DP16KD) gives every output port the generic build's
-    value in every cycle, under soft resets, other writes, reads, back-pressure and
-    ``aresetn``, with the state output."""
+    own computed a cycle ahead, the segmenter's registered control) gives every output port
+    the generic build's value in every cycle, under soft resets, other writes, reads,
+    back-pressure and ``aresetn``, with the state output; with the ECP5 build's
+    ``histogram_style="dp16kd"`` (on the behavioural DP16KD) and ``register_read="two_level"``
+    too (a read answered a cycle later, ``tests/hw/test_axi_lite.py``) the same without
+    reads."""
     model_dp16kd_cells(monkeypatch)
     # 16 bins: a short histogram scan, so that many lists are sent
     cfg = make_config(width=8, height=6, segment_frames=2, candidate_count=3, histogram_bits=4,
                       histogram_shift=2)
-    generic = lockstep_trace(AXITop(cfg, state_output=True), cfg, 5, 10000)
+    generic = lockstep_trace(AXITop(cfg, state_output=True), cfg, 5, 10000, reads=reads)
     registered = lockstep_trace(
-        AXITop(cfg, state_output=True, core_options={"control_style": "registered",
-                                                     "histogram_style": histogram_style}),
+        AXITop(cfg, state_output=True, core_options=options),
         cfg, 5, 10000, replay=generic)
     assert [out for _d, out in registered] == [out for _d, out in generic]
 

@@ -78,22 +78,24 @@ def rtl_fifo(dut, stim):
     return trace
 
 
+@pytest.mark.parametrize("staged", [False, True], ids=["direct", "staged"])
 @pytest.mark.parametrize("storage", STORAGES)
 @pytest.mark.parametrize("depth, gap, stall, seed", cases())
-def test_cycles_are_those_of_sync_fifo_buffered(depth, gap, stall, seed, storage):
+def test_cycles_are_those_of_sync_fifo_buffered(depth, gap, stall, seed, storage, staged):
     stim = stimulus(gap, stall, seed)
-    trace = rtl_fifo(ThermometerFIFO(WIDTH, depth, storage=storage), stim)
+    trace = rtl_fifo(ThermometerFIFO(WIDTH, depth, storage=storage, staged=staged), stim)
     assert trace == ref_fifo(depth, stim)
     assert trace == rtl_fifo(LibraryFIFO(depth), stim)          # the model is the library's
     if stall > gap:     # back-pressure wins: the FIFO fills up and refuses writes
         assert not all(w_ready for w_ready, _, _ in trace)
 
 
+@pytest.mark.parametrize("staged", [False, True], ids=["direct", "staged"])
 @pytest.mark.parametrize("storage", STORAGES)
-def test_a_word_takes_two_cycles_and_then_one_per_cycle(storage):
+def test_a_word_takes_two_cycles_and_then_one_per_cycle(storage, staged):
     """Written in cycles 0, 1, 2 into an empty FIFO: on ``r`` from cycles 2, 3, 4."""
     stim = [(cycle < 3, True) for cycle in range(8)]
-    trace = rtl_fifo(ThermometerFIFO(WIDTH, 4, storage=storage), stim)
+    trace = rtl_fifo(ThermometerFIFO(WIDTH, 4, storage=storage, staged=staged), stim)
     assert [word for _, _, word in trace] == [None, None, 1, 2, 3, None, None, None]
 
 
@@ -115,6 +117,45 @@ def test_carries_a_layout(storage):
 
     simulate(dut, bench)
     assert seen == [(5, 0), (4, 1)]
+
+
+def ref_levels(depth, stim):
+    """Every cycle's level of ``SyncFIFOBuffered(depth)`` (memory words and the output
+    register) under ``stim``, as :func:`ref_fifo` drives it."""
+    memory, out_valid, levels = 0, False, []
+    for offer, take in stim:
+        levels.append(memory + out_valid)
+        w_ready = memory < depth - 1
+        if memory and (not out_valid or take):
+            memory, out_valid = memory - 1, True
+        elif take:
+            out_valid = False
+        memory += offer and w_ready
+    return levels
+
+
+@pytest.mark.parametrize("staged", [False, True], ids=["direct", "staged"])
+@pytest.mark.parametrize("depth, gap, stall, seed", [(2, 0.3, 0.5, 2), (8, 0.2, 0.5, 6),
+                                                     (9, 0.4, 0.4, 7)])
+def test_low_is_the_level_at_most_the_mark(depth, gap, stall, seed, staged):
+    """``low_mark=k``: ``low`` is high exactly in the cycles whose level is at most k, for
+    every k from 0 to the depth."""
+    stim = stimulus(gap, stall, seed)
+    levels = ref_levels(depth, stim)
+    assert len(set(levels)) == depth + 1                  # every level is reached
+    for mark in range(depth + 1):
+        dut = ThermometerFIFO(WIDTH, depth, storage="memory", staged=staged, low_mark=mark)
+        lows = []
+
+        async def bench(ctx, dut=dut, lows=lows):
+            for offer, take in stim:
+                ctx.set(dut.w.valid, offer)
+                ctx.set(dut.r.ready, take)
+                lows.append(bool(ctx.get(dut.low)))
+                await ctx.tick()
+
+        simulate(dut, bench)
+        assert lows == [level <= mark for level in levels], mark
 
 
 def test_refuses_a_depth_below_two():

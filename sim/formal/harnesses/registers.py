@@ -28,7 +28,9 @@ class RegistersHarness(Harness):
     sticky / interrupt bit and writes no LUT entry; a sticky / interrupt bit (W1C) goes from
     1 to 0 only in the cycle after an accepted write of a 1 to it; every setting lies in
     its limits (:func:`setting_invariants`, which also holds the invariants of the range
-    check; ``bounds_registered`` as :class:`~dptbd.hw.register_file.RegisterFile`'s).
+    check; ``bounds_registered``: the ECP5 build's register block,
+    :class:`~dptbd.hw.register_file.RegisterFile`'s ``bounds_registered`` and
+    ``refusal_registered`` and ``handshake_apart``).
     Invariants (for the induction): while an AW is held, the register block's decode of it, registered at its
     handshake, is its address's; an accepted AR is the read being answered (the cycle after
     its handshake) or ``rvalid``, and the read's registered decode is its address's; the subordinate's registered ``busy`` is ``bvalid`` or
@@ -41,7 +43,9 @@ class RegistersHarness(Harness):
         self.bounds_registered = bounds_registered
 
     def check(self, m, past):
-        regs = Elaborated(RegisterFile(self.cfg, bounds_registered=self.bounds_registered))
+        regs = Elaborated(RegisterFile(self.cfg, bounds_registered=self.bounds_registered,
+                                       refusal_registered=self.bounds_registered,
+                                       handshake_apart=self.bounds_registered))
         m.submodules.regs = regs.fragment
         rf = regs.component
         self.free_inputs(m, rf, "regs")
@@ -170,7 +174,10 @@ def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:
                            "write_at_lut != the held address's")
     # ... and the read being answered, decoded at its AR handshake, is its address's
     r_addr = bus.r_addr
-    with m.If(port.signal("reading")):
+    late = rf.read_registered              # the answer a cycle after the read
+    answering = port.signal("reading") | (port.signal("reading_late") if late else 0)
+    in_flight = port.signal("reading") + (port.signal("reading_late") if late else 0)
+    with m.If(answering):
         hits = []
         for reg in regmap.registers:
             hit = r_addr == reg.address
@@ -182,8 +189,10 @@ def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:
     m.d.comb += [
         Assert(aw_out == port.signal("have_aw") + b.bvalid, "AW outstanding != held"),
         Assert(w_out == port.signal("have_w") + b.bvalid, "W outstanding != held"),
-        Assert(ar_out == port.signal("reading") + r.rvalid,
+        Assert(ar_out == in_flight + r.rvalid,
                "AR outstanding != the read being answered + rvalid"),
-        Assert(port.signal("busy") == (b.bvalid | r.rvalid | port.signal("reading")),
+        Assert(port.signal("busy") == (b.bvalid | r.rvalid | answering),
                "busy != bvalid | rvalid | the read being answered"),
     ]
+    if rf.handshake_apart:                 # the handshakes' copy of ~busy
+        m.d.comb += Assert(port.signal("idle") == ~port.signal("busy"), "idle != ~busy")

@@ -174,6 +174,7 @@ def top_invariants(m, past, top: Elaborated, opens, started, pending, aw_out, w_
       (:func:`~dptbd.sim.formal.harnesses.flow.dp_core_invariants`, its ``ready`` low after a
       soft reset too), in terms of its own pixels accepted − words out since a reset.
     """
+    from dptbd.hw.thermometer_fifo import ThermometerFIFO
     from dptbd.sim.formal.harnesses.flow import dp_core_invariants
     from dptbd.sim.formal.harnesses.registers import register_invariants
 
@@ -199,11 +200,16 @@ def top_invariants(m, past, top: Elaborated, opens, started, pending, aw_out, w_
     if "idle" not in drop:
         segmenter = core.sub("segmenter")
         emitter = segmenter.sub("emitter")
+        fifo = emitter.sub("fifo")
+        if isinstance(fifo.component, ThermometerFIFO):     # staged (registered control)
+            empty = (~fifo.signal("staged") & ~fifo.sub("level").component.at_least.any()
+                     & ~fifo.component.r.valid)
+        else:
+            empty = fifo.component.level == 0
         with m.If(~started):
             m.d.comb += [
                 Assert((fork == 0) & ~segmenter.signal("valid_b")
-                       & ~emitter.signal("trailer_pending")
-                       & (emitter.sub("fifo").component.level == 0),
+                       & ~emitter.signal("trailer_pending") & empty,
                        "a word past the DP pipeline before the first pixel"),
             ]
     if "closed" not in drop:

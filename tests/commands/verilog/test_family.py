@@ -18,13 +18,16 @@ parse = parser_of(verilog_command)
 @pytest.mark.parametrize("family, options, latency", [
     (None, {"line_buffer_style": "bram", "sideband_delay": "registers", "max_tree": "compact",
             "state_store_style": "memory", "histogram_style": "memory",
-            "control_style": "generic", "output_queue_style": "binary"}, 14),
+            "control_style": "generic", "output_queue_style": "binary",
+            "register_read": "one_level"}, 14),
     ("ice40", {"line_buffer_style": "bram", "sideband_delay": "memory", "max_tree": "compact",
                "state_store_style": "memory", "histogram_style": "memory",
-               "control_style": "generic", "output_queue_style": "binary"}, 14),
+               "control_style": "generic", "output_queue_style": "binary",
+               "register_read": "one_level"}, 14),
     ("ecp5", {"line_buffer_style": "lutram", "sideband_delay": "registers", "max_tree": "split",
               "state_store_style": "dp16kd", "histogram_style": "dp16kd",
-              "control_style": "registered", "output_queue_style": "one_hot"}, 18),
+              "control_style": "registered", "output_queue_style": "one_hot",
+              "register_read": "two_level"}, 18),
 ])
 def test_verilog_family_builds_the_familys_core_options(tmp_path, capsys, family, options,
                                                          latency):
@@ -46,7 +49,8 @@ def test_verilog_family_ecp5_builds_the_line_buffer_in_dp16kds_at_640_wide(tmp_p
     assert verilog_command.main(parse(argv)) == 0
     options = {"line_buffer_style": "dp16kd", "sideband_delay": "registers",
                "max_tree": "split", "state_store_style": "dp16kd", "histogram_style": "dp16kd",
-               "control_style": "registered", "output_queue_style": "one_hot"}
+               "control_style": "registered", "output_queue_style": "one_hot",
+               "register_read": "two_level"}
     assert json.loads((tmp_path / "dp.json").read_text())["core_options"] == options
     # the line buffer, 640 x 28 bits: two 18 x 1024; the prefetch FIFO, 64 x 64 bits: four
     assert out.read_text().count("DP16KD #(") == 2 + 4
@@ -67,18 +71,21 @@ def test_verilog_family_refuses_a_radius_it_cannot_build(tmp_path):
 
 ECP5_OPTIONS = {"line_buffer_style": "lutram", "sideband_delay": "registers", "max_tree": "split",
                 "state_store_style": "dp16kd", "histogram_style": "dp16kd",
-                "control_style": "registered", "output_queue_style": "one_hot"}
+                "control_style": "registered", "output_queue_style": "one_hot",
+                "register_read": "two_level"}
 
 
 ICE40_OPTIONS = {"line_buffer_style": "bram", "sideband_delay": "memory", "max_tree": "compact",
                  "state_store_style": "memory", "histogram_style": "memory",
-                 "control_style": "generic", "output_queue_style": "binary"}
+                 "control_style": "generic", "output_queue_style": "binary",
+                 "register_read": "one_level"}
 
 
 DEFAULT_OPTIONS = {"line_buffer_style": "bram", "sideband_delay": "registers",
                    "max_tree": "compact", "state_store_style": "memory",
                    "histogram_style": "memory", "control_style": "generic",
-                   "output_queue_style": "binary"}
+                   "output_queue_style": "binary",
+                   "register_read": "one_level"}
 
 
 @pytest.mark.parametrize("top, module", [("seg", "dptbd_seg"), ("axi", "dptbd_axi")])

@@ -108,6 +108,7 @@ def test_storage_options_keep_the_cycle_count(monkeypatch, options):
     ("histogram_style", "distributed", "('memory', 'dp16kd')"),
     ("control_style", "fast", "('generic', 'registered')"),
     ("output_queue_style", "shift", "('binary', 'one_hot')"),
+    ("register_read", "late", "('one_level', 'two_level')"),
 ])
 def test_refuses_an_unknown_storage_option(option, bad, allowed):
     with refused(ValueError, whole(f"{option} must be one of {allowed}, got '{bad}'")):

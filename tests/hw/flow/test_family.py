@@ -17,11 +17,13 @@ def test_families():
     assert ICE40.core_options == {"line_buffer_style": "bram", "sideband_delay": "memory",
                                   "max_tree": "compact", "state_store_style": "memory",
                                   "histogram_style": "memory", "control_style": "generic",
-                                  "output_queue_style": "binary"}
+                                  "output_queue_style": "binary",
+                                  "register_read": "one_level"}
     assert ECP5.core_options == {"line_buffer_style": "lutram", "sideband_delay": "registers",
                                  "max_tree": "split", "state_store_style": "dp16kd",
                                  "histogram_style": "dp16kd", "control_style": "registered",
-                                 "output_queue_style": "one_hot"}
+                                 "output_queue_style": "one_hot",
+                                 "register_read": "two_level"}
 
 
 def test_ecp5_builds_the_line_buffer_in_dp16kds_from_512_wide():

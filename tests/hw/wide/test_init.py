@@ -295,6 +295,8 @@ def test_refuses_frames_too_small_for_the_read_ahead_in_beats():
      "control_style must be one of ('generic', 'registered'), got 'fast'"),
     ("output_queue_style", "shift",
      "output_queue_style must be one of ('binary', 'one_hot'), got 'shift'"),
+    ("register_read", "late",
+     "register_read must be one of ('one_level', 'two_level'), got 'late'"),
     ("output_fifo_depth", 2, "output_fifo_depth must be an integer in [3, inf), got 2"),
 ])
 def test_refuses_bad_options(option, value, message):
