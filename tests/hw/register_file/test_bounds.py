@@ -134,4 +134,4 @@ def test_handshake_apart_answers_as_the_generic_port():
     for cycle, ((_d, want), (_e, got)) in enumerate(zip(generic, apart)):
         assert got == want, (cycle, [p for p, a, b in zip(paths, want, got) if a != b])
     out = dict(zip(paths, zip(*[o for _d, o in generic])))
-    assert sum(out[("axil", "b", "bvalid")]) > 500 and sum(out[("axil", "r", "rvalid")]) > 500
+    assert sum(out[("axil", "b", "bvalid")]) > 500 and sum(out[("axil", "r", "rvalid")]) > 100
