@@ -84,7 +84,9 @@ class Segmenter(wiring.Component):
         ``registered_cap``), the list's end and missed end that set ``busy`` and
         ``missed`` as flat products of registers instead of terms of the shared ``accept``,
         ``states.ready`` from registers computed a cycle ahead (two copies: the port's and
-        the segmenter's own accept), and the selection bits ORed in pairs before cycle B.
+        the segmenter's own accept), the selection bits ORed in pairs before cycle B, and
+        the histogram's bin from one shifter per source of the shift (the settings port,
+        the register), chosen after them.
     dp16kd : callable or None
         For ``"dp16kd"``: the DP16KD builder (:class:`~dptbd.hw.histogram.Histogram`'s
         ``dp16kd``; tests pass a behavioural model).
@@ -224,13 +226,22 @@ class Segmenter(wiring.Component):
         # The clamp's mask depends on s only, so it is formed beside the barrel shifter
         # (not behind it), keeping the path to the histogram's read address short.
         b = cfg.histogram_bits
-        shifted = Signal(b)
-        m.d.comb += shifted.eq(word.energy >> eff_shift)
-        above = Signal(cfg.energy_bits)          # bit i set: E's bit i lies above the bins
-        m.d.comb += above.eq(Cat(*[eff_shift <= i - b if i >= b else C(0, 1)
-                                   for i in range(cfg.energy_bits)]))
+
+        def binned(by):
+            shifted = Signal(b)
+            m.d.comb += shifted.eq(word.energy >> by)
+            above = Signal(cfg.energy_bits)      # bit i set: E's bit i lies above the bins
+            m.d.comb += above.eq(Cat(*[by <= i - b if i >= b else C(0, 1)
+                                       for i in range(cfg.energy_bits)]))
+            return Mux((word.energy & above).any(), cfg.n_bins - 1, shifted)
         energy_bin = Signal(range(cfg.n_bins))
-        m.d.comb += energy_bin.eq(Mux((word.energy & above).any(), cfg.n_bins - 1, shifted))
+        if ecp5:
+            # the ECP5 build: a shifter per source of s (the settings port, the register),
+            # the choice after them, so the port's and `taking`'s paths meet no shifter
+            # behind a multiplexer
+            m.d.comb += energy_bin.eq(Mux(taking, binned(self.histogram_shift), binned(shift)))
+        else:
+            m.d.comb += energy_bin.eq(binned(eff_shift))
         m.d.comb += [
             hist.add_bin.eq(energy_bin),
             hist.add_en.eq(accept & scored),
