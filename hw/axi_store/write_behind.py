@@ -20,7 +20,7 @@ their B response, in pixel order (a dropped word counts with the next burst), fo
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal
+from amaranth.hdl import Cat, Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.fifo import SyncFIFO, SyncFIFOBuffered
 from amaranth.lib.wiring import In, Out
@@ -146,6 +146,12 @@ class AxiWriteBehind(wiring.Component):
         # whether it follows the run (is the beat `expect` will hold when it is processed),
         # and the beat after it.
         new_index = self.write_addr >> slot_select
+
+        def follows_test(index, valid, after_valid, otherwise):
+            # staged: both comparisons before the choice, so `beat_valid` chooses last
+            if self._staged:
+                return Mux(valid, index == after_valid, index == otherwise)
+            return index == Mux(valid, after_valid, otherwise)
         expect = Signal(range(beats))                # the beat that continues the run
         beat_next = Signal(range(beats))
         beat_block_end = Signal()
@@ -157,7 +163,7 @@ class AxiWriteBehind(wiring.Component):
                          beat_block_end.eq(
                              ((new_index & (store.burst_beats - 1)) == store.burst_beats - 1)
                              | (new_index == beats - 1)),
-                         beat_follows.eq(new_index == Mux(beat_valid, beat_next, expect))]
+                         beat_follows.eq(follows_test(new_index, beat_valid, beat_next, expect))]
 
         # ---- bursts: runs of consecutive beats, closed at a boundary, the frame's end,
         # or a jump (resynchronisation) -----------------------------------------------------
@@ -202,9 +208,11 @@ class AxiWriteBehind(wiring.Component):
         room = Signal(init=1)
         if self._staged:
             # the W FIFO's level, counted here (SyncFIFOBuffered's `level`)
+            # (its steps computed beside it, the handshakes choosing last)
             level = Signal(range(depth + 1))
-            m.d.sync += level.eq(level + (w_fifo.w_en & w_fifo.w_rdy)
-                                 - (w_fifo.r_en & w_fifo.r_rdy))
+            up = w_fifo.w_en & w_fifo.w_rdy
+            down = w_fifo.r_en & w_fifo.r_rdy
+            m.d.sync += level.eq(Mux(up == down, level, Mux(up, level + 1, level - 1)))
             m.d.comb += self.room_next.eq(level <= depth - self.margin)
         else:
             level = w_fifo.level
@@ -213,14 +221,19 @@ class AxiWriteBehind(wiring.Component):
 
         # ---- AW: one burst at a time from the descriptor FIFO ---------------------------
         head = data.View(descriptor, bursts.r_data)
-        m.submodules.lengths = lengths = SyncFIFO(width=8, depth=store.outstanding)
+        if self._staged:
+            # the lengths with a "single beat" flag: the W burst under way loads its WLAST
+            # from it (``_w_in_registers``)
+            queued = data.StructLayout({"len": 8, "single": 1})
+            m.submodules.lengths = lengths = SyncFIFO(width=queued.size, depth=store.outstanding)
+        else:
+            m.submodules.lengths = lengths = SyncFIFO(width=8, depth=store.outstanding)
         m.submodules.uptos = uptos = SyncFIFO(width=count_bits, depth=store.outstanding)
         in_flight = Signal(range(store.outstanding + 1))
         issue = Signal()
         m.d.comb += [
             issue.eq(bursts.r_rdy & ~self.aw.awvalid & (in_flight < store.outstanding)),
             bursts.r_en.eq(issue),
-            lengths.w_data.eq(head.len), lengths.w_en.eq(issue),
             uptos.w_data.eq(head.upto), uptos.w_en.eq(issue),
             self.aw.awid.eq(0),
             self.aw.awsize.eq(size_code(store.beat_bytes)),
@@ -235,17 +248,23 @@ class AxiWriteBehind(wiring.Component):
                          self.aw.awlen.eq(head.len)]
 
         # ---- W: the beats of issued bursts, WLAST from their lengths ---------------------
-        sent = Signal(8)
         m.d.comb += [
             self.w.wdata.eq(w_fifo.r_data),
             self.w.wstrb.eq((1 << (store.data_bits // 8)) - 1),
-            self.w.wvalid.eq(w_fifo.r_rdy & lengths.r_rdy),
-            self.w.wlast.eq(sent == lengths.r_data),
             w_fifo.r_en.eq(self.w.wvalid & self.w.wready),
-            lengths.r_en.eq(self.w.wvalid & self.w.wready & self.w.wlast),
         ]
-        with m.If(self.w.wvalid & self.w.wready):
-            m.d.sync += sent.eq(Mux(self.w.wlast, 0, sent + 1))
+        if self._staged:
+            self._w_in_registers(m, lengths, queued, head, issue, w_fifo)
+        else:
+            sent = Signal(8)
+            m.d.comb += [
+                lengths.w_data.eq(head.len), lengths.w_en.eq(issue),
+                self.w.wvalid.eq(w_fifo.r_rdy & lengths.r_rdy),
+                self.w.wlast.eq(sent == lengths.r_data),
+                lengths.r_en.eq(self.w.wvalid & self.w.wready & self.w.wlast),
+            ]
+            with m.If(self.w.wvalid & self.w.wready):
+                m.d.sync += sent.eq(Mux(self.w.wlast, 0, sent + 1))
 
         # ---- B: count the answered pixels, flag errors ----------------------------------
         answered = self.b.bvalid & self.b.bready
@@ -258,3 +277,32 @@ class AxiWriteBehind(wiring.Component):
             m.d.sync += self.written.eq(uptos.r_data)
         m.d.sync += in_flight.eq(in_flight + issue - answered)
         return m
+
+    def _w_in_registers(self, m, lengths, queued, head, issue, w_fifo):
+        # staged: the W burst under way in registers (valid, beats left after this one,
+        # WLAST), loaded when the burst ends (or none is under way) from the lengths FIFO's
+        # head or, that FIFO empty, from the descriptor issued in this cycle (which then
+        # skips the FIFO): WVALID is two registers' AND, WLAST a register, and the lengths
+        # FIFO's read enable one LUT of registers and WREADY. The same W in every cycle.
+        current = Signal()                   # a burst's W is under way
+        left = Signal(8)                     # its beats after the one offered
+        last = Signal()                      # WLAST: the one offered is its last
+        beat = self.w.wvalid & self.w.wready
+        done = ~current | (beat & last)      # no burst under way after this cycle
+        queue = data.View(queued, lengths.r_data)
+        m.d.comb += [
+            self.w.wvalid.eq(w_fifo.r_rdy & current),
+            self.w.wlast.eq(last),
+            lengths.r_en.eq(done),
+            lengths.w_data.eq(Cat(head.len, head.len == 0)),
+            lengths.w_en.eq(issue & ~(done & ~lengths.r_rdy)),
+        ]
+        with m.If(done):
+            with m.If(lengths.r_rdy):
+                m.d.sync += [current.eq(1), left.eq(queue.len), last.eq(queue.single)]
+            with m.Elif(issue):
+                m.d.sync += [current.eq(1), left.eq(head.len), last.eq(head.len == 0)]
+            with m.Else():
+                m.d.sync += current.eq(0)
+        with m.Elif(beat):
+            m.d.sync += [left.eq(left - 1), last.eq(left == 1)]
