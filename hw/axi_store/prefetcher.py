@@ -234,12 +234,23 @@ class AxiReadPrefetcher(wiring.Component):
             m.d.sync += self.ar.arvalid.eq(0)
         m.d.sync += [issued.eq(issue & ~(self.take & self.restart)),   # a restart sets both
                      settling.eq(issued | (self.take & self.restart))]
+        if self._style == "dp16kd":
+            # the beat after the burst, a register of the cycle before: `next_beat` and
+            # `length` never change in the cycle before an issue (ARVALID and `settling`
+            # block the two cycles after one, `settling` the cycle after a restart), so the
+            # issue loads it without the addition and its comparison
+            after_first = first_beat + burst_length(first_beat)
+            following_beat = Signal(range(beats), init=0 if after_first == beats else after_first)
+            m.d.sync += following_beat.eq(
+                Mux(next_beat + length == beats, 0, next_beat + length))
+        else:
+            following_beat = Mux(next_beat + length == beats, 0, next_beat + length)
         with m.If(issue):
             m.d.sync += [
                 self.ar.arvalid.eq(1),
                 self.ar.araddr.eq(self.base + next_beat * store.beat_bytes),
                 self.ar.arlen.eq(length - 1),
-                next_beat.eq(Mux(next_beat + length == beats, 0, next_beat + length)),
+                next_beat.eq(following_beat),
             ]
         with m.If(issued):
             # the next burst: a burst ends at a boundary or the frame's end, so next_beat is
@@ -279,11 +290,18 @@ class AxiReadPrefetcher(wiring.Component):
         ]
         with m.If(self.take):
             m.d.sync += taken.eq(taken + 1)
+        if self._style == "dp16kd":
+            # the issue chooses last (its terms come late); a burst is never empty
+            requested = Mux(issue, reserved + length, reserved)
+            none_requested = (reserved == 0) & ~issue
+        else:
+            requested = reserved + Mux(issue, length, 0)
+            none_requested = requested == 0
         with m.If(self.take & self.restart):
-            dropped = reserved + Mux(issue, length, 0)      # a burst issued now is stale
+            # a burst issued now is stale
             m.d.sync += [
-                stale.eq(dropped),
-                fresh.eq(dropped == 0),
+                stale.eq(requested),
+                fresh.eq(none_requested),
                 offset.eq(restart_skip),
                 next_beat.eq(restart_beat),
                 length.eq(burst_length(restart_beat)),
@@ -299,7 +317,7 @@ class AxiReadPrefetcher(wiring.Component):
             last = offset == per_beat - 1
             m.d.comb += pop.eq(last)
             m.d.sync += offset.eq(Mux(last, 0, offset + 1))
-        m.d.sync += reserved.eq(reserved + Mux(issue, length, 0) - pop)
+        m.d.sync += reserved.eq(requested - pop)
         if self._style == "dp16kd":
             # `available`'s next value for the gate's `ready` register (the updates of
             # `head_valid` and `fresh` above), low after a restart: `fresh`'s value there
@@ -324,9 +342,22 @@ class AxiReadPrefetcher(wiring.Component):
         credit = Signal(range(SKID_BEATS + 1), init=SKID_BEATS)
         ahead_valid = Signal()                      # the array's read register holds a beat
         out_valid = Signal()                        # the output register holds a beat
-        fetch = (stored != 0) & (credit != 0)       # the array reads read_ptr
+        # "stored != 0", "credit != 0" and "stored != depth" registers, kept with their
+        # counts: the DP16KDs' enables and RREADY follow no comparison
+        any_stored = Signal()
+        any_credit = Signal(init=1)
+        not_full = Signal(init=1)
+        fetch = any_stored & any_credit             # the array reads read_ptr
         write = self.r.rvalid & self.r.rready
-        m.d.comb += self.r.rready.eq(stored != depth)
+        m.d.comb += self.r.rready.eq(not_full)
+        with m.If(write & ~fetch):
+            m.d.sync += [any_stored.eq(1), not_full.eq(stored != depth - 1)]
+        with m.Elif(fetch & ~write):
+            m.d.sync += [any_stored.eq(stored != 1), not_full.eq(1)]
+        with m.If(pop & ~fetch):
+            m.d.sync += any_credit.eq(1)
+        with m.Elif(fetch & ~pop):
+            m.d.sync += any_credit.eq(credit != 1)
 
         def step(ptr):
             return Mux(ptr == depth - 1, 0, ptr + 1)
