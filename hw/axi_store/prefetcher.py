@@ -210,6 +210,10 @@ class AxiReadPrefetcher(wiring.Component):
         need = Signal(count_bits, init=first_need)
         issued = Signal()                            # a burst issued in the previous cycle
         settling = Signal()                          # the tests below are of stale values
+        # dp16kd: a restart's loads a cycle later, from this register (the pipeline's
+        # handshake drives one flip-flop), while `ready` is low; `settling` covers the cycle
+        # after them
+        restarting = Signal()
         reserved = Signal(range(depth + 1))          # beats requested and not popped
         in_flight = Signal(range(store.outstanding + 1))
         # reset values: the tests on the reset values (written = 0, nothing reserved)
@@ -233,7 +237,8 @@ class AxiReadPrefetcher(wiring.Component):
         with m.If(self.ar.arvalid & self.ar.arready):
             m.d.sync += self.ar.arvalid.eq(0)
         m.d.sync += [issued.eq(issue & ~(self.take & self.restart)),   # a restart sets both
-                     settling.eq(issued | (self.take & self.restart))]
+                     settling.eq(issued | (self.take & self.restart)
+                                 | (restarting if self._style == "dp16kd" else 0))]
         if self._style == "dp16kd":
             # the beat after the burst, a register of the cycle before: `next_beat` and
             # `length` never change in the cycle before an issue (ARVALID and `settling`
@@ -290,24 +295,32 @@ class AxiReadPrefetcher(wiring.Component):
         ]
         with m.If(self.take):
             m.d.sync += taken.eq(taken + 1)
+        restart_need = (burst_length(restart_beat) * per_beat - restart_skip + ahead - pixels)
         if self._style == "dp16kd":
-            # the issue chooses last (its terms come late); a burst is never empty
+            # the restart's loads in the cycle after it (no take there: `ready` is low; no
+            # issue: `settling`), the restart's word and any burst issued with it counted
+            # in `taken` and `reserved` by then; the issue chooses last in `reserved`
+            m.d.sync += restarting.eq(self.take & self.restart)
+            restart_load = restarting
             requested = Mux(issue, reserved + length, reserved)
-            none_requested = (reserved == 0) & ~issue
+            dropped, none_dropped = reserved, reserved == 0
+            # the burst at restart_beat: words taken (the restart's counted) … on
+            need_after = taken + restart_need % modulus
         else:
+            restart_load = self.take & self.restart
             requested = reserved + Mux(issue, length, 0)
-            none_requested = requested == 0
-        with m.If(self.take & self.restart):
-            # a burst issued now is stale
+            dropped = requested                      # a burst issued now is stale
+            none_dropped = dropped == 0
+            # the burst at restart_beat: words taken + 1 … on, from the restart's skip
+            need_after = taken + (1 + restart_need) % modulus
+        with m.If(restart_load):
             m.d.sync += [
-                stale.eq(requested),
-                fresh.eq(none_requested),
+                stale.eq(dropped),
+                fresh.eq(none_dropped),
                 offset.eq(restart_skip),
                 next_beat.eq(restart_beat),
                 length.eq(burst_length(restart_beat)),
-                # the burst at restart_beat: words taken + 1 … on, from the restart's skip
-                need.eq(taken + (1 + burst_length(restart_beat) * per_beat - restart_skip
-                                 + ahead - pixels) % modulus),
+                need.eq(need_after),
             ]
         with m.Elif(~fresh):
             m.d.comb += pop.eq(head_valid)
@@ -319,10 +332,14 @@ class AxiReadPrefetcher(wiring.Component):
             m.d.sync += offset.eq(Mux(last, 0, offset + 1))
         m.d.sync += reserved.eq(requested - pop)
         if self._style == "dp16kd":
+            # no word until the restart's loads are done
+            with m.If(self.take & self.restart):
+                m.d.sync += fresh.eq(0)
             # `available`'s next value for the gate's `ready` register (the updates of
-            # `head_valid` and `fresh` above), low after a restart: `fresh`'s value there
-            # (`dropped == 0`) follows the issue test
-            fresh_next = ~(self.take & self.restart) & (fresh | (head_valid & (stale == 1)))
+            # `head_valid` and `fresh` above), low in the cycle after a restart (its loads
+            # come then)
+            fresh_next = Mux(restarting, none_dropped,
+                             ~(self.take & self.restart) & (fresh | (head_valid & (stale == 1))))
             m.d.comb += self.available_next.eq(head_valid_next & fresh_next)
         return m
 

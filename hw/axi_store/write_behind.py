@@ -147,15 +147,24 @@ class AxiWriteBehind(wiring.Component):
         # and the beat after it.
         new_index = self.write_addr >> slot_select
 
-        def follows_test(index, valid, after_valid, otherwise):
-            # staged: both comparisons before the choice, so `beat_valid` chooses last
-            if self._staged:
-                return Mux(valid, index == after_valid, index == otherwise)
-            return index == Mux(valid, after_valid, otherwise)
         expect = Signal(range(beats))                # the beat that continues the run
         beat_next = Signal(range(beats))
         beat_block_end = Signal()
-        beat_follows = Signal()
+        if self._staged:
+            # the comparison in pairs of bits, each pair's against both candidates before
+            # `beat_valid` chooses, registered; the beat stage ANDs the pairs' flags
+            pairs = range(0, len(beat_next), 2)
+            follows_pairs = Signal(len(pairs))
+            beat_follows = follows_pairs.all()
+
+            def follows_test(index, valid, after_valid, otherwise):
+                return Cat(*[Mux(valid, index[k:k + 2] == after_valid[k:k + 2],
+                                 index[k:k + 2] == otherwise[k:k + 2]) for k in pairs])
+        else:
+            beat_follows = follows_pairs = Signal()
+
+            def follows_test(index, valid, after_valid, otherwise):
+                return index == Mux(valid, after_valid, otherwise)
         with m.If(full):
             m.d.sync += [beat_index.eq(new_index),
                          beat_upto.eq(count + 1),
@@ -163,7 +172,7 @@ class AxiWriteBehind(wiring.Component):
                          beat_block_end.eq(
                              ((new_index & (store.burst_beats - 1)) == store.burst_beats - 1)
                              | (new_index == beats - 1)),
-                         beat_follows.eq(follows_test(new_index, beat_valid, beat_next, expect))]
+                         follows_pairs.eq(follows_test(new_index, beat_valid, beat_next, expect))]
 
         # ---- bursts: runs of consecutive beats, closed at a boundary, the frame's end,
         # or a jump (resynchronisation) -----------------------------------------------------
