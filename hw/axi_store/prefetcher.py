@@ -243,11 +243,13 @@ class AxiReadPrefetcher(wiring.Component):
             # the beat after the burst, a register of the cycle before: `next_beat` and
             # `length` never change in the cycle before an issue (ARVALID and `settling`
             # block the two cycles after one, `settling` the cycle after a restart), so the
-            # issue loads it without the addition and its comparison
+            # issue loads it without the addition. A burst from the frame's last block
+            # (and only one) ends the frame: that test is beside the addition
             after_first = first_beat + burst_length(first_beat)
             following_beat = Signal(range(beats), init=0 if after_first == beats else after_first)
+            last_block_start = (beats - 1) // store.burst_beats * store.burst_beats
             m.d.sync += following_beat.eq(
-                Mux(next_beat + length == beats, 0, next_beat + length))
+                Mux(next_beat >= last_block_start, 0, next_beat + length))
         else:
             following_beat = Mux(next_beat + length == beats, 0, next_beat + length)
         with m.If(issue):

@@ -199,20 +199,25 @@ class AxiWriteBehind(wiring.Component):
             m.d.sync += [bursts.w_en.eq(closing_en), bursts.w_data.eq(closing_data)]
         closing = data.View(descriptor, closing_data)
         block_end = beat_block_end
-        with m.If(beat_valid):
-            m.d.sync += expect.eq(beat_next)
-            jump = run_open & ~beat_follows
-            starts = ~run_open | jump
-            start = Mux(starts, beat_index, run_start)
-            length = Mux(starts, 0, run_len + 1)
-            with m.If(jump):                         # never also a block end: beat 0
-                m.d.comb += [closing.beat.eq(run_start), closing.len.eq(run_len),
-                             closing.upto.eq(run_upto), closing_en.eq(1)]
-            with m.Elif(block_end):
-                m.d.comb += [closing.beat.eq(start), closing.len.eq(length),
-                             closing.upto.eq(beat_upto), closing_en.eq(1)]
-            m.d.sync += [run_open.eq(~block_end), run_start.eq(start), run_len.eq(length),
-                         run_upto.eq(beat_upto)]
+        if self._staged:
+            self._close_runs(m, beat_valid, beat_follows, beat_index, beat_upto, block_end,
+                             expect, beat_next, (run_open, run_start, run_len, run_upto),
+                             closing, closing_en)
+        else:
+            with m.If(beat_valid):
+                m.d.sync += expect.eq(beat_next)
+                jump = run_open & ~beat_follows
+                starts = ~run_open | jump
+                start = Mux(starts, beat_index, run_start)
+                length = Mux(starts, 0, run_len + 1)
+                with m.If(jump):                         # never also a block end: beat 0
+                    m.d.comb += [closing.beat.eq(run_start), closing.len.eq(run_len),
+                                 closing.upto.eq(run_upto), closing_en.eq(1)]
+                with m.Elif(block_end):
+                    m.d.comb += [closing.beat.eq(start), closing.len.eq(length),
+                                 closing.upto.eq(beat_upto), closing_en.eq(1)]
+                m.d.sync += [run_open.eq(~block_end), run_start.eq(start), run_len.eq(length),
+                             run_upto.eq(beat_upto)]
         # registered: the level rises by at most one beat a cycle, which the margin counts
         room = Signal(init=1)
         if self._staged:
@@ -286,6 +291,28 @@ class AxiWriteBehind(wiring.Component):
             m.d.sync += self.written.eq(uptos.r_data)
         m.d.sync += in_flight.eq(in_flight + issue - answered)
         return m
+
+    @staticmethod
+    def _close_runs(m, beat_valid, follows, beat_index, beat_upto, block_end, expect,
+                    beat_next, run, closing, closing_en):
+        # staged: the beat stage with the jump choosing last (its test ANDs the registered
+        # pairs): the closing descriptor and the run's next start and length are the
+        # jump's or those without one, each computed beside it
+        run_open, run_start, run_len, run_upto = run
+        with m.If(beat_valid):
+            m.d.sync += expect.eq(beat_next)
+            jump = run_open & ~follows
+            # without a jump: the run continues, or a new one opens at this beat
+            start = Mux(run_open, run_start, beat_index)
+            length = Mux(run_open, run_len + 1, 0)
+            m.d.comb += [closing.beat.eq(Mux(jump, run_start, start)),
+                         closing.len.eq(Mux(jump, run_len, length)),
+                         closing.upto.eq(Mux(jump, run_upto, beat_upto)),
+                         closing_en.eq(jump | block_end)]
+            m.d.sync += [run_open.eq(~block_end),
+                         run_start.eq(Mux(jump, beat_index, start)),
+                         run_len.eq(Mux(jump, 0, length)),
+                         run_upto.eq(beat_upto)]
 
     def _w_in_registers(self, m, lengths, queued, head, issue, w_fifo):
         # staged: the W burst under way in registers (valid, beats left after this one,
