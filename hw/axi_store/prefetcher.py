@@ -266,6 +266,12 @@ class AxiReadPrefetcher(wiring.Component):
             following = Mux(next_beat == last_block, beats - last_block, store.burst_beats)
             m.d.sync += [length.eq(following),
                          need.eq(need + following * per_beat)]
+        if self._style == "dp16kd":
+            # `length` - 1 beside it, for `reserved`'s sums
+            length_less = Signal(range(store.burst_beats), init=burst_length(first_beat) - 1)
+            with m.If(issued):
+                m.d.sync += length_less.eq(Mux(next_beat == last_block, beats - last_block - 1,
+                                               store.burst_beats - 1))
         m.d.sync += in_flight.eq(in_flight + (self.ar.arvalid & self.ar.arready) - rlast_seen)
 
         if self._style == "memory":
@@ -304,7 +310,6 @@ class AxiReadPrefetcher(wiring.Component):
             # in `taken` and `reserved` by then; the issue chooses last in `reserved`
             m.d.sync += restarting.eq(self.take & self.restart)
             restart_load = restarting
-            requested = Mux(issue, reserved + length, reserved)
             dropped, none_dropped = reserved, reserved == 0
             # the burst at restart_beat: words taken (the restart's counted) … on
             need_after = taken + restart_need % modulus
@@ -332,7 +337,14 @@ class AxiReadPrefetcher(wiring.Component):
             last = offset == per_beat - 1
             m.d.comb += pop.eq(last)
             m.d.sync += offset.eq(Mux(last, 0, offset + 1))
-        m.d.sync += reserved.eq(requested - pop)
+        if self._style == "dp16kd":
+            # the four sums from registers, the issue and the pop choosing last
+            with m.If(restart_load):
+                m.d.sync += length_less.eq(burst_length(restart_beat) - 1)
+            m.d.sync += reserved.eq(Mux(issue, Mux(pop, reserved + length_less, reserved + length),
+                                        Mux(pop, reserved - 1, reserved)))
+        else:
+            m.d.sync += reserved.eq(requested - pop)
         if self._style == "dp16kd":
             # no word until the restart's loads are done
             with m.If(self.take & self.restart):
@@ -407,8 +419,10 @@ class AxiReadPrefetcher(wiring.Component):
         level_next = Signal(range(SKID_BEATS + 1))
         head_valid = Signal()
         head_valid_next = Signal()
+        # level_next != 0, with `pop` (the pipeline's handshake) in the last LUT (a pop
+        # needs a head beat: level >= 1)
         m.d.comb += [level_next.eq(level + out_valid - pop),
-                     head_valid_next.eq(level_next != 0)]
+                     head_valid_next.eq(out_valid | (level >= 2) | ((level == 1) & ~pop))]
         m.d.sync += [level.eq(level_next), head_valid.eq(head_valid_next)]
         head = 0
         for i, beat in enumerate(beats):
