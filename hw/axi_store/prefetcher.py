@@ -105,7 +105,9 @@ class AxiReadPrefetcher(wiring.Component):
         beat: no block-RAM clock-to-out before a register, and the DP16KDs' enables follow
         registers, not ``take``. Same words in the same order; the first word is available
         a cycle later (the first pixel of a zero-latency memory enters in cycle 6 instead
-        of 5), then one per cycle. ``"dp16kd"`` adds the member ``available_next``.
+        of 5), then one per cycle; a restart's loads come in the cycle after it, where
+        ``available`` is low (at P = 1 the pixel after a resynchronisation enters a cycle
+        later). ``"dp16kd"`` adds the member ``available_next``.
         Anything else raises ``ValueError``.
     dp16kd : callable or None
         With ``style="dp16kd"``: builds one DP16KD (``cell`` of

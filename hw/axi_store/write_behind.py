@@ -63,7 +63,8 @@ class AxiWriteBehind(wiring.Component):
         and "full" registers), the W FIFO's level counted beside it; its depth and margin
         are the same, so with bursts of 4 beats or more ``room`` falls as without
         (tested), with bursts of 2 it may fall earlier (the pipeline's AR side is slower
-        there). Adds the member ``room_next``.
+        there). The W burst under way is registers (``WLAST`` one), the same W in every
+        cycle. Adds the member ``room_next``.
 
     Members
     -------
