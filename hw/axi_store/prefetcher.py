@@ -322,16 +322,6 @@ class AxiReadPrefetcher(wiring.Component):
             none_dropped = dropped == 0
             # the burst at restart_beat: words taken + 1 … on, from the restart's skip
             need_after = taken + (1 + restart_need) % modulus
-        if self._style == "dp16kd" and per_beat > 1:
-            # "the head beat's last word" a register kept with `offset`: the pop (and all
-            # it drives) follows no comparison
-            last = Signal(init=first_skip == per_beat - 1)
-            with m.If(restart_load):
-                m.d.sync += last.eq(restart_skip == per_beat - 1)
-            with m.Elif(fresh & self.take):
-                m.d.sync += last.eq(Mux(last, 0, offset == per_beat - 2))
-        else:
-            last = offset == per_beat - 1
         with m.If(restart_load):
             m.d.sync += [
                 stale.eq(dropped),
@@ -346,6 +336,7 @@ class AxiReadPrefetcher(wiring.Component):
             with m.If(pop):
                 m.d.sync += [stale.eq(stale - 1), fresh.eq(stale == 1)]
         with m.Elif(self.take):
+            last = offset == per_beat - 1
             m.d.comb += pop.eq(last)
             m.d.sync += offset.eq(Mux(last, 0, offset + 1))
         if self._style == "dp16kd":
