@@ -37,7 +37,7 @@ from amaranth.lib.fifo import SyncFIFOBuffered
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import AxiStoreConfig, DPConfig
-from dptbd.hw.dp16kd import dp16kd_memory
+from dptbd.hw.axi_store.beat_queue import SKID_BEATS, dp16kd_beat_queue
 from dptbd.hw.axi_store.bus import BURST_INCR, CACHE_MODIFIABLE, address_channel, axi4_signature, size_code
 from dptbd.hw.layouts import state_word_layout
 from dptbd.hw.schedule import read_ahead_distance
@@ -48,9 +48,6 @@ __all__ = ["PREFETCH_FIFO_STYLES", "SKID_BEATS", "pixel_count_bits", "store_word
 #: ``AxiReadPrefetcher(style=…)``: the beat FIFO as an Amaranth FIFO, or ECP5 DP16KDs read
 #: through their output register.
 PREFETCH_FIFO_STYLES = ("memory", "dp16kd")
-#: Flip-flop beats between the DP16KDs and the head beat with ``style="dp16kd"`` (a power
-#: of two: the queue's pointers wrap by themselves).
-SKID_BEATS = 4
 
 
 def store_word_layout(store: AxiStoreConfig):
@@ -105,7 +102,9 @@ class AxiReadPrefetcher(wiring.Component):
         beat: no block-RAM clock-to-out before a register, and the DP16KDs' enables follow
         registers, not ``take``. Same words in the same order; the first word is available
         a cycle later (the first pixel of a zero-latency memory enters in cycle 6 instead
-        of 5), then one per cycle. ``"dp16kd"`` adds the member ``available_next``.
+        of 5), then one per cycle; a restart's loads come in the cycle after it, where
+        ``available`` is low (at P = 1 the pixel after a resynchronisation enters a cycle
+        later). ``"dp16kd"`` adds the member ``available_next``.
         Anything else raises ``ValueError``.
     dp16kd : callable or None
         With ``style="dp16kd"``: builds one DP16KD (``cell`` of
@@ -210,6 +209,10 @@ class AxiReadPrefetcher(wiring.Component):
         need = Signal(count_bits, init=first_need)
         issued = Signal()                            # a burst issued in the previous cycle
         settling = Signal()                          # the tests below are of stale values
+        # dp16kd: a restart's loads a cycle later, from this register (the pipeline's
+        # handshake drives one flip-flop), while `ready` is low; `settling` covers the cycle
+        # after them
+        restarting = Signal()
         reserved = Signal(range(depth + 1))          # beats requested and not popped
         in_flight = Signal(range(store.outstanding + 1))
         # reset values: the tests on the reset values (written = 0, nothing reserved)
@@ -233,13 +236,27 @@ class AxiReadPrefetcher(wiring.Component):
         with m.If(self.ar.arvalid & self.ar.arready):
             m.d.sync += self.ar.arvalid.eq(0)
         m.d.sync += [issued.eq(issue & ~(self.take & self.restart)),   # a restart sets both
-                     settling.eq(issued | (self.take & self.restart))]
+                     settling.eq(issued | (self.take & self.restart)
+                                 | (restarting if self._style == "dp16kd" else 0))]
+        if self._style == "dp16kd":
+            # the beat after the burst, a register of the cycle before: `next_beat` and
+            # `length` never change in the cycle before an issue (ARVALID and `settling`
+            # block the two cycles after one, `settling` the cycle after a restart), so the
+            # issue loads it without the addition. A burst from the frame's last block
+            # (and only one) ends the frame: that test is beside the addition
+            after_first = first_beat + burst_length(first_beat)
+            following_beat = Signal(range(beats), init=0 if after_first == beats else after_first)
+            last_block_start = (beats - 1) // store.burst_beats * store.burst_beats
+            m.d.sync += following_beat.eq(
+                Mux(next_beat >= last_block_start, 0, next_beat + length))
+        else:
+            following_beat = Mux(next_beat + length == beats, 0, next_beat + length)
         with m.If(issue):
             m.d.sync += [
                 self.ar.arvalid.eq(1),
                 self.ar.araddr.eq(self.base + next_beat * store.beat_bytes),
                 self.ar.arlen.eq(length - 1),
-                next_beat.eq(Mux(next_beat + length == beats, 0, next_beat + length)),
+                next_beat.eq(following_beat),
             ]
         with m.If(issued):
             # the next burst: a burst ends at a boundary or the frame's end, so next_beat is
@@ -248,6 +265,12 @@ class AxiReadPrefetcher(wiring.Component):
             following = Mux(next_beat == last_block, beats - last_block, store.burst_beats)
             m.d.sync += [length.eq(following),
                          need.eq(need + following * per_beat)]
+        if self._style == "dp16kd":
+            # `length` - 1 beside it, for `reserved`'s sums
+            length_less = Signal(range(store.burst_beats), init=burst_length(first_beat) - 1)
+            with m.If(issued):
+                m.d.sync += length_less.eq(Mux(next_beat == last_block, beats - last_block - 1,
+                                               store.burst_beats - 1))
         m.d.sync += in_flight.eq(in_flight + (self.ar.arvalid & self.ar.arready) - rlast_seen)
 
         if self._style == "memory":
@@ -262,7 +285,8 @@ class AxiReadPrefetcher(wiring.Component):
                 m.d.sync += [head.eq(fifo.r_data), head_valid.eq(fifo.r_rdy)]
         else:
             pop = Signal()                           # the head beat leaves
-            head, head_valid, head_valid_next = self._fifo_dp16kd(m, pop)
+            head, head_valid, head_valid_next = dp16kd_beat_queue(m, store, depth, self.r, pop,
+                                                                  self._dp16kd)
 
         # ---- take side: unpack the head beat, drop stale beats --------------------------
         # one word per beat: offset stays 0 (one bit, not a zero-width vector)
@@ -279,17 +303,31 @@ class AxiReadPrefetcher(wiring.Component):
         ]
         with m.If(self.take):
             m.d.sync += taken.eq(taken + 1)
-        with m.If(self.take & self.restart):
-            dropped = reserved + Mux(issue, length, 0)      # a burst issued now is stale
+        restart_need = (burst_length(restart_beat) * per_beat - restart_skip + ahead - pixels)
+        if self._style == "dp16kd":
+            # the restart's loads in the cycle after it (no take there: `ready` is low; no
+            # issue: `settling`), the restart's word and any burst issued with it counted
+            # in `taken` and `reserved` by then; the issue chooses last in `reserved`
+            m.d.sync += restarting.eq(self.take & self.restart)
+            restart_load = restarting
+            dropped, none_dropped = reserved, reserved == 0
+            # the burst at restart_beat: words taken (the restart's counted) … on
+            need_after = taken + restart_need % modulus
+        else:
+            restart_load = self.take & self.restart
+            requested = reserved + Mux(issue, length, 0)
+            dropped = requested                      # a burst issued now is stale
+            none_dropped = dropped == 0
+            # the burst at restart_beat: words taken + 1 … on, from the restart's skip
+            need_after = taken + (1 + restart_need) % modulus
+        with m.If(restart_load):
             m.d.sync += [
                 stale.eq(dropped),
-                fresh.eq(dropped == 0),
+                fresh.eq(none_dropped),
                 offset.eq(restart_skip),
                 next_beat.eq(restart_beat),
                 length.eq(burst_length(restart_beat)),
-                # the burst at restart_beat: words taken + 1 … on, from the restart's skip
-                need.eq(taken + (1 + burst_length(restart_beat) * per_beat - restart_skip
-                                 + ahead - pixels) % modulus),
+                need.eq(need_after),
             ]
         with m.Elif(~fresh):
             m.d.comb += pop.eq(head_valid)
@@ -299,68 +337,22 @@ class AxiReadPrefetcher(wiring.Component):
             last = offset == per_beat - 1
             m.d.comb += pop.eq(last)
             m.d.sync += offset.eq(Mux(last, 0, offset + 1))
-        m.d.sync += reserved.eq(reserved + Mux(issue, length, 0) - pop)
         if self._style == "dp16kd":
+            # the four sums from registers, the issue and the pop choosing last
+            with m.If(restart_load):
+                m.d.sync += length_less.eq(burst_length(restart_beat) - 1)
+            m.d.sync += reserved.eq(Mux(issue, Mux(pop, reserved + length_less, reserved + length),
+                                        Mux(pop, reserved - 1, reserved)))
+        else:
+            m.d.sync += reserved.eq(requested - pop)
+        if self._style == "dp16kd":
+            # no word until the restart's loads are done
+            with m.If(self.take & self.restart):
+                m.d.sync += fresh.eq(0)
             # `available`'s next value for the gate's `ready` register (the updates of
-            # `head_valid` and `fresh` above), low after a restart: `fresh`'s value there
-            # (`dropped == 0`) follows the issue test
-            fresh_next = ~(self.take & self.restart) & (fresh | (head_valid & (stale == 1)))
+            # `head_valid` and `fresh` above), low in the cycle after a restart (its loads
+            # come then)
+            fresh_next = Mux(restarting, none_dropped,
+                             ~(self.take & self.restart) & (fresh | (head_valid & (stale == 1))))
             m.d.comb += self.available_next.eq(head_valid_next & fresh_next)
         return m
-
-    def _fifo_dp16kd(self, m, pop):
-        # ---- ECP5: a ring buffer in DP16KDs read at its own pace into a queue of
-        # SKID_BEATS flip-flop beats, whose head is the head beat. The array reads when a
-        # queue beat is free (``credit``: free queue beats less those on their way through
-        # the array's read register and the output register, which always loads): the
-        # block RAMs' enables follow registers, never ``take``. A beat popped in cycle t
-        # frees a credit in t + 1 and is replaced in t + 4, so four queue beats keep one
-        # beat a cycle; the first beat reaches the head a cycle later than without it. ----
-        store = self._store
-        depth = self.fifo_depth
-        write_ptr = Signal(range(depth))
-        read_ptr = Signal(range(depth))
-        stored = Signal(range(depth + 1))           # beats written and not yet read ahead
-        credit = Signal(range(SKID_BEATS + 1), init=SKID_BEATS)
-        ahead_valid = Signal()                      # the array's read register holds a beat
-        out_valid = Signal()                        # the output register holds a beat
-        fetch = (stored != 0) & (credit != 0)       # the array reads read_ptr
-        write = self.r.rvalid & self.r.rready
-        m.d.comb += self.r.rready.eq(stored != depth)
-
-        def step(ptr):
-            return Mux(ptr == depth - 1, 0, ptr + 1)
-
-        with m.If(write):
-            m.d.sync += write_ptr.eq(step(write_ptr))
-        with m.If(fetch):
-            m.d.sync += read_ptr.eq(step(read_ptr))
-        m.d.sync += [stored.eq(stored + write - fetch),
-                     ahead_valid.eq(fetch), out_valid.eq(ahead_valid),
-                     credit.eq(credit - fetch + pop)]
-        out = dp16kd_memory(m, "fifo", width=store.data_bits, depth=depth,
-                            read_addr=read_ptr, read_en=fetch, out_en=1,
-                            write_addr=write_ptr, write_data=self.r.rdata, write_en=write,
-                            cell=self._dp16kd)
-        # the queue: a write enable per beat, the head an AND-OR of the beats
-        beats = [Signal(store.data_bits, name=f"skid_{i}") for i in range(SKID_BEATS)]
-        produce = Signal(range(SKID_BEATS))
-        consume = Signal(range(SKID_BEATS))
-        level = Signal(range(SKID_BEATS + 1))
-        with m.If(out_valid):
-            m.d.sync += produce.eq(produce + 1)
-        for i, beat in enumerate(beats):
-            with m.If(out_valid & (produce == i)):
-                m.d.sync += beat.eq(out)
-        with m.If(pop):
-            m.d.sync += consume.eq(consume + 1)
-        level_next = Signal(range(SKID_BEATS + 1))
-        head_valid = Signal()
-        head_valid_next = Signal()
-        m.d.comb += [level_next.eq(level + out_valid - pop),
-                     head_valid_next.eq(level_next != 0)]
-        m.d.sync += [level.eq(level_next), head_valid.eq(head_valid_next)]
-        head = 0
-        for i, beat in enumerate(beats):
-            head = head | Mux(consume == i, beat, 0)
-        return head, head_valid, head_valid_next

@@ -20,7 +20,7 @@ their B response, in pixel order (a dropped word counts with the next burst), fo
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal
+from amaranth.hdl import Cat, Module, Mux, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.fifo import SyncFIFO, SyncFIFOBuffered
 from amaranth.lib.wiring import In, Out
@@ -63,7 +63,8 @@ class AxiWriteBehind(wiring.Component):
         and "full" registers), the W FIFO's level counted beside it; its depth and margin
         are the same, so with bursts of 4 beats or more ``room`` falls as without
         (tested), with bursts of 2 it may fall earlier (the pipeline's AR side is slower
-        there). Adds the member ``room_next``.
+        there). The W burst under way is registers (``WLAST`` one), the same W in every
+        cycle. Adds the member ``room_next``.
 
     Members
     -------
@@ -146,10 +147,25 @@ class AxiWriteBehind(wiring.Component):
         # whether it follows the run (is the beat `expect` will hold when it is processed),
         # and the beat after it.
         new_index = self.write_addr >> slot_select
+
         expect = Signal(range(beats))                # the beat that continues the run
         beat_next = Signal(range(beats))
         beat_block_end = Signal()
-        beat_follows = Signal()
+        if self._staged:
+            # the comparison in pairs of bits, each pair's against both candidates before
+            # `beat_valid` chooses, registered; the beat stage ANDs the pairs' flags
+            pairs = range(0, len(beat_next), 2)
+            follows_pairs = Signal(len(pairs))
+            beat_follows = follows_pairs.all()
+
+            def follows_test(index, valid, after_valid, otherwise):
+                return Cat(*[Mux(valid, index[k:k + 2] == after_valid[k:k + 2],
+                                 index[k:k + 2] == otherwise[k:k + 2]) for k in pairs])
+        else:
+            beat_follows = follows_pairs = Signal()
+
+            def follows_test(index, valid, after_valid, otherwise):
+                return index == Mux(valid, after_valid, otherwise)
         with m.If(full):
             m.d.sync += [beat_index.eq(new_index),
                          beat_upto.eq(count + 1),
@@ -157,7 +173,7 @@ class AxiWriteBehind(wiring.Component):
                          beat_block_end.eq(
                              ((new_index & (store.burst_beats - 1)) == store.burst_beats - 1)
                              | (new_index == beats - 1)),
-                         beat_follows.eq(new_index == Mux(beat_valid, beat_next, expect))]
+                         follows_pairs.eq(follows_test(new_index, beat_valid, beat_next, expect))]
 
         # ---- bursts: runs of consecutive beats, closed at a boundary, the frame's end,
         # or a jump (resynchronisation) -----------------------------------------------------
@@ -184,27 +200,34 @@ class AxiWriteBehind(wiring.Component):
             m.d.sync += [bursts.w_en.eq(closing_en), bursts.w_data.eq(closing_data)]
         closing = data.View(descriptor, closing_data)
         block_end = beat_block_end
-        with m.If(beat_valid):
-            m.d.sync += expect.eq(beat_next)
-            jump = run_open & ~beat_follows
-            starts = ~run_open | jump
-            start = Mux(starts, beat_index, run_start)
-            length = Mux(starts, 0, run_len + 1)
-            with m.If(jump):                         # never also a block end: beat 0
-                m.d.comb += [closing.beat.eq(run_start), closing.len.eq(run_len),
-                             closing.upto.eq(run_upto), closing_en.eq(1)]
-            with m.Elif(block_end):
-                m.d.comb += [closing.beat.eq(start), closing.len.eq(length),
-                             closing.upto.eq(beat_upto), closing_en.eq(1)]
-            m.d.sync += [run_open.eq(~block_end), run_start.eq(start), run_len.eq(length),
-                         run_upto.eq(beat_upto)]
+        if self._staged:
+            self._close_runs(m, beat_valid, beat_follows, beat_index, beat_upto, block_end,
+                             expect, beat_next, (run_open, run_start, run_len, run_upto),
+                             closing, closing_en)
+        else:
+            with m.If(beat_valid):
+                m.d.sync += expect.eq(beat_next)
+                jump = run_open & ~beat_follows
+                starts = ~run_open | jump
+                start = Mux(starts, beat_index, run_start)
+                length = Mux(starts, 0, run_len + 1)
+                with m.If(jump):                         # never also a block end: beat 0
+                    m.d.comb += [closing.beat.eq(run_start), closing.len.eq(run_len),
+                                 closing.upto.eq(run_upto), closing_en.eq(1)]
+                with m.Elif(block_end):
+                    m.d.comb += [closing.beat.eq(start), closing.len.eq(length),
+                                 closing.upto.eq(beat_upto), closing_en.eq(1)]
+                m.d.sync += [run_open.eq(~block_end), run_start.eq(start), run_len.eq(length),
+                             run_upto.eq(beat_upto)]
         # registered: the level rises by at most one beat a cycle, which the margin counts
         room = Signal(init=1)
         if self._staged:
             # the W FIFO's level, counted here (SyncFIFOBuffered's `level`)
+            # (its steps computed beside it, the handshakes choosing last)
             level = Signal(range(depth + 1))
-            m.d.sync += level.eq(level + (w_fifo.w_en & w_fifo.w_rdy)
-                                 - (w_fifo.r_en & w_fifo.r_rdy))
+            up = w_fifo.w_en & w_fifo.w_rdy
+            down = w_fifo.r_en & w_fifo.r_rdy
+            m.d.sync += level.eq(Mux(up == down, level, Mux(up, level + 1, level - 1)))
             m.d.comb += self.room_next.eq(level <= depth - self.margin)
         else:
             level = w_fifo.level
@@ -213,14 +236,19 @@ class AxiWriteBehind(wiring.Component):
 
         # ---- AW: one burst at a time from the descriptor FIFO ---------------------------
         head = data.View(descriptor, bursts.r_data)
-        m.submodules.lengths = lengths = SyncFIFO(width=8, depth=store.outstanding)
+        if self._staged:
+            # the lengths with a "single beat" flag: the W burst under way loads its WLAST
+            # from it (``_w_in_registers``)
+            queued = data.StructLayout({"len": 8, "single": 1})
+            m.submodules.lengths = lengths = SyncFIFO(width=queued.size, depth=store.outstanding)
+        else:
+            m.submodules.lengths = lengths = SyncFIFO(width=8, depth=store.outstanding)
         m.submodules.uptos = uptos = SyncFIFO(width=count_bits, depth=store.outstanding)
         in_flight = Signal(range(store.outstanding + 1))
         issue = Signal()
         m.d.comb += [
             issue.eq(bursts.r_rdy & ~self.aw.awvalid & (in_flight < store.outstanding)),
             bursts.r_en.eq(issue),
-            lengths.w_data.eq(head.len), lengths.w_en.eq(issue),
             uptos.w_data.eq(head.upto), uptos.w_en.eq(issue),
             self.aw.awid.eq(0),
             self.aw.awsize.eq(size_code(store.beat_bytes)),
@@ -235,17 +263,23 @@ class AxiWriteBehind(wiring.Component):
                          self.aw.awlen.eq(head.len)]
 
         # ---- W: the beats of issued bursts, WLAST from their lengths ---------------------
-        sent = Signal(8)
         m.d.comb += [
             self.w.wdata.eq(w_fifo.r_data),
             self.w.wstrb.eq((1 << (store.data_bits // 8)) - 1),
-            self.w.wvalid.eq(w_fifo.r_rdy & lengths.r_rdy),
-            self.w.wlast.eq(sent == lengths.r_data),
             w_fifo.r_en.eq(self.w.wvalid & self.w.wready),
-            lengths.r_en.eq(self.w.wvalid & self.w.wready & self.w.wlast),
         ]
-        with m.If(self.w.wvalid & self.w.wready):
-            m.d.sync += sent.eq(Mux(self.w.wlast, 0, sent + 1))
+        if self._staged:
+            self._w_in_registers(m, lengths, queued, head, issue, w_fifo)
+        else:
+            sent = Signal(8)
+            m.d.comb += [
+                lengths.w_data.eq(head.len), lengths.w_en.eq(issue),
+                self.w.wvalid.eq(w_fifo.r_rdy & lengths.r_rdy),
+                self.w.wlast.eq(sent == lengths.r_data),
+                lengths.r_en.eq(self.w.wvalid & self.w.wready & self.w.wlast),
+            ]
+            with m.If(self.w.wvalid & self.w.wready):
+                m.d.sync += sent.eq(Mux(self.w.wlast, 0, sent + 1))
 
         # ---- B: count the answered pixels, flag errors ----------------------------------
         answered = self.b.bvalid & self.b.bready
@@ -258,3 +292,54 @@ class AxiWriteBehind(wiring.Component):
             m.d.sync += self.written.eq(uptos.r_data)
         m.d.sync += in_flight.eq(in_flight + issue - answered)
         return m
+
+    @staticmethod
+    def _close_runs(m, beat_valid, follows, beat_index, beat_upto, block_end, expect,
+                    beat_next, run, closing, closing_en):
+        # staged: the beat stage with the jump choosing last (its test ANDs the registered
+        # pairs): the closing descriptor and the run's next start and length are the
+        # jump's or those without one, each computed beside it
+        run_open, run_start, run_len, run_upto = run
+        with m.If(beat_valid):
+            m.d.sync += expect.eq(beat_next)
+            jump = run_open & ~follows
+            # without a jump: the run continues, or a new one opens at this beat
+            start = Mux(run_open, run_start, beat_index)
+            length = Mux(run_open, run_len + 1, 0)
+            m.d.comb += [closing.beat.eq(Mux(jump, run_start, start)),
+                         closing.len.eq(Mux(jump, run_len, length)),
+                         closing.upto.eq(Mux(jump, run_upto, beat_upto)),
+                         closing_en.eq(jump | block_end)]
+            m.d.sync += [run_open.eq(~block_end),
+                         run_start.eq(Mux(jump, beat_index, start)),
+                         run_len.eq(Mux(jump, 0, length)),
+                         run_upto.eq(beat_upto)]
+
+    def _w_in_registers(self, m, lengths, queued, head, issue, w_fifo):
+        # staged: the W burst under way in registers (valid, beats left after this one,
+        # WLAST), loaded when the burst ends (or none is under way) from the lengths FIFO's
+        # head or, that FIFO empty, from the descriptor issued in this cycle (which then
+        # skips the FIFO): WVALID is two registers' AND, WLAST a register, and the lengths
+        # FIFO's read enable one LUT of registers and WREADY. The same W in every cycle.
+        current = Signal()                   # a burst's W is under way
+        left = Signal(8)                     # its beats after the one offered
+        last = Signal()                      # WLAST: the one offered is its last
+        beat = self.w.wvalid & self.w.wready
+        done = ~current | (beat & last)      # no burst under way after this cycle
+        queue = data.View(queued, lengths.r_data)
+        m.d.comb += [
+            self.w.wvalid.eq(w_fifo.r_rdy & current),
+            self.w.wlast.eq(last),
+            lengths.r_en.eq(done),
+            lengths.w_data.eq(Cat(head.len, head.len == 0)),
+            lengths.w_en.eq(issue & ~(done & ~lengths.r_rdy)),
+        ]
+        with m.If(done):
+            with m.If(lengths.r_rdy):
+                m.d.sync += [current.eq(1), left.eq(queue.len), last.eq(queue.single)]
+            with m.Elif(issue):
+                m.d.sync += [current.eq(1), left.eq(head.len), last.eq(head.len == 0)]
+            with m.Else():
+                m.d.sync += current.eq(0)
+        with m.Elif(beat):
+            m.d.sync += [left.eq(left - 1), last.eq(left == 1)]

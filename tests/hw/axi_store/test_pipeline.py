@@ -305,3 +305,32 @@ def test_the_ecp5_build_keeps_the_bits_and_the_cycles(monkeypatch, p):
                   latency=(0, 60), ready=0.6, valid=0.7, valid_probability=0.8,
                   ready_probability=0.8, seed=p, **options)
     assert_states_equal(run.outputs, reference_states(cfg, frames))
+
+
+@pytest.mark.parametrize("p", [1, 2, 4])
+def test_the_ecp5_build_after_a_resynchronisation(monkeypatch, p):
+    """A frame cut short, then frames with `first`, at zero latency: the ECP5 build (its
+    prefetcher's restart loads a cycle after the restart) accepts every beat a cycle after
+    the generic build up to the resynchronising one, then at P = 1 two cycles after (the
+    loads' cycle), at P = 2 and 4 still one (the refetch decides there); the same bits."""
+    from dptbd.hw.flow.family import ECP5
+    from helpers.wide_harness import frames_to_beats
+    model_dp16kd_cells(monkeypatch)
+    cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=p).build_config()
+    frames = np.random.default_rng(12).integers(0, 256, size=(4, cfg.height, cfg.width))
+    if p == 1:
+        cut, run_ = 100, run_axi
+        kw = dict(stream=frames_to_stream(frames[:1]) + frames_to_stream(frames[1:2])[:cut]
+                  + frames_to_stream(frames[2:]))
+    else:
+        cut, run_ = 30, run_axi_beats
+        kw = dict(beats=frames_to_beats(cfg, frames[:1]) + frames_to_beats(cfg, frames[1:2])[:cut]
+                  + frames_to_beats(cfg, frames[2:]))
+    fields = dict(data_bits=64, burst_beats=4)
+    generic, _ = run_(cfg, frames, store_fields=fields, **kw)
+    ecp5, _ = run_(cfg, frames, store_fields=fields, **kw, **ECP5.options_for(cfg))
+    resync = cfg.frame_beats + cut + 1            # beats up to the resynchronising one
+    late = 2 if p == 1 else 1
+    assert ecp5.accept_cycles == ([c + 1 for c in generic.accept_cycles[:resync]]
+                                  + [c + late for c in generic.accept_cycles[resync:]])
+    assert ecp5.outputs == generic.outputs
