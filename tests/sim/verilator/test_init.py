@@ -176,7 +176,7 @@ def test_store_init_random_changes_nothing_on_core():
 
 
 def test_trace_writes_an_fst(tmp_path):
-    cfg = make_config(width=13, height=7)
+    cfg = make_config()            # the waves build of dptbd sim --waves (commands/test_sim.py)
     sim = V.build(cfg, "dp", waves=True)
     assert sim.waves and "waves" in sim.directory.name
     frames = make_frames("noise", cfg, 2, seed=1)
