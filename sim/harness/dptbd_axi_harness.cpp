@@ -294,18 +294,14 @@ int main(int argc, char** argv) {
     const double seconds = dptbd_harness::seconds_since(t0);
     dptbd_harness::finish(context.get(), dut.get(), job);
 
-    write_words(dir + "/out.bin", out);
     write_words(dir + "/out_flags.bin", out_flags);
-    write_words(dir + "/out_cycles.bin", out_cycles);
-    write_words(dir + "/accept_cycles.bin", accept_cycles);
     write_words(dir + "/ops.bin", ops_out);
     write_words(dir + "/irq_cycles.bin", irq_cycles);
-    FILE* fh = dptbd_harness::open_result(dir);
-    std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"
-                 "stalled_input_cycles %" PRIu64 "\npaused_output_cycles %" PRIu64 "\n"
+    FILE* fh = dptbd_harness::write_run(dir, out, out_cycles, accept_cycles, status, cycle,
+                                        next_word, out.size());
+    std::fprintf(fh, "stalled_input_cycles %" PRIu64 "\npaused_output_cycles %" PRIu64 "\n"
                  "irq_rises %" PRIu64 "\naxil_violations %" PRIu64 "\nseconds %.9f\n",
-                 status.c_str(), cycle, next_word, out.size(), stalled_in, paused_out,
-                 irq_rises, axil_violations, seconds);
+                 stalled_in, paused_out, irq_rises, axil_violations, seconds);
 #ifdef DPTBD_AXI_STORE
     std::fprintf(fh, "read_bursts %" PRIu64 "\nwrite_bursts %" PRIu64 "\nviolations %" PRIu64
                  "\nread_error_beats %" PRIu64 "\nwrite_error_bursts %" PRIu64

@@ -40,7 +40,6 @@ namespace {
 
 using dptbd_harness::fail;
 using dptbd_harness::read_words;
-using dptbd_harness::write_words;
 
 using Memory = dptbd_harness::Axi4Memory<Vdut, DPTBD_AXI_DATA_BITS>;
 
@@ -126,17 +125,13 @@ int main(int argc, char** argv) {
     }
     const double seconds = dptbd_harness::seconds_since(t0);
     dptbd_harness::finish(context.get(), dut.get(), job);
-    write_words(dir + "/out.bin", out);
-    write_words(dir + "/out_cycles.bin", out_cycles);
-    write_words(dir + "/accept_cycles.bin", accept_cycles);
-    FILE* fh = dptbd_harness::open_result(dir);
-    std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"
-                 "seconds %.9f\nread_bursts %" PRIu64 "\nwrite_bursts %" PRIu64 "\n"
+    FILE* fh = dptbd_harness::write_run(dir, out, out_cycles, accept_cycles, status, cycle,
+                                        next_word, out.size() / OutPort::words);
+    std::fprintf(fh, "seconds %.9f\nread_bursts %" PRIu64 "\nwrite_bursts %" PRIu64 "\n"
                  "violations %" PRIu64 "\nread_errors %" PRIu64 "\nwrite_errors %" PRIu64 "\n"
                  "first_violation %s\n",
-                 status.c_str(), cycle, next_word, out.size() / OutPort::words, seconds,
-                 mem.read_bursts,
-                 mem.write_bursts, mem.violations, read_errors, write_errors,
+                 seconds, mem.read_bursts, mem.write_bursts, mem.violations, read_errors,
+                 write_errors,
                  mem.first_violation.empty() ? "none" : mem.first_violation.c_str());
     std::fprintf(fh, "read_error_beats %" PRIu64 "\nwrite_error_bursts %" PRIu64 "\n",
                  mem.read_errors, mem.write_errors);

@@ -76,7 +76,6 @@ namespace {
 using dptbd_harness::Rng;
 using dptbd_harness::fail;
 using dptbd_harness::read_words;
-using dptbd_harness::write_words;
 
 using dptbd_harness::PortOf;
 
@@ -303,19 +302,14 @@ int main(int argc, char** argv) {
 #endif
     dptbd_harness::finish(context.get(), dut.get(), job);
 
-    write_words(dir + "/out.bin", out);
-    write_words(dir + "/out_cycles.bin", out_cycles);
-    write_words(dir + "/accept_cycles.bin", accept_cycles);
-    FILE* fh = dptbd_harness::open_result(dir);
-    std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n"
-                 "lut_writes %" PRIu64 "\nstalled_input_cycles %" PRIu64 "\n"
+    FILE* fh = dptbd_harness::write_run(dir, out, out_cycles, accept_cycles, status, cycle,
+                                        next_word, out.size() / OutPort::words);
+    std::fprintf(fh, "lut_writes %" PRIu64 "\nstalled_input_cycles %" PRIu64 "\n"
                  "paused_output_cycles %" PRIu64 "\nseconds %.9f\n"
                  "events_frame_done %" PRIu64 "\nevents_segment_done %" PRIu64 "\n"
                  "events_list_done %" PRIu64 "\nevents_saturated %" PRIu64 "\n",
-                 status.c_str(), cycle, next_word, out.size() / OutPort::words, lut_writes,
-                 stalled_in,
-                 paused_out, seconds, events_frame, events_segment, events_list,
-                 events_saturated);
+                 lut_writes, stalled_in, paused_out, seconds, events_frame, events_segment,
+                 events_list, events_saturated);
 #ifdef DPTBD_DESIGN_CORE
     std::fprintf(fh, "store_faults %" PRIu64 "\n", store_faults);
 #endif

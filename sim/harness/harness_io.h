@@ -6,6 +6,7 @@
 #pragma once
 
 #include <chrono>
+#include <cinttypes>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -151,10 +152,21 @@ void finish(VerilatedContext* context, Dut* dut, const StreamJob& job) {
 #endif
 }
 
-// JOB_DIR/result.txt, open for writing (refused if it cannot be).
-inline FILE* open_result(const std::string& dir) {
+// What every harness writes at the end of a run: the output words (out.bin), the cycle of
+// each output (out_cycles.bin) and of each accepted input word (accept_cycles.bin), then
+// JOB_DIR/result.txt with its first lines (status, cycles, words accepted, outputs), returned
+// open for the harness's own lines (it closes it; refused if it cannot be written).
+inline FILE* write_run(const std::string& dir, const std::vector<uint64_t>& out,
+                       const std::vector<uint64_t>& out_cycles,
+                       const std::vector<uint64_t>& accept_cycles, const std::string& status,
+                       uint64_t cycles, uint64_t accepted, size_t outputs) {
+    write_words(dir + "/out.bin", out);
+    write_words(dir + "/out_cycles.bin", out_cycles);
+    write_words(dir + "/accept_cycles.bin", accept_cycles);
     FILE* fh = std::fopen((dir + "/result.txt").c_str(), "w");
     if (!fh) fail("cannot write result.txt");
+    std::fprintf(fh, "status %s\ncycles %" PRIu64 "\naccepted %" PRIu64 "\noutputs %zu\n",
+                 status.c_str(), cycles, accepted, outputs);
     return fh;
 }
 

@@ -151,7 +151,9 @@ VERILATOR = pytest.mark.skipif(
 
 @pytest.fixture(scope="module")
 def verilator_root(tmp_path_factory):
-    """One build root for this module's Verilator runs (its runtime library built once)."""
+    """A build root of its own for the cache test (nothing else builds there); the other
+    runs here build in the default root, sharing its builds and runtime libraries with
+    the rest of the suite (the waves build: sim/verilator/test_init.py's trace test)."""
     return tmp_path_factory.mktemp("verilator")
 
 
@@ -181,12 +183,10 @@ ICARUS = pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icar
     pytest.param("verilator", r"[0-9.]+ M cycles/s \(Verilator: \d+ cycles, drain included, in ",
                  marks=VERILATOR),
     pytest.param("icarus", r"\d+ cycles/s while streaming \(Icarus: ", marks=ICARUS)])
-def test_sim_reports_the_exact_cycle_count_and_the_verdict(tmp_path, capsys, verilator_root,
-                                                             simulator, speed):
+def test_sim_reports_the_exact_cycle_count_and_the_verdict(tmp_path, capsys, simulator, speed):
     waves = tmp_path / "dp.fst"
-    root = verilator_root if simulator == "verilator" else tmp_path / "build"
-    args = parse(sim_command, [*SMALL, "--simulator", simulator, "--waves", waves,
-                               "--build-dir", root])
+    root = [] if simulator == "verilator" else ["--build-dir", tmp_path / "build"]
+    args = parse(sim_command, [*SMALL, "--simulator", simulator, "--waves", waves, *root])
     assert sim_command.main(args) == 0
     out = capsys.readouterr().out
     assert f"  dptbd_dp on {simulator.capitalize()}\n" in out
@@ -202,10 +202,10 @@ def test_sim_reports_the_exact_cycle_count_and_the_verdict(tmp_path, capsys, ver
 
 
 @VERILATOR
-def test_sim_on_verilator_with_pauses_and_waves(tmp_path, capsys, verilator_root):
+def test_sim_on_verilator_with_pauses_and_waves(tmp_path, capsys):
     waves = tmp_path / "dp.fst"
     args = parse(sim_command, [*SMALL, "--valid-pause", 0.3, "--ready-pause", 0.4,
-                               "--waves", waves, "--build-dir", verilator_root])
+                               "--waves", waves])
     assert sim_command.main(args) == 0
     out = capsys.readouterr().out
     line = next(x for x in out.splitlines() if x.startswith("simulated cycles"))
@@ -216,10 +216,9 @@ def test_sim_on_verilator_with_pauses_and_waves(tmp_path, capsys, verilator_root
 
 
 @VERILATOR
-def test_sim_on_verilator_runs_the_segmenter(capsys, verilator_root):
+def test_sim_on_verilator_runs_the_segmenter(capsys):
     args = parse(sim_command, ["--width", 16, "--height", 12, "--segment-frames", 3,
-                               "--frames", 7, "--design", "segmenter", "--candidate-count", 2,
-                               "--build-dir", verilator_root])
+                               "--frames", 7, "--design", "segmenter", "--candidate-count", 2])
     assert sim_command.main(args) == 0
     out = capsys.readouterr().out
     assert "dptbd sim: 16x12, K=3, B_in=8, B_E=16, F=8, r=1, truncate, n=2, C=4\n" in out

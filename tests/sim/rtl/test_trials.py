@@ -58,20 +58,34 @@ def test_accumulate_trials_equals_the_model_and_counts_what_it_checked():
     assert t.lists == 6 and t.runs == 2 and t.list_words == t.records + t.lists
 
 
-def _run_job(tmp_path, name, *, workers, rtl=False):
-    """The compare job (the library call behind ``dptbd compare``): its folder and its text."""
+def _run_job(tmp_path, name, **options):
+    """The compare job (the library call behind ``dptbd compare``) on the small spec: its
+    folder and its outcome (text, ``run_compare``'s result, workers)."""
     from dptbd.evaluation.compare import compare_job
 
     out = tmp_path / name
-    outcome = compare_job(small_spec(), out, workers=workers, progress=False, rtl=rtl)
-    return out, outcome.text()
+    return out, compare_job(small_spec(), out, progress=False, **options)
 
 
-def test_small_sweep_gives_identical_tables_on_the_model_and_on_the_rtl(tmp_path, capsys):
-    model, printed_model = _run_job(tmp_path, "model", workers=1)
-    rtl, printed_rtl = _run_job(tmp_path, "rtl", workers=2, rtl=True)
+def test_small_sweep_gives_identical_tables_on_the_model_the_rtl_and_a_cluster(tmp_path):
+    """The model and ``compare --rtl`` on one worker: the same tables, counts trial by trial
+    and printed tables; then ``compare --rtl`` on a scheduler and two ``dask worker``
+    processes on 127.0.0.1: the workers run the executables built here (same machine: same
+    paths) and write the CSVs and RTL counts of the one-worker run. (The RTL's tasks on
+    local workers: ``test_table1_rows_identical_on_the_model_and_on_the_rtl``.)"""
+    from helpers.dask_processes import process_cluster
+
+    model, one_model = _run_job(tmp_path, "model", workers=1)
+    rtl, one = _run_job(tmp_path, "rtl", workers=1, rtl=True)
+    printed_model, printed_rtl = one_model.text(), one.text()
     for name in ("compare_pd.csv", "compare_pfa.csv", "compare_configs.csv"):
         assert (model / name).read_bytes() == (rtl / name).read_bytes(), name
+    # run_compare's counts, trial by trial, not only the tables made of them
+    a, b = one_model.result, one.result
+    assert a.rtl is None and b.rtl["runs"] > 0
+    assert a.counts.keys() == b.counts.keys()
+    for key in a.counts:
+        assert np.array_equal(a.counts[key], b.counts[key]), key
     summary = json.loads((rtl / "compare_summary.json").read_text())
     info = summary["run"]["rtl"]
     assert summary["run"]["engine"] == "rtl"
@@ -89,37 +103,15 @@ def test_small_sweep_gives_identical_tables_on_the_model_and_on_the_rtl(tmp_path
     # the tables printed are the same too
     assert printed_model.split("\n\n")[0] == printed_rtl.split("\n\n")[0]
 
-
-def test_rtl_on_a_cluster_of_worker_processes_writes_the_one_worker_csvs(tmp_path):
-    """``compare --rtl`` on a scheduler and two ``dask worker`` processes on 127.0.0.1: the
-    workers run the executables built here (same machine: same paths) and write the CSVs
-    and RTL counts of the run in this process."""
-    from helpers.dask_processes import process_cluster
-    from dptbd.evaluation.compare import compare_job
-
-    one = compare_job(small_spec(), tmp_path / "one", workers=1, progress=False, rtl=True)
     with process_cluster(tmp_path) as (address, _):
-        two = compare_job(small_spec(), tmp_path / "two", scheduler=address, progress=False,
-                          rtl=True)
+        two_dir, two = _run_job(tmp_path, "two", scheduler=address, rtl=True)
     assert one.workers == 1 and two.workers == 2
     for name in ("compare_pd.csv", "compare_pfa.csv", "compare_configs.csv"):
-        assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes()
+        assert (rtl / name).read_bytes() == (two_dir / name).read_bytes(), name
     timing = ("sim_seconds", "wall_seconds")
     assert ({k: v for k, v in one.result.rtl.items() if k not in timing}
             == {k: v for k, v in two.result.rtl.items() if k not in timing})
     assert one.result.rtl["runs"] == two.result.rtl["runs"] > 0
-
-
-def test_run_compare_counts_identical_per_trial():
-    from dptbd.evaluation.compare import build_spec, run_compare
-
-    spec = build_spec(small_spec())
-    a = run_compare(spec, workers=1)
-    b = run_compare(spec, workers=1, rtl=True)
-    assert a.rtl is None and b.rtl["runs"] > 0
-    assert a.counts.keys() == b.counts.keys()
-    for key in a.counts:
-        assert np.array_equal(a.counts[key], b.counts[key]), key
 
 
 def _corrupting(monkeypatch, design, index, xor):

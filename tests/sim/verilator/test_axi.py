@@ -19,7 +19,7 @@ from dptbd.sim.scenarios import make_frames
 from dptbd.sim.verilator.axi import (CUT_COUNTERS, beat_words, check_axi, run_axi,
                                      step_operations)
 from helpers.refusals import whole
-from helpers.verilator_harness import built, make_config, needs_verilator
+from helpers.verilator_harness import SEG, built, make_config, needs_verilator
 
 pytestmark = needs_verilator
 
@@ -44,7 +44,7 @@ def test_beat_words_and_operations():
     assert checks == [("write", "CANDIDATE_COUNT", 2), ("read", "ID", 1),
                       ("write", "CONTROL", 0), ("read", "FRAMES", None)]
     with pytest.raises(ValueError, match=r"^run_axi needs a build of design 'axi', got 'dp'$"):
-        run_axi(built(make_config(), "dp"), beats, [])
+        run_axi(built(make_config(**SEG), "dp"), beats, [])     # the dp build others share
     with pytest.raises(ValueError, match=r"^the 'axi' build has its own harness: use "
                                          r"dptbd\.sim\.verilator\.axi\.run_axi$"):
         V.run(built(cfg, "axi"), beat_words(beats))

@@ -45,9 +45,10 @@ def fake_build(tmp_path, cfg=BASE, design="dp", waves=False) -> V.VerilatorBuild
 
 # ---- exact cycle counts ----------------------------------------------------------------
 
-# radius 2 at K = 2: the dp build is test_check.py's "dp-r2" (one build for both)
+# SEG: BASE, the builds the other tests share (the segmenter's fields do not change dptbd_dp);
+# radius 2 and F = 0: the dp builds are check/test_scenes.py's "dp-r2" and "dp-f0"
 @pytest.mark.parametrize("design", ["dp", "core"])
-@pytest.mark.parametrize("kw,n_frames", [({}, 7), ({"radius": 2, "segment_frames": 2}, 5),
+@pytest.mark.parametrize("kw,n_frames", [(SEG, 7), ({"radius": 2, "segment_frames": 2}, 5),
                                          ({"weight_frac_bits": 0}, 4)])
 def test_exact_cycles_dp_and_core(design, kw, n_frames):
     """valid and ready held high: one pixel per clock, the first result exactly L cycles
@@ -77,8 +78,10 @@ def test_exact_cycles_dp_and_core(design, kw, n_frames):
     assert result.passed and result.cycles == size + sim.latency
 
 
+# 13 x 7: check/test_scenes.py's "segmenter-13x7" build
 @pytest.mark.parametrize("kw,segments", [({}, 3), ({"width": 13, "height": 7,
-                                                     "histogram_bits": 5}, 2)])
+                                                     "histogram_bits": 5,
+                                                     "histogram_shift": 2}, 2)])
 def test_exact_cycles_segmenter(kw, segments):
     """K >= 2 and (K-1)·W·H >= 2^b + 4: S·K·W·H + L + 1 cycles from the first pixel to the
     last trailer (docs/gateware.md, "Segmenter … Timing"); the first list (empty, unprimed)
@@ -173,7 +176,7 @@ def test_store_init_random_changes_nothing_on_core():
 
 
 def test_trace_writes_an_fst(tmp_path):
-    cfg = make_config(width=13, height=7)
+    cfg = make_config()            # the waves build of dptbd sim --waves (commands/test_sim.py)
     sim = V.build(cfg, "dp", waves=True)
     assert sim.waves and "waves" in sim.directory.name
     frames = make_frames("noise", cfg, 2, seed=1)

@@ -26,12 +26,19 @@ def frames_of(cfg, n, seed):
     return make_frames("two-targets", cfg, n, seed=seed)
 
 
+def wide_config(p):
+    """SMALL at P pixels per clock with 2^(7 - P/2) bins: at P = 4 the 48 beats of a frame
+    scan the 32 bins without a stall (test_full_rate_bit_exact); one build per P for every
+    test here."""
+    return make_config(**{**SMALL, "histogram_bits": 7 - p // 2}, pixels_per_clock=p)
+
+
 @pytest.mark.parametrize("p", [2, 4])
 def test_full_rate_bit_exact(p):
     """tvalid and tready held high: bit-exact lists and counters; one beat per clock
     through the first segment (nothing to funnel: its list is empty), and every stall
     after it a beat of several records."""
-    cfg = make_config(**{**SMALL, "histogram_bits": 7 - p // 2}, pixels_per_clock=p)
+    cfg = wide_config(p)
     assert (cfg.segment_frames - 1) * cfg.frame_beats >= cfg.n_bins + 4   # no scan stall
     sim = built(cfg, "axi")
     frames = frames_of(cfg, 8, seed=p)
@@ -47,7 +54,7 @@ def test_full_rate_bit_exact(p):
 
 @pytest.mark.parametrize("p", [2, 4])
 def test_gaps_back_pressure_settings_and_soft_reset(p):
-    cfg = make_config(**SMALL, pixels_per_clock=p)
+    cfg = wide_config(p)
     sim = built(cfg, "axi")
     frames = frames_of(cfg, 10, seed=3 + p)
     beats = clean_beats(frames)
@@ -61,7 +68,7 @@ def test_gaps_back_pressure_settings_and_soft_reset(p):
 
 
 def test_wide_beat_words_and_refusals():
-    cfg = make_config(**SMALL, pixels_per_clock=4)
+    cfg = wide_config(4)
     beats = clean_beats(frames_of(cfg, 1, seed=1))
     words = wide_beat_words(cfg, beats)
     assert len(words) == cfg.frame_beats

@@ -24,8 +24,9 @@ from helpers.verilator_harness import SEG, built, make_config, needs_verilator
 
 pytestmark = needs_verilator
 
-#: 16 x 12, K = 3 (the P = 1 tests' SEG) at P = 2; P = 4 with 16-bit pixels: 65-bit beats
-P2 = dict(SEG, pixels_per_clock=2)
+#: 16 x 12, K = 3 (the P = 1 tests' SEG) at P = 2 with K up to 4 (test_run_time_settings
+#: writes K = 4; one P = 2 build for every test here); P = 4 with 16-bit pixels: 65-bit beats
+P2 = dict(SEG, pixels_per_clock=2, max_segment_frames=4)
 P4 = dict(SEG, pixels_per_clock=4, input_bits=16, energy_bits=18, histogram_shift=9)
 
 
@@ -81,7 +82,7 @@ def test_gaps_and_back_pressure(kw, valid_gap, ready_pause):
 
 def test_run_time_settings():
     """K, n, s changed between segments (the word indices count beats)."""
-    cfg = make_config(**P2, max_segment_frames=4)
+    cfg = make_config(**P2)
     sim = built(cfg, "segmenter")
     schedule = [S(3, 6, 1), S(2, 4, 2), S(4, 9, 1), S(1, 3, 0), S(3, 6, 1)]
     frames = make_frames("two-targets", cfg, sum(e.segment_frames for e in schedule), seed=5)

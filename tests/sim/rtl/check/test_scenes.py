@@ -24,8 +24,8 @@ def cases():
     """(id, config overrides, design, store_init, scenario, frames)."""
     return [
         ("dp", SEG, "dp", "zero", "two-targets", 7),
-        ("core-zero", {}, "core", "zero", "mixed", 5),
-        ("core-random", {}, "core", "random", "mixed", 5),
+        ("core-zero", SEG, "core", "zero", "mixed", 5),        # SEG: BASE's core build
+        ("core-random", SEG, "core", "random", "mixed", 5),
         ("segmenter", SEG, "segmenter", "zero", "two-targets", 9),
         ("dp-r2", {"radius": 2, "segment_frames": 2}, "dp", "zero", "edges", 5),
         ("dp-f0", {"weight_frac_bits": 0}, "dp", "zero", "noise", 5),
