@@ -42,7 +42,7 @@ from dptbd.config import DPConfig
 from dptbd.sim.mutation.equivalence import Equivalence
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 
-__all__ = ["PDR_SECONDS", "TIMEOUT", "TO_AIGER", "miter_script", "abc_script", "outputs_zero",
+__all__ = ["PDR_SECONDS", "TIMEOUT", "TO_AIGER", "CORRESPONDENCE", "miter_script", "abc_script", "outputs_zero",
            "pdr_verdict", "prove_reachable", "solve_miter", "PROVE_METHODS", "prover"]
 
 #: Seconds PDR may take (``pdr -T``).
@@ -71,12 +71,19 @@ def miter_script(rtlil: str, design: str, command: str) -> str:
         "miter -equiv -flatten gold gate miter", "hierarchy -top miter", *TO_AIGER])
 
 
-def abc_script(pdr_seconds: float = PDR_SECONDS) -> str:
-    """The ``abc -script`` argument proving ``miter.aig`` (signal correspondence, then
-    PDR within ``pdr_seconds``) and writing its verdict to ``status.txt``; it saves the
-    network Yosys gave ABC first and reads it back last, so the pass ends as it began."""
-    return ";".join(["+write_blif keep.blif", "read_aiger miter.aig", "strash", "&get -n",
-                     "&scorr", "&put", "write_blif reduced.blif",
+#: ABC's signal correspondence commands: ``&scorr`` (the default of
+#: :func:`prove_reachable`) and ``scorr``, the older implementation, which proves a node
+#: constant by induction where ``&scorr`` does not (an invariant's node, :mod:`.invariant`).
+CORRESPONDENCE = {"&scorr": ("&get -n", "&scorr", "&put"), "scorr": ("scorr",)}
+
+
+def abc_script(pdr_seconds: float = PDR_SECONDS, correspondence: str = "&scorr") -> str:
+    """The ``abc -script`` argument proving ``miter.aig`` (signal correspondence,
+    ``correspondence`` of :data:`CORRESPONDENCE`, then PDR within ``pdr_seconds``) and
+    writing its verdict to ``status.txt``; it saves the network Yosys gave ABC first and
+    reads it back last, so the pass ends as it began."""
+    return ";".join(["+write_blif keep.blif", "read_aiger miter.aig", "strash",
+                     *CORRESPONDENCE[correspondence], "write_blif reduced.blif",
                      f"pdr -T {max(1, int(pdr_seconds))}", "write_status status.txt",
                      "read_blif keep.blif"])
 
@@ -137,13 +144,13 @@ def prove_reachable(cfg: DPConfig, design: str, mutation: Mutation | str, *,
                        timeout=timeout)
 
 
-def solve_miter(script: str, *, pdr_seconds: float = PDR_SECONDS, timeout: float = TIMEOUT
-                ) -> Equivalence:
+def solve_miter(script: str, *, pdr_seconds: float = PDR_SECONDS, timeout: float = TIMEOUT,
+                correspondence: str = "&scorr") -> Equivalence:
     """Run the Yosys ``script`` writing a miter as ``miter.aig`` (:func:`miter_script`, or
     one ending in :data:`TO_AIGER`), then ABC on it (:func:`abc_script`): the verdict of
     :func:`prove_reachable` (module doc), the whole job within ``timeout`` seconds."""
     script = "\n".join([script, "design -reset", _STUB,
-                        f'abc -script "{abc_script(pdr_seconds)}"'])
+                        f'abc -script "{abc_script(pdr_seconds, correspondence)}"'])
     start = time.perf_counter()
     try:
         out = run_yosys(script, ("reduced.blif", "status.txt"), timeout=timeout)

