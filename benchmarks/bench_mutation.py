@@ -4,7 +4,7 @@
 equivalence registry (:mod:`dptbd.sim.mutation.equivalents`) does not list tried for formal
 equivalence: by Yosys ``equiv_*`` from every paired state (``--prove-method equiv``, the
 default) or by the miter from reset (``--prove-method reachable``: ABC's ``&scorr`` and PDR,
-:mod:`dptbd.sim.mutation.reachable`).
+:mod:`dptbd.sim.mutation.reachable`; ``reachable-scorr``: ABC's ``scorr`` instead).
 
 Reported per design (:func:`dptbd.commands.verify.format_mutation_result`): the score, MCY's:
 killed / (total − shown equivalent), and killed / total next to it; survivors proven
@@ -50,8 +50,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--no-prove", action="store_true", help="skip the equivalence proofs")
     parser.add_argument("--prove-method", choices=PROVE_METHODS, default=None,
                         help="how survivors are proven equivalent: equiv (Yosys equiv_*, "
-                             "from every paired state; the default) or reachable (the miter "
-                             "from reset, ABC's &scorr and PDR)")
+                             "from every paired state; the default), reachable (the miter "
+                             "from reset, ABC's &scorr and PDR) or reachable-scorr (the "
+                             "same with ABC's scorr)")
     parser.add_argument("--json", type=pathlib.Path, default=None)
     parser.add_argument("--rescore", type=pathlib.Path, default=None, metavar="JSON",
                         help="report the runs saved by --json again with today's registry "

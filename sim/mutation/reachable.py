@@ -34,6 +34,7 @@ internal signal: only the outputs are compared.
 
 from __future__ import annotations
 
+import functools
 import re
 import subprocess
 import time
@@ -72,8 +73,9 @@ def miter_script(rtlil: str, design: str, command: str) -> str:
 
 
 #: ABC's signal correspondence commands: ``&scorr`` (the default of
-#: :func:`prove_reachable`) and ``scorr``, the older implementation, which proves a node
-#: constant by induction where ``&scorr`` does not (an invariant's node, :mod:`.invariant`).
+#: :func:`prove_reachable`) and ``scorr``, the older implementation (``ssw``), which proves
+#: by induction what ``&scorr`` leaves (a counter's range, ``row <= 9``) and merges whole
+#: miters that ``&scorr`` leaves thousands of flip-flops of (``docs/simulation.md``).
 CORRESPONDENCE = {"&scorr": ("&get -n", "&scorr", "&put"), "scorr": ("scorr",)}
 
 
@@ -134,14 +136,18 @@ _STUB = "read_verilog <<verilog\nmodule stub(input a, input b, output y);\n" \
 
 
 def prove_reachable(cfg: DPConfig, design: str, mutation: Mutation | str, *,
-                    pdr_seconds: float = PDR_SECONDS, timeout: float = TIMEOUT
-                    ) -> Equivalence:
+                    pdr_seconds: float = PDR_SECONDS, timeout: float = TIMEOUT,
+                    correspondence: str = "&scorr") -> Equivalence:
     """Prove ``mutation`` of ``design``'s top for ``cfg`` equivalent to the original from
-    reset (module doc): PDR within ``pdr_seconds``, the whole job within ``timeout``."""
+    reset (module doc): signal correspondence by ``correspondence`` (:data:`CORRESPONDENCE`),
+    PDR within ``pdr_seconds``, the whole job within ``timeout``."""
+    if correspondence not in CORRESPONDENCE:
+        raise ValueError(f"correspondence must be one of {', '.join(CORRESPONDENCE)}, got "
+                         f"{correspondence!r}")
     command = mutation.command if isinstance(mutation, Mutation) else str(mutation)
     text, _ = top_rtlil(cfg, design)
     return solve_miter(miter_script(text, design, command), pdr_seconds=pdr_seconds,
-                       timeout=timeout)
+                       timeout=timeout, correspondence=correspondence)
 
 
 def solve_miter(script: str, *, pdr_seconds: float = PDR_SECONDS, timeout: float = TIMEOUT,
@@ -176,8 +182,8 @@ def solve_miter(script: str, *, pdr_seconds: float = PDR_SECONDS, timeout: float
 #: The methods proving a survivor equivalent, by name (``benchmarks/bench_mutation.py
 #: --prove-method``): ``equiv``, Yosys ``equiv_*`` from every paired state
 #: (:func:`~.equivalence.prove_equivalent`); ``reachable``, the miter from reset
-#: (:func:`prove_reachable`).
-PROVE_METHODS = ("equiv", "reachable")
+#: (:func:`prove_reachable`, ``&scorr``); ``reachable-scorr``, the same with ``scorr``.
+PROVE_METHODS = ("equiv", "reachable", "reachable-scorr")
 
 
 def prover(method: str):
@@ -191,7 +197,8 @@ def prover(method: str):
     """
     from dptbd.sim.mutation.equivalence import prove_equivalent
 
-    provers = {"equiv": prove_equivalent, "reachable": prove_reachable}
+    provers = {"equiv": prove_equivalent, "reachable": prove_reachable,
+               "reachable-scorr": functools.partial(prove_reachable, correspondence="scorr")}
     if method not in provers:
         raise ValueError(f"proof method must be one of {', '.join(PROVE_METHODS)}, got "
                          f"{method!r}")

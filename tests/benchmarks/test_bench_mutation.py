@@ -1,5 +1,5 @@
 """``benchmarks/bench_mutation.py``: ``--prove-method`` picks the function the survivors are
-proven with (``equiv``, the default, or ``reachable``), and is refused, as a usage error
+proven with (``equiv``, the default, ``reachable`` or ``reachable-scorr``), and is refused, as a usage error
 before any run, with an unknown method or beside ``--no-prove`` / ``--rescore``."""
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ MUT = "mutate -mode inv -module dptbd_dp -cell $flatten\\core.$1 -port Y -portbi
 
 @pytest.mark.parametrize("argv, message", [
     (["--prove-method", "sat"], "argument --prove-method: invalid choice: 'sat' (choose from "
-                                "'equiv', 'reachable')"),
+                                "'equiv', 'reachable', 'reachable-scorr')"),
     (["--prove-method", "reachable", "--no-prove"],
      "--prove-method reachable proves survivors; it cannot be given with --no-prove, which "
      "proves none"),
@@ -46,9 +46,11 @@ def _one_survivor(design, count, seed, **_kwargs) -> MutationResult:
 
 
 @pytest.mark.parametrize("argv, function, method", [
-    ([], prove_equivalent, "equiv"),
-    (["--prove-method", "equiv"], prove_equivalent, "equiv"),
-    (["--prove-method", "reachable"], prove_reachable, "reachable"),
+    ([], (prove_equivalent, {}), "equiv"),
+    (["--prove-method", "equiv"], (prove_equivalent, {}), "equiv"),
+    (["--prove-method", "reachable"], (prove_reachable, {}), "reachable"),
+    (["--prove-method", "reachable-scorr"], (prove_reachable, {"correspondence": "scorr"}),
+     "reachable-scorr"),
 ])
 def test_the_method_proves_the_survivors(argv, function, method, monkeypatch, tmp_path,
                                          capsys):
@@ -73,7 +75,7 @@ def test_the_method_proves_the_survivors(argv, function, method, monkeypatch, tm
     out = tmp_path / "m.json"
     bench.main(["--designs", "dp", "--mutants", "1", "--json", str(out), *argv])
     ((prove, tasks),) = seen
-    assert prove is function
+    assert (getattr(prove, "func", prove), getattr(prove, "keywords", {})) == function
     assert [(design, m.command) for design, m in tasks] == [("dp", MUT)]
     report = json.loads(out.read_text())["dp"]
     assert (report["prove_method"], report["shown_equivalent"]["proven in this run"]) == (

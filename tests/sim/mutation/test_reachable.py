@@ -46,6 +46,25 @@ def test_pdr_verdict_reads_abc_status():
         pdr_verdict(" \n")
 
 
+def test_prover_names_each_method_and_refuses_others():
+    import functools
+
+    from dptbd.sim.mutation.equivalence import prove_equivalent
+    from dptbd.sim.mutation.reachable import PROVE_METHODS, prover
+
+    assert PROVE_METHODS == ("equiv", "reachable", "reachable-scorr")
+    assert prover("equiv") is prove_equivalent and prover("reachable") is prove_reachable
+    scorr = prover("reachable-scorr")
+    assert isinstance(scorr, functools.partial) and (scorr.func, scorr.keywords) == (
+        prove_reachable, {"correspondence": "scorr"})
+    with pytest.raises(ValueError, match=whole(
+            "proof method must be one of equiv, reachable, reachable-scorr, got 'sat'")):
+        prover("sat")
+    with pytest.raises(ValueError, match=whole(
+            "correspondence must be one of &scorr, scorr, got 'fraig'")):
+        prove_reachable(config("dp"), "dp", "mutate", correspondence="fraig")
+
+
 def test_outputs_zero_only_for_constant_zero_outputs():
     zero = ".model m\n.inputs pi0 pi1\n.outputs po0\n.names po0\n 0\n.end\n"
     assert outputs_zero(zero)
