@@ -50,7 +50,7 @@ import tomllib
 
 from dptbd.config import DPConfig
 from dptbd.errors import DptbdError
-from dptbd.sim.mutation.equivalence import Equivalence
+from dptbd.sim.mutation.equivalence import CLOCK_UNPROVEN, Equivalence, clock_mutation
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 from dptbd.sim.mutation.reachable import PDR_SECONDS, TIMEOUT, TO_AIGER, solve_miter
 
@@ -250,13 +250,15 @@ def prove_under_invariant(cfg: DPConfig, design: str, mutation: Mutation | str,
     InvariantError
         The invariant fails from reset, or is not proven, or names no wire of the top.
     """
+    command = mutation.command if isinstance(mutation, Mutation) else str(mutation)
+    if clock_mutation(command):
+        return CLOCK_UNPROVEN
     start = time.perf_counter()
     held = prove_invariant(cfg, design, invariant, pdr_seconds=pdr_seconds, timeout=timeout)
     if held.verdict != "holds":
         raise InvariantError(f"invariant {invariant.name!r} of {design} refused: "
                              f"{held.verdict} ({held.detail}); a mutant is proven only "
                              f"under an invariant proven from reset")
-    command = mutation.command if isinstance(mutation, Mutation) else str(mutation)
     text, _ = top_rtlil(cfg, design)
     proof = solve_miter(miter_script(text, prepared_rtlil(text, design), design, command,
                                      invariant), pdr_seconds=pdr_seconds, timeout=timeout,

@@ -40,7 +40,7 @@ import subprocess
 import time
 
 from dptbd.config import DPConfig
-from dptbd.sim.mutation.equivalence import Equivalence
+from dptbd.sim.mutation.equivalence import CLOCK_UNPROVEN, Equivalence, clock_mutation
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 
 __all__ = ["PDR_SECONDS", "TIMEOUT", "TO_AIGER", "CORRESPONDENCE", "miter_script", "abc_script", "outputs_zero",
@@ -145,9 +145,12 @@ def prove_reachable(cfg: DPConfig, design: str, mutation: Mutation | str, *,
         raise ValueError(f"correspondence must be one of {', '.join(CORRESPONDENCE)}, got "
                          f"{correspondence!r}")
     command = mutation.command if isinstance(mutation, Mutation) else str(mutation)
+    if clock_mutation(command):
+        return CLOCK_UNPROVEN
     text, _ = top_rtlil(cfg, design)
     return solve_miter(miter_script(text, design, command), pdr_seconds=pdr_seconds,
                        timeout=timeout, correspondence=correspondence)
+
 
 
 def solve_miter(script: str, *, pdr_seconds: float = PDR_SECONDS, timeout: float = TIMEOUT,
