@@ -39,7 +39,8 @@ import time
 from dptbd.config import DPConfig
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 
-__all__ = ["SEQ", "ROUNDS", "TIMEOUT", "Equivalence", "CLOCK_UNPROVEN", "clock_mutation", "equivalence_script", "unproven_wires",
+__all__ = ["SEQ", "ROUNDS", "TIMEOUT", "Equivalence", "CLOCK_UNPROVEN", "clock_mutation",
+           "equivalence_script", "unproven_wires",
            "unproven_count", "top_ports", "aliases", "prove_equivalent"]
 
 #: Cycles of ``equiv_simple`` / ``equiv_induct`` (4: a partial sum's constant-zero low bits

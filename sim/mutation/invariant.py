@@ -218,7 +218,8 @@ def miter_script(rtlil: str, prepared: str, design: str, command: str,
         "memory_map", "opt_clean", "setundef -zero -init",
         # the equality asserted; its output renamed, miter -assert adds its own trigger
         "miter -equiv -flatten -make_assert gold gate miter", "cd miter",
-        "rename trigger equal_trigger", "cd ..", "miter -assert -flatten miter check", "hierarchy -top check", *TO_AIGER])
+        "rename trigger equal_trigger", "cd ..", "miter -assert -flatten miter check",
+        "hierarchy -top check", *TO_AIGER])
 
 
 def prove_invariant(cfg: DPConfig, design: str, invariant: Invariant, *,

@@ -43,8 +43,9 @@ from dptbd.config import DPConfig
 from dptbd.sim.mutation.equivalence import CLOCK_UNPROVEN, Equivalence, clock_mutation
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 
-__all__ = ["PDR_SECONDS", "TIMEOUT", "TO_AIGER", "CORRESPONDENCE", "miter_script", "abc_script", "outputs_zero",
-           "pdr_verdict", "prove_reachable", "solve_miter", "PROVE_METHODS", "prover"]
+__all__ = ["PDR_SECONDS", "TIMEOUT", "TO_AIGER", "CORRESPONDENCE", "miter_script", "abc_script",
+           "outputs_zero", "pdr_verdict", "prove_reachable", "solve_miter", "PROVE_METHODS",
+           "prover"]
 
 #: Seconds PDR may take (``pdr -T``).
 PDR_SECONDS = 600

@@ -1,6 +1,6 @@
 """``benchmarks/bench_mutation.py``: ``--prove-method`` picks the function the survivors are
-proven with (``equiv``, the default, ``reachable`` or ``reachable-scorr``), and is refused, as a usage error
-before any run, with an unknown method or beside ``--no-prove`` / ``--rescore``."""
+proven with (``equiv``, the default, ``reachable`` or ``reachable-scorr``), and is refused, as
+a usage error before any run, with an unknown method or beside ``--no-prove`` / ``--rescore``."""
 
 from __future__ import annotations
 
