@@ -2,7 +2,9 @@
 4 pixels per clock), measured: N mutants of each top (Yosys ``mutate``,
 :mod:`dptbd.sim.mutation`) through the verification slice, then every survivor the
 equivalence registry (:mod:`dptbd.sim.mutation.equivalents`) does not list tried for formal
-equivalence (Yosys ``equiv_*``).
+equivalence: by Yosys ``equiv_*`` from every paired state (``--prove-method equiv``, the
+default) or by the miter from reset (``--prove-method reachable``: ABC's ``&scorr`` and PDR,
+:mod:`dptbd.sim.mutation.reachable`; ``reachable-scorr``: ABC's ``scorr`` instead).
 
 Reported per design (:func:`dptbd.commands.verify.format_mutation_result`): the score, MCY's:
 killed / (total − shown equivalent), and killed / total next to it; survivors proven
@@ -16,6 +18,7 @@ mutant (the slice) and per proof. ``--json`` keeps every mutant's outcome.
     python benchmarks/bench_mutation.py --designs dp2          # dptbd_dp at P = 2 (neither)
     python benchmarks/bench_mutation.py --designs dp4          # dptbd_dp at P = 4 (neither)
     python benchmarks/bench_mutation.py --no-prove --json mutation.json
+    python benchmarks/bench_mutation.py --designs dp --prove-method reachable
     python benchmarks/bench_mutation.py --rescore mutation.json   # today's registry, no runs
 """
 
@@ -28,13 +31,13 @@ import pathlib
 import time
 
 from dptbd.commands.verify import format_mutation_result
-from dptbd.sim.mutation.equivalence import prove_equivalent
 from dptbd.sim.mutation.equivalents import load_registry
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, parse_mutations
+from dptbd.sim.mutation.reachable import PROVE_METHODS, prover
 from dptbd.sim.mutation.run import MutantOutcome, MutationResult, config, run_mutants
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--mutants", type=int, default=300)
     parser.add_argument("--seed", type=int, default=1)
@@ -45,11 +48,21 @@ def main() -> None:
                              "segmenter axi")
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--no-prove", action="store_true", help="skip the equivalence proofs")
+    parser.add_argument("--prove-method", choices=PROVE_METHODS, default=None,
+                        help="how survivors are proven equivalent: equiv (Yosys equiv_*, "
+                             "from every paired state; the default), reachable (the miter "
+                             "from reset, ABC's &scorr and PDR) or reachable-scorr (the "
+                             "same with ABC's scorr)")
     parser.add_argument("--json", type=pathlib.Path, default=None)
     parser.add_argument("--rescore", type=pathlib.Path, default=None, metavar="JSON",
                         help="report the runs saved by --json again with today's registry "
                              "(no simulation, no proofs)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
+    if args.prove_method is not None and (args.no_prove or args.rescore is not None):
+        parser.error(f"--prove-method {args.prove_method} proves survivors; it cannot be "
+                     f"given with {'--no-prove' if args.no_prove else '--rescore'}, which "
+                     f"proves none")
+    prove = prover(args.prove_method or "equiv")
     if args.rescore is not None:
         for design, saved in json.loads(args.rescore.read_text()).items():
             print(format_mutation_result(saved_result(design, saved), {}, load_registry(design)))
@@ -73,7 +86,7 @@ def main() -> None:
                       f"({proof.seconds:.0f} s) {proof.detail}", flush=True)
 
             with execution.client() as client:
-                done = map_tasks(prove_equivalent, tasks, client, on_result=said)
+                done = map_tasks(prove, tasks, client, on_result=said)
             proofs = {outcome.index: proof for (outcome, _), proof in zip(survivors, done)}
         prove_seconds = time.perf_counter() - start
         print(format_mutation_result(result, proofs, registry))
@@ -81,7 +94,7 @@ def main() -> None:
         slice_seconds = sum(o.seconds for o in result.outcomes)
         print(f"slice: {slice_seconds / result.total:.2f} s per mutant (sum of runs), "
               f"proofs: {prove_seconds / max(1, len(proofs)):.0f} s each "
-              f"({len(proofs)} tried)\n", flush=True)
+              f"({len(proofs)} tried, {args.prove_method or 'equiv'})\n", flush=True)
         report[design] = {
             "killed": result.killed, "total": result.total, "score": result.score(shown),
             "killed_fraction": result.killed_fraction,
@@ -90,6 +103,7 @@ def main() -> None:
             "shown_equivalent": {how: sum(h == how for h in shown.values()) for how in
                                  ("proven", "argued", "proven in this run")},
             "wall_seconds": result.wall_seconds, "prove_seconds": prove_seconds,
+            "prove_method": None if args.no_prove else args.prove_method or "equiv",
             "seed": result.seed, "workers": result.workers,
             "runs": [list(r) for r in result.runs],
             "original": dataclasses.asdict(result.original),

@@ -39,7 +39,8 @@ import time
 from dptbd.config import DPConfig
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 
-__all__ = ["SEQ", "ROUNDS", "TIMEOUT", "Equivalence", "equivalence_script", "unproven_wires",
+__all__ = ["SEQ", "ROUNDS", "TIMEOUT", "Equivalence", "CLOCK_UNPROVEN", "clock_mutation",
+           "equivalence_script", "unproven_wires",
            "unproven_count", "top_ports", "aliases", "prove_equivalent"]
 
 #: Cycles of ``equiv_simple`` / ``equiv_induct`` (4: a partial sum's constant-zero low bits
@@ -59,6 +60,19 @@ class Equivalence:
     verdict: str
     detail: str
     seconds: float
+
+
+#: The verdict on a mutated clock input (:func:`clock_mutation`), given without a run.
+CLOCK_UNPROVEN = Equivalence("not proven", "a clock input mutated: the proof takes every "
+                             "flip-flop as one step of one clock, whatever its edge", 0.0)
+
+
+def clock_mutation(command: str) -> bool:
+    """Whether the ``mutate`` command ``command`` changes a flip-flop's clock input (its
+    edge): both proofs take every flip-flop as one step of one clock (``equiv_*``'s model, the
+    AIGER miter of :mod:`.reachable`), so they would prove such a mutant equivalent whatever
+    it does."""
+    return re.search(r"-port (?:CLK|C)(?: |$)", command) is not None
 
 
 def equivalence_script(rtlil: str, design: str, command: str, seq: int = SEQ,
@@ -132,6 +146,8 @@ def prove_equivalent(cfg: DPConfig, design: str, mutation: Mutation | str, *,
     (module doc); ``timeout`` seconds for all of them."""
     command = mutation.command if isinstance(mutation, Mutation) else str(mutation)
     wire = mutation.wire if isinstance(mutation, Mutation) else None
+    if clock_mutation(command):
+        return CLOCK_UNPROVEN
     text, _ = top_rtlil(cfg, design)
     ports = top_ports(text, design)
     unpaired = () if wire is None or wire in ports else (wire,)

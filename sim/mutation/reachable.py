@@ -34,21 +34,30 @@ internal signal: only the outputs are compared.
 
 from __future__ import annotations
 
+import functools
 import re
 import subprocess
 import time
 
 from dptbd.config import DPConfig
-from dptbd.sim.mutation.equivalence import Equivalence
+from dptbd.sim.mutation.equivalence import CLOCK_UNPROVEN, Equivalence, clock_mutation
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 
-__all__ = ["PDR_SECONDS", "TIMEOUT", "miter_script", "abc_script", "outputs_zero", "pdr_verdict",
-           "prove_reachable"]
+__all__ = ["PDR_SECONDS", "TIMEOUT", "TO_AIGER", "CORRESPONDENCE", "miter_script", "abc_script",
+           "outputs_zero", "pdr_verdict", "prove_reachable", "solve_miter", "PROVE_METHODS",
+           "prover"]
 
 #: Seconds PDR may take (``pdr -T``).
 PDR_SECONDS = 600
 #: Seconds the whole job may take (miter, AIGER, ABC) before it is reported ``timeout``.
 TIMEOUT = 900.0
+
+
+#: The Yosys commands bringing the top (a miter: one output, 1 where it fails) to an
+#: and-inverter graph and writing it as AIGER, ``miter.aig``, with every flip-flop's
+#: initial value.
+TO_AIGER = ("setundef -undriven -zero", "opt -fast", "techmap", "setundef -zero", "opt -fast",
+            "dffunmap", "abc -g AND", "opt_clean", "write_aiger -zinit -map miter.map miter.aig")
 
 
 def miter_script(rtlil: str, design: str, command: str) -> str:
@@ -61,17 +70,23 @@ def miter_script(rtlil: str, design: str, command: str) -> str:
         _prepared(rtlil, design), f"rename {top} gold", "design -stash gold",
         "design -copy-from gold -as gold gold", "design -copy-from gate -as gate gate",
         "memory_map", "opt_clean", "setundef -zero -init",
-        "miter -equiv -flatten gold gate miter", "hierarchy -top miter",
-        "setundef -undriven -zero", "opt -fast", "techmap", "setundef -zero", "opt -fast",
-        "dffunmap", "abc -g AND", "opt_clean", "write_aiger -zinit -map miter.map miter.aig"])
+        "miter -equiv -flatten gold gate miter", "hierarchy -top miter", *TO_AIGER])
 
 
-def abc_script(pdr_seconds: float = PDR_SECONDS) -> str:
-    """The ``abc -script`` argument proving ``miter.aig`` (signal correspondence, then
-    PDR within ``pdr_seconds``) and writing its verdict to ``status.txt``; it saves the
-    network Yosys gave ABC first and reads it back last, so the pass ends as it began."""
-    return ";".join(["+write_blif keep.blif", "read_aiger miter.aig", "strash", "&get -n",
-                     "&scorr", "&put", "write_blif reduced.blif",
+#: ABC's signal correspondence commands: ``&scorr`` (the default of
+#: :func:`prove_reachable`) and ``scorr``, the older implementation (``ssw``), which proves
+#: by induction what ``&scorr`` leaves (a counter's range, ``row <= 9``) and merges whole
+#: miters that ``&scorr`` leaves thousands of flip-flops of (``docs/simulation.md``).
+CORRESPONDENCE = {"&scorr": ("&get -n", "&scorr", "&put"), "scorr": ("scorr",)}
+
+
+def abc_script(pdr_seconds: float = PDR_SECONDS, correspondence: str = "&scorr") -> str:
+    """The ``abc -script`` argument proving ``miter.aig`` (signal correspondence,
+    ``correspondence`` of :data:`CORRESPONDENCE`, then PDR within ``pdr_seconds``) and
+    writing its verdict to ``status.txt``; it saves the network Yosys gave ABC first and
+    reads it back last, so the pass ends as it began."""
+    return ";".join(["+write_blif keep.blif", "read_aiger miter.aig", "strash",
+                     *CORRESPONDENCE[correspondence], "write_blif reduced.blif",
                      f"pdr -T {max(1, int(pdr_seconds))}", "write_status status.txt",
                      "read_blif keep.blif"])
 
@@ -122,14 +137,30 @@ _STUB = "read_verilog <<verilog\nmodule stub(input a, input b, output y);\n" \
 
 
 def prove_reachable(cfg: DPConfig, design: str, mutation: Mutation | str, *,
-                    pdr_seconds: float = PDR_SECONDS, timeout: float = TIMEOUT
-                    ) -> Equivalence:
+                    pdr_seconds: float = PDR_SECONDS, timeout: float = TIMEOUT,
+                    correspondence: str = "&scorr") -> Equivalence:
     """Prove ``mutation`` of ``design``'s top for ``cfg`` equivalent to the original from
-    reset (module doc): PDR within ``pdr_seconds``, the whole job within ``timeout``."""
+    reset (module doc): signal correspondence by ``correspondence`` (:data:`CORRESPONDENCE`),
+    PDR within ``pdr_seconds``, the whole job within ``timeout``."""
+    if correspondence not in CORRESPONDENCE:
+        raise ValueError(f"correspondence must be one of {', '.join(CORRESPONDENCE)}, got "
+                         f"{correspondence!r}")
     command = mutation.command if isinstance(mutation, Mutation) else str(mutation)
+    if clock_mutation(command):
+        return CLOCK_UNPROVEN
     text, _ = top_rtlil(cfg, design)
-    script = "\n".join([miter_script(text, design, command), "design -reset", _STUB,
-                        f'abc -script "{abc_script(pdr_seconds)}"'])
+    return solve_miter(miter_script(text, design, command), pdr_seconds=pdr_seconds,
+                       timeout=timeout, correspondence=correspondence)
+
+
+
+def solve_miter(script: str, *, pdr_seconds: float = PDR_SECONDS, timeout: float = TIMEOUT,
+                correspondence: str = "&scorr") -> Equivalence:
+    """Run the Yosys ``script`` writing a miter as ``miter.aig`` (:func:`miter_script`, or
+    one ending in :data:`TO_AIGER`), then ABC on it (:func:`abc_script`): the verdict of
+    :func:`prove_reachable` (module doc), the whole job within ``timeout`` seconds."""
+    script = "\n".join([script, "design -reset", _STUB,
+                        f'abc -script "{abc_script(pdr_seconds, correspondence)}"'])
     start = time.perf_counter()
     try:
         out = run_yosys(script, ("reduced.blif", "status.txt"), timeout=timeout)
@@ -150,3 +181,29 @@ def prove_reachable(cfg: DPConfig, design: str, mutation: Mutation | str, *,
         latches = len(re.findall(r"^\.latch ", out["reduced.blif"], flags=re.M))
         detail += f" within {max(1, int(pdr_seconds))} s, {latches} flip-flops left"
     return Equivalence(verdict, detail, time.perf_counter() - start)
+
+
+#: The methods proving a survivor equivalent, by name (``benchmarks/bench_mutation.py
+#: --prove-method``): ``equiv``, Yosys ``equiv_*`` from every paired state
+#: (:func:`~.equivalence.prove_equivalent`); ``reachable``, the miter from reset
+#: (:func:`prove_reachable`, ``&scorr``); ``reachable-scorr``, the same with ``scorr``.
+PROVE_METHODS = ("equiv", "reachable", "reachable-scorr")
+
+
+def prover(method: str):
+    """The function of the proof method ``method`` (:data:`PROVE_METHODS`), called as
+    ``prove(cfg, design, mutation)``.
+
+    Raises
+    ------
+    ValueError
+        ``method`` is not one of :data:`PROVE_METHODS`.
+    """
+    from dptbd.sim.mutation.equivalence import prove_equivalent
+
+    provers = {"equiv": prove_equivalent, "reachable": prove_reachable,
+               "reachable-scorr": functools.partial(prove_reachable, correspondence="scorr")}
+    if method not in provers:
+        raise ValueError(f"proof method must be one of {', '.join(PROVE_METHODS)}, got "
+                         f"{method!r}")
+    return provers[method]

@@ -22,8 +22,9 @@ mutation of a netlist): an edit that moves source lines but leaves the netlist u
 keeps every entry matching, while a netlist change, which renames cells, makes an entry
 stop matching: it is never counted. ``shown = "proven"`` means
 :func:`~dptbd.sim.mutation.equivalence.prove_equivalent` proves it, or
-:func:`~dptbd.sim.mutation.reachable.prove_reachable` when its ``why`` names that method
-(a slow test runs every one); ``"argued"`` is a written argument that no output can differ for any legal input
+:func:`~dptbd.sim.mutation.reachable.prove_reachable` when its ``why`` names that method, or
+:func:`~dptbd.sim.mutation.invariant.prove_under_invariant` under its invariant of
+``invariants.toml`` when its ``why`` names that one (a slow test runs every one); ``"argued"`` is a written argument that no output can differ for any legal input
 sequence. A file that is absent is an empty registry.
 """
 

@@ -192,14 +192,25 @@ PROVEN = [(design, entry) for design in sorted(E.FILES)
 @pytest.mark.parametrize("design, entry", PROVEN,
                          ids=[f"{d}:{e.source}:{i}" for i, (d, e) in enumerate(PROVEN)])
 def test_every_proven_entry_is_proven_again(design, entry):
-    """The method its ``why`` names (``prove_reachable``, else ``prove_equivalent``) says
-    ``equivalent`` for each ``proven`` entry on today's netlist (minutes each)."""
+    """The method its ``why`` names (``prove_under_invariant`` with its invariant of
+    ``invariants.toml``, ``prove_reachable with scorr``, ``prove_reachable``, else
+    ``prove_equivalent``) says ``equivalent``
+    for each ``proven`` entry on today's netlist (minutes each)."""
+    import functools
+
     from dptbd.sim.mutation.equivalence import prove_equivalent
+    from dptbd.sim.mutation.invariant import load_invariants, prove_under_invariant
     from dptbd.sim.mutation.reachable import prove_reachable
     from dptbd.sim.mutation.run import config
 
     (mutation,) = parse_mutations(entry.mutation)
-    prove = prove_reachable if "prove_reachable" in entry.why else prove_equivalent
+    if "prove_under_invariant" in entry.why:
+        invariant = load_invariants()[design, E.mutation_key(entry.mutation)]
+        prove = functools.partial(prove_under_invariant, invariant=invariant)
+    elif "prove_reachable with scorr" in entry.why:
+        prove = functools.partial(prove_reachable, correspondence="scorr")
+    else:
+        prove = prove_reachable if "prove_reachable" in entry.why else prove_equivalent
     proof = prove(config(design), design, mutation)
     assert proof.verdict == "equivalent", proof.detail
 

