@@ -16,7 +16,7 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
 from dptbd.hw.dp16kd import DP16KD_MAX_DEPTH
-from dptbd.hw.staged_histogram import staged_histogram
+from dptbd.hw.staged_histogram import request_and_read, staged_histogram
 
 __all__ = ["HISTOGRAM_STYLES", "Histogram"]
 
@@ -132,32 +132,8 @@ class Histogram(wiring.Component):
         write = _Port(addr=Signal(range(cfg.n_bins)), en=Signal(),
                       data=Signal(cfg.bin_count_bits))
 
-        # ---- cycle r-1: the increment request, registered --------------------------------
-        add_en = Signal()
-        add_bin = Signal(range(cfg.n_bins))
-        m.d.sync += [add_en.eq(self.add_en), add_bin.eq(self.add_bin)]
-
-        # ---- cycle r: the read (the scan's, from the top bin down, or an increment's) ----
-        scan_active = Signal()                       # a scan read after the first
-        scan_addr = Signal(range(cfg.n_bins))
-        with m.If(scan_active):
-            m.d.sync += scan_addr.eq(scan_addr - 1)
-            with m.If(scan_addr == 0):
-                m.d.sync += scan_active.eq(0)
-        with m.Elif(self.scan_start):
-            m.d.sync += [scan_active.eq(1), scan_addr.eq(top - 1)]
-        scan_read = Signal()                          # this cycle's read is the scan's
-        m.d.comb += scan_read.eq(scan_active | self.scan_start)
-        m.d.comb += [
-            read.addr.eq(Mux(scan_active, scan_addr, Mux(self.scan_start, top, add_bin))),
-            read.en.eq(scan_read | add_en),
-        ]
-        # the increment issued in the cycle before scan_start: its read is displaced by the
-        # scan's first; it is held and added to its bin's count as the scan passes it
-        held_en = Signal()
-        held_bin = Signal(range(cfg.n_bins))
-        with m.If(self.scan_start & ~scan_active):
-            m.d.sync += [held_en.eq(add_en), held_bin.eq(add_bin)]
+        add_en, add_bin, scan_active, scan_read, held_en, held_bin = request_and_read(
+            m, self, cfg.n_bins, read.addr, read.en)
 
         # ---- cycle r+1: the word comes out of the memory and is registered ---------------
         scan_1 = Signal()

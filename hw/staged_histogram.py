@@ -28,7 +28,7 @@ from amaranth.hdl import Module, Mux, Signal
 from dptbd.config import DPConfig
 from dptbd.hw.dp16kd import dp16kd_memory
 
-__all__ = ["staged_histogram"]
+__all__ = ["request_and_read", "staged_histogram"]
 
 
 def staged_histogram(histogram, cfg: DPConfig, dp16kd, held_apart: bool) -> Module:
@@ -39,34 +39,10 @@ def staged_histogram(histogram, cfg: DPConfig, dp16kd, held_apart: bool) -> Modu
     bits = cfg.bin_count_bits
     addr = range(cfg.n_bins)
 
-    # ---- cycle r-1: the increment request, registered ------------------------------------
-    add_en = Signal()
-    add_bin = Signal(addr)
-    m.d.sync += [add_en.eq(histogram.add_en), add_bin.eq(histogram.add_bin)]
-
-    # ---- cycle r: the read (the scan's, from the top bin down, or an increment's) --------
-    scan_active = Signal()                           # a scan read after the first
-    scan_addr = Signal(addr)
-    with m.If(scan_active):
-        m.d.sync += scan_addr.eq(scan_addr - 1)
-        with m.If(scan_addr == 0):
-            m.d.sync += scan_active.eq(0)
-    with m.Elif(histogram.scan_start):
-        m.d.sync += [scan_active.eq(1), scan_addr.eq(top - 1)]
-    scan_read = Signal()
     read_addr = Signal(addr)
     read_en = Signal()
-    m.d.comb += [
-        scan_read.eq(scan_active | histogram.scan_start),
-        read_addr.eq(Mux(scan_active, scan_addr, Mux(histogram.scan_start, top, add_bin))),
-        read_en.eq(scan_read | add_en),
-    ]
-    # the increment whose read the scan's first read displaces: held, added as the scan
-    # passes its bin
-    held_en = Signal()
-    held_bin = Signal(addr)
-    with m.If(histogram.scan_start & ~scan_active):
-        m.d.sync += [held_en.eq(add_en), held_bin.eq(add_bin)]
+    add_en, add_bin, scan_active, scan_read, held_en, held_bin = request_and_read(
+        m, histogram, cfg.n_bins, read_addr, read_en)
 
     # ---- the stages' registers ----------------------------------------------------------
     scan_1, add_1, bin_1 = Signal(), Signal(), Signal(addr)          # in r+1
@@ -140,3 +116,40 @@ def staged_histogram(histogram, cfg: DPConfig, dp16kd, held_apart: bool) -> Modu
         histogram.scanning.eq(scan_active | scan_1 | scan_2),
     ]
     return m
+
+
+def request_and_read(m, histogram, n_bins: int, read_addr, read_en):
+    """Cycles r-1 and r of both styles of :class:`~dptbd.hw.histogram.Histogram`: the
+    increment request registered; the read in r on ``read_addr`` / ``read_en`` (the scan's,
+    from the top bin down, or an increment's); the increment whose read the scan's first
+    read displaces, held to be added as the scan passes its bin. Returns ``add_en``,
+    ``add_bin`` (the registered request), ``scan_active`` (a scan read after the first),
+    ``scan_read`` (this cycle's read is the scan's), ``held_en``, ``held_bin``."""
+    top = n_bins - 1
+    # ---- cycle r-1: the increment request, registered ------------------------------------
+    add_en = Signal()
+    add_bin = Signal(range(n_bins))
+    m.d.sync += [add_en.eq(histogram.add_en), add_bin.eq(histogram.add_bin)]
+
+    # ---- cycle r: the read (the scan's, from the top bin down, or an increment's) --------
+    scan_active = Signal()                           # a scan read after the first
+    scan_addr = Signal(range(n_bins))
+    with m.If(scan_active):
+        m.d.sync += scan_addr.eq(scan_addr - 1)
+        with m.If(scan_addr == 0):
+            m.d.sync += scan_active.eq(0)
+    with m.Elif(histogram.scan_start):
+        m.d.sync += [scan_active.eq(1), scan_addr.eq(top - 1)]
+    scan_read = Signal()                             # this cycle's read is the scan's
+    m.d.comb += scan_read.eq(scan_active | histogram.scan_start)
+    m.d.comb += [
+        read_addr.eq(Mux(scan_active, scan_addr, Mux(histogram.scan_start, top, add_bin))),
+        read_en.eq(scan_read | add_en),
+    ]
+    # the increment issued in the cycle before scan_start: its read is displaced by the
+    # scan's first; it is held and added to its bin's count as the scan passes it
+    held_en = Signal()
+    held_bin = Signal(range(n_bins))
+    with m.If(histogram.scan_start & ~scan_active):
+        m.d.sync += [held_en.eq(add_en), held_bin.eq(add_bin)]
+    return add_en, add_bin, scan_active, scan_read, held_en, held_bin

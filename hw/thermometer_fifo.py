@@ -117,12 +117,7 @@ class ThermometerFIFO(wiring.Component):
             writes = [produce[i] for i in range(words)]
             reads = [consume[i] for i in range(words)]
         else:
-            produce = Signal(range(words))
-            consume = Signal(range(words))
-            with m.If(do_write):
-                m.d.sync += produce.eq(increment_mod(produce, words))
-            with m.If(do_read):
-                m.d.sync += consume.eq(increment_mod(consume, words))
+            produce, consume = _binary_pointers(m, words, do_write, do_read)
             writes = [produce == i for i in range(words)]
             reads = [consume == i for i in range(words)]
         m.d.comb += [
@@ -190,12 +185,7 @@ class ThermometerFIFO(wiring.Component):
         # register when that is empty or being read; the staged word is always written
         # into the memory, so a word moved from the stage passes through it at once
         do_read = (not_empty | staged) & (~self.r.valid | self.r.ready)
-        produce = Signal(range(words))
-        consume = Signal(range(words))
-        with m.If(staged):
-            m.d.sync += produce.eq(increment_mod(produce, words))
-        with m.If(do_read):
-            m.d.sync += consume.eq(increment_mod(consume, words))
+        produce, consume = _binary_pointers(m, words, staged, do_read)
         m.d.comb += [level.up.eq(staged), level.down.eq(do_read)]
         head = Signal(self._shape)
         if self._storage == "memory":
@@ -224,6 +214,18 @@ class ThermometerFIFO(wiring.Component):
             m.d.comb += self.low.eq(_at_most(level.at_least, self._low_mark,
                                              [staged, self.r.valid]))
         return m
+
+
+def _binary_pointers(m, words: int, do_write, do_read):
+    """The write and read pointers of a ring of ``words`` words, each stepped modulo
+    ``words`` when its handshake is done; returns ``(produce, consume)``."""
+    produce = Signal(range(words))
+    consume = Signal(range(words))
+    with m.If(do_write):
+        m.d.sync += produce.eq(increment_mod(produce, words))
+    with m.If(do_read):
+        m.d.sync += consume.eq(increment_mod(consume, words))
+    return produce, consume
 
 
 def _at_most(at_least, mark: int, extra) -> Value:
