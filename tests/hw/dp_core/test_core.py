@@ -5,6 +5,7 @@ import random
 
 import numpy as np
 import pytest
+from amaranth.back import rtlil
 
 from dptbd.config import DPConfig
 from dptbd.hw.dp_core import CORE_OPTIONS, DPCore
@@ -17,11 +18,12 @@ from helpers.refusals import whole
 #: Every combination of DPCore's implementation options (the iCE40 and ECP5 flows' among
 #: them).
 # The on-chip store's DP16KD build is checked in tests/hw/test_read_ahead_store.py and the
-# histogram and the control style are not in these blocks (the segmenter's and the AXI top's
-# tests); every other option is simulated,
+# histogram, the control style and the register read are not in these blocks (the
+# segmenter's and the AXI top's tests; the core builds the same netlist with each,
+# `test_the_register_read_option_builds_the_same_core`); every other option is simulated,
 # the DP16KD line buffer's block RAMs by a behavioural DP16KD.
 SIMULATED = {**CORE_OPTIONS, "state_store_style": ("memory",), "histogram_style": ("memory",),
-             "control_style": ("generic",)}
+             "control_style": ("generic",), "register_read": ("one_level",)}
 OPTION_SETS = [dict(zip(SIMULATED, values)) for values in itertools.product(*SIMULATED.values())]
 
 
@@ -99,6 +101,11 @@ def test_storage_options_keep_the_cycle_count(monkeypatch, options):
     assert run.accept_cycles == list(range(1, 1 + total))
     assert run.output_cycles == list(range(1 + latency, 1 + latency + total))
 
+
+
+def test_the_register_read_option_builds_the_same_core():
+    cfg = DPConfig(width=6, height=5, segment_frames=3)
+    assert rtlil.convert(DPCore(cfg, register_read="two_level")) == rtlil.convert(DPCore(cfg))
 
 @pytest.mark.parametrize("option, bad, allowed", [
     ("line_buffer_style", "distributed", "('bram', 'lutram', 'dp16kd')"),

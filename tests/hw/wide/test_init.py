@@ -11,6 +11,7 @@ import warnings
 
 import numpy as np
 import pytest
+from amaranth.back import rtlil
 
 from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.errors import ConfigError
@@ -83,9 +84,18 @@ def test_exact_cycle_count(p, radius, style):
     assert run.output_cycles[-1] - first_in + 1 == beats + latency == {1: 86, 2: 87}[radius]
 
 
-@pytest.mark.parametrize("options", [dict(zip(CORE_OPTIONS, values))
-                                     for values in itertools.product(*CORE_OPTIONS.values())],
-                         ids=lambda o: "-".join(o.values()))
+#: The implementation options the P-pixel pipeline builds (every combination simulated);
+#: the others are the on-chip store's, the segmenter's, the P = 1 flags queue's and the AXI
+#: top's, which it accepts and ignores (``test_ignored_core_options_build_the_same_netlist``).
+WIDE_OPTIONS = ("line_buffer_style", "sideband_delay", "max_tree")
+IGNORED_OPTIONS = tuple(name for name in CORE_OPTIONS if name not in WIDE_OPTIONS)
+WIDE_OPTION_SETS = [
+    {**{name: CORE_OPTIONS[name][0] for name in IGNORED_OPTIONS}, **dict(zip(WIDE_OPTIONS, values))}
+    for values in itertools.product(*(CORE_OPTIONS[name] for name in WIDE_OPTIONS))
+] + [{name: values[-1] for name, values in CORE_OPTIONS.items()}]
+
+
+@pytest.mark.parametrize("options", WIDE_OPTION_SETS, ids=lambda o: "-".join(o.values()))
 def test_core_options_change_nothing(monkeypatch, options):
     model_dp16kd_cells(monkeypatch)          # the DP16KD line buffer's block RAMs, modelled
     cfg = make_config(width=8, height=6, segment_frames=3, pixels_per_clock=2)
@@ -96,6 +106,14 @@ def test_core_options_change_nothing(monkeypatch, options):
                     ready_probability=0.7, seed=2)
     assert_states_equal(run.outputs, reference_states(cfg, frames))
 
+
+
+@pytest.mark.parametrize("name, value", [(name, value) for name in IGNORED_OPTIONS
+                                         for value in CORE_OPTIONS[name][1:]])
+def test_ignored_core_options_build_the_same_netlist(name, value):
+    cfg = make_config(width=8, height=6, segment_frames=3, pixels_per_clock=2)
+    assert rtlil.convert(DPPipelineWide(cfg, **{name: value})) == rtlil.convert(
+        DPPipelineWide(cfg))
 
 @pytest.mark.parametrize("width, style, chosen", [
     (16, "lutram", ("distributed", True)), (12, "lutram", ("distributed", False)),
