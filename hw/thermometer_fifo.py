@@ -159,13 +159,18 @@ class ThermometerFIFO(wiring.Component):
             with m.If(do_read):
                 m.d.sync += head.eq(selected)
             m.d.comb += self.r.payload.eq(head)
+        self._output_valid(m, do_read)
+        if self._low_mark is not None:
+            m.d.comb += self.low.eq(_at_most(level.at_least, self._low_mark, [self.r.valid]))
+        return m
+
+    def _output_valid(self, m, do_read):
+        """``r.valid``: set when a word moves into the output register, cleared when the
+        word is read and none follows."""
         with m.If(do_read):
             m.d.sync += self.r.valid.eq(1)
         with m.Elif(self.r.ready):
             m.d.sync += self.r.valid.eq(0)
-        if self._low_mark is not None:
-            m.d.comb += self.low.eq(_at_most(level.at_least, self._low_mark, [self.r.valid]))
-        return m
 
     def _elaborate_staged(self):
         """``staged=True``: the write through a stage register (see the module doc)."""
@@ -206,10 +211,7 @@ class ThermometerFIFO(wiring.Component):
         with m.If(do_read):
             m.d.sync += head.eq(Mux(not_empty, oldest, staged_word))
         m.d.comb += self.r.payload.eq(head)
-        with m.If(do_read):
-            m.d.sync += self.r.valid.eq(1)
-        with m.Elif(self.r.ready):
-            m.d.sync += self.r.valid.eq(0)
+        self._output_valid(m, do_read)
         if self._low_mark is not None:
             m.d.comb += self.low.eq(_at_most(level.at_least, self._low_mark,
                                              [staged, self.r.valid]))
