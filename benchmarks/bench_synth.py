@@ -147,6 +147,29 @@ FLOW_SETS = {"--seed": "--seeds", "--freq": "--freq", "--package": "--package",
              **{f"--{d}": "--device" for fam in FAMILIES.values() for d in fam.devices}}
 
 
+#: Each of DPCore's implementation options (``CORE_OPTIONS``, ``--line-buffer-style`` …):
+#: its help.
+CORE_OPTION_HELP = {
+    "line_buffer_style": "DPCore line buffer storage (default: the family's, block RAM on "
+                         "iCE40, LUT RAM on ECP5, DP16KDs on ECP5 from 512 pixels wide)",
+    "sideband_delay": "DPCore side-band delay (default: the family's, memory on iCE40, "
+                      "registers on ECP5)",
+    "max_tree": "DPCore max tree, one or two stages per level (default: the family's, "
+                "compact on iCE40, split on ECP5)",
+    "state_store_style": "the on-chip state store's block RAM (default: the family's, an "
+                         "Amaranth memory on iCE40, DP16KDs with their output register on "
+                         "ECP5)",
+    "histogram_style": "the segmenter histogram's memory (default: the family's, an Amaranth "
+                       "memory on iCE40, DP16KDs with their output register on ECP5)",
+    "control_style": "the segmenter's and the AXI top's control logic (default: the family's, "
+                     "generic on iCE40, registered on ECP5)",
+    "output_queue_style": "the pointers of the P = 1 core's output flags FIFO (default: the "
+                          "family's, binary on iCE40, one-hot on ECP5)",
+    "register_read": "the AXI top's register read (default: the family's, one level on "
+                     "iCE40, two with the first registered on ECP5)",
+}
+
+
 def split_nextpnr_args(text: str) -> tuple[str, ...]:
     """``--nextpnr-args``: split like a shell's words; ``ValueError`` for an option the flow
     sets itself (the seed, the target, the device, the router, the speed, the files)."""
@@ -269,33 +292,9 @@ def main(argv=None) -> int:
                              "\"--tmg-ripup --placer-heap-timingweight 30\"; a single option as "
                              "--nextpnr-args=--tmg-ripup (not the flow's own: seed, "
                              "target, device, router, speed, files)")
-    parser.add_argument("--line-buffer-style", choices=CORE_OPTIONS["line_buffer_style"],
-                        help="DPCore line buffer storage (default: the family's, block RAM "
-                             "on iCE40, LUT RAM on ECP5, DP16KDs on ECP5 from 512 pixels "
-                             "wide)")
-    parser.add_argument("--sideband-delay", choices=CORE_OPTIONS["sideband_delay"],
-                        help="DPCore side-band delay (default: the family's, memory on "
-                             "iCE40, registers on ECP5)")
-    parser.add_argument("--max-tree", choices=CORE_OPTIONS["max_tree"],
-                        help="DPCore max tree, one or two stages per level (default: the "
-                             "family's, compact on iCE40, split on ECP5)")
-    parser.add_argument("--state-store-style", choices=CORE_OPTIONS["state_store_style"],
-                        help="the on-chip state store's block RAM (default: the family's, "
-                             "an Amaranth memory on iCE40, DP16KDs with their output "
-                             "register on ECP5)")
-    parser.add_argument("--histogram-style", choices=CORE_OPTIONS["histogram_style"],
-                        help="the segmenter histogram's memory (default: the family's, "
-                             "an Amaranth memory on iCE40, DP16KDs with their output "
-                             "register on ECP5)")
-    parser.add_argument("--control-style", choices=CORE_OPTIONS["control_style"],
-                        help="the segmenter's and the AXI top's control logic (default: the "
-                             "family's, generic on iCE40, registered on ECP5)")
-    parser.add_argument("--output-queue-style", choices=CORE_OPTIONS["output_queue_style"],
-                        help="the pointers of the P = 1 core's output flags FIFO (default: "
-                             "the family's, binary on iCE40, one-hot on ECP5)")
-    parser.add_argument("--register-read", choices=CORE_OPTIONS["register_read"],
-                        help="the AXI top's register read (default: the family's, one level "
-                             "on iCE40, two with the first registered on ECP5)")
+    for name, choices in CORE_OPTIONS.items():
+        parser.add_argument("--" + name.replace("_", "-"), choices=choices,
+                            help=CORE_OPTION_HELP[name])
     parser.add_argument("--no-breakdown", action="store_true",
                         help="skip the hierarchical synthesis (per-block table)")
     parser.add_argument("--workdir", type=pathlib.Path, default=pathlib.Path("build/synth"))
