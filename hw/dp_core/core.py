@@ -126,22 +126,13 @@ class DPCore(wiring.Component):
                  state_store_style: str = "memory", histogram_style: str = "memory",
                  control_style: str = "generic", output_queue_style: str = "binary",
                  register_read: str = "one_level"):
-        # -- line buffer and side-band storage (per-family implementation options) --
-        check_core_options(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
-                           state_store_style=state_store_style,
-                           histogram_style=histogram_style, control_style=control_style,
-                           output_queue_style=output_queue_style,
-                           register_read=register_read)
-        self._line_buffer_style = line_buffer_style
-        self._sideband_delay = sideband_delay
-        self._max_tree = max_tree
-        self._state_store_style = state_store_style
-        self._histogram_style = histogram_style
-        self._control_style = control_style
-        self._output_queue_style = output_queue_style
-        self._register_read = register_read
+        # the implementation options (per FPGA family), checked
+        self._options = dict(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
+                             max_tree=max_tree, state_store_style=state_store_style,
+                             histogram_style=histogram_style, control_style=control_style,
+                             output_queue_style=output_queue_style, register_read=register_read)
+        check_core_options(**self._options)
         self._schedule = check_supported(cfg, max_tree=max_tree)   # refuses a bad max_tree
-        # -- end --
         self._cfg = cfg
         self._lut_style = resolve_lut_style(cfg, lut_style)
         if output_fifo_depth is None:
@@ -203,23 +194,17 @@ class DPCore(wiring.Component):
     @property
     def line_buffer_style(self) -> str:
         """The line buffer's storage: ``"bram"`` or ``"lutram"``."""
-        return self._line_buffer_style
+        return self._options["line_buffer_style"]
 
     @property
     def sideband_delay(self) -> str:
         """How the side band is delayed: ``"registers"`` or ``"memory"``."""
-        return self._sideband_delay
+        return self._options["sideband_delay"]
 
     @property
     def core_options(self) -> dict:
         """The storage options (:data:`CORE_OPTIONS`) this core was built with."""
-        return {"line_buffer_style": self._line_buffer_style,
-                "sideband_delay": self._sideband_delay, "max_tree": self._max_tree,
-                "state_store_style": self._state_store_style,
-                "histogram_style": self._histogram_style,
-                "control_style": self._control_style,
-                "output_queue_style": self._output_queue_style,
-                "register_read": self._register_read}
+        return dict(self._options)
 
     def elaborate(self, platform):
         m = Module()
@@ -234,7 +219,7 @@ class DPCore(wiring.Component):
         accept = self.pixels.valid & input_ready
 
         m.submodules.controller = controller = Controller(
-            cfg, registered=self._control_style == "registered")
+            cfg, registered=self._options["control_style"] == "registered")
         m.d.comb += [
             controller.accept.eq(accept),
             controller.first.eq(self.pixels.payload.first),
@@ -246,7 +231,7 @@ class DPCore(wiring.Component):
             self.state_store.read_en.eq(accept),
         ]
         m.submodules.line_buffer = line_buffer = core_line_buffer(
-            state_word_layout(cfg), cfg.width, 2 * cfg.radius, self._line_buffer_style)
+            state_word_layout(cfg), cfg.width, 2 * cfg.radius, self._options["line_buffer_style"])
         m.d.comb += line_buffer.advance.eq(accept)
 
         # ---- cycle 1 (fetch): new window column --------------------------------------
@@ -316,7 +301,8 @@ class DPCore(wiring.Component):
         # Each multiplier also gets its move's edge flag at the code's cycle: an
         # out-of-image predecessor weighs 0 (WeightedCandidate), so what its cell holds
         # (power-up garbage, X in a 4-state simulator) never reaches the max tree.
-        tree_kind = SplitMaxTree if self._max_tree == "split" else MaxTree   # timing work
+        # SplitMaxTree: compare and select in two stages per level (ECP5 timing)
+        tree_kind = SplitMaxTree if self._options["max_tree"] == "split" else MaxTree
         m.submodules.max_tree = tree = tree_kind(moves, value_shape.width,
                                                  signed=blocks.signed_candidates)
         inside_at_code = delayed(m, window.inside, sched.code - sched.window,
@@ -361,7 +347,7 @@ class DPCore(wiring.Component):
 
         # ---- faded (= best) -> state: accumulator ------------------------------------
         # -- side-band delay (an area option): `valid` always in registers --
-        if self._sideband_delay == "memory":
+        if self._options["sideband_delay"] == "memory":
             late_valid = delayed(m, sideband.valid, sched.faded - sched.fetch,
                                  name="sideband_valid")
             late_rest = delayed_in_memory(m, sideband.as_value()[1:], sched.faded - sched.fetch,
@@ -403,5 +389,5 @@ class DPCore(wiring.Component):
             self.state_store.write_en.eq(at_state.valid),
         ]
         queue_output(m, cfg, self._fifo_depth, accumulator, at_state, self.states,
-                     self.events, accept, input_ready, self._output_queue_style)
+                     self.events, accept, input_ready, self._options["output_queue_style"])
         return m

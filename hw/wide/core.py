@@ -90,20 +90,12 @@ class DPCoreWide(wiring.Component):
                  state_store_style: str = "memory", histogram_style: str = "memory",
                  control_style: str = "generic", output_queue_style: str = "binary",
                  register_read: str = "one_level"):
-        check_core_options(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
-                           state_store_style=state_store_style,
-                           histogram_style=histogram_style, control_style=control_style,
-                           output_queue_style=output_queue_style,
-                           register_read=register_read)
-        self._state_store_style = state_store_style
-        self._histogram_style = histogram_style
-        self._control_style = control_style
-        self._output_queue_style = output_queue_style
-        self._register_read = register_read
+        self._options = dict(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
+                             max_tree=max_tree, state_store_style=state_store_style,
+                             histogram_style=histogram_style, control_style=control_style,
+                             output_queue_style=output_queue_style, register_read=register_read)
+        check_core_options(**self._options)
         self._schedule = check_wide(cfg, max_tree=max_tree)
-        self._line_buffer_style = line_buffer_style
-        self._sideband_delay = sideband_delay
-        self._max_tree = max_tree
         self._cfg = cfg
         self._lut_style = resolve_lut_style(cfg, lut_style)
         if output_fifo_depth is None:
@@ -132,13 +124,7 @@ class DPCoreWide(wiring.Component):
     @property
     def core_options(self) -> dict:
         """The storage options (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`) of this core."""
-        return {"line_buffer_style": self._line_buffer_style,
-                "sideband_delay": self._sideband_delay, "max_tree": self._max_tree,
-                "state_store_style": self._state_store_style,
-                "histogram_style": self._histogram_style,
-                "control_style": self._control_style,
-                "output_queue_style": self._output_queue_style,
-                "register_read": self._register_read}
+        return dict(self._options)
 
     def elaborate(self, platform):
         m = Module()
@@ -165,7 +151,7 @@ class DPCoreWide(wiring.Component):
         ]
         # DPCore's line buffer of each style, a beat (P words) per entry
         m.submodules.line_buffer = line_buffer = core_line_buffer(
-            beat_word_layout(cfg), cfg.row_beats, 2 * r, self._line_buffer_style)
+            beat_word_layout(cfg), cfg.row_beats, 2 * r, self._options["line_buffer_style"])
         m.d.comb += line_buffer.advance.eq(accept)
 
         # ---- cycle 1 (fetch): new beat column ----------------------------------------
@@ -198,7 +184,7 @@ class DPCoreWide(wiring.Component):
             sideband.end_of_frame.eq(controller.position.end_of_frame),
             sideband.end_of_segment.eq(controller.position.end_of_segment),
         ]
-        if self._sideband_delay == "memory":
+        if self._options["sideband_delay"] == "memory":
             late_valid = delayed(m, sideband.valid, sched.faded - sched.fetch,
                                  name="sideband_valid")
             late_rest = delayed_in_memory(m, sideband.as_value()[1:], sched.faded - sched.fetch,
@@ -210,7 +196,7 @@ class DPCoreWide(wiring.Component):
         at_state = delayed(m, at_best, 1, name="sideband_state")
 
         # ---- cycles 2 .. state: one datapath per lane ----------------------------------
-        tree_kind = SplitMaxTree if self._max_tree == "split" else MaxTree
+        tree_kind = SplitMaxTree if self._options["max_tree"] == "split" else MaxTree
         accumulators = []
         for lane in range(lanes):
             lut = WeightLUT(cfg, lut_style=self._lut_style)
