@@ -40,12 +40,13 @@ import subprocess
 import time
 
 from dptbd.config import DPConfig
-from dptbd.sim.mutation.equivalence import CLOCK_UNPROVEN, Equivalence, clock_mutation
+from dptbd.sim.mutation.equivalence import (CLOCK_UNPROVEN, Equivalence, clock_mutation,
+                                             prove_equivalent)
 from dptbd.sim.mutation.netlist import DESIGN_TOPS, Mutation, _prepared, run_yosys, top_rtlil
 
 __all__ = ["PDR_SECONDS", "TIMEOUT", "TO_AIGER", "CORRESPONDENCE", "miter_script", "abc_script",
-           "outputs_zero", "pdr_verdict", "prove_reachable", "solve_miter", "PROVE_METHODS",
-           "prover"]
+           "outputs_zero", "pdr_verdict", "prove_reachable", "solve_miter", "PROVERS",
+           "PROVE_METHODS", "prover"]
 
 #: Seconds PDR may take (``pdr -T``).
 PDR_SECONDS = 600
@@ -153,7 +154,6 @@ def prove_reachable(cfg: DPConfig, design: str, mutation: Mutation | str, *,
                        timeout=timeout, correspondence=correspondence)
 
 
-
 def solve_miter(script: str, *, pdr_seconds: float = PDR_SECONDS, timeout: float = TIMEOUT,
                 correspondence: str = "&scorr") -> Equivalence:
     """Run the Yosys ``script`` writing a miter as ``miter.aig`` (:func:`miter_script`, or
@@ -187,7 +187,9 @@ def solve_miter(script: str, *, pdr_seconds: float = PDR_SECONDS, timeout: float
 #: --prove-method``): ``equiv``, Yosys ``equiv_*`` from every paired state
 #: (:func:`~.equivalence.prove_equivalent`); ``reachable``, the miter from reset
 #: (:func:`prove_reachable`, ``&scorr``); ``reachable-scorr``, the same with ``scorr``.
-PROVE_METHODS = ("equiv", "reachable", "reachable-scorr")
+PROVERS = {"equiv": prove_equivalent, "reachable": prove_reachable,
+           "reachable-scorr": functools.partial(prove_reachable, correspondence="scorr")}
+PROVE_METHODS = tuple(PROVERS)
 
 
 def prover(method: str):
@@ -199,11 +201,7 @@ def prover(method: str):
     ValueError
         ``method`` is not one of :data:`PROVE_METHODS`.
     """
-    from dptbd.sim.mutation.equivalence import prove_equivalent
-
-    provers = {"equiv": prove_equivalent, "reachable": prove_reachable,
-               "reachable-scorr": functools.partial(prove_reachable, correspondence="scorr")}
-    if method not in provers:
+    if method not in PROVERS:
         raise ValueError(f"proof method must be one of {', '.join(PROVE_METHODS)}, got "
                          f"{method!r}")
-    return provers[method]
+    return PROVERS[method]
