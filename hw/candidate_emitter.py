@@ -41,13 +41,14 @@ class CandidateEmitter(wiring.Component):
         ``True`` (the ECP5 build): "fewer than C emitted" is a register updated with the
         count, so no comparison lies between the count and the FIFO's write; ``False``
         (default): the comparison. Same words, same cycles.
-    staged_fifo : bool or None
-        ``True``: the output FIFO is a :class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO`
-        whose write goes through a stage register (``staged=True``), with its level's
-        flags in registers, and a trailer's count is completed in the cycle it is written
-        (the record of the list's last pixel added there), so that the push ends at
-        registers: no adder, level counter or memory write enable after it. ``None``
-        (default): as ``registered_cap`` (the ECP5 build's). Same words, same cycles.
+    staged_fifo : bool
+        ``True`` (the ECP5 build): the output FIFO is a
+        :class:`~dptbd.hw.thermometer_fifo.ThermometerFIFO` whose write goes through a stage
+        register (``staged=True``), with its level's flags in registers, and a trailer's
+        count is completed in the cycle it is written (the record of the list's last pixel
+        added there), so that the push ends at registers: no adder, level counter or memory
+        write enable after it. ``False`` (default): the library's ``SyncFIFOBuffered``.
+        Same words, same cycles.
 
     Members
     -------
@@ -68,13 +69,13 @@ class CandidateEmitter(wiring.Component):
     """
 
     def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, registered_cap: bool = False,
-                 staged_fifo: bool | None = None):
+                 staged_fifo: bool = False):
         if fifo_depth < 6:
             raise ValueError(f"fifo_depth must be an integer in [6, inf), got {fifo_depth}")
         self._cfg = cfg
         self._depth = fifo_depth
         self._registered_cap = registered_cap
-        self._staged = registered_cap if staged_fifo is None else bool(staged_fifo)
+        self._staged = bool(staged_fifo)
         super().__init__({
             "valid": In(1),
             "selected": In(1),

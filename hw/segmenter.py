@@ -126,7 +126,8 @@ class Segmenter(wiring.Component):
         self._registered = control_style == "registered"
         self._dp16kd = dp16kd
         self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth,
-                                         registered_cap=self._registered)
+                                         registered_cap=self._registered,
+                                         staged_fifo=self._registered)
         super().__init__({
             "states": In(stream.Signature(state_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),

@@ -64,7 +64,7 @@ def reference(cfg, pixels):
     return words
 
 
-OPTIONS = [{"registered_cap": False}, {"registered_cap": True},
+OPTIONS = [{"registered_cap": False}, {"registered_cap": True, "staged_fifo": True},
            {"registered_cap": False, "staged_fifo": True},
            {"registered_cap": True, "staged_fifo": False}]
 OPTION_IDS = ["generic", "registered", "staged", "registered_unstaged"]
