@@ -189,6 +189,7 @@ def solve_miter(script: str, *, pdr_seconds: float = PDR_SECONDS, timeout: float
 #: (:func:`prove_reachable`, ``&scorr``); ``reachable-scorr``, the same with ``scorr``.
 PROVERS = {"equiv": prove_equivalent, "reachable": prove_reachable,
            "reachable-scorr": functools.partial(prove_reachable, correspondence="scorr")}
+#: The names of :data:`PROVERS`.
 PROVE_METHODS = tuple(PROVERS)
 
 
