@@ -167,7 +167,8 @@ class AXITop(wiring.Component):
         m.submodules.cand_out = cand_out = CandidatesToAxis(cfg, busy_ahead=registered)
         restart = {"sync": cand_out.restart}
         m.submodules.video_in = video_in = AxisToPixels(cfg)
-        m.submodules.monitor = monitor = ResetInserter(restart)(FrameMonitor(cfg))
+        m.submodules.monitor = monitor = ResetInserter(restart)(
+            FrameMonitor(cfg, registered=registered))
         m.submodules.core = core = ResetInserter(restart)(self._core)
         busy = busy_port = cand_out.busy
         if registered:

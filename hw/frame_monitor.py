@@ -60,10 +60,16 @@ class FrameMonitor(wiring.Component):
         The source sends no start-of-frame markers: ``frame_long`` is not raised.
     faults : Out(fault_layout())
         Registered one-cycle pulses, one per fault of the beat accepted in the cycle before.
+
+    With ``registered=True`` (the ECP5 build's, ``control_style="registered"``) the
+    comparisons of the counters (column W-1, row H-1, column 0) are flags in registers,
+    updated with the counters, so that no comparison lies between a counter and the next
+    ``row`` / ``col`` / fault. Same pulses, same cycles.
     """
 
-    def __init__(self, cfg: DPConfig):
+    def __init__(self, cfg: DPConfig, *, registered: bool = False):
         self._cfg = cfg
+        self._registered = bool(registered)
         super().__init__({
             "accept": In(1),
             "first": In(1),
@@ -80,16 +86,18 @@ class FrameMonitor(wiring.Component):
         at_start = Signal(init=1)          # the next beat is expected at (0, 0)
 
         restart = self.first & ~at_start
-        eff_col = Mux(restart, 0, col)
-        eff_row = Mux(restart, 0, row)
-        last_col = eff_col == width - 1
-        end_of_frame = last_col & (eff_row == height - 1)
-
         # beats of the current line before this one, saturating at W + 1 (a start of frame
         # begins a new line)
         run = Signal(range(width + 2))
         index = Mux(self.first, 0, run)
         bad_line = (self.last & (index < width - 1)) | (index == width)
+        if self._registered:
+            self._flagged(m, col, row, at_start, restart, run, index, bad_line)
+            return m
+        eff_col = Mux(restart, 0, col)
+        eff_row = Mux(restart, 0, row)
+        last_col = eff_col == width - 1
+        end_of_frame = last_col & (eff_row == height - 1)
 
         m.d.sync += [
             self.faults.sof_unexpected.eq(self.accept & restart & (col != 0)),
@@ -105,3 +113,37 @@ class FrameMonitor(wiring.Component):
                 run.eq(Mux(self.last, 0, Mux(index == width + 1, index, index + 1))),
             ]
         return m
+
+    def _flagged(self, m, col, row, at_start, restart, run, index, bad_line):
+        """``registered``: ``col == W-1``, ``row == H-1`` and ``col == 0`` in registers
+        (``col_last``, ``row_last``, ``col_zero``), each next value from the flags, the
+        restart and a comparison of the register it follows (``col == W-2``,
+        ``row == H-2``)."""
+        width, height = self._cfg.width, self._cfg.height
+        col_last = Signal(init=width == 1)
+        row_last = Signal(init=height == 1)
+        col_zero = Signal(init=1)
+        last_col = Mux(restart, width == 1, col_last)           # the beat ends its row
+        last_row = Mux(restart, height == 1, row_last)          # the beat is in row H-1
+        # a restart's beat is (0, 0): its next row is 1 after a row of one column
+        restart_row = int(width == 1 and height > 1)
+        m.d.sync += [
+            self.faults.sof_unexpected.eq(self.accept & restart & ~col_zero),
+            self.faults.frame_short.eq(self.accept & restart & col_zero),
+            self.faults.frame_long.eq(self.accept & at_start & ~self.first & ~self.no_sof),
+            self.faults.line_length.eq(self.accept & bad_line),
+        ]
+        with m.If(self.accept):
+            m.d.sync += [
+                col.eq(Mux(last_col, 0, Mux(restart, 1, col + 1))),
+                col_last.eq(Mux(last_col, width == 1,
+                                Mux(restart, width == 2, col == width - 2))),
+                col_zero.eq(last_col),
+                row.eq(Mux(restart, restart_row,
+                           Mux(col_last, Mux(row_last, 0, row + 1), row))),
+                row_last.eq(Mux(restart, restart_row == height - 1,
+                                Mux(col_last, Mux(row_last, height == 1, row == height - 2),
+                                    row_last))),
+                at_start.eq(last_col & last_row),
+                run.eq(Mux(self.last, 0, Mux(index == width + 1, index, index + 1))),
+            ]

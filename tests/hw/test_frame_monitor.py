@@ -72,11 +72,12 @@ def ref_faults(beats, no_sof=False):
     return fault_pulses(make_config(width=W, height=H), first, last, no_sof=no_sof)
 
 
-def rtl_faults(beats, seed=0, no_sof=False):
+def rtl_faults(beats, seed=0, no_sof=False, registered=False, width=W, height=H):
     """Fault pulses of the gateware per accepted beat, with random idle cycles between
-    beats; also the controller's ``resync`` per beat."""
-    cfg = make_config(width=W, height=H)
-    dut = FrameMonitor(cfg)
+    beats; also the controller's ``resync`` per beat. ``registered``: the ECP5 build's
+    monitor (its comparisons as flags in registers)."""
+    cfg = make_config(width=width, height=height)
+    dut = FrameMonitor(cfg, registered=registered)
     ctl = Controller(cfg)
     rng = random.Random(seed)
     got, resyncs = [], []
@@ -106,12 +107,13 @@ def rtl_faults(beats, seed=0, no_sof=False):
     return got, resyncs
 
 
+@pytest.mark.parametrize("registered", [False, True], ids=["generic", "registered"])
 @pytest.mark.parametrize("name,beats,total", list(cases()), ids=[c[0] for c in cases()])
-def test_frame_monitor_matches_reference(name, beats, total):
+def test_frame_monitor_matches_reference(name, beats, total, registered):
     want = ref_faults(beats)
     sums = {k: sum(f[k] for f in want) for k in FAULTS}
     assert sums == {k: total.get(k, 0) for k in FAULTS}, name
-    got, resyncs = rtl_faults(beats, seed=len(beats))
+    got, resyncs = rtl_faults(beats, seed=len(beats), registered=registered)
     assert got == want
     # the monitor restarts exactly where the core's controller resynchronises
     assert resyncs == [f["sof_unexpected"] | f["frame_short"] for f in want]
@@ -140,12 +142,26 @@ def test_with_fault_refusals():
         with_fault(cfg, frames[:1], "frame_long")
 
 
+@pytest.mark.parametrize("registered", [False, True], ids=["generic", "registered"])
 @pytest.mark.parametrize("name,beats,total", list(cases()), ids=[c[0] for c in cases()])
-def test_no_sof_silences_frame_long_only(name, beats, total):
+def test_no_sof_silences_frame_long_only(name, beats, total, registered):
     """With ``no_sof`` set, the same beats raise the same pulses but ``frame_long``."""
     want = ref_faults(beats, no_sof=True)
     assert want == [{**f, "frame_long": 0} for f in ref_faults(beats)]
-    got, _ = rtl_faults(beats, seed=len(beats), no_sof=True)
+    got, _ = rtl_faults(beats, seed=len(beats), no_sof=True, registered=registered)
+    assert got == want
+
+
+@pytest.mark.parametrize("width,height", [(3, 3), (4, 3), (3, 5), (5, 3)])
+def test_registered_monitor_on_random_beats(width, height):
+    """The registered monitor raises the reference's pulses on random beats (random start
+    of frame and end of line bits) at the smallest raster sizes (W, H >= 3)."""
+    rng = random.Random(width * 10 + height)
+    beats = [(int(rng.random() < 0.15), int(rng.random() < 0.3)) for _ in range(300)]
+    want = fault_pulses(make_config(width=width, height=height), *zip(*beats))
+    assert sum(sum(p.values()) for p in want) > 0
+    got, _ = rtl_faults(beats, seed=width + height, registered=True, width=width,
+                        height=height)
     assert got == want
 
 
