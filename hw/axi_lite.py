@@ -30,6 +30,12 @@ With ``handshake_apart=True`` (the ECP5 build's) the AW and W handshakes the blo
 register, so that synthesis keeps the two apart), not from the ``awready`` / ``wready``
 ports: the logic that drives those pins does not also drive the handshakes' enables.
 Same cycles.
+
+With ``read_apart=True`` (the ECP5 build's) the AR handshake the block sees
+(``ar_in_stb``) is formed from a register of its own, ``ar_open`` (``not busy``, no AW or
+W held, computed a cycle ahead), and the ``awvalid`` / ``wvalid`` / ``arvalid`` ports, not
+from the ``arready`` port: one LUT from a register to the read decode's enables and to
+``busy``'s next value. Same cycles.
 """
 
 from __future__ import annotations
@@ -104,9 +110,10 @@ class AXILiteSubordinate(wiring.Component):
     """
 
     def __init__(self, address_bits: int, data_bits: int = 32, *, late_read: bool = False,
-                 handshake_apart: bool = False):
+                 handshake_apart: bool = False, read_apart: bool = False):
         self._late = bool(late_read)
         self._apart = bool(handshake_apart)
+        self._ar_apart = bool(read_apart)
         super().__init__({
             "axil": In(axi_lite_signature(address_bits, data_bits)),
             "bus": Out(register_bus_signature(address_bits, data_bits)),
@@ -136,7 +143,7 @@ class AXILiteSubordinate(wiring.Component):
             bus.w_data.eq(w_data),
             bus.w_strb.eq(w_strb),
             bus.r_stb.eq(reading),
-            bus.ar_in_stb.eq(ar.arvalid & ar.arready),
+            *([] if self._ar_apart else [bus.ar_in_stb.eq(ar.arvalid & ar.arready)]),
             bus.ar_in_addr.eq(ar.araddr),
             bus.aw_in_addr.eq(aw.awaddr),
             bus.w_in_data.eq(w.wdata),
@@ -179,5 +186,12 @@ class AXILiteSubordinate(wiring.Component):
         else:
             m.d.comb += [bus.aw_in_stb.eq(aw.awvalid & aw.awready),
                          bus.w_in_stb.eq(w.wvalid & w.wready)]
+        if self._ar_apart:                 # ~busy & ~have_aw & ~have_w, the AR's copy
+            ar_open = Signal(init=1)
+            # the next have_aw / have_w are 0 unless held or taken now (a write now makes
+            # busy_next high)
+            m.d.sync += ar_open.eq(~busy_next & ~have_aw & ~have_w
+                                   & ~bus.aw_in_stb & ~bus.w_in_stb)
+            m.d.comb += bus.ar_in_stb.eq(ar.arvalid & ~aw.awvalid & ~w.wvalid & ar_open)
         return m
 

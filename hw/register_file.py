@@ -97,8 +97,9 @@ class RegisterFile(wiring.Component):
     as without.
 
     With ``handshake_apart=True`` (the ECP5 build's) the AXI4-Lite port's AW and W
-    handshakes come from a copy of its ``busy`` of their own
-    (:class:`~dptbd.hw.axi_lite.AXILiteSubordinate`), not from the ready pins' logic.
+    handshakes come from a copy of its ``busy`` of their own, and its AR handshake from a
+    register of its own (``read_apart``, :class:`~dptbd.hw.axi_lite.AXILiteSubordinate`),
+    not from the ready pins' logic.
     """
 
     def __init__(self, cfg: DPConfig, regmap=None, *, pulses_ahead: bool = False,
@@ -134,7 +135,8 @@ class RegisterFile(wiring.Component):
 
     @property
     def handshake_apart(self) -> bool:
-        """The AW and W handshakes from a copy of the port's ``busy``."""
+        """The AW and W handshakes from a copy of the port's ``busy``, the AR handshake
+        from a register of its own."""
         return self._apart
 
     @property
@@ -146,7 +148,8 @@ class RegisterFile(wiring.Component):
         m = Module()
         m.submodules.axil = port = AXILiteSubordinate(ADDRESS_BITS,
                                                       late_read=self._read_registered,
-                                                      handshake_apart=self._apart)
+                                                      handshake_apart=self._apart,
+                                                      read_apart=self._apart)
         wiring.connect(m, wiring.flipped(self.axil), port.axil)
         bus, regmap = port.bus, self._map
         byte_mask = Cat(bit.replicate(8) for bit in bus.w_strb)

@@ -194,5 +194,10 @@ def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:
         Assert(port.signal("busy") == (b.bvalid | r.rvalid | answering),
                "busy != bvalid | rvalid | the read being answered"),
     ]
-    if rf.handshake_apart:                 # the handshakes' copy of ~busy
-        m.d.comb += Assert(port.signal("idle") == ~port.signal("busy"), "idle != ~busy")
+    if rf.handshake_apart:                 # the handshakes' copies of ~busy
+        m.d.comb += [
+            Assert(port.signal("idle") == ~port.signal("busy"), "idle != ~busy"),
+            Assert(port.signal("ar_open") == (~port.signal("busy") & ~port.signal("have_aw")
+                                              & ~port.signal("have_w")),
+                   "ar_open != ~busy & ~have_aw & ~have_w"),
+        ]

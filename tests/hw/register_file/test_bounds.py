@@ -126,7 +126,8 @@ def test_a_refusal_sets_its_bits_a_cycle_later(bounds):
 
 def test_handshake_apart_answers_as_the_generic_port():
     """``handshake_apart=True`` (the ECP5 build's: the AW and W handshakes from a copy of
-    the port's ``busy``): every output the same in every cycle."""
+    the port's ``busy``, the AR handshake from a register of its own): every output the
+    same in every cycle."""
     cfg = make_config(width=32, height=32, candidate_count=300)
     regmap = register_map(cfg)
     generic, paths = lockstep(cfg, regmap, 7, 4000)
