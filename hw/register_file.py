@@ -99,7 +99,7 @@ class RegisterFile(wiring.Component):
     With ``handshake_apart=True`` (the ECP5 build's) the AXI4-Lite port's AW and W
     handshakes come from a copy of its ``busy`` of their own, and its AR handshake from a
     register of its own (``read_apart``, :class:`~dptbd.hw.axi_lite.AXILiteSubordinate`),
-    not from the ready pins' logic; the write's cycle (``w_stb``) is a register too.
+    not from the ready pins' logic.
     """
 
     def __init__(self, cfg: DPConfig, regmap=None, *, pulses_ahead: bool = False,

@@ -200,7 +200,4 @@ def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:
             Assert(port.signal("ar_open") == (~port.signal("busy") & ~port.signal("have_aw")
                                               & ~port.signal("have_w")),
                    "ar_open != ~busy & ~have_aw & ~have_w"),
-            Assert(port.signal("write_now") == (port.signal("have_aw")
-                                                & port.signal("have_w")),
-                   "write_now != have_aw & have_w"),
         ]
