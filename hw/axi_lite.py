@@ -35,7 +35,9 @@ With ``read_apart=True`` (the ECP5 build's) the AR handshake the block sees
 (``ar_in_stb``) is formed from a register of its own, ``ar_open`` (``not busy``, no AW or
 W held, computed a cycle ahead), and the ``awvalid`` / ``wvalid`` / ``arvalid`` ports, not
 from the ``arready`` port: one LUT from a register to the read decode's enables and to
-``busy``'s next value. Same cycles.
+``busy``'s next value; and the write's cycle (``w_stb``: an AW and a W held) is a
+register of its own (``write_now``, computed a cycle ahead), not an AND of the two.
+Same cycles.
 """
 
 from __future__ import annotations
@@ -131,7 +133,10 @@ class AXILiteSubordinate(wiring.Component):
         w_strb = Signal.like(w.wstrb)
         reading = Signal()                 # the cycle after the AR handshake: r_stb
         busy = Signal()                    # bvalid | rvalid | reading, a register
-        writing = have_aw & have_w
+        if self._ar_apart:                 # have_aw & have_w, a register of its own
+            writing = Signal(name="write_now")
+        else:
+            writing = have_aw & have_w
 
         m.d.comb += [
             aw.awready.eq(~have_aw & ~busy),
@@ -193,5 +198,8 @@ class AXILiteSubordinate(wiring.Component):
             m.d.sync += ar_open.eq(~busy_next & ~have_aw & ~have_w
                                    & ~bus.aw_in_stb & ~bus.w_in_stb)
             m.d.comb += bus.ar_in_stb.eq(ar.arvalid & ~aw.awvalid & ~w.wvalid & ar_open)
+            # both held in the next cycle: each held or taken now, and no write now
+            m.d.sync += writing.eq(~writing & (have_aw | bus.aw_in_stb)
+                                   & (have_w | bus.w_in_stb))
         return m
 

@@ -144,7 +144,9 @@ class CandidatesToAxis(wiring.Component):
         Only with ``busy_ahead=True``: ``soft_reset`` of the next cycle (the register
         block's ``soft_reset_ahead``); the request (``soft_reset``, or one waiting) is then
         a register loaded from it, so ``soft_reset`` itself is not read (low in the cycle
-        after a reset, as the register block's).
+        after a reset, as the register block's). The core's ``ready`` reads a copy of
+        that register of its own (``request_open_core``, inverted), not the one the
+        port's pins read.
     busy_next : Out(1)
         Only with ``busy_ahead=True``: ``busy`` of the next cycle (``soft_reset_ahead`` or
         a request now: the request is then still waiting or restarts), so that the caller
@@ -180,6 +182,14 @@ class CandidatesToAxis(wiring.Component):
         else:
             request = self.soft_reset | closing
         passing = ~request | held              # the core's word may be offered
+        if self._ahead:
+            # the request's copy for the core's ready (the FIFO's output register it
+            # enables), which the placer can put apart from the port's pins; stored
+            # inverted, so that synthesis keeps the two apart
+            open_core = Signal(init=1, name="request_open_core")
+            passing_core = open_core | held
+        else:
+            passing_core = passing
         cut = request & ~held & ~list_start    # offer the cut trailer
         # the list is closed: restart in the next cycle (registered, its reset fans out to
         # the core); in that cycle nothing is offered or taken
@@ -201,7 +211,7 @@ class CandidatesToAxis(wiring.Component):
             out.tlast.eq(cut | (src.valid & src.payload.end_of_list)),
             out.tvalid.eq(offering & (cut | (src.valid & passing))),
             out.tuser[0].eq(list_start),
-            src.ready.eq(offering & out.tready & passing),
+            src.ready.eq(offering & out.tready & passing_core),
             self.stalled.eq(out.tvalid & ~out.tready),
             self.busy.eq(request | self.restart),
         ]
@@ -209,7 +219,8 @@ class CandidatesToAxis(wiring.Component):
             # closing' | restart' = request: a request not closed now waits, one closed
             # now restarts
             m.d.comb += self.busy_next.eq(self.soft_reset_ahead | request)
-            m.d.sync += request.eq(self.soft_reset_ahead | (request & ~close))
+            m.d.sync += [request.eq(self.soft_reset_ahead | (request & ~close)),
+                         open_core.eq(~(self.soft_reset_ahead | (request & ~close)))]
         m.d.sync += held.eq(offering & src.valid & passing & ~out.tready)
         with m.If(close):
             m.d.sync += [closing.eq(0), list_start.eq(1), records.eq(0)]

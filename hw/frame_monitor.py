@@ -92,7 +92,7 @@ class FrameMonitor(wiring.Component):
         index = Mux(self.first, 0, run)
         bad_line = (self.last & (index < width - 1)) | (index == width)
         if self._registered:
-            self._flagged(m, col, row, at_start, restart, run, index, bad_line)
+            self._flagged(m, col, row, at_start, restart, run, index)
             return m
         eff_col = Mux(restart, 0, col)
         eff_row = Mux(restart, 0, row)
@@ -114,11 +114,12 @@ class FrameMonitor(wiring.Component):
             ]
         return m
 
-    def _flagged(self, m, col, row, at_start, restart, run, index, bad_line):
+    def _flagged(self, m, col, row, at_start, restart, run, index):
         """``registered``: ``col == W-1``, ``row == H-1`` and ``col == 0`` in registers
-        (``col_last``, ``row_last``, ``col_zero``), each next value from the flags, the
-        restart and a comparison of the register it follows (``col == W-2``,
-        ``row == H-2``)."""
+        (``col_last``, ``row_last``, ``col_zero``), and the line's ``run`` against W
+        (``run < W-1``, ``== W-1``, ``== W``), each next value from the flags,
+        the beat's bits and a comparison of the register it follows (``col == W-2``,
+        ``row == H-2``, ``run == W-2``, ``run < W-2``); W, H >= 3 (DPConfig's)."""
         width, height = self._cfg.width, self._cfg.height
         col_last = Signal(init=width == 1)
         row_last = Signal(init=height == 1)
@@ -127,6 +128,11 @@ class FrameMonitor(wiring.Component):
         last_row = Mux(restart, height == 1, row_last)          # the beat is in row H-1
         # a restart's beat is (0, 0): its next row is 1 after a row of one column
         restart_row = int(width == 1 and height > 1)
+        run_short = Signal(init=1)                              # run < W-1
+        run_before = Signal()                                   # run == W-1
+        run_full = Signal()                                     # run == W
+        first, last = self.first, self.last                     # index = 0 on a first
+        bad_line = (last & (first | run_short)) | (~first & run_full)
         m.d.sync += [
             self.faults.sof_unexpected.eq(self.accept & restart & ~col_zero),
             self.faults.frame_short.eq(self.accept & restart & col_zero),
@@ -146,4 +152,7 @@ class FrameMonitor(wiring.Component):
                                     row_last))),
                 at_start.eq(last_col & last_row),
                 run.eq(Mux(self.last, 0, Mux(index == width + 1, index, index + 1))),
+                run_short.eq(last | first | (run < width - 2)),
+                run_before.eq(~last & ~first & (run == width - 2)),
+                run_full.eq(~last & ~first & run_before),
             ]

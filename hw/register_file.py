@@ -88,6 +88,10 @@ class RegisterFile(wiring.Component):
     register, not in the sticky bits' enables. No read can tell: the earliest read after
     a write reads the registers three cycles after it (the response, then the AR
     handshake).
+    The write's SLVERR takes the errors of its address alone (unaligned, unmapped, a
+    register that does not store) from one register decoded at its AW handshake
+    (``write_bad_address``) instead of an OR of every register's address flag. Same
+    answers, same cycles.
 
     With ``read_registered=True`` (the ECP5 build's, ``register_read="two_level"``) a
     read's AND-OR is split in two: in the cycle after the AR handshake (as without) the
@@ -99,7 +103,7 @@ class RegisterFile(wiring.Component):
     With ``handshake_apart=True`` (the ECP5 build's) the AXI4-Lite port's AW and W
     handshakes come from a copy of its ``busy`` of their own, and its AR handshake from a
     register of its own (``read_apart``, :class:`~dptbd.hw.axi_lite.AXILiteSubordinate`),
-    not from the ready pins' logic.
+    not from the ready pins' logic; the write's cycle (``w_stb``) is a register too.
     """
 
     def __init__(self, cfg: DPConfig, regmap=None, *, pulses_ahead: bool = False,
@@ -138,6 +142,11 @@ class RegisterFile(wiring.Component):
         """The AW and W handshakes from a copy of the port's ``busy``, the AR handshake
         from a register of its own."""
         return self._apart
+
+    @property
+    def refusal_registered(self) -> bool:
+        """A refusal's sticky bits from a register; the address's errors one register."""
+        return self._refusal
 
     @property
     def read_registered(self) -> bool:
@@ -239,9 +248,9 @@ class RegisterFile(wiring.Component):
         unaligned = registered(bus.aw_in_stb, "write_unaligned", ~aligned)
         at = {name: registered(bus.aw_in_stb, f"write_at_{name.lower()}", hit)
               for name, hit in at_reg.items()}
-        at_lut = registered(bus.aw_in_stb, "write_at_lut",
-                            aligned & ~Cat(at_reg.values()).any()
-                            & (aw >= lut.base) & (aw < lut.end))
+        at_lut_in = (aligned & ~Cat(at_reg.values()).any()
+                     & (aw >= lut.base) & (aw < lut.end))
+        at_lut = registered(bus.aw_in_stb, "write_at_lut", at_lut_in)
         in_mask = Cat(bit.replicate(8) for bit in bus.w_in_strb)
         in_ones = bus.w_in_data & in_mask
         ok = {}
@@ -272,6 +281,15 @@ class RegisterFile(wiring.Component):
             elif reg.kind == "setting":
                 refusals.append(at[reg.name] & ~ok[reg.name])
                 errors.append(at[reg.name] & ~ok[reg.name])
+        if self._refusal:
+            # the errors of the address alone (unaligned, unmapped, a register that does not
+            # store) one register decoded at the AW handshake, beside the checks
+            no_store = [at_reg[reg.name] for reg in regmap.registers
+                        if reg.kind in ("constant", "counter", "status")]
+            errors = [registered(bus.aw_in_stb, "write_bad_address",
+                                 ~Cat(*at_reg.values(), at_lut_in).any() | Cat(*no_store).any()),
+                      bad_lut] + [at[reg.name] & ~ok[reg.name] for reg in regmap.registers
+                                  if reg.kind == "setting"]
         m.d.comb += bus.w_err.eq(Cat(*errors).any())
         domain = m.d.sync if self._refusal else m.d.comb
         domain += refused.eq(writing & Cat(*refusals).any())

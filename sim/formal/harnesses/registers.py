@@ -172,6 +172,12 @@ def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:
         m.d.comb += Assert(regs.signal("write_at_lut")
                            == (~w_addr[:2].any() & (w_addr >= lut.base) & (w_addr < lut.end)),
                            "write_at_lut != the held address's")
+        if rf.refusal_registered:          # the address's errors, one register
+            stores = [w_addr == reg.address for reg in regmap.registers
+                      if reg.kind not in ("constant", "counter", "status")]
+            m.d.comb += Assert(regs.signal("write_bad_address")
+                               == ~(Cat(*stores).any() | regs.signal("write_at_lut")),
+                               "write_bad_address != the held address's")
     # ... and the read being answered, decoded at its AR handshake, is its address's
     r_addr = bus.r_addr
     late = rf.read_registered              # the answer a cycle after the read
@@ -200,4 +206,7 @@ def register_invariants(m, regs: Elaborated, aw_out, w_out, ar_out) -> None:
             Assert(port.signal("ar_open") == (~port.signal("busy") & ~port.signal("have_aw")
                                               & ~port.signal("have_w")),
                    "ar_open != ~busy & ~have_aw & ~have_w"),
+            Assert(port.signal("write_now") == (port.signal("have_aw")
+                                                & port.signal("have_w")),
+                   "write_now != have_aw & have_w"),
         ]

@@ -163,7 +163,8 @@ def top_invariants(m, past, top: Elaborated, opens, started, pending, aw_out, w_
 
     - ``registers``: the register block's
       (:func:`~dptbd.sim.formal.harnesses.registers.register_invariants`);
-    - ``lists``, ``lines``: the output adapters' open list / line is the harness's;
+    - ``lists``, ``lines``: the output adapters' open list / line is the harness's (and
+      the candidate adapter's copy of its request, with ``busy_ahead``, the request's);
     - ``idle``: before the first pixel no word is past the DP pipeline (the broadcast to
       the segmenter and to ``m_axis_state`` holds none, the segmenter emits none, its
       emitter's FIFO is empty);
@@ -192,8 +193,13 @@ def top_invariants(m, past, top: Elaborated, opens, started, pending, aw_out, w_
     if "registers" not in drop:
         register_invariants(m, top.sub("regs"), aw_out, w_out, ar_out)
     if "lists" not in drop:
-        m.d.comb += Assert(top.sub("cand_out").signal("list_start") == ~opens[0],
+        cand_out = top.sub("cand_out")
+        m.d.comb += Assert(cand_out.signal("list_start") == ~opens[0],
                            "CandidatesToAxis: list_start disagrees with the open list")
+        if "busy_next" in cand_out.component.signature.members:     # busy_ahead
+            m.d.comb += Assert(cand_out.signal("request_open_core")
+                               == ~cand_out.signal("request"),
+                               "CandidatesToAxis: request_open_core != ~request")
     if "lines" not in drop:
         m.d.comb += Assert(top.sub("state_out").signal("line_open") == opens[1],
                            "StatesToAxis: line_open disagrees with the open line")
