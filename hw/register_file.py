@@ -88,10 +88,8 @@ class RegisterFile(wiring.Component):
     register, not in the sticky bits' enables. No read can tell: the earliest read after
     a write reads the registers three cycles after it (the response, then the AR
     handshake).
-    The write's SLVERR takes the errors of its address alone (unaligned, unmapped, a
-    register that does not store) from one register decoded at its AW handshake
-    (``write_bad_address``) instead of an OR of every register's address flag. Same
-    answers, same cycles.
+    A write's address errors (unaligned, unmapped, not storing) are one register decoded
+    at its AW handshake (``write_bad_address``). Same answers, same cycles.
 
     With ``read_registered=True`` (the ECP5 build's, ``register_read="two_level"``) a
     read's AND-OR is split in two: in the cycle after the AR handshake (as without) the
@@ -139,8 +137,7 @@ class RegisterFile(wiring.Component):
 
     @property
     def handshake_apart(self) -> bool:
-        """The AW and W handshakes from a copy of the port's ``busy``, the AR handshake
-        from a register of its own."""
+        """The AW, W and AR handshakes from registers of their own."""
         return self._apart
 
     @property
@@ -281,9 +278,7 @@ class RegisterFile(wiring.Component):
             elif reg.kind == "setting":
                 refusals.append(at[reg.name] & ~ok[reg.name])
                 errors.append(at[reg.name] & ~ok[reg.name])
-        if self._refusal:
-            # the errors of the address alone (unaligned, unmapped, a register that does not
-            # store) one register decoded at the AW handshake, beside the checks
+        if self._refusal:            # the address's errors one register, beside the checks
             no_store = [at_reg[reg.name] for reg in regmap.registers
                         if reg.kind in ("constant", "counter", "status")]
             errors = [registered(bus.aw_in_stb, "write_bad_address",
