@@ -94,8 +94,9 @@ class ThresholdSearch(wiring.Component):
 
         valid = Signal()
         last = Signal()
-        bin_ = Signal(range(cfg.n_bins))
-        count = Signal(cfg.bin_count_bits)
+        # with held_apart the bin and count (read only under `valid`) are not reset
+        bin_ = Signal(range(cfg.n_bins), reset_less=self._held_apart)
+        count = Signal(cfg.bin_count_bits, reset_less=self._held_apart)
         m.d.sync += [valid.eq(self.scan_valid), last.eq(self.scan_valid & self.scan_last),
                      bin_.eq(self.scan_bin), count.eq(self.scan_count)]
 
@@ -127,12 +128,15 @@ class ThresholdSearch(wiring.Component):
         remaining - count - held (``held`` the borrow in) is loaded, or -1 where it is
         negative, and its sign bit is the fit."""
         cfg = self._cfg
-        held = Signal()
+        held = Signal(reset_less=True)
         m.d.sync += held.eq(self.scan_held)
         # n <= C < 2**(width - 2) and count + held <= 2**bin_count_bits <= 2**(width - 2):
         # remaining - count - held lies in (-2**(width - 1), 2**(width - 1))
         width = max(cfg.record_capacity.bit_length(), cfg.bin_count_bits) + 2
-        remaining = Signal(width, init=cfg.n_candidates)           # n - cum, or -1: stopped
+        # remaining and best are set by every scan's start (`scan_first`) before they are
+        # read, and every scan after a reset starts so: neither is reset, so the soft
+        # reset's restart does not reach them
+        remaining = Signal(width, init=cfg.n_candidates, reset_less=True)  # n - cum, or -1
         count_wide = Signal(width)
         difference = Signal(width)
         # one subtraction, held its borrow in through an extra low bit 0 - held (no second
@@ -141,7 +145,7 @@ class ThresholdSearch(wiring.Component):
         m.d.comb += [count_wide.eq(count),
                      difference.eq((Cat(C(0, 1), remaining) - Cat(held, count_wide))[1:])]
         fits = ~difference[-1]
-        best = Signal(cfg.threshold_bits, init=cfg.n_bins)
+        best = Signal(cfg.threshold_bits, init=cfg.n_bins, reset_less=True)
         m.d.comb += self.done.eq(valid & last)
         with m.If(valid):
             with m.If(last):
@@ -154,8 +158,9 @@ class ThresholdSearch(wiring.Component):
                 m.d.sync += remaining.eq(difference | difference[-1].replicate(width))
         with m.If(self.scan_first):                                        # a scan begins
             m.d.sync += remaining.eq(n)
-        # best on its own: reset by a scan's start and end, loaded with a fitting bin
-        with m.If(self.scan_first | (valid & last)):
+        # best on its own: set by a scan's start and end, loaded with a fitting bin (`last`
+        # is registered with the scan's valid: no `valid` in its set)
+        with m.If(self.scan_first | last):
             m.d.sync += best.eq(cfg.n_bins)
         with m.Elif(valid & fits):
             m.d.sync += best.eq(bin_)
