@@ -44,9 +44,12 @@ class ThresholdSearch(wiring.Component):
         (an extra low bit ``0 - held``) whose sign is the fit; ``remaining`` is kept in
         two's complement and set to -1 by the first count that does not fit, so no
         ``stopped`` flag enters the loop (one carry chain and one OR); the scan's start is
-        the histogram's register ``scan_first``; the best bin is reset and loaded on its
-        own, and T at bin 0 is the best so far unless bin 0 fits. ``False`` (default): no
-        ``scan_held``, no ``scan_first``.
+        the histogram's register ``scan_first``; the best bin is set and loaded on its
+        own, and T at bin 0 is the best so far unless bin 0 fits; the data registers
+        (``remaining``, the best bin, the scan's registered bin, count and held) are not
+        reset (every scan after a reset sets them before they are read), so a (soft)
+        reset reaches only the flags. ``False`` (default): no ``scan_held``, no
+        ``scan_first``.
 
     Members
     -------
