@@ -18,7 +18,7 @@ register in r+4. So the read of r misses the counts formed in r-1 … r+2:
 
 The scan's counts leave in r+2 as in the other style: the forwarded count or the word, or,
 for the scan's first read right after an increment of its bin (the read of r-1), that
-increment's new count formed in r+2.
+increment's new count formed in r+2 (``held_apart``: its sum, not saturated).
 """
 
 from __future__ import annotations
@@ -102,9 +102,12 @@ def staged_histogram(histogram, cfg: DPConfig, dp16kd, held_apart: bool) -> Modu
         amount_3.eq(Mux(scan_2, 0, Mux(same, amount_plus[:bits]
                                        | amount_plus[bits].replicate(bits), 1))),
     ]
-    # the scan's count: the read of r-1's new count (formed now), a forwarded one, the word
-    count = Signal(bits)
-    m.d.comb += count.eq(Mux(same, new_count, Mux(forward, forwarded, word_2)))
+    # the scan's count: the read of r-1's new count (formed now), a forwarded one, the word;
+    # held apart, the new count is the sum itself (unsaturated, a bit wider: the search's
+    # fit tells no difference), so its carry chain ends at the choice
+    other = Mux(forward, forwarded, word_2)
+    count = Signal(bits + held_apart)
+    m.d.comb += count.eq(Mux(same, total if held_apart else new_count, other))
     if held_apart:
         scan_count = count
         m.d.comb += histogram.scan_held.eq(held_2)

@@ -54,6 +54,7 @@ class ThresholdSearch(wiring.Component):
     Members
     -------
     scan_valid, scan_last : In(1); scan_bin : In(range(2**b)); scan_count : In(bin_count_bits)
+        (With ``held_apart`` ``bin_count_bits + 1`` wide: an unsaturated count.)
         From :class:`~dptbd.hw.histogram.Histogram`.
     count : In(range(C + 1), init=n)
         Run-time n, sampled with the scan's top bin.
@@ -80,7 +81,7 @@ class ThresholdSearch(wiring.Component):
         super().__init__({
             "scan_valid": In(1),
             "scan_bin": In(range(cfg.n_bins)),
-            "scan_count": In(cfg.bin_count_bits),
+            "scan_count": In(cfg.bin_count_bits + held_apart),
             "scan_last": In(1),
             "count": In(range(cfg.record_capacity + 1), init=cfg.n_candidates),
             "load": In(1),
@@ -99,7 +100,7 @@ class ThresholdSearch(wiring.Component):
         last = Signal()
         # with held_apart the bin and count (read only under `valid`) are not reset
         bin_ = Signal(range(cfg.n_bins), reset_less=self._held_apart)
-        count = Signal(cfg.bin_count_bits, reset_less=self._held_apart)
+        count = Signal(cfg.bin_count_bits + self._held_apart, reset_less=self._held_apart)
         m.d.sync += [valid.eq(self.scan_valid), last.eq(self.scan_valid & self.scan_last),
                      bin_.eq(self.scan_bin), count.eq(self.scan_count)]
 
@@ -133,8 +134,9 @@ class ThresholdSearch(wiring.Component):
         cfg = self._cfg
         held = Signal(reset_less=True)
         m.d.sync += held.eq(self.scan_held)
-        # n <= C < 2**(width - 2) and count + held <= 2**bin_count_bits <= 2**(width - 2):
-        # remaining - count - held lies in (-2**(width - 1), 2**(width - 1))
+        # -1 <= remaining <= n <= C < 2**(width - 2) and count + held <= 2**(bin_count_bits
+        # + 1) - 1 <= 2**(width - 1) - 1 (count unsaturated, bin_count_bits + 1 wide):
+        # remaining - count - held lies in [-2**(width - 1), 2**(width - 1))
         width = max(cfg.record_capacity.bit_length(), cfg.bin_count_bits) + 2
         # remaining and best are set by every scan's start (`scan_first`) before they are
         # read, and every scan after a reset starts so: neither is reset, so the soft
