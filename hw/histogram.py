@@ -76,9 +76,12 @@ class Histogram(wiring.Component):
         ``True`` (the ECP5 build, with ``"dp16kd"``): ``scan_count`` is the count without
         it and ``scan_held`` says that the consumer adds one
         (:class:`~dptbd.hw.threshold.ThresholdSearch` ``held_apart``), so no carry chain
-        lies between the memory's word and the scan's output. ``scan_count + scan_held`` may
-        then be ``2**bin_count_bits`` (unsaturated), which the threshold search cannot tell
-        from the saturated count: both exceed every n.
+        lies between the memory's word and the scan's output; ``scan_count`` is then one bit
+        wider and not saturated: ``scan_count + scan_held`` may exceed
+        ``2**bin_count_bits - 1`` (up to ``2**(bin_count_bits + 1) - 1``; with ``"dp16kd"``
+        the scan's first count right after an increment of its bin is that increment's sum
+        without its saturation, so no LUT follows its carry chain), which the threshold
+        search cannot tell from the saturated count: both exceed every n.
 
     Members
     -------
@@ -87,7 +90,7 @@ class Histogram(wiring.Component):
     scan_start : In(1)
         Start a scan (ignored while one is under way).
     scan_valid, scan_last : Out(1); scan_bin : Out(range(2**b)); scan_count : Out(bin_count_bits)
-        The scanned counts, top bin first.
+        The scanned counts, top bin first (with ``held_apart`` ``bin_count_bits + 1`` wide).
     scan_held : Out(1)
         With ``held_apart``: the held increment belongs to this count (add one).
     scan_first : Out(1)
@@ -113,7 +116,7 @@ class Histogram(wiring.Component):
             "scan_start": In(1),
             "scan_valid": Out(1),
             "scan_bin": Out(range(cfg.n_bins)),
-            "scan_count": Out(cfg.bin_count_bits),
+            "scan_count": Out(cfg.bin_count_bits + held_apart),
             "scan_last": Out(1),
             "scanning": Out(1),
             **({"scan_held": Out(1), "scan_first": Out(1)} if held_apart else {}),

@@ -228,9 +228,18 @@ class Segmenter(wiring.Component):
         # (not behind it), keeping the path to the histogram's read address short.
         b = cfg.histogram_bits
 
-        def binned(by):
+        def binned(by, stages=False):
             shifted = Signal(b)
-            m.d.comb += shifted.eq(word.energy >> by)
+            if stages:
+                # the shift as a multiplexer per bit of `by` (no $shr cell, which Yosys's
+                # `share` would merge with the other source's into one shifter behind a
+                # multiplexer of the two shifts)
+                value = word.energy
+                for k in range(len(by)):
+                    value = Mux(by[k], value >> (1 << k), value)
+                m.d.comb += shifted.eq(value)
+            else:
+                m.d.comb += shifted.eq(word.energy >> by)
             above = Signal(cfg.energy_bits)      # bit i set: E's bit i lies above the bins
             m.d.comb += above.eq(Cat(*[by <= i - b if i >= b else C(0, 1)
                                        for i in range(cfg.energy_bits)]))
@@ -239,8 +248,10 @@ class Segmenter(wiring.Component):
         if ecp5:
             # the ECP5 build: a shifter per source of s (the settings port, the register),
             # the choice after them, so the port's and `taking`'s paths meet no shifter
-            # behind a multiplexer
-            m.d.comb += energy_bin.eq(Mux(taking, binned(self.histogram_shift), binned(shift)))
+            # behind a multiplexer (the port's shifter in stages, so that synthesis does not
+            # share the two)
+            m.d.comb += energy_bin.eq(Mux(taking, binned(self.histogram_shift, stages=True),
+                                          binned(shift)))
         else:
             m.d.comb += energy_bin.eq(binned(eff_shift))
         m.d.comb += [

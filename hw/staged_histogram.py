@@ -18,7 +18,7 @@ register in r+4. So the read of r misses the counts formed in r-1 … r+2:
 
 The scan's counts leave in r+2 as in the other style: the forwarded count or the word, or,
 for the scan's first read right after an increment of its bin (the read of r-1), that
-increment's new count formed in r+2.
+increment's new count formed in r+2 (``held_apart``: its sum, not saturated).
 """
 
 from __future__ import annotations
@@ -42,16 +42,21 @@ def staged_histogram(histogram, cfg: DPConfig, dp16kd, held_apart: bool) -> Modu
     read_addr = Signal(addr)
     read_en = Signal()
     add_en, add_bin, scan_active, scan_read, held_en, held_bin = request_and_read(
-        m, histogram, cfg.n_bins, read_addr, read_en)
+        m, histogram, cfg.n_bins, read_addr, read_en, data_reset=False)
 
     # ---- the stages' registers ----------------------------------------------------------
-    scan_1, add_1, bin_1 = Signal(), Signal(), Signal(addr)          # in r+1
-    scan_2, add_2, bin_2 = Signal(), Signal(), Signal(addr)          # in r+2
-    en_3, bin_3 = Signal(), Signal(addr)                             # in r+3
-    base_3, amount_3 = Signal(bits), Signal(bits)
-    write_en, write_addr, write_data = Signal(), Signal(addr), Signal(bits)   # in r+4
-    last_en, last_bin, last_data = Signal(), Signal(addr), Signal(bits)       # in r+5
-    prev_en, prev_bin, prev_data = Signal(), Signal(addr), Signal(bits)       # in r+6
+    # the bins and counts are data, read only under their stage's flag (which the reset
+    # clears): no reset of their own, so the soft reset's restart reaches the flags only
+    def data(shape, name):
+        return Signal(shape, name=name, reset_less=True)
+    scan_1, add_1, bin_1 = Signal(), Signal(), data(addr, "bin_1")                   # r+1
+    scan_2, add_2, bin_2 = Signal(), Signal(), data(addr, "bin_2")                   # r+2
+    en_3, bin_3 = Signal(), data(addr, "bin_3")                                      # r+3
+    base_3, amount_3 = data(bits, "base_3"), data(bits, "amount_3")
+    # r+4, r+5, r+6: the write register, then the two counts written before it
+    write_en, write_addr, write_data = Signal(), data(addr, "write_addr"), data(bits, "write_data")
+    last_en, last_bin, last_data = Signal(), data(addr, "last_bin"), data(bits, "last_data")
+    prev_en, prev_bin, prev_data = Signal(), data(addr, "prev_bin"), data(bits, "prev_data")
 
     # ---- cycle r+1: the array's word goes to the DP16KD's output register -----------------
     m.d.sync += [scan_1.eq(scan_read), add_1.eq(add_en & ~scan_read), bin_1.eq(read_addr),
@@ -97,9 +102,12 @@ def staged_histogram(histogram, cfg: DPConfig, dp16kd, held_apart: bool) -> Modu
         amount_3.eq(Mux(scan_2, 0, Mux(same, amount_plus[:bits]
                                        | amount_plus[bits].replicate(bits), 1))),
     ]
-    # the scan's count: the read of r-1's new count (formed now), a forwarded one, the word
-    count = Signal(bits)
-    m.d.comb += count.eq(Mux(same, new_count, Mux(forward, forwarded, word_2)))
+    # the scan's count: the read of r-1's new count (formed now), a forwarded one, the word;
+    # held apart, the new count is the sum itself (unsaturated, a bit wider: the search's
+    # fit tells no difference), so its carry chain ends at the choice
+    other = Mux(forward, forwarded, word_2)
+    count = Signal(bits + held_apart)
+    m.d.comb += count.eq(Mux(same, total if held_apart else new_count, other))
     if held_apart:
         scan_count = count
         m.d.comb += histogram.scan_held.eq(held_2)
@@ -118,22 +126,25 @@ def staged_histogram(histogram, cfg: DPConfig, dp16kd, held_apart: bool) -> Modu
     return m
 
 
-def request_and_read(m, histogram, n_bins: int, read_addr, read_en):
+def request_and_read(m, histogram, n_bins: int, read_addr, read_en, *,
+                     data_reset: bool = True):
     """Cycles r-1 and r of both styles of :class:`~dptbd.hw.histogram.Histogram`: the
     increment request registered; the read in r on ``read_addr`` / ``read_en`` (the scan's,
     from the top bin down, or an increment's); the increment whose read the scan's first
     read displaces, held to be added as the scan passes its bin. Returns ``add_en``,
     ``add_bin`` (the registered request), ``scan_active`` (a scan read after the first),
-    ``scan_read`` (this cycle's read is the scan's), ``held_en``, ``held_bin``."""
+    ``scan_read`` (this cycle's read is the scan's), ``held_en``, ``held_bin``.
+    ``data_reset=False``: the bin registers (``add_bin``, the scan's address,
+    ``held_bin``), read only under their flags, are not reset."""
     top = n_bins - 1
     # ---- cycle r-1: the increment request, registered ------------------------------------
     add_en = Signal()
-    add_bin = Signal(range(n_bins))
+    add_bin = Signal(range(n_bins), reset_less=not data_reset)
     m.d.sync += [add_en.eq(histogram.add_en), add_bin.eq(histogram.add_bin)]
 
     # ---- cycle r: the read (the scan's, from the top bin down, or an increment's) --------
     scan_active = Signal()                           # a scan read after the first
-    scan_addr = Signal(range(n_bins))
+    scan_addr = Signal(range(n_bins), reset_less=not data_reset)
     with m.If(scan_active):
         m.d.sync += scan_addr.eq(scan_addr - 1)
         with m.If(scan_addr == 0):
@@ -149,7 +160,7 @@ def request_and_read(m, histogram, n_bins: int, read_addr, read_en):
     # the increment issued in the cycle before scan_start: its read is displaced by the
     # scan's first; it is held and added to its bin's count as the scan passes it
     held_en = Signal()
-    held_bin = Signal(range(n_bins))
+    held_bin = Signal(range(n_bins), reset_less=not data_reset)
     with m.If(histogram.scan_start & ~scan_active):
         m.d.sync += [held_en.eq(add_en), held_bin.eq(add_bin)]
     return add_en, add_bin, scan_active, scan_read, held_en, held_bin

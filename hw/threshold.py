@@ -44,13 +44,17 @@ class ThresholdSearch(wiring.Component):
         (an extra low bit ``0 - held``) whose sign is the fit; ``remaining`` is kept in
         two's complement and set to -1 by the first count that does not fit, so no
         ``stopped`` flag enters the loop (one carry chain and one OR); the scan's start is
-        the histogram's register ``scan_first``; the best bin is reset and loaded on its
-        own, and T at bin 0 is the best so far unless bin 0 fits. ``False`` (default): no
-        ``scan_held``, no ``scan_first``.
+        the histogram's register ``scan_first``; the best bin is set and loaded on its
+        own, and T at bin 0 is the best so far unless bin 0 fits; the data registers
+        (``remaining``, the best bin, the scan's registered bin, count and held) are not
+        reset (every scan after a reset sets them before they are read), so a (soft)
+        reset reaches only the flags. ``False`` (default): no ``scan_held``, no
+        ``scan_first``.
 
     Members
     -------
     scan_valid, scan_last : In(1); scan_bin : In(range(2**b)); scan_count : In(bin_count_bits)
+        (With ``held_apart`` ``bin_count_bits + 1`` wide: an unsaturated count.)
         From :class:`~dptbd.hw.histogram.Histogram`.
     count : In(range(C + 1), init=n)
         Run-time n, sampled with the scan's top bin.
@@ -77,7 +81,7 @@ class ThresholdSearch(wiring.Component):
         super().__init__({
             "scan_valid": In(1),
             "scan_bin": In(range(cfg.n_bins)),
-            "scan_count": In(cfg.bin_count_bits),
+            "scan_count": In(cfg.bin_count_bits + held_apart),
             "scan_last": In(1),
             "count": In(range(cfg.record_capacity + 1), init=cfg.n_candidates),
             "load": In(1),
@@ -94,8 +98,9 @@ class ThresholdSearch(wiring.Component):
 
         valid = Signal()
         last = Signal()
-        bin_ = Signal(range(cfg.n_bins))
-        count = Signal(cfg.bin_count_bits)
+        # with held_apart the bin and count (read only under `valid`) are not reset
+        bin_ = Signal(range(cfg.n_bins), reset_less=self._held_apart)
+        count = Signal(cfg.bin_count_bits + self._held_apart, reset_less=self._held_apart)
         m.d.sync += [valid.eq(self.scan_valid), last.eq(self.scan_valid & self.scan_last),
                      bin_.eq(self.scan_bin), count.eq(self.scan_count)]
 
@@ -127,12 +132,16 @@ class ThresholdSearch(wiring.Component):
         remaining - count - held (``held`` the borrow in) is loaded, or -1 where it is
         negative, and its sign bit is the fit."""
         cfg = self._cfg
-        held = Signal()
+        held = Signal(reset_less=True)
         m.d.sync += held.eq(self.scan_held)
-        # n <= C < 2**(width - 2) and count + held <= 2**bin_count_bits <= 2**(width - 2):
-        # remaining - count - held lies in (-2**(width - 1), 2**(width - 1))
+        # -1 <= remaining <= n <= C < 2**(width - 2) and count + held <= 2**(bin_count_bits
+        # + 1) - 1 <= 2**(width - 1) - 1 (count unsaturated, bin_count_bits + 1 wide):
+        # remaining - count - held lies in [-2**(width - 1), 2**(width - 1))
         width = max(cfg.record_capacity.bit_length(), cfg.bin_count_bits) + 2
-        remaining = Signal(width, init=cfg.n_candidates)           # n - cum, or -1: stopped
+        # remaining and best are set by every scan's start (`scan_first`) before they are
+        # read, and every scan after a reset starts so: neither is reset, so the soft
+        # reset's restart does not reach them
+        remaining = Signal(width, init=cfg.n_candidates, reset_less=True)  # n - cum, or -1
         count_wide = Signal(width)
         difference = Signal(width)
         # one subtraction, held its borrow in through an extra low bit 0 - held (no second
@@ -141,7 +150,7 @@ class ThresholdSearch(wiring.Component):
         m.d.comb += [count_wide.eq(count),
                      difference.eq((Cat(C(0, 1), remaining) - Cat(held, count_wide))[1:])]
         fits = ~difference[-1]
-        best = Signal(cfg.threshold_bits, init=cfg.n_bins)
+        best = Signal(cfg.threshold_bits, init=cfg.n_bins, reset_less=True)
         m.d.comb += self.done.eq(valid & last)
         with m.If(valid):
             with m.If(last):
@@ -154,8 +163,9 @@ class ThresholdSearch(wiring.Component):
                 m.d.sync += remaining.eq(difference | difference[-1].replicate(width))
         with m.If(self.scan_first):                                        # a scan begins
             m.d.sync += remaining.eq(n)
-        # best on its own: reset by a scan's start and end, loaded with a fitting bin
-        with m.If(self.scan_first | (valid & last)):
+        # best on its own: set by a scan's start and end, loaded with a fitting bin (`last`
+        # is registered with the scan's valid: no `valid` in its set)
+        with m.If(self.scan_first | last):
             m.d.sync += best.eq(cfg.n_bins)
         with m.Elif(valid & fits):
             m.d.sync += best.eq(bin_)

@@ -148,18 +148,24 @@ def test_dp16kd_style_increments_at_every_distance_and_around_scans(held_apart):
         pattern = [(int(b), int(rng.choice([0, 0, 1, 2, 3]))) for b in
                    rng.choice([top, top - 1, 0, 2], int(rng.integers(1, 30)))]
         tail = [[top, top], [top - 1, top, top], [top, top - 1], [0, top], [top]][k % 5]
-        saturating = [2] * 70 if k == 4 else []
+        # bin 2 far above saturation; the top bin too, incremented right before the scan
+        saturating = {4: [2] * 70, 10: [top] * 70}.get(k, [])
         increments = ([(b, 0) for b in distances + runs + saturating] + pattern
                       + [(b, 0) for b in tail])
         rounds.append((increments, k % 3))
     got = simulate_rounds(cfg, rounds, style="dp16kd", dp16kd=DP16KDModel,
                           held_apart=held_apart)
     want = simulate_rounds(cfg, rounds)
-    # held apart, count + held is unsaturated (full + 1) where the count is full
+    # held apart, count + held is unsaturated (full + 1) where the count is full, and the
+    # scan's first count right after an increment of its bin is that increment's sum
+    # (up to 2 * full) where it passes full: above full + 1 after the last increments of
+    # round 10 (the held one alone gives full + 1)
+    over = max((c for scan in got for _b, c in scan), default=0)
+    assert full + 1 < over <= 2 * full if held_apart else over <= full
     got = [[(b, min(c, full)) for b, c in scan] for scan in got]
     counts = [np.bincount([b for b, _ in inc], minlength=cfg.n_bins) for inc, _ in rounds]
     assert got == want == [[(b, min(c[b], full)) for b in range(top, -1, -1)] for c in counts]
-    assert sum(c.max() > full for c in counts) == 1
+    assert sum(c.max() > full for c in counts) == 2
 
 
 @pytest.mark.parametrize("style", ["memory", "dp16kd"])
