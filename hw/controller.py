@@ -121,8 +121,7 @@ class Controller(wiring.Component):
     and so without the run-time K on its path; ``next_read_addr``'s choice on ``resync``
     from a copy of the "at (0, 0)" register of its own (stored inverted, so that synthesis
     keeps the two apart), placed for the state store's block RAMs, which that address
-    drives; the frame counter's next values (``frames_left``, the first and last frame
-    flags) from registers, ``resync`` choosing last. Same outputs, same cycles.
+    drives. Same outputs, same cycles.
     """
 
     def __init__(self, cfg: DPConfig, *, registered: bool = False):
@@ -215,20 +214,7 @@ class Controller(wiring.Component):
             with m.Elif(col_last):
                 m.d.sync += [row.eq(increment_mod(row, height)),
                              row_last.eq(row == height - 2)]
-            if not cfg.recursive and self._registered:
-                # the same, `resync` (from the input `first`) choosing last: the frame
-                # counter's next values without it from registers alone
-                ends = col_last & row_last
-                frame_next = [Mux(ends, frame_last, Mux(at_start & frame_first, 1, frame_first)),
-                              Mux(ends, frames_left - 1,
-                                  Mux(at_start & frame_first, segment_k - 1, frames_left)),
-                              Mux(ends, frames_left == 1,
-                                  Mux(at_start & frame_first, segment_k == 1, frame_last))]
-                sampled = [1, segment_k - 1, segment_k == 1]
-                for reg, kept, restarted in zip((frame_first, frames_left, frame_last),
-                                                frame_next, sampled):
-                    m.d.sync += reg.eq(Mux(self.resync, restarted, kept))
-            elif not cfg.recursive:
+            if not cfg.recursive:
                 with m.If(end_of_frame):        # never with begins: W * H > 1
                     m.d.sync += [frame_first.eq(frame_last),
                                  frames_left.eq(frames_left - 1),
