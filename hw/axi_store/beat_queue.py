@@ -1,7 +1,6 @@
 """The ECP5 beat FIFO of :class:`~dptbd.hw.axi_store.prefetcher.AxiReadPrefetcher`
 (``style="dp16kd"``): a ring buffer in DP16KDs read at its own pace into a queue of
-:data:`SKID_BEATS` flip-flop beats, whose head is the prefetcher's head beat; and the two
-flip-flop words between the head beat and the pipeline."""
+:data:`SKID_BEATS` flip-flop beats, whose head is the prefetcher's head beat."""
 
 from __future__ import annotations
 
@@ -9,7 +8,7 @@ from amaranth.hdl import Mux, Signal
 
 from dptbd.hw.dp16kd import dp16kd_memory
 
-__all__ = ["SKID_BEATS", "dp16kd_beat_queue", "word_buffer"]
+__all__ = ["SKID_BEATS", "dp16kd_beat_queue"]
 
 #: Flip-flop beats between the DP16KDs and the head beat with ``style="dp16kd"`` (a power
 #: of two: the queue's pointers wrap by themselves).
@@ -93,27 +92,3 @@ def dp16kd_beat_queue(m, store, depth: int, r, pop, dp16kd=None):
     for i, beat in enumerate(beats):
         head = head | Mux(consume == i, beat, 0)
     return head, head_valid, head_valid_after
-
-
-def word_buffer(m, word, fill, take, flush):
-    """Add two flip-flop words to ``m``: ``word`` enters when ``fill`` (only while it does
-    not hold two), the oldest leaves when ``take`` (only while it holds one); ``flush``
-    empties it (before that cycle's ``fill`` and ``take`` count). Returns the oldest word
-    and the registers "holds one or two" and "holds two"."""
-    words = [Signal.like(word, name=f"held_{i}") for i in range(2)]
-    write, read = Signal(), Signal()
-    holds_one, holds_two = Signal(), Signal()
-    with m.If(fill):
-        m.d.sync += write.eq(~write)
-        for i, held in enumerate(words):
-            with m.If(write == i):
-                m.d.sync += held.eq(word)
-    with m.If(take):
-        m.d.sync += read.eq(~read)
-    with m.If(fill & ~take):
-        m.d.sync += [holds_one.eq(1), holds_two.eq(holds_one)]
-    with m.Elif(take & ~fill):
-        m.d.sync += [holds_one.eq(holds_two), holds_two.eq(0)]
-    with m.If(flush):
-        m.d.sync += [holds_one.eq(0), holds_two.eq(0), write.eq(0), read.eq(0)]
-    return Mux(read, words[1], words[0]), holds_one, holds_two

@@ -37,7 +37,7 @@ from amaranth.lib.fifo import SyncFIFOBuffered
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import AxiStoreConfig, DPConfig
-from dptbd.hw.axi_store.beat_queue import SKID_BEATS, dp16kd_beat_queue, word_buffer
+from dptbd.hw.axi_store.beat_queue import SKID_BEATS, dp16kd_beat_queue
 from dptbd.hw.axi_store.bus import BURST_INCR, CACHE_MODIFIABLE, address_channel, axi4_signature, size_code
 from dptbd.hw.layouts import state_word_layout
 from dptbd.hw.schedule import read_ahead_distance
@@ -291,7 +291,9 @@ class AxiReadPrefetcher(wiring.Component):
                 m.d.sync += [head.eq(fifo.r_data), head_valid.eq(fifo.r_rdy)]
         else:
             pop = Signal()                           # the head beat leaves
-            head, head_valid, _ = dp16kd_beat_queue(m, store, depth, self.r, pop, self._dp16kd)
+            head, head_valid, head_valid_after = dp16kd_beat_queue(m, store, depth, self.r, pop,
+                                                                   self._dp16kd)
+            head_valid_next = head_valid_after(pop)
 
         # ---- take side: unpack the head beat, drop stale beats --------------------------
         # one word per beat: offset stays 0 (one bit, not a zero-width vector)
@@ -301,18 +303,11 @@ class AxiReadPrefetcher(wiring.Component):
         # pipeline's input handshake) follows no comparison
         fresh = Signal(init=1)
         taken = Signal(count_bits)                   # words taken since reset
-        head_word = from_slots(store, head.word_select(offset, store.word_bits))
-        if self._style == "dp16kd":
-            # the head beat's words move into two flip-flop words at their own pace (`fill`,
-            # from registers), which the pipeline takes: `take` drives no pop
-            fill = Signal()
-            held, holds_one, holds_two = word_buffer(m, head_word, fill, self.take,
-                                                     flush=restarting)
-            m.d.comb += [fill.eq(fresh & head_valid & ~holds_two),
-                         self.available.eq(holds_one & ~restarting),
-                         self.word.as_value().eq(held)]
-        else:
-            m.d.comb += [self.available.eq(head_valid & fresh), self.word.as_value().eq(head_word)]
+        m.d.comb += [
+            self.available.eq(head_valid & fresh),
+            self.word.as_value().eq(
+                from_slots(store, head.word_select(offset, store.word_bits))),
+        ]
         with m.If(self.take):
             m.d.sync += taken.eq(taken + 1)
         restart_need = (burst_length(restart_beat) * per_beat - restart_skip + ahead - pixels)
@@ -345,7 +340,7 @@ class AxiReadPrefetcher(wiring.Component):
             m.d.comb += pop.eq(head_valid)
             with m.If(pop):
                 m.d.sync += [stale.eq(stale - 1), fresh.eq(stale == 1)]
-        with m.Elif(fill if self._style == "dp16kd" else self.take):
+        with m.Elif(self.take):
             last = offset == per_beat - 1
             m.d.comb += pop.eq(last)
             m.d.sync += offset.eq(Mux(last, 0, offset + 1))
@@ -361,14 +356,19 @@ class AxiReadPrefetcher(wiring.Component):
             # no word until the restart's loads are done
             with m.If(self.take & self.restart):
                 m.d.sync += fresh.eq(0)
-            # `available`'s next value for the gate's `ready` register (the word buffer's
-            # level after the fill and the take), low in the cycle after a restart (its
-            # loads and the buffer's flush come then)
-            restart_now = self.take & self.restart
-            m.d.comb += self.available_next.eq(
-                ~restart_now & ~restarting & (holds_two | fill | (holds_one & ~self.take)))
+            # `available`'s next value for the gate's `ready` register (the updates of
+            # `head_valid` and `fresh` above), low in the cycle after a restart (its loads
+            # come then)
+            fresh_next = Mux(restarting, none_dropped,
+                             ~(self.take & self.restart) & (fresh | (head_valid & (stale == 1))))
+            m.d.comb += self.available_next.eq(head_valid_next & fresh_next)
             # the same from registers alone, for a `ready` register that does not wait on
-            # this cycle's `take`: after a take (no restart; `available` held) and without one
-            m.d.comb += [self.available_if_taken.eq(holds_two | (holds_one & fill)),
-                         self.available_if_idle.eq(~restarting & (holds_one | fill))]
+            # this cycle's `take`: after a take (no restart; `available` held: `fresh`, no
+            # restart's loads) the head beat pops at its last word; without one it pops
+            # only while stale beats are dropped
+            last_word = offset == per_beat - 1
+            idle_pop = ~restarting & ~fresh & head_valid
+            idle_fresh = Mux(restarting, none_dropped, fresh | (head_valid & (stale == 1)))
+            m.d.comb += [self.available_if_taken.eq(fresh & head_valid_after(last_word)),
+                         self.available_if_idle.eq(head_valid_after(idle_pop) & idle_fresh)]
         return m

@@ -113,12 +113,10 @@ def test_reads_equal_a_one_cycle_sram_at_zero_latency(data_bits, burst_beats, st
     out, memory = run_store(store, pixels=4 * 192 + 37, seed=data_bits, style=style)
     assert out["mismatches"] == []
     assert out["checked"] == 4 * 192 + 37 - (192 - 17)   # all but the first frame's own
-    # the prefetch ran ahead of the last pixel, by at most its FIFO (with "dp16kd" and the
-    # beats its two-word buffer emptied)
+    # the prefetch ran ahead of the last pixel, by at most its FIFO
     per_beat = store.states_per_beat
     prefetched = memory.stats["read_beats"] * per_beat - 17 % per_beat
-    buffered = -(-2 // per_beat) if style == "dp16kd" else 0
-    depth = (store.outstanding * burst_beats + buffered) * per_beat
+    depth = store.outstanding * burst_beats * per_beat
     assert 4 * 192 + 37 < prefetched <= 4 * 192 + 37 + depth
 
 

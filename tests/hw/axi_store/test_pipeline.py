@@ -82,16 +82,16 @@ def test_a_zero_latency_memory_keeps_one_pixel_per_cycle():
 
 def test_the_prefetch_fifo_in_dp16kds_keeps_the_bits_and_the_cycles(monkeypatch):
     """``state_store_style="dp16kd"`` (the ECP5 family's) builds the prefetcher's beat FIFO
-    in DP16KDs (modelled): the first pixel enters in cycle 7, two cycles after the Amaranth
+    in DP16KDs (modelled): the first pixel enters in cycle 6, a cycle after the Amaranth
     FIFO's (the array's read register, the output register and the flip-flop queue in
-    place of the FIFO's read register and the head beat, then the word buffer), then one
-    every cycle; under latency and stalls the golden model's bits."""
+    place of the FIFO's read register and the head beat), then one every cycle; under
+    latency and stalls the golden model's bits."""
     model_dp16kd_cells(monkeypatch)
     cfg = DPConfig(width=16, height=12, segment_frames=3)
     frames = np.random.default_rng(3).integers(0, 256, size=(4, cfg.height, cfg.width))
     run, _ = run_axi(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4),
                      state_store_style="dp16kd")
-    assert run.accept_cycles == list(range(7, 7 + 4 * 192))
+    assert run.accept_cycles == list(range(6, 6 + 4 * 192))
     assert_states_equal(run.outputs, reference_states(cfg, frames))
     run, _ = run_axi(cfg, frames, store_fields=dict(data_bits=32, burst_beats=2,
                                                     outstanding=3),
@@ -239,14 +239,14 @@ def test_p_pixels_per_clock_keep_one_beat_per_cycle_at_zero_latency(p, store_fie
 
 
 def test_p_pixels_with_the_prefetch_fifo_in_dp16kds_keep_the_cycles(monkeypatch):
-    """P = 4 with the beat FIFO in (modelled) DP16KDs: the first beat in cycle 7 (two cycles
+    """P = 4 with the beat FIFO in (modelled) DP16KDs: the first beat in cycle 6 (a cycle
     after the Amaranth FIFO's), one beat every cycle, the golden model's bits."""
     model_dp16kd_cells(monkeypatch)
     cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=4).build_config()
     frames = np.random.default_rng(4).integers(0, 256, size=(4, cfg.height, cfg.width))
     run, _ = run_axi_beats(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4),
                            state_store_style="dp16kd")
-    assert run.accept_cycles == list(range(7, 7 + 4 * cfg.frame_beats))
+    assert run.accept_cycles == list(range(6, 6 + 4 * cfg.frame_beats))
     assert_states_equal(run.outputs, reference_states(cfg, frames))
 
 
@@ -290,9 +290,8 @@ def test_p_pixels_unexpected_first_resynchronises():
 def test_the_ecp5_build_keeps_the_bits_and_the_cycles(monkeypatch, p):
     """Every ECP5 option (``Family.options_for``: the store's ``ready`` a register, its
     burst descriptors staged, the prefetch FIFO and the DP16KD styles modelled) at P = 1, 2
-    and 4: at zero latency the first beat enters in cycle 7 (two cycles after the generic
-    build's: the DP16KDs' registers and the word buffer), then one every cycle; under
-    latency and stalls the golden model's bits."""
+    and 4: at zero latency the first beat enters in cycle 6 (a cycle after the generic
+    build's), then one every cycle; under latency and stalls the golden model's bits."""
     from dptbd.hw.flow.family import ECP5
     model_dp16kd_cells(monkeypatch)
     cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=p).build_config()
@@ -300,7 +299,7 @@ def test_the_ecp5_build_keeps_the_bits_and_the_cycles(monkeypatch, p):
     options = ECP5.options_for(cfg)
     run_ = run_axi if p == 1 else run_axi_beats
     run, _ = run_(cfg, frames, store_fields=dict(data_bits=64, burst_beats=4), **options)
-    assert run.accept_cycles == list(range(7, 7 + 4 * cfg.frame_beats))
+    assert run.accept_cycles == list(range(6, 6 + 4 * cfg.frame_beats))
     assert_states_equal(run.outputs, reference_states(cfg, frames))
     run, _ = run_(cfg, frames, store_fields=dict(data_bits=64, burst_beats=2, outstanding=3),
                   latency=(0, 60), ready=0.6, valid=0.7, valid_probability=0.8,
@@ -311,10 +310,9 @@ def test_the_ecp5_build_keeps_the_bits_and_the_cycles(monkeypatch, p):
 @pytest.mark.parametrize("p", [1, 2, 4])
 def test_the_ecp5_build_after_a_resynchronisation(monkeypatch, p):
     """A frame cut short, then frames with `first`, at zero latency: the ECP5 build (its
-    prefetcher's restart loads a cycle after the restart, the word buffer between the head
-    beat and the pipeline flushed then and refilled) accepts every beat two cycles after
-    the generic build up to the resynchronising one, then at P = 1 four cycles after, at
-    P = 2 three, at P = 4 two (the refetch decides there); the same bits."""
+    prefetcher's restart loads a cycle after the restart) accepts every beat a cycle after
+    the generic build up to the resynchronising one, then at P = 1 two cycles after (the
+    loads' cycle), at P = 2 and 4 still one (the refetch decides there); the same bits."""
     from dptbd.hw.flow.family import ECP5
     from helpers.wide_harness import frames_to_beats
     model_dp16kd_cells(monkeypatch)
@@ -332,7 +330,7 @@ def test_the_ecp5_build_after_a_resynchronisation(monkeypatch, p):
     generic, _ = run_(cfg, frames, store_fields=fields, **kw)
     ecp5, _ = run_(cfg, frames, store_fields=fields, **kw, **ECP5.options_for(cfg))
     resync = cfg.frame_beats + cut + 1            # beats up to the resynchronising one
-    late = {1: 4, 2: 3, 4: 2}[p]
-    assert ecp5.accept_cycles == ([c + 2 for c in generic.accept_cycles[:resync]]
+    late = 2 if p == 1 else 1
+    assert ecp5.accept_cycles == ([c + 1 for c in generic.accept_cycles[:resync]]
                                   + [c + late for c in generic.accept_cycles[resync:]])
     assert ecp5.outputs == generic.outputs
