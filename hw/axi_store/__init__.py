@@ -52,9 +52,11 @@ class AxiStateStore(wiring.Component):
         ``style``): an Amaranth FIFO (default) or ECP5 DP16KDs read through their output
         register. ``dp16kd``: its ``dp16kd`` (tests pass a behavioural model).
         ``"dp16kd"`` (the ECP5 build's) also makes ``ready`` one register (the prefetcher's
-        ``available`` and the write-behind's ``room`` a cycle ahead: the same values but
-        in the cycle after a restart, where it is low) and writes the write-behind's burst
-        descriptors from registers
+        ``available`` and the write-behind's ``room`` a cycle ahead, from registers: the
+        same values but in the cycle after a restart, where it is low, and after a cycle
+        in which it was high and no word was taken, where it is low if a take would have
+        emptied the prefetcher) and writes the write-behind's burst descriptors from
+        registers
         (:class:`~dptbd.hw.axi_store.write_behind.AxiWriteBehind` ``staged``: each AW a
         cycle later).
 
