@@ -169,6 +169,8 @@ CORE_OPTION_HELP = {
                      "iCE40, two with the first registered on ECP5)",
     "credit_ready": "the P > 1 core's input credit ready, one register or a copy per load "
                     "(default: the family's, one on iCE40, per load on ECP5)",
+    "lut_write": "the weight LUT's write decode, a case per entry or two registered one-hot "
+                 "address halves (default: the family's, case on iCE40, predecoded on ECP5)",
 }
 
 

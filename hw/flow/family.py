@@ -173,7 +173,8 @@ ICE40 = Family(
                   "histogram_style": "memory", "control_style": "generic",
                   "output_queue_style": "binary",
                   "register_read": "one_level",
-                  "credit_ready": "one"})
+                  "credit_ready": "one",
+                  "lut_write": "case"})
 
 #: ECP5 (nextpnr-ecp5): LFE5U-25F in the CABGA256 package (197 I/O), speed grade 6
 #: (nextpnr's default, the slowest), by default; ``"45k"`` is the LFE5U-45F.
@@ -190,7 +191,8 @@ ECP5 = Family(
                   "histogram_style": "dp16kd", "control_style": "registered",
                   "output_queue_style": "one_hot",
                   "register_read": "two_level",
-                  "credit_ready": "per_load"},
+                  "credit_ready": "per_load",
+                  "lut_write": "predecoded"},
     dp16kd_line_buffer_from=512)
 
 #: name -> :class:`Family`.

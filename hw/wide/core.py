@@ -69,7 +69,7 @@ class DPCoreWide(wiring.Component):
     used; ``credit_ready="per_load"`` gives the input credit's ``ready`` four registers, one
     each for the credit's own count, the input port and the store's read, the controller,
     and the line buffer (:class:`~dptbd.hw.input_credit.InputCredit` ``copies``; same
-    cycles): the wide store
+    cycles); ``lut_write`` is DPCore's: the wide store
     is :class:`~dptbd.hw.wide.state_store.WideStateStore`, the wide histogram
     :class:`~dptbd.hw.banked_histogram.BankedHistogram` in Amaranth memories, the control
     logic the generic one, the flags travel with the words in the one output FIFO);
@@ -92,12 +92,13 @@ class DPCoreWide(wiring.Component):
                  sideband_delay: str = "registers", max_tree: str = "compact",
                  state_store_style: str = "memory", histogram_style: str = "memory",
                  control_style: str = "generic", output_queue_style: str = "binary",
-                 register_read: str = "one_level", credit_ready: str = "one"):
+                 register_read: str = "one_level", credit_ready: str = "one",
+                 lut_write: str = "case"):
         self._options = dict(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
                              max_tree=max_tree, state_store_style=state_store_style,
                              histogram_style=histogram_style, control_style=control_style,
                              output_queue_style=output_queue_style, register_read=register_read,
-                             credit_ready=credit_ready)
+                             credit_ready=credit_ready, lut_write=lut_write)
         check_core_options(**self._options)
         self._schedule = check_wide(cfg, max_tree=max_tree)
         self._cfg = cfg
@@ -210,7 +211,8 @@ class DPCoreWide(wiring.Component):
         tree_kind = SplitMaxTree if self._options["max_tree"] == "split" else MaxTree
         accumulators = []
         for lane in range(lanes):
-            lut = WeightLUT(cfg, lut_style=self._lut_style)
+            lut = WeightLUT(cfg, lut_style=self._lut_style,
+                            write_decode=self._options["lut_write"])
             m.submodules[f"weight_lut_{lane}"] = lut
             m.d.comb += [
                 lut.write_addr.eq(self.lut_addr),

@@ -120,6 +120,7 @@ def test_the_register_read_and_credit_options_build_the_same_core(option):
     ("output_queue_style", "shift", "('binary', 'one_hot')"),
     ("register_read", "late", "('one_level', 'two_level')"),
     ("credit_ready", "many", "('one', 'per_load')"),
+    ("lut_write", "table", "('case', 'predecoded')"),
 ])
 def test_refuses_an_unknown_storage_option(option, bad, allowed):
     with refused(ValueError, whole(f"{option} must be one of {allowed}, got '{bad}'")):

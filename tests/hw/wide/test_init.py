@@ -87,7 +87,8 @@ def test_exact_cycle_count(p, radius, style):
 #: The implementation options the P-pixel pipeline builds (every combination simulated);
 #: the others are the on-chip store's, the segmenter's, the P = 1 flags queue's and the AXI
 #: top's, which it accepts and ignores (``test_ignored_core_options_build_the_same_netlist``).
-WIDE_OPTIONS = ("line_buffer_style", "sideband_delay", "max_tree", "credit_ready")
+WIDE_OPTIONS = ("line_buffer_style", "sideband_delay", "max_tree", "credit_ready",
+                "lut_write")
 IGNORED_OPTIONS = tuple(name for name in CORE_OPTIONS if name not in WIDE_OPTIONS)
 WIDE_OPTION_SETS = [
     {**{name: CORE_OPTIONS[name][0] for name in IGNORED_OPTIONS}, **dict(zip(WIDE_OPTIONS, values))}
@@ -334,6 +335,8 @@ def test_refuses_frames_too_small_for_the_read_ahead_in_beats():
      "register_read must be one of ('one_level', 'two_level'), got 'late'"),
     ("credit_ready", "many",
      "credit_ready must be one of ('one', 'per_load'), got 'many'"),
+    ("lut_write", "table",
+     "lut_write must be one of ('case', 'predecoded'), got 'table'"),
     ("output_fifo_depth", 2, "output_fifo_depth must be an integer in [3, inf), got 2"),
 ])
 def test_refuses_bad_options(option, value, message):
