@@ -167,6 +167,10 @@ CORE_OPTION_HELP = {
                           "family's, binary on iCE40, one-hot on ECP5)",
     "register_read": "the AXI top's register read (default: the family's, one level on "
                      "iCE40, two with the first registered on ECP5)",
+    "credit_ready": "the P > 1 core's input credit ready, one register or a copy per load "
+                    "(default: the family's, one on iCE40, per load on ECP5)",
+    "lut_write": "the weight LUT's write decode, a case per entry or two registered one-hot "
+                 "address halves (default: the family's, case on iCE40, predecoded on ECP5)",
 }
 
 

@@ -38,11 +38,14 @@ from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
 
-__all__ = ["LUT_STYLES", "AUTO_LOGIC_MAX_ENTRIES", "resolve_lut_style", "DirectionTable",
-           "WeightLUT"]
+__all__ = ["LUT_STYLES", "WRITE_DECODES", "AUTO_LOGIC_MAX_ENTRIES", "resolve_lut_style",
+           "DirectionTable", "WeightLUT"]
 
 #: Accepted values of the ``lut_style`` keyword.
 LUT_STYLES = ("auto", "bram", "logic")
+
+#: Accepted values of the ``write_decode`` keyword (:class:`DirectionTable`).
+WRITE_DECODES = ("case", "predecoded")
 
 #: ``"auto"`` stores the table in logic when a column has at most this many entries (M+1).
 AUTO_LOGIC_MAX_ENTRIES = 16
@@ -116,6 +119,13 @@ class DirectionTable(wiring.Component):
         comparator.
     lut_style : {"auto", "bram", "logic"}
         Storage of the column memories (module docstring, :func:`resolve_lut_style`).
+    write_decode : {"case", "predecoded"}
+        How the registered write finds its entry: a case per entry giving (row, one-hot
+        move) registers (default), or, with ``lut_style="logic"`` (the ECP5 build's,
+        ``lut_write="predecoded"``), the address's low and high halves each registered
+        one-hot (the high half with ``write_en``), each code's enable the AND of one bit
+        of each: one LUT level before and one after the registers instead of the case's
+        three. The same codes in every cycle; with ``"bram"`` it is the case.
 
     Members
     -------
@@ -132,8 +142,12 @@ class DirectionTable(wiring.Component):
     """
 
     def __init__(self, cfg: DPConfig, codes, code_bits: int, max_code: int | None, *,
-                 lut_style: str = "auto"):
+                 lut_style: str = "auto", write_decode: str = "case"):
         self._style = resolve_lut_style(cfg, lut_style)
+        if write_decode not in WRITE_DECODES:
+            self._MustUse__silence = True      # refused: never meant to be elaborated
+            raise ValueError(f"write_decode must be one of {WRITE_DECODES}, got {write_decode!r}")
+        self._predecoded = write_decode == "predecoded" and self._style == "logic"
         self._cfg = cfg
         self._codes = codes
         self._code_bits = code_bits
@@ -177,6 +191,9 @@ class DirectionTable(wiring.Component):
                           else self.write_data),
             write_pending.eq(0),
         ]
+        if self._predecoded:
+            self._elaborate_predecoded(m, write_code)
+            return m
         with m.If(self.write_en):
             with m.Switch(self.write_addr):
                 for address in range(self.entries):
@@ -258,6 +275,36 @@ class DirectionTable(wiring.Component):
             m.d.sync += self.code[move].eq(_select(padded, direction))
 
 
+    def _elaborate_predecoded(self, m: Module, write_code):
+        """``write_decode="predecoded"``: the codes in flip-flops of their own, entry a
+        (row a // M, move a % M) written when the registered one-hot bits of a's low and
+        high address halves are both set (an address beyond the table sets no pair: it
+        is ignored); read as :meth:`_elaborate_registers`'s. The same write protocol (the
+        halves registered in cycle c, the code stored at the edge ending c + 1); a reset
+        drops a pending write (the high half, with ``write_en``, has a reset value)."""
+        moves = self._cfg.n_moves
+        address = self.write_addr
+        split = (len(address) + 1) // 2
+        low = Signal(1 << split, name="write_low", reset_less=True)
+        high = Signal(1 << (len(address) - split), name="write_high")
+        for value in range(len(low)):
+            m.d.sync += low[value].eq(address[:split] == value)
+        for value in range(len(high)):
+            m.d.sync += high[value].eq(self.write_en & (address[split:] == value))
+        columns = [[] for _ in range(moves)]
+        for entry in range(self.entries):
+            row, move = divmod(entry, moves)
+            code = Signal(self._code_bits, init=int(self._codes[row, move]), reset_less=True,
+                          name=f"code_{row}_{move}")
+            with m.If(high[entry >> split] & low[entry & ((1 << split) - 1)]):
+                m.d.sync += code.eq(write_code)
+            columns[move].append(code)
+        for move, column in enumerate(columns):
+            direction = self.direction[move]
+            padded = column + [column[-1]] * ((1 << len(direction)) - len(column))
+            m.d.sync += self.code[move].eq(_select(padded, direction))
+
+
 class WeightLUT(DirectionTable):
     """M column memories of weight codes with a single table-wide write port.
 
@@ -269,6 +316,8 @@ class WeightLUT(DirectionTable):
     lut_style : {"auto", "bram", "logic"}
         Storage of the column memories (module docstring, :func:`resolve_lut_style`);
         ``ValueError`` for anything else. Behaviour does not depend on it.
+    write_decode : {"case", "predecoded"}
+        As :class:`DirectionTable`'s; ``ValueError`` for anything else.
 
     Members
     -------
@@ -288,6 +337,6 @@ class WeightLUT(DirectionTable):
         Write in this cycle.
     """
 
-    def __init__(self, cfg: DPConfig, *, lut_style: str = "auto"):
+    def __init__(self, cfg: DPConfig, *, lut_style: str = "auto", write_decode: str = "case"):
         super().__init__(cfg, cfg.weight_codes, cfg.weight_bits, 1 << cfg.weight_frac_bits,
-                         lut_style=lut_style)
+                         lut_style=lut_style, write_decode=write_decode)

@@ -90,6 +90,10 @@ class DPCore(wiring.Component):
         ``read_registered`` with ``"two_level"``, what the flow builds for ECP5: an
         AXI4-Lite read answered a cycle later). DPCore checks and keeps it. Anything else
         raises ``ValueError``.
+    credit_ready : {"one", "per_load"}; lut_write : {"case", "predecoded"}
+        The input credit's ``ready`` registers at P > 1 (``DPCoreWide``; DPCore checks and
+        keeps it); the weight LUT's write decode (``WeightLUT(write_decode=…)``, same
+        cycles). Anything else raises ``ValueError``.
 
     Members
     -------
@@ -125,12 +129,14 @@ class DPCore(wiring.Component):
                  sideband_delay: str = "registers", max_tree: str = "compact",
                  state_store_style: str = "memory", histogram_style: str = "memory",
                  control_style: str = "generic", output_queue_style: str = "binary",
-                 register_read: str = "one_level"):
+                 register_read: str = "one_level", credit_ready: str = "one",
+                 lut_write: str = "case"):
         # the implementation options (per FPGA family), checked
         self._options = dict(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
                              max_tree=max_tree, state_store_style=state_store_style,
                              histogram_style=histogram_style, control_style=control_style,
-                             output_queue_style=output_queue_style, register_read=register_read)
+                             output_queue_style=output_queue_style, register_read=register_read,
+                             credit_ready=credit_ready, lut_write=lut_write)
         check_core_options(**self._options)
         self._schedule = check_supported(cfg, max_tree=max_tree)   # refuses a bad max_tree
         self._cfg = cfg
@@ -262,7 +268,8 @@ class DPCore(wiring.Component):
         ]
 
         # ---- cycle 2 (window) -> 3 (code): weight lookup -----------------------------
-        m.submodules.weight_lut = lut = WeightLUT(cfg, lut_style=self._lut_style)
+        m.submodules.weight_lut = lut = WeightLUT(cfg, lut_style=self._lut_style,
+                                                  write_decode=self._options["lut_write"])
         m.d.comb += [
             lut.write_addr.eq(self.lut_addr),
             lut.write_data.eq(self.lut_data),

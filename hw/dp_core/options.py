@@ -8,8 +8,10 @@ from dptbd.hw.line_buffer import LineBuffer
 from dptbd.hw.read_ahead_store import STATE_STORE_STYLES
 from dptbd.hw.schedule import MAX_TREE_STAGES
 from dptbd.hw.segmenter import CONTROL_STYLES
+from dptbd.hw.weight_lut import WRITE_DECODES
 
 __all__ = ["LINE_BUFFER_STYLES", "SIDEBAND_DELAYS", "OUTPUT_QUEUE_STYLES", "REGISTER_READS",
+           "CREDIT_READIES", "LUT_WRITES",
            "CORE_OPTIONS",
            "check_core_options",
            "core_line_buffer"]
@@ -27,6 +29,13 @@ OUTPUT_QUEUE_STYLES = ("binary", "one_hot")
 #: level registered (:class:`~dptbd.hw.register_file.RegisterFile` ``read_registered``,
 #: ``rvalid`` a cycle later).
 REGISTER_READS = ("one_level", "two_level")
+#: ``DPCore(credit_ready=…)``: the input credit's ``ready`` one register, or a copy per group
+#: of loads (:class:`~dptbd.hw.input_credit.InputCredit` ``copies``; P > 1 only).
+CREDIT_READIES = ("one", "per_load")
+#: ``DPCore(lut_write=…)``: the weight LUT's write found by a case per entry or from two
+#: registered one-hot halves of the address (:class:`~dptbd.hw.weight_lut.WeightLUT`
+#: ``write_decode``).
+LUT_WRITES = WRITE_DECODES
 
 #: DPCore's implementation options (keyword arguments) with their allowed values; none
 #: changes behaviour (``max_tree`` changes the latency), the synthesis flow picks them per
@@ -34,12 +43,15 @@ REGISTER_READS = ("one_level", "two_level")
 #: ``histogram_style`` the segmenter's histogram's, ``control_style`` the control logic of the
 #: segmenter and of the AXI top's input, carried here so that one set of options reaches
 #: every top; ``output_queue_style`` the output flags' FIFO's (P = 1; the P > 1 cores have
-#: no flags twin); ``register_read`` the AXI top's register block's read.
+#: no flags twin); ``register_read`` the AXI top's register block's read; ``credit_ready`` the
+#: input credit's ``ready`` registers (P > 1); ``lut_write`` the weight LUT's write decode.
 CORE_OPTIONS = {"line_buffer_style": LINE_BUFFER_STYLES, "sideband_delay": SIDEBAND_DELAYS,
                 "max_tree": tuple(MAX_TREE_STAGES), "state_store_style": STATE_STORE_STYLES,
                 "histogram_style": HISTOGRAM_STYLES, "control_style": CONTROL_STYLES,
                 "output_queue_style": OUTPUT_QUEUE_STYLES,
-                "register_read": REGISTER_READS}
+                "register_read": REGISTER_READS,
+                "credit_ready": CREDIT_READIES,
+                "lut_write": LUT_WRITES}
 
 
 def check_core_options(**options: str) -> None:

@@ -172,7 +172,9 @@ ICE40 = Family(
                   "max_tree": "compact", "state_store_style": "memory",
                   "histogram_style": "memory", "control_style": "generic",
                   "output_queue_style": "binary",
-                  "register_read": "one_level"})
+                  "register_read": "one_level",
+                  "credit_ready": "one",
+                  "lut_write": "case"})
 
 #: ECP5 (nextpnr-ecp5): LFE5U-25F in the CABGA256 package (197 I/O), speed grade 6
 #: (nextpnr's default, the slowest), by default; ``"45k"`` is the LFE5U-45F.
@@ -188,7 +190,9 @@ ECP5 = Family(
                   "max_tree": "split", "state_store_style": "dp16kd",
                   "histogram_style": "dp16kd", "control_style": "registered",
                   "output_queue_style": "one_hot",
-                  "register_read": "two_level"},
+                  "register_read": "two_level",
+                  "credit_ready": "per_load",
+                  "lut_write": "predecoded"},
     dp16kd_line_buffer_from=512)
 
 #: name -> :class:`Family`.

@@ -66,7 +66,10 @@ class DPCoreWide(wiring.Component):
     Parameters and properties as :class:`~dptbd.hw.dp_core.DPCore` (same options, same
     schedule and latency, counted in beats; ``state_store_style``, ``histogram_style``,
     ``control_style``, ``output_queue_style`` and ``register_read`` are accepted and not
-    used: the wide store
+    used; ``credit_ready="per_load"`` gives the input credit's ``ready`` four registers, one
+    each for the credit's own count, the input port and the store's read, the controller,
+    and the line buffer (:class:`~dptbd.hw.input_credit.InputCredit` ``copies``; same
+    cycles); ``lut_write`` is DPCore's: the wide store
     is :class:`~dptbd.hw.wide.state_store.WideStateStore`, the wide histogram
     :class:`~dptbd.hw.banked_histogram.BankedHistogram` in Amaranth memories, the control
     logic the generic one, the flags travel with the words in the one output FIFO);
@@ -89,11 +92,13 @@ class DPCoreWide(wiring.Component):
                  sideband_delay: str = "registers", max_tree: str = "compact",
                  state_store_style: str = "memory", histogram_style: str = "memory",
                  control_style: str = "generic", output_queue_style: str = "binary",
-                 register_read: str = "one_level"):
+                 register_read: str = "one_level", credit_ready: str = "one",
+                 lut_write: str = "case"):
         self._options = dict(line_buffer_style=line_buffer_style, sideband_delay=sideband_delay,
                              max_tree=max_tree, state_store_style=state_store_style,
                              histogram_style=histogram_style, control_style=control_style,
-                             output_queue_style=output_queue_style, register_read=register_read)
+                             output_queue_style=output_queue_style, register_read=register_read,
+                             credit_ready=credit_ready, lut_write=lut_write)
         check_core_options(**self._options)
         self._schedule = check_wide(cfg, max_tree=max_tree)
         self._cfg = cfg
@@ -136,23 +141,30 @@ class DPCoreWide(wiring.Component):
         beats = cfg.beat_config()
 
         # ---- cycle 0: handshake, beat position, read-ahead ---------------------------
-        input_ready = Signal()
-        m.d.comb += self.pixels.ready.eq(input_ready)
-        accept = self.pixels.valid & input_ready
+        # the input credit's ready: one register, or (credit_ready="per_load") one for each
+        # of the credit's count, the port and the store's read, the controller, the line
+        # buffer: the same accept in each, from a register beside its loads
+        copies = 4 if self._options["credit_ready"] == "per_load" else 1
+        input_ready = Signal(copies)
+        m.d.comb += self.pixels.ready.eq(input_ready[1] if copies > 1 else input_ready)
+        if copies > 1:
+            own, accept, control, lines = (self.pixels.valid & input_ready[k] for k in range(4))
+        else:
+            own = accept = control = lines = self.pixels.valid & input_ready
         m.submodules.controller = controller = Controller(beats)
         m.d.comb += [
-            controller.accept.eq(accept),
+            controller.accept.eq(control),
             controller.first.eq(self.pixels.payload.first),
             controller.segment_frames.eq(self.segment_frames),
             self.segment_begin.eq(controller.segment_begin),
-            self._resync.eq(accept & controller.resync),
+            self._resync.eq(control & controller.resync),
             self.state_store.read_addr.eq(controller.read_addr),
             self.state_store.read_en.eq(accept),
         ]
         # DPCore's line buffer of each style, a beat (P words) per entry
         m.submodules.line_buffer = line_buffer = core_line_buffer(
             beat_word_layout(cfg), cfg.row_beats, 2 * r, self._options["line_buffer_style"])
-        m.d.comb += line_buffer.advance.eq(accept)
+        m.d.comb += line_buffer.advance.eq(lines)
 
         # ---- cycle 1 (fetch): new beat column ----------------------------------------
         pixel_in = Signal(data.ArrayLayout(unsigned(cfg.input_bits), lanes))
@@ -199,7 +211,8 @@ class DPCoreWide(wiring.Component):
         tree_kind = SplitMaxTree if self._options["max_tree"] == "split" else MaxTree
         accumulators = []
         for lane in range(lanes):
-            lut = WeightLUT(cfg, lut_style=self._lut_style)
+            lut = WeightLUT(cfg, lut_style=self._lut_style,
+                            write_decode=self._options["lut_write"])
             m.submodules[f"weight_lut_{lane}"] = lut
             m.d.comb += [
                 lut.write_addr.eq(self.lut_addr),
@@ -271,9 +284,9 @@ class DPCoreWide(wiring.Component):
         ]
         state_events(m, self.events, self.states, output_fifo.r.payload.saturated)
 
-        m.submodules.input_credit = credit = InputCredit(self._fifo_depth)
+        m.submodules.input_credit = credit = InputCredit(self._fifo_depth, copies=copies)
         m.d.comb += [
-            credit.accept.eq(accept),
+            credit.accept.eq(own),
             credit.handed_out.eq(self.states.valid & self.states.ready),
             input_ready.eq(credit.ready),
         ]

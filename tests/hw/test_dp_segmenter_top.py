@@ -158,7 +158,9 @@ class _WithStore(Elaboratable):
                                                  "histogram_style": "memory",
                                                  "control_style": "registered",
                                                  "output_queue_style": "one_hot",
-                                                 "register_read": "two_level"}])
+                                                 "register_read": "two_level",
+                                                 "credit_ready": "per_load",
+                                                 "lut_write": "predecoded"}])
 def test_external_state_store_and_core_options_keep_the_bits(core_options):
     """The store outside (the ``state_store`` member, here a StateStore on it) and DPCore's
     implementation options build the same lists; ``split`` adds its cycles to the latency."""
@@ -178,7 +180,8 @@ def test_external_state_store_and_core_options_keep_the_bits(core_options):
                                                  "histogram_style": "memory",
                                                  "control_style": "generic",
                                                  "output_queue_style": "binary",
-                                                 "register_read": "one_level"})
+                                                 "register_read": "one_level",
+                                                 "credit_ready": "one", "lut_write": "case"})
     run_lists(cfg, _WithStore(dut), dut.pixels, dut.candidates, pack_frames(cfg, frames),
               lists, valid_probability=valid, ready_probability=ready, seed=n_frames)
     assert sum(lst.count for lst in lists) >= 7

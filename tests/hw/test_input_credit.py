@@ -39,19 +39,21 @@ def ref_ready(depth, accepts, handed_out):
     return out
 
 
-def rtl_credit(registers, depth, gap, stall, seed, cycles=400):
+def rtl_credit(registers, depth, gap, stall, seed, cycles=400, copies=1):
     """Per cycle: ready, accept, handed_out, and the word handed out (or None); and whether
-    the FIFO ever refused a word from the pipeline."""
+    the FIFO ever refused a word from the pipeline. With ``copies`` > 1 ``ready`` is the
+    tuple of the copies, the credit counting the accepts of its copy 0 and the pipeline
+    those of the last copy."""
     rng = random.Random(seed)
     m = Module()
-    m.submodules.credit = credit = InputCredit(depth)
+    m.submodules.credit = credit = InputCredit(depth, copies=copies)
     m.submodules.fifo = out = ThermometerFIFO(WIDTH, depth)
     in_valid, in_word = Signal(), Signal(WIDTH)
-    accept = in_valid & credit.ready
+    accept = in_valid & credit.ready[-1]
     late = delayed(m, accept, registers, name="valid")
     late_word = delayed(m, in_word, registers, name="word")
     m.d.comb += [
-        credit.accept.eq(accept),
+        credit.accept.eq(in_valid & credit.ready[0]),
         credit.handed_out.eq(out.r.valid & out.r.ready),
         out.w.valid.eq(late),
         out.w.payload.eq(late_word),
@@ -65,10 +67,12 @@ def rtl_credit(registers, depth, gap, stall, seed, cycles=400):
             ctx.set(in_valid, offer)
             ctx.set(in_word, next_word)
             ctx.set(out.r.ready, take)
-            ready, valid = bool(ctx.get(credit.ready)), bool(ctx.get(out.r.valid))
+            readies = [bool(ctx.get(credit.ready[k])) for k in range(copies)]
+            ready, valid = readies[-1], bool(ctx.get(out.r.valid))
             if ctx.get(out.w.valid) and not ctx.get(out.w.ready):
                 refused_words.append(ctx.get(out.w.payload))
-            trace.append((ready, offer and ready, valid and take,
+            trace.append((readies[0] if copies == 1 else tuple(readies), offer and ready,
+                          valid and take,
                           ctx.get(out.r.payload) if valid and take else None))
             next_word = (next_word + (offer and ready)) % (1 << WIDTH)
             await ctx.tick()
@@ -97,6 +101,24 @@ def test_latency_plus_two_words_keep_one_pixel_per_clock(depth, period):
     assert readies == [False] + (period * 99)[:99]
 
 
+@pytest.mark.parametrize("depth, copies", [(3, 4), (5, 2), (10, 4), (16, 7)])
+def test_every_copy_of_ready_is_the_binary_credit(depth, copies):
+    """``copies`` registers (up to 2 * (depth - 1): pairs of equal functions of the flags,
+    one of each stored inverted), each ready in the same cycles as the binary credit."""
+    trace, refused_words = rtl_credit(6, depth, 0.2, 0.5, depth + copies, copies=copies)
+    readies, accepts, handed, _ = zip(*trace)
+    reference = ref_ready(depth, accepts, handed)
+    assert [set(r) for r in readies] == [{want} for want in reference]
+    assert refused_words == []
+    assert len(set(reference)) == 2                  # both closed and open
+
+
 def test_refuses_a_depth_below_three():
     with refused(DptbdError, r"^depth must be an integer in \[3, inf\), got 2$"):
         InputCredit(2)
+
+
+@pytest.mark.parametrize("copies", [0, 9])
+def test_refuses_copies_outside_the_flags_pairs(copies):
+    with refused(DptbdError, rf"^copies must be an integer in \[1, 8\], got {copies}$"):
+        InputCredit(5, copies=copies)

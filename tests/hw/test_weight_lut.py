@@ -185,3 +185,58 @@ def test_bram_style_reads_each_column_once_and_logic_style_every_code(style, rea
     text = rtlil.convert(WeightLUT(DPConfig(radius=1), lut_style=style))
     assert text.count("cell $memrd_v2 ") == read_ports
     assert ('ram_style "logic"' in text) == attribute
+
+@pytest.mark.parametrize("radius, frac", [(1, 4), (1, 0), (2, 3)])
+def test_predecoded_write_matches_the_case_every_cycle(radius, frac):
+    """``write_decode="predecoded"`` (logic storage) against the case's LUT, driven by the
+    same random writes (every address of the port, beyond the table too, the enable on
+    and off) and lookups: the same codes in every cycle, through a reset that drops a
+    pending write."""
+    from amaranth.hdl import Module, ResetInserter, Signal
+    cfg = DPConfig(radius=radius, weight_frac_bits=frac)
+    m = Module()
+    reset = Signal()
+    case = WeightLUT(cfg, lut_style="logic")
+    predecoded = WeightLUT(cfg, lut_style="logic", write_decode="predecoded")
+    m.submodules.case = ResetInserter(reset)(case)
+    m.submodules.predecoded = ResetInserter(reset)(predecoded)
+    rng = random.Random(radius * 10 + frac)
+    addresses = list(range(1 << len(case.write_addr)))
+    addresses = addresses * (1 if radius == 2 else 3)
+    rng.shuffle(addresses)
+
+    async def bench(ctx):
+        changed = 0
+        for cycle, address in enumerate(addresses):
+            enable, code = rng.random() < 0.7, rng.randrange(2 << frac)
+            directions = [rng.randrange(1 << cfg.direction_bits) for _ in range(cfg.n_moves)]
+            ctx.set(reset, cycle % 97 == 50)
+            for dut in (case, predecoded):
+                ctx.set(dut.write_en, enable)
+                ctx.set(dut.write_addr, address)
+                ctx.set(dut.write_data, code)
+                for move, direction in enumerate(directions):
+                    ctx.set(dut.direction[move], direction)
+            await ctx.tick()
+            got = [ctx.get(predecoded.code[k]) for k in range(cfg.n_moves)]
+            want = [ctx.get(case.code[k]) for k in range(cfg.n_moves)]
+            assert got == want, (cycle, address)
+            changed += want != [int(cfg.weight_codes[min(d, cfg.n_moves), k])
+                                for k, d in enumerate(directions)]
+        assert changed > len(addresses) // 4            # the lookups see written codes
+
+    simulate(m, bench)
+
+
+def test_predecoded_write_is_the_case_with_block_ram_storage():
+    from amaranth.back import rtlil
+    cfg = DPConfig(radius=1)
+    assert rtlil.convert(WeightLUT(cfg, lut_style="bram", write_decode="predecoded")) == (
+        rtlil.convert(WeightLUT(cfg, lut_style="bram")))
+
+
+@pytest.mark.parametrize("bad", ["table", None])
+def test_unknown_write_decode_is_refused(bad):
+    with refused(ValueError, match=whole(f"write_decode must be one of ('case', "
+                                         f"'predecoded'), got {bad!r}")):
+        WeightLUT(DPConfig(), write_decode=bad)

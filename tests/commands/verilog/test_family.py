@@ -19,15 +19,16 @@ parse = parser_of(verilog_command)
     (None, {"line_buffer_style": "bram", "sideband_delay": "registers", "max_tree": "compact",
             "state_store_style": "memory", "histogram_style": "memory",
             "control_style": "generic", "output_queue_style": "binary",
-            "register_read": "one_level"}, 14),
+            "register_read": "one_level", "credit_ready": "one", "lut_write": "case"}, 14),
     ("ice40", {"line_buffer_style": "bram", "sideband_delay": "memory", "max_tree": "compact",
                "state_store_style": "memory", "histogram_style": "memory",
                "control_style": "generic", "output_queue_style": "binary",
-               "register_read": "one_level"}, 14),
+               "register_read": "one_level", "credit_ready": "one", "lut_write": "case"}, 14),
     ("ecp5", {"line_buffer_style": "lutram", "sideband_delay": "registers", "max_tree": "split",
               "state_store_style": "dp16kd", "histogram_style": "dp16kd",
               "control_style": "registered", "output_queue_style": "one_hot",
-              "register_read": "two_level"}, 18),
+              "register_read": "two_level", "credit_ready": "per_load",
+              "lut_write": "predecoded"}, 18),
 ])
 def test_verilog_family_builds_the_familys_core_options(tmp_path, capsys, family, options,
                                                          latency):
@@ -50,7 +51,8 @@ def test_verilog_family_ecp5_builds_the_line_buffer_in_dp16kds_at_640_wide(tmp_p
     options = {"line_buffer_style": "dp16kd", "sideband_delay": "registers",
                "max_tree": "split", "state_store_style": "dp16kd", "histogram_style": "dp16kd",
                "control_style": "registered", "output_queue_style": "one_hot",
-               "register_read": "two_level"}
+               "register_read": "two_level", "credit_ready": "per_load",
+               "lut_write": "predecoded"}
     assert json.loads((tmp_path / "dp.json").read_text())["core_options"] == options
     # the line buffer, 640 x 28 bits: two 18 x 1024; the prefetch FIFO, 64 x 64 bits: four
     assert out.read_text().count("DP16KD #(") == 2 + 4
@@ -72,20 +74,21 @@ def test_verilog_family_refuses_a_radius_it_cannot_build(tmp_path):
 ECP5_OPTIONS = {"line_buffer_style": "lutram", "sideband_delay": "registers", "max_tree": "split",
                 "state_store_style": "dp16kd", "histogram_style": "dp16kd",
                 "control_style": "registered", "output_queue_style": "one_hot",
-                "register_read": "two_level"}
+                "register_read": "two_level", "credit_ready": "per_load",
+                "lut_write": "predecoded"}
 
 
 ICE40_OPTIONS = {"line_buffer_style": "bram", "sideband_delay": "memory", "max_tree": "compact",
                  "state_store_style": "memory", "histogram_style": "memory",
                  "control_style": "generic", "output_queue_style": "binary",
-                 "register_read": "one_level"}
+                 "register_read": "one_level", "credit_ready": "one", "lut_write": "case"}
 
 
 DEFAULT_OPTIONS = {"line_buffer_style": "bram", "sideband_delay": "registers",
                    "max_tree": "compact", "state_store_style": "memory",
                    "histogram_style": "memory", "control_style": "generic",
                    "output_queue_style": "binary",
-                   "register_read": "one_level"}
+                   "register_read": "one_level", "credit_ready": "one", "lut_write": "case"}
 
 
 @pytest.mark.parametrize("top, module", [("seg", "dptbd_seg"), ("axi", "dptbd_axi")])

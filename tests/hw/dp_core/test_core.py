@@ -20,10 +20,11 @@ from helpers.refusals import whole
 # The on-chip store's DP16KD build is checked in tests/hw/test_read_ahead_store.py and the
 # histogram, the control style and the register read are not in these blocks (the
 # segmenter's and the AXI top's tests; the core builds the same netlist with each,
-# `test_the_register_read_option_builds_the_same_core`); every other option is simulated,
+# `test_the_register_read_and_credit_options_build_the_same_core`); every other option is simulated,
 # the DP16KD line buffer's block RAMs by a behavioural DP16KD.
 SIMULATED = {**CORE_OPTIONS, "state_store_style": ("memory",), "histogram_style": ("memory",),
-             "control_style": ("generic",), "register_read": ("one_level",)}
+             "control_style": ("generic",), "register_read": ("one_level",),
+             "credit_ready": ("one",)}
 OPTION_SETS = [dict(zip(SIMULATED, values)) for values in itertools.product(*SIMULATED.values())]
 
 
@@ -103,9 +104,11 @@ def test_storage_options_keep_the_cycle_count(monkeypatch, options):
 
 
 
-def test_the_register_read_option_builds_the_same_core():
+@pytest.mark.parametrize("option", [dict(register_read="two_level"),
+                                    dict(credit_ready="per_load")])
+def test_the_register_read_and_credit_options_build_the_same_core(option):
     cfg = DPConfig(width=6, height=5, segment_frames=3)
-    assert rtlil.convert(DPCore(cfg, register_read="two_level")) == rtlil.convert(DPCore(cfg))
+    assert rtlil.convert(DPCore(cfg, **option)) == rtlil.convert(DPCore(cfg))
 
 @pytest.mark.parametrize("option, bad, allowed", [
     ("line_buffer_style", "distributed", "('bram', 'lutram', 'dp16kd')"),
@@ -116,6 +119,8 @@ def test_the_register_read_option_builds_the_same_core():
     ("control_style", "fast", "('generic', 'registered')"),
     ("output_queue_style", "shift", "('binary', 'one_hot')"),
     ("register_read", "late", "('one_level', 'two_level')"),
+    ("credit_ready", "many", "('one', 'per_load')"),
+    ("lut_write", "table", "('case', 'predecoded')"),
 ])
 def test_refuses_an_unknown_storage_option(option, bad, allowed):
     with refused(ValueError, whole(f"{option} must be one of {allowed}, got '{bad}'")):

@@ -18,12 +18,14 @@ def test_families():
                                   "max_tree": "compact", "state_store_style": "memory",
                                   "histogram_style": "memory", "control_style": "generic",
                                   "output_queue_style": "binary",
-                                  "register_read": "one_level"}
+                                  "register_read": "one_level", "credit_ready": "one",
+                                  "lut_write": "case"}
     assert ECP5.core_options == {"line_buffer_style": "lutram", "sideband_delay": "registers",
                                  "max_tree": "split", "state_store_style": "dp16kd",
                                  "histogram_style": "dp16kd", "control_style": "registered",
                                  "output_queue_style": "one_hot",
-                                 "register_read": "two_level"}
+                                 "register_read": "two_level", "credit_ready": "per_load",
+                                 "lut_write": "predecoded"}
 
 
 def test_ecp5_builds_the_line_buffer_in_dp16kds_from_512_wide():

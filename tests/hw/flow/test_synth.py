@@ -93,7 +93,7 @@ def test_bad_arguments():
     with pytest.raises(ValueError, match=(
             r"^core_options keys must be in \('line_buffer_style', 'sideband_delay', "
             r"'max_tree', 'state_store_style', 'histogram_style', 'control_style', "
-            r"'output_queue_style', 'register_read'\), "
+            r"'output_queue_style', 'register_read', 'credit_ready', 'lut_write'\), "
             r"got 'fifo'$")):
         synthesize(DPConfig(), core_options={"fifo": "bram"})
     with pytest.raises(ValueError, match=(

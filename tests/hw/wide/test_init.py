@@ -87,7 +87,8 @@ def test_exact_cycle_count(p, radius, style):
 #: The implementation options the P-pixel pipeline builds (every combination simulated);
 #: the others are the on-chip store's, the segmenter's, the P = 1 flags queue's and the AXI
 #: top's, which it accepts and ignores (``test_ignored_core_options_build_the_same_netlist``).
-WIDE_OPTIONS = ("line_buffer_style", "sideband_delay", "max_tree")
+WIDE_OPTIONS = ("line_buffer_style", "sideband_delay", "max_tree", "credit_ready",
+                "lut_write")
 IGNORED_OPTIONS = tuple(name for name in CORE_OPTIONS if name not in WIDE_OPTIONS)
 WIDE_OPTION_SETS = [
     {**{name: CORE_OPTIONS[name][0] for name in IGNORED_OPTIONS}, **dict(zip(WIDE_OPTIONS, values))}
@@ -106,6 +107,23 @@ def test_core_options_change_nothing(monkeypatch, options):
                     ready_probability=0.7, seed=2)
     assert_states_equal(run.outputs, reference_states(cfg, frames))
 
+
+
+@pytest.mark.parametrize("p", [2, 4])
+def test_ready_copied_per_load_keeps_every_cycle(p):
+    """``credit_ready="per_load"``: the same handshakes in the same cycles as one register,
+    under random input gaps and output back-pressure (the credit closing and opening)."""
+    cfg = make_config(width=4 * p, height=6, segment_frames=2, pixels_per_clock=p)
+    frames = random_frames(cfg, 4, seed=p)
+    runs = [run_beats(DPPipelineWide(cfg, credit_ready=style), cfg, frames_to_beats(cfg, frames),
+                      valid_probability=0.8, ready_probability=0.4, seed=3)
+            for style in ("one", "per_load")]
+    for run in runs:
+        assert_states_equal(run.outputs, reference_states(cfg, frames))
+    assert runs[1].accept_cycles == runs[0].accept_cycles
+    assert runs[1].output_cycles == runs[0].output_cycles
+    gaps = np.diff(runs[0].accept_cycles)
+    assert gaps.max() > 1 and gaps.min() == 1
 
 
 @pytest.mark.parametrize("name, value", [(name, value) for name in IGNORED_OPTIONS
@@ -315,6 +333,10 @@ def test_refuses_frames_too_small_for_the_read_ahead_in_beats():
      "output_queue_style must be one of ('binary', 'one_hot'), got 'shift'"),
     ("register_read", "late",
      "register_read must be one of ('one_level', 'two_level'), got 'late'"),
+    ("credit_ready", "many",
+     "credit_ready must be one of ('one', 'per_load'), got 'many'"),
+    ("lut_write", "table",
+     "lut_write must be one of ('case', 'predecoded'), got 'table'"),
     ("output_fifo_depth", 2, "output_fifo_depth must be an integer in [3, inf), got 2"),
 ])
 def test_refuses_bad_options(option, value, message):
