@@ -20,12 +20,18 @@ from helpers.refusals import whole
 # The on-chip store's DP16KD build is checked in tests/hw/test_read_ahead_store.py and the
 # histogram, the control style and the register read are not in these blocks (the
 # segmenter's and the AXI top's tests; the core builds the same netlist with each,
-# `test_the_register_read_and_credit_options_build_the_same_core`); every other option is simulated,
-# the DP16KD line buffer's block RAMs by a behavioural DP16KD.
+# `test_the_register_read_and_credit_options_build_the_same_core`); every other option is
+# simulated, the DP16KD line buffer's block RAMs by a behavioural DP16KD: every combination,
+# but the weight LUT's write decode (local to the LUT, `tests/hw/test_weight_lut.py` cycle for
+# cycle against the case decode) only in the set of every last value.
 SIMULATED = {**CORE_OPTIONS, "state_store_style": ("memory",), "histogram_style": ("memory",),
              "control_style": ("generic",), "register_read": ("one_level",),
              "credit_ready": ("one",)}
-OPTION_SETS = [dict(zip(SIMULATED, values)) for values in itertools.product(*SIMULATED.values())]
+OPTION_SETS = [
+    {**dict(zip(SIMULATED, values)), "lut_write": SIMULATED["lut_write"][0]}
+    for values in itertools.product(*(SIMULATED[name] if name != "lut_write" else (None,)
+                                      for name in SIMULATED))
+] + [{name: values[-1] for name, values in SIMULATED.items()}]
 
 
 def sram_model(bus, words, seed):
