@@ -17,7 +17,8 @@ from dptbd.sim.formal.harness import Harness
 from dptbd.sim.formal.harnesses.axi_store import AxiStoreHarness
 from dptbd.sim.formal.harnesses.flow import CreditFifoHarness, PipelineHarness
 from dptbd.sim.formal.harnesses.prefetcher import PrefetcherHarness
-from dptbd.sim.formal.harnesses.known_bad import DroppingCandidatesHarness, EagerAXILiteHarness
+from dptbd.sim.formal.harnesses.known_bad import (DoubleQueuedWriteBehindHarness,
+                                                   DroppingCandidatesHarness, EagerAXILiteHarness)
 from dptbd.sim.formal.harnesses.registers import RegistersHarness
 from dptbd.sim.formal.harnesses.streams import CandidatesHarness, StatesHarness
 from dptbd.sim.formal.harnesses.tiny import tiny_config
@@ -86,6 +87,8 @@ TASKS = (
                WriteBehindHarness, "prove", 4, 14),
     FormalTask("axi_prefetcher", "AxiReadPrefetcher of that build alone: AR, R",
                PrefetcherHarness, "prove", 4, 16),
+    FormalTask("axi_write_behind_staged", "the ECP5 build's AxiWriteBehind (staged=True) "
+               "alone: AW, W, B", lambda: WriteBehindHarness(staged=True), "prove", 4, 14),
     # the same proofs on the default build (128 x 128, C = 66): k-induction does not depend
     # on the counters' widths; the covers (lines of 128 words) run on the small build above
     FormalTask("m_axis_cand_128", "m_axis_cand on the default 128x128 build",
@@ -98,6 +101,9 @@ TASKS = (
                "must FAIL", DroppingCandidatesHarness, "prove", 4, 0, expect="FAIL"),
     FormalTask("known_bad_s_axil", "an AXI4-Lite write answered before its W: must FAIL",
                EagerAXILiteHarness, "prove", 4, 0, expect="FAIL"),
+    FormalTask("known_bad_write_behind_staged", "a staged write-behind that queues the burst "
+               "it loads into its W registers as well: must FAIL",
+               DoubleQueuedWriteBehindHarness, "bmc", 16, 0, expect="FAIL"),
 )
 
 
