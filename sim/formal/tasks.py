@@ -87,6 +87,9 @@ TASKS = (
                WriteBehindHarness, "prove", 4, 14),
     FormalTask("axi_prefetcher", "AxiReadPrefetcher of that build alone: AR, R",
                PrefetcherHarness, "prove", 4, 16),
+    FormalTask("axi_prefetcher_dp16kd", "the ECP5 build's AxiReadPrefetcher (style='dp16kd': "
+               "the DP16KD ring, the behavioural DP16KD) alone: AR, R",
+               lambda: PrefetcherHarness(style="dp16kd"), "prove", 4, 12),
     FormalTask("axi_write_behind_staged", "the ECP5 build's AxiWriteBehind (staged=True) "
                "alone: AW, W, B", lambda: WriteBehindHarness(staged=True), "prove", 4, 14),
     # the same proofs on the default build (128 x 128, C = 66): k-induction does not depend

@@ -278,7 +278,7 @@ class WriteBehindHarness(Harness):
         self.free_inputs(m, dut, "dut")
         aw, w, b = dut.aw, dut.w, dut.b
         if self.staged:         # its register's input: the gate's, no input of the design
-            m.d.comb += Assert(dut.room == past(dut.room_next, "past_room_next") | past.rst,
+            m.d.comb += Assert((dut.room == past(dut.room_next, "past_room_next")) | past.rst,
                                "room != room_next a cycle earlier")
         pixels = store.frame.width * store.frame.height
         next_addr = Signal(range(pixels))

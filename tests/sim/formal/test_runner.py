@@ -158,6 +158,19 @@ WITHOUT = {
     ("axi_write_behind_staged", "run"): ("write_behind.py",
                                          "staged descriptor crosses its burst"),
     ("axi_write_behind_staged", "idle"): ("write_behind.py", "AW or W valid before any write"),
+    ("axi_prefetcher_dp16kd", "in_flight"): ("axi_store.py", "AR: more than 2 reads in flight"),
+    ("axi_prefetcher_dp16kd", "reserved"): ("prefetcher.py",
+                                            "R: a requested beat not taken at once"),
+    ("axi_prefetcher_dp16kd", "next_burst"): ("axi_store.py",
+                                              "AR: burst crosses a 4 KB boundary"),
+    ("axi_prefetcher_dp16kd", "shadow"): ("prefetcher.py",
+                                          "R: a requested beat not taken at once"),
+    ("axi_prefetcher_dp16kd", "ring"): ("prefetcher.py",
+                                        "reserved != beats requested and not popped"),
+    ("axi_prefetcher_dp16kd", "queue"): ("prefetcher.py",
+                                         "reserved != beats requested and not popped"),
+    ("axi_prefetcher_dp16kd", "restart"): ("prefetcher.py",
+                                           "reserved != beats requested and not popped"),
     ("axi_prefetcher", "in_flight"): ("axi_store.py", "AR: more than 2 reads in flight"),
     ("axi_prefetcher", "reserved"): ("prefetcher.py", "R: a requested beat not taken at once"),
     ("axi_prefetcher", "next_burst"): ("axi_store.py", "AR: burst crosses a 4 KB boundary"),
@@ -208,6 +221,8 @@ def fails_without(name, invariant, tmp_path, also=()):
     harness = {"axi_write_behind": WriteBehindHarness, "axi_prefetcher": PrefetcherHarness,
                "axi_write_behind_staged": lambda drop: WriteBehindHarness(staged=True,
                                                                           drop=drop),
+               "axi_prefetcher_dp16kd": lambda drop: PrefetcherHarness(style="dp16kd",
+                                                                       drop=drop),
                "m_axi_state_short": AxiStoreHarness, "dp_pipeline_short": PipelineHarness,
                "dptbd_axi_short": AXITopHarness,
                "credit_fifo_order": lambda drop: CreditFifoHarness(order=True, drop=drop)}[name]
@@ -244,7 +259,7 @@ def test_the_proofs_need_every_invariant(name, invariant, tmp_path):
 def test_every_needed_invariant_is_named_here():
     from dptbd.sim.formal.harnesses.axi_store import STORE_INVARIANTS
     from dptbd.sim.formal.harnesses.flow import ORDER_INVARIANTS, PIPELINE_INVARIANTS
-    from dptbd.sim.formal.harnesses.prefetcher import PREFETCHER_INVARIANTS
+    from dptbd.sim.formal.harnesses.prefetcher import PREFETCHER_INVARIANTS, RING_INVARIANTS
     from dptbd.sim.formal.harnesses.top import TOP_INVARIANTS
     from dptbd.sim.formal.harnesses.write_behind import INVARIANTS, STAGED_INVARIANTS
 
@@ -252,6 +267,7 @@ def test_every_needed_invariant_is_named_here():
         [("axi_write_behind", i) for i in INVARIANTS if i != "uptos"]
         + [("axi_write_behind_staged", i) for i in STAGED_INVARIANTS if i != "uptos"]
         + [("axi_prefetcher", i) for i in PREFETCHER_INVARIANTS]
+        + [("axi_prefetcher_dp16kd", i) for i in RING_INVARIANTS]
         + [("m_axi_state_short", i) for i in STORE_INVARIANTS]
         + [("credit_fifo_order", i) for i in ORDER_INVARIANTS]
         + [("dp_pipeline_short", i) for i in PIPELINE_INVARIANTS]
