@@ -179,6 +179,12 @@ WITHOUT = {
                                     "states: more words out than pixels accepted"),
     ("m_axi_state_short", "reader"): ("axi_store.py", "R: a requested beat not taken at once"),
     ("m_axi_state_short", "writer"): ("axi_store.py", "AW: more than 2 writes in flight"),
+    ("m_axi_state_ecp5_short", "core"): ("axi_store.py",
+                                         "states: more words out than pixels accepted"),
+    ("m_axi_state_ecp5_short", "reader"): ("axi_store.py",
+                                           "R: a requested beat not taken at once"),
+    ("m_axi_state_ecp5_short", "writer"): ("axi_store.py",
+                                           "W: a beat of a burst whose AW was not offered"),
     ("credit_fifo_order", "sequence"): ("flow.py",
                                         "FIFO word 0 from the read pointer out of sequence"),
     ("credit_fifo_order", "pointers"): ("flow.py",
@@ -217,12 +223,15 @@ def fails_without(name, invariant, tmp_path, also=()):
     from dptbd.sim.formal.harnesses.prefetcher import PrefetcherHarness
     from dptbd.sim.formal.harnesses.top import AXITopHarness
     from dptbd.sim.formal.harnesses.write_behind import WriteBehindHarness
+    from dptbd.sim.formal.tasks import ecp5_options
 
     harness = {"axi_write_behind": WriteBehindHarness, "axi_prefetcher": PrefetcherHarness,
                "axi_write_behind_staged": lambda drop: WriteBehindHarness(staged=True,
                                                                           drop=drop),
                "axi_prefetcher_dp16kd": lambda drop: PrefetcherHarness(style="dp16kd",
                                                                        drop=drop),
+               "m_axi_state_ecp5_short": lambda drop: AxiStoreHarness(
+                   drop=drop, core_options=ecp5_options()),
                "m_axi_state_short": AxiStoreHarness, "dp_pipeline_short": PipelineHarness,
                "dptbd_axi_short": AXITopHarness,
                "credit_fifo_order": lambda drop: CreditFifoHarness(order=True, drop=drop)}[name]
@@ -269,6 +278,7 @@ def test_every_needed_invariant_is_named_here():
         + [("axi_prefetcher", i) for i in PREFETCHER_INVARIANTS]
         + [("axi_prefetcher_dp16kd", i) for i in RING_INVARIANTS]
         + [("m_axi_state_short", i) for i in STORE_INVARIANTS]
+        + [("m_axi_state_ecp5_short", i) for i in STORE_INVARIANTS]
         + [("credit_fifo_order", i) for i in ORDER_INVARIANTS]
         + [("dp_pipeline_short", i) for i in PIPELINE_INVARIANTS]
         + [("dptbd_axi_short", i) for i in TOP_INVARIANTS])
