@@ -39,16 +39,21 @@ class DP16KDModel(Elaboratable):
     def elaborate(self, platform):
         m = Module()
         p = self.ports
-        m.submodules.array = array = Memory(shape=self.width, depth=1 << (14 - self.lsb),
+        # the array's words up to the highest address pin not tied to 0 (the others can be
+        # neither written nor read): the same behaviour, a smaller memory for a solver
+        pins = [k - self.lsb + 1 for k in range(self.lsb, 14)
+                if not all(isinstance(p[f"i_AD{x}{k}"], int) and p[f"i_AD{x}{k}"] == 0
+                           for x in "AB")]
+        m.submodules.array = array = Memory(shape=self.width, depth=1 << max(pins, default=1),
                                             init=[])
         write = array.write_port()
         read = array.read_port()
         out = Signal(self.width)
         m.d.comb += [
-            write.addr.eq(Cat(*[p[f"i_ADA{k}"] for k in range(self.lsb, 14)])),
+            write.addr.eq(Cat(*[p[f"i_ADA{k}"] for k in range(self.lsb, 14)])[:len(write.addr)]),
             write.data.eq(Cat(*[p[f"i_DIA{k}"] for k in range(self.width)])),
             write.en.eq(p["i_WEA"]),
-            read.addr.eq(Cat(*[p[f"i_ADB{k}"] for k in range(self.lsb, 14)])),
+            read.addr.eq(Cat(*[p[f"i_ADB{k}"] for k in range(self.lsb, 14)])[:len(read.addr)]),
             read.en.eq(p["i_CEB"]),
         ]
         m.d.comb += [p[f"o_DOB{k}"].eq(out[k]) for k in range(self.width) if f"o_DOB{k}" in p]

@@ -28,17 +28,17 @@ from dptbd.sim.formal.harnesses.write_behind import WriteBehindHarness
 __all__ = ["FormalTask", "TASKS", "task", "ecp5_options"]
 
 
-def ecp5_options() -> dict:
-    """The ECP5 family's implementation options for the store proofs' build
-    (:meth:`~dptbd.hw.flow.family.Family.options_for` of
-    :func:`~dptbd.sim.formal.harnesses.axi_store.tiny_store`'s frame) but its max/argmax
-    tree, which stays ``"compact"``: the ``"split"`` tree's cycle more of write latency
-    does not fit the 5 x 4 frame's read-ahead (a refusal of the schedule), and the tree
-    has no part in the flow control."""
+def ecp5_options(cfg: DPConfig | None = None) -> dict:
+    """The ECP5 family's implementation options for a proof's build ``cfg`` (default: the
+    store proofs' frame, :func:`~dptbd.sim.formal.harnesses.axi_store.tiny_store`'s;
+    :meth:`~dptbd.hw.flow.family.Family.options_for`) but its max/argmax tree, which stays
+    ``"compact"``: the ``"split"`` tree's cycle more of write latency does not fit the
+    5 x 4 frame's read-ahead (a refusal of the schedule), and the tree has no part in the
+    flow control."""
     from dptbd.hw.flow.family import ECP5
     from dptbd.sim.formal.harnesses.axi_store import tiny_store
 
-    return {**ECP5.options_for(tiny_store().frame), "max_tree": "compact"}
+    return {**ECP5.options_for(cfg or tiny_store().frame), "max_tree": "compact"}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -91,6 +91,9 @@ TASKS = (
                lambda: AXITopHarness(core_options={"control_style": "registered",
                                                    "register_read": "two_level"}), "prove", 4,
                0),
+    FormalTask("dptbd_axi_ecp5", "the same with the ECP5 family's options but the max tree "
+               "(its histogram: histogram_style='dp16kd', the behavioural DP16KD)",
+               lambda: AXITopHarness(core_options=ecp5_options(tiny_config())), "prove", 4, 0),
     FormalTask("m_axi_state", "DPPipelineAxi 5x4, 32-bit bus, 2-beat bursts, 2 in flight: "
                "the AXI4 manager port (dptbd_dp --state-store axi)", AxiStoreHarness,
                "prove", 4, 32, fast=False),
@@ -98,7 +101,7 @@ TASKS = (
                "suite's)", AxiStoreHarness, "prove", 4, 0),
     FormalTask("m_axi_state_ecp5", "the same with the ECP5 family's options (its store: the "
                "staged write-behind, the DP16KD prefetcher, the registered gate)",
-               lambda: AxiStoreHarness(core_options=ecp5_options()), "prove", 4, 32,
+               lambda: AxiStoreHarness(core_options=ecp5_options()), "prove", 4, 36,
                fast=False),
     FormalTask("m_axi_state_ecp5_short", "the same proof without its cover run",
                lambda: AxiStoreHarness(core_options=ecp5_options()), "prove", 4, 0),
