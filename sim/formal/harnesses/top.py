@@ -33,8 +33,9 @@ class AXITopHarness(Harness):
     less those named in ``drop`` (:data:`TOP_INVARIANTS`; for the test that each is needed).
     ``core_options`` as :class:`~dptbd.hw.axi_top.AXITop`'s (e.g. the ECP5 build's
     ``control_style="registered"``; its ``histogram_style="dp16kd"`` built with the
-    behavioural DP16KD, :func:`~dptbd.sim.dp16kd_model.modelled_dp16kd`). ``list_cover``: instead of the three covers of the
-    default run, one of a whole candidate list with a record out of ``m_axis_cand``, in an
+    behavioural DP16KD, :func:`~dptbd.sim.dp16kd_model.modelled_dp16kd`). ``list_cover``:
+    instead of the three covers of the default run, one of a whole candidate list with a
+    record out of ``m_axis_cand``, in an
     environment that streams whole frames (the assumptions of ``_list_cover``, added to the
     proof's: a trace that reaches it is one of the proof's environment too).
     """

@@ -26,9 +26,9 @@ __all__ = ["WriteBehindHarness", "fifo_invariants", "thermometer_fifo_invariants
 INVARIANTS = ("fifos", "in_flight", "lengths", "lengths_rows", "sent", "complete", "uptos",
               "descriptors", "run", "idle")
 #: The invariants of the staged write-behind (``WriteBehindHarness(staged=True)``, the ECP5
-#: build's): ``sent`` becomes ``current`` (the W burst under way in registers). Needed as
-#: :data:`INVARIANTS` are, ``uptos`` again not (its registered beat comparison and its own
-#: W FIFO level need no invariant: the proof closes without one).
+#: build's): ``sent`` becomes ``current`` (the W burst under way in registers). Each is
+#: needed but ``uptos``, as in :data:`INVARIANTS`; the beat stage's registered comparison
+#: and the W FIFO's level counted beside it need none (the proof closes without them).
 STAGED_INVARIANTS = ("fifos", "in_flight", "lengths", "lengths_rows", "current", "complete",
                      "uptos", "descriptors", "run", "idle")
 
@@ -277,7 +277,7 @@ class WriteBehindHarness(Harness):
         dut = wb.component
         self.free_inputs(m, dut, "dut")
         aw, w, b = dut.aw, dut.w, dut.b
-        if self.staged:         # its register's input: the gate's, no input of the design
+        if self.staged:         # room_next: room's register input, for the store's gate
             m.d.comb += Assert((dut.room == past(dut.room_next, "past_room_next")) | past.rst,
                                "room != room_next a cycle earlier")
         pixels = store.frame.width * store.frame.height
