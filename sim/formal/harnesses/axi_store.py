@@ -197,11 +197,19 @@ class AxiStoreHarness(Harness):
     direction; no valid on AR, AW, W or ``states`` in the first cycle after a reset, and
     none on AW, W or ``states`` before a pixel was accepted since the reset; the ``states``
     stream's rules, never more words out than pixels accepted.
+
+    ``core_options``: the pipeline's implementation options
+    (:data:`~dptbd.hw.dp_core.CORE_OPTIONS`); with ``state_store_style="dp16kd"`` (the
+    ECP5 build's store: the staged write-behind, the DP16KD prefetcher, the registered
+    gate) the DP16KDs are the behavioural model
+    (:func:`~dptbd.sim.dp16kd_model.modelled_dp16kd`).
     """
 
-    def __init__(self, store: AxiStoreConfig | None = None, drop: tuple = ()):
+    def __init__(self, store: AxiStoreConfig | None = None, drop: tuple = (),
+                 core_options: dict | None = None):
         super().__init__()
         self.store = store or tiny_store()
+        self.core_options = dict(core_options or {})
         unknown = sorted(set(drop) - set(STORE_INVARIANTS))
         if unknown:
             raise ValueError(f"unknown invariant group(s) {', '.join(unknown)}; the groups "
@@ -209,8 +217,11 @@ class AxiStoreHarness(Harness):
         self.drop = tuple(drop)
 
     def check(self, m, past):
+        from dptbd.sim.dp16kd_model import modelled_dp16kd
+
         store = self.store
-        top = Elaborated(DPPipelineAxi(store))
+        with modelled_dp16kd():             # the ECP5 store's DP16KDs: the behavioural model
+            top = Elaborated(DPPipelineAxi(store, **self.core_options))
         m.submodules.dut = top.fragment
         dut = top.component
         self.free_inputs(m, dut, "dut", skip=("lut_addr", "lut_data", "lut_we"))

@@ -12,11 +12,13 @@ from dptbd.hw.axi_lite import axi_lite_signature
 from dptbd.hw.axis_video import candidate_out_signature
 from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.sim.formal.harness import Harness
+from dptbd.hw.axi_store.write_behind import AxiWriteBehind
 from dptbd.sim.formal.harnesses.streams import CandidatesHarness
+from dptbd.sim.formal.harnesses.write_behind import STAGED_INVARIANTS, WriteBehindHarness
 from dptbd.sim.formal.properties import axil_subordinate
 
 __all__ = ["DroppingCandidatesToAxis", "DroppingCandidatesHarness", "EagerAXILite",
-           "EagerAXILiteHarness"]
+           "EagerAXILiteHarness", "DoubleQueuedWriteBehind", "DoubleQueuedWriteBehindHarness"]
 
 
 class DroppingCandidatesToAxis(wiring.Component):
@@ -84,3 +86,23 @@ class EagerAXILiteHarness(Harness):
         m.submodules.dut = dut = EagerAXILite()
         self.free_inputs(m, dut, "dut")
         axil_subordinate(m, past, dut.axil)
+
+
+class DoubleQueuedWriteBehind(AxiWriteBehind):
+    """A deliberately broken staged write-behind (known-bad harness): a burst issued while
+    no W burst is under way and the lengths FIFO is empty is loaded into the W registers
+    at once and, wrongly, also queued in the lengths FIFO, so its W beats are sent twice."""
+
+    def _w_in_registers(self, m, lengths, queued, head, issue, w_fifo):
+        super()._w_in_registers(m, lengths, queued, head, issue, w_fifo)
+        m.d.comb += lengths.w_en.eq(issue)      # the last assignment wins: no skip
+
+
+class DoubleQueuedWriteBehindHarness(WriteBehindHarness):
+    """The staged write-behind's AW / W / B checks on :class:`DoubleQueuedWriteBehind`,
+    without the invariants (the violation is reached from reset): must FAIL."""
+
+    design = DoubleQueuedWriteBehind
+
+    def __init__(self):
+        super().__init__(staged=True, drop=STAGED_INVARIANTS)

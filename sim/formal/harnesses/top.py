@@ -32,8 +32,10 @@ class AXITopHarness(Harness):
     reset; and the invariants of :func:`top_invariants` that make all of it k-inductive,
     less those named in ``drop`` (:data:`TOP_INVARIANTS`; for the test that each is needed).
     ``core_options`` as :class:`~dptbd.hw.axi_top.AXITop`'s (e.g. the ECP5 build's
-    ``control_style="registered"``). ``list_cover``: instead of the three covers of the
-    default run, one of a whole candidate list with a record out of ``m_axis_cand``, in an
+    ``control_style="registered"``; its ``histogram_style="dp16kd"`` built with the
+    behavioural DP16KD, :func:`~dptbd.sim.dp16kd_model.modelled_dp16kd`). ``list_cover``:
+    instead of the three covers of the default run, one of a whole candidate list with a
+    record out of ``m_axis_cand``, in an
     environment that streams whole frames (the assumptions of ``_list_cover``, added to the
     proof's: a trace that reaches it is one of the proof's environment too).
     """
@@ -51,7 +53,11 @@ class AXITopHarness(Harness):
         self.drop = tuple(drop)
 
     def check(self, m, past):
-        top = Elaborated(AXITop(self.cfg, state_output=True, core_options=self.core_options))
+        from dptbd.sim.dp16kd_model import modelled_dp16kd
+
+        with modelled_dp16kd():         # the ECP5 histogram's DP16KDs: the behavioural model
+            top = Elaborated(AXITop(self.cfg, state_output=True,
+                                    core_options=self.core_options))
         # dptbd_axi defines its own sync domain from aclk / aresetn (driven from clk / rst
         # below): renamed, so that the harness's registers use the harness's own sync domain
         m.submodules.dut = DomainRenamer({"sync": "dut"})(top.fragment)

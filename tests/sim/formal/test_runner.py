@@ -112,6 +112,15 @@ def test_known_bad_axi_lite_fails_at_the_early_response(tmp_path):
         "s_axil: write response without both AW and W accepted"]
 
 
+def test_known_bad_staged_write_behind_fails_at_the_unoffered_burst(tmp_path):
+    """A burst queued twice in the staged write-behind: its W beats are sent again with no
+    AW for them (BMC from reset, step 10)."""
+    proof, = run_task(task("known_bad_write_behind_staged"), out=tmp_path)
+    assert (proof.mode, proof.verdict) == ("bmc", "FAIL")
+    assert [f.split(": ", 1)[1] for f in proof.failed] == [
+        "W: a beat of a burst whose AW was not offered"]
+
+
 def test_an_sby_error_reports_the_tail_of_its_output(tmp_path):
     fake = tmp_path / "sby"
     fake.write_text("#!/bin/sh\necho 'one'\necho 'sby: boom' >&2\nexit 1\n")
@@ -135,6 +144,33 @@ WITHOUT = {
     ("axi_write_behind", "descriptors"): ("axi_store.py", "AW: burst crosses a 4 KB boundary"),
     ("axi_write_behind", "run"): ("write_behind.py", "bursts row 8 crosses its burst"),
     ("axi_write_behind", "idle"): ("write_behind.py", "AW or W valid before any write"),
+    ("axi_write_behind_staged", "fifos"): ("write_behind.py", "bursts head crosses its burst"),
+    ("axi_write_behind_staged", "in_flight"): ("write_behind.py",
+                                               "lengths level != bursts with W open"),
+    ("axi_write_behind_staged", "lengths"): ("write_behind.py", "left + beats sent != the "
+                                                                "length of the burst under way"),
+    ("axi_write_behind_staged", "lengths_rows"): ("axi_store.py",
+                                                  "W: WLAST not on beat AWLEN + 1"),
+    ("axi_write_behind_staged", "current"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
+    ("axi_write_behind_staged", "complete"): ("axi_store.py", "AW: more than 2 writes in flight"),
+    ("axi_write_behind_staged", "descriptors"): ("axi_store.py",
+                                                 "AW: burst crosses a 4 KB boundary"),
+    ("axi_write_behind_staged", "run"): ("write_behind.py",
+                                         "staged descriptor crosses its burst"),
+    ("axi_write_behind_staged", "idle"): ("write_behind.py", "AW or W valid before any write"),
+    ("axi_prefetcher_dp16kd", "in_flight"): ("axi_store.py", "AR: more than 2 reads in flight"),
+    ("axi_prefetcher_dp16kd", "reserved"): ("prefetcher.py",
+                                            "R: a requested beat not taken at once"),
+    ("axi_prefetcher_dp16kd", "next_burst"): ("axi_store.py",
+                                              "AR: burst crosses a 4 KB boundary"),
+    ("axi_prefetcher_dp16kd", "shadow"): ("prefetcher.py",
+                                          "R: a requested beat not taken at once"),
+    ("axi_prefetcher_dp16kd", "ring"): ("prefetcher.py",
+                                        "reserved != beats requested and not popped"),
+    ("axi_prefetcher_dp16kd", "queue"): ("prefetcher.py",
+                                         "reserved != beats requested and not popped"),
+    ("axi_prefetcher_dp16kd", "restart"): ("prefetcher.py",
+                                           "reserved != beats requested and not popped"),
     ("axi_prefetcher", "in_flight"): ("axi_store.py", "AR: more than 2 reads in flight"),
     ("axi_prefetcher", "reserved"): ("prefetcher.py", "R: a requested beat not taken at once"),
     ("axi_prefetcher", "next_burst"): ("axi_store.py", "AR: burst crosses a 4 KB boundary"),
@@ -143,6 +179,10 @@ WITHOUT = {
                                     "states: more words out than pixels accepted"),
     ("m_axi_state_short", "reader"): ("axi_store.py", "R: a requested beat not taken at once"),
     ("m_axi_state_short", "writer"): ("axi_store.py", "AW: more than 2 writes in flight"),
+    ("m_axi_state_ecp5_short", "core"): ("axi_store.py",
+                                         "states: more words out than pixels accepted"),
+    ("m_axi_state_ecp5_short", "reader"): ("axi_store.py", "AR: burst crosses a 4 KB boundary"),
+    ("m_axi_state_ecp5_short", "writer"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
     ("credit_fifo_order", "sequence"): ("flow.py",
                                         "FIFO word 0 from the read pointer out of sequence"),
     ("credit_fifo_order", "pointers"): ("flow.py",
@@ -181,8 +221,15 @@ def fails_without(name, invariant, tmp_path, also=()):
     from dptbd.sim.formal.harnesses.prefetcher import PrefetcherHarness
     from dptbd.sim.formal.harnesses.top import AXITopHarness
     from dptbd.sim.formal.harnesses.write_behind import WriteBehindHarness
+    from dptbd.sim.formal.tasks import ecp5_options
 
     harness = {"axi_write_behind": WriteBehindHarness, "axi_prefetcher": PrefetcherHarness,
+               "axi_write_behind_staged": lambda drop: WriteBehindHarness(staged=True,
+                                                                          drop=drop),
+               "axi_prefetcher_dp16kd": lambda drop: PrefetcherHarness(style="dp16kd",
+                                                                       drop=drop),
+               "m_axi_state_ecp5_short": lambda drop: AxiStoreHarness(
+                   drop=drop, core_options=ecp5_options()),
                "m_axi_state_short": AxiStoreHarness, "dp_pipeline_short": PipelineHarness,
                "dptbd_axi_short": AXITopHarness,
                "credit_fifo_order": lambda drop: CreditFifoHarness(order=True, drop=drop)}[name]
@@ -219,14 +266,17 @@ def test_the_proofs_need_every_invariant(name, invariant, tmp_path):
 def test_every_needed_invariant_is_named_here():
     from dptbd.sim.formal.harnesses.axi_store import STORE_INVARIANTS
     from dptbd.sim.formal.harnesses.flow import ORDER_INVARIANTS, PIPELINE_INVARIANTS
-    from dptbd.sim.formal.harnesses.prefetcher import PREFETCHER_INVARIANTS
+    from dptbd.sim.formal.harnesses.prefetcher import PREFETCHER_INVARIANTS, RING_INVARIANTS
     from dptbd.sim.formal.harnesses.top import TOP_INVARIANTS
-    from dptbd.sim.formal.harnesses.write_behind import INVARIANTS
+    from dptbd.sim.formal.harnesses.write_behind import INVARIANTS, STAGED_INVARIANTS
 
     assert sorted(WITHOUT) == sorted(
         [("axi_write_behind", i) for i in INVARIANTS if i != "uptos"]
+        + [("axi_write_behind_staged", i) for i in STAGED_INVARIANTS if i != "uptos"]
         + [("axi_prefetcher", i) for i in PREFETCHER_INVARIANTS]
+        + [("axi_prefetcher_dp16kd", i) for i in RING_INVARIANTS]
         + [("m_axi_state_short", i) for i in STORE_INVARIANTS]
+        + [("m_axi_state_ecp5_short", i) for i in STORE_INVARIANTS]
         + [("credit_fifo_order", i) for i in ORDER_INVARIANTS]
         + [("dp_pipeline_short", i) for i in PIPELINE_INVARIANTS]
         + [("dptbd_axi_short", i) for i in TOP_INVARIANTS])

@@ -6,8 +6,11 @@ import pytest
 from helpers.refusals import whole
 
 from dptbd.sim.formal.harnesses.axi_store import STORE_INVARIANTS, AxiStoreHarness, tiny_store
-from dptbd.sim.formal.harnesses.prefetcher import PREFETCHER_INVARIANTS, PrefetcherHarness
-from dptbd.sim.formal.harnesses.write_behind import INVARIANTS, WriteBehindHarness
+from dptbd.sim.formal.harnesses.prefetcher import (PREFETCHER_INVARIANTS, RING_INVARIANTS,
+                                                   PrefetcherHarness)
+from dptbd.sim.formal.harnesses.write_behind import (INVARIANTS, STAGED_INVARIANTS,
+                                                      WriteBehindHarness)
+from dptbd.sim.formal.tasks import ecp5_options
 
 
 def test_the_small_store_build():
@@ -16,6 +19,14 @@ def test_the_small_store_build():
     assert (cfg.width, cfg.height, cfg.state_slot_bits) == (5, 4, 16)
     assert (store.data_bits, store.burst_beats, store.burst_bytes, store.outstanding,
             store.address_bits, store.frame_bytes) == (32, 2, 8, 2, 13, 40)
+
+
+def test_the_ecp5_options_are_the_family_s_but_the_max_tree():
+    from dptbd.hw.flow.family import ECP5
+
+    options = ecp5_options()
+    assert options == {**ECP5.options_for(tiny_store().frame), "max_tree": "compact"}
+    assert options["state_store_style"] == "dp16kd"
 
 
 def test_the_harness_asserts_the_manager_rules_of_the_axi4_port(messages):
@@ -48,6 +59,24 @@ def test_the_induction_invariants_are_the_core_s_and_the_two_components(messages
             "a state written before the first pixel"}
     assert messages(AxiStoreHarness()) - messages(AxiStoreHarness(drop=STORE_INVARIANTS)) == (
         core | reader | writer)
+
+
+def test_the_ecp5_store_s_rules_are_the_same_and_its_invariants_its_components(messages):
+    ecp5 = AxiStoreHarness(core_options=ecp5_options())
+    rules = messages(AxiStoreHarness(core_options=ecp5_options(), drop=STORE_INVARIANTS))
+    assert rules == messages(AxiStoreHarness(drop=STORE_INVARIANTS))
+    reader = messages(PrefetcherHarness(style="dp16kd")) - messages(PrefetcherHarness(
+        style="dp16kd", drop=RING_INVARIANTS))
+    writer = messages(WriteBehindHarness(staged=True)) - messages(WriteBehindHarness(
+        staged=True, drop=STAGED_INVARIANTS))
+    generic = messages(AxiStoreHarness()) - rules
+    core = generic - (messages(PrefetcherHarness()) | messages(WriteBehindHarness()))
+    assert messages(ecp5) - rules == core | reader | writer
+
+
+def test_the_ecp5_store_is_built_with_the_behavioural_dp16kd(cells):
+    # the prefetcher's ring: 32 bits in two x18 DP16KDs; no Instance left for Yosys
+    assert cells(AxiStoreHarness(core_options=ecp5_options())) == {"DP16KDModel": 2}
 
 
 def test_an_unknown_invariant_group_is_refused():

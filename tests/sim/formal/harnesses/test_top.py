@@ -35,6 +35,24 @@ def test_the_top_harness_asserts_the_invariants_of_its_induction(messages):
             "credit count != pixels in flight"} <= got
 
 
+def test_the_ecp5_top_runs_the_dp16kd_histogram_through_the_behavioural_model(cells,
+                                                                               messages):
+    from dptbd.sim.formal.harnesses.tiny import tiny_config
+    from dptbd.sim.formal.tasks import ecp5_options
+
+    options = ecp5_options(tiny_config())
+    assert options["histogram_style"] == "dp16kd"
+    harness = AXITopHarness(core_options=options)
+    # one DP16KD for the on-chip state store, one for the histogram
+    assert cells(harness) == {"DP16KDModel": 2}
+    generic_histogram = AXITopHarness(core_options={**options, "histogram_style": "memory"})
+    assert cells(generic_histogram) == {"DP16KDModel": 1}
+    assert cells(AXITopHarness(core_options={"control_style": "registered"})) == {}
+    # the checks of dptbd_axi_registered (the ECP5 control and register read)
+    registered = {"control_style": "registered", "register_read": "two_level"}
+    assert messages(harness) == messages(AXITopHarness(core_options=registered))
+
+
 def test_an_unknown_invariant_group_is_refused():
     message = (f"unknown dptbd_axi invariant group(s) nope; the groups are "
                f"{', '.join(TOP_INVARIANTS)}")

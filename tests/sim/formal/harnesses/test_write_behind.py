@@ -6,7 +6,8 @@ import pytest
 
 from helpers.refusals import whole
 
-from dptbd.sim.formal.harnesses.write_behind import INVARIANTS, WriteBehindHarness
+from dptbd.sim.formal.harnesses.write_behind import (INVARIANTS, STAGED_INVARIANTS,
+                                                      WriteBehindHarness)
 
 RULES = {f"{ch}: {rule}" for ch in ("AW", "W", "B")       # B's rules assumed of the subordinate
          for rule in ("tvalid dropped before the handshake", "payload changed while held")} | {
@@ -38,8 +39,36 @@ def test_without_every_invariant_only_the_rules_are_left(messages):
     assert messages(WriteBehindHarness(drop=INVARIANTS)) == RULES
 
 
+def test_the_staged_harness_asserts_its_own_registers_meaning(messages):
+    bursts = {f"bursts row {i} crosses its burst" for i in range(12)}
+    assert messages(WriteBehindHarness(staged=True)) == RULES | bursts | {
+        "room != room_next a cycle earlier",
+        "lengths: pointers disagree with the level", "uptos: pointers disagree with the level",
+        "bursts: pointers disagree with the level", "bursts: not a thermometer code",
+        "in_flight != writes + AW held", "in_flight above outstanding",
+        "a W burst done early without an AW held, or behind an open one",
+        "lengths level != bursts with W open",
+        "lengths row 0 != the AWLEN behind the burst under way",
+        "lengths row 1 != the AWLEN behind the burst under way",
+        "left + beats sent != the length of the burst under way",
+        "WLAST register != no beat left", "beats sent with no burst under way",
+        "writes != complete + AW with W open", "uptos level != in_flight",
+        "bursts head crosses its burst", "staged descriptor crosses its burst",
+        "open run reaches its burst's end", "open run does not end before the expected beat",
+        "work queued before the first write"}
+    assert messages(WriteBehindHarness(staged=True, drop=STAGED_INVARIANTS)) == RULES | {
+        "room != room_next a cycle earlier"}
+
+
 def test_an_unknown_invariant_is_refused():
     message = (f"unknown write-behind invariant(s) nope, zz; the invariants are "
                f"{', '.join(INVARIANTS)}")
     with pytest.raises(ValueError, match=whole(message)):
         WriteBehindHarness(drop=("zz", "nope"))
+
+
+def test_an_unknown_staged_invariant_is_refused():
+    message = (f"unknown write-behind invariant(s) sent; the invariants are "
+               f"{', '.join(STAGED_INVARIANTS)}")
+    with pytest.raises(ValueError, match=whole(message)):
+        WriteBehindHarness(staged=True, drop=("sent",))
