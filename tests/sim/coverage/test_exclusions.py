@@ -64,12 +64,12 @@ def entry(src, what, count, kind="branch", build="b1"):
 
 def test_excluded_points_count_apart_and_stale_entries_are_reported():
     points = [entry("hw/segmenter.py:201", "if", 4), entry("hw/segmenter.py:201", "else", 0),
-              entry("hw/segmenter.py:300", "if", 2), entry("hw/segmenter.py:300", "else", 1),
+              entry("hw/segmenter.py:311", "if", 2), entry("hw/segmenter.py:311", "else", 1),
               entry("hw/segmenter.py:400", "if", 0),
               entry("hw/segmenter.py:400", "if", 3, build="b2")]   # covered in another build
     unreachable = Exclusion("segmenter", "hw/segmenter.py:201", "branch", "else", "why")
     gone = Exclusion("segmenter", "hw/segmenter.py:999", "branch", None, "why")
-    reached = Exclusion("segmenter", "hw/segmenter.py:300", "branch", None, "why")
+    reached = Exclusion("segmenter", "hw/segmenter.py:311", "branch", None, "why")
     summary = summarise(points, [unreachable, gone, reached])
     assert summary.counts == {("segmenter", "dptbd_seg.segmenter", "branch"): [2, 2, 3]}
     assert summary.figure("segmenter", "branch") == (2, 2)

@@ -52,8 +52,8 @@ def test_parse_mutations_refusals():
 def test_source_line():
     assert source_line([f"{SITE}/amaranth/lib/fifo.py:118"]) == "amaranth/lib/fifo.py:118"
     assert source_line(["/elsewhere/top.py:3"]) == "/elsewhere/top.py:3"
-    assert source_line([f"{SITE}/amaranth/lib/fifo.py:118", f"{REPO}/hw/histogram.py:87"]) \
-        == "hw/histogram.py:87"
+    assert source_line([f"{SITE}/amaranth/lib/fifo.py:118", f"{REPO}/hw/histogram.py:90"]) \
+        == "hw/histogram.py:90"
     assert source_line([]) == "?"
 
 

@@ -103,7 +103,7 @@ def test_outputs_zero_only_for_constant_zero_outputs():
 #: ``dptbd_dp``'s input ready register stuck at 0 (#182 of ``--seed 1``, killed): the
 #: input is refused from the first cycle after reset.
 READY_STUCK = ("mutate -mode const0 -module dptbd_dp -cell $flatten\\core.\\input_credit.$5 "
-               "-port Q -portbit 0 -wire pixels__ready -wirebit 0 -src hw/input_credit.py:57")
+               "-port Q -portbit 0 -wire pixels__ready -wirebit 0 -src hw/input_credit.py:70")
 #: Bit 2 of the reset value of the DP output flags FIFO's word_8 set to 1 (#52, equivalent:
 #: after a reset the FIFO is empty, and word_8 is read only after it has been written).
 FIFO_RESET = ("mutate -mode const1 -module dptbd_dp -cell "

@@ -138,12 +138,12 @@ def test_the_original_passes_a_run_of_every_kind_and_four_mutants_are_killed():
     sample = netlist.mutation_list(cfg, "dp2", 300, 1)
     lut, begin, credit, stuck = sample[0], sample[228], sample[165], sample[129]
     assert (lut.source, lut.mode, lut.cell, lut.portbit) == \
-        ("hw/weight_lut.py:240", "const1", "core.weight_lut_1.column_1", 41)
+        ("hw/weight_lut.py:257", "const1", "core.weight_lut_1.column_1", 41)
     assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core/ports.py:63", "const1",
                                                       "segment_begin")
     assert (credit.source, credit.mode, credit.wire, credit.wirebit, credit.ctrlbit) == \
         ("hw/thermometer_counter.py:50", "cnot0", "core.input_credit.at_least", 1, 0)
-    assert (stuck.source, stuck.mode, stuck.wire) == ("hw/input_credit.py:57", "const1",
+    assert (stuck.source, stuck.mode, stuck.wire) == ("hw/input_credit.py:70", "const1",
                                                       "core.input_credit.accept")
     sim = mutant_build("dp2", [lut, begin, credit, stuck])
     killed(sim, 1, CORNERS, "lut-corners seed 0", "first mismatch at output ")
@@ -167,7 +167,7 @@ def test_at_four_pixels_per_clock_the_original_passes_and_three_mutants_are_kill
     sample = netlist.mutation_list(cfg, "dp4", 300, 1)
     lut, edge, begin = sample[0], sample[216], sample[195]
     assert (lut.source, lut.mode, lut.cell, lut.portbit) == \
-        ("hw/weight_lut.py:97", "const1", "$flatten\\core.\\weight_lut_3.$194", 1)
+        ("hw/weight_lut.py:100", "const1", "$flatten\\core.\\weight_lut_3.$194", 1)
     assert (edge.source, edge.mode, edge.wire) == ("hw/wide/window.py:55", "inv",
                                                    "core.last_beat")
     assert (begin.source, begin.mode, begin.wire) == ("hw/dp_core/ports.py:63", "inv",

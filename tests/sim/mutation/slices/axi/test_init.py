@@ -34,19 +34,19 @@ tools = pytest.mark.skipif(not have_mutation_tools(), reason="needs Verilator, g
 #: not taken when a soft reset comes is replaced by the cut trailer). Named on today's
 #: netlist (the soft reset's restart registered) where ``hw/axis_video.py`` changed.
 LUT_STROBE_1_FORCED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1261 "
-                       "-port A -portbit 1 -src hw/register_file.py:193")
+                       "-port A -portbit 1 -src hw/register_file.py:202")
 ERROR_WRITE_AT_IRQ_STATUS = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1072 "
-                             "-port A -portbit 0 -src hw/register_file.py:173")
+                             "-port A -portbit 0 -src hw/register_file.py:182")
 INPUT_STALLS_BIT_8_UNALIGNED = ("mutate -mode const0 -module dptbd_axi -cell "
                                 "$flatten\\regs.$885 -port A -portbit 1 "
-                                "-src hw/register_file.py:148")
+                                "-src hw/register_file.py:156")
 LISTS_BIT_26_UNALIGNED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$862 "
-                          "-port Y -portbit 0 -src hw/register_file.py:148")
+                          "-port Y -portbit 0 -src hw/register_file.py:156")
 FAULT_FRAME_SHORT_PLUS_1_BIT_28 = ("mutate -mode cnot1 -module dptbd_axi -cell "
                                    "$flatten\\regs.$1323 -port Y -portbit 28 -ctrlbit 14 "
-                                   "-src hw/register_file.py:227")
+                                   "-src hw/register_file.py:236")
 HELD_WITHOUT_REQUEST = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\cand_out.$113 "
-                        "-port Y -portbit 0 -src hw/axis_video.py:166")
+                        "-port Y -portbit 0 -src hw/axis_video.py:168")
 
 
 def test_reference_plan_presets_then_cuts_a_list_under_back_pressure():

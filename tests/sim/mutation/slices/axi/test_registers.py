@@ -32,24 +32,24 @@ tools = pytest.mark.skipif(not have_mutation_tools(), reason="needs Verilator, g
 #: bit 11; bit 4 is ERROR.write_refused's W1C bit.)
 WRITE_DATA_BIT_4 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$80 "
                     "-port Q -portbit 4 -wire regs.axil.w_data -wirebit 4 "
-                    "-src hw/axi_lite.py:108")
+                    "-src hw/axi_lite.py:116")
 LUT_WE_INVERTED = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$procmux$1519 "
                    "-port Y -portbit 0")
 LUT_COLUMN_8_WITH_4 = ("mutate -mode cnot1 -module dptbd_axi -cell "
                        "$flatten\\core.\\dp.\\core.\\weight_lut.$406 -port Q -portbit 8 "
                        "-ctrlbit 4 -wire core.dp.core.weight_lut.write__en$225 -wirebit 0 "
-                       "-src amaranth/lib/memory.py:400 -src hw/weight_lut.py:230")
+                       "-src amaranth/lib/memory.py:400 -src hw/weight_lut.py:247")
 LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1510 "
                         "-port Q -portbit 22 -ctrlbit 13 -wire regs.lists -wirebit 22 "
-                        "-src hw/register_file.py:116")
+                        "-src hw/register_file.py:119")
 #: DPCore's resync stuck at 0 (mutant 77 of ``--seed 1`` on the earlier netlist):
 #: DPSegmenter latches the settings at a resync too, which the ``resync`` runs of seeds 3-5
 #: see.
 RESYNC_STUCK_AT_0 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\dp.\\core.$25 "
-                     "-port Y -portbit 0 -wire core.resync -wirebit 0 -src hw/dp_core/core.py:155 "
-                     "-src hw/dp_core/core.py:235")
+                     "-port Y -portbit 0 -wire core.resync -wirebit 0 -src hw/dp_core/core.py:161 "
+                     "-src hw/dp_core/core.py:241")
 READ_DATA_BIT_21 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$94 "
-                    "-port D -portbit 21 -src hw/axi_lite.py:48")
+                    "-port D -portbit 21 -src hw/axi_lite.py:56")
 
 
 def test_decode_sweep_reads_every_address_and_refuses_every_bit_above_a_limit():
@@ -159,9 +159,9 @@ def test_the_new_runs_kill_what_no_earlier_run_kills():
 #: compares it with W (a W-beat line without ``tlast`` that the next start of frame ends
 #: counts a ``line_length`` fault).
 SHIFT_6_AS_4 = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\core.\\segmenter.$131 "
-                "-port B -portbit 1 -src hw/segmenter.py:268")
+                "-port B -portbit 1 -src hw/segmenter.py:279")
 LINE_INDEX_WITHOUT_SOF = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\monitor.$88 "
-                          "-port S -portbit 0 -src hw/frame_monitor.py:91")
+                          "-port S -portbit 0 -src hw/frame_monitor.py:92")
 
 
 def test_shifts_and_line_ends_runs():
@@ -244,11 +244,11 @@ def test_low_shift_run_cuts_its_lists_at_every_threshold():
 WRITE_DECODE_EVERY_CYCLE = ("mutate -mode const1 -module dptbd_axi -cell "
                             "$flatten\\regs.$procmux$1357 -port S -portbit 0")
 ARREADY_WITHOUT_BUSY = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.\\axil.$46 "
-                        "-port Y -portbit 0 -src hw/axi_lite.py:117")
+                        "-port Y -portbit 0 -src hw/axi_lite.py:126")
 BUSY_WITHOUT_RVALID = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$71 "
-                       "-port Y -portbit 0 -src hw/axi_lite.py:152")
+                       "-port Y -portbit 0 -src hw/axi_lite.py:164")
 READ_SELECT_ADDRESS_BIT = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$795 "
-                           "-port A -portbit 0 -src hw/register_file.py:148")
+                           "-port A -portbit 0 -src hw/register_file.py:156")
 
 
 @tools
@@ -302,7 +302,7 @@ def test_list_lengths_and_full_fifo_runs():
 #: flags replaced by those at the FIFO's input while it waits, e.g. a frame's end held at
 #: the input by the credits' stall before a frame's last pixel).
 LUT_DECODE_UNALIGNED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1230 "
-                        "-port A -portbit 0 -src hw/register_file.py:178")
+                        "-port A -portbit 0 -src hw/register_file.py:187")
 DROPPED_AT_88 = ("mutate -mode const1 -module dptbd_axi -cell "
                  "$flatten\\core.\\segmenter.\\emitter.$34 -port A -portbit 5 "
                  "-src hw/candidate_emitter.py:100")

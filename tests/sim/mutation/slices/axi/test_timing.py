@@ -25,20 +25,20 @@ tools = pytest.mark.skipif(not have_mutation_tools(), reason="needs Verilator, g
 #: netlist's: they change with ``hw/register_file.py``, ``hw/axi_lite.py`` and
 #: ``hw/axis_video.py``).
 IRQ_ENABLE_ON_FALLING_EDGE = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$1482 "
-                              "-port CLK -portbit 0 -src hw/register_file.py:120")
+                              "-port CLK -portbit 0 -src hw/register_file.py:123")
 RESTART_AFTER_THE_CUT_TRAILER = ("mutate -mode inv -module dptbd_axi -cell "
                                  "$flatten\\cand_out.$70 -port Y -portbit 0 "
-                                 "-src hw/axis_video.py:167")
+                                 "-src hw/axis_video.py:169")
 
 #: Mutants 100 and 151 of ``--seed 1`` on the earlier netlist: a counter's high bit XORed
 #: with a bit it reaches only after 2**16 lists or 2**25 frames; the ``presets`` run loads
 #: both.
 LISTS_BIT_29_WITH_16 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1510 "
                         "-port Q -portbit 29 -ctrlbit 16 -wire regs.lists -wirebit 29 "
-                        "-src hw/register_file.py:116")
+                        "-src hw/register_file.py:119")
 FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1506 "
                          "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames -wirebit 19 "
-                         "-src hw/register_file.py:116")
+                         "-src hw/register_file.py:119")
 
 
 def test_irq_plan_sets_both_pending_bits_and_toggles_irq():
