@@ -14,7 +14,7 @@ memory").
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal
+from amaranth.hdl import Module, Signal
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -52,11 +52,9 @@ class AxiStateStore(wiring.Component):
         ``style``): an Amaranth FIFO (default) or ECP5 DP16KDs read through their output
         register. ``dp16kd``: its ``dp16kd`` (tests pass a behavioural model).
         ``"dp16kd"`` (the ECP5 build's) also makes ``ready`` one register (the prefetcher's
-        ``available`` and the write-behind's ``room`` a cycle ahead, from registers: the
-        same values but in the cycle after a restart, where it is low, and after a cycle
-        in which it was high and no word was taken, where it is low if a take would have
-        emptied the prefetcher) and writes the write-behind's burst descriptors from
-        registers
+        ``available`` and the write-behind's ``room`` a cycle ahead: the same values but
+        in the cycle after a restart, where it is low) and writes the write-behind's burst
+        descriptors from registers
         (:class:`~dptbd.hw.axi_store.write_behind.AxiWriteBehind` ``staged``: each AW a
         cycle later).
 
@@ -131,14 +129,9 @@ class AxiStateStore(wiring.Component):
             self.write_error.eq(writer.error),
         ]
         if self._style == "dp16kd":
-            # a register: the pipeline's input handshake follows no logic of the store's,
-            # and its input none of the handshake's but the restart: while it is high a
-            # word is taken or not, so it loads "a word after a take" (the pessimistic
-            # value: a word that was not taken may wait a cycle), while it is low none is
+            # a register: the pipeline's input handshake follows no logic of the store's
             ready = Signal()
-            after = Mux(ready, reader.available_if_taken & ~(self.bus.read_en & self.restart),
-                        reader.available_if_idle)
-            m.d.sync += ready.eq(after & writer.room_next)
+            m.d.sync += ready.eq(reader.available_next & writer.room_next)
             m.d.comb += self.ready.eq(ready)
         else:
             m.d.comb += self.ready.eq(reader.available & writer.room)

@@ -19,8 +19,7 @@ def dp16kd_beat_queue(m, store, depth: int, r, pop, dp16kd=None):
     """Add the beat FIFO of ``depth`` beats of ``store.data_bits`` to ``m``, written from
     the AXI4 R channel ``r`` (it drives ``r.rready``), its head beat leaving when ``pop``;
     ``dp16kd``: the DP16KD builder (:func:`~dptbd.hw.dp16kd.dp16kd_memory`'s ``cell``).
-    Returns the head beat, "a head beat" and a function of a pop (a value) giving that
-    flag's next value for it."""
+    Returns the head beat, "a head beat" and that flag's next value."""
     # ---- ECP5: a ring buffer in DP16KDs read at its own pace into a queue of
     # SKID_BEATS flip-flop beats, whose head is the head beat. The array reads when a
     # queue beat is free (``credit``: free queue beats less those on their way through
@@ -79,16 +78,13 @@ def dp16kd_beat_queue(m, store, depth: int, r, pop, dp16kd=None):
         m.d.sync += consume.eq(consume + 1)
     level_next = Signal(range(SKID_BEATS + 1))
     head_valid = Signal()
-
-    def head_valid_after(popped):
-        # level_next != 0, with the pop in the last LUT (a pop needs a head beat: level >= 1)
-        return out_valid | (level >= 2) | ((level == 1) & ~popped)
-
     head_valid_next = Signal()
+    # level_next != 0, with `pop` (the pipeline's handshake) in the last LUT (a pop
+    # needs a head beat: level >= 1)
     m.d.comb += [level_next.eq(level + out_valid - pop),
-                 head_valid_next.eq(head_valid_after(pop))]
+                 head_valid_next.eq(out_valid | (level >= 2) | ((level == 1) & ~pop))]
     m.d.sync += [level.eq(level_next), head_valid.eq(head_valid_next)]
     head = 0
     for i, beat in enumerate(beats):
         head = head | Mux(consume == i, beat, 0)
-    return head, head_valid, head_valid_after
+    return head, head_valid, head_valid_next

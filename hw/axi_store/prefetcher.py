@@ -104,8 +104,7 @@ class AxiReadPrefetcher(wiring.Component):
         a cycle later (the first pixel of a zero-latency memory enters in cycle 6 instead
         of 5), then one per cycle; a restart's loads come in the cycle after it, where
         ``available`` is low (at P = 1 the pixel after a resynchronisation enters a cycle
-        later). ``"dp16kd"`` adds the members ``available_next``, ``available_if_taken``
-        and ``available_if_idle``.
+        later). ``"dp16kd"`` adds the member ``available_next``.
         Anything else raises ``ValueError``.
     dp16kd : callable or None
         With ``style="dp16kd"``: builds one DP16KD (``cell`` of
@@ -136,10 +135,6 @@ class AxiReadPrefetcher(wiring.Component):
         With ``style="dp16kd"``: the value ``available`` takes at the next clock edge, for
         a gate that registers it (:class:`~dptbd.hw.axi_store.AxiStateStore`), except after
         a restart (``take`` with ``restart``), where it is low.
-    available_if_taken, available_if_idle : Out(1)
-        With ``style="dp16kd"``: ``available_next`` from registers alone, for a word taken
-        in this cycle without a restart (meaningful while ``available``: it may be low
-        where ``available_next`` is high without a take) and for no word taken (exact).
     """
 
     def __init__(self, store: AxiStoreConfig, *, style: str = "memory", dp16kd=None):
@@ -149,8 +144,7 @@ class AxiReadPrefetcher(wiring.Component):
         self._style = style
         self._dp16kd = dp16kd
         axi = axi4_signature(store)
-        extra = ({"available_next": Out(1), "available_if_taken": Out(1),
-                  "available_if_idle": Out(1)} if style == "dp16kd" else {})
+        extra = {"available_next": Out(1)} if style == "dp16kd" else {}
         super().__init__({
             **extra,
             "ar": Out(address_channel("ar", store.address_bits, store.id_bits)),
@@ -291,9 +285,8 @@ class AxiReadPrefetcher(wiring.Component):
                 m.d.sync += [head.eq(fifo.r_data), head_valid.eq(fifo.r_rdy)]
         else:
             pop = Signal()                           # the head beat leaves
-            head, head_valid, head_valid_after = dp16kd_beat_queue(m, store, depth, self.r, pop,
-                                                                   self._dp16kd)
-            head_valid_next = head_valid_after(pop)
+            head, head_valid, head_valid_next = dp16kd_beat_queue(m, store, depth, self.r, pop,
+                                                                  self._dp16kd)
 
         # ---- take side: unpack the head beat, drop stale beats --------------------------
         # one word per beat: offset stays 0 (one bit, not a zero-width vector)
@@ -362,13 +355,4 @@ class AxiReadPrefetcher(wiring.Component):
             fresh_next = Mux(restarting, none_dropped,
                              ~(self.take & self.restart) & (fresh | (head_valid & (stale == 1))))
             m.d.comb += self.available_next.eq(head_valid_next & fresh_next)
-            # the same from registers alone, for a `ready` register that does not wait on
-            # this cycle's `take`: after a take (no restart; `available` held: `fresh`, no
-            # restart's loads) the head beat pops at its last word; without one it pops
-            # only while stale beats are dropped
-            last_word = offset == per_beat - 1
-            idle_pop = ~restarting & ~fresh & head_valid
-            idle_fresh = Mux(restarting, none_dropped, fresh | (head_valid & (stale == 1)))
-            m.d.comb += [self.available_if_taken.eq(fresh & head_valid_after(last_word)),
-                         self.available_if_idle.eq(head_valid_after(idle_pop) & idle_fresh)]
         return m

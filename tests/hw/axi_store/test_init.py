@@ -35,12 +35,10 @@ def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offe
                         errors=errors or {}, write_latency=write_latency)
     rng = random.Random(seed)
     # `ready` against the prefetcher's `available` and the write-behind's `room` (with
-    # style "dp16kd" a register of the two a cycle ahead, low after a restart and, after a
-    # cycle in which it was high and no word was taken, low where that take would have
-    # emptied the prefetcher: "waited"): "unsafe" cycles it is high without them, "held"
-    # cycles it is low with them otherwise, "restarts"
+    # style "dp16kd" a register of the two a cycle ahead, low after a restart): "unsafe"
+    # cycles it is high without them, "held" cycles it is low with them, "restarts"
     out = {"mismatches": [], "checked": 0, "cycles": 0, "errors": [0, 0], "unsafe": 0,
-           "held": 0, "waited": 0, "restarts": 0}
+           "held": 0, "restarts": 0}
     width = len(dut.bus.read_data.as_value())
 
     async def bench(ctx):
@@ -48,7 +46,6 @@ def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offe
         writes = {}                           # cycle -> (addr, data)
         position, write_addr, accepted, cycle = 0, -1, 0, 0
         unchecked_until = words - ahead       # first frame: reads unused below this
-        after_restart = after_idle = False    # the cycle before: a restart / ready, no take
         if base is not None:
             ctx.set(dut.base, base)
         while accepted < pixels or writes:
@@ -58,12 +55,8 @@ def run_store(store, *, pixels, seed, latency=(0, 0), ready=1.0, valid=1.0, offe
             take = offering and ctx.get(dut.ready)
             gate = ctx.get(dut._reader.available) & ctx.get(dut._writer.room)
             out["unsafe"] += ctx.get(dut.ready) & ~gate & 1
-            held = gate & ~ctx.get(dut.ready) & 1
-            registered = style == "dp16kd"
-            out["waited"] += held & (registered and after_idle and not after_restart)
-            out["held"] += held & (not registered or not (after_idle or after_restart))
+            out["held"] += gate & ~ctx.get(dut.ready) & 1
             restart = take and accepted in resync_at and position != 0
-            after_restart, after_idle = restart, ctx.get(dut.ready) and not take
             if restart:                       # a start frame: its reads are unused
                 position, unchecked_until = 0, words - ahead   # until they wrap
             elif take and position == 0:
@@ -134,8 +127,6 @@ def test_random_latency_and_stalls_change_no_read(latency, ready, valid, offer, 
     assert out["mismatches"] == []
     assert out["checked"] == 3 * 192 + 5 - (192 - 17)
     assert (out["unsafe"], out["held"]) == (0, 0)
-    if style == "memory":
-        assert out["waited"] == 0
 
 
 def test_a_read_waits_for_the_response_of_the_write_it_depends_on():
@@ -156,10 +147,10 @@ def test_resynchronisations_restart_the_prefetch(style):
     out, _ = run_store(store, pixels=5 * 192, seed=7, latency=(0, 50), ready=0.8,
                        resync_at={100, 101, 103, 300, 301 + 192, 700}, style=style)
     assert out["mismatches"] == []
-    # with the ready register only the cycle after each restart held back, and a cycle
-    # after an idle one that a take would have emptied
+    # with the ready register at most the cycle after each restart held back (when it
+    # drops no beat: not here)
     assert out["unsafe"] == 0 and out["restarts"] == 6
-    assert out["held"] == 0
+    assert out["held"] <= (0 if style == "memory" else 6)
     # checked: positions 175 … 191 of each start frame (17 x 4), then every pixel up to
     # the next resynchronisation (5 + 1 + 15 + 68)
     assert out["checked"] == 17 * 4 + 5 + 1 + 15 + 68
