@@ -13,6 +13,7 @@ Modules (one line each)
 - ``icarus``: the cocotb + Icarus build of the generated Verilog (``build/sim/<parameter set>/``) and its runs (``simulate``).
 - ``x_store``: 4-state (Icarus) check that an X- or garbage-initialised external store never reaches an output.
 - ``reset_x``: 4-state (Icarus) check of each top level around reset: ``ready`` and ``valid`` 0 in reset and the cycle after, no X on any output, valid offered in every cycle, bit-exact after.
+- ``dp16kd_model``: a behavioural ECP5 ``DP16KD`` in Amaranth (the block RAM read through its output register), for the simulations and formal proofs of the ECP5 builds' DP16KD styles.
 - ``cell_models``: the 4-state Verilog models of the vendor cells the family builds instantiate (ECP5 ``DP16KD``, ``sim/dp16kd.v``), found for a generated text.
 - ``stimulus``: pixel words and LUT writes, packed with the gateware's layouts.
 - ``scenarios``: integer scenes from :mod:`dptbd.scenes.synthetic` (targets, noise, saturation, ties, edges).
