@@ -300,8 +300,7 @@ def test_external_state_store_ports_and_core_options():
     options = {"line_buffer_style": "lutram", "sideband_delay": "memory", "max_tree": "split",
                "state_store_style": "dp16kd", "histogram_style": "dp16kd",
                "control_style": "registered", "output_queue_style": "one_hot",
-               "register_read": "two_level", "credit_ready": "per_load",
-               "lut_write": "predecoded"}
+               "register_read": "two_level", "credit_ready": "per_load", "lut_write": "predecoded"}
     top = AXITop(cfg, external_state_store=True, core_options=options)
     ports = {path[0]: member.flow for path, member, _v in top.signature.flatten(top)}
     store = [n for n in ports if n.startswith("state_store_")]

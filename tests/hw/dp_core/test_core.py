@@ -27,10 +27,8 @@ from helpers.refusals import whole
 SIMULATED = {**CORE_OPTIONS, "state_store_style": ("memory",), "histogram_style": ("memory",),
              "control_style": ("generic",), "register_read": ("one_level",),
              "credit_ready": ("one",)}
-OPTION_SETS = [
-    {**dict(zip(SIMULATED, values)), "lut_write": SIMULATED["lut_write"][0]}
-    for values in itertools.product(*(SIMULATED[name] if name != "lut_write" else (None,)
-                                      for name in SIMULATED))
+OPTION_SETS = [dict(zip(SIMULATED, values)) for values in itertools.product(
+    *{**SIMULATED, "lut_write": SIMULATED["lut_write"][:1]}.values())
 ] + [{name: values[-1] for name, values in SIMULATED.items()}]
 
 

@@ -84,15 +84,13 @@ def test_exact_cycle_count(p, radius, style):
     assert run.output_cycles[-1] - first_in + 1 == beats + latency == {1: 86, 2: 87}[radius]
 
 
-#: The implementation options the P-pixel pipeline builds; the others are the on-chip
-#: store's, the segmenter's, the P = 1 flags queue's and the AXI top's, which it accepts and
-#: ignores (``test_ignored_core_options_build_the_same_netlist``).
-WIDE_OPTIONS = ("line_buffer_style", "sideband_delay", "max_tree", "credit_ready",
-                "lut_write")
-#: Of them, the pipeline's structure (every combination simulated); the input credit's
-#: copies and the weight LUT's write decode are local to their blocks (their own tests, cycle
-#: for cycle against one register / the case decode) and simulated here in the last set.
+#: The implementation options the P-pixel pipeline builds: its structure's (every
+#: combination simulated), the credit's copies and the LUT's write decode (their blocks' own
+#: tests; here only in the set of every last value). The others are the on-chip store's, the
+#: segmenter's, the P = 1 flags queue's and the AXI top's, which it accepts and ignores
+#: (``test_ignored_core_options_build_the_same_netlist``).
 STRUCTURE_OPTIONS = ("line_buffer_style", "sideband_delay", "max_tree")
+WIDE_OPTIONS = STRUCTURE_OPTIONS + ("credit_ready", "lut_write")
 IGNORED_OPTIONS = tuple(name for name in CORE_OPTIONS if name not in WIDE_OPTIONS)
 WIDE_OPTION_SETS = [
     {**{name: CORE_OPTIONS[name][0] for name in CORE_OPTIONS},
