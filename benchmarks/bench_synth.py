@@ -139,6 +139,10 @@ CASES = {
 }
 DEFAULT_CASES = ("core128",)
 
+#: ``--pnr-timeout``'s default: seconds one nextpnr run may take before it is stopped
+#: (``docs/synthesis.md``, "router1's stalls": well above a routed run under load).
+PNR_TIMEOUT = 2400.0
+
 
 #: nextpnr options the flow sets itself, and the bench option that sets each.
 FLOW_SETS = {"--seed": "--seeds", "--freq": "--freq", "--package": "--package",
@@ -230,8 +234,12 @@ def markdown_table(rows: list[tuple[str, str, SynthResult]]) -> str:
     for name, desc, res in rows:
         c = res.cells
         fam = get_family(res.family)
-        seeds = ", ".join(f"{r.seed}: {_fmt_mhz(r.fmax_mhz)}" for r in res.runs) or "—"
-        fits = {None: "not run", True: "yes", False: "**no**"}[res.fits]
+        seeds = ", ".join(f"{r.seed}: {r.error if r.timed_out else _fmt_mhz(r.fmax_mhz)}"
+                          for r in res.runs) or "—"
+        fits = {None: "not known" if res.runs else "not run", True: "yes",
+                False: "**no**"}[res.fits]
+        median = ("— (not every seed routed)" if res.timed_out_seeds
+                  else _fmt_mhz(res.fmax_median_mhz))
         med = res.median_run
         path = "—"
         if med is not None and med.critical_path is not None:
@@ -242,7 +250,7 @@ def markdown_table(rows: list[tuple[str, str, SynthResult]]) -> str:
             f"| {name} | {res.family} {res.device} | {desc}{_options(res)} | {_widths(res)} | "
             f"{c.lut4} | "
             f"{c.dff} | {c.carry} | {c.dsp} | {c.bram} | {_used(res, fam.logic_cell_bel)} | "
-            f"{fits} | {seeds} | {_fmt_mhz(res.fmax_median_mhz)} | {path} |")
+            f"{fits} | {seeds} | {median} | {path} |")
     return "\n".join(lines)
 
 
@@ -302,13 +310,21 @@ def main(argv=None) -> int:
     parser.add_argument("--no-breakdown", action="store_true",
                         help="skip the hierarchical synthesis (per-block table)")
     parser.add_argument("--workdir", type=pathlib.Path, default=pathlib.Path("build/synth"))
-    parser.add_argument("--timeout", type=float, default=3600, help="seconds per tool call")
+    parser.add_argument("--timeout", type=float, default=3600,
+                        help="seconds Yosys may run before it is stopped (an error)")
+    parser.add_argument("--pnr-timeout", type=float, default=PNR_TIMEOUT, metavar="SECONDS",
+                        help="seconds each nextpnr run may take; a run stopped there is "
+                             "recorded as 'did not route in SECONDS s' and the case gets no "
+                             f"median (default {PNR_TIMEOUT:g})")
     parser.add_argument("--json", type=pathlib.Path, help="also write the figures here")
     parser.add_argument("--force", action="store_true", help="overwrite --json")
     args = parser.parse_args(argv)
     try:
         check_output_file(args.json, "--json", args.force, ".json")
         split_nextpnr_args(args.nextpnr_args)
+        for flag, value in (("--timeout", args.timeout), ("--pnr-timeout", args.pnr_timeout)):
+            if not value > 0:
+                raise ValueError(f"{flag} must be a number of seconds in (0, inf), got {value:g}")
     except (ValueError, OSError) as exc:
         parser.error(str(exc))
 
@@ -333,15 +349,17 @@ def main(argv=None) -> int:
                 res = synthesize(cfg, variant=variant, family=family, seeds=args.seeds,
                                  workdir=args.workdir / family / name, device=args.device,
                                  package=args.package, target_mhz=args.freq, jobs=args.jobs,
-                                 yosys_timeout=args.timeout, nextpnr_timeout=args.timeout,
+                                 yosys_timeout=args.timeout,
+                                 nextpnr_timeout=args.pnr_timeout,
                                  lut_style=lut_style, breakdown=not args.no_breakdown,
                                  core_options=core_options,
                                  nextpnr_args=nextpnr_args(args, family))
             wall = time.monotonic() - start
             print(f"[{family} {name}] done in {wall:.0f} s (yosys {res.yosys_seconds:.0f} s, "
                   f"nextpnr {', '.join(f'{r.seconds:.0f}' for r in res.runs) or '—'} s); "
-                  f"fits: {res.fits}" + ("" if res.fits is not False
-                                         else f" ({res.runs[0].error})"),
+                  + "".join(f"seed {r.seed} {r.error}; " for r in res.runs if r.timed_out) +
+                  f"fits: {res.fits}" + ("" if res.fits is not False else " ({})".format(
+                      next(r.error for r in res.runs if not r.fits and not r.timed_out))),
                   file=sys.stderr, flush=True)
             rows.append((name, desc, res))
             figures[f"{family}/{name}"] = {"description": desc, "wall_seconds": round(wall, 1),

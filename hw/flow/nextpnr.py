@@ -10,7 +10,7 @@ import re
 from typing import Mapping, Sequence
 
 from dptbd.hw.flow.family import ICE40, Family
-from dptbd.hw.flow.tools import SynthToolError, _run, _tail, require_tool
+from dptbd.hw.flow.tools import SynthToolError, ToolTimeoutError, _run, _tail, require_tool
 
 __all__ = [
     "ICE40_DEVICES", "CriticalPath", "PnrReport", "PnrRun",
@@ -162,6 +162,8 @@ class PnrRun:
     ``fits``: placed and routed. ``fmax_mhz``: post-route Fmax of the clock (``None`` when it
     did not fit). ``utilisation``: ``{BEL type: (used, available)}``, also when it did not
     fit (then some type is above 100 %). ``error``: nextpnr's reason when it did not fit.
+    ``timed_out``: nextpnr was stopped at its time limit (``fits`` False, ``fmax_mhz`` None,
+    ``error`` ``"did not route in N s"``: whether it fits is not known).
     """
 
     seed: int
@@ -174,6 +176,7 @@ class PnrRun:
     clock: str | None = None
     log_path: str | None = None
     critical_path: CriticalPath | None = None
+    timed_out: bool = False
 
     @property
     def meets_target(self) -> bool:
@@ -186,7 +189,8 @@ class PnrRun:
     def to_dict(self) -> dict:
         return {"seed": self.seed, "fits": self.fits, "fmax_mhz": self.fmax_mhz,
                 "target_mhz": self.target_mhz, "meets_target": self.meets_target,
-                "clock": self.clock, "error": self.error, "seconds": round(self.seconds, 1),
+                "clock": self.clock, "error": self.error, "timed_out": self.timed_out,
+                "seconds": round(self.seconds, 1),
                 "utilisation": {b: {"used": u, "available": a}
                                 for b, (u, a) in self.utilisation.items()},
                 "critical_path": (None if self.critical_path is None
@@ -203,7 +207,10 @@ def run_nextpnr(netlist: pathlib.Path, *, seed: int, device: str | None = None,
     ``device``, ``package``, ``target_mhz`` and ``nextpnr`` default to the ``family``'s.
     Runs with the family's unconstrained-I/O flag (pins placed automatically) and
     ``--timing-allow-fail`` (a missed target is reported in ``fmax_mhz``, not an error).
-    A design that does not fit returns ``fits=False``; other failures raise
+    A design that does not fit returns ``fits=False``; a run still going after ``timeout``
+    seconds is stopped (:class:`~dptbd.hw.flow.tools.ToolTimeoutError` of the tool call) and
+    returns ``timed_out=True`` with ``error`` ``"did not route in N s"`` (router1 can stall
+    for hours on a seed whose overused wires do not fall); other failures raise
     :class:`SynthToolError`.
     """
     device = family.default_device if device is None else device
@@ -219,7 +226,14 @@ def run_nextpnr(netlist: pathlib.Path, *, seed: int, device: str | None = None,
     cmd = [exe, *device_args, "--json", netlist.name,
            "--freq", f"{target_mhz:g}", family.unconstrained_flag, "--timing-allow-fail",
            "--seed", str(seed), "--report", report.name, "-l", log.name, "-q", *extra_args]
-    proc, seconds = _run(cmd, cwd=work, timeout=timeout, tool="nextpnr", log_path=log)
+    try:
+        proc, seconds = _run(cmd, cwd=work, timeout=timeout, tool="nextpnr", log_path=log)
+    except ToolTimeoutError:
+        log_text = log.read_text(errors="replace") if log.exists() else ""
+        return PnrRun(seed=seed, fits=False, fmax_mhz=None, target_mhz=target_mhz,
+                      utilisation=parse_nextpnr_log(log_text).utilisation, seconds=timeout,
+                      error=f"did not route in {timeout:g} s", log_path=str(log),
+                      timed_out=True)
     log_text = log.read_text(errors="replace") if log.exists() else ""
     parsed = parse_nextpnr_log(log_text + "\n" + proc.stderr)
     if proc.returncode == 0 and report.exists():

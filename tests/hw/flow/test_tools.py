@@ -1,16 +1,21 @@
 """``dptbd.hw.flow.tools``: finding a tool (on PATH or beside the running Python), a
 missing tool naming the PyPI package that provides it, and a tool's version line, also on a
-cold YoWASP cache (the real nextpnr tools, compiled into an empty cache)."""
+cold YoWASP cache (the real nextpnr tools, compiled into an empty cache), and a tool
+stopped at its timeout."""
 
 import os
 import pathlib
+import re
+import shutil
 import stat
 import subprocess
 import sysconfig
 
 import pytest
 
-from dptbd.hw.flow.tools import ToolNotFoundError, require_tool, tool_version, version_line
+from dptbd.hw.flow.tools import (
+    ToolNotFoundError, ToolTimeoutError, _run, require_tool, tool_version, version_line,
+)
 
 
 def test_missing_tool_names_the_pypi_package():
@@ -108,3 +113,14 @@ def test_nextpnr_version_on_a_cold_yowasp_cache(monkeypatch, tmp_path, family):
     assert len(outputs) == 1 and outputs[0].splitlines()[0] == (
         f"Preparing to run {tool}. This might take a while..."), "the cache was not cold"
     assert any(cache.rglob("*")), "the compiled tool is cached where YOWASP_CACHE_DIR says"
+
+
+@pytest.mark.skipif(shutil.which("sleep") is None, reason="needs sleep")
+def test_a_tool_past_its_timeout_is_stopped_with_its_log_tail(tmp_path):
+    (tmp_path / "tool.log").write_text("Info: first\nInfo: still going\n")
+    sleep = shutil.which("sleep")
+    with pytest.raises(ToolTimeoutError, match=(
+            rf"^yosys timed out after 0\.5 s: {re.escape(sleep)} 30\n"
+            r"--- last lines of the yosys log ---\nInfo: first\nInfo: still going$")):
+        _run([sleep, "30"], cwd=tmp_path, timeout=0.5, tool="yosys",
+             log_path=tmp_path / "tool.log")
