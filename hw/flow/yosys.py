@@ -7,7 +7,7 @@ import dataclasses
 import json
 import pathlib
 import re
-from typing import Mapping
+from typing import Mapping, Sequence
 
 from dptbd.hw.flow.family import ICE40, YOSYS, Family
 from dptbd.hw.flow.tools import SynthToolError, _run, _tail, require_tool
@@ -178,32 +178,37 @@ def block_breakdown(text: str, top: str) -> dict[str, CellCounts]:
     return out
 
 
-def yosys_script(verilog_name: str, *, top: str, family: Family, breakdown: bool) -> str:
+def yosys_script(verilog_name: str, *, top: str, family: Family, breakdown: bool,
+                 synth_args: Sequence[str] | None = None) -> str:
     """The Yosys script of :func:`run_yosys`.
 
-    ``read_verilog F; SYNTH -top TOP -json netlist.json; tee -q -o yosys-stat.json stat
-    -json``; with ``breakdown`` the read design is saved first, synthesised once without
-    flattening (``SYNTH -noflatten``, its ``stat -json`` to ``yosys-stat-hier.json``) and
-    restored for the flat synthesis that nextpnr places.
+    ``read_verilog F; SYNTH -top TOP ARGS -json netlist.json; tee -q -o yosys-stat.json stat
+    -json``, ``ARGS`` being ``synth_args`` (default: the family's,
+    :attr:`~dptbd.hw.flow.family.Family.synth_args`); with ``breakdown`` the read design is
+    saved first, synthesised once without flattening (``SYNTH -top TOP ARGS -noflatten``,
+    its ``stat -json`` to ``yosys-stat-hier.json``) and restored for the flat synthesis that
+    nextpnr places.
     """
+    args = tuple(family.synth_args if synth_args is None else synth_args)
+    synth = " ".join((family.synth_command, "-top", top, *args))
     steps = [f"read_verilog {verilog_name}"]
     if breakdown:
-        steps += ["design -save rtl", f"{family.synth_command} -top {top} -noflatten",
+        steps += ["design -save rtl", f"{synth} -noflatten",
                   f"tee -q -o {YOSYS_HIER_STAT_NAME} stat -json", "design -load rtl"]
-    steps += [f"{family.synth_command} -top {top} -json {NETLIST_NAME}",
-              f"tee -q -o {YOSYS_STAT_NAME} stat -json"]
+    steps += [f"{synth} -json {NETLIST_NAME}", f"tee -q -o {YOSYS_STAT_NAME} stat -json"]
     return "; ".join(steps)
 
 
 def run_yosys(verilog_path: pathlib.Path, *, top: str = "dptbd_dp", family: Family = ICE40,
               yosys: str = YOSYS, timeout: float = 1800,
-              breakdown: bool = False) -> tuple[CellCounts, float, dict[str, CellCounts]]:
+              breakdown: bool = False, synth_args: Sequence[str] | None = None,
+              ) -> tuple[CellCounts, float, dict[str, CellCounts]]:
     """Synthesise ``verilog_path`` for ``family``; writes ``netlist.json`` beside it.
 
     Returns the flat netlist's cell counts, the wall-clock seconds and, with ``breakdown``,
     :func:`block_breakdown` of a second, hierarchical synthesis (else ``{}``). The script is
-    :func:`yosys_script`, the log ``yosys.log``; when the stat file is missing the counts
-    come from the log's last ``stat`` report.
+    :func:`yosys_script` (with ``synth_args``, default the family's), the log ``yosys.log``;
+    when the stat file is missing the counts come from the log's last ``stat`` report.
     """
     exe = require_tool(yosys)
     work = verilog_path.parent
@@ -212,7 +217,8 @@ def run_yosys(verilog_path: pathlib.Path, *, top: str = "dptbd_dp", family: Fami
     hier = work / YOSYS_HIER_STAT_NAME
     for stale in (work / NETLIST_NAME, stat, hier):
         stale.unlink(missing_ok=True)
-    script = yosys_script(verilog_path.name, top=top, family=family, breakdown=breakdown)
+    script = yosys_script(verilog_path.name, top=top, family=family, breakdown=breakdown,
+                          synth_args=synth_args)
     proc, seconds = _run([exe, "-q", "-l", log.name, "-p", script], cwd=work,
                          timeout=timeout, tool="yosys", log_path=log)
     log_text = log.read_text(errors="replace") if log.exists() else ""

@@ -33,6 +33,21 @@ class _Ran(Exception):
     ("--placer-heap-critexp '4", "--nextpnr-args must split into words like a shell's: No "
                                  "closing quotation; got \"--placer-heap-critexp '4\""),
     ("--pnr-timeout=0", "--pnr-timeout must be a number of seconds in (0, inf), got 0"),
+    ("--yosys-args=-nowidelut -top x", "--yosys-args may not set -top: the flow names the top "
+                                       "module; allowed: the synthesis command's other "
+                                       "options, e.g. -nowidelut"),
+    ("--yosys-args=-json n.json", "--yosys-args may not set -json: the flow writes its own "
+                                  "files; allowed: the synthesis command's other options, "
+                                  "e.g. -nowidelut"),
+    ("--yosys-args=-noflatten", "--yosys-args may not set -noflatten: the flow's per-block "
+                                "pass has it (the bench's --no-breakdown drops that pass); "
+                                "allowed: the synthesis command's other options, e.g. "
+                                "-nowidelut"),
+    ("--yosys-args=-run begin:coarse", "--yosys-args may not set -run: the flow runs the "
+                                       "whole command; allowed: the synthesis command's "
+                                       "other options, e.g. -nowidelut"),
+    ("--yosys-args=-abc9 '-W", "--yosys-args must split into words like a shell's: No "
+                               "closing quotation; got \"-abc9 '-W\""),
     ("--timeout=-5", "--timeout must be a number of seconds in (0, inf), got -5"),
 ])
 def test_refusals_are_usage_errors(value, message, capsys, monkeypatch):
@@ -40,7 +55,7 @@ def test_refusals_are_usage_errors(value, message, capsys, monkeypatch):
     monkeypatch.setattr(bench, "synthesize", lambda *a, **k: pytest.fail("ran after a refusal"))
     with pytest.raises(SystemExit) as exc:
         bench.main(["--families", "ecp5", "--cases", "tiny",
-                    *([value] if value.startswith(("--pnr-timeout", "--timeout"))
+                    *([value] if value.startswith(("--pnr-timeout", "--timeout", "--yosys"))
                       else [f"--nextpnr-args={value}"])])
     assert exc.value.code == 2
     assert capsys.readouterr().err.splitlines()[-1].endswith(f"error: {message}")
@@ -69,6 +84,26 @@ def test_the_arguments_reach_synthesize(argv, family, expected, monkeypatch, tmp
                     *argv])
     assert seen["nextpnr_args"] == expected
     assert (seen["yosys_timeout"], seen["nextpnr_timeout"]) == (3600, bench.PNR_TIMEOUT)
+
+
+@pytest.mark.parametrize("argv, expected", [
+    ([], None),                                   # the family's (Family.synth_args)
+    (["--yosys-args="], ()),                      # none
+    (["--yosys-args", "-nowidelut -dff"], ("-nowidelut", "-dff")),
+])
+def test_the_yosys_arguments_reach_synthesize(argv, expected, monkeypatch, tmp_path):
+    bench = _bench()
+    seen = {}
+
+    def synthesize(cfg, **kwargs):
+        seen.update(kwargs)
+        raise _Ran
+
+    monkeypatch.setattr(bench, "synthesize", synthesize)
+    with pytest.raises(_Ran):
+        bench.main(["--families", "ecp5", "--cases", "tiny", "--workdir", str(tmp_path),
+                    *argv])
+    assert seen["yosys_args"] == expected
 
 
 def test_the_time_limits_reach_synthesize(monkeypatch, tmp_path):

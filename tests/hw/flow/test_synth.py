@@ -7,6 +7,7 @@ The parsers and the tool handling have their own tests: ``test_yosys.py``,
 
 import dataclasses
 import json
+import pathlib
 import shutil
 import statistics
 import textwrap
@@ -202,9 +203,16 @@ def test_family_core_options_move_storage(tmp_path, family):
         warnings.simplefilter("ignore")
         default = synthesize(cfg, family=family, seeds=(), workdir=tmp_path / "default",
                              core_options={"line_buffer_style": "bram",
-                                           "sideband_delay": "registers"})
+                                           "sideband_delay": "registers"}, yosys_args=())
         chosen = synthesize(cfg, family=family, seeds=(), workdir=tmp_path / "family")
     assert chosen.params["core_options"] == get_family(family).options_for(cfg)
+    # Yosys: the family's synthesis options unless told (ECP5 -cmp2softlogic, iCE40 none)
+    assert chosen.params["yosys_args"] == list(get_family(family).synth_args)
+    assert default.params["yosys_args"] == []
+    assert (chosen.params["yosys_args"] == []) == (family == "ice40")
+    for run, args in ((chosen, chosen.params["yosys_args"]), (default, [])):
+        log = (pathlib.Path(run.workdir) / "yosys.log").read_text()
+        assert f"; synth_{family} -top dptbd_dp {' '.join(args + ['-json'])} netlist.json;" in log
     manifest = json.loads((tmp_path / "family" / "dptbd_dp.json").read_text())
     assert manifest["core_options"] == chosen.params["core_options"]
     if family == "ice40":

@@ -153,6 +153,24 @@ def test_yosys_script():
         "read_verilog d.v; synth_ice40 -top t -json netlist.json; "
         "tee -q -o yosys-stat.json stat -json")
     assert yosys_script("d.v", top="t", family=ECP5, breakdown=True) == (
-        "read_verilog d.v; design -save rtl; synth_ecp5 -top t -noflatten; "
+        "read_verilog d.v; design -save rtl; synth_ecp5 -top t -cmp2softlogic -noflatten; "
         "tee -q -o yosys-stat-hier.json stat -json; design -load rtl; "
-        "synth_ecp5 -top t -json netlist.json; tee -q -o yosys-stat.json stat -json")
+        "synth_ecp5 -top t -cmp2softlogic -json netlist.json; "
+        "tee -q -o yosys-stat.json stat -json")
+
+
+def test_yosys_script_with_other_synthesis_options():
+    """``synth_args`` replaces the family's (ECP5 ``-cmp2softlogic``); ``()`` none."""
+    assert yosys_script("d.v", top="t", family=ECP5, breakdown=False, synth_args=()) == (
+        "read_verilog d.v; synth_ecp5 -top t -json netlist.json; "
+        "tee -q -o yosys-stat.json stat -json")
+    assert yosys_script("d.v", top="t", family=ECP5, breakdown=True,
+                        synth_args=("-nowidelut", "-dff")) == (
+        "read_verilog d.v; design -save rtl; synth_ecp5 -top t -nowidelut -dff -noflatten; "
+        "tee -q -o yosys-stat-hier.json stat -json; design -load rtl; "
+        "synth_ecp5 -top t -nowidelut -dff -json netlist.json; "
+        "tee -q -o yosys-stat.json stat -json")
+    assert yosys_script("d.v", top="t", family=ICE40, breakdown=False,
+                        synth_args=["-dsp"]) == (
+        "read_verilog d.v; synth_ice40 -top t -dsp -json netlist.json; "
+        "tee -q -o yosys-stat.json stat -json")
