@@ -65,7 +65,8 @@ over two stages).
     nice -n 5 python benchmarks/bench_synth.py --families ecp5 --cases axi128 --seeds 1 2 3 \
         --no-breakdown --yosys-args "-cmp2softlogic -nowidelut" --pnr-timeout 1800
 
-Yosys runs with the family's options (``Family.synth_args``: ECP5 ``-cmp2softlogic``) unless
+Yosys runs with the family's options (``Family.synth_args``, none for either family: no
+``synth_ecp5`` option gained on both ``axi128`` and ``store640x512-p1``) unless
 ``--yosys-args`` says otherwise. A nextpnr run still going after ``--pnr-timeout`` seconds is
 stopped and that seed printed as "did not route in N s"; the other seeds keep their figures
 and the case gets no median (router1 can stall on a seed, ``docs/synthesis.md``).
@@ -148,7 +149,7 @@ DEFAULT_CASES = ("core128",)
 
 #: ``--pnr-timeout``'s default: seconds one nextpnr run may take before it is stopped
 #: (``docs/synthesis.md``, "router1's stalls": well above a routed run under load).
-PNR_TIMEOUT = 2400.0
+PNR_TIMEOUT = 1800.0
 
 
 #: nextpnr options the flow sets itself, and the bench option that sets each.
@@ -339,7 +340,7 @@ def main(argv=None) -> int:
     parser.add_argument("--yosys-args", metavar="ARGS",
                         help="options of Yosys's synth_ice40 / synth_ecp5 for every family "
                              "asked, one string split like a shell's, in place of the "
-                             "family's (ECP5 -cmp2softlogic, iCE40 none); "
+                             "family's (Family.synth_args: none for either); "
                              "--yosys-args= for none (not the flow's own: -top, -json, "
                              "-edif, -noflatten, -run)")
     for name, choices in CORE_OPTIONS.items():

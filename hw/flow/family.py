@@ -78,9 +78,9 @@ class Family:
         faster one (``docs/synthesis.md``, "The line buffer in DP16KDs at 640 wide").
     synth_args : tuple of str
         Options appended to :attr:`synth_command` in every synthesis of the family (the
-        flow's Yosys default; ``synthesize(yosys_args=…)`` replaces them). iCE40: none.
-        ECP5: ``-cmp2softlogic`` (comparisons with a constant in LUTs, not in carry chains:
-        ``docs/synthesis.md``, "Yosys's options (ECP5)").
+        flow's Yosys default; ``synthesize(yosys_args=…)`` replaces them). None for either
+        family: on ECP5 no option of ``synth_ecp5`` gained on both ``axi128`` and
+        ``store640x512-p1`` (``docs/synthesis.md``, "Yosys's options (ECP5)").
     """
 
     name: str
@@ -199,8 +199,7 @@ ECP5 = Family(
                   "register_read": "two_level",
                   "credit_ready": "per_load",
                   "lut_write": "predecoded"},
-    dp16kd_line_buffer_from=512,
-    synth_args=("-cmp2softlogic",))
+    dp16kd_line_buffer_from=512)
 
 #: name -> :class:`Family`.
 FAMILIES = {f.name: f for f in (ICE40, ECP5)}

@@ -276,8 +276,8 @@ def synthesize(cfg: DPConfig, *, variant: str = "core", family: str = "ice40",
         speed grade); recorded in ``SynthResult.params["nextpnr_args"]``.
     yosys_args : sequence of str, optional
         Options of the Yosys synthesis command (``synth_ecp5 -top dptbd_dp ARGS …``), in
-        place of the family's (:attr:`~dptbd.hw.flow.family.Family.synth_args`: ECP5
-        ``-cmp2softlogic``, iCE40 none); ``()`` runs the command bare. Recorded in
+        place of the family's (:attr:`~dptbd.hw.flow.family.Family.synth_args`, none for
+        either family); ``()`` runs the command bare. Recorded in
         ``SynthResult.params["yosys_args"]``.
     verilog_filter : callable, optional
         Applied to the generated Verilog text before synthesis, e.g. to try a synthesis

@@ -4,6 +4,7 @@ Checked on excerpts captured from Yosys 0.23 and 0.70 runs of the pipeline; real
 are in ``test_synth.py`` (through :func:`~dptbd.hw.flow.synth.synthesize`).
 """
 
+import dataclasses
 import json
 
 import pytest
@@ -153,15 +154,18 @@ def test_yosys_script():
         "read_verilog d.v; synth_ice40 -top t -json netlist.json; "
         "tee -q -o yosys-stat.json stat -json")
     assert yosys_script("d.v", top="t", family=ECP5, breakdown=True) == (
-        "read_verilog d.v; design -save rtl; synth_ecp5 -top t -cmp2softlogic -noflatten; "
+        "read_verilog d.v; design -save rtl; synth_ecp5 -top t -noflatten; "
         "tee -q -o yosys-stat-hier.json stat -json; design -load rtl; "
-        "synth_ecp5 -top t -cmp2softlogic -json netlist.json; "
-        "tee -q -o yosys-stat.json stat -json")
+        "synth_ecp5 -top t -json netlist.json; tee -q -o yosys-stat.json stat -json")
 
 
 def test_yosys_script_with_other_synthesis_options():
-    """``synth_args`` replaces the family's (ECP5 ``-cmp2softlogic``); ``()`` none."""
-    assert yosys_script("d.v", top="t", family=ECP5, breakdown=False, synth_args=()) == (
+    """``synth_args`` replaces the family's (``Family.synth_args``); ``()`` none."""
+    ecp5 = dataclasses.replace(ECP5, synth_args=("-cmp2softlogic",))
+    assert yosys_script("d.v", top="t", family=ecp5, breakdown=False) == (
+        "read_verilog d.v; synth_ecp5 -top t -cmp2softlogic -json netlist.json; "
+        "tee -q -o yosys-stat.json stat -json")
+    assert yosys_script("d.v", top="t", family=ecp5, breakdown=False, synth_args=()) == (
         "read_verilog d.v; synth_ecp5 -top t -json netlist.json; "
         "tee -q -o yosys-stat.json stat -json")
     assert yosys_script("d.v", top="t", family=ECP5, breakdown=True,
