@@ -340,7 +340,8 @@ def main(argv=None) -> int:
     parser.add_argument("--yosys-args", metavar="ARGS",
                         help="options of Yosys's synth_ice40 / synth_ecp5 for every family "
                              "asked, one string split like a shell's, in place of the "
-                             "family's (Family.synth_args: none for either); "
+                             "family's (Family.synth_args: none for either); a single "
+                             "option as --yosys-args=-nowidelut, "
                              "--yosys-args= for none (not the flow's own: -top, -json, "
                              "-edif, -noflatten, -run)")
     for name, choices in CORE_OPTIONS.items():

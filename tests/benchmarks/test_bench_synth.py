@@ -90,6 +90,7 @@ def test_the_arguments_reach_synthesize(argv, family, expected, monkeypatch, tmp
     ([], None),                                   # the family's (Family.synth_args)
     (["--yosys-args="], ()),                      # none
     (["--yosys-args", "-nowidelut -dff"], ("-nowidelut", "-dff")),
+    (["--yosys-args=-cmp2softlogic"], ("-cmp2softlogic",)),
 ])
 def test_the_yosys_arguments_reach_synthesize(argv, expected, monkeypatch, tmp_path):
     bench = _bench()
