@@ -82,7 +82,6 @@ import argparse
 import json
 import pathlib
 import re
-import shlex
 import sys
 import time
 import warnings
@@ -91,6 +90,7 @@ from dptbd.config import DPConfig
 from dptbd.errors import ConfigError
 from dptbd.hw.dp_core import CORE_OPTIONS
 from dptbd.output_folder import check_output_file
+from dptbd.hw.flow.passthrough import split_nextpnr_args, split_yosys_args
 from dptbd.hw.flow.synth import (FAMILIES, ON_CHIP_STORE, CellCounts, SynthResult, get_family,
                                  synthesize)
 
@@ -152,13 +152,6 @@ DEFAULT_CASES = ("core128",)
 PNR_TIMEOUT = 1800.0
 
 
-#: nextpnr options the flow sets itself, and the bench option that sets each.
-FLOW_SETS = {"--seed": "--seeds", "--freq": "--freq", "--package": "--package",
-             "--speed": "--speed", "--router": "--router", "--json": None, "--report": None,
-             "-l": None, "--log": None, "-q": None, "--quiet": None,
-             **{f"--{d}": "--device" for fam in FAMILIES.values() for d in fam.devices}}
-
-
 #: Each of DPCore's implementation options (``CORE_OPTIONS``, ``--line-buffer-style`` …):
 #: its help.
 CORE_OPTION_HELP = {
@@ -184,50 +177,6 @@ CORE_OPTION_HELP = {
     "lut_write": "the weight LUT's write decode, a case per entry or two registered one-hot "
                  "address halves (default: the family's, case on iCE40, predecoded on ECP5)",
 }
-
-
-def split_nextpnr_args(text: str) -> tuple[str, ...]:
-    """``--nextpnr-args``: split like a shell's words; ``ValueError`` for an option the flow
-    sets itself (the seed, the target, the device, the router, the speed, the files)."""
-    try:
-        words = tuple(shlex.split(text))
-    except ValueError as exc:
-        raise ValueError(f"--nextpnr-args must split into words like a shell's: {exc}; "
-                         f"got {text!r}") from None
-    for word in words:
-        flag = word.split("=", 1)[0]
-        if flag in FLOW_SETS:
-            use = FLOW_SETS[flag]
-            how = (f"set it with the bench's {use}" if use
-                   else "the flow writes its own files")
-            raise ValueError(f"--nextpnr-args may not set {flag}: {how}; allowed: nextpnr's "
-                             f"other options, e.g. --tmg-ripup")
-    return words
-
-
-#: Options of the Yosys synthesis command the flow sets itself: why each is refused.
-YOSYS_FLOW_SETS = {"-top": "the flow names the top module", "-json": "the flow writes its own "
-                   "files", "-edif": "the flow writes its own files", "-noflatten": "the "
-                   "flow's per-block pass has it (the bench's --no-breakdown drops that pass)",
-                   "-run": "the flow runs the whole command"}
-
-
-def split_yosys_args(text: str | None) -> tuple[str, ...] | None:
-    """``--yosys-args``: ``None`` (not given: the family's ``Family.synth_args``) or the
-    words, split like a shell's; ``ValueError`` for an option the flow sets itself."""
-    if text is None:
-        return None
-    try:
-        words = tuple(shlex.split(text))
-    except ValueError as exc:
-        raise ValueError(f"--yosys-args must split into words like a shell's: {exc}; "
-                         f"got {text!r}") from None
-    for word in words:
-        if word in YOSYS_FLOW_SETS:
-            raise ValueError(f"--yosys-args may not set {word}: {YOSYS_FLOW_SETS[word]}; "
-                             f"allowed: the synthesis command's other options, e.g. "
-                             f"-nowidelut")
-    return words
 
 
 def nextpnr_args(args: argparse.Namespace, family: str) -> tuple[str, ...]:
