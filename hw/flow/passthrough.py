@@ -20,11 +20,7 @@ FLOW_SETS = {"--seed": "--seeds", "--freq": "--freq", "--package": "--package",
 def split_nextpnr_args(text: str) -> tuple[str, ...]:
     """``--nextpnr-args``: split like a shell's words; ``ValueError`` for an option the flow
     sets itself (the seed, the target, the device, the router, the speed, the files)."""
-    try:
-        words = tuple(shlex.split(text))
-    except ValueError as exc:
-        raise ValueError(f"--nextpnr-args must split into words like a shell's: {exc}; "
-                         f"got {text!r}") from None
+    words = _words("--nextpnr-args", text)
     for word in words:
         flag = word.split("=", 1)[0]
         if flag in FLOW_SETS:
@@ -48,14 +44,19 @@ def split_yosys_args(text: str | None) -> tuple[str, ...] | None:
     words, split like a shell's; ``ValueError`` for an option the flow sets itself."""
     if text is None:
         return None
-    try:
-        words = tuple(shlex.split(text))
-    except ValueError as exc:
-        raise ValueError(f"--yosys-args must split into words like a shell's: {exc}; "
-                         f"got {text!r}") from None
+    words = _words("--yosys-args", text)
     for word in words:
         if word in YOSYS_FLOW_SETS:
             raise ValueError(f"--yosys-args may not set {word}: {YOSYS_FLOW_SETS[word]}; "
                              f"allowed: the synthesis command's other options, e.g. "
                              f"-nowidelut")
     return words
+
+
+def _words(option: str, text: str) -> tuple[str, ...]:
+    """``text`` split like a shell's words; ``ValueError`` naming ``option`` if it cannot be."""
+    try:
+        return tuple(shlex.split(text))
+    except ValueError as exc:
+        raise ValueError(f"{option} must split into words like a shell's: {exc}; "
+                         f"got {text!r}") from None

@@ -71,6 +71,14 @@ def test_refusals_are_usage_errors(value, message, capsys, monkeypatch):
     ([], "ecp5", ()),
 ])
 def test_the_arguments_reach_synthesize(argv, family, expected, monkeypatch, tmp_path):
+    seen = _synthesize_kwargs(monkeypatch, tmp_path, "--families", family, *argv)
+    assert seen["nextpnr_args"] == expected
+    assert (seen["yosys_timeout"], seen["nextpnr_timeout"]) == (3600, _bench().PNR_TIMEOUT)
+
+
+def _synthesize_kwargs(monkeypatch, tmp_path, *argv):
+    """The keyword arguments the bench's ``main(argv)`` passes to ``synthesize`` for the
+    tiny case (ECP5 unless ``argv`` names the families)."""
     bench = _bench()
     seen = {}
 
@@ -79,11 +87,10 @@ def test_the_arguments_reach_synthesize(argv, family, expected, monkeypatch, tmp
         raise _Ran
 
     monkeypatch.setattr(bench, "synthesize", synthesize)
+    families = () if "--families" in argv else ("--families", "ecp5")
     with pytest.raises(_Ran):
-        bench.main(["--families", family, "--cases", "tiny", "--workdir", str(tmp_path),
-                    *argv])
-    assert seen["nextpnr_args"] == expected
-    assert (seen["yosys_timeout"], seen["nextpnr_timeout"]) == (3600, bench.PNR_TIMEOUT)
+        bench.main([*families, "--cases", "tiny", "--workdir", str(tmp_path), *argv])
+    return seen
 
 
 @pytest.mark.parametrize("argv, expected", [
@@ -93,32 +100,11 @@ def test_the_arguments_reach_synthesize(argv, family, expected, monkeypatch, tmp
     (["--yosys-args=-cmp2softlogic"], ("-cmp2softlogic",)),
 ])
 def test_the_yosys_arguments_reach_synthesize(argv, expected, monkeypatch, tmp_path):
-    bench = _bench()
-    seen = {}
-
-    def synthesize(cfg, **kwargs):
-        seen.update(kwargs)
-        raise _Ran
-
-    monkeypatch.setattr(bench, "synthesize", synthesize)
-    with pytest.raises(_Ran):
-        bench.main(["--families", "ecp5", "--cases", "tiny", "--workdir", str(tmp_path),
-                    *argv])
-    assert seen["yosys_args"] == expected
+    assert _synthesize_kwargs(monkeypatch, tmp_path, *argv)["yosys_args"] == expected
 
 
 def test_the_time_limits_reach_synthesize(monkeypatch, tmp_path):
-    bench = _bench()
-    seen = {}
-
-    def synthesize(cfg, **kwargs):
-        seen.update(kwargs)
-        raise _Ran
-
-    monkeypatch.setattr(bench, "synthesize", synthesize)
-    with pytest.raises(_Ran):
-        bench.main(["--families", "ecp5", "--cases", "tiny", "--workdir", str(tmp_path),
-                    "--timeout", "600", "--pnr-timeout", "1200"])
+    seen = _synthesize_kwargs(monkeypatch, tmp_path, "--timeout", "600", "--pnr-timeout", "1200")
     assert (seen["yosys_timeout"], seen["nextpnr_timeout"]) == (600, 1200)
 
 
