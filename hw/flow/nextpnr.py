@@ -229,12 +229,13 @@ def run_nextpnr(netlist: pathlib.Path, *, seed: int, device: str | None = None,
     try:
         proc, seconds = _run(cmd, cwd=work, timeout=timeout, tool="nextpnr", log_path=log)
     except ToolTimeoutError:
-        log_text = log.read_text(errors="replace") if log.exists() else ""
+        proc = None
+    log_text = log.read_text(errors="replace") if log.exists() else ""
+    if proc is None:
         return PnrRun(seed=seed, fits=False, fmax_mhz=None, target_mhz=target_mhz,
                       utilisation=parse_nextpnr_log(log_text).utilisation, seconds=timeout,
                       error=f"did not route in {timeout:g} s", log_path=str(log),
                       timed_out=True)
-    log_text = log.read_text(errors="replace") if log.exists() else ""
     parsed = parse_nextpnr_log(log_text + "\n" + proc.stderr)
     if proc.returncode == 0 and report.exists():
         from_json = parse_nextpnr_report(report.read_text())

@@ -6,11 +6,8 @@ such a log (``test_synth.py`` places and routes a tiny pipeline for real).
 """
 
 import json
-import pathlib
 import re
 import shutil
-import stat
-import textwrap
 
 import pytest
 
@@ -19,6 +16,7 @@ from dptbd.hw.flow.nextpnr import (
     CriticalPath, parse_nextpnr_log, parse_nextpnr_report, pick_clock, run_nextpnr,
 )
 from dptbd.hw.flow.tools import SynthToolError
+from helpers.fake_nextpnr import fake_nextpnr
 
 # ---- captured samples ------------------------------------------------------------------
 
@@ -181,24 +179,6 @@ def test_pick_clock():
 
 
 # ---- outcomes of a run ----------------------------------------------------------------
-
-
-def fake_nextpnr(folder: pathlib.Path, log: str, rc: int, sleep: float = 0) -> str:
-    """A stand-in for nextpnr: writes ``log`` to its ``-l`` file, exits with ``rc`` (after
-    ``sleep`` seconds: the shell becomes ``sleep``, so that stopping it stops the sleep)."""
-    (folder / "canned.log").write_text(log)
-    script = folder / "fake-nextpnr"
-    script.write_text(textwrap.dedent(f"""\
-        #!/bin/sh
-        while [ $# -gt 0 ]; do
-          if [ "$1" = "-l" ]; then cp "{folder / 'canned.log'}" "$2"; fi
-          shift
-        done
-        {f"exec sleep {sleep}" if sleep else ""}
-        exit {rc}
-        """))
-    script.chmod(script.stat().st_mode | stat.S_IXUSR)
-    return str(script)
 
 
 @pytest.mark.skipif(shutil.which("sh") is None, reason="needs a POSIX shell")

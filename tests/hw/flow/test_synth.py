@@ -10,7 +10,6 @@ import json
 import pathlib
 import shutil
 import statistics
-import textwrap
 import warnings
 
 import pytest
@@ -19,6 +18,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.flow.synth import (
     CellCounts, PnrRun, SynthResult, ToolNotFoundError, get_family, require_tool, synthesize,
 )
+from helpers.fake_nextpnr import fake_nextpnr
 from helpers.refusals import whole
 
 
@@ -231,23 +231,12 @@ def test_family_core_options_move_storage(tmp_path, family):
 def test_a_stalled_nextpnr_seed_is_that_seeds_result(tmp_path):
     """Real Yosys, a nextpnr stand-in that never ends on seed 2: seed 2 is stopped at the
     time limit and recorded so, seeds 1 and 3 keep their figures."""
-    canned = tmp_path / "canned.log"
-    canned.write_text("Info: Max frequency for clock '$glbnet$clk$TRELLIS_IO_IN': 150.00 MHz "
-                      "(FAIL at 200.00 MHz)\n")
-    fake = tmp_path / "fake-nextpnr"
-    fake.write_text(textwrap.dedent(f"""\
-        #!/bin/sh
-        case " $* " in *" --seed 2 "*) exec sleep 60;; esac
-        while [ $# -gt 0 ]; do
-          if [ "$1" = "-l" ]; then cp "{canned}" "$2"; fi
-          shift
-        done
-        """))
-    fake.chmod(0o755)
+    fake = fake_nextpnr(tmp_path, "Info: Max frequency for clock '$glbnet$clk$TRELLIS_IO_IN': "
+                                  "150.00 MHz (FAIL at 200.00 MHz)\n", stall_seed=2)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         res = synthesize(TINY, variant="core", family="ecp5", seeds=(1, 2, 3),
-                         workdir=tmp_path / "work", nextpnr=str(fake), nextpnr_timeout=2,
+                         workdir=tmp_path / "work", nextpnr=fake, nextpnr_timeout=2,
                          jobs=2)
     assert [(r.seed, r.fmax_mhz, r.timed_out) for r in res.runs] == [
         (1, 150.0, False), (2, None, True), (3, 150.0, False)]
