@@ -1,8 +1,8 @@
 """The register block of ``dptbd_axi``, decoded from :func:`dptbd.hw.register_map.register_map`.
 
 :class:`RegisterFile` answers the register bus of the
-:class:`~dptbd.hw.axi_lite.AXILiteSubordinate` it contains. Every register, field and reset value comes from the map; this file only implements the
-field kinds (:data:`!dptbd.hw.register_map.FIELD_KINDS`):
+:class:`~dptbd.hw.axi_lite.AXILiteSubordinate` it contains. Every register, field and reset
+value comes from the map; this package only implements the field kinds (:data:`!dptbd.hw.register_map.FIELD_KINDS`):
 
 - an address that is not a multiple of 4 is **unaligned**: a read returns 0 with SLVERR; a
   write is refused (nothing changes, ``ERROR.write_refused`` set, SLVERR);
@@ -24,6 +24,9 @@ field kinds (:data:`!dptbd.hw.register_map.FIELD_KINDS`):
 - counters add 1 per cycle their event is high (registered first: counted a cycle later) and
   wrap modulo 2**32;
 - ``irq`` is high while any ``IRQ_STATUS`` bit and its ``IRQ_ENABLE`` bit are both 1.
+
+Modules: this one (``RegisterFile``: decode, read, write, events), :mod:`.bounds` (the
+range check of a written setting, by word or by bytes).
 """
 
 from __future__ import annotations
@@ -31,12 +34,13 @@ from __future__ import annotations
 import functools
 import operator
 
-from amaranth.hdl import Cat, Module, Mux, Signal
+from amaranth.hdl import Cat, Module, Signal
 from amaranth.lib import data, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
 from dptbd.hw.axi_lite import AXILiteSubordinate, axi_lite_signature
+from dptbd.hw.register_file.bounds import byte_check, word_check
 from dptbd.hw.register_map import ADDRESS_BITS, COUNTER_BITS, EVENTS, register_map
 
 __all__ = ["event_port_layout", "RegisterFile"]
@@ -254,15 +258,11 @@ class RegisterFile(wiring.Component):
         takes = {}                                   # register -> stores on a taken write
         for reg in regmap.registers:
             if reg.kind == "setting" and self._bounds:
-                ok[reg.name], takes[reg.name] = _bounds_check(reg, bus, registered)
+                ok[reg.name], takes[reg.name] = byte_check(reg, bus, registered)
             elif reg.kind == "setting":
-                (field,) = reg.fields
-                lo, hi = field.limits
                 merged_in = (values[reg.name] & ~in_mask) | in_ones
-                ok[reg.name] = registered(
-                    bus.w_in_stb, f"write_ok_{reg.name.lower()}",
-                    (merged_in >= lo) & (merged_in <= hi) if lo
-                    else _align(merged_in <= hi, merged_in, field))
+                ok[reg.name] = registered(bus.w_in_stb, f"write_ok_{reg.name.lower()}",
+                                          word_check(reg, merged_in))
         lut_ok = registered(bus.w_in_stb, "write_ok_lut",
                             bus.w_in_strb.all() & (bus.w_in_data <= lut.field.limits[1]))
 
@@ -341,65 +341,3 @@ class RegisterFile(wiring.Component):
                     m.d.comb += getattr(self, f"{field.name}_ahead").eq(
                         written_ones[part].any())
 
-
-def _bounds_check(reg, bus, registered):
-    """``bounds_registered``: the W beat's check of a write to the setting register
-    ``reg`` by bytes, and the stores that keep the current value's byte flags when the
-    write is taken: (``ok`` registered at the W handshake, the statements of a taken
-    write).
-
-    Byte j of the merged word is the written byte if strobed, else the setting's byte j
-    (0 above the field). Per byte: ``lt`` / ``eq`` against the limit's byte (hi, and lo if
-    not 0); the merged word is <= hi iff, from the top byte down, the first byte that is
-    not equal is below (or none is), and >= lo alike; with ``align``, the low bits 0 (a
-    flag per byte they span)."""
-    (field,) = reg.fields
-    lo, hi = field.limits
-    name = reg.name.lower()
-    reset = field.reset
-    bounds = [("hi", hi, operator.lt)] + ([("lo", lo, operator.gt)] if lo else [])
-    stores = []
-    checks = []
-    for tag, limit, beyond in bounds:
-        within = None                                # the bytes below j: merged within
-        for j in range(4):
-            byte = (limit >> (8 * j)) & 0xFF
-            written = bus.w_in_data[8 * j:8 * j + 8]
-            flags = {"in": beyond(written, byte), "eq": written == byte}
-            if 8 * j < field.width:                  # the current byte from registers
-                current = (reset >> (8 * j)) & 0xFF
-                for flag, want in (("in", beyond(current, byte)), ("eq", current == byte)):
-                    kept = Signal(init=bool(want), name=f"{name}_{tag}{j}_{flag}")
-                    beat = registered(bus.w_in_stb, f"{name}_{tag}{j}_{flag}_w",
-                                      Mux(bus.w_in_strb[j], flags[flag], kept))
-                    stores.append(kept.eq(beat))
-                    flags[flag] = Mux(bus.w_in_strb[j], flags[flag], kept)
-            else:                                    # 0 above the field
-                flags = {flag: Mux(bus.w_in_strb[j], flags[flag], want) for flag, want in
-                         (("in", beyond(0, byte)), ("eq", byte == 0))}
-            within = (flags["in"] | flags["eq"] if within is None
-                      else flags["in"] | (flags["eq"] & within))
-        checks.append(within)
-    if field.align is not None and not lo:       # as the generic check: align with lo = 0
-        assert field.align & (field.align - 1) == 0
-        low = field.align.bit_length() - 1       # the low bits that must be 0, by bytes
-        for j in range((low + 7) // 8):
-            bits = slice(8 * j, min(8 * j + 8, low))
-            zero = Signal(init=(reset % field.align) >> (8 * j) & 0xFF == 0,
-                          name=f"{name}_aligned{j}")
-            written_zero = ~bus.w_in_data[bits].any()
-            merged_zero = Mux(bus.w_in_strb[j], written_zero, zero)
-            stores.append(zero.eq(registered(bus.w_in_stb, f"{name}_aligned{j}_w",
-                                             merged_zero)))
-            checks.append(merged_zero)
-    ok = registered(bus.w_in_stb, f"write_ok_{name}", functools.reduce(operator.and_, checks))
-    return ok, stores
-
-
-def _align(ok, merged, field):
-    """``ok`` and, for a setting with ``align`` (a power of two), ``merged`` a multiple of
-    it (``ok`` itself without ``align``)."""
-    if field.align is None:
-        return ok
-    assert field.align & (field.align - 1) == 0
-    return ok & ~merged[:field.align.bit_length() - 1].any()
