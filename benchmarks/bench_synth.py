@@ -89,10 +89,10 @@ import warnings
 from dptbd.config import DPConfig
 from dptbd.errors import ConfigError
 from dptbd.hw.dp_core import CORE_OPTIONS
-from dptbd.output_folder import check_output_file
 from dptbd.hw.flow.passthrough import split_nextpnr_args, split_yosys_args
 from dptbd.hw.flow.synth import (FAMILIES, ON_CHIP_STORE, CellCounts, SynthResult, get_family,
                                  synthesize)
+from dptbd.output_folder import check_output_file
 
 _DEFAULT = DPConfig(width=128, height=128)
 

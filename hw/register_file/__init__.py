@@ -1,8 +1,8 @@
 """The register block of ``dptbd_axi``, decoded from :func:`dptbd.hw.register_map.register_map`.
 
-:class:`RegisterFile` answers the register bus of the
-:class:`~dptbd.hw.axi_lite.AXILiteSubordinate` it contains. Every register, field and reset
-value comes from the map; this package only implements the field kinds (:data:`!dptbd.hw.register_map.FIELD_KINDS`):
+:class:`RegisterFile` answers the register bus of the :class:`~dptbd.hw.axi_lite.AXILiteSubordinate`
+it contains. Every register, field and reset value comes from the map; this package only
+implements the field kinds (:data:`!dptbd.hw.register_map.FIELD_KINDS`):
 
 - an address that is not a multiple of 4 is **unaligned**: a read returns 0 with SLVERR; a
   write is refused (nothing changes, ``ERROR.write_refused`` set, SLVERR);

@@ -1,8 +1,8 @@
-"""The range check of a write to a ``setting`` register of :class:`~dptbd.hw.register_file.RegisterFile`.
+"""The range check of a written setting of :class:`~dptbd.hw.register_file.RegisterFile`.
 
 A written setting is taken if the whole merged word (the written bytes under ``wstrb``, the
-setting's current bytes elsewhere) lies in its field's ``limits`` and, with ``align``, is a
-multiple of it. Two forms give the same answer in the same cycle:
+setting's current bytes elsewhere) lies in its field's ``limits`` and, with ``align`` and a
+lower limit of 0, is a multiple of it. Two forms give the same answer in the same cycle:
 
 - :func:`word_check`, the generic build's: the merged word compared with the limits;
 - :func:`byte_check`, ``bounds_registered=True`` (the ECP5 build's): byte-wise comparisons,
@@ -22,8 +22,8 @@ __all__ = ["word_check", "byte_check"]
 
 
 def word_check(reg, merged):
-    """Whether ``merged`` (the merged word of a write to the setting register ``reg``) lies
-    in its field's ``limits`` and, with ``align`` (a power of two), is a multiple of it."""
+    """Whether ``merged`` (the merged word of a write to the setting ``reg``) lies in its
+    field's ``limits`` and, with ``align`` (a power of two) and lower limit 0, is a multiple."""
     (field,) = reg.fields
     lo, hi = field.limits
     if lo:
