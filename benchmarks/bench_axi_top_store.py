@@ -6,6 +6,7 @@
     python benchmarks/bench_axi_top_store.py --width 4096 --height 256 --frames 8 \
         --scene range_doppler
     python benchmarks/bench_axi_top_store.py --synth ecp5      # does it fit? (Yosys, nextpnr)
+    python benchmarks/bench_axi_top_store.py --synth ecp5 --pixels-per-clock 4 --seeds 1 2 3
     python benchmarks/bench_axi_top_store.py --pixels-per-clock 2 --frames 4
 
 The build is ``dptbd.sim.verilator.build(cfg, "axi", state_store=...)``, the AXI harness
@@ -24,11 +25,12 @@ no AXI4 rule broken (:func:`dptbd.sim.verilator.axi.check_axi`), with the lists 
 scored. This script only reports.
 
 ``--synth FAMILY`` instead synthesises and places-and-routes the core (the family's DPCore
-options, as ``dptbd verilog --family``) on the family's default device with one placement
-seed (:func:`dptbd.hw.flow.synth.synthesize`); its ports, more than the package has pins,
+options, as ``dptbd verilog --family``) on the family's default device, one placement per
+``--seeds`` seed (default 1; :func:`dptbd.hw.flow.synth.synthesize`, ``--jobs`` at a time,
+each stopped after ``--pnr-timeout`` seconds); its ports, more than the package has pins,
 folded onto two (:class:`~dptbd.hw.flow.registered_ports.FoldedPorts`, as the ``axi-ext``
 synthesis case: about one flip-flop per port bit more), and reports the cells, whether it
-fits, the utilisation and Fmax.
+fits, the utilisation, Fmax and the critical path per seed, and the median Fmax.
 """
 
 from __future__ import annotations
@@ -71,12 +73,18 @@ def main() -> None:
     parser.add_argument("--burst-beats", type=int, default=16)
     parser.add_argument("--pixels-per-clock", type=int, default=1)
     parser.add_argument("--synth", choices=("ice40", "ecp5"), default=None)
+    parser.add_argument("--seeds", type=int, nargs="+", default=[1],
+                        help="placement seeds of --synth (default: 1)")
+    parser.add_argument("--jobs", type=int, default=1, help="nextpnr runs of --synth at a time")
+    parser.add_argument("--pnr-timeout", type=float, default=1800,
+                        help="seconds after which a --synth seed's nextpnr is stopped")
     args = parser.parse_args()
     cfg = DPConfig(width=args.width, height=args.height,
                    pixels_per_clock=args.pixels_per_clock).build_config()
     if args.synth:
         return synth(cfg, cfg.axi_store(data_bits=args.data_bits, burst_beats=args.burst_beats,
-                                        outstanding=args.outstanding[0]), args.synth)
+                                        outstanding=args.outstanding[0]), args.synth,
+                     seeds=args.seeds, jobs=args.jobs, timeout=args.pnr_timeout)
     sys.path.insert(0, str(pathlib.Path(__file__).parent))
     from bench_axi_store import scene_frames
 
@@ -107,7 +115,8 @@ def main() -> None:
                   f"{len(board.lists)} ({board.records_expected}) |", flush=True)
 
 
-def synth(cfg: DPConfig, store, family: str) -> None:
+def synth(cfg: DPConfig, store, family: str, *, seeds=(1,), jobs: int = 1,
+          timeout: float = 1800) -> None:
     """Synthesis and place-and-route of the core with its ports folded (see the module doc)."""
     from dptbd.hw.axi_store.top import AXITopStore
     from dptbd.hw.flow.family import get_family
@@ -118,8 +127,8 @@ def synth(cfg: DPConfig, store, family: str) -> None:
     options = get_family(family).options_for(cfg)
     text = to_verilog(FoldedPorts(AXITopStore(store, core_options=options)), "dptbd_dp")
     # the axi-store variant's flow, its text this core's (the store's options as asked)
-    res = synthesize(cfg, variant="axi-store", family=family, seeds=(1,),
-                     verilog_filter=lambda _text: text)
+    res = synthesize(cfg, variant="axi-store", family=family, seeds=tuple(seeds), jobs=jobs,
+                     nextpnr_timeout=timeout, verilog_filter=lambda _text: text)
     print(f"dptbd_axi --state-store axi, {cfg.describe()}, AXI {store.data_bits}-bit, bursts "
           f"of {store.burst_beats}, {store.outstanding} outstanding, {family} {res.device} "
           f"{res.package}, ports folded")
@@ -128,6 +137,13 @@ def synth(cfg: DPConfig, store, family: str) -> None:
         used = ", ".join(f"{bel} {u}/{a}" for bel, (u, a) in sorted(run.utilisation.items()))
         print(f"seed {run.seed}: fits {run.fits}, Fmax {run.fmax_mhz} MHz; {used}"
               + (f"; {run.error}" if run.error else ""))
+        path = run.critical_path
+        if path is not None:
+            print(f"  critical path: {path.start} -> {path.end}: {path.total_ns:.2f} ns "
+                  f"({path.logic_ns:.2f} logic, {path.routing_ns:.2f} routing)")
+    median = res.fmax_median_mhz
+    print("Fmax median: " + ("— (not every seed routed)" if median is None
+                             else f"{median:.1f} MHz"))
 
 
 if __name__ == "__main__":
