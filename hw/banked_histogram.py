@@ -12,7 +12,7 @@ same counts at every P.
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Mux, Signal, unsigned
+from amaranth.hdl import Module, Signal, unsigned
 from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
@@ -63,7 +63,6 @@ class BankedHistogram(wiring.Component):
         m = Module()
         cfg = self._cfg
         lanes = cfg.pixels_per_clock
-        full = (1 << cfg.bin_count_bits) - 1
         banks = []
         for lane in range(lanes):
             bank = Histogram(cfg)
@@ -75,13 +74,27 @@ class BankedHistogram(wiring.Component):
             ]
             banks.append(bank)
         # every bank scans in lockstep: bank 0's scan outputs stand for all of them
-        total = Signal(unsigned(cfg.bin_count_bits + (lanes - 1).bit_length()))
-        m.d.comb += total.eq(sum(bank.scan_count for bank in banks))
+        bits = cfg.bin_count_bits
+        total = Signal(unsigned(bits + (lanes - 1).bit_length()))
+        m.d.comb += total.eq(_balanced_sum([bank.scan_count for bank in banks]))
+        # clamped at all ones: above all ones exactly when a bit above them is set (an OR
+        # of those bits, not a comparison with a constant, which Yosys maps to a carry chain
+        # on ECP5 after the adders' own)
+        over = total[bits:].any()
         m.d.comb += [
             self.scan_valid.eq(banks[0].scan_valid),
             self.scan_bin.eq(banks[0].scan_bin),
             self.scan_last.eq(banks[0].scan_last),
             self.scanning.eq(banks[0].scanning),
-            self.scan_count.eq(Mux(total > full, full, total)),
+            self.scan_count.eq(total[:bits] | over.replicate(bits)),
         ]
         return m
+
+
+def _balanced_sum(terms):
+    """The sum of ``terms`` as a balanced tree of adders (P = 4: two levels, not the three
+    in series of Python's ``sum``)."""
+    while len(terms) > 1:
+        pairs = [terms[i] + terms[i + 1] for i in range(0, len(terms) - 1, 2)]
+        terms = pairs + ([terms[-1]] if len(terms) % 2 else [])
+    return terms[0]
