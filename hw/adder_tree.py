@@ -1,10 +1,10 @@
-"""A binary adder tree registered after every level: the shift-and-add multipliers' sum."""
+"""Binary adder trees: registered after every level (the multipliers' sum), or in one cycle."""
 
 from __future__ import annotations
 
 from amaranth.hdl import Module, Signal
 
-__all__ = ["registered_adder_tree"]
+__all__ = ["registered_adder_tree", "adder_tree"]
 
 
 def registered_adder_tree(m: Module, leaves: list, levels: int, shape):
@@ -24,4 +24,15 @@ def registered_adder_tree(m: Module, leaves: list, levels: int, shape):
             merged.append(register)
         nodes = merged
     assert len(nodes) == 1
+    return nodes[0]
+
+
+def adder_tree(leaves: list):
+    """The sum of ``leaves`` as a balanced tree of adders in one cycle, neighbouring pairs
+    first (an odd last node passes through): at 4 leaves two adders deep, not the three in
+    series of Python's ``sum``."""
+    nodes = leaves
+    while len(nodes) > 1:
+        nodes = [nodes[i] if i + 1 == len(nodes) else nodes[i] + nodes[i + 1]
+                 for i in range(0, len(nodes), 2)]
     return nodes[0]

@@ -17,6 +17,7 @@ from amaranth.lib import wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
+from dptbd.hw.adder_tree import adder_tree
 from dptbd.hw.histogram import Histogram
 
 __all__ = ["BankedHistogram"]
@@ -76,7 +77,7 @@ class BankedHistogram(wiring.Component):
         # every bank scans in lockstep: bank 0's scan outputs stand for all of them
         bits = cfg.bin_count_bits
         total = Signal(unsigned(bits + (lanes - 1).bit_length()))
-        m.d.comb += total.eq(_balanced_sum([bank.scan_count for bank in banks]))
+        m.d.comb += total.eq(adder_tree([bank.scan_count for bank in banks]))
         # clamped at all ones: above all ones exactly when a bit above them is set (an OR
         # of those bits, not a comparison with a constant, which Yosys maps to a carry chain
         # on ECP5 after the adders' own)
@@ -90,11 +91,3 @@ class BankedHistogram(wiring.Component):
         ]
         return m
 
-
-def _balanced_sum(terms):
-    """The sum of ``terms`` as a balanced tree of adders (P = 4: two levels, not the three
-    in series of Python's ``sum``)."""
-    while len(terms) > 1:
-        pairs = [terms[i] + terms[i + 1] for i in range(0, len(terms) - 1, 2)]
-        terms = pairs + ([terms[-1]] if len(terms) % 2 else [])
-    return terms[0]
