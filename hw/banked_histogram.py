@@ -3,8 +3,10 @@ clock, merged at the scan (``docs/gateware.md``, "P pixels per clock").
 
 Each bank is a :class:`~dptbd.hw.histogram.Histogram` (one memory, one increment per clock,
 the read-and-clear scan); lane k of a beat increments bank k. The scan reads the P banks in
-lockstep and outputs, per bin, the sum of their counts clamped at all ones
-(``2**bin_count_bits - 1``). That is exactly the count one histogram of every increment
+lockstep, registers their counts, and outputs, per bin, the sum of those registers clamped at
+all ones (``2**bin_count_bits - 1``): one cycle later than one bank's scan, so that no path
+runs from a bank's read-modify-write through the adders (the segmenter's
+:func:`~dptbd.hw.segmenter.scan_cycles` is one more at P > 1). That is exactly the count one histogram of every increment
 gives (§6.2): if no bank saturated the sum is the true count, clamped exactly when the true
 count reaches all ones; if one did, both are all ones. So the threshold scan (§6.3) sees the
 same counts at every P.
@@ -30,6 +32,11 @@ class BankedHistogram(wiring.Component):
     ----------
     cfg : DPConfig
         Bins, counter width and P (``pixels_per_clock``; 1 builds one bank, no adder).
+    style : {"memory", "dp16kd"}
+        Each bank's :class:`~dptbd.hw.histogram.Histogram` ``style`` (``"dp16kd"``: the
+        ECP5 build, the word out of the DP16KD's output register); same counts, same cycles.
+    dp16kd : callable or None
+        For ``"dp16kd"``: the DP16KD builder (tests pass a behavioural model).
 
     Members
     -------
@@ -40,14 +47,17 @@ class BankedHistogram(wiring.Component):
         :class:`~dptbd.hw.histogram.Histogram`'s: no increment in flight or issued until
         ``scanning`` falls.
     scan_valid, scan_last : Out(1); scan_bin : Out(range(2**b)); scan_count : Out(bin_count_bits)
-        The merged counts, top bin first, with :class:`Histogram`'s timing (the sum is
-        combinational after the banks' reads).
+        The merged counts, top bin first, one cycle after :class:`Histogram`'s: each bank's
+        count is registered, and the sum of the registers is combinational. (With P = 1,
+        the one bank's outputs, with :class:`Histogram`'s timing.)
     scanning : Out(1)
-        A scan is under way.
+        A scan is under way, or its last count still to come out.
     """
 
-    def __init__(self, cfg: DPConfig):
+    def __init__(self, cfg: DPConfig, *, style: str = "memory", dp16kd=None):
         self._cfg = cfg
+        self._banks = [Histogram(cfg, style=style, dp16kd=dp16kd)
+                       for _ in range(cfg.pixels_per_clock)]
         lanes = cfg.pixels_per_clock
         super().__init__({
             "add_bin": In(range(cfg.n_bins)).array(lanes),
@@ -65,8 +75,7 @@ class BankedHistogram(wiring.Component):
         cfg = self._cfg
         lanes = cfg.pixels_per_clock
         banks = []
-        for lane in range(lanes):
-            bank = Histogram(cfg)
+        for lane, bank in enumerate(self._banks):
             m.submodules[f"bank_{lane}"] = bank
             m.d.comb += [
                 bank.add_bin.eq(self.add_bin[lane]),
@@ -75,19 +84,35 @@ class BankedHistogram(wiring.Component):
             ]
             banks.append(bank)
         # every bank scans in lockstep: bank 0's scan outputs stand for all of them
+        if lanes == 1:
+            m.d.comb += [
+                self.scan_valid.eq(banks[0].scan_valid),
+                self.scan_bin.eq(banks[0].scan_bin),
+                self.scan_last.eq(banks[0].scan_last),
+                self.scanning.eq(banks[0].scanning),
+                self.scan_count.eq(banks[0].scan_count),
+            ]
+            return m
+        # the banks' outputs registered: the merge's adders start from registers
         bits = cfg.bin_count_bits
+        valid = Signal()
+        last = Signal()
+        bin_ = Signal(range(cfg.n_bins))
+        counts = [Signal(bits, name=f"count_{lane}") for lane in range(lanes)]
+        m.d.sync += [valid.eq(banks[0].scan_valid), last.eq(banks[0].scan_last),
+                     bin_.eq(banks[0].scan_bin),
+                     *[count.eq(bank.scan_count) for count, bank in zip(counts, banks)]]
         total = Signal(unsigned(bits + (lanes - 1).bit_length()))
-        m.d.comb += total.eq(adder_tree([bank.scan_count for bank in banks]))
+        m.d.comb += total.eq(adder_tree(counts))
         # clamped at all ones: above all ones exactly when a bit above them is set (an OR
         # of those bits, not a comparison with a constant, which Yosys maps to a carry chain
         # on ECP5 after the adders' own)
         over = total[bits:].any()
         m.d.comb += [
-            self.scan_valid.eq(banks[0].scan_valid),
-            self.scan_bin.eq(banks[0].scan_bin),
-            self.scan_last.eq(banks[0].scan_last),
-            self.scanning.eq(banks[0].scanning),
+            self.scan_valid.eq(valid),
+            self.scan_bin.eq(bin_),
+            self.scan_last.eq(last),
+            self.scanning.eq(banks[0].scanning | valid),
             self.scan_count.eq(total[:bits] | over.replicate(bits)),
         ]
         return m
-

@@ -55,8 +55,9 @@ class DPSegmenterAxi(DPSegmenter):
         self._external = False
         self._dp = DPPipelineAxi(store, **dict(core_options or {}))
         assert self._dp.output_fifo_depth < cfg.frame_beats     # as DPSegmenter's
-        options = self._dp.core_options        # the histogram's and control's (P = 1)
-        self._segmenter = (SegmenterWide(cfg, fifo_depth=fifo_depth) if wide else
+        options = self._dp.core_options        # the histogram's, and the control's at P = 1
+        self._segmenter = (SegmenterWide(cfg, fifo_depth=fifo_depth,
+                                         histogram_style=options["histogram_style"]) if wide else
                            Segmenter(cfg, fifo_depth=fifo_depth,
                                      histogram_style=options["histogram_style"],
                                      control_style=options["control_style"]))

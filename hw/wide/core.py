@@ -66,13 +66,15 @@ class DPCoreWide(wiring.Component):
     Parameters and properties as :class:`~dptbd.hw.dp_core.DPCore` (same options, same
     schedule and latency, counted in beats; ``state_store_style``, ``histogram_style``,
     ``control_style``, ``output_queue_style`` and ``register_read`` are accepted and not
-    used; ``credit_ready="per_load"`` gives the input credit's ``ready`` four registers, one
-    each for the credit's own count, the input port and the store's read, the controller,
-    and the line buffer (:class:`~dptbd.hw.input_credit.InputCredit` ``copies``; same
-    cycles); ``lut_write`` is DPCore's: the wide store
-    is :class:`~dptbd.hw.wide.state_store.WideStateStore`, the wide histogram
-    :class:`~dptbd.hw.banked_histogram.BankedHistogram` in Amaranth memories, the control
-    logic the generic one, the flags travel with the words in the one output FIFO);
+    used here (``histogram_style`` reaches the wide segmenter's histogram banks through
+    :class:`~dptbd.hw.wide.dp_segmenter.DPSegmenterWide`); ``credit_ready="per_load"``
+    gives the input credit's ``ready`` four registers, one each for the credit's own count,
+    the input port and the store's read, the controller, and the line buffer
+    (:class:`~dptbd.hw.input_credit.InputCredit` ``copies``; same cycles); ``lut_write`` is
+    DPCore's: the wide store is :class:`~dptbd.hw.wide.state_store.WideStateStore`, the wide
+    histogram :class:`~dptbd.hw.banked_histogram.BankedHistogram` of ``histogram_style``
+    banks, the control logic the generic one, the flags travel with the words in the one
+    output FIFO);
     refused with :class:`~dptbd.errors.ConfigError` as :func:`check_wide` says.
 
     Members

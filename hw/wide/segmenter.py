@@ -50,8 +50,13 @@ class SegmenterWide(wiring.Component):
       cycle its lane was handed out (its beat's acceptance for the first lane, no
       back-pressure); the trailer one cycle after the list's last record or end lane.
     * The scan starts in the cycle after a list's last beat is accepted and takes
-      :func:`~dptbd.hw.segmenter.scan_cycles` = 2**b + 4 cycles to the next scored
-      beat, as at P = 1 (beats of other frames pass meanwhile).
+      :func:`~dptbd.hw.segmenter.scan_cycles` = 2**b + 5 cycles to the next scored
+      beat, one more than at P = 1: the banked histogram registers the banks' counts
+      before their sum (beats of other frames pass meanwhile).
+
+    ``histogram_style`` is each histogram bank's (:class:`Segmenter`'s option: ``"dp16kd"``
+    on ECP5), ``dp16kd`` its DP16KD builder (tests pass a behavioural model); same words,
+    same cycles.
 
     Members as :class:`Segmenter`'s, ``states`` with the beats' layout
     (:func:`~dptbd.hw.wide.layouts.wide_state_layout`, state 0 in the low bits); as there,
@@ -64,7 +69,8 @@ class SegmenterWide(wiring.Component):
     #: acceptance) to its record valid on ``candidates``: the funnel register, the FIFO's 2.
     RECORD_LATENCY = 3
 
-    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8):
+    def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, histogram_style: str = "memory",
+                 dp16kd=None):
         if cfg.pixels_per_clock == 1:
             raise ValueError("SegmenterWide takes pixels_per_clock 2 or 4; at 1 use "
                              "dptbd.hw.segmenter.Segmenter (dptbd.hw.wide.segmenter.segmenter "
@@ -72,6 +78,7 @@ class SegmenterWide(wiring.Component):
         cfg.require_paper001_datapath("the segmenter at P pixels per clock "
                                       "(dptbd.hw.wide.segmenter)")
         self._cfg = cfg
+        self._histogram = BankedHistogram(cfg, style=histogram_style, dp16kd=dp16kd)
         self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth)
         super().__init__({
             "states": In(stream.Signature(wide_state_layout(cfg))),
@@ -86,7 +93,7 @@ class SegmenterWide(wiring.Component):
 
     @property
     def scan_cycles(self) -> int:
-        """:func:`~dptbd.hw.segmenter.scan_cycles` of this configuration: 2**b + 4."""
+        """:func:`~dptbd.hw.segmenter.scan_cycles` of this configuration: 2**b + 5."""
         return scan_cycles(self._cfg)
 
     def elaborate(self, platform):
@@ -96,7 +103,7 @@ class SegmenterWide(wiring.Component):
         lane_bits = (lanes - 1).bit_length()
         beats, height = cfg.row_beats, cfg.height
 
-        m.submodules.histogram = hist = BankedHistogram(cfg)
+        m.submodules.histogram = hist = self._histogram
         m.submodules.threshold = search = ThresholdSearch(cfg)
         m.submodules.emitter = emitter = self._emitter
         wiring.connect(m, emitter.candidates, wiring.flipped(self.candidates))
@@ -173,9 +180,17 @@ class SegmenterWide(wiring.Component):
 
         # ---- per lane: the bin (Segmenter's clamp without a comparator) and selection ----
         b = cfg.histogram_bits
-        above = Signal(cfg.energy_bits)
+        e_bits = cfg.energy_bits
+        above = Signal(e_bits)
         m.d.comb += above.eq(Cat(*[eff_shift <= i - b if i >= b else C(0, 1)
-                                   for i in range(cfg.energy_bits)]))
+                                   for i in range(e_bits)]))
+        # bin >= T as Segmenter computes it: E[s:] >= T at the shift s in use (equal for
+        # T <= 2**b - 1; T = 2**b selects nothing), one comparison of each lane's E with the
+        # register T per shift, ANDed with s's one-hot bit: no shifter and no multiplexer
+        # between a lane's E, or `taking`, and the funnel's `pending`
+        shift_hot = Signal(e_bits)                # bit s: eff_shift == s, and T < 2**b
+        m.d.comb += shift_hot.eq(Cat(*[(eff_shift == s) & ~search.threshold[b]
+                                       for s in range(e_bits)]))
         selected = Signal(lanes)
         for k in range(lanes):
             energy = getattr(beat, f"energy_{k}")
@@ -185,7 +200,8 @@ class SegmenterWide(wiring.Component):
                 shifted.eq(energy >> eff_shift),
                 energy_bin.eq(Mux((energy & above).any(), cfg.n_bins - 1, shifted)),
                 hist.add_bin[k].eq(energy_bin),
-                selected[k].eq(energy_bin >= search.threshold),
+                selected[k].eq(Cat(*[(energy[s:] >= search.threshold[:b]) & shift_hot[s]
+                                     for s in range(e_bits)]).any()),
             ]
         m.d.comb += hist.add_en.eq(Mux(accept & scored, (1 << lanes) - 1, 0))
 

@@ -7,7 +7,9 @@ import numpy as np
 import pytest
 
 from dptbd.hw.banked_histogram import BankedHistogram
+from helpers.dp16kd_model import DP16KDModel
 from helpers.hw_harness import simulate
+from helpers.refusals import whole
 from helpers.seg_harness import make_config, scan_histogram
 
 
@@ -18,11 +20,12 @@ def ref_counts(cfg, beats):
     return np.minimum(np.bincount(np.array(flat, dtype=np.int64), minlength=cfg.n_bins), full)
 
 
-def rtl_scans(cfg, beats, *, seed=0, scans=2):
+def rtl_scans(cfg, beats, *, seed=0, scans=2, style="memory"):
     """Increment ``beats`` (each a P-tuple of bins, ``None`` for an idle lane), one per
-    cycle with random idle cycles, then scan ``scans`` times: the scans' (bin, count) lists
-    and the cycles from each scan_start to its last count."""
-    dut = BankedHistogram(cfg)
+    cycle with random idle cycles, then scan ``scans`` times with banks of ``style`` (a
+    behavioural DP16KD for ``"dp16kd"``): the scans' (bin, count) lists and the cycles from
+    each scan_start to its last count."""
+    dut = BankedHistogram(cfg, style=style, dp16kd=DP16KDModel if style == "dp16kd" else None)
     rng = random.Random(seed)
     result = []
 
@@ -59,15 +62,24 @@ def cases():
     return out
 
 
+@pytest.mark.parametrize("style", ["memory", "dp16kd"])
 @pytest.mark.parametrize("name, p, beats", cases(), ids=[c[0] for c in cases()])
-def test_merged_counts_equal_one_histogram(name, p, beats):
+def test_merged_counts_equal_one_histogram(name, p, beats, style):
     cfg = make_config(width=16, height=16, histogram_bits=4, candidate_count=5,
                       candidate_capacity=5, pixels_per_clock=p)
     assert cfg.bin_count_bits == 3                              # saturates at 7
-    scans, spans = rtl_scans(cfg, beats, seed=p)
+    scans, spans = rtl_scans(cfg, beats, seed=p, style=style)
     want = ref_counts(cfg, beats)
     assert [b for b, _ in scans[0]] == list(range(15, -1, -1))  # top bin first
     assert [c for _, c in scans[0]][::-1] == want.tolist()
     assert want[9] == 7 and want[5] == min(3 * p, 7)   # saturated in a bank; at P = 4 in the sum only
     assert all(c == 0 for _, c in scans[1])                     # every bank cleared
-    assert spans == [16 + 1, 16 + 1]                            # Histogram's scan timing
+    # Histogram's scan timing at P = 1; one cycle more at P > 1 (the merge register)
+    assert spans == [16 + 1 + (p > 1)] * 2
+
+
+def test_refuses_an_unknown_style():
+    cfg = make_config(width=16, height=16, histogram_bits=4, pixels_per_clock=2)
+    with pytest.raises(ValueError, match=whole("style must be one of ('memory', 'dp16kd'), "
+                                               "got 'bram'")):
+        BankedHistogram(cfg, style="bram")

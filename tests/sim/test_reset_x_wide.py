@@ -48,13 +48,16 @@ def test_a_wrong_state_is_reported():
 
 @pytest.mark.parametrize("top, p, cells", [
     ("dp", 2, {"dptbd_dp.core.line_buffer": 3}),
-    ("axi", 2, {"dptbd_axi.core.dp.core.line_buffer": 3}),
+    ("axi", 2, {"dptbd_axi.core.dp.core.line_buffer": 3,
+                **{f"dptbd_axi.core.segmenter.histogram.bank_{k}": 1
+                   for k in range(2)}}),
     pytest.param("dp", 4, {"dptbd_dp.core.line_buffer": 6}, marks=pytest.mark.slow),
 ])
 def test_the_ecp5_builds_with_the_line_buffer_in_dp16kds(tmp_path, top, p, cells):
     """``Family.options_for`` with ``line_buffer_style="dp16kd"`` (the family's choice from
-    512 wide) at P = 2 and 4 (``-m slow``): X-free, ``ready`` low where promised, every word
-    exact."""
+    512 wide) at P = 2 and 4 (``-m slow``), and in ``dptbd_axi`` the segmenter's histogram
+    banks in DP16KDs (``histogram_style="dp16kd"``): X-free, ``ready`` low where promised,
+    every word exact."""
     cfg = DPConfig(width=8 * p, height=9, segment_frames=2, candidate_count=4,
                    pixels_per_clock=p).build_config()
     options = {**ECP5.options_for(cfg), "line_buffer_style": "dp16kd"}

@@ -101,12 +101,13 @@ def test_state_output_at_p_above_1_is_refused_without_a_warning():
         gc.collect()
 
 
-@pytest.mark.parametrize("p, histogram_cells", [(1, 1), (2, 0)])
+@pytest.mark.parametrize("p, histogram_cells", [(1, 1), (2, 2)])
 def test_the_family_options_reach_the_segmenter(p, histogram_cells):
     """With the state in external memory, the ECP5 family's options reach the segmenter as
     they do on chip: at P = 1 its histogram is a DP16KD (beside the prefetcher's four) and
-    its control the registered one; the P > 1 segmenter ignores both (its banked histogram
-    is in Amaranth memories). The generic build has no DP16KD."""
+    its control the registered one; at P = 2 each of its two histogram banks is a DP16KD
+    (``histogram_style``; the P > 1 segmenter has no ``control_style``). The generic build
+    has no DP16KD."""
     cfg = make_config(width=12, height=10, segment_frames=2, candidate_count=4,
                       pixels_per_clock=p)
     store = cfg.axi_store(data_bits=64, burst_beats=2)

@@ -12,6 +12,7 @@ from dptbd.hw.layouts import pack
 from dptbd.hw.wide.segmenter import SegmenterWide, segmenter
 from dptbd.model.segmentation import segment_stream
 from dptbd.model.settings import SegmentSettings as S
+from helpers.dp16kd_model import DP16KDModel
 from helpers.hw_harness import refused, simulate
 from helpers.refusals import whole
 from helpers.seg_harness import (SEGMENTER_CASES, check_reset_in_a_scored_frame, make_config,
@@ -39,9 +40,11 @@ def pack_state_beats(cfg, states) -> list[int]:
     return out
 
 
-def check(cfg, states, *, valid=0.7, ready=0.5, seed=0, settings=None, on_cycle=None):
+def check(cfg, states, *, valid=0.7, ready=0.5, seed=0, settings=None, on_cycle=None,
+          histogram_style="memory"):
     lists = segment_stream(states, cfg, settings)
-    dut = SegmenterWide(cfg)
+    dut = SegmenterWide(cfg, histogram_style=histogram_style,
+                        dp16kd=DP16KDModel if histogram_style == "dp16kd" else None)
     result = run_lists(cfg, dut, dut.states, dut.candidates, pack_state_beats(cfg, states),
                        lists, valid_probability=valid, ready_probability=ready, seed=seed,
                        on_cycle=None if on_cycle is None else on_cycle(dut))
@@ -78,6 +81,20 @@ def test_random_streams_match_model(name, lanes):
         assert any(lst.overflow for lst in lists) and max(lst.count for lst in lists) == 6
     if name == "k2-all-pixels":
         assert [lst.count for lst in lists[1:]] == [48, 48]
+
+
+@pytest.mark.parametrize("lanes", [2, 4])
+@pytest.mark.parametrize("name", ["k2-n6-cap6-shift2", "k3-n4-narrow-E"])
+def test_dp16kd_banks_match_model(name, lanes):
+    """The ECP5 build's banks (``histogram_style="dp16kd"``, a behavioural DP16KD): the
+    same lists."""
+    kw, n_frames, (low, high, *bottom) = wide_case(name)
+    cfg = make_config(**kw, pixels_per_clock=lanes)
+    states = synthetic_states(cfg, n_frames, np.random.default_rng(40 + lanes), low=low,
+                              high=high, low_fraction=bottom[0] if bottom else 0.0)
+    lists, _ = check(cfg, states, seed=lanes, histogram_style="dp16kd")
+    assert len(lists) == n_frames // cfg.segment_frames
+    assert sum(lst.count for lst in lists) > 5
 
 
 def test_heavy_back_pressure():
@@ -199,8 +216,8 @@ def expected_timing(cfg, states, lists):
 @pytest.mark.parametrize("lanes", [2, 4])
 def test_exact_cycles_k2(lanes):
     """K = 2, valid and ready always high: every beat's acceptance and every output word's
-    cycle as :func:`expected_timing` says (the scan never stalls: W*H/P >= 2**b + 4)."""
-    cfg = make_config(width=16, height=6, segment_frames=2, candidate_count=30,
+    cycle as :func:`expected_timing` says (the scan never stalls: W*H/P >= 2**b + 5)."""
+    cfg = make_config(width=16, height=7, segment_frames=2, candidate_count=30,
                       candidate_capacity=64, histogram_bits=4, histogram_shift=4,
                       pixels_per_clock=lanes)
     assert cfg.frame_beats >= scan_cycles(cfg) + lanes
@@ -216,7 +233,8 @@ def test_exact_cycles_k2(lanes):
 
 @pytest.mark.parametrize("lanes", [2, 4])
 def test_k1_stalls_for_the_scan(lanes):
-    """K = 1: the next frame's first beat waits 2**b + 4 cycles after the last beat."""
+    """K = 1: the next frame's first beat waits 2**b + 5 cycles after the last beat (one
+    more than at P = 1: the banked histogram's merge register)."""
     cfg = make_config(width=12, height=5, segment_frames=1, candidate_count=0,
                       histogram_bits=4, pixels_per_clock=lanes)
     states = synthetic_states(cfg, 4, np.random.default_rng(3), high=255)
@@ -224,7 +242,7 @@ def test_k1_stalls_for_the_scan(lanes):
     beats = cfg.frame_beats
     accepts = result.accept_cycles
     gaps = [accepts[t * beats] - accepts[t * beats - 1] for t in range(1, 4)]
-    assert gaps == [scan_cycles(cfg)] * 3
+    assert gaps == [scan_cycles(cfg)] * 3 == [cfg.n_bins + 5] * 3
 
 
 def test_segmenter_picks_by_p():
