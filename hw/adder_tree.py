@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from amaranth.hdl import Module, Signal
+from amaranth.hdl import Cat, Module, Signal
 
 __all__ = ["registered_adder_tree", "adder_tree"]
 
@@ -27,12 +27,26 @@ def registered_adder_tree(m: Module, leaves: list, levels: int, shape):
     return nodes[0]
 
 
-def adder_tree(leaves: list):
+def adder_tree(leaves: list, carries: tuple = ()):
     """The sum of ``leaves`` as a balanced tree of adders in one cycle, neighbouring pairs
     first (an odd last node passes through): at 4 leaves two adders deep, not the three in
-    series of Python's ``sum``."""
-    nodes = leaves
+    series of Python's ``sum``.
+
+    ``carries``, 1-bit values, one per adder at most (``len(leaves) - 1``), are added as
+    the adders' carries in, in the order the adders are formed: ``a + b + c`` as
+    ``(2a + c) + (2b + c)`` halved, inside the adder's own carry chain (no adder more).
+    """
+    assert len(carries) < len(leaves) or len(carries) == 0
+    nodes, carries = leaves, list(carries)
     while len(nodes) > 1:
-        nodes = [nodes[i] if i + 1 == len(nodes) else nodes[i] + nodes[i + 1]
-                 for i in range(0, len(nodes), 2)]
+        merged = []
+        for i in range(0, len(nodes), 2):
+            if i + 1 == len(nodes):
+                merged.append(nodes[i])
+            elif carries:
+                c = carries.pop(0)
+                merged.append((Cat(c, nodes[i]) + Cat(c, nodes[i + 1]))[1:])
+            else:
+                merged.append(nodes[i] + nodes[i + 1])
+        nodes = merged
     return nodes[0]

@@ -42,6 +42,7 @@ from dptbd.hw.frame_monitor import FrameMonitor
 from dptbd.hw.register_file import RegisterFile
 from dptbd.hw.state_store import StateStoreSignature
 from dptbd.hw.register_map import ADDRESS_BITS, FAULTS, register_map
+from dptbd.hw.wide.axis_video import AxisToBeats
 
 __all__ = ["AXI_MODULE_NAME", "BUNDLES", "AXITop"]
 
@@ -166,9 +167,9 @@ class AXITop(wiring.Component):
         # monitor and m_axis_state's adapter
         m.submodules.cand_out = cand_out = CandidatesToAxis(cfg, busy_ahead=registered)
         restart = {"sync": cand_out.restart}
-        m.submodules.video_in = video_in = AxisToPixels(cfg)
+        m.submodules.video_in = video_in = self._video_adapter()
         m.submodules.monitor = monitor = ResetInserter(restart)(
-            FrameMonitor(cfg, registered=registered))
+            FrameMonitor(self._monitor_config(), registered=registered))
         m.submodules.core = core = ResetInserter(restart)(self._core)
         busy = busy_port = cand_out.busy
         if registered:
@@ -223,6 +224,18 @@ class AXITop(wiring.Component):
             regs.events.output_stall.eq(cand_out.stalled | state_stalled),
         ]
         return m
+
+    def _video_adapter(self):
+        """``s_axis_video`` to the core's ``pixels``: one pixel per beat, or at P > 1 the
+        beats of P (:class:`~dptbd.hw.wide.axis_video.AxisToBeats`)."""
+        if self._cfg.pixels_per_clock > 1:
+            return AxisToBeats(self._cfg)
+        return AxisToPixels(self._cfg)
+
+    def _monitor_config(self) -> DPConfig:
+        """The configuration whose frames the frame monitor counts: beats
+        (:meth:`~dptbd.config.DPConfig.beat_config`; W/P of them a line, pixels at P = 1)."""
+        return self._cfg.beat_config()
 
     def _state_port(self, m, core, cand_out):
         """``m_axis_state`` from the core's ``states``; its ``stalled`` (0 without it).

@@ -40,9 +40,8 @@ def segmenter_setting_members(cfg: DPConfig) -> dict:
 
 
 def scan_cycles(cfg: DPConfig) -> int:
-    """Cycles from accepting a list's last pixel (beat) to accepting the next scored pixel
-    (beat) at the earliest: the histogram scan of 2**b bins plus 4, plus 1 at P > 1 (the
-    banked histogram's merge register; ``docs/gateware.md`` "Segmenter")."""
+    """Cycles from accepting a list's last pixel (beat) to the next scored one at the earliest:
+    the scan of 2**b bins plus 4, plus 1 at P > 1 (``docs/gateware.md`` "Segmenter")."""
     return cfg.n_bins + 4 + (cfg.pixels_per_clock > 1)
 
 

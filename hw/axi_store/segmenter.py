@@ -55,12 +55,10 @@ class DPSegmenterAxi(DPSegmenter):
         self._external = False
         self._dp = DPPipelineAxi(store, **dict(core_options or {}))
         assert self._dp.output_fifo_depth < cfg.frame_beats     # as DPSegmenter's
-        options = self._dp.core_options        # the histogram's, and the control's at P = 1
-        self._segmenter = (SegmenterWide(cfg, fifo_depth=fifo_depth,
-                                         histogram_style=options["histogram_style"]) if wide else
-                           Segmenter(cfg, fifo_depth=fifo_depth,
-                                     histogram_style=options["histogram_style"],
-                                     control_style=options["control_style"]))
+        options = self._dp.core_options        # the histogram's and the control's
+        self._segmenter = (SegmenterWide if wide else Segmenter)(
+            cfg, fifo_depth=fifo_depth, histogram_style=options["histogram_style"],
+            control_style=options["control_style"])
         wiring.Component.__init__(self, {
             "pixels": In(stream.Signature((wide_pixel_layout if wide else pixel_layout)(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),
@@ -75,6 +73,14 @@ class DPSegmenterAxi(DPSegmenter):
     def store(self) -> AxiStoreConfig:
         """The external memory layout."""
         return self._store
+
+    @property
+    def latency(self) -> int:
+        """Cycles from a pixel's (beat's) acceptance to its record on ``candidates`` (no
+        stalls): the DP pipeline's L plus its segmenter's ``RECORD_LATENCY`` (3 at P = 1,
+        4 at P > 1), plus 1 with ``state_output``."""
+        return (self._dp.latency + type(self._segmenter).RECORD_LATENCY
+                + self._state_output)
 
     def elaborate(self, platform):
         m = super().elaborate(platform)

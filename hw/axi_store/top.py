@@ -41,7 +41,7 @@ from dptbd.hw.axi_store.bus import axi_port_members
 from dptbd.hw.axi_store.segmenter import DPSegmenterAxi
 from dptbd.hw.axi_top import AXITop, _bundle_signatures, _flat
 from dptbd.hw.register_map import register_map
-from dptbd.hw.wide.axi_top import AXITopWide, wide_bundle_signatures
+from dptbd.hw.wide.axi_top import wide_bundle_signatures
 
 __all__ = ["AXITopStore"]
 
@@ -97,10 +97,8 @@ class AXITopStore(AXITop):
         return self._store
 
     def elaborate(self, platform):
-        # the on-chip top's blocks, of P = 1 or of P = 2, 4 (AXITopWide's, which use only
-        # what this __init__ sets as AXITopWide's does), then the store's additions
-        base = AXITopWide if self._cfg.pixels_per_clock > 1 else AXITop
-        m = base.elaborate(self, platform)
+        # the on-chip top's blocks (AXITop's, at every P), then the store's additions
+        m = AXITop.elaborate(self, platform)
         store = self._store
         core, regs = m.submodules["core"], m.submodules["regs"]
         cand_out = m.submodules["cand_out"]

@@ -44,8 +44,10 @@ class DPSegmenterWide(wiring.Component):
         # As DPSegmenter: fewer beats in flight between the DP input and the segmenter
         # than a frame, so the latched settings reach the segment they were latched for.
         assert self._dp.output_fifo_depth < cfg.frame_beats
-        self._segmenter = SegmenterWide(
-            cfg, fifo_depth=fifo_depth, histogram_style=self._dp.core_options["histogram_style"])
+        options = self._dp.core_options
+        self._segmenter = SegmenterWide(cfg, fifo_depth=fifo_depth,
+                                        histogram_style=options["histogram_style"],
+                                        control_style=options["control_style"])
         super().__init__({
             "pixels": In(stream.Signature(wide_pixel_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),

@@ -25,7 +25,7 @@ from dptbd.config import DPConfig
 from dptbd.hw.banked_histogram import BankedHistogram
 from dptbd.hw.candidate_emitter import CandidateEmitter
 from dptbd.hw.candidate_layout import candidate_layout
-from dptbd.hw.segmenter import scan_cycles, segmenter_setting_members
+from dptbd.hw.segmenter import CONTROL_STYLES, scan_cycles, segmenter_setting_members
 from dptbd.hw.threshold import ThresholdSearch
 from dptbd.hw.wide.layouts import wide_state_layout
 
@@ -55,8 +55,13 @@ class SegmenterWide(wiring.Component):
       before their sum (beats of other frames pass meanwhile).
 
     ``histogram_style`` is each histogram bank's (:class:`Segmenter`'s option: ``"dp16kd"``
-    on ECP5), ``dp16kd`` its DP16KD builder (tests pass a behavioural model); same words,
-    same cycles.
+    on ECP5), ``dp16kd`` its DP16KD builder (tests pass a behavioural model);
+    ``control_style="registered"`` (ECP5) passes the banks' held increments apart from
+    their counts (:class:`~dptbd.hw.banked_histogram.BankedHistogram` and
+    :class:`~dptbd.hw.threshold.ThresholdSearch` ``held_apart``) and builds the emitter's
+    cap and FIFO as :class:`Segmenter`'s ECP5 build does
+    (:class:`~dptbd.hw.candidate_emitter.CandidateEmitter` ``registered_cap``,
+    ``staged_fifo``). Same words, same cycles.
 
     Members as :class:`Segmenter`'s, ``states`` with the beats' layout
     (:func:`~dptbd.hw.wide.layouts.wide_state_layout`, state 0 in the low bits); as there,
@@ -65,21 +70,28 @@ class SegmenterWide(wiring.Component):
     to ``states.ready``.
     """
 
-    #: Cycles from a lane's hand-out (for the first record of a beat: the beat's
-    #: acceptance) to its record valid on ``candidates``: the funnel register, the FIFO's 2.
-    RECORD_LATENCY = 3
+    #: Cycles from a beat's acceptance to its first record valid on ``candidates`` (no
+    #: stalls): the selection stage, the funnel, the FIFO's 2.
+    RECORD_LATENCY = 4
 
     def __init__(self, cfg: DPConfig, *, fifo_depth: int = 8, histogram_style: str = "memory",
-                 dp16kd=None):
+                 control_style: str = "generic", dp16kd=None):
         if cfg.pixels_per_clock == 1:
             raise ValueError("SegmenterWide takes pixels_per_clock 2 or 4; at 1 use "
                              "dptbd.hw.segmenter.Segmenter (dptbd.hw.wide.segmenter.segmenter "
                              "picks by P)")
         cfg.require_paper001_datapath("the segmenter at P pixels per clock "
                                       "(dptbd.hw.wide.segmenter)")
+        if control_style not in CONTROL_STYLES:
+            raise ValueError(f"control_style must be one of {CONTROL_STYLES}, "
+                             f"got {control_style!r}")
         self._cfg = cfg
-        self._histogram = BankedHistogram(cfg, style=histogram_style, dp16kd=dp16kd)
-        self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth)
+        self._registered = control_style == "registered"
+        self._histogram = BankedHistogram(cfg, style=histogram_style, dp16kd=dp16kd,
+                                          held_apart=self._registered)
+        self._emitter = CandidateEmitter(cfg, fifo_depth=fifo_depth,
+                                         registered_cap=self._registered,
+                                         staged_fifo=self._registered)
         super().__init__({
             "states": In(stream.Signature(wide_state_layout(cfg))),
             "candidates": Out(stream.Signature(candidate_layout(cfg))),
@@ -104,7 +116,7 @@ class SegmenterWide(wiring.Component):
         beats, height = cfg.row_beats, cfg.height
 
         m.submodules.histogram = hist = self._histogram
-        m.submodules.threshold = search = ThresholdSearch(cfg)
+        m.submodules.threshold = search = ThresholdSearch(cfg, held_apart=self._registered)
         m.submodules.emitter = emitter = self._emitter
         wiring.connect(m, emitter.candidates, wiring.flipped(self.candidates))
         m.d.comb += [
@@ -113,6 +125,9 @@ class SegmenterWide(wiring.Component):
             search.scan_count.eq(hist.scan_count),
             search.scan_last.eq(hist.scan_last),
         ]
+        if self._registered:
+            m.d.comb += [search.scan_held.eq(hist.scan_held),
+                         search.scan_first.eq(hist.scan_first)]
 
         # ---- beat control: Segmenter.elaborate's word control, counting beats ------------
         col = Signal(range(beats))
@@ -142,9 +157,9 @@ class SegmenterWide(wiring.Component):
 
         beat = self.states.payload
         eos = beat.end_of_segment
-        free = Signal()                      # the funnel can take a beat this cycle
+        stage_free = Signal()                # the selection stage can take a beat this cycle
         ready = Signal()
-        m.d.comb += [ready.eq(~scored | (free & ~busy)), self.states.ready.eq(ready)]
+        m.d.comb += [ready.eq(~scored | (stage_free & ~busy)), self.states.ready.eq(ready)]
         accept = Signal()
         m.d.comb += accept.eq(self.states.valid & ready)
         ends = Signal()
@@ -181,43 +196,85 @@ class SegmenterWide(wiring.Component):
         # ---- per lane: the bin (Segmenter's clamp without a comparator) and selection ----
         b = cfg.histogram_bits
         e_bits = cfg.energy_bits
-        above = Signal(e_bits)
-        m.d.comb += above.eq(Cat(*[eff_shift <= i - b if i >= b else C(0, 1)
-                                   for i in range(e_bits)]))
+
+        def bits_above(by, name):
+            """Bit i set: a lane's E's bit i lies above the bins at shift ``by``."""
+            above = Signal(e_bits, name=name)
+            m.d.comb += above.eq(Cat(*[by <= i - b if i >= b else C(0, 1)
+                                       for i in range(e_bits)]))
+            return above
+
+        def binned(energy, by, above, stages=False):
+            """min(E >> by, 2**b - 1); ``stages``: the shift as a multiplexer per bit of
+            ``by`` (no $shr cell, which Yosys's `share` would merge with another)."""
+            if stages:
+                value = energy
+                for i in range(len(by)):
+                    value = Mux(by[i], value >> (1 << i), value)
+            else:
+                value = energy >> by
+            return Mux((energy & above).any(), cfg.n_bins - 1, value[:b])
+
+        if self._registered:
+            # the ECP5 build, as Segmenter's: a shifter per source of s (the settings port,
+            # the register), the choice after them
+            above_port = bits_above(self.histogram_shift, "above_port")
+            above_reg = bits_above(shift, "above_register")
+        else:
+            above = bits_above(eff_shift, "above")
         # bin >= T as Segmenter computes it: E[s:] >= T at the shift s in use (equal for
         # T <= 2**b - 1; T = 2**b selects nothing), one comparison of each lane's E with the
-        # register T per shift, ANDed with s's one-hot bit: no shifter and no multiplexer
-        # between a lane's E, or `taking`, and the funnel's `pending`
+        # register T per shift, ANDed with s's one-hot bit and ORed in pairs (each pair one
+        # LUT of two comparisons and their shift bits), registered with the beat in the
+        # selection stage; the funnel ORs the pairs when it takes the beat. No shifter, no
+        # multiplexer and no OR tree between a lane's E, or `taking`, and a register.
         shift_hot = Signal(e_bits)                # bit s: eff_shift == s, and T < 2**b
         m.d.comb += shift_hot.eq(Cat(*[(eff_shift == s) & ~search.threshold[b]
                                        for s in range(e_bits)]))
-        selected = Signal(lanes)
+        selected_pairs = []
         for k in range(lanes):
             energy = getattr(beat, f"energy_{k}")
-            shifted = Signal(b, name=f"shifted_{k}")
             energy_bin = Signal(range(cfg.n_bins), name=f"energy_bin_{k}")
-            m.d.comb += [
-                shifted.eq(energy >> eff_shift),
-                energy_bin.eq(Mux((energy & above).any(), cfg.n_bins - 1, shifted)),
-                hist.add_bin[k].eq(energy_bin),
-                selected[k].eq(Cat(*[(energy[s:] >= search.threshold[:b]) & shift_hot[s]
-                                     for s in range(e_bits)]).any()),
-            ]
+            if self._registered:
+                m.d.comb += energy_bin.eq(Mux(
+                    taking, binned(energy, self.histogram_shift, above_port, stages=True),
+                    binned(energy, shift, above_reg)))
+            else:
+                m.d.comb += energy_bin.eq(binned(energy, eff_shift, above))
+            m.d.comb += hist.add_bin[k].eq(energy_bin)
+            at_shift = [(energy[s:] >= search.threshold[:b]) & shift_hot[s]
+                        for s in range(e_bits)]
+            pairs = Signal((e_bits + 1) // 2, name=f"selected_pairs_{k}")
+            m.d.comb += pairs.eq(Cat(*[Cat(*at_shift[s:s + 2]).any()
+                                       for s in range(0, e_bits, 2)]))
+            selected_pairs.append(pairs)
         m.d.comb += hist.add_en.eq(Mux(accept & scored, (1 << lanes) - 1, 0))
 
-        # ---- the record funnel: one scored beat, its lanes handed out one per cycle ------
+        # ---- the selection stage and the record funnel ------------------------------------
+        # The stage holds one accepted scored beat with its comparisons; the funnel takes it
+        # when free and hands its selected lanes out one per cycle (lane P-1 too on a list
+        # end). Both hold the beat's fields and its list's trailer fields.
+        def beat_registers(name):
+            return {
+                "row": Signal.like(row, name=f"{name}_row"),
+                "col": Signal.like(col, name=f"{name}_col"),
+                "threshold": Signal(cfg.threshold_bits, name=f"{name}_threshold"),
+                "primed": Signal(name=f"{name}_primed"),
+                "aligned": Signal(name=f"{name}_aligned"),
+                "missed": Signal(name=f"{name}_missed"),
+                "end": Signal(name=f"{name}_end"),       # the beat ends its list
+                **{f"energy_{k}": Signal(e_bits, name=f"{name}_energy_{k}")
+                   for k in range(lanes)},
+                **{f"direction_{k}": Signal(cfg.direction_bits, name=f"{name}_direction_{k}")
+                   for k in range(lanes)},
+            }
+        stage = beat_registers("stage")
+        funnel = beat_registers("funnel")
+        stage_valid = Signal()
+        stage_pairs = [Signal.like(pairs, name=f"stage_pairs_{k}")
+                       for k, pairs in enumerate(selected_pairs)]
         pending = Signal(lanes)          # lanes still to hand out (lane P-1 on a list end)
         chosen = Signal(lanes)           # of those, the selected ones
-        list_end = Signal()              # the beat ends its list
-        f_row = Signal.like(row)
-        f_col = Signal.like(col)
-        energies = [Signal(cfg.energy_bits, name=f"funnel_energy_{k}") for k in range(lanes)]
-        directions = [Signal(cfg.direction_bits, name=f"funnel_direction_{k}")
-                      for k in range(lanes)]
-        f_threshold = Signal(cfg.threshold_bits)
-        f_primed = Signal()
-        f_aligned = Signal()
-        f_missed = Signal()
 
         lowest = Signal(lanes)           # the lane handed out now: pending's lowest bit
         m.d.comb += lowest.eq(Cat(*[pending[k] & ~pending[:k].any() if k else pending[0]
@@ -230,41 +287,55 @@ class SegmenterWide(wiring.Component):
         m.d.comb += rest.eq(pending & ~lowest)
         hand_out = Signal()
         m.d.comb += hand_out.eq(pending.any() & emitter.space)
-        m.d.comb += free.eq(~pending.any() | (hand_out & ~rest.any() & ~list_end))
+        free = Signal()                  # the funnel can take the stage's beat this cycle
+        m.d.comb += free.eq(~pending.any() | (hand_out & ~rest.any() & ~funnel["end"]))
+        moving = Signal()
+        m.d.comb += [moving.eq(stage_valid & free), stage_free.eq(~stage_valid | free)]
         with m.If(hand_out):
             m.d.sync += pending.eq(rest)
+        with m.If(moving):
+            selected = Cat(*[pairs.any() for pairs in stage_pairs])
+            m.d.sync += [
+                stage_valid.eq(0),
+                pending.eq(selected | Mux(stage["end"], 1 << (lanes - 1), 0)),
+                chosen.eq(selected),
+                *[funnel[name].eq(stage[name]) for name in stage],
+            ]
         with m.If(accept & scored):
             m.d.sync += [
-                pending.eq(selected | Mux(ends, 1 << (lanes - 1), 0)),
-                chosen.eq(selected),
-                list_end.eq(ends),
-                f_row.eq(row),
-                f_col.eq(col),
-                f_threshold.eq(search.threshold),
-                f_primed.eq(search.primed),
-                f_aligned.eq(last & eos),
-                f_missed.eq(missed),
-                *[energies[k].eq(getattr(beat, f"energy_{k}")) for k in range(lanes)],
-                *[directions[k].eq(getattr(beat, f"direction_{k}")) for k in range(lanes)],
+                stage_valid.eq(1),
+                *[reg.eq(pairs) for reg, pairs in zip(stage_pairs, selected_pairs)],
+                stage["row"].eq(row),
+                stage["col"].eq(col),
+                stage["threshold"].eq(search.threshold),
+                stage["primed"].eq(search.primed),
+                stage["aligned"].eq(last & eos),
+                stage["missed"].eq(missed),
+                stage["end"].eq(ends),
+                *[stage[f"energy_{k}"].eq(getattr(beat, f"energy_{k}")) for k in range(lanes)],
+                *[stage[f"direction_{k}"].eq(getattr(beat, f"direction_{k}"))
+                  for k in range(lanes)],
             ]
-        energy_out = Signal(cfg.energy_bits)
+        energy_out = Signal(e_bits)
         direction_out = Signal(cfg.direction_bits)
         # lane k's fields (a shift, not a case: Yosys writes a P-way case on a one-hot
         # select whose patterns Verilator's lint reports as overlapping)
         m.d.comb += [
-            energy_out.eq(Cat(*energies).word_select(lane, cfg.energy_bits)),
-            direction_out.eq(Cat(*directions).word_select(lane, cfg.direction_bits)),
+            energy_out.eq(Cat(*[funnel[f"energy_{k}"] for k in range(lanes)])
+                          .word_select(lane, e_bits)),
+            direction_out.eq(Cat(*[funnel[f"direction_{k}"] for k in range(lanes)])
+                             .word_select(lane, cfg.direction_bits)),
         ]
         m.d.comb += [
             emitter.valid.eq(hand_out),
             emitter.selected.eq((chosen & lowest).any()),
-            emitter.end_of_list.eq(list_end & ~rest.any()),
-            emitter.aligned.eq(f_aligned),
-            emitter.missed.eq(f_missed),
-            emitter.threshold.eq(f_threshold),
-            emitter.primed.eq(f_primed),
-            emitter.record.row.eq(f_row),
-            emitter.record.col.eq(Cat(lane[:lane_bits], f_col)),
+            emitter.end_of_list.eq(funnel["end"] & ~rest.any()),
+            emitter.aligned.eq(funnel["aligned"]),
+            emitter.missed.eq(funnel["missed"]),
+            emitter.threshold.eq(funnel["threshold"]),
+            emitter.primed.eq(funnel["primed"]),
+            emitter.record.row.eq(funnel["row"]),
+            emitter.record.col.eq(Cat(lane[:lane_bits], funnel["col"])),
             emitter.record.energy.eq(energy_out),
             emitter.record.direction.eq(direction_out),
         ]

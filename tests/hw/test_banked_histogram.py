@@ -20,12 +20,15 @@ def ref_counts(cfg, beats):
     return np.minimum(np.bincount(np.array(flat, dtype=np.int64), minlength=cfg.n_bins), full)
 
 
-def rtl_scans(cfg, beats, *, seed=0, scans=2, style="memory"):
+def rtl_scans(cfg, beats, *, seed=0, scans=2, style="memory", held_apart=False):
     """Increment ``beats`` (each a P-tuple of bins, ``None`` for an idle lane), one per
     cycle with random idle cycles, then scan ``scans`` times with banks of ``style`` (a
-    behavioural DP16KD for ``"dp16kd"``): the scans' (bin, count) lists and the cycles from
-    each scan_start to its last count."""
-    dut = BankedHistogram(cfg, style=style, dp16kd=DP16KDModel if style == "dp16kd" else None)
+    behavioural DP16KD for ``"dp16kd"``), the first scan started in the cycle after the
+    last beat (whose increments the banks hold): the scans' (bin, count) lists (with
+    ``held_apart``, count + ``scan_held``) and the cycles from each scan_start to its last
+    count."""
+    dut = BankedHistogram(cfg, style=style, dp16kd=DP16KDModel if style == "dp16kd" else None,
+                          held_apart=held_apart)
     rng = random.Random(seed)
     result = []
 
@@ -39,7 +42,6 @@ def rtl_scans(cfg, beats, *, seed=0, scans=2, style="memory"):
                 ctx.set(dut.add_bin[k], 0 if b is None else int(b))
             await ctx.tick()
         ctx.set(dut.add_en, 0)
-        await ctx.tick()
         result.extend(await scan_histogram(ctx, dut, scans))
 
     simulate(dut, bench)
@@ -48,7 +50,8 @@ def rtl_scans(cfg, beats, *, seed=0, scans=2, style="memory"):
 
 def cases():
     """(name, P, beats): a lane idle at random, one bin hit by every lane of a beat (the
-    banks' counts add up), a bin saturated in one bank only, one saturated only in the sum."""
+    banks' counts add up), a bin saturated in one bank only, one saturated only in the sum;
+    the last beat increments a bin in every bank (the increments the scan holds)."""
     rng = np.random.default_rng(4)
     out = []
     for p in (1, 2, 4):
@@ -58,17 +61,24 @@ def cases():
         beats += [(5,) * p] * 3                     # 3P hits of bin 5 in three cycles
         beats += [(9,) + (None,) * (p - 1)] * 9     # bank 0 alone saturates bin 9
         beats += [tuple(12 if k % 2 else None for k in range(p))] * 3   # odd lanes: bin 12
+        beats += [tuple(range(p))]                  # held: bins 0 … P-1, one per bank
         out.append((f"p{p}", p, beats))
     return out
 
 
-@pytest.mark.parametrize("style", ["memory", "dp16kd"])
+@pytest.mark.parametrize("style, held_apart", [("memory", False), ("dp16kd", False),
+                                               ("memory", True), ("dp16kd", True)])
 @pytest.mark.parametrize("name, p, beats", cases(), ids=[c[0] for c in cases()])
-def test_merged_counts_equal_one_histogram(name, p, beats, style):
+def test_merged_counts_equal_one_histogram(name, p, beats, style, held_apart):
+    """The counts of one histogram; held apart (the ECP5 build), count + held is one more
+    where the clamped count is already all ones (a count above every n either way)."""
     cfg = make_config(width=16, height=16, histogram_bits=4, candidate_count=5,
                       candidate_capacity=5, pixels_per_clock=p)
     assert cfg.bin_count_bits == 3                              # saturates at 7
-    scans, spans = rtl_scans(cfg, beats, seed=p, style=style)
+    scans, spans = rtl_scans(cfg, beats, seed=p, style=style, held_apart=held_apart)
+    if held_apart:
+        assert max(c for scan in scans for _, c in scan) <= 8
+        scans = [[(b, min(c, 7)) for b, c in scan] for scan in scans]
     want = ref_counts(cfg, beats)
     assert [b for b, _ in scans[0]] == list(range(15, -1, -1))  # top bin first
     assert [c for _, c in scans[0]][::-1] == want.tolist()

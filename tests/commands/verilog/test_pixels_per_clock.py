@@ -43,14 +43,15 @@ def test_pixels_per_clock_builds_the_wide_segmenter(tmp_path, capsys, p):
     manifest = json.loads(out.with_suffix(".json").read_text())
     assert manifest["top"] == "DPSegmenterWide"
     assert manifest["parameters"]["pixels_per_clock"] == p
-    # the scan one cycle longer than at P = 1 (the banked histogram's merge register)
-    assert manifest["latency"] == 11 + 3 and manifest["scan_cycles"] == manifest["derived"][
+    # a record one cycle later than at P = 1 (the selection stage), the scan one cycle
+    # longer (the banked histogram's merge register)
+    assert manifest["latency"] == 11 + 4 and manifest["scan_cycles"] == manifest["derived"][
         "n_bins"] + 5
     names = {port["name"]: port["width"] for port in manifest["ports"]}
     assert names["pixels__payload"] == 8 * p + 1                      # P pixels + first
     assert names["candidates__payload"] == manifest["layouts"]["candidate_width"]
     assert manifest["layouts"]["pixel"]["pixel_1"] == {"offset": 8, "width": 8}
-    assert "latency 14 cycles" in capsys.readouterr().out
+    assert "latency 15 cycles" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize("p", [2, 4])

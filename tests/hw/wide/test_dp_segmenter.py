@@ -91,10 +91,11 @@ def test_exact_cycles_k2():
                        lists)
     accepts = result.accept_cycles
     assert accepts == list(range(accepts[0], accepts[0] + 6 * cfg.frame_beats))
-    # the last beat ends a list: the segmenter hands out its selected lanes and lane P-1
-    # (h lanes) one per cycle from the cycle after its acceptance, L cycles after the DP's;
-    # the trailer is out 3 cycles after the last hand-out
-    assert dut.latency == dut.schedule.latency + 3
+    # the last beat ends a list: the segmenter (L cycles after the DP) accepts it into its
+    # selection stage, moves it to the funnel in the next cycle, which hands out its
+    # selected lanes and lane P-1 (h lanes) one per cycle from the cycle after; the trailer
+    # is out 3 cycles after the last hand-out
+    assert dut.latency == dut.schedule.latency + 4
     last = [int(r["col"]) for r in lists[-1].records
             if int(r["row"]) == cfg.height - 1 and int(r["col"]) >= cfg.width - 4]
     hand_outs = len(set(last) | {cfg.width - 1})

@@ -40,11 +40,17 @@ def pack_state_beats(cfg, states) -> list[int]:
     return out
 
 
+#: The builds: the generic one and the ECP5 family's (DP16KD banks through a behavioural
+#: model, the held increments apart, the emitter's registered cap and staged FIFO).
+STYLES = {"generic": {}, "ecp5": {"histogram_style": "dp16kd", "control_style": "registered"}}
+
+
 def check(cfg, states, *, valid=0.7, ready=0.5, seed=0, settings=None, on_cycle=None,
-          histogram_style="memory"):
+          style="generic"):
     lists = segment_stream(states, cfg, settings)
-    dut = SegmenterWide(cfg, histogram_style=histogram_style,
-                        dp16kd=DP16KDModel if histogram_style == "dp16kd" else None)
+    options = STYLES[style]
+    dut = SegmenterWide(cfg, **options,
+                        dp16kd=DP16KDModel if options.get("histogram_style") == "dp16kd" else None)
     result = run_lists(cfg, dut, dut.states, dut.candidates, pack_state_beats(cfg, states),
                        lists, valid_probability=valid, ready_probability=ready, seed=seed,
                        on_cycle=None if on_cycle is None else on_cycle(dut))
@@ -66,35 +72,22 @@ def wide_case(name):
     return kw, FRAMES[name], energies
 
 
+@pytest.mark.parametrize("style", list(STYLES))
 @pytest.mark.parametrize("lanes", [2, 4])
 @pytest.mark.parametrize("name", list(FRAMES))
-def test_random_streams_match_model(name, lanes):
+def test_random_streams_match_model(name, lanes, style):
     kw, n_frames, (low, high, *bottom) = wide_case(name)
     cfg = make_config(**kw, pixels_per_clock=lanes)
     rng = np.random.default_rng(len(name) + lanes)
     states = synthetic_states(cfg, n_frames, rng, low=low, high=high,
                               low_fraction=bottom[0] if bottom else 0.0)
-    lists, _ = check(cfg, states, seed=len(name) + lanes)
+    lists, _ = check(cfg, states, seed=len(name) + lanes, style=style)
     assert len(lists) == n_frames // cfg.segment_frames
     assert all(lst.primed and lst.aligned and not lst.missed for lst in lists[1:])
     if name == "k2-n6-cap6-shift2":
         assert any(lst.overflow for lst in lists) and max(lst.count for lst in lists) == 6
     if name == "k2-all-pixels":
         assert [lst.count for lst in lists[1:]] == [48, 48]
-
-
-@pytest.mark.parametrize("lanes", [2, 4])
-@pytest.mark.parametrize("name", ["k2-n6-cap6-shift2", "k3-n4-narrow-E"])
-def test_dp16kd_banks_match_model(name, lanes):
-    """The ECP5 build's banks (``histogram_style="dp16kd"``, a behavioural DP16KD): the
-    same lists."""
-    kw, n_frames, (low, high, *bottom) = wide_case(name)
-    cfg = make_config(**kw, pixels_per_clock=lanes)
-    states = synthetic_states(cfg, n_frames, np.random.default_rng(40 + lanes), low=low,
-                              high=high, low_fraction=bottom[0] if bottom else 0.0)
-    lists, _ = check(cfg, states, seed=lanes, histogram_style="dp16kd")
-    assert len(lists) == n_frames // cfg.segment_frames
-    assert sum(lst.count for lst in lists) > 5
 
 
 def test_heavy_back_pressure():
@@ -120,8 +113,9 @@ def test_resynchronised_streams_match_model(lanes):
 
 # ---- run-time settings (docs/gateware.md, "Run-time settings") ---------------------------
 
+@pytest.mark.parametrize("style", list(STYLES))
 @pytest.mark.parametrize("lanes", [2, 4])
-def test_run_time_settings_per_segment(lanes):
+def test_run_time_settings_per_segment(lanes, style):
     cfg = make_config(width=12, height=4, segment_frames=2, max_segment_frames=4,
                       candidate_count=3, candidate_capacity=6, histogram_bits=4,
                       histogram_shift=4, pixels_per_clock=lanes)
@@ -129,7 +123,7 @@ def test_run_time_settings_per_segment(lanes):
                 S(3, 1, 4)]
     states, settings = scheduled_states(cfg, schedule, np.random.default_rng(lanes), high=255)
     lists, _ = check(cfg, states, valid=0.8, ready=0.6, seed=lanes, settings=settings,
-                     on_cycle=settings_driver(cfg, states, settings, lanes))
+                     on_cycle=settings_driver(cfg, states, settings, lanes), style=style)
     assert len(lists) == len(schedule)
     assert len({lst.threshold for lst in lists}) >= 3
 
@@ -178,11 +172,14 @@ def test_reset_in_a_scored_frame_clears_the_histogram():
 
 def expected_timing(cfg, states, lists):
     """Accept cycle of every beat (from the first) and output cycle of every word, valid and
-    ready always high and no stall for the scan: a scored beat's lanes to hand out are its
-    selected lanes and, on a list's last beat, lane P-1; they leave one per cycle from the
-    cycle after the acceptance, each record 3 cycles after its hand-out, the trailer 4; the
-    next scored beat is accepted in the cycle of the last hand-out (one later after a list's
-    end), the next beat of another frame in the next cycle."""
+    ready always high and no stall for the scan. A scored beat's lanes to hand out are its
+    selected lanes and, on a list's last beat, lane P-1. It is accepted when the selection
+    stage is free (empty, or its beat moving on in this cycle), moves on to the funnel at
+    the earliest in the next cycle, when the funnel is free (empty, or handing out its last
+    lane, not a list's end: max(1, lanes) cycles after it took its beat, one more on a list's
+    end); the funnel hands the lanes out one per cycle from the next cycle, each record 2
+    cycles after its hand-out, the trailer 3. A beat of another frame is accepted in the
+    next cycle."""
     p = cfg.pixels_per_clock
     frame = cfg.width * cfg.height
     k = cfg.segment_frames
@@ -192,29 +189,32 @@ def expected_timing(cfg, states, lists):
         for r in lst.records:
             selected[base + int(r["row"]) * cfg.width + int(r["col"])] = True
     accepts, outputs = [], []
-    cycle, free_at = 0, 0
+    cycle, stage_free_at, funnel_free_at = 0, 0, 0
     for beat in range(len(states) // p):
         first = beat * p
         in_scored = (first // frame) % k == k - 1
         if in_scored:
-            cycle = max(cycle, free_at)
+            cycle = max(cycle, stage_free_at)
         accepts.append(cycle)
         if in_scored:
             lanes = [j for j in range(p) if selected.get(first + j)]
             end = bool(states[first + p - 1, 3])
             hand = sorted(set(lanes) | ({p - 1} if end else set()))
+            moves = max(cycle + 1, funnel_free_at)
             for i, j in enumerate(hand):
                 if j in lanes:
-                    outputs.append(cycle + 1 + i + 2)
+                    outputs.append(moves + 1 + i + 2)
             if end:
-                outputs.append(cycle + 1 + len(hand) + 2)
-            free_at = cycle + max(1, len(hand)) + end
+                outputs.append(moves + 1 + len(hand) + 2)
+            stage_free_at = moves
+            funnel_free_at = moves + max(1, len(hand)) + end
         cycle += 1
     return accepts, outputs
 
 
+@pytest.mark.parametrize("style", list(STYLES))
 @pytest.mark.parametrize("lanes", [2, 4])
-def test_exact_cycles_k2(lanes):
+def test_exact_cycles_k2(lanes, style):
     """K = 2, valid and ready always high: every beat's acceptance and every output word's
     cycle as :func:`expected_timing` says (the scan never stalls: W*H/P >= 2**b + 5)."""
     cfg = make_config(width=16, height=7, segment_frames=2, candidate_count=30,
@@ -222,7 +222,7 @@ def test_exact_cycles_k2(lanes):
                       pixels_per_clock=lanes)
     assert cfg.frame_beats >= scan_cycles(cfg) + lanes
     states = synthetic_states(cfg, 8, np.random.default_rng(lanes), high=255)
-    lists, result = check(cfg, states, valid=1.0, ready=1.0)
+    lists, result = check(cfg, states, valid=1.0, ready=1.0, style=style)
     accepts, outputs = expected_timing(cfg, states, lists)
     start = result.accept_cycles[0]
     assert [c - start for c in result.accept_cycles] == accepts
@@ -231,14 +231,15 @@ def test_exact_cycles_k2(lanes):
     assert any(b - a > 1 for a, b in zip(accepts, accepts[1:]))   # beats of > 1 record held it
 
 
+@pytest.mark.parametrize("style", list(STYLES))
 @pytest.mark.parametrize("lanes", [2, 4])
-def test_k1_stalls_for_the_scan(lanes):
+def test_k1_stalls_for_the_scan(lanes, style):
     """K = 1: the next frame's first beat waits 2**b + 5 cycles after the last beat (one
     more than at P = 1: the banked histogram's merge register)."""
     cfg = make_config(width=12, height=5, segment_frames=1, candidate_count=0,
                       histogram_bits=4, pixels_per_clock=lanes)
     states = synthetic_states(cfg, 4, np.random.default_rng(3), high=255)
-    _, result = check(cfg, states, valid=1.0, ready=1.0)
+    _, result = check(cfg, states, valid=1.0, ready=1.0, style=style)
     beats = cfg.frame_beats
     accepts = result.accept_cycles
     gaps = [accepts[t * beats] - accepts[t * beats - 1] for t in range(1, 4)]
@@ -249,6 +250,12 @@ def test_segmenter_picks_by_p():
     assert isinstance(segmenter(make_config(width=8, height=4)), Segmenter)
     assert isinstance(segmenter(make_config(width=12, height=4, pixels_per_clock=2)),
                       SegmenterWide)
+
+
+def test_refuses_an_unknown_control_style():
+    with refused(ValueError, whole("control_style must be one of ('generic', 'registered'), "
+                                   "got 'ecp5'")):
+        SegmenterWide(make_config(width=8, height=4, pixels_per_clock=2), control_style="ecp5")
 
 
 def test_refuses_one_pixel_per_clock():
