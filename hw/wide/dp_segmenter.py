@@ -67,7 +67,7 @@ class DPSegmenterWide(wiring.Component):
     @property
     def latency(self) -> int:
         """Cycles from a beat's acceptance to the record of its first selected pixel on
-        ``candidates`` (no stalls): the DP pipeline's L plus the segmenter's 3."""
+        ``candidates`` (no stalls): the DP pipeline's L plus the segmenter's 4."""
         return self._dp.latency + SegmenterWide.RECORD_LATENCY
 
     def elaborate(self, platform):

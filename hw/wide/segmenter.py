@@ -9,8 +9,9 @@ never straddles two rows and the end flags sit on its last pixel, so every decis
 P = 1 segmenter falls on a beat's last pixel. The *histogram* is a
 :class:`~dptbd.hw.banked_histogram.BankedHistogram` (lane k increments bank k), scanned
 into the P = 1 :class:`~dptbd.hw.threshold.ThresholdSearch`: the same counts, so the same
-T. The *record funnel* holds one accepted scored beat and hands its selected lanes, in
-raster order, one per cycle, to the P = 1 :class:`~dptbd.hw.candidate_emitter.CandidateEmitter`,
+T. The *selection stage* holds one accepted scored beat with its lanes' comparisons with
+T; the *record funnel* takes it from there and hands its selected lanes, in raster order,
+one per cycle, to the P = 1 :class:`~dptbd.hw.candidate_emitter.CandidateEmitter`,
 followed (on a list's last beat) by lane P-1 with ``end_of_list``; the list's trailer
 fields (threshold, primed, aligned, missed) are held with the beat.
 """
@@ -41,14 +42,17 @@ class SegmenterWide(wiring.Component):
 
     * A beat of a frame that is not scored is accepted in any cycle. A beat of the scored
       frame is accepted once the threshold scan after the last list is done, while the
+      selection stage is free: empty, or its beat moving to the funnel this cycle. The
+      stage's beat moves, at the earliest in the cycle after its acceptance, when the
       funnel is free: empty, or handing out its last lane this cycle and that lane not a
-      list's end. The funnel hands out one lane per cycle
-      while the emitter has ``space``; so a scored beat with at most one selected pixel
-      passes in one cycle, one with j > 1 holds the input for j - 1 more, and a list's
-      last beat for one more.
-    * Each record is valid on ``candidates`` :attr:`RECORD_LATENCY` = 3 cycles after the
-      cycle its lane was handed out (its beat's acceptance for the first lane, no
-      back-pressure); the trailer one cycle after the list's last record or end lane.
+      list's end. The funnel hands out one lane per cycle, from the cycle after it took
+      the beat, while the emitter has ``space``; so scored beats with at most one selected
+      pixel pass one per cycle, one with j > 1 holds the beat behind it j - 1 cycles more,
+      and a list's last beat one more.
+    * A record is valid on ``candidates`` 2 cycles after its lane's hand-out, the first of
+      a beat :attr:`RECORD_LATENCY` = 4 cycles after the beat's acceptance (no stalls; one
+      more than at P = 1: the selection stage); the trailer 3 cycles after the end lane's
+      hand-out.
     * The scan starts in the cycle after a list's last beat is accepted and takes
       :func:`~dptbd.hw.segmenter.scan_cycles` = 2**b + 5 cycles to the next scored
       beat, one more than at P = 1: the banked histogram registers the banks' counts
