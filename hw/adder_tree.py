@@ -36,7 +36,7 @@ def adder_tree(leaves: list, carries: tuple = ()):
     the adders' carries in, in the order the adders are formed: ``a + b + c`` as
     ``(2a + c) + (2b + c)`` halved, inside the adder's own carry chain (no adder more).
     """
-    assert len(carries) < len(leaves) or len(carries) == 0
+    assert len(carries) < len(leaves)
     nodes, carries = leaves, list(carries)
     while len(nodes) > 1:
         merged = []

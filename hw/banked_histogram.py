@@ -89,15 +89,14 @@ class BankedHistogram(wiring.Component):
         m = Module()
         cfg = self._cfg
         lanes = cfg.pixels_per_clock
-        banks = []
-        for lane, bank in enumerate(self._banks):
+        banks = self._banks
+        for lane, bank in enumerate(banks):
             m.submodules[f"bank_{lane}"] = bank
             m.d.comb += [
                 bank.add_bin.eq(self.add_bin[lane]),
                 bank.add_en.eq(self.add_en[lane]),
                 bank.scan_start.eq(self.scan_start),
             ]
-            banks.append(bank)
         # every bank scans in lockstep: bank 0's scan outputs stand for all of them
         held_apart = self._held_apart
         if lanes == 1:
