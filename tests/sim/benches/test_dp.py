@@ -127,7 +127,9 @@ def test_lut_written_at_run_time():
 @pytest.mark.parametrize("kw, scenario, n_frames", [
     (dict(width=16, height=12, segment_frames=2), "table1", 5),
     (dict(width=11, height=9, segment_frames=3, radius=2), "noise", 4),
-    (dict(width=128, height=128, segment_frames=2), "two-targets", 3),
+    # 001's size: 15 s of Icarus, -m slow (the small sizes take the same paths)
+    pytest.param(dict(width=128, height=128, segment_frames=2), "two-targets", 3,
+                 marks=pytest.mark.slow),
 ], ids=["16x12-r1", "11x9-r2", "128x128-r1"])
 def test_exact_cycle_count(kw, scenario, n_frames):
     """No gaps, no back-pressure: T*W*H + latency cycles from first input to last output."""

@@ -130,6 +130,7 @@ def test_n_values_noise_resync_and_backward_lut_runs():
 
 
 @tools
+@pytest.mark.slow       # a mutant build of its own (18 s); the default suite's kill tests below
 def test_the_new_runs_kill_what_no_earlier_run_kills():
     cfg = config("axi")
     mutations = parse_mutations("\n".join([WRITE_DATA_BIT_4, LUT_WE_INVERTED,

@@ -126,6 +126,7 @@ def test_presets_plan_sets_every_counter_bit_both_ways_then_wraps():
 
 
 @tools
+@pytest.mark.slow       # a mutant build of its own (15 s); the default suite's: the exact cycles
 def test_the_presets_run_kills_counter_bits_no_count_reaches():
     cfg = config("axi")
     mutations = parse_mutations("\n".join([LISTS_BIT_29_WITH_16, FRAMES_BIT_19_WITH_25]))
