@@ -18,8 +18,8 @@ fields (threshold, primed, aligned, missed) are held with the beat.
 
 from __future__ import annotations
 
-from amaranth.hdl import C, Cat, Module, Mux, Signal
-from amaranth.lib import stream, wiring
+from amaranth.hdl import C, Cat, Module, Mux, Signal, unsigned
+from amaranth.lib import data, stream, wiring
 from amaranth.lib.wiring import In, Out
 
 from dptbd.config import DPConfig
@@ -28,9 +28,26 @@ from dptbd.hw.candidate_emitter import CandidateEmitter
 from dptbd.hw.candidate_layout import candidate_layout
 from dptbd.hw.segmenter import CONTROL_STYLES, scan_cycles, segmenter_setting_members
 from dptbd.hw.threshold import ThresholdSearch
-from dptbd.hw.wide.layouts import wide_state_layout
+from dptbd.hw.wide.layouts import beat_word_layout, wide_state_layout
 
-__all__ = ["SegmenterWide", "segmenter"]
+__all__ = ["SegmenterWide", "held_beat_layout", "segmenter"]
+
+
+def held_beat_layout(cfg: DPConfig) -> data.StructLayout:
+    """A scored beat as :class:`SegmenterWide`'s selection stage and record funnel hold it:
+    its P states (state 0 first), its position (``row``, ``col`` in beats) and its list's
+    trailer fields (``threshold``, ``primed``, ``aligned``, ``missed``; ``end``: the beat
+    ends its list)."""
+    return data.StructLayout({
+        "states": beat_word_layout(cfg),
+        "row": range(cfg.height),
+        "col": range(cfg.row_beats),
+        "threshold": unsigned(cfg.threshold_bits),
+        "primed": unsigned(1),
+        "aligned": unsigned(1),
+        "missed": unsigned(1),
+        "end": unsigned(1),
+    })
 
 
 class SegmenterWide(wiring.Component):
@@ -258,25 +275,11 @@ class SegmenterWide(wiring.Component):
         # The stage holds one accepted scored beat with its comparisons; the funnel takes it
         # when free and hands its selected lanes out one per cycle (lane P-1 too on a list
         # end). Both hold the beat's fields and its list's trailer fields.
-        def beat_registers(name):
-            return {
-                "row": Signal.like(row, name=f"{name}_row"),
-                "col": Signal.like(col, name=f"{name}_col"),
-                "threshold": Signal(cfg.threshold_bits, name=f"{name}_threshold"),
-                "primed": Signal(name=f"{name}_primed"),
-                "aligned": Signal(name=f"{name}_aligned"),
-                "missed": Signal(name=f"{name}_missed"),
-                "end": Signal(name=f"{name}_end"),       # the beat ends its list
-                **{f"energy_{k}": Signal(e_bits, name=f"{name}_energy_{k}")
-                   for k in range(lanes)},
-                **{f"direction_{k}": Signal(cfg.direction_bits, name=f"{name}_direction_{k}")
-                   for k in range(lanes)},
-            }
-        stage = beat_registers("stage")
-        funnel = beat_registers("funnel")
+        stage = Signal(held_beat_layout(cfg), name="stage")
+        funnel = Signal(held_beat_layout(cfg), name="funnel")
         stage_valid = Signal()
-        stage_pairs = [Signal.like(pairs, name=f"stage_pairs_{k}")
-                       for k, pairs in enumerate(selected_pairs)]
+        stage_pairs = Signal(data.ArrayLayout(len(selected_pairs[0]), lanes),
+                             name="stage_pairs")
         pending = Signal(lanes)          # lanes still to hand out (lane P-1 on a list end)
         chosen = Signal(lanes)           # of those, the selected ones
 
@@ -292,32 +295,32 @@ class SegmenterWide(wiring.Component):
         hand_out = Signal()
         m.d.comb += hand_out.eq(pending.any() & emitter.space)
         free = Signal()                  # the funnel can take the stage's beat this cycle
-        m.d.comb += free.eq(~pending.any() | (hand_out & ~rest.any() & ~funnel["end"]))
+        m.d.comb += free.eq(~pending.any() | (hand_out & ~rest.any() & ~funnel.end))
         moving = Signal()
         m.d.comb += [moving.eq(stage_valid & free), stage_free.eq(~stage_valid | free)]
         with m.If(hand_out):
             m.d.sync += pending.eq(rest)
         with m.If(moving):
-            selected = Cat(*[pairs.any() for pairs in stage_pairs])
+            selected = Cat(*[stage_pairs[k].any() for k in range(lanes)])
             m.d.sync += [
                 stage_valid.eq(0),
-                pending.eq(selected | Mux(stage["end"], 1 << (lanes - 1), 0)),
+                pending.eq(selected | Mux(stage.end, 1 << (lanes - 1), 0)),
                 chosen.eq(selected),
-                *[funnel[name].eq(stage[name]) for name in stage],
+                funnel.eq(stage),
             ]
         with m.If(accept & scored):
             m.d.sync += [
                 stage_valid.eq(1),
-                *[reg.eq(pairs) for reg, pairs in zip(stage_pairs, selected_pairs)],
-                stage["row"].eq(row),
-                stage["col"].eq(col),
-                stage["threshold"].eq(search.threshold),
-                stage["primed"].eq(search.primed),
-                stage["aligned"].eq(last & eos),
-                stage["missed"].eq(missed),
-                stage["end"].eq(ends),
-                *[stage[f"energy_{k}"].eq(getattr(beat, f"energy_{k}")) for k in range(lanes)],
-                *[stage[f"direction_{k}"].eq(getattr(beat, f"direction_{k}"))
+                stage_pairs.eq(Cat(*selected_pairs)),
+                stage.row.eq(row),
+                stage.col.eq(col),
+                stage.threshold.eq(search.threshold),
+                stage.primed.eq(search.primed),
+                stage.aligned.eq(last & eos),
+                stage.missed.eq(missed),
+                stage.end.eq(ends),
+                *[stage.states[k].energy.eq(getattr(beat, f"energy_{k}")) for k in range(lanes)],
+                *[stage.states[k].direction.eq(getattr(beat, f"direction_{k}"))
                   for k in range(lanes)],
             ]
         energy_out = Signal(e_bits)
@@ -325,21 +328,21 @@ class SegmenterWide(wiring.Component):
         # lane k's fields (a shift, not a case: Yosys writes a P-way case on a one-hot
         # select whose patterns Verilator's lint reports as overlapping)
         m.d.comb += [
-            energy_out.eq(Cat(*[funnel[f"energy_{k}"] for k in range(lanes)])
+            energy_out.eq(Cat(*[funnel.states[k].energy for k in range(lanes)])
                           .word_select(lane, e_bits)),
-            direction_out.eq(Cat(*[funnel[f"direction_{k}"] for k in range(lanes)])
+            direction_out.eq(Cat(*[funnel.states[k].direction for k in range(lanes)])
                              .word_select(lane, cfg.direction_bits)),
         ]
         m.d.comb += [
             emitter.valid.eq(hand_out),
             emitter.selected.eq((chosen & lowest).any()),
-            emitter.end_of_list.eq(funnel["end"] & ~rest.any()),
-            emitter.aligned.eq(funnel["aligned"]),
-            emitter.missed.eq(funnel["missed"]),
-            emitter.threshold.eq(funnel["threshold"]),
-            emitter.primed.eq(funnel["primed"]),
-            emitter.record.row.eq(funnel["row"]),
-            emitter.record.col.eq(Cat(lane[:lane_bits], funnel["col"])),
+            emitter.end_of_list.eq(funnel.end & ~rest.any()),
+            emitter.aligned.eq(funnel.aligned),
+            emitter.missed.eq(funnel.missed),
+            emitter.threshold.eq(funnel.threshold),
+            emitter.primed.eq(funnel.primed),
+            emitter.record.row.eq(funnel.row),
+            emitter.record.col.eq(Cat(lane[:lane_bits], funnel.col)),
             emitter.record.energy.eq(energy_out),
             emitter.record.direction.eq(direction_out),
         ]
