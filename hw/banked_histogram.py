@@ -5,10 +5,12 @@ Each bank is a :class:`~dptbd.hw.histogram.Histogram` (one memory, one increment
 the read-and-clear scan); lane k of a beat increments bank k. The scan reads the P banks in
 lockstep, registers their counts, and outputs, per bin, the sum of those registers clamped
 at all ones (``2**bin_count_bits - 1``): one cycle later than one bank's scan, so that no
-path runs from a bank's read-modify-write through the adders (the segmenter's
-:func:`~dptbd.hw.segmenter.scan_cycles` is one more at P > 1). That is exactly the count
-one histogram of every increment gives (§6.2): if no bank saturated the sum is the true
-count, clamped exactly when the true count reaches all ones; if one did, both are all ones.
+path runs from a bank's read-modify-write through the adders; at P = 4 the two pairs' sums
+are registered too, two cycles later (the segmenter's
+:func:`~dptbd.hw.segmenter.scan_cycles` is one more at P = 2, two at P = 4). That is
+exactly the count one histogram of every increment gives (§6.2): if no bank saturated the
+sum is the true count, clamped exactly when the true count reaches all ones; if one did,
+both are all ones.
 So the threshold scan (§6.3) sees the same counts at every P.
 """
 
@@ -57,7 +59,8 @@ class BankedHistogram(wiring.Component):
         ``scanning`` falls.
     scan_valid, scan_last : Out(1); scan_bin : Out(range(2**b)); scan_count : Out(bin_count_bits)
         The merged counts, top bin first, one cycle after :class:`Histogram`'s: each bank's
-        count is registered, and the sum of the registers is combinational. (With P = 1,
+        count is registered, and the sum of the registers is combinational; at P = 4 two
+        cycles after, the pairs' sums registered and their sum combinational. (With P = 1,
         the one bank's outputs, with :class:`Histogram`'s timing.)
     scan_held, scan_first : Out(1)
         With ``held_apart``: one held increment to add to ``scan_count``; ``scan_valid``
@@ -124,7 +127,31 @@ class BankedHistogram(wiring.Component):
         if held_apart:
             helds = [Signal(name=f"held_{lane}") for lane in range(lanes)]
             m.d.sync += [held.eq(bank.scan_held) for held, bank in zip(helds, banks)]
-            m.d.sync += self.scan_first.eq(banks[0].scan_first)
+        scanning = banks[0].scanning | valid
+        first = banks[0].scan_first if held_apart else None
+        if lanes == 4:
+            # a second register level at P = 4: the two pairs' sums (banks 0 + 1 and 2 + 3,
+            # each with its first held increment as carry in), so that one adder, not two
+            # in series, lies between registers; the scan a cycle longer again
+            pairs = [Signal(bits + held_apart + 1, name=f"pair_{i}") for i in range(2)]
+            m.d.sync += [pair.eq(adder_tree(counts[2 * i:2 * i + 2],
+                                            carries=tuple(helds[i:i + 1])))
+                         for i, pair in enumerate(pairs)]
+            valid_pairs = Signal()
+            last_pairs = Signal()
+            bin_pairs = Signal.like(bin_)
+            m.d.sync += [valid_pairs.eq(valid), last_pairs.eq(last), bin_pairs.eq(bin_)]
+            scanning = scanning | valid_pairs
+            valid, last, bin_, counts = valid_pairs, last_pairs, bin_pairs, pairs
+            if held_apart:
+                later = [Signal(name=f"held_{lane}_pairs") for lane in (2, 3)]
+                m.d.sync += [held.eq(early) for held, early in zip(later, helds[2:])]
+                helds = later
+                first_pairs = Signal()
+                m.d.sync += first_pairs.eq(first)
+                first = first_pairs
+        if held_apart:
+            m.d.sync += self.scan_first.eq(first)
             m.d.comb += self.scan_held.eq(helds[-1])
         total = Signal(unsigned(bits + held_apart + (lanes - 1).bit_length()))
         # with held_apart every held increment but the last is an adder's carry in
@@ -137,7 +164,7 @@ class BankedHistogram(wiring.Component):
             self.scan_valid.eq(valid),
             self.scan_bin.eq(bin_),
             self.scan_last.eq(last),
-            self.scanning.eq(banks[0].scanning | valid),
+            self.scanning.eq(scanning),
             self.scan_count.eq(total[:bits] | over.replicate(bits)),
         ]
         return m

@@ -71,9 +71,10 @@ class SegmenterWide(wiring.Component):
       more than at P = 1: the selection stage); the trailer 3 cycles after the end lane's
       hand-out.
     * The scan starts in the cycle after a list's last beat is accepted and takes
-      :func:`~dptbd.hw.segmenter.scan_cycles` = 2**b + 5 cycles to the next scored
-      beat, one more than at P = 1: the banked histogram registers the banks' counts
-      before their sum (beats of other frames pass meanwhile).
+      :func:`~dptbd.hw.segmenter.scan_cycles` cycles to the next scored beat: 2**b + 5
+      at P = 2, one more than at P = 1 (the banked histogram registers the banks' counts
+      before their sum), 2**b + 6 at P = 4 (and the pairs' sums); beats of other frames
+      pass meanwhile.
 
     ``histogram_style`` is each histogram bank's (:class:`Segmenter`'s option: ``"dp16kd"``
     on ECP5), ``dp16kd`` its DP16KD builder (tests pass a behavioural model);
@@ -126,7 +127,8 @@ class SegmenterWide(wiring.Component):
 
     @property
     def scan_cycles(self) -> int:
-        """:func:`~dptbd.hw.segmenter.scan_cycles` of this configuration: 2**b + 5."""
+        """:func:`~dptbd.hw.segmenter.scan_cycles` of this configuration: 2**b + 5 at
+        P = 2, 2**b + 6 at P = 4."""
         return scan_cycles(self._cfg)
 
     def elaborate(self, platform):

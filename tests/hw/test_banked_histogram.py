@@ -84,8 +84,9 @@ def test_merged_counts_equal_one_histogram(name, p, beats, style, held_apart):
     assert [c for _, c in scans[0]][::-1] == want.tolist()
     assert want[9] == 7 and want[5] == min(3 * p, 7)   # saturated in a bank; at P = 4 in the sum only
     assert all(c == 0 for _, c in scans[1])                     # every bank cleared
-    # Histogram's scan timing at P = 1; one cycle more at P > 1 (the merge register)
-    assert spans == [16 + 1 + (p > 1)] * 2
+    # Histogram's scan timing at P = 1; one cycle more at P = 2 (the merge register), two
+    # at P = 4 (the pairs' register too)
+    assert spans == [16 + 1 + {1: 0, 2: 1, 4: 2}[p]] * 2
 
 
 def test_refuses_an_unknown_style():

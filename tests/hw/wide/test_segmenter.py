@@ -216,7 +216,7 @@ def expected_timing(cfg, states, lists):
 @pytest.mark.parametrize("lanes", [2, 4])
 def test_exact_cycles_k2(lanes, style):
     """K = 2, valid and ready always high: every beat's acceptance and every output word's
-    cycle as :func:`expected_timing` says (the scan never stalls: W*H/P >= 2**b + 5)."""
+    cycle as :func:`expected_timing` says (the scan never stalls: W*H/P >= scan_cycles + P)."""
     cfg = make_config(width=16, height=7, segment_frames=2, candidate_count=30,
                       candidate_capacity=64, histogram_bits=4, histogram_shift=4,
                       pixels_per_clock=lanes)
@@ -234,8 +234,9 @@ def test_exact_cycles_k2(lanes, style):
 @pytest.mark.parametrize("style", list(STYLES))
 @pytest.mark.parametrize("lanes", [2, 4])
 def test_k1_stalls_for_the_scan(lanes, style):
-    """K = 1: the next frame's first beat waits 2**b + 5 cycles after the last beat (one
-    more than at P = 1: the banked histogram's merge register)."""
+    """K = 1: the next frame's first beat waits 2**b + 5 cycles after the last beat at P = 2
+    (one more than at P = 1: the banked histogram's merge register), 2**b + 6 at P = 4 (its
+    pairs' register too)."""
     cfg = make_config(width=12, height=5, segment_frames=1, candidate_count=0,
                       histogram_bits=4, pixels_per_clock=lanes)
     states = synthetic_states(cfg, 4, np.random.default_rng(3), high=255)
@@ -243,7 +244,7 @@ def test_k1_stalls_for_the_scan(lanes, style):
     beats = cfg.frame_beats
     accepts = result.accept_cycles
     gaps = [accepts[t * beats] - accepts[t * beats - 1] for t in range(1, 4)]
-    assert gaps == [scan_cycles(cfg)] * 3 == [cfg.n_bins + 5] * 3
+    assert gaps == [scan_cycles(cfg)] * 3 == [cfg.n_bins + {2: 5, 4: 6}[lanes]] * 3
 
 
 def test_segmenter_picks_by_p():
