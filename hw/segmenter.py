@@ -41,8 +41,8 @@ def segmenter_setting_members(cfg: DPConfig) -> dict:
 
 def scan_cycles(cfg: DPConfig) -> int:
     """Cycles from accepting a list's last pixel (beat) to the next scored one at the earliest:
-    the scan of 2**b bins plus 4, at P = 2 plus 1, at P = 4 plus 2 (``docs/gateware.md``)."""
-    return cfg.n_bins + 4 + (cfg.pixels_per_clock > 1) + (cfg.pixels_per_clock > 2)
+    2**b bins plus 4, plus log2 P, the merge's registers (``docs/gateware.md`` "Segmenter")."""
+    return cfg.n_bins + 4 + (cfg.pixels_per_clock - 1).bit_length()
 
 
 class Segmenter(wiring.Component):
