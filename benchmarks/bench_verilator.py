@@ -10,14 +10,23 @@
    set built before), a cached build, and the run (simulation loop, and the whole run with
    process start-up and file I/O; the golden model's check is reported separately).
 3. **The same scene through ``dptbd_dp``** (1 638 400 state words, every one checked).
+4. **The C++ compiler** (``--compilers``, instead of 1–3): each of
+   :data:`~dptbd.sim.verilator.toolchain.COMPILERS` installed, as ``$CXX``, builds
+   ``dptbd_seg`` and ``dptbd_dp`` (128 x 128, as in 2.) and ``dptbd_axi`` 16 x 12 in a cache of
+   its own with its runtime library compiled first; reported: each build's seconds, the
+   scene's simulation loop through ``dptbd_seg`` and ``dptbd_dp`` (best of three), and the
+   ratios to the first compiler's.
 
     python benchmarks/bench_verilator.py                 # 64 x 64, 4 frames for the ratio
     python benchmarks/bench_verilator.py --width 32 --height 24 --frames 12
+    python benchmarks/bench_verilator.py --compilers
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
 import pathlib
 import sys
 import tempfile
@@ -25,6 +34,7 @@ import time
 
 from dptbd.config import DPConfig
 from dptbd.sim import icarus, verilator
+from dptbd.sim.verilator import toolchain
 from dptbd.sim.rtl.check import check_frames
 from dptbd.sim.scenarios import make_frames
 
@@ -64,13 +74,57 @@ def paper001(root: pathlib.Path) -> None:
               f"{result.cycles}; {result.report}")
 
 
+def compilers(root: pathlib.Path) -> None:
+    cfg = DPConfig(width=128, height=128, segment_frames=8, input_bits=12, energy_bits=16)
+    frames = make_frames("two-targets", cfg, 100, seed=0)
+    small = DPConfig(width=16, height=12)
+    first = None
+    saved = os.environ.get("CXX")
+    try:
+        seen = set()
+        for name in toolchain.COMPILERS:
+            path = shutil.which(name)
+            if path is None or os.path.realpath(path) in seen:     # c++: g++ on Debian
+                continue
+            seen.add(os.path.realpath(path))
+            os.environ["CXX"] = name
+            toolchain.check_tools.cache_clear()
+            where = root / name
+            verilator.build(small, "dp", root=where)              # the runtime library
+            row = {}
+            for label, c, design in (("seg", cfg, "segmenter"), ("dp", cfg, "dp"),
+                                     ("axi", small, "axi")):
+                sim = verilator.build(c, design, root=where)
+                row[f"{label} build"] = sim.seconds
+                if label != "axi":
+                    runs = [check_frames(sim, frames) for _ in range(3)]
+                    assert all(r.passed for r in runs), runs[0].report
+                    row[f"{label} M cycles/s"] = max(r.raw.cycles_per_second for r in runs) / 1e6
+            first = first or row
+            print(f"{name} ({toolchain.check_tools()['c++']}): " + ", ".join(
+                f"{k} {v:.2f}" + ("" if row is first else f" ({v / first[k]:.2f}x)")
+                for k, v in row.items()), flush=True)
+    finally:
+        if saved is None:
+            os.environ.pop("CXX", None)
+        else:
+            os.environ["CXX"] = saved
+        toolchain.check_tools.cache_clear()
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--width", type=int, default=64)
     parser.add_argument("--height", type=int, default=64)
     parser.add_argument("--frames", type=int, default=4)
     parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument("--compilers", action="store_true",
+                        help="only the C++ compilers' build and simulation speeds")
     args = parser.parse_args(argv)
+    if args.compilers:
+        with tempfile.TemporaryDirectory() as tmp:
+            compilers(pathlib.Path(tmp))
+        return 0
     cfg = DPConfig(width=args.width, height=args.height, segment_frames=4)
     frames = make_frames("two-targets", cfg, args.frames, seed=3)
     with tempfile.TemporaryDirectory() as tmp:

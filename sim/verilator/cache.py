@@ -287,7 +287,8 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
                "-CFLAGS", " ".join(defines), "-o", EXECUTABLE, "--Mdir", "obj",
                verilog.name, str(HARNESSES.get(design, HARNESS))]
         make = ["make", "-C", "obj", "-f", "Vdut.mk", f"-j{min(2, os.cpu_count() or 1)}",
-                f"OPT_FAST={' '.join(CXX_FLAGS)}", f"OPT_GLOBAL={' '.join(CXX_FLAGS)}"]
+                f"OPT_FAST={' '.join(CXX_FLAGS)}", f"OPT_GLOBAL={' '.join(CXX_FLAGS)}",
+                *toolchain.compiler_make_args()]
         toolchain.step(cmd, tmp, verbose, f"verilator ({toplevel}, {design})")
         runtime = toolchain.runtime_dir(directory.parent, tools, waves, coverage)
         reused = toolchain.restore_runtime(runtime, tmp / "obj")

@@ -32,6 +32,7 @@ import numpy as np
 
 from dptbd.config import AxiStoreConfig
 from dptbd.sim.verilator.cache import CXX_FLAGS, VERILATOR_FLAGS, check_tools, default_build_root
+from dptbd.sim.verilator import toolchain
 
 __all__ = ["HARNESS", "AxiStoreBuild", "AxiStoreRun", "build", "run"]
 
@@ -93,19 +94,30 @@ def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None) -> Ax
         tmp = pathlib.Path(tempfile.mkdtemp(dir=root, prefix=".dp-axi-store-"))
         try:
             (tmp / f"{MODULE_NAME}.v").write_text(text)
-            cflags = " ".join([*CXX_FLAGS, *(f"-D{k}={v}" for k, v in defines.items()),
+            cflags = " ".join([*(f"-D{k}={v}" for k, v in defines.items()),
                                f"-I{HARNESS.parent}"])
-            subprocess.run(["verilator", *VERILATOR_FLAGS, "--build", "-j", "2",
-                            "--top-module", MODULE_NAME, "-CFLAGS", cflags,
-                            "-Mdir", str(tmp / "obj"), "-o", str(tmp / EXECUTABLE),
-                            str(tmp / f"{MODULE_NAME}.v"), str(HARNESS)],
-                           check=True, capture_output=True, text=True)
+            toolchain.step(["verilator", *VERILATOR_FLAGS, "--top-module", MODULE_NAME,
+                            "-CFLAGS", cflags, "-o", EXECUTABLE, "--Mdir", "obj",
+                            f"{MODULE_NAME}.v", str(HARNESS)],
+                           tmp, False, f"verilator ({MODULE_NAME}, AXI4 store)")
+            # Verilator's runtime library as the other builds keep it (toolchain.py)
+            runtime = toolchain.runtime_dir(root, tools, waves=False)
+            reused = toolchain.restore_runtime(runtime, tmp / "obj")
+            toolchain.step(["make", "-C", "obj", "-f", "Vdut.mk",
+                            f"-j{min(2, os.cpu_count() or 1)}",
+                            f"OPT_FAST={' '.join(CXX_FLAGS)}", f"OPT_GLOBAL={' '.join(CXX_FLAGS)}",
+                            *toolchain.compiler_make_args()],
+                           tmp, False, f"C++ build ({MODULE_NAME}, AXI4 store)")
+            if not reused:
+                toolchain.save_runtime(runtime, tmp / "obj")
+            shutil.move(str(tmp / "obj" / EXECUTABLE), str(tmp / EXECUTABLE))
+            shutil.rmtree(tmp / "obj")
             if directory.exists():
                 shutil.rmtree(directory)
             tmp.rename(directory)
-        except subprocess.CalledProcessError as err:
+        except BaseException:
             shutil.rmtree(tmp, ignore_errors=True)
-            raise RuntimeError(f"verilator failed:\n{err.stderr[-4000:]}") from None
+            raise
     return AxiStoreBuild(store, directory, executable, manifest)
 
 
