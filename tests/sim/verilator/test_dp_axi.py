@@ -58,11 +58,14 @@ def test_a_128_bit_port():
 
 
 # ---- P = 2 and 4 pixels per clock: store words of P states over the same port ----------
-@pytest.fixture(scope="module", params=[2, 4])
+@pytest.fixture(scope="module", params=[2, pytest.param(4, marks=pytest.mark.slow)])
 def wide(request):
     """P = 2 / 4 at 16 x 12, bursts of 4, 16 in flight. P = 2: the build's 14-bit states
-    (31-bit output beats) on a 64-bit port; P = 4: 20-bit states, so 83-bit output beats (two
-    uint64 words each in the harness's files) and 32-bit slots on a 128-bit port."""
+    (31-bit output beats) on a 64-bit port; P = 4 (``-m slow``; the default suite's P = 4
+    store runs: ``dptbd_dp`` on ``AxiRam``, ``tests/sim/benches/test_dp_axi.py``, and
+    ``dptbd_axi`` on Verilator, ``test_axi_store.py``): 20-bit states, so 83-bit output
+    beats (two uint64 words each in the harness's files) and 32-bit slots on a 128-bit
+    port."""
     p = request.param
     if p == 2:
         cfg = DPConfig(width=16, height=12, segment_frames=3, pixels_per_clock=2).build_config()

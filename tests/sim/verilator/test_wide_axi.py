@@ -22,6 +22,12 @@ SMALL = dict(width=16, height=12, segment_frames=2, max_segment_frames=4, candid
              candidate_capacity=6, histogram_bits=6, histogram_shift=2)
 
 
+#: P = 2, and P = 4 under ``-m slow``: the default suite runs ``dptbd_axi`` at P = 4 on
+#: Verilator in the campaign (``tests/sim/campaign/test_campaign.py``: bit-exact with stalls,
+#: resets and faults) and with the AXI4 store (``test_axi_store.py``).
+P_VALUES = [2, pytest.param(4, marks=pytest.mark.slow)]
+
+
 def frames_of(cfg, n, seed):
     return make_frames("two-targets", cfg, n, seed=seed)
 
@@ -33,7 +39,7 @@ def wide_config(p):
     return make_config(**{**SMALL, "histogram_bits": 7 - p // 2}, pixels_per_clock=p)
 
 
-@pytest.mark.parametrize("p", [2, 4])
+@pytest.mark.parametrize("p", P_VALUES)
 def test_full_rate_bit_exact(p):
     """tvalid and tready held high: bit-exact lists and counters; one beat per clock
     through the first segment (nothing to funnel: its list is empty), and every stall
@@ -52,7 +58,7 @@ def test_full_rate_bit_exact(p):
     assert (np.diff(accept[:first_segment + 1]) == 1).all()
 
 
-@pytest.mark.parametrize("p", [2, 4])
+@pytest.mark.parametrize("p", P_VALUES)
 def test_gaps_back_pressure_settings_and_soft_reset(p):
     cfg = wide_config(p)
     sim = built(cfg, "axi")

@@ -28,6 +28,10 @@ pytestmark = needs_verilator
 #: writes K = 4; one P = 2 build for every test here); P = 4 with 16-bit pixels: 65-bit beats
 P2 = dict(SEG, pixels_per_clock=2, max_segment_frames=4)
 P4 = dict(SEG, pixels_per_clock=4, input_bits=16, energy_bits=18, histogram_shift=9)
+#: The P = 4 build's tests under ``-m slow``: the default suite runs ``dptbd_seg`` at P = 4
+#: on Verilator in the campaign (``tests/sim/campaign/test_campaign.py``: bit-exact with
+#: stalls, resets and faults), and 65-bit beats in ``test_wide.py``.
+P4_SLOW = pytest.param(P4, marks=pytest.mark.slow, id="p4-wide")
 
 
 def beats(cfg, sim, frames):
@@ -38,7 +42,9 @@ def beats(cfg, sim, frames):
     return V.beat_words(values, V.payload_words(sim, "pixels"))
 
 
-@pytest.mark.parametrize("kw, words", [(P2, 1), (P4, 2)], ids=["p2", "p4-wide"])
+@pytest.mark.parametrize("kw, words", [pytest.param(P2, 1, id="p2"),
+                                      pytest.param(P4, 2, marks=pytest.mark.slow,
+                                                   id="p4-wide")])
 def test_exact_cycles_and_bits(kw, words):
     """valid and ready high, K = 3, (K-1)·W·H/P >= 2^b + 4: one beat per clock through the
     first segment (its list is empty and unprimed: nothing to funnel) and the first list
@@ -67,7 +73,7 @@ def test_exact_cycles_and_bits(kw, words):
     assert result.words_out == sum(lst.count + 1 for lst in lists)
 
 
-@pytest.mark.parametrize("kw", [P2, P4], ids=["p2", "p4-wide"])
+@pytest.mark.parametrize("kw", [pytest.param(P2, id="p2"), P4_SLOW])
 @pytest.mark.parametrize("valid_gap, ready_pause", [(0.3, 0.0), (0.0, 0.7), (0.5, 0.5)])
 def test_gaps_and_back_pressure(kw, valid_gap, ready_pause):
     cfg = make_config(**kw)
@@ -96,7 +102,7 @@ def test_run_time_settings():
     assert result.raw.counters["events_list_done"] == len(schedule)
 
 
-@pytest.mark.parametrize("kw", [P2, P4], ids=["p2", "p4-wide"])
+@pytest.mark.parametrize("kw", [pytest.param(P2, id="p2"), P4_SLOW])
 def test_resets_mid_frame(kw):
     """Resets at chosen cycles: before each, a prefix of the model's lists; after the last,
     the model's lists of the beats accepted since."""
