@@ -64,7 +64,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true",
                         help="overwrite --json, --coverage or --out")
     parser.add_argument("--formal", action="store_true",
-                        help="run the formal proofs (SymbiYosys, Boolector) instead of the campaign")
+                        help="run the formal proofs (SymbiYosys, Boolector) instead of the "
+                             "campaign")
     parser.add_argument("--out", type=pathlib.Path, metavar="DIR",
                         help="with --formal: keep every run (SBY files, logs, counterexample "
                              "traces) and formal.json in this new folder")

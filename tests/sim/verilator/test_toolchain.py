@@ -33,7 +33,8 @@ INSTALL = ("; install it (bash scripts/setup.sh setup) or use the Icarus simulat
     ({"verilator"}, "verilator (Debian package 'verilator')"),
     ({"make"}, "make (Debian package 'make')"),
     ({"clang++", "g++", "c++"}, "a C++ compiler (Debian package 'g++')"),
-    ({"verilator", "clang++", "g++", "c++", "make"}, "verilator (Debian package 'verilator') and a C++ "
+    ({"verilator", "clang++", "g++", "c++", "make"},
+     "verilator (Debian package 'verilator') and a C++ "
      "compiler (Debian package 'g++') and make (Debian package 'make')"),
 ])
 def test_missing_tools_are_named(tmp_path, monkeypatch, clear_tools, missing, named):
