@@ -18,6 +18,7 @@ HEAVY_FIRST = (
     "tests/commands/verilog/test_state_store.py",
     "tests/hw/flow/test_axi_package.py",
     "tests/hw/wide/test_init.py",
+    "tests/hw/wide/test_options.py",
     "tests/commands/run/test_rtl.py",
     "tests/commands/run/test_outputs.py",
     "tests/hw/flow/test_verilog.py",

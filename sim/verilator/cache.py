@@ -286,17 +286,10 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
         cmd = ["verilator", *VERILATOR_FLAGS, *trace, *cover, "--top-module", toplevel,
                "-CFLAGS", " ".join(defines), "-o", EXECUTABLE, "--Mdir", "obj",
                verilog.name, str(HARNESSES.get(design, HARNESS))]
-        make = ["make", "-C", "obj", "-f", "Vdut.mk", f"-j{min(2, os.cpu_count() or 1)}",
-                f"OPT_FAST={' '.join(CXX_FLAGS)}", f"OPT_GLOBAL={' '.join(CXX_FLAGS)}",
-                *toolchain.compiler_make_args()]
         toolchain.step(cmd, tmp, verbose, f"verilator ({toplevel}, {design})")
-        runtime = toolchain.runtime_dir(directory.parent, tools, waves, coverage)
-        reused = toolchain.restore_runtime(runtime, tmp / "obj")
-        toolchain.step(make, tmp, verbose, f"C++ build ({toplevel}, {design})")
-        if not reused:
-            toolchain.save_runtime(runtime, tmp / "obj")
-        shutil.move(str(tmp / "obj" / EXECUTABLE), str(tmp / EXECUTABLE))
-        shutil.rmtree(tmp / "obj")
+        toolchain.compile_executable(
+            tmp, EXECUTABLE, toolchain.runtime_dir(directory.parent, tools, waves, coverage),
+            verbose, f"C++ build ({toplevel}, {design})")
         stamp = {"key": key, "executable_sha256": _sha256(tmp / EXECUTABLE),
                  "design": design, "toplevel": toplevel, "tools": tools,
                  "command": cmd, "manifest": manifest}

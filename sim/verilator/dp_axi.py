@@ -100,18 +100,9 @@ def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None) -> Ax
                             "-CFLAGS", cflags, "-o", EXECUTABLE, "--Mdir", "obj",
                             f"{MODULE_NAME}.v", str(HARNESS)],
                            tmp, False, f"verilator ({MODULE_NAME}, AXI4 store)")
-            # Verilator's runtime library as the other builds keep it (toolchain.py)
-            runtime = toolchain.runtime_dir(root, tools, waves=False)
-            reused = toolchain.restore_runtime(runtime, tmp / "obj")
-            toolchain.step(["make", "-C", "obj", "-f", "Vdut.mk",
-                            f"-j{min(2, os.cpu_count() or 1)}",
-                            f"OPT_FAST={' '.join(CXX_FLAGS)}", f"OPT_GLOBAL={' '.join(CXX_FLAGS)}",
-                            *toolchain.compiler_make_args()],
-                           tmp, False, f"C++ build ({MODULE_NAME}, AXI4 store)")
-            if not reused:
-                toolchain.save_runtime(runtime, tmp / "obj")
-            shutil.move(str(tmp / "obj" / EXECUTABLE), str(tmp / EXECUTABLE))
-            shutil.rmtree(tmp / "obj")
+            toolchain.compile_executable(tmp, EXECUTABLE,
+                                         toolchain.runtime_dir(root, tools, waves=False),
+                                         False, f"C++ build ({MODULE_NAME}, AXI4 store)")
             if directory.exists():
                 shutil.rmtree(directory)
             tmp.rename(directory)

@@ -35,6 +35,7 @@ __all__ = [
     "harness_sources",
     "store_defines",
     "step",
+    "compile_executable",
     "runtime_dir",
     "restore_runtime",
     "save_runtime",
@@ -140,6 +141,23 @@ def runtime_dir(root: pathlib.Path, tools: dict, waves: bool, coverage: bool = F
                                      "flags": VERILATOR_FLAGS, "cxx": CXX_FLAGS},
                                     sort_keys=True).encode())
     return root / f"runtime-{key.hexdigest()[:12]}"
+
+
+def compile_executable(work: pathlib.Path, executable: str, runtime: pathlib.Path,
+                       verbose: bool, what: str) -> None:
+    """``make`` Verilator's output in ``work/obj`` (``Vdut.mk``) into ``work/executable``
+    with :func:`compiler` and :data:`CXX_FLAGS`: Verilator's runtime library copied from
+    ``runtime`` when kept there (:func:`runtime_dir`), else compiled and kept; ``obj``
+    removed after."""
+    obj = work / "obj"
+    reused = restore_runtime(runtime, obj)
+    step(["make", "-C", "obj", "-f", "Vdut.mk", f"-j{min(2, os.cpu_count() or 1)}",
+          f"OPT_FAST={' '.join(CXX_FLAGS)}", f"OPT_GLOBAL={' '.join(CXX_FLAGS)}",
+          *compiler_make_args()], work, verbose, what)
+    if not reused:
+        save_runtime(runtime, obj)
+    shutil.move(str(obj / executable), str(work / executable))
+    shutil.rmtree(obj)
 
 
 def restore_runtime(runtime: pathlib.Path, obj: pathlib.Path) -> bool:

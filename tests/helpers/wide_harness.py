@@ -5,12 +5,26 @@ beats out, scored per pixel with :mod:`helpers.hw_harness`'s ``reference_states`
 from __future__ import annotations
 
 import random
+import warnings
 
 import numpy as np
 
-from dptbd.config import DPConfig
+from dptbd.config import DPConfig, EnergyWidthWarning
 from dptbd.hw.wide import pack_beat, unpack_beat_states
 from helpers.hw_harness import StreamRun, simulate, stream_cycle
+
+
+def make_config(**kw) -> DPConfig:
+    """``DPConfig(**kw)``, a narrow energy width allowed."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EnergyWidthWarning)
+        return DPConfig(**kw)
+
+
+def random_frames(cfg: DPConfig, n_frames: int, seed: int) -> np.ndarray:
+    """``n_frames`` frames of uniform random pixels."""
+    rng = np.random.default_rng(seed)
+    return rng.integers(0, cfg.pixel_max + 1, size=(n_frames, cfg.height, cfg.width))
 
 
 def frames_to_beats(cfg: DPConfig, frames: np.ndarray) -> list[tuple[tuple[int, ...], bool]]:
