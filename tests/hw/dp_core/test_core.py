@@ -1,6 +1,5 @@
 """DPCore with an external state store: a Python model of a one-cycle synchronous SRAM."""
 
-import itertools
 import random
 
 import numpy as np
@@ -11,12 +10,13 @@ from dptbd.config import DPConfig
 from dptbd.hw.dp_core import CORE_OPTIONS, DPCore
 from dptbd.hw.dp_pipeline import DPPipeline
 from helpers.dp16kd_model import model_dp16kd_cells
+from helpers.option_sets import option_params
 from helpers.hw_harness import (assert_states_equal, frames_to_stream, reference_states, refused,
                         run_stream)
 from helpers.refusals import whole
 
 #: Every combination of DPCore's implementation options (the iCE40 and ECP5 flows' among
-#: them).
+#: them); the default suite every pair of their values (``helpers.option_sets``).
 # The on-chip store's DP16KD build is checked in tests/hw/test_read_ahead_store.py and the
 # histogram, the control style and the register read are not in these blocks (the
 # segmenter's and the AXI top's tests; the core builds the same netlist with each,
@@ -27,9 +27,10 @@ from helpers.refusals import whole
 SIMULATED = {**CORE_OPTIONS, "state_store_style": ("memory",), "histogram_style": ("memory",),
              "control_style": ("generic",), "register_read": ("one_level",),
              "credit_ready": ("one",)}
-OPTION_SETS = [dict(zip(SIMULATED, values)) for values in itertools.product(
-    *{**SIMULATED, "lut_write": SIMULATED["lut_write"][:1]}.values())
-] + [{name: values[-1] for name, values in SIMULATED.items()}]
+OPTION_SETS = option_params(
+    {name: values for name, values in SIMULATED.items() if len(values) > 1 and name != "lut_write"},
+    base={name: values[0] for name, values in SIMULATED.items()},
+    last={name: values[-1] for name, values in SIMULATED.items()})
 
 
 def sram_model(bus, words, seed):
@@ -70,7 +71,7 @@ def test_external_store_matches_golden_model(style):
     assert collisions == []   # no read and write of one address in one cycle
 
 
-@pytest.mark.parametrize("options", OPTION_SETS, ids=lambda o: "-".join(o.values()))
+@pytest.mark.parametrize("options", OPTION_SETS)
 @pytest.mark.parametrize("kw, n_frames", [
     (dict(width=6, height=5, segment_frames=3), 5),
     (dict(width=7, height=6, segment_frames=2, radius=2, rounding="half_up"), 3),
@@ -89,7 +90,7 @@ def test_storage_options_are_bit_exact(monkeypatch, options, kw, n_frames):
     assert collisions == []
 
 
-@pytest.mark.parametrize("options", OPTION_SETS, ids=lambda o: "-".join(o.values()))
+@pytest.mark.parametrize("options", OPTION_SETS)
 def test_storage_options_keep_the_cycle_count(monkeypatch, options):
     """Valid and ready always high: no bubble; latency 14, or 14 + 4 with the split max
     tree (two stages for each of the ceil(log2 9) = 4 levels), whatever the line buffer."""

@@ -4,7 +4,6 @@ the credit's copies cycle for cycle, the options it ignores netlist for netlist,
 line buffer each style chooses."""
 
 import functools
-import itertools
 
 import numpy as np
 import pytest
@@ -13,26 +12,27 @@ from amaranth.back import rtlil
 from dptbd.hw.dp_core import CORE_OPTIONS
 from dptbd.hw.wide import DPPipelineWide
 from helpers.dp16kd_model import model_dp16kd_cells
+from helpers.option_sets import option_params
 from helpers.hw_harness import assert_states_equal, reference_states
 from helpers.wide_harness import frames_to_beats, make_config, random_frames, run_beats
 
 
 #: The implementation options the P-pixel pipeline builds: its structure's (every
-#: combination simulated), the credit's copies and the LUT's write decode (their blocks' own
-#: tests; here only in the set of every last value). The others are the on-chip store's, the
-#: segmenter's, the P = 1 flags queue's and the AXI top's, which it accepts and ignores
+#: combination simulated; the default suite every pair of values), the credit's copies and
+#: the LUT's write decode (their blocks' own tests; here only in the set of every last
+#: value). The others are the on-chip store's, the segmenter's, the P = 1 flags queue's and
+#: the AXI top's, which it accepts and ignores
 #: (``test_ignored_core_options_build_the_same_netlist``).
 STRUCTURE_OPTIONS = ("line_buffer_style", "sideband_delay", "max_tree")
 WIDE_OPTIONS = STRUCTURE_OPTIONS + ("credit_ready", "lut_write")
 IGNORED_OPTIONS = tuple(name for name in CORE_OPTIONS if name not in WIDE_OPTIONS)
-WIDE_OPTION_SETS = [
-    {**{name: CORE_OPTIONS[name][0] for name in CORE_OPTIONS},
-     **dict(zip(STRUCTURE_OPTIONS, values))}
-    for values in itertools.product(*(CORE_OPTIONS[name] for name in STRUCTURE_OPTIONS))
-] + [{name: values[-1] for name, values in CORE_OPTIONS.items()}]
+WIDE_OPTION_SETS = option_params(
+    {name: CORE_OPTIONS[name] for name in STRUCTURE_OPTIONS},
+    base={name: values[0] for name, values in CORE_OPTIONS.items()},
+    last={name: values[-1] for name, values in CORE_OPTIONS.items()})
 
 
-@pytest.mark.parametrize("options", WIDE_OPTION_SETS, ids=lambda o: "-".join(o.values()))
+@pytest.mark.parametrize("options", WIDE_OPTION_SETS)
 def test_core_options_change_nothing(monkeypatch, options):
     model_dp16kd_cells(monkeypatch)          # the DP16KD line buffer's block RAMs, modelled
     cfg = make_config(width=8, height=6, segment_frames=3, pixels_per_clock=2)
