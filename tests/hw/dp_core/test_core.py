@@ -1,5 +1,6 @@
 """DPCore with an external state store: a Python model of a one-cycle synchronous SRAM."""
 
+import itertools
 import random
 
 import numpy as np
@@ -88,6 +89,22 @@ def test_storage_options_are_bit_exact(monkeypatch, options, kw, n_frames):
                      ready_probability=0.7, seed=9, processes=[process])
     assert_states_equal(run.outputs, reference_states(cfg, frames))
     assert collisions == []
+
+
+def test_the_default_suite_holds_every_pair_of_option_values():
+    """The option sets are every combination (with the set of every last value); those the
+    default suite runs (not marked slow) hold every pair of values of every two options."""
+    varied = [name for name, values in SIMULATED.items()
+              if len(values) > 1 and name != "lut_write"]
+    runs = [param.values[0] for param in OPTION_SETS]
+    default = [options for options, param in zip(runs, OPTION_SETS) if not param.marks]
+    combos = {tuple(options[name] for name in varied) for options in runs[:-1]}
+    assert len(combos) == len(runs) - 1 == 24
+    assert runs[-1] == {name: values[-1] for name, values in SIMULATED.items()}
+    assert len(default) == 8 and not OPTION_SETS[-1].marks
+    for a, b in itertools.combinations(varied, 2):
+        assert {(o[a], o[b]) for o in default} == set(itertools.product(SIMULATED[a],
+                                                                        SIMULATED[b]))
 
 
 @pytest.mark.parametrize("options", OPTION_SETS)
