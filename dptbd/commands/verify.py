@@ -111,8 +111,9 @@ def main(args: argparse.Namespace) -> int:
     if args.list:
         for c in cases:
             cfg = c.cfg
-            print(f"{c.name:28s} {c.design:9s} {cfg.describe()}  {c.runs} runs x {c.frames} "
-                  f"frames  faults: "
+            built = "" if c.family is None else f", {c.family} build"
+            print(f"{c.name:28s} {c.design:9s} {cfg.describe()}{built}  {c.runs} runs x "
+                  f"{c.frames} frames  faults: "
                   f"{', '.join(c.faults) or '-'}{', random LUT' if c.random_lut else ''}")
         from dptbd.sim.coverage.report import axi_cases, extra_cases
         for c in [*extra_cases(), *axi_cases()]:

@@ -286,7 +286,8 @@ def check_run(case, seed: int, root: str | None = None, coverage: str | None = N
     from dptbd.sim.verilator.axi import check_axi
 
     start = time.perf_counter()
-    sim = build(case.cfg, "axi", root=root, coverage=coverage is not None)
+    sim = build(case.cfg, "axi", root=root, coverage=coverage is not None,
+                family=case.family)
     plan = draw_run(case, seed)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", EnergyWidthWarning)

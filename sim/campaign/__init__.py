@@ -80,7 +80,8 @@ def check_run(case: Case, seed: int, root: str | None = None,
         return check_axi_store_run(case, seed, root)
 
     start = time.perf_counter()
-    sim = build(case.cfg, case.design, root=root, coverage=coverage is not None)
+    sim = build(case.cfg, case.design, root=root, coverage=coverage is not None,
+                family=case.family)
     latency = int(sim.manifest.get("dp_latency", sim.latency))
     words, stim, notes, events = make_stream_run(case, seed, latency)
     with warnings.catch_warnings():
@@ -169,7 +170,7 @@ def run_campaign(cases: Sequence[Case] | None = None, *, runs_scale: float = 1.0
             elif case.design == "axi_store":
                 build_axi_store(case, root=root)
             else:
-                build(case.cfg, case.design, root=root)
+                build(case.cfg, case.design, root=root, family=case.family)
 
     start = time.perf_counter()
     outcomes, used = run_tasks(

@@ -9,7 +9,7 @@ import dataclasses
 from dptbd.config import DPConfig, EnergyWidthWarning
 
 __all__ = ["FAULTS", "Case", "default_cases", "wide_cases", "axi_cases", "store_cases",
-           "x_store_cases"]
+           "family_cases", "x_store_cases"]
 
 #: Fault classes a case may draw from (see :func:`dptbd.sim.campaign.draw.make_run`).
 FAULTS = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "store_garbage",
@@ -41,6 +41,10 @@ class Case:
     store : dict or None
         ``design="dp_axi"`` or ``"axi_store"`` (:mod:`dptbd.sim.campaign.store`):
         the :class:`~dptbd.config.AxiStoreConfig` fields (:meth:`DPConfig.axi_store`).
+    family : str or None
+        The FPGA family whose implementation options the build has (``dptbd verilog
+        --family``; ``build(..., family=…)`` of :mod:`dptbd.sim.verilator`), ``None`` for
+        DPCore's defaults. Designs ``"dp"``, ``"core"``, ``"segmenter"`` and ``"axi"``.
     """
 
     name: str
@@ -51,6 +55,7 @@ class Case:
     faults: tuple[str, ...] = ()
     random_lut: bool = False
     store: dict | None = None
+    family: str | None = None
 
     @property
     def cfg(self) -> DPConfig:
@@ -69,7 +74,7 @@ def default_cases() -> list[Case]:
     every = ("reset", "misaligned_first", "short_frame", "long_frame", "lut", "settings")
     p001 = dict(width=128, height=128, segment_frames=8, input_bits=12, energy_bits=16,
                 weight_frac_bits=8)
-    return [
+    cases = [
         Case("001-128x128-k8-in12-e16", p001, "dp", 48, 32, every),
         Case("37x23-k3-in8-e12-f4", dict(width=37, height=23, segment_frames=3, input_bits=8,
                                         energy_bits=12, weight_frac_bits=4), "dp", 400, 20,
@@ -97,6 +102,23 @@ def default_cases() -> list[Case]:
         *axi_cases(),
         *store_cases(),
     ]
+    return cases + family_cases(cases, "ecp5", FAMILY_CASES)
+
+
+#: The cases run again on the ECP5 family's build (``dptbd verilog --family ecp5``: the
+#: registered control, the output queue one-hot, the state store and the histogram in
+#: DP16KDs, which Verilator simulates with :mod:`dptbd.sim.cell_models`' model), one per
+#: top level and P = 2's AXI top.
+FAMILY_CASES = ("37x23-k3-in8-e12-f4", "core-96x64-garbage-store", "segmenter-33x17-k2-n3",
+                "axi-24x16-f0-k2", "axi-p2-48x16-f0-k2")
+
+
+def family_cases(cases: list[Case], family: str, names: tuple[str, ...]) -> list[Case]:
+    """The cases of ``names`` (among ``cases``) on ``family``'s build, named
+    ``<name>-<family>``, with half their runs (at least one)."""
+    by_name = {case.name: case for case in cases}
+    return [dataclasses.replace(by_name[name], name=f"{name}-{family}", family=family,
+                                runs=max(1, by_name[name].runs // 2)) for name in names]
 
 
 def wide_cases(faults: tuple[str, ...]) -> list[Case]:

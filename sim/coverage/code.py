@@ -289,5 +289,11 @@ def unescape(name: str) -> str:
 
 
 def usable(points: Iterable[Point], artefacts: set[int]) -> list[Point]:
-    """The points that are not on an artefact line (Yosys' time-0 trigger)."""
-    return [p for p in points if p.line not in artefacts and ARTEFACT not in unescape(p.what)]
+    """The points of the generated Verilog that are not on an artefact line (Yosys' time-0
+    trigger): a family build's vendor-cell models (:mod:`dptbd.sim.cell_models`, files of
+    their own) are not the gateware, and their lines are not the generated text's."""
+    from dptbd.sim.cell_models import CELL_MODELS
+
+    models = set(CELL_MODELS.values())
+    return [p for p in points if p.line not in artefacts and ARTEFACT not in unescape(p.what)
+            and pathlib.PurePath(p.file).name not in models]

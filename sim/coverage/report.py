@@ -91,7 +91,8 @@ def run_coverage(out: pathlib.Path, cases: Sequence, *, axi: Sequence[AxiCase] =
     tasks, mergers, builds = [], [], {}
     execution = job_execution(workers, scheduler=scheduler, dashboard=dashboard,
                               tasks=sum(max(1, round(c.runs * runs_scale)) for c, _ in every))
-    sims = [build(cfg, case.design, root=root, coverage=True) for case, cfg in every]
+    sims = [build(cfg, case.design, root=root, coverage=True, family=case.family)
+            for case, cfg in every]
     by_build: dict[str, RunMerger] = {}
     for i, ((case, _), sim) in enumerate(zip(every, sims)):
         name = sim.directory.name

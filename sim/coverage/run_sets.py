@@ -21,13 +21,15 @@ __all__ = ["AxiCase", "COUNTER_EVENTS", "COUNTER_CONFIG", "extra_cases", "axi_ca
 class AxiCase:
     """An AXI run of the coverage campaign: a configuration, seeds and the scene
     (``"faults"``: :func:`!_axi_scene`; ``"bright"``: the same with a full-scale line in every
-    frame; ``"counters"``: :func:`counter_scene`)."""
+    frame; ``"counters"``: :func:`counter_scene`), the build's FPGA family as a campaign
+    :class:`~dptbd.sim.campaign.Case`'s."""
 
     name: str
     config: dict
     runs: int
     design: str = "axi"
     scene: str = "faults"
+    family: str | None = None
 
 
 #: The event counters' bits up to 19 are reached by 2**19 events of each (bit k first
@@ -160,7 +162,7 @@ def check_axi_run(case: AxiCase, seed: int, root, coverage: str):
 
     start = time.perf_counter()
     cfg = _config(case.config)
-    sim = build(cfg, "axi", root=root, coverage=True)
+    sim = build(cfg, "axi", root=root, coverage=True, family=case.family)
     rng = np.random.default_rng([seed, 0xA71])
     if case.scene == "counters":
         beats, steps = counter_scene(cfg, seed)

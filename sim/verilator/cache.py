@@ -105,6 +105,7 @@ class VerilatorBuild(CompiledDesign):
     coverage: bool = False   # a coverage build (COVERAGE_FLAGS): runs may write coverage data
     state_store: object = None   # design "axi" with the state in external memory: its AxiStoreConfig
     mutant: bool = False     # a mutant build (mutations given): mutsel, counter presets (axi)
+    family: str | None = None   # the FPGA family whose core options the build has (None: DPCore's defaults)
 
     @property
     def output(self) -> str:
@@ -118,7 +119,8 @@ def _store_fields(store) -> dict:
 
 
 def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
-               coverage: bool = False, mutations: tuple[str, ...] = (), store=None) -> str:
+               coverage: bool = False, mutations: tuple[str, ...] = (), store=None,
+               family: str | None = None) -> str:
     from dptbd.hw.flow.source_hash import gateware_hash
 
     extra = {}                                # the plain build's key unchanged
@@ -129,6 +131,10 @@ def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
         extra.update(mutations=list(mutations), mutant_netlist=_mutant_netlist_hash())
     if store is not None:
         extra["state_store"] = _store_fields(store)
+    if family is not None:                    # its options, and the cell models it may need
+        from dptbd.sim.cell_models import CELL_MODELS, model_path
+        extra.update(family=family, core_options=_family_options(cfg, family),
+                     cell_models={cell: _sha256(model_path(cell)) for cell in CELL_MODELS})
     blob = json.dumps({**extra,
         "config": cfg.to_mapping(), "design": design, "lut_style": lut_style,
         "waves": waves, "gateware": gateware_hash(),
@@ -163,30 +169,38 @@ def _stamp_ok(directory: pathlib.Path, key: str) -> dict | None:
     return None
 
 
+def _family_options(cfg: DPConfig, family: str) -> dict:
+    """The core options ``dptbd verilog --family family`` builds ``cfg`` with."""
+    from dptbd.hw.flow.family import get_family
+    return dict(get_family(family).options_for(cfg))
+
+
 def _generate(cfg: DPConfig, design: str, lut_style: str, coverage: bool = False,
-              store=None) -> tuple[str, dict]:
+              store=None, family: str | None = None) -> tuple[str, dict]:
     if coverage:
         from dptbd.sim.coverage.source_text import coverage_text
         with coverage_text():
-            return _generate(cfg, design, lut_style, store=store)
+            return _generate(cfg, design, lut_style, store=store, family=family)
+    options = None if family is None else _family_options(cfg, family)
     if design == "axi":
         from dptbd.hw.flow.axi_package import generate_axi_verilog
         if lut_style != "auto":
             raise ValueError("the AXI top takes the default lut_style 'auto' only")
-        return generate_axi_verilog(cfg, state_store=store)
+        return generate_axi_verilog(cfg, state_store=store, core_options=options)
     if design == "segmenter":
         from dptbd.hw.flow.segmenter_verilog import generate_segmenter_verilog
         if lut_style != "auto":
             raise ValueError("the segmenter top takes the default lut_style 'auto' only")
-        return generate_segmenter_verilog(cfg)
+        return generate_segmenter_verilog(cfg, core_options=options)
     from dptbd.hw.flow.verilog import generate_verilog
-    return generate_verilog(cfg, external_state_store=design == "core", lut_style=lut_style)
+    return generate_verilog(cfg, external_state_store=design == "core", lut_style=lut_style,
+                            core_options=options)
 
 
 def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None = None,
           waves: bool = False, lut_style: str = "auto", verbose: bool = False,
           coverage: bool = False, mutations: Sequence[str] = (),
-          state_store=None) -> VerilatorBuild:
+          state_store=None, family: str | None = None) -> VerilatorBuild:
     """Verilate and compile ``design`` for ``cfg``, or reuse the cached executable.
 
     Parameters
@@ -212,6 +226,12 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     state_store : AxiStoreConfig, optional
         Design ``axi`` only: ``dptbd_axi --state-store axi`` of ``state_store`` (made for
         ``cfg``), its port served by the harness's AXI4 memory model (``axi4_memory.h``).
+    family : str, optional
+        Build the DP core with the implementation options of this FPGA family
+        (:meth:`~dptbd.hw.flow.family.Family.options_for`, as ``dptbd verilog --family``
+        writes it), the vendor cells it instantiates simulated by their models
+        (:mod:`dptbd.sim.cell_models`: the ECP5 ``DP16KD``). ``None`` (default): DPCore's
+        defaults. Not with ``mutations``.
     """
     if design not in DESIGNS:
         raise ValueError(f"design must be one of {', '.join(DESIGNS)}, got {design!r}")
@@ -241,31 +261,39 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
         raise ValueError("state_store applies to design 'axi' without mutations only")
     if state_store is not None and state_store.frame != cfg:
         raise ValueError("state_store was made for another configuration than cfg")
-    key = _build_key(cfg, design, lut_style, waves, coverage, mutations, state_store)
+    if family is not None:
+        _family_options(cfg, family)           # ValueError naming the families
+        if mutations:
+            raise ValueError("a mutant build has DPCore's default options: family must be "
+                             f"None with mutations, got {family!r}")
+    key = _build_key(cfg, design, lut_style, waves, coverage, mutations, state_store, family)
     root = pathlib.Path(root) if root is not None else default_build_root()
     kind = (f"-mut{len(mutations)}" if mutations else "") + ("-waves" if waves else "") \
-        + ("-cov" if coverage else "") + ("" if state_store is None else "-store")
+        + ("-cov" if coverage else "") + ("" if state_store is None else "-store") \
+        + ("" if family is None else f"-{family}")
     directory = root.resolve() / f"{config_name(cfg)}-{design}{kind}-{key[:12]}"
     with locked(root.resolve() / ".locks" / (directory.name + ".lock")):
         manifest = _stamp_ok(directory, key)
         cached = manifest is not None
         if not cached:
             manifest = _compile(cfg, design, lut_style, waves, key, directory, tools, verbose,
-                                coverage, mutations, state_store)
+                                coverage, mutations, state_store, family)
     return VerilatorBuild(cfg, design, directory, directory / EXECUTABLE, manifest, key,
                           time.perf_counter() - start, cached, waves, coverage, state_store,
-                          bool(mutations))
+                          bool(mutations), family)
 
 
 def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
              directory: pathlib.Path, tools: dict, verbose: bool, coverage: bool = False,
-             mutations: tuple[str, ...] = (), store=None) -> dict:
+             mutations: tuple[str, ...] = (), store=None, family: str | None = None) -> dict:
+    from dptbd.sim.cell_models import model_sources
+
     toplevel, define, _ = DESIGNS[design]
     if mutations:
         from dptbd.sim.mutation.netlist import mutant_verilog
         text, manifest = mutant_verilog(cfg, design, mutations)
     else:
-        text, manifest = _generate(cfg, design, lut_style, coverage, store)
+        text, manifest = _generate(cfg, design, lut_style, coverage, store, family)
     directory.parent.mkdir(parents=True, exist_ok=True)
     tmp = pathlib.Path(tempfile.mkdtemp(prefix=directory.name + ".", dir=directory.parent))
     try:
@@ -285,7 +313,8 @@ def _compile(cfg: DPConfig, design: str, lut_style: str, waves: bool, key: str,
         cover = list(COVERAGE_FLAGS) if coverage else []
         cmd = ["verilator", *VERILATOR_FLAGS, *trace, *cover, "--top-module", toplevel,
                "-CFLAGS", " ".join(defines), "-o", EXECUTABLE, "--Mdir", "obj",
-               verilog.name, str(HARNESSES.get(design, HARNESS))]
+               verilog.name, *map(str, model_sources(text)),
+               str(HARNESSES.get(design, HARNESS))]
         toolchain.step(cmd, tmp, verbose, f"verilator ({toplevel}, {design})")
         toolchain.compile_executable(
             tmp, EXECUTABLE, toolchain.runtime_dir(directory.parent, tools, waves, coverage),

@@ -93,6 +93,31 @@ def test_the_campaign_runs_an_axi_case():
     assert all(sum(o.bins.values()) > 0 for o in result.outcomes)
 
 
+def test_the_ecp5_cases_are_named_cases_again_on_the_family_build():
+    """``family_cases``: each case of ``FAMILY_CASES`` again with ``family="ecp5"``, named
+    ``<name>-ecp5``, with half its runs; the AXI top's (registered control, DP16KD store
+    and histogram on the model) one shortened run through the campaign, bit-exact."""
+    from dptbd.sim.campaign.cases import FAMILY_CASES
+    from dptbd.sim.verilator import build
+
+    cases = default_cases()
+    by_name = {c.name: c for c in cases}
+    family = [c for c in cases if c.family is not None]
+    assert [c.name for c in family] == [f"{name}-ecp5" for name in FAMILY_CASES]
+    assert {c.design for c in family} == {"dp", "core", "segmenter", "axi"}
+    for case in family:
+        base = by_name[case.name.removesuffix("-ecp5")]
+        assert base.family is None and case == dataclasses.replace(
+            base, name=case.name, family="ecp5", runs=max(1, base.runs // 2))
+    case = dataclasses.replace(by_name["axi-24x16-f0-k2-ecp5"], frames=40)
+    result = run_campaign([case], runs_scale=0.25, workers=1, x_store=False, base_seed=5)
+    assert [(c.name, c.runs, c.passed) for c in result.cases] == \
+        [("axi-24x16-f0-k2-ecp5", 1, True)], [o.report for o in result.outcomes]
+    assert result.words_in == len(make_run(case, result.outcomes[0].seed).beats)
+    sim = build(case.cfg, "axi", family="ecp5")           # the campaign's build, cached
+    assert sim.cached and sim.manifest["core_options"]["histogram_style"] == "dp16kd"
+
+
 @pytest.mark.parametrize("p", [pytest.param(2, marks=pytest.mark.slow), 4])
 def test_the_campaign_runs_the_wide_cases(p):
     """``dptbd_seg`` and ``dptbd_axi`` at P = 2 and 4 (``wide_cases``; the default suite

@@ -54,7 +54,8 @@ def test_the_store_checks_cover_both_inits_on_two_builds():
 
 _WORDS = ("zero one two three four five six seven eight nine ten eleven twelve thirteen "
           "fourteen fifteen sixteen seventeen eighteen nineteen twenty twenty-one twenty-two "
-          "twenty-three twenty-four twenty-five twenty-six").split()
+          "twenty-three twenty-four twenty-five twenty-six twenty-seven twenty-eight twenty-nine "
+          "thirty").split()
 _ROOT = pathlib.Path(__file__).resolve().parents[3]
 
 

@@ -113,6 +113,10 @@ def test_locate_a_chain_else_by_its_span_and_drop_the_trigger():
     assert C.locate(line_else, srcmap) == "/nowhere/hw/x.py:15"
     assert C.locate(branch, srcmap) == "/nowhere/hw/x.py:10"
     assert C.usable([line_else, branch, trigger, trigger_bit], artefacts) == [line_else, branch]
+    # a point of a vendor cell's model (an ECP5 build's DP16KD) is not the gateware's
+    model = C.Point("branch", "DP16KD__D12_DB12_RBz1", "/somewhere/dptbd/sim/dp16kd.v", 15, 5,
+                    "if", "15-16", 1, "k5")
+    assert C.usable([model, branch], artefacts) == [branch]
 
 
 def test_relative_src_is_repository_or_amaranth_relative():

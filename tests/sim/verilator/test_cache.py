@@ -242,3 +242,41 @@ def test_a_mutant_build_at_p_above_1_is_of_design_dp_only(tmp_path):
         V.build(make_config(**SEG, pixels_per_clock=2), "segmenter", root=tmp_path / "b",
                 mutations=("mutate -mode inv -cell $c -port Y -portbit 0",))
     assert not (tmp_path / "b").exists()
+
+
+def test_build_refuses_an_unknown_family(tmp_path):
+    with pytest.raises(ValueError, match=whole("family must be one of ('ice40', 'ecp5'), "
+                                               "got 'xilinx'")):
+        V.build(BASE, "dp", root=tmp_path / "builds", family="xilinx")
+    assert not (tmp_path / "builds").exists()
+
+
+def test_a_mutant_build_has_no_family(tmp_path):
+    with pytest.raises(ValueError, match=whole(
+            "a mutant build has DPCore's default options: family must be None with "
+            "mutations, got 'ecp5'")):
+        V.build(BASE, "dp", root=tmp_path / "b", family="ecp5",
+                mutations=("mutate -mode inv -cell $c -port Y -portbit 0",))
+    assert not (tmp_path / "b").exists()
+
+
+def test_a_family_build_is_the_family_verilog_with_its_cell_models(pristine):
+    """``family="ecp5"``: the Verilog ``dptbd verilog --family ecp5`` writes (its on-chip
+    store in DP16KDs), verilated with the DP16KD model, in a build of its own; bit-exact."""
+    from dptbd.hw.flow.family import get_family
+    from dptbd.hw.flow.verilog import generate_verilog
+    from dptbd.sim.cell_models import model_path
+
+    root, plain = pristine
+    sim = V.build(CACHE_CFG, "dp", root=root, family="ecp5")
+    assert sim.family == "ecp5" and plain.family is None and sim.key != plain.key
+    assert sim.directory.name == f"{config_name(CACHE_CFG)}-dp-ecp5-{sim.key[:12]}"
+    options = dict(get_family("ecp5").options_for(CACHE_CFG))
+    assert sim.manifest["core_options"] == options
+    text, _ = generate_verilog(CACHE_CFG, core_options=options)
+    assert (sim.directory / "dptbd_dp.v").read_text() == text and "\n  DP16KD #(" in text
+    command = json.loads((sim.directory / V.STAMP).read_text())["command"]
+    assert str(model_path("DP16KD")) in command
+    assert str(model_path("DP16KD")) not in json.loads(
+        (plain.directory / V.STAMP).read_text())["command"]
+    assert_works(sim)
