@@ -44,7 +44,8 @@ class Case:
     family : str or None
         The FPGA family whose implementation options the build has (``dptbd verilog
         --family``; ``build(..., family=…)`` of :mod:`dptbd.sim.verilator`), ``None`` for
-        DPCore's defaults. Designs ``"dp"``, ``"core"``, ``"segmenter"`` and ``"axi"``.
+        DPCore's defaults. Designs ``"dp"``, ``"core"``, ``"segmenter"``, ``"axi"`` and
+        ``"axi_store"``.
     """
 
     name: str
@@ -107,10 +108,11 @@ def default_cases() -> list[Case]:
 
 #: The cases run again on the ECP5 family's build (``dptbd verilog --family ecp5``: the
 #: registered control, the output queue one-hot, the state store and the histogram in
-#: DP16KDs, which Verilator simulates with :mod:`dptbd.sim.cell_models`' model), one per
-#: top level and P = 2's AXI top.
+#: DP16KDs, which Verilator simulates with :mod:`dptbd.sim.cell_models`' model; with the
+#: state in external memory, the store's prefetch FIFO in DP16KDs and its staged
+#: write-behind), one per top level, P = 2's AXI top and the AXI top with the AXI4 store.
 FAMILY_CASES = ("37x23-k3-in8-e12-f4", "core-96x64-garbage-store", "segmenter-33x17-k2-n3",
-                "axi-24x16-f0-k2", "axi-p2-48x16-f0-k2")
+                "axi-24x16-f0-k2", "axi-p2-48x16-f0-k2", "axi-store-24x16-f0-k2")
 
 
 def family_cases(cases: list[Case], family: str, names: tuple[str, ...]) -> list[Case]:

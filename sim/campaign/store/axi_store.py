@@ -80,7 +80,8 @@ def build_axi_store(case, root=None):
     """The Verilator build of an ``"axi_store"`` case."""
     from dptbd.sim.verilator import build
 
-    return build(case.cfg, "axi", root=root, state_store=store_config(case))
+    return build(case.cfg, "axi", root=root, state_store=store_config(case),
+                 family=case.family)
 
 
 def check_axi_store_run(case, seed: int, root=None):
