@@ -44,7 +44,8 @@ class Case:
     family : str or None
         The FPGA family whose implementation options the build has (``dptbd verilog
         --family``; ``build(..., family=…)`` of :mod:`dptbd.sim.verilator`), ``None`` for
-        DPCore's defaults. Designs ``"dp"``, ``"core"``, ``"segmenter"``, ``"axi"`` and
+        DPCore's defaults. Designs ``"dp"``, ``"core"``, ``"segmenter"``, ``"axi"``,
+        ``"dp_axi"`` (not its error case, which runs in the Amaranth simulator) and
         ``"axi_store"``.
     """
 
@@ -110,9 +111,10 @@ def default_cases() -> list[Case]:
 #: registered control, the output queue one-hot, the state store and the histogram in
 #: DP16KDs, which Verilator simulates with :mod:`dptbd.sim.cell_models`' model; with the
 #: state in external memory, the store's prefetch FIFO in DP16KDs and its staged
-#: write-behind), one per top level, P = 2's AXI top and the AXI top with the AXI4 store.
+#: write-behind), one per top level, P = 2's AXI top and both tops with the AXI4 store.
 FAMILY_CASES = ("37x23-k3-in8-e12-f4", "core-96x64-garbage-store", "segmenter-33x17-k2-n3",
-                "axi-24x16-f0-k2", "axi-p2-48x16-f0-k2", "axi-store-24x16-f0-k2")
+                "axi-24x16-f0-k2", "axi-p2-48x16-f0-k2", "dp-axi-64x48-k4-d32-b8-o4",
+                "axi-store-24x16-f0-k2")
 
 
 def family_cases(cases: list[Case], family: str, names: tuple[str, ...]) -> list[Case]:

@@ -71,23 +71,31 @@ class AxiStoreRun:
         return float(a[-1] - a[0] + 1) / (len(a) * self.pixels_per_clock)
 
 
-def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None) -> AxiStoreBuild:
-    """Verilate ``store``'s ``dptbd_dp`` with the AXI4 memory harness, or reuse the build."""
+def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None,
+          family: str | None = None) -> AxiStoreBuild:
+    """Verilate ``store``'s ``dptbd_dp`` with the AXI4 memory harness, or reuse the build;
+    with ``family``, the DP core and the store with that FPGA family's options, its vendor
+    cells verilated from their models (as :func:`~dptbd.sim.verilator.cache.build`)."""
+    from dptbd.hw.flow.family import get_family
     from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
     from dptbd.hw.schedule import check_supported
     from dptbd.hw.wide import check_wide
+    from dptbd.sim.cell_models import model_sources
 
     (check_supported if store.frame.pixels_per_clock == 1 else check_wide)(store.frame)
+    options = None if family is None else dict(get_family(family).options_for(store.frame))
     tools = check_tools()
-    text, manifest = generate_verilog(store.frame, state_store=store)
+    text, manifest = generate_verilog(store.frame, state_store=store, core_options=options)
+    models = model_sources(text)
     defines = {"DPTBD_AXI_DATA_BITS": store.data_bits,
                "DPTBD_AXI_OUTSTANDING": store.outstanding,
                "DPTBD_FRAME_BYTES": store.frame_bytes}
-    sources = [HARNESS, HARNESS.with_name("harness_io.h"), HARNESS.with_name("axi4_memory.h")]
+    sources = [HARNESS, HARNESS.with_name("harness_io.h"), HARNESS.with_name("axi4_memory.h"),
+               *models]
     key = hashlib.sha256(repr((text, [p.read_bytes() for p in sources], defines,
                                VERILATOR_FLAGS, CXX_FLAGS, tools)).encode()).hexdigest()[:16]
     root = pathlib.Path(root) if root is not None else default_build_root()
-    directory = root / f"dp-axi-store-{key}"
+    directory = root / f"dp-axi-store{'' if family is None else '-' + family}-{key}"
     executable = directory / EXECUTABLE
     if not executable.exists():
         root.mkdir(parents=True, exist_ok=True)
@@ -98,7 +106,7 @@ def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None) -> Ax
                                f"-I{HARNESS.parent}"])
             toolchain.step(["verilator", *VERILATOR_FLAGS, "--top-module", MODULE_NAME,
                             "-CFLAGS", cflags, "-o", EXECUTABLE, "--Mdir", "obj",
-                            f"{MODULE_NAME}.v", str(HARNESS)],
+                            f"{MODULE_NAME}.v", *map(str, models), str(HARNESS)],
                            tmp, False, f"verilator ({MODULE_NAME}, AXI4 store)")
             toolchain.compile_executable(tmp, EXECUTABLE,
                                          toolchain.runtime_dir(root, tools, waves=False),

@@ -123,7 +123,7 @@ def build_store(case, root=None):
     if any(f in STORE_FAULTS for f in case.faults):
         return None
     from dptbd.sim.verilator import dp_axi
-    return dp_axi.build(store_config(case), root=root)
+    return dp_axi.build(store_config(case), root=root, family=case.family)
 
 
 def check_store_run(case, seed: int, root=None):
@@ -169,7 +169,7 @@ def _check_verilator(case, plan: StorePlan, seed: int, root):
     from dptbd.sim.verilator import dp_axi
 
     cfg, store = case.cfg, store_config(case)
-    sim = dp_axi.build(store, root=root)
+    sim = dp_axi.build(store, root=root, family=case.family)
     if plan.base != store.base_address:
         sim = dataclasses.replace(sim, store=dataclasses.replace(store, base_address=plan.base))
     run = dp_axi.run(sim, plan.frames, latency=plan.latency, write_latency=plan.write_latency,

@@ -104,7 +104,8 @@ def test_the_ecp5_cases_are_named_cases_again_on_the_family_build():
     by_name = {c.name: c for c in cases}
     family = [c for c in cases if c.family is not None]
     assert [c.name for c in family] == [f"{name}-ecp5" for name in FAMILY_CASES]
-    assert {c.design for c in family} == {"dp", "core", "segmenter", "axi", "axi_store"}
+    assert {c.design for c in family} == {"dp", "core", "segmenter", "axi", "dp_axi",
+                                           "axi_store"}
     for case in family:
         base = by_name[case.name.removesuffix("-ecp5")]
         assert base.family is None and case == dataclasses.replace(

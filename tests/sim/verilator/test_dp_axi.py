@@ -144,3 +144,25 @@ def test_an_unknown_error_response_is_refused(deep):
     with pytest.raises(ValueError, match=whole(
             "error_response 'OKAY': the responses are SLVERR, DECERR")):
         V.run(deep, FRAMES, error_response="OKAY")
+
+
+def test_a_build_refuses_an_unknown_family(tmp_path):
+    with pytest.raises(ValueError, match=whole("family must be one of ('ice40', 'ecp5'), "
+                                               "got 'xilinx'")):
+        V.build(CFG.axi_store(), root=tmp_path / "builds", family="xilinx")
+    assert not (tmp_path / "builds").exists()
+
+
+@needs_verilator
+def test_the_ecp5_build_is_bit_exact_with_its_dp16kds_on_the_model(tmp_path):
+    """``family="ecp5"``: the store's prefetch FIFO in DP16KDs (verilated from the model) and
+    its staged write-behind, under memory latency and stalls."""
+    sim = V.build(CFG.axi_store(), family="ecp5")
+    assert sim.directory.name.startswith("dp-axi-store-ecp5-")
+    assert "\n  DP16KD #(" in (sim.directory / "dptbd_dp.v").read_text()
+    frames = np.random.default_rng(3).integers(0, 256, size=(7, CFG.height, CFG.width))
+    run = V.run(sim, frames, latency=(0, 40), axi_ready=0.7, axi_valid=0.8, valid_gap=0.2,
+                ready_pause=0.3, seed=5, job_dir=tmp_path)
+    assert run.result["violations"] == 0, run.result["first_violation"]
+    assert run.bit_exact, f"first mismatch at output {run.first_mismatch}"
+    assert run.result["status"] == "done"
