@@ -38,6 +38,8 @@ import shutil
 import subprocess
 from typing import Iterable, Sequence
 
+from dptbd.sim.cell_models import CELL_MODELS
+
 __all__ = ["KINDS", "Point", "CoverageToolMissing", "find_verilator_coverage", "parse_dat",
            "read_dat", "merge", "annotate", "source_map", "locate", "relative_src",
            "SOURCE_FOLDERS", "registers",
@@ -292,8 +294,6 @@ def usable(points: Iterable[Point], artefacts: set[int]) -> list[Point]:
     """The points of the generated Verilog that are not on an artefact line (Yosys' time-0
     trigger): a family build's vendor-cell models (:mod:`dptbd.sim.cell_models`, files of
     their own) are not the gateware, and their lines are not the generated text's."""
-    from dptbd.sim.cell_models import CELL_MODELS
-
     models = set(CELL_MODELS.values())
     return [p for p in points if p.line not in artefacts and ARTEFACT not in unescape(p.what)
             and pathlib.PurePath(p.file).name not in models]

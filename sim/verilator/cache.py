@@ -61,6 +61,7 @@ __all__ = [
     "default_build_root",
     "check_tools",
     "build",
+    "family_options",
 ]
 
 #: Top levels the harness drives: design name -> (Verilog module, harness define, output
@@ -105,7 +106,7 @@ class VerilatorBuild(CompiledDesign):
     coverage: bool = False   # a coverage build (COVERAGE_FLAGS): runs may write coverage data
     state_store: object = None   # design "axi" with the state in external memory: its AxiStoreConfig
     mutant: bool = False     # a mutant build (mutations given): mutsel, counter presets (axi)
-    family: str | None = None   # the FPGA family whose core options the build has (None: DPCore's defaults)
+    family: str | None = None   # the FPGA family of its core options (None: DPCore's defaults)
 
     @property
     def output(self) -> str:
@@ -133,7 +134,7 @@ def _build_key(cfg: DPConfig, design: str, lut_style: str, waves: bool,
         extra["state_store"] = _store_fields(store)
     if family is not None:                    # its options, and the cell models it may need
         from dptbd.sim.cell_models import CELL_MODELS, model_path
-        extra.update(family=family, core_options=_family_options(cfg, family),
+        extra.update(family=family, core_options=family_options(cfg, family),
                      cell_models={cell: _sha256(model_path(cell)) for cell in CELL_MODELS})
     blob = json.dumps({**extra,
         "config": cfg.to_mapping(), "design": design, "lut_style": lut_style,
@@ -169,8 +170,9 @@ def _stamp_ok(directory: pathlib.Path, key: str) -> dict | None:
     return None
 
 
-def _family_options(cfg: DPConfig, family: str) -> dict:
-    """The core options ``dptbd verilog --family family`` builds ``cfg`` with."""
+def family_options(cfg: DPConfig, family: str) -> dict:
+    """The core options ``dptbd verilog --family family`` builds ``cfg`` with
+    (``ValueError`` naming the families for another)."""
     from dptbd.hw.flow.family import get_family
     return dict(get_family(family).options_for(cfg))
 
@@ -181,7 +183,7 @@ def _generate(cfg: DPConfig, design: str, lut_style: str, coverage: bool = False
         from dptbd.sim.coverage.source_text import coverage_text
         with coverage_text():
             return _generate(cfg, design, lut_style, store=store, family=family)
-    options = None if family is None else _family_options(cfg, family)
+    options = None if family is None else family_options(cfg, family)
     if design == "axi":
         from dptbd.hw.flow.axi_package import generate_axi_verilog
         if lut_style != "auto":
@@ -262,7 +264,7 @@ def build(cfg: DPConfig, design: str = "dp", *, root: str | os.PathLike | None =
     if state_store is not None and state_store.frame != cfg:
         raise ValueError("state_store was made for another configuration than cfg")
     if family is not None:
-        _family_options(cfg, family)           # ValueError naming the families
+        family_options(cfg, family)           # ValueError naming the families
         if mutations:
             raise ValueError("a mutant build has DPCore's default options: family must be "
                              f"None with mutations, got {family!r}")

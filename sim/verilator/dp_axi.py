@@ -31,7 +31,8 @@ import tempfile
 import numpy as np
 
 from dptbd.config import AxiStoreConfig
-from dptbd.sim.verilator.cache import CXX_FLAGS, VERILATOR_FLAGS, check_tools, default_build_root
+from dptbd.sim.verilator.cache import (CXX_FLAGS, VERILATOR_FLAGS, check_tools, default_build_root,
+                                       family_options)
 from dptbd.sim.verilator import toolchain
 
 __all__ = ["HARNESS", "AxiStoreBuild", "AxiStoreRun", "build", "run"]
@@ -76,14 +77,13 @@ def build(store: AxiStoreConfig, *, root: str | os.PathLike | None = None,
     """Verilate ``store``'s ``dptbd_dp`` with the AXI4 memory harness, or reuse the build;
     with ``family``, the DP core and the store with that FPGA family's options, its vendor
     cells verilated from their models (as :func:`~dptbd.sim.verilator.cache.build`)."""
-    from dptbd.hw.flow.family import get_family
     from dptbd.hw.flow.verilog import MODULE_NAME, generate_verilog
     from dptbd.hw.schedule import check_supported
     from dptbd.hw.wide import check_wide
     from dptbd.sim.cell_models import model_sources
 
     (check_supported if store.frame.pixels_per_clock == 1 else check_wide)(store.frame)
-    options = None if family is None else dict(get_family(family).options_for(store.frame))
+    options = None if family is None else family_options(store.frame, family)
     tools = check_tools()
     text, manifest = generate_verilog(store.frame, state_store=store, core_options=options)
     models = model_sources(text)
